@@ -1,0 +1,21 @@
+//! Pure codecs for gantry's wire protocols: bytes in, typed values out.
+//!
+//! No I/O, no physics, no Lua. Every decoder here is total (never panics on any input)
+//! and bounded (refuses oversize input before buffering it), and is fuzzed (see `fuzz/`).
+//!
+//! * [`line`](mod@line): splits the text command channel into lines.
+//! * [`packet`]: parses and formats `<CODE#KEY=VALUE,...>` command packets.
+//! * [`cbor`]: CBOR (RFC 8949) to and from [`Value`].
+//! * [`remote_api`]: the CoppeliaSim ZMQ remote API v2 request and reply messages.
+
+pub mod cbor;
+pub mod line;
+pub mod packet;
+pub mod remote_api;
+pub mod value;
+
+pub use cbor::CborError;
+pub use line::{LineDecoder, LineError};
+pub use packet::{Field, Packet, PacketError, encode_error, parse_packet};
+pub use remote_api::{Reply, Request, RequestError, decode_request};
+pub use value::Value;

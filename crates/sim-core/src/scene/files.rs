@@ -1,0 +1,83 @@
+//! Where scene files come from: the disk, or the set embedded in the binary.
+//!
+//! The default scene and its robot and scripts are compiled into the `gantry` binary so
+//! that `cargo run --release` works from any directory. The loader reads every file
+//! through [`Files`], so embedded and on-disk scenes share one code path.
+
+use std::collections::HashMap;
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// A read-only file source.
+pub trait Files {
+    /// Reads a whole file.
+    ///
+    /// # Errors
+    /// The file does not exist or cannot be read.
+    fn read(&self, path: &Path) -> io::Result<Vec<u8>>;
+    /// Whether `path` is a readable file.
+    fn is_file(&self, path: &Path) -> bool;
+}
+
+/// The real file system.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct DiskFiles;
+
+impl Files for DiskFiles {
+    fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
+        std::fs::read(path)
+    }
+    fn is_file(&self, path: &Path) -> bool {
+        path.is_file()
+    }
+}
+
+/// Files compiled into the binary, addressed by virtual paths such as
+/// `/embedded/assets/scenes/showroom.toml`.
+#[derive(Debug, Clone, Default)]
+pub struct EmbeddedFiles {
+    files: HashMap<PathBuf, &'static [u8]>,
+}
+
+impl EmbeddedFiles {
+    /// The virtual folder every embedded path starts with.
+    pub const ROOT: &'static str = "/embedded";
+
+    /// Builds the set from `(path relative to the repository root, bytes)` pairs.
+    pub fn new(entries: &[(&str, &'static [u8])]) -> Self {
+        let files = entries.iter().map(|(p, b)| (Path::new(Self::ROOT).join(p), *b)).collect();
+        Self { files }
+    }
+
+    /// The virtual path of a file given relative to the repository root.
+    pub fn path(rel: &str) -> PathBuf {
+        Path::new(Self::ROOT).join(rel)
+    }
+}
+
+impl Files for EmbeddedFiles {
+    fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
+        let key = normalize(path);
+        self.files.get(&key).map(|b| b.to_vec()).ok_or_else(|| {
+            io::Error::new(io::ErrorKind::NotFound, format!("{} is not embedded in this binary", path.display()))
+        })
+    }
+    fn is_file(&self, path: &Path) -> bool {
+        self.files.contains_key(&normalize(path))
+    }
+}
+
+/// Removes `.` and resolves `..` lexically (embedded paths have no symlinks).
+pub(crate) fn normalize(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            std::path::Component::CurDir => {}
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other.as_os_str()),
+        }
+    }
+    out
+}

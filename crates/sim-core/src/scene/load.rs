@@ -1,0 +1,612 @@
+//! The resolver: raw file (stage 1) to [`SceneModel`] (stage 2).
+//!
+//! Names become indices, degrees become radians, files are read (URDFs, meshes,
+//! scripts) and defaults are applied. Errors point at the file, line and column of the
+//! offending entry and say how to fix it.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use toml::Spanned;
+
+use super::error::{LoadError, line_col};
+use super::files::{Files, normalize};
+use super::model::{
+    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind, ProximityModel,
+    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel,
+};
+use super::raw::{RawObject, RawRobot, RawScene, unknown_keys};
+use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfIndex, UrdfInclude, import_urdf};
+use crate::math::{Pose, pose_from_euler};
+
+/// Options that come from the command line rather than the scene.
+#[derive(Debug, Clone, Default)]
+pub struct LoadOptions {
+    /// Extra folders for `package://` mesh references.
+    pub package_paths: Vec<PathBuf>,
+    /// For a bare URDF: let the base move freely instead of fixing it to the world.
+    pub free_base: bool,
+}
+
+/// Loads a scene file (`.toml`) or a bare URDF (`.urdf`, placed on a floor).
+///
+/// # Errors
+/// Any [`LoadError`]: unreadable or malformed files, invalid content.
+pub fn load_scene(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("urdf") => load_bare_urdf(files, path, opts),
+        Some("toml") => {
+            let bytes = files
+                .read(path)
+                .map_err(|e| LoadError::Io { path: path.to_owned(), source: e, hint: String::new() })?;
+            let text = String::from_utf8(bytes).map_err(|_| LoadError::Syntax {
+                path: path.to_owned(),
+                line: 1,
+                column: 1,
+                message: "the scene file is not UTF-8 text".into(),
+            })?;
+            load_scene_text(files, &text, path, opts)
+        }
+        _ => Err(LoadError::Invalid {
+            path: path.to_owned(),
+            line: 1,
+            column: 1,
+            message: "unknown scene type: give a .toml scene file or a .urdf robot".into(),
+        }),
+    }
+}
+
+/// A URDF on a 5 x 5 m floor, base fixed unless `opts.free_base` (PyBullet's `useFixedBase`).
+fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
+    let mut objects = vec![floor_object([5.0, 5.0], 1.0, [0.55, 0.55, 0.5])];
+    let mut warnings = Vec::new();
+    let include = UrdfInclude { fixed_base: !opts.free_base, ..UrdfInclude::default() };
+    import_urdf(files, path, &include, &opts.package_paths, &mut objects, &mut warnings)?;
+    Ok(SceneModel {
+        name: stem(path),
+        base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
+        settings: SimSettings::default(),
+        server: ServerSettings::default(),
+        objects,
+        scripts: Vec::new(),
+        warnings,
+    })
+}
+
+/// Resolves the text of a scene file. `path` names the file in messages and anchors
+/// relative paths.
+///
+/// # Errors
+/// Any [`LoadError`].
+pub fn load_scene_text(
+    files: &dyn Files,
+    text: &str,
+    path: &Path,
+    opts: &LoadOptions,
+) -> Result<SceneModel, LoadError> {
+    let syntax = |e: toml::de::Error| {
+        let (line, column) = e.span().map_or((1, 1), |s| line_col(text, s.start));
+        LoadError::Syntax { path: path.to_owned(), line, column, message: e.message().to_owned() }
+    };
+    let doc: toml::Table = toml::from_str(text).map_err(syntax)?;
+    let raw: RawScene = toml::from_str(text).map_err(syntax)?;
+    let base_dir = path.parent().map(Path::to_owned).unwrap_or_default();
+    let mut r = Resolver {
+        files,
+        text,
+        path,
+        base_dir: &base_dir,
+        opts,
+        objects: Vec::new(),
+        scripts: Vec::new(),
+        warnings: unknown_keys(&doc),
+        names: Names::new(),
+    };
+    let settings = r.settings(&raw)?;
+    let server = raw.server.as_ref().map_or_else(ServerSettings::default, |s| ServerSettings {
+        bind: s.bind.clone(),
+        text_port: s.text_port,
+        zmq_port: s.zmq_port,
+        http_port: s.http_port,
+    });
+    if let Some(f) = &raw.floor {
+        r.objects.push(floor_object(
+            f.size.unwrap_or([5.0, 5.0]),
+            f.friction.unwrap_or(1.0),
+            f.color.unwrap_or([0.55, 0.55, 0.5]),
+        ));
+    }
+    r.tree(&raw)?;
+    for s in &raw.script {
+        let object = r.reference(&s.object)?;
+        r.attach_script(object, &s.file)?;
+    }
+    Ok(SceneModel {
+        name: stem(path),
+        base_dir: base_dir.clone(),
+        settings,
+        server,
+        objects: r.objects,
+        scripts: r.scripts,
+        warnings: r.warnings,
+    })
+}
+
+fn stem(path: &Path) -> String {
+    path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_owned()
+}
+
+/// The floor: a static box whose top face is the plane z = 0. It is neither detectable
+/// nor measurable, like CoppeliaSim's default floor, so sensors and distance queries see
+/// obstacles rather than the ground.
+fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> ObjectModel {
+    let half = [size[0] / 2.0, size[1] / 2.0, 0.05];
+    let geometry = Geometry::Box { half_extents: half };
+    let local = Pose::translation(0.0, 0.0, -0.05);
+    ObjectModel {
+        alias: "Floor".into(),
+        parent: None,
+        local: Pose::identity(),
+        model_base: true,
+        kind: ObjectModelKind::Shape(ShapeModel {
+            geoms: vec![GeomModel { geometry: geometry.clone(), local }],
+            visuals: vec![VisualModel { geometry, local, color }],
+            dynamic: false,
+            mass: MassModel::Density(1000.0),
+            friction,
+            restitution: 0.0,
+            collision_group: u32::MAX,
+            collision_mask: u32::MAX,
+            respondable: true,
+            detectable: false,
+            measurable: false,
+        }),
+    }
+}
+
+/// What a name in the file refers to, once emitted.
+#[derive(Debug, Clone)]
+enum Emitted {
+    Object(usize),
+    Robot(UrdfIndex),
+}
+
+/// An entry of the file: an `[[object]]` or a `[[robot]]`.
+#[derive(Clone, Copy)]
+enum Entry<'a> {
+    Object(&'a RawObject),
+    Robot(&'a RawRobot),
+}
+
+struct Resolver<'a> {
+    files: &'a dyn Files,
+    text: &'a str,
+    path: &'a Path,
+    base_dir: &'a Path,
+    opts: &'a LoadOptions,
+    objects: Vec<ObjectModel>,
+    scripts: Vec<ScriptModel>,
+    warnings: Vec<String>,
+    names: Names,
+}
+
+/// Names of emitted entries, for `parent` and `[[script]] object` references.
+type Names = HashMap<String, Emitted>;
+
+impl Resolver<'_> {
+    fn err_at<T>(&self, span: std::ops::Range<usize>, message: impl Into<String>) -> Result<T, LoadError> {
+        let (line, column) = line_col(self.text, span.start);
+        Err(LoadError::Invalid { path: self.path.to_owned(), line, column, message: message.into() })
+    }
+
+    fn settings(&self, raw: &RawScene) -> Result<SimSettings, LoadError> {
+        let mut s = SimSettings::default();
+        if let Some(sim) = &raw.simulation {
+            if let Some(dt) = sim.dt {
+                if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
+                    return self.err_at(self.find_key("dt"), format!("dt = {dt}: the time step must be in (0, 1] s"));
+                }
+                s.dt = dt;
+            }
+            if let Some(n) = sim.substeps {
+                if !(1..=1000).contains(&n) {
+                    return self
+                        .err_at(self.find_key("substeps"), format!("substeps = {n}: use 1 to 1000 physics substeps"));
+                }
+                s.substeps = n;
+            }
+            if let Some(g) = sim.gravity {
+                if g.iter().any(|v| !v.is_finite()) {
+                    return self.err_at(self.find_key("gravity"), "gravity must be finite");
+                }
+                s.gravity = g;
+            }
+        }
+        Ok(s)
+    }
+
+    /// The byte offset of the first `key =` in the text, for errors on plain values.
+    fn find_key(&self, key: &str) -> std::ops::Range<usize> {
+        let pat = format!("{key} ");
+        let start = self
+            .text
+            .match_indices(&pat)
+            .chain(self.text.match_indices(&format!("{key}=")))
+            .map(|(i, _)| i)
+            .min()
+            .unwrap_or(0);
+        start..start
+    }
+}
+
+impl Resolver<'_> {
+    /// Emits every object and robot so that parents come before children.
+    fn tree(&mut self, raw: &RawScene) -> Result<(), LoadError> {
+        let mut entries: Vec<Entry<'_>> = raw.object.iter().map(Entry::Object).collect();
+        entries.extend(raw.robot.iter().map(Entry::Robot));
+        let mut by_name: HashMap<String, usize> = HashMap::new();
+        for (i, e) in entries.iter().enumerate() {
+            let name = self.entry_name(e)?;
+            if name.get_ref().contains('/') {
+                return self.err_at(name.span(), format!("name '{}' must not contain '/'", name.get_ref()));
+            }
+            if by_name.insert(name.get_ref().clone(), i).is_some() || name.get_ref() == "Floor" && raw.floor.is_some() {
+                return self.err_at(
+                    name.span(),
+                    format!("duplicate name '{}': every object and robot needs a unique name (set `alias` to reuse an alias)", name.get_ref()),
+                );
+            }
+        }
+        if raw.floor.is_some() {
+            self.names.insert("Floor".into(), Emitted::Object(0));
+        }
+        // 0 = not emitted, 1 = being emitted (on the current parent chain), 2 = done.
+        let mut state = vec![0u8; entries.len()];
+        for i in 0..entries.len() {
+            self.emit(&entries, &by_name, &mut state, i, 0)?;
+        }
+        Ok(())
+    }
+
+    fn entry_name(&self, e: &Entry<'_>) -> Result<Spanned<String>, LoadError> {
+        Ok(match e {
+            Entry::Object(o) => o.name.clone(),
+            Entry::Robot(r) => match &r.name {
+                Some(n) => n.clone(),
+                None => {
+                    // Without a name, the robot is referred to by its URDF file stem.
+                    let stem = Path::new(r.urdf.get_ref()).file_stem().and_then(|s| s.to_str()).unwrap_or("robot");
+                    Spanned::new(r.urdf.span(), stem.to_owned())
+                }
+            },
+        })
+    }
+
+    fn emit(
+        &mut self,
+        entries: &[Entry<'_>],
+        by_name: &HashMap<String, usize>,
+        state: &mut [u8],
+        i: usize,
+        depth: usize,
+    ) -> Result<(), LoadError> {
+        if state[i] == 2 {
+            return Ok(());
+        }
+        let entry = entries[i];
+        let name = self.entry_name(&entry)?;
+        if state[i] == 1 || depth > entries.len() {
+            return self.err_at(name.span(), format!("'{}' is its own ancestor: the parent references form a cycle", name.get_ref()));
+        }
+        state[i] = 1;
+        let parent_ref = match entry {
+            Entry::Object(o) => o.parent.clone(),
+            Entry::Robot(r) => r.parent.clone(),
+        };
+        // Emit the parent's entry first.
+        if let Some(p) = &parent_ref {
+            let head = p.get_ref().split('/').next().unwrap_or_default();
+            match by_name.get(head) {
+                Some(&pi) => self.emit(entries, by_name, state, pi, depth + 1)?,
+                None if self.names.contains_key(head) => {}
+                None => {
+                    return self.err_at(
+                        p.span(),
+                        format!("parent '{}' is not defined in this scene; define an object or robot with that name", p.get_ref()),
+                    );
+                }
+            }
+        }
+        let parent = match &parent_ref {
+            Some(p) => Some(self.reference(p)?),
+            None => None,
+        };
+        let emitted = match entry {
+            Entry::Object(o) => Emitted::Object(self.object(o, parent)?),
+            Entry::Robot(r) => Emitted::Robot(self.robot(r, parent, name.get_ref())?),
+        };
+        self.names.insert(name.get_ref().clone(), emitted);
+        state[i] = 2;
+        Ok(())
+    }
+
+    /// Resolves `name` or `robot/link-or-joint` to an object index.
+    fn reference(&self, r: &Spanned<String>) -> Result<usize, LoadError> {
+        let text = r.get_ref();
+        let (head, tail) = match text.split_once('/') {
+            Some((h, t)) => (h, Some(t)),
+            None => (text.as_str(), None),
+        };
+        match (self.names.get(head), tail) {
+            (Some(Emitted::Object(i)), None) => Ok(*i),
+            (Some(Emitted::Robot(idx)), None) => Ok(idx.base),
+            (Some(Emitted::Robot(idx)), Some(part)) => match idx.links.get(part).or_else(|| idx.joints.get(part)) {
+                Some(&i) => Ok(i),
+                None => self.err_at(r.span(), format!("robot '{head}' has no link or joint named '{part}'")),
+            },
+            (Some(Emitted::Object(_)), Some(_)) => {
+                self.err_at(r.span(), format!("'{head}' is an object, not a robot; use 'robot/link' only for URDF robots"))
+            }
+            (None, _) => self.err_at(r.span(), format!("'{text}' is not defined in this scene")),
+        }
+    }
+
+    fn relative(&self, file: &str) -> PathBuf {
+        normalize(&self.base_dir.join(file))
+    }
+
+    fn attach_script(&mut self, object: usize, file: &Spanned<String>) -> Result<(), LoadError> {
+        let path = self.relative(file.get_ref());
+        let source = match self.files.read(&path) {
+            Ok(bytes) => match String::from_utf8(bytes) {
+                Ok(s) => s,
+                Err(_) => return self.err_at(file.span(), format!("script '{}' is not UTF-8 text", path.display())),
+            },
+            Err(e) => {
+                return self.err_at(file.span(), format!("cannot read script '{}': {e}", path.display()));
+            }
+        };
+        self.scripts.push(ScriptModel { object, path, source });
+        Ok(())
+    }
+
+    fn pose(position: Option<[f64; 3]>, orientation_deg: Option<[f64; 3]>) -> Pose {
+        let e = orientation_deg.unwrap_or([0.0; 3]).map(f64::to_radians);
+        pose_from_euler(position.unwrap_or([0.0; 3]), e)
+    }
+
+    fn object(&mut self, o: &RawObject, parent: Option<usize>) -> Result<usize, LoadError> {
+        let here = o.name.span();
+        let nums: [(&str, Option<f64>); 12] = [
+            ("radius", o.radius),
+            ("length", o.length),
+            ("mass", o.mass),
+            ("density", o.density),
+            ("friction", o.friction),
+            ("restitution", o.restitution),
+            ("max_force", o.max_force),
+            ("kp", o.kp),
+            ("kd", o.kd),
+            ("range", o.range),
+            ("offset", o.offset),
+            ("near", o.near),
+        ];
+        for (key, v) in nums {
+            if let Some(v) = v
+                && !(v.is_finite() && v >= 0.0)
+            {
+                return self.err_at(here, format!("object '{}': {key} = {v} must be a finite number >= 0", o.name.get_ref()));
+            }
+        }
+        let finite3 = |v: Option<[f64; 3]>| v.is_none_or(|a| a.iter().all(|x| x.is_finite()));
+        if !finite3(o.position) || !finite3(o.orientation_deg) || !finite3(o.size) || !finite3(o.scale) {
+            return self.err_at(here, format!("object '{}': position, orientation, size and scale must be finite", o.name.get_ref()));
+        }
+        let kind = match o.kind.get_ref().as_str() {
+            "shape" => ObjectModelKind::Shape(self.shape(o)?),
+            "joint" => ObjectModelKind::Joint(self.joint(o)?),
+            "dummy" => ObjectModelKind::Dummy,
+            "proximity_sensor" => ObjectModelKind::ProximitySensor(self.proximity(o)?),
+            "vision_sensor" => ObjectModelKind::VisionSensor(self.vision(o)?),
+            "force_sensor" => ObjectModelKind::ForceSensor,
+            "graph" => ObjectModelKind::Graph,
+            other => {
+                return self.err_at(
+                    o.kind.span(),
+                    format!("unknown kind '{other}'; use shape, joint, dummy, proximity_sensor, vision_sensor, force_sensor or graph"),
+                );
+            }
+        };
+        let index = self.objects.len();
+        self.objects.push(ObjectModel {
+            alias: o.alias.clone().unwrap_or_else(|| o.name.get_ref().clone()),
+            parent,
+            local: Self::pose(o.position, o.orientation_deg),
+            model_base: o.model_base.unwrap_or(false),
+            kind,
+        });
+        if let Some(s) = &o.script {
+            self.attach_script(index, s)?;
+        }
+        Ok(index)
+    }
+
+    fn shape(&mut self, o: &RawObject) -> Result<ShapeModel, LoadError> {
+        let name = o.name.get_ref();
+        let Some(kind) = &o.shape else {
+            return self.err_at(o.name.span(), format!("shape '{name}' needs `shape = \"box\" | \"sphere\" | \"cylinder\" | \"capsule\" | \"mesh\"`"));
+        };
+        let need = |v: Option<f64>, key: &str| -> Result<f64, LoadError> {
+            match v {
+                Some(v) if v > 0.0 => Ok(v),
+                _ => self.err_at(kind.span(), format!("{} '{name}' needs `{key}` > 0 (metres)", kind.get_ref())),
+            }
+        };
+        let geometry = match kind.get_ref().as_str() {
+            "box" => match o.size {
+                Some(s) if s.iter().all(|v| *v > 0.0) => Geometry::Box { half_extents: s.map(|v| v / 2.0) },
+                _ => return self.err_at(kind.span(), format!("box '{name}' needs `size = [x, y, z]` (full extents, metres, all > 0)")),
+            },
+            "sphere" => Geometry::Sphere { radius: need(o.radius, "radius")? },
+            "cylinder" => Geometry::Cylinder { radius: need(o.radius, "radius")?, length: need(o.length, "length")? },
+            "capsule" => Geometry::Capsule { radius: need(o.radius, "radius")?, length: need(o.length, "length")? },
+            "mesh" => {
+                let Some(file) = &o.mesh else {
+                    return self.err_at(kind.span(), format!("mesh '{name}' needs `mesh = \"file.stl\"`"));
+                };
+                let path = self.relative(file.get_ref());
+                let mesh = super::mesh::load_mesh(self.files, &path, o.scale.unwrap_or([1.0; 3]));
+                match mesh {
+                    Ok(m) => Geometry::Mesh(m),
+                    Err(e) => return self.err_at(file.span(), e.to_string()),
+                }
+            }
+            other => {
+                return self.err_at(kind.span(), format!("unknown shape '{other}'; use box, sphere, cylinder, capsule or mesh"));
+            }
+        };
+        let mass = match (o.mass, o.density) {
+            (Some(_), Some(_)) => return self.err_at(o.name.span(), format!("shape '{name}': give mass or density, not both")),
+            (Some(m), None) => MassModel::Mass(m),
+            (None, Some(d)) => MassModel::Density(d),
+            (None, None) => MassModel::Density(1000.0),
+        };
+        let color = o.color.unwrap_or([0.8, 0.8, 0.8]);
+        Ok(ShapeModel {
+            geoms: vec![GeomModel { geometry: geometry.clone(), local: Pose::identity() }],
+            visuals: vec![VisualModel { geometry, local: Pose::identity(), color }],
+            dynamic: o.dynamic.unwrap_or(false),
+            mass,
+            friction: o.friction.unwrap_or(0.5),
+            restitution: o.restitution.unwrap_or(0.0).min(1.0),
+            collision_group: o.collision_group.unwrap_or(u32::MAX),
+            collision_mask: o.collision_mask.unwrap_or(u32::MAX),
+            respondable: o.respondable.unwrap_or(true),
+            detectable: o.detectable.unwrap_or(true),
+            measurable: o.measurable.unwrap_or(true),
+        })
+    }
+
+    fn joint_mode(&self, mode: Option<&Spanned<String>>) -> Result<JointMode, LoadError> {
+        match mode.map(|m| (m, m.get_ref().as_str())) {
+            None | Some((_, "kinematic")) => Ok(JointMode::Kinematic),
+            Some((_, "position")) => Ok(JointMode::Position),
+            Some((_, "velocity")) => Ok(JointMode::Velocity),
+            Some((m, other)) => self.err_at(m.span(), format!("unknown joint mode '{other}'; use kinematic, position or velocity")),
+        }
+    }
+
+    fn joint(&mut self, o: &RawObject) -> Result<JointModel, LoadError> {
+        let name = o.name.get_ref();
+        let joint_type = match o.joint.as_ref().map(|j| (j, j.get_ref().as_str())) {
+            Some((_, "revolute")) => JointType::Revolute,
+            Some((_, "prismatic")) => JointType::Prismatic,
+            Some((_, "fixed")) => JointType::Fixed,
+            Some((j, other)) => return self.err_at(j.span(), format!("unknown joint type '{other}'; use revolute, prismatic or fixed")),
+            None => return self.err_at(o.name.span(), format!("joint '{name}' needs `joint = \"revolute\" | \"prismatic\" | \"fixed\"`")),
+        };
+        // Scene files give revolute quantities in degrees; the model is in radians.
+        let unit = |v: f64| if joint_type == JointType::Revolute { v.to_radians() } else { v };
+        let cyclic = o.cyclic.unwrap_or(false);
+        if cyclic && (joint_type != JointType::Revolute || o.limits.is_some()) {
+            return self.err_at(o.name.span(), format!("joint '{name}': only revolute joints without limits can be cyclic"));
+        }
+        let limits = match o.limits {
+            Some([lo, hi]) if lo.is_finite() && hi.is_finite() && lo <= hi => Some((unit(lo), unit(hi))),
+            Some([lo, hi]) => return self.err_at(o.name.span(), format!("joint '{name}': limits [{lo}, {hi}] must be finite with min <= max")),
+            None => None,
+        };
+        let mode = self.joint_mode(o.mode.as_ref())?;
+        let initial = unit(o.initial.unwrap_or(0.0));
+        Ok(JointModel {
+            joint_type,
+            mode,
+            limits,
+            cyclic,
+            initial,
+            target_position: o.target_position.map_or(initial, unit),
+            target_velocity: unit(o.target_velocity.unwrap_or(0.0)),
+            max_force: o.max_force.unwrap_or(100.0),
+            kp: o.kp.unwrap_or(DEFAULT_KP),
+            kd: o.kd.unwrap_or(match mode {
+                // A velocity controller is all damping: torque = kd (w* - w).
+                JointMode::Velocity => 10.0,
+                _ => DEFAULT_KD,
+            }),
+        })
+    }
+
+    fn proximity(&self, o: &RawObject) -> Result<ProximityModel, LoadError> {
+        let range = o.range.unwrap_or(0.15);
+        let offset = o.offset.unwrap_or(0.0);
+        if range <= 0.0 {
+            return self.err_at(o.name.span(), format!("proximity sensor '{}': range must be > 0", o.name.get_ref()));
+        }
+        match o.sensor.as_ref().map(|s| (s, s.get_ref().as_str())) {
+            Some((_, "ray")) => Ok(ProximityModel::Ray { offset, range }),
+            None | Some((_, "cone")) => {
+                let angle = o.angle_deg.unwrap_or(30.0);
+                if !(angle > 0.0 && angle < 180.0) {
+                    return self.err_at(o.name.span(), format!("proximity sensor '{}': angle_deg must be in (0, 180)", o.name.get_ref()));
+                }
+                Ok(ProximityModel::Cone { offset, range, half_angle: (angle / 2.0).to_radians() })
+            }
+            Some((s, other)) => self.err_at(s.span(), format!("unknown proximity sensor type '{other}'; use ray or cone")),
+        }
+    }
+
+    fn vision(&self, o: &RawObject) -> Result<VisionModel, LoadError> {
+        let [w, h] = o.resolution.unwrap_or([256, 256]);
+        if !(1..=512).contains(&w) || !(1..=512).contains(&h) {
+            return self.err_at(o.name.span(), format!("vision sensor '{}': resolution must be 1..=512 per side", o.name.get_ref()));
+        }
+        let fov = o.fov_deg.unwrap_or(60.0);
+        let near = o.near.unwrap_or(0.01);
+        let far = o.far.unwrap_or(1.0);
+        if !(fov > 0.0 && fov < 180.0) || !(near > 0.0 && far > near) {
+            return self.err_at(o.name.span(), format!("vision sensor '{}': need 0 < fov_deg < 180 and 0 < near < far", o.name.get_ref()));
+        }
+        Ok(VisionModel { resolution: [w, h], fov: fov.to_radians(), near, far })
+    }
+
+    fn robot(&mut self, r: &RawRobot, parent: Option<usize>, name: &str) -> Result<UrdfIndex, LoadError> {
+        let path = self.relative(r.urdf.get_ref());
+        if !self.files.is_file(&path) {
+            return self.err_at(r.urdf.span(), format!("URDF '{}' not found", path.display()));
+        }
+        let mut initial = HashMap::new();
+        if let Some(t) = &r.initial {
+            for (k, v) in t {
+                match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
+                    Some(f) if f.is_finite() => {
+                        initial.insert(k.clone(), f);
+                    }
+                    _ => return self.err_at(r.urdf.span(), format!("robot '{name}': initial.{k} must be a number (degrees or metres)")),
+                }
+            }
+        }
+        let include = UrdfInclude {
+            name: r.name.as_ref().map(|n| n.get_ref().clone()),
+            parent,
+            pose: Self::pose(r.position, r.orientation_deg),
+            fixed_base: r.fixed_base.unwrap_or(true),
+            joint_mode: self.joint_mode(r.joint_mode.as_ref())?,
+            max_force: r.max_force,
+            kp: r.kp.unwrap_or(DEFAULT_KP),
+            kd: r.kd.unwrap_or(DEFAULT_KD),
+            initial,
+        };
+        let idx = import_urdf(self.files, &path, &include, &self.opts.package_paths, &mut self.objects, &mut self.warnings)?;
+        for k in include.initial.keys() {
+            if !idx.joints.contains_key(k) {
+                self.warnings.push(format!("robot '{name}': initial.{k} names no joint of the URDF; ignored"));
+            }
+        }
+        if let Some(s) = &r.script {
+            self.attach_script(idx.base, s)?;
+        }
+        Ok(idx)
+    }
+}
+

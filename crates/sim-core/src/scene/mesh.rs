@@ -1,0 +1,138 @@
+//! Mesh files (STL, OBJ, COLLADA) and the resolution of `package://` references.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::error::LoadError;
+use super::files::Files;
+use super::model::MeshData;
+
+/// Loads a mesh file and applies a per-axis scale. Sub-meshes are merged.
+///
+/// # Errors
+/// [`LoadError::Mesh`] if the file is missing, of an unknown format, or has no triangles.
+pub fn load_mesh(files: &dyn Files, path: &Path, scale: [f64; 3]) -> Result<Arc<MeshData>, LoadError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("stl" | "obj" | "dae")) {
+        return Err(LoadError::Mesh {
+            path: path.to_owned(),
+            message: "unsupported mesh format; use .stl, .obj or .dae".into(),
+        });
+    }
+    let bytes = files.read(path).map_err(|e| LoadError::Mesh {
+        path: path.to_owned(),
+        message: format!("cannot read mesh: {e}"),
+    })?;
+    let scene = mesh_loader::Loader::default()
+        .merge_meshes(true)
+        .load_from_slice(&bytes, path)
+        .map_err(|e| LoadError::Mesh { path: path.to_owned(), message: format!("cannot decode mesh: {e}") })?;
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    for mesh in scene.meshes {
+        let base = u32::try_from(vertices.len()).unwrap_or(u32::MAX);
+        vertices.extend(mesh.vertices.iter().map(|v| {
+            [
+                (f64::from(v[0]) * scale[0]) as f32,
+                (f64::from(v[1]) * scale[1]) as f32,
+                (f64::from(v[2]) * scale[2]) as f32,
+            ]
+        }));
+        indices.extend(mesh.faces.iter().map(|f| [f[0] + base, f[1] + base, f[2] + base]));
+    }
+    let n = vertices.len() as u64;
+    if indices.is_empty() || indices.iter().flatten().any(|&i| u64::from(i) >= n) {
+        return Err(LoadError::Mesh {
+            path: path.to_owned(),
+            message: "mesh has no triangles or refers to missing vertices".into(),
+        });
+    }
+    // A negative scale on an odd number of axes mirrors the mesh; flip the winding so
+    // that normals still point outwards.
+    if scale.iter().filter(|s| **s < 0.0).count() % 2 == 1 {
+        for t in &mut indices {
+            t.swap(1, 2);
+        }
+    }
+    Ok(Arc::new(MeshData { source: path.to_owned(), vertices, indices }))
+}
+
+/// Resolves a URDF mesh reference the way ROS tools do.
+///
+/// - `package://NAME/rest`: `NAME` is looked for as (1) a folder named `NAME` among the
+///   URDF's folder and its ancestors, (2) a folder `NAME` inside any of those, (3) a
+///   folder `NAME` inside, or named by, each `--package-path`.
+/// - `file:///abs` and absolute paths are used as they are.
+/// - Anything else is relative to the URDF's folder.
+///
+/// Returns every candidate tried when none exists, so the error can list them.
+pub fn resolve_mesh_path(
+    files: &dyn Files,
+    reference: &str,
+    urdf_dir: &Path,
+    package_paths: &[PathBuf],
+) -> Result<PathBuf, Vec<PathBuf>> {
+    let mut tried = Vec::new();
+    if let Some(rest) = reference.strip_prefix("package://") {
+        let (pkg, sub) = rest.split_once('/').unwrap_or((rest, ""));
+        for dir in urdf_dir.ancestors() {
+            if dir.file_name().and_then(|n| n.to_str()) == Some(pkg) {
+                tried.push(dir.join(sub));
+            }
+            tried.push(dir.join(pkg).join(sub));
+        }
+        for p in package_paths {
+            if p.file_name().and_then(|n| n.to_str()) == Some(pkg) {
+                tried.push(p.join(sub));
+            }
+            tried.push(p.join(pkg).join(sub));
+        }
+    } else if let Some(abs) = reference.strip_prefix("file://") {
+        tried.push(PathBuf::from(abs));
+    } else {
+        tried.push(urdf_dir.join(reference));
+    }
+    match tried.iter().find(|p| files.is_file(p)) {
+        Some(p) => Ok(p.clone()),
+        None => Err(tried),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::files::DiskFiles;
+
+    #[test]
+    fn package_uri_resolves_against_ancestors_and_package_paths() {
+        let dir = std::env::temp_dir().join(format!("gantry-mesh-{}", std::process::id()));
+        let pkg = dir.join("my_robot");
+        std::fs::create_dir_all(pkg.join("meshes")).expect("tmp dir");
+        std::fs::create_dir_all(pkg.join("urdf")).expect("tmp dir");
+        std::fs::write(pkg.join("meshes/a.stl"), b"solid a\nendsolid a\n").expect("write");
+        let found = resolve_mesh_path(&DiskFiles, "package://my_robot/meshes/a.stl", &pkg.join("urdf"), &[]);
+        assert_eq!(found, Ok(pkg.join("meshes/a.stl")));
+        let via_path = resolve_mesh_path(&DiskFiles, "package://my_robot/meshes/a.stl", Path::new("/nonexistent"), &[dir.clone()]);
+        assert_eq!(via_path, Ok(pkg.join("meshes/a.stl")));
+        let missing = resolve_mesh_path(&DiskFiles, "package://other/x.stl", &pkg.join("urdf"), &[]);
+        assert!(missing.is_err_and(|t| !t.is_empty()));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn ascii_stl_loads_and_scales() {
+        let dir = std::env::temp_dir().join(format!("gantry-stl-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("tmp dir");
+        let p = dir.join("tri.stl");
+        std::fs::write(
+            &p,
+            "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n",
+        )
+        .expect("write");
+        let m = load_mesh(&DiskFiles, &p, [2.0, 2.0, 2.0]).expect("loads");
+        assert_eq!(m.indices.len(), 1);
+        assert!(m.vertices.contains(&[2.0, 0.0, 0.0]));
+        assert!(load_mesh(&DiskFiles, &dir.join("missing.stl"), [1.0; 3]).is_err());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

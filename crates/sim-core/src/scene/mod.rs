@@ -1,0 +1,23 @@
+//! Scene loading in three stages (style guide G11):
+//!
+//! 1. [`raw`]: serde structs mirroring the TOML file; syntax and types only.
+//! 2. [`model`]: the resolved scene ([`SceneModel`]): names are indices, angles radians,
+//!    files read, defaults applied. No rapier types, so it is unit-testable.
+//! 3. The world (`crate::world`) inserts the model into rapier.
+//!
+//! Bare URDFs load as a floor plus the robot. `docs/scene-format.md` documents the file.
+
+mod error;
+mod files;
+mod load;
+mod mesh;
+pub mod model;
+pub mod raw;
+mod urdf;
+
+pub use error::LoadError;
+pub use files::{DiskFiles, EmbeddedFiles, Files};
+pub use load::{LoadOptions, load_scene, load_scene_text};
+pub use mesh::{load_mesh, resolve_mesh_path};
+pub use model::*;
+pub use urdf::{DEFAULT_KD, DEFAULT_KP, UrdfIndex, UrdfInclude, import_urdf};

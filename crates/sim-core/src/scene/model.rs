@@ -1,0 +1,297 @@
+//! Stage 2 of scene loading: the resolved scene, with no rapier types.
+//!
+//! Every name reference is an index, every angle is in radians, every file has been
+//! read, and every default has been applied. This is what the world is built from, and
+//! what tests inspect without a physics engine.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use crate::math::Pose;
+
+/// A resolved scene, ready to be inserted into a world.
+#[derive(Debug, Clone)]
+pub struct SceneModel {
+    /// A short name for logs: the file stem, or `showroom` for the embedded scene.
+    pub name: String,
+    /// Folder scripts may write into and relative paths are resolved against.
+    pub base_dir: PathBuf,
+    /// Time step, substeps and gravity.
+    pub settings: SimSettings,
+    /// Listener defaults from the scene's `[server]` section.
+    pub server: ServerSettings,
+    /// Objects in hierarchy order: a parent always comes before its children. The index
+    /// of an object becomes its handle.
+    pub objects: Vec<ObjectModel>,
+    /// Scripts attached to objects.
+    pub scripts: Vec<ScriptModel>,
+    /// Soft problems found while loading (unknown keys, unsupported URDF elements).
+    pub warnings: Vec<String>,
+}
+
+/// Simulation settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimSettings {
+    /// Simulation time step, seconds.
+    pub dt: f64,
+    /// Physics substeps per simulation step.
+    pub substeps: u32,
+    /// Gravity in the world frame, m/s².
+    pub gravity: [f64; 3],
+}
+
+impl Default for SimSettings {
+    fn default() -> Self {
+        // CoppeliaSim's defaults: a 50 ms simulation step with 10 physics substeps.
+        Self { dt: 0.05, substeps: 10, gravity: [0.0, 0.0, -9.81] }
+    }
+}
+
+/// Listener defaults a scene may set (the command line overrides them).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ServerSettings {
+    /// Bind address.
+    pub bind: Option<String>,
+    /// Text command channel port.
+    pub text_port: Option<u16>,
+    /// ZMQ remote API port.
+    pub zmq_port: Option<u16>,
+    /// HTTP viewer port.
+    pub http_port: Option<u16>,
+}
+
+/// One object of the tree.
+#[derive(Debug, Clone)]
+pub struct ObjectModel {
+    /// Alias used by `sim.getObject` paths.
+    pub alias: String,
+    /// Index of the parent object, `None` for a root.
+    pub parent: Option<usize>,
+    /// Pose relative to the parent (for a joint parent: relative to its moving frame).
+    pub local: Pose,
+    /// Whether `:` in paths stops at this object.
+    pub model_base: bool,
+    /// What the object is.
+    pub kind: ObjectModelKind,
+}
+
+/// The kinds of object, as in CoppeliaSim.
+#[derive(Debug, Clone)]
+pub enum ObjectModelKind {
+    /// A collidable/visible body part.
+    Shape(ShapeModel),
+    /// A revolute, prismatic or fixed joint.
+    Joint(JointModel),
+    /// A reference frame.
+    Dummy,
+    /// A ray or cone proximity sensor.
+    ProximitySensor(ProximityModel),
+    /// A perspective camera.
+    VisionSensor(VisionModel),
+    /// A rigid link that measures the force and torque it transmits.
+    ForceSensor,
+    /// A graph (time series owner).
+    Graph,
+}
+
+/// A shape: collision geometry, visual geometry and physical properties.
+#[derive(Debug, Clone)]
+pub struct ShapeModel {
+    /// Collision geometry, each part with its pose in the shape frame.
+    pub geoms: Vec<GeomModel>,
+    /// Visual geometry, for the viewer and vision sensors.
+    pub visuals: Vec<VisualModel>,
+    /// Simulated by the physics engine (otherwise static or kinematic).
+    pub dynamic: bool,
+    /// How mass is given.
+    pub mass: MassModel,
+    /// Coulomb friction coefficient.
+    pub friction: f64,
+    /// Restitution 0..1.
+    pub restitution: f64,
+    /// Collision group bits.
+    pub collision_group: u32,
+    /// Collision mask bits.
+    pub collision_mask: u32,
+    /// Takes part in contacts.
+    pub respondable: bool,
+    /// Seen by proximity sensors.
+    pub detectable: bool,
+    /// Seen by distance queries.
+    pub measurable: bool,
+}
+
+/// One collision part of a shape.
+#[derive(Debug, Clone)]
+pub struct GeomModel {
+    /// The primitive or mesh.
+    pub geometry: Geometry,
+    /// Pose of the part in the shape frame.
+    pub local: Pose,
+}
+
+/// One visual part of a shape.
+#[derive(Debug, Clone)]
+pub struct VisualModel {
+    /// The primitive or mesh.
+    pub geometry: Geometry,
+    /// Pose of the part in the shape frame.
+    pub local: Pose,
+    /// RGB, each 0..1.
+    pub color: [f32; 3],
+}
+
+/// Geometry, in metres. Cylinders and capsules lie along their local Z axis.
+#[derive(Debug, Clone)]
+pub enum Geometry {
+    /// A box given by its half extents.
+    Box {
+        /// Half extents along X, Y, Z.
+        half_extents: [f64; 3],
+    },
+    /// A sphere.
+    Sphere {
+        /// Radius.
+        radius: f64,
+    },
+    /// A cylinder along local Z, centred on the origin.
+    Cylinder {
+        /// Radius.
+        radius: f64,
+        /// Full length.
+        length: f64,
+    },
+    /// A capsule along local Z; `length` is the distance between the cap centres.
+    Capsule {
+        /// Radius.
+        radius: f64,
+        /// Length of the cylindrical part.
+        length: f64,
+    },
+    /// A triangle mesh, already scaled.
+    Mesh(Arc<MeshData>),
+}
+
+/// Triangle mesh data shared between colliders, visuals and the viewer.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshData {
+    /// The file it came from, for messages.
+    pub source: PathBuf,
+    /// Vertex positions in metres.
+    pub vertices: Vec<[f32; 3]>,
+    /// Triangles as vertex indices.
+    pub indices: Vec<[u32; 3]>,
+}
+
+/// How a shape's mass is specified.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MassModel {
+    /// Uniform density in kg/m³ over the collision geometry.
+    Density(f64),
+    /// Total mass in kg, spread uniformly over the collision geometry.
+    Mass(f64),
+    /// Explicit inertial properties (from URDF).
+    Inertial {
+        /// Mass in kg.
+        mass: f64,
+        /// Centre of mass in the shape frame, metres.
+        com: [f64; 3],
+        /// Frame of the inertia tensor relative to the shape frame (rotation only).
+        frame: [f64; 4],
+        /// Inertia tensor `[ixx, ixy, ixz, iyy, iyz, izz]`, kg·m², in `frame`.
+        inertia: [f64; 6],
+    },
+}
+
+/// Joint types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointType {
+    /// Rotation about the local Z axis.
+    Revolute,
+    /// Translation along the local Z axis.
+    Prismatic,
+    /// No motion (a rigid link that still appears in the tree).
+    Fixed,
+}
+
+/// How a joint is driven.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointMode {
+    /// The position is set directly (CoppeliaSim's kinematic/passive mode).
+    Kinematic,
+    /// Dynamic, with a PD position controller limited by `max_force`.
+    Position,
+    /// Dynamic, with a velocity controller limited by `max_force`.
+    Velocity,
+}
+
+/// A joint.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointModel {
+    /// Revolute, prismatic or fixed.
+    pub joint_type: JointType,
+    /// How it is driven.
+    pub mode: JointMode,
+    /// Limits `(min, max)` in rad or m; `None` for unlimited.
+    pub limits: Option<(f64, f64)>,
+    /// Revolute without limits, wrapped into (-pi, pi].
+    pub cyclic: bool,
+    /// Initial position, rad or m.
+    pub initial: f64,
+    /// Initial position target, rad or m.
+    pub target_position: f64,
+    /// Initial velocity target, rad/s or m/s.
+    pub target_velocity: f64,
+    /// Maximum torque (N·m) or force (N).
+    pub max_force: f64,
+    /// Position stiffness.
+    pub kp: f64,
+    /// Damping.
+    pub kd: f64,
+}
+
+/// Proximity sensor volumes. The sensor looks along its local +Z axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ProximityModel {
+    /// A segment from `offset` to `offset + range` along +Z.
+    Ray {
+        /// Start of the segment, m.
+        offset: f64,
+        /// Length of the segment, m.
+        range: f64,
+    },
+    /// A cone of half angle `half_angle` between the spheres of radius `offset` and
+    /// `offset + range`.
+    Cone {
+        /// Near radius, m.
+        offset: f64,
+        /// Depth, m.
+        range: f64,
+        /// Half of the full cone angle, rad.
+        half_angle: f64,
+    },
+}
+
+/// A perspective vision sensor. It looks along its local +Z axis, image X along local X.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VisionModel {
+    /// Width and height in pixels.
+    pub resolution: [u32; 2],
+    /// Field of view, rad (of the larger image side, as in CoppeliaSim).
+    pub fov: f64,
+    /// Near clipping distance, m.
+    pub near: f64,
+    /// Far clipping distance, m.
+    pub far: f64,
+}
+
+/// A script attached to an object.
+#[derive(Debug, Clone)]
+pub struct ScriptModel {
+    /// Index of the object the script is attached to.
+    pub object: usize,
+    /// The file, for messages and hot reload.
+    pub path: PathBuf,
+    /// Its text.
+    pub source: String,
+}

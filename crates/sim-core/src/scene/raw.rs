@@ -1,0 +1,295 @@
+//! Stage 1 of scene loading: serde structs that mirror the TOML file exactly.
+//!
+//! Nothing here resolves names, units or files; it only checks the file's syntax and
+//! types. `docs/scene-format.md` documents every key. Keys this module does not know are
+//! collected by [`unknown_keys`] and reported as warnings, never silently dropped.
+
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A whole scene file.
+#[derive(Debug, Deserialize, Default)]
+pub struct RawScene {
+    /// `[simulation]`: time step, substeps, gravity.
+    pub simulation: Option<RawSimulation>,
+    /// `[floor]`: the ground box; absent means no floor.
+    pub floor: Option<RawFloor>,
+    /// `[server]`: default listener ports for this scene.
+    pub server: Option<RawServer>,
+    /// `[[object]]`: shapes, joints, dummies, sensors and graphs, in hierarchy order.
+    #[serde(default)]
+    pub object: Vec<RawObject>,
+    /// `[[robot]]`: URDF includes.
+    #[serde(default)]
+    pub robot: Vec<RawRobot>,
+    /// `[[script]]`: scripts attached to objects by path (e.g. inside a URDF robot).
+    #[serde(default)]
+    pub script: Vec<RawScript>,
+}
+
+/// `[simulation]`.
+#[derive(Debug, Deserialize, Default)]
+pub struct RawSimulation {
+    /// Simulation time step in seconds (CoppeliaSim's default 0.05).
+    pub dt: Option<f64>,
+    /// Physics substeps per simulation step (CoppeliaSim's default 10).
+    pub substeps: Option<u32>,
+    /// Gravity in m/s², world frame (default `[0, 0, -9.81]`, Z up).
+    pub gravity: Option<[f64; 3]>,
+}
+
+/// `[floor]`.
+#[derive(Debug, Deserialize, Default)]
+pub struct RawFloor {
+    /// Extent along X and Y in metres (default 5 x 5).
+    pub size: Option<[f64; 2]>,
+    /// Coulomb friction coefficient (default 1).
+    pub friction: Option<f64>,
+    /// RGB colour, each 0..1.
+    pub color: Option<[f32; 3]>,
+}
+
+/// `[server]`.
+#[derive(Debug, Deserialize, Default)]
+pub struct RawServer {
+    /// Address the listeners bind (default 127.0.0.1).
+    pub bind: Option<String>,
+    /// Text command channel port (default 6000).
+    pub text_port: Option<u16>,
+    /// ZMQ remote API port (default 23000).
+    pub zmq_port: Option<u16>,
+    /// HTTP viewer port (default 8080).
+    pub http_port: Option<u16>,
+}
+
+/// One `[[object]]`. Which keys apply depends on `kind`; the resolver rejects keys that
+/// make no sense for the kind.
+#[derive(Debug, Deserialize)]
+pub struct RawObject {
+    /// Unique name within the file; other entries refer to the object by it. Also the
+    /// default alias.
+    pub name: Spanned<String>,
+    /// `shape`, `joint`, `dummy`, `proximity_sensor`, `vision_sensor`, `force_sensor` or `graph`.
+    pub kind: Spanned<String>,
+    /// Alias shown to scripts (`sim.getObject` paths); defaults to `name`.
+    pub alias: Option<String>,
+    /// Name of the parent object (or `robot-name/link-name` inside a URDF robot).
+    pub parent: Option<Spanned<String>>,
+    /// Position relative to the parent, metres.
+    pub position: Option<[f64; 3]>,
+    /// Orientation relative to the parent, CoppeliaSim Euler angles in **degrees**.
+    pub orientation_deg: Option<[f64; 3]>,
+    /// Marks the object as a model base (for `:` in paths).
+    pub model_base: Option<bool>,
+    /// Lua script file attached to this object, relative to the scene file.
+    pub script: Option<Spanned<String>>,
+
+    /// Shape: `box`, `sphere`, `cylinder`, `capsule` or `mesh`.
+    pub shape: Option<Spanned<String>>,
+    /// Box: full extents in metres.
+    pub size: Option<[f64; 3]>,
+    /// Sphere, cylinder, capsule: radius in metres.
+    pub radius: Option<f64>,
+    /// Cylinder, capsule: length along the local Z axis in metres.
+    pub length: Option<f64>,
+    /// Mesh: file (STL, OBJ or DAE) relative to the scene file.
+    pub mesh: Option<Spanned<String>>,
+    /// Mesh: scale per axis.
+    pub scale: Option<[f64; 3]>,
+    /// Shape: simulated by the physics engine (default false: static).
+    pub dynamic: Option<bool>,
+    /// Shape: mass in kg (exclusive with density).
+    pub mass: Option<f64>,
+    /// Shape: density in kg/m³ (default 1000 when neither mass nor density is given).
+    pub density: Option<f64>,
+    /// Shape: Coulomb friction coefficient (default 0.5).
+    pub friction: Option<f64>,
+    /// Shape: restitution 0..1 (default 0).
+    pub restitution: Option<f64>,
+    /// Shape: RGB colour, each 0..1.
+    pub color: Option<[f32; 3]>,
+    /// Shape: collision group bits (default all).
+    pub collision_group: Option<u32>,
+    /// Shape: collision mask bits, which groups this shape collides with (default all).
+    pub collision_mask: Option<u32>,
+    /// Shape: takes part in contacts (default true).
+    pub respondable: Option<bool>,
+    /// Shape: seen by proximity sensors (default true).
+    pub detectable: Option<bool>,
+    /// Shape: seen by `sim.checkDistance` (default true).
+    pub measurable: Option<bool>,
+
+    /// Joint: `revolute` or `prismatic`. The joint moves about/along its local Z axis.
+    pub joint: Option<Spanned<String>>,
+    /// Joint: `kinematic`, `position` or `velocity`.
+    pub mode: Option<Spanned<String>>,
+    /// Joint limits `[min, max]` in degrees (revolute) or metres (prismatic).
+    pub limits: Option<[f64; 2]>,
+    /// Joint: revolute joint without limits, wrapped into (-180°, 180°].
+    pub cyclic: Option<bool>,
+    /// Joint: initial position, degrees or metres.
+    pub initial: Option<f64>,
+    /// Joint: initial position target (mode `position`), degrees or metres.
+    pub target_position: Option<f64>,
+    /// Joint: initial velocity target (mode `velocity`), deg/s or m/s.
+    pub target_velocity: Option<f64>,
+    /// Joint: maximum motor torque (N·m) or force (N).
+    pub max_force: Option<f64>,
+    /// Joint: position-control stiffness (N·m/rad or N/m).
+    pub kp: Option<f64>,
+    /// Joint: position/velocity-control damping (N·m·s/rad or N·s/m).
+    pub kd: Option<f64>,
+
+    /// Proximity sensor: `ray` or `cone`. It looks along its local +Z axis.
+    pub sensor: Option<Spanned<String>>,
+    /// Proximity/vision sensor: detection range in metres (proximity).
+    pub range: Option<f64>,
+    /// Proximity sensor: full cone angle in degrees.
+    pub angle_deg: Option<f64>,
+    /// Proximity sensor: distance from the origin where the volume starts, metres.
+    pub offset: Option<f64>,
+    /// Vision sensor: resolution `[width, height]` in pixels.
+    pub resolution: Option<[u32; 2]>,
+    /// Vision sensor: perspective field of view in degrees.
+    pub fov_deg: Option<f64>,
+    /// Vision sensor: near clipping distance in metres.
+    pub near: Option<f64>,
+    /// Vision sensor: far clipping distance in metres.
+    pub far: Option<f64>,
+}
+
+/// One `[[robot]]`: a URDF include.
+#[derive(Debug, Deserialize)]
+pub struct RawRobot {
+    /// URDF file, relative to the scene file.
+    pub urdf: Spanned<String>,
+    /// Alias of the robot's model base (default: the URDF robot name).
+    pub name: Option<Spanned<String>>,
+    /// Name of the parent object (default: the world).
+    pub parent: Option<Spanned<String>>,
+    /// Position of the robot base, metres.
+    pub position: Option<[f64; 3]>,
+    /// Orientation of the robot base, CoppeliaSim Euler angles in **degrees**.
+    pub orientation_deg: Option<[f64; 3]>,
+    /// Whether the base link is fixed to the world (default true, like PyBullet's `useFixedBase`).
+    pub fixed_base: Option<bool>,
+    /// Mode of every joint: `kinematic` (default), `position` or `velocity`.
+    pub joint_mode: Option<Spanned<String>>,
+    /// Maximum joint torque/force; default: the URDF `effort` limit, else 100.
+    pub max_force: Option<f64>,
+    /// Position-control stiffness for every joint.
+    pub kp: Option<f64>,
+    /// Position/velocity-control damping for every joint.
+    pub kd: Option<f64>,
+    /// Lua script attached to the robot's model base.
+    pub script: Option<Spanned<String>>,
+    /// Initial joint positions by joint name, degrees or metres.
+    pub initial: Option<toml::Table>,
+}
+
+/// One `[[script]]`.
+#[derive(Debug, Deserialize)]
+pub struct RawScript {
+    /// Object to attach to: an object's `name`, or `robot/link` for a URDF link or joint.
+    pub object: Spanned<String>,
+    /// Lua file, relative to the scene file.
+    pub file: Spanned<String>,
+}
+
+const SCENE_KEYS: &[&str] = &["simulation", "floor", "server", "object", "robot", "script"];
+const SIMULATION_KEYS: &[&str] = &["dt", "substeps", "gravity"];
+const FLOOR_KEYS: &[&str] = &["size", "friction", "color"];
+const SERVER_KEYS: &[&str] = &["bind", "text_port", "zmq_port", "http_port"];
+const OBJECT_KEYS: &[&str] = &[
+    "name", "kind", "alias", "parent", "position", "orientation_deg", "model_base", "script",
+    "shape", "size", "radius", "length", "mesh", "scale", "dynamic", "mass", "density",
+    "friction", "restitution", "color", "collision_group", "collision_mask", "respondable",
+    "detectable", "measurable", "joint", "mode", "limits", "cyclic", "initial",
+    "target_position", "target_velocity", "max_force", "kp", "kd", "sensor", "range",
+    "angle_deg", "offset", "resolution", "fov_deg", "near", "far",
+];
+const ROBOT_KEYS: &[&str] = &[
+    "urdf", "name", "parent", "position", "orientation_deg", "fixed_base", "joint_mode",
+    "max_force", "kp", "kd", "script", "initial",
+];
+const SCRIPT_KEYS: &[&str] = &["object", "file"];
+
+/// Lists keys of the document that the scene format does not define, as
+/// `"table.key"` paths with a suggestion when a known key is close.
+pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
+    let mut out = Vec::new();
+    check_table(doc, "", SCENE_KEYS, &mut out);
+    let tables: [(&str, &[&str]); 3] =
+        [("simulation", SIMULATION_KEYS), ("floor", FLOOR_KEYS), ("server", SERVER_KEYS)];
+    for (name, keys) in tables {
+        if let Some(toml::Value::Table(t)) = doc.get(name) {
+            check_table(t, name, keys, &mut out);
+        }
+    }
+    let arrays: [(&str, &[&str]); 3] =
+        [("object", OBJECT_KEYS), ("robot", ROBOT_KEYS), ("script", SCRIPT_KEYS)];
+    for (name, keys) in arrays {
+        if let Some(toml::Value::Array(items)) = doc.get(name) {
+            for (i, item) in items.iter().enumerate() {
+                if let toml::Value::Table(t) = item {
+                    let label = match t.get("name").and_then(|v| v.as_str()) {
+                        Some(n) => format!("{name}[{i}] ('{n}')"),
+                        None => format!("{name}[{i}]"),
+                    };
+                    check_table(t, &label, keys, &mut out);
+                }
+            }
+        }
+    }
+    out
+}
+
+fn check_table(t: &toml::Table, label: &str, known: &[&str], out: &mut Vec<String>) {
+    for key in t.keys() {
+        if known.contains(&key.as_str()) {
+            continue;
+        }
+        let place = if label.is_empty() { key.clone() } else { format!("{label}.{key}") };
+        match known.iter().find(|k| edit_distance(k, key) <= 2) {
+            Some(k) => out.push(format!("unknown key '{place}' (did you mean '{k}'?)")),
+            None => out.push(format!("unknown key '{place}'")),
+        }
+    }
+}
+
+/// Levenshtein distance, for "did you mean" hints on short keys.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, &cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != cb);
+            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unknown_keys_are_reported_with_hints() {
+        let doc: toml::Table = toml::from_str(
+            "[simulation]\ndt = 0.05\nsubstep = 3\n[[object]]\nname = 'a'\nkind = 'dummy'\ncolour = [1,0,0]\nwhatever = 1\n",
+        )
+        .expect("valid toml");
+        let w = unknown_keys(&doc);
+        assert_eq!(
+            w,
+            vec![
+                "unknown key 'simulation.substep' (did you mean 'substeps'?)".to_string(),
+                "unknown key 'object[0] ('a').colour' (did you mean 'color'?)".to_string(),
+                "unknown key 'object[0] ('a').whatever'".to_string(),
+            ]
+        );
+    }
+}

@@ -1,0 +1,79 @@
+//! Sensors evaluated against the collision world: proximity sensors (exact nearest point
+//! within a ray or cone volume).
+
+mod proximity_volume;
+
+pub use proximity_volume::{ProximityHit, ProximityVolume};
+
+use rapier3d::prelude::*;
+
+use crate::math::{self, Pose, Vec3};
+use crate::scene::ProximityModel;
+use crate::world::{Detection, Handle, ObjectKind, Physics, World};
+
+impl From<&ProximityModel> for ProximityVolume {
+    fn from(m: &ProximityModel) -> Self {
+        match *m {
+            ProximityModel::Ray { offset, range } => ProximityVolume::Ray { offset: offset as f32, range: range as f32 },
+            ProximityModel::Cone { offset, range, half_angle } => ProximityVolume::Cone {
+                offset: offset as f32,
+                range: range as f32,
+                half_angle: half_angle as f32,
+            },
+        }
+    }
+}
+
+/// Nearest detectable point in a sensor's volume, or `None`.
+///
+/// The body the sensor is mounted on is never detected: a sensor sees the world, not
+/// its own robot (CoppeliaSim would report it when it pokes into the volume; BubbleRob's
+/// nose sensor sits on its body's surface, where f32 contact noise would make that flicker).
+pub(crate) fn detect(
+    world: &World,
+    physics: &Physics,
+    sensor: Handle,
+    sensor_world: &Pose,
+    model: &ProximityModel,
+) -> Option<Detection> {
+    let volume = ProximityVolume::from(model);
+    let own_body = mount_body(world, physics, sensor);
+    let to_sensor = math::to_physics(&sensor_world.inverse());
+    let aabb = volume.local_aabb().transform_by(&math::to_physics(sensor_world));
+    let qp = physics.world.query_pipeline();
+    let mut best: Option<(ProximityHit, Handle)> = None;
+    for (ch, collider) in qp.intersect_aabb_conservative(aabb) {
+        if own_body.is_some() && collider.parent() == own_body {
+            continue;
+        }
+        let Some(owner) = world.collider_owner(ch) else { continue };
+        let detectable = matches!(&world.object(owner).map(|o| &o.kind), Ok(ObjectKind::Shape(s)) if s.detectable);
+        if !detectable {
+            continue;
+        }
+        let pose = to_sensor * *collider.position();
+        if let Some(hit) = volume.detect(collider.shape(), &pose)
+            && best.as_ref().is_none_or(|(b, _)| hit.distance < b.distance)
+        {
+            best = Some((hit, owner));
+        }
+    }
+    best.map(|(hit, object)| Detection {
+        distance: f64::from(hit.distance),
+        point: math::vec_from_physics(hit.point),
+        object,
+        normal: Vec3::from(math::vec_from_physics(hit.normal)),
+    })
+}
+
+/// The rapier body an object rides on: its own, or the nearest ancestor's.
+fn mount_body(world: &World, physics: &Physics, h: Handle) -> Option<RigidBodyHandle> {
+    let mut cur = Some(h);
+    while let Some(c) = cur {
+        if let Some(&(bi, _)) = physics.body_of.get(&c) {
+            return Some(physics.bodies[bi].handle);
+        }
+        cur = world.object(c).ok().and_then(|o| o.parent);
+    }
+    None
+}

@@ -1,0 +1,527 @@
+//! [`World`]: the object tree, the physics world and simulation time, owned by one thread.
+
+use rapier3d::prelude::*;
+
+use super::object::{Detection, ForceReading, Handle, Joint, Object, ObjectKind, ProximitySensor};
+use super::object_path::{ObjectTree, PathError, PathQuery, resolve};
+use super::physics::{BodyRole, Physics, TreeView, configure_motor};
+use crate::error::SimError;
+use crate::math::{self, Pose, Vec3};
+use crate::scene::{JointMode, ObjectModelKind, SceneModel, SimSettings};
+
+/// The simulated scene. It is not `Sync` and lives on the simulation thread; every other
+/// part of gantry reaches it through requests to that thread.
+pub struct World {
+    objects: Vec<Object>,
+    roots: Vec<Handle>,
+    /// Handles with every parent before its children; world poses are refreshed in this order.
+    order: Vec<Handle>,
+    physics: Physics,
+    settings: SimSettings,
+    time: f64,
+    steps: u64,
+    warnings: Vec<String>,
+}
+
+impl World {
+    /// Builds the world from a resolved scene. Object handles are model indices.
+    pub fn new(model: &SceneModel) -> Self {
+        let mut objects: Vec<Object> = model
+            .objects
+            .iter()
+            .map(|o| Object {
+                alias: o.alias.clone(),
+                parent: o.parent.map(|p| p as Handle),
+                children: Vec::new(),
+                local: o.local,
+                world: Pose::identity(),
+                model_base: o.model_base,
+                kind: match &o.kind {
+                    ObjectModelKind::Shape(s) => ObjectKind::Shape(Box::new(s.clone())),
+                    ObjectModelKind::Joint(j) => {
+                        let mut joint = Joint {
+                            joint_type: j.joint_type,
+                            mode: j.mode,
+                            limits: j.limits,
+                            cyclic: j.cyclic,
+                            position: 0.0,
+                            velocity: 0.0,
+                            target_position: j.target_position,
+                            target_velocity: j.target_velocity,
+                            max_force: j.max_force,
+                            kp: j.kp,
+                            kd: j.kd,
+                            force: 0.0,
+                        };
+                        joint.position = joint.constrain(j.initial);
+                        ObjectKind::Joint(joint)
+                    }
+                    ObjectModelKind::Dummy => ObjectKind::Dummy,
+                    ObjectModelKind::ProximitySensor(v) => {
+                        ObjectKind::ProximitySensor(ProximitySensor { volume: *v, last: None })
+                    }
+                    ObjectModelKind::VisionSensor(v) => ObjectKind::VisionSensor(*v),
+                    ObjectModelKind::ForceSensor => ObjectKind::ForceSensor(ForceReading::default()),
+                    ObjectModelKind::Graph => ObjectKind::Graph,
+                },
+            })
+            .collect();
+        let mut roots = Vec::new();
+        for (i, o) in model.objects.iter().enumerate() {
+            match o.parent {
+                Some(p) => objects[p].children.push(i as Handle),
+                None => roots.push(i as Handle),
+            }
+        }
+        let order: Vec<Handle> = (0..objects.len() as Handle).collect();
+        let mut warnings = model.warnings.clone();
+        let mut world = World {
+            objects,
+            roots,
+            order,
+            physics: Physics::build(
+                &TreeView { parent: &|_| None, kind: &|_| &ObjectKind::Dummy, world: &|_| Pose::identity() },
+                &[],
+                model.settings.gravity,
+                model.settings.dt,
+                model.settings.substeps,
+                &mut warnings,
+            ),
+            settings: model.settings,
+            time: 0.0,
+            steps: 0,
+            warnings: Vec::new(),
+        };
+        world.refresh_all_poses();
+        let objects = &world.objects;
+        let tree = TreeView {
+            parent: &|h| objects[h as usize].parent,
+            kind: &|h| &objects[h as usize].kind,
+            world: &|h| objects[h as usize].world,
+        };
+        world.physics = Physics::build(
+            &tree,
+            &world.order,
+            model.settings.gravity,
+            model.settings.dt,
+            model.settings.substeps,
+            &mut warnings,
+        );
+        world.warnings = warnings;
+        world
+    }
+
+    /// Warnings from loading and building (unsupported features, ignored keys).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// Simulation settings.
+    pub fn settings(&self) -> &SimSettings {
+        &self.settings
+    }
+
+    /// Simulation time, s: the time at the start of the current step.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Number of completed steps.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Number of objects (handles are `0..len`).
+    pub fn len(&self) -> usize {
+        self.objects.len()
+    }
+
+    /// Whether the scene has no objects.
+    pub fn is_empty(&self) -> bool {
+        self.objects.is_empty()
+    }
+
+    /// Root objects in hierarchy order.
+    pub fn roots(&self) -> &[Handle] {
+        &self.roots
+    }
+
+    /// Every handle, parents before children.
+    pub fn handles(&self) -> &[Handle] {
+        &self.order
+    }
+
+    /// The object behind a handle.
+    ///
+    /// # Errors
+    /// [`SimError::NoSuchObject`].
+    pub fn object(&self, h: Handle) -> Result<&Object, SimError> {
+        usize::try_from(h).ok().and_then(|i| self.objects.get(i)).ok_or(SimError::NoSuchObject(h))
+    }
+
+    fn object_mut(&mut self, h: Handle) -> Result<&mut Object, SimError> {
+        usize::try_from(h).ok().and_then(|i| self.objects.get_mut(i)).ok_or(SimError::NoSuchObject(h))
+    }
+
+    /// The joint state behind a handle.
+    ///
+    /// # Errors
+    /// No such object, or not a joint.
+    pub fn joint(&self, h: Handle) -> Result<&Joint, SimError> {
+        match &self.object(h)?.kind {
+            ObjectKind::Joint(j) => Ok(j),
+            other => Err(SimError::WrongKind { handle: h, expected: "joint", actual: other.name() }),
+        }
+    }
+
+    fn joint_mut(&mut self, h: Handle) -> Result<&mut Joint, SimError> {
+        match &mut self.object_mut(h)?.kind {
+            ObjectKind::Joint(j) => Ok(j),
+            other => Err(SimError::WrongKind { handle: h, expected: "joint", actual: other.name() }),
+        }
+    }
+
+    /// Resolves a `sim.getObject` path. `emitter` is the calling script's object.
+    ///
+    /// # Errors
+    /// [`SimError::PathNotFound`].
+    pub fn find(&self, path: &str, emitter: Option<Handle>, index: usize) -> Result<Handle, SimError> {
+        let mut q = PathQuery::new(path).skipping(index);
+        if let Some(e) = emitter {
+            q = q.emitted_by(e);
+        }
+        resolve(self, &q).map_err(|e: PathError| SimError::PathNotFound(e.path().to_owned()))
+    }
+
+    /// The frame children of `h` hang from: the object frame, moved by a joint's motion.
+    fn child_frame(&self, h: Handle) -> Pose {
+        let o = &self.objects[h as usize];
+        match &o.kind {
+            ObjectKind::Joint(j) => o.world * j.motion(),
+            _ => o.world,
+        }
+    }
+
+    /// World pose of the frame an object's local pose is relative to.
+    pub fn parent_frame(&self, h: Handle) -> Pose {
+        match self.objects.get(h as usize).and_then(|o| o.parent) {
+            Some(p) => self.child_frame(p),
+            None => Pose::identity(),
+        }
+    }
+
+    /// Recomputes every world pose from local poses, parents first.
+    fn refresh_all_poses(&mut self) {
+        for i in 0..self.order.len() {
+            let h = self.order[i];
+            let world = self.parent_frame(h) * self.objects[h as usize].local;
+            self.objects[h as usize].world = world;
+        }
+    }
+
+    /// Recomputes world poses of `h` and its descendants.
+    fn refresh_subtree(&mut self, h: Handle) {
+        let mut stack = vec![h];
+        while let Some(cur) = stack.pop() {
+            let world = self.parent_frame(cur) * self.objects[cur as usize].local;
+            self.objects[cur as usize].world = world;
+            stack.extend(self.objects[cur as usize].children.iter().rev().copied());
+        }
+    }
+
+    /// Sets an object's pose in the world frame. A simulated body is teleported with its
+    /// velocities zeroed (CoppeliaSim resets the dynamics of a moved object).
+    ///
+    /// # Errors
+    /// No such object, or a non-finite pose.
+    pub fn set_world_pose(&mut self, h: Handle, pose: Pose) -> Result<(), SimError> {
+        if !pose.translation.vector.iter().all(|v| v.is_finite()) {
+            return Err(SimError::InvalidArgument("pose must be finite".into()));
+        }
+        self.object(h)?;
+        let local = self.parent_frame(h).inverse() * pose;
+        self.objects[h as usize].local = local;
+        self.refresh_subtree(h);
+        self.push_body_pose(h);
+        Ok(())
+    }
+
+    /// Teleports the rapier bodies of `h`'s subtree to their tree poses.
+    fn push_body_pose(&mut self, h: Handle) {
+        let mut stack = vec![h];
+        while let Some(cur) = stack.pop() {
+            if let Some(&(bi, rel)) = self.physics.body_of.get(&cur) {
+                let entry = &self.physics.bodies[bi];
+                if entry.object == cur {
+                    let pose = math::to_physics(&(self.objects[cur as usize].world * rel.inverse()));
+                    if let Some(rb) = self.physics.world.bodies.get_mut(entry.handle) {
+                        match entry.role {
+                            BodyRole::Kinematic => rb.set_next_kinematic_position(pose),
+                            _ => {
+                                rb.set_position(pose, true);
+                                rb.set_linvel(Vector::ZERO, true);
+                                rb.set_angvel(Vector::ZERO, true);
+                            }
+                        }
+                    }
+                }
+            }
+            stack.extend(self.objects[cur as usize].children.iter().copied());
+        }
+        // A multibody takes its root pose from the root body only when asked to.
+        let w = &mut self.physics.world;
+        let roots: Vec<_> = w.multibody_joints.multibodies().map(|mb| mb.root().rigid_body_handle()).collect();
+        for root in roots {
+            if let Some(id) = w.multibody_joints.rigid_body_link(root).copied()
+                && let Some(mb) = w.multibody_joints.get_multibody_mut(id.multibody)
+            {
+                mb.forward_kinematics(&w.bodies, true);
+            }
+        }
+    }
+
+    /// Sets a joint's position (clamped to limits, cyclic joints wrapped) and moves every
+    /// descendant at once, before any physics step.
+    ///
+    /// # Errors
+    /// No such object, not a joint, or a non-finite value.
+    pub fn set_joint_position(&mut self, h: Handle, q: f64) -> Result<(), SimError> {
+        if !q.is_finite() {
+            return Err(SimError::InvalidArgument(format!("joint position must be finite, got {q}")));
+        }
+        let j = self.joint_mut(h)?;
+        let q = j.constrain(q);
+        let old = j.position;
+        j.position = q;
+        if let Some(b) = self.physics.joints.get(&h).copied()
+            && let Some((mb, link)) = self.physics.world.multibody_joints.get_mut(b.joint)
+        {
+            // A dynamic joint: move rapier's coordinate too, then its links.
+            if let Some(l) = mb.link_mut(link) {
+                let mut disp = [0.0f32; 6];
+                disp[0] = (q - old) as f32;
+                let n = l.joint.ndofs().min(6);
+                l.joint.apply_displacement(&disp[..n]);
+            }
+            mb.forward_kinematics(&self.physics.world.bodies, false);
+        }
+        self.refresh_subtree(h);
+        Ok(())
+    }
+
+    /// Sets a joint's position target (position mode; stored for other modes).
+    ///
+    /// # Errors
+    /// No such object, not a joint, or a non-finite value.
+    pub fn set_joint_target_position(&mut self, h: Handle, q: f64) -> Result<(), SimError> {
+        if !q.is_finite() {
+            return Err(SimError::InvalidArgument(format!("target position must be finite, got {q}")));
+        }
+        let j = self.joint_mut(h)?;
+        j.target_position = if j.cyclic { q } else { j.constrain(q) };
+        if j.mode == JointMode::Kinematic {
+            // CoppeliaSim moves a kinematic joint towards its target; gantry moves it at once.
+            let q = j.target_position;
+            return self.set_joint_position(h, q);
+        }
+        self.push_motor(h);
+        Ok(())
+    }
+
+    /// Sets a joint's velocity target, rad/s or m/s.
+    ///
+    /// # Errors
+    /// No such object, not a joint, or a non-finite value.
+    pub fn set_joint_target_velocity(&mut self, h: Handle, v: f64) -> Result<(), SimError> {
+        if !v.is_finite() {
+            return Err(SimError::InvalidArgument(format!("target velocity must be finite, got {v}")));
+        }
+        self.joint_mut(h)?.target_velocity = v;
+        self.push_motor(h);
+        Ok(())
+    }
+
+    /// Sets a joint's maximum torque/force (its magnitude; CoppeliaSim's signed variant
+    /// is accepted and the sign ignored).
+    ///
+    /// # Errors
+    /// No such object, not a joint, or a non-finite value.
+    pub fn set_joint_max_force(&mut self, h: Handle, f: f64) -> Result<(), SimError> {
+        if !f.is_finite() {
+            return Err(SimError::InvalidArgument(format!("force must be finite, got {f}")));
+        }
+        self.joint_mut(h)?.max_force = f.abs();
+        self.push_motor(h);
+        Ok(())
+    }
+
+    fn push_motor(&mut self, h: Handle) {
+        let Some(b) = self.physics.joints.get(&h).copied() else { return };
+        let ObjectKind::Joint(joint) = &self.objects[h as usize].kind else { return };
+        if let Some((mb, link)) = self.physics.world.multibody_joints.get_mut(b.joint)
+            && let Some(l) = mb.link_mut(link)
+        {
+            configure_motor(&mut l.joint.data, b.axis, joint);
+        }
+    }
+
+    /// Advances physics by one simulation step (`substeps` rapier steps) and reads the
+    /// results back into the tree. Does not advance simulation time (see
+    /// [`World::advance_time`]), because CoppeliaSim scripts see the step's start time
+    /// until the step ends.
+    pub fn step_physics(&mut self) {
+        // Kinematic bodies follow the tree.
+        for e in &self.physics.bodies {
+            if e.role == BodyRole::Kinematic
+                && let Some(rb) = self.physics.world.bodies.get_mut(e.handle)
+            {
+                rb.set_next_kinematic_position(math::to_physics(&self.objects[e.object as usize].world));
+            }
+        }
+        for _ in 0..self.physics.substeps {
+            self.physics.world.step();
+        }
+        self.read_back();
+    }
+
+    /// Moves simulation time forward by one step.
+    pub fn advance_time(&mut self) {
+        self.steps += 1;
+        self.time = self.steps as f64 * self.settings.dt;
+    }
+
+    fn read_back(&mut self) {
+        // Dynamic joint positions and velocities.
+        for (&h, b) in &self.physics.joints {
+            if let Some((mb, link)) = self.physics.world.multibody_joints.get(b.joint)
+                && let Some(l) = mb.link(link)
+            {
+                let q = f64::from(l.joint.coords()[b.coord]);
+                let v = mb.joint_velocity(l);
+                let vel = v.get(0).copied().map_or(0.0, f64::from);
+                if let ObjectKind::Joint(j) = &mut self.objects[h as usize].kind {
+                    j.position = if j.cyclic { math::wrap_angle(q) } else { q };
+                    j.velocity = vel;
+                    j.force = match j.mode {
+                        JointMode::Position => {
+                            (j.kp * (j.target_position - q) - j.kd * vel).clamp(-j.max_force, j.max_force)
+                        }
+                        JointMode::Velocity => (j.kd * (j.target_velocity - vel)).clamp(-j.max_force, j.max_force),
+                        JointMode::Kinematic => 0.0,
+                    };
+                }
+            }
+        }
+        // Free bodies: their poses define their objects' local poses. Parents come first
+        // in `order`, so one pass suffices.
+        for i in 0..self.order.len() {
+            let h = self.order[i];
+            let world = match self.physics.body_of.get(&h) {
+                Some(&(bi, rel)) if self.physics.bodies[bi].object == h && self.physics.bodies[bi].role == BodyRole::Free => {
+                    self.physics.world.bodies.get(self.physics.bodies[bi].handle).map(|rb| math::from_physics(rb.position()) * rel)
+                }
+                _ => None,
+            };
+            let parent = self.parent_frame(h);
+            let o = &mut self.objects[h as usize];
+            match world {
+                Some(w) => {
+                    o.world = w;
+                    o.local = parent.inverse() * w;
+                }
+                None => o.world = parent * o.local,
+            }
+        }
+        // Force sensors: the joint impulse over the step is the transmitted force.
+        for (&h, &jh) in &self.physics.force_joints {
+            if let Some(j) = self.physics.world.impulse_joints.get(jh) {
+                let imp = j.impulses;
+                let scale = 1.0 / self.physics.substep_dt;
+                if let ObjectKind::ForceSensor(r) = &mut self.objects[h as usize].kind {
+                    r.valid = true;
+                    r.force = Vec3::new(f64::from(imp[0]), f64::from(imp[1]), f64::from(imp[2])) * scale;
+                    r.torque = Vec3::new(f64::from(imp[3]), f64::from(imp[4]), f64::from(imp[5])) * scale;
+                }
+            }
+        }
+    }
+
+    /// Linear and angular velocity of an object in the world frame (m/s, rad/s): that of
+    /// the body it rides on, zero for objects not attached to a body.
+    ///
+    /// # Errors
+    /// No such object.
+    pub fn velocity(&self, h: Handle) -> Result<(Vec3, Vec3), SimError> {
+        self.object(h)?;
+        let Some(&(bi, _)) = self.physics.body_of.get(&h) else { return Ok((Vec3::zeros(), Vec3::zeros())) };
+        let Some(rb) = self.physics.world.bodies.get(self.physics.bodies[bi].handle) else {
+            return Ok((Vec3::zeros(), Vec3::zeros()));
+        };
+        let w = math::vec_from_physics(rb.angvel());
+        // The body's linear velocity is at its centre of mass; move it to the object origin.
+        let com = math::vec_from_physics(rb.center_of_mass());
+        let p = self.objects[h as usize].world.translation.vector;
+        Ok((math::vec_from_physics(rb.linvel()) + w.cross(&(p - com)), w))
+    }
+
+    /// Runs proximity sensor `h` against the current collision world and stores the result.
+    ///
+    /// # Errors
+    /// No such object, or not a proximity sensor.
+    pub fn handle_proximity_sensor(&mut self, h: Handle) -> Result<Option<Detection>, SimError> {
+        let volume = match &self.object(h)?.kind {
+            ObjectKind::ProximitySensor(s) => s.volume,
+            other => return Err(SimError::WrongKind { handle: h, expected: "proximity sensor", actual: other.name() }),
+        };
+        let sensor_world = self.objects[h as usize].world;
+        let result = crate::sensor::detect(self, &self.physics, h, &sensor_world, &volume);
+        if let ObjectKind::ProximitySensor(s) = &mut self.objects[h as usize].kind {
+            s.last = Some(result);
+        }
+        Ok(result)
+    }
+
+    /// Handles every proximity sensor (the sensing phase of a step).
+    pub fn handle_all_proximity_sensors(&mut self) {
+        for i in 0..self.objects.len() {
+            if matches!(self.objects[i].kind, ObjectKind::ProximitySensor(_)) {
+                let _ = self.handle_proximity_sensor(i as Handle);
+            }
+        }
+    }
+
+    /// The object owning a collider.
+    pub(crate) fn collider_owner(&self, c: ColliderHandle) -> Option<Handle> {
+        self.physics.collider_object.get(&c).copied()
+    }
+
+    /// The rapier world, read-only (sensors, distance queries, the viewer).
+    pub(crate) fn physics(&self) -> &Physics {
+        &self.physics
+    }
+
+    /// Pose of a rapier body as the physics engine sees it (f32), for consistency tests.
+    pub fn physics_pose(&self, h: Handle) -> Option<Pose> {
+        let &(bi, rel) = self.physics.body_of.get(&h)?;
+        let rb = self.physics.world.bodies.get(self.physics.bodies[bi].handle)?;
+        Some(math::from_physics(rb.position()) * rel)
+    }
+}
+
+impl ObjectTree for World {
+    fn roots(&self) -> &[i64] {
+        &self.roots
+    }
+    fn children(&self, h: i64) -> &[i64] {
+        self.objects.get(h as usize).map_or(&[], |o| o.children.as_slice())
+    }
+    fn parent(&self, h: i64) -> Option<i64> {
+        self.objects.get(h as usize).and_then(|o| o.parent)
+    }
+    fn alias(&self, h: i64) -> &str {
+        self.objects.get(h as usize).map_or("", |o| o.alias.as_str())
+    }
+    fn is_model_base(&self, h: i64) -> bool {
+        self.objects.get(h as usize).is_some_and(|o| o.model_base)
+    }
+}
