@@ -1,1 +1,7 @@
-//! placeholder
+//! gantry's Lua host: per-object scripts with CoppeliaSim's hooks over the shared
+//! `sim` API, and the step order that ties scripts to the world.
+
+mod convert;
+mod simulation;
+
+pub use simulation::{Hook, ScriptError, ScriptLimits, ScriptState, Simulation, check_syntax};

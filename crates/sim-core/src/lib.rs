@@ -10,6 +10,7 @@ pub mod math;
 pub mod scene;
 
 pub use gantry_protocol::Value;
+pub mod api;
 pub mod error;
 pub mod sensor;
 pub mod world;

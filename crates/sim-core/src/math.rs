@@ -42,7 +42,11 @@ pub fn euler_from_quat(q: &Quat) -> [f64; 3] {
     // CoppeliaSim treats |R02| >= 0.999995 as gimbal lock: alpha = 0 and gamma carries
     // the whole remaining rotation about the (aligned) x/z axes.
     if s.abs() >= 0.999995 {
-        let beta = if s > 0.0 { std::f64::consts::FRAC_PI_2 } else { -std::f64::consts::FRAC_PI_2 };
+        let beta = if s > 0.0 {
+            std::f64::consts::FRAC_PI_2
+        } else {
+            -std::f64::consts::FRAC_PI_2
+        };
         [0.0, beta, m[(1, 0)].atan2(m[(1, 1)])]
     } else {
         [
@@ -75,9 +79,18 @@ pub fn pose_to_matrix12(p: &Pose) -> [f64; 12] {
     let m = r.matrix();
     let t = p.translation.vector;
     [
-        m[(0, 0)], m[(0, 1)], m[(0, 2)], t.x,
-        m[(1, 0)], m[(1, 1)], m[(1, 2)], t.y,
-        m[(2, 0)], m[(2, 1)], m[(2, 2)], t.z,
+        m[(0, 0)],
+        m[(0, 1)],
+        m[(0, 2)],
+        t.x,
+        m[(1, 0)],
+        m[(1, 1)],
+        m[(1, 2)],
+        t.y,
+        m[(2, 0)],
+        m[(2, 1)],
+        m[(2, 2)],
+        t.z,
     ]
 }
 
@@ -98,15 +111,20 @@ pub fn pose_from_matrix12(m: &[f64; 12]) -> Option<Pose> {
 /// about X for the antiparallel case so that the result is deterministic.
 pub fn rotation_z_to(axis: &Vec3) -> Quat {
     let z = Vector3::z();
-    UnitQuaternion::rotation_between(&z, axis)
-        .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI))
+    UnitQuaternion::rotation_between(&z, axis).unwrap_or_else(|| {
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+    })
 }
 
 /// Wraps an angle into CoppeliaSim's cyclic range (-pi, pi].
 pub fn wrap_angle(a: f64) -> f64 {
     let w = a.sin().atan2(a.cos());
     // atan2 returns [-pi, pi]; CoppeliaSim's range excludes -pi.
-    if w <= -std::f64::consts::PI { std::f64::consts::PI } else { w }
+    if w <= -std::f64::consts::PI {
+        std::f64::consts::PI
+    } else {
+        w
+    }
 }
 
 /// Converts our f64 pose to rapier's f32 pose.
@@ -115,7 +133,8 @@ pub fn to_physics(p: &Pose) -> rapier3d::math::Pose {
     let t = p.translation.vector;
     rapier3d::math::Pose::from_parts(
         rapier3d::glamx::Vec3::new(t.x as f32, t.y as f32, t.z as f32),
-        rapier3d::glamx::Quat::from_xyzw(q.i as f32, q.j as f32, q.k as f32, q.w as f32).normalize(),
+        rapier3d::glamx::Quat::from_xyzw(q.i as f32, q.j as f32, q.k as f32, q.w as f32)
+            .normalize(),
     )
 }
 

@@ -7,7 +7,9 @@ use gantry_sim_core::world::ObjectKind;
 use gantry_sim_core::{Handle, World};
 
 fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets")
+        .join(rel)
 }
 
 fn world(rel: &str) -> World {
@@ -21,7 +23,12 @@ fn find(w: &World, path: &str) -> Handle {
 
 #[test]
 fn every_scene_loads_and_steps() {
-    for scene in ["scenes/fk_arm.toml", "scenes/bubble_rob.toml", "scenes/showroom.toml", "robots/arm6/arm6.urdf"] {
+    for scene in [
+        "scenes/fk_arm.toml",
+        "scenes/bubble_rob.toml",
+        "scenes/showroom.toml",
+        "robots/arm6/arm6.urdf",
+    ] {
         let mut w = world(scene);
         for _ in 0..200 {
             w.step_physics();
@@ -30,7 +37,10 @@ fn every_scene_loads_and_steps() {
         }
         for &h in w.handles() {
             let p = w.object(h).expect("exists").world.translation.vector;
-            assert!(p.iter().all(|v| v.is_finite()), "{scene}: object {h} has a non-finite pose");
+            assert!(
+                p.iter().all(|v| v.is_finite()),
+                "{scene}: object {h} has a non-finite pose"
+            );
         }
     }
 }
@@ -39,7 +49,10 @@ fn every_scene_loads_and_steps() {
 fn rover_drives_straight_at_wheel_speed() {
     let mut w = world("scenes/bubble_rob.toml");
     let base = find(&w, "/bubbleRob");
-    let (l, r) = (find(&w, "/bubbleRob/leftMotor"), find(&w, "/bubbleRob/rightMotor"));
+    let (l, r) = (
+        find(&w, "/bubbleRob/leftMotor"),
+        find(&w, "/bubbleRob/rightMotor"),
+    );
     let rate = 3.054; // rad/s, the tutorial's initial speed
     w.set_joint_target_velocity(l, rate).expect("joint");
     w.set_joint_target_velocity(r, rate).expect("joint");
@@ -56,8 +69,14 @@ fn rover_drives_straight_at_wheel_speed() {
     let x1 = w.object(base).expect("base").world.translation.vector;
     let speed = (x1 - x0).norm() / 3.0;
     let expected = 0.04 * rate;
-    eprintln!("rover speed {speed:.4} m/s, expected {expected:.4}, dy {:.4}", x1.y - x0.y);
-    assert!((speed - expected).abs() / expected < 0.05, "speed {speed} vs {expected}");
+    eprintln!(
+        "rover speed {speed:.4} m/s, expected {expected:.4}, dy {:.4}",
+        x1.y - x0.y
+    );
+    assert!(
+        (speed - expected).abs() / expected < 0.05,
+        "speed {speed} vs {expected}"
+    );
     assert!(x1.x > x0.x, "a positive wheel speed drives towards +X");
 }
 
@@ -74,15 +93,30 @@ fn proximity_sensor_sees_obstacle_ahead() {
     pose.rotation = nalgebra::UnitQuaternion::identity();
     w.set_world_pose(obstacle, pose).expect("moves");
     w.step_physics();
-    let hit = w.handle_proximity_sensor(nose).expect("sensor").expect("detects");
+    let hit = w
+        .handle_proximity_sensor(nose)
+        .expect("sensor")
+        .expect("detects");
     assert_eq!(hit.object, obstacle);
-    assert!((hit.distance - 0.1).abs() < 0.01, "distance {}", hit.distance);
-    assert!(matches!(w.object(nose).expect("nose").kind, ObjectKind::ProximitySensor(_)));
+    assert!(
+        (hit.distance - 0.1).abs() < 0.01,
+        "distance {}",
+        hit.distance
+    );
+    assert!(matches!(
+        w.object(nose).expect("nose").kind,
+        ObjectKind::ProximitySensor(_)
+    ));
 }
 
 #[test]
 fn position_target_settles() {
-    let model = load_scene(&DiskFiles, &asset("scenes/fk_arm.toml"), &LoadOptions::default()).expect("loads");
+    let model = load_scene(
+        &DiskFiles,
+        &asset("scenes/fk_arm.toml"),
+        &LoadOptions::default(),
+    )
+    .expect("loads");
     let mut model = model;
     for o in &mut model.objects {
         if let gantry_sim_core::scene::ObjectModelKind::Joint(j) = &mut o.kind {
@@ -114,5 +148,8 @@ fn position_target_settles() {
     let link2 = find(&w, "/arm6/link2");
     let tree = w.object(link2).expect("link").world;
     let phys = w.physics_pose(link2).expect("body");
-    assert!((tree.translation.vector - phys.translation.vector).norm() < 1e-3, "{tree:?} vs {phys:?}");
+    assert!(
+        (tree.translation.vector - phys.translation.vector).norm() < 1e-3,
+        "{tree:?} vs {phys:?}"
+    );
 }

@@ -45,7 +45,10 @@ impl EmbeddedFiles {
 
     /// Builds the set from `(path relative to the repository root, bytes)` pairs.
     pub fn new(entries: &[(&str, &'static [u8])]) -> Self {
-        let files = entries.iter().map(|(p, b)| (Path::new(Self::ROOT).join(p), *b)).collect();
+        let files = entries
+            .iter()
+            .map(|(p, b)| (Path::new(Self::ROOT).join(p), *b))
+            .collect();
         Self { files }
     }
 
@@ -59,7 +62,10 @@ impl Files for EmbeddedFiles {
     fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
         let key = normalize(path);
         self.files.get(&key).map(|b| b.to_vec()).ok_or_else(|| {
-            io::Error::new(io::ErrorKind::NotFound, format!("{} is not embedded in this binary", path.display()))
+            io::Error::new(
+                io::ErrorKind::NotFound,
+                format!("{} is not embedded in this binary", path.display()),
+            )
         })
     }
     fn is_file(&self, path: &Path) -> bool {

@@ -12,11 +12,12 @@ use toml::Spanned;
 use super::error::{LoadError, line_col};
 use super::files::{Files, normalize};
 use super::model::{
-    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind, ProximityModel,
-    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel,
+    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind,
+    ProximityModel, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
+    VisualModel,
 };
 use super::raw::{RawObject, RawRobot, RawScene, unknown_keys};
-use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfIndex, UrdfInclude, import_urdf};
+use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
 use crate::math::{Pose, pose_from_euler};
 
 /// Options that come from the command line rather than the scene.
@@ -32,14 +33,23 @@ pub struct LoadOptions {
 ///
 /// # Errors
 /// Any [`LoadError`]: unreadable or malformed files, invalid content.
-pub fn load_scene(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+pub fn load_scene(
+    files: &dyn Files,
+    path: &Path,
+    opts: &LoadOptions,
+) -> Result<SceneModel, LoadError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("urdf") => load_bare_urdf(files, path, opts),
         Some("toml") => {
-            let bytes = files
-                .read(path)
-                .map_err(|e| LoadError::Io { path: path.to_owned(), source: e, hint: String::new() })?;
+            let bytes = files.read(path).map_err(|e| LoadError::Io {
+                path: path.to_owned(),
+                source: e,
+                hint: String::new(),
+            })?;
             let text = String::from_utf8(bytes).map_err(|_| LoadError::Syntax {
                 path: path.to_owned(),
                 line: 1,
@@ -58,11 +68,25 @@ pub fn load_scene(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
 }
 
 /// A URDF on a 5 x 5 m floor, base fixed unless `opts.free_base` (PyBullet's `useFixedBase`).
-fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
+fn load_bare_urdf(
+    files: &dyn Files,
+    path: &Path,
+    opts: &LoadOptions,
+) -> Result<SceneModel, LoadError> {
     let mut objects = vec![floor_object([5.0, 5.0], 1.0, [0.55, 0.55, 0.5])];
     let mut warnings = Vec::new();
-    let include = UrdfInclude { fixed_base: !opts.free_base, ..UrdfInclude::default() };
-    import_urdf(files, path, &include, &opts.package_paths, &mut objects, &mut warnings)?;
+    let include = UrdfInclude {
+        fixed_base: !opts.free_base,
+        ..UrdfInclude::default()
+    };
+    import_urdf(
+        files,
+        path,
+        &include,
+        &opts.package_paths,
+        &mut objects,
+        &mut warnings,
+    )?;
     Ok(SceneModel {
         name: stem(path),
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
@@ -87,7 +111,12 @@ pub fn load_scene_text(
 ) -> Result<SceneModel, LoadError> {
     let syntax = |e: toml::de::Error| {
         let (line, column) = e.span().map_or((1, 1), |s| line_col(text, s.start));
-        LoadError::Syntax { path: path.to_owned(), line, column, message: e.message().to_owned() }
+        LoadError::Syntax {
+            path: path.to_owned(),
+            line,
+            column,
+            message: e.message().to_owned(),
+        }
     };
     let doc: toml::Table = toml::from_str(text).map_err(syntax)?;
     let raw: RawScene = toml::from_str(text).map_err(syntax)?;
@@ -104,12 +133,15 @@ pub fn load_scene_text(
         names: Names::new(),
     };
     let settings = r.settings(&raw)?;
-    let server = raw.server.as_ref().map_or_else(ServerSettings::default, |s| ServerSettings {
-        bind: s.bind.clone(),
-        text_port: s.text_port,
-        zmq_port: s.zmq_port,
-        http_port: s.http_port,
-    });
+    let server = raw
+        .server
+        .as_ref()
+        .map_or_else(ServerSettings::default, |s| ServerSettings {
+            bind: s.bind.clone(),
+            text_port: s.text_port,
+            zmq_port: s.zmq_port,
+            http_port: s.http_port,
+        });
     if let Some(f) = &raw.floor {
         r.objects.push(floor_object(
             f.size.unwrap_or([5.0, 5.0]),
@@ -134,7 +166,10 @@ pub fn load_scene_text(
 }
 
 fn stem(path: &Path) -> String {
-    path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_owned()
+    path.file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("scene")
+        .to_owned()
 }
 
 /// The floor: a static box whose top face is the plane z = 0. It is neither detectable
@@ -150,8 +185,15 @@ fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> ObjectModel {
         local: Pose::identity(),
         model_base: true,
         kind: ObjectModelKind::Shape(ShapeModel {
-            geoms: vec![GeomModel { geometry: geometry.clone(), local }],
-            visuals: vec![VisualModel { geometry, local, color }],
+            geoms: vec![GeomModel {
+                geometry: geometry.clone(),
+                local,
+            }],
+            visuals: vec![VisualModel {
+                geometry,
+                local,
+                color,
+            }],
             dynamic: false,
             mass: MassModel::Density(1000.0),
             friction,
@@ -195,9 +237,18 @@ struct Resolver<'a> {
 type Names = HashMap<String, Emitted>;
 
 impl Resolver<'_> {
-    fn err_at<T>(&self, span: std::ops::Range<usize>, message: impl Into<String>) -> Result<T, LoadError> {
+    fn err_at<T>(
+        &self,
+        span: std::ops::Range<usize>,
+        message: impl Into<String>,
+    ) -> Result<T, LoadError> {
         let (line, column) = line_col(self.text, span.start);
-        Err(LoadError::Invalid { path: self.path.to_owned(), line, column, message: message.into() })
+        Err(LoadError::Invalid {
+            path: self.path.to_owned(),
+            line,
+            column,
+            message: message.into(),
+        })
     }
 
     fn settings(&self, raw: &RawScene) -> Result<SimSettings, LoadError> {
@@ -205,14 +256,19 @@ impl Resolver<'_> {
         if let Some(sim) = &raw.simulation {
             if let Some(dt) = sim.dt {
                 if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
-                    return self.err_at(self.find_key("dt"), format!("dt = {dt}: the time step must be in (0, 1] s"));
+                    return self.err_at(
+                        self.find_key("dt"),
+                        format!("dt = {dt}: the time step must be in (0, 1] s"),
+                    );
                 }
                 s.dt = dt;
             }
             if let Some(n) = sim.substeps {
                 if !(1..=1000).contains(&n) {
-                    return self
-                        .err_at(self.find_key("substeps"), format!("substeps = {n}: use 1 to 1000 physics substeps"));
+                    return self.err_at(
+                        self.find_key("substeps"),
+                        format!("substeps = {n}: use 1 to 1000 physics substeps"),
+                    );
                 }
                 s.substeps = n;
             }
@@ -249,9 +305,14 @@ impl Resolver<'_> {
         for (i, e) in entries.iter().enumerate() {
             let name = self.entry_name(e)?;
             if name.get_ref().contains('/') {
-                return self.err_at(name.span(), format!("name '{}' must not contain '/'", name.get_ref()));
+                return self.err_at(
+                    name.span(),
+                    format!("name '{}' must not contain '/'", name.get_ref()),
+                );
             }
-            if by_name.insert(name.get_ref().clone(), i).is_some() || name.get_ref() == "Floor" && raw.floor.is_some() {
+            if by_name.insert(name.get_ref().clone(), i).is_some()
+                || name.get_ref() == "Floor" && raw.floor.is_some()
+            {
                 return self.err_at(
                     name.span(),
                     format!("duplicate name '{}': every object and robot needs a unique name (set `alias` to reuse an alias)", name.get_ref()),
@@ -276,7 +337,10 @@ impl Resolver<'_> {
                 Some(n) => n.clone(),
                 None => {
                     // Without a name, the robot is referred to by its URDF file stem.
-                    let stem = Path::new(r.urdf.get_ref()).file_stem().and_then(|s| s.to_str()).unwrap_or("robot");
+                    let stem = Path::new(r.urdf.get_ref())
+                        .file_stem()
+                        .and_then(|s| s.to_str())
+                        .unwrap_or("robot");
                     Spanned::new(r.urdf.span(), stem.to_owned())
                 }
             },
@@ -297,7 +361,13 @@ impl Resolver<'_> {
         let entry = entries[i];
         let name = self.entry_name(&entry)?;
         if state[i] == 1 || depth > entries.len() {
-            return self.err_at(name.span(), format!("'{}' is its own ancestor: the parent references form a cycle", name.get_ref()));
+            return self.err_at(
+                name.span(),
+                format!(
+                    "'{}' is its own ancestor: the parent references form a cycle",
+                    name.get_ref()
+                ),
+            );
         }
         state[i] = 1;
         let parent_ref = match entry {
@@ -341,13 +411,21 @@ impl Resolver<'_> {
         match (self.names.get(head), tail) {
             (Some(Emitted::Object(i)), None) => Ok(*i),
             (Some(Emitted::Robot(idx)), None) => Ok(idx.base),
-            (Some(Emitted::Robot(idx)), Some(part)) => match idx.links.get(part).or_else(|| idx.joints.get(part)) {
-                Some(&i) => Ok(i),
-                None => self.err_at(r.span(), format!("robot '{head}' has no link or joint named '{part}'")),
-            },
-            (Some(Emitted::Object(_)), Some(_)) => {
-                self.err_at(r.span(), format!("'{head}' is an object, not a robot; use 'robot/link' only for URDF robots"))
+            (Some(Emitted::Robot(idx)), Some(part)) => {
+                match idx.links.get(part).or_else(|| idx.joints.get(part)) {
+                    Some(&i) => Ok(i),
+                    None => self.err_at(
+                        r.span(),
+                        format!("robot '{head}' has no link or joint named '{part}'"),
+                    ),
+                }
             }
+            (Some(Emitted::Object(_)), Some(_)) => self.err_at(
+                r.span(),
+                format!(
+                    "'{head}' is an object, not a robot; use 'robot/link' only for URDF robots"
+                ),
+            ),
             (None, _) => self.err_at(r.span(), format!("'{text}' is not defined in this scene")),
         }
     }
@@ -361,13 +439,25 @@ impl Resolver<'_> {
         let source = match self.files.read(&path) {
             Ok(bytes) => match String::from_utf8(bytes) {
                 Ok(s) => s,
-                Err(_) => return self.err_at(file.span(), format!("script '{}' is not UTF-8 text", path.display())),
+                Err(_) => {
+                    return self.err_at(
+                        file.span(),
+                        format!("script '{}' is not UTF-8 text", path.display()),
+                    );
+                }
             },
             Err(e) => {
-                return self.err_at(file.span(), format!("cannot read script '{}': {e}", path.display()));
+                return self.err_at(
+                    file.span(),
+                    format!("cannot read script '{}': {e}", path.display()),
+                );
             }
         };
-        self.scripts.push(ScriptModel { object, path, source });
+        self.scripts.push(ScriptModel {
+            object,
+            path,
+            source,
+        });
         Ok(())
     }
 
@@ -396,12 +486,28 @@ impl Resolver<'_> {
             if let Some(v) = v
                 && !(v.is_finite() && v >= 0.0)
             {
-                return self.err_at(here, format!("object '{}': {key} = {v} must be a finite number >= 0", o.name.get_ref()));
+                return self.err_at(
+                    here,
+                    format!(
+                        "object '{}': {key} = {v} must be a finite number >= 0",
+                        o.name.get_ref()
+                    ),
+                );
             }
         }
         let finite3 = |v: Option<[f64; 3]>| v.is_none_or(|a| a.iter().all(|x| x.is_finite()));
-        if !finite3(o.position) || !finite3(o.orientation_deg) || !finite3(o.size) || !finite3(o.scale) {
-            return self.err_at(here, format!("object '{}': position, orientation, size and scale must be finite", o.name.get_ref()));
+        if !finite3(o.position)
+            || !finite3(o.orientation_deg)
+            || !finite3(o.size)
+            || !finite3(o.scale)
+        {
+            return self.err_at(
+                here,
+                format!(
+                    "object '{}': position, orientation, size and scale must be finite",
+                    o.name.get_ref()
+                ),
+            );
         }
         let kind = match o.kind.get_ref().as_str() {
             "shape" => ObjectModelKind::Shape(self.shape(o)?),
@@ -440,20 +546,43 @@ impl Resolver<'_> {
         let need = |v: Option<f64>, key: &str| -> Result<f64, LoadError> {
             match v {
                 Some(v) if v > 0.0 => Ok(v),
-                _ => self.err_at(kind.span(), format!("{} '{name}' needs `{key}` > 0 (metres)", kind.get_ref())),
+                _ => self.err_at(
+                    kind.span(),
+                    format!("{} '{name}' needs `{key}` > 0 (metres)", kind.get_ref()),
+                ),
             }
         };
         let geometry = match kind.get_ref().as_str() {
-            "box" => match o.size {
-                Some(s) if s.iter().all(|v| *v > 0.0) => Geometry::Box { half_extents: s.map(|v| v / 2.0) },
-                _ => return self.err_at(kind.span(), format!("box '{name}' needs `size = [x, y, z]` (full extents, metres, all > 0)")),
+            "box" => {
+                match o.size {
+                    Some(s) if s.iter().all(|v| *v > 0.0) => Geometry::Box {
+                        half_extents: s.map(|v| v / 2.0),
+                    },
+                    _ => return self.err_at(
+                        kind.span(),
+                        format!(
+                            "box '{name}' needs `size = [x, y, z]` (full extents, metres, all > 0)"
+                        ),
+                    ),
+                }
+            }
+            "sphere" => Geometry::Sphere {
+                radius: need(o.radius, "radius")?,
             },
-            "sphere" => Geometry::Sphere { radius: need(o.radius, "radius")? },
-            "cylinder" => Geometry::Cylinder { radius: need(o.radius, "radius")?, length: need(o.length, "length")? },
-            "capsule" => Geometry::Capsule { radius: need(o.radius, "radius")?, length: need(o.length, "length")? },
+            "cylinder" => Geometry::Cylinder {
+                radius: need(o.radius, "radius")?,
+                length: need(o.length, "length")?,
+            },
+            "capsule" => Geometry::Capsule {
+                radius: need(o.radius, "radius")?,
+                length: need(o.length, "length")?,
+            },
             "mesh" => {
                 let Some(file) = &o.mesh else {
-                    return self.err_at(kind.span(), format!("mesh '{name}' needs `mesh = \"file.stl\"`"));
+                    return self.err_at(
+                        kind.span(),
+                        format!("mesh '{name}' needs `mesh = \"file.stl\"`"),
+                    );
                 };
                 let path = self.relative(file.get_ref());
                 let mesh = super::mesh::load_mesh(self.files, &path, o.scale.unwrap_or([1.0; 3]));
@@ -463,19 +592,34 @@ impl Resolver<'_> {
                 }
             }
             other => {
-                return self.err_at(kind.span(), format!("unknown shape '{other}'; use box, sphere, cylinder, capsule or mesh"));
+                return self.err_at(
+                    kind.span(),
+                    format!("unknown shape '{other}'; use box, sphere, cylinder, capsule or mesh"),
+                );
             }
         };
         let mass = match (o.mass, o.density) {
-            (Some(_), Some(_)) => return self.err_at(o.name.span(), format!("shape '{name}': give mass or density, not both")),
+            (Some(_), Some(_)) => {
+                return self.err_at(
+                    o.name.span(),
+                    format!("shape '{name}': give mass or density, not both"),
+                );
+            }
             (Some(m), None) => MassModel::Mass(m),
             (None, Some(d)) => MassModel::Density(d),
             (None, None) => MassModel::Density(1000.0),
         };
         let color = o.color.unwrap_or([0.8, 0.8, 0.8]);
         Ok(ShapeModel {
-            geoms: vec![GeomModel { geometry: geometry.clone(), local: Pose::identity() }],
-            visuals: vec![VisualModel { geometry, local: Pose::identity(), color }],
+            geoms: vec![GeomModel {
+                geometry: geometry.clone(),
+                local: Pose::identity(),
+            }],
+            visuals: vec![VisualModel {
+                geometry,
+                local: Pose::identity(),
+                color,
+            }],
             dynamic: o.dynamic.unwrap_or(false),
             mass,
             friction: o.friction.unwrap_or(0.5),
@@ -493,28 +637,58 @@ impl Resolver<'_> {
             None | Some((_, "kinematic")) => Ok(JointMode::Kinematic),
             Some((_, "position")) => Ok(JointMode::Position),
             Some((_, "velocity")) => Ok(JointMode::Velocity),
-            Some((m, other)) => self.err_at(m.span(), format!("unknown joint mode '{other}'; use kinematic, position or velocity")),
+            Some((m, other)) => self.err_at(
+                m.span(),
+                format!("unknown joint mode '{other}'; use kinematic, position or velocity"),
+            ),
         }
     }
 
     fn joint(&mut self, o: &RawObject) -> Result<JointModel, LoadError> {
         let name = o.name.get_ref();
-        let joint_type = match o.joint.as_ref().map(|j| (j, j.get_ref().as_str())) {
-            Some((_, "revolute")) => JointType::Revolute,
-            Some((_, "prismatic")) => JointType::Prismatic,
-            Some((_, "fixed")) => JointType::Fixed,
-            Some((j, other)) => return self.err_at(j.span(), format!("unknown joint type '{other}'; use revolute, prismatic or fixed")),
-            None => return self.err_at(o.name.span(), format!("joint '{name}' needs `joint = \"revolute\" | \"prismatic\" | \"fixed\"`")),
-        };
+        let joint_type =
+            match o.joint.as_ref().map(|j| (j, j.get_ref().as_str())) {
+                Some((_, "revolute")) => JointType::Revolute,
+                Some((_, "prismatic")) => JointType::Prismatic,
+                Some((_, "fixed")) => JointType::Fixed,
+                Some((j, other)) => {
+                    return self.err_at(
+                        j.span(),
+                        format!("unknown joint type '{other}'; use revolute, prismatic or fixed"),
+                    );
+                }
+                None => return self.err_at(
+                    o.name.span(),
+                    format!(
+                        "joint '{name}' needs `joint = \"revolute\" | \"prismatic\" | \"fixed\"`"
+                    ),
+                ),
+            };
         // Scene files give revolute quantities in degrees; the model is in radians.
-        let unit = |v: f64| if joint_type == JointType::Revolute { v.to_radians() } else { v };
+        let unit = |v: f64| {
+            if joint_type == JointType::Revolute {
+                v.to_radians()
+            } else {
+                v
+            }
+        };
         let cyclic = o.cyclic.unwrap_or(false);
         if cyclic && (joint_type != JointType::Revolute || o.limits.is_some()) {
-            return self.err_at(o.name.span(), format!("joint '{name}': only revolute joints without limits can be cyclic"));
+            return self.err_at(
+                o.name.span(),
+                format!("joint '{name}': only revolute joints without limits can be cyclic"),
+            );
         }
         let limits = match o.limits {
-            Some([lo, hi]) if lo.is_finite() && hi.is_finite() && lo <= hi => Some((unit(lo), unit(hi))),
-            Some([lo, hi]) => return self.err_at(o.name.span(), format!("joint '{name}': limits [{lo}, {hi}] must be finite with min <= max")),
+            Some([lo, hi]) if lo.is_finite() && hi.is_finite() && lo <= hi => {
+                Some((unit(lo), unit(hi)))
+            }
+            Some([lo, hi]) => {
+                return self.err_at(
+                    o.name.span(),
+                    format!("joint '{name}': limits [{lo}, {hi}] must be finite with min <= max"),
+                );
+            }
             None => None,
         };
         let mode = self.joint_mode(o.mode.as_ref())?;
@@ -541,39 +715,80 @@ impl Resolver<'_> {
         let range = o.range.unwrap_or(0.15);
         let offset = o.offset.unwrap_or(0.0);
         if range <= 0.0 {
-            return self.err_at(o.name.span(), format!("proximity sensor '{}': range must be > 0", o.name.get_ref()));
+            return self.err_at(
+                o.name.span(),
+                format!("proximity sensor '{}': range must be > 0", o.name.get_ref()),
+            );
         }
         match o.sensor.as_ref().map(|s| (s, s.get_ref().as_str())) {
             Some((_, "ray")) => Ok(ProximityModel::Ray { offset, range }),
             None | Some((_, "cone")) => {
                 let angle = o.angle_deg.unwrap_or(30.0);
                 if !(angle > 0.0 && angle < 180.0) {
-                    return self.err_at(o.name.span(), format!("proximity sensor '{}': angle_deg must be in (0, 180)", o.name.get_ref()));
+                    return self.err_at(
+                        o.name.span(),
+                        format!(
+                            "proximity sensor '{}': angle_deg must be in (0, 180)",
+                            o.name.get_ref()
+                        ),
+                    );
                 }
-                Ok(ProximityModel::Cone { offset, range, half_angle: (angle / 2.0).to_radians() })
+                Ok(ProximityModel::Cone {
+                    offset,
+                    range,
+                    half_angle: (angle / 2.0).to_radians(),
+                })
             }
-            Some((s, other)) => self.err_at(s.span(), format!("unknown proximity sensor type '{other}'; use ray or cone")),
+            Some((s, other)) => self.err_at(
+                s.span(),
+                format!("unknown proximity sensor type '{other}'; use ray or cone"),
+            ),
         }
     }
 
     fn vision(&self, o: &RawObject) -> Result<VisionModel, LoadError> {
         let [w, h] = o.resolution.unwrap_or([256, 256]);
         if !(1..=512).contains(&w) || !(1..=512).contains(&h) {
-            return self.err_at(o.name.span(), format!("vision sensor '{}': resolution must be 1..=512 per side", o.name.get_ref()));
+            return self.err_at(
+                o.name.span(),
+                format!(
+                    "vision sensor '{}': resolution must be 1..=512 per side",
+                    o.name.get_ref()
+                ),
+            );
         }
         let fov = o.fov_deg.unwrap_or(60.0);
         let near = o.near.unwrap_or(0.01);
         let far = o.far.unwrap_or(1.0);
         if !(fov > 0.0 && fov < 180.0) || !(near > 0.0 && far > near) {
-            return self.err_at(o.name.span(), format!("vision sensor '{}': need 0 < fov_deg < 180 and 0 < near < far", o.name.get_ref()));
+            return self.err_at(
+                o.name.span(),
+                format!(
+                    "vision sensor '{}': need 0 < fov_deg < 180 and 0 < near < far",
+                    o.name.get_ref()
+                ),
+            );
         }
-        Ok(VisionModel { resolution: [w, h], fov: fov.to_radians(), near, far })
+        Ok(VisionModel {
+            resolution: [w, h],
+            fov: fov.to_radians(),
+            near,
+            far,
+        })
     }
 
-    fn robot(&mut self, r: &RawRobot, parent: Option<usize>, name: &str) -> Result<UrdfIndex, LoadError> {
+    fn robot(
+        &mut self,
+        r: &RawRobot,
+        parent: Option<usize>,
+        name: &str,
+    ) -> Result<UrdfIndex, LoadError> {
         let path = self.relative(r.urdf.get_ref());
         if !self.files.is_file(&path) {
-            return self.err_at(r.urdf.span(), format!("URDF '{}' not found", path.display()));
+            return self.err_at(
+                r.urdf.span(),
+                format!("URDF '{}' not found", path.display()),
+            );
         }
         let mut initial = HashMap::new();
         if let Some(t) = &r.initial {
@@ -582,7 +797,14 @@ impl Resolver<'_> {
                     Some(f) if f.is_finite() => {
                         initial.insert(k.clone(), f);
                     }
-                    _ => return self.err_at(r.urdf.span(), format!("robot '{name}': initial.{k} must be a number (degrees or metres)")),
+                    _ => {
+                        return self.err_at(
+                            r.urdf.span(),
+                            format!(
+                                "robot '{name}': initial.{k} must be a number (degrees or metres)"
+                            ),
+                        );
+                    }
                 }
             }
         }
@@ -597,10 +819,19 @@ impl Resolver<'_> {
             kd: r.kd.unwrap_or(DEFAULT_KD),
             initial,
         };
-        let idx = import_urdf(self.files, &path, &include, &self.opts.package_paths, &mut self.objects, &mut self.warnings)?;
+        let idx = import_urdf(
+            self.files,
+            &path,
+            &include,
+            &self.opts.package_paths,
+            &mut self.objects,
+            &mut self.warnings,
+        )?;
         for k in include.initial.keys() {
             if !idx.joints.contains_key(k) {
-                self.warnings.push(format!("robot '{name}': initial.{k} names no joint of the URDF; ignored"));
+                self.warnings.push(format!(
+                    "robot '{name}': initial.{k} names no joint of the URDF; ignored"
+                ));
             }
         }
         if let Some(s) = &r.script {
@@ -609,4 +840,3 @@ impl Resolver<'_> {
         Ok(idx)
     }
 }
-

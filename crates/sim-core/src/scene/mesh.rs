@@ -11,8 +11,15 @@ use super::model::MeshData;
 ///
 /// # Errors
 /// [`LoadError::Mesh`] if the file is missing, of an unknown format, or has no triangles.
-pub fn load_mesh(files: &dyn Files, path: &Path, scale: [f64; 3]) -> Result<Arc<MeshData>, LoadError> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+pub fn load_mesh(
+    files: &dyn Files,
+    path: &Path,
+    scale: [f64; 3],
+) -> Result<Arc<MeshData>, LoadError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("stl" | "obj" | "dae")) {
         return Err(LoadError::Mesh {
             path: path.to_owned(),
@@ -26,7 +33,10 @@ pub fn load_mesh(files: &dyn Files, path: &Path, scale: [f64; 3]) -> Result<Arc<
     let scene = mesh_loader::Loader::default()
         .merge_meshes(true)
         .load_from_slice(&bytes, path)
-        .map_err(|e| LoadError::Mesh { path: path.to_owned(), message: format!("cannot decode mesh: {e}") })?;
+        .map_err(|e| LoadError::Mesh {
+            path: path.to_owned(),
+            message: format!("cannot decode mesh: {e}"),
+        })?;
     let mut vertices = Vec::new();
     let mut indices = Vec::new();
     for mesh in scene.meshes {
@@ -38,7 +48,11 @@ pub fn load_mesh(files: &dyn Files, path: &Path, scale: [f64; 3]) -> Result<Arc<
                 (f64::from(v[2]) * scale[2]) as f32,
             ]
         }));
-        indices.extend(mesh.faces.iter().map(|f| [f[0] + base, f[1] + base, f[2] + base]));
+        indices.extend(
+            mesh.faces
+                .iter()
+                .map(|f| [f[0] + base, f[1] + base, f[2] + base]),
+        );
     }
     let n = vertices.len() as u64;
     if indices.is_empty() || indices.iter().flatten().any(|&i| u64::from(i) >= n) {
@@ -54,7 +68,11 @@ pub fn load_mesh(files: &dyn Files, path: &Path, scale: [f64; 3]) -> Result<Arc<
             t.swap(1, 2);
         }
     }
-    Ok(Arc::new(MeshData { source: path.to_owned(), vertices, indices }))
+    Ok(Arc::new(MeshData {
+        source: path.to_owned(),
+        vertices,
+        indices,
+    }))
 }
 
 /// Resolves a URDF mesh reference the way ROS tools do.
@@ -110,11 +128,22 @@ mod tests {
         std::fs::create_dir_all(pkg.join("meshes")).expect("tmp dir");
         std::fs::create_dir_all(pkg.join("urdf")).expect("tmp dir");
         std::fs::write(pkg.join("meshes/a.stl"), b"solid a\nendsolid a\n").expect("write");
-        let found = resolve_mesh_path(&DiskFiles, "package://my_robot/meshes/a.stl", &pkg.join("urdf"), &[]);
+        let found = resolve_mesh_path(
+            &DiskFiles,
+            "package://my_robot/meshes/a.stl",
+            &pkg.join("urdf"),
+            &[],
+        );
         assert_eq!(found, Ok(pkg.join("meshes/a.stl")));
-        let via_path = resolve_mesh_path(&DiskFiles, "package://my_robot/meshes/a.stl", Path::new("/nonexistent"), &[dir.clone()]);
+        let via_path = resolve_mesh_path(
+            &DiskFiles,
+            "package://my_robot/meshes/a.stl",
+            Path::new("/nonexistent"),
+            &[dir.clone()],
+        );
         assert_eq!(via_path, Ok(pkg.join("meshes/a.stl")));
-        let missing = resolve_mesh_path(&DiskFiles, "package://other/x.stl", &pkg.join("urdf"), &[]);
+        let missing =
+            resolve_mesh_path(&DiskFiles, "package://other/x.stl", &pkg.join("urdf"), &[]);
         assert!(missing.is_err_and(|t| !t.is_empty()));
         std::fs::remove_dir_all(&dir).ok();
     }

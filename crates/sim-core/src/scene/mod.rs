@@ -20,4 +20,4 @@ pub use files::{DiskFiles, EmbeddedFiles, Files};
 pub use load::{LoadOptions, load_scene, load_scene_text};
 pub use mesh::{load_mesh, resolve_mesh_path};
 pub use model::*;
-pub use urdf::{DEFAULT_KD, DEFAULT_KP, UrdfIndex, UrdfInclude, import_urdf};
+pub use urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};

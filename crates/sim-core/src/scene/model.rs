@@ -43,7 +43,11 @@ pub struct SimSettings {
 impl Default for SimSettings {
     fn default() -> Self {
         // CoppeliaSim's defaults: a 50 ms simulation step with 10 physics substeps.
-        Self { dt: 0.05, substeps: 10, gravity: [0.0, 0.0, -9.81] }
+        Self {
+            dt: 0.05,
+            substeps: 10,
+            gravity: [0.0, 0.0, -9.81],
+        }
     }
 }
 

@@ -201,16 +201,63 @@ const SIMULATION_KEYS: &[&str] = &["dt", "substeps", "gravity"];
 const FLOOR_KEYS: &[&str] = &["size", "friction", "color"];
 const SERVER_KEYS: &[&str] = &["bind", "text_port", "zmq_port", "http_port"];
 const OBJECT_KEYS: &[&str] = &[
-    "name", "kind", "alias", "parent", "position", "orientation_deg", "model_base", "script",
-    "shape", "size", "radius", "length", "mesh", "scale", "dynamic", "mass", "density",
-    "friction", "restitution", "color", "collision_group", "collision_mask", "respondable",
-    "detectable", "measurable", "joint", "mode", "limits", "cyclic", "initial",
-    "target_position", "target_velocity", "max_force", "kp", "kd", "sensor", "range",
-    "angle_deg", "offset", "resolution", "fov_deg", "near", "far",
+    "name",
+    "kind",
+    "alias",
+    "parent",
+    "position",
+    "orientation_deg",
+    "model_base",
+    "script",
+    "shape",
+    "size",
+    "radius",
+    "length",
+    "mesh",
+    "scale",
+    "dynamic",
+    "mass",
+    "density",
+    "friction",
+    "restitution",
+    "color",
+    "collision_group",
+    "collision_mask",
+    "respondable",
+    "detectable",
+    "measurable",
+    "joint",
+    "mode",
+    "limits",
+    "cyclic",
+    "initial",
+    "target_position",
+    "target_velocity",
+    "max_force",
+    "kp",
+    "kd",
+    "sensor",
+    "range",
+    "angle_deg",
+    "offset",
+    "resolution",
+    "fov_deg",
+    "near",
+    "far",
 ];
 const ROBOT_KEYS: &[&str] = &[
-    "urdf", "name", "parent", "position", "orientation_deg", "fixed_base", "joint_mode",
-    "max_force", "kp", "kd", "script", "initial",
+    "urdf",
+    "name",
+    "parent",
+    "position",
+    "orientation_deg",
+    "fixed_base",
+    "joint_mode",
+    "max_force",
+    "kp",
+    "kd",
+    "script",
+    "initial",
 ];
 const SCRIPT_KEYS: &[&str] = &["object", "file"];
 
@@ -219,15 +266,21 @@ const SCRIPT_KEYS: &[&str] = &["object", "file"];
 pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
     let mut out = Vec::new();
     check_table(doc, "", SCENE_KEYS, &mut out);
-    let tables: [(&str, &[&str]); 3] =
-        [("simulation", SIMULATION_KEYS), ("floor", FLOOR_KEYS), ("server", SERVER_KEYS)];
+    let tables: [(&str, &[&str]); 3] = [
+        ("simulation", SIMULATION_KEYS),
+        ("floor", FLOOR_KEYS),
+        ("server", SERVER_KEYS),
+    ];
     for (name, keys) in tables {
         if let Some(toml::Value::Table(t)) = doc.get(name) {
             check_table(t, name, keys, &mut out);
         }
     }
-    let arrays: [(&str, &[&str]); 3] =
-        [("object", OBJECT_KEYS), ("robot", ROBOT_KEYS), ("script", SCRIPT_KEYS)];
+    let arrays: [(&str, &[&str]); 3] = [
+        ("object", OBJECT_KEYS),
+        ("robot", ROBOT_KEYS),
+        ("script", SCRIPT_KEYS),
+    ];
     for (name, keys) in arrays {
         if let Some(toml::Value::Array(items)) = doc.get(name) {
             for (i, item) in items.iter().enumerate() {
@@ -249,7 +302,11 @@ fn check_table(t: &toml::Table, label: &str, known: &[&str], out: &mut Vec<Strin
         if known.contains(&key.as_str()) {
             continue;
         }
-        let place = if label.is_empty() { key.clone() } else { format!("{label}.{key}") };
+        let place = if label.is_empty() {
+            key.clone()
+        } else {
+            format!("{label}.{key}")
+        };
         match known.iter().find(|k| edit_distance(k, key) <= 2) {
             Some(k) => out.push(format!("unknown key '{place}' (did you mean '{k}'?)")),
             None => out.push(format!("unknown key '{place}'")),

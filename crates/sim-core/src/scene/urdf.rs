@@ -21,8 +21,8 @@ use super::error::LoadError;
 use super::files::Files;
 use super::mesh::{load_mesh, resolve_mesh_path};
 use super::model::{
-    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind, ShapeModel,
-    VisualModel,
+    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind,
+    ShapeModel, VisualModel,
 };
 use crate::math::{Pose, rotation_z_to};
 
@@ -95,34 +95,58 @@ pub fn import_urdf(
     objects: &mut Vec<ObjectModel>,
     warnings: &mut Vec<String>,
 ) -> Result<UrdfIndex, LoadError> {
-    let bytes = files
-        .read(path)
-        .map_err(|e| LoadError::Io { path: path.to_owned(), source: e, hint: String::new() })?;
-    let text = String::from_utf8(bytes)
-        .map_err(|_| LoadError::Urdf { path: path.to_owned(), message: "the file is not UTF-8 text".into() })?;
-    let robot = urdf_rs::read_from_string(&text)
-        .map_err(|e| LoadError::Urdf { path: path.to_owned(), message: format!("malformed URDF: {e}") })?;
-    let urdf_err = |message: String| LoadError::Urdf { path: path.to_owned(), message };
+    let bytes = files.read(path).map_err(|e| LoadError::Io {
+        path: path.to_owned(),
+        source: e,
+        hint: String::new(),
+    })?;
+    let text = String::from_utf8(bytes).map_err(|_| LoadError::Urdf {
+        path: path.to_owned(),
+        message: "the file is not UTF-8 text".into(),
+    })?;
+    let robot = urdf_rs::read_from_string(&text).map_err(|e| LoadError::Urdf {
+        path: path.to_owned(),
+        message: format!("malformed URDF: {e}"),
+    })?;
+    let urdf_err = |message: String| LoadError::Urdf {
+        path: path.to_owned(),
+        message,
+    };
     for tag in ["transmission", "gazebo"] {
         if text.contains(&format!("<{tag}")) {
-            warnings.push(format!("{}: <{tag}> elements are not supported and were ignored", path.display()));
+            warnings.push(format!(
+                "{}: <{tag}> elements are not supported and were ignored",
+                path.display()
+            ));
         }
     }
 
     // Build the link tree and check it is one tree.
-    let link_ids: HashMap<&str, usize> =
-        robot.links.iter().enumerate().map(|(i, l)| (l.name.as_str(), i)).collect();
+    let link_ids: HashMap<&str, usize> = robot
+        .links
+        .iter()
+        .enumerate()
+        .map(|(i, l)| (l.name.as_str(), i))
+        .collect();
     if link_ids.len() != robot.links.len() {
-        return Err(urdf_err("two links have the same name; link names must be unique".into()));
+        return Err(urdf_err(
+            "two links have the same name; link names must be unique".into(),
+        ));
     }
     let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
     let mut child_joints: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
     for (ji, j) in robot.joints.iter().enumerate() {
         let p = *link_ids.get(j.parent.link.as_str()).ok_or_else(|| {
-            urdf_err(format!("joint '{}' names parent link '{}', which does not exist", j.name, j.parent.link))
+            urdf_err(format!(
+                "joint '{}' names parent link '{}', which does not exist",
+                j.name, j.parent.link
+            ))
         })?;
         let c = *link_ids.get(j.child.link.as_str()).ok_or_else(|| {
-            urdf_err(format!("joint '{}' names child link '{}', which does not exist", j.name, j.child.link))
+            urdf_err(format!(
+                "joint '{}' names child link '{}', which does not exist",
+                j.name, j.child.link
+            ))
         })?;
         if let Some(other) = parent_joint[c] {
             return Err(urdf_err(format!(
@@ -133,7 +157,9 @@ pub fn import_urdf(
         parent_joint[c] = Some(ji);
         child_joints[p].push(ji);
     }
-    let roots: Vec<usize> = (0..robot.links.len()).filter(|&i| parent_joint[i].is_none()).collect();
+    let roots: Vec<usize> = (0..robot.links.len())
+        .filter(|&i| parent_joint[i].is_none())
+        .collect();
     let root = match roots.as_slice() {
         [r] => *r,
         [] => return Err(urdf_err("no root link: the joints form a cycle".into())),
@@ -152,7 +178,13 @@ pub fn import_urdf(
         .filter_map(|m| m.color.as_ref().map(|c| (m.name.as_str(), rgb(&c.rgba.0))))
         .collect();
     let urdf_dir = path.parent().unwrap_or(Path::new("."));
-    let ctx = Ctx { files, path, urdf_dir, package_paths, materials };
+    let ctx = Ctx {
+        files,
+        path,
+        urdf_dir,
+        package_paths,
+        materials,
+    };
 
     let base_alias = include.name.clone().unwrap_or_else(|| robot.name.clone());
     let base = objects.len();
@@ -163,7 +195,11 @@ pub fn import_urdf(
         model_base: true,
         kind: ObjectModelKind::Dummy,
     });
-    let mut index = UrdfIndex { base, links: HashMap::new(), joints: HashMap::new() };
+    let mut index = UrdfIndex {
+        base,
+        links: HashMap::new(),
+        joints: HashMap::new(),
+    };
 
     // Depth-first from the root; an explicit stack keeps deep chains off the call stack.
     // Each entry: (link, parent object, pose of the link frame relative to that parent,
@@ -191,16 +227,24 @@ pub fn import_urdf(
             let j = &robot.joints[ji];
             let origin = urdf_pose(&j.origin);
             let axis = Vector3::from(j.axis.xyz.0);
-            let axis = if axis.norm() > 1e-9 { axis.normalize() } else { Vector3::x() };
+            let axis = if axis.norm() > 1e-9 {
+                axis.normalize()
+            } else {
+                Vector3::x()
+            };
             let align = rotation_z_to(&axis);
             let (joint_type, limits, cyclic) = match j.joint_type {
-                urdf_rs::JointType::Revolute => {
-                    (JointType::Revolute, Some((j.limit.lower, j.limit.upper)), false)
-                }
+                urdf_rs::JointType::Revolute => (
+                    JointType::Revolute,
+                    Some((j.limit.lower, j.limit.upper)),
+                    false,
+                ),
                 urdf_rs::JointType::Continuous => (JointType::Revolute, None, true),
-                urdf_rs::JointType::Prismatic => {
-                    (JointType::Prismatic, Some((j.limit.lower, j.limit.upper)), false)
-                }
+                urdf_rs::JointType::Prismatic => (
+                    JointType::Prismatic,
+                    Some((j.limit.lower, j.limit.upper)),
+                    false,
+                ),
                 urdf_rs::JointType::Fixed => (JointType::Fixed, None, false),
                 ref other => {
                     warnings.push(format!(
@@ -238,8 +282,16 @@ pub fn import_urdf(
                 Some(v) => *v,
                 None => 0.0,
             };
-            let mode = if joint_type == JointType::Fixed { JointMode::Kinematic } else { include.joint_mode };
-            let effort = if j.limit.effort > 0.0 { j.limit.effort } else { 100.0 };
+            let mode = if joint_type == JointType::Fixed {
+                JointMode::Kinematic
+            } else {
+                include.joint_mode
+            };
+            let effort = if j.limit.effort > 0.0 {
+                j.limit.effort
+            } else {
+                100.0
+            };
             let joint_obj = objects.len();
             objects.push(ObjectModel {
                 alias: j.name.clone(),
@@ -291,7 +343,10 @@ impl Ctx<'_> {
     ) -> Result<ShapeModel, LoadError> {
         let mut geoms = Vec::new();
         for c in &link.collision {
-            geoms.push(GeomModel { geometry: self.geometry(&c.geometry, &link.name)?, local: urdf_pose(&c.origin) });
+            geoms.push(GeomModel {
+                geometry: self.geometry(&c.geometry, &link.name)?,
+                local: urdf_pose(&c.origin),
+            });
         }
         let mut visuals = Vec::new();
         for v in &link.visual {
@@ -310,7 +365,11 @@ impl Ctx<'_> {
                     link.name
                 ));
             }
-            visuals.push(VisualModel { geometry: self.geometry(&v.geometry, &link.name)?, local: urdf_pose(&v.origin), color });
+            visuals.push(VisualModel {
+                geometry: self.geometry(&v.geometry, &link.name)?,
+                local: urdf_pose(&v.origin),
+                color,
+            });
         }
         let i = &link.inertial;
         let mass = if i.mass.value > 0.0 {
@@ -321,7 +380,14 @@ impl Ctx<'_> {
                 mass: i.mass.value,
                 com: [t.x, t.y, t.z],
                 frame: [r.i, r.j, r.k, r.w],
-                inertia: [i.inertia.ixx, i.inertia.ixy, i.inertia.ixz, i.inertia.iyy, i.inertia.iyz, i.inertia.izz],
+                inertia: [
+                    i.inertia.ixx,
+                    i.inertia.ixy,
+                    i.inertia.ixz,
+                    i.inertia.iyy,
+                    i.inertia.iyz,
+                    i.inertia.izz,
+                ],
             }
         } else {
             if dynamic {
@@ -350,11 +416,17 @@ impl Ctx<'_> {
 
     fn geometry(&self, g: &urdf_rs::Geometry, link: &str) -> Result<Geometry, LoadError> {
         Ok(match g {
-            urdf_rs::Geometry::Box { size } => {
-                Geometry::Box { half_extents: [size.0[0] / 2.0, size.0[1] / 2.0, size.0[2] / 2.0] }
-            }
-            urdf_rs::Geometry::Cylinder { radius, length } => Geometry::Cylinder { radius: *radius, length: *length },
-            urdf_rs::Geometry::Capsule { radius, length } => Geometry::Capsule { radius: *radius, length: *length },
+            urdf_rs::Geometry::Box { size } => Geometry::Box {
+                half_extents: [size.0[0] / 2.0, size.0[1] / 2.0, size.0[2] / 2.0],
+            },
+            urdf_rs::Geometry::Cylinder { radius, length } => Geometry::Cylinder {
+                radius: *radius,
+                length: *length,
+            },
+            urdf_rs::Geometry::Capsule { radius, length } => Geometry::Capsule {
+                radius: *radius,
+                length: *length,
+            },
             urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere { radius: *radius },
             urdf_rs::Geometry::Mesh { filename, scale } => {
                 let file = resolve_mesh_path(self.files, filename, self.urdf_dir, self.package_paths).map_err(|tried| {
@@ -367,7 +439,11 @@ impl Ctx<'_> {
                         ),
                     }
                 })?;
-                Geometry::Mesh(load_mesh(self.files, &file, scale.map_or([1.0; 3], |s| s.0))?)
+                Geometry::Mesh(load_mesh(
+                    self.files,
+                    &file,
+                    scale.map_or([1.0; 3], |s| s.0),
+                )?)
             }
         })
     }
@@ -384,7 +460,10 @@ fn rgb(rgba: &[f64; 4]) -> [f32; 3] {
 fn urdf_pose(p: &urdf_rs::Pose) -> Pose {
     let [x, y, z] = p.xyz.0;
     let [r, pi, ya] = p.rpy.0;
-    Pose::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(r, pi, ya))
+    Pose::from_parts(
+        Translation3::new(x, y, z),
+        UnitQuaternion::from_euler_angles(r, pi, ya),
+    )
 }
 
 #[cfg(test)]
@@ -414,7 +493,15 @@ mod tests {
         );
         let mut objects = Vec::new();
         let mut warnings = Vec::new();
-        let idx = import_urdf(&DiskFiles, &p, &UrdfInclude::default(), &[], &mut objects, &mut warnings).expect("loads");
+        let idx = import_urdf(
+            &DiskFiles,
+            &p,
+            &UrdfInclude::default(),
+            &[],
+            &mut objects,
+            &mut warnings,
+        )
+        .expect("loads");
         let aliases: Vec<&str> = objects.iter().map(|o| o.alias.as_str()).collect();
         assert_eq!(aliases, ["r", "a", "j", "b"]);
         assert_eq!(objects[2].parent, Some(idx.links["a"]));
@@ -425,7 +512,10 @@ mod tests {
         // The child link frame at q = 0 is the URDF joint origin: identity rotation.
         let child_world = objects[2].local * objects[3].local;
         assert!(child_world.rotation.angle() < 1e-12);
-        assert!(warnings.iter().any(|w| w.contains("<dynamics>")), "{warnings:?}");
+        assert!(
+            warnings.iter().any(|w| w.contains("<dynamics>")),
+            "{warnings:?}"
+        );
     }
 
     #[test]
@@ -436,8 +526,15 @@ mod tests {
               <joint name="j1" type="fixed"><parent link="a"/><child link="b"/></joint>
               <joint name="j2" type="fixed"><parent link="b"/><child link="a"/></joint></robot>"#,
         );
-        let err = import_urdf(&DiskFiles, &p, &UrdfInclude::default(), &[], &mut Vec::new(), &mut Vec::new())
-            .expect_err("cycle");
+        let err = import_urdf(
+            &DiskFiles,
+            &p,
+            &UrdfInclude::default(),
+            &[],
+            &mut Vec::new(),
+            &mut Vec::new(),
+        )
+        .expect_err("cycle");
         assert!(err.to_string().contains("cycle"), "{err}");
     }
 
@@ -447,9 +544,19 @@ mod tests {
             "mesh",
             r#"<robot name="r"><link name="a"><collision><geometry><mesh filename="package://nope/m.stl"/></geometry></collision></link></robot>"#,
         );
-        let err = import_urdf(&DiskFiles, &p, &UrdfInclude::default(), &[], &mut Vec::new(), &mut Vec::new())
-            .expect_err("missing mesh");
+        let err = import_urdf(
+            &DiskFiles,
+            &p,
+            &UrdfInclude::default(),
+            &[],
+            &mut Vec::new(),
+            &mut Vec::new(),
+        )
+        .expect_err("missing mesh");
         let msg = err.to_string();
-        assert!(msg.contains("link 'a'") && msg.contains("--package-path"), "{msg}");
+        assert!(
+            msg.contains("link 'a'") && msg.contains("--package-path"),
+            "{msg}"
+        );
     }
 }

@@ -14,8 +14,15 @@ use crate::world::{Detection, Handle, ObjectKind, Physics, World};
 impl From<&ProximityModel> for ProximityVolume {
     fn from(m: &ProximityModel) -> Self {
         match *m {
-            ProximityModel::Ray { offset, range } => ProximityVolume::Ray { offset: offset as f32, range: range as f32 },
-            ProximityModel::Cone { offset, range, half_angle } => ProximityVolume::Cone {
+            ProximityModel::Ray { offset, range } => ProximityVolume::Ray {
+                offset: offset as f32,
+                range: range as f32,
+            },
+            ProximityModel::Cone {
+                offset,
+                range,
+                half_angle,
+            } => ProximityVolume::Cone {
                 offset: offset as f32,
                 range: range as f32,
                 half_angle: half_angle as f32,
@@ -39,14 +46,18 @@ pub(crate) fn detect(
     let volume = ProximityVolume::from(model);
     let own_body = mount_body(world, physics, sensor);
     let to_sensor = math::to_physics(&sensor_world.inverse());
-    let aabb = volume.local_aabb().transform_by(&math::to_physics(sensor_world));
+    let aabb = volume
+        .local_aabb()
+        .transform_by(&math::to_physics(sensor_world));
     let qp = physics.world.query_pipeline();
     let mut best: Option<(ProximityHit, Handle)> = None;
     for (ch, collider) in qp.intersect_aabb_conservative(aabb) {
         if own_body.is_some() && collider.parent() == own_body {
             continue;
         }
-        let Some(owner) = world.collider_owner(ch) else { continue };
+        let Some(owner) = world.collider_owner(ch) else {
+            continue;
+        };
         let detectable = matches!(&world.object(owner).map(|o| &o.kind), Ok(ObjectKind::Shape(s)) if s.detectable);
         if !detectable {
             continue;

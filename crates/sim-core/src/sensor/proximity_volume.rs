@@ -690,7 +690,12 @@ fn lateral_minimum(
 }
 
 /// First hit (distance in m, outward normal) of the shape on the generator at azimuth `phi`.
-fn generator_hit(cone: &ConeGeom, shape: &dyn Shape, pose: &Pose, phi: f32) -> Option<(f32, Vector)> {
+fn generator_hit(
+    cone: &ConeGeom,
+    shape: &dyn Shape,
+    pose: &Pose,
+    phi: f32,
+) -> Option<(f32, Vector)> {
     let ray = Ray::new(Vector::ZERO, cone.generator(phi));
     shape
         .cast_ray_and_get_normal(pose, &ray, cone.far * 2.0 + 1.0, true)
@@ -773,7 +778,11 @@ fn crossing(q: Vector, r: Vector, a: f32) -> Vector {
         r
     };
     let len = p.length();
-    if len > 0.0 { p * (a / len) } else { Vector::Z * a }
+    if len > 0.0 {
+        p * (a / len)
+    } else {
+        Vector::Z * a
+    }
 }
 
 /// Ball (centre `c`, radius `rho`, sensor frame): exact witness of `|p| >= a` in `S ∩ K`.
@@ -908,7 +917,12 @@ fn cuboid_reach(cone: &ConeGeom, cuboid: &Cuboid, pose: &Pose) -> Option<Vector>
 }
 
 /// Exact near-cap witness for a triangle (a thin solid).
-fn triangle_reach(cone: &ConeGeom, shape: &dyn Shape, tri: &Triangle, pose: &Pose) -> Option<Vector> {
+fn triangle_reach(
+    cone: &ConeGeom,
+    shape: &dyn Shape,
+    tri: &Triangle,
+    pose: &Pose,
+) -> Option<Vector> {
     let v = [
         pose.transform_point(tri.a),
         pose.transform_point(tri.b),
@@ -1212,9 +1226,16 @@ mod tests {
             }
         }
         let dist = shape.distance_to_point(pose, hit.point, true);
-        assert!(dist <= 2.0e-5, "point {:?} is {dist} m off the shape", hit.point);
+        assert!(
+            dist <= 2.0e-5,
+            "point {:?} is {dist} m off the shape",
+            hit.point
+        );
         assert!((hit.normal.length() - 1.0).abs() <= 1.0e-4, "{hit:?}");
-        assert!(hit.normal.dot(hit.point) <= 1.0e-6, "normal not facing: {hit:?}");
+        assert!(
+            hit.normal.dot(hit.point) <= 1.0e-6,
+            "normal not facing: {hit:?}"
+        );
     }
 
     /// Detects, checks invariants and compares with the oracle.
@@ -1418,7 +1439,9 @@ mod tests {
             range: 0.15,
             half_angle: 0.2,
         };
-        let hit = vol0.detect(&Ball::new(0.05), &Pose::IDENTITY).expect("inside");
+        let hit = vol0
+            .detect(&Ball::new(0.05), &Pose::IDENTITY)
+            .expect("inside");
         assert_eq!(hit.distance, 0.0);
     }
 
@@ -1456,7 +1479,10 @@ mod tests {
                 (a, b) => panic!("case {i}: cuboid {a:?} mesh {b:?}"),
             }
         }
-        assert!(lateral > 0, "the random poses should exercise the lateral path");
+        assert!(
+            lateral > 0,
+            "the random poses should exercise the lateral path"
+        );
     }
 
     fn cuboid_fast_path(vol: &ProximityVolume, cuboid: &Cuboid, pose: &Pose) -> bool {
@@ -1522,11 +1548,14 @@ mod tests {
             ("cone", Box::new(Cone::new(0.03, 0.02))),
             ("cylinder", Box::new(Cylinder::new(0.02, 0.015))),
             ("hull", Box::new(hull)),
-            ("triangle", Box::new(Triangle::new(
-                Vector::new(0.0, 0.0, 0.0),
-                Vector::new(0.05, 0.0, 0.01),
-                Vector::new(0.0, 0.04, -0.01),
-            ))),
+            (
+                "triangle",
+                Box::new(Triangle::new(
+                    Vector::new(0.0, 0.0, 0.0),
+                    Vector::new(0.05, 0.0, 0.01),
+                    Vector::new(0.0, 0.04, -0.01),
+                )),
+            ),
         ];
         let mut rng = Rng(7);
         for (name, shape) in &shapes {
@@ -1560,7 +1589,10 @@ mod tests {
             Rotation::from_axis_angle(Vector::Y, 0.5),
         );
         let hit = assert_matches_oracle(&vol, &rod, &pose).expect("rod crosses the cone");
-        assert!(hit.point.x > 0.0, "near crossing is on the +X side: {hit:?}");
+        assert!(
+            hit.point.x > 0.0,
+            "near crossing is on the +X side: {hit:?}"
+        );
     }
 
     #[test]
@@ -1574,7 +1606,10 @@ mod tests {
         let hit = vol.detect(&floor, &pose).expect("floor in view");
         // Rays dip at most 20° + 15° below the horizon: nearest at 0.05 / sin 35°.
         let expected = 0.05 / 35f32.to_radians().sin();
-        assert!((hit.distance - expected).abs() <= 1.0e-5, "{hit:?} vs {expected}");
+        assert!(
+            (hit.distance - expected).abs() <= 1.0e-5,
+            "{hit:?} vs {expected}"
+        );
         check_hit(&vol, &floor, &pose, &hit);
         assert_matches_oracle(&vol, &floor, &pose);
         // Looking straight down from 0.1 m: fast path.
@@ -1615,7 +1650,10 @@ mod tests {
         assert_eq!(vol.detect(&ball, &Pose::translation(0.0, 0.0, 0.231)), None);
         // Closer than the offset: not detected; straddling the offset: detected at the offset
         // with the normal pointing back.
-        assert_eq!(vol.detect(&Ball::new(0.002), &Pose::translation(0.0, 0.0, 0.005)), None);
+        assert_eq!(
+            vol.detect(&Ball::new(0.002), &Pose::translation(0.0, 0.0, 0.005)),
+            None
+        );
         let hit = vol
             .detect(&ball, &Pose::translation(0.0, 0.0, 0.0))
             .expect("ray starts inside");
@@ -1715,7 +1753,10 @@ mod tests {
                     rng.range(0.005, 0.1),
                 ))),
                 2 => Box::new(Cylinder::new(rng.range(0.005, 0.1), rng.range(0.005, 0.1))),
-                _ => Box::new(Capsule::new_z(rng.range(0.005, 0.1), rng.range(0.005, 0.05))),
+                _ => Box::new(Capsule::new_z(
+                    rng.range(0.005, 0.1),
+                    rng.range(0.005, 0.05),
+                )),
             };
             let pose = Pose::from_parts(
                 Vector::new(

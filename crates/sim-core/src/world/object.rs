@@ -107,9 +107,7 @@ impl Joint {
     /// about, or translation along, local Z by the current position.
     pub fn motion(&self) -> Pose {
         match self.joint_type {
-            JointType::Revolute => {
-                Pose::rotation(Vec3::z() * self.position)
-            }
+            JointType::Revolute => Pose::rotation(Vec3::z() * self.position),
             JointType::Prismatic => Pose::translation(0.0, 0.0, self.position),
             JointType::Fixed => Pose::identity(),
         }

@@ -69,6 +69,8 @@ pub(crate) struct Physics {
     pub force_joints: HashMap<Handle, ImpulseJointHandle>,
     /// Which object each collider belongs to, for sensor results.
     pub collider_object: HashMap<ColliderHandle, Handle>,
+    /// Colliders of each shape object, in creation order (deterministic iteration).
+    pub object_colliders: HashMap<Handle, Vec<ColliderHandle>>,
     /// Physics substep length, s.
     pub substep_dt: f64,
     /// Substeps per simulation step.
@@ -129,19 +131,24 @@ impl Physics {
             joints: HashMap::new(),
             force_joints: HashMap::new(),
             collider_object: HashMap::new(),
+            object_colliders: HashMap::new(),
             substep_dt,
             substeps: substeps.max(1),
         };
         // A fixed body at the world origin anchors joints whose parent side is the world.
         let mut anchor: Option<usize> = None;
         for &h in order {
-            let ObjectKind::Shape(shape) = (tree.kind)(h) else { continue };
+            let ObjectKind::Shape(shape) = (tree.kind)(h) else {
+                continue;
+            };
             let pose = (tree.world)(h);
             let placement = above(tree, h);
             if shape.dynamic {
                 match placement {
                     Above::Joint(j) => {
-                        let ObjectKind::Joint(joint) = (tree.kind)(j) else { unreachable!("above() returned a joint") };
+                        let ObjectKind::Joint(joint) = (tree.kind)(j) else {
+                            unreachable!("above() returned a joint")
+                        };
                         if joint.mode == JointMode::Kinematic {
                             p.new_body(h, &pose, BodyRole::Kinematic, shape);
                         } else {
@@ -199,7 +206,11 @@ impl Physics {
     fn anchor(&mut self, anchor: &mut Option<usize>) -> usize {
         *anchor.get_or_insert_with(|| {
             let handle = self.world.insert_body(RigidBodyBuilder::fixed());
-            self.bodies.push(BodyEntry { handle, object: -1, role: BodyRole::Fixed });
+            self.bodies.push(BodyEntry {
+                handle,
+                object: -1,
+                role: BodyRole::Fixed,
+            });
             self.bodies.len() - 1
         })
     }
@@ -213,22 +224,42 @@ impl Physics {
             BodyRole::Free | BodyRole::Link => RigidBodyBuilder::dynamic().can_sleep(false),
         };
         let mut builder = builder.pose(math::to_physics(pose));
-        if let MassModel::Inertial { mass, com, frame, inertia } = shape.mass {
+        if let MassModel::Inertial {
+            mass,
+            com,
+            frame,
+            inertia,
+        } = shape.mass
+        {
             let [ixx, ixy, ixz, iyy, iyz, izz] = inertia;
             let m = nalgebra::Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
             let r = math::quat_from_array(frame).unwrap_or_else(math::Quat::identity);
             let rm = r.to_rotation_matrix();
             let i = rm.matrix() * m * rm.matrix().transpose();
             let mat = rapier3d::math::Matrix::from_cols_array(&[
-                i[(0, 0)] as f32, i[(1, 0)] as f32, i[(2, 0)] as f32,
-                i[(0, 1)] as f32, i[(1, 1)] as f32, i[(2, 1)] as f32,
-                i[(0, 2)] as f32, i[(1, 2)] as f32, i[(2, 2)] as f32,
+                i[(0, 0)] as f32,
+                i[(1, 0)] as f32,
+                i[(2, 0)] as f32,
+                i[(0, 1)] as f32,
+                i[(1, 1)] as f32,
+                i[(2, 1)] as f32,
+                i[(0, 2)] as f32,
+                i[(1, 2)] as f32,
+                i[(2, 2)] as f32,
             ]);
             let com = rapier3d::math::Vector::new(com[0] as f32, com[1] as f32, com[2] as f32);
-            builder = builder.additional_mass_properties(MassProperties::with_inertia_matrix(com, mass as f32, mat));
+            builder = builder.additional_mass_properties(MassProperties::with_inertia_matrix(
+                com,
+                mass as f32,
+                mat,
+            ));
         }
         let handle = self.world.insert_body(builder);
-        self.bodies.push(BodyEntry { handle, object: h, role });
+        self.bodies.push(BodyEntry {
+            handle,
+            object: h,
+            role,
+        });
         let bi = self.bodies.len() - 1;
         self.body_of.insert(h, (bi, Pose::identity()));
         self.add_colliders(h, bi, &Pose::identity(), shape);
@@ -237,7 +268,11 @@ impl Physics {
 
     /// Adds one collider per geometry part of `shape`, placed at `rel` in the body frame.
     fn add_colliders(&mut self, h: Handle, bi: usize, rel: &Pose, shape: &ShapeModel) {
-        let volume: f64 = shape.geoms.iter().map(|g| geometry_volume(&g.geometry)).sum();
+        let volume: f64 = shape
+            .geoms
+            .iter()
+            .map(|g| geometry_volume(&g.geometry))
+            .sum();
         let density = match shape.mass {
             MassModel::Density(d) => d,
             MassModel::Mass(m) if volume > 0.0 => m / volume,
@@ -265,6 +300,7 @@ impl Physics {
             let body = self.bodies[bi].handle;
             let ch = self.world.insert_collider(collider, Some(body));
             self.collider_object.insert(ch, h);
+            self.object_colliders.entry(h).or_default().push(ch);
         }
     }
 
@@ -276,7 +312,9 @@ impl Physics {
         child: usize,
         warnings: &mut Vec<String>,
     ) {
-        let ObjectKind::Joint(joint) = (tree.kind)(j) else { return };
+        let ObjectKind::Joint(joint) = (tree.kind)(j) else {
+            return;
+        };
         let joint_world = (tree.world)(j);
         let parent_world = self.body_world(tree, parent);
         let child_world = (tree.world)(self.bodies[child].object);
@@ -287,9 +325,21 @@ impl Physics {
         // frame on the child side is the moving frame, i.e. after the motion.
         let frame2 = child_world.inverse() * joint_world * joint.motion() * x_to_z();
         let (mut data, axis, coord) = match joint.joint_type {
-            JointType::Revolute => (GenericJointBuilder::new(JointAxesMask::LOCKED_REVOLUTE_AXES).build(), JointAxis::AngX, 3),
-            JointType::Prismatic => (GenericJointBuilder::new(JointAxesMask::LOCKED_PRISMATIC_AXES).build(), JointAxis::LinX, 0),
-            JointType::Fixed => (GenericJointBuilder::new(JointAxesMask::LOCKED_FIXED_AXES).build(), JointAxis::AngX, 3),
+            JointType::Revolute => (
+                GenericJointBuilder::new(JointAxesMask::LOCKED_REVOLUTE_AXES).build(),
+                JointAxis::AngX,
+                3,
+            ),
+            JointType::Prismatic => (
+                GenericJointBuilder::new(JointAxesMask::LOCKED_PRISMATIC_AXES).build(),
+                JointAxis::LinX,
+                0,
+            ),
+            JointType::Fixed => (
+                GenericJointBuilder::new(JointAxesMask::LOCKED_FIXED_AXES).build(),
+                JointAxis::AngX,
+                3,
+            ),
         };
         data.set_local_frame1(math::to_physics(&frame1));
         data.set_local_frame2(math::to_physics(&frame2));
@@ -346,13 +396,29 @@ impl Physics {
 }
 
 /// Sets a joint's motor from its mode and targets (ForceBased: torque = kp e + kd ė).
-pub(crate) fn configure_motor(data: &mut GenericJoint, axis: JointAxis, joint: &super::object::Joint) {
+pub(crate) fn configure_motor(
+    data: &mut GenericJoint,
+    axis: JointAxis,
+    joint: &super::object::Joint,
+) {
     match joint.mode {
         JointMode::Position => {
-            data.set_motor(axis, joint.target_position as f32, 0.0, joint.kp as f32, joint.kd as f32);
+            data.set_motor(
+                axis,
+                joint.target_position as f32,
+                0.0,
+                joint.kp as f32,
+                joint.kd as f32,
+            );
         }
         JointMode::Velocity => {
-            data.set_motor(axis, 0.0, joint.target_velocity as f32, 0.0, joint.kd as f32);
+            data.set_motor(
+                axis,
+                0.0,
+                joint.target_velocity as f32,
+                0.0,
+                joint.kd as f32,
+            );
         }
         JointMode::Kinematic => {
             data.set_motor(axis, 0.0, 0.0, 0.0, 0.0);
@@ -366,18 +432,27 @@ pub(crate) fn configure_motor(data: &mut GenericJoint, axis: JointAxis, joint: &
 fn shared_shape(g: &Geometry) -> (SharedShape, Pose) {
     let y_to_z = Pose::rotation(nalgebra::Vector3::x() * std::f64::consts::FRAC_PI_2);
     match g {
-        Geometry::Box { half_extents: [x, y, z] } => {
-            (SharedShape::cuboid(*x as f32, *y as f32, *z as f32), Pose::identity())
-        }
+        Geometry::Box {
+            half_extents: [x, y, z],
+        } => (
+            SharedShape::cuboid(*x as f32, *y as f32, *z as f32),
+            Pose::identity(),
+        ),
         Geometry::Sphere { radius } => (SharedShape::ball(*radius as f32), Pose::identity()),
-        Geometry::Cylinder { radius, length } => {
-            (SharedShape::cylinder((*length / 2.0) as f32, *radius as f32), y_to_z)
-        }
-        Geometry::Capsule { radius, length } => {
-            (SharedShape::capsule_z((*length / 2.0) as f32, *radius as f32), Pose::identity())
-        }
+        Geometry::Cylinder { radius, length } => (
+            SharedShape::cylinder((*length / 2.0) as f32, *radius as f32),
+            y_to_z,
+        ),
+        Geometry::Capsule { radius, length } => (
+            SharedShape::capsule_z((*length / 2.0) as f32, *radius as f32),
+            Pose::identity(),
+        ),
         Geometry::Mesh(m) => {
-            let vertices = m.vertices.iter().map(|v| rapier3d::math::Vector::new(v[0], v[1], v[2])).collect();
+            let vertices = m
+                .vertices
+                .iter()
+                .map(|v| rapier3d::math::Vector::new(v[0], v[1], v[2]))
+                .collect();
             match SharedShape::trimesh(vertices, m.indices.clone()) {
                 Ok(s) => (s, Pose::identity()),
                 // A degenerate mesh (no area) cannot collide; a tiny ball keeps the body valid.
@@ -392,10 +467,14 @@ fn shared_shape(g: &Geometry) -> (SharedShape, Pose) {
 fn geometry_volume(g: &Geometry) -> f64 {
     use std::f64::consts::PI;
     match g {
-        Geometry::Box { half_extents: [x, y, z] } => 8.0 * x * y * z,
+        Geometry::Box {
+            half_extents: [x, y, z],
+        } => 8.0 * x * y * z,
         Geometry::Sphere { radius } => 4.0 / 3.0 * PI * radius.powi(3),
         Geometry::Cylinder { radius, length } => PI * radius * radius * length,
-        Geometry::Capsule { radius, length } => PI * radius * radius * length + 4.0 / 3.0 * PI * radius.powi(3),
+        Geometry::Capsule { radius, length } => {
+            PI * radius * radius * length + 4.0 / 3.0 * PI * radius.powi(3)
+        }
         Geometry::Mesh(m) => {
             let mut lo = [f64::MAX; 3];
             let mut hi = [f64::MIN; 3];

@@ -2,9 +2,12 @@
 
 use rapier3d::prelude::*;
 
+use super::collection::Collection;
+use super::log::Log;
 use super::object::{Detection, ForceReading, Handle, Joint, Object, ObjectKind, ProximitySensor};
 use super::object_path::{ObjectTree, PathError, PathQuery, resolve};
 use super::physics::{BodyRole, Physics, TreeView, configure_motor};
+use super::signals::Signals;
 use crate::error::SimError;
 use crate::math::{self, Pose, Vec3};
 use crate::scene::{JointMode, ObjectModelKind, SceneModel, SimSettings};
@@ -21,6 +24,36 @@ pub struct World {
     time: f64,
     steps: u64,
     warnings: Vec<String>,
+    /// Named signals shared by scripts and clients.
+    pub signals: Signals,
+    /// Collections by handle - FIRST_COLLECTION_HANDLE; `None` once destroyed.
+    pub collections: Vec<Option<Collection>>,
+    /// The simulation log.
+    pub log: Log,
+    /// Running, paused or stopped, as the orchestrator reports it.
+    pub state: SimulationState,
+}
+
+/// CoppeliaSim's simulation states (`sim.getSimulationState`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SimulationState {
+    /// Not running; the scene is in its initial state.
+    Stopped,
+    /// Running (advancing).
+    Running,
+    /// Paused.
+    Paused,
+}
+
+impl SimulationState {
+    /// CoppeliaSim's number: 0 stopped, 8 paused, 17 advancing/running.
+    pub fn code(self) -> i64 {
+        match self {
+            SimulationState::Stopped => 0,
+            SimulationState::Paused => 8,
+            SimulationState::Running => 17,
+        }
+    }
 }
 
 impl World {
@@ -58,10 +91,15 @@ impl World {
                     }
                     ObjectModelKind::Dummy => ObjectKind::Dummy,
                     ObjectModelKind::ProximitySensor(v) => {
-                        ObjectKind::ProximitySensor(ProximitySensor { volume: *v, last: None })
+                        ObjectKind::ProximitySensor(ProximitySensor {
+                            volume: *v,
+                            last: None,
+                        })
                     }
                     ObjectModelKind::VisionSensor(v) => ObjectKind::VisionSensor(*v),
-                    ObjectModelKind::ForceSensor => ObjectKind::ForceSensor(ForceReading::default()),
+                    ObjectModelKind::ForceSensor => {
+                        ObjectKind::ForceSensor(ForceReading::default())
+                    }
                     ObjectModelKind::Graph => ObjectKind::Graph,
                 },
             })
@@ -80,7 +118,11 @@ impl World {
             roots,
             order,
             physics: Physics::build(
-                &TreeView { parent: &|_| None, kind: &|_| &ObjectKind::Dummy, world: &|_| Pose::identity() },
+                &TreeView {
+                    parent: &|_| None,
+                    kind: &|_| &ObjectKind::Dummy,
+                    world: &|_| Pose::identity(),
+                },
                 &[],
                 model.settings.gravity,
                 model.settings.dt,
@@ -91,6 +133,10 @@ impl World {
             time: 0.0,
             steps: 0,
             warnings: Vec::new(),
+            signals: Signals::default(),
+            collections: Vec::new(),
+            log: Log::default(),
+            state: SimulationState::Stopped,
         };
         world.refresh_all_poses();
         let objects = &world.objects;
@@ -156,11 +202,17 @@ impl World {
     /// # Errors
     /// [`SimError::NoSuchObject`].
     pub fn object(&self, h: Handle) -> Result<&Object, SimError> {
-        usize::try_from(h).ok().and_then(|i| self.objects.get(i)).ok_or(SimError::NoSuchObject(h))
+        usize::try_from(h)
+            .ok()
+            .and_then(|i| self.objects.get(i))
+            .ok_or(SimError::NoSuchObject(h))
     }
 
     fn object_mut(&mut self, h: Handle) -> Result<&mut Object, SimError> {
-        usize::try_from(h).ok().and_then(|i| self.objects.get_mut(i)).ok_or(SimError::NoSuchObject(h))
+        usize::try_from(h)
+            .ok()
+            .and_then(|i| self.objects.get_mut(i))
+            .ok_or(SimError::NoSuchObject(h))
     }
 
     /// The joint state behind a handle.
@@ -170,14 +222,22 @@ impl World {
     pub fn joint(&self, h: Handle) -> Result<&Joint, SimError> {
         match &self.object(h)?.kind {
             ObjectKind::Joint(j) => Ok(j),
-            other => Err(SimError::WrongKind { handle: h, expected: "joint", actual: other.name() }),
+            other => Err(SimError::WrongKind {
+                handle: h,
+                expected: "joint",
+                actual: other.name(),
+            }),
         }
     }
 
     fn joint_mut(&mut self, h: Handle) -> Result<&mut Joint, SimError> {
         match &mut self.object_mut(h)?.kind {
             ObjectKind::Joint(j) => Ok(j),
-            other => Err(SimError::WrongKind { handle: h, expected: "joint", actual: other.name() }),
+            other => Err(SimError::WrongKind {
+                handle: h,
+                expected: "joint",
+                actual: other.name(),
+            }),
         }
     }
 
@@ -185,7 +245,12 @@ impl World {
     ///
     /// # Errors
     /// [`SimError::PathNotFound`].
-    pub fn find(&self, path: &str, emitter: Option<Handle>, index: usize) -> Result<Handle, SimError> {
+    pub fn find(
+        &self,
+        path: &str,
+        emitter: Option<Handle>,
+        index: usize,
+    ) -> Result<Handle, SimError> {
         let mut q = PathQuery::new(path).skipping(index);
         if let Some(e) = emitter {
             q = q.emitted_by(e);
@@ -253,7 +318,8 @@ impl World {
             if let Some(&(bi, rel)) = self.physics.body_of.get(&cur) {
                 let entry = &self.physics.bodies[bi];
                 if entry.object == cur {
-                    let pose = math::to_physics(&(self.objects[cur as usize].world * rel.inverse()));
+                    let pose =
+                        math::to_physics(&(self.objects[cur as usize].world * rel.inverse()));
                     if let Some(rb) = self.physics.world.bodies.get_mut(entry.handle) {
                         match entry.role {
                             BodyRole::Kinematic => rb.set_next_kinematic_position(pose),
@@ -270,7 +336,11 @@ impl World {
         }
         // A multibody takes its root pose from the root body only when asked to.
         let w = &mut self.physics.world;
-        let roots: Vec<_> = w.multibody_joints.multibodies().map(|mb| mb.root().rigid_body_handle()).collect();
+        let roots: Vec<_> = w
+            .multibody_joints
+            .multibodies()
+            .map(|mb| mb.root().rigid_body_handle())
+            .collect();
         for root in roots {
             if let Some(id) = w.multibody_joints.rigid_body_link(root).copied()
                 && let Some(mb) = w.multibody_joints.get_multibody_mut(id.multibody)
@@ -287,7 +357,9 @@ impl World {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_position(&mut self, h: Handle, q: f64) -> Result<(), SimError> {
         if !q.is_finite() {
-            return Err(SimError::InvalidArgument(format!("joint position must be finite, got {q}")));
+            return Err(SimError::InvalidArgument(format!(
+                "joint position must be finite, got {q}"
+            )));
         }
         let j = self.joint_mut(h)?;
         let q = j.constrain(q);
@@ -315,7 +387,9 @@ impl World {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_target_position(&mut self, h: Handle, q: f64) -> Result<(), SimError> {
         if !q.is_finite() {
-            return Err(SimError::InvalidArgument(format!("target position must be finite, got {q}")));
+            return Err(SimError::InvalidArgument(format!(
+                "target position must be finite, got {q}"
+            )));
         }
         let j = self.joint_mut(h)?;
         j.target_position = if j.cyclic { q } else { j.constrain(q) };
@@ -334,7 +408,9 @@ impl World {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_target_velocity(&mut self, h: Handle, v: f64) -> Result<(), SimError> {
         if !v.is_finite() {
-            return Err(SimError::InvalidArgument(format!("target velocity must be finite, got {v}")));
+            return Err(SimError::InvalidArgument(format!(
+                "target velocity must be finite, got {v}"
+            )));
         }
         self.joint_mut(h)?.target_velocity = v;
         self.push_motor(h);
@@ -348,7 +424,9 @@ impl World {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_max_force(&mut self, h: Handle, f: f64) -> Result<(), SimError> {
         if !f.is_finite() {
-            return Err(SimError::InvalidArgument(format!("force must be finite, got {f}")));
+            return Err(SimError::InvalidArgument(format!(
+                "force must be finite, got {f}"
+            )));
         }
         self.joint_mut(h)?.max_force = f.abs();
         self.push_motor(h);
@@ -356,8 +434,12 @@ impl World {
     }
 
     fn push_motor(&mut self, h: Handle) {
-        let Some(b) = self.physics.joints.get(&h).copied() else { return };
-        let ObjectKind::Joint(joint) = &self.objects[h as usize].kind else { return };
+        let Some(b) = self.physics.joints.get(&h).copied() else {
+            return;
+        };
+        let ObjectKind::Joint(joint) = &self.objects[h as usize].kind else {
+            return;
+        };
         if let Some((mb, link)) = self.physics.world.multibody_joints.get_mut(b.joint)
             && let Some(l) = mb.link_mut(link)
         {
@@ -375,7 +457,9 @@ impl World {
             if e.role == BodyRole::Kinematic
                 && let Some(rb) = self.physics.world.bodies.get_mut(e.handle)
             {
-                rb.set_next_kinematic_position(math::to_physics(&self.objects[e.object as usize].world));
+                rb.set_next_kinematic_position(math::to_physics(
+                    &self.objects[e.object as usize].world,
+                ));
             }
         }
         for _ in 0..self.physics.substeps {
@@ -403,10 +487,11 @@ impl World {
                     j.position = if j.cyclic { math::wrap_angle(q) } else { q };
                     j.velocity = vel;
                     j.force = match j.mode {
-                        JointMode::Position => {
-                            (j.kp * (j.target_position - q) - j.kd * vel).clamp(-j.max_force, j.max_force)
+                        JointMode::Position => (j.kp * (j.target_position - q) - j.kd * vel)
+                            .clamp(-j.max_force, j.max_force),
+                        JointMode::Velocity => {
+                            (j.kd * (j.target_velocity - vel)).clamp(-j.max_force, j.max_force)
                         }
-                        JointMode::Velocity => (j.kd * (j.target_velocity - vel)).clamp(-j.max_force, j.max_force),
                         JointMode::Kinematic => 0.0,
                     };
                 }
@@ -417,8 +502,15 @@ impl World {
         for i in 0..self.order.len() {
             let h = self.order[i];
             let world = match self.physics.body_of.get(&h) {
-                Some(&(bi, rel)) if self.physics.bodies[bi].object == h && self.physics.bodies[bi].role == BodyRole::Free => {
-                    self.physics.world.bodies.get(self.physics.bodies[bi].handle).map(|rb| math::from_physics(rb.position()) * rel)
+                Some(&(bi, rel))
+                    if self.physics.bodies[bi].object == h
+                        && self.physics.bodies[bi].role == BodyRole::Free =>
+                {
+                    self.physics
+                        .world
+                        .bodies
+                        .get(self.physics.bodies[bi].handle)
+                        .map(|rb| math::from_physics(rb.position()) * rel)
                 }
                 _ => None,
             };
@@ -439,8 +531,10 @@ impl World {
                 let scale = 1.0 / self.physics.substep_dt;
                 if let ObjectKind::ForceSensor(r) = &mut self.objects[h as usize].kind {
                     r.valid = true;
-                    r.force = Vec3::new(f64::from(imp[0]), f64::from(imp[1]), f64::from(imp[2])) * scale;
-                    r.torque = Vec3::new(f64::from(imp[3]), f64::from(imp[4]), f64::from(imp[5])) * scale;
+                    r.force =
+                        Vec3::new(f64::from(imp[0]), f64::from(imp[1]), f64::from(imp[2])) * scale;
+                    r.torque =
+                        Vec3::new(f64::from(imp[3]), f64::from(imp[4]), f64::from(imp[5])) * scale;
                 }
             }
         }
@@ -453,8 +547,15 @@ impl World {
     /// No such object.
     pub fn velocity(&self, h: Handle) -> Result<(Vec3, Vec3), SimError> {
         self.object(h)?;
-        let Some(&(bi, _)) = self.physics.body_of.get(&h) else { return Ok((Vec3::zeros(), Vec3::zeros())) };
-        let Some(rb) = self.physics.world.bodies.get(self.physics.bodies[bi].handle) else {
+        let Some(&(bi, _)) = self.physics.body_of.get(&h) else {
+            return Ok((Vec3::zeros(), Vec3::zeros()));
+        };
+        let Some(rb) = self
+            .physics
+            .world
+            .bodies
+            .get(self.physics.bodies[bi].handle)
+        else {
             return Ok((Vec3::zeros(), Vec3::zeros()));
         };
         let w = math::vec_from_physics(rb.angvel());
@@ -471,7 +572,13 @@ impl World {
     pub fn handle_proximity_sensor(&mut self, h: Handle) -> Result<Option<Detection>, SimError> {
         let volume = match &self.object(h)?.kind {
             ObjectKind::ProximitySensor(s) => s.volume,
-            other => return Err(SimError::WrongKind { handle: h, expected: "proximity sensor", actual: other.name() }),
+            other => {
+                return Err(SimError::WrongKind {
+                    handle: h,
+                    expected: "proximity sensor",
+                    actual: other.name(),
+                });
+            }
         };
         let sensor_world = self.objects[h as usize].world;
         let result = crate::sensor::detect(self, &self.physics, h, &sensor_world, &volume);
@@ -500,10 +607,58 @@ impl World {
         &self.physics
     }
 
+    /// Pose of `h` expressed in frame `rel`: `-1` world, `-11` (`sim.handle_parent`) the
+    /// parent's frame, otherwise the frame of object `rel` (a joint's moving frame).
+    ///
+    /// # Errors
+    /// No such object.
+    pub fn pose_relative(&self, h: Handle, rel: Handle) -> Result<Pose, SimError> {
+        let world = self.object(h)?.world;
+        Ok(self.frame(h, rel)?.inverse() * world)
+    }
+
+    /// The world pose of reference frame `rel` for object `h` (see [`World::pose_relative`]).
+    ///
+    /// # Errors
+    /// No such object.
+    pub fn frame(&self, h: Handle, rel: Handle) -> Result<Pose, SimError> {
+        match rel {
+            -1 => Ok(Pose::identity()),
+            -11 => {
+                self.object(h)?;
+                Ok(self.parent_frame(h))
+            }
+            r => {
+                self.object(r)?;
+                Ok(self.child_frame(r))
+            }
+        }
+    }
+
+    /// Parent of an object.
+    ///
+    /// # Errors
+    /// No such object.
+    pub fn parent(&self, h: Handle) -> Result<Option<Handle>, SimError> {
+        Ok(self.object(h)?.parent)
+    }
+
+    /// Shapes (with their colliders) for distance and collision queries.
+    pub(crate) fn colliders_of(&self, h: Handle) -> &[ColliderHandle] {
+        self.physics
+            .object_colliders
+            .get(&h)
+            .map_or(&[], Vec::as_slice)
+    }
+
     /// Pose of a rapier body as the physics engine sees it (f32), for consistency tests.
     pub fn physics_pose(&self, h: Handle) -> Option<Pose> {
         let &(bi, rel) = self.physics.body_of.get(&h)?;
-        let rb = self.physics.world.bodies.get(self.physics.bodies[bi].handle)?;
+        let rb = self
+            .physics
+            .world
+            .bodies
+            .get(self.physics.bodies[bi].handle)?;
         Some(math::from_physics(rb.position()) * rel)
     }
 }
@@ -513,13 +668,17 @@ impl ObjectTree for World {
         &self.roots
     }
     fn children(&self, h: i64) -> &[i64] {
-        self.objects.get(h as usize).map_or(&[], |o| o.children.as_slice())
+        self.objects
+            .get(h as usize)
+            .map_or(&[], |o| o.children.as_slice())
     }
     fn parent(&self, h: i64) -> Option<i64> {
         self.objects.get(h as usize).and_then(|o| o.parent)
     }
     fn alias(&self, h: i64) -> &str {
-        self.objects.get(h as usize).map_or("", |o| o.alias.as_str())
+        self.objects
+            .get(h as usize)
+            .map_or("", |o| o.alias.as_str())
     }
     fn is_model_base(&self, h: i64) -> bool {
         self.objects.get(h as usize).is_some_and(|o| o.model_base)

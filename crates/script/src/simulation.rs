@@ -1,0 +1,800 @@
+//! [`Simulation`]: the world plus its scripts, stepped in CoppeliaSim's order.
+//!
+//! One step: every script's `sysCall_actuation` (children before parents), the physics
+//! substeps, proximity sensors, every script's `sysCall_sensing`, then simulation time
+//! advances. `sysCall_init` runs when the simulation starts and `sysCall_cleanup` when it
+//! stops. Scripts see the step's start time throughout the step, as in CoppeliaSim.
+//!
+//! All scripts share one Lua 5.4 state (vendored) but each has its own environment
+//! table, so one script cannot see another's globals. The world is shared with the `sim`
+//! functions through an `Rc<RefCell<..>>` on this thread only: the `Lua` value is not
+//! `Send` and never leaves the simulation thread.
+
+use std::cell::{Cell, RefCell};
+use std::path::PathBuf;
+use std::rc::Rc;
+use std::time::{Duration, Instant, SystemTime};
+
+use gantry_sim_core::api::{self, Args, CallContext};
+use gantry_sim_core::scene::SceneModel;
+use gantry_sim_core::world::SimulationState;
+use gantry_sim_core::{Handle, Value, World};
+use mlua::{
+    Function, HookTriggers, Lua, LuaOptions, MultiValue, StdLib, Table, Value as LuaValue, VmState,
+};
+
+use crate::convert::{to_multi, to_value};
+
+/// Limits that keep a script from stalling or exhausting the simulator.
+#[derive(Debug, Clone, Copy)]
+pub struct ScriptLimits {
+    /// Longest a single hook call may run before it is interrupted.
+    pub time_budget: Duration,
+    /// Memory of the shared Lua state, bytes.
+    pub memory: usize,
+}
+
+impl Default for ScriptLimits {
+    fn default() -> Self {
+        Self {
+            time_budget: Duration::from_secs(1),
+            memory: 512 << 20,
+        }
+    }
+}
+
+/// The hooks a script may define.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Hook {
+    /// `sysCall_init`.
+    Init,
+    /// `sysCall_actuation`.
+    Actuation,
+    /// `sysCall_sensing`.
+    Sensing,
+    /// `sysCall_cleanup`.
+    Cleanup,
+}
+
+impl Hook {
+    fn name(self) -> &'static str {
+        match self {
+            Hook::Init => "sysCall_init",
+            Hook::Actuation => "sysCall_actuation",
+            Hook::Sensing => "sysCall_sensing",
+            Hook::Cleanup => "sysCall_cleanup",
+        }
+    }
+}
+
+/// A script's state, as the viewer and `gantry check` report it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ScriptState {
+    /// Loaded and receiving hooks.
+    Running,
+    /// Stopped receiving hooks (except cleanup) after this error.
+    Errored(String),
+}
+
+/// One attached script.
+struct Script {
+    object: Handle,
+    /// Short name for logs: the file name.
+    name: Rc<str>,
+    path: PathBuf,
+    modified: Option<SystemTime>,
+    env: Table,
+    /// Cached hooks, so a script that defines none costs nothing per step.
+    actuation: Option<Function>,
+    sensing: Option<Function>,
+    state: ScriptState,
+    initialised: bool,
+}
+
+/// What the `sim` closures share with the simulation.
+struct Shared {
+    world: RefCell<World>,
+    /// Object of the script running now, for `'.'` in paths.
+    current: Cell<Option<Handle>>,
+    current_name: RefCell<Rc<str>>,
+    deadline: Cell<Instant>,
+    /// Environments of scripts by object, for `sim.callScriptFunction`.
+    envs: RefCell<Vec<(Handle, Table, Rc<str>)>>,
+}
+
+/// The world and its scripts.
+pub struct Simulation {
+    lua: Lua,
+    shared: Rc<Shared>,
+    scripts: Vec<Script>,
+    /// Script indices in hook order: children's scripts before their parents'.
+    order: Vec<usize>,
+    model: SceneModel,
+    limits: ScriptLimits,
+}
+
+/// A script load or syntax problem, with file and line in the message.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct ScriptError(pub String);
+
+impl Simulation {
+    /// Builds the world and loads every script (top-level code runs now; `sysCall_init`
+    /// runs at [`Simulation::start`]). A script that fails to load is marked errored and
+    /// reported in the log; the others run.
+    ///
+    /// # Errors
+    /// The Lua state could not be created.
+    pub fn new(model: SceneModel, limits: ScriptLimits) -> Result<Self, ScriptError> {
+        let lua = new_state(limits)
+            .map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
+        let world = World::new(&model);
+        for w in world.warnings() {
+            tracing::warn!("{w}");
+        }
+        let shared = Rc::new(Shared {
+            world: RefCell::new(world),
+            current: Cell::new(None),
+            current_name: RefCell::new(Rc::from("remote")),
+            deadline: Cell::new(Instant::now() + Duration::from_secs(3600)),
+            envs: RefCell::new(Vec::new()),
+        });
+        install_api(&lua, &shared)
+            .map_err(|e| ScriptError(format!("cannot install the sim API: {e}")))?;
+        install_budget(&lua, &shared)
+            .map_err(|e| ScriptError(format!("cannot install the time budget: {e}")))?;
+        let mut sim = Simulation {
+            lua,
+            shared,
+            scripts: Vec::new(),
+            order: Vec::new(),
+            model,
+            limits,
+        };
+        sim.load_scripts();
+        Ok(sim)
+    }
+
+    fn load_scripts(&mut self) {
+        self.scripts.clear();
+        self.shared.envs.borrow_mut().clear();
+        for s in self.model.scripts.clone() {
+            let object = s.object as Handle;
+            let name: Rc<str> = Rc::from(
+                s.path
+                    .file_name()
+                    .and_then(|n| n.to_str())
+                    .unwrap_or("script"),
+            );
+            let modified = std::fs::metadata(&s.path).and_then(|m| m.modified()).ok();
+            let env = match self.make_env(&name) {
+                Ok(e) => e,
+                Err(e) => {
+                    tracing::error!("{name}: cannot create its environment: {e}");
+                    continue;
+                }
+            };
+            let mut script = Script {
+                object,
+                name: name.clone(),
+                path: s.path.clone(),
+                modified,
+                env,
+                actuation: None,
+                sensing: None,
+                state: ScriptState::Running,
+                initialised: false,
+            };
+            if let Err(e) = self.exec_chunk(&script, &s.source) {
+                self.fail(&mut script, e);
+            }
+            self.shared
+                .envs
+                .borrow_mut()
+                .push((object, script.env.clone(), name));
+            self.scripts.push(script);
+        }
+        self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
+    }
+
+    fn make_env(&self, name: &Rc<str>) -> mlua::Result<Table> {
+        let env = self.lua.create_table()?;
+        let meta = self.lua.create_table()?;
+        meta.set("__index", self.lua.globals())?;
+        env.set_metatable(Some(meta))?;
+        // `print` logs with the script's name (CoppeliaSim prints to its status bar).
+        let shared = self.shared.clone();
+        let source = name.clone();
+        let print = self.lua.create_function(move |_, args: MultiValue| {
+            let text: Vec<String> = args.iter().map(display).collect();
+            let mut w = shared.world.borrow_mut();
+            let t = w.time();
+            w.log.push(t, 450, &source, &text.join("\t"));
+            Ok(())
+        })?;
+        env.set("print", print)?;
+        Ok(env)
+    }
+
+    fn exec_chunk(&self, script: &Script, source: &str) -> mlua::Result<()> {
+        self.enter(script);
+        let r = self
+            .lua
+            .load(source)
+            .set_name(format!("@{}", script.path.display()))
+            .set_environment(script.env.clone())
+            .exec();
+        self.leave();
+        r
+    }
+
+    fn enter(&self, script: &Script) {
+        self.shared.current.set(Some(script.object));
+        *self.shared.current_name.borrow_mut() = script.name.clone();
+        self.shared
+            .deadline
+            .set(Instant::now() + self.limits.time_budget);
+    }
+
+    fn leave(&self) {
+        self.shared.current.set(None);
+        self.shared
+            .deadline
+            .set(Instant::now() + Duration::from_secs(3600));
+    }
+
+    fn fail(&self, script: &mut Script, e: mlua::Error) {
+        let msg = error_text(&e);
+        let mut w = self.shared.world.borrow_mut();
+        let t = w.time();
+        w.log.push(
+            t,
+            200,
+            &script.name,
+            &format!("script error; it will receive no more hooks: {msg}"),
+        );
+        script.state = ScriptState::Errored(msg);
+        script.actuation = None;
+        script.sensing = None;
+    }
+
+    /// Calls one hook of one script, if it defines it and has not errored.
+    fn call_hook(&mut self, i: usize, hook: Hook) {
+        let script = &self.scripts[i];
+        if hook != Hook::Cleanup && script.state != ScriptState::Running {
+            return;
+        }
+        let f = match hook {
+            Hook::Actuation => script.actuation.clone(),
+            Hook::Sensing => script.sensing.clone(),
+            Hook::Init | Hook::Cleanup => script
+                .env
+                .raw_get::<Option<Function>>(hook.name())
+                .ok()
+                .flatten(),
+        };
+        let Some(f) = f else { return };
+        self.enter(&self.scripts[i]);
+        let r = f.call::<()>(());
+        self.leave();
+        if let Err(e) = r {
+            let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
+            self.fail(&mut s, e);
+            self.scripts[i] = s;
+        }
+    }
+
+    fn cache_hooks(&mut self, i: usize) {
+        let s = &mut self.scripts[i];
+        s.actuation = s
+            .env
+            .raw_get::<Option<Function>>(Hook::Actuation.name())
+            .ok()
+            .flatten();
+        s.sensing = s
+            .env
+            .raw_get::<Option<Function>>(Hook::Sensing.name())
+            .ok()
+            .flatten();
+    }
+
+    /// Starts (or resumes) the simulation; runs `sysCall_init` of scripts not yet initialised.
+    pub fn start(&mut self) {
+        self.shared.world.borrow_mut().state = SimulationState::Running;
+        for k in 0..self.order.len() {
+            let i = self.order[k];
+            if !self.scripts[i].initialised {
+                self.scripts[i].initialised = true;
+                self.call_hook(i, Hook::Init);
+                if self.scripts[i].state == ScriptState::Running {
+                    self.cache_hooks(i);
+                }
+            }
+        }
+    }
+
+    /// Pauses: steps are refused until [`Simulation::start`].
+    pub fn pause(&mut self) {
+        let mut w = self.shared.world.borrow_mut();
+        if w.state == SimulationState::Running {
+            w.state = SimulationState::Paused;
+        }
+    }
+
+    /// Stops: runs every script's `sysCall_cleanup`, then restores the scene's initial
+    /// state (world and scripts are rebuilt from the scene model).
+    pub fn stop(&mut self) {
+        if self.state() == SimulationState::Stopped {
+            return;
+        }
+        self.cleanup();
+        let log = std::mem::take(&mut self.shared.world.borrow_mut().log);
+        *self.shared.world.borrow_mut() = World::new(&self.model);
+        self.shared.world.borrow_mut().log = log;
+        self.load_scripts();
+    }
+
+    /// Runs `sysCall_cleanup` of every initialised script (errored ones included, as in
+    /// CoppeliaSim). Called by [`Simulation::stop`] and on process exit.
+    pub fn cleanup(&mut self) {
+        for k in 0..self.order.len() {
+            let i = self.order[k];
+            if self.scripts[i].initialised {
+                self.call_hook(i, Hook::Cleanup);
+                self.scripts[i].initialised = false;
+            }
+        }
+        self.shared.world.borrow_mut().state = SimulationState::Stopped;
+    }
+
+    /// The simulation state.
+    pub fn state(&self) -> SimulationState {
+        self.shared.world.borrow().state
+    }
+
+    /// One simulation step in CoppeliaSim's order. Starts the simulation if stopped;
+    /// does nothing while paused.
+    pub fn step(&mut self) {
+        match self.state() {
+            SimulationState::Stopped => self.start(),
+            SimulationState::Paused => return,
+            SimulationState::Running => {}
+        }
+        for k in 0..self.order.len() {
+            let i = self.order[k];
+            if self.scripts[i].actuation.is_some() {
+                self.call_hook(i, Hook::Actuation);
+            }
+        }
+        {
+            let mut w = self.shared.world.borrow_mut();
+            w.step_physics();
+            w.handle_all_proximity_sensors();
+        }
+        for k in 0..self.order.len() {
+            let i = self.order[k];
+            if self.scripts[i].sensing.is_some() {
+                self.call_hook(i, Hook::Sensing);
+            }
+        }
+        self.shared.world.borrow_mut().advance_time();
+    }
+
+    /// The world, borrowed for reading.
+    pub fn world(&self) -> std::cell::Ref<'_, World> {
+        self.shared.world.borrow()
+    }
+
+    /// The world, borrowed for writing.
+    pub fn world_mut(&self) -> std::cell::RefMut<'_, World> {
+        self.shared.world.borrow_mut()
+    }
+
+    /// Each script's file and state.
+    pub fn scripts(&self) -> Vec<(PathBuf, Handle, ScriptState)> {
+        self.scripts
+            .iter()
+            .map(|s| (s.path.clone(), s.object, s.state.clone()))
+            .collect()
+    }
+
+    /// Calls a `sim.*` function for a remote client (no emitting object).
+    ///
+    /// # Errors
+    /// The CoppeliaSim-style error message.
+    pub fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+        if name == "callScriptFunction" {
+            return call_script_function(&self.lua, &self.shared, args)
+                .map_err(|e| format!("{} (in function 'sim.callScriptFunction')", error_text(&e)));
+        }
+        let ctx = CallContext {
+            script_object: None,
+            source: "remote",
+        };
+        api::call(&mut self.shared.world.borrow_mut(), &ctx, name, args)
+    }
+
+    /// Reloads scripts whose files changed on disk: the old script's cleanup runs, then
+    /// the new one loads and initialises, with the world left as it is. A script that
+    /// fails to compile keeps the old version running and the error is logged.
+    pub fn reload_changed(&mut self) {
+        for i in 0..self.scripts.len() {
+            let modified = std::fs::metadata(&self.scripts[i].path)
+                .and_then(|m| m.modified())
+                .ok();
+            if modified.is_none() || modified == self.scripts[i].modified {
+                continue;
+            }
+            self.scripts[i].modified = modified;
+            self.reload(i);
+        }
+    }
+
+    /// Reloads script `i` from its file (see [`Simulation::reload_changed`]).
+    pub fn reload(&mut self, i: usize) {
+        let Some(script) = self.scripts.get(i) else {
+            return;
+        };
+        let (path, name) = (script.path.clone(), script.name.clone());
+        let source = match std::fs::read_to_string(&path) {
+            Ok(s) => s,
+            Err(e) => {
+                self.log(
+                    200,
+                    &name,
+                    &format!(
+                        "reload failed, keeping the running version: cannot read {}: {e}",
+                        path.display()
+                    ),
+                );
+                return;
+            }
+        };
+        if let Err(e) = self
+            .lua
+            .load(&source)
+            .set_name(format!("@{}", path.display()))
+            .into_function()
+        {
+            self.log(
+                200,
+                &name,
+                &format!(
+                    "reload failed, keeping the running version: {}",
+                    error_text(&e)
+                ),
+            );
+            return;
+        }
+        let was_running = self.scripts[i].initialised;
+        if was_running {
+            self.call_hook(i, Hook::Cleanup);
+        }
+        let env = match self.make_env(&name) {
+            Ok(e) => e,
+            Err(e) => {
+                self.log(200, &name, &format!("reload failed: {e}"));
+                return;
+            }
+        };
+        let object = self.scripts[i].object;
+        let s = &mut self.scripts[i];
+        s.env = env.clone();
+        s.state = ScriptState::Running;
+        s.actuation = None;
+        s.sensing = None;
+        s.initialised = false;
+        for e in self.shared.envs.borrow_mut().iter_mut() {
+            if e.0 == object && e.2 == name {
+                e.1 = env.clone();
+            }
+        }
+        let r = self.exec_chunk(&self.scripts[i], &source);
+        if let Err(e) = r {
+            let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
+            self.fail(&mut s, e);
+            self.scripts[i] = s;
+            return;
+        }
+        self.log(450, &name, "reloaded");
+        if was_running && self.state() != SimulationState::Stopped {
+            self.scripts[i].initialised = true;
+            self.call_hook(i, Hook::Init);
+            if self.scripts[i].state == ScriptState::Running {
+                self.cache_hooks(i);
+            }
+        }
+    }
+
+    fn log(&self, verbosity: i64, source: &str, msg: &str) {
+        let mut w = self.shared.world.borrow_mut();
+        let t = w.time();
+        w.log.push(t, verbosity, source, msg);
+    }
+
+    /// Calls a named global function of the scripts attached to `object` (or of every
+    /// script, for `None`) with `args`; returns the first script's results. Used by the
+    /// transports for hooks such as `sysCall_packet`.
+    ///
+    /// Returns `Ok(None)` when no script defines the function.
+    ///
+    /// # Errors
+    /// The function raised an error (the script is then marked errored).
+    pub fn call_hook_function(
+        &mut self,
+        function: &str,
+        args: &[Value],
+    ) -> Result<Option<Vec<Value>>, String> {
+        for k in 0..self.order.len() {
+            let i = self.order[k];
+            if self.scripts[i].state != ScriptState::Running {
+                continue;
+            }
+            let Ok(Some(f)) = self.scripts[i].env.raw_get::<Option<Function>>(function) else {
+                continue;
+            };
+            let lua_args = to_multi(&self.lua, args).map_err(|e| e.to_string())?;
+            self.enter(&self.scripts[i]);
+            let r = f.call::<MultiValue>(lua_args);
+            self.leave();
+            return match r {
+                Ok(values) => values
+                    .iter()
+                    .map(to_value)
+                    .collect::<mlua::Result<Vec<_>>>()
+                    .map(Some)
+                    .map_err(|e| e.to_string()),
+                Err(e) => {
+                    let text = error_text(&e);
+                    let mut s =
+                        std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
+                    self.fail(&mut s, e);
+                    self.scripts[i] = s;
+                    Err(text)
+                }
+            };
+        }
+        Ok(None)
+    }
+}
+
+/// A throwaway script used while the real one is borrowed out for error handling.
+fn placeholder_script(lua: &Lua) -> Script {
+    Script {
+        object: -1,
+        name: Rc::from(""),
+        path: PathBuf::new(),
+        modified: None,
+        env: lua.globals(),
+        actuation: None,
+        sensing: None,
+        state: ScriptState::Running,
+        initialised: false,
+    }
+}
+
+/// Children's scripts before their parents' (post-order over the tree), siblings in
+/// hierarchy order; several scripts on one object keep their scene order.
+fn hook_order(world: &World, scripts: &[Script]) -> Vec<usize> {
+    use gantry_sim_core::world::object_path::ObjectTree;
+    let mut post = Vec::new();
+    let mut stack: Vec<(Handle, bool)> = world.roots().iter().rev().map(|&h| (h, false)).collect();
+    while let Some((h, visited)) = stack.pop() {
+        if visited {
+            post.push(h);
+        } else {
+            stack.push((h, true));
+            stack.extend(world.children(h).iter().rev().map(|&c| (c, false)));
+        }
+    }
+    let mut order = Vec::new();
+    for h in post {
+        order.extend(
+            scripts
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.object == h)
+                .map(|(i, _)| i),
+        );
+    }
+    order
+}
+
+/// The message of a Lua error with its traceback, without mlua's wrapping noise.
+pub(crate) fn error_text(e: &mlua::Error) -> String {
+    match e {
+        mlua::Error::CallbackError { traceback, cause } => {
+            format!("{}\n{traceback}", error_text(cause))
+        }
+        mlua::Error::RuntimeError(m) | mlua::Error::SyntaxError { message: m, .. } => m.clone(),
+        mlua::Error::MemoryError(m) => format!("out of memory: {m}"),
+        other => other.to_string(),
+    }
+}
+
+fn display(v: &LuaValue) -> String {
+    match v {
+        LuaValue::Nil => "nil".into(),
+        LuaValue::Boolean(b) => b.to_string(),
+        LuaValue::Integer(i) => i.to_string(),
+        LuaValue::Number(n) => n.to_string(),
+        LuaValue::String(s) => s.to_string_lossy(),
+        other => format!("{}: {:?}", other.type_name(), other.to_pointer()),
+    }
+}
+
+/// A Lua state with the safe standard libraries only (no `io`, no `package`, no
+/// `debug`, no `os` functions that touch processes or files) and a memory cap.
+fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
+    let lua = Lua::new_with(
+        StdLib::TABLE
+            | StdLib::STRING
+            | StdLib::MATH
+            | StdLib::UTF8
+            | StdLib::COROUTINE
+            | StdLib::OS,
+        LuaOptions::default(),
+    )?;
+    let g = lua.globals();
+    // Loading code from files or bytecode would bypass the sandbox.
+    for name in ["dofile", "loadfile", "load", "loadstring", "require"] {
+        g.raw_set(name, LuaValue::Nil)?;
+    }
+    let os: Table = g.get("os")?;
+    for name in [
+        "execute",
+        "exit",
+        "remove",
+        "rename",
+        "tmpname",
+        "getenv",
+        "setlocale",
+    ] {
+        os.raw_set(name, LuaValue::Nil)?;
+    }
+    lua.set_memory_limit(limits.memory)?;
+    Ok(lua)
+}
+
+/// Interrupts any Lua code that runs past the current deadline.
+fn install_budget(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
+    let shared = shared.clone();
+    lua.set_hook(
+        HookTriggers::new().every_nth_instruction(4096),
+        move |_, _| {
+            if Instant::now() > shared.deadline.get() {
+                Err(mlua::Error::runtime(
+                    "script interrupted: it ran past its time budget (an infinite loop in a hook?)",
+                ))
+            } else {
+                Ok(VmState::Continue)
+            }
+        },
+    )
+}
+
+/// Creates the global `sim` table: every core function plus constants.
+fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
+    let sim = lua.create_table()?;
+    for f in api::FUNCTIONS {
+        let shared = shared.clone();
+        let call = f.call;
+        let qualified = format!("sim.{}", f.name);
+        let func = lua.create_function(move |lua, args: MultiValue| {
+            let values = args
+                .iter()
+                .map(to_value)
+                .collect::<mlua::Result<Vec<_>>>()?;
+            let source = shared.current_name.borrow().clone();
+            let ctx = CallContext {
+                script_object: shared.current.get(),
+                source: &source,
+            };
+            let result = {
+                let mut world = shared.world.try_borrow_mut().map_err(|_| {
+                    mlua::Error::runtime(format!("the world is busy (in function '{qualified}')"))
+                })?;
+                call(&mut world, &ctx, &Args::new(&values))
+            };
+            match result {
+                Ok(ret) => to_multi(lua, &ret),
+                Err(e) => Err(mlua::Error::runtime(e.in_function(&qualified))),
+            }
+        })?;
+        sim.set(f.name, func)?;
+    }
+    let cs_shared = shared.clone();
+    sim.set(
+        "callScriptFunction",
+        lua.create_function(move |lua, args: MultiValue| {
+            let values = args
+                .iter()
+                .map(to_value)
+                .collect::<mlua::Result<Vec<_>>>()?;
+            let ret = call_script_function(lua, &cs_shared, &values).map_err(|e| {
+                mlua::Error::runtime(format!(
+                    "{} (in function 'sim.callScriptFunction')",
+                    error_text(&e)
+                ))
+            })?;
+            to_multi(lua, &ret)
+        })?,
+    )?;
+    // A script's handle is the handle of the object it is attached to.
+    sim.set(
+        "getScript",
+        lua.create_function(|_, (_kind, object): (i64, Option<i64>)| Ok(object.unwrap_or(-1)))?,
+    )?;
+    for (name, value) in api::CONSTANTS {
+        sim.set(*name, *value)?;
+    }
+    lua.globals().set("sim", sim)?;
+    Ok(())
+}
+
+/// `sim.callScriptFunction(name, scriptHandle, ...)`: calls a global function of the
+/// script attached to object `scriptHandle` (also accepts CoppeliaSim's `name@alias`).
+fn call_script_function(
+    lua: &Lua,
+    shared: &Rc<Shared>,
+    args: &[Value],
+) -> mlua::Result<Vec<Value>> {
+    let name = match args.first() {
+        Some(Value::Str(s)) => s.split('@').next().unwrap_or_default().to_owned(),
+        _ => {
+            return Err(mlua::Error::runtime(
+                "argument 1: expected string (the function name)",
+            ));
+        }
+    };
+    let target = args
+        .get(1)
+        .and_then(Value::as_i64)
+        .ok_or_else(|| mlua::Error::runtime("argument 2: expected a script handle"))?;
+    let env = shared
+        .envs
+        .borrow()
+        .iter()
+        .find(|(h, _, _)| *h == target)
+        .map(|(h, env, n)| (*h, env.clone(), n.clone()));
+    let Some((object, env, script_name)) = env else {
+        return Err(mlua::Error::runtime(format!(
+            "no script is attached to object {target}"
+        )));
+    };
+    let f: Function = match env.raw_get::<LuaValue>(name.as_str())? {
+        LuaValue::Function(f) => f,
+        _ => {
+            return Err(mlua::Error::runtime(format!(
+                "script {script_name} has no function '{name}'"
+            )));
+        }
+    };
+    let call_args = to_multi(lua, &args[2.min(args.len())..])?;
+    let (prev, prev_name) = (shared.current.get(), shared.current_name.borrow().clone());
+    shared.current.set(Some(object));
+    *shared.current_name.borrow_mut() = script_name;
+    let r = f.call::<MultiValue>(call_args);
+    shared.current.set(prev);
+    *shared.current_name.borrow_mut() = prev_name;
+    r?.iter().map(to_value).collect()
+}
+
+/// Compiles every script of a scene without running it, for `gantry check`.
+/// Returns one message per script that does not compile, with file and line.
+pub fn check_syntax(model: &SceneModel) -> Vec<String> {
+    let Ok(lua) = new_state(ScriptLimits::default()) else {
+        return vec!["cannot create a Lua state".into()];
+    };
+    model
+        .scripts
+        .iter()
+        .filter_map(|s| {
+            lua.load(&s.source)
+                .set_name(format!("@{}", s.path.display()))
+                .into_function()
+                .err()
+                .map(|e| error_text(&e))
+        })
+        .collect()
+}

@@ -1,0 +1,377 @@
+//! The one implementation of each `sim.*` function, over [`Value`].
+//!
+//! The Lua host and the ZMQ remote API are thin converters around [`FUNCTIONS`]: they
+//! turn their values into [`Value`]s, call the function with the world and the caller's
+//! context, and turn the results back. Return shapes follow CoppeliaSim (positions as 3
+//! numbers, `readProximitySensor` always 5 values, ...), and errors carry a message to
+//! which the front end appends `(in function 'sim.name')`.
+
+mod args;
+mod joints;
+mod misc;
+mod objects;
+mod sensing;
+
+pub use args::Args;
+
+use crate::Value;
+use crate::error::SimError;
+use crate::world::{Handle, World};
+
+/// Who is calling: scripts have an object ("emitting object" for `.` in paths),
+/// remote clients do not.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CallContext<'a> {
+    /// The object the calling script is attached to.
+    pub script_object: Option<Handle>,
+    /// A name for log lines (a script file, or "remote").
+    pub source: &'a str,
+}
+
+/// A failed call: the message without the function name.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct ApiError(pub String);
+
+impl ApiError {
+    /// An error with a message.
+    pub fn new(message: impl Into<String>) -> Self {
+        Self(message.into())
+    }
+
+    /// The full message as CoppeliaSim prints it: `msg (in function 'sim.name')`.
+    pub fn in_function(&self, qualified_name: &str) -> String {
+        format!("{} (in function '{qualified_name}')", self.0)
+    }
+}
+
+impl From<SimError> for ApiError {
+    fn from(e: SimError) -> Self {
+        ApiError(match e {
+            // CoppeliaSim's own wording, which ported scripts and clients may match on.
+            SimError::PathNotFound(_) => {
+                "object does not exist, or alias/path is ill formatted.".into()
+            }
+            SimError::NoSuchObject(h) => format!("object does not exist. (handle {h})"),
+            other => other.to_string(),
+        })
+    }
+}
+
+/// What a function returns: CoppeliaSim's multiple return values.
+pub type Ret = Vec<Value>;
+
+/// A `sim.*` function.
+pub type ApiFn = fn(&mut World, &CallContext<'_>, &Args<'_>) -> Result<Ret, ApiError>;
+
+/// One entry of the registry.
+#[derive(Clone, Copy)]
+pub struct ApiFunction {
+    /// Name without the `sim.` prefix.
+    pub name: &'static str,
+    /// The implementation.
+    pub call: ApiFn,
+}
+
+/// Every `sim.*` function implemented in the core, in alphabetical order.
+pub const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "addItemToCollection",
+        call: sensing::add_item_to_collection,
+    },
+    ApiFunction {
+        name: "addLog",
+        call: misc::add_log,
+    },
+    ApiFunction {
+        name: "checkCollision",
+        call: sensing::check_collision,
+    },
+    ApiFunction {
+        name: "checkDistance",
+        call: sensing::check_distance,
+    },
+    ApiFunction {
+        name: "clearFloatSignal",
+        call: misc::clear_float_signal,
+    },
+    ApiFunction {
+        name: "clearInt32Signal",
+        call: misc::clear_int32_signal,
+    },
+    ApiFunction {
+        name: "clearStringSignal",
+        call: misc::clear_string_signal,
+    },
+    ApiFunction {
+        name: "createCollection",
+        call: sensing::create_collection,
+    },
+    ApiFunction {
+        name: "destroyCollection",
+        call: sensing::destroy_collection,
+    },
+    ApiFunction {
+        name: "getFloatSignal",
+        call: misc::get_float_signal,
+    },
+    ApiFunction {
+        name: "getInt32Signal",
+        call: misc::get_int32_signal,
+    },
+    ApiFunction {
+        name: "getJointForce",
+        call: joints::get_joint_force,
+    },
+    ApiFunction {
+        name: "getJointInterval",
+        call: joints::get_joint_interval,
+    },
+    ApiFunction {
+        name: "getJointPosition",
+        call: joints::get_joint_position,
+    },
+    ApiFunction {
+        name: "getJointTargetPosition",
+        call: joints::get_joint_target_position,
+    },
+    ApiFunction {
+        name: "getJointTargetVelocity",
+        call: joints::get_joint_target_velocity,
+    },
+    ApiFunction {
+        name: "getJointType",
+        call: joints::get_joint_type,
+    },
+    ApiFunction {
+        name: "getJointVelocity",
+        call: joints::get_joint_velocity,
+    },
+    ApiFunction {
+        name: "getObject",
+        call: objects::get_object,
+    },
+    ApiFunction {
+        name: "getObjectAlias",
+        call: objects::get_object_alias,
+    },
+    ApiFunction {
+        name: "getObjectMatrix",
+        call: objects::get_object_matrix,
+    },
+    ApiFunction {
+        name: "getObjectOrientation",
+        call: objects::get_object_orientation,
+    },
+    ApiFunction {
+        name: "getObjectParent",
+        call: objects::get_object_parent,
+    },
+    ApiFunction {
+        name: "getObjectPose",
+        call: objects::get_object_pose,
+    },
+    ApiFunction {
+        name: "getObjectPosition",
+        call: objects::get_object_position,
+    },
+    ApiFunction {
+        name: "getObjectQuaternion",
+        call: objects::get_object_quaternion,
+    },
+    ApiFunction {
+        name: "getObjectType",
+        call: objects::get_object_type,
+    },
+    ApiFunction {
+        name: "getObjectVelocity",
+        call: objects::get_object_velocity,
+    },
+    ApiFunction {
+        name: "getObjectsInTree",
+        call: objects::get_objects_in_tree,
+    },
+    ApiFunction {
+        name: "getSimulationState",
+        call: misc::get_simulation_state,
+    },
+    ApiFunction {
+        name: "getSimulationTime",
+        call: misc::get_simulation_time,
+    },
+    ApiFunction {
+        name: "getSimulationTimeStep",
+        call: misc::get_simulation_time_step,
+    },
+    ApiFunction {
+        name: "getStringSignal",
+        call: misc::get_string_signal,
+    },
+    ApiFunction {
+        name: "getSystemTime",
+        call: misc::get_system_time,
+    },
+    ApiFunction {
+        name: "handleProximitySensor",
+        call: sensing::handle_proximity_sensor,
+    },
+    ApiFunction {
+        name: "readForceSensor",
+        call: sensing::read_force_sensor,
+    },
+    ApiFunction {
+        name: "readProximitySensor",
+        call: sensing::read_proximity_sensor,
+    },
+    ApiFunction {
+        name: "setFloatSignal",
+        call: misc::set_float_signal,
+    },
+    ApiFunction {
+        name: "setInt32Signal",
+        call: misc::set_int32_signal,
+    },
+    ApiFunction {
+        name: "setJointPosition",
+        call: joints::set_joint_position,
+    },
+    ApiFunction {
+        name: "setJointTargetForce",
+        call: joints::set_joint_target_force,
+    },
+    ApiFunction {
+        name: "setJointTargetPosition",
+        call: joints::set_joint_target_position,
+    },
+    ApiFunction {
+        name: "setJointTargetVelocity",
+        call: joints::set_joint_target_velocity,
+    },
+    ApiFunction {
+        name: "setObjectMatrix",
+        call: objects::set_object_matrix,
+    },
+    ApiFunction {
+        name: "setObjectOrientation",
+        call: objects::set_object_orientation,
+    },
+    ApiFunction {
+        name: "setObjectPose",
+        call: objects::set_object_pose,
+    },
+    ApiFunction {
+        name: "setObjectPosition",
+        call: objects::set_object_position,
+    },
+    ApiFunction {
+        name: "setObjectQuaternion",
+        call: objects::set_object_quaternion,
+    },
+    ApiFunction {
+        name: "setStringSignal",
+        call: misc::set_string_signal,
+    },
+];
+
+/// Looks a function up by its name without the `sim.` prefix.
+pub fn function(name: &str) -> Option<&'static ApiFunction> {
+    FUNCTIONS
+        .binary_search_by(|f| f.name.cmp(name))
+        .ok()
+        .map(|i| &FUNCTIONS[i])
+}
+
+/// Calls `sim.<name>`.
+///
+/// # Errors
+/// Unknown function (`No such function: sim.x`) or the function's own error, already
+/// qualified with `(in function 'sim.x')`.
+pub fn call(
+    world: &mut World,
+    ctx: &CallContext<'_>,
+    name: &str,
+    args: &[Value],
+) -> Result<Ret, String> {
+    let f = function(name).ok_or_else(|| format!("No such function: sim.{name}"))?;
+    (f.call)(world, ctx, &Args::new(args)).map_err(|e| e.in_function(&format!("sim.{name}")))
+}
+
+/// The `sim.*` constants scripts and clients use, with CoppeliaSim's values.
+pub const CONSTANTS: &[(&str, i64)] = &[
+    ("handle_world", -1),
+    ("handle_all", -2),
+    ("handle_all_except_explicit", -3),
+    ("handle_self", -4),
+    ("handle_main_script", -5),
+    ("handle_tree", -6),
+    ("handle_chain", -7),
+    ("handle_single", -8),
+    ("handle_default", -9),
+    ("handle_all_except_self", -10),
+    ("handle_parent", -11),
+    ("handle_scene", -12),
+    ("handle_app", -13),
+    ("handle_inverse", -14),
+    ("simulation_stopped", 0),
+    ("simulation_paused", 8),
+    ("simulation_advancing", 16),
+    ("simulation_advancing_firstafterstop", 16),
+    ("simulation_advancing_running", 17),
+    ("simulation_advancing_lastbeforepause", 19),
+    ("simulation_advancing_firstafterpause", 20),
+    ("simulation_advancing_abouttostop", 21),
+    ("simulation_advancing_lastbeforestop", 22),
+    ("object_shape_type", 0),
+    ("object_joint_type", 1),
+    ("object_graph_type", 2),
+    ("object_dummy_type", 4),
+    ("object_proximitysensor_type", 5),
+    ("object_visionsensor_type", 9),
+    ("object_forcesensor_type", 12),
+    ("joint_revolute_subtype", 10),
+    ("joint_prismatic_subtype", 11),
+    ("joint_spherical_subtype", 12),
+    // gantry extension: fixed joints have no CoppeliaSim subtype.
+    ("joint_fixed_subtype", 13),
+    ("jointmode_kinematic", 0),
+    ("jointmode_passive", 0),
+    ("jointmode_dependent", 4),
+    ("jointmode_dynamic", 5),
+    ("proximitysensor_pyramid_subtype", 30),
+    ("proximitysensor_cylinder_subtype", 31),
+    ("proximitysensor_disc_subtype", 32),
+    ("proximitysensor_cone_subtype", 33),
+    ("proximitysensor_ray_subtype", 34),
+    ("drawing_points", 0),
+    ("drawing_lines", 1),
+    ("drawing_triangles", 2),
+    ("drawing_spherepts", 7),
+    ("drawing_linestrip", 8),
+    ("drawing_cyclic", 4096),
+    ("verbosity_none", 100),
+    ("verbosity_errors", 200),
+    ("verbosity_warnings", 300),
+    ("verbosity_loadinfos", 350),
+    ("verbosity_scripterrors", 400),
+    ("verbosity_scriptwarnings", 420),
+    ("verbosity_scriptinfos", 450),
+    ("verbosity_infos", 500),
+    ("verbosity_debug", 600),
+    ("scripttype_main", 0),
+    ("scripttype_childscript", 1),
+    ("scripttype_customization", 6),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn registry_is_sorted_and_unique() {
+        for w in FUNCTIONS.windows(2) {
+            assert!(w[0].name < w[1].name, "{} / {}", w[0].name, w[1].name);
+        }
+        assert!(function("getObject").is_some());
+        assert!(function("nope").is_none());
+    }
+}

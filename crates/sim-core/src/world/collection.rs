@@ -1,0 +1,40 @@
+//! Collections: named sets of objects built from items (single objects, trees, chains),
+//! evaluated against the current tree when queried.
+
+use super::object::Handle;
+
+/// The first collection handle; collections and objects never share handles.
+pub const FIRST_COLLECTION_HANDLE: Handle = 2_000_000;
+
+/// How an item adds objects to a collection (CoppeliaSim's `sim.handle_*` values).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ItemKind {
+    /// One object (`sim.handle_single`, -8).
+    Single,
+    /// Every object (`sim.handle_all`, -2).
+    All,
+    /// The object and all its descendants (`sim.handle_tree`, -6).
+    Tree,
+    /// The object and all its ancestors (`sim.handle_chain`, -7).
+    Chain,
+}
+
+/// One item of a collection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CollectionItem {
+    /// What the item covers.
+    pub kind: ItemKind,
+    /// The base object (ignored for `All`).
+    pub object: Handle,
+    /// Remove the objects instead of adding them (options bit 0).
+    pub remove: bool,
+    /// Leave out the tree base or chain tip itself (options bit 1).
+    pub exclude_base: bool,
+}
+
+/// A collection: its items, applied in order.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Collection {
+    /// Items in the order they were added.
+    pub items: Vec<CollectionItem>,
+}

@@ -1,0 +1,229 @@
+//! Geometric queries between entities: minimum distance and collision between objects
+//! and collections (`sim.checkDistance`, `sim.checkCollision`).
+
+use rapier3d::parry::query;
+use rapier3d::prelude::*;
+
+use super::collection::{FIRST_COLLECTION_HANDLE, ItemKind};
+use super::object::{Handle, ObjectKind};
+use super::object_path::ObjectTree;
+use super::world::World;
+use crate::error::SimError;
+use crate::math::{self, Vec3};
+
+/// The result of a distance query, points in the world frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DistanceResult {
+    /// Closest point on the first entity, m.
+    pub p1: Vec3,
+    /// Closest point on the second entity, m.
+    pub p2: Vec3,
+    /// Distance, m (0 when intersecting).
+    pub distance: f64,
+    /// The two objects.
+    pub objects: [Handle; 2],
+}
+
+/// Whether a shape takes part in measurements selected by a wildcard or a collection.
+fn measurable(w: &World, h: Handle) -> bool {
+    matches!(w.object(h).map(|o| &o.kind), Ok(ObjectKind::Shape(s)) if s.measurable)
+}
+
+impl World {
+    /// Resolves an entity (object handle, collection handle, or `sim.handle_all` = -2)
+    /// to shapes. `exclude` is removed (the other side of a query). Explicit objects are
+    /// measured whatever their `measurable` flag, as in CoppeliaSim.
+    ///
+    /// # Errors
+    /// An unknown object or collection.
+    pub fn entity_shapes(
+        &self,
+        entity: Handle,
+        exclude: &[Handle],
+    ) -> Result<Vec<Handle>, SimError> {
+        let mut out: Vec<Handle> = if entity == -2 {
+            self.handles()
+                .iter()
+                .copied()
+                .filter(|&h| measurable(self, h))
+                .collect()
+        } else if entity >= FIRST_COLLECTION_HANDLE {
+            self.collection_objects(entity)?
+                .into_iter()
+                .filter(|&h| measurable(self, h))
+                .collect()
+        } else {
+            self.object(entity)?;
+            vec![entity]
+        };
+        out.retain(|h| !exclude.contains(h));
+        Ok(out)
+    }
+
+    /// The objects of a collection, applying its items in order.
+    ///
+    /// # Errors
+    /// The handle names no collection.
+    pub fn collection_objects(&self, c: Handle) -> Result<Vec<Handle>, SimError> {
+        let coll = usize::try_from(c - FIRST_COLLECTION_HANDLE)
+            .ok()
+            .and_then(|i| self.collections.get(i))
+            .and_then(|c| c.as_ref())
+            .ok_or_else(|| SimError::InvalidArgument(format!("collection {c} does not exist")))?;
+        let mut set: Vec<Handle> = Vec::new();
+        for item in &coll.items {
+            let mut objs: Vec<Handle> = match item.kind {
+                ItemKind::Single => vec![item.object],
+                ItemKind::All => self.handles().to_vec(),
+                ItemKind::Tree => {
+                    let mut v = Vec::new();
+                    let mut stack = vec![item.object];
+                    while let Some(h) = stack.pop() {
+                        v.push(h);
+                        stack.extend(self.children(h).iter().rev().copied());
+                    }
+                    v
+                }
+                ItemKind::Chain => {
+                    let mut v = vec![item.object];
+                    let mut cur = self.parent(item.object)?;
+                    while let Some(p) = cur {
+                        v.push(p);
+                        cur = self.parent(p)?;
+                    }
+                    v
+                }
+            };
+            if item.exclude_base && matches!(item.kind, ItemKind::Tree | ItemKind::Chain) {
+                objs.retain(|&h| h != item.object);
+            }
+            if item.remove {
+                set.retain(|h| !objs.contains(h));
+            } else {
+                for h in objs {
+                    if !set.contains(&h) {
+                        set.push(h);
+                    }
+                }
+            }
+        }
+        Ok(set)
+    }
+
+    /// Minimum distance between two sets of shapes, or `None` if either has no geometry
+    /// or, with `threshold > 0`, nothing is closer than the threshold.
+    pub fn distance(&self, a: &[Handle], b: &[Handle], threshold: f64) -> Option<DistanceResult> {
+        let colliders = &self.physics().world.colliders;
+        let mut best: Option<DistanceResult> = None;
+        let limit = |best: &Option<DistanceResult>| {
+            let t = if threshold > 0.0 {
+                threshold
+            } else {
+                f64::INFINITY
+            };
+            best.map_or(t, |r| r.distance.min(t))
+        };
+        for &ha in a {
+            for &ca in self.colliders_of(ha) {
+                let Some(c1) = colliders.get(ca) else {
+                    continue;
+                };
+                let aabb1 = c1.compute_aabb();
+                for &hb in b {
+                    if ha == hb {
+                        continue;
+                    }
+                    for &cb in self.colliders_of(hb) {
+                        let Some(c2) = colliders.get(cb) else {
+                            continue;
+                        };
+                        // Cheap lower bound: the gap between bounding boxes.
+                        let aabb2 = c2.compute_aabb();
+                        let gap = aabb_gap(&aabb1, &aabb2);
+                        let lim = limit(&best);
+                        if gap >= lim {
+                            continue;
+                        }
+                        let max = if lim.is_finite() {
+                            lim as f32
+                        } else {
+                            f32::MAX
+                        };
+                        let Ok(cp) = query::closest_points(
+                            c1.position(),
+                            c1.shape(),
+                            c2.position(),
+                            c2.shape(),
+                            max,
+                        ) else {
+                            continue;
+                        };
+                        let (p1, p2) = match cp {
+                            query::ClosestPoints::Intersecting => {
+                                let p = math::vec_from_physics(c1.position().translation);
+                                (p, p)
+                            }
+                            query::ClosestPoints::WithinMargin(p1, p2) => {
+                                (math::vec_from_physics(p1), math::vec_from_physics(p2))
+                            }
+                            query::ClosestPoints::Disjoint => continue,
+                        };
+                        let d = (p2 - p1).norm();
+                        if d < lim {
+                            best = Some(DistanceResult {
+                                p1,
+                                p2,
+                                distance: d,
+                                objects: [ha, hb],
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    /// The first colliding pair between two sets of shapes.
+    pub fn collision(&self, a: &[Handle], b: &[Handle]) -> Option<[Handle; 2]> {
+        let colliders = &self.physics().world.colliders;
+        for &ha in a {
+            for &ca in self.colliders_of(ha) {
+                let Some(c1) = colliders.get(ca) else {
+                    continue;
+                };
+                for &hb in b {
+                    if ha == hb {
+                        continue;
+                    }
+                    for &cb in self.colliders_of(hb) {
+                        let Some(c2) = colliders.get(cb) else {
+                            continue;
+                        };
+                        if query::intersection_test(
+                            c1.position(),
+                            c1.shape(),
+                            c2.position(),
+                            c2.shape(),
+                        )
+                        .is_ok_and(|i| i.intersecting)
+                        {
+                            return Some([ha, hb]);
+                        }
+                    }
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Distance between two axis-aligned boxes (0 when they overlap).
+fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
+    let mut sq = 0.0f64;
+    for i in 0..3 {
+        let g = (b.mins[i] - a.maxs[i]).max(a.mins[i] - b.maxs[i]).max(0.0);
+        sq += f64::from(g) * f64::from(g);
+    }
+    sq.sqrt()
+}
