@@ -1,19 +1,60 @@
--- The paper's arm server, without its socket: gantry's text channel delivers each
--- packet to sysCall_packet (see docs/text-protocol.md once the channel lands).
--- FK sets the six joints in radians; CoppeliaSim clamps and wraps them the same way.
+-- The paper's arm server (Chakraborty's FK demo) for gantry's text channel.
+-- gantry listens on TCP itself and hands every packet to sysCall_packet; the script
+-- never blocks the simulation the way the original's socket accept() did.
+--
+-- Commands (docs/text-protocol.md has examples):
+--   <FK#J1=..,J2=..,...,J6=..>  set the joints, radians (clamped to limits, cyclic joints
+--                               wrapped, as CoppeliaSim does); missing joints keep their
+--                               value. Reply: the packet echoed (the paper's ack).
+--   <IK#TX=..,TY=..,TZ=..>      move the IK target to (TX, TY, TZ), metres, world frame,
+--                               and solve. Needs simIK; without it the reply is an error.
+--   <JOINTS#>                   reply <JOINTS#J1=..,...,J6=..> with the joint angles, rad.
+--   <TIP#>                      reply <TIP#X=..,Y=..,Z=..,QX=..,QY=..,QZ=..,QW=..>, world frame.
 
 function sysCall_init()
     joints = {}
     for i = 1, 6 do
         joints[i] = sim.getObject('./joint' .. i)
     end
+    tip = sim.getObject('./tip')
+    target = sim.getObject('/target', {noError = true})
+end
+
+local function fmt(x)
+    return string.format('%.9g', x)
 end
 
 function sysCall_packet(packet)
-    if packet.code == 'FK' then
+    local code = packet.code
+    if code == 'FK' then
         for i = 1, 6 do
             local q = packet.fields['J' .. i]
             if q then sim.setJointPosition(joints[i], q) end
         end
+        return nil -- echo the packet
+    elseif code == 'IK' then
+        if not simIK then
+            return '<ERR#IK needs simIK, which this build does not provide yet>'
+        end
+        if target == -1 then
+            return '<ERR#IK needs a dummy aliased "target" in the scene>'
+        end
+        local p = sim.getObjectPosition(target, sim.handle_world)
+        p[1] = packet.fields.TX or p[1]
+        p[2] = packet.fields.TY or p[2]
+        p[3] = packet.fields.TZ or p[3]
+        sim.setObjectPosition(target, p, sim.handle_world)
+        return solveIk and solveIk() or nil
+    elseif code == 'JOINTS' then
+        local parts = {}
+        for i = 1, 6 do
+            parts[i] = 'J' .. i .. '=' .. fmt(sim.getJointPosition(joints[i]))
+        end
+        return '<JOINTS#' .. table.concat(parts, ',') .. '>'
+    elseif code == 'TIP' then
+        local pose = sim.getObjectPose(tip, sim.handle_world)
+        return string.format('<TIP#X=%s,Y=%s,Z=%s,QX=%s,QY=%s,QZ=%s,QW=%s>',
+            fmt(pose[1]), fmt(pose[2]), fmt(pose[3]), fmt(pose[4]), fmt(pose[5]), fmt(pose[6]), fmt(pose[7]))
     end
+    return '<ERR#unknown command ' .. code .. '; use FK, IK, JOINTS or TIP>'
 end

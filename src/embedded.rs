@@ -24,13 +24,7 @@ pub fn files() -> EmbeddedFiles {
             "assets/robots/arm6/arm6.urdf",
             include_bytes!("../assets/robots/arm6/arm6.urdf"),
         ),
-        (
-            "scripts/bubble_rob.lua",
-            include_bytes!("../scripts/bubble_rob.lua"),
-        ),
-        (
-            "scripts/fk_server.lua",
-            include_bytes!("../scripts/fk_server.lua"),
-        ),
+        ("scripts/bubble_rob.lua", include_bytes!("../scripts/bubble_rob.lua")),
+        ("scripts/fk_server.lua", include_bytes!("../scripts/fk_server.lua")),
     ])
 }

@@ -7,18 +7,15 @@
 
 mod embedded;
 
+use std::net::{IpAddr, Ipv4Addr};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
-use gantry_script::{ScriptLimits, Simulation, check_syntax};
-use gantry_sim_core::scene::{
-    DiskFiles, EmbeddedFiles, Files, LoadOptions, SceneModel, load_scene,
-};
+use gantry_script::{ScriptLimits, check_syntax};
+use gantry_server::{ServeConfig, Shutdown, SimConfig, TextConfig};
+use gantry_sim_core::scene::{DiskFiles, EmbeddedFiles, Files, LoadOptions, SceneModel, load_scene};
 
 #[derive(Parser)]
 #[command(
@@ -51,9 +48,22 @@ enum Command {
         #[arg(long = "package-path")]
         package_paths: Vec<PathBuf>,
     },
+    /// Send text packets to a running gantry and print the replies; exits non-zero on
+    /// an <ERR#...> reply or a failed connection.
+    Send {
+        /// Address of the text channel.
+        #[arg(long, default_value = "127.0.0.1:6000")]
+        addr: String,
+        /// Seconds to wait for each reply.
+        #[arg(long, default_value_t = 5.0)]
+        timeout: f64,
+        /// Packets, e.g. '<FK#J1=0.5,J2=0,J3=0,J4=0,J5=-1.57,J6=0>'.
+        #[arg(required = true)]
+        packets: Vec<String>,
+    },
 }
 
-#[derive(Args, Clone, Default)]
+#[derive(Args, Clone)]
 struct RunArgs {
     /// Scene file (.toml) or robot (.urdf); default: the embedded showroom.
     scene: Option<PathBuf>,
@@ -75,6 +85,21 @@ struct RunArgs {
     /// For a bare URDF: let the base move instead of fixing it (PyBullet's useFixedBase=False).
     #[arg(long)]
     free_base: bool,
+    /// Address the listeners bind (default 127.0.0.1; anything else prints a warning).
+    #[arg(long)]
+    bind: Option<String>,
+    /// Text command channel port (default 6000; 0 = any free port).
+    #[arg(long)]
+    text_port: Option<u16>,
+    /// ZMQ remote API port (default 23000; 0 = any free port).
+    #[arg(long)]
+    zmq_port: Option<u16>,
+    /// Open no network listener at all (headless batch runs).
+    #[arg(long)]
+    no_listen: bool,
+    /// Most simultaneous text-channel connections.
+    #[arg(long, default_value_t = 256)]
+    max_connections: usize,
 }
 
 fn main() -> ExitCode {
@@ -86,17 +111,13 @@ fn main() -> ExitCode {
         (false, _) => "debug",
     };
     tracing_subscriber::fmt()
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| level.into()),
-        )
+        .with_env_filter(tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| level.into()))
         .with_writer(std::io::stderr)
         .init();
     let result = match cli.command {
         Some(Command::Run(args)) => run(&args),
-        Some(Command::Check {
-            scene,
-            package_paths,
-        }) => check(&scene, package_paths),
+        Some(Command::Check { scene, package_paths }) => check(&scene, package_paths),
+        Some(Command::Send { addr, timeout, packets }) => send(&addr, timeout, &packets),
         None => run(&cli.run),
     };
     match result {
@@ -110,16 +131,11 @@ fn main() -> ExitCode {
 
 fn load(scene: Option<&PathBuf>, opts: &LoadOptions) -> Result<SceneModel> {
     match scene {
-        Some(path) => load_scene(&DiskFiles, path, opts)
-            .with_context(|| format!("cannot load {}", path.display())),
+        Some(path) => load_scene(&DiskFiles, path, opts).with_context(|| format!("cannot load {}", path.display())),
         None => {
             let files = embedded::files();
-            load_scene(
-                &files as &dyn Files,
-                &EmbeddedFiles::path(embedded::SHOWROOM),
-                opts,
-            )
-            .context("the embedded showroom scene does not load (a build problem)")
+            load_scene(&files as &dyn Files, &EmbeddedFiles::path(embedded::SHOWROOM), opts)
+                .context("the embedded showroom scene does not load (a build problem)")
         }
     }
 }
@@ -172,43 +188,84 @@ fn run(args: &RunArgs) -> Result<()> {
     for w in &model.warnings {
         tracing::warn!("{w}");
     }
-    let dt = model.settings.dt;
-    tracing::info!(scene = %model.name, objects = model.objects.len(), scripts = model.scripts.len(), dt, "loaded");
-    let mut sim = Simulation::new(model, ScriptLimits::default())?;
-
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
-            .context("cannot install the Ctrl-C handler")?;
-    }
-    sim.start();
-    let start = Instant::now();
-    let mut last_reload_check = start;
-    let mut steps = 0u64;
-    while !stop.load(Ordering::SeqCst) && args.steps.is_none_or(|n| steps < n) {
-        sim.step();
-        steps += 1;
-        if !args.fast {
-            // Pace to wall-clock time from a fixed origin so errors do not accumulate.
-            let due = start + Duration::from_secs_f64(steps as f64 * dt);
-            let now = Instant::now();
-            if due > now {
-                std::thread::sleep(due - now);
-            }
-        }
-        if last_reload_check.elapsed() > Duration::from_millis(500) {
-            last_reload_check = Instant::now();
-            sim.reload_changed();
-        }
-    }
-    sim.cleanup();
-    let wall = start.elapsed().as_secs_f64();
-    let sim_time = sim.world().time();
-    println!(
-        "steps={steps} sim_time={sim_time:.6} wall_s={wall:.6} steps_per_s={:.1} rtf={:.3}",
-        steps as f64 / wall.max(1e-9),
-        sim_time / wall.max(1e-9)
+    tracing::info!(
+        scene = %model.name,
+        objects = model.objects.len(),
+        scripts = model.scripts.len(),
+        dt = model.settings.dt,
+        substeps = model.settings.substeps,
+        "loaded"
     );
+    // Precedence: command line, then the scene's [server] section, then the defaults.
+    let scene_server = model.server.clone();
+    let bind: IpAddr = match args.bind.as_deref().or(scene_server.bind.as_deref()) {
+        Some(b) => b.parse().with_context(|| format!("--bind {b}: not an IP address"))?,
+        None => IpAddr::V4(Ipv4Addr::LOCALHOST),
+    };
+    let port = |flag: Option<u16>, scene: Option<u16>, default: u16| {
+        if args.no_listen {
+            None
+        } else {
+            Some(flag.or(scene).unwrap_or(default))
+        }
+    };
+    let serve = ServeConfig {
+        bind,
+        text_port: port(args.text_port, scene_server.text_port, 6000),
+        zmq_port: port(args.zmq_port, scene_server.zmq_port, 23000),
+        text: TextConfig {
+            max_connections: args.max_connections,
+            ..TextConfig::default()
+        },
+    };
+    let sim = SimConfig {
+        steps: args.steps,
+        fast: args.fast,
+        limits: ScriptLimits::default(),
+        autostart: true,
+    };
+    let summary = gantry_server::run(model, sim, serve, Shutdown::default(), |bound| {
+        // One machine-readable line per listener on stderr, for scripts that start
+        // gantry with port 0 and need the chosen port.
+        if let Some(a) = bound.text {
+            eprintln!("listening text={a}");
+        }
+        if let Some(a) = bound.zmq {
+            eprintln!("listening zmq={a}");
+        }
+    })?;
+    println!("{}", summary.line());
+    Ok(())
+}
+
+/// The smallest text-channel client: one persistent connection, one line per packet.
+fn send(addr: &str, timeout: f64, packets: &[String]) -> Result<()> {
+    use std::io::{BufRead, BufReader, Write};
+    anyhow::ensure!(
+        timeout.is_finite() && timeout > 0.0,
+        "--timeout must be a positive number of seconds"
+    );
+    let stream = std::net::TcpStream::connect(addr)
+        .with_context(|| format!("cannot connect to {addr} (is gantry running with its text channel?)"))?;
+    stream.set_read_timeout(Some(std::time::Duration::from_secs_f64(timeout)))?;
+    stream.set_nodelay(true)?;
+    let mut writer = stream.try_clone()?;
+    let mut reader = BufReader::new(stream);
+    let mut failed = 0;
+    for p in packets {
+        writer.write_all(p.trim_end().as_bytes())?;
+        writer.write_all(b"\n")?;
+        let mut line = String::new();
+        let n = reader
+            .read_line(&mut line)
+            .with_context(|| format!("no reply to {p} within {timeout} s"))?;
+        anyhow::ensure!(n > 0, "the server closed the connection after {p}");
+        let line = line.trim_end_matches(['\r', '\n']);
+        println!("{line}");
+        if line.starts_with("<ERR#") {
+            failed += 1;
+        }
+    }
+    anyhow::ensure!(failed == 0, "{failed} packet(s) got an error reply");
     Ok(())
 }

@@ -34,9 +34,7 @@ pub enum CborError {
         offset: usize,
     },
     /// Bytes follow the single top-level item.
-    #[error(
-        "{count} unexpected bytes after the CBOR item at byte {offset}; send exactly one item per message"
-    )]
+    #[error("{count} unexpected bytes after the CBOR item at byte {offset}; send exactly one item per message")]
     TrailingBytes {
         /// Where the extra bytes start.
         offset: usize,
@@ -50,9 +48,7 @@ pub enum CborError {
         offset: usize,
     },
     /// A text string is not valid UTF-8.
-    #[error(
-        "CBOR text string at byte {offset} is not valid UTF-8; send binary data as a byte string"
-    )]
+    #[error("CBOR text string at byte {offset} is not valid UTF-8; send binary data as a byte string")]
     InvalidUtf8 {
         /// Where the string (or chunk) starts.
         offset: usize,
@@ -333,17 +329,13 @@ impl Decoder<'_> {
         while !self.at_break()? {
             let chunk = self.head()?;
             if chunk.major != h.major || chunk.info == INDEFINITE {
-                return Err(CborError::BadChunk {
-                    offset: chunk.offset,
-                });
+                return Err(CborError::BadChunk { offset: chunk.offset });
             }
             let n = self.len(&chunk)?;
             let data = self.take(n)?;
             // RFC 8949 §3.2.3: each text chunk must be valid UTF-8 on its own.
             if h.major == 3 && std::str::from_utf8(data).is_err() {
-                return Err(CborError::InvalidUtf8 {
-                    offset: chunk.offset,
-                });
+                return Err(CborError::InvalidUtf8 { offset: chunk.offset });
             }
             out.extend_from_slice(data);
         }
@@ -465,14 +457,9 @@ mod tests {
     fn same(a: &Value, b: &Value) -> bool {
         match (a, b) {
             (Value::Float(x), Value::Float(y)) => x.to_bits() == y.to_bits(),
-            (Value::Array(x), Value::Array(y)) => {
-                x.len() == y.len() && x.iter().zip(y).all(|(a, b)| same(a, b))
-            }
+            (Value::Array(x), Value::Array(y)) => x.len() == y.len() && x.iter().zip(y).all(|(a, b)| same(a, b)),
             (Value::Map(x), Value::Map(y)) => {
-                x.len() == y.len()
-                    && x.iter()
-                        .zip(y)
-                        .all(|((ka, va), (kb, vb))| same(ka, kb) && same(va, vb))
+                x.len() == y.len() && x.iter().zip(y).all(|((ka, va), (kb, vb))| same(ka, kb) && same(va, vb))
             }
             _ => a == b,
         }
@@ -562,11 +549,7 @@ mod tests {
                 map(vec![(s("a"), i(1)), (s("b"), arr(vec![i(2), i(3)]))]),
                 true,
             ),
-            (
-                "826161a161626163",
-                arr(vec![s("a"), map(vec![(s("b"), s("c"))])]),
-                true,
-            ),
+            ("826161a161626163", arr(vec![s("a"), map(vec![(s("b"), s("c"))])]), true),
             (
                 "a56161614161626142616361436164614461656145",
                 map(vec![
@@ -578,11 +561,7 @@ mod tests {
                 ]),
                 true,
             ),
-            (
-                "5f42010243030405ff",
-                Value::Bytes(vec![1, 2, 3, 4, 5]),
-                false,
-            ),
+            ("5f42010243030405ff", Value::Bytes(vec![1, 2, 3, 4, 5]), false),
             ("7f657374726561646d696e67ff", s("streaming"), false),
             ("9fff", arr(vec![]), false),
             (
@@ -707,34 +686,10 @@ mod tests {
         use CborError as E;
         let cases: &[(&str, CborError)] = &[
             ("", E::Truncated { offset: 0 }),
-            (
-                "0000",
-                E::TrailingBytes {
-                    offset: 1,
-                    count: 1,
-                },
-            ),
-            (
-                "1c",
-                E::Malformed {
-                    offset: 0,
-                    byte: 0x1c,
-                },
-            ),
-            (
-                "1f",
-                E::Malformed {
-                    offset: 0,
-                    byte: 0x1f,
-                },
-            ),
-            (
-                "df",
-                E::Malformed {
-                    offset: 0,
-                    byte: 0xdf,
-                },
-            ),
+            ("0000", E::TrailingBytes { offset: 1, count: 1 }),
+            ("1c", E::Malformed { offset: 0, byte: 0x1c }),
+            ("1f", E::Malformed { offset: 0, byte: 0x1f }),
+            ("df", E::Malformed { offset: 0, byte: 0xdf }),
             ("ff", E::UnexpectedBreak { offset: 0 }),
             ("81ff", E::UnexpectedBreak { offset: 1 }),
             ("bf01ff", E::UnexpectedBreak { offset: 2 }),
@@ -742,27 +697,9 @@ mod tests {
             ("7f61c361bcff", E::InvalidUtf8 { offset: 1 }),
             ("5f6161ff", E::BadChunk { offset: 1 }),
             ("5f5f4001ffff", E::BadChunk { offset: 1 }),
-            (
-                "f0",
-                E::UnsupportedSimple {
-                    offset: 0,
-                    value: 16,
-                },
-            ),
-            (
-                "f8ff",
-                E::UnsupportedSimple {
-                    offset: 0,
-                    value: 255,
-                },
-            ),
-            (
-                "fc",
-                E::Malformed {
-                    offset: 0,
-                    byte: 0xfc,
-                },
-            ),
+            ("f0", E::UnsupportedSimple { offset: 0, value: 16 }),
+            ("f8ff", E::UnsupportedSimple { offset: 0, value: 255 }),
+            ("fc", E::Malformed { offset: 0, byte: 0xfc }),
             ("5bffffffffffffffff", E::Truncated { offset: 9 }),
             ("9bffffffffffffffff", E::Truncated { offset: 9 }),
             ("bbffffffffffffffff", E::Truncated { offset: 9 }),
@@ -829,10 +766,7 @@ mod tests {
         if big {
             args.push(Value::Bytes(vec![9; 70_000]));
         }
-        map(vec![
-            (s("func"), s("sim.getObjectPosition")),
-            (s("args"), arr(args)),
-        ])
+        map(vec![(s("func"), s("sim.getObjectPosition")), (s("args"), arr(args))])
     }
 
     #[test]
@@ -861,11 +795,7 @@ mod tests {
     fn lying_lengths_do_not_allocate() {
         // Claims 2^32-1 elements / pairs / bytes with nothing behind them.
         for h in ["9affffffff", "baffffffff", "5affffffff", "7affffffff"] {
-            assert_eq!(
-                decode(&hex(h)),
-                Err(CborError::Truncated { offset: 5 }),
-                "{h}"
-            );
+            assert_eq!(decode(&hex(h)), Err(CborError::Truncated { offset: 5 }), "{h}");
         }
     }
 }

@@ -24,9 +24,7 @@ pub enum LineError {
     ///
     /// The decoder discards the rest of that line, so decoding can resume with the next
     /// one, but the expected reaction is to send an error reply and close the connection.
-    #[error(
-        "line too long: more than {max} bytes without a newline; send one packet per line, ending in '\\n'"
-    )]
+    #[error("line too long: more than {max} bytes without a newline; send one packet per line, ending in '\\n'")]
     TooLong {
         /// The limit that was exceeded.
         max: usize,
@@ -94,10 +92,7 @@ impl LineDecoder {
         loop {
             // `min` keeps this total if the caller shrank the buffer behind our back.
             let start = self.scanned.min(buf.len());
-            let Some(rel) = buf
-                .get(start..)
-                .and_then(|t| t.iter().position(|&b| b == b'\n'))
-            else {
+            let Some(rel) = buf.get(start..).and_then(|t| t.iter().position(|&b| b == b'\n')) else {
                 if self.discarding {
                     buf.clear();
                     self.scanned = 0;
@@ -242,10 +237,7 @@ mod tests {
         let mut dec = LineDecoder::new();
         let mut buf = b"ab\xb0c\nnext\n".to_vec();
         let got = all_lines(&mut dec, &mut buf);
-        assert_eq!(
-            got,
-            [Err(LineError::InvalidUtf8 { offset: 2 }), Ok("next".into())]
-        );
+        assert_eq!(got, [Err(LineError::InvalidUtf8 { offset: 2 }), Ok("next".into())]);
     }
 
     #[test]

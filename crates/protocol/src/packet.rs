@@ -96,9 +96,7 @@ pub enum PacketError {
         field: String,
     },
     /// `J1=0,785`: the comma split a decimal number into a field without `=`.
-    #[error(
-        "comma used as decimal separator in {key}={int},{frac}? use '.' e.g. {key}={int}.{frac}"
-    )]
+    #[error("comma used as decimal separator in {key}={int},{frac}? use '.' e.g. {key}={int}.{frac}")]
     CommaDecimal {
         /// The key whose value was split.
         key: String,
@@ -195,9 +193,7 @@ pub fn parse_packet(line: &str) -> Result<Packet, PacketError> {
         return Err(PacketError::EmptyCode);
     }
     if !is_ident(code, MAX_CODE_LEN) {
-        return Err(PacketError::InvalidCode {
-            code: snippet(code),
-        });
+        return Err(PacketError::InvalidCode { code: snippet(code) });
     }
     let fields = parse_fields(body)?;
     Ok(Packet {
@@ -230,15 +226,11 @@ fn parse_fields(body: &str) -> Result<Vec<Field>, PacketError> {
                     frac: snippet(part),
                 });
             }
-            return Err(PacketError::MissingEquals {
-                field: snippet(part),
-            });
+            return Err(PacketError::MissingEquals { field: snippet(part) });
         };
         let (key, value) = (key.trim(), value.trim());
         if key.is_empty() {
-            return Err(PacketError::EmptyKey {
-                field: snippet(part),
-            });
+            return Err(PacketError::EmptyKey { field: snippet(part) });
         }
         if !is_ident(key, MAX_KEY_LEN) {
             return Err(PacketError::InvalidKey { key: snippet(key) });
@@ -255,10 +247,7 @@ fn parse_fields(body: &str) -> Result<Vec<Field>, PacketError> {
         if fields.len() >= MAX_FIELDS {
             return Err(PacketError::TooManyFields { max: MAX_FIELDS });
         }
-        fields.push(Field {
-            key,
-            value: value_num,
-        });
+        fields.push(Field { key, value: value_num });
         prev_value = Some(value);
     }
     Ok(fields)
@@ -335,11 +324,7 @@ impl Packet {
 /// when short, exponent form otherwise (plain `1e300` would be 301 digits).
 fn format_number(v: f64) -> String {
     let plain = format!("{v}");
-    if plain.len() <= 24 {
-        plain
-    } else {
-        format!("{v:e}")
-    }
+    if plain.len() <= 24 { plain } else { format!("{v:e}") }
 }
 
 /// Builds an `<ERR#msg>` reply.
@@ -356,10 +341,13 @@ pub fn encode_error(msg: &str) -> String {
             out.push_str("...");
             break;
         }
-        out.push(if matches!(c, '<' | '>' | '#') || c.is_control() {
-            ' '
-        } else {
-            c
+        // Only '>' (which would end the packet early) and line breaks are unsafe in the
+        // message; brackets become parentheses so quoted packets stay readable.
+        out.push(match c {
+            '<' => '(',
+            '>' => ')',
+            c if c.is_control() => ' ',
+            c => c,
         });
     }
     out.push('>');
@@ -380,8 +368,7 @@ mod tests {
         reason = "the paper's own literals, which are pi/4 and pi/2 truncated"
     )]
     fn paper_examples() {
-        let p = parse_packet("<FK#J1=0.785398163397448,J2=0,J3=-1.5707963267949,J4=0,J5=0,J6=0>")
-            .unwrap();
+        let p = parse_packet("<FK#J1=0.785398163397448,J2=0,J3=-1.5707963267949,J4=0,J5=0,J6=0>").unwrap();
         assert_eq!(p.code, "FK");
         assert_eq!(
             fields(&p),
@@ -407,11 +394,7 @@ mod tests {
         let cases: &[Case] = &[
             ("<PING#>", "PING", &[]),
             ("  <ping#  >  ", "PING", &[]),
-            (
-                "<FK#J1=12.45, J2=33.25>",
-                "FK",
-                &[("J1", 12.45), ("J2", 33.25)],
-            ),
+            ("<FK#J1=12.45, J2=33.25>", "FK", &[("J1", 12.45), ("J2", 33.25)]),
             (
                 "\t< fk # j1 = 1 , J_2=-2.5e-3 >\t",
                 "FK",
@@ -579,7 +562,7 @@ mod tests {
 
     #[test]
     fn encode_error_sanitizes_and_bounds() {
-        assert_eq!(encode_error("bad <x>#y\r\nz"), "<ERR#bad  x  y  z>");
+        assert_eq!(encode_error("bad <x>#y\r\nz"), "<ERR#bad (x)#y  z>");
         let long = encode_error(&"é".repeat(500));
         assert_eq!(long.chars().count(), "<ERR#>".len() + MAX_ERROR_MSG_LEN + 3);
         // Every PacketError message survives as one line.
@@ -592,10 +575,7 @@ mod tests {
     #[test]
     fn encode_matches_paper_style() {
         let p = parse_packet("<fk#j1=0.785398163397448, j2=0,J3=-1.5707963267949>").unwrap();
-        assert_eq!(
-            p.encode(),
-            "<FK#J1=0.785398163397448,J2=0,J3=-1.5707963267949>"
-        );
+        assert_eq!(p.encode(), "<FK#J1=0.785398163397448,J2=0,J3=-1.5707963267949>");
         let p = Packet {
             code: "A".into(),
             fields: vec![Field {

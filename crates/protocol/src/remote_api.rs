@@ -100,9 +100,7 @@ pub enum RequestError {
 pub fn decode_request(bytes: &[u8]) -> Result<Request, RequestError> {
     let msg = cbor::decode(bytes)?;
     let Value::Map(_) = msg else {
-        return Err(RequestError::NotAMap {
-            got: msg.type_name(),
-        });
+        return Err(RequestError::NotAMap { got: msg.type_name() });
     };
     let func = match msg.get("func") {
         None => return Err(RequestError::MissingFunc),
@@ -121,12 +119,13 @@ pub fn decode_request(bytes: &[u8]) -> Result<Request, RequestError> {
     }
     if let Some(v) = msg.get("argsL") {
         let n = v.as_i64().ok_or_else(|| bad("argsL", "an integer", v))?;
-        let len = usize::try_from(n).ok().filter(|_| n <= MAX_ARGS_L).ok_or(
-            RequestError::ArgsLOutOfRange {
+        let len = usize::try_from(n)
+            .ok()
+            .filter(|_| n <= MAX_ARGS_L)
+            .ok_or(RequestError::ArgsLOutOfRange {
                 value: n,
                 max: MAX_ARGS_L,
-            },
-        )?;
+            })?;
         if len > args.len() {
             args.resize(len, Value::Nil);
         }
@@ -205,10 +204,7 @@ fn key(k: &str) -> Value {
 /// The client returns `None` for no values, the value itself for one, and a tuple for
 /// several, so a single vector must be passed as one `Value::Array` element.
 pub fn encode_ret(values: &[Value]) -> Vec<u8> {
-    cbor::to_vec(&Value::Map(vec![(
-        key("ret"),
-        Value::Array(values.to_vec()),
-    )]))
+    cbor::to_vec(&Value::Map(vec![(key("ret"), Value::Array(values.to_vec()))]))
 }
 
 /// `{"err": msg}`: a failed call; the client raises `Exception(msg)`.
@@ -270,9 +266,7 @@ pub enum Reply {
 pub fn decode_reply(bytes: &[u8]) -> Result<Reply, RequestError> {
     let msg = cbor::decode(bytes)?;
     let Value::Map(pairs) = &msg else {
-        return Err(RequestError::NotAMap {
-            got: msg.type_name(),
-        });
+        return Err(RequestError::NotAMap { got: msg.type_name() });
     };
     if let Some(f) = msg.get("func") {
         let func = f.as_str().ok_or_else(|| bad("func", "text", f))?.to_owned();
@@ -284,9 +278,7 @@ pub fn decode_reply(bytes: &[u8]) -> Result<Reply, RequestError> {
         return Ok(Reply::Call { func, args });
     }
     if let Some(e) = msg.get("err") {
-        return Ok(Reply::Err(
-            e.as_str().ok_or_else(|| bad("err", "text", e))?.to_owned(),
-        ));
+        return Ok(Reply::Err(e.as_str().ok_or_else(|| bad("err", "text", e))?.to_owned()));
     }
     match msg.get("ret") {
         Some(Value::Array(a)) => Ok(Reply::Ret(a.clone())),
@@ -322,9 +314,7 @@ mod tests {
     #[test]
     fn get_object_bytes_match_the_reference() {
         // Reference §6: raw bytes of the first getObject request, up to the uuid text.
-        let prefix = hex(
-            "a46466756e636d73696d2e6765744f626a656374646172677381642f666f6f65617267734c0164757569647824",
-        );
+        let prefix = hex("a46466756e636d73696d2e6765744f626a656374646172677381642f666f6f65617267734c0164757569647824");
         let bytes = encode_request(&req("sim.getObject", vec!["/foo".into()]));
         assert_eq!(&bytes[..prefix.len()], &prefix[..]);
         assert_eq!(&bytes[prefix.len()..], UUID.as_bytes());
@@ -372,10 +362,7 @@ mod tests {
             req("sim.setStepping", vec![true.into()]),
             req(FUNC_EXECUTED, vec![]),
             req("sim.bogus", vec![1.into(), Value::Nil]),
-            req(
-                "sim.testCB",
-                vec![2.into(), "myCb_7f1e6233eca0@func".into(), 40.into()],
-            ),
+            req("sim.testCB", vec![2.into(), "myCb_7f1e6233eca0@func".into(), 40.into()]),
         ];
         for r in cases {
             assert_eq!(decode_request(&encode_request(&r)).unwrap(), r);
@@ -383,9 +370,7 @@ mod tests {
     }
 
     fn frame(pairs: Vec<(&str, Value)>) -> Vec<u8> {
-        cbor::to_vec(&Value::Map(
-            pairs.into_iter().map(|(k, v)| (key(k), v)).collect(),
-        ))
+        cbor::to_vec(&Value::Map(pairs.into_iter().map(|(k, v)| (key(k), v)).collect()))
     }
 
     #[test]
@@ -411,10 +396,7 @@ mod tests {
         ]);
         assert_eq!(decode_request(&f).unwrap().args.len(), 2);
         // The nil marker.
-        let f = frame(vec![
-            ("func", "f".into()),
-            ("args", vec![NIL_MARKER.into()].into()),
-        ]);
+        let f = frame(vec![("func", "f".into()), ("args", vec![NIL_MARKER.into()].into())]);
         assert_eq!(decode_request(&f).unwrap().args, [Value::Nil]);
     }
 
@@ -423,10 +405,7 @@ mod tests {
         use RequestError as E;
         let cases: Vec<(Vec<u8>, RequestError)> = vec![
             (vec![], E::Cbor(CborError::Truncated { offset: 0 })),
-            (
-                cbor::to_vec(&Value::Array(vec![])),
-                E::NotAMap { got: "array" },
-            ),
+            (cbor::to_vec(&Value::Array(vec![])), E::NotAMap { got: "array" }),
             (frame(vec![("args", Value::Array(vec![]))]), E::MissingFunc),
             (
                 frame(vec![("func", 1.into())]),
@@ -537,10 +516,7 @@ mod tests {
             hex("a1637265748183fb3fe0000000000000fbbfd0000000000000fb3ff0000000000000")
         );
         // {"func":"_*wait*_","args":[]}
-        assert_eq!(
-            encode_wait(),
-            hex("a26466756e63685f2a776169742a5f646172677380")
-        );
+        assert_eq!(encode_wait(), hex("a26466756e63685f2a776169742a5f646172677380"));
         assert_eq!(encode_empty_map(), hex("a0"));
         assert_eq!(
             decode_reply(&encode_repeat()).unwrap(),
@@ -561,10 +537,7 @@ mod tests {
     #[test]
     fn err_escaping() {
         let msg = "Object does not exist. (in function 'sim.getObject')";
-        assert_eq!(
-            decode_reply(&encode_err(msg)).unwrap(),
-            Reply::Err(msg.into())
-        );
+        assert_eq!(decode_reply(&encode_err(msg)).unwrap(), Reply::Err(msg.into()));
         let lua = "[string \"x\"]:1: Object does not exist.\n\tmore\nstack traceback:\n\t[C]: in ?";
         assert_eq!(
             decode_reply(&encode_err(lua)).unwrap(),
@@ -578,10 +551,7 @@ mod tests {
             decode_reply(&encode_ret(&[1.into()])).unwrap(),
             Reply::Ret(vec![1.into()])
         );
-        assert_eq!(
-            decode_reply(&hex("a163726574a0")).unwrap(),
-            Reply::Ret(vec![])
-        );
+        assert_eq!(decode_reply(&hex("a163726574a0")).unwrap(), Reply::Ret(vec![]));
         assert_eq!(decode_reply(&encode_empty_map()).unwrap(), Reply::Empty);
         assert_eq!(
             decode_reply(&frame(vec![("x", 1.into())])),

@@ -19,9 +19,7 @@ use gantry_sim_core::api::{self, Args, CallContext};
 use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::world::SimulationState;
 use gantry_sim_core::{Handle, Value, World};
-use mlua::{
-    Function, HookTriggers, Lua, LuaOptions, MultiValue, StdLib, Table, Value as LuaValue, VmState,
-};
+use mlua::{Function, HookTriggers, Lua, LuaOptions, MultiValue, StdLib, Table, Value as LuaValue, VmState};
 
 use crate::convert::{to_multi, to_value};
 
@@ -126,8 +124,7 @@ impl Simulation {
     /// # Errors
     /// The Lua state could not be created.
     pub fn new(model: SceneModel, limits: ScriptLimits) -> Result<Self, ScriptError> {
-        let lua = new_state(limits)
-            .map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
+        let lua = new_state(limits).map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
         let world = World::new(&model);
         for w in world.warnings() {
             tracing::warn!("{w}");
@@ -139,10 +136,8 @@ impl Simulation {
             deadline: Cell::new(Instant::now() + Duration::from_secs(3600)),
             envs: RefCell::new(Vec::new()),
         });
-        install_api(&lua, &shared)
-            .map_err(|e| ScriptError(format!("cannot install the sim API: {e}")))?;
-        install_budget(&lua, &shared)
-            .map_err(|e| ScriptError(format!("cannot install the time budget: {e}")))?;
+        install_api(&lua, &shared).map_err(|e| ScriptError(format!("cannot install the sim API: {e}")))?;
+        install_budget(&lua, &shared).map_err(|e| ScriptError(format!("cannot install the time budget: {e}")))?;
         let mut sim = Simulation {
             lua,
             shared,
@@ -160,12 +155,7 @@ impl Simulation {
         self.shared.envs.borrow_mut().clear();
         for s in self.model.scripts.clone() {
             let object = s.object as Handle;
-            let name: Rc<str> = Rc::from(
-                s.path
-                    .file_name()
-                    .and_then(|n| n.to_str())
-                    .unwrap_or("script"),
-            );
+            let name: Rc<str> = Rc::from(s.path.file_name().and_then(|n| n.to_str()).unwrap_or("script"));
             let modified = std::fs::metadata(&s.path).and_then(|m| m.modified()).ok();
             let env = match self.make_env(&name) {
                 Ok(e) => e,
@@ -188,10 +178,7 @@ impl Simulation {
             if let Err(e) = self.exec_chunk(&script, &s.source) {
                 self.fail(&mut script, e);
             }
-            self.shared
-                .envs
-                .borrow_mut()
-                .push((object, script.env.clone(), name));
+            self.shared.envs.borrow_mut().push((object, script.env.clone(), name));
             self.scripts.push(script);
         }
         self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
@@ -231,16 +218,12 @@ impl Simulation {
     fn enter(&self, script: &Script) {
         self.shared.current.set(Some(script.object));
         *self.shared.current_name.borrow_mut() = script.name.clone();
-        self.shared
-            .deadline
-            .set(Instant::now() + self.limits.time_budget);
+        self.shared.deadline.set(Instant::now() + self.limits.time_budget);
     }
 
     fn leave(&self) {
         self.shared.current.set(None);
-        self.shared
-            .deadline
-            .set(Instant::now() + Duration::from_secs(3600));
+        self.shared.deadline.set(Instant::now() + Duration::from_secs(3600));
     }
 
     fn fail(&self, script: &mut Script, e: mlua::Error) {
@@ -267,11 +250,7 @@ impl Simulation {
         let f = match hook {
             Hook::Actuation => script.actuation.clone(),
             Hook::Sensing => script.sensing.clone(),
-            Hook::Init | Hook::Cleanup => script
-                .env
-                .raw_get::<Option<Function>>(hook.name())
-                .ok()
-                .flatten(),
+            Hook::Init | Hook::Cleanup => script.env.raw_get::<Option<Function>>(hook.name()).ok().flatten(),
         };
         let Some(f) = f else { return };
         self.enter(&self.scripts[i]);
@@ -286,16 +265,8 @@ impl Simulation {
 
     fn cache_hooks(&mut self, i: usize) {
         let s = &mut self.scripts[i];
-        s.actuation = s
-            .env
-            .raw_get::<Option<Function>>(Hook::Actuation.name())
-            .ok()
-            .flatten();
-        s.sensing = s
-            .env
-            .raw_get::<Option<Function>>(Hook::Sensing.name())
-            .ok()
-            .flatten();
+        s.actuation = s.env.raw_get::<Option<Function>>(Hook::Actuation.name()).ok().flatten();
+        s.sensing = s.env.raw_get::<Option<Function>>(Hook::Sensing.name()).ok().flatten();
     }
 
     /// Starts (or resumes) the simulation; runs `sysCall_init` of scripts not yet initialised.
@@ -419,9 +390,7 @@ impl Simulation {
     /// fails to compile keeps the old version running and the error is logged.
     pub fn reload_changed(&mut self) {
         for i in 0..self.scripts.len() {
-            let modified = std::fs::metadata(&self.scripts[i].path)
-                .and_then(|m| m.modified())
-                .ok();
+            let modified = std::fs::metadata(&self.scripts[i].path).and_then(|m| m.modified()).ok();
             if modified.is_none() || modified == self.scripts[i].modified {
                 continue;
             }
@@ -459,10 +428,7 @@ impl Simulation {
             self.log(
                 200,
                 &name,
-                &format!(
-                    "reload failed, keeping the running version: {}",
-                    error_text(&e)
-                ),
+                &format!("reload failed, keeping the running version: {}", error_text(&e)),
             );
             return;
         }
@@ -520,11 +486,7 @@ impl Simulation {
     ///
     /// # Errors
     /// The function raised an error (the script is then marked errored).
-    pub fn call_hook_function(
-        &mut self,
-        function: &str,
-        args: &[Value],
-    ) -> Result<Option<Vec<Value>>, String> {
+    pub fn call_hook_function(&mut self, function: &str, args: &[Value]) -> Result<Option<Vec<Value>>, String> {
         for k in 0..self.order.len() {
             let i = self.order[k];
             if self.scripts[i].state != ScriptState::Running {
@@ -546,8 +508,7 @@ impl Simulation {
                     .map_err(|e| e.to_string()),
                 Err(e) => {
                     let text = error_text(&e);
-                    let mut s =
-                        std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
+                    let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
                     self.fail(&mut s, e);
                     self.scripts[i] = s;
                     Err(text)
@@ -627,12 +588,7 @@ fn display(v: &LuaValue) -> String {
 /// `debug`, no `os` functions that touch processes or files) and a memory cap.
 fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
     let lua = Lua::new_with(
-        StdLib::TABLE
-            | StdLib::STRING
-            | StdLib::MATH
-            | StdLib::UTF8
-            | StdLib::COROUTINE
-            | StdLib::OS,
+        StdLib::TABLE | StdLib::STRING | StdLib::MATH | StdLib::UTF8 | StdLib::COROUTINE | StdLib::OS,
         LuaOptions::default(),
     )?;
     let g = lua.globals();
@@ -641,15 +597,7 @@ fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
         g.raw_set(name, LuaValue::Nil)?;
     }
     let os: Table = g.get("os")?;
-    for name in [
-        "execute",
-        "exit",
-        "remove",
-        "rename",
-        "tmpname",
-        "getenv",
-        "setlocale",
-    ] {
+    for name in ["execute", "exit", "remove", "rename", "tmpname", "getenv", "setlocale"] {
         os.raw_set(name, LuaValue::Nil)?;
     }
     lua.set_memory_limit(limits.memory)?;
@@ -659,18 +607,15 @@ fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
 /// Interrupts any Lua code that runs past the current deadline.
 fn install_budget(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
     let shared = shared.clone();
-    lua.set_hook(
-        HookTriggers::new().every_nth_instruction(4096),
-        move |_, _| {
-            if Instant::now() > shared.deadline.get() {
-                Err(mlua::Error::runtime(
-                    "script interrupted: it ran past its time budget (an infinite loop in a hook?)",
-                ))
-            } else {
-                Ok(VmState::Continue)
-            }
-        },
-    )
+    lua.set_hook(HookTriggers::new().every_nth_instruction(4096), move |_, _| {
+        if Instant::now() > shared.deadline.get() {
+            Err(mlua::Error::runtime(
+                "script interrupted: it ran past its time budget (an infinite loop in a hook?)",
+            ))
+        } else {
+            Ok(VmState::Continue)
+        }
+    })
 }
 
 /// Creates the global `sim` table: every core function plus constants.
@@ -681,19 +626,17 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         let call = f.call;
         let qualified = format!("sim.{}", f.name);
         let func = lua.create_function(move |lua, args: MultiValue| {
-            let values = args
-                .iter()
-                .map(to_value)
-                .collect::<mlua::Result<Vec<_>>>()?;
+            let values = args.iter().map(to_value).collect::<mlua::Result<Vec<_>>>()?;
             let source = shared.current_name.borrow().clone();
             let ctx = CallContext {
                 script_object: shared.current.get(),
                 source: &source,
             };
             let result = {
-                let mut world = shared.world.try_borrow_mut().map_err(|_| {
-                    mlua::Error::runtime(format!("the world is busy (in function '{qualified}')"))
-                })?;
+                let mut world = shared
+                    .world
+                    .try_borrow_mut()
+                    .map_err(|_| mlua::Error::runtime(format!("the world is busy (in function '{qualified}')")))?;
                 call(&mut world, &ctx, &Args::new(&values))
             };
             match result {
@@ -707,15 +650,9 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
     sim.set(
         "callScriptFunction",
         lua.create_function(move |lua, args: MultiValue| {
-            let values = args
-                .iter()
-                .map(to_value)
-                .collect::<mlua::Result<Vec<_>>>()?;
+            let values = args.iter().map(to_value).collect::<mlua::Result<Vec<_>>>()?;
             let ret = call_script_function(lua, &cs_shared, &values).map_err(|e| {
-                mlua::Error::runtime(format!(
-                    "{} (in function 'sim.callScriptFunction')",
-                    error_text(&e)
-                ))
+                mlua::Error::runtime(format!("{} (in function 'sim.callScriptFunction')", error_text(&e)))
             })?;
             to_multi(lua, &ret)
         })?,
@@ -734,17 +671,11 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
 
 /// `sim.callScriptFunction(name, scriptHandle, ...)`: calls a global function of the
 /// script attached to object `scriptHandle` (also accepts CoppeliaSim's `name@alias`).
-fn call_script_function(
-    lua: &Lua,
-    shared: &Rc<Shared>,
-    args: &[Value],
-) -> mlua::Result<Vec<Value>> {
+fn call_script_function(lua: &Lua, shared: &Rc<Shared>, args: &[Value]) -> mlua::Result<Vec<Value>> {
     let name = match args.first() {
         Some(Value::Str(s)) => s.split('@').next().unwrap_or_default().to_owned(),
         _ => {
-            return Err(mlua::Error::runtime(
-                "argument 1: expected string (the function name)",
-            ));
+            return Err(mlua::Error::runtime("argument 1: expected string (the function name)"));
         }
     };
     let target = args

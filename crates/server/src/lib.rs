@@ -1,1 +1,19 @@
-//! placeholder
+//! gantry's transports: the simulation thread and the network listeners that talk to it.
+//!
+//! One thread owns the world and Lua ([`sim_thread`]); transports send it requests over
+//! a bounded channel and await replies. There is no shared mutable world.
+
+pub mod runner;
+pub mod sim_thread;
+pub mod stepping;
+pub mod text;
+pub mod zmq;
+
+pub use runner::{BoundAddrs, ServeConfig, ServerError, Shutdown, run};
+pub use sim_thread::{
+    Control, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig, SimHandle, channel,
+    run_sim_thread,
+};
+pub use stepping::ClientId;
+pub use text::TextConfig;
+pub use zmq::ZmqConfig;

@@ -49,11 +49,7 @@ pub fn euler_from_quat(q: &Quat) -> [f64; 3] {
         };
         [0.0, beta, m[(1, 0)].atan2(m[(1, 1)])]
     } else {
-        [
-            (-m[(1, 2)]).atan2(m[(2, 2)]),
-            s.asin(),
-            (-m[(0, 1)]).atan2(m[(0, 0)]),
-        ]
+        [(-m[(1, 2)]).atan2(m[(2, 2)]), s.asin(), (-m[(0, 1)]).atan2(m[(0, 0)])]
     }
 }
 
@@ -111,9 +107,8 @@ pub fn pose_from_matrix12(m: &[f64; 12]) -> Option<Pose> {
 /// about X for the antiparallel case so that the result is deterministic.
 pub fn rotation_z_to(axis: &Vec3) -> Quat {
     let z = Vector3::z();
-    UnitQuaternion::rotation_between(&z, axis).unwrap_or_else(|| {
-        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
-    })
+    UnitQuaternion::rotation_between(&z, axis)
+        .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI))
 }
 
 /// Wraps an angle into CoppeliaSim's cyclic range (-pi, pi].
@@ -133,8 +128,7 @@ pub fn to_physics(p: &Pose) -> rapier3d::math::Pose {
     let t = p.translation.vector;
     rapier3d::math::Pose::from_parts(
         rapier3d::glamx::Vec3::new(t.x as f32, t.y as f32, t.z as f32),
-        rapier3d::glamx::Quat::from_xyzw(q.i as f32, q.j as f32, q.k as f32, q.w as f32)
-            .normalize(),
+        rapier3d::glamx::Quat::from_xyzw(q.i as f32, q.j as f32, q.k as f32, q.w as f32).normalize(),
     )
 }
 

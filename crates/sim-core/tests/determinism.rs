@@ -11,12 +11,7 @@ const STEPS: usize = 400;
 
 /// Wheel speed schedule (rad/s) as (first step, left, right): forward, two turns, reverse.
 /// Changes at fixed steps exercise the motor updates mid-run.
-const WHEEL_SCHEDULE: [(usize, f64, f64); 4] = [
-    (0, 3.0, 3.0),
-    (120, 3.0, -1.0),
-    (200, -1.0, 3.0),
-    (300, -1.0, -1.0),
-];
+const WHEEL_SCHEDULE: [(usize, f64, f64); 4] = [(0, 3.0, 3.0), (120, 3.0, -1.0), (200, -1.0, 3.0), (300, -1.0, -1.0)];
 
 /// Every object's world pose as raw bits: translation x, y, z, then quaternion i, j, k, w.
 type Snapshot = Vec<[u64; 7]>;
@@ -28,16 +23,13 @@ struct Run {
 }
 
 fn load(rel: &str) -> World {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../assets")
-        .join(rel);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel);
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
     World::new(&model)
 }
 
 fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0)
-        .unwrap_or_else(|e| panic!("{path}: {e}"))
+    w.find(path, None, 0).unwrap_or_else(|e| panic!("{path}: {e}"))
 }
 
 fn snapshot(w: &World) -> Snapshot {
@@ -61,9 +53,7 @@ fn run(scene: &str, arm: bool) -> Run {
     let left = find(&w, "/bubbleRob/leftMotor");
     let right = find(&w, "/bubbleRob/rightMotor");
     let joints: Vec<Handle> = if arm {
-        (1..=6)
-            .map(|i| find(&w, &format!("/arm6/joint{i}")))
-            .collect()
+        (1..=6).map(|i| find(&w, &format!("/arm6/joint{i}"))).collect()
     } else {
         Vec::new()
     };
@@ -96,11 +86,7 @@ fn run(scene: &str, arm: bool) -> Run {
 fn assert_identical(scene: &str, a: &Run, b: &Run) {
     assert_eq!(a.snapshots.len(), b.snapshots.len());
     for (step, (sa, sb)) in a.snapshots.iter().zip(&b.snapshots).enumerate() {
-        assert_eq!(
-            sa.len(),
-            sb.len(),
-            "{scene}: object count differs at step {step}"
-        );
+        assert_eq!(sa.len(), sb.len(), "{scene}: object count differs at step {step}");
         for (h, (pa, pb)) in sa.iter().zip(sb).enumerate() {
             assert!(
                 pa == pb,

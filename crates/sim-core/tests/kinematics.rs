@@ -46,8 +46,7 @@ fn transpose(a: &Mat3) -> Mat3 {
 fn axis_angle(k: Vec3, angle: f64) -> Mat3 {
     let (s, c) = angle.sin_cos();
     let skew = [[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]];
-    [0, 1, 2]
-        .map(|i| [0, 1, 2].map(|j| IDENTITY[i][j] * c + s * skew[i][j] + (1.0 - c) * k[i] * k[j]))
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| IDENTITY[i][j] * c + s * skew[i][j] + (1.0 - c) * k[i] * k[j]))
 }
 
 impl Frame {
@@ -84,10 +83,10 @@ impl Frame {
 const CHAIN: [(Vec3, Vec3); 6] = [
     ([0.0, 0.0, 0.100], [0.0, 0.0, 1.0]), // joint1, base yaw: z = 0.100 above the base
     ([0.070, 0.0, 0.252], [0.0, -1.0, 0.0]), // joint2, shoulder: a1 = 0.070, d1 = 0.352 above the floor
-    ([0.0, 0.0, 0.360], [0.0, -1.0, 0.0]),   // joint3, elbow: upper arm a2 = 0.360 along Z
-    ([0.226, 0.0, 0.0], [1.0, 0.0, 0.0]),    // joint4, forearm roll
-    ([0.154, 0.0, 0.0], [0.0, -1.0, 0.0]),   // joint5, wrist bend (forearm 0.380 in total)
-    ([0.046, 0.0, 0.0], [1.0, 0.0, 0.0]),    // joint6, flange roll
+    ([0.0, 0.0, 0.360], [0.0, -1.0, 0.0]), // joint3, elbow: upper arm a2 = 0.360 along Z
+    ([0.226, 0.0, 0.0], [1.0, 0.0, 0.0]), // joint4, forearm roll
+    ([0.154, 0.0, 0.0], [0.0, -1.0, 0.0]), // joint5, wrist bend (forearm 0.380 in total)
+    ([0.046, 0.0, 0.0], [1.0, 0.0, 0.0]), // joint6, flange roll
 ];
 /// The fixed tool frame after link6 (wrist centre to tip: 0.046 + 0.014 = 0.060).
 const TIP_OFFSET: Vec3 = [0.014, 0.0, 0.0];
@@ -171,24 +170,16 @@ const POSITION_TOL: f64 = 1e-6;
 const ANGLE_TOL: f64 = 1e-6;
 
 fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../assets")
-        .join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
 }
 
 fn fk_arm() -> World {
-    let model = load_scene(
-        &DiskFiles,
-        &asset("scenes/fk_arm.toml"),
-        &LoadOptions::default(),
-    )
-    .expect("fk_arm loads");
+    let model = load_scene(&DiskFiles, &asset("scenes/fk_arm.toml"), &LoadOptions::default()).expect("fk_arm loads");
     World::new(&model)
 }
 
 fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0)
-        .unwrap_or_else(|e| panic!("{path}: {e}"))
+    w.find(path, None, 0).unwrap_or_else(|e| panic!("{path}: {e}"))
 }
 
 /// The world frame of an object, converted to the model's plain arrays.
@@ -247,11 +238,7 @@ fn independent_model_reproduces_the_documented_start_pose() {
     // Guards the model itself: the URDF comment says that with joint5 = -90 deg the tip is
     // at (0.450, 0, 0.652) and the tool points down (tip X axis along world -Z).
     let tip = model_fk(&[0.0, 0.0, 0.0, 0.0, -FRAC_PI_2, 0.0])[6];
-    assert!(
-        distance(&tip.p, &[0.450, 0.0, 0.652]) < 1e-12,
-        "{:?}",
-        tip.p
-    );
+    assert!(distance(&tip.p, &[0.450, 0.0, 0.652]) < 1e-12, "{:?}", tip.p);
     let tool_x = [tip.r[0][0], tip.r[1][0], tip.r[2][0]];
     assert!(distance(&tool_x, &[0.0, 0.0, -1.0]) < 1e-12, "{tool_x:?}");
 }
@@ -268,16 +255,9 @@ fn scene_starts_in_the_documented_pose() {
     // `initial = { joint5 = -90 }` is in degrees; the world reads radians.
     let q: [f64; 6] = joints.map(|h| w.joint(h).expect("joint").position);
     assert_eq!(q[..4], [0.0; 4]);
-    assert!(
-        (q[4] + FRAC_PI_2).abs() < 1e-15,
-        "joint5 starts at {}",
-        q[4]
-    );
+    assert!((q[4] + FRAC_PI_2).abs() < 1e-15, "joint5 starts at {}", q[4]);
     let (dp, da) = fk_errors(&w, &links, &q);
-    assert!(
-        dp < 1e-12 && da < 1e-12,
-        "start pose off by {dp} m, {da} rad"
-    );
+    assert!(dp < 1e-12 && da < 1e-12, "start pose off by {dp} m, {da} rad");
 }
 
 #[test]
@@ -304,10 +284,7 @@ fn forward_kinematics_matches_independent_model() {
             dp < POSITION_TOL,
             "config {i} q = {q:?}: a link is {dp} m from the model"
         );
-        assert!(
-            da < ANGLE_TOL,
-            "config {i} q = {q:?}: a link is {da} rad off the model"
-        );
+        assert!(da < ANGLE_TOL, "config {i} q = {q:?}: a link is {da} rad off the model");
         max_dp = max_dp.max(dp);
         max_da = max_da.max(da);
     }
@@ -325,10 +302,7 @@ fn joint_position_is_clamped_to_its_limits() {
     assert_eq!(upper, FRAC_PI_2, "joint2 set to 3.0 rad reads {upper}");
     w.set_joint_position(joints[1], -3.0).expect("joint");
     let lower = w.joint(joints[1]).expect("joint").position;
-    assert_eq!(
-        lower, -1.9198621771937625,
-        "joint2 set to -3.0 rad reads {lower}"
-    );
+    assert_eq!(lower, -1.9198621771937625, "joint2 set to -3.0 rad reads {lower}");
     // The links follow the clamped value, not the requested one.
     let (dp, da) = fk_errors(&w, &links, &[0.0, lower, 0.0, 0.0, -FRAC_PI_2, 0.0]);
     assert!(
@@ -355,17 +329,9 @@ fn continuous_joint_wraps_into_half_open_interval() {
     );
     // The range is (-pi, pi]: -pi itself is reported as +pi, and +pi stays +pi.
     w.set_joint_position(joint1, -PI).expect("joint");
-    assert_eq!(
-        w.joint(joint1).expect("joint").position,
-        PI,
-        "-pi must wrap to +pi"
-    );
+    assert_eq!(w.joint(joint1).expect("joint").position, PI, "-pi must wrap to +pi");
     w.set_joint_position(joint1, PI).expect("joint");
-    assert_eq!(
-        w.joint(joint1).expect("joint").position,
-        PI,
-        "+pi must stay +pi"
-    );
+    assert_eq!(w.joint(joint1).expect("joint").position, PI, "+pi must stay +pi");
 }
 
 #[test]
@@ -398,18 +364,13 @@ fn set_joint_position_moves_descendants_before_any_step() {
 
 /// The first ```toml block after the "## Complete example" heading.
 fn doc_example(doc: &str) -> String {
-    let mut lines = doc
-        .lines()
-        .skip_while(|l| l.trim() != "## Complete example");
+    let mut lines = doc.lines().skip_while(|l| l.trim() != "## Complete example");
     assert!(
         lines.next().is_some(),
         "docs/scene-format.md has no '## Complete example' heading"
     );
     let mut lines = lines.skip_while(|l| l.trim() != "```toml");
-    assert!(
-        lines.next().is_some(),
-        "no ```toml block after '## Complete example'"
-    );
+    assert!(lines.next().is_some(), "no ```toml block after '## Complete example'");
     let block: Vec<&str> = lines.take_while(|l| l.trim() != "```").collect();
     assert!(!block.is_empty(), "the example block is empty");
     block.join("\n") + "\n"
@@ -432,10 +393,7 @@ fn scene_format_doc_example_loads() {
         "the documented example warns: {:?}",
         model.warnings
     );
-    assert!(
-        !model.scripts.is_empty(),
-        "the example should attach a script"
-    );
+    assert!(!model.scripts.is_empty(), "the example should attach a script");
     let mut w = World::new(&model);
     assert!(
         w.warnings().is_empty(),
@@ -453,177 +411,5 @@ fn scene_format_doc_example_loads() {
             p.iter().all(|v| v.is_finite()),
             "object {h} has a non-finite pose after 10 steps"
         );
-    }
-}
-
-mod scratch {
-    use super::*;
-    fn try_load(name: &str, text: &str) {
-        let path = asset(&format!("scenes/{name}.toml"));
-        match load_scene_text(&DiskFiles, text, &path, &LoadOptions::default()) {
-            Ok(m) => {
-                eprintln!(
-                    "== {name}: OK, {} objects, warnings {:?}",
-                    m.objects.len(),
-                    m.warnings
-                );
-                for (i, o) in m.objects.iter().enumerate() {
-                    eprintln!("   {i} {} parent {:?}", o.alias, o.parent);
-                }
-            }
-            Err(e) => eprintln!("== {name}: ERR {e}"),
-        }
-    }
-    #[test]
-    fn scratch_experiments() {
-        try_load(
-            "unknown",
-            "[simulation]\ndt = 0.05\n[[objects]]\nname='x'\n[[object]]\nname = 'a'\nkind = 'dummy'\norientation = [0,0,0]\npostion = [1,2,3]\ncolour=[1,1,1]\nmas = 1\ndynamics = true\nradius = 3\nsize = [1,1,1]\n[[robot]]\nurdf = '../robots/arm6/arm6.urdf'\nfixed = true\ninitial = { joint9 = 3 }\n[[script]]\nobject='a'\nfile='../../scripts/bubble_rob.lua'\nfiel='x'\n",
-        );
-        try_load(
-            "syntax",
-            "[[object]]\nname = 'a'\nkind = 'dummy'\nposition = [1, 2\n",
-        );
-        try_load(
-            "type",
-            "[[object]]\nname = 'a'\nkind = 'dummy'\nposition = 'up'\n",
-        );
-        try_load("missingkind", "[[object]]\nname = 'a'\n");
-        try_load(
-            "badparent",
-            "[[object]]\nname = 'a'\nkind = 'dummy'\nparent = 'b'\n",
-        );
-        try_load(
-            "cycle",
-            "[[object]]\nname = 'a'\nkind = 'dummy'\nparent = 'b'\n[[object]]\nname = 'b'\nkind = 'dummy'\nparent = 'a'\n",
-        );
-        try_load(
-            "selfcycle",
-            "[[object]]\nname = 'a'\nkind = 'dummy'\nparent = 'a'\n",
-        );
-        try_load(
-            "dup",
-            "[[object]]\nname = 'a'\nkind = 'dummy'\n[[object]]\nname = 'a'\nkind = 'dummy'\n",
-        );
-        try_load(
-            "floordup",
-            "[floor]\n[[object]]\nname = 'Floor'\nkind = 'dummy'\n",
-        );
-        try_load("dt", "# comment about dt here\n[simulation]\ndt = 3\n");
-        try_load(
-            "order",
-            "[[object]]\nname = 'c'\nkind = 'dummy'\nparent = 'arm/tip'\n[[robot]]\nurdf = '../robots/arm6/arm6.urdf'\nname='arm'\nparent='b'\n[[object]]\nname = 'b'\nkind = 'dummy'\n",
-        );
-        try_load(
-            "robotnoname",
-            "[[robot]]\nurdf = '../robots/arm6/arm6.urdf'\n[[object]]\nname = 'c'\nkind = 'dummy'\nparent = 'arm6/tip'\n",
-        );
-        try_load("noshape", "[[object]]\nname = 'a'\nkind = 'shape'\n");
-        try_load(
-            "badbox",
-            "[[object]]\nname = 'a'\nkind = 'shape'\nshape='box'\n",
-        );
-        try_load(
-            "negr",
-            "[[object]]\nname = 'a'\nkind = 'dummy'\nradius = -1\n",
-        );
-        try_load("floorneg", "[floor]\nsize = [-1, 0]\n");
-        try_load(
-            "script_missing",
-            "[[object]]\nname = 'a'\nkind = 'dummy'\nscript='nope.lua'\n",
-        );
-        try_load(
-            "objslash",
-            "[[object]]\nname = 'a'\nkind = 'dummy'\n[[object]]\nname = 'b'\nkind = 'dummy'\nparent='a/x'\n",
-        );
-        try_load("badkind", "[[object]]\nname = 'a'\nkind = 'cube'\n");
-        try_load(
-            "cyclic_lim",
-            "[[object]]\nname = 'a'\nkind = 'joint'\njoint='revolute'\ncyclic=true\nlimits=[0,1]\n",
-        );
-        try_load("urdf_missing", "[[robot]]\nurdf = 'nope.urdf'\n");
-        try_load(
-            "initial_bad",
-            "[[robot]]\nurdf = '../robots/arm6/arm6.urdf'\ninitial = { joint1 = 'x' }\n",
-        );
-    }
-
-    #[test]
-    fn scratch_physics() {
-        // 7: velocity joint with a non-dynamic child.
-        let text = "[floor]\n[[object]]\nname='body'\nkind='shape'\nshape='box'\nsize=[0.2,0.2,0.2]\nposition=[0,0,0.5]\n[[object]]\nname='m'\nkind='joint'\njoint='revolute'\nparent='body'\nmode='velocity'\ntarget_velocity=90\n[[object]]\nname='w'\nkind='shape'\nshape='sphere'\nradius=0.05\nparent='m'\nposition=[0.2,0,0]\n";
-        let m = load_scene_text(
-            &DiskFiles,
-            text,
-            &asset("scenes/x.toml"),
-            &LoadOptions::default(),
-        )
-        .unwrap();
-        let mut w = World::new(&m);
-        for _ in 0..10 {
-            w.step_physics();
-        }
-        let mh = find(&w, "/m");
-        eprintln!(
-            "== 7 velocity joint with static child: position {} velocity {} target {}",
-            w.joint(mh).unwrap().position,
-            w.joint(mh).unwrap().velocity,
-            w.joint(mh).unwrap().target_velocity
-        );
-        // same with dynamic child
-        let text2 = text.replace("radius=0.05\n", "radius=0.05\ndynamic=true\n");
-        let m = load_scene_text(
-            &DiskFiles,
-            &text2,
-            &asset("scenes/x.toml"),
-            &LoadOptions::default(),
-        )
-        .unwrap();
-        let mut w = World::new(&m);
-        for _ in 0..10 {
-            w.step_physics();
-        }
-        eprintln!(
-            "== 7b velocity joint with dynamic child: position {}",
-            w.joint(mh).unwrap().position
-        );
-        // 8: URDF position-mode with fixed joint to tip.
-        let text = "[[robot]]\nurdf='../robots/arm6/arm6.urdf'\njoint_mode='position'\n";
-        let m = load_scene_text(
-            &DiskFiles,
-            text,
-            &asset("scenes/x.toml"),
-            &LoadOptions::default(),
-        )
-        .unwrap();
-        eprintln!("   warnings {:?}", m.warnings);
-        let mut w = World::new(&m);
-        let j1 = find(&w, "/arm6/joint1");
-        w.set_joint_target_position(j1, 1.5).unwrap();
-        for i in 0..6 {
-            w.step_physics();
-            for l in ["/arm6/link6", "/arm6/tip"] {
-                let h = find(&w, l);
-                let tree = w.object(h).unwrap().world.translation.vector;
-                let phys = w.physics_pose(h).unwrap().translation.vector;
-                eprintln!(
-                    "== 8 step {i} {l}: q1 {:.4} tree-phys {:.4}",
-                    w.joint(j1).unwrap().position,
-                    (tree - phys).norm()
-                );
-            }
-        }
-        // 9: URDF revolute without limit.
-        let dir = std::env::temp_dir().join(format!("gantry-scratch-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join("r.urdf");
-        std::fs::write(&p, r#"<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint></robot>"#).unwrap();
-        let m = load_scene(&DiskFiles, &p, &LoadOptions::default()).unwrap();
-        for o in &m.objects {
-            if let gantry_sim_core::scene::ObjectModelKind::Joint(j) = &o.kind {
-                eprintln!("== 9 joint {} limits {:?}", o.alias, j.limits);
-            }
-        }
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -7,9 +7,7 @@ use gantry_sim_core::world::ObjectKind;
 use gantry_sim_core::{Handle, World};
 
 fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../assets")
-        .join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
 }
 
 fn world(rel: &str) -> World {
@@ -49,10 +47,7 @@ fn every_scene_loads_and_steps() {
 fn rover_drives_straight_at_wheel_speed() {
     let mut w = world("scenes/bubble_rob.toml");
     let base = find(&w, "/bubbleRob");
-    let (l, r) = (
-        find(&w, "/bubbleRob/leftMotor"),
-        find(&w, "/bubbleRob/rightMotor"),
-    );
+    let (l, r) = (find(&w, "/bubbleRob/leftMotor"), find(&w, "/bubbleRob/rightMotor"));
     let rate = 3.054; // rad/s, the tutorial's initial speed
     w.set_joint_target_velocity(l, rate).expect("joint");
     w.set_joint_target_velocity(r, rate).expect("joint");
@@ -93,16 +88,9 @@ fn proximity_sensor_sees_obstacle_ahead() {
     pose.rotation = nalgebra::UnitQuaternion::identity();
     w.set_world_pose(obstacle, pose).expect("moves");
     w.step_physics();
-    let hit = w
-        .handle_proximity_sensor(nose)
-        .expect("sensor")
-        .expect("detects");
+    let hit = w.handle_proximity_sensor(nose).expect("sensor").expect("detects");
     assert_eq!(hit.object, obstacle);
-    assert!(
-        (hit.distance - 0.1).abs() < 0.01,
-        "distance {}",
-        hit.distance
-    );
+    assert!((hit.distance - 0.1).abs() < 0.01, "distance {}", hit.distance);
     assert!(matches!(
         w.object(nose).expect("nose").kind,
         ObjectKind::ProximitySensor(_)
@@ -111,12 +99,7 @@ fn proximity_sensor_sees_obstacle_ahead() {
 
 #[test]
 fn position_target_settles() {
-    let model = load_scene(
-        &DiskFiles,
-        &asset("scenes/fk_arm.toml"),
-        &LoadOptions::default(),
-    )
-    .expect("loads");
+    let model = load_scene(&DiskFiles, &asset("scenes/fk_arm.toml"), &LoadOptions::default()).expect("loads");
     let mut model = model;
     for o in &mut model.objects {
         if let gantry_sim_core::scene::ObjectModelKind::Joint(j) = &mut o.kind {

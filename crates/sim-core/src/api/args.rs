@@ -42,10 +42,7 @@ impl<'a> Args<'a> {
             None => "no value",
             Some(v) => v.type_name(),
         };
-        ApiError::new(format!(
-            "argument {}: expected {expected}, got {got}",
-            i + 1
-        ))
+        ApiError::new(format!("argument {}: expected {expected}, got {got}", i + 1))
     }
 
     /// A required number.

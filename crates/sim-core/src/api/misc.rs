@@ -5,38 +5,22 @@ use crate::Value;
 use crate::world::World;
 
 /// `sim.getSimulationTime()` → seconds at the start of the current step.
-pub(super) fn get_simulation_time(
-    w: &mut World,
-    _: &CallContext<'_>,
-    _: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_simulation_time(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![Value::Float(w.time())])
 }
 
 /// `sim.getSimulationTimeStep()` → dt in seconds.
-pub(super) fn get_simulation_time_step(
-    w: &mut World,
-    _: &CallContext<'_>,
-    _: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_simulation_time_step(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![Value::Float(w.settings().dt)])
 }
 
 /// `sim.getSimulationState()` → 0 stopped, 8 paused, 17 running.
-pub(super) fn get_simulation_state(
-    w: &mut World,
-    _: &CallContext<'_>,
-    _: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_simulation_state(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![Value::Int(w.state.code())])
 }
 
 /// `sim.getSystemTime()` → wall-clock seconds since the Unix epoch.
-pub(super) fn get_system_time(
-    _: &mut World,
-    _: &CallContext<'_>,
-    _: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_system_time(_: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
     let t = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0.0, |d| d.as_secs_f64());
@@ -53,25 +37,16 @@ pub(super) fn add_log(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
 }
 
 /// `sim.setInt32Signal(name, value)`.
-pub(super) fn set_int32_signal(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn set_int32_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let name = a.str(0)?.to_owned();
     let v = a.int(1)?;
-    let v = i32::try_from(v)
-        .map_err(|_| ApiError::new(format!("argument 2: {v} does not fit in 32 bits")))?;
+    let v = i32::try_from(v).map_err(|_| ApiError::new(format!("argument 2: {v} does not fit in 32 bits")))?;
     w.signals.int32.insert(name, v);
     Ok(Vec::new())
 }
 
 /// `sim.getInt32Signal(name)` → value, or nil when not set.
-pub(super) fn get_int32_signal(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_int32_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![
         w.signals
             .int32
@@ -81,11 +56,7 @@ pub(super) fn get_int32_signal(
 }
 
 /// `sim.clearInt32Signal(name)`; with no name, clears them all.
-pub(super) fn clear_int32_signal(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn clear_int32_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     match a.get(0) {
         Value::Nil => w.signals.int32.clear(),
         _ => {
@@ -96,36 +67,21 @@ pub(super) fn clear_int32_signal(
 }
 
 /// `sim.setFloatSignal(name, value)`.
-pub(super) fn set_float_signal(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn set_float_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let name = a.str(0)?.to_owned();
     w.signals.float.insert(name, a.f64(1)?);
     Ok(Vec::new())
 }
 
 /// `sim.getFloatSignal(name)` → value, or nil when not set.
-pub(super) fn get_float_signal(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_float_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![
-        w.signals
-            .float
-            .get(a.str(0)?)
-            .map_or(Value::Nil, |v| Value::Float(*v)),
+        w.signals.float.get(a.str(0)?).map_or(Value::Nil, |v| Value::Float(*v)),
     ])
 }
 
 /// `sim.clearFloatSignal(name)`; with no name, clears them all.
-pub(super) fn clear_float_signal(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn clear_float_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     match a.get(0) {
         Value::Nil => w.signals.float.clear(),
         _ => {
@@ -136,22 +92,14 @@ pub(super) fn clear_float_signal(
 }
 
 /// `sim.setStringSignal(name, value)`: text or bytes.
-pub(super) fn set_string_signal(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn set_string_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let name = a.str(0)?.to_owned();
     w.signals.string.insert(name, a.bytes(1)?);
     Ok(Vec::new())
 }
 
 /// `sim.getStringSignal(name)` → value (text when valid UTF-8, else bytes), or nil.
-pub(super) fn get_string_signal(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_string_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![match w.signals.string.get(a.str(0)?) {
         None => Value::Nil,
         Some(b) => match std::str::from_utf8(b) {
@@ -162,11 +110,7 @@ pub(super) fn get_string_signal(
 }
 
 /// `sim.clearStringSignal(name)`; with no name, clears them all.
-pub(super) fn clear_string_signal(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn clear_string_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     match a.get(0) {
         Value::Nil => w.signals.string.clear(),
         _ => {

@@ -49,9 +49,7 @@ impl From<SimError> for ApiError {
     fn from(e: SimError) -> Self {
         ApiError(match e {
             // CoppeliaSim's own wording, which ported scripts and clients may match on.
-            SimError::PathNotFound(_) => {
-                "object does not exist, or alias/path is ill formatted.".into()
-            }
+            SimError::PathNotFound(_) => "object does not exist, or alias/path is ill formatted.".into(),
             SimError::NoSuchObject(h) => format!("object does not exist. (handle {h})"),
             other => other.to_string(),
         })
@@ -286,12 +284,7 @@ pub fn function(name: &str) -> Option<&'static ApiFunction> {
 /// # Errors
 /// Unknown function (`No such function: sim.x`) or the function's own error, already
 /// qualified with `(in function 'sim.x')`.
-pub fn call(
-    world: &mut World,
-    ctx: &CallContext<'_>,
-    name: &str,
-    args: &[Value],
-) -> Result<Ret, String> {
+pub fn call(world: &mut World, ctx: &CallContext<'_>, name: &str, args: &[Value]) -> Result<Ret, String> {
     let f = function(name).ok_or_else(|| format!("No such function: sim.{name}"))?;
     (f.call)(world, ctx, &Args::new(args)).map_err(|e| e.in_function(&format!("sim.{name}")))
 }

@@ -7,11 +7,7 @@ use crate::world::object_path::{ObjectTree, object_alias};
 use crate::world::{Handle, World};
 
 /// `sim.getObject(path, options={})` → handle. Options: `index`, `noError`.
-pub(super) fn get_object(
-    w: &mut World,
-    ctx: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let path = a.str(0)?;
     let opts = a.get(1);
     let index = match opts.get("index") {
@@ -37,11 +33,7 @@ pub(super) fn get_object(
 }
 
 /// `sim.getObjectAlias(h, options=-1)` → string.
-pub(super) fn get_object_alias(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object_alias(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     w.object(h)?;
     let option = a.opt_int(1, -1)?;
@@ -49,21 +41,13 @@ pub(super) fn get_object_alias(
 }
 
 /// `sim.getObjectParent(h)` → handle, or -1 for a root.
-pub(super) fn get_object_parent(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object_parent(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     Ok(vec![Value::Int(w.parent(h)?.unwrap_or(-1))])
 }
 
 /// `sim.getObjectType(h)` → `sim.object_*_type`.
-pub(super) fn get_object_type(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object_type(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![Value::Int(w.object(a.handle(0)?)?.kind.type_code())])
 }
 
@@ -71,11 +55,7 @@ pub(super) fn get_object_type(
 ///
 /// `treeBase` may be `sim.handle_scene` for the whole scene. Options: bit 0 leaves out
 /// the base itself, bit 1 returns only its direct children.
-pub(super) fn get_objects_in_tree(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_objects_in_tree(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let base = a.handle(0)?;
     let filter = a.opt_int(1, -2)?;
     let options = a.opt_int(2, 0)?;
@@ -127,21 +107,13 @@ fn set_relative(w: &mut World, h: Handle, rel: Handle, local: Pose) -> Result<Re
 }
 
 /// `sim.getObjectPosition(h, rel=-1)` → `[x, y, z]` in metres.
-pub(super) fn get_object_position(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object_position(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
     Ok(vec![Value::floats(p.translation.vector.as_slice())])
 }
 
 /// `sim.setObjectPosition(h, [x, y, z], rel=-1)` (either argument order).
-pub(super) fn set_object_position(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn set_object_position(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let (vi, r) = value_and_rel(a)?;
     let v = a.vec3(vi)?;
@@ -151,21 +123,13 @@ pub(super) fn set_object_position(
 }
 
 /// `sim.getObjectOrientation(h, rel=-1)` → CoppeliaSim Euler angles `[a, b, g]`, rad.
-pub(super) fn get_object_orientation(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object_orientation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
     Ok(vec![Value::floats(&math::euler_from_quat(&p.rotation))])
 }
 
 /// `sim.setObjectOrientation(h, [a, b, g], rel=-1)` (either argument order).
-pub(super) fn set_object_orientation(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn set_object_orientation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let (vi, r) = value_and_rel(a)?;
     let e = a.floats::<3>(vi)?;
@@ -175,11 +139,7 @@ pub(super) fn set_object_orientation(
 }
 
 /// `sim.getObjectQuaternion(h, rel=-1)` → `[qx, qy, qz, qw]`.
-pub(super) fn get_object_quaternion(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object_quaternion(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
     Ok(vec![Value::floats(&math::quat_to_array(&p.rotation))])
 }
@@ -190,11 +150,7 @@ fn quat(a: &Args<'_>, i: usize) -> Result<Quat, ApiError> {
 }
 
 /// `sim.setObjectQuaternion(h, [qx, qy, qz, qw], rel=-1)` (either argument order).
-pub(super) fn set_object_quaternion(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn set_object_quaternion(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let (vi, r) = value_and_rel(a)?;
     let q = quat(a, vi)?;
@@ -204,67 +160,40 @@ pub(super) fn set_object_quaternion(
 }
 
 /// `sim.getObjectPose(h, rel=-1)` → `[x, y, z, qx, qy, qz, qw]`.
-pub(super) fn get_object_pose(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object_pose(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
     let t = p.translation.vector;
     let q = math::quat_to_array(&p.rotation);
-    Ok(vec![Value::floats(&[
-        t.x, t.y, t.z, q[0], q[1], q[2], q[3],
-    ])])
+    Ok(vec![Value::floats(&[t.x, t.y, t.z, q[0], q[1], q[2], q[3]])])
 }
 
 /// `sim.setObjectPose(h, [x, y, z, qx, qy, qz, qw], rel=-1)` (either argument order).
-pub(super) fn set_object_pose(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn set_object_pose(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let (vi, r) = value_and_rel(a)?;
     let v = a.floats::<7>(vi)?;
-    let q = math::quat_from_array([v[3], v[4], v[5], v[6]])
-        .ok_or_else(|| ApiError::new("zero quaternion in pose"))?;
+    let q = math::quat_from_array([v[3], v[4], v[5], v[6]]).ok_or_else(|| ApiError::new("zero quaternion in pose"))?;
     let local = Pose::from_parts(nalgebra::Translation3::new(v[0], v[1], v[2]), q);
     set_relative(w, h, r, local)
 }
 
 /// `sim.getObjectMatrix(h, rel=-1)` → 12 numbers, row-major 3x4 (translation at 4, 8, 12).
-pub(super) fn get_object_matrix(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object_matrix(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
     Ok(vec![Value::floats(&math::pose_to_matrix12(&p))])
 }
 
 /// `sim.setObjectMatrix(h, m[12], rel=-1)` (either argument order).
-pub(super) fn set_object_matrix(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn set_object_matrix(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let (vi, r) = value_and_rel(a)?;
     let m = a.floats::<12>(vi)?;
-    let local =
-        math::pose_from_matrix12(&m).ok_or_else(|| ApiError::new("matrix must be finite"))?;
+    let local = math::pose_from_matrix12(&m).ok_or_else(|| ApiError::new("matrix must be finite"))?;
     set_relative(w, h, r, local)
 }
 
 /// `sim.getObjectVelocity(h)` → `[vx, vy, vz]` m/s, `[wx, wy, wz]` rad/s, world frame.
-pub(super) fn get_object_velocity(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn get_object_velocity(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (v, om) = w.velocity(a.handle(0)?)?;
-    Ok(vec![
-        Value::floats(v.as_slice()),
-        Value::floats(om.as_slice()),
-    ])
+    Ok(vec![Value::floats(v.as_slice()), Value::floats(om.as_slice())])
 }

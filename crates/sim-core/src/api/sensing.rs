@@ -2,9 +2,7 @@
 
 use super::{ApiError, Args, CallContext, Ret};
 use crate::Value;
-use crate::world::{
-    Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind, ObjectKind, World,
-};
+use crate::world::{Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind, ObjectKind, World};
 
 fn detection_values(last: Option<Option<crate::world::Detection>>) -> Ret {
     match last {
@@ -29,11 +27,7 @@ fn detection_values(last: Option<Option<crate::world::Detection>>) -> Ret {
 
 /// `sim.readProximitySensor(h)` → `res, dist, point, obj, normal` from the last handling.
 /// Point and normal are in the sensor frame.
-pub(super) fn read_proximity_sensor(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn read_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     match &w.object(h)?.kind {
         ObjectKind::ProximitySensor(s) => Ok(detection_values(s.last)),
@@ -46,11 +40,7 @@ pub(super) fn read_proximity_sensor(
 
 /// `sim.handleProximitySensor(h)` → same as read, after sensing now. `sim.handle_all`
 /// handles every sensor and returns the first one's result shape with zeros.
-pub(super) fn handle_proximity_sensor(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn handle_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     if h == -2 || h == -3 {
         w.handle_all_proximity_sensors();
@@ -62,11 +52,7 @@ pub(super) fn handle_proximity_sensor(
 
 /// `sim.readForceSensor(h)` → `result, [fx, fy, fz], [tx, ty, tz]` (N, N·m, sensor frame).
 /// `result` bit 0 is set once a reading exists.
-pub(super) fn read_force_sensor(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn read_force_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     match &w.object(h)?.kind {
         ObjectKind::ForceSensor(r) => Ok(vec![
@@ -82,11 +68,7 @@ pub(super) fn read_force_sensor(
 }
 
 /// `sim.createCollection(options=0)` → collection handle.
-pub(super) fn create_collection(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn create_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let _options = a.opt_int(0, 0)?;
     w.collections.push(Some(Collection::default()));
     Ok(vec![Value::Int(
@@ -95,11 +77,7 @@ pub(super) fn create_collection(
 }
 
 /// `sim.destroyCollection(h)`.
-pub(super) fn destroy_collection(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn destroy_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let slot = usize::try_from(h - FIRST_COLLECTION_HANDLE)
         .ok()
@@ -116,11 +94,7 @@ pub(super) fn destroy_collection(
 /// `sim.addItemToCollection(coll, what, obj, options)`: `what` is `sim.handle_single`,
 /// `handle_all`, `handle_tree` or `handle_chain`; options bit 0 removes instead of adds,
 /// bit 1 leaves out the tree base / chain tip.
-pub(super) fn add_item_to_collection(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn add_item_to_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let c = a.handle(0)?;
     let kind = match a.int(1)? {
         -8 => ItemKind::Single,
@@ -155,11 +129,7 @@ pub(super) fn add_item_to_collection(
 
 /// `sim.checkDistance(e1, e2, threshold=0)` → `result, [p1, p2, d], [obj1, obj2]`
 /// with world-frame points. `e2 = sim.handle_all` means every measurable shape not in e1.
-pub(super) fn check_distance(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn check_distance(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let set1 = w.entity_shapes(a.handle(0)?, &[])?;
     let set2 = w.entity_shapes(a.handle(1)?, &set1)?;
     let threshold = a.opt_f64(2, 0.0)?;
@@ -178,21 +148,11 @@ pub(super) fn check_distance(
 }
 
 /// `sim.checkCollision(e1, e2)` → `result, [obj1, obj2]`.
-pub(super) fn check_collision(
-    w: &mut World,
-    _: &CallContext<'_>,
-    a: &Args<'_>,
-) -> Result<Ret, ApiError> {
+pub(super) fn check_collision(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let set1 = w.entity_shapes(a.handle(0)?, &[])?;
     let set2 = w.entity_shapes(a.handle(1)?, &set1)?;
     Ok(match w.collision(&set1, &set2) {
-        Some([x, y]) => vec![
-            Value::Int(1),
-            Value::Array(vec![Value::Int(x), Value::Int(y)]),
-        ],
-        None => vec![
-            Value::Int(0),
-            Value::Array(vec![Value::Int(-1), Value::Int(-1)]),
-        ],
+        Some([x, y]) => vec![Value::Int(1), Value::Array(vec![Value::Int(x), Value::Int(y)])],
+        None => vec![Value::Int(0), Value::Array(vec![Value::Int(-1), Value::Int(-1)])],
     })
 }

@@ -12,13 +12,15 @@ use toml::Spanned;
 use super::error::{LoadError, line_col};
 use super::files::{Files, normalize};
 use super::model::{
-    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind,
-    ProximityModel, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
-    VisualModel,
+    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind, ProximityModel,
+    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel,
 };
 use super::raw::{RawObject, RawRobot, RawScene, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
 use crate::math::{Pose, pose_from_euler};
+
+/// Default damping of velocity-mode joints, N·m·s/rad: the gain of the velocity servo.
+pub const DEFAULT_VELOCITY_KD: f64 = 10.0;
 
 /// Options that come from the command line rather than the scene.
 #[derive(Debug, Clone, Default)]
@@ -33,15 +35,8 @@ pub struct LoadOptions {
 ///
 /// # Errors
 /// Any [`LoadError`]: unreadable or malformed files, invalid content.
-pub fn load_scene(
-    files: &dyn Files,
-    path: &Path,
-    opts: &LoadOptions,
-) -> Result<SceneModel, LoadError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
+pub fn load_scene(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("urdf") => load_bare_urdf(files, path, opts),
         Some("toml") => {
@@ -68,25 +63,14 @@ pub fn load_scene(
 }
 
 /// A URDF on a 5 x 5 m floor, base fixed unless `opts.free_base` (PyBullet's `useFixedBase`).
-fn load_bare_urdf(
-    files: &dyn Files,
-    path: &Path,
-    opts: &LoadOptions,
-) -> Result<SceneModel, LoadError> {
+fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
     let mut objects = vec![floor_object([5.0, 5.0], 1.0, [0.55, 0.55, 0.5])];
     let mut warnings = Vec::new();
     let include = UrdfInclude {
         fixed_base: !opts.free_base,
         ..UrdfInclude::default()
     };
-    import_urdf(
-        files,
-        path,
-        &include,
-        &opts.package_paths,
-        &mut objects,
-        &mut warnings,
-    )?;
+    import_urdf(files, path, &include, &opts.package_paths, &mut objects, &mut warnings)?;
     Ok(SceneModel {
         name: stem(path),
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
@@ -142,6 +126,15 @@ pub fn load_scene_text(
             zmq_port: s.zmq_port,
             http_port: s.http_port,
         });
+    if let Some(f) = &raw.floor
+        && let Some(size) = f.size
+        && !size.iter().all(|v| v.is_finite() && *v > 0.0)
+    {
+        return r.err_at(
+            r.find_key("size"),
+            format!("[floor] size = {size:?}: both sides must be > 0 metres"),
+        );
+    }
     if let Some(f) = &raw.floor {
         r.objects.push(floor_object(
             f.size.unwrap_or([5.0, 5.0]),
@@ -166,10 +159,7 @@ pub fn load_scene_text(
 }
 
 fn stem(path: &Path) -> String {
-    path.file_stem()
-        .and_then(|s| s.to_str())
-        .unwrap_or("scene")
-        .to_owned()
+    path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_owned()
 }
 
 /// The floor: a static box whose top face is the plane z = 0. It is neither detectable
@@ -189,11 +179,7 @@ fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> ObjectModel {
                 geometry: geometry.clone(),
                 local,
             }],
-            visuals: vec![VisualModel {
-                geometry,
-                local,
-                color,
-            }],
+            visuals: vec![VisualModel { geometry, local, color }],
             dynamic: false,
             mass: MassModel::Density(1000.0),
             friction,
@@ -237,11 +223,7 @@ struct Resolver<'a> {
 type Names = HashMap<String, Emitted>;
 
 impl Resolver<'_> {
-    fn err_at<T>(
-        &self,
-        span: std::ops::Range<usize>,
-        message: impl Into<String>,
-    ) -> Result<T, LoadError> {
+    fn err_at<T>(&self, span: std::ops::Range<usize>, message: impl Into<String>) -> Result<T, LoadError> {
         let (line, column) = line_col(self.text, span.start);
         Err(LoadError::Invalid {
             path: self.path.to_owned(),
@@ -284,15 +266,19 @@ impl Resolver<'_> {
 
     /// The byte offset of the first `key =` in the text, for errors on plain values.
     fn find_key(&self, key: &str) -> std::ops::Range<usize> {
-        let pat = format!("{key} ");
-        let start = self
-            .text
-            .match_indices(&pat)
-            .chain(self.text.match_indices(&format!("{key}=")))
-            .map(|(i, _)| i)
-            .min()
-            .unwrap_or(0);
-        start..start
+        // The first line that assigns the key, ignoring comments.
+        let mut offset = 0;
+        for line in self.text.split_inclusive('\n') {
+            let code = line.split('#').next().unwrap_or_default().trim_start();
+            if let Some(rest) = code.strip_prefix(key)
+                && rest.trim_start().starts_with('=')
+            {
+                let start = offset + (line.len() - line.trim_start().len());
+                return start..start;
+            }
+            offset += line.len();
+        }
+        0..0
     }
 }
 
@@ -305,14 +291,9 @@ impl Resolver<'_> {
         for (i, e) in entries.iter().enumerate() {
             let name = self.entry_name(e)?;
             if name.get_ref().contains('/') {
-                return self.err_at(
-                    name.span(),
-                    format!("name '{}' must not contain '/'", name.get_ref()),
-                );
+                return self.err_at(name.span(), format!("name '{}' must not contain '/'", name.get_ref()));
             }
-            if by_name.insert(name.get_ref().clone(), i).is_some()
-                || name.get_ref() == "Floor" && raw.floor.is_some()
-            {
+            if by_name.insert(name.get_ref().clone(), i).is_some() || name.get_ref() == "Floor" && raw.floor.is_some() {
                 return self.err_at(
                     name.span(),
                     format!("duplicate name '{}': every object and robot needs a unique name (set `alias` to reuse an alias)", name.get_ref()),
@@ -383,7 +364,10 @@ impl Resolver<'_> {
                 None => {
                     return self.err_at(
                         p.span(),
-                        format!("parent '{}' is not defined in this scene; define an object or robot with that name", p.get_ref()),
+                        format!(
+                            "parent '{}' is not defined in this scene; define an object or robot with that name",
+                            p.get_ref()
+                        ),
                     );
                 }
             }
@@ -411,20 +395,13 @@ impl Resolver<'_> {
         match (self.names.get(head), tail) {
             (Some(Emitted::Object(i)), None) => Ok(*i),
             (Some(Emitted::Robot(idx)), None) => Ok(idx.base),
-            (Some(Emitted::Robot(idx)), Some(part)) => {
-                match idx.links.get(part).or_else(|| idx.joints.get(part)) {
-                    Some(&i) => Ok(i),
-                    None => self.err_at(
-                        r.span(),
-                        format!("robot '{head}' has no link or joint named '{part}'"),
-                    ),
-                }
-            }
+            (Some(Emitted::Robot(idx)), Some(part)) => match idx.links.get(part).or_else(|| idx.joints.get(part)) {
+                Some(&i) => Ok(i),
+                None => self.err_at(r.span(), format!("robot '{head}' has no link or joint named '{part}'")),
+            },
             (Some(Emitted::Object(_)), Some(_)) => self.err_at(
                 r.span(),
-                format!(
-                    "'{head}' is an object, not a robot; use 'robot/link' only for URDF robots"
-                ),
+                format!("'{head}' is an object, not a robot; use 'robot/link' only for URDF robots"),
             ),
             (None, _) => self.err_at(r.span(), format!("'{text}' is not defined in this scene")),
         }
@@ -440,24 +417,14 @@ impl Resolver<'_> {
             Ok(bytes) => match String::from_utf8(bytes) {
                 Ok(s) => s,
                 Err(_) => {
-                    return self.err_at(
-                        file.span(),
-                        format!("script '{}' is not UTF-8 text", path.display()),
-                    );
+                    return self.err_at(file.span(), format!("script '{}' is not UTF-8 text", path.display()));
                 }
             },
             Err(e) => {
-                return self.err_at(
-                    file.span(),
-                    format!("cannot read script '{}': {e}", path.display()),
-                );
+                return self.err_at(file.span(), format!("cannot read script '{}': {e}", path.display()));
             }
         };
-        self.scripts.push(ScriptModel {
-            object,
-            path,
-            source,
-        });
+        self.scripts.push(ScriptModel { object, path, source });
         Ok(())
     }
 
@@ -496,11 +463,7 @@ impl Resolver<'_> {
             }
         }
         let finite3 = |v: Option<[f64; 3]>| v.is_none_or(|a| a.iter().all(|x| x.is_finite()));
-        if !finite3(o.position)
-            || !finite3(o.orientation_deg)
-            || !finite3(o.size)
-            || !finite3(o.scale)
-        {
+        if !finite3(o.position) || !finite3(o.orientation_deg) || !finite3(o.size) || !finite3(o.scale) {
             return self.err_at(
                 here,
                 format!(
@@ -541,7 +504,10 @@ impl Resolver<'_> {
     fn shape(&mut self, o: &RawObject) -> Result<ShapeModel, LoadError> {
         let name = o.name.get_ref();
         let Some(kind) = &o.shape else {
-            return self.err_at(o.name.span(), format!("shape '{name}' needs `shape = \"box\" | \"sphere\" | \"cylinder\" | \"capsule\" | \"mesh\"`"));
+            return self.err_at(
+                o.name.span(),
+                format!("shape '{name}' needs `shape = \"box\" | \"sphere\" | \"cylinder\" | \"capsule\" | \"mesh\"`"),
+            );
         };
         let need = |v: Option<f64>, key: &str| -> Result<f64, LoadError> {
             match v {
@@ -553,19 +519,17 @@ impl Resolver<'_> {
             }
         };
         let geometry = match kind.get_ref().as_str() {
-            "box" => {
-                match o.size {
-                    Some(s) if s.iter().all(|v| *v > 0.0) => Geometry::Box {
-                        half_extents: s.map(|v| v / 2.0),
-                    },
-                    _ => return self.err_at(
+            "box" => match o.size {
+                Some(s) if s.iter().all(|v| *v > 0.0) => Geometry::Box {
+                    half_extents: s.map(|v| v / 2.0),
+                },
+                _ => {
+                    return self.err_at(
                         kind.span(),
-                        format!(
-                            "box '{name}' needs `size = [x, y, z]` (full extents, metres, all > 0)"
-                        ),
-                    ),
+                        format!("box '{name}' needs `size = [x, y, z]` (full extents, metres, all > 0)"),
+                    );
                 }
-            }
+            },
             "sphere" => Geometry::Sphere {
                 radius: need(o.radius, "radius")?,
             },
@@ -579,10 +543,7 @@ impl Resolver<'_> {
             },
             "mesh" => {
                 let Some(file) = &o.mesh else {
-                    return self.err_at(
-                        kind.span(),
-                        format!("mesh '{name}' needs `mesh = \"file.stl\"`"),
-                    );
+                    return self.err_at(kind.span(), format!("mesh '{name}' needs `mesh = \"file.stl\"`"));
                 };
                 let path = self.relative(file.get_ref());
                 let mesh = super::mesh::load_mesh(self.files, &path, o.scale.unwrap_or([1.0; 3]));
@@ -600,10 +561,7 @@ impl Resolver<'_> {
         };
         let mass = match (o.mass, o.density) {
             (Some(_), Some(_)) => {
-                return self.err_at(
-                    o.name.span(),
-                    format!("shape '{name}': give mass or density, not both"),
-                );
+                return self.err_at(o.name.span(), format!("shape '{name}': give mass or density, not both"));
             }
             (Some(m), None) => MassModel::Mass(m),
             (None, Some(d)) => MassModel::Density(d),
@@ -623,7 +581,15 @@ impl Resolver<'_> {
             dynamic: o.dynamic.unwrap_or(false),
             mass,
             friction: o.friction.unwrap_or(0.5),
-            restitution: o.restitution.unwrap_or(0.0).min(1.0),
+            restitution: match o.restitution {
+                Some(e) if e > 1.0 => {
+                    return self.err_at(
+                        o.name.span(),
+                        format!("shape '{name}': restitution {e} must be between 0 and 1"),
+                    );
+                }
+                e => e.unwrap_or(0.0),
+            },
             collision_group: o.collision_group.unwrap_or(u32::MAX),
             collision_mask: o.collision_mask.unwrap_or(u32::MAX),
             respondable: o.respondable.unwrap_or(true),
@@ -646,24 +612,23 @@ impl Resolver<'_> {
 
     fn joint(&mut self, o: &RawObject) -> Result<JointModel, LoadError> {
         let name = o.name.get_ref();
-        let joint_type =
-            match o.joint.as_ref().map(|j| (j, j.get_ref().as_str())) {
-                Some((_, "revolute")) => JointType::Revolute,
-                Some((_, "prismatic")) => JointType::Prismatic,
-                Some((_, "fixed")) => JointType::Fixed,
-                Some((j, other)) => {
-                    return self.err_at(
-                        j.span(),
-                        format!("unknown joint type '{other}'; use revolute, prismatic or fixed"),
-                    );
-                }
-                None => return self.err_at(
+        let joint_type = match o.joint.as_ref().map(|j| (j, j.get_ref().as_str())) {
+            Some((_, "revolute")) => JointType::Revolute,
+            Some((_, "prismatic")) => JointType::Prismatic,
+            Some((_, "fixed")) => JointType::Fixed,
+            Some((j, other)) => {
+                return self.err_at(
+                    j.span(),
+                    format!("unknown joint type '{other}'; use revolute, prismatic or fixed"),
+                );
+            }
+            None => {
+                return self.err_at(
                     o.name.span(),
-                    format!(
-                        "joint '{name}' needs `joint = \"revolute\" | \"prismatic\" | \"fixed\"`"
-                    ),
-                ),
-            };
+                    format!("joint '{name}' needs `joint = \"revolute\" | \"prismatic\" | \"fixed\"`"),
+                );
+            }
+        };
         // Scene files give revolute quantities in degrees; the model is in radians.
         let unit = |v: f64| {
             if joint_type == JointType::Revolute {
@@ -680,9 +645,7 @@ impl Resolver<'_> {
             );
         }
         let limits = match o.limits {
-            Some([lo, hi]) if lo.is_finite() && hi.is_finite() && lo <= hi => {
-                Some((unit(lo), unit(hi)))
-            }
+            Some([lo, hi]) if lo.is_finite() && hi.is_finite() && lo <= hi => Some((unit(lo), unit(hi))),
             Some([lo, hi]) => {
                 return self.err_at(
                     o.name.span(),
@@ -705,7 +668,7 @@ impl Resolver<'_> {
             kp: o.kp.unwrap_or(DEFAULT_KP),
             kd: o.kd.unwrap_or(match mode {
                 // A velocity controller is all damping: torque = kd (w* - w).
-                JointMode::Velocity => 10.0,
+                JointMode::Velocity => DEFAULT_VELOCITY_KD,
                 _ => DEFAULT_KD,
             }),
         })
@@ -727,10 +690,7 @@ impl Resolver<'_> {
                 if !(angle > 0.0 && angle < 180.0) {
                     return self.err_at(
                         o.name.span(),
-                        format!(
-                            "proximity sensor '{}': angle_deg must be in (0, 180)",
-                            o.name.get_ref()
-                        ),
+                        format!("proximity sensor '{}': angle_deg must be in (0, 180)", o.name.get_ref()),
                     );
                 }
                 Ok(ProximityModel::Cone {
@@ -777,18 +737,10 @@ impl Resolver<'_> {
         })
     }
 
-    fn robot(
-        &mut self,
-        r: &RawRobot,
-        parent: Option<usize>,
-        name: &str,
-    ) -> Result<UrdfIndex, LoadError> {
+    fn robot(&mut self, r: &RawRobot, parent: Option<usize>, name: &str) -> Result<UrdfIndex, LoadError> {
         let path = self.relative(r.urdf.get_ref());
         if !self.files.is_file(&path) {
-            return self.err_at(
-                r.urdf.span(),
-                format!("URDF '{}' not found", path.display()),
-            );
+            return self.err_at(r.urdf.span(), format!("URDF '{}' not found", path.display()));
         }
         let mut initial = HashMap::new();
         if let Some(t) = &r.initial {
@@ -800,9 +752,7 @@ impl Resolver<'_> {
                     _ => {
                         return self.err_at(
                             r.urdf.span(),
-                            format!(
-                                "robot '{name}': initial.{k} must be a number (degrees or metres)"
-                            ),
+                            format!("robot '{name}': initial.{k} must be a number (degrees or metres)"),
                         );
                     }
                 }
@@ -816,7 +766,13 @@ impl Resolver<'_> {
             joint_mode: self.joint_mode(r.joint_mode.as_ref())?,
             max_force: r.max_force,
             kp: r.kp.unwrap_or(DEFAULT_KP),
-            kd: r.kd.unwrap_or(DEFAULT_KD),
+            kd: r
+                .kd
+                .unwrap_or(if self.joint_mode(r.joint_mode.as_ref())? == JointMode::Velocity {
+                    DEFAULT_VELOCITY_KD
+                } else {
+                    DEFAULT_KD
+                }),
             initial,
         };
         let idx = import_urdf(

@@ -11,15 +11,8 @@ use super::model::MeshData;
 ///
 /// # Errors
 /// [`LoadError::Mesh`] if the file is missing, of an unknown format, or has no triangles.
-pub fn load_mesh(
-    files: &dyn Files,
-    path: &Path,
-    scale: [f64; 3],
-) -> Result<Arc<MeshData>, LoadError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
+pub fn load_mesh(files: &dyn Files, path: &Path, scale: [f64; 3]) -> Result<Arc<MeshData>, LoadError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("stl" | "obj" | "dae")) {
         return Err(LoadError::Mesh {
             path: path.to_owned(),
@@ -48,11 +41,7 @@ pub fn load_mesh(
                 (f64::from(v[2]) * scale[2]) as f32,
             ]
         }));
-        indices.extend(
-            mesh.faces
-                .iter()
-                .map(|f| [f[0] + base, f[1] + base, f[2] + base]),
-        );
+        indices.extend(mesh.faces.iter().map(|f| [f[0] + base, f[1] + base, f[2] + base]));
     }
     let n = vertices.len() as u64;
     if indices.is_empty() || indices.iter().flatten().any(|&i| u64::from(i) >= n) {
@@ -128,12 +117,7 @@ mod tests {
         std::fs::create_dir_all(pkg.join("meshes")).expect("tmp dir");
         std::fs::create_dir_all(pkg.join("urdf")).expect("tmp dir");
         std::fs::write(pkg.join("meshes/a.stl"), b"solid a\nendsolid a\n").expect("write");
-        let found = resolve_mesh_path(
-            &DiskFiles,
-            "package://my_robot/meshes/a.stl",
-            &pkg.join("urdf"),
-            &[],
-        );
+        let found = resolve_mesh_path(&DiskFiles, "package://my_robot/meshes/a.stl", &pkg.join("urdf"), &[]);
         assert_eq!(found, Ok(pkg.join("meshes/a.stl")));
         let via_path = resolve_mesh_path(
             &DiskFiles,
@@ -142,8 +126,7 @@ mod tests {
             &[dir.clone()],
         );
         assert_eq!(via_path, Ok(pkg.join("meshes/a.stl")));
-        let missing =
-            resolve_mesh_path(&DiskFiles, "package://other/x.stl", &pkg.join("urdf"), &[]);
+        let missing = resolve_mesh_path(&DiskFiles, "package://other/x.stl", &pkg.join("urdf"), &[]);
         assert!(missing.is_err_and(|t| !t.is_empty()));
         std::fs::remove_dir_all(&dir).ok();
     }

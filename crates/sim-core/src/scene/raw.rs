@@ -16,7 +16,8 @@ pub struct RawScene {
     pub floor: Option<RawFloor>,
     /// `[server]`: default listener ports for this scene.
     pub server: Option<RawServer>,
-    /// `[[object]]`: shapes, joints, dummies, sensors and graphs, in hierarchy order.
+    /// `[[object]]`: shapes, joints, dummies, sensors and graphs, in any order (parents
+    /// are resolved by name).
     #[serde(default)]
     pub object: Vec<RawObject>,
     /// `[[robot]]`: URDF includes.
@@ -62,8 +63,7 @@ pub struct RawServer {
     pub http_port: Option<u16>,
 }
 
-/// One `[[object]]`. Which keys apply depends on `kind`; the resolver rejects keys that
-/// make no sense for the kind.
+/// One `[[object]]`. Which keys apply depends on `kind`; keys of other kinds are ignored.
 #[derive(Debug, Deserialize)]
 pub struct RawObject {
     /// Unique name within the file; other entries refer to the object by it. Also the
@@ -119,7 +119,7 @@ pub struct RawObject {
     /// Shape: seen by `sim.checkDistance` (default true).
     pub measurable: Option<bool>,
 
-    /// Joint: `revolute` or `prismatic`. The joint moves about/along its local Z axis.
+    /// Joint: `revolute`, `prismatic` or `fixed`. The joint moves about/along its local Z axis.
     pub joint: Option<Spanned<String>>,
     /// Joint: `kinematic`, `position` or `velocity`.
     pub mode: Option<Spanned<String>>,
@@ -142,7 +142,7 @@ pub struct RawObject {
 
     /// Proximity sensor: `ray` or `cone`. It looks along its local +Z axis.
     pub sensor: Option<Spanned<String>>,
-    /// Proximity/vision sensor: detection range in metres (proximity).
+    /// Proximity sensor: detection range in metres.
     pub range: Option<f64>,
     /// Proximity sensor: full cone angle in degrees.
     pub angle_deg: Option<f64>,
@@ -276,11 +276,7 @@ pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
             check_table(t, name, keys, &mut out);
         }
     }
-    let arrays: [(&str, &[&str]); 3] = [
-        ("object", OBJECT_KEYS),
-        ("robot", ROBOT_KEYS),
-        ("script", SCRIPT_KEYS),
-    ];
+    let arrays: [(&str, &[&str]); 3] = [("object", OBJECT_KEYS), ("robot", ROBOT_KEYS), ("script", SCRIPT_KEYS)];
     for (name, keys) in arrays {
         if let Some(toml::Value::Array(items)) = doc.get(name) {
             for (i, item) in items.iter().enumerate() {
@@ -307,7 +303,15 @@ fn check_table(t: &toml::Table, label: &str, known: &[&str], out: &mut Vec<Strin
         } else {
             format!("{label}.{key}")
         };
-        match known.iter().find(|k| edit_distance(k, key) <= 2) {
+        let closest = known
+            .iter()
+            .filter(|k| key.len() >= 3 && k.starts_with(key.as_str()))
+            .map(|k| (0, *k))
+            .chain(known.iter().map(|k| (edit_distance(k, key), *k)))
+            .filter(|(d, _)| *d <= 2)
+            .min_by_key(|(d, _)| *d)
+            .map(|(_, k)| k);
+        match closest {
             Some(k) => out.push(format!("unknown key '{place}' (did you mean '{k}'?)")),
             None => out.push(format!("unknown key '{place}'")),
         }

@@ -8,6 +8,8 @@
 //! Supported: `revolute`, `continuous`, `prismatic` and `fixed` joints with limits and
 //! effort; `<inertial>`; `<visual>` and `<collision>` with box, cylinder, sphere, capsule
 //! and STL/OBJ/DAE meshes (with scale); robot-level and inline materials.
+//! Documented, not warned (every real URDF has it): `<limit velocity>` is not enforced;
+//! joints respect `effort` through their motor's maximum force.
 //! Reported as warnings and otherwise ignored: `floating` and `planar` joints (imported as
 //! fixed), `<dynamics>`, `<mimic>`, `<safety_controller>`, `<calibration>`,
 //! `<transmission>`, `<gazebo>` and textures. Nothing is dropped without a warning.
@@ -21,8 +23,8 @@ use super::error::LoadError;
 use super::files::Files;
 use super::mesh::{load_mesh, resolve_mesh_path};
 use super::model::{
-    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind,
-    ShapeModel, VisualModel,
+    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind, ShapeModel,
+    VisualModel,
 };
 use crate::math::{Pose, rotation_z_to};
 
@@ -157,9 +159,7 @@ pub fn import_urdf(
         parent_joint[c] = Some(ji);
         child_joints[p].push(ji);
     }
-    let roots: Vec<usize> = (0..robot.links.len())
-        .filter(|&i| parent_joint[i].is_none())
-        .collect();
+    let roots: Vec<usize> = (0..robot.links.len()).filter(|&i| parent_joint[i].is_none()).collect();
     let root = match roots.as_slice() {
         [r] => *r,
         [] => return Err(urdf_err("no root link: the joints form a cycle".into())),
@@ -233,18 +233,25 @@ pub fn import_urdf(
                 Vector3::x()
             };
             let align = rotation_z_to(&axis);
+            // urdf-rs reads a missing <limit> as [0, 0], which would freeze the joint.
+            let missing_limit = j.limit.lower == 0.0 && j.limit.upper == 0.0;
+            if missing_limit
+                && matches!(
+                    j.joint_type,
+                    urdf_rs::JointType::Revolute | urdf_rs::JointType::Prismatic
+                )
+            {
+                warnings.push(format!(
+                    "{}: joint '{}' has no <limit lower upper>; imported without limits",
+                    path.display(),
+                    j.name
+                ));
+            }
+            let limit = (!missing_limit).then_some((j.limit.lower, j.limit.upper));
             let (joint_type, limits, cyclic) = match j.joint_type {
-                urdf_rs::JointType::Revolute => (
-                    JointType::Revolute,
-                    Some((j.limit.lower, j.limit.upper)),
-                    false,
-                ),
+                urdf_rs::JointType::Revolute => (JointType::Revolute, limit, false),
                 urdf_rs::JointType::Continuous => (JointType::Revolute, None, true),
-                urdf_rs::JointType::Prismatic => (
-                    JointType::Prismatic,
-                    Some((j.limit.lower, j.limit.upper)),
-                    false,
-                ),
+                urdf_rs::JointType::Prismatic => (JointType::Prismatic, limit, false),
                 urdf_rs::JointType::Fixed => (JointType::Fixed, None, false),
                 ref other => {
                     warnings.push(format!(
@@ -287,11 +294,7 @@ pub fn import_urdf(
             } else {
                 include.joint_mode
             };
-            let effort = if j.limit.effort > 0.0 {
-                j.limit.effort
-            } else {
-                100.0
-            };
+            let effort = if j.limit.effort > 0.0 { j.limit.effort } else { 100.0 };
             let joint_obj = objects.len();
             objects.push(ObjectModel {
                 alias: j.name.clone(),
@@ -439,11 +442,7 @@ impl Ctx<'_> {
                         ),
                     }
                 })?;
-                Geometry::Mesh(load_mesh(
-                    self.files,
-                    &file,
-                    scale.map_or([1.0; 3], |s| s.0),
-                )?)
+                Geometry::Mesh(load_mesh(self.files, &file, scale.map_or([1.0; 3], |s| s.0))?)
             }
         })
     }
@@ -460,10 +459,7 @@ fn rgb(rgba: &[f64; 4]) -> [f32; 3] {
 fn urdf_pose(p: &urdf_rs::Pose) -> Pose {
     let [x, y, z] = p.xyz.0;
     let [r, pi, ya] = p.rpy.0;
-    Pose::from_parts(
-        Translation3::new(x, y, z),
-        UnitQuaternion::from_euler_angles(r, pi, ya),
-    )
+    Pose::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(r, pi, ya))
 }
 
 #[cfg(test)]
@@ -512,10 +508,7 @@ mod tests {
         // The child link frame at q = 0 is the URDF joint origin: identity rotation.
         let child_world = objects[2].local * objects[3].local;
         assert!(child_world.rotation.angle() < 1e-12);
-        assert!(
-            warnings.iter().any(|w| w.contains("<dynamics>")),
-            "{warnings:?}"
-        );
+        assert!(warnings.iter().any(|w| w.contains("<dynamics>")), "{warnings:?}");
     }
 
     #[test]
@@ -554,9 +547,6 @@ mod tests {
         )
         .expect_err("missing mesh");
         let msg = err.to_string();
-        assert!(
-            msg.contains("link 'a'") && msg.contains("--package-path"),
-            "{msg}"
-        );
+        assert!(msg.contains("link 'a'") && msg.contains("--package-path"), "{msg}");
     }
 }

@@ -46,9 +46,7 @@ pub(crate) fn detect(
     let volume = ProximityVolume::from(model);
     let own_body = mount_body(world, physics, sensor);
     let to_sensor = math::to_physics(&sensor_world.inverse());
-    let aabb = volume
-        .local_aabb()
-        .transform_by(&math::to_physics(sensor_world));
+    let aabb = volume.local_aabb().transform_by(&math::to_physics(sensor_world));
     let qp = physics.world.query_pipeline();
     let mut best: Option<(ProximityHit, Handle)> = None;
     for (ch, collider) in qp.intersect_aabb_conservative(aabb) {

@@ -111,8 +111,7 @@ use parry3d::partitioning::TraversalAction;
 use parry3d::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d::query::{PointQuery, Ray};
 use parry3d::shape::{
-    CompositeShape, ConvexPolyhedron, Cuboid, HalfSpace, HeightField, Shape, SupportMap, Triangle,
-    TypedShape,
+    CompositeShape, ConvexPolyhedron, Cuboid, HalfSpace, HeightField, Shape, SupportMap, Triangle, TypedShape,
 };
 
 /// Maximum number of lower-bound (Newton) steps of the lateral search. Convergence takes 3–8
@@ -178,9 +177,7 @@ impl ProximityVolume {
     /// invalid volume.
     pub fn is_valid(&self) -> bool {
         match *self {
-            Self::Ray { offset, range } => {
-                offset.is_finite() && range.is_finite() && offset >= 0.0 && range > 0.0
-            }
+            Self::Ray { offset, range } => offset.is_finite() && range.is_finite() && offset >= 0.0 && range > 0.0,
             Self::Cone {
                 offset,
                 range,
@@ -202,10 +199,9 @@ impl ProximityVolume {
     /// `r = (offset + range)·sin(half_angle)`.
     pub fn local_aabb(&self) -> Aabb {
         match *self {
-            Self::Ray { offset, range } => Aabb::new(
-                Vector::new(0.0, 0.0, offset),
-                Vector::new(0.0, 0.0, offset + range),
-            ),
+            Self::Ray { offset, range } => {
+                Aabb::new(Vector::new(0.0, 0.0, offset), Vector::new(0.0, 0.0, offset + range))
+            }
             Self::Cone {
                 offset,
                 range,
@@ -354,10 +350,7 @@ impl ConeGeom {
     /// The volume AABB (see [`ProximityVolume::local_aabb`]).
     fn aabb(&self) -> Aabb {
         let r = self.far * self.sin;
-        Aabb::new(
-            Vector::new(-r, -r, self.near * self.cos),
-            Vector::new(r, r, self.far),
-        )
+        Aabb::new(Vector::new(-r, -r, self.near * self.cos), Vector::new(r, r, self.far))
     }
 }
 
@@ -387,11 +380,7 @@ impl SupportMap for Sector {
         // apex is further along `dir`.
         let k = self.radius * self.sin / rxy;
         let rim = Vector::new(dir.x * k, dir.y * k, self.radius * self.cos);
-        if dir.dot(rim) > 0.0 {
-            rim
-        } else {
-            Vector::ZERO
-        }
+        if dir.dot(rim) > 0.0 { rim } else { Vector::ZERO }
     }
 }
 
@@ -410,12 +399,7 @@ fn limit(cone: &ConeGeom, best: &Option<ProximityHit>) -> f32 {
 }
 
 /// Dispatches on the shape type and merges its detection into `best`.
-fn detect_in_cone(
-    cone: &ConeGeom,
-    shape: &dyn Shape,
-    pose: &Pose,
-    best: &mut Option<ProximityHit>,
-) {
+fn detect_in_cone(cone: &ConeGeom, shape: &dyn Shape, pose: &Pose, best: &mut Option<ProximityHit>) {
     match shape.as_typed_shape() {
         TypedShape::HalfSpace(hs) => keep_nearest(best, detect_half_space(cone, hs, pose)),
         TypedShape::HeightField(hf) => detect_height_field(cone, hf, pose, best),
@@ -433,20 +417,13 @@ fn detect_in_cone(
 
 /// Walks the composite's BVH (in the composite's frame), pruning nodes that miss the volume
 /// AABB or cannot beat the best detection so far, and recurses into the parts.
-fn detect_composite(
-    cone: &ConeGeom,
-    composite: &dyn CompositeShape,
-    pose: &Pose,
-    best: &mut Option<ProximityHit>,
-) {
+fn detect_composite(cone: &ConeGeom, composite: &dyn CompositeShape, pose: &Pose, best: &mut Option<ProximityHit>) {
     let inv = pose.inverse();
     let sensor_local = inv.transform_point(Vector::ZERO);
     let volume_local = cone.aabb().transform_by(&inv);
     composite.bvh().traverse(|node| {
         let aabb = node.aabb();
-        if !aabb.intersects(&volume_local)
-            || aabb.distance_to_local_point(sensor_local, true) > limit(cone, best)
-        {
+        if !aabb.intersects(&volume_local) || aabb.distance_to_local_point(sensor_local, true) > limit(cone, best) {
             return TraversalAction::Prune;
         }
         if let Some(part) = node.leaf_data() {
@@ -460,12 +437,7 @@ fn detect_composite(
 }
 
 /// Height fields are surfaces: each triangle under the volume AABB is a thin convex shape.
-fn detect_height_field(
-    cone: &ConeGeom,
-    hf: &HeightField,
-    pose: &Pose,
-    best: &mut Option<ProximityHit>,
-) {
+fn detect_height_field(cone: &ConeGeom, hf: &HeightField, pose: &Pose, best: &mut Option<ProximityHit>) {
     let inv = pose.inverse();
     let volume_local = cone.aabb().transform_by(&inv);
     hf.map_elements_in_local_aabb(&volume_local, &mut |_, tri: &Triangle| {
@@ -537,11 +509,7 @@ fn cap_hit(point: Vector) -> ProximityHit {
     ProximityHit {
         distance,
         point,
-        normal: if distance > 0.0 {
-            -point / distance
-        } else {
-            -Vector::Z
-        },
+        normal: if distance > 0.0 { -point / distance } else { -Vector::Z },
     }
 }
 
@@ -690,12 +658,7 @@ fn lateral_minimum(
 }
 
 /// First hit (distance in m, outward normal) of the shape on the generator at azimuth `phi`.
-fn generator_hit(
-    cone: &ConeGeom,
-    shape: &dyn Shape,
-    pose: &Pose,
-    phi: f32,
-) -> Option<(f32, Vector)> {
+fn generator_hit(cone: &ConeGeom, shape: &dyn Shape, pose: &Pose, phi: f32) -> Option<(f32, Vector)> {
     let ray = Ray::new(Vector::ZERO, cone.generator(phi));
     shape
         .cast_ray_and_get_normal(pose, &ray, cone.far * 2.0 + 1.0, true)
@@ -704,12 +667,7 @@ fn generator_hit(
 
 /// Golden-section minimisation of the generator first-hit distance over
 /// `[phi - AZIMUTH_BRACKET, phi + AZIMUTH_BRACKET]`. Returns the best azimuth and its hit.
-fn refine_azimuth(
-    cone: &ConeGeom,
-    shape: &dyn Shape,
-    pose: &Pose,
-    phi: f32,
-) -> Option<(f32, (f32, Vector))> {
+fn refine_azimuth(cone: &ConeGeom, shape: &dyn Shape, pose: &Pose, phi: f32) -> Option<(f32, (f32, Vector))> {
     const INV_PHI: f32 = 0.618_034;
     let eval = |p: f32| generator_hit(cone, shape, pose, p).map_or(f32::INFINITY, |h| h.0);
     let (mut lo, mut hi) = (phi - AZIMUTH_BRACKET, phi + AZIMUTH_BRACKET);
@@ -768,21 +726,13 @@ fn crossing(q: Vector, r: Vector, a: f32) -> Vector {
     let p = if vv > 0.0 {
         let disc = (qv * qv - vv * c0).max(0.0).sqrt();
         // Stable root selection (avoids cancellation when qv > 0).
-        let lambda = if qv >= 0.0 {
-            -c0 / (qv + disc)
-        } else {
-            (disc - qv) / vv
-        };
+        let lambda = if qv >= 0.0 { -c0 / (qv + disc) } else { (disc - qv) / vv };
         q + v * lambda.clamp(0.0, 1.0)
     } else {
         r
     };
     let len = p.length();
-    if len > 0.0 {
-        p * (a / len)
-    } else {
-        Vector::Z * a
-    }
+    if len > 0.0 { p * (a / len) } else { Vector::Z * a }
 }
 
 /// Ball (centre `c`, radius `rho`, sensor frame): exact witness of `|p| >= a` in `S ∩ K`.
@@ -854,12 +804,7 @@ fn edge_reach(cone: &ConeGeom, v0: Vector, v1: Vector) -> Option<Vector> {
 /// bounded ellipse, provided it is beyond the near cap and `inside` accepts it (i.e. it lies on
 /// the face). On `∂K`, `|p| = z / cos`, so this is the maximum of `z` on the ellipse, reached on
 /// the generator opposite to the plane normal's azimuth.
-fn face_reach(
-    cone: &ConeGeom,
-    n: Vector,
-    d: f32,
-    inside: impl Fn(Vector) -> bool,
-) -> Option<Vector> {
+fn face_reach(cone: &ConeGeom, n: Vector, d: f32, inside: impl Fn(Vector) -> bool) -> Option<Vector> {
     let (n, d) = if d < 0.0 { (-n, -d) } else { (n, d) };
     if d <= 0.0 {
         // Plane through the apex: the section is made of generators, handled by the edges.
@@ -917,12 +862,7 @@ fn cuboid_reach(cone: &ConeGeom, cuboid: &Cuboid, pose: &Pose) -> Option<Vector>
 }
 
 /// Exact near-cap witness for a triangle (a thin solid).
-fn triangle_reach(
-    cone: &ConeGeom,
-    shape: &dyn Shape,
-    tri: &Triangle,
-    pose: &Pose,
-) -> Option<Vector> {
+fn triangle_reach(cone: &ConeGeom, shape: &dyn Shape, tri: &Triangle, pose: &Pose) -> Option<Vector> {
     let v = [
         pose.transform_point(tri.a),
         pose.transform_point(tri.b),
@@ -944,17 +884,9 @@ fn triangle_reach(
 }
 
 /// Exact near-cap witness for a convex polyhedron (vertices, edges, faces).
-fn polyhedron_reach(
-    cone: &ConeGeom,
-    shape: &dyn Shape,
-    poly: &ConvexPolyhedron,
-    pose: &Pose,
-) -> Option<Vector> {
+fn polyhedron_reach(cone: &ConeGeom, shape: &dyn Shape, poly: &ConvexPolyhedron, pose: &Pose) -> Option<Vector> {
     let points = poly.points();
-    if let Some(p) = points
-        .iter()
-        .find_map(|&p| vertex_reach(cone, pose.transform_point(p)))
-    {
+    if let Some(p) = points.iter().find_map(|&p| vertex_reach(cone, pose.transform_point(p))) {
         return Some(p);
     }
     for edge in poly.edges() {
@@ -1019,11 +951,7 @@ fn generic_reach(
     let accept = |p: Vector| (p.length() >= a).then_some(p);
 
     // 1. Points of the near cap itself (axis, the minimiser's direction, two rings).
-    let q_dir = if q.length() > 0.0 {
-        q.normalize()
-    } else {
-        Vector::Z
-    };
+    let q_dir = if q.length() > 0.0 { q.normalize() } else { Vector::Z };
     let ring = |k: usize, polar: f32| {
         let phi = TAU * k as f32 / CAP_PROBE_AZIMUTHS as f32;
         let (sp, cp) = polar.sin_cos();
@@ -1082,8 +1010,7 @@ mod tests {
     use super::*;
     use parry3d::math::Rotation;
     use parry3d::shape::{
-        Ball, Capsule, Compound, Cone, ConvexPolyhedron, Cuboid, Cylinder, HalfSpace, SharedShape,
-        TriMesh,
+        Ball, Capsule, Compound, Cone, ConvexPolyhedron, Cuboid, Cylinder, HalfSpace, SharedShape, TriMesh,
     };
 
     /// Tolerance (m) required between the detector and the brute-force oracle.
@@ -1122,12 +1049,8 @@ mod tests {
             lo + (hi - lo) * self.next_f32()
         }
         fn rotation(&mut self) -> Rotation {
-            let axis = Vector::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            )
-            .normalize_or(Vector::X);
+            let axis = Vector::new(self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0))
+                .normalize_or(Vector::X);
             Rotation::from_axis_angle(axis, self.range(0.0, TAU))
         }
     }
@@ -1226,24 +1149,13 @@ mod tests {
             }
         }
         let dist = shape.distance_to_point(pose, hit.point, true);
-        assert!(
-            dist <= 2.0e-5,
-            "point {:?} is {dist} m off the shape",
-            hit.point
-        );
+        assert!(dist <= 2.0e-5, "point {:?} is {dist} m off the shape", hit.point);
         assert!((hit.normal.length() - 1.0).abs() <= 1.0e-4, "{hit:?}");
-        assert!(
-            hit.normal.dot(hit.point) <= 1.0e-6,
-            "normal not facing: {hit:?}"
-        );
+        assert!(hit.normal.dot(hit.point) <= 1.0e-6, "normal not facing: {hit:?}");
     }
 
     /// Detects, checks invariants and compares with the oracle.
-    fn assert_matches_oracle(
-        vol: &ProximityVolume,
-        shape: &dyn Shape,
-        pose: &Pose,
-    ) -> Option<ProximityHit> {
+    fn assert_matches_oracle(vol: &ProximityVolume, shape: &dyn Shape, pose: &Pose) -> Option<ProximityHit> {
         let hit = vol.detect(shape, pose);
         let expected = oracle(vol, shape, pose);
         match (hit, expected) {
@@ -1337,10 +1249,7 @@ mod tests {
             assert_matches_oracle(&vol, &cuboid, &pose);
         }
         // A cuboid beside the cone whose corner pokes into it: lateral path.
-        let pose = Pose::from_parts(
-            Vector::new(0.055, 0.0, 0.1),
-            Rotation::from_axis_angle(Vector::Y, 0.3),
-        );
+        let pose = Pose::from_parts(Vector::new(0.055, 0.0, 0.1), Rotation::from_axis_angle(Vector::Y, 0.3));
         assert_matches_oracle(&vol, &cuboid, &pose).expect("corner inside the cone");
     }
 
@@ -1439,9 +1348,7 @@ mod tests {
             range: 0.15,
             half_angle: 0.2,
         };
-        let hit = vol0
-            .detect(&Ball::new(0.05), &Pose::IDENTITY)
-            .expect("inside");
+        let hit = vol0.detect(&Ball::new(0.05), &Pose::IDENTITY).expect("inside");
         assert_eq!(hit.distance, 0.0);
     }
 
@@ -1455,11 +1362,7 @@ mod tests {
         let mut lateral = 0;
         for i in 0..24 {
             let pose = Pose::from_parts(
-                Vector::new(
-                    rng.range(-0.06, 0.06),
-                    rng.range(-0.06, 0.06),
-                    rng.range(0.05, 0.15),
-                ),
+                Vector::new(rng.range(-0.06, 0.06), rng.range(-0.06, 0.06), rng.range(0.05, 0.15)),
                 rng.rotation(),
             );
             let a = vol.detect(&cuboid, &pose);
@@ -1479,10 +1382,7 @@ mod tests {
                 (a, b) => panic!("case {i}: cuboid {a:?} mesh {b:?}"),
             }
         }
-        assert!(
-            lateral > 0,
-            "the random poses should exercise the lateral path"
-        );
+        assert!(lateral > 0, "the random poses should exercise the lateral path");
     }
 
     fn cuboid_fast_path(vol: &ProximityVolume, cuboid: &Cuboid, pose: &Pose) -> bool {
@@ -1497,10 +1397,7 @@ mod tests {
         let parts = vec![
             (Pose::translation(0.0, 0.0, 0.05), SharedShape::ball(0.01)),
             (
-                Pose::from_parts(
-                    Vector::new(0.03, 0.0, 0.0),
-                    Rotation::from_axis_angle(Vector::Z, 0.4),
-                ),
+                Pose::from_parts(Vector::new(0.03, 0.0, 0.0), Rotation::from_axis_angle(Vector::Z, 0.4)),
                 SharedShape::cuboid(0.01, 0.02, 0.01),
             ),
         ];
@@ -1508,11 +1405,7 @@ mod tests {
         let mut rng = Rng(42);
         for _ in 0..10 {
             let pose = Pose::from_parts(
-                Vector::new(
-                    rng.range(-0.04, 0.04),
-                    rng.range(-0.04, 0.04),
-                    rng.range(0.02, 0.1),
-                ),
+                Vector::new(rng.range(-0.04, 0.04), rng.range(-0.04, 0.04), rng.range(0.02, 0.1)),
                 rng.rotation(),
             );
             let whole = vol.detect(&compound, &pose);
@@ -1562,11 +1455,7 @@ mod tests {
             let mut found = 0;
             for _ in 0..8 {
                 let pose = Pose::from_parts(
-                    Vector::new(
-                        rng.range(-0.08, 0.08),
-                        rng.range(-0.08, 0.08),
-                        rng.range(0.0, 0.3),
-                    ),
+                    Vector::new(rng.range(-0.08, 0.08), rng.range(-0.08, 0.08), rng.range(0.0, 0.3)),
                     rng.rotation(),
                 );
                 if assert_matches_oracle(&vol, shape.as_ref(), &pose).is_some() {
@@ -1584,15 +1473,9 @@ mod tests {
         // arcs. The exact minimum is at the near crossing.
         let vol = small_cone();
         let rod = Capsule::new_x(0.2, 0.0005);
-        let pose = Pose::from_parts(
-            Vector::new(0.04, 0.0, 0.1),
-            Rotation::from_axis_angle(Vector::Y, 0.5),
-        );
+        let pose = Pose::from_parts(Vector::new(0.04, 0.0, 0.1), Rotation::from_axis_angle(Vector::Y, 0.5));
         let hit = assert_matches_oracle(&vol, &rod, &pose).expect("rod crosses the cone");
-        assert!(
-            hit.point.x > 0.0,
-            "near crossing is on the +X side: {hit:?}"
-        );
+        assert!(hit.point.x > 0.0, "near crossing is on the +X side: {hit:?}");
     }
 
     #[test]
@@ -1606,10 +1489,7 @@ mod tests {
         let hit = vol.detect(&floor, &pose).expect("floor in view");
         // Rays dip at most 20° + 15° below the horizon: nearest at 0.05 / sin 35°.
         let expected = 0.05 / 35f32.to_radians().sin();
-        assert!(
-            (hit.distance - expected).abs() <= 1.0e-5,
-            "{hit:?} vs {expected}"
-        );
+        assert!((hit.distance - expected).abs() <= 1.0e-5, "{hit:?} vs {expected}");
         check_hit(&vol, &floor, &pose, &hit);
         assert_matches_oracle(&vol, &floor, &pose);
         // Looking straight down from 0.1 m: fast path.
@@ -1650,10 +1530,7 @@ mod tests {
         assert_eq!(vol.detect(&ball, &Pose::translation(0.0, 0.0, 0.231)), None);
         // Closer than the offset: not detected; straddling the offset: detected at the offset
         // with the normal pointing back.
-        assert_eq!(
-            vol.detect(&Ball::new(0.002), &Pose::translation(0.0, 0.0, 0.005)),
-            None
-        );
+        assert_eq!(vol.detect(&Ball::new(0.002), &Pose::translation(0.0, 0.0, 0.005)), None);
         let hit = vol
             .detect(&ball, &Pose::translation(0.0, 0.0, 0.0))
             .expect("ray starts inside");
@@ -1661,10 +1538,7 @@ mod tests {
         assert_eq!(hit.normal, -Vector::Z);
         // Tilted cuboid: the normal is the face normal, facing the sensor.
         let cuboid = Cuboid::new(Vector::splat(0.02));
-        let pose = Pose::from_parts(
-            Vector::new(0.0, 0.0, 0.1),
-            Rotation::from_axis_angle(Vector::Y, 0.3),
-        );
+        let pose = Pose::from_parts(Vector::new(0.0, 0.0, 0.1), Rotation::from_axis_angle(Vector::Y, 0.3));
         let hit = vol.detect(&cuboid, &pose).expect("cuboid on the ray");
         let face = pose.rotation * -Vector::Z;
         assert!((hit.normal - face).length() <= 1.0e-5, "{hit:?}");
@@ -1753,17 +1627,10 @@ mod tests {
                     rng.range(0.005, 0.1),
                 ))),
                 2 => Box::new(Cylinder::new(rng.range(0.005, 0.1), rng.range(0.005, 0.1))),
-                _ => Box::new(Capsule::new_z(
-                    rng.range(0.005, 0.1),
-                    rng.range(0.005, 0.05),
-                )),
+                _ => Box::new(Capsule::new_z(rng.range(0.005, 0.1), rng.range(0.005, 0.05))),
             };
             let pose = Pose::from_parts(
-                Vector::new(
-                    rng.range(-0.3, 0.3),
-                    rng.range(-0.3, 0.3),
-                    rng.range(-0.05, 0.5),
-                ),
+                Vector::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), rng.range(-0.05, 0.5)),
                 rng.rotation(),
             );
             if assert_matches_oracle(&vol, shape.as_ref(), &pose).is_some() {

@@ -359,11 +359,7 @@ fn parse(path: &str) -> Result<ParsedPath<'_>, String> {
     }
     let slashes = path.bytes().filter(|&b| b == b'/').count();
     // An absolute path's leading `/` produces an empty first token, which is not counted.
-    let tokens = if path.starts_with('/') {
-        slashes
-    } else {
-        slashes + 1
-    };
+    let tokens = if path.starts_with('/') { slashes } else { slashes + 1 };
     if tokens > MAX_PATH_COMPONENTS {
         return Err(format!("more than {MAX_PATH_COMPONENTS} path components"));
     }
@@ -386,9 +382,7 @@ fn parse(path: &str) -> Result<ParsedPath<'_>, String> {
             // Navigation only makes sense before the search starts: after `/a`, "the parent"
             // would be ambiguous because `a` may have been found at any depth.
             Some(_) if !out.relative || !out.comps.is_empty() => {
-                return Err(format!(
-                    "'{tok}' is only allowed at the start of a relative path"
-                ));
+                return Err(format!("'{tok}' is only allowed at the start of a relative path"));
             }
             Some(nav) => out.nav.push(nav),
             None => out.comps.push(parse_component(tok)?),
@@ -403,16 +397,10 @@ fn parse_component(tok: &str) -> Result<Component<'_>, String> {
     }
     let (pattern, selector) = if let Some(body) = tok.strip_suffix(']') {
         let open = body.rfind('[').ok_or("unbalanced ']'")?;
-        (
-            &body[..open],
-            Selector::Sibling(parse_number(&body[open + 1..])?),
-        )
+        (&body[..open], Selector::Sibling(parse_number(&body[open + 1..])?))
     } else if let Some(body) = tok.strip_suffix('}') {
         let open = body.rfind('{').ok_or("unbalanced '}'")?;
-        (
-            &body[..open],
-            Selector::Nth(parse_number(&body[open + 1..])?),
-        )
+        (&body[..open], Selector::Nth(parse_number(&body[open + 1..])?))
     } else {
         (tok, Selector::Plain)
     };
@@ -430,9 +418,8 @@ fn parse_number(s: &str) -> Result<u64, String> {
     if s.is_empty() || !s.bytes().all(|b| b.is_ascii_digit()) {
         return Err(format!("'{s}' is not an unsigned number"));
     }
-    Ok(s.bytes().fold(0u64, |n, b| {
-        n.saturating_mul(10).saturating_add(u64::from(b - b'0'))
-    }))
+    Ok(s.bytes()
+        .fold(0u64, |n, b| n.saturating_mul(10).saturating_add(u64::from(b - b'0'))))
 }
 
 /// Case-sensitive wildcard match: `*` any run of characters (also empty), `?` one character.
@@ -543,12 +530,7 @@ impl Frame {
 }
 
 /// The n-th child (0-based) whose alias matches `pattern`.
-fn nth_matching_child<T: ObjectTree + ?Sized>(
-    tree: &T,
-    children: &[i64],
-    pattern: &str,
-    n: u64,
-) -> Option<i64> {
+fn nth_matching_child<T: ObjectTree + ?Sized>(tree: &T, children: &[i64], pattern: &str, n: u64) -> Option<i64> {
     let n = usize::try_from(n).ok()?;
     children
         .iter()
@@ -667,12 +649,7 @@ fn search_segment<T: ObjectTree + ?Sized>(
 /// Position of `target` among the matches of the single component `pattern` below `base`, in
 /// search order. With one component every object is visited once, so the order is: matching
 /// children, then each child's subtree by the same rule.
-fn position_in_search<T: ObjectTree + ?Sized>(
-    tree: &T,
-    base: Option<i64>,
-    pattern: &str,
-    target: i64,
-) -> Option<u64> {
+fn position_in_search<T: ObjectTree + ?Sized>(tree: &T, base: Option<i64>, pattern: &str, target: i64) -> Option<u64> {
     let mut count = 0u64;
     let mut seen: HashSet<i64> = HashSet::new();
     // (node, phase: false = match children, true = descend, next child)
@@ -910,13 +887,7 @@ mod tests {
     }
 
     impl Tree {
-        fn add(
-            &mut self,
-            parent: Option<&str>,
-            label: &'static str,
-            alias: &str,
-            model: bool,
-        ) -> i64 {
+        fn add(&mut self, parent: Option<&str>, label: &'static str, alias: &str, model: bool) -> i64 {
             let h = 11 + 3 * i64::try_from(self.order.len()).expect("small");
             let parent = parent.map(|p| self.h(p));
             match parent {
@@ -930,19 +901,13 @@ mod tests {
                 model,
             };
             self.nodes.insert(h, node);
-            assert!(
-                self.labels.insert(label, h).is_none(),
-                "duplicate label {label}"
-            );
+            assert!(self.labels.insert(label, h).is_none(), "duplicate label {label}");
             self.order.push(h);
             h
         }
 
         fn h(&self, label: &str) -> i64 {
-            *self
-                .labels
-                .get(label)
-                .unwrap_or_else(|| panic!("no label {label}"))
+            *self.labels.get(label).unwrap_or_else(|| panic!("no label {label}"))
         }
     }
 
@@ -985,15 +950,7 @@ mod tests {
     fn scene() -> Tree {
         let mut t = Tree::default();
         t.add(None, "arm6", "arm6", true);
-        let chain = [
-            "base_link",
-            "joint1",
-            "link1",
-            "joint2",
-            "link2",
-            "joint3",
-            "link3",
-        ];
+        let chain = ["base_link", "joint1", "link1", "joint2", "link2", "joint3", "link3"];
         let mut parent = "arm6";
         for name in chain {
             t.add(Some(parent), name, name, false);
@@ -1008,8 +965,7 @@ mod tests {
         add_bubble_rob(
             &mut t,
             &[
-                "rob0", "lm0", "lw0", "rm0", "rw0", "nose0", "vis0", "conn0", "slider0", "graph0",
-                "", "",
+                "rob0", "lm0", "lw0", "rm0", "rw0", "nose0", "vis0", "conn0", "slider0", "graph0", "", "",
             ],
         );
         t.add(None, "Floor", "Floor", false);
@@ -1028,8 +984,7 @@ mod tests {
         add_bubble_rob(
             &mut t,
             &[
-                "rob1", "lm1", "lw1", "rm1", "rw1", "nose1", "vis1", "conn1", "slider1", "graph1",
-                "", "",
+                "rob1", "lm1", "lw1", "rm1", "rw1", "nose1", "vis1", "conn1", "slider1", "graph1", "", "",
             ],
         );
         t
@@ -1050,11 +1005,7 @@ mod tests {
         let mut failures = Vec::new();
         for &(emitter, path, index, want) in cases {
             let emitter = (!emitter.is_empty()).then(|| t.h(emitter));
-            let q = PathQuery {
-                path,
-                emitter,
-                index,
-            };
+            let q = PathQuery { path, emitter, index };
             let got = resolve(t, &q);
             let ok = match (want, &got) {
                 (Obj(label), Ok(h)) => t.h(label) == *h,
@@ -1407,21 +1358,12 @@ mod tests {
         t.add(None, "r", "Rôbot", true);
         t.add(Some("r"), "c", "ツール", false);
         assert_eq!(resolve(&t, &PathQuery::new("/R?bot/ツ?ル")), Ok(t.h("c")));
-        assert_eq!(
-            resolve(&t, &PathQuery::new("./*").emitted_by(t.h("r"))),
-            Ok(t.h("c"))
-        );
+        assert_eq!(resolve(&t, &PathQuery::new("./*").emitted_by(t.h("r"))), Ok(t.h("c")));
         assert_eq!(resolve(&t, &PathQuery::new("/*").skipping(1)), Ok(t.h("c")));
         assert_eq!(object_alias(&t, t.h("c"), 1), "/Rôbot/ツール");
         // An emitter the tree does not know: no panic, it simply has no parent/children.
-        assert_eq!(
-            resolve(&t, &PathQuery::new("..").emitted_by(9999)).ok(),
-            None
-        );
-        assert_eq!(
-            resolve(&t, &PathQuery::new("./x").emitted_by(9999)).ok(),
-            None
-        );
+        assert_eq!(resolve(&t, &PathQuery::new("..").emitted_by(9999)).ok(), None);
+        assert_eq!(resolve(&t, &PathQuery::new("./x").emitted_by(9999)).ok(), None);
     }
 
     #[test]
@@ -1473,10 +1415,7 @@ mod tests {
         // MAX_PATH_BYTES and so cannot be resolved back.
         let full = object_alias(&t, deepest, 2);
         assert_eq!(full.len(), 2 * 20_000);
-        assert!(
-            object_alias(&t, deepest, 1) == full,
-            "short path should fall back"
-        );
+        assert!(object_alias(&t, deepest, 1) == full, "short path should fall back");
         assert!(matches!(
             resolve(&t, &PathQuery::new(&full)),
             Err(PathError::IllFormatted { .. })
@@ -1496,31 +1435,16 @@ mod tests {
             resolve(&t, &PathQuery::new(&path)),
             Err(PathError::NotFound { .. })
         ));
-        assert_eq!(
-            resolve(&t, &PathQuery::new(&"/*".repeat(64))),
-            Ok(t.h("n63"))
-        );
+        assert_eq!(resolve(&t, &PathQuery::new(&"/*".repeat(64))), Ok(t.h("n63")));
         // Object k matches `/n/…/n` (64 times) through C(k, 63) ancestor chains, more than
         // u64::MAX in total: the memoised counts saturate instead of overflowing.
         let many = "/n".repeat(64);
-        assert_eq!(
-            resolve(&t, &PathQuery::new(&many).skipping(1)),
-            Ok(t.h("n64"))
-        );
+        assert_eq!(resolve(&t, &PathQuery::new(&many).skipping(1)), Ok(t.h("n64")));
         // Depth-first: the last component first runs down the whole chain below n63.
-        assert_eq!(
-            resolve(&t, &PathQuery::new(&many).skipping(65)),
-            Ok(t.h("n128"))
-        );
-        assert_eq!(
-            resolve(&t, &PathQuery::new(&many).skipping(2936)),
-            Ok(t.h("n2999"))
-        );
+        assert_eq!(resolve(&t, &PathQuery::new(&many).skipping(65)), Ok(t.h("n128")));
+        assert_eq!(resolve(&t, &PathQuery::new(&many).skipping(2936)), Ok(t.h("n2999")));
         // …and then the same objects again through other chains.
-        assert_eq!(
-            resolve(&t, &PathQuery::new(&many).skipping(2937)),
-            Ok(t.h("n64"))
-        );
+        assert_eq!(resolve(&t, &PathQuery::new(&many).skipping(2937)), Ok(t.h("n64")));
         assert!(resolve(&t, &PathQuery::new(&many).skipping(usize::MAX)).is_ok());
         assert!(start.elapsed().as_secs() < 60, "took {:?}", start.elapsed());
     }
@@ -1586,8 +1510,7 @@ mod tests {
             (
                 "finger",
                 2,
-                "/arm6/base_link/joint1/link1/joint2/link2/joint3/link3/forceSensor/gripper/fingerJoint/finger"
-                    .into(),
+                "/arm6/base_link/joint1/link1/joint2/link2/joint3/link3/forceSensor/gripper/fingerJoint/finger".into(),
             ),
             ("Floor", 3, "Floor".into()),
             ("tip", 3, "tip".into()),
@@ -1613,9 +1536,7 @@ mod tests {
         for (label, option, want) in cases {
             let got = object_alias(&t, h(label), *option);
             if &got != want {
-                failures.push(format!(
-                    "{label} option {option}: want {want:?}, got {got:?}"
-                ));
+                failures.push(format!("{label} option {option}: want {want:?}, got {got:?}"));
             }
         }
         assert!(failures.is_empty(), "{}", failures.join("\n"));

@@ -149,7 +149,9 @@ impl Physics {
                         let ObjectKind::Joint(joint) = (tree.kind)(j) else {
                             unreachable!("above() returned a joint")
                         };
-                        if joint.mode == JointMode::Kinematic {
+                        // A fixed joint has nothing to drive: its dynamic child is a rigid
+                        // multibody link whatever the mode says.
+                        if joint.mode == JointMode::Kinematic && joint.joint_type != JointType::Fixed {
                             p.new_body(h, &pose, BodyRole::Kinematic, shape);
                         } else {
                             let parent_body = p.parent_body(tree, j, &mut anchor);
@@ -185,6 +187,18 @@ impl Physics {
                         p.new_body(h, &pose, BodyRole::Fixed, shape);
                     }
                 }
+            }
+        }
+        for &h in order {
+            if let ObjectKind::Joint(j) = (tree.kind)(h)
+                && j.mode != JointMode::Kinematic
+                && j.joint_type != JointType::Fixed
+                && !p.joints.contains_key(&h)
+            {
+                warnings.push(format!(
+                    "joint {h} is in {:?} mode but has no dynamic shape below it, so it cannot move; make its child shape dynamic or use kinematic mode",
+                    j.mode
+                ));
             }
         }
         p
@@ -248,11 +262,7 @@ impl Physics {
                 i[(2, 2)] as f32,
             ]);
             let com = rapier3d::math::Vector::new(com[0] as f32, com[1] as f32, com[2] as f32);
-            builder = builder.additional_mass_properties(MassProperties::with_inertia_matrix(
-                com,
-                mass as f32,
-                mat,
-            ));
+            builder = builder.additional_mass_properties(MassProperties::with_inertia_matrix(com, mass as f32, mat));
         }
         let handle = self.world.insert_body(builder);
         self.bodies.push(BodyEntry {
@@ -268,11 +278,7 @@ impl Physics {
 
     /// Adds one collider per geometry part of `shape`, placed at `rel` in the body frame.
     fn add_colliders(&mut self, h: Handle, bi: usize, rel: &Pose, shape: &ShapeModel) {
-        let volume: f64 = shape
-            .geoms
-            .iter()
-            .map(|g| geometry_volume(&g.geometry))
-            .sum();
+        let volume: f64 = shape.geoms.iter().map(|g| geometry_volume(&g.geometry)).sum();
         let density = match shape.mass {
             MassModel::Density(d) => d,
             MassModel::Mass(m) if volume > 0.0 => m / volume,
@@ -355,7 +361,14 @@ impl Physics {
         match self.world.multibody_joints.insert(b1, b2, data, true) {
             Some(handle) => {
                 if joint.joint_type != JointType::Fixed {
-                    self.joints.insert(j, JointBinding { joint: handle, coord, axis });
+                    self.joints.insert(
+                        j,
+                        JointBinding {
+                            joint: handle,
+                            coord,
+                            axis,
+                        },
+                    );
                     // frame2 was taken at the tree's current position q0, so rapier's
                     // coordinate must start at q0 too for the two to agree.
                     if let Some((mb, link)) = self.world.multibody_joints.get_mut(handle)
@@ -396,11 +409,7 @@ impl Physics {
 }
 
 /// Sets a joint's motor from its mode and targets (ForceBased: torque = kp e + kd ė).
-pub(crate) fn configure_motor(
-    data: &mut GenericJoint,
-    axis: JointAxis,
-    joint: &super::object::Joint,
-) {
+pub(crate) fn configure_motor(data: &mut GenericJoint, axis: JointAxis, joint: &super::object::Joint) {
     match joint.mode {
         JointMode::Position => {
             data.set_motor(
@@ -412,13 +421,7 @@ pub(crate) fn configure_motor(
             );
         }
         JointMode::Velocity => {
-            data.set_motor(
-                axis,
-                0.0,
-                joint.target_velocity as f32,
-                0.0,
-                joint.kd as f32,
-            );
+            data.set_motor(axis, 0.0, joint.target_velocity as f32, 0.0, joint.kd as f32);
         }
         JointMode::Kinematic => {
             data.set_motor(axis, 0.0, 0.0, 0.0, 0.0);
@@ -434,15 +437,11 @@ fn shared_shape(g: &Geometry) -> (SharedShape, Pose) {
     match g {
         Geometry::Box {
             half_extents: [x, y, z],
-        } => (
-            SharedShape::cuboid(*x as f32, *y as f32, *z as f32),
-            Pose::identity(),
-        ),
+        } => (SharedShape::cuboid(*x as f32, *y as f32, *z as f32), Pose::identity()),
         Geometry::Sphere { radius } => (SharedShape::ball(*radius as f32), Pose::identity()),
-        Geometry::Cylinder { radius, length } => (
-            SharedShape::cylinder((*length / 2.0) as f32, *radius as f32),
-            y_to_z,
-        ),
+        Geometry::Cylinder { radius, length } => {
+            (SharedShape::cylinder((*length / 2.0) as f32, *radius as f32), y_to_z)
+        }
         Geometry::Capsule { radius, length } => (
             SharedShape::capsule_z((*length / 2.0) as f32, *radius as f32),
             Pose::identity(),
@@ -472,9 +471,7 @@ fn geometry_volume(g: &Geometry) -> f64 {
         } => 8.0 * x * y * z,
         Geometry::Sphere { radius } => 4.0 / 3.0 * PI * radius.powi(3),
         Geometry::Cylinder { radius, length } => PI * radius * radius * length,
-        Geometry::Capsule { radius, length } => {
-            PI * radius * radius * length + 4.0 / 3.0 * PI * radius.powi(3)
-        }
+        Geometry::Capsule { radius, length } => PI * radius * radius * length + 4.0 / 3.0 * PI * radius.powi(3),
         Geometry::Mesh(m) => {
             let mut lo = [f64::MAX; 3];
             let mut hi = [f64::MIN; 3];

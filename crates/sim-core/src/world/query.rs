@@ -36,11 +36,7 @@ impl World {
     ///
     /// # Errors
     /// An unknown object or collection.
-    pub fn entity_shapes(
-        &self,
-        entity: Handle,
-        exclude: &[Handle],
-    ) -> Result<Vec<Handle>, SimError> {
+    pub fn entity_shapes(&self, entity: Handle, exclude: &[Handle]) -> Result<Vec<Handle>, SimError> {
         let mut out: Vec<Handle> = if entity == -2 {
             self.handles()
                 .iter()
@@ -116,11 +112,7 @@ impl World {
         let colliders = &self.physics().world.colliders;
         let mut best: Option<DistanceResult> = None;
         let limit = |best: &Option<DistanceResult>| {
-            let t = if threshold > 0.0 {
-                threshold
-            } else {
-                f64::INFINITY
-            };
+            let t = if threshold > 0.0 { threshold } else { f64::INFINITY };
             best.map_or(t, |r| r.distance.min(t))
         };
         for &ha in a {
@@ -144,18 +136,9 @@ impl World {
                         if gap >= lim {
                             continue;
                         }
-                        let max = if lim.is_finite() {
-                            lim as f32
-                        } else {
-                            f32::MAX
-                        };
-                        let Ok(cp) = query::closest_points(
-                            c1.position(),
-                            c1.shape(),
-                            c2.position(),
-                            c2.shape(),
-                            max,
-                        ) else {
+                        let max = if lim.is_finite() { lim as f32 } else { f32::MAX };
+                        let Ok(cp) = query::closest_points(c1.position(), c1.shape(), c2.position(), c2.shape(), max)
+                        else {
                             continue;
                         };
                         let (p1, p2) = match cp {
@@ -200,13 +183,8 @@ impl World {
                         let Some(c2) = colliders.get(cb) else {
                             continue;
                         };
-                        if query::intersection_test(
-                            c1.position(),
-                            c1.shape(),
-                            c2.position(),
-                            c2.shape(),
-                        )
-                        .is_ok_and(|i| i.intersecting)
+                        if query::intersection_test(c1.position(), c1.shape(), c2.position(), c2.shape())
+                            .is_ok_and(|i| i.intersecting)
                         {
                             return Some([ha, hb]);
                         }

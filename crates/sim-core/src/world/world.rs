@@ -91,15 +91,10 @@ impl World {
                     }
                     ObjectModelKind::Dummy => ObjectKind::Dummy,
                     ObjectModelKind::ProximitySensor(v) => {
-                        ObjectKind::ProximitySensor(ProximitySensor {
-                            volume: *v,
-                            last: None,
-                        })
+                        ObjectKind::ProximitySensor(ProximitySensor { volume: *v, last: None })
                     }
                     ObjectModelKind::VisionSensor(v) => ObjectKind::VisionSensor(*v),
-                    ObjectModelKind::ForceSensor => {
-                        ObjectKind::ForceSensor(ForceReading::default())
-                    }
+                    ObjectModelKind::ForceSensor => ObjectKind::ForceSensor(ForceReading::default()),
                     ObjectModelKind::Graph => ObjectKind::Graph,
                 },
             })
@@ -245,12 +240,7 @@ impl World {
     ///
     /// # Errors
     /// [`SimError::PathNotFound`].
-    pub fn find(
-        &self,
-        path: &str,
-        emitter: Option<Handle>,
-        index: usize,
-    ) -> Result<Handle, SimError> {
+    pub fn find(&self, path: &str, emitter: Option<Handle>, index: usize) -> Result<Handle, SimError> {
         let mut q = PathQuery::new(path).skipping(index);
         if let Some(e) = emitter {
             q = q.emitted_by(e);
@@ -318,8 +308,7 @@ impl World {
             if let Some(&(bi, rel)) = self.physics.body_of.get(&cur) {
                 let entry = &self.physics.bodies[bi];
                 if entry.object == cur {
-                    let pose =
-                        math::to_physics(&(self.objects[cur as usize].world * rel.inverse()));
+                    let pose = math::to_physics(&(self.objects[cur as usize].world * rel.inverse()));
                     if let Some(rb) = self.physics.world.bodies.get_mut(entry.handle) {
                         match entry.role {
                             BodyRole::Kinematic => rb.set_next_kinematic_position(pose),
@@ -424,9 +413,7 @@ impl World {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_max_force(&mut self, h: Handle, f: f64) -> Result<(), SimError> {
         if !f.is_finite() {
-            return Err(SimError::InvalidArgument(format!(
-                "force must be finite, got {f}"
-            )));
+            return Err(SimError::InvalidArgument(format!("force must be finite, got {f}")));
         }
         self.joint_mut(h)?.max_force = f.abs();
         self.push_motor(h);
@@ -457,9 +444,7 @@ impl World {
             if e.role == BodyRole::Kinematic
                 && let Some(rb) = self.physics.world.bodies.get_mut(e.handle)
             {
-                rb.set_next_kinematic_position(math::to_physics(
-                    &self.objects[e.object as usize].world,
-                ));
+                rb.set_next_kinematic_position(math::to_physics(&self.objects[e.object as usize].world));
             }
         }
         for _ in 0..self.physics.substeps {
@@ -487,11 +472,10 @@ impl World {
                     j.position = if j.cyclic { math::wrap_angle(q) } else { q };
                     j.velocity = vel;
                     j.force = match j.mode {
-                        JointMode::Position => (j.kp * (j.target_position - q) - j.kd * vel)
-                            .clamp(-j.max_force, j.max_force),
-                        JointMode::Velocity => {
-                            (j.kd * (j.target_velocity - vel)).clamp(-j.max_force, j.max_force)
+                        JointMode::Position => {
+                            (j.kp * (j.target_position - q) - j.kd * vel).clamp(-j.max_force, j.max_force)
                         }
+                        JointMode::Velocity => (j.kd * (j.target_velocity - vel)).clamp(-j.max_force, j.max_force),
                         JointMode::Kinematic => 0.0,
                     };
                 }
@@ -503,8 +487,7 @@ impl World {
             let h = self.order[i];
             let world = match self.physics.body_of.get(&h) {
                 Some(&(bi, rel))
-                    if self.physics.bodies[bi].object == h
-                        && self.physics.bodies[bi].role == BodyRole::Free =>
+                    if self.physics.bodies[bi].object == h && self.physics.bodies[bi].role == BodyRole::Free =>
                 {
                     self.physics
                         .world
@@ -531,10 +514,8 @@ impl World {
                 let scale = 1.0 / self.physics.substep_dt;
                 if let ObjectKind::ForceSensor(r) = &mut self.objects[h as usize].kind {
                     r.valid = true;
-                    r.force =
-                        Vec3::new(f64::from(imp[0]), f64::from(imp[1]), f64::from(imp[2])) * scale;
-                    r.torque =
-                        Vec3::new(f64::from(imp[3]), f64::from(imp[4]), f64::from(imp[5])) * scale;
+                    r.force = Vec3::new(f64::from(imp[0]), f64::from(imp[1]), f64::from(imp[2])) * scale;
+                    r.torque = Vec3::new(f64::from(imp[3]), f64::from(imp[4]), f64::from(imp[5])) * scale;
                 }
             }
         }
@@ -550,12 +531,7 @@ impl World {
         let Some(&(bi, _)) = self.physics.body_of.get(&h) else {
             return Ok((Vec3::zeros(), Vec3::zeros()));
         };
-        let Some(rb) = self
-            .physics
-            .world
-            .bodies
-            .get(self.physics.bodies[bi].handle)
-        else {
+        let Some(rb) = self.physics.world.bodies.get(self.physics.bodies[bi].handle) else {
             return Ok((Vec3::zeros(), Vec3::zeros()));
         };
         let w = math::vec_from_physics(rb.angvel());
@@ -645,20 +621,13 @@ impl World {
 
     /// Shapes (with their colliders) for distance and collision queries.
     pub(crate) fn colliders_of(&self, h: Handle) -> &[ColliderHandle] {
-        self.physics
-            .object_colliders
-            .get(&h)
-            .map_or(&[], Vec::as_slice)
+        self.physics.object_colliders.get(&h).map_or(&[], Vec::as_slice)
     }
 
     /// Pose of a rapier body as the physics engine sees it (f32), for consistency tests.
     pub fn physics_pose(&self, h: Handle) -> Option<Pose> {
         let &(bi, rel) = self.physics.body_of.get(&h)?;
-        let rb = self
-            .physics
-            .world
-            .bodies
-            .get(self.physics.bodies[bi].handle)?;
+        let rb = self.physics.world.bodies.get(self.physics.bodies[bi].handle)?;
         Some(math::from_physics(rb.position()) * rel)
     }
 }
@@ -668,17 +637,13 @@ impl ObjectTree for World {
         &self.roots
     }
     fn children(&self, h: i64) -> &[i64] {
-        self.objects
-            .get(h as usize)
-            .map_or(&[], |o| o.children.as_slice())
+        self.objects.get(h as usize).map_or(&[], |o| o.children.as_slice())
     }
     fn parent(&self, h: i64) -> Option<i64> {
         self.objects.get(h as usize).and_then(|o| o.parent)
     }
     fn alias(&self, h: i64) -> &str {
-        self.objects
-            .get(h as usize)
-            .map_or("", |o| o.alias.as_str())
+        self.objects.get(h as usize).map_or("", |o| o.alias.as_str())
     }
     fn is_model_base(&self, h: i64) -> bool {
         self.objects.get(h as usize).is_some_and(|o| o.model_base)

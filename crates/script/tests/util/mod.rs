@@ -1,0 +1,243 @@
+//! Helpers shared by the Lua host's integration tests: temporary scene folders with
+//! inline scripts, the BubbleRob scene with a replacement script, and value accessors.
+#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene};
+use gantry_sim_core::{Handle, Value};
+
+/// A folder under the system temp dir, removed when dropped.
+pub struct TempDir {
+    path: PathBuf,
+}
+
+impl TempDir {
+    /// A fresh, empty folder whose name contains `tag`, the process id and a counter.
+    pub fn new(tag: &str) -> Self {
+        static NEXT: AtomicUsize = AtomicUsize::new(0);
+        let n = NEXT.fetch_add(1, Ordering::Relaxed);
+        let path = std::env::temp_dir().join(format!("gantry-script-test-{tag}-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&path);
+        std::fs::create_dir_all(&path).expect("create the temp dir");
+        Self { path }
+    }
+
+    /// The folder.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Writes `text` to `name` inside the folder and returns the file's path.
+    pub fn write(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.path.join(name);
+        std::fs::write(&p, text).expect("write a temp file");
+        p
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.path);
+    }
+}
+
+/// A file of the repository, given relative to its root.
+pub fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel)
+}
+
+/// Loads a scene file from disk.
+pub fn load(path: &Path) -> SceneModel {
+    load_scene(&DiskFiles, path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{} loads: {e}", path.display()))
+}
+
+/// The text of `assets/scenes/bubble_rob.toml` with the rover's script replaced by
+/// `script` (a file name relative to the scene), or removed for `None`.
+pub fn bubble_rob_toml(script: Option<&str>) -> String {
+    let text = std::fs::read_to_string(repo("assets/scenes/bubble_rob.toml")).expect("bubble_rob.toml is readable");
+    let original = "script = \"../../scripts/bubble_rob.lua\"";
+    assert!(
+        text.contains(original),
+        "bubble_rob.toml no longer attaches scripts/bubble_rob.lua"
+    );
+    let replacement = script.map_or(String::new(), |s| format!("script = \"{s}\""));
+    text.replace(original, &replacement)
+}
+
+/// A scene written to a temporary folder, and its simulation.
+pub struct Scene {
+    /// The simulation (dropped before the folder).
+    pub sim: Simulation,
+    /// The scene file.
+    pub path: PathBuf,
+    /// The folder holding the scene and its scripts.
+    pub dir: TempDir,
+}
+
+impl Scene {
+    /// Writes `toml` as `scene.toml` and each `(name, text)` of `files` next to it, loads
+    /// it and builds the simulation with `limits` (not started).
+    pub fn new(tag: &str, toml: &str, files: &[(&str, &str)], limits: ScriptLimits) -> Self {
+        let dir = TempDir::new(tag);
+        for (name, text) in files {
+            dir.write(name, text);
+        }
+        let path = dir.write("scene.toml", toml);
+        let sim = Simulation::new(load(&path), limits).expect("the simulation builds");
+        Self { sim, path, dir }
+    }
+
+    /// BubbleRob's scene with `source` as the rover's script (`probe.lua`), started
+    /// (so `sysCall_init` has run).
+    pub fn rover(tag: &str, source: &str) -> Self {
+        let mut s = Self::new(
+            tag,
+            &bubble_rob_toml(Some("probe.lua")),
+            &[("probe.lua", source)],
+            ScriptLimits::default(),
+        );
+        s.sim.start();
+        s
+    }
+
+    /// Calls the script function `f` (see [`call`]).
+    pub fn call(&mut self, f: &str, args: &[Value]) -> Vec<Value> {
+        call(&mut self.sim, f, args)
+    }
+
+    /// Calls `sim.<name>` as a remote client would, expecting success.
+    pub fn remote(&mut self, name: &str, args: &[Value]) -> Vec<Value> {
+        self.sim
+            .call(name, args)
+            .unwrap_or_else(|e| panic!("remote sim.{name} failed: {e}"))
+    }
+
+    /// A handle by absolute path.
+    pub fn find(&self, path: &str) -> Handle {
+        find(&self.sim, path)
+    }
+}
+
+/// Calls the global function `f` of the scripts, expecting a script to define it and
+/// the call to succeed.
+pub fn call(sim: &mut Simulation, f: &str, args: &[Value]) -> Vec<Value> {
+    match sim.call_hook_function(f, args) {
+        Ok(Some(v)) => v,
+        Ok(None) => panic!("no running script defines {f}; scripts: {:?}", sim.scripts()),
+        Err(e) => panic!("{f} raised: {e}"),
+    }
+}
+
+/// A handle by absolute path, resolved by the world directly.
+pub fn find(sim: &Simulation, path: &str) -> Handle {
+    sim.world().find(path, None, 0).expect(path)
+}
+
+/// Lua source of `err(f, ...)`: calls `f` in protected mode, fails if it succeeds and
+/// returns the error message otherwise. Append it to probe scripts.
+pub const LUA_ERR: &str = "
+function err(f, ...)
+    local ok, e = pcall(f, ...)
+    if ok then error('expected an error, the call succeeded', 2) end
+    return tostring(e)
+end
+";
+
+/// A number.
+pub fn num(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("expected a number, got {v:?}"))
+}
+
+/// An integer.
+pub fn int(v: &Value) -> i64 {
+    match v {
+        Value::Int(i) => *i,
+        other => panic!("expected an integer, got {other:?}"),
+    }
+}
+
+/// A string.
+pub fn text(v: &Value) -> &str {
+    v.as_str().unwrap_or_else(|| panic!("expected a string, got {v:?}"))
+}
+
+/// An array of numbers.
+pub fn floats(v: &Value) -> Vec<f64> {
+    match v {
+        Value::Array(items) => items.iter().map(num).collect(),
+        other => panic!("expected an array of numbers, got {other:?}"),
+    }
+}
+
+/// An array of integers.
+pub fn ints(v: &Value) -> Vec<i64> {
+    match v {
+        Value::Array(items) => items.iter().map(int).collect(),
+        other => panic!("expected an array of integers, got {other:?}"),
+    }
+}
+
+/// Asserts that `actual` and `expected` have the same length and agree within `tol`.
+#[track_caller]
+pub fn assert_close(actual: &[f64], expected: &[f64], tol: f64) {
+    assert_eq!(actual.len(), expected.len(), "{actual:?} vs expected {expected:?}");
+    for (a, e) in actual.iter().zip(expected) {
+        assert!(
+            (a - e).abs() <= tol,
+            "{actual:?} vs expected {expected:?} (tolerance {tol})"
+        );
+    }
+}
+
+/// Asserts that `message` contains every one of `parts`.
+#[track_caller]
+pub fn assert_contains(message: &str, parts: &[&str]) {
+    for p in parts {
+        assert!(message.contains(p), "{message:?} does not contain {p:?}");
+    }
+}
+
+/// Every log line as `(source, verbosity, message)`.
+pub fn log_lines(sim: &Simulation) -> Vec<(String, i64, String)> {
+    sim.world()
+        .log
+        .lines()
+        .map(|l| (l.source.clone(), l.verbosity, l.message.clone()))
+        .collect()
+}
+
+/// The messages logged by `source`, oldest first.
+pub fn messages_from(sim: &Simulation, source: &str) -> Vec<String> {
+    log_lines(sim)
+        .into_iter()
+        .filter(|(s, _, _)| s == source)
+        .map(|(_, _, m)| m)
+        .collect()
+}
+
+/// The state of the script whose file name is `file`.
+pub fn script_state(sim: &Simulation, file: &str) -> ScriptState {
+    sim.scripts()
+        .into_iter()
+        .find(|(p, _, _)| p.file_name().and_then(|n| n.to_str()) == Some(file))
+        .map(|(_, _, s)| s)
+        .unwrap_or_else(|| panic!("no script {file}"))
+}
+
+/// The error text of an errored script, or a panic if it is running.
+pub fn script_error(sim: &Simulation, file: &str) -> String {
+    match script_state(sim, file) {
+        ScriptState::Errored(e) => e,
+        ScriptState::Running => panic!("script {file} is still running"),
+    }
+}
+
+/// Position of `h` in the world frame, read from the world directly.
+pub fn world_position(sim: &Simulation, h: Handle) -> [f64; 3] {
+    let w = sim.world();
+    let p = w.object(h).expect("object exists").world.translation.vector;
+    [p.x, p.y, p.z]
+}

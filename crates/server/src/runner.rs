@@ -1,0 +1,187 @@
+//! Wiring: bind the listeners, start the simulation thread, shut everything down
+//! together on Ctrl-C, SIGTERM or the end of the run.
+
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use gantry_sim_core::scene::SceneModel;
+use tokio::net::TcpListener;
+use tokio::sync::watch;
+
+use crate::sim_thread::{RunSummary, SimConfig, channel, run_sim_thread};
+
+/// Which listeners to open. A port of `None` disables that listener; `Some(0)` lets
+/// the OS pick a free port (the bound address is logged).
+#[derive(Debug, Clone)]
+pub struct ServeConfig {
+    /// Address every listener binds (default 127.0.0.1).
+    pub bind: IpAddr,
+    /// Text command channel.
+    pub text_port: Option<u16>,
+    /// ZMQ remote API.
+    pub zmq_port: Option<u16>,
+    /// Limits of the text channel.
+    pub text: crate::text::TextConfig,
+}
+
+impl Default for ServeConfig {
+    fn default() -> Self {
+        Self {
+            bind: IpAddr::V4(Ipv4Addr::LOCALHOST),
+            text_port: None,
+            zmq_port: None,
+            text: crate::text::TextConfig::default(),
+        }
+    }
+}
+
+/// Why a run could not start or finish.
+#[derive(Debug, thiserror::Error)]
+pub enum ServerError {
+    /// A listener could not bind.
+    #[error("cannot listen on {addr}: {source} (is another gantry running? choose another port, or 0 for any)")]
+    Bind {
+        /// The address.
+        addr: SocketAddr,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The async runtime could not start.
+    #[error("cannot start the network runtime: {0}")]
+    Runtime(std::io::Error),
+    /// The simulation could not be created.
+    #[error(transparent)]
+    Script(#[from] gantry_script::ScriptError),
+    /// The simulation thread panicked.
+    #[error("the simulation thread panicked: {0}")]
+    Panic(String),
+}
+
+/// Shared shutdown flag: set by signals or by the caller.
+#[derive(Clone, Default)]
+pub struct Shutdown(Arc<AtomicBool>);
+
+impl Shutdown {
+    /// Asks everything to stop.
+    pub fn trigger(&self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
+    /// Whether a stop was asked for.
+    pub fn is_triggered(&self) -> bool {
+        self.0.load(Ordering::SeqCst)
+    }
+}
+
+/// Addresses the listeners bound, reported through `on_ready`.
+#[derive(Debug, Clone, Default)]
+pub struct BoundAddrs {
+    /// Text channel.
+    pub text: Option<SocketAddr>,
+    /// ZMQ remote API.
+    pub zmq: Option<SocketAddr>,
+}
+
+/// Runs a scene with its listeners until the run ends or `shutdown` triggers (Ctrl-C
+/// and SIGTERM trigger it too). Returns the run summary after cleanup hooks ran and
+/// every socket closed.
+///
+/// # Errors
+/// A listener could not bind, or the simulation could not start.
+pub fn run(
+    model: SceneModel,
+    sim: SimConfig,
+    serve: ServeConfig,
+    shutdown: Shutdown,
+    on_ready: impl FnOnce(&BoundAddrs),
+) -> Result<RunSummary, ServerError> {
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .map_err(ServerError::Runtime)?;
+    let (handle, rx) = channel();
+    let (stop_tx, stop_rx) = watch::channel(false);
+
+    let bound = rt.block_on(async {
+        let mut bound = BoundAddrs::default();
+        if let Some(port) = serve.text_port {
+            let addr = SocketAddr::new(serve.bind, port);
+            let listener = TcpListener::bind(addr)
+                .await
+                .map_err(|source| ServerError::Bind { addr, source })?;
+            let local = listener
+                .local_addr()
+                .map_err(|source| ServerError::Bind { addr, source })?;
+            tracing::info!("text command channel listening on {local}");
+            bound.text = Some(local);
+            tokio::spawn(crate::text::serve(
+                listener,
+                handle.clone(),
+                serve.text.clone(),
+                stop_rx.clone(),
+            ));
+        }
+        if let Some(port) = serve.zmq_port {
+            let addr = SocketAddr::new(serve.bind, port);
+            let (socket, local) = crate::zmq::bind(addr).await.map_err(|source| ServerError::Bind { addr, source })?;
+            tracing::info!("ZMQ remote API listening on {local}");
+            bound.zmq = Some(local);
+            tokio::spawn(crate::zmq::serve(socket, handle.clone(), crate::zmq::ZmqConfig::default(), stop_rx.clone()));
+        }
+        Ok::<_, ServerError>(bound)
+    })?;
+    if !serve.bind.is_loopback() {
+        tracing::warn!(
+            "listening on {} (not loopback): anyone who can reach this machine can drive the simulation",
+            serve.bind
+        );
+    }
+    on_ready(&bound);
+
+    // Signals only set the flag; the simulation thread notices it between steps.
+    {
+        let shutdown = shutdown.clone();
+        rt.spawn(async move {
+            wait_for_signal().await;
+            tracing::info!("stopping (signal received)");
+            shutdown.trigger();
+        });
+    }
+    let sim_shutdown = shutdown.clone();
+    let sim_thread = std::thread::Builder::new()
+        .name("gantry-sim".into())
+        .spawn(move || run_sim_thread(model, sim, rx, || sim_shutdown.is_triggered()))
+        .map_err(ServerError::Runtime)?;
+    drop(handle);
+    let result = sim_thread.join().map_err(|p| {
+        ServerError::Panic(
+            p.downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| (*s).to_owned()))
+                .unwrap_or_default(),
+        )
+    })?;
+    let _ = stop_tx.send(true);
+    rt.shutdown_timeout(std::time::Duration::from_secs(2));
+    Ok(result?)
+}
+
+async fn wait_for_signal() {
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{SignalKind, signal};
+        let Ok(mut term) = signal(SignalKind::terminate()) else {
+            let _ = tokio::signal::ctrl_c().await;
+            return;
+        };
+        tokio::select! {
+            _ = tokio::signal::ctrl_c() => {}
+            _ = term.recv() => {}
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = tokio::signal::ctrl_c().await;
+    }
+}

@@ -1,0 +1,420 @@
+//! The simulation thread: the only owner of the world and the Lua state.
+//!
+//! Transports never touch the world. They send [`Request`]s through a bounded channel
+//! ([`SimHandle`]) and await the reply on a oneshot. The thread steps the simulation on
+//! its real-time schedule and, between steps — including while it waits for the next
+//! tick — serves every request as soon as it arrives, so a reply never waits for the
+//! next 50 ms step.
+
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
+use std::time::{Duration, Instant};
+
+use gantry_script::{ScriptLimits, Simulation};
+use gantry_sim_core::Value;
+use gantry_sim_core::scene::SceneModel;
+use gantry_sim_core::world::SimulationState;
+use tokio::sync::oneshot;
+
+use crate::stepping::{ClientId, Stepping, SteppingError};
+
+/// Most requests queued for the simulation thread; beyond this, transports answer
+/// "busy" instead of growing memory.
+pub const QUEUE_CAPACITY: usize = 4096;
+
+/// A request to the simulation thread.
+pub enum Request {
+    /// Call `sim.<name>(args)` as a remote client (no emitting object).
+    Call {
+        /// Function name without `sim.`.
+        name: String,
+        /// Arguments.
+        args: Vec<Value>,
+        /// The results or a CoppeliaSim-style error message.
+        reply: oneshot::Sender<Result<Vec<Value>, String>>,
+    },
+    /// Deliver a text packet to the scripts' `sysCall_packet(packet)`.
+    Packet {
+        /// The packet as a table (see `text` module docs).
+        packet: Value,
+        /// What the scripts answered.
+        reply: oneshot::Sender<PacketOutcome>,
+    },
+    /// Start, pause or stop the simulation, or do a single step while paused.
+    Control {
+        /// What to do.
+        action: Control,
+        /// The state afterwards.
+        reply: oneshot::Sender<SimulationState>,
+    },
+    /// A remote API client's simulation control or stepping call (see [`RemoteOp`]).
+    Remote {
+        /// The client, for per-client stepping levels and locks.
+        client: ClientId,
+        /// What to do.
+        op: RemoteOp,
+        /// The results (as for [`Request::Call`]) or a CoppeliaSim-style error message.
+        reply: oneshot::Sender<Result<Vec<Value>, String>>,
+    },
+    /// `sim.step()` of a remote client: answered on `done` once the simulation has taken
+    /// the next step (at once if it is stopped or paused; see [`crate::stepping`]).
+    Step {
+        /// The client asking.
+        client: ClientId,
+        /// Sent to (or dropped, if the simulation ends) when the step is done.
+        done: oneshot::Sender<()>,
+    },
+    /// A remote client left or timed out: forget its stepping level and locks, so it
+    /// can no longer hold the simulation.
+    DropClient(ClientId),
+    /// Run a closure on the simulation thread (for viewer snapshots and tests).
+    With(Box<dyn FnOnce(&mut Simulation) + Send>),
+}
+
+/// Remote-API functions that live in the transport layer rather than in the core,
+/// because they concern the client or the simulation loop, not the world.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RemoteOp {
+    /// `sim.setStepping(enable)`: returns the client's previous stepping level.
+    SetStepping(bool),
+    /// `sim.startSimulation()`: start, or resume from pause (`sysCall_init` runs on start).
+    Start,
+    /// `sim.pauseSimulation()`.
+    Pause,
+    /// `sim.stopSimulation()`: cleanup, initial scene restored, stepping levels reset.
+    Stop,
+    /// `sim.acquireLock()` (`true`) or `sim.releaseLock()` (`false`).
+    Lock(bool),
+}
+
+/// Simulation controls.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    /// Start or resume.
+    Start,
+    /// Pause.
+    Pause,
+    /// Stop: cleanup hooks run and the scene returns to its initial state.
+    Stop,
+    /// One step, whatever the state (a stopped simulation starts, then pauses).
+    Step,
+}
+
+/// What the scripts did with a packet.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PacketOutcome {
+    /// A script returned this string.
+    Reply(String),
+    /// A script handled it and returned nothing (the transport echoes the packet).
+    Handled,
+    /// No running script defines `sysCall_packet`.
+    NoHandler,
+    /// The handling script raised this error.
+    Error(String),
+}
+
+/// Why a request could not be delivered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum SendError {
+    /// The queue is full: the simulation is overloaded.
+    #[error("the simulator is busy (request queue full); retry later")]
+    Busy,
+    /// The simulation thread has ended.
+    #[error("the simulation has ended")]
+    Closed,
+}
+
+/// A cloneable handle to the simulation thread.
+#[derive(Clone)]
+pub struct SimHandle {
+    tx: SyncSender<Request>,
+}
+
+impl SimHandle {
+    /// Queues a request without blocking.
+    ///
+    /// # Errors
+    /// [`SendError::Busy`] when the queue is full, [`SendError::Closed`] after shutdown.
+    pub fn send(&self, req: Request) -> Result<(), SendError> {
+        self.tx.try_send(req).map_err(|e| match e {
+            TrySendError::Full(_) => SendError::Busy,
+            TrySendError::Disconnected(_) => SendError::Closed,
+        })
+    }
+
+    /// Calls `sim.<name>` and awaits the result.
+    ///
+    /// # Errors
+    /// The call's error message, or why it could not be delivered.
+    pub async fn call(&self, name: &str, args: Vec<Value>) -> Result<Vec<Value>, String> {
+        let (reply, rx) = oneshot::channel();
+        self.send(Request::Call {
+            name: name.to_owned(),
+            args,
+            reply,
+        })
+        .map_err(|e| e.to_string())?;
+        rx.await.map_err(|_| SendError::Closed.to_string())?
+    }
+
+    /// Sends a control action and awaits the resulting state.
+    ///
+    /// # Errors
+    /// Why it could not be delivered.
+    pub async fn control(&self, action: Control) -> Result<SimulationState, SendError> {
+        let (reply, rx) = oneshot::channel();
+        self.send(Request::Control { action, reply })?;
+        rx.await.map_err(|_| SendError::Closed)
+    }
+
+    /// Runs `f` on the simulation thread and awaits its result.
+    ///
+    /// # Errors
+    /// Why it could not be delivered.
+    pub async fn with<R: Send + 'static>(
+        &self,
+        f: impl FnOnce(&mut Simulation) -> R + Send + 'static,
+    ) -> Result<R, SendError> {
+        let (reply, rx) = oneshot::channel();
+        self.send(Request::With(Box::new(move |sim| {
+            let _ = reply.send(f(sim));
+        })))?;
+        rx.await.map_err(|_| SendError::Closed)
+    }
+}
+
+/// How the simulation thread runs.
+#[derive(Debug, Clone, Copy)]
+pub struct SimConfig {
+    /// Stop after this many steps.
+    pub steps: Option<u64>,
+    /// Step as fast as possible instead of in real time.
+    pub fast: bool,
+    /// Script time and memory limits.
+    pub limits: ScriptLimits,
+    /// Start running at once (otherwise wait for a start request).
+    pub autostart: bool,
+}
+
+/// What a finished run reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunSummary {
+    /// Steps executed.
+    pub steps: u64,
+    /// Final simulation time, s.
+    pub sim_time: f64,
+    /// Wall-clock duration of the run, s.
+    pub wall_s: f64,
+}
+
+impl RunSummary {
+    /// The machine-readable line `steps=N sim_time=S wall_s=W steps_per_s=R rtf=X`.
+    pub fn line(&self) -> String {
+        let wall = self.wall_s.max(1e-9);
+        format!(
+            "steps={} sim_time={:.6} wall_s={:.6} steps_per_s={:.1} rtf={:.3}",
+            self.steps,
+            self.sim_time,
+            self.wall_s,
+            self.steps as f64 / wall,
+            self.sim_time / wall
+        )
+    }
+}
+
+/// Creates the request channel: the handle for transports and the receiver for
+/// [`run_sim_thread`].
+pub fn channel() -> (SimHandle, Receiver<Request>) {
+    let (tx, rx) = mpsc::sync_channel(QUEUE_CAPACITY);
+    (SimHandle { tx }, rx)
+}
+
+/// The simulation loop. Runs until `config.steps` is reached, `should_stop` returns
+/// true, or every [`SimHandle`] is dropped. Runs cleanup hooks before returning.
+///
+/// The simulation advances only when [`Stepping`] allows it (no remote client holds it
+/// back). While some client is stepping, steps are taken as soon as they are asked for,
+/// not in real time, as CoppeliaSim does; real-time pacing resumes from that moment
+/// when the last client stops stepping.
+///
+/// # Errors
+/// The simulation could not be created (Lua state).
+pub fn run_sim_thread(
+    model: SceneModel,
+    config: SimConfig,
+    rx: Receiver<Request>,
+    should_stop: impl Fn() -> bool,
+) -> Result<RunSummary, gantry_script::ScriptError> {
+    let dt = model.settings.dt;
+    let mut lp = SimLoop {
+        sim: Simulation::new(model, config.limits)?,
+        steps: 0,
+        stepping: Stepping::default(),
+    };
+    if config.autostart {
+        lp.sim.start();
+    }
+    let start = Instant::now();
+    // Real-time pacing from a fixed origin, re-anchored after pauses and while stepping.
+    let mut origin = Instant::now();
+    let mut paced_steps = 0u64;
+    let mut last_reload = Instant::now();
+    'outer: loop {
+        if should_stop() || config.steps.is_some_and(|n| lp.steps >= n) {
+            break;
+        }
+        let running = lp.sim.state() == SimulationState::Running;
+        let may_advance = running && lp.stepping.may_advance(lp.steps);
+        let wait = if may_advance {
+            let on_demand = lp.stepping.any_stepping();
+            let due = origin + Duration::from_secs_f64(paced_steps as f64 * dt);
+            let now = Instant::now();
+            if config.fast || on_demand || now >= due {
+                lp.step();
+                if on_demand {
+                    origin = Instant::now();
+                    paced_steps = 0;
+                } else {
+                    paced_steps += 1;
+                }
+                // Serve what arrived during the step before the next one.
+                while let Ok(req) = rx.try_recv() {
+                    lp.serve(req);
+                }
+                continue;
+            }
+            due - now
+        } else {
+            // Paused, stopped, or held by a remote client: nothing is due. Requests
+            // (such as the `sim.step` that releases the hold) still wake the loop at once.
+            origin = Instant::now();
+            paced_steps = 0;
+            Duration::from_millis(50)
+        };
+        match rx.recv_timeout(wait) {
+            Ok(req) => {
+                lp.serve(req);
+                while let Ok(req) = rx.try_recv() {
+                    lp.serve(req);
+                }
+            }
+            Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => {
+                if !running {
+                    break 'outer;
+                }
+                // No transport is left, so no client can release a hold any more; and
+                // recv_timeout now returns at once, so sleep instead of spinning.
+                lp.stepping.clear();
+                std::thread::sleep(wait);
+            }
+        }
+        if last_reload.elapsed() > Duration::from_millis(500) {
+            last_reload = Instant::now();
+            lp.sim.reload_changed();
+        }
+    }
+    lp.sim.cleanup();
+    lp.stepping.stopped();
+    let sim_time = lp.sim.world().time();
+    Ok(RunSummary {
+        steps: lp.steps,
+        sim_time,
+        wall_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// What the loop owns besides its schedule.
+struct SimLoop {
+    sim: Simulation,
+    /// Steps executed so far in this run; never reset (stop does not rewind it), so
+    /// remote clients' step targets stay comparable across a stop and start.
+    steps: u64,
+    stepping: Stepping,
+}
+
+impl SimLoop {
+    fn step(&mut self) {
+        self.sim.step();
+        self.steps += 1;
+        self.stepping.stepped(self.steps);
+    }
+
+    /// Stop: cleanup, the initial scene back, and every remote client's stepping level
+    /// reset (CoppeliaSim's add-on does the same, so a stopped client cannot hold the
+    /// next run).
+    fn stop(&mut self) {
+        self.sim.stop();
+        self.stepping.stopped();
+    }
+
+    fn pause(&mut self) {
+        self.sim.pause();
+        self.stepping.release_waiters();
+    }
+
+    fn serve(&mut self, req: Request) {
+        match req {
+            Request::Call { name, args, reply } => {
+                let _ = reply.send(self.sim.call(&name, &args));
+            }
+            Request::Packet { packet, reply } => {
+                let outcome = match self.sim.call_hook_function("sysCall_packet", &[packet]) {
+                    Ok(None) => PacketOutcome::NoHandler,
+                    Ok(Some(values)) => match values.into_iter().next() {
+                        Some(Value::Str(s)) => PacketOutcome::Reply(s),
+                        _ => PacketOutcome::Handled,
+                    },
+                    Err(e) => PacketOutcome::Error(e),
+                };
+                let _ = reply.send(outcome);
+            }
+            Request::Control { action, reply } => {
+                match action {
+                    Control::Start => self.sim.start(),
+                    Control::Pause => self.pause(),
+                    Control::Stop => self.stop(),
+                    Control::Step => {
+                        if self.sim.state() != SimulationState::Running {
+                            self.sim.start();
+                            self.step();
+                            self.pause();
+                        } else {
+                            self.step();
+                        }
+                    }
+                }
+                let _ = reply.send(self.sim.state());
+            }
+            Request::Remote { client, op, reply } => {
+                let _ = reply.send(self.remote(client, op));
+            }
+            Request::Step { client, done } => {
+                let advancing = self.sim.state() == SimulationState::Running;
+                self.stepping.request_step(client, self.steps, advancing, done);
+            }
+            Request::DropClient(client) => self.stepping.drop_client(client),
+            Request::With(f) => f(&mut self.sim),
+        }
+    }
+
+    fn remote(&mut self, client: ClientId, op: RemoteOp) -> Result<Vec<Value>, String> {
+        let in_function = |e: SteppingError, f: &str| format!("{e} (in function 'sim.{f}')");
+        match op {
+            RemoteOp::SetStepping(enable) => {
+                let previous = self
+                    .stepping
+                    .set_stepping(client, enable, self.steps)
+                    .map_err(|e| in_function(e, "setStepping"))?;
+                return Ok(vec![Value::Int(i64::from(previous))]);
+            }
+            RemoteOp::Start => self.sim.start(),
+            RemoteOp::Pause => self.pause(),
+            RemoteOp::Stop => self.stop(),
+            RemoteOp::Lock(acquire) => {
+                let name = if acquire { "acquireLock" } else { "releaseLock" };
+                self.stepping.lock(client, acquire).map_err(|e| in_function(e, name))?;
+            }
+        }
+        Ok(Vec::new())
+    }
+}

@@ -1,0 +1,447 @@
+//! CoppeliaSim's ZMQ remote API (protocol v2), so that programs written for
+//! `coppeliasim-zmqremoteapi-client` drive gantry unmodified.
+//!
+//! One ROUTER socket serves every client. Clients use REQ sockets, so each has at most
+//! one request in flight and every request gets exactly one reply, but with ROUTER a
+//! reply may be deferred: a client parked in `sim.step()` waits for its reply while
+//! the others are served. Each frame holds one CBOR map; the codec lives in
+//! [`gantry_protocol::remote_api`] and this module only moves bytes and keeps sessions.
+//!
+//! What is served where:
+//! * `zmqRemoteApi.require` / `zmqRemoteApi.info` for `sim`: here. INFO is generated
+//!   from [`api::FUNCTIONS`], [`api::CONSTANTS`] and the functions listed in
+//!   [`SIMULATION_FUNCTIONS`] and [`HOST_FUNCTIONS`], so a function exists remotely
+//!   exactly when it is implemented.
+//! * `sim.setStepping`, `sim.step`, `sim.start/pause/stopSimulation`,
+//!   `sim.acquireLock`/`sim.releaseLock`: they concern clients and the simulation loop,
+//!   so they go to the simulation thread as [`Request::Remote`] and [`Request::Step`].
+//! * Every other `sim.*` function: [`Request::Call`], i.e. `Simulation::call`, the one
+//!   implementation shared with Lua scripts.
+//! * Control words: `_*executed*_` (the client's answer to `_*wait*_`) and `_*end*_`.
+//!
+//! Sessions are keyed by the client's `uuid`. A session is dropped on `_*end*_` or after
+//! the client's `timeout` (seconds, sent with its first message; 600 by default) without
+//! a message, and its stepping level and locks go with it, so a vanished client cannot
+//! hold the simulation for longer than its timeout.
+//!
+//! Every malformed message gets an `{"err": ...}` reply and touches nothing else.
+//! Non-goals: callbacks into the client (`...@func` arguments are passed through as
+//! strings), `eval`, and protocol v1 (answered with the real server's mismatch error).
+
+use std::collections::HashMap;
+use std::net::SocketAddr;
+use std::time::{Duration, Instant};
+
+use bytes::Bytes;
+use gantry_protocol::remote_api::{
+    FUNC_END, FUNC_EXECUTED, decode_request, encode_empty_map, encode_err, encode_ret, encode_wait,
+};
+use gantry_protocol::{Value, cbor};
+use gantry_sim_core::api::{self, Args};
+use tokio::sync::{oneshot, watch};
+use tokio::task::JoinHandle;
+use zeromq::{RouterRecvHalf, RouterSendHalf, RouterSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
+
+use crate::sim_thread::{RemoteOp, Request, SimHandle};
+use crate::stepping::ClientId;
+
+/// Functions that `Simulation::call` implements beyond [`api::FUNCTIONS`] (they need the
+/// Lua state, so they live in the script crate).
+pub const SIMULATION_FUNCTIONS: &[&str] = &["callScriptFunction"];
+
+/// Functions the remote API adds on top of the core: they act on the client's session
+/// or the simulation loop, not on the world.
+pub const HOST_FUNCTIONS: &[(&str, HostFn)] = &[
+    ("acquireLock", HostFn::Remote(RemoteOp::Lock(true))),
+    ("pauseSimulation", HostFn::Remote(RemoteOp::Pause)),
+    ("releaseLock", HostFn::Remote(RemoteOp::Lock(false))),
+    ("setStepping", HostFn::SetStepping),
+    ("startSimulation", HostFn::Remote(RemoteOp::Start)),
+    ("step", HostFn::Step),
+    ("stopSimulation", HostFn::Remote(RemoteOp::Stop)),
+];
+
+/// How a [`HOST_FUNCTIONS`] entry is served.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HostFn {
+    /// A simulation-thread operation that needs no arguments.
+    Remote(RemoteOp),
+    /// `sim.setStepping(enable: bool)`.
+    SetStepping,
+    /// `sim.step()`: park the client until the next step is done.
+    Step,
+}
+
+/// The text the real server sends to clients that do not send a `uuid` (protocol v1).
+const VERSION_MISMATCH: &str = "The client ZeroMQ remote API version does not match CoppeliaSim's version";
+
+/// Longest accepted `uuid` (the Python client sends 36 characters). Keys of the session
+/// table come from peers, so their size is bounded like everything else they send.
+const MAX_UUID_LEN: usize = 128;
+
+/// Limits and timeouts of the ZMQ listener.
+#[derive(Debug, Clone)]
+pub struct ZmqConfig {
+    /// Most sessions at once; a new client beyond this gets an error until an idle
+    /// session times out or a client sends `_*end*_`.
+    pub max_clients: usize,
+    /// Idle time after which a client that sent no `timeout` is forgotten (the
+    /// client's default, 600 s).
+    pub default_timeout: Duration,
+    /// How often idle sessions are looked for.
+    pub sweep_interval: Duration,
+}
+
+impl Default for ZmqConfig {
+    fn default() -> Self {
+        Self { max_clients: 1024, default_timeout: Duration::from_secs(600), sweep_interval: Duration::from_secs(1) }
+    }
+}
+
+/// Binds a ROUTER socket on `addr` (port 0 picks a free port) and returns it with the
+/// address actually bound.
+///
+/// # Errors
+/// The OS refused the address (in use, not local, no permission).
+pub async fn bind(addr: SocketAddr) -> std::io::Result<(RouterSocket, SocketAddr)> {
+    // Binding the TCP listener ourselves gives a plain io::Error and the chosen port.
+    let listener = std::net::TcpListener::bind(addr)?;
+    let local = listener.local_addr()?;
+    let mut socket = RouterSocket::new();
+    socket.bind_listener(listener).await.map_err(std::io::Error::other)?;
+    Ok((socket, local))
+}
+
+/// Serves remote API clients on `socket` until `shutdown` turns true.
+pub async fn serve(socket: RouterSocket, sim: SimHandle, cfg: ZmqConfig, mut shutdown: watch::Receiver<bool>) {
+    let (tx, mut rx): (RouterSendHalf, RouterRecvHalf) = socket.split();
+    let mut server = Server::new(sim, cfg, tx);
+    let mut sweep = tokio::time::interval(server.cfg.sweep_interval);
+    sweep.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    loop {
+        tokio::select! {
+            _ = shutdown.changed() => break,
+            _ = sweep.tick() => server.evict_idle(Instant::now()),
+            received = rx.recv() => match received {
+                Ok(msg) => server.handle(msg).await,
+                Err(e) => {
+                    // Only a socket-level failure gets here (peer errors are handled by
+                    // the crate); back off rather than spin.
+                    tracing::warn!("zmq remote API: receive failed: {e}");
+                    tokio::time::sleep(Duration::from_millis(10)).await;
+                }
+            }
+        }
+    }
+}
+
+/// One client's session.
+struct Session {
+    /// The simulation thread's name for this client.
+    id: ClientId,
+    last_seen: Instant,
+    /// Idle time after which the session is dropped.
+    timeout: Duration,
+    /// Completion of a `sim.step()` answered with `_*wait*_` and not yet acknowledged
+    /// with `_*executed*_`.
+    pending_step: Option<oneshot::Receiver<()>>,
+    /// The task holding back the reply to `_*executed*_` until the step is done; the
+    /// session is not idle while it runs.
+    parked: Option<JoinHandle<()>>,
+}
+
+impl Session {
+    fn is_parked(&self) -> bool {
+        self.parked.as_ref().is_some_and(|p| !p.is_finished())
+    }
+}
+
+/// What to do with a request.
+enum Outcome {
+    /// Reply now with these bytes.
+    Reply(Vec<u8>),
+    /// A task replies later (it owns a clone of the send half).
+    Deferred,
+}
+
+struct Server {
+    sim: SimHandle,
+    cfg: ZmqConfig,
+    tx: RouterSendHalf,
+    sessions: HashMap<String, Session>,
+    next_id: u64,
+    /// `{"ret": [INFO]}` for `sim`, encoded once: it is the same for every client.
+    sim_info: Bytes,
+    /// Clients to forget whose `DropClient` found the simulation queue full; retried
+    /// on the next sweep so that no stepping level is leaked.
+    pending_drops: Vec<ClientId>,
+}
+
+impl Server {
+    fn new(sim: SimHandle, cfg: ZmqConfig, tx: RouterSendHalf) -> Self {
+        Self {
+            sim,
+            cfg,
+            tx,
+            sessions: HashMap::new(),
+            next_id: 0,
+            sim_info: Bytes::from(encode_ret(&[sim_info()])),
+            pending_drops: Vec::new(),
+        }
+    }
+
+    /// Handles one received message: `[peer-id, (route frames...), "", payload]`.
+    async fn handle(&mut self, msg: ZmqMessage) {
+        let mut frames = msg.into_vec();
+        let Some(payload) = frames.pop() else { return };
+        if frames.is_empty() {
+            // No routing identity: nothing can be sent back (the crate always adds it).
+            return;
+        }
+        // `frames` is now the envelope, echoed in front of the reply.
+        match self.dispatch(&payload, &frames) {
+            Outcome::Reply(bytes) => send(&mut self.tx, frames, Bytes::from(bytes)).await,
+            Outcome::Deferred => {}
+        }
+    }
+
+    fn dispatch(&mut self, payload: &[u8], envelope: &[Bytes]) -> Outcome {
+        let req = match decode_request(payload) {
+            Ok(r) => r,
+            Err(e) => return Outcome::Reply(encode_err(&e.to_string())),
+        };
+        let Some(uuid) = req.uuid else {
+            // What the real server answers a v1 client; a v2 client would see `err`.
+            let text = Value::from(VERSION_MISMATCH);
+            return Outcome::Reply(cbor::to_vec(&Value::Map(vec![
+                ("success".into(), Value::Bool(false)),
+                ("error".into(), text.clone()),
+                ("err".into(), text),
+            ])));
+        };
+        if uuid.len() > MAX_UUID_LEN {
+            return Outcome::Reply(encode_err(&format!("\"uuid\" is longer than {MAX_UUID_LEN} characters")));
+        }
+        if req.func == FUNC_END {
+            self.forget(&uuid);
+            return Outcome::Reply(encode_empty_map());
+        }
+        let now = Instant::now();
+        let Some(session) = self.session(&uuid, now) else {
+            return Outcome::Reply(encode_err(&format!(
+                "too many remote API clients ({}); end one (or wait for an idle one to time out) and retry",
+                self.cfg.max_clients
+            )));
+        };
+        session.last_seen = now;
+        if let Some(t) = req.timeout {
+            // Bounded so a huge or negative value cannot make Duration panic.
+            session.timeout = Duration::from_secs_f64(t.clamp(1.0, 30.0 * 86_400.0));
+        }
+        let client = session.id;
+        match req.func.as_str() {
+            FUNC_EXECUTED => self.executed(&uuid, envelope),
+            "zmqRemoteApi.require" => Outcome::Reply(match module_name(&req.args) {
+                Some("sim") => encode_ret(&[]),
+                other => encode_err(&no_module(other)),
+            }),
+            "zmqRemoteApi.info" => Outcome::Reply(match module_name(&req.args) {
+                Some("sim") => self.sim_info.to_vec(),
+                other => encode_err(&no_module(other)),
+            }),
+            func => match func.strip_prefix("sim.") {
+                Some(name) => self.sim_function(client, &uuid, name, req.args, envelope),
+                None => Outcome::Reply(encode_err(&format!("No such function: {func}"))),
+            },
+        }
+    }
+
+    /// The session of `uuid`, created on first sight; `None` when the table is full
+    /// even after dropping idle sessions.
+    fn session(&mut self, uuid: &str, now: Instant) -> Option<&mut Session> {
+        if !self.sessions.contains_key(uuid) {
+            if self.sessions.len() >= self.cfg.max_clients {
+                self.evict_idle(now);
+                if self.sessions.len() >= self.cfg.max_clients {
+                    return None;
+                }
+            }
+            self.next_id += 1;
+            let session = Session {
+                id: ClientId(self.next_id),
+                last_seen: now,
+                timeout: self.cfg.default_timeout,
+                pending_step: None,
+                parked: None,
+            };
+            self.sessions.insert(uuid.to_owned(), session);
+        }
+        self.sessions.get_mut(uuid)
+    }
+
+    fn sim_function(
+        &mut self,
+        client: ClientId,
+        uuid: &str,
+        name: &str,
+        args: Vec<Value>,
+        envelope: &[Bytes],
+    ) -> Outcome {
+        let host = HOST_FUNCTIONS.iter().find(|(n, _)| *n == name).map(|(_, f)| *f);
+        let (reply, rx) = oneshot::channel();
+        let request = match host {
+            None => Request::Call { name: name.to_owned(), args, reply },
+            Some(HostFn::Remote(op)) => Request::Remote { client, op, reply },
+            Some(HostFn::SetStepping) => match Args::new(&args).bool(0) {
+                Ok(enable) => Request::Remote { client, op: RemoteOp::SetStepping(enable), reply },
+                Err(e) => return Outcome::Reply(encode_err(&e.in_function("sim.setStepping"))),
+            },
+            Some(HostFn::Step) => return self.step(client, uuid),
+        };
+        if let Err(e) = self.sim.send(request) {
+            return Outcome::Reply(encode_err(&format!("{e} (in function 'sim.{name}')")));
+        }
+        let mut tx = self.tx.clone();
+        let envelope = envelope.to_vec();
+        tokio::spawn(async move {
+            let bytes = match rx.await {
+                Ok(Ok(values)) => encode_ret(&values),
+                Ok(Err(msg)) => encode_err(&msg),
+                Err(_) => encode_err("the simulation has ended"),
+            };
+            send(&mut tx, envelope, Bytes::from(bytes)).await;
+        });
+        Outcome::Deferred
+    }
+
+    /// `sim.step()`: ask the simulation thread for the next step and park the client
+    /// with `_*wait*_`; the real reply goes to its `_*executed*_`.
+    fn step(&mut self, client: ClientId, uuid: &str) -> Outcome {
+        let (done, rx) = oneshot::channel();
+        if let Err(e) = self.sim.send(Request::Step { client, done }) {
+            return Outcome::Reply(encode_err(&format!("{e} (in function 'sim.step')")));
+        }
+        if let Some(s) = self.sessions.get_mut(uuid) {
+            s.pending_step = Some(rx);
+        }
+        Outcome::Reply(encode_wait())
+    }
+
+    /// `_*executed*_`: the client acknowledged a `_*wait*_`. Reply once its step is done.
+    fn executed(&mut self, uuid: &str, envelope: &[Bytes]) -> Outcome {
+        let Some(session) = self.sessions.get_mut(uuid) else {
+            return Outcome::Reply(encode_err("unexpected _*executed*_: no call is waiting for it"));
+        };
+        let Some(mut pending) = session.pending_step.take() else {
+            return Outcome::Reply(encode_err("unexpected _*executed*_: no call is waiting for it"));
+        };
+        // The common case when stepping fast: the step is already done.
+        match pending.try_recv() {
+            Ok(()) | Err(oneshot::error::TryRecvError::Closed) => return Outcome::Reply(encode_ret(&[])),
+            Err(oneshot::error::TryRecvError::Empty) => {}
+        }
+        let mut tx = self.tx.clone();
+        let envelope = envelope.to_vec();
+        session.parked = Some(tokio::spawn(async move {
+            // A closed channel means the simulation ended or dropped the client; either
+            // way there is no step left to wait for.
+            let _ = pending.await;
+            send(&mut tx, envelope, Bytes::from(encode_ret(&[]))).await;
+        }));
+        Outcome::Deferred
+    }
+
+    /// Drops sessions idle past their timeout (never one parked in `sim.step`).
+    fn evict_idle(&mut self, now: Instant) {
+        let idle: Vec<String> = self
+            .sessions
+            .iter()
+            .filter(|(_, s)| !s.is_parked() && now.saturating_duration_since(s.last_seen) > s.timeout)
+            .map(|(k, _)| k.clone())
+            .collect();
+        for uuid in idle {
+            tracing::info!("zmq remote API: client {uuid} idle past its timeout; its state is dropped");
+            self.forget(&uuid);
+        }
+        self.pending_drops.retain(|&id| self.sim.send(Request::DropClient(id)).is_err());
+    }
+
+    /// Forgets a session here and on the simulation thread.
+    fn forget(&mut self, uuid: &str) {
+        if let Some(s) = self.sessions.remove(uuid) {
+            if let Some(p) = s.parked {
+                p.abort();
+            }
+            if self.sim.send(Request::DropClient(s.id)).is_err() {
+                self.pending_drops.push(s.id);
+            }
+        }
+    }
+}
+
+/// Sends `payload` behind `envelope`. A peer that vanished is not an error worth more
+/// than a debug line: the client is gone and its session will time out.
+async fn send(tx: &mut RouterSendHalf, envelope: Vec<Bytes>, payload: Bytes) {
+    let mut frames = envelope;
+    frames.push(payload);
+    let Ok(msg) = ZmqMessage::try_from(frames) else { return };
+    if let Err(e) = tx.send(msg).await {
+        tracing::debug!("zmq remote API: reply not delivered: {e}");
+    }
+}
+
+fn module_name(args: &[Value]) -> Option<&str> {
+    args.first().and_then(Value::as_str)
+}
+
+fn no_module(name: Option<&str>) -> String {
+    match name {
+        Some(n) => format!("module '{n}' is not available in gantry (only 'sim' is)"),
+        None => "argument 1: expected the module name as a string (in function 'zmqRemoteApi.require')".into(),
+    }
+}
+
+/// INFO for `sim`: `{"name": {"func": {}}, ..., "handle_world": {"const": -1}, ...}`.
+pub fn sim_info() -> Value {
+    let func = || Value::Map(vec![("func".into(), Value::Map(Vec::new()))]);
+    let names = api::FUNCTIONS
+        .iter()
+        .map(|f| f.name)
+        .chain(SIMULATION_FUNCTIONS.iter().copied())
+        .chain(HOST_FUNCTIONS.iter().map(|(n, _)| *n));
+    let mut pairs: Vec<(Value, Value)> = names.map(|n| (n.into(), func())).collect();
+    pairs.extend(
+        api::CONSTANTS.iter().map(|(n, v)| ((*n).into(), Value::Map(vec![("const".into(), Value::Int(*v))]))),
+    );
+    Value::Map(pairs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn info_lists_core_host_and_constant_members_once() {
+        let info = sim_info();
+        let Value::Map(pairs) = &info else { panic!("INFO is a map") };
+        let mut names: Vec<&str> = pairs.iter().filter_map(|(k, _)| k.as_str()).collect();
+        let n = names.len();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), n, "no member is listed twice");
+        for f in ["getObject", "setStepping", "step", "callScriptFunction", "getSimulationState"] {
+            assert_eq!(info.get(f), Some(&Value::Map(vec![("func".into(), Value::Map(vec![]))])), "{f}");
+        }
+        assert_eq!(info.get("handle_world"), Some(&Value::Map(vec![("const".into(), Value::Int(-1))])));
+    }
+
+    #[test]
+    fn host_functions_do_not_shadow_the_core() {
+        for (name, _) in HOST_FUNCTIONS {
+            assert!(api::function(name).is_none(), "{name} is implemented twice");
+        }
+        for name in SIMULATION_FUNCTIONS {
+            assert!(api::function(name).is_none(), "{name} is implemented twice");
+        }
+    }
+}
