@@ -21,7 +21,7 @@ function sysCall_init()
 end
 
 local function fmt(x)
-    return string.format('%.9g', x)
+    return string.format('%.17g', x) -- round-trips a double exactly
 end
 
 function sysCall_packet(packet)

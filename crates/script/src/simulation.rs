@@ -96,6 +96,8 @@ struct Shared {
     current: Cell<Option<Handle>>,
     current_name: RefCell<Rc<str>>,
     deadline: Cell<Instant>,
+    /// Set once the running hook passed its deadline; cleared when the next hook starts.
+    interrupted: Cell<bool>,
     /// Environments of scripts by object, for `sim.callScriptFunction`.
     envs: RefCell<Vec<(Handle, Table, Rc<str>)>>,
 }
@@ -109,6 +111,9 @@ pub struct Simulation {
     order: Vec<usize>,
     model: SceneModel,
     limits: ScriptLimits,
+    /// Modification time of each script file as last loaded, so a stop/start keeps a
+    /// hot-reloaded version instead of reloading it again.
+    mtimes: Vec<Option<SystemTime>>,
 }
 
 /// A script load or syntax problem, with file and line in the message.
@@ -134,10 +139,12 @@ impl Simulation {
             current: Cell::new(None),
             current_name: RefCell::new(Rc::from("remote")),
             deadline: Cell::new(Instant::now() + Duration::from_secs(3600)),
+            interrupted: Cell::new(false),
             envs: RefCell::new(Vec::new()),
         });
         install_api(&lua, &shared).map_err(|e| ScriptError(format!("cannot install the sim API: {e}")))?;
-        install_budget(&lua, &shared).map_err(|e| ScriptError(format!("cannot install the time budget: {e}")))?;
+        install_budget(&lua, &shared, limits.time_budget)
+            .map_err(|e| ScriptError(format!("cannot install the time budget: {e}")))?;
         let mut sim = Simulation {
             lua,
             shared,
@@ -145,6 +152,7 @@ impl Simulation {
             order: Vec::new(),
             model,
             limits,
+            mtimes: Vec::new(),
         };
         sim.load_scripts();
         Ok(sim)
@@ -153,16 +161,18 @@ impl Simulation {
     fn load_scripts(&mut self) {
         self.scripts.clear();
         self.shared.envs.borrow_mut().clear();
-        for s in self.model.scripts.clone() {
+        for (index, s) in self.model.scripts.clone().into_iter().enumerate() {
             let object = s.object as Handle;
             let name: Rc<str> = Rc::from(s.path.file_name().and_then(|n| n.to_str()).unwrap_or("script"));
-            let modified = std::fs::metadata(&s.path).and_then(|m| m.modified()).ok();
-            let env = match self.make_env(&name) {
-                Ok(e) => e,
-                Err(e) => {
-                    tracing::error!("{name}: cannot create its environment: {e}");
-                    continue;
-                }
+            let modified = match self.mtimes.get(index) {
+                Some(m) => *m,
+                None => std::fs::metadata(&s.path).and_then(|m| m.modified()).ok(),
+            };
+            // Only a memory error can fail here; the script then runs in no environment
+            // of its own and is marked errored below, keeping indices aligned with the model.
+            let (env, env_error) = match self.make_env(&name) {
+                Ok(e) => (e, None),
+                Err(e) => (self.lua.globals(), Some(e)),
             };
             let mut script = Script {
                 object,
@@ -175,12 +185,15 @@ impl Simulation {
                 state: ScriptState::Running,
                 initialised: false,
             };
-            if let Err(e) = self.exec_chunk(&script, &s.source) {
+            if let Some(e) = env_error {
+                self.fail(&mut script, e);
+            } else if let Err(e) = self.exec_chunk(&script, &s.source) {
                 self.fail(&mut script, e);
             }
             self.shared.envs.borrow_mut().push((object, script.env.clone(), name));
             self.scripts.push(script);
         }
+        self.mtimes = self.scripts.iter().map(|s| s.modified).collect();
         self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
     }
 
@@ -219,9 +232,11 @@ impl Simulation {
         self.shared.current.set(Some(script.object));
         *self.shared.current_name.borrow_mut() = script.name.clone();
         self.shared.deadline.set(Instant::now() + self.limits.time_budget);
+        self.shared.interrupted.set(false);
     }
 
     fn leave(&self) {
+        self.shared.interrupted.set(false);
         self.shared.current.set(None);
         self.shared.deadline.set(Instant::now() + Duration::from_secs(3600));
     }
@@ -395,6 +410,9 @@ impl Simulation {
                 continue;
             }
             self.scripts[i].modified = modified;
+            if let Some(m) = self.mtimes.get_mut(i) {
+                *m = modified;
+            }
             self.reload(i);
         }
     }
@@ -462,6 +480,7 @@ impl Simulation {
             self.scripts[i] = s;
             return;
         }
+        self.model.scripts[i].source = source;
         self.log(450, &name, "reloaded");
         if was_running && self.state() != SimulationState::Stopped {
             self.scripts[i].initialised = true;
@@ -605,22 +624,75 @@ fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
 }
 
 /// Interrupts any Lua code that runs past the current deadline.
-fn install_budget(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
-    let shared = shared.clone();
-    lua.set_hook(HookTriggers::new().every_nth_instruction(4096), move |_, _| {
-        if Instant::now() > shared.deadline.get() {
-            Err(mlua::Error::runtime(
-                "script interrupted: it ran past its time budget (an infinite loop in a hook?)",
-            ))
+///
+/// Once interrupted, a script stays interrupted until the hook call returns: `pcall`,
+/// `xpcall` and `coroutine.resume` re-raise the interrupt, so a loop that catches errors
+/// cannot defeat the budget.
+fn install_budget(lua: &Lua, shared: &Rc<Shared>, budget: Duration) -> mlua::Result<()> {
+    let hook_shared = shared.clone();
+    lua.set_hook(HookTriggers::new().every_nth_instruction(4096), move |lua, debug| {
+        if hook_shared.interrupted.get() || Instant::now() > hook_shared.deadline.get() {
+            hook_shared.interrupted.set(true);
+            let src = debug.source();
+            let place = match (src.short_src.as_deref(), debug.current_line()) {
+                (Some(file), Some(line)) => format!("{file}:{line}: "),
+                _ => String::new(),
+            };
+            let msg = format!(
+                "{place}script interrupted: it ran past its time budget of {budget:?} (an infinite loop in a hook?)"
+            );
+            // Errors raised by a hook carry no traceback of their own; add one so the
+            // loop can be found like any other runtime error.
+            let traceback = lua.traceback(Some(&msg), 0).map(|s| s.to_string_lossy()).unwrap_or(msg);
+            Err(mlua::Error::runtime(traceback))
         } else {
             Ok(VmState::Continue)
         }
-    })
+    })?;
+    let flag = shared.clone();
+    let interrupted = lua.create_function(move |_, ()| Ok(flag.interrupted.get()))?;
+    lua.load(
+        r#"
+        local interrupted, rawpcall, rawxpcall, rawresume, error = ...
+        local function check(...)
+            if interrupted() then error("script interrupted: it ran past its time budget", 0) end
+            return ...
+        end
+        pcall = function(...) return check(rawpcall(...)) end
+        xpcall = function(...) return check(rawxpcall(...)) end
+        coroutine.resume = function(...) return check(rawresume(...)) end
+        "#,
+    )
+    .set_name("@gantry/budget.lua")
+    .call::<()>((
+        interrupted,
+        lua.globals().get::<Function>("pcall")?,
+        lua.globals().get::<Function>("xpcall")?,
+        lua.globals().get::<Table>("coroutine")?.get::<Function>("resume")?,
+        lua.globals().get::<Function>("error")?,
+    ))
 }
 
 /// Creates the global `sim` table: every core function plus constants.
 fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
     let sim = lua.create_table()?;
+    // CoppeliaSim raises API errors as plain strings prefixed with the caller's
+    // position, which scripts concatenate and match on. An error raised from Rust would
+    // reach Lua as userdata, so each function reports failure as a value and this
+    // wrapper raises it with `error(msg, 2)`.
+    let wrap: Function = lua
+        .load(
+            r#"
+            local error = ...
+            local function finish(ok, ...)
+                if ok then return ... end
+                error((...), 3)
+            end
+            return function(f) return function(...) return finish(f(...)) end end
+            "#,
+        )
+        .set_name("@gantry/api.lua")
+        .call(lua.globals().get::<Function>("error")?)?;
     for f in api::FUNCTIONS {
         let shared = shared.clone();
         let call = f.call;
@@ -639,23 +711,41 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
                     .map_err(|_| mlua::Error::runtime(format!("the world is busy (in function '{qualified}')")))?;
                 call(&mut world, &ctx, &Args::new(&values))
             };
+            // The Lua wrapper below turns (false, message) into a Lua string error.
             match result {
-                Ok(ret) => to_multi(lua, &ret),
-                Err(e) => Err(mlua::Error::runtime(e.in_function(&qualified))),
+                Ok(ret) => {
+                    let mut out = to_multi(lua, &ret)?;
+                    out.push_front(LuaValue::Boolean(true));
+                    Ok(out)
+                }
+                Err(e) => Ok(MultiValue::from_iter([
+                    LuaValue::Boolean(false),
+                    LuaValue::String(lua.create_string(e.in_function(&qualified))?),
+                ])),
             }
         })?;
-        sim.set(f.name, func)?;
+        sim.set(f.name, wrap.call::<Function>(func)?)?;
     }
     let cs_shared = shared.clone();
     sim.set(
         "callScriptFunction",
         lua.create_function(move |lua, args: MultiValue| {
             let values = args.iter().map(to_value).collect::<mlua::Result<Vec<_>>>()?;
-            let ret = call_script_function(lua, &cs_shared, &values).map_err(|e| {
-                mlua::Error::runtime(format!("{} (in function 'sim.callScriptFunction')", error_text(&e)))
-            })?;
-            to_multi(lua, &ret)
-        })?,
+            match call_script_function(lua, &cs_shared, &values) {
+                Ok(ret) => {
+                    let mut out = to_multi(lua, &ret)?;
+                    out.push_front(LuaValue::Boolean(true));
+                    Ok(out)
+                }
+                Err(e) => Ok(MultiValue::from_iter([
+                    LuaValue::Boolean(false),
+                    LuaValue::String(
+                        lua.create_string(format!("{} (in function 'sim.callScriptFunction')", error_text(&e)))?,
+                    ),
+                ])),
+            }
+        })
+        .and_then(|f| wrap.call::<Function>(f))?,
     )?;
     // A script's handle is the handle of the object it is attached to.
     sim.set(

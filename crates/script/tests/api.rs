@@ -369,7 +369,7 @@ fn get_objects_in_tree_lists_in_hierarchy_order_with_filter_and_options() {
 }
 
 #[test]
-#[ignore = "BUG: API errors reach Lua as mlua userdata, not strings, so `pcall` handlers cannot use them as text"]
+
 fn api_errors_reach_lua_as_strings() {
     let mut sc = Scene::rover(
         "errstring",
@@ -985,7 +985,7 @@ fn read_proximity_sensor_always_returns_five_values() {
 }
 
 #[test]
-#[ignore = "BUG: proximity sensors query rapier's broad phase, empty until the first physics step"]
+
 fn handle_proximity_sensor_works_before_the_first_step() {
     let mut sc = sensors(
         "proxinit",
@@ -1156,7 +1156,7 @@ fn check_collision_between_objects_and_collections() {
 // Force sensor
 
 #[test]
-#[ignore = "BUG: readForceSensor reports 1/4 of the force (rapier's joint impulse is per solver substep)"]
+
 fn force_sensor_carries_the_weight_below_it() {
     // A 2 kg ball hanging from a static beam through a force sensor.
     let toml = r#"
@@ -1218,7 +1218,7 @@ position = [0, 0, -0.1]
 }
 
 #[test]
-#[ignore = "BUG: readForceSensor reports 1/4 of the force (rapier's joint impulse is per solver substep)"]
+
 fn bubble_rob_connection_force_sensor_reads_the_caster_load() {
     let mut sc = Scene::rover(
         "forcerob",

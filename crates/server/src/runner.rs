@@ -124,10 +124,17 @@ pub fn run(
         }
         if let Some(port) = serve.zmq_port {
             let addr = SocketAddr::new(serve.bind, port);
-            let (socket, local) = crate::zmq::bind(addr).await.map_err(|source| ServerError::Bind { addr, source })?;
+            let (socket, local) = crate::zmq::bind(addr)
+                .await
+                .map_err(|source| ServerError::Bind { addr, source })?;
             tracing::info!("ZMQ remote API listening on {local}");
             bound.zmq = Some(local);
-            tokio::spawn(crate::zmq::serve(socket, handle.clone(), crate::zmq::ZmqConfig::default(), stop_rx.clone()));
+            tokio::spawn(crate::zmq::serve(
+                socket,
+                handle.clone(),
+                crate::zmq::ZmqConfig::default(),
+                stop_rx.clone(),
+            ));
         }
         Ok::<_, ServerError>(bound)
     })?;

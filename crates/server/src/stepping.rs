@@ -136,7 +136,9 @@ impl Stepping {
 
     /// Whether the simulation may go from step count `current` to `current + 1`.
     pub fn may_advance(&self, current: u64) -> bool {
-        self.clients.values().all(|c| c.locks == 0 && (c.level == 0 || c.desired > current))
+        self.clients
+            .values()
+            .all(|c| c.locks == 0 && (c.level == 0 || c.desired > current))
     }
 
     /// Whether any client is stepping (the simulation thread then steps on demand

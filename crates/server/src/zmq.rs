@@ -94,7 +94,11 @@ pub struct ZmqConfig {
 
 impl Default for ZmqConfig {
     fn default() -> Self {
-        Self { max_clients: 1024, default_timeout: Duration::from_secs(600), sweep_interval: Duration::from_secs(1) }
+        Self {
+            max_clients: 1024,
+            default_timeout: Duration::from_secs(600),
+            sweep_interval: Duration::from_secs(1),
+        }
     }
 }
 
@@ -220,7 +224,9 @@ impl Server {
             ])));
         };
         if uuid.len() > MAX_UUID_LEN {
-            return Outcome::Reply(encode_err(&format!("\"uuid\" is longer than {MAX_UUID_LEN} characters")));
+            return Outcome::Reply(encode_err(&format!(
+                "\"uuid\" is longer than {MAX_UUID_LEN} characters"
+            )));
         }
         if req.func == FUNC_END {
             self.forget(&uuid);
@@ -290,13 +296,23 @@ impl Server {
         let host = HOST_FUNCTIONS.iter().find(|(n, _)| *n == name).map(|(_, f)| *f);
         let (reply, rx) = oneshot::channel();
         let request = match host {
-            None => Request::Call { name: name.to_owned(), args, reply },
+            None => Request::Call {
+                name: name.to_owned(),
+                args,
+                reply,
+            },
             Some(HostFn::Remote(op)) => Request::Remote { client, op, reply },
             Some(HostFn::SetStepping) => match Args::new(&args).bool(0) {
-                Ok(enable) => Request::Remote { client, op: RemoteOp::SetStepping(enable), reply },
+                Ok(enable) => Request::Remote {
+                    client,
+                    op: RemoteOp::SetStepping(enable),
+                    reply,
+                },
                 Err(e) => return Outcome::Reply(encode_err(&e.in_function("sim.setStepping"))),
             },
-            Some(HostFn::Step) => return self.step(client, uuid),
+            // `sim.step(false)` (client.step(wait=False)) lets the simulation go on
+            // without waiting for the step.
+            Some(HostFn::Step) => return self.step(client, uuid, args.first() != Some(&Value::Bool(false))),
         };
         if let Err(e) = self.sim.send(request) {
             return Outcome::Reply(encode_err(&format!("{e} (in function 'sim.{name}')")));
@@ -315,11 +331,15 @@ impl Server {
     }
 
     /// `sim.step()`: ask the simulation thread for the next step and park the client
-    /// with `_*wait*_`; the real reply goes to its `_*executed*_`.
-    fn step(&mut self, client: ClientId, uuid: &str) -> Outcome {
+    /// with `_*wait*_`; the real reply goes to its `_*executed*_`. With `wait` false the
+    /// step is only requested.
+    fn step(&mut self, client: ClientId, uuid: &str, wait: bool) -> Outcome {
         let (done, rx) = oneshot::channel();
         if let Err(e) = self.sim.send(Request::Step { client, done }) {
             return Outcome::Reply(encode_err(&format!("{e} (in function 'sim.step')")));
+        }
+        if !wait {
+            return Outcome::Reply(encode_ret(&[]));
         }
         if let Some(s) = self.sessions.get_mut(uuid) {
             s.pending_step = Some(rx);
@@ -363,7 +383,8 @@ impl Server {
             tracing::info!("zmq remote API: client {uuid} idle past its timeout; its state is dropped");
             self.forget(&uuid);
         }
-        self.pending_drops.retain(|&id| self.sim.send(Request::DropClient(id)).is_err());
+        self.pending_drops
+            .retain(|&id| self.sim.send(Request::DropClient(id)).is_err());
     }
 
     /// Forgets a session here and on the simulation thread.
@@ -411,7 +432,9 @@ pub fn sim_info() -> Value {
         .chain(HOST_FUNCTIONS.iter().map(|(n, _)| *n));
     let mut pairs: Vec<(Value, Value)> = names.map(|n| (n.into(), func())).collect();
     pairs.extend(
-        api::CONSTANTS.iter().map(|(n, v)| ((*n).into(), Value::Map(vec![("const".into(), Value::Int(*v))]))),
+        api::CONSTANTS
+            .iter()
+            .map(|(n, v)| ((*n).into(), Value::Map(vec![("const".into(), Value::Int(*v))]))),
     );
     Value::Map(pairs)
 }
@@ -423,16 +446,31 @@ mod tests {
     #[test]
     fn info_lists_core_host_and_constant_members_once() {
         let info = sim_info();
-        let Value::Map(pairs) = &info else { panic!("INFO is a map") };
+        let Value::Map(pairs) = &info else {
+            panic!("INFO is a map")
+        };
         let mut names: Vec<&str> = pairs.iter().filter_map(|(k, _)| k.as_str()).collect();
         let n = names.len();
         names.sort_unstable();
         names.dedup();
         assert_eq!(names.len(), n, "no member is listed twice");
-        for f in ["getObject", "setStepping", "step", "callScriptFunction", "getSimulationState"] {
-            assert_eq!(info.get(f), Some(&Value::Map(vec![("func".into(), Value::Map(vec![]))])), "{f}");
+        for f in [
+            "getObject",
+            "setStepping",
+            "step",
+            "callScriptFunction",
+            "getSimulationState",
+        ] {
+            assert_eq!(
+                info.get(f),
+                Some(&Value::Map(vec![("func".into(), Value::Map(vec![]))])),
+                "{f}"
+            );
         }
-        assert_eq!(info.get("handle_world"), Some(&Value::Map(vec![("const".into(), Value::Int(-1))])));
+        assert_eq!(
+            info.get("handle_world"),
+            Some(&Value::Map(vec![("const".into(), Value::Int(-1))]))
+        );
     }
 
     #[test]

@@ -130,6 +130,7 @@ pub(super) fn add_item_to_collection(w: &mut World, _: &CallContext<'_>, a: &Arg
 /// `sim.checkDistance(e1, e2, threshold=0)` → `result, [p1, p2, d], [obj1, obj2]`
 /// with world-frame points. `e2 = sim.handle_all` means every measurable shape not in e1.
 pub(super) fn check_distance(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    w.refresh_queries();
     let set1 = w.entity_shapes(a.handle(0)?, &[])?;
     let set2 = w.entity_shapes(a.handle(1)?, &set1)?;
     let threshold = a.opt_f64(2, 0.0)?;
@@ -149,6 +150,7 @@ pub(super) fn check_distance(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -
 
 /// `sim.checkCollision(e1, e2)` → `result, [obj1, obj2]`.
 pub(super) fn check_collision(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    w.refresh_queries();
     let set1 = w.entity_shapes(a.handle(0)?, &[])?;
     let set2 = w.entity_shapes(a.handle(1)?, &set1)?;
     Ok(match w.collision(&set1, &set2) {

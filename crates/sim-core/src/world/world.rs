@@ -32,6 +32,9 @@ pub struct World {
     pub log: Log,
     /// Running, paused or stopped, as the orchestrator reports it.
     pub state: SimulationState,
+    /// Whether bodies were moved since rapier's collision structures were last updated,
+    /// so scene queries must refresh them first (rapier updates them only when stepping).
+    queries_stale: bool,
 }
 
 /// CoppeliaSim's simulation states (`sim.getSimulationState`).
@@ -132,6 +135,7 @@ impl World {
             collections: Vec::new(),
             log: Log::default(),
             state: SimulationState::Stopped,
+            queries_stale: true,
         };
         world.refresh_all_poses();
         let objects = &world.objects;
@@ -301,8 +305,18 @@ impl World {
         Ok(())
     }
 
+    /// Brings rapier's broad and narrow phase up to date with bodies moved through the
+    /// API since the last step, so sensors and distance queries see the current poses
+    /// (rapier itself refreshes them only inside a step).
+    pub fn refresh_queries(&mut self) {
+        if std::mem::take(&mut self.queries_stale) {
+            self.physics.world.detect_collisions(&(), &());
+        }
+    }
+
     /// Teleports the rapier bodies of `h`'s subtree to their tree poses.
     fn push_body_pose(&mut self, h: Handle) {
+        self.queries_stale = true;
         let mut stack = vec![h];
         while let Some(cur) = stack.pop() {
             if let Some(&(bi, rel)) = self.physics.body_of.get(&cur) {
@@ -365,6 +379,7 @@ impl World {
                 l.joint.apply_displacement(&disp[..n]);
             }
             mb.forward_kinematics(&self.physics.world.bodies, false);
+            self.queries_stale = true;
         }
         self.refresh_subtree(h);
         Ok(())
@@ -450,6 +465,7 @@ impl World {
         for _ in 0..self.physics.substeps {
             self.physics.world.step();
         }
+        self.queries_stale = false;
         self.read_back();
     }
 
@@ -511,7 +527,10 @@ impl World {
         for (&h, &jh) in &self.physics.force_joints {
             if let Some(j) = self.physics.world.impulse_joints.get(jh) {
                 let imp = j.impulses;
-                let scale = 1.0 / self.physics.substep_dt;
+                // rapier splits each substep into `num_solver_iterations` smaller steps and
+                // keeps the impulse of the last one, so the force is impulse / (h / n).
+                let n = self.physics.world.integration_parameters.num_solver_iterations as f64;
+                let scale = n / self.physics.substep_dt;
                 if let ObjectKind::ForceSensor(r) = &mut self.objects[h as usize].kind {
                     r.valid = true;
                     r.force = Vec3::new(f64::from(imp[0]), f64::from(imp[1]), f64::from(imp[2])) * scale;
@@ -556,6 +575,7 @@ impl World {
                 });
             }
         };
+        self.refresh_queries();
         let sensor_world = self.objects[h as usize].world;
         let result = crate::sensor::detect(self, &self.physics, h, &sensor_world, &volume);
         if let ObjectKind::ProximitySensor(s) = &mut self.objects[h as usize].kind {

@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""Benchmark of gantry's ZMQ remote API with the real Python client (issue 6).
+
+Measures, against a gantry process it starts itself:
+  * call latency of sim.getObjectPosition (median and p99, microseconds) while the
+    simulation runs at full speed (--fast, free-running, no stepping client);
+  * remote stepping rate: client.step() calls per second for bubble_rob in stepping
+    mode (each one a full simulation step plus the _*wait*_/_*executed*_ round trip).
+
+Targets from the issue: median < 60 us, p99 < 500 us, > 2000 steps/s.
+
+Usage (from the repository root, after `cargo build --release`):
+    .venv/bin/python tests/python/bench_zmq.py [--calls 20000] [--steps 3000] [--runs 3]
+GANTRY_BIN selects the binary (default target/release/gantry).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from gantry_proc import GantryProcess  # noqa: E402
+
+SCENE = "assets/scenes/bubble_rob.toml"
+TARGETS = {"median_us": 60.0, "p99_us": 500.0, "steps_per_s": 2000.0}
+
+
+def percentile(sorted_values: list[float], p: float) -> float:
+    k = min(len(sorted_values) - 1, max(0, round(p / 100 * (len(sorted_values) - 1))))
+    return sorted_values[k]
+
+
+def latency(calls: int) -> tuple[float, float, float]:
+    with GantryProcess(SCENE, fast=True) as g:
+        client = g.client()
+        sim = client.require("sim")
+        h = sim.getObject("/bubbleRob")
+        t_start = sim.getSimulationTime()
+        for _ in range(500):  # warm-up: connection, caches, CPU frequency
+            sim.getObjectPosition(h, sim.handle_world)
+        samples = []
+        clock = time.perf_counter_ns
+        for _ in range(calls):
+            t0 = clock()
+            sim.getObjectPosition(h, -1)
+            samples.append((clock() - t0) / 1000.0)
+        advanced = sim.getSimulationTime() - t_start
+    samples.sort()
+    return statistics.median(samples), percentile(samples, 99), advanced
+
+
+def stepping(steps: int) -> float:
+    with GantryProcess(SCENE, fast=True) as g:
+        client = g.client()
+        sim = client.require("sim")
+        client.setStepping(True)
+        for _ in range(100):
+            client.step()
+        t_sim = sim.getSimulationTime()
+        t0 = time.perf_counter()
+        for _ in range(steps):
+            client.step()
+        wall = time.perf_counter() - t0
+        assert abs(sim.getSimulationTime() - (t_sim + steps * sim.getSimulationTimeStep())) < 1e-6
+    return steps / wall
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--calls", type=int, default=20000)
+    ap.add_argument("--steps", type=int, default=3000)
+    ap.add_argument("--runs", type=int, default=3)
+    args = ap.parse_args()
+    ok = True
+    for run in range(1, args.runs + 1):
+        med, p99, advanced = latency(args.calls)
+        rate = stepping(args.steps)
+        print(
+            f"run {run}: getObjectPosition median {med:.1f} us, p99 {p99:.1f} us "
+            f"({args.calls} calls; simulation advanced {advanced:.1f} s meanwhile); "
+            f"client.step() {rate:.0f} steps/s ({args.steps} steps)"
+        )
+        ok &= med < TARGETS["median_us"] and p99 < TARGETS["p99_us"] and rate > TARGETS["steps_per_s"]
+    print("targets: median < 60 us, p99 < 500 us, > 2000 steps/s:", "met" if ok else "NOT met")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

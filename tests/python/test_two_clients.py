@@ -1,0 +1,51 @@
+"""(5) Two clients at once, one of them stepping: the other is served while the
+simulation is held, and a client parked in sim.step() does not block anybody."""
+
+import threading
+import time
+
+import pytest
+
+
+def test_stepping_client_and_observer(gantry):
+    g = gantry("assets/scenes/bubble_rob.toml")  # --fast: free-running at full speed
+    stepper, observer = g.client(), g.client()
+    sim_s, sim_o = stepper.require("sim"), observer.require("sim")
+
+    assert stepper.setStepping(True) == 0
+    t0 = sim_s.getSimulationTime()
+    dt = sim_s.getSimulationTimeStep()
+    # The simulation is held; the observer is served all the while.
+    for _ in range(100):
+        assert sim_o.getSimulationTime() == t0
+    for k in range(1, 6):
+        stepper.step()
+        assert sim_o.getSimulationTime() == pytest.approx(t0 + k * dt, abs=1e-9)
+
+    # The observer parks in sim.step() (it waits for the next step, which only the
+    # stepper can release) while the stepper's calls are answered at once.
+    done = threading.Event()
+
+    def observer_steps():
+        observer.step()
+        done.set()
+
+    th = threading.Thread(target=observer_steps, daemon=True)
+    th.start()
+    time.sleep(0.2)
+    assert not done.is_set(), "the observer waits for the next step"
+    t_before = sim_s.getSimulationTime()
+    for _ in range(100):
+        assert sim_s.getSimulationTime() == t_before
+    rob = sim_s.getObject("/bubbleRob")
+    assert len(sim_s.getObjectPosition(rob, -1)) == 3
+    stepper.step()
+    th.join(5)
+    assert done.is_set(), "the step released the parked observer"
+    assert sim_o.getSimulationTime() == pytest.approx(t_before + dt, abs=1e-9)
+
+    # Stepping off: the simulation free-runs again.
+    assert stepper.setStepping(False) == 1
+    t1 = sim_o.getSimulationTime()
+    time.sleep(0.1)
+    assert sim_o.getSimulationTime() > t1
