@@ -164,7 +164,9 @@ impl Session {
 enum Outcome {
     /// Reply now with these bytes.
     Reply(Vec<u8>),
-    /// A task replies later (it owns a clone of the send half).
+    /// Reply with the simulation thread's answer.
+    Await(oneshot::Receiver<Result<Vec<Value>, String>>),
+    /// A parked-step task replies later (it owns a clone of the send half).
     Deferred,
 }
 
@@ -205,6 +207,18 @@ impl Server {
         // `frames` is now the envelope, echoed in front of the reply.
         match self.dispatch(&payload, &frames) {
             Outcome::Reply(bytes) => send(&mut self.tx, frames, Bytes::from(bytes)).await,
+            Outcome::Await(rx) => {
+                // Awaited here rather than in a task of its own: the simulation thread
+                // answers one request at a time anyway, and this saves a task spawn and
+                // a wake-up per call. Only sim.step can take long, and it is never
+                // awaited here (see `executed`).
+                let bytes = match rx.await {
+                    Ok(Ok(values)) => encode_ret(&values),
+                    Ok(Err(msg)) => encode_err(&msg),
+                    Err(_) => encode_err("the simulation has ended"),
+                };
+                send(&mut self.tx, frames, Bytes::from(bytes)).await;
+            }
             Outcome::Deferred => {}
         }
     }
@@ -240,8 +254,8 @@ impl Server {
             )));
         };
         session.last_seen = now;
-        if let Some(t) = req.timeout {
-            // Bounded so a huge or negative value cannot make Duration panic.
+        if let Some(t) = req.timeout.filter(|t| !t.is_nan()) {
+            // Bounded (and NaN ignored) so no peer value can make Duration panic.
             session.timeout = Duration::from_secs_f64(t.clamp(1.0, 30.0 * 86_400.0));
         }
         let client = session.id;
@@ -256,7 +270,7 @@ impl Server {
                 other => encode_err(&no_module(other)),
             }),
             func => match func.strip_prefix("sim.") {
-                Some(name) => self.sim_function(client, &uuid, name, req.args, envelope),
+                Some(name) => self.sim_function(client, &uuid, name, req.args),
                 None => Outcome::Reply(encode_err(&format!("No such function: {func}"))),
             },
         }
@@ -285,14 +299,7 @@ impl Server {
         self.sessions.get_mut(uuid)
     }
 
-    fn sim_function(
-        &mut self,
-        client: ClientId,
-        uuid: &str,
-        name: &str,
-        args: Vec<Value>,
-        envelope: &[Bytes],
-    ) -> Outcome {
+    fn sim_function(&mut self, client: ClientId, uuid: &str, name: &str, args: Vec<Value>) -> Outcome {
         let host = HOST_FUNCTIONS.iter().find(|(n, _)| *n == name).map(|(_, f)| *f);
         let (reply, rx) = oneshot::channel();
         let request = match host {
@@ -317,17 +324,7 @@ impl Server {
         if let Err(e) = self.sim.send(request) {
             return Outcome::Reply(encode_err(&format!("{e} (in function 'sim.{name}')")));
         }
-        let mut tx = self.tx.clone();
-        let envelope = envelope.to_vec();
-        tokio::spawn(async move {
-            let bytes = match rx.await {
-                Ok(Ok(values)) => encode_ret(&values),
-                Ok(Err(msg)) => encode_err(&msg),
-                Err(_) => encode_err("the simulation has ended"),
-            };
-            send(&mut tx, envelope, Bytes::from(bytes)).await;
-        });
-        Outcome::Deferred
+        Outcome::Await(rx)
     }
 
     /// `sim.step()`: ask the simulation thread for the next step and park the client

@@ -222,6 +222,17 @@ async fn errors_are_replies_and_hurt_nobody() {
         other => panic!("expected an error, got {other:?}"),
     }
 
+    // A NaN or negative idle timeout is ignored or bounded, not a panic.
+    for (uuid, t) in [
+        ("nan-timeout", f64::NAN),
+        ("negative-timeout", -5.0),
+        ("huge-timeout", 1e300),
+    ] {
+        let mut odd = Client::connect(server.port, uuid).await;
+        odd.timeout = Some(t);
+        assert_eq!(odd.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
+    }
+
     // The same client and a new one are still served.
     let h = c.ok("sim.getObject", vec!["/arm6/joint1".into()]).await;
     assert!(matches!(h[..], [Value::Int(_)]), "{h:?}");

@@ -10,6 +10,8 @@ pub mod math;
 pub mod scene;
 
 pub use gantry_protocol::Value;
+/// The physics engine, for benchmarks and tools that compare against bare rapier.
+pub use rapier3d;
 pub mod api;
 pub mod error;
 pub mod sensor;

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_sim_core::scene::{DiskFiles, JointMode, JointType, LoadOptions, ObjectModelKind, load_scene};
 use gantry_sim_core::world::ObjectKind;
 use gantry_sim_core::{Handle, World};
 
@@ -102,15 +102,10 @@ fn position_target_settles() {
     let model = load_scene(&DiskFiles, &asset("scenes/fk_arm.toml"), &LoadOptions::default()).expect("loads");
     let mut model = model;
     for o in &mut model.objects {
-        if let gantry_sim_core::scene::ObjectModelKind::Joint(j) = &mut o.kind {
-            if j.joint_type != gantry_sim_core::scene::JointType::Fixed {
-                j.mode = gantry_sim_core::scene::JointMode::Position;
-            }
-        }
-        if let gantry_sim_core::scene::ObjectModelKind::Shape(s) = &mut o.kind {
-            if o.alias.starts_with("link") || o.alias == "tip" {
-                s.dynamic = true;
-            }
+        match &mut o.kind {
+            ObjectModelKind::Joint(j) if j.joint_type != JointType::Fixed => j.mode = JointMode::Position,
+            ObjectModelKind::Shape(s) if o.alias.starts_with("link") || o.alias == "tip" => s.dynamic = true,
+            _ => {}
         }
     }
     let mut w = World::new(&model);

@@ -720,7 +720,7 @@ impl Resolver<'_> {
         let fov = o.fov_deg.unwrap_or(60.0);
         let near = o.near.unwrap_or(0.01);
         let far = o.far.unwrap_or(1.0);
-        if !(fov > 0.0 && fov < 180.0) || !(near > 0.0 && far > near) {
+        if !(fov > 0.0 && fov < 180.0 && near > 0.0 && far > near) {
             return self.err_at(
                 o.name.span(),
                 format!(

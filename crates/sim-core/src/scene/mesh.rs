@@ -123,7 +123,7 @@ mod tests {
             &DiskFiles,
             "package://my_robot/meshes/a.stl",
             Path::new("/nonexistent"),
-            &[dir.clone()],
+            std::slice::from_ref(&dir),
         );
         assert_eq!(via_path, Ok(pkg.join("meshes/a.stl")));
         let missing = resolve_mesh_path(&DiskFiles, "package://other/x.stl", &pkg.join("urdf"), &[]);

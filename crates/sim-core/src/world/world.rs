@@ -644,6 +644,12 @@ impl World {
         self.physics.object_colliders.get(&h).map_or(&[], Vec::as_slice)
     }
 
+    /// Gives up the world's rapier state and its number of substeps per step: the bare
+    /// physics floor that benchmarks compare gantry's per-step overhead against.
+    pub fn into_rapier(self) -> (PhysicsWorld, u32) {
+        (self.physics.world, self.physics.substeps)
+    }
+
     /// Pose of a rapier body as the physics engine sees it (f32), for consistency tests.
     pub fn physics_pose(&self, h: Handle) -> Option<Pose> {
         let &(bi, rel) = self.physics.body_of.get(&h)?;
