@@ -35,11 +35,11 @@ def percentile(sorted_values: list[float], p: float) -> float:
     return sorted_values[k]
 
 
-def latency(calls: int) -> tuple[float, float, float]:
-    with GantryProcess(SCENE, fast=True) as g:
+def latency(calls: int, scene: str, fast: bool) -> tuple[float, float, float]:
+    with GantryProcess(scene, fast=fast) as g:
         client = g.client()
         sim = client.require("sim")
-        h = sim.getObject("/bubbleRob")
+        h = sim.getObjectsInTree(sim.handle_scene, sim.handle_all, 0)[-1]
         t_start = sim.getSimulationTime()
         for _ in range(500):  # warm-up: connection, caches, CPU frequency
             sim.getObjectPosition(h, sim.handle_world)
@@ -119,10 +119,13 @@ def main() -> int:
     ap.add_argument("--calls", type=int, default=20000)
     ap.add_argument("--steps", type=int, default=3000)
     ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--scene", default=SCENE, help="scene of the latency test (default bubble_rob)")
+    ap.add_argument("--paced", action="store_true",
+                    help="latency with the simulation in real time instead of --fast (for comparison)")
     args = ap.parse_args()
     ok = True
     for run in range(1, args.runs + 1):
-        med, p99, advanced = latency(args.calls)
+        med, p99, advanced = latency(args.calls, args.scene, not args.paced)
         rate = stepping(args.steps)
         print(
             f"run {run}: getObjectPosition median {med:.1f} us, p99 {p99:.1f} us "

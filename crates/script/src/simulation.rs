@@ -673,13 +673,13 @@ fn install_budget(lua: &Lua, shared: &Rc<Shared>, budget: Duration) -> mlua::Res
     ))
 }
 
-/// Creates the global `sim` table: every core function plus constants.
+/// Creates the API's global tables (`sim`, and `simIK`, `simUI`, `simVision` as they
+/// exist): every function of [`api::MODULES`] plus constants.
 fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
-    let sim = lua.create_table()?;
     // CoppeliaSim raises API errors as plain strings prefixed with the caller's
     // position, which scripts concatenate and match on. An error raised from Rust would
     // reach Lua as userdata, so each function reports failure as a value and this
-    // wrapper raises it with `error(msg, 2)`.
+    // wrapper raises it with `error(msg, 2)` from the caller's point of view.
     let wrap: Function = lua
         .load(
             r#"
@@ -693,39 +693,51 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         )
         .set_name("@gantry/api.lua")
         .call(lua.globals().get::<Function>("error")?)?;
-    for f in api::FUNCTIONS {
-        let shared = shared.clone();
-        let call = f.call;
-        let qualified = format!("sim.{}", f.name);
-        let func = lua.create_function(move |lua, args: MultiValue| {
-            let values = args.iter().map(to_value).collect::<mlua::Result<Vec<_>>>()?;
-            let source = shared.current_name.borrow().clone();
-            let ctx = CallContext {
-                script_object: shared.current.get(),
-                source: &source,
-            };
-            let result = {
-                let mut world = shared
-                    .world
-                    .try_borrow_mut()
-                    .map_err(|_| mlua::Error::runtime(format!("the world is busy (in function '{qualified}')")))?;
-                call(&mut world, &ctx, &Args::new(&values))
-            };
-            // The Lua wrapper below turns (false, message) into a Lua string error.
-            match result {
-                Ok(ret) => {
-                    let mut out = to_multi(lua, &ret)?;
-                    out.push_front(LuaValue::Boolean(true));
-                    Ok(out)
+    let mut sim = None;
+    for module in api::MODULES {
+        let table = lua.create_table()?;
+        for f in module.iter() {
+            let shared = shared.clone();
+            let call = f.call;
+            let qualified = format!("{}.{}", module.name, f.name);
+            let func = lua.create_function(move |lua, args: MultiValue| {
+                let values = args.iter().map(to_value).collect::<mlua::Result<Vec<_>>>()?;
+                let source = shared.current_name.borrow().clone();
+                let ctx = CallContext {
+                    script_object: shared.current.get(),
+                    source: &source,
+                };
+                let result = {
+                    let mut world = shared
+                        .world
+                        .try_borrow_mut()
+                        .map_err(|_| mlua::Error::runtime(format!("the world is busy (in function '{qualified}')")))?;
+                    call(&mut world, &ctx, &Args::new(&values))
+                };
+                // The Lua wrapper turns (false, message) into a Lua string error.
+                match result {
+                    Ok(ret) => {
+                        let mut out = to_multi(lua, &ret)?;
+                        out.push_front(LuaValue::Boolean(true));
+                        Ok(out)
+                    }
+                    Err(e) => Ok(MultiValue::from_iter([
+                        LuaValue::Boolean(false),
+                        LuaValue::String(lua.create_string(e.in_function(&qualified))?),
+                    ])),
                 }
-                Err(e) => Ok(MultiValue::from_iter([
-                    LuaValue::Boolean(false),
-                    LuaValue::String(lua.create_string(e.in_function(&qualified))?),
-                ])),
-            }
-        })?;
-        sim.set(f.name, wrap.call::<Function>(func)?)?;
+            })?;
+            table.set(f.name, wrap.call::<Function>(func)?)?;
+        }
+        for (name, value) in module.constants {
+            table.set(*name, *value)?;
+        }
+        lua.globals().set(module.name, table.clone())?;
+        if module.name == "sim" {
+            sim = Some(table);
+        }
     }
+    let sim = sim.ok_or_else(|| mlua::Error::runtime("the API has no sim module"))?;
     let cs_shared = shared.clone();
     sim.set(
         "callScriptFunction",
@@ -752,10 +764,6 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         "getScript",
         lua.create_function(|_, (_kind, object): (i64, Option<i64>)| Ok(object.unwrap_or(-1)))?,
     )?;
-    for (name, value) in api::CONSTANTS {
-        sim.set(*name, *value)?;
-    }
-    lua.globals().set("sim", sim)?;
     Ok(())
 }
 

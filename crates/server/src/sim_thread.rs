@@ -334,7 +334,14 @@ struct SimLoop {
 
 impl SimLoop {
     fn step(&mut self) {
+        let t = Instant::now();
         self.sim.step();
+        static ACC: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        let acc = ACC.fetch_add(t.elapsed().as_nanos() as u64, std::sync::atomic::Ordering::Relaxed);
+        if self.steps % 1000 == 999 {
+            eprintln!("TIMING avg step {} us", acc / 1000 / 1000);
+            ACC.store(0, std::sync::atomic::Ordering::Relaxed);
+        }
         self.steps += 1;
         self.stepping.stepped(self.steps);
     }

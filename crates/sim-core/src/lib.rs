@@ -14,7 +14,10 @@ pub use gantry_protocol::Value;
 pub use rapier3d;
 pub mod api;
 pub mod error;
+pub mod ik;
 pub mod sensor;
+pub mod ui;
+pub mod vision;
 pub mod world;
 
 pub use error::SimError;

@@ -7,10 +7,14 @@
 //! which the front end appends `(in function 'sim.name')`.
 
 mod args;
+mod drawing;
+mod ik;
 mod joints;
 mod misc;
 mod objects;
 mod sensing;
+mod ui;
+mod vision;
 
 pub use args::Args;
 
@@ -271,22 +275,74 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
 ];
 
-/// Looks a function up by its name without the `sim.` prefix.
-pub fn function(name: &str) -> Option<&'static ApiFunction> {
-    FUNCTIONS
-        .binary_search_by(|f| f.name.cmp(name))
-        .ok()
-        .map(|i| &FUNCTIONS[i])
+/// A namespace of the API as scripts see it (`sim`, `simIK`, `simUI`, `simVision`):
+/// its functions, gathered from the files that implement them, and its constants.
+pub struct Module {
+    /// The Lua global / remote-API name, e.g. `simIK`.
+    pub name: &'static str,
+    /// Function tables, each owned by one implementation file.
+    pub functions: &'static [&'static [ApiFunction]],
+    /// Constants, e.g. `simIK.constraint_pose`.
+    pub constants: &'static [(&'static str, i64)],
 }
 
-/// Calls `sim.<name>`.
+impl Module {
+    /// Every function of the module.
+    pub fn iter(&self) -> impl Iterator<Item = &'static ApiFunction> + use<> {
+        self.functions.iter().flat_map(|t| t.iter())
+    }
+
+    /// Looks a function up by its unqualified name.
+    pub fn function(&self, name: &str) -> Option<&'static ApiFunction> {
+        self.iter().find(|f| f.name == name)
+    }
+}
+
+/// Every namespace of the API. New capabilities add their function tables here.
+pub const MODULES: &[Module] = &[
+    Module {
+        name: "sim",
+        functions: &[FUNCTIONS, drawing::FUNCTIONS, vision::FUNCTIONS],
+        constants: CONSTANTS,
+    },
+    Module {
+        name: "simIK",
+        functions: &[ik::FUNCTIONS],
+        constants: ik::CONSTANTS,
+    },
+    Module {
+        name: "simUI",
+        functions: &[ui::FUNCTIONS],
+        constants: ui::CONSTANTS,
+    },
+    Module {
+        name: "simVision",
+        functions: &[vision::SIM_VISION_FUNCTIONS],
+        constants: &[],
+    },
+];
+
+/// The module named `name`.
+pub fn module(name: &str) -> Option<&'static Module> {
+    MODULES.iter().find(|m| m.name == name)
+}
+
+/// Looks a `sim.*` function up by its name without the `sim.` prefix.
+pub fn function(name: &str) -> Option<&'static ApiFunction> {
+    module("sim").and_then(|m| m.function(name))
+}
+
+/// Calls `sim.<name>`, or `<module>.<name>` when `name` is qualified (`simIK.handleGroup`).
 ///
 /// # Errors
 /// Unknown function (`No such function: sim.x`) or the function's own error, already
 /// qualified with `(in function 'sim.x')`.
 pub fn call(world: &mut World, ctx: &CallContext<'_>, name: &str, args: &[Value]) -> Result<Ret, String> {
-    let f = function(name).ok_or_else(|| format!("No such function: sim.{name}"))?;
-    (f.call)(world, ctx, &Args::new(args)).map_err(|e| e.in_function(&format!("sim.{name}")))
+    let (module_name, fname) = name.split_once('.').unwrap_or(("sim", name));
+    let f = module(module_name)
+        .and_then(|m| m.function(fname))
+        .ok_or_else(|| format!("No such function: {module_name}.{fname}"))?;
+    (f.call)(world, ctx, &Args::new(args)).map_err(|e| e.in_function(&format!("{module_name}.{fname}")))
 }
 
 /// The `sim.*` constants scripts and clients use, with CoppeliaSim's values.
@@ -366,5 +422,12 @@ mod tests {
         }
         assert!(function("getObject").is_some());
         assert!(function("nope").is_none());
+        for m in MODULES {
+            let mut names: Vec<&str> = m.iter().map(|f| f.name).collect();
+            let n = names.len();
+            names.sort_unstable();
+            names.dedup();
+            assert_eq!(names.len(), n, "a function of {} is registered twice", m.name);
+        }
     }
 }

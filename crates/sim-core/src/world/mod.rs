@@ -2,6 +2,8 @@
 //! rapier counterpart, and CoppeliaSim's path lookup.
 
 mod collection;
+mod drawing;
+mod graph;
 mod log;
 mod object;
 pub mod object_path;
@@ -15,6 +17,8 @@ mod signals;
 mod world;
 
 pub use collection::{Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind};
+pub use drawing::Drawings;
+pub use graph::Graphs;
 pub use log::{LOG_CAPACITY, Log, LogLine};
 pub use object::{Detection, ForceReading, Handle, Joint, Object, ObjectKind, ProximitySensor};
 pub(crate) use physics::Physics;

@@ -32,6 +32,14 @@ pub struct World {
     pub log: Log,
     /// Running, paused or stopped, as the orchestrator reports it.
     pub state: SimulationState,
+    /// Drawing objects.
+    pub drawings: super::drawing::Drawings,
+    /// Graph streams.
+    pub graphs: super::graph::Graphs,
+    /// Custom UIs.
+    pub uis: crate::ui::Uis,
+    /// IK environments.
+    pub ik: crate::ik::IkEnvironments,
     /// Whether bodies were moved since rapier's collision structures were last updated,
     /// so scene queries must refresh them first (rapier updates them only when stepping).
     queries_stale: bool,
@@ -136,6 +144,10 @@ impl World {
             log: Log::default(),
             state: SimulationState::Stopped,
             queries_stale: true,
+            drawings: Default::default(),
+            graphs: Default::default(),
+            uis: Default::default(),
+            ik: Default::default(),
         };
         world.refresh_all_poses();
         let objects = &world.objects;
