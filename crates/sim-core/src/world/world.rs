@@ -40,6 +40,8 @@ pub struct World {
     pub uis: crate::ui::Uis,
     /// IK environments.
     pub ik: crate::ik::IkEnvironments,
+    /// Vision sensors' images.
+    pub vision: crate::vision::VisionStates,
     /// Whether bodies were moved since rapier's collision structures were last updated,
     /// so scene queries must refresh them first (rapier updates them only when stepping).
     queries_stale: bool,
@@ -148,6 +150,7 @@ impl World {
             graphs: Default::default(),
             uis: Default::default(),
             ik: Default::default(),
+            vision: Default::default(),
         };
         world.refresh_all_poses();
         let objects = &world.objects;
