@@ -6,7 +6,7 @@
 //! tick — serves every request as soon as it arrives, so a reply never waits for the
 //! next 50 ms step.
 
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TryRecvError, TrySendError};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::time::{Duration, Instant};
 
 use gantry_script::{ScriptLimits, Simulation};
@@ -288,9 +288,6 @@ pub fn run_sim_thread(
             // (such as the `sim.step` that releases the hold) still wake the loop at once.
             origin = Instant::now();
             paced_steps = 0;
-            if running && lp.stepping.any_stepping() && spin_for_request(&rx, &mut lp) {
-                continue;
-            }
             Duration::from_millis(50)
         };
         match rx.recv_timeout(wait) {
@@ -324,32 +321,6 @@ pub fn run_sim_thread(
         sim_time,
         wall_s: start.elapsed().as_secs_f64(),
     })
-}
-
-/// How long the loop polls for the next request of a stepping client before it blocks.
-/// A client asks for the next step about two round trips after the last one was done
-/// (~100-200 us with the Python client).
-const STEP_SPIN: Duration = Duration::from_micros(500);
-
-/// Polls for a request for up to [`STEP_SPIN`], yielding the core between polls, and
-/// serves it. Returns whether one was served.
-///
-/// Why not just block: waking a parked thread costs tens to hundreds of microseconds
-/// on a small (virtual) machine, a large share of a remote step, and a stepping client
-/// is about to send its next `sim.step`.
-fn spin_for_request(rx: &Receiver<Request>, lp: &mut SimLoop) -> bool {
-    let until = Instant::now() + STEP_SPIN;
-    loop {
-        match rx.try_recv() {
-            Ok(req) => {
-                lp.serve(req);
-                return true;
-            }
-            Err(TryRecvError::Disconnected) => return false,
-            Err(TryRecvError::Empty) if Instant::now() >= until => return false,
-            Err(TryRecvError::Empty) => std::thread::yield_now(),
-        }
-    }
 }
 
 /// What the loop owns besides its schedule.

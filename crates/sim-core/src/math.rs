@@ -111,15 +111,19 @@ pub fn rotation_z_to(axis: &Vec3) -> Quat {
         .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI))
 }
 
-/// Wraps an angle into CoppeliaSim's cyclic range (-pi, pi].
+/// Wraps an angle into CoppeliaSim's cyclic range (-pi, pi]. Angles already in range
+/// are returned unchanged, bit for bit (a round trip through atan2 would not be).
 pub fn wrap_angle(a: f64) -> f64 {
-    let w = a.sin().atan2(a.cos());
-    // atan2 returns [-pi, pi]; CoppeliaSim's range excludes -pi.
-    if w <= -std::f64::consts::PI {
-        std::f64::consts::PI
-    } else {
-        w
+    use std::f64::consts::{PI, TAU};
+    if a > -PI && a <= PI {
+        return a;
     }
+    if !a.is_finite() {
+        return a;
+    }
+    let w = (a + PI).rem_euclid(TAU) - PI;
+    // rem_euclid yields [-pi, pi); CoppeliaSim's range excludes -pi.
+    if w <= -PI { PI } else { w }
 }
 
 /// Converts our f64 pose to rapier's f32 pose.

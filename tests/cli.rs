@@ -1,0 +1,148 @@
+//! The `gantry` command line: every shipped scene runs headless, the summary line is
+//! machine-readable, `check` reports errors with file, line and column, and the
+//! embedded default scene works from any directory.
+
+mod common;
+
+use std::process::Command;
+
+use common::root;
+
+fn gantry() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_gantry"))
+}
+
+/// Parses `steps=N sim_time=S wall_s=W steps_per_s=R rtf=X`.
+fn summary(stdout: &[u8]) -> Vec<(String, f64)> {
+    let text = String::from_utf8_lossy(stdout);
+    let line = text.lines().last().expect("a summary line");
+    line.split_whitespace()
+        .map(|kv| {
+            let (k, v) = kv.split_once('=').expect("key=value");
+            (k.to_owned(), v.parse().expect("number"))
+        })
+        .collect()
+}
+
+#[test]
+fn every_scene_runs_200_steps_headless() {
+    for scene in [
+        "assets/scenes/fk_arm.toml",
+        "assets/scenes/bubble_rob.toml",
+        "assets/scenes/showroom.toml",
+        "assets/robots/arm6/arm6.urdf",
+    ] {
+        let out = gantry()
+            .args(["run", "--steps", "200", "--fast", "--no-listen"])
+            .arg(root().join(scene))
+            .output()
+            .expect("runs");
+        assert!(
+            out.status.success(),
+            "{scene}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let s = summary(&out.stdout);
+        let keys: Vec<&str> = s.iter().map(|(k, _)| k.as_str()).collect();
+        assert_eq!(keys, ["steps", "sim_time", "wall_s", "steps_per_s", "rtf"], "{scene}");
+        assert_eq!(s[0].1, 200.0, "{scene}");
+        assert!((s[1].1 - 10.0).abs() < 1e-9, "{scene}: 200 steps of 50 ms");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("script error"), "{scene}: {stderr}");
+    }
+}
+
+#[test]
+fn overrides_and_embedded_scene_from_another_directory() {
+    let out = gantry()
+        .args([
+            "--steps",
+            "20",
+            "--fast",
+            "--no-listen",
+            "--dt",
+            "0.01",
+            "--substeps",
+            "2",
+        ])
+        .current_dir(std::env::temp_dir())
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let s = summary(&out.stdout);
+    assert!((s[1].1 - 0.2).abs() < 1e-9, "20 steps of 10 ms: {s:?}");
+}
+
+#[test]
+fn check_reports_file_line_and_column() {
+    let dir = std::env::temp_dir().join(format!("gantry-cli-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    let bad = dir.join("bad.toml");
+    std::fs::write(
+        &bad,
+        "[simulation]\ndt = 0.05\n\n[[object]]\nname = \"a\"\nkind = \"dummy\"\nparent = \"nowhere\"\n",
+    )
+    .expect("write");
+    let out = gantry().arg("check").arg(&bad).output().expect("runs");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.toml:7:10") && err.contains("'nowhere'"), "{err}");
+
+    std::fs::write(&bad, "[simulation]\ndt = [\n").expect("write");
+    let out = gantry().arg("check").arg(&bad).output().expect("runs");
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("bad.toml:2:"),
+        "malformed TOML names the line"
+    );
+
+    let script = dir.join("broken.lua");
+    std::fs::write(&script, "function sysCall_init()\n  x = = 1\nend\n").expect("write");
+    std::fs::write(
+        &bad,
+        "[[object]]\nname = \"a\"\nkind = \"dummy\"\nscript = \"broken.lua\"\n",
+    )
+    .expect("write");
+    let out = gantry().arg("check").arg(&bad).output().expect("runs");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("broken.lua:2:"),
+        "script syntax errors name file and line: {err}"
+    );
+
+    let ok = gantry()
+        .arg("check")
+        .arg(root().join("assets/scenes/showroom.toml"))
+        .output()
+        .expect("runs");
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn send_exits_non_zero_on_errors_and_failed_connections() {
+    let g = common::start("assets/scenes/fk_arm.toml", &[]);
+    let addr = g.text.to_string();
+    let ok = gantry()
+        .args(["send", "--addr", &addr, "<FK#J1=0.1>", "<JOINTS#>"])
+        .output()
+        .expect("runs");
+    assert!(ok.status.success());
+    let stdout = String::from_utf8_lossy(&ok.stdout);
+    assert!(
+        stdout.starts_with("<FK#J1=0.1>\n<JOINTS#J1=0.10000000000000001,"),
+        "{stdout}"
+    );
+    let err = gantry()
+        .args(["send", "--addr", &addr, "<FK#J1=abc>"])
+        .output()
+        .expect("runs");
+    assert!(!err.status.success());
+    drop(g);
+    let refused = gantry()
+        .args(["send", "--addr", &addr, "<FK#J1=0>"])
+        .output()
+        .expect("runs");
+    assert!(!refused.status.success());
+}
