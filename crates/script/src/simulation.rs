@@ -389,6 +389,10 @@ impl Simulation {
     /// # Errors
     /// The CoppeliaSim-style error message.
     pub fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+        if name == "getScript" {
+            // A script's handle is the handle of the object it is attached to.
+            return Ok(vec![args.get(1).cloned().unwrap_or(Value::Int(-1))]);
+        }
         if name == "callScriptFunction" {
             return call_script_function(&self.lua, &self.shared, args)
                 .map_err(|e| format!("{} (in function 'sim.callScriptFunction')", error_text(&e)));

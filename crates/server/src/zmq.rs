@@ -47,7 +47,7 @@ use crate::stepping::ClientId;
 
 /// Functions that `Simulation::call` implements beyond [`api::FUNCTIONS`] (they need the
 /// Lua state, so they live in the script crate).
-pub const SIMULATION_FUNCTIONS: &[&str] = &["callScriptFunction"];
+pub const SIMULATION_FUNCTIONS: &[&str] = &["callScriptFunction", "getScript"];
 
 /// Functions the remote API adds on top of the core: they act on the client's session
 /// or the simulation loop, not on the world.
@@ -177,7 +177,8 @@ struct Server {
     sessions: HashMap<String, Session>,
     next_id: u64,
     /// `{"ret": [INFO]}` for `sim`, encoded once: it is the same for every client.
-    sim_info: Bytes,
+    /// Encoded INFO replies by module name.
+    infos: std::collections::HashMap<&'static str, Bytes>,
     /// Clients to forget whose `DropClient` found the simulation queue full; retried
     /// on the next sweep so that no stepping level is leaked.
     pending_drops: Vec<ClientId>,
@@ -191,7 +192,10 @@ impl Server {
             tx,
             sessions: HashMap::new(),
             next_id: 0,
-            sim_info: Bytes::from(encode_ret(&[sim_info()])),
+            infos: api::MODULES
+                .iter()
+                .map(|m| (m.name, Bytes::from(encode_ret(&[module_info(m)]))))
+                .collect(),
             pending_drops: Vec::new(),
         }
     }
@@ -262,16 +266,18 @@ impl Server {
         match req.func.as_str() {
             FUNC_EXECUTED => self.executed(&uuid, envelope),
             "zmqRemoteApi.require" => Outcome::Reply(match module_name(&req.args) {
-                Some("sim") => encode_ret(&[]),
+                Some(m) if self.infos.contains_key(m) => encode_ret(&[]),
                 other => encode_err(&no_module(other)),
             }),
-            "zmqRemoteApi.info" => Outcome::Reply(match module_name(&req.args) {
-                Some("sim") => self.sim_info.to_vec(),
-                other => encode_err(&no_module(other)),
+            "zmqRemoteApi.info" => Outcome::Reply(match module_name(&req.args).and_then(|m| self.infos.get(m)) {
+                Some(info) => info.to_vec(),
+                None => encode_err(&no_module(module_name(&req.args))),
             }),
-            func => match func.strip_prefix("sim.") {
-                Some(name) => self.sim_function(client, &uuid, name, req.args),
-                None => Outcome::Reply(encode_err(&format!("No such function: {func}"))),
+            func => match func.split_once('.') {
+                Some(("sim", name)) => self.sim_function(client, &uuid, name, req.args),
+                // simIK, simUI, simVision: plain calls into the shared implementation.
+                Some((module, _)) if self.infos.contains_key(module) => self.module_function(func, req.args),
+                _ => Outcome::Reply(encode_err(&format!("No such function: {func}"))),
             },
         }
     }
@@ -323,6 +329,19 @@ impl Server {
         };
         if let Err(e) = self.sim.send(request) {
             return Outcome::Reply(encode_err(&format!("{e} (in function 'sim.{name}')")));
+        }
+        Outcome::Await(rx)
+    }
+
+    /// A call of a module other than `sim`, by its qualified name.
+    fn module_function(&mut self, qualified: &str, args: Vec<Value>) -> Outcome {
+        let (reply, rx) = oneshot::channel();
+        if let Err(e) = self.sim.send(Request::Call {
+            name: qualified.to_owned(),
+            args,
+            reply,
+        }) {
+            return Outcome::Reply(encode_err(&format!("{e} (in function '{qualified}')")));
         }
         Outcome::Await(rx)
     }
@@ -414,22 +433,37 @@ fn module_name(args: &[Value]) -> Option<&str> {
 
 fn no_module(name: Option<&str>) -> String {
     match name {
-        Some(n) => format!("module '{n}' is not available in gantry (only 'sim' is)"),
+        Some(n) => {
+            let names: Vec<&str> = api::MODULES.iter().map(|m| m.name).collect();
+            format!("module '{n}' is not available in gantry (it has {})", names.join(", "))
+        }
         None => "argument 1: expected the module name as a string (in function 'zmqRemoteApi.require')".into(),
     }
 }
 
 /// INFO for `sim`: `{"name": {"func": {}}, ..., "handle_world": {"const": -1}, ...}`.
 pub fn sim_info() -> Value {
+    module_info(api::module("sim").expect("the API always has a sim module"))
+}
+
+/// INFO for one module of [`api::MODULES`], generated from the shared implementation;
+/// `sim` also lists the functions the Lua host and this transport add.
+pub fn module_info(module: &api::Module) -> Value {
     let func = || Value::Map(vec![("func".into(), Value::Map(Vec::new()))]);
-    let names = api::FUNCTIONS
-        .iter()
-        .map(|f| f.name)
-        .chain(SIMULATION_FUNCTIONS.iter().copied())
-        .chain(HOST_FUNCTIONS.iter().map(|(n, _)| *n));
+    let extra: Vec<&str> = if module.name == "sim" {
+        SIMULATION_FUNCTIONS
+            .iter()
+            .copied()
+            .chain(HOST_FUNCTIONS.iter().map(|(n, _)| *n))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let names = module.iter().map(|f| f.name).chain(extra);
     let mut pairs: Vec<(Value, Value)> = names.map(|n| (n.into(), func())).collect();
     pairs.extend(
-        api::CONSTANTS
+        module
+            .constants
             .iter()
             .map(|(n, v)| ((*n).into(), Value::Map(vec![("const".into(), Value::Int(*v))]))),
     );

@@ -168,8 +168,16 @@ async fn require_and_info_describe_sim() {
         info[0].get("handle_world"),
         Some(&Value::Map(vec![("const".into(), Value::Int(-1))]))
     );
-    let e = c.err("zmqRemoteApi.require", vec!["simIK".into()]).await;
-    assert!(e.contains("simIK"), "{e}");
+    // Every module of the shared implementation can be required; unknown ones cannot.
+    for m in ["simIK", "simUI", "simVision"] {
+        assert_eq!(
+            c.ok("zmqRemoteApi.require", vec![m.into()]).await,
+            Vec::<Value>::new(),
+            "{m}"
+        );
+    }
+    let e = c.err("zmqRemoteApi.require", vec!["simBogus".into()]).await;
+    assert!(e.contains("simBogus") && e.contains("simIK"), "{e}");
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

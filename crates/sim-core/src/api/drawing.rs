@@ -1,6 +1,289 @@
-//! API functions of this capability (see the module of the same name).
+//! Drawing objects and graph streams: `sim.addDrawingObject`, `addDrawingObjectItem`,
+//! `removeDrawingObject`, `addGraphStream`, `setGraphStreamValue`, and gantry's read
+//! and export extensions (`getDrawingObjectItems`, `getGraphStreamValues`,
+//! `exportGraphStreams`). The models live in `world::drawing` and `world::graph`.
 
-use super::ApiFunction;
+use std::path::Path;
+
+use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::world::{
+    DrawingKind, DrawingParams, HANDLEFLAG_ADD_MULTIPLE, Handle, MAX_DRAWING_ITEMS, ObjectKind, StreamParams, World,
+};
 
 /// The functions this file implements.
-pub(super) const FUNCTIONS: &[ApiFunction] = &[];
+pub(super) const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "addDrawingObject",
+        call: add_drawing_object,
+    },
+    ApiFunction {
+        name: "addDrawingObjectItem",
+        call: add_drawing_object_item,
+    },
+    ApiFunction {
+        name: "addGraphStream",
+        call: add_graph_stream,
+    },
+    ApiFunction {
+        name: "exportGraphStreams",
+        call: export_graph_streams,
+    },
+    ApiFunction {
+        name: "getDrawingObjectItems",
+        call: get_drawing_object_items,
+    },
+    ApiFunction {
+        name: "getGraphStreamValues",
+        call: get_graph_stream_values,
+    },
+    ApiFunction {
+        name: "removeDrawingObject",
+        call: remove_drawing_object,
+    },
+    ApiFunction {
+        name: "setGraphStreamValue",
+        call: set_graph_stream_value,
+    },
+];
+
+/// `sim.handle_all`.
+const HANDLE_ALL: Handle = -2;
+/// `sim.handle_world`: a drawing object without parent.
+const HANDLE_WORLD: Handle = -1;
+/// Verbosity of the warnings logged here (`sim.verbosity_scriptwarnings`).
+const WARNING: i64 = 420;
+/// CoppeliaSim's default drawing colour when none is given (its default material).
+const DEFAULT_DRAWING_COLOR: [f64; 3] = [0.5, 0.5, 0.5];
+
+/// An optional RGB argument: `default` when nil, else 3 finite numbers (extra ones are
+/// ignored), clamped to [0, 1].
+fn color(a: &Args<'_>, i: usize, default: [f64; 3]) -> Result<[f64; 3], ApiError> {
+    match a.get(i) {
+        Value::Nil => Ok(default),
+        _ => Ok(a.floats::<3>(i)?.map(|c| c.clamp(0.0, 1.0))),
+    }
+}
+
+/// `sim.addDrawingObject(objectType, size, duplicateTolerance, parentHandle,
+/// maxItemCount, color)` → handle.
+///
+/// Accepts both CoppeliaSim forms: 4.6's `color` as the 6th argument, and 4.1's
+/// `ambient_diffuse, nil, specular, emission` from the 6th on (ambient/diffuse is the
+/// colour, emission is kept for the viewer, specular is checked and ignored).
+/// `parentHandle` -1 draws in the world frame. `maxItemCount` 0 means 1000; above
+/// 100,000 it is capped with a warning in the log. Unknown type codes are drawn as
+/// points, with a warning.
+fn add_drawing_object(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let object_type = a.int(0)?;
+    let size = a.finite(1)?;
+    let duplicate_tolerance = a.finite(2)?;
+    let parent = match a.handle(3)? {
+        HANDLE_WORLD => None,
+        h => {
+            w.object(h)?;
+            Some(h)
+        }
+    };
+    let max_items = a.int(4)?;
+    let max_items = usize::try_from(max_items)
+        .map_err(|_| ApiError::new(format!("argument 5: max item count must be 0 or more, got {max_items}")))?;
+    let color = color(a, 5, DEFAULT_DRAWING_COLOR)?;
+    // 4.1 form: argument 7 is a reserved nil; 8 specular (not rendered); 9 emission.
+    color(a, 7, [0.0; 3])?;
+    let emission = match a.get(8) {
+        Value::Nil => None,
+        _ => Some(color(a, 8, [0.0; 3])?),
+    };
+    let (kind, known) = DrawingKind::from_type(object_type);
+    let time = w.time();
+    if !known {
+        w.log.push(
+            time,
+            WARNING,
+            ctx.source,
+            &format!(
+                "sim.addDrawingObject: type {} is drawn as points by gantry",
+                object_type & 0x1f
+            ),
+        );
+    }
+    if max_items > MAX_DRAWING_ITEMS {
+        w.log.push(
+            time,
+            WARNING,
+            ctx.source,
+            &format!("sim.addDrawingObject: max item count {max_items} capped at {MAX_DRAWING_ITEMS}"),
+        );
+    }
+    debug_assert!(kind.vertices_per_item() > 0, "every kind has vertices");
+    let h = w.drawings.create(DrawingParams {
+        object_type,
+        size,
+        duplicate_tolerance,
+        parent,
+        max_items,
+        color,
+        emission,
+    })?;
+    Ok(vec![Value::Int(h)])
+}
+
+/// The item data argument: `None` for nil, else every number of the table.
+fn item_data(a: &Args<'_>, i: usize) -> Result<Option<Vec<f64>>, ApiError> {
+    match a.get(i) {
+        Value::Nil => Ok(None),
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                v.as_f64().filter(|f| f.is_finite()).ok_or_else(|| {
+                    ApiError::new(format!(
+                        "argument {}: element {} must be a finite number, got {}",
+                        i + 1,
+                        k + 1,
+                        match v.as_f64() {
+                            Some(f) => f.to_string(),
+                            None => v.type_name().to_owned(),
+                        }
+                    ))
+                })
+            })
+            .collect::<Result<Vec<f64>, ApiError>>()
+            .map(Some),
+        other => Err(ApiError::new(format!(
+            "argument {}: expected table of numbers or nil, got {}",
+            i + 1,
+            other.type_name()
+        ))),
+    }
+}
+
+/// `sim.addDrawingObjectItem(handle, itemData)` → 1 if the item was added, else 0.
+///
+/// `itemData` holds 3 numbers per vertex (points 3, lines 6, triangles 9, line strip 3
+/// for the next vertex); extra numbers are ignored, as CoppeliaSim reads only what the
+/// type needs (the 7-number `distData` of `sim.checkDistance` draws its segment).
+/// Coordinates are world-frame, or parent-frame with `sim.drawing_local`. `nil` clears
+/// the object and returns 0. With `sim.handleflag_addmultiple` OR-ed on the handle the
+/// data is packed items; the result is 1 if any was added.
+fn add_drawing_object_item(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let raw = a.handle(0)?;
+    let multiple = raw > 0 && raw & HANDLEFLAG_ADD_MULTIPLE != 0;
+    let h = if multiple { raw & !HANDLEFLAG_ADD_MULTIPLE } else { raw };
+    let data = item_data(a, 1)?;
+    let frame = w.drawings.object(h)?.frame(w);
+    let object = w.drawings.object_mut(h)?;
+    let added = match data {
+        None => {
+            object.clear();
+            false
+        }
+        Some(data) if multiple => object.add_items(&data, &frame)? > 0,
+        Some(data) => object.add_item(&data, &frame)?,
+    };
+    Ok(vec![Value::Int(i64::from(added))])
+}
+
+/// `sim.removeDrawingObject(handle)`; `sim.handle_all` removes every drawing object.
+fn remove_drawing_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    match a.handle(0)? {
+        HANDLE_ALL => w.drawings.clear(),
+        h => w.drawings.remove(h)?,
+    }
+    Ok(Vec::new())
+}
+
+/// gantry extension: `sim.getDrawingObjectItems(handle)` → `objectType, size, color,
+/// vertices`: the type as created (kind in the low 5 bits, flags above), the size
+/// (pixels, or m for spheres), `{r, g, b}`, and every stored vertex oldest first as a
+/// flat list `{x1, y1, z1, x2, ...}` in the world frame (m).
+fn get_drawing_object_items(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let object = w.drawings.object(a.handle(0)?)?;
+    let frame = object.frame(w);
+    let flat: Vec<f64> = object.world_vertices(&frame).flat_map(|v| [v.x, v.y, v.z]).collect();
+    Ok(vec![
+        Value::Int(object.object_type()),
+        Value::Float(object.size()),
+        Value::floats(&object.color()),
+        Value::floats(&flat),
+    ])
+}
+
+/// Checks that `h` is a graph object.
+fn graph(w: &World, h: Handle) -> Result<Handle, ApiError> {
+    match &w.object(h)?.kind {
+        ObjectKind::Graph => Ok(h),
+        other => Err(ApiError::new(format!("object {h} is a {}, not a graph", other.name()))),
+    }
+}
+
+/// `sim.addGraphStream(graphHandle, name, unit='', options=0, color={1,0,0},
+/// cyclicRange=0)` → stream id. A stream of the same name on the same graph is updated
+/// (unit, options, colour) and keeps its id and values.
+fn add_graph_stream(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let g = graph(w, a.handle(0)?)?;
+    let name = a.str(1)?;
+    if name.is_empty() {
+        return Err(ApiError::new("argument 2: stream name must not be empty"));
+    }
+    let unit = match a.get(2) {
+        Value::Nil => "",
+        _ => a.str(2)?,
+    };
+    let params = StreamParams {
+        name: name.to_owned(),
+        unit: unit.to_owned(),
+        options: a.opt_int(3, 0)?,
+        color: color(a, 4, [1.0, 0.0, 0.0])?,
+        cyclic_range: match a.get(5) {
+            Value::Nil => 0.0,
+            _ => a.finite(5)?,
+        },
+    };
+    Ok(vec![Value::Int(w.graphs.add_stream(g, params)?)])
+}
+
+/// `sim.setGraphStreamValue(graphHandle, streamId, value)`. The value is stamped with
+/// the current step's end time `sim.getSimulationTime() + dt`, the time CoppeliaSim's
+/// `sim.handleGraph` records it with; a second value in the same step replaces the
+/// first.
+fn set_graph_stream_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let g = graph(w, a.handle(0)?)?;
+    let id = a.int(1)?;
+    let value = a.finite(2)?;
+    let t = w.time() + w.settings().dt;
+    w.graphs.record(g, id, t, value)?;
+    Ok(Vec::new())
+}
+
+/// gantry extension: `sim.getGraphStreamValues(graphHandle, streamId)` → `times,
+/// values`: the kept samples, oldest first, times in s.
+fn get_graph_stream_values(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let g = graph(w, a.handle(0)?)?;
+    let s = w.graphs.stream(g, a.int(1)?)?;
+    let (times, values): (Vec<f64>, Vec<f64>) = s.samples().unzip();
+    Ok(vec![Value::floats(&times), Value::floats(&values)])
+}
+
+/// gantry extension: `sim.exportGraphStreams(dir)` → list of written file paths: one CSV
+/// per graph with streams, named after the graph's alias (`time` column, then
+/// `name [unit]` per stream, one row per sample time). The directory is created if
+/// needed; files are replaced atomically.
+fn export_graph_streams(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let dir = a.str(0)?;
+    if dir.is_empty() {
+        return Err(ApiError::new("argument 1: directory must not be empty"));
+    }
+    let names = |h: Handle| w.object(h).map_or_else(|_| format!("graph{h}"), |o| o.alias.clone());
+    let paths = w
+        .graphs
+        .export_csv(Path::new(dir), names)
+        .map_err(|e| ApiError::new(format!("cannot export graph streams to '{dir}': {e}")))?;
+    Ok(vec![Value::Array(
+        paths
+            .into_iter()
+            .map(|p| Value::Str(p.to_string_lossy().into_owned()))
+            .collect(),
+    )])
+}
