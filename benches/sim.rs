@@ -157,6 +157,7 @@ fn text_latency() {
             fast: false,
             limits: ScriptLimits::default(),
             autostart: true,
+            ..SimConfig::default()
         };
         gantry_server::run(model, sim, serve, stop, |b| {
             tx.send(b.text.expect("text port")).expect("ready")

@@ -7,7 +7,10 @@
 --                               wrapped, as CoppeliaSim does); missing joints keep their
 --                               value. Reply: the packet echoed (the paper's ack).
 --   <IK#TX=..,TY=..,TZ=..>      move the IK target to (TX, TY, TZ), metres, world frame,
---                               and solve. Needs simIK; without it the reply is an error.
+--                               keeping its orientation, and solve with simIK (damped
+--                               least squares, damping 0.3, 100 iterations, as the paper).
+--                               Out of reach: the arm moves as close as it can and the
+--                               reply is an error saying so.
 --   <JOINTS#>                   reply <JOINTS#J1=..,...,J6=..> with the joint angles, rad.
 --   <TIP#>                      reply <TIP#X=..,Y=..,Z=..,QX=..,QY=..,QZ=..,QW=..>, world frame.
 
@@ -18,6 +21,18 @@ function sysCall_init()
     end
     tip = sim.getObject('./tip')
     target = sim.getObject('/target', {noError = true})
+    if target ~= -1 then
+        -- Unlike the original, gantry's IK works on the scene's own joints, so it always
+        -- starts from the arm's current pose (the paper's IK world drifted after FK).
+        ikEnv = simIK.createEnvironment()
+        ikGroup = simIK.createGroup(ikEnv)
+        simIK.setGroupCalculation(ikEnv, ikGroup, simIK.method_damped_least_squares, 0.3, 100)
+        simIK.addElementFromScene(ikEnv, ikGroup, sim.getObject('.'), tip, target, simIK.constraint_pose)
+    end
+end
+
+function sysCall_cleanup()
+    if ikEnv then simIK.eraseEnvironment(ikEnv) end
 end
 
 local function fmt(x)
@@ -33,9 +48,6 @@ function sysCall_packet(packet)
         end
         return nil -- echo the packet
     elseif code == 'IK' then
-        if not simIK then
-            return '<ERR#IK needs simIK, which this build does not provide yet>'
-        end
         if target == -1 then
             return '<ERR#IK needs a dummy aliased "target" in the scene>'
         end
@@ -44,7 +56,11 @@ function sysCall_packet(packet)
         p[2] = packet.fields.TY or p[2]
         p[3] = packet.fields.TZ or p[3]
         sim.setObjectPosition(target, p, sim.handle_world)
-        return solveIk and solveIk() or nil
+        local result = simIK.handleGroup(ikEnv, ikGroup, {syncWorlds = true, allowError = true})
+        if result ~= simIK.result_success then
+            return '<ERR#IK target out of reach; the arm moved as close as it can>'
+        end
+        return nil -- echo the packet
     elseif code == 'JOINTS' then
         local parts = {}
         for i = 1, 6 do

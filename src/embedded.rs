@@ -26,5 +26,6 @@ pub fn files() -> EmbeddedFiles {
         ),
         ("scripts/bubble_rob.lua", include_bytes!("../scripts/bubble_rob.lua")),
         ("scripts/fk_server.lua", include_bytes!("../scripts/fk_server.lua")),
+        ("scripts/edge_detect.lua", include_bytes!("../scripts/edge_detect.lua")),
     ])
 }

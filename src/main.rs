@@ -100,6 +100,9 @@ struct RunArgs {
     /// Most simultaneous text-channel connections.
     #[arg(long, default_value_t = 256)]
     max_connections: usize,
+    /// When the run ends, write every graph stream as CSV into DIR (one file per graph).
+    #[arg(long, value_name = "DIR")]
+    export_graphs: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {
@@ -224,6 +227,7 @@ fn run(args: &RunArgs) -> Result<()> {
         fast: args.fast,
         limits: ScriptLimits::default(),
         autostart: true,
+        export_graphs: args.export_graphs.clone(),
     };
     let summary = gantry_server::run(model, sim, serve, Shutdown::default(), |bound| {
         // One machine-readable line per listener on stderr, for scripts that start

@@ -117,6 +117,25 @@ fn persistent_client_and_read_backs() {
     assert!((joints(&mut c)[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
     let tip = c.request("<TIP#>");
     assert!(tip.starts_with("<TIP#X=") && tip.contains(",QW="), "{tip}");
+    // IK: the tip goes to the requested point, keeping the tool pointing down.
+    assert_eq!(
+        c.request("<IK#TX=0.40,TY=0.1,TZ=0.5,RX=0,RY=0,RZ=0>"),
+        "<IK#TX=0.40,TY=0.1,TZ=0.5,RX=0,RY=0,RZ=0>\n"
+    );
+    let tip = c.request("<TIP#>");
+    let v: Vec<f64> = tip
+        .trim()
+        .trim_start_matches("<TIP#")
+        .trim_end_matches('>')
+        .split(',')
+        .map(|kv| kv.split_once('=').expect("k=v").1.parse().expect("number"))
+        .collect();
+    let err = ((v[0] - 0.40).powi(2) + (v[1] - 0.1).powi(2) + (v[2] - 0.5).powi(2)).sqrt();
+    assert!(err < 1e-3, "tip {v:?} misses the IK target by {err} m");
+    assert!(
+        c.request("<IK#TX=3,TY=0,TZ=0>")
+            .starts_with("<ERR#IK target out of reach")
+    );
     // Case-insensitive keys and codes.
     assert_eq!(c.request("<fk#j1=0>"), "<fk#j1=0>\n");
     for _ in 0..500 {

@@ -113,6 +113,7 @@ name = "{p}visionSensor"
 alias = "visionSensor"
 kind = "vision_sensor"
 parent = "{p}sensingNose"
+{vision_script}
 resolution = [256, 256]
 fov_deg = 60
 near = 0.01
@@ -174,9 +175,10 @@ size = {floor}   # m
 ROVER_SCRIPT = 'script = "../../scripts/{name}"\n'
 
 
-def rover(p, x, y, script):
+def rover(p, x, y, script, vision_script="edge_detect.lua"):
     s = ROVER_SCRIPT.format(name=script) if script else ""
-    return ROVER.format(p=p, x=x, y=y, script=s)
+    v = ROVER_SCRIPT.format(name=vision_script) if vision_script else ""
+    return ROVER.format(p=p, x=x, y=y, script=s, vision_script=v)
 
 
 ARM = '''

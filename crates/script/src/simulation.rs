@@ -85,6 +85,8 @@ struct Script {
     /// Cached hooks, so a script that defines none costs nothing per step.
     actuation: Option<Function>,
     sensing: Option<Function>,
+    /// `sysCall_vision`, called after the script's vision sensor renders.
+    vision: Option<Function>,
     state: ScriptState,
     initialised: bool,
 }
@@ -182,6 +184,7 @@ impl Simulation {
                 env,
                 actuation: None,
                 sensing: None,
+                vision: None,
                 state: ScriptState::Running,
                 initialised: false,
             };
@@ -254,6 +257,7 @@ impl Simulation {
         script.state = ScriptState::Errored(msg);
         script.actuation = None;
         script.sensing = None;
+        script.vision = None;
     }
 
     /// Calls one hook of one script, if it defines it and has not errored.
@@ -282,6 +286,7 @@ impl Simulation {
         let s = &mut self.scripts[i];
         s.actuation = s.env.raw_get::<Option<Function>>(Hook::Actuation.name()).ok().flatten();
         s.sensing = s.env.raw_get::<Option<Function>>(Hook::Sensing.name()).ok().flatten();
+        s.vision = s.env.raw_get::<Option<Function>>("sysCall_vision").ok().flatten();
     }
 
     /// Starts (or resumes) the simulation; runs `sysCall_init` of scripts not yet initialised.
@@ -346,6 +351,7 @@ impl Simulation {
             SimulationState::Paused => return,
             SimulationState::Running => {}
         }
+        self.dispatch_ui_events();
         for k in 0..self.order.len() {
             let i = self.order[k];
             if self.scripts[i].actuation.is_some() {
@@ -357,6 +363,7 @@ impl Simulation {
             w.step_physics();
             w.handle_all_proximity_sensors();
         }
+        self.handle_vision();
         for k in 0..self.order.len() {
             let i = self.order[k];
             if self.scripts[i].sensing.is_some() {
@@ -364,6 +371,79 @@ impl Simulation {
             }
         }
         self.shared.world.borrow_mut().advance_time();
+    }
+
+    /// Runs the callbacks of UI events (a slider moved in the viewer, `simUI.interact`)
+    /// in the scripts that created the UIs: `callback(ui, id, value)`, on the script's
+    /// next turn, before actuation.
+    fn dispatch_ui_events(&mut self) {
+        let events = self.shared.world.borrow_mut().uis.take_events();
+        for ev in events {
+            let Some(i) = self
+                .scripts
+                .iter()
+                .position(|s| Some(s.object) == ev.script_object && s.state == ScriptState::Running)
+            else {
+                continue;
+            };
+            let Ok(Some(f)) = self.scripts[i].env.get::<Option<Function>>(ev.callback.as_str()) else {
+                let msg = format!("UI callback '{}' is not a function of this script", ev.callback);
+                self.log(300, &self.scripts[i].name.clone(), &msg);
+                continue;
+            };
+            let args = match to_multi(&self.lua, &[Value::Int(ev.ui), Value::Int(ev.widget), ev.value.clone()]) {
+                Ok(a) => a,
+                Err(e) => {
+                    self.log(200, &self.scripts[i].name.clone(), &format!("UI event dropped: {e}"));
+                    continue;
+                }
+            };
+            self.enter(&self.scripts[i]);
+            let r = f.call::<()>(args);
+            self.leave();
+            if let Err(e) = r {
+                let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
+                self.fail(&mut s, e);
+                self.scripts[i] = s;
+            }
+        }
+    }
+
+    /// Renders the vision sensors whose scripts define `sysCall_vision`, then calls it
+    /// with `inData.handle` (CoppeliaSim handles vision sensors after proximity sensors,
+    /// before `sysCall_sensing`). Sensors without such a script render only when read.
+    fn handle_vision(&mut self) {
+        for k in 0..self.order.len() {
+            let i = self.order[k];
+            let Some(f) = self.scripts[i].vision.clone() else {
+                continue;
+            };
+            let h = self.scripts[i].object;
+            let rendered = gantry_sim_core::vision::handle_vision_sensor(&mut self.shared.world.borrow_mut(), h);
+            if let Err(e) = rendered {
+                let msg = format!("sysCall_vision needs the script on a vision sensor: {e}");
+                self.log(300, &self.scripts[i].name.clone(), &msg);
+                self.scripts[i].vision = None;
+                continue;
+            }
+            let in_data = match self.lua.create_table().and_then(|t| t.set("handle", h).map(|()| t)) {
+                Ok(t) => t,
+                Err(e) => {
+                    let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
+                    self.fail(&mut s, e);
+                    self.scripts[i] = s;
+                    continue;
+                }
+            };
+            self.enter(&self.scripts[i]);
+            let r = f.call::<()>(in_data);
+            self.leave();
+            if let Err(e) = r {
+                let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
+                self.fail(&mut s, e);
+                self.scripts[i] = s;
+            }
+        }
     }
 
     /// The world, borrowed for reading.
@@ -471,6 +551,7 @@ impl Simulation {
         s.state = ScriptState::Running;
         s.actuation = None;
         s.sensing = None;
+        s.vision = None;
         s.initialised = false;
         for e in self.shared.envs.borrow_mut().iter_mut() {
             if e.0 == object && e.2 == name {
@@ -552,6 +633,7 @@ fn placeholder_script(lua: &Lua) -> Script {
         env: lua.globals(),
         actuation: None,
         sensing: None,
+        vision: None,
         state: ScriptState::Running,
         initialised: false,
     }

@@ -10,9 +10,9 @@ use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError
 use std::time::{Duration, Instant};
 
 use gantry_script::{ScriptLimits, Simulation};
-use gantry_sim_core::Value;
 use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::world::SimulationState;
+use gantry_sim_core::{Handle, Value};
 use tokio::sync::oneshot;
 
 use crate::stepping::{ClientId, Stepping, SteppingError};
@@ -183,7 +183,7 @@ impl SimHandle {
 }
 
 /// How the simulation thread runs.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Default)]
 pub struct SimConfig {
     /// Stop after this many steps.
     pub steps: Option<u64>,
@@ -193,6 +193,8 @@ pub struct SimConfig {
     pub limits: ScriptLimits,
     /// Start running at once (otherwise wait for a start request).
     pub autostart: bool,
+    /// Write every graph stream as CSV into this folder when the run ends.
+    pub export_graphs: Option<std::path::PathBuf>,
 }
 
 /// What a finished run reports.
@@ -314,6 +316,23 @@ pub fn run_sim_thread(
         }
     }
     lp.sim.cleanup();
+    if let Some(dir) = &config.export_graphs {
+        // Cleanup hooks ran first: their last values are part of the export.
+        let w = lp.sim.world();
+        let alias = |h: Handle| {
+            w.object(h)
+                .map(|o| o.alias.clone())
+                .unwrap_or_else(|_| format!("graph{h}"))
+        };
+        match w.graphs.export_csv(dir, alias) {
+            Ok(files) => {
+                for f in files {
+                    tracing::info!("graph streams written to {}", f.display());
+                }
+            }
+            Err(e) => tracing::error!("cannot export graph streams to {}: {e}", dir.display()),
+        }
+    }
     lp.stepping.stopped();
     let sim_time = lp.sim.world().time();
     Ok(RunSummary {

@@ -41,6 +41,7 @@ impl Server {
                 fast: true,
                 limits: ScriptLimits::default(),
                 autostart: true,
+                ..SimConfig::default()
             };
             gantry_server::run(model, sim, serve, sd, |bound| {
                 let _ = port_tx.send(bound.zmq.expect("zmq listener bound").port());

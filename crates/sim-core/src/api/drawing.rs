@@ -58,7 +58,7 @@ const DEFAULT_DRAWING_COLOR: [f64; 3] = [0.5, 0.5, 0.5];
 
 /// An optional RGB argument: `default` when nil, else 3 finite numbers (extra ones are
 /// ignored), clamped to [0, 1].
-fn color(a: &Args<'_>, i: usize, default: [f64; 3]) -> Result<[f64; 3], ApiError> {
+fn opt_color(a: &Args<'_>, i: usize, default: [f64; 3]) -> Result<[f64; 3], ApiError> {
     match a.get(i) {
         Value::Nil => Ok(default),
         _ => Ok(a.floats::<3>(i)?.map(|c| c.clamp(0.0, 1.0))),
@@ -88,14 +88,25 @@ fn add_drawing_object(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
     let max_items = a.int(4)?;
     let max_items = usize::try_from(max_items)
         .map_err(|_| ApiError::new(format!("argument 5: max item count must be 0 or more, got {max_items}")))?;
-    let color = color(a, 5, DEFAULT_DRAWING_COLOR)?;
-    // 4.1 form: argument 7 is a reserved nil; 8 specular (not rendered); 9 emission.
-    color(a, 7, [0.0; 3])?;
+    let color = opt_color(a, 5, DEFAULT_DRAWING_COLOR)?;
+    // 4.1 form (1-based): argument 7 is a reserved nil, 8 specular (not rendered),
+    // 9 emission.
+    opt_color(a, 7, [0.0; 3])?;
     let emission = match a.get(8) {
         Value::Nil => None,
-        _ => Some(color(a, 8, [0.0; 3])?),
+        _ => Some(opt_color(a, 8, [0.0; 3])?),
     };
-    let (kind, known) = DrawingKind::from_type(object_type);
+    let h = w.drawings.create(DrawingParams {
+        object_type,
+        size,
+        duplicate_tolerance,
+        parent,
+        max_items,
+        color,
+        emission,
+    })?;
+    // Warn only once the object exists, so a refused call logs nothing.
+    let (_, known) = DrawingKind::from_type(object_type);
     let time = w.time();
     if !known {
         w.log.push(
@@ -116,16 +127,6 @@ fn add_drawing_object(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
             &format!("sim.addDrawingObject: max item count {max_items} capped at {MAX_DRAWING_ITEMS}"),
         );
     }
-    debug_assert!(kind.vertices_per_item() > 0, "every kind has vertices");
-    let h = w.drawings.create(DrawingParams {
-        object_type,
-        size,
-        duplicate_tolerance,
-        parent,
-        max_items,
-        color,
-        emission,
-    })?;
     Ok(vec![Value::Int(h)])
 }
 
@@ -235,7 +236,7 @@ fn add_graph_stream(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<
         name: name.to_owned(),
         unit: unit.to_owned(),
         options: a.opt_int(3, 0)?,
-        color: color(a, 4, [1.0, 0.0, 0.0])?,
+        color: opt_color(a, 4, [1.0, 0.0, 0.0])?,
         cyclic_range: match a.get(5) {
             Value::Nil => 0.0,
             _ => a.finite(5)?,

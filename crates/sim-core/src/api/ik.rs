@@ -1,9 +1,495 @@
-//! API functions of this capability (see the module of the same name).
+//! `simIK.*`: CoppeliaSim 4.x's kinematics plugin API over gantry's scene (see
+//! [`crate::ik`] for the model: no separate IK world, every solve starts from the scene).
+//!
+//! Handles: environments are numbered from 1; groups and elements share one counter per
+//! environment. IK objects *are* the scene objects, so `addElementFromScene`'s
+//! `simToIkMap`/`ikToSimMap` are identity maps over the chain's objects, and functions
+//! taking an IK joint (`getJointPosition`) take the scene joint.
 
-use super::ApiFunction;
+use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::ik::{self, Apply, Constraints, GroupsOutcome, IkError, IkMethod};
+use crate::world::{Handle, World};
 
-/// The functions this file implements.
-pub(super) const FUNCTIONS: &[ApiFunction] = &[];
+impl From<IkError> for ApiError {
+    fn from(e: IkError) -> Self {
+        ApiError::new(e.to_string())
+    }
+}
 
-/// The `simIK.*` constants.
-pub(super) const CONSTANTS: &[(&str, i64)] = &[];
+/// The functions this file implements, in alphabetical order.
+pub(super) const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "addElementFromScene",
+        call: add_element_from_scene,
+    },
+    ApiFunction {
+        name: "addIkElementFromScene",
+        call: add_ik_element_from_scene,
+    },
+    ApiFunction {
+        name: "applyIkEnvironmentToScene",
+        call: apply_ik_environment_to_scene,
+    },
+    ApiFunction {
+        name: "applySceneToIkEnvironment",
+        call: apply_scene_to_ik_environment,
+    },
+    ApiFunction {
+        name: "createEnvironment",
+        call: create_environment,
+    },
+    ApiFunction {
+        name: "createGroup",
+        call: create_group,
+    },
+    ApiFunction {
+        name: "eraseEnvironment",
+        call: erase_environment,
+    },
+    ApiFunction {
+        name: "findConfig",
+        call: find_config,
+    },
+    ApiFunction {
+        name: "getElementConstraints",
+        call: get_element_constraints,
+    },
+    ApiFunction {
+        name: "getElementPrecision",
+        call: get_element_precision,
+    },
+    ApiFunction {
+        name: "getElementWeights",
+        call: get_element_weights,
+    },
+    ApiFunction {
+        name: "getGroupCalculation",
+        call: get_group_calculation,
+    },
+    ApiFunction {
+        name: "getGroupHandle",
+        call: get_group_handle,
+    },
+    ApiFunction {
+        name: "getJointPosition",
+        call: get_joint_position,
+    },
+    ApiFunction {
+        name: "handleGroup",
+        call: handle_group,
+    },
+    ApiFunction {
+        name: "handleGroups",
+        call: handle_groups,
+    },
+    ApiFunction {
+        name: "handleIkGroup",
+        call: handle_ik_group,
+    },
+    ApiFunction {
+        name: "setElementConstraints",
+        call: set_element_constraints,
+    },
+    ApiFunction {
+        name: "setElementPrecision",
+        call: set_element_precision,
+    },
+    ApiFunction {
+        name: "setElementWeights",
+        call: set_element_weights,
+    },
+    ApiFunction {
+        name: "setGroupCalculation",
+        call: set_group_calculation,
+    },
+    ApiFunction {
+        name: "syncFromSim",
+        call: sync_from_sim,
+    },
+    ApiFunction {
+        name: "syncToSim",
+        call: sync_to_sim,
+    },
+];
+
+/// The `simIK.*` constants, with CoppeliaSim's values.
+pub(super) const CONSTANTS: &[(&str, i64)] = &[
+    ("method_pseudo_inverse", 0),
+    ("method_damped_least_squares", 1),
+    ("method_jacobian_transpose", 2),
+    ("method_undamped_pseudo_inverse", 3),
+    ("constraint_x", 1),
+    ("constraint_y", 2),
+    ("constraint_z", 4),
+    ("constraint_alpha_beta", 8),
+    ("constraint_gamma", 16),
+    ("constraint_position", 7),
+    ("constraint_orientation", 24),
+    ("constraint_pose", 31),
+    ("result_not_performed", 0),
+    ("result_success", 1),
+    ("result_fail", 2),
+    // The 4.1 names of the same results, used by the paper's script.
+    ("ikresult_not_performed", 0),
+    ("ikresult_success", 1),
+    ("ikresult_fail", 2),
+    ("calc_notperformed", ik::CALC_NOT_PERFORMED),
+    ("calc_cannotinvert", ik::CALC_CANNOT_INVERT),
+    ("calc_notwithintolerance", ik::CALC_NOT_WITHIN_TOLERANCE),
+    ("calc_stepstoobig", 8),
+    ("calc_limithit", ik::CALC_LIMIT_HIT),
+    ("handle_world", -1),
+];
+
+/// `simIK.createEnvironment(flags=0)` → environment handle. Flags are accepted and ignored.
+fn create_environment(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    a.opt_int(0, 0)?;
+    Ok(vec![Value::Int(w.ik.create())])
+}
+
+/// `simIK.eraseEnvironment(env)`: drops its groups and elements; the scene is untouched.
+fn erase_environment(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    w.ik.erase(a.handle(0)?)?;
+    Ok(Vec::new())
+}
+
+/// `simIK.createGroup(env, name='')` → group handle. New groups use CoppeliaSim's
+/// defaults: pseudo-inverse, damping 0.1, 3 iterations.
+fn create_group(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let env = a.handle(0)?;
+    let name = match a.get(1) {
+        Value::Nil => "",
+        _ => a.str(1)?,
+    };
+    let environment = w.ik.get_mut(env)?;
+    if environment.group_by_name(name).is_some() {
+        return Err(ApiError::new(format!("an IK group named '{name}' already exists")));
+    }
+    Ok(vec![Value::Int(environment.create_group(name))])
+}
+
+/// `simIK.getGroupHandle(env, name)` → group handle.
+fn get_group_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let env = a.handle(0)?;
+    let name = a.str(1)?;
+    w.ik.get(env)?
+        .group_by_name(name)
+        .map(|h| vec![Value::Int(h)])
+        .ok_or_else(|| ApiError::new(format!("no IK group named '{name}'")))
+}
+
+/// `simIK.setGroupCalculation(env, group, method, damping, maxIterations)`.
+/// Damping must be finite and >= 0; iterations between 1 and 100000 (a bound on the time
+/// one call may take on the sim thread).
+fn set_group_calculation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, group) = (a.handle(0)?, a.handle(1)?);
+    let code = a.int(2)?;
+    let method = IkMethod::from_code(code).ok_or_else(|| {
+        ApiError::new(format!(
+            "argument 3: unknown method {code} (use simIK.method_pseudo_inverse, \
+             method_damped_least_squares, method_jacobian_transpose or method_undamped_pseudo_inverse)"
+        ))
+    })?;
+    let damping = a.finite(3)?;
+    if damping < 0.0 {
+        return Err(ApiError::new(format!(
+            "argument 4: damping must be >= 0, got {damping}"
+        )));
+    }
+    let iterations = a.int(4)?;
+    let max_iterations = u32::try_from(iterations)
+        .ok()
+        .filter(|n| (1..=100_000).contains(n))
+        .ok_or_else(|| ApiError::new(format!("argument 5: maxIterations must be 1..100000, got {iterations}")))?;
+    let g = w.ik.get_mut(env)?.group_mut(group)?;
+    g.method = method;
+    g.damping = damping;
+    g.max_iterations = max_iterations;
+    Ok(Vec::new())
+}
+
+/// `simIK.getGroupCalculation(env, group)` → method, damping, maxIterations.
+fn get_group_calculation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let g = w.ik.get(a.handle(0)?)?.group(a.handle(1)?)?;
+    Ok(vec![
+        Value::Int(g.method.code()),
+        Value::Float(g.damping),
+        Value::Int(i64::from(g.max_iterations)),
+    ])
+}
+
+/// Argument `i` as a constraint combination.
+fn constraints_arg(a: &Args<'_>, i: usize) -> Result<Constraints, ApiError> {
+    let code = a.int(i)?;
+    Constraints::from_code(code).ok_or_else(|| {
+        ApiError::new(format!(
+            "argument {}: invalid constraints {code} (combine simIK.constraint_x/y/z/alpha_beta/gamma, 1..31)",
+            i + 1
+        ))
+    })
+}
+
+/// The shared part of the two `addElementFromScene` spellings: element handle and the
+/// identity map over the chain's objects.
+fn add_element(w: &mut World, a: &Args<'_>) -> Result<(Value, Value), ApiError> {
+    let (env, group) = (a.handle(0)?, a.handle(1)?);
+    let ends = [a.handle(2)?, a.handle(3)?, a.handle(4)?];
+    let constraints = constraints_arg(a, 5)?;
+    let (element, objects) = ik::add_element_from_scene(w, env, group, ends, constraints)?;
+    let map = Value::Map(objects.iter().map(|&h| (Value::Int(h), Value::Int(h))).collect());
+    Ok((Value::Int(element), map))
+}
+
+/// `simIK.addElementFromScene(env, group, base, tip, target, constraints)` → element,
+/// simToIkMap, ikToSimMap. `base` may be -1 (world). The chain is every revolute and
+/// prismatic joint on the tree path from `tip` up to `base`. Both maps are identity maps
+/// (scene handle → the same handle) over base, the path objects and the target, because
+/// gantry's IK objects are the scene objects.
+fn add_element_from_scene(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (element, map) = add_element(w, a)?;
+    Ok(vec![element, map.clone(), map])
+}
+
+/// `simIK.addIkElementFromScene(...)`: the 4.2 name; returns element, simToIkMap.
+fn add_ik_element_from_scene(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (element, map) = add_element(w, a)?;
+    Ok(vec![element, map])
+}
+
+/// Resolves (env, group, element) from arguments 0..3 and runs `f` on the element.
+fn with_element<T>(w: &mut World, a: &Args<'_>, f: impl FnOnce(&mut ik::IkElement) -> T) -> Result<T, ApiError> {
+    let (env, group, element) = (a.handle(0)?, a.handle(1)?, a.handle(2)?);
+    let e = w.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?;
+    Ok(f(e))
+}
+
+/// `simIK.setElementConstraints(env, group, element, constraints)`.
+fn set_element_constraints(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let c = constraints_arg(a, 3)?;
+    with_element(w, a, |e| e.constraints = c)?;
+    Ok(Vec::new())
+}
+
+/// `simIK.getElementConstraints(env, group, element)` → constraints.
+fn get_element_constraints(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let c = with_element(w, a, |e| e.constraints)?;
+    Ok(vec![Value::Int(i64::from(c.0))])
+}
+
+/// Argument `i` as two non-negative finite numbers.
+fn pair_arg(a: &Args<'_>, i: usize, what: &str) -> Result<[f64; 2], ApiError> {
+    let v = a.floats::<2>(i)?;
+    if v.iter().any(|x| *x < 0.0) {
+        return Err(ApiError::new(format!("argument {}: {what} must be >= 0", i + 1)));
+    }
+    Ok(v)
+}
+
+/// `simIK.setElementPrecision(env, group, element, {linear (m), angular (rad)})`: the
+/// distances below which the element counts as solved.
+fn set_element_precision(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let p = pair_arg(a, 3, "precisions")?;
+    with_element(w, a, |e| e.precision = p)?;
+    Ok(Vec::new())
+}
+
+/// `simIK.getElementPrecision(env, group, element)` → {linear (m), angular (rad)}.
+fn get_element_precision(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let p = with_element(w, a, |e| e.precision)?;
+    Ok(vec![Value::floats(&p)])
+}
+
+/// `simIK.setElementWeights(env, group, element, {linear, angular[, element]})`: factors on
+/// the error rows (CoppeliaSim weights the error, not the Jacobian).
+fn set_element_weights(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let [lin, ang] = pair_arg(a, 3, "weights")?;
+    let whole = match a.get(3) {
+        Value::Array(v) if v.len() >= 3 => match v[2].as_f64() {
+            Some(x) if x.is_finite() && x >= 0.0 => x,
+            _ => return Err(ApiError::new("argument 4: element 3 must be a finite number >= 0")),
+        },
+        _ => 1.0,
+    };
+    with_element(w, a, |e| e.weights = [lin, ang, whole])?;
+    Ok(Vec::new())
+}
+
+/// `simIK.getElementWeights(env, group, element)` → {linear, angular, element}.
+fn get_element_weights(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let wts = with_element(w, a, |e| e.weights)?;
+    Ok(vec![Value::floats(&wts)])
+}
+
+/// The options table of `handleGroup(s)`: `syncWorlds` (gantry default **true**: there is
+/// no separate IK world a script could read the result from otherwise, short of
+/// `simIK.getJointPosition`) and `allowError` (default false). Unknown keys are ignored,
+/// as CoppeliaSim ignores `debug`, `callback` and the like that gantry does not support.
+fn apply_policy(a: &Args<'_>, i: usize) -> Result<Apply, ApiError> {
+    let opts = a.get(i);
+    let flag = |key: &str, default: bool| match opts.get(key) {
+        None | Some(Value::Nil) => Ok(default),
+        Some(Value::Bool(b)) => Ok(*b),
+        Some(other) => Err(ApiError::new(format!(
+            "argument {}: options.{key} must be a boolean, got {}",
+            i + 1,
+            other.type_name()
+        ))),
+    };
+    match opts {
+        // An empty Lua table may arrive as an empty array.
+        Value::Nil | Value::Map(_) => {}
+        Value::Array(v) if v.is_empty() => {}
+        other => {
+            return Err(ApiError::new(format!(
+                "argument {}: expected options table, got {}",
+                i + 1,
+                other.type_name()
+            )));
+        }
+    }
+    Ok(match (flag("syncWorlds", true)?, flag("allowError", false)?) {
+        (false, _) => Apply::Never,
+        (true, false) => Apply::OnSuccess,
+        (true, true) => Apply::Always,
+    })
+}
+
+/// `result, flags, {linear, angular}` as CoppeliaSim returns them.
+fn outcome_values(o: &GroupsOutcome) -> Ret {
+    vec![
+        Value::Int(o.result.code()),
+        Value::Int(o.flags),
+        Value::floats(&o.precision),
+    ]
+}
+
+/// `simIK.handleGroup(env, group, options={})` → result, flags, {linear (m), angular (rad)}.
+///
+/// Solves from the scene's current joint values. With `syncWorlds` (default true) the
+/// solution is written to the scene joints only if every element ended within its
+/// precision (or `allowError=true`), as CoppeliaSim's `handleGroup`; otherwise the scene is
+/// unchanged and the solution waits for `simIK.syncToSim`.
+fn handle_group(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, group) = (a.handle(0)?, a.handle(1)?);
+    let apply = apply_policy(a, 2)?;
+    Ok(outcome_values(&ik::handle_groups(w, env, &[group], apply)?))
+}
+
+/// Argument `i` as a non-empty array of group handles.
+fn groups_arg(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, ApiError> {
+    let Value::Array(items) = a.get(i) else {
+        return Err(ApiError::new(format!(
+            "argument {}: expected array of group handles, got {}",
+            i + 1,
+            a.get(i).type_name()
+        )));
+    };
+    items
+        .iter()
+        .map(|v| {
+            v.as_i64()
+                .ok_or_else(|| ApiError::new(format!("argument {}: group handles must be integers", i + 1)))
+        })
+        .collect()
+}
+
+/// `simIK.handleGroups(env, {groups}, options={})`: as `handleGroup`, solving the groups in
+/// order, each starting from the previous ones' solution. Result is the worst result,
+/// flags are or-ed, precision is the largest remaining distance.
+fn handle_groups(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let env = a.handle(0)?;
+    let groups = groups_arg(a, 1)?;
+    let apply = apply_policy(a, 2)?;
+    Ok(outcome_values(&ik::handle_groups(w, env, &groups, apply)?))
+}
+
+/// `simIK.handleIkGroup(env, group)` → result: the 4.1 name. The paper's script followed it
+/// by copying the IK joints onto the scene whatever the result, so gantry writes the
+/// solution back always (finite values within limits).
+fn handle_ik_group(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, group) = (a.handle(0)?, a.handle(1)?);
+    let o = ik::handle_groups(w, env, &[group], Apply::Always)?;
+    Ok(vec![Value::Int(o.result.code())])
+}
+
+/// `simIK.applyIkEnvironmentToScene(env, group, applyOnlyWhenSuccessful=false)` → result:
+/// solve from the scene and write back (4.2-4.3 convenience function).
+fn apply_ik_environment_to_scene(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, group) = (a.handle(0)?, a.handle(1)?);
+    let apply = if a.opt_bool(2, false)? {
+        Apply::OnSuccess
+    } else {
+        Apply::Always
+    };
+    let o = ik::handle_groups(w, env, &[group], apply)?;
+    Ok(vec![Value::Int(o.result.code())])
+}
+
+/// `simIK.applySceneToIkEnvironment(env, group)`: gantry always solves from the scene, so
+/// this only forgets the group's pending solution (and checks its arguments).
+fn apply_scene_to_ik_environment(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, group) = (a.handle(0)?, a.handle(1)?);
+    ik::sync_from_scene(w, env, &[group])?;
+    Ok(Vec::new())
+}
+
+/// `simIK.syncFromSim(env, {groups})`: forget pending solutions of those groups.
+fn sync_from_sim(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let env = a.handle(0)?;
+    let groups = groups_arg(a, 1)?;
+    ik::sync_from_scene(w, env, &groups)?;
+    Ok(Vec::new())
+}
+
+/// `simIK.syncToSim(env, {groups})`: write pending solutions (from `syncWorlds=false`
+/// solves) of those groups' joints into the scene.
+fn sync_to_sim(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let env = a.handle(0)?;
+    let groups = groups_arg(a, 1)?;
+    ik::sync_to_scene(w, env, &groups)?;
+    Ok(Vec::new())
+}
+
+/// How many starts `findConfig` tries at most (the first from the scene).
+const FIND_CONFIG_ATTEMPTS: u32 = 100;
+
+/// `simIK.findConfig(env, group, jointHandles, thresholdDist=0.1, maxTime=0.5, metric=nil,
+/// callback=nil, auxData=nil)` → joint values in the order of `jointHandles`, or `nil`.
+///
+/// Searches for a configuration that reaches the group's targets (multi-start solves, see
+/// [`ik::find_config`]) without moving the scene; a script then applies it with
+/// `sim.setJointPosition`. gantry searches up to a fixed number of starts instead of for
+/// `maxTime` seconds, so the result does not depend on the machine's speed; `thresholdDist`,
+/// `metric` and the validation callback are accepted and ignored.
+fn find_config(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, group) = (a.handle(0)?, a.handle(1)?);
+    let joints = groups_arg(a, 2).map_err(|_| ApiError::new("argument 3: expected array of joint handles"))?;
+    a.opt_f64(3, 0.1)?;
+    a.opt_f64(4, 0.5)?;
+    let Some(found) = ik::find_config(w, env, group, FIND_CONFIG_ATTEMPTS)? else {
+        return Ok(vec![Value::Nil]);
+    };
+    let values = joints
+        .iter()
+        .map(|h| {
+            found
+                .get(h)
+                .map(|&q| Value::Float(q))
+                .ok_or_else(|| ApiError::new(format!("argument 3: joint {h} is not in the group's chains")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(vec![Value::Array(values)])
+}
+
+/// `simIK.getJointPosition(env, joint)` → the joint's value in the IK world: a pending
+/// solution if there is one, else the scene's value (rad or m).
+fn get_joint_position(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, joint) = (a.handle(0)?, a.handle(1)?);
+    let pending = w.ik.get(env)?.pending.get(&joint).copied();
+    let q = match pending {
+        Some(q) => q,
+        None => w.joint(joint)?.position,
+    };
+    Ok(vec![Value::Float(q)])
+}

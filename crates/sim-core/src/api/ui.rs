@@ -1,9 +1,258 @@
-//! API functions of this capability (see the module of the same name).
+//! `simUI.*`: custom UIs (see [`crate::ui`] for the model and its rules).
+//!
+//! UI handles are integers here (older simUI versions counted integers from 1000; current
+//! ones return opaque strings, which scripts only pass back). Number arguments for integer
+//! values (slider positions) are rounded to the nearest integer, so a script computing
+//! `100*(speed-min)/(max-min)` gets 50 even when the float is 49.999999.
 
-use super::ApiFunction;
+use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::ui::{UiError, Uis};
+use crate::world::World;
+
+/// Verbosity of parser warnings in the log (`sim.verbosity_warnings`).
+const WARNING: i64 = 300;
 
 /// The functions this file implements.
-pub(super) const FUNCTIONS: &[ApiFunction] = &[];
+pub(super) const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "create",
+        call: create,
+    },
+    ApiFunction {
+        name: "destroy",
+        call: destroy,
+    },
+    ApiFunction {
+        name: "getCheckboxValue",
+        call: get_checkbox_value,
+    },
+    ApiFunction {
+        name: "getEditValue",
+        call: get_edit_value,
+    },
+    ApiFunction {
+        name: "getEnabled",
+        call: get_enabled,
+    },
+    ApiFunction {
+        name: "getLabelText",
+        call: get_label_text,
+    },
+    ApiFunction {
+        name: "getRadiobuttonValue",
+        call: get_radiobutton_value,
+    },
+    ApiFunction {
+        name: "getSliderValue",
+        call: get_slider_value,
+    },
+    ApiFunction {
+        name: "getSpinboxValue",
+        call: get_spinbox_value,
+    },
+    ApiFunction {
+        name: "hide",
+        call: hide,
+    },
+    ApiFunction {
+        name: "interact",
+        call: interact,
+    },
+    ApiFunction {
+        name: "isVisible",
+        call: is_visible,
+    },
+    ApiFunction {
+        name: "setCheckboxValue",
+        call: set_checkbox_value,
+    },
+    ApiFunction {
+        name: "setEditValue",
+        call: set_edit_value,
+    },
+    ApiFunction {
+        name: "setEnabled",
+        call: set_enabled,
+    },
+    ApiFunction {
+        name: "setLabelText",
+        call: set_label_text,
+    },
+    ApiFunction {
+        name: "setRadiobuttonValue",
+        call: set_radiobutton_value,
+    },
+    ApiFunction {
+        name: "setSliderValue",
+        call: set_slider_value,
+    },
+    ApiFunction {
+        name: "setSpinboxValue",
+        call: set_spinbox_value,
+    },
+    ApiFunction {
+        name: "show",
+        call: show,
+    },
+];
 
-/// The `simUI.*` constants.
+/// The `simUI.*` constants (none of the implemented functions needs one).
 pub(super) const CONSTANTS: &[(&str, i64)] = &[];
+
+impl From<UiError> for ApiError {
+    fn from(e: UiError) -> Self {
+        ApiError::new(e.to_string())
+    }
+}
+
+/// Runs `f` on the UIs, then moves any warnings it produced (unknown XML attributes,
+/// a full event queue) to the world log under the caller's name.
+fn with_uis<T>(
+    w: &mut World,
+    ctx: &CallContext<'_>,
+    f: impl FnOnce(&mut Uis) -> Result<T, UiError>,
+) -> Result<T, ApiError> {
+    let result = f(&mut w.uis);
+    let t = w.time();
+    for msg in w.uis.take_warnings() {
+        w.log.push(t, WARNING, ctx.source, &msg);
+    }
+    Ok(result?)
+}
+
+/// A number argument for an integer value, rounded (see the module doc).
+fn rounded(a: &Args<'_>, i: usize) -> Result<i64, ApiError> {
+    // Finite, so the saturating cast only matters for absurd magnitudes, which the
+    // widget then clamps anyway.
+    Ok(a.finite(i)?.round() as i64)
+}
+
+/// `simUI.create(xml)` → ui handle.
+fn create(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let xml = a.str(0)?;
+    let owner = ctx.script_object;
+    let ui = with_uis(w, ctx, |u| u.create(xml, owner))?;
+    Ok(vec![Value::Int(ui)])
+}
+
+/// `simUI.destroy(ui)`.
+fn destroy(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let ui = a.handle(0)?;
+    with_uis(w, ctx, |u| u.destroy(ui))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getSliderValue(ui, id)` → integer.
+fn get_slider_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Int(w.uis.slider_value(a.handle(0)?, a.int(1)?)?)])
+}
+
+/// `simUI.setSliderValue(ui, id, value, suppressEvents=true)`.
+fn set_slider_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, value, suppress) = (a.handle(0)?, a.int(1)?, rounded(a, 2)?, a.opt_bool(3, true)?);
+    with_uis(w, ctx, |u| u.set_slider_value(ui, id, value, suppress))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getLabelText(ui, id)` → text.
+fn get_label_text(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::from(w.uis.label_text(a.handle(0)?, a.int(1)?)?)])
+}
+
+/// `simUI.setLabelText(ui, id, text, suppressEvents=true)`; labels queue no event either way.
+fn set_label_text(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, text) = (a.handle(0)?, a.int(1)?, a.str(2)?);
+    // Checked for type only: simUI accepts the flag, and a label has no signal to suppress.
+    a.opt_bool(3, true)?;
+    with_uis(w, ctx, |u| u.set_label_text(ui, id, text))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getEditValue(ui, id)` → text.
+fn get_edit_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::from(w.uis.edit_value(a.handle(0)?, a.int(1)?)?)])
+}
+
+/// `simUI.setEditValue(ui, id, text, suppressEvents=true)`.
+fn set_edit_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, text, suppress) = (a.handle(0)?, a.int(1)?, a.str(2)?, a.opt_bool(3, true)?);
+    with_uis(w, ctx, |u| u.set_edit_value(ui, id, text, suppress))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getCheckboxValue(ui, id)` → 0 unchecked, 1 partial, 2 checked.
+fn get_checkbox_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Int(w.uis.checkbox_value(a.handle(0)?, a.int(1)?)?)])
+}
+
+/// `simUI.setCheckboxValue(ui, id, value, suppressEvents=true)` with value 0, 1 or 2.
+fn set_checkbox_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, value, suppress) = (a.handle(0)?, a.int(1)?, a.int(2)?, a.opt_bool(3, true)?);
+    with_uis(w, ctx, |u| u.set_checkbox_value(ui, id, value, suppress))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getRadiobuttonValue(ui, id)` → 1 checked, 0 not.
+fn get_radiobutton_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let checked = w.uis.radiobutton_value(a.handle(0)?, a.int(1)?)?;
+    Ok(vec![Value::Int(i64::from(checked))])
+}
+
+/// `simUI.setRadiobuttonValue(ui, id, value, suppressEvents=true)`; value 1/true checks.
+fn set_radiobutton_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, checked, suppress) = (a.handle(0)?, a.int(1)?, a.bool(2)?, a.opt_bool(3, true)?);
+    with_uis(w, ctx, |u| u.set_radiobutton_value(ui, id, checked, suppress))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getSpinboxValue(ui, id)` → number.
+fn get_spinbox_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Float(w.uis.spinbox_value(a.handle(0)?, a.int(1)?)?)])
+}
+
+/// `simUI.setSpinboxValue(ui, id, value, suppressEvents=true)`.
+fn set_spinbox_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, value, suppress) = (a.handle(0)?, a.int(1)?, a.finite(2)?, a.opt_bool(3, true)?);
+    with_uis(w, ctx, |u| u.set_spinbox_value(ui, id, value, suppress))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getEnabled(ui, id)` → boolean (gantry; simUI has only the setter).
+fn get_enabled(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Bool(w.uis.enabled(a.handle(0)?, a.int(1)?)?)])
+}
+
+/// `simUI.setEnabled(ui, id, enabled)`.
+fn set_enabled(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, enabled) = (a.handle(0)?, a.int(1)?, a.bool(2)?);
+    with_uis(w, ctx, |u| u.set_enabled(ui, id, enabled))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.show(ui)`.
+fn show(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let ui = a.handle(0)?;
+    with_uis(w, ctx, |u| u.set_visible(ui, true))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.hide(ui)`.
+fn hide(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let ui = a.handle(0)?;
+    with_uis(w, ctx, |u| u.set_visible(ui, false))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.isVisible(ui)` → boolean.
+fn is_visible(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Bool(w.uis.is_visible(a.handle(0)?)?)])
+}
+
+/// `simUI.interact(ui, id, value)` (gantry): acts as the user on widget `id` (0 = the
+/// window's close button) and queues its callback; see [`Uis::interact`].
+fn interact(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, value) = (a.handle(0)?, a.int(1)?, a.get(2));
+    with_uis(w, ctx, |u| u.interact(ui, id, value))?;
+    Ok(Vec::new())
+}

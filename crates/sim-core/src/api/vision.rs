@@ -1,9 +1,387 @@
-//! API functions of this capability (see the module of the same name).
+//! Vision sensors (`sim.*Vision*`) and the `simVision.*` work-image functions.
+//!
+//! Images cross the API as CoppeliaSim's buffers (see [`crate::vision`] for the
+//! rendering model): bytes, row-major, **bottom row first**, RGB 3 bytes per pixel
+//! (greyscale 1, RGBA 4), depth as packed little-endian `f32`s. Every image function
+//! takes an optional portion, `pos = {x, y}` (column from the left, row from the
+//! bottom) and `size = {w, h}`; a size component of 0 extends to the image edge, so
+//! the defaults `{0, 0}`, `{0, 0}` mean the whole image. Functions returning an image
+//! also return the portion's `{width, height}`.
 
-use super::ApiFunction;
+use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::vision::{self, SensorImage, VisionResult};
+use crate::world::{Handle, World};
 
-/// The `sim.*` vision functions this file implements.
-pub(super) const FUNCTIONS: &[ApiFunction] = &[];
+/// `sim.handle_all`.
+const HANDLE_ALL: Handle = -2;
+/// `sim.handle_all_except_explicit`.
+const HANDLE_ALL_EXCEPT_EXPLICIT: Handle = -3;
+/// `sim.handle_self`: the object of the calling script.
+const HANDLE_SELF: Handle = -4;
 
-/// The `simVision.*` functions.
-pub(super) const SIM_VISION_FUNCTIONS: &[ApiFunction] = &[];
+/// The `sim.*` vision functions this file implements, in alphabetical order.
+pub(super) const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "getVisionSensorDepth",
+        call: get_vision_sensor_depth,
+    },
+    ApiFunction {
+        name: "getVisionSensorImg",
+        call: get_vision_sensor_img,
+    },
+    ApiFunction {
+        name: "getVisionSensorRes",
+        call: get_vision_sensor_res,
+    },
+    ApiFunction {
+        // CoppeliaSim 4.1's name of getVisionSensorRes.
+        name: "getVisionSensorResolution",
+        call: get_vision_sensor_res,
+    },
+    ApiFunction {
+        name: "handleVisionSensor",
+        call: handle_vision_sensor,
+    },
+    ApiFunction {
+        name: "readVisionSensor",
+        call: read_vision_sensor,
+    },
+    ApiFunction {
+        name: "setVisionSensorImg",
+        call: set_vision_sensor_img,
+    },
+];
+
+/// The `simVision.*` functions, in alphabetical order.
+pub(super) const SIM_VISION_FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "edgeDetectionOnWorkImg",
+        call: edge_detection_on_work_img,
+    },
+    ApiFunction {
+        name: "horizontalFlipWorkImg",
+        call: horizontal_flip_work_img,
+    },
+    ApiFunction {
+        name: "sensorDepthMapToWorkImg",
+        call: sensor_depth_map_to_work_img,
+    },
+    ApiFunction {
+        name: "sensorImgToWorkImg",
+        call: sensor_img_to_work_img,
+    },
+    ApiFunction {
+        name: "sharpenWorkImg",
+        call: sharpen_work_img,
+    },
+    ApiFunction {
+        name: "uniformImgToWorkImg",
+        call: uniform_img_to_work_img,
+    },
+    ApiFunction {
+        name: "verticalFlipWorkImg",
+        call: vertical_flip_work_img,
+    },
+    ApiFunction {
+        name: "workImgToSensorImg",
+        call: work_img_to_sensor_img,
+    },
+];
+
+/// A rectangle of an image, in pixels: columns `x..x + w`, rows `y..y + h` (row 0 at
+/// the bottom).
+#[derive(Debug, Clone, Copy)]
+struct Portion {
+    x: usize,
+    y: usize,
+    w: usize,
+    h: usize,
+}
+
+impl Portion {
+    /// Pixel indices of the portion, bottom row first.
+    fn pixels(self, image_width: usize) -> impl Iterator<Item = usize> {
+        (self.y..self.y + self.h).flat_map(move |row| (self.x..self.x + self.w).map(move |col| row * image_width + col))
+    }
+
+    fn size_value(self) -> Value {
+        Value::Array(vec![Value::Int(self.w as i64), Value::Int(self.h as i64)])
+    }
+}
+
+/// Argument `i` as `{a, b}` of non-negative integers; `{0, 0}` when absent.
+fn int_pair(a: &Args<'_>, i: usize) -> Result<[usize; 2], ApiError> {
+    let bad = || {
+        ApiError::new(format!(
+            "argument {}: expected a table of 2 non-negative integers",
+            i + 1
+        ))
+    };
+    match a.get(i) {
+        Value::Nil => Ok([0, 0]),
+        Value::Array(items) if items.len() >= 2 => {
+            let get = |k: usize| items[k].as_i64().and_then(|v| usize::try_from(v).ok()).ok_or_else(bad);
+            Ok([get(0)?, get(1)?])
+        }
+        _ => Err(bad()),
+    }
+}
+
+/// The portion named by arguments `pos_i` and `pos_i + 1` of an image of `res`.
+fn portion(a: &Args<'_>, pos_i: usize, res: [u32; 2]) -> Result<Portion, ApiError> {
+    let pos = int_pair(a, pos_i)?;
+    let size = int_pair(a, pos_i + 1)?;
+    let res = res.map(|v| v as usize);
+    let mut out = [0usize; 2];
+    for k in 0..2 {
+        let extent = if size[k] == 0 {
+            res[k].saturating_sub(pos[k])
+        } else {
+            size[k]
+        };
+        if pos[k] >= res[k] || extent > res[k] - pos[k] {
+            return Err(ApiError::new(format!(
+                "arguments {} and {}: portion at {{{}, {}}} of size {{{}, {}}} exceeds the {}x{} image",
+                pos_i + 1,
+                pos_i + 2,
+                pos[0],
+                pos[1],
+                size[0],
+                size[1],
+                res[0],
+                res[1]
+            )));
+        }
+        out[k] = extent;
+    }
+    Ok(Portion {
+        x: pos[0],
+        y: pos[1],
+        w: out[0],
+        h: out[1],
+    })
+}
+
+/// Argument `i` as a sensor handle, `sim.handle_self` meaning the calling script's object.
+fn sensor_handle(ctx: &CallContext<'_>, a: &Args<'_>, i: usize) -> Result<Handle, ApiError> {
+    match a.handle(i)? {
+        HANDLE_SELF => ctx
+            .script_object
+            .ok_or_else(|| ApiError::new("sim.handle_self: the caller is not a script attached to an object")),
+        h => Ok(h),
+    }
+}
+
+/// `sim.readVisionSensor`'s and `sim.handleVisionSensor`'s values: the trigger state
+/// (0/1) then the packets, or just -1 before the sensor was handled.
+fn result_values(result: Option<&VisionResult>) -> Ret {
+    match result {
+        Some(r) => std::iter::once(Value::Int(i64::from(r.trigger)))
+            .chain(r.packets.iter().map(|p| Value::floats(p)))
+            .collect(),
+        None => vec![Value::Int(-1)],
+    }
+}
+
+/// `sim.handleVisionSensor(h)` → `detectionCount, packet1, packet2, ...`: renders now.
+/// Packet 1 holds the 15 default values (min, max, average of intensity, R, G, B,
+/// depth); `detectionCount` is 0 until a `sysCall_vision` callback triggers.
+/// `sim.handle_all` / `sim.handle_all_except_explicit` render every (non-explicit)
+/// sensor and return only the count of triggered sensors, 0.
+pub(super) fn handle_vision_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    if h == HANDLE_ALL || h == HANDLE_ALL_EXCEPT_EXPLICIT {
+        vision::handle_all_vision_sensors(w, h == HANDLE_ALL_EXCEPT_EXPLICIT)?;
+        return Ok(vec![Value::Int(0)]);
+    }
+    vision::handle_vision_sensor(w, h)?;
+    Ok(result_values(w.vision.image(h).and_then(SensorImage::result)))
+}
+
+/// `sim.readVisionSensor(h)` → `result, packet1, packet2, ...` of the last handling;
+/// `result` is -1 (and alone) if the sensor was never handled.
+pub(super) fn read_vision_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let s = vision::read(w, h)?;
+    Ok(result_values(s.result()))
+}
+
+/// `sim.getVisionSensorRes(h)` → `{width, height}` in pixels.
+pub(super) fn get_vision_sensor_res(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let (m, _) = vision::sensor_model(w, h)?;
+    Ok(vec![Value::Array(vec![
+        Value::Int(i64::from(m.resolution[0])),
+        Value::Int(i64::from(m.resolution[1])),
+    ])])
+}
+
+/// `sim.getVisionSensorImg(h, options=0, rgbaCutOff=0, pos={0,0}, size={0,0})` →
+/// `bytes, {width, height}`. Options bit 0: greyscale, 1 byte per pixel, the mean of
+/// R, G, B. Otherwise, when `rgbaCutOff` is not 0, RGBA with alpha 255 where the
+/// normalised depth is below `rgbaCutOff` and 0 elsewhere; else RGB. Other option bits
+/// are ignored.
+pub(super) fn get_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let options = a.opt_int(1, 0)?;
+    let cutoff = a.opt_f64(2, 0.0)?;
+    if !cutoff.is_finite() {
+        return Err(ApiError::new(format!(
+            "argument 3: rgbaCutOff must be finite, got {cutoff}"
+        )));
+    }
+    // Arguments are checked against the model before reading, so a bad call renders nothing.
+    let (&model, _) = vision::sensor_model(w, h)?;
+    let p = portion(a, 3, model.resolution)?;
+    let width = model.resolution[0] as usize;
+    let s = vision::read(w, h)?;
+    let (rgb, depth) = (s.rgb(), s.depth());
+    let grey = options & 1 != 0;
+    let rgba = !grey && cutoff != 0.0;
+    let bpp = if grey {
+        1
+    } else if rgba {
+        4
+    } else {
+        3
+    };
+    let mut out = Vec::with_capacity(p.w * p.h * bpp);
+    for i in p.pixels(width) {
+        let Some(px) = rgb.get(3 * i..3 * i + 3) else {
+            continue;
+        };
+        if grey {
+            // Integer mean, rounded, of three bytes: at most 255.
+            out.push(((u16::from(px[0]) + u16::from(px[1]) + u16::from(px[2]) + 1) / 3) as u8);
+        } else {
+            out.extend_from_slice(px);
+            if rgba {
+                let near = depth.get(i).is_some_and(|&d| f64::from(d) < cutoff);
+                out.push(if near { 255 } else { 0 });
+            }
+        }
+    }
+    Ok(vec![Value::Bytes(out), p.size_value()])
+}
+
+/// `sim.getVisionSensorDepth(h, options=0, pos={0,0}, size={0,0})` → `bytes, {width,
+/// height}`: one little-endian `f32` per pixel, the planar depth normalised to 0..1
+/// between the clipping planes (1 where nothing is seen); options bit 0: in metres
+/// instead (`near + d * (far - near)`).
+pub(super) fn get_vision_sensor_depth(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let options = a.opt_int(1, 0)?;
+    let (&model, _) = vision::sensor_model(w, h)?;
+    let p = portion(a, 2, model.resolution)?;
+    let width = model.resolution[0] as usize;
+    let s = vision::read(w, h)?;
+    let metres = options & 1 != 0;
+    let (near, far) = (model.near as f32, model.far as f32);
+    let mut out = Vec::with_capacity(4 * p.w * p.h);
+    for i in p.pixels(width) {
+        let d = s.depth().get(i).copied().unwrap_or(1.0);
+        let v = if metres { near + d * (far - near) } else { d };
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    Ok(vec![Value::Bytes(out), p.size_value()])
+}
+
+/// `sim.setVisionSensorImg(h, image, options=0, pos={0,0}, size={0,0})`: writes RGB
+/// bytes (options bit 0: greyscale, 1 byte per pixel copied to R, G and B) into the
+/// sensor image, bottom row first. The length must match the portion exactly. The
+/// written image is what readers get until the sensor renders again.
+pub(super) fn set_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let data = a.bytes(1)?;
+    let options = a.opt_int(2, 0)?;
+    let (&model, _) = vision::sensor_model(w, h)?;
+    let p = portion(a, 3, model.resolution)?;
+    let bpp = if options & 1 != 0 { 1 } else { 3 };
+    let expected = p.w * p.h * bpp;
+    if data.len() != expected {
+        return Err(ApiError::new(format!(
+            "argument 2: expected {expected} bytes ({}x{} pixels, {bpp} per pixel), got {}",
+            p.w,
+            p.h,
+            data.len()
+        )));
+    }
+    let width = model.resolution[0] as usize;
+    let rgb = vision::write(w, h)?.rgb_mut();
+    for (i, src) in p.pixels(width).zip(data.chunks_exact(bpp)) {
+        if let Some(dst) = rgb.get_mut(3 * i..3 * i + 3) {
+            if bpp == 1 {
+                dst.fill(src[0]);
+            } else {
+                dst.copy_from_slice(src);
+            }
+        }
+    }
+    Ok(Vec::new())
+}
+
+/// `simVision.sensorImgToWorkImg(h)`: the sensor image (rendered first if stale, as
+/// any reader) becomes the work image, as floats 0..1.
+fn sensor_img_to_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    vision::read(w, h)?.rgb_to_work();
+    Ok(Vec::new())
+}
+
+/// `simVision.sensorDepthMapToWorkImg(h)`: the normalised depth map becomes the work
+/// image, as grey levels (near = black, far = white).
+fn sensor_depth_map_to_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    vision::read(w, h)?.depth_to_work();
+    Ok(Vec::new())
+}
+
+/// `simVision.uniformImgToWorkImg(h, {r, g, b})`: a work image of one colour (0..1).
+fn uniform_img_to_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    let color = a.floats::<3>(1)?.map(|c| c as f32);
+    vision::state(w, h)?.uniform_work(color);
+    Ok(Vec::new())
+}
+
+/// `simVision.workImgToSensorImg(h, removeBuffer=true)`: the work image, clamped to
+/// 0..1, becomes the sensor image (what `sim.getVisionSensorImg` then returns); the
+/// work image is dropped unless `removeBuffer` is false.
+fn work_img_to_sensor_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    let remove = a.opt_bool(1, true)?;
+    vision::work_to_sensor(w, h, remove)?;
+    Ok(Vec::new())
+}
+
+/// `simVision.edgeDetectionOnWorkImg(h, threshold)`: CoppeliaSim's edge filter (a 3x3
+/// Laplacian, -3 around and 24 in the centre, per channel), then white where the mean
+/// of R, G, B exceeds `threshold` and black elsewhere.
+fn edge_detection_on_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    let threshold = a.finite(1)? as f32;
+    vision::work(w, h)?.edge_detection(threshold);
+    Ok(Vec::new())
+}
+
+/// `simVision.sharpenWorkImg(h)`.
+fn sharpen_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    vision::work(w, h)?.sharpen();
+    Ok(Vec::new())
+}
+
+/// `simVision.horizontalFlipWorkImg(h)`: mirrors the work image left to right.
+fn horizontal_flip_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    vision::work(w, h)?.flip_horizontal();
+    Ok(Vec::new())
+}
+
+/// `simVision.verticalFlipWorkImg(h)`: mirrors the work image top to bottom.
+fn vertical_flip_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    vision::work(w, h)?.flip_vertical();
+    Ok(Vec::new())
+}

@@ -81,6 +81,18 @@ pub struct ChainPose {
 }
 
 impl ElementChain {
+    /// A chain from its parts: per movable joint, the constant transform from the previous
+    /// joint's moving frame (the first: from the world) to the joint's fixed frame and the
+    /// joint's slot; the transform from the last moving frame to the tip; the world pose of
+    /// the constraint frame. [`KinematicModel::from_world`] builds these from the scene.
+    pub fn new(links: Vec<(Pose, usize)>, tip_offset: Pose, base_frame: Pose) -> Self {
+        Self {
+            links,
+            tip_offset,
+            base_frame,
+        }
+    }
+
     /// Forward kinematics at joint values `q` (indexed by slot).
     pub fn forward(&self, q: &[f64], slots: &[JointSlot]) -> ChainPose {
         let mut x = Pose::identity();
@@ -140,7 +152,7 @@ pub struct Linearization {
 }
 
 impl ElementModel {
-    /// Distances and (when `with_jacobian`) the error rows and Jacobian at `q`.
+    /// Distances, error rows and Jacobian at joint values `q` (indexed by slot).
     pub fn linearize(&self, q: &[f64], slots: &[JointSlot]) -> Linearization {
         let pose = self.chain.forward(q, slots);
         let c = self.constraints;

@@ -134,6 +134,10 @@ pub fn handle_groups(
         applied: false,
         joints: BTreeMap::new(),
     };
+    if configs.is_empty() {
+        outcome.flags = CALC_NOT_PERFORMED | CALC_NOT_WITHIN_TOLERANCE;
+        return Ok(outcome);
+    }
     // Scene values overwritten while later groups are solved, restored if not applied.
     let mut original: BTreeMap<Handle, f64> = BTreeMap::new();
     let mut failure = None;
@@ -203,6 +207,67 @@ pub fn handle_groups(
         }
     }
     Ok(outcome)
+}
+
+/// Searches for a configuration that puts every element of `group` within its precision,
+/// for targets a local solve cannot reach from the current configuration (another branch
+/// of the arm, or a path blocked by joint limits). The first attempt starts from the scene;
+/// the others from pseudo-random configurations within the limits, drawn from a fixed seed
+/// so the search is deterministic. Each attempt is a full solve with the group's settings.
+/// The scene is not modified. Returns the joint values by handle, or `None` when no attempt
+/// succeeded.
+///
+/// # Errors
+/// Unknown environment or group, or an element that no longer forms a chain.
+pub fn find_config(
+    world: &World,
+    env: Handle,
+    group: Handle,
+    attempts: u32,
+) -> Result<Option<BTreeMap<Handle, f64>>, IkError> {
+    let g = world.ik.get(env)?.group(group)?;
+    let mut model = KinematicModel::from_world(world, &g.elements)?;
+    let params = SolveParams {
+        method: g.method,
+        damping: g.damping,
+        max_iterations: g.max_iterations,
+    };
+    let mut rng = SplitMix64(0x6a09_e667_f3bc_c908);
+    let current = model.start.clone();
+    for k in 0..attempts {
+        if k > 0 {
+            for ((s, slot), &q0) in model.start.iter_mut().zip(&model.slots).zip(&current) {
+                let (lo, hi) = match (slot.cyclic, slot.limits) {
+                    (true, _) => (-std::f64::consts::PI, std::f64::consts::PI),
+                    (false, Some(l)) => l,
+                    // Unlimited: a turn (rad) or a metre (m) either side of the current value.
+                    (false, None) => (q0 - std::f64::consts::PI, q0 + std::f64::consts::PI),
+                };
+                *s = slot.constrain(lo + (hi - lo) * rng.next_unit());
+            }
+        }
+        let sol = solve(&model, &params);
+        if sol.result == IkResult::Success {
+            return Ok(Some(model.slots.iter().map(|s| s.handle).zip(sol.q).collect()));
+        }
+    }
+    Ok(None)
+}
+
+/// A tiny deterministic generator for [`find_config`]'s restarts (splitmix64): gantry's
+/// runs must be reproducible, so no OS randomness.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    /// A uniform number in [0, 1).
+    fn next_unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        // The top 53 bits make an exactly representable fraction.
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
 }
 
 /// Writes the pending solutions of `groups`' joints into the scene (`simIK.syncToSim`).

@@ -67,43 +67,64 @@
 //!      and moves to the root of that affine lower bound, `t ← min_S(n·x) / h_{Q_1}(n)`.
 //!      Every iterate is a *certified lower bound* of `t*` whatever the GJK accuracy; with the
 //!      exact `n` this is Newton's method on a convex function, which converges monotonically
-//!      (quadratically in practice, 2–5 steps). `h_{Q_1}(n) <= 0` certifies that a plane
-//!      through the apex separates `S` from the whole cone. At convergence the GJK witness on
-//!      `S` is the nearest point and `-n` its normal.
-//!      A sampled minimisation over the azimuth of the lateral rays would not be exact: the
-//!      first-hit distance along them can be bimodal (a thin rod crossing the cone is hit
-//!      near both sides) and arcs narrower than the sampling step are missed.
+//!      (quadratically in practice, 2–5 steps; GJK only needs an accuracy of order `g²/t` at
+//!      each step, so intermediate runs stop early). `h_{Q_1}(n) <= 0` with `min_S(n·x) > 0`
+//!      certifies that a plane through the apex separates `S` from the whole cone. It stops
+//!      once the error bound `g / h` falls below 1e-6 of the distance. The minimiser is then
+//!      the rim point of `Q_t*` facing the shape: its azimuth comes from the GJK witness on the
+//!      sector of one more full-precision run just below `t*`, and the reported point is
+//!      `t*·generator(azimuth)`. The normal is computed separately (exact face normals for
+//!      triangles and polyhedra, radial for balls, else the projection of nearby outside points,
+//!      see `surface_normal`). Balls are solved in closed form.
+//!      When the contact is grazing (`h` small) the separating direction is too ill-conditioned
+//!      for f32 support points and Newton stalls with the gap open; the first-hit distance along
+//!      the generators, which is flat there, is then minimised over the azimuth by golden
+//!      section near the witness (each value a feasible point, i.e. an upper bound).
+//!      A sampled minimisation over the azimuth alone would not be exact in general: the
+//!      first-hit distance along the generators can be bimodal (a thin rod crossing the cone is
+//!      hit near both sides) and arcs narrower than the sampling step are missed.
 //! 2. **Near cap**, when `t* < a`: the answer is `a` iff `t_max >= a`, and then any point of
 //!    `C` on the sphere `|p| = a` is a nearest detection. We look for a witness `r ∈ C` with
 //!    `|r| >= a`; the segment from the minimiser `q` to `r` stays in `C` and crosses `|p| = a`
 //!    exactly once (closed form). For the ray this is exact and trivial (`(0, 0, a) ∈ S`).
 //!    For the cone, `t_max` is attained at an extreme point of `C`, which lies on `∂S`, either
 //!    inside `K` or on the curve `∂S ∩ ∂K`, where `|p| = z / cos(half_angle)` is linear. This
-//!    makes the witness search exact for polytopes and triangles (vertices inside `K`,
+//!    makes the witness search exact for cuboids and triangles (vertices inside `K`,
 //!    edge/cone crossings, and the far vertex of each face plane's conic section) and for balls
-//!    (farthest point, or the exit point on the generator facing the centre). For the other
-//!    smooth solids (cylinder, capsule, cone, round shapes, generic support maps) maximising
-//!    `|p|` over `C` is a non-convex problem; we use a fixed set of probes (points of the near
-//!    cap, support points and farthest-point iterations clipped to `K`, exit points on 16
-//!    generators). They can only miss a solid whose part beyond `offset` is a thin sliver
-//!    between the probes, i.e. an obstacle essentially inside the dead zone; that case reports
-//!    `None`.
+//!    (farthest point, or the exit point on the generator facing the centre). Convex polyhedra
+//!    use the same rule, exact when parry's faces are planar (parry merges hull triangles up to
+//!    ~1.5° apart into one face, so face candidates are projected back onto the true hull).
+//!    For the other smooth solids (cylinder, capsule, cone, round shapes, generic support
+//!    maps) maximising `|p|` over `C` is a non-convex problem; we use a fixed set of probes
+//!    (points of the near cap, support points and farthest-point iterations clipped to `K`,
+//!    exit points on 16 generators). They can only miss a solid whose part beyond `offset` is
+//!    a thin sliver between the probes (under a millimetre), i.e. an obstacle essentially
+//!    inside the dead zone; that case reports `None` (3 cases in 16 000 random tests, out of
+//!    ~1 800 near-cap detections).
 //!
 //! Composite shapes are handled part by part, walking parry's BVH and pruning nodes whose
 //! AABB misses the volume AABB or is farther than the best detection so far. Half-spaces are
 //! solved in closed form.
 //!
-//! # Numerics
+//! # Numerics, accuracy and cost
 //!
 //! parry 0.31's own GJK runs in f32 with relative tolerances around 1e-3: on thin shapes
-//! (triangles) it can report an intersection across a 1e-4-relative gap, and its GJK-based
-//! ray casts (cylinder, cone, convex polyhedron, round shapes) can return hits about a
-//! millimetre early (see dimforge/parry PR #414). Neither is used here: the lateral search
-//! and the projections on shapes without an analytic projection use a small f64 GJK
-//! (support points still come from parry in f32, accurate to ~1e-7 relative). Distances are
-//! exact to about a micrometre at the 0.1–1 m scale (see the tests, which compare against a
-//! brute-force oracle). The fast path costs one point projection, the lateral path a few
-//! GJK runs; nothing allocates.
+//! (triangles) it can report an intersection across a 1e-4-relative gap, its projections on
+//! convex polyhedra can misreport outside points as inside, and its GJK-based ray casts
+//! (cylinder, cone, convex polyhedron, round shapes) can return hits about a millimetre early
+//! (see dimforge/parry PR #414). None of these is used: the lateral search and the projections
+//! on shapes without an analytic projection use a small f64 GJK (only the local support points
+//! come from parry in f32; poses are applied in f64), and parry's ray casts are only used
+//! where they are analytic (ball, cuboid, capsule, triangle).
+//!
+//! Distances are exact to about 1e-6 of the distance (a micrometre at 1 m; 2e-5 of it at
+//! worst when the search stalls on a curved–curved contact), points lie within a few
+//! micrometres of the surface, normals within ~1e-5 rad on flat faces and ~1e-3 rad on curved
+//! surfaces. The tests compare against an independent brute-force oracle; an ignored stress
+//! test (`cargo test --release -- --ignored stress`) does so on thousands of random cases.
+//! Cost (release build, one core): the fast path is one point projection, ~80 ns for
+//! primitives; the lateral path ~0.1 µs for balls and 2–7 µs for other shapes; a mesh costs
+//! that per triangle reaching the volume. Nothing allocates.
 
 use core::f32::consts::{FRAC_PI_2, TAU};
 
@@ -121,13 +142,18 @@ use parry3d::shape::{
 const MAX_NEWTON_STEPS: usize = 40;
 /// A Newton step shorter than this (m) is no progress.
 const NEWTON_STEP_TOL: f64 = 1.0e-10;
-/// The lateral search stops when the GJK gap `g` between the shape and the sector falls below
-/// this fraction of the sector radius; the remaining error `t* - t <= g / h` is then a few
-/// micrometres at most at 1 m (the f32 support points are accurate to ~1e-7 of the scene scale,
-/// so gaps much smaller are noise anyway)...
-const TOUCH_REL: f64 = 2.0e-6;
-/// ...with the radius floored at this value (m).
+/// The lateral search stops when the remaining error bound `g / h` on the distance (GJK gap
+/// over the slope of `g`) falls below this fraction of the distance...
+const TOUCH_REL: f64 = 1.0e-6;
+/// ...or when the gap itself falls below this fraction of the distance: the f32 support points
+/// are accurate to ~1e-7 of the scene scale, so smaller gaps are noise (grazing contacts,
+/// where `h` is small, are ill-conditioned anyway)...
+const NOISE_REL: f64 = 1.0e-7;
+/// ...with the distance floored at this value (m) in both tests.
 const TOUCH_SCALE_FLOOR: f64 = 0.01;
+/// A stalled lateral search (see `lateral_minimum`) is accepted when its error bound `g / h`
+/// is below this fraction of the (floored) distance; otherwise the azimuth search takes over.
+const STALL_REL: f64 = 2.0e-5;
 /// First estimate of a lateral detection's normal: project the point moved this fraction of
 /// its distance towards the sensor (see `surface_normal`).
 const NORMAL_PROBE_REL: f32 = 1.0e-4;
@@ -141,6 +167,10 @@ const GJK_REL_GAP: f64 = 1.0e-12;
 const PROJECTION_TOL: f64 = 1.0e-10;
 /// GJK iteration cap (it typically converges in fewer than 10 iterations).
 const GJK_MAX_ITERS: usize = 64;
+/// Half-width (rad) of the azimuth bracket of the lateral fallback search.
+const AZIMUTH_BRACKET: f32 = 0.03;
+/// Golden-section iterations of the lateral fallback (0.03 rad × 0.618^30 ≈ 1e-8 rad).
+const GOLDEN_STEPS: usize = 30;
 /// Relative slack when testing whether a witness point lies in the cone.
 const CONE_SLACK: f32 = 1.0e-6;
 /// Absolute distance (m) under which a point counts as lying on a shape.
@@ -576,6 +606,7 @@ fn lateral_minimum(
     // quadratic without solving every intermediate GJK to full precision.
     let mut tolerance = 1.0e-3 * t;
     let mut retried = false;
+    let mut converged = false;
     for _ in 0..MAX_NEWTON_STEPS {
         simplex.rescale_probe(t / simplex_radius);
         simplex_radius = t;
@@ -583,18 +614,26 @@ fn lateral_minimum(
         let Some((on_shape, on_sector)) = gjk_closest_points(probe, support_map, pose, dir, tolerance, &mut simplex)
         else {
             // Touching: t is t* up to the GJK tolerance.
+            converged = true;
             break;
         };
         on_rim = on_sector;
         let gap = on_shape - on_sector;
         let dist = gap.length();
-        // Below this gap the direction of `gap` is dominated by the f32 rounding of the support
-        // points; the shapes touch and t is t* within `dist / h`.
-        if dist <= TOUCH_REL * t.max(TOUCH_SCALE_FLOOR) {
+        let scale = t.max(TOUCH_SCALE_FLOOR);
+        if dist <= NOISE_REL * scale {
+            // Below this gap the direction of `gap` is dominated by the f32 rounding of the
+            // support points: the shapes touch.
+            converged = true;
             break;
         }
         dir = gap / dist;
         let h = unit_sector_support_value(geom, dir);
+        if dist <= TOUCH_REL * scale * h {
+            // Converged: g is convex with slope about -h near t*, so t* - t <= dist / h.
+            converged = true;
+            break;
+        }
         // min over S of dir·x.
         let min_along = dir.dot(shape_support(support_map, pose, -dir));
         if h <= 0.0 && min_along > 0.0 {
@@ -611,6 +650,9 @@ fn lateral_minimum(
             // The gap is open but this direction certifies nothing better: GJK's answer was
             // not accurate enough. Retry once from scratch at full precision.
             if retried {
+                // Still stalled, near the f32 noise floor: good enough if the error bound
+                // t* - t <= g / h is small, else leave it to the fallback search below.
+                converged = dist <= STALL_REL * scale * h;
                 break;
             }
             retried = true;
@@ -624,7 +666,7 @@ fn lateral_minimum(
     // The azimuth of the minimiser: the witness on the sector, from one more GJK run just below
     // t* to full precision. The Newton steps only needed the separating direction, so their
     // GJK runs stopped early and their witnesses may sit on a wide chord of the rim.
-    let just_below = t - (t * 1.0e-6).max(1.0e-9);
+    let just_below = t - (t * 1.0e-5).max(1.0e-9);
     simplex.rescale_probe(just_below / simplex_radius);
     let probe = Probe::Sector {
         geom,
@@ -633,9 +675,21 @@ fn lateral_minimum(
     if let Some((_, on_sector)) = gjk_closest_points(probe, support_map, pose, dir, 0.0, &mut simplex) {
         on_rim = on_sector;
     }
-    let t32 = t as f32;
+    let mut t32 = t as f32;
     let on_rim = on_rim.to_f32();
-    let point = geom.generator(on_rim.y.atan2(on_rim.x)) * t32;
+    let mut azimuth = on_rim.y.atan2(on_rim.x);
+    if !converged {
+        // Newton stalled with the gap still open: a grazing contact, where the separating
+        // direction is so ill-conditioned that f32 rounding spoils the dual lower bound. The
+        // primal problem is well-conditioned there (the first-hit distance is flat around its
+        // minimum): minimise it over the azimuth near the witness. Its values are feasible
+        // points, i.e. upper bounds of t*.
+        if let Some((refined, at)) = refine_on_generators(geom, shape, support_map, pose, azimuth, t32, limit as f32) {
+            t32 = refined;
+            azimuth = at;
+        }
+    }
+    let point = geom.generator(azimuth) * t32;
     let normal = lateral_normal(shape, support_map, pose, point, dir.to_f32(), sphere.radius);
     Some(ProximityHit {
         distance: t32,
@@ -679,6 +733,109 @@ fn surface_normal(
         normal = refined;
     }
     Some(normal)
+}
+
+/// Golden-section minimisation of the first-hit distance along the generators over the
+/// azimuths `phi0 ± AZIMUTH_BRACKET`, for the lateral fallback. `lower` (m) is a lower bound of
+/// the answer, `limit` (m) the largest distance of interest. Returns the best distance and its
+/// azimuth, or `None` if no probed generator hits the shape.
+fn refine_on_generators(
+    geom: &Geom,
+    shape: &dyn Shape,
+    support_map: &dyn SupportMap,
+    pose: &Pose,
+    phi0: f32,
+    lower: f32,
+    limit: f32,
+) -> Option<(f32, f32)> {
+    const INV_GOLDEN: f32 = 0.618_034;
+    let eval =
+        |phi: f32| first_hit(shape, support_map, pose, geom.generator(phi), lower, limit).unwrap_or(f32::INFINITY);
+    let (mut lo, mut hi) = (phi0 - AZIMUTH_BRACKET, phi0 + AZIMUTH_BRACKET);
+    let (mut x1, mut x2) = (hi - INV_GOLDEN * (hi - lo), lo + INV_GOLDEN * (hi - lo));
+    let (mut f1, mut f2) = (eval(x1), eval(x2));
+    let mut best = (eval(phi0), phi0);
+    for _ in 0..GOLDEN_STEPS {
+        if f1 <= f2 {
+            best = if f1 < best.0 { (f1, x1) } else { best };
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - INV_GOLDEN * (hi - lo);
+            f1 = eval(x1);
+        } else {
+            best = if f2 < best.0 { (f2, x2) } else { best };
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + INV_GOLDEN * (hi - lo);
+            f2 = eval(x2);
+        }
+    }
+    for (f, x) in [(f1, x1), (f2, x2)] {
+        if f < best.0 {
+            best = (f, x);
+        }
+    }
+    best.0.is_finite().then_some(best)
+}
+
+/// First point of the convex shape along the ray `t·d`, `t` in `[lower, limit]` (m), or
+/// `None`. Exact parry ray casts where they exist; otherwise a search on the convex function
+/// `t ↦ dist(t·d, S)`: golden section for its minimum, then bisection for the entry point.
+fn first_hit(
+    shape: &dyn Shape,
+    support_map: &dyn SupportMap,
+    pose: &Pose,
+    d: Vector,
+    lower: f32,
+    limit: f32,
+) -> Option<f32> {
+    if has_analytic_ray_cast(shape) {
+        return shape
+            .cast_ray(pose, &Ray::new(d * lower, d), limit - lower, true)
+            .map(|toi| lower + toi);
+    }
+    let eps = ON_SHAPE_TOL * 0.1;
+    let f = |t: f32| point_distance(shape, support_map, pose, d * t);
+    if f(lower) <= eps {
+        return Some(lower);
+    }
+    const INV_GOLDEN: f32 = 0.618_034;
+    let (mut lo, mut hi) = (lower, limit);
+    let (mut x1, mut x2) = (hi - INV_GOLDEN * (hi - lo), lo + INV_GOLDEN * (hi - lo));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    let mut inside = None;
+    for _ in 0..40 {
+        if f1 <= eps {
+            inside = Some(x1);
+            break;
+        }
+        if f2 <= eps {
+            inside = Some(x2);
+            break;
+        }
+        if f1 <= f2 {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - INV_GOLDEN * (hi - lo);
+            f1 = f(x1);
+        } else {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + INV_GOLDEN * (hi - lo);
+            f2 = f(x2);
+        }
+    }
+    // Entry point: bisection between `lower` (outside) and a point inside.
+    let (mut outside, mut inside) = (lower, inside?);
+    for _ in 0..32 {
+        let mid = 0.5 * (outside + inside);
+        if f(mid) <= eps {
+            inside = mid;
+        } else {
+            outside = mid;
+        }
+    }
+    Some(inside)
 }
 
 /// Case C in closed form for a ball (centre `c`, radius `rho`, sensor frame). The plane
@@ -834,9 +991,22 @@ impl core::ops::Div<f64> for D3 {
     }
 }
 
-/// Support point of the shape (sensor frame) in direction `dir`, in f64.
+/// Support point of the shape (sensor frame) in direction `dir`, in f64. Only the local
+/// support point comes from parry in f32; the pose is applied in f64, because parry's f32
+/// transform adds rounding of order 1e-8 m at 0.1 m, which is what limits how close to the
+/// contact the lateral search can resolve the separating direction.
 fn shape_support(support_map: &dyn SupportMap, pose: &Pose, dir: D3) -> D3 {
-    support_map.support_point(pose, dir.to_f32()).into()
+    let q = pose.rotation;
+    let (axis, w) = (D3::from(Vector::new(q.x, q.y, q.z)), f64::from(q.w));
+    let local_dir = rotate(-axis, w, dir);
+    let local = D3::from(support_map.local_support_point(local_dir.to_f32()));
+    rotate(axis, w, local) + D3::from(pose.translation)
+}
+
+/// Rotates `v` by the quaternion `(axis, w)` (glam's formula, in f64).
+fn rotate(axis: D3, w: f64, v: D3) -> D3 {
+    let b2 = axis.length_squared();
+    v * (w * w - b2) + axis * (2.0 * v.dot(axis)) + axis.cross(v) * (2.0 * w)
 }
 
 /// The simple convex set GJK measures the shape against.
@@ -987,21 +1157,26 @@ fn closest_on_simplex(simplex: &Simplex) -> Option<SimplexPoint> {
         _ => {
             // The four faces with the index of the vertex opposite to each.
             const FACES: [([usize; 3], usize); 4] = [([0, 1, 2], 3), ([0, 2, 3], 1), ([0, 3, 1], 2), ([1, 3, 2], 0)];
-            let mut best: Option<SimplexPoint> = None;
-            for (face, opposite) in FACES {
+            // The origin is outside iff some face plane separates it from the opposite vertex
+            // (or the tetrahedron is flat). The closest point is then on the faces; all four
+            // are searched, because with nearly flat tetrahedra the sign tests can pick the
+            // wrong face, which stalls GJK on grazing contacts.
+            let outside = FACES.iter().any(|&(face, opposite)| {
                 let [a, b, c] = face.map(|i| w[i]);
                 let n = (b - a).cross(c - a);
                 let to_opposite = w[opposite] - a;
-                let side_origin = -a.dot(n);
                 let side_opposite = to_opposite.dot(n);
                 let flat = side_opposite * side_opposite <= 1.0e-24 * n.length_squared() * to_opposite.length_squared();
-                // Only faces whose plane separates the origin from the opposite vertex can
-                // hold the closest point (all of them for a flat tetrahedron).
-                if flat || side_origin * side_opposite < 0.0 {
-                    let candidate = closest_on_triangle(w, face);
-                    if best.is_none_or(|b| candidate.0.length_squared() < b.0.length_squared()) {
-                        best = Some(candidate);
-                    }
+                flat || -a.dot(n) * side_opposite < 0.0
+            });
+            if !outside {
+                return None;
+            }
+            let mut best: Option<SimplexPoint> = None;
+            for (face, _) in FACES {
+                let candidate = closest_on_triangle(w, face);
+                if best.is_none_or(|b| candidate.0.length_squared() < b.0.length_squared()) {
+                    best = Some(candidate);
                 }
             }
             best
@@ -1130,7 +1305,7 @@ fn near_cap(
         TypedShape::Ball(ball) => ball_reach(geom, pose.translation, ball.radius),
         TypedShape::Cuboid(cuboid) => cuboid_reach(geom, cuboid, pose),
         TypedShape::Triangle(tri) => triangle_reach(geom, shape, support_map, tri, pose),
-        TypedShape::ConvexPolyhedron(poly) => polyhedron_reach(geom, shape, poly, pose),
+        TypedShape::ConvexPolyhedron(poly) => polyhedron_reach(geom, shape, poly, pose, q),
         _ => generic_reach(geom, shape, support_map, pose, q),
     }?;
     Some(cap_hit(crossing(q, reach, a)))
@@ -1220,10 +1395,9 @@ fn edge_reach(geom: &Geom, v0: Vector, v1: Vector) -> Option<Vector> {
 }
 
 /// The point of the conic `{n·p = d} ∩ ∂K` farthest from the apex, when that section is a
-/// bounded ellipse, provided it is beyond the near cap and `inside` accepts it (i.e. it lies on
-/// the face). On `∂K`, `|p| = z / cos`, so this is the maximum of `z` on the ellipse, reached on
-/// the generator opposite to the plane normal's azimuth.
-fn face_reach(geom: &Geom, n: Vector, d: f32, inside: impl Fn(Vector) -> bool) -> Option<Vector> {
+/// bounded ellipse. On `∂K`, `|p| = z / cos`, so this is the maximum of `z` on the ellipse,
+/// reached on the generator opposite to the plane normal's azimuth.
+fn conic_far_vertex(geom: &Geom, n: Vector, d: f32) -> Option<Vector> {
     let (n, d) = if d < 0.0 { (-n, -d) } else { (n, d) };
     if d <= 0.0 {
         // Plane through the apex: the section is made of generators, handled by the edges.
@@ -1235,8 +1409,13 @@ fn face_reach(geom: &Geom, n: Vector, d: f32, inside: impl Fn(Vector) -> bool) -
         // Parabola or hyperbola: |p| is unbounded along it; the edges bound the face's arcs.
         return None;
     }
-    let p = geom.generator((-n.y).atan2(-n.x)) * (d / min_rate);
-    (p.length() >= geom.near && inside(p)).then_some(p)
+    Some(geom.generator((-n.y).atan2(-n.x)) * (d / min_rate))
+}
+
+/// [`conic_far_vertex`] of the face plane `n·p = d`, provided it is beyond the near cap and
+/// `inside` accepts it (i.e. it lies on the face).
+fn face_reach(geom: &Geom, n: Vector, d: f32, inside: impl Fn(Vector) -> bool) -> Option<Vector> {
+    conic_far_vertex(geom, n, d).filter(|&p| p.length() >= geom.near && inside(p))
 }
 
 /// Exact near-cap witness for a cuboid (vertices, edges, faces).
@@ -1306,8 +1485,14 @@ fn triangle_reach(
     face_reach(geom, n, n.dot(v[0]), |p| on_shape(shape, support_map, pose, p))
 }
 
-/// Exact near-cap witness for a convex polyhedron (vertices, edges, faces).
-fn polyhedron_reach(geom: &Geom, shape: &dyn Shape, poly: &ConvexPolyhedron, pose: &Pose) -> Option<Vector> {
+/// Near-cap witness for a convex polyhedron: vertices, edges and face conics as for the
+/// cuboid. parry merges hull triangles whose normals differ by up to about 1.5° into one
+/// polygonal face and drops the crease between them, so a face plane is only approximately
+/// the hull's surface: each face candidate is projected onto the true hull (the convex hull of
+/// the points, which the support map describes) and clipped to the cone, which makes it an
+/// exact witness, possibly reaching slightly less far than the true extreme point. The generic
+/// probes follow as a last resort. Exact when the faces are planar.
+fn polyhedron_reach(geom: &Geom, shape: &dyn Shape, poly: &ConvexPolyhedron, pose: &Pose, q: Vector) -> Option<Vector> {
     let points = poly.points();
     if let Some(p) = points.iter().find_map(|&p| vertex_reach(geom, pose.transform_point(p))) {
         return Some(p);
@@ -1330,12 +1515,20 @@ fn polyhedron_reach(geom: &Geom, shape: &dyn Shape, poly: &ConvexPolyhedron, pos
             continue;
         };
         let n = pose.rotation * face.normal;
-        let d = n.dot(pose.transform_point(on_face));
-        if let Some(p) = face_reach(geom, n, d, |p| on_shape(shape, poly, pose, p)) {
-            return Some(p);
+        let Some(p) = conic_far_vertex(geom, n, n.dot(pose.transform_point(on_face))) else {
+            continue;
+        };
+        if p.length() < geom.near {
+            continue;
+        }
+        // Onto the hull (if not already in it), then back into the cone.
+        let on_hull = projection(shape, poly, pose, p).unwrap_or(p);
+        let witness = clip_to_cone(geom, q, on_hull);
+        if witness.length() >= geom.near {
+            return Some(witness);
         }
     }
-    None
+    generic_reach(geom, shape, poly, pose, q)
 }
 
 /// Clips the segment `[q, r]` (with `q ∈ K`) to the cone: the feasible part is an interval
@@ -1567,20 +1760,33 @@ mod tests {
                 let d = t_in.max(a);
                 return (d <= b && d <= t_out + STEP).then_some(d);
             }
+            // Conservative advancement: stepping along the ray by the distance to the convex
+            // shape never crosses it, so this moves an early ray-cast hit onto the surface.
+            let settle = |mut t: f32, sign: f32| {
+                for _ in 0..30 {
+                    let d = dist(u * t);
+                    if d <= EPS {
+                        return Some(t);
+                    }
+                    t += sign * d;
+                }
+                None
+            };
             let t_in = shape.cast_ray(pose, &Ray::new(Vector::ZERO, u), reach, true)?;
-            let in_ok = dist(u * t_in) <= EPS && (t_in <= 0.0 || dist(u * (t_in - STEP)) > 0.0);
-            let (t_in, t_out) = if !in_ok {
-                robust_interval(u)?
-            } else if t_in >= a {
+            let t_in = settle(t_in, 1.0).filter(|&t| t <= 0.0 || dist(u * (t - STEP)) > 0.0);
+            let (t_in, t_out) = match t_in {
+                None => robust_interval(u)?,
                 // The exit point only matters when the entry is before the near cap.
-                (t_in, f32::INFINITY)
-            } else {
-                let back = shape.cast_ray(pose, &Ray::new(u * reach, -u), reach, true);
-                let t_out = back.map_or(-1.0, |back| reach - back);
-                if dist(u * t_out) <= EPS && dist(u * (t_out + STEP)) > 0.0 {
-                    (t_in, t_out)
-                } else {
-                    robust_interval(u)?
+                Some(t_in) if t_in >= a => (t_in, f32::INFINITY),
+                Some(t_in) => {
+                    let back = shape.cast_ray(pose, &Ray::new(u * reach, -u), reach, true);
+                    let t_out = back
+                        .and_then(|back| settle(reach - back, -1.0))
+                        .filter(|&t| dist(u * (t + STEP)) > 0.0);
+                    match t_out {
+                        Some(t_out) => (t_in, t_out),
+                        None => robust_interval(u)?,
+                    }
                 }
             };
             let d = t_in.max(a);
@@ -1589,7 +1795,7 @@ mod tests {
         let eval = |theta: f32, phi: f32| -> f32 {
             eval_dir(direction(theta.clamp(0.0, alpha), phi)).unwrap_or(f32::INFINITY)
         };
-        let (nt, np) = (24usize, 360usize);
+        let (nt, np) = (20usize, 240usize);
         let (dt, dp) = (alpha / nt as f32, TAU / np as f32);
         let mut samples = Vec::with_capacity((nt + 1) * np + 400);
         for i in 0..=nt {
@@ -1621,7 +1827,7 @@ mod tests {
         }
         samples.sort_by(|x, y| x.0.total_cmp(&y.0));
         let mut best = f32::INFINITY;
-        for &(f, th0, ph0) in samples.iter().take(6) {
+        for &(f, th0, ph0) in samples.iter().take(5) {
             if !f.is_finite() {
                 break;
             }
@@ -1723,7 +1929,13 @@ mod tests {
             }
         }
         let dist = exact_distance(shape, pose, hit.point);
-        assert!(dist <= 3.0e-6, "point {:?} is {dist} m off the shape", hit.point);
+        assert!(
+            dist <= 3.0e-6,
+            "point {:?} is {dist} m off the {:?}: {hit:?} {pose:?} {vol:?} {:?}",
+            hit.point,
+            shape.shape_type(),
+            shape.as_cuboid()
+        );
         assert!((hit.normal.length() - 1.0).abs() <= 1.0e-4, "{hit:?}");
         assert!(hit.normal.dot(hit.point) <= 1.0e-6, "normal not facing: {hit:?}");
     }
@@ -2290,7 +2502,7 @@ mod tests {
         };
         let mut rng = Rng(31);
         let mut found = 0;
-        for _ in 0..6 {
+        for _ in 0..3 {
             let pose = Pose::from_parts(
                 Vector::new(rng.range(-0.04, 0.04), rng.range(-0.04, 0.04), rng.range(0.05, 0.12)),
                 rng.rotation(),
@@ -2383,8 +2595,11 @@ mod tests {
                     // The detection is a genuine point of the shape in the volume (so it is
                     // >= the exact minimum) and no oracle sample, all feasible, beats it.
                     check_hit(&vol, shape.as_ref(), &pose, &h);
+                    // The oracle accepts points within 1e-7 m of the surface, i.e. up to
+                    // 1e-7 / cos(incidence) m early along its rays at grazing incidence.
+                    let incidence = h.normal.dot(-h.point.normalize_or(Vector::Z)).max(0.01);
                     assert!(
-                        h.distance <= e + 2.0e-6,
+                        h.distance <= e + 2.0e-6 + 1.0e-7 / incidence,
                         "case {i} {:?}: detector {h:?} vs oracle {e} for {vol:?} {pose:?}",
                         shape.shape_type()
                     );
@@ -2401,6 +2616,7 @@ mod tests {
                 (None, Some(e)) if (e - offset).abs() <= TOL && matches!(i % 8, 2 | 3 | 4 | 7) => {
                     // The documented limitation: smooth solids barely reaching past the near cap.
                     cap_misses += 1;
+                    eprintln!("near-cap miss: case {i} {:?} {vol:?} {pose:?}", shape.shape_type());
                 }
                 (Some(h), None) => {
                     // The oracle's grid can miss a sliver of contact; the detection must still

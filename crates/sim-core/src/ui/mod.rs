@@ -1,7 +1,47 @@
 //! Custom UIs (`simUI`): the widget model built from CoppeliaSim's XML, its values, and
 //! the callback events queued for scripts. The viewer renders it; tests drive it through
 //! the API.
+//!
+//! * [`Uis`] owns every UI. `simUI.create(xml)` parses the XML (following simUI's
+//!   rules and leniency) into a [`Ui`]: the window's attributes and a [`Container`] tree of
+//!   [`Widget`]s. The UI remembers the object of the script that created it.
+//! * Widgets change through `simUI.set*` and through [`Uis::interact`], which stands in
+//!   for the user. Either may queue a [`UiEvent`]; the Lua host drains them with
+//!   [`Uis::take_events`] and calls `callback(ui, id, value)` in the owning script on its
+//!   next turn. Nothing here runs Lua.
+//! * Non-goals: drawing (the viewer does it), Qt stylesheets (kept as text), and the
+//!   widgets gantry does not implement (combobox, tabs, plot, table, tree, image, ...),
+//!   which `create` refuses by name.
+//!
+//! All inputs are bounded: see [`MAX_UIS`], [`MAX_WIDGETS`], [`MAX_XML_LEN`],
+//! [`MAX_DEPTH`], [`MAX_TEXT_LEN`] and [`MAX_EVENTS`].
 
-/// Every UI of the scene.
-#[derive(Debug, Clone, Default)]
-pub struct Uis {}
+mod error;
+mod parse;
+mod uis;
+mod widget;
+mod window;
+
+pub use error::UiError;
+pub use uis::{UiEvent, Uis};
+pub use widget::{
+    Button, Checkbox, Container, Edit, Group, Label, Layout, Orientation, Radiobutton, Slider, Spinbox, Stretch,
+    TickPosition, Widget, WidgetKind,
+};
+pub use window::{Placement, Ui};
+
+/// The handle of the first UI; later ones count up and are never reused.
+pub const FIRST_UI_HANDLE: i64 = 1000;
+/// UIs that may exist at once.
+pub const MAX_UIS: usize = 64;
+/// Elements (widgets, groups, stretches) per UI.
+pub const MAX_WIDGETS: usize = 256;
+/// Bytes of XML `simUI.create` accepts.
+pub const MAX_XML_LEN: usize = 64 * 1024;
+/// Levels of nested groups, the window being level 1. Bounds the parser's recursion.
+pub const MAX_DEPTH: usize = 16;
+/// Bytes of a label's or an edit's text set after creation.
+pub const MAX_TEXT_LEN: usize = 64 * 1024;
+/// Callback events waiting for their scripts; past this the oldest is dropped (with a
+/// warning), so a UI driven while no script runs cannot grow memory.
+pub const MAX_EVENTS: usize = 1024;

@@ -179,7 +179,11 @@ impl<'d, 'input> Parser<'d, 'input> {
                 rows.push(row);
             } else {
                 // Only a form's odd last child gets here.
-                return Err(self.error(node, id, "extra elements in layout (a form layout needs pairs of widgets)"));
+                return Err(self.error(
+                    node,
+                    id,
+                    "extra elements in layout (a form layout needs pairs of widgets)",
+                ));
             }
         }
         Ok(Container { layout, margins, rows })
@@ -230,13 +234,19 @@ impl<'d, 'input> Parser<'d, 'input> {
             "spinbox" => spinbox(&mut a),
             "stretch" => {
                 if !matches!(parent_layout, Layout::VBox | Layout::HBox) {
-                    return Err(at(self, "stretch must be placed in a widget with vbox/hbox layout".into()));
+                    return Err(at(
+                        self,
+                        "stretch must be placed in a widget with vbox/hbox layout".into(),
+                    ));
                 }
                 a.int("factor", 0).map(|factor| WidgetKind::Stretch(Stretch { factor }))
             }
             "group" => {
                 if depth >= MAX_DEPTH {
-                    return Err(at(self, format!("groups nested too deeply (at most {MAX_DEPTH} levels)")));
+                    return Err(at(
+                        self,
+                        format!("groups nested too deeply (at most {MAX_DEPTH} levels)"),
+                    ));
                 }
                 let text = a.string("text", "");
                 let flat = a.bool("flat", false).map_err(|m| at(self, m))?;
@@ -260,7 +270,10 @@ impl<'d, 'input> Parser<'d, 'input> {
             a.finish(tag, self.diag);
         }
         if !self.ids.insert(id) {
-            return Err(at(self, format!("id must be unique (within ui scope). duplicate id: {id}")));
+            return Err(at(
+                self,
+                format!("id must be unique (within ui scope). duplicate id: {id}"),
+            ));
         }
         Ok(Widget {
             id,
@@ -485,9 +498,8 @@ impl<'a, 'input> Attrs<'a, 'input> {
     fn int(&mut self, name: &'static str, default: i64) -> Result<i64, String> {
         match self.get(name) {
             None => Ok(default),
-            Some(v) => parse_i32(v).ok_or_else(|| {
-                format!("invalid value '{v}' for attribute '{name}': must be a 32-bit integer")
-            }),
+            Some(v) => parse_i32(v)
+                .ok_or_else(|| format!("invalid value '{v}' for attribute '{name}': must be a 32-bit integer")),
         }
     }
 
@@ -496,7 +508,9 @@ impl<'a, 'input> Attrs<'a, 'input> {
             None => Ok(default),
             Some(v) => match v.parse::<f64>() {
                 Ok(f) if f.is_finite() => Ok(f),
-                _ => Err(format!("invalid value '{v}' for attribute '{name}': must be a finite number")),
+                _ => Err(format!(
+                    "invalid value '{v}' for attribute '{name}': must be a finite number"
+                )),
             },
         }
     }
@@ -519,7 +533,12 @@ impl<'a, 'input> Attrs<'a, 'input> {
     }
 
     /// One of `valid` (returned as the static string so callers can match on it).
-    fn choice(&mut self, name: &'static str, default: &'static str, valid: &[&'static str]) -> Result<&'static str, String> {
+    fn choice(
+        &mut self,
+        name: &'static str,
+        default: &'static str,
+        valid: &[&'static str],
+    ) -> Result<&'static str, String> {
         let v = self.get(name).unwrap_or(default);
         valid.iter().copied().find(|c| *c == v).ok_or_else(|| {
             let list: Vec<String> = valid.iter().map(|c| format!("'{c}'")).collect();
@@ -531,8 +550,8 @@ impl<'a, 'input> Attrs<'a, 'input> {
     }
 
     /// Reports deprecated spellings (once per name) and attributes nobody asked for.
-    fn finish(self, widget: &str, diag: &mut Diagnostics) {
-        for (old, new) in self.deprecated {
+    fn finish(&mut self, widget: &str, diag: &mut Diagnostics) {
+        for (old, new) in std::mem::take(&mut self.deprecated) {
             if diag.deprecated_seen.insert(old.clone()) {
                 diag.warnings.push(format!(
                     "simUI: attribute name '{old}' is deprecated. please use '{new}' instead."

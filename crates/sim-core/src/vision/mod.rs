@@ -1,6 +1,498 @@
 //! Vision sensors: CPU rendering of RGB and depth images, and CoppeliaSim's
 //! `simVision` work-image operations.
+//!
+//! # What a sensor sees
+//! A perspective vision sensor ([`VisionModel`]) looks along its local +Z axis with
+//! its local +Y up in the image; image right is therefore its local **-X**, as in
+//! CoppeliaSim. The field of view spans the larger image side. Every visual of every
+//! shape (the floor included) is tessellated once, cached, and rasterised with a
+//! z-buffer; near and far planes clip geometry. Nothing else (dummies, joints,
+//! drawing objects) is drawn.
+//!
+//! Shading: a pixel shows `colour * min(1, 0.3 + 0.45 |n·z_sensor| + 0.35 max(0, n·z_world))`,
+//! that is, ambient light, a headlight along the viewing axis, and a light from
+//! straight above, with normals interpolated over curved surfaces (Gouraud). Pixels
+//! that see nothing between the clipping planes are **black** (RGB 0, 0, 0).
+//!
+//! # Image layout
+//! Images are stored and exchanged as CoppeliaSim does: row-major, **bottom row first**
+//! (OpenGL's `glReadPixels` order), left to right within a row. RGB images have 3 bytes
+//! per pixel; depth has one `f32` per pixel holding the *planar* depth (distance along
+//! the viewing axis) normalised between the clipping planes, `(z - near) / (far -
+//! near)`, and 1 where nothing is seen. A client that wants a top-row-first image
+//! flips the rows (`numpy.flipud`), as with CoppeliaSim.
+//!
+//! # When images are rendered
+//! Rendering happens only when a sensor is *handled*:
+//! - explicitly, through [`handle_vision_sensor`] (`sim.handleVisionSensor`, and the
+//!   host for sensors with a `sysCall_vision` callback, before calling it). From the
+//!   first explicit handling on, the sensor is **explicitly handled**: readers get the
+//!   image of its last handling, however old, as CoppeliaSim returns the last acquired
+//!   image;
+//! - on demand by a *reader* (`sim.getVisionSensorImg`, `sim.getVisionSensorDepth`,
+//!   `sim.readVisionSensor`, `simVision.sensorImgToWorkImg`, ...), for sensors that are
+//!   not explicitly handled, when the image is older than the current simulation step.
+//!   So a sensor nobody reads costs nothing, and one read many times per step renders
+//!   once.
+//!
+//! Writing the image (`sim.setVisionSensorImg`, `simVision.workImgToSensorImg`) counts
+//! as an image of the current step, so an edge image written by `sysCall_vision` is what
+//! other scripts read until the sensor is handled again.
 
-/// Rendered images and work images of every vision sensor, by handle.
+mod raster;
+mod tessellate;
+mod work_image;
+
+use std::collections::BTreeMap;
+
+use crate::error::SimError;
+use crate::scene::VisionModel;
+use crate::world::{Handle, ObjectKind, World};
+
+/// Largest image side rendered, in pixels (the scene loader enforces the same limit).
+pub const MAX_RESOLUTION: u32 = 512;
+
+/// Rendered images and work images of every vision sensor, by handle, plus the
+/// renderer's caches (tessellated shapes, reusable buffers).
 #[derive(Debug, Clone, Default)]
-pub struct VisionStates {}
+pub struct VisionStates {
+    sensors: BTreeMap<Handle, SensorImage>,
+    shapes: raster::ShapeCache,
+    scratch: raster::Scratch,
+}
+
+/// The image state of one vision sensor.
+#[derive(Debug, Clone)]
+pub struct SensorImage {
+    resolution: [u32; 2],
+    rgb: Vec<u8>,
+    depth: Vec<f32>,
+    renders: u64,
+    rendered: Option<RenderStamp>,
+    /// Simulation step of the last write of `rgb` (render or set); `None` before any.
+    image_step: Option<u64>,
+    explicit: bool,
+    work: Option<Vec<f32>>,
+    /// Scratch image of the 3x3 filters, kept to avoid an allocation per call.
+    filter_scratch: Vec<f32>,
+    result: Option<VisionResult>,
+}
+
+/// When a sensor last rendered.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderStamp {
+    /// Completed simulation steps at the time ([`World::steps`]).
+    pub step: u64,
+    /// Simulation time, s ([`World::time`]).
+    pub time: f64,
+}
+
+/// The detection state `sim.readVisionSensor` reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VisionResult {
+    /// Whether the sensor triggered (set by the `sysCall_vision` callback's `trigger`).
+    pub trigger: bool,
+    /// Auxiliary packets: packet 1 is CoppeliaSim's 15 default values (minimum,
+    /// maximum and average of intensity, red, green, blue and normalised depth, each
+    /// 0..1), followed by the callback's packets.
+    pub packets: Vec<Vec<f64>>,
+}
+
+impl SensorImage {
+    fn new(resolution: [u32; 2]) -> Self {
+        let n = resolution[0] as usize * resolution[1] as usize;
+        SensorImage {
+            resolution,
+            rgb: vec![0; 3 * n],
+            depth: vec![1.0; n],
+            renders: 0,
+            rendered: None,
+            image_step: None,
+            explicit: false,
+            work: None,
+            filter_scratch: Vec::new(),
+            result: None,
+        }
+    }
+
+    /// `[width, height]` in pixels.
+    pub fn resolution(&self) -> [u32; 2] {
+        self.resolution
+    }
+
+    /// The sensor image: RGB, 3 bytes per pixel, bottom row first. After
+    /// `simVision.workImgToSensorImg` or `sim.setVisionSensorImg` this is the written
+    /// image, not the rendered one.
+    pub fn rgb(&self) -> &[u8] {
+        &self.rgb
+    }
+
+    /// Depth of the last render: planar depth normalised to 0..1 between the clipping
+    /// planes, one value per pixel, bottom row first.
+    pub fn depth(&self) -> &[f32] {
+        &self.depth
+    }
+
+    /// How many times the sensor rendered since the scene was loaded.
+    pub fn renders(&self) -> u64 {
+        self.renders
+    }
+
+    /// When it last rendered, `None` if never.
+    pub fn rendered(&self) -> Option<RenderStamp> {
+        self.rendered
+    }
+
+    /// The simVision work image (RGB `f32`, nominally 0..1, bottom row first), if one
+    /// was created by `simVision.sensorImgToWorkImg` and not yet removed.
+    pub fn work_image(&self) -> Option<&[f32]> {
+        self.work.as_deref()
+    }
+
+    /// The detection state, `None` before the sensor was first handled.
+    pub fn result(&self) -> Option<&VisionResult> {
+        self.result.as_ref()
+    }
+
+    fn size(&self) -> (usize, usize) {
+        (self.resolution[0] as usize, self.resolution[1] as usize)
+    }
+
+    /// CoppeliaSim's packet 1: min, max and average of intensity, R, G, B and depth.
+    fn packet1(&self) -> Vec<f64> {
+        let mut min = [f64::INFINITY; 5];
+        let mut max = [f64::NEG_INFINITY; 5];
+        let mut sum = [0.0f64; 5];
+        for (px, &d) in self.rgb.chunks_exact(3).zip(&self.depth) {
+            let [r, g, b] = [px[0], px[1], px[2]].map(|c| f64::from(c) / 255.0);
+            let v = [(r + g + b) / 3.0, r, g, b, f64::from(d)];
+            for k in 0..5 {
+                min[k] = min[k].min(v[k]);
+                max[k] = max[k].max(v[k]);
+                sum[k] += v[k];
+            }
+        }
+        let n = self.depth.len().max(1) as f64;
+        min.iter()
+            .chain(&max)
+            .copied()
+            .chain(sum.iter().map(|s| s / n))
+            .collect()
+    }
+}
+
+impl VisionStates {
+    /// The image state of sensor `h`, `None` until it was first rendered or written.
+    pub fn image(&self, h: Handle) -> Option<&SensorImage> {
+        self.sensors.get(&h)
+    }
+
+    /// How many times sensor `h` rendered (0 if never).
+    pub fn render_count(&self, h: Handle) -> u64 {
+        self.sensors.get(&h).map_or(0, |s| s.renders)
+    }
+
+    /// Records what a `sysCall_vision` callback returned for sensor `h`: its `trigger`
+    /// and its packets (already unpacked, e.g. with [`unpack_floats`]), which follow
+    /// packet 1 in `sim.readVisionSensor` and `sim.handleVisionSensor`.
+    ///
+    /// # Errors
+    /// [`SimError::InvalidArgument`] if the sensor was never handled.
+    pub fn set_callback_result(&mut self, h: Handle, trigger: bool, packets: Vec<Vec<f64>>) -> Result<(), SimError> {
+        let result = self
+            .sensors
+            .get_mut(&h)
+            .and_then(|s| s.result.as_mut())
+            .ok_or_else(|| SimError::InvalidArgument(format!("vision sensor {h} was not handled yet")))?;
+        result.trigger = trigger;
+        result.packets.truncate(1);
+        result.packets.extend(packets);
+        Ok(())
+    }
+
+    /// Mutable state of sensor `h`, created (black, no render) with the model's
+    /// resolution if needed.
+    fn state_mut(&mut self, h: Handle, model: &VisionModel) -> &mut SensorImage {
+        let s = self
+            .sensors
+            .entry(h)
+            .or_insert_with(|| SensorImage::new(model.resolution));
+        if s.resolution != model.resolution {
+            *s = SensorImage::new(model.resolution);
+        }
+        s
+    }
+
+    fn render(&mut self, world: &World, h: Handle) -> Result<(), SimError> {
+        let (model, pose) = sensor_model(world, h)?;
+        let cam = camera(h, model)?;
+        self.shapes.refresh(world);
+        let VisionStates {
+            sensors,
+            shapes,
+            scratch,
+        } = self;
+        let s = sensors.entry(h).or_insert_with(|| SensorImage::new(model.resolution));
+        if s.resolution != model.resolution {
+            *s = SensorImage::new(model.resolution);
+        }
+        let frame = raster::Frame {
+            rgb: &mut s.rgb,
+            depth: &mut s.depth,
+        };
+        raster::render(world, &cam, &pose, shapes, scratch, frame);
+        s.renders += 1;
+        s.rendered = Some(RenderStamp {
+            step: world.steps(),
+            time: world.time(),
+        });
+        s.image_step = Some(world.steps());
+        s.result = Some(VisionResult {
+            trigger: false,
+            packets: vec![s.packet1()],
+        });
+        Ok(())
+    }
+}
+
+/// The vision model and world pose of sensor `h`.
+pub(crate) fn sensor_model(world: &World, h: Handle) -> Result<(&VisionModel, crate::math::Pose), SimError> {
+    let o = world.object(h)?;
+    match &o.kind {
+        ObjectKind::VisionSensor(m) => {
+            // Validated here, before any buffer of the model's size is allocated.
+            camera(h, m)?;
+            Ok((m, o.world))
+        }
+        other => Err(SimError::WrongKind {
+            handle: h,
+            expected: "vision sensor",
+            actual: other.name(),
+        }),
+    }
+}
+
+/// The renderer's camera for a sensor model.
+///
+/// # Errors
+/// [`SimError::InvalidArgument`] for a model out of range (resolution, view angle or
+/// clipping planes).
+fn camera(h: Handle, m: &VisionModel) -> Result<raster::Camera, SimError> {
+    raster::Camera::new(m, MAX_RESOLUTION).ok_or_else(|| {
+        SimError::InvalidArgument(format!(
+            "vision sensor {h}: resolution {}x{} must be 1..={MAX_RESOLUTION} per side, with 0 < view angle < pi \
+             and 0 < near < far",
+            m.resolution[0], m.resolution[1]
+        ))
+    })
+}
+
+/// Renders sensor `h` now, whatever the age of its image, and makes it explicitly
+/// handled (see the module docs). Resets its detection state to "not triggered" with
+/// packet 1 of the new image. The host calls this before a sensor's `sysCall_vision`.
+///
+/// # Errors
+/// No such object, not a vision sensor, or a sensor model out of range.
+pub fn handle_vision_sensor(world: &mut World, h: Handle) -> Result<(), SimError> {
+    with_states(world, |states, world| states.render(world, h))?;
+    if let Some(s) = world.vision.sensors.get_mut(&h) {
+        s.explicit = true;
+    }
+    Ok(())
+}
+
+/// Renders every vision sensor (`sim.handle_all`), or only those not explicitly handled
+/// (`sim.handle_all_except_explicit`); returns how many rendered. Does not make them
+/// explicitly handled.
+///
+/// # Errors
+/// The first sensor that fails to render (the others still render).
+pub fn handle_all_vision_sensors(world: &mut World, except_explicit: bool) -> Result<usize, SimError> {
+    let sensors: Vec<Handle> = world
+        .handles()
+        .iter()
+        .copied()
+        .filter(|&h| matches!(world.object(h).map(|o| &o.kind), Ok(ObjectKind::VisionSensor(_))))
+        .filter(|h| !except_explicit || !world.vision.sensors.get(h).is_some_and(|s| s.explicit))
+        .collect();
+    let mut first_error = None;
+    let mut count = 0;
+    for h in sensors {
+        match with_states(world, |states, world| states.render(world, h)) {
+            Ok(()) => count += 1,
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    first_error.map_or(Ok(count), Err)
+}
+
+/// Runs `f` with the vision states lent out of the world, so the renderer can read
+/// the world while writing the states.
+fn with_states<T>(world: &mut World, f: impl FnOnce(&mut VisionStates, &World) -> T) -> T {
+    let mut states = std::mem::take(&mut world.vision);
+    let out = f(&mut states, world);
+    world.vision = states;
+    out
+}
+
+/// A reader's access: renders sensor `h` if it is not explicitly handled and its image
+/// is older than the current step, then returns its state.
+///
+/// # Errors
+/// As [`handle_vision_sensor`].
+pub(crate) fn read(world: &mut World, h: Handle) -> Result<&mut SensorImage, SimError> {
+    let (model, _) = sensor_model(world, h)?;
+    let step = world.steps();
+    let stale = match world.vision.sensors.get(&h) {
+        Some(s) => (!s.explicit && s.image_step.is_none_or(|at| at < step)) || s.resolution != model.resolution,
+        None => true,
+    };
+    if stale {
+        with_states(world, |states, world| states.render(world, h))?;
+    }
+    let (&model, _) = sensor_model(world, h)?;
+    Ok(world.vision.state_mut(h, &model))
+}
+
+/// The sensor's state without rendering, created black if it never rendered.
+///
+/// # Errors
+/// No such object or not a vision sensor.
+pub(crate) fn state(world: &mut World, h: Handle) -> Result<&mut SensorImage, SimError> {
+    let (&model, _) = sensor_model(world, h)?;
+    Ok(world.vision.state_mut(h, &model))
+}
+
+/// A writer's access (`sim.setVisionSensorImg`): like [`state`], and the image then
+/// counts as an image of the current step.
+///
+/// # Errors
+/// No such object or not a vision sensor.
+pub(crate) fn write(world: &mut World, h: Handle) -> Result<&mut SensorImage, SimError> {
+    let step = world.steps();
+    let s = state(world, h)?;
+    s.image_step = Some(step);
+    Ok(s)
+}
+
+/// `simVision.workImgToSensorImg`: writes the work image (clamped to 0..1) into the
+/// sensor image, which then counts as an image of the current step, and drops the
+/// work image if `remove`.
+///
+/// # Errors
+/// No such object, not a vision sensor, or no work image.
+pub(crate) fn work_to_sensor(world: &mut World, h: Handle, remove: bool) -> Result<(), SimError> {
+    let step = world.steps();
+    let s = state(world, h)?;
+    let Some(work) = &s.work else {
+        return Err(no_work_image(h));
+    };
+    for (c, &v) in s.rgb.iter_mut().zip(work) {
+        *c = if v.is_nan() {
+            0
+        } else {
+            (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+        };
+    }
+    if remove {
+        s.work = None;
+    }
+    s.image_step = Some(step);
+    Ok(())
+}
+
+fn no_work_image(h: Handle) -> SimError {
+    SimError::InvalidArgument(format!(
+        "vision sensor {h} has no work image: call simVision.sensorImgToWorkImg first"
+    ))
+}
+
+/// Work-image access for `simVision` functions other than `sensorImgToWorkImg`.
+///
+/// # Errors
+/// No such object, not a vision sensor, or no work image.
+pub(crate) fn work(world: &mut World, h: Handle) -> Result<WorkImage<'_>, SimError> {
+    let (&model, _) = sensor_model(world, h)?;
+    let s = world.vision.state_mut(h, &model);
+    let (width, height) = s.size();
+    match &mut s.work {
+        Some(work) => Ok(WorkImage {
+            width,
+            height,
+            work,
+            scratch: &mut s.filter_scratch,
+        }),
+        None => Err(no_work_image(h)),
+    }
+}
+
+/// A sensor's work image lent to a `simVision` operation.
+pub(crate) struct WorkImage<'a> {
+    width: usize,
+    height: usize,
+    work: &'a mut Vec<f32>,
+    scratch: &'a mut Vec<f32>,
+}
+
+impl WorkImage<'_> {
+    /// `simVision.edgeDetectionOnWorkImg`.
+    pub fn edge_detection(&mut self, threshold: f32) {
+        work_image::edge_detection(self.width, self.height, self.work, self.scratch, threshold);
+    }
+
+    /// `simVision.sharpenWorkImg`.
+    pub fn sharpen(&mut self) {
+        work_image::sharpen(self.width, self.height, self.work, self.scratch);
+    }
+
+    /// `simVision.horizontalFlipWorkImg`.
+    pub fn flip_horizontal(&mut self) {
+        work_image::flip_horizontal(self.width, self.work);
+    }
+
+    /// `simVision.verticalFlipWorkImg`.
+    pub fn flip_vertical(&mut self) {
+        work_image::flip_vertical(self.width, self.height, self.work);
+    }
+}
+
+impl SensorImage {
+    /// `simVision.sensorImgToWorkImg`: the sensor image as floats 0..1.
+    pub(crate) fn rgb_to_work(&mut self) {
+        let work = self.work.get_or_insert_with(Vec::new);
+        work.clear();
+        work.extend(self.rgb.iter().map(|&c| f32::from(c) / 255.0));
+    }
+
+    /// `simVision.sensorDepthMapToWorkImg`: normalised depth as grey levels.
+    pub(crate) fn depth_to_work(&mut self) {
+        let work = self.work.get_or_insert_with(Vec::new);
+        work.clear();
+        work.extend(self.depth.iter().flat_map(|&d| [d; 3]));
+    }
+
+    /// `simVision.uniformImgToWorkImg`: a work image of one colour.
+    pub(crate) fn uniform_work(&mut self, color: [f32; 3]) {
+        let n = self.depth.len();
+        let work = self.work.get_or_insert_with(Vec::new);
+        work.clear();
+        work.extend((0..n).flat_map(|_| color));
+    }
+
+    /// Mutable RGB bytes, for `sim.setVisionSensorImg`.
+    pub(crate) fn rgb_mut(&mut self) -> &mut [u8] {
+        &mut self.rgb
+    }
+}
+
+/// Unpacks a CoppeliaSim packed float table (`sim.packFloatTable`: little-endian
+/// `f32`s) such as a `sysCall_vision` packet. Trailing bytes that do not make a whole
+/// float are ignored.
+pub fn unpack_floats(bytes: &[u8]) -> Vec<f64> {
+    bytes
+        .chunks_exact(4)
+        .map(|c| f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])))
+        .collect()
+}

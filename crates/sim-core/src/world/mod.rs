@@ -17,8 +17,8 @@ mod signals;
 mod world;
 
 pub use collection::{Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind};
-pub use drawing::Drawings;
-pub use graph::Graphs;
+pub use drawing::*;
+pub use graph::*;
 pub use log::{LOG_CAPACITY, Log, LogLine};
 pub use object::{Detection, ForceReading, Handle, Joint, Object, ObjectKind, ProximitySensor};
 pub(crate) use physics::Physics;

@@ -1,0 +1,449 @@
+//! The CPU rasteriser: shapes' visuals → RGB and planar depth of one perspective sensor.
+//!
+//! Per visual, vertices go to the camera frame once (with their Gouraud intensity);
+//! per triangle: back-face culling for closed primitives, a trivial reject/accept on
+//! the six frustum planes, Sutherland–Hodgman clipping only for triangles that cross
+//! one, then a half-space scan of the bounding box with perspective-correct depth and
+//! intensity and a z-buffer. Nothing is allocated per frame once the buffers have grown
+//! to the scene's size.
+
+use std::collections::BTreeMap;
+
+use super::tessellate::{TriMesh, cross, dot, sub};
+use crate::math::Pose;
+use crate::scene::VisionModel;
+use crate::world::{Handle, ObjectKind, World};
+
+/// Share of an object's colour it shows with no light on it.
+pub(crate) const AMBIENT: f32 = 0.3;
+/// Weight of the headlight: a directional light along the sensor's viewing axis (+Z),
+/// lighting surfaces by `|cos|` of the angle between their normal and that axis.
+pub(crate) const HEADLIGHT: f32 = 0.45;
+/// Weight of a directional light straight down the world's -Z axis, so that floors,
+/// which the headlight grazes, are still lit.
+pub(crate) const TOPLIGHT: f32 = 0.35;
+/// Colour of pixels that see nothing between the clipping planes (RGB, 0..1).
+pub(crate) const BACKGROUND: [f32; 3] = [0.0, 0.0, 0.0];
+
+/// A perspective camera derived from a [`VisionModel`], in the sensor frame: looking
+/// along +Z, image up = +Y, image right = -X (CoppeliaSim's convention).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Camera {
+    /// Image width in pixels.
+    pub width: usize,
+    /// Image height in pixels.
+    pub height: usize,
+    /// Tangent of the horizontal half angle of view.
+    pub tan_x: f32,
+    /// Tangent of the vertical half angle of view.
+    pub tan_y: f32,
+    /// Near clipping distance along +Z, metres.
+    pub near: f32,
+    /// Far clipping distance along +Z, metres.
+    pub far: f32,
+}
+
+impl Camera {
+    /// The camera of a sensor model, or `None` when the model is out of range
+    /// (resolution 1..=`max_side`, 0 < fov < pi, 0 < near < far, all finite).
+    pub fn new(m: &VisionModel, max_side: u32) -> Option<Camera> {
+        let [w, h] = m.resolution;
+        let valid = (1..=max_side).contains(&w)
+            && (1..=max_side).contains(&h)
+            && m.fov.is_finite()
+            && m.fov > 0.0
+            && m.fov < std::f64::consts::PI
+            && m.near.is_finite()
+            && m.far.is_finite()
+            && m.near > 0.0
+            && m.far > m.near;
+        if !valid {
+            return None;
+        }
+        // The field of view spans the larger side; the other follows from the aspect.
+        let t = (m.fov / 2.0).tan();
+        let (tx, ty) = if w >= h {
+            (t, t * f64::from(h) / f64::from(w))
+        } else {
+            (t * f64::from(w) / f64::from(h), t)
+        };
+        Some(Camera {
+            width: w as usize,
+            height: h as usize,
+            tan_x: tx as f32,
+            tan_y: ty as f32,
+            near: m.near as f32,
+            far: m.far as f32,
+        })
+    }
+
+    /// Signed distance-like value of `p` to frustum plane `k` (>= 0 inside):
+    /// near, far, right (-X), left (+X), top (+Y), bottom (-Y).
+    fn plane(&self, k: usize, p: [f32; 3]) -> f32 {
+        let [x, y, z] = p;
+        match k {
+            0 => z - self.near,
+            1 => self.far - z,
+            2 => self.tan_x * z + x,
+            3 => self.tan_x * z - x,
+            4 => self.tan_y * z - y,
+            _ => self.tan_y * z + y,
+        }
+    }
+
+    fn outcode(&self, p: [f32; 3]) -> u8 {
+        (0..6).fold(0, |acc, k| acc | (u8::from(self.plane(k, p) < 0.0) << k))
+    }
+}
+
+/// One visual of one shape, tessellated, with its placement in the shape frame.
+#[derive(Debug, Clone)]
+pub(crate) struct CachedVisual {
+    mesh: TriMesh,
+    local: Pose,
+    color: [f32; 3],
+}
+
+/// Tessellations of every shape's visuals by shape handle. Geometry never changes
+/// after loading, so each shape is tessellated the first time a sensor renders it.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ShapeCache {
+    shapes: BTreeMap<Handle, Vec<CachedVisual>>,
+}
+
+impl ShapeCache {
+    /// Tessellates the shapes not seen before.
+    pub fn refresh(&mut self, world: &World) {
+        for &h in world.handles() {
+            if self.shapes.contains_key(&h) {
+                continue;
+            }
+            if let Ok(o) = world.object(h)
+                && let ObjectKind::Shape(s) = &o.kind
+            {
+                let visuals = s
+                    .visuals
+                    .iter()
+                    .map(|v| CachedVisual {
+                        mesh: TriMesh::from_geometry(&v.geometry),
+                        local: v.local,
+                        color: v.color.map(|c| if c.is_finite() { c.clamp(0.0, 1.0) } else { 0.0 }),
+                    })
+                    .collect();
+                self.shapes.insert(h, visuals);
+            }
+        }
+    }
+}
+
+/// A vertex in the camera frame with its light intensity.
+#[derive(Debug, Clone, Copy, Default)]
+struct CamVertex {
+    p: [f32; 3],
+    light: f32,
+}
+
+impl CamVertex {
+    fn lerp(a: CamVertex, b: CamVertex, t: f32) -> CamVertex {
+        CamVertex {
+            p: [
+                a.p[0] + (b.p[0] - a.p[0]) * t,
+                a.p[1] + (b.p[1] - a.p[1]) * t,
+                a.p[2] + (b.p[2] - a.p[2]) * t,
+            ],
+            light: a.light + (b.light - a.light) * t,
+        }
+    }
+}
+
+/// Buffers reused from frame to frame.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Scratch {
+    vertices: Vec<CamVertex>,
+    /// Planar depth in metres per pixel, `INFINITY` where nothing was drawn.
+    zbuf: Vec<f32>,
+}
+
+/// Where a frame goes: `rgb` (3 bytes per pixel) and `depth` (normalised), both bottom
+/// row first, sized `width * height` pixels.
+pub(crate) struct Frame<'a> {
+    pub rgb: &'a mut [u8],
+    pub depth: &'a mut [f32],
+}
+
+/// A polygon after clipping a triangle against up to six planes has at most 9 corners.
+const MAX_POLY: usize = 12;
+
+/// Renders every shape of `world` as seen from `sensor` (the sensor's world pose).
+/// `frame` must hold exactly `width * height` pixels of `cam`.
+pub(crate) fn render(
+    world: &World,
+    cam: &Camera,
+    sensor: &Pose,
+    shapes: &ShapeCache,
+    scratch: &mut Scratch,
+    frame: Frame<'_>,
+) {
+    let n = cam.width * cam.height;
+    scratch.zbuf.clear();
+    scratch.zbuf.resize(n, f32::INFINITY);
+    let bg = BACKGROUND.map(to_byte);
+    for px in frame.rgb.chunks_exact_mut(3) {
+        px.copy_from_slice(&bg);
+    }
+    let cam_from_world = sensor.inverse();
+    for &h in world.handles() {
+        let (Some(visuals), Ok(object)) = (shapes.shapes.get(&h), world.object(h)) else {
+            continue;
+        };
+        for v in visuals {
+            if v.mesh.triangles.is_empty() {
+                continue;
+            }
+            let world_pose = object.world * v.local;
+            draw_visual(cam, &(cam_from_world * world_pose), &world_pose, v, scratch, frame.rgb);
+        }
+    }
+    // Planar depth normalised between the clipping planes, as CoppeliaSim's depth
+    // buffer; background pixels are at the far plane (1).
+    let span = cam.far - cam.near;
+    for (d, &z) in frame.depth.iter_mut().zip(&scratch.zbuf) {
+        *d = if z.is_finite() {
+            ((z - cam.near) / span).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+    }
+}
+
+fn rows(p: &Pose) -> ([[f32; 3]; 3], [f32; 3]) {
+    let r = p.rotation.to_rotation_matrix();
+    let m = r.matrix();
+    let t = p.translation.vector;
+    let row = |i: usize| [m[(i, 0)] as f32, m[(i, 1)] as f32, m[(i, 2)] as f32];
+    ([row(0), row(1), row(2)], [t.x as f32, t.y as f32, t.z as f32])
+}
+
+fn draw_visual(
+    cam: &Camera,
+    cam_pose: &Pose,
+    world_pose: &Pose,
+    v: &CachedVisual,
+    scratch: &mut Scratch,
+    rgb: &mut [u8],
+) {
+    let (r, t) = rows(cam_pose);
+    let xf = |p: [f32; 3]| [dot(r[0], p) + t[0], dot(r[1], p) + t[1], dot(r[2], p) + t[2]];
+    // Whole visual outside one frustum plane: nothing to draw.
+    let c = xf(v.mesh.center);
+    if (0..6).any(|k| cam.plane(k, c) < -v.mesh.radius * plane_scale(cam, k)) {
+        return;
+    }
+    // Light directions in the visual's frame: the camera's Z axis (row 2 of the
+    // camera-from-visual rotation) and the world's Z axis.
+    let head = r[2];
+    let up = rows(world_pose).0[2];
+    scratch.vertices.clear();
+    scratch
+        .vertices
+        .extend(v.mesh.positions.iter().zip(&v.mesh.normals).map(|(&p, &n)| CamVertex {
+            p: xf(p),
+            light: (AMBIENT + HEADLIGHT * dot(head, n).abs() + TOPLIGHT * dot(up, n).max(0.0)).min(1.0),
+        }));
+    let color = v.color.map(|c| c * 255.0);
+    for tri in &v.mesh.triangles {
+        let Some([a, b, c]) = fetch(&scratch.vertices, *tri) else {
+            continue;
+        };
+        if v.mesh.closed {
+            // Outward normal pointing away from the camera (at the origin): a back face.
+            let n = cross(sub(b.p, a.p), sub(c.p, a.p));
+            if dot(n, a.p) >= 0.0 {
+                continue;
+            }
+        }
+        let (oa, ob, oc) = (cam.outcode(a.p), cam.outcode(b.p), cam.outcode(c.p));
+        if oa & ob & oc != 0 {
+            continue;
+        }
+        if oa | ob | oc == 0 {
+            fill(cam, &mut scratch.zbuf, rgb, [a, b, c], color);
+            continue;
+        }
+        let mut poly = [CamVertex::default(); MAX_POLY];
+        poly[..3].copy_from_slice(&[a, b, c]);
+        let n = clip(cam, &mut poly, 3, oa | ob | oc);
+        for k in 1..n.saturating_sub(1) {
+            fill(cam, &mut scratch.zbuf, rgb, [poly[0], poly[k], poly[k + 1]], color);
+        }
+    }
+}
+
+/// The norm of plane `k`'s normal, so a bounding sphere's radius compares with
+/// [`Camera::plane`]'s unnormalised value.
+fn plane_scale(cam: &Camera, k: usize) -> f32 {
+    match k {
+        0 | 1 => 1.0,
+        2 | 3 => (1.0 + cam.tan_x * cam.tan_x).sqrt(),
+        _ => (1.0 + cam.tan_y * cam.tan_y).sqrt(),
+    }
+}
+
+fn fetch(v: &[CamVertex], [a, b, c]: [u32; 3]) -> Option<[CamVertex; 3]> {
+    Some([*v.get(a as usize)?, *v.get(b as usize)?, *v.get(c as usize)?])
+}
+
+/// Clips the convex polygon `poly[..n]` against the planes in `mask` and returns the
+/// new corner count (< 3: nothing left).
+fn clip(cam: &Camera, poly: &mut [CamVertex; MAX_POLY], mut n: usize, mask: u8) -> usize {
+    let mut out = [CamVertex::default(); MAX_POLY];
+    for k in (0..6).filter(|k| mask & (1 << k) != 0) {
+        let mut m = 0;
+        let mut push = |v: CamVertex| {
+            // Each plane adds at most one corner, so 3 + 6 never exceeds MAX_POLY.
+            if m < MAX_POLY {
+                out[m] = v;
+                m += 1;
+            }
+        };
+        for i in 0..n {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            let (da, db) = (cam.plane(k, a.p), cam.plane(k, b.p));
+            if da >= 0.0 {
+                push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                push(CamVertex::lerp(a, b, da / (da - db)));
+            }
+        }
+        n = m;
+        poly[..n].copy_from_slice(&out[..n]);
+        if n < 3 {
+            return 0;
+        }
+    }
+    n
+}
+
+/// A vertex projected to pixel coordinates (x to the right, y up, pixel centres at
+/// half-integers), with 1/z and light/z for perspective-correct interpolation.
+#[derive(Clone, Copy)]
+struct ScreenVertex {
+    x: f32,
+    y: f32,
+    inv_z: f32,
+    light_z: f32,
+}
+
+fn project(cam: &Camera, v: CamVertex) -> ScreenVertex {
+    let [x, y, z] = v.p;
+    let inv_z = 1.0 / z;
+    ScreenVertex {
+        // Image right is the sensor's -X.
+        x: 0.5 * cam.width as f32 * (1.0 - x * inv_z / cam.tan_x),
+        y: 0.5 * cam.height as f32 * (1.0 + y * inv_z / cam.tan_y),
+        inv_z,
+        light_z: v.light * inv_z,
+    }
+}
+
+fn edge(a: ScreenVertex, b: ScreenVertex, px: f32, py: f32) -> f32 {
+    (b.x - a.x) * (py - a.y) - (b.y - a.y) * (px - a.x)
+}
+
+fn to_byte(c: f32) -> u8 {
+    (c * 255.0 + 0.5).clamp(0.0, 255.0) as u8
+}
+
+/// Fills one triangle that lies inside the frustum. `color` is RGB scaled to 0..255.
+fn fill(cam: &Camera, zbuf: &mut [f32], rgb: &mut [u8], tri: [CamVertex; 3], color: [f32; 3]) {
+    let [mut a, mut b, c] = tri.map(|v| project(cam, v));
+    let mut area = edge(a, b, c.x, c.y);
+    if !area.is_finite() || area.abs() < 1e-12 {
+        return;
+    }
+    if area < 0.0 {
+        // Drawn two-sided: orient every triangle counter-clockwise on screen.
+        std::mem::swap(&mut a, &mut b);
+        area = -area;
+    }
+    let inv_area = 1.0 / area;
+    let (w, h) = (cam.width, cam.height);
+    // Pixels whose centre may lie inside; clipping keeps corners within the image
+    // (up to rounding), and the clamps make out-of-range indices impossible.
+    let span = |lo: f32, hi: f32, n: usize| {
+        let first = (lo - 0.5).ceil().max(0.0) as usize;
+        let end = ((hi - 0.5).floor() + 1.0).clamp(0.0, n as f32) as usize;
+        (first, end)
+    };
+    let (x0, x1) = span(a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x), w);
+    let (y0, y1) = span(a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y), h);
+    if x0 >= x1 || y0 >= y1 {
+        return;
+    }
+    // Edge functions step linearly along a row.
+    let (dx_a, dx_b, dx_c) = (-(c.y - b.y), -(a.y - c.y), -(b.y - a.y));
+    for row in y0..y1 {
+        let py = row as f32 + 0.5;
+        let px = x0 as f32 + 0.5;
+        let (mut ea, mut eb, mut ec) = (edge(b, c, px, py), edge(c, a, px, py), edge(a, b, px, py));
+        let zrow = &mut zbuf[row * w..(row + 1) * w];
+        let crow = &mut rgb[row * w * 3..(row + 1) * w * 3];
+        for col in x0..x1 {
+            if ea >= 0.0 && eb >= 0.0 && ec >= 0.0 {
+                let (la, lb, lc) = (ea * inv_area, eb * inv_area, ec * inv_area);
+                let inv_z = la * a.inv_z + lb * b.inv_z + lc * c.inv_z;
+                let z = 1.0 / inv_z;
+                if z < zrow[col] {
+                    zrow[col] = z;
+                    let light = (la * a.light_z + lb * b.light_z + lc * c.light_z) * z;
+                    let px = &mut crow[col * 3..col * 3 + 3];
+                    for k in 0..3 {
+                        px[k] = (color[k] * light + 0.5).clamp(0.0, 255.0) as u8;
+                    }
+                }
+            }
+            ea += dx_a;
+            eb += dx_b;
+            ec += dx_c;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn model(resolution: [u32; 2], fov: f64, near: f64, far: f64) -> VisionModel {
+        VisionModel {
+            resolution,
+            fov,
+            near,
+            far,
+        }
+    }
+
+    #[test]
+    fn the_view_angle_spans_the_larger_side() {
+        let right = std::f64::consts::FRAC_PI_2;
+        let wide = Camera::new(&model([128, 64], right, 0.01, 1.0), 512).expect("valid");
+        assert!((wide.tan_x - 1.0).abs() < 1e-6 && (wide.tan_y - 0.5).abs() < 1e-6);
+        let tall = Camera::new(&model([64, 128], right, 0.01, 1.0), 512).expect("valid");
+        assert!((tall.tan_x - 0.5).abs() < 1e-6 && (tall.tan_y - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn models_out_of_range_are_refused() {
+        for m in [
+            model([0, 10], 1.0, 0.01, 1.0),
+            model([513, 10], 1.0, 0.01, 1.0),
+            model([10, 10], f64::NAN, 0.01, 1.0),
+            model([10, 10], std::f64::consts::PI, 0.01, 1.0),
+            model([10, 10], 1.0, 0.0, 1.0),
+            model([10, 10], 1.0, 0.5, 0.5),
+            model([10, 10], 1.0, 0.01, f64::INFINITY),
+        ] {
+            assert!(Camera::new(&m, 512).is_none(), "{m:?}");
+        }
+    }
+}

@@ -1,0 +1,357 @@
+//! Triangle meshes for the renderer, built once per visual from [`Geometry`].
+//!
+//! Curved primitives carry smooth per-vertex normals, so shading varies continuously
+//! across a cylinder or sphere (a faceted look would put false edges into
+//! `simVision.edgeDetectionOnWorkImg`). Flat faces (box sides, cylinder caps) and
+//! imported meshes get one normal per face, with their vertices duplicated per face.
+
+use crate::scene::{Geometry, MeshData};
+
+/// Segments around the axis of cylinders, spheres and capsules: a chord error of
+/// 0.5 % of the radius, below a pixel for objects that fill less than ~100 px.
+const AROUND: usize = 32;
+/// Latitude bands of spheres and capsule caps (from pole to pole).
+const BANDS: usize = 16;
+
+/// One visual as triangles, in the visual's own frame (metres).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct TriMesh {
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Unit vertex normals, parallel to `positions`.
+    pub normals: Vec<[f32; 3]>,
+    /// Triangles as indices into `positions`, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+    /// Whether the surface is closed with outward winding, so back faces may be culled.
+    /// Imported meshes are not trusted to be and are drawn two-sided.
+    pub closed: bool,
+    /// Centre of the bounding sphere, for frustum culling.
+    pub center: [f32; 3],
+    /// Radius of the bounding sphere (0 for an empty mesh).
+    pub radius: f32,
+}
+
+impl TriMesh {
+    /// Tessellates a geometry. Invalid sizes (non-finite, or not positive) give an
+    /// empty mesh rather than an error: the object is then simply not seen.
+    pub fn from_geometry(geometry: &Geometry) -> TriMesh {
+        let mut m = TriMesh::default();
+        match geometry {
+            Geometry::Box { half_extents } => {
+                if let Some(h) = positive3(*half_extents) {
+                    m.add_box(h);
+                }
+            }
+            Geometry::Sphere { radius } => {
+                if let Some(r) = positive(*radius) {
+                    m.add_round(r, 0.0);
+                }
+            }
+            Geometry::Capsule { radius, length } => {
+                if let (Some(r), Some(l)) = (positive(*radius), non_negative(*length)) {
+                    m.add_round(r, l / 2.0);
+                }
+            }
+            Geometry::Cylinder { radius, length } => {
+                if let (Some(r), Some(l)) = (positive(*radius), positive(*length)) {
+                    m.add_cylinder(r, l / 2.0);
+                }
+            }
+            Geometry::Mesh(data) => m.add_mesh(data),
+        }
+        m.closed = !matches!(geometry, Geometry::Mesh(_));
+        m.bound();
+        m
+    }
+
+    fn vertex(&mut self, p: [f32; 3], n: [f32; 3]) -> u32 {
+        // A visual with more than 4 billion vertices cannot be loaded in the first place.
+        let i = u32::try_from(self.positions.len()).unwrap_or(u32::MAX);
+        self.positions.push(p);
+        self.normals.push(n);
+        i
+    }
+
+    fn add_box(&mut self, h: [f32; 3]) {
+        // Face normal along axis `a`, spanned by axes `b`, `c` with e_b x e_c = e_a, so
+        // the corners (-,-), (+,-), (+,+), (-,+) in (b, c) run counter-clockwise.
+        for a in 0..3 {
+            for sign in [1.0f32, -1.0] {
+                let (b, c) = if sign > 0.0 {
+                    ((a + 1) % 3, (a + 2) % 3)
+                } else {
+                    ((a + 2) % 3, (a + 1) % 3)
+                };
+                let mut n = [0.0; 3];
+                n[a] = sign;
+                let base = self.positions.len() as u32;
+                for (sb, sc) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                    let mut p = [0.0; 3];
+                    p[a] = sign * h[a];
+                    p[b] = sb * h[b];
+                    p[c] = sc * h[c];
+                    self.vertex(p, n);
+                }
+                self.triangles.push([base, base + 1, base + 2]);
+                self.triangles.push([base, base + 2, base + 3]);
+            }
+        }
+    }
+
+    /// Appends rings `lo` and `hi` (each `AROUND` vertices, `hi` above `lo`) joined by
+    /// quads. `lo_pole`/`hi_pole` mark rings collapsed to a point, whose degenerate
+    /// triangles are left out.
+    fn join_rings(&mut self, lo: u32, hi: u32, lo_pole: bool, hi_pole: bool) {
+        let n = AROUND as u32;
+        for j in 0..n {
+            let k = (j + 1) % n;
+            let (a0, a1, b0, b1) = (lo + j, lo + k, hi + j, hi + k);
+            if !lo_pole {
+                self.triangles.push([a0, a1, b1]);
+            }
+            if !hi_pole {
+                self.triangles.push([a0, b1, b0]);
+            }
+        }
+    }
+
+    /// A ring of `AROUND` vertices at height `z`, radius `r`, with normals made of the
+    /// radial direction scaled by `nr` plus `nz` along Z.
+    fn ring(&mut self, r: f32, z: f32, nr: f32, nz: f32) -> u32 {
+        let first = self.positions.len() as u32;
+        for j in 0..AROUND {
+            let th = std::f32::consts::TAU * j as f32 / AROUND as f32;
+            let (s, c) = th.sin_cos();
+            self.vertex([r * c, r * s, z], [nr * c, nr * s, nz]);
+        }
+        first
+    }
+
+    /// A sphere (`half_length` 0) or a capsule along Z: two hemispheres whose equators
+    /// are `2 * half_length` apart, the band between them being the cylindrical part.
+    fn add_round(&mut self, r: f32, half_length: f32) {
+        let mut prev: Option<(u32, bool)> = None;
+        for k in 0..=BANDS {
+            let phi = -std::f32::consts::FRAC_PI_2 + std::f32::consts::PI * k as f32 / BANDS as f32;
+            let (sp, cp) = phi.sin_cos();
+            let pole = k == 0 || k == BANDS;
+            // The equator is emitted twice for a capsule (bottom and top hemisphere);
+            // for a sphere once.
+            let offsets: &[f32] = if 2 * k == BANDS && half_length > 0.0 {
+                &[-half_length, half_length]
+            } else if 2 * k < BANDS {
+                &[-half_length]
+            } else {
+                &[half_length]
+            };
+            for &off in offsets {
+                let rr = if pole { 0.0 } else { r * cp };
+                let ring = self.ring(rr, r * sp + off, if pole { 0.0 } else { cp }, sp);
+                if let Some((lo, lo_pole)) = prev {
+                    self.join_rings(lo, ring, lo_pole, pole);
+                }
+                prev = Some((ring, pole));
+            }
+        }
+    }
+
+    fn add_cylinder(&mut self, r: f32, h: f32) {
+        let lo = self.ring(r, -h, 1.0, 0.0);
+        let hi = self.ring(r, h, 1.0, 0.0);
+        self.join_rings(lo, hi, false, false);
+        let n = AROUND as u32;
+        for (z, nz) in [(h, 1.0f32), (-h, -1.0)] {
+            let c = self.vertex([0.0, 0.0, z], [0.0, 0.0, nz]);
+            let ring = self.ring(r, z, 0.0, nz);
+            for j in 0..n {
+                let (a, b) = (ring + j, ring + (j + 1) % n);
+                // Counter-clockwise seen from +Z on the top cap, from -Z on the bottom.
+                self.triangles.push(if nz > 0.0 { [c, a, b] } else { [c, b, a] });
+            }
+        }
+    }
+
+    fn add_mesh(&mut self, data: &MeshData) {
+        for tri in &data.indices {
+            let mut p = [[0.0f32; 3]; 3];
+            let mut ok = true;
+            for (k, &i) in tri.iter().enumerate() {
+                match data.vertices.get(i as usize) {
+                    Some(v) if v.iter().all(|c| c.is_finite()) => p[k] = *v,
+                    _ => ok = false,
+                }
+            }
+            let n = normalize(cross(sub(p[1], p[0]), sub(p[2], p[0])));
+            if !ok || n == [0.0; 3] {
+                continue;
+            }
+            let a = self.vertex(p[0], n);
+            let b = self.vertex(p[1], n);
+            let c = self.vertex(p[2], n);
+            self.triangles.push([a, b, c]);
+        }
+    }
+
+    fn bound(&mut self) {
+        if self.positions.is_empty() {
+            return;
+        }
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        for p in &self.positions {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let c = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0];
+        let r2 = self
+            .positions
+            .iter()
+            .map(|p| dot(sub(*p, c), sub(*p, c)))
+            .fold(0.0f32, f32::max);
+        self.center = c;
+        self.radius = r2.sqrt();
+    }
+}
+
+fn positive(v: f64) -> Option<f32> {
+    (v.is_finite() && v > 0.0).then_some(v as f32)
+}
+
+fn non_negative(v: f64) -> Option<f32> {
+    (v.is_finite() && v >= 0.0).then_some(v as f32)
+}
+
+fn positive3(v: [f64; 3]) -> Option<[f32; 3]> {
+    Some([positive(v[0])?, positive(v[1])?, positive(v[2])?])
+}
+
+pub(crate) fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+pub(crate) fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+pub(crate) fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The unit vector along `v`, or zero for a zero or non-finite vector.
+fn normalize(v: [f32; 3]) -> [f32; 3] {
+    let n = dot(v, v).sqrt();
+    if n.is_finite() && n > 1e-20 {
+        [v[0] / n, v[1] / n, v[2] / n]
+    } else {
+        [0.0; 3]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+    use std::sync::Arc;
+
+    use super::*;
+
+    fn convex_cases() -> Vec<(&'static str, TriMesh)> {
+        vec![
+            (
+                "box",
+                TriMesh::from_geometry(&Geometry::Box {
+                    half_extents: [0.1, 0.2, 0.3],
+                }),
+            ),
+            ("sphere", TriMesh::from_geometry(&Geometry::Sphere { radius: 0.5 })),
+            (
+                "cylinder",
+                TriMesh::from_geometry(&Geometry::Cylinder {
+                    radius: 0.05,
+                    length: 0.2,
+                }),
+            ),
+            (
+                "capsule",
+                TriMesh::from_geometry(&Geometry::Capsule {
+                    radius: 0.1,
+                    length: 0.4,
+                }),
+            ),
+        ]
+    }
+
+    #[test]
+    fn primitives_are_closed_and_wound_outwards() {
+        for (name, m) in convex_cases() {
+            assert!(m.closed, "{name}");
+            assert!(!m.triangles.is_empty(), "{name}");
+            for t in &m.triangles {
+                let [a, b, c] = t.map(|i| m.positions[i as usize]);
+                let n = cross(sub(b, a), sub(c, a));
+                let centroid = [
+                    (a[0] + b[0] + c[0]) / 3.0,
+                    (a[1] + b[1] + c[1]) / 3.0,
+                    (a[2] + b[2] + c[2]) / 3.0,
+                ];
+                // Convex and centred on the origin: outward means away from the origin.
+                assert!(dot(n, centroid) > 0.0, "{name}: triangle {t:?} faces inwards");
+            }
+            for n in &m.normals {
+                assert!((dot(*n, *n) - 1.0).abs() < 1e-5, "{name}: normal {n:?} is not unit");
+            }
+        }
+    }
+
+    #[test]
+    fn triangle_counts_and_bounds() {
+        let b = TriMesh::from_geometry(&Geometry::Box {
+            half_extents: [1.0, 1.0, 1.0],
+        });
+        assert_eq!(b.triangles.len(), 12);
+        assert!((b.radius - 3f32.sqrt()).abs() < 1e-6);
+        let c = TriMesh::from_geometry(&Geometry::Cylinder {
+            radius: 1.0,
+            length: 2.0,
+        });
+        assert_eq!(c.triangles.len(), 4 * AROUND);
+        // Two polar caps of AROUND triangles, 2 * AROUND per other band.
+        let s = TriMesh::from_geometry(&Geometry::Sphere { radius: 1.0 });
+        assert_eq!(s.triangles.len(), 2 * AROUND * (BANDS - 1));
+    }
+
+    #[test]
+    fn invalid_sizes_give_empty_meshes() {
+        for g in [
+            Geometry::Sphere { radius: f64::NAN },
+            Geometry::Box {
+                half_extents: [1.0, 0.0, 1.0],
+            },
+            Geometry::Cylinder {
+                radius: -1.0,
+                length: 1.0,
+            },
+        ] {
+            let m = TriMesh::from_geometry(&g);
+            assert!(m.triangles.is_empty() && m.radius == 0.0);
+        }
+    }
+
+    #[test]
+    fn meshes_skip_bad_triangles() {
+        let data = MeshData {
+            source: PathBuf::from("test"),
+            vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [f32::NAN, 0.0, 0.0]],
+            indices: vec![[0, 1, 2], [0, 1, 3], [0, 1, 9], [0, 0, 1]],
+        };
+        let m = TriMesh::from_geometry(&Geometry::Mesh(Arc::new(data)));
+        assert_eq!(m.triangles.len(), 1);
+        assert!(!m.closed);
+        assert_eq!(m.normals[0], [0.0, 0.0, 1.0]);
+    }
+}

@@ -1,0 +1,178 @@
+//! `simVision`'s work-image filters, ported from CoppeliaSim's simVision plugin
+//! (`simVision.cpp`, `imageProcess.cpp`) so that scripts see the same pixels.
+//!
+//! A work image is `width * height` RGB triples of `f32` (nominally 0..1), bottom row
+//! first like the sensor image. The filters are pure functions over slices; the
+//! caller owns the buffers, including the scratch image of the 3x3 filters.
+
+/// CoppeliaSim's edge kernel: a Laplacian, row after row.
+const EDGE_KERNEL: [f32; 9] = [-3.0, -3.0, -3.0, -3.0, 24.0, -3.0, -3.0, -3.0, -3.0];
+/// CoppeliaSim's sharpening kernel (identity plus a scaled Laplacian; the plugin's
+/// rounded constants are kept).
+const SHARPEN_KERNEL: [f32; 9] = [
+    -0.1111, -0.1111, -0.1111, -0.1111, 1.8888, -0.1111, -0.1111, -0.1111, -0.1111,
+];
+
+/// 3x3 convolution of an RGB image, `input` → `output`, as CoppeliaSim's
+/// `filter3x3RgbImage`: taps outside the image are left out and the sum is divided by
+/// (number of taps inside) / 9, so border pixels are scaled up rather than padded.
+/// With a zero-sum kernel this makes the border of any non-black image bright, which
+/// CoppeliaSim's edge images show too.
+fn filter3x3(width: usize, height: usize, input: &[f32], output: &mut [f32], m: &[f32; 9]) {
+    for y in 0..height {
+        for x in 0..width {
+            let mut sum = [0.0f32; 3];
+            let mut taps = 0.0f32;
+            for dy in -1isize..=1 {
+                let Some(yy) = y.checked_add_signed(dy).filter(|&v| v < height) else {
+                    continue;
+                };
+                for dx in -1isize..=1 {
+                    let Some(xx) = x.checked_add_signed(dx).filter(|&v| v < width) else {
+                        continue;
+                    };
+                    // Offsets are in -1..=1, so the kernel index is 0..9.
+                    let w = m[((dx + 1) + (dy + 1) * 3) as usize];
+                    let i = 3 * (xx + yy * width);
+                    if let Some(px) = input.get(i..i + 3) {
+                        for k in 0..3 {
+                            sum[k] += px[k] * w;
+                        }
+                    }
+                    taps += 1.0;
+                }
+            }
+            let i = 3 * (x + y * width);
+            if let Some(out) = output.get_mut(i..i + 3) {
+                let norm = taps / 9.0;
+                for k in 0..3 {
+                    out[k] = sum[k] / norm;
+                }
+            }
+        }
+    }
+}
+
+/// `simVision.edgeDetectionOnWorkImg`: the edge kernel over each channel, then every
+/// pixel becomes white where the mean of its filtered R, G, B exceeds `threshold`, and
+/// black elsewhere. `scratch` is resized as needed.
+pub(crate) fn edge_detection(width: usize, height: usize, work: &mut [f32], scratch: &mut Vec<f32>, threshold: f32) {
+    scratch.clear();
+    scratch.resize(work.len(), 0.0);
+    filter3x3(width, height, work, scratch, &EDGE_KERNEL);
+    for (out, px) in work.chunks_exact_mut(3).zip(scratch.chunks_exact(3)) {
+        let v = if (px[0] + px[1] + px[2]) / 3.0 > threshold {
+            1.0
+        } else {
+            0.0
+        };
+        out.fill(v);
+    }
+}
+
+/// `simVision.sharpenWorkImg`: the sharpening kernel, then a clamp to 0..1.
+pub(crate) fn sharpen(width: usize, height: usize, work: &mut [f32], scratch: &mut Vec<f32>) {
+    scratch.clear();
+    scratch.resize(work.len(), 0.0);
+    filter3x3(width, height, work, scratch, &SHARPEN_KERNEL);
+    for (w, s) in work.iter_mut().zip(scratch.iter()) {
+        *w = s.clamp(0.0, 1.0);
+    }
+}
+
+/// `simVision.horizontalFlipWorkImg`: mirrors left and right.
+pub(crate) fn flip_horizontal(width: usize, work: &mut [f32]) {
+    if width == 0 {
+        return;
+    }
+    for row in work.chunks_exact_mut(3 * width) {
+        for x in 0..width / 2 {
+            for k in 0..3 {
+                row.swap(3 * x + k, 3 * (width - 1 - x) + k);
+            }
+        }
+    }
+}
+
+/// `simVision.verticalFlipWorkImg`: mirrors top and bottom.
+pub(crate) fn flip_vertical(width: usize, height: usize, work: &mut [f32]) {
+    let stride = 3 * width;
+    for y in 0..height / 2 {
+        let (low, high) = work.split_at_mut(stride * (height - 1 - y));
+        if let (Some(a), Some(b)) = (low.get_mut(stride * y..stride * (y + 1)), high.get_mut(..stride)) {
+            a.swap_with_slice(b);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grey(width: usize, height: usize, f: impl Fn(usize, usize) -> f32) -> Vec<f32> {
+        let mut out = Vec::with_capacity(3 * width * height);
+        for y in 0..height {
+            for x in 0..width {
+                out.extend([f(x, y); 3]);
+            }
+        }
+        out
+    }
+
+    fn at(img: &[f32], width: usize, x: usize, y: usize) -> f32 {
+        img[3 * (x + y * width)]
+    }
+
+    #[test]
+    fn edges_of_a_step_are_on_its_bright_side() {
+        let (w, h) = (8, 6);
+        // Dark left half (0.1), bright right half (0.6): a vertical step at x = 4.
+        let mut img = grey(w, h, |x, _| if x < 4 { 0.1 } else { 0.6 });
+        edge_detection(w, h, &mut img, &mut Vec::new(), 0.2);
+        for y in 1..h - 1 {
+            // Bright side of the step: 3 * 3 * 0.5 = 4.5 > 0.2.
+            assert_eq!(at(&img, w, 4, y), 1.0);
+            // Dark side: negative response.
+            assert_eq!(at(&img, w, 3, y), 0.0);
+            // Uniform interiors: zero response.
+            assert_eq!(at(&img, w, 1, y), 0.0);
+            assert_eq!(at(&img, w, 6, y), 0.0);
+        }
+        // CoppeliaSim's border normalisation brightens the frame of a non-black image.
+        assert_eq!(at(&img, w, 6, 0), 1.0);
+        assert_eq!(at(&img, w, 7, 3), 1.0);
+    }
+
+    #[test]
+    fn a_black_image_has_no_edges_and_smooth_ramps_none_either() {
+        let (w, h) = (5, 5);
+        let mut img = grey(w, h, |_, _| 0.0);
+        edge_detection(w, h, &mut img, &mut Vec::new(), 0.2);
+        assert!(img.iter().all(|&v| v == 0.0));
+        // A linear ramp has zero Laplacian inside.
+        let mut img = grey(w, h, |x, _| 0.1 * x as f32);
+        edge_detection(w, h, &mut img, &mut Vec::new(), 0.2);
+        assert_eq!(at(&img, w, 2, 2), 0.0);
+    }
+
+    #[test]
+    fn flips_mirror_the_image() {
+        let (w, h) = (3, 2);
+        let mut img = grey(w, h, |x, y| (x + 10 * y) as f32);
+        flip_horizontal(w, &mut img);
+        assert_eq!(at(&img, w, 0, 0), 2.0);
+        assert_eq!(at(&img, w, 2, 1), 10.0);
+        flip_vertical(w, h, &mut img);
+        assert_eq!(at(&img, w, 0, 0), 12.0);
+        assert_eq!(at(&img, w, 0, 1), 2.0);
+    }
+
+    #[test]
+    fn sharpen_keeps_uniform_images_and_clamps() {
+        let (w, h) = (4, 4);
+        let mut img = grey(w, h, |_, _| 0.5);
+        sharpen(w, h, &mut img, &mut Vec::new());
+        assert!((at(&img, w, 1, 1) - 0.5).abs() < 1e-3);
+        assert!(img.iter().all(|v| (0.0..=1.0).contains(v)));
+    }
+}

@@ -1,0 +1,479 @@
+//! Vision sensors: the CPU renderer seen through the API (`sim.getVisionSensorImg`,
+//! `sim.getVisionSensorDepth`, `sim.handleVisionSensor`, ...) and the `simVision`
+//! work-image flow of the BubbleRob tutorial's edge-detection script.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use gantry_sim_core::api::{self, CallContext};
+use gantry_sim_core::math::Pose;
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene, load_scene_text};
+use gantry_sim_core::{Handle, Value, World, vision};
+
+fn asset(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
+}
+
+fn bubble_rob() -> World {
+    let model = load_scene(&DiskFiles, &asset("scenes/bubble_rob.toml"), &LoadOptions::default()).expect("scene loads");
+    World::new(&model)
+}
+
+fn find(w: &World, path: &str, index: usize) -> Handle {
+    w.find(path, None, index).expect(path)
+}
+
+fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+    api::call(w, &CallContext::default(), name, args)
+}
+
+/// The sensor 0.12 m above the floor at (0.1, 0, 0.12), looking along +X, with
+/// obstacle 0 (a grey cylinder, radius 0.05, height 0.2) centred 0.4 m ahead: its
+/// front face is 0.35 m away. Obstacle 1 is moved out of sight.
+fn scene_with_obstacle() -> (World, Handle) {
+    let mut w = bubble_rob();
+    let sensor = find(&w, "/bubbleRob/visionSensor", 0);
+    let o0 = find(&w, "/obstacle", 0);
+    w.set_world_pose(o0, Pose::translation(0.5, 0.0, 0.1)).expect("pose");
+    (w, sensor)
+}
+
+/// An image and its `{width, height}` from a `getVisionSensorImg`-shaped reply.
+fn image(reply: &[Value]) -> (Vec<u8>, [usize; 2]) {
+    let Some(Value::Bytes(bytes)) = reply.first() else {
+        panic!("expected bytes, got {reply:?}");
+    };
+    let Some(Value::Array(res)) = reply.get(1) else {
+        panic!("expected a resolution, got {reply:?}");
+    };
+    let dim = |k: usize| res[k].as_i64().expect("integer") as usize;
+    (bytes.clone(), [dim(0), dim(1)])
+}
+
+fn rgb(w: &mut World, h: Handle) -> (Vec<u8>, [usize; 2]) {
+    image(&call(w, "sim.getVisionSensorImg", &[Value::Int(h)]).expect("image"))
+}
+
+/// Pixel at column `x` (from the left) and row `y` (from the bottom).
+fn pixel(img: &[u8], res: [usize; 2], x: usize, y: usize) -> [u8; 3] {
+    let i = 3 * (y * res[0] + x);
+    [img[i], img[i + 1], img[i + 2]]
+}
+
+fn depth_floats(reply: &[Value]) -> (Vec<f32>, [usize; 2]) {
+    let (bytes, res) = image(reply);
+    let floats = bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    (floats, res)
+}
+
+fn near(actual: u8, expected: f64, tol: f64, what: &str) {
+    assert!(
+        (f64::from(actual) - expected).abs() <= tol,
+        "{what}: {actual}, expected {expected:.1} ± {tol}"
+    );
+}
+
+#[test]
+fn obstacle_ahead_shows_its_colour_and_distance() {
+    let (mut w, sensor) = scene_with_obstacle();
+    let (img, res) = rgb(&mut w, sensor);
+    assert_eq!(res, [256, 256]);
+    assert_eq!(img.len(), 256 * 256 * 3);
+
+    // Centre: the cylinder's face, normal along the view axis, so ambient 0.3 +
+    // headlight 0.45 of its colour 0.85.
+    let c = pixel(&img, res, 128, 128);
+    for ch in c {
+        near(ch, 0.85 * 0.75 * 255.0, 4.0, "obstacle centre");
+    }
+    // Bottom rows: the floor (0.55, 0.55, 0.5) lit by ambient + the top light.
+    let f = pixel(&img, res, 20, 5);
+    near(f[0], 0.55 * 0.65 * 255.0, 2.0, "floor red");
+    near(f[2], 0.5 * 0.65 * 255.0, 2.0, "floor blue");
+    // Top corners look above the floor at nothing within the 1 m far plane: background.
+    assert_eq!(pixel(&img, res, 0, 255), [0, 0, 0]);
+    assert_eq!(pixel(&img, res, 255, 255), [0, 0, 0]);
+
+    // Depth at the centre: 0.35 m, planar, to within a pixel's worth (the cylinder
+    // is a 32-gon whose chord is at most 0.25 mm inside the true surface).
+    let (d, dres) =
+        depth_floats(&call(&mut w, "sim.getVisionSensorDepth", &[Value::Int(sensor), Value::Int(1)]).unwrap());
+    assert_eq!(dres, [256, 256]);
+    let centre = d[128 * 256 + 128];
+    assert!((centre - 0.35).abs() < 2e-3, "depth at centre {centre} m");
+    // Normalised by default: (z - near) / (far - near), and 1 for the background.
+    let (n, _) = depth_floats(&call(&mut w, "sim.getVisionSensorDepth", &[Value::Int(sensor)]).unwrap());
+    assert!((n[128 * 256 + 128] - (0.35 - 0.01) / 0.99).abs() < 2e-3);
+    assert_eq!(n[255 * 256], 1.0);
+    assert!(
+        (d[255 * 256] - 1.0).abs() < 1e-6,
+        "background at the far plane in metres"
+    );
+}
+
+#[test]
+fn image_left_is_the_sensor_x_axis_and_row_zero_the_bottom() {
+    let (mut w, sensor) = scene_with_obstacle();
+    // The sensor's +X is the world's +Y (its left when looking along +X); an obstacle
+    // there must appear in the left half of the image.
+    let o1 = find(&w, "/obstacle", 1);
+    w.set_world_pose(o1, Pose::translation(0.7, 0.15, 0.1)).expect("pose");
+    let (img, res) = rgb(&mut w, sensor);
+    assert_ne!(pixel(&img, res, 70, 140), [0, 0, 0], "obstacle 1 on the left");
+    assert_eq!(pixel(&img, res, 186, 140), [0, 0, 0], "nothing on the right");
+    // Row 0 is the bottom: the floor is there, the top row sees nothing.
+    assert_ne!(pixel(&img, res, 40, 0), [0, 0, 0]);
+    assert_eq!(pixel(&img, res, 40, 255), [0, 0, 0]);
+}
+
+#[test]
+fn field_of_view_spans_the_larger_side() {
+    // A 128 x 64 sensor with a 90° view angle (horizontal, the larger side), at
+    // z = 0.5 looking along +X, and a small red cube 1 m ahead, 0.5 m to the left
+    // (sensor +X) and 0.25 m up: tan = 0.5 of the 45° half-angle horizontally and of
+    // the 26.6° half-angle vertically, so column 32 and row 48.
+    let text = r#"
+[[object]]
+name = "cam"
+kind = "vision_sensor"
+position = [0, 0, 0.5]
+orientation_deg = [0, 90, 90]
+resolution = [128, 64]
+fov_deg = 90
+near = 0.01
+far = 3.0
+
+[[object]]
+name = "cube"
+kind = "shape"
+shape = "box"
+size = [0.04, 0.04, 0.04]
+position = [1, 0.5, 0.75]
+color = [1, 0, 0]
+"#;
+    let model = load_scene_text(&DiskFiles, text, Path::new("inline.toml"), &LoadOptions::default()).expect("scene");
+    let mut w = World::new(&model);
+    let cam = find(&w, "/cam", 0);
+    let (img, res) = rgb(&mut w, cam);
+    assert_eq!(res, [128, 64]);
+    let p = pixel(&img, res, 32, 48);
+    assert!(p[0] > 100 && p[1] == 0 && p[2] == 0, "red cube at (32, 48), got {p:?}");
+    // Only a few pixels around it are red.
+    let red = img.chunks_exact(3).filter(|px| px[0] > 0).count();
+    assert!((2..=25).contains(&red), "{red} red pixels");
+    let res_reply = call(&mut w, "sim.getVisionSensorRes", &[Value::Int(cam)]).unwrap();
+    assert_eq!(res_reply, vec![Value::Array(vec![Value::Int(128), Value::Int(64)])]);
+}
+
+#[test]
+fn edge_detection_outlines_the_obstacle() {
+    let (mut w, sensor) = scene_with_obstacle();
+    let (raw, res) = rgb(&mut w, sensor);
+    // The obstacle's silhouette on row 150 (above the floor, whose far edge is near
+    // row 101): the first and last non-background columns.
+    let row = 150;
+    let lit: Vec<usize> = (0..256).filter(|&x| pixel(&raw, res, x, row) != [0, 0, 0]).collect();
+    let (left, right) = (lit[0], lit[lit.len() - 1]);
+    assert!(
+        left > 90 && right < 166 && right - left > 40,
+        "silhouette {left}..{right}"
+    );
+
+    // The tutorial's sysCall_vision, called as a script attached to the sensor would.
+    let ctx = CallContext {
+        script_object: Some(sensor),
+        source: "edge_detect.lua",
+    };
+    let me = Value::Int(-4); // sim.handle_self
+    api::call(&mut w, &ctx, "simVision.sensorImgToWorkImg", std::slice::from_ref(&me)).unwrap();
+    api::call(
+        &mut w,
+        &ctx,
+        "simVision.edgeDetectionOnWorkImg",
+        &[me.clone(), Value::Float(0.2)],
+    )
+    .unwrap();
+    api::call(&mut w, &ctx, "simVision.workImgToSensorImg", &[me]).unwrap();
+    let (edges, _) = rgb(&mut w, sensor);
+    assert_eq!(
+        w.vision.render_count(sensor),
+        1,
+        "reading the edge image does not render again"
+    );
+
+    let white = [255, 255, 255];
+    let black = [0, 0, 0];
+    assert_eq!(pixel(&edges, res, left, row), white, "left silhouette");
+    assert_eq!(pixel(&edges, res, right, row), white, "right silhouette");
+    assert_eq!(
+        pixel(&edges, res, (left + right) / 2, row),
+        black,
+        "inside the obstacle"
+    );
+    assert_eq!(pixel(&edges, res, 20, row), black, "background");
+    assert_eq!(pixel(&edges, res, 20, 30), black, "uniform floor");
+    assert_eq!(pixel(&edges, res, 128, 30), black, "floor below the obstacle");
+    // Every pixel is black or white.
+    assert!(edges.chunks_exact(3).all(|p| p == white || p == black));
+    // The floor's far edge (the far clipping plane) is a horizontal edge.
+    assert!((95..110).any(|y| pixel(&edges, res, 20, y) == white), "floor horizon");
+    // Only the obstacle's outline, the horizon and the image frame are white.
+    let count = edges.chunks_exact(3).filter(|p| *p == white).count();
+    assert!((400..3000).contains(&count), "{count} white pixels");
+}
+
+#[test]
+fn images_render_only_when_handled() {
+    let (mut w, sensor) = scene_with_obstacle();
+    assert_eq!(
+        w.vision.render_count(sensor),
+        0,
+        "nothing renders until read or handled"
+    );
+    rgb(&mut w, sensor);
+    rgb(&mut w, sensor);
+    call(&mut w, "sim.getVisionSensorDepth", &[Value::Int(sensor)]).unwrap();
+    call(&mut w, "sim.readVisionSensor", &[Value::Int(sensor)]).unwrap();
+    assert_eq!(w.vision.render_count(sensor), 1, "one render per step for readers");
+    w.advance_time();
+    rgb(&mut w, sensor);
+    assert_eq!(w.vision.render_count(sensor), 2, "a new step makes the image stale");
+    let stamp = w.vision.image(sensor).and_then(|s| s.rendered()).expect("stamp");
+    assert_eq!(stamp.step, 1);
+
+    // Explicit handling renders every time, and from then on readers get the image
+    // of the last handling.
+    call(&mut w, "sim.handleVisionSensor", &[Value::Int(sensor)]).unwrap();
+    call(&mut w, "sim.handleVisionSensor", &[Value::Int(sensor)]).unwrap();
+    assert_eq!(w.vision.render_count(sensor), 4);
+    w.advance_time();
+    rgb(&mut w, sensor);
+    assert_eq!(w.vision.render_count(sensor), 4);
+    vision::handle_vision_sensor(&mut w, sensor).unwrap();
+    assert_eq!(w.vision.render_count(sensor), 5);
+}
+
+#[test]
+fn handle_and_read_return_the_default_packet() {
+    let (mut w, sensor) = scene_with_obstacle();
+    let reply = call(&mut w, "sim.handleVisionSensor", &[Value::Int(sensor)]).unwrap();
+    assert_eq!(reply.len(), 2, "{reply:?}");
+    assert_eq!(reply[0], Value::Int(0));
+    let Value::Array(p) = &reply[1] else {
+        panic!("packet 1 is a table: {reply:?}");
+    };
+    let p: Vec<f64> = p.iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(p.len(), 15);
+    for k in 0..5 {
+        assert!(
+            p[k] <= p[10 + k] && p[10 + k] <= p[5 + k],
+            "min <= avg <= max for value {k}: {p:?}"
+        );
+    }
+    assert_eq!(p[0], 0.0, "the background is black");
+    assert_eq!(p[9], 1.0, "and at the far plane");
+    assert_eq!(
+        call(&mut w, "sim.readVisionSensor", &[Value::Int(sensor)]).unwrap(),
+        reply
+    );
+
+    // A sysCall_vision callback's trigger and packets, as the host records them.
+    w.vision
+        .set_callback_result(sensor, true, vec![vision::unpack_floats(&2.5f32.to_le_bytes())])
+        .unwrap();
+    let read = call(&mut w, "sim.readVisionSensor", &[Value::Int(sensor)]).unwrap();
+    assert_eq!(read[0], Value::Int(1));
+    assert_eq!(read[2], Value::floats(&[2.5]));
+    // sim.handle_all renders every sensor.
+    assert_eq!(
+        call(&mut w, "sim.handleVisionSensor", &[Value::Int(-2)]).unwrap(),
+        vec![Value::Int(0)]
+    );
+    assert_eq!(w.vision.render_count(sensor), 2);
+}
+
+#[test]
+fn set_image_and_work_image_round_trip() {
+    let (mut w, sensor) = scene_with_obstacle();
+    // Written images are what readers get, bottom row first.
+    let grey: Vec<u8> = (0..256 * 256).map(|i| (i % 256) as u8).collect();
+    call(
+        &mut w,
+        "sim.setVisionSensorImg",
+        &[Value::Int(sensor), Value::Bytes(grey), Value::Int(1)],
+    )
+    .unwrap();
+    assert_eq!(
+        call(&mut w, "sim.readVisionSensor", &[Value::Int(sensor)]).unwrap(),
+        vec![Value::Int(-1)],
+        "never handled: -1 alone"
+    );
+    let (img, res) = rgb(&mut w, sensor);
+    assert_eq!(w.vision.render_count(sensor), 0);
+    assert_eq!(pixel(&img, res, 7, 3), [7, 7, 7]);
+
+    // A portion, greyscale.
+    let reply = call(
+        &mut w,
+        "sim.getVisionSensorImg",
+        &[
+            Value::Int(sensor),
+            Value::Int(1),
+            Value::Float(0.0),
+            Value::floats(&[100.0, 10.0]),
+            Value::floats(&[4.0, 2.0]),
+        ],
+    )
+    .unwrap();
+    let (part, pres) = image(&reply);
+    assert_eq!(pres, [4, 2]);
+    assert_eq!(part, vec![100, 101, 102, 103, 100, 101, 102, 103]);
+
+    // Through the work image, flipped left to right.
+    let h = Value::Int(sensor);
+    call(&mut w, "simVision.sensorImgToWorkImg", std::slice::from_ref(&h)).unwrap();
+    call(&mut w, "simVision.horizontalFlipWorkImg", std::slice::from_ref(&h)).unwrap();
+    call(&mut w, "simVision.workImgToSensorImg", &[h.clone(), Value::Bool(false)]).unwrap();
+    assert!(
+        w.vision.image(sensor).unwrap().work_image().is_some(),
+        "kept: removeBuffer = false"
+    );
+    let (img, res) = rgb(&mut w, sensor);
+    assert_eq!(pixel(&img, res, 7, 3), [248, 248, 248]);
+    call(&mut w, "simVision.workImgToSensorImg", std::slice::from_ref(&h)).unwrap();
+    let err = call(
+        &mut w,
+        "simVision.edgeDetectionOnWorkImg",
+        &[h.clone(), Value::Float(0.2)],
+    )
+    .unwrap_err();
+    assert!(
+        err.contains("no work image") && err.contains("simVision.edgeDetectionOnWorkImg"),
+        "{err}"
+    );
+
+    // Depth as a work image, and a uniform one.
+    call(&mut w, "simVision.sensorDepthMapToWorkImg", std::slice::from_ref(&h)).unwrap();
+    call(
+        &mut w,
+        "simVision.uniformImgToWorkImg",
+        &[h.clone(), Value::floats(&[1.0, 0.5, 0.0])],
+    )
+    .unwrap();
+    call(&mut w, "simVision.workImgToSensorImg", std::slice::from_ref(&h)).unwrap();
+    let (img, res) = rgb(&mut w, sensor);
+    assert_eq!(pixel(&img, res, 200, 200), [255, 128, 0]);
+}
+
+#[test]
+fn rgba_cut_off_and_options() {
+    let (mut w, sensor) = scene_with_obstacle();
+    let reply = call(
+        &mut w,
+        "sim.getVisionSensorImg",
+        &[Value::Int(sensor), Value::Int(0), Value::Float(0.5)],
+    )
+    .unwrap();
+    let (img, res) = image(&reply);
+    assert_eq!(img.len(), 4 * res[0] * res[1]);
+    let alpha = |x: usize, y: usize| img[4 * (y * res[0] + x) + 3];
+    assert_eq!(alpha(128, 128), 255, "obstacle nearer than the cut-off");
+    assert_eq!(alpha(0, 255), 0, "background beyond it");
+    let (grey, _) = image(&call(&mut w, "sim.getVisionSensorImg", &[Value::Int(sensor), Value::Int(1)]).unwrap());
+    assert_eq!(grey.len(), 256 * 256);
+}
+
+#[test]
+fn bad_arguments_name_the_function() {
+    let (mut w, sensor) = scene_with_obstacle();
+    let floor = find(&w, "/Floor", 0);
+    let cases: Vec<(&str, Vec<Value>, &str)> = vec![
+        ("sim.getVisionSensorImg", vec![Value::Int(floor)], "not a vision sensor"),
+        ("sim.getVisionSensorDepth", vec![Value::Int(9999)], "does not exist"),
+        ("sim.handleVisionSensor", vec![Value::Str("cam".into())], "argument 1"),
+        ("sim.getVisionSensorRes", vec![Value::Int(floor)], "not a vision sensor"),
+        (
+            "sim.getVisionSensorImg",
+            vec![
+                Value::Int(sensor),
+                Value::Int(0),
+                Value::Float(0.0),
+                Value::floats(&[256.0, 0.0]),
+            ],
+            "exceeds the 256x256 image",
+        ),
+        (
+            "sim.getVisionSensorDepth",
+            vec![
+                Value::Int(sensor),
+                Value::Int(0),
+                Value::floats(&[10.0, 10.0]),
+                Value::floats(&[0.0, 250.0]),
+            ],
+            "exceeds",
+        ),
+        (
+            "sim.getVisionSensorImg",
+            vec![
+                Value::Int(sensor),
+                Value::Int(0),
+                Value::Float(0.0),
+                Value::floats(&[-1.0, 0.0]),
+            ],
+            "non-negative integers",
+        ),
+        (
+            "sim.getVisionSensorImg",
+            vec![Value::Int(sensor), Value::Int(0), Value::Float(f64::NAN)],
+            "rgbaCutOff",
+        ),
+        (
+            "sim.setVisionSensorImg",
+            vec![Value::Int(sensor), Value::Bytes(vec![0; 10])],
+            "expected 196608 bytes",
+        ),
+        ("sim.setVisionSensorImg", vec![Value::Int(sensor)], "argument 2"),
+        (
+            "simVision.edgeDetectionOnWorkImg",
+            vec![Value::Int(sensor), Value::Str("x".into())],
+            "argument 2",
+        ),
+        ("simVision.sensorImgToWorkImg", vec![Value::Int(-4)], "handle_self"),
+        (
+            "simVision.workImgToSensorImg",
+            vec![Value::Int(sensor)],
+            "no work image",
+        ),
+        (
+            "simVision.uniformImgToWorkImg",
+            vec![Value::Int(sensor), Value::floats(&[1.0])],
+            "argument 2",
+        ),
+    ];
+    for (name, args, needle) in cases {
+        let err = call(&mut w, name, &args).expect_err(name);
+        assert!(
+            err.contains(needle) && err.contains(&format!("(in function '{name}')")),
+            "{name}: {err}"
+        );
+    }
+    assert_eq!(w.vision.render_count(sensor), 0, "failed calls render nothing");
+}
+
+/// A rough figure in the test profile; `cargo bench -p gantry-sim-core --bench vision`
+/// measures release builds.
+#[test]
+fn render_time_in_the_test_profile() {
+    let (mut w, sensor) = scene_with_obstacle();
+    vision::handle_vision_sensor(&mut w, sensor).unwrap();
+    let n = 10;
+    let t = Instant::now();
+    for _ in 0..n {
+        vision::handle_vision_sensor(&mut w, sensor).unwrap();
+    }
+    let ms = t.elapsed().as_secs_f64() * 1e3 / f64::from(n);
+    eprintln!("vision: 256x256 BubbleRob render {ms:.2} ms (test profile)");
+}
