@@ -220,7 +220,6 @@ fn run(args: &RunArgs) -> Result<()> {
             max_connections: args.max_connections,
             ..TextConfig::default()
         },
-        ..ServeConfig::default()
     };
     let sim = SimConfig {
         steps: args.steps,

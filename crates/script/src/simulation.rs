@@ -426,7 +426,7 @@ impl Simulation {
                 self.scripts[i].vision = None;
                 continue;
             }
-            let in_data = match self.lua.create_table().and_then(|t| t.set("handle", h).map(|()| t)) {
+            let in_data = match self.vision_in_data(h) {
                 Ok(t) => t,
                 Err(e) => {
                     let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
@@ -436,14 +436,56 @@ impl Simulation {
                 }
             };
             self.enter(&self.scripts[i]);
-            let r = f.call::<()>(in_data);
+            let r = f.call::<Option<Table>>(in_data);
             self.leave();
-            if let Err(e) = r {
-                let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
-                self.fail(&mut s, e);
-                self.scripts[i] = s;
+            match r {
+                // `return {trigger = true, packedPackets = {sim.packFloatTable(...)}}`
+                // makes readVisionSensor report a detection, as in CoppeliaSim.
+                Ok(Some(out)) => {
+                    let trigger = out.get::<Option<bool>>("trigger").ok().flatten().unwrap_or(false);
+                    let packets: Vec<Vec<f64>> = out
+                        .get::<Option<Vec<mlua::LuaString>>>("packedPackets")
+                        .ok()
+                        .flatten()
+                        .unwrap_or_default()
+                        .iter()
+                        .map(|p| gantry_sim_core::vision::unpack_floats(&p.as_bytes()))
+                        .collect();
+                    let _ = self
+                        .shared
+                        .world
+                        .borrow_mut()
+                        .vision
+                        .set_callback_result(h, trigger, packets);
+                }
+                Ok(None) => {}
+                Err(e) => {
+                    let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
+                    self.fail(&mut s, e);
+                    self.scripts[i] = s;
+                }
             }
         }
+    }
+
+    /// CoppeliaSim's `inData` for `sysCall_vision`: handle, resolution, clipping planes,
+    /// view angle (rad) and the perspective flag.
+    fn vision_in_data(&self, h: Handle) -> mlua::Result<Table> {
+        let t = self.lua.create_table()?;
+        t.set("handle", h)?;
+        if let Ok(gantry_sim_core::world::ObjectKind::VisionSensor(v)) =
+            self.shared.world.borrow().object(h).map(|o| &o.kind)
+        {
+            t.set(
+                "resolution",
+                vec![i64::from(v.resolution[0]), i64::from(v.resolution[1])],
+            )?;
+            t.set("clippingPlanes", vec![v.near, v.far])?;
+            t.set("viewAngle", v.fov)?;
+            t.set("orthoSize", 0.0)?;
+            t.set("perspectiveOperation", true)?;
+        }
+        Ok(t)
     }
 
     /// The world, borrowed for reading.
