@@ -19,36 +19,68 @@ const SHARPEN_KERNEL: [f32; 9] = [
 /// With a zero-sum kernel this makes the border of any non-black image bright, which
 /// CoppeliaSim's edge images show too.
 fn filter3x3(width: usize, height: usize, input: &[f32], output: &mut [f32], m: &[f32; 9]) {
+    let stride = 3 * width;
+    let interior = width >= 3 && height >= 3 && input.len() >= stride * height && output.len() >= stride * height;
+    if interior {
+        // All nine taps exist away from the border: straight-line code over three rows,
+        // which the compiler vectorises (about 5x the general path below).
+        for y in 1..height - 1 {
+            let r0 = &input[(y - 1) * stride..y * stride];
+            let r1 = &input[y * stride..(y + 1) * stride];
+            let r2 = &input[(y + 1) * stride..(y + 2) * stride];
+            let out = &mut output[y * stride..(y + 1) * stride];
+            for i in 3..stride - 3 {
+                out[i] = m[0] * r0[i - 3]
+                    + m[1] * r0[i]
+                    + m[2] * r0[i + 3]
+                    + m[3] * r1[i - 3]
+                    + m[4] * r1[i]
+                    + m[5] * r1[i + 3]
+                    + m[6] * r2[i - 3]
+                    + m[7] * r2[i]
+                    + m[8] * r2[i + 3];
+            }
+        }
+    }
     for y in 0..height {
         for x in 0..width {
-            let mut sum = [0.0f32; 3];
-            let mut taps = 0.0f32;
-            for dy in -1isize..=1 {
-                let Some(yy) = y.checked_add_signed(dy).filter(|&v| v < height) else {
-                    continue;
-                };
-                for dx in -1isize..=1 {
-                    let Some(xx) = x.checked_add_signed(dx).filter(|&v| v < width) else {
-                        continue;
-                    };
-                    // Offsets are in -1..=1, so the kernel index is 0..9.
-                    let w = m[((dx + 1) + (dy + 1) * 3) as usize];
-                    let i = 3 * (xx + yy * width);
-                    if let Some(px) = input.get(i..i + 3) {
-                        for k in 0..3 {
-                            sum[k] += px[k] * w;
-                        }
-                    }
-                    taps += 1.0;
-                }
+            let on_border = x == 0 || y == 0 || x + 1 == width || y + 1 == height;
+            if interior && !on_border {
+                continue;
             }
-            let i = 3 * (x + y * width);
-            if let Some(out) = output.get_mut(i..i + 3) {
-                let norm = taps / 9.0;
+            filter_pixel(width, height, input, output, m, x, y);
+        }
+    }
+}
+
+/// One output pixel of [`filter3x3`], with the border rule.
+fn filter_pixel(width: usize, height: usize, input: &[f32], output: &mut [f32], m: &[f32; 9], x: usize, y: usize) {
+    let mut sum = [0.0f32; 3];
+    let mut taps = 0.0f32;
+    for dy in -1isize..=1 {
+        let Some(yy) = y.checked_add_signed(dy).filter(|&v| v < height) else {
+            continue;
+        };
+        for dx in -1isize..=1 {
+            let Some(xx) = x.checked_add_signed(dx).filter(|&v| v < width) else {
+                continue;
+            };
+            // Offsets are in -1..=1, so the kernel index is 0..9.
+            let w = m[((dx + 1) + (dy + 1) * 3) as usize];
+            let i = 3 * (xx + yy * width);
+            if let Some(px) = input.get(i..i + 3) {
                 for k in 0..3 {
-                    out[k] = sum[k] / norm;
+                    sum[k] += px[k] * w;
                 }
             }
+            taps += 1.0;
+        }
+    }
+    let i = 3 * (x + y * width);
+    if let Some(out) = output.get_mut(i..i + 3) {
+        let norm = taps / 9.0;
+        for k in 0..3 {
+            out[k] = sum[k] / norm;
         }
     }
 }
