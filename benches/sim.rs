@@ -71,7 +71,10 @@ fn rovers(n: usize) -> SceneModel {
         let (cx, cy) = ((i % side) as f64 * cell, (i / side) as f64 * cell);
         let (cx, cy) = (cx - extent / 2.0 + 1.5, cy - extent / 2.0 + 1.5);
         for b in &rover {
+            // Each rover runs its controller; the camera's edge-detection script is left
+            // out (it is measured on its own by `cargo bench -p gantry-sim-core --bench vision`).
             let b = b
+                .replace("script = \"../../scripts/edge_detect.lua\"\n", "")
                 .replace("name = \"", &format!("name = \"r{i}_"))
                 .replace("parent = \"", &format!("parent = \"r{i}_"))
                 .replace("position = [0, 0, 0.12]", &format!("position = [{cx}, {cy}, 0.12]"));

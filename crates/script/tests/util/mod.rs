@@ -55,7 +55,8 @@ pub fn load(path: &Path) -> SceneModel {
 }
 
 /// The text of `assets/scenes/bubble_rob.toml` with the rover's script replaced by
-/// `script` (a file name relative to the scene), or removed for `None`.
+/// `script` (a file name relative to the scene), or removed for `None`. The camera's
+/// edge-detection script is left out: these tests are about the controller.
 pub fn bubble_rob_toml(script: Option<&str>) -> String {
     let text = std::fs::read_to_string(repo("assets/scenes/bubble_rob.toml")).expect("bubble_rob.toml is readable");
     let original = "script = \"../../scripts/bubble_rob.lua\"";
@@ -65,6 +66,7 @@ pub fn bubble_rob_toml(script: Option<&str>) -> String {
     );
     let replacement = script.map_or(String::new(), |s| format!("script = \"{s}\""));
     text.replace(original, &replacement)
+        .replace("script = \"../../scripts/edge_detect.lua\"", "")
 }
 
 /// A scene written to a temporary folder, and its simulation.
