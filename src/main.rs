@@ -14,6 +14,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use gantry_script::{ScriptLimits, check_syntax};
+use gantry_server::http::HttpConfig;
 use gantry_server::{ServeConfig, Shutdown, SimConfig, TextConfig};
 use gantry_sim_core::scene::{DiskFiles, EmbeddedFiles, Files, LoadOptions, SceneModel, load_scene};
 
@@ -94,6 +95,9 @@ struct RunArgs {
     /// ZMQ remote API port (default 23000; 0 = any free port).
     #[arg(long)]
     zmq_port: Option<u16>,
+    /// Browser viewer port: open http://127.0.0.1:PORT/ (default 8080; 0 = any free port).
+    #[arg(long)]
+    http_port: Option<u16>,
     /// Open no network listener at all (headless batch runs).
     #[arg(long)]
     no_listen: bool,
@@ -216,9 +220,15 @@ fn run(args: &RunArgs) -> Result<()> {
         bind,
         text_port: port(args.text_port, scene_server.text_port, 6000),
         zmq_port: port(args.zmq_port, scene_server.zmq_port, 23000),
+        http_port: port(args.http_port, scene_server.http_port, 8080),
         text: TextConfig {
             max_connections: args.max_connections,
             ..TextConfig::default()
+        },
+        http: HttpConfig {
+            // Only the default port may be busy without failing the run (see HttpConfig).
+            optional: args.http_port.is_none() && scene_server.http_port.is_none(),
+            ..HttpConfig::default()
         },
     };
     let sim = SimConfig {
@@ -236,6 +246,9 @@ fn run(args: &RunArgs) -> Result<()> {
         }
         if let Some(a) = bound.zmq {
             eprintln!("listening zmq={a}");
+        }
+        if let Some(a) = bound.http {
+            eprintln!("listening http={a}");
         }
     })?;
     println!("{}", summary.line());

@@ -5,8 +5,9 @@
 #   bash tools/test-all.sh
 #
 # Stages: formatting, lints, the dependency-direction rule, the Rust tests (unit,
-# crate contracts, end-to-end against the real binary), the fuzz crate's build, and the
-# Python suite that drives a real gantry with CoppeliaSim's own ZMQ client.
+# crate contracts, end-to-end against the real binary), the fuzz crate's build, the
+# Python suite that drives a real gantry with CoppeliaSim's own ZMQ client, and the
+# browser test (headless Chromium from Debian, driven by Playwright).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -42,6 +43,9 @@ stage "fuzz targets compile (running them needs nightly: see fuzz/README.md)"
 
 stage "Python suite: CoppeliaSim's ZMQ client against a real gantry"
 bash .ci/python-tests.sh
+
+stage "browser test: the viewer page in headless chromium (Playwright) against a real gantry"
+bash tools/browser-test.sh
 
 echo
 echo "all test suites passed"

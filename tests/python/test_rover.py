@@ -19,7 +19,9 @@ SCENE = REPO / "assets" / "scenes" / "bubble_rob.toml"
 def scene_without_script(tmp_path):
     lines = SCENE.read_text().splitlines()
     kept = [line for line in lines if not line.strip().startswith("script")]
-    assert len(kept) == len(lines) - 1, "the scene attaches exactly one script"
+    # The controller and the camera's edge-detection script both go: the remote client
+    # is the only driver.
+    assert len(kept) == len(lines) - 2, "the scene attaches the controller and the camera script"
     path = tmp_path / "bubble_rob_remote.toml"
     path.write_text("\n".join(kept) + "\n")
     return path

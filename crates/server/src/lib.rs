@@ -3,6 +3,7 @@
 //! One thread owns the world and Lua ([`sim_thread`]); transports send it requests over
 //! a bounded channel and await replies. There is no shared mutable world.
 
+pub mod http;
 pub mod runner;
 pub mod sim_thread;
 pub mod stepping;
@@ -11,8 +12,8 @@ pub mod zmq;
 
 pub use runner::{BoundAddrs, ServeConfig, ServerError, Shutdown, run};
 pub use sim_thread::{
-    Control, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig, SimHandle, channel,
-    run_sim_thread,
+    Control, Observer, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig, SimHandle,
+    channel, run_sim_thread, run_sim_thread_observed,
 };
 pub use stepping::ClientId;
 pub use text::TextConfig;

@@ -9,7 +9,8 @@ use gantry_sim_core::scene::SceneModel;
 use tokio::net::TcpListener;
 use tokio::sync::watch;
 
-use crate::sim_thread::{RunSummary, SimConfig, channel, run_sim_thread};
+use crate::http::{FramePublisher, HttpConfig};
+use crate::sim_thread::{RunSummary, SimConfig, channel, run_sim_thread, run_sim_thread_observed};
 
 /// Which listeners to open. A port of `None` disables that listener; `Some(0)` lets
 /// the OS pick a free port (the bound address is logged).
@@ -21,8 +22,12 @@ pub struct ServeConfig {
     pub text_port: Option<u16>,
     /// ZMQ remote API.
     pub zmq_port: Option<u16>,
+    /// Browser viewer (HTTP and WebSocket).
+    pub http_port: Option<u16>,
     /// Limits of the text channel.
     pub text: crate::text::TextConfig,
+    /// Limits of the viewer.
+    pub http: HttpConfig,
 }
 
 impl Default for ServeConfig {
@@ -31,7 +36,9 @@ impl Default for ServeConfig {
             bind: IpAddr::V4(Ipv4Addr::LOCALHOST),
             text_port: None,
             zmq_port: None,
+            http_port: None,
             text: crate::text::TextConfig::default(),
+            http: HttpConfig::default(),
         }
     }
 }
@@ -80,6 +87,8 @@ pub struct BoundAddrs {
     pub text: Option<SocketAddr>,
     /// ZMQ remote API.
     pub zmq: Option<SocketAddr>,
+    /// Browser viewer: open `http://ADDR/`.
+    pub http: Option<SocketAddr>,
 }
 
 /// Runs a scene with its listeners until the run ends or `shutdown` triggers (Ctrl-C
@@ -103,6 +112,9 @@ pub fn run(
     let (handle, rx) = channel();
     let (stop_tx, stop_rx) = watch::channel(false);
 
+    // The viewer's pose stream: published by the simulation thread, only when a page
+    // is connected.
+    let mut publisher = None;
     let bound = rt.block_on(async {
         let mut bound = BoundAddrs::default();
         if let Some(port) = serve.text_port {
@@ -136,6 +148,33 @@ pub fn run(
                 stop_rx.clone(),
             ));
         }
+        if let Some(port) = serve.http_port {
+            let addr = SocketAddr::new(serve.bind, port);
+            let listener = match TcpListener::bind(addr).await {
+                Ok(l) => l,
+                Err(source) if serve.http.optional => {
+                    tracing::warn!(
+                        "no browser viewer: cannot listen on {addr}: {source} (pass --http-port P, or 0 for any free port)"
+                    );
+                    return Ok(bound);
+                }
+                Err(source) => return Err(ServerError::Bind { addr, source }),
+            };
+            let local = listener
+                .local_addr()
+                .map_err(|source| ServerError::Bind { addr, source })?;
+            tracing::info!("viewer at http://{local}/");
+            bound.http = Some(local);
+            let (p, frames) = FramePublisher::new();
+            publisher = Some(p);
+            tokio::spawn(crate::http::serve(
+                listener,
+                handle.clone(),
+                frames,
+                serve.http.clone(),
+                stop_rx.clone(),
+            ));
+        }
         Ok::<_, ServerError>(bound)
     })?;
     if !serve.bind.is_loopback() {
@@ -158,7 +197,13 @@ pub fn run(
     let sim_shutdown = shutdown.clone();
     let sim_thread = std::thread::Builder::new()
         .name("gantry-sim".into())
-        .spawn(move || run_sim_thread(model, sim, rx, || sim_shutdown.is_triggered()))
+        .spawn(move || {
+            let should_stop = || sim_shutdown.is_triggered();
+            match publisher {
+                Some(mut p) => run_sim_thread_observed(model, sim, rx, should_stop, &mut p),
+                None => run_sim_thread(model, sim, rx, should_stop),
+            }
+        })
         .map_err(ServerError::Runtime)?;
     drop(handle);
     let result = sim_thread.join().map_err(|p| {

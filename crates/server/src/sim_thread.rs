@@ -223,6 +223,22 @@ impl RunSummary {
     }
 }
 
+/// Watches the simulation from its own thread, between steps: how the viewer publishes
+/// its pose stream without a request per frame.
+///
+/// [`Observer::observe`] runs on the simulation thread at every turn of its loop (after
+/// each step, after each batch of served requests, and at least every 50 ms while
+/// paused), so it must be cheap and decide quickly when it has nothing to do.
+pub trait Observer {
+    /// Looks at the simulation. `run_steps` counts the steps of this run (never reset).
+    fn observe(&mut self, sim: &Simulation, run_steps: u64);
+}
+
+/// No observer: what [`run_sim_thread`] uses.
+impl Observer for () {
+    fn observe(&mut self, _: &Simulation, _: u64) {}
+}
+
 /// Creates the request channel: the handle for transports and the receiver for
 /// [`run_sim_thread`].
 pub fn channel() -> (SimHandle, Receiver<Request>) {
@@ -246,6 +262,21 @@ pub fn run_sim_thread(
     rx: Receiver<Request>,
     should_stop: impl Fn() -> bool,
 ) -> Result<RunSummary, gantry_script::ScriptError> {
+    run_sim_thread_observed(model, config, rx, should_stop, &mut ())
+}
+
+/// [`run_sim_thread`], with `observer` looking at the simulation at every turn of the
+/// loop (see [`Observer`]).
+///
+/// # Errors
+/// The simulation could not be created (Lua state).
+pub fn run_sim_thread_observed(
+    model: SceneModel,
+    config: SimConfig,
+    rx: Receiver<Request>,
+    should_stop: impl Fn() -> bool,
+    observer: &mut impl Observer,
+) -> Result<RunSummary, gantry_script::ScriptError> {
     let dt = model.settings.dt;
     let mut lp = SimLoop {
         sim: Simulation::new(model, config.limits)?,
@@ -261,6 +292,7 @@ pub fn run_sim_thread(
     let mut paced_steps = 0u64;
     let mut last_reload = Instant::now();
     'outer: loop {
+        observer.observe(&lp.sim, lp.steps);
         if should_stop() || config.steps.is_some_and(|n| lp.steps >= n) {
             break;
         }

@@ -1,0 +1,206 @@
+//! What a viewer page may ask over its WebSocket: JSON text messages, parsed here
+//! without any I/O so every malformed input can be tested.
+//!
+//! ```json
+//! {"id": 7, "op": "control", "action": "start"}        // start, pause, stop, step
+//! {"id": 8, "op": "packet", "text": "<FK#J1=0.5>"}     // as the text channel would
+//! {"id": 9, "op": "ui", "ui": 1000, "widget": 1, "value": 30}   // simUI.interact
+//! {"id": 10, "op": "reload", "script": 0}              // index in the scripts panel
+//! ```
+//!
+//! `id` is optional and echoed in the reply. Anything else gets an error reply; the
+//! connection stays open.
+
+use gantry_sim_core::Value;
+use serde::Deserialize;
+
+use crate::sim_thread::Control;
+
+/// Longest text message accepted, bytes (the WebSocket layer refuses longer frames too).
+pub const MAX_MESSAGE: usize = 16 * 1024;
+/// Longest packet, as the text channel's default line limit.
+pub const MAX_PACKET: usize = 4096;
+
+/// A parsed message.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct ClientMessage {
+    /// Echoed in the reply, so the page can match replies to requests.
+    #[serde(default)]
+    pub id: Option<u64>,
+    /// What to do.
+    #[serde(flatten)]
+    pub command: Command,
+}
+
+/// The commands.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(tag = "op", rename_all = "snake_case")]
+pub enum Command {
+    /// Start, pause, stop or single-step the simulation.
+    Control {
+        /// Which control.
+        action: ControlAction,
+    },
+    /// A text packet (`<FK#J1=..>`), delivered exactly as the TCP text channel does.
+    Packet {
+        /// The packet.
+        text: String,
+    },
+    /// The user acted on a custom UI widget: `simUI.interact(ui, widget, value)`.
+    Ui {
+        /// UI handle.
+        ui: i64,
+        /// Widget id (0 = the window's close button).
+        widget: i64,
+        /// The new value (number, text, boolean or null, depending on the widget).
+        #[serde(default)]
+        value: serde_json::Value,
+    },
+    /// Reload a script from its file.
+    Reload {
+        /// Index in the scripts list the page received.
+        script: usize,
+    },
+}
+
+/// The simulation controls the page offers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ControlAction {
+    /// Start or resume.
+    Start,
+    /// Pause.
+    Pause,
+    /// Stop (cleanup, initial scene restored).
+    Stop,
+    /// One step.
+    Step,
+}
+
+impl From<ControlAction> for Control {
+    fn from(a: ControlAction) -> Self {
+        match a {
+            ControlAction::Start => Control::Start,
+            ControlAction::Pause => Control::Pause,
+            ControlAction::Stop => Control::Stop,
+            ControlAction::Step => Control::Step,
+        }
+    }
+}
+
+/// Why a message was refused. The message goes back to the page.
+#[derive(Debug, thiserror::Error)]
+pub enum CommandError {
+    /// Over [`MAX_MESSAGE`] bytes.
+    #[error("message longer than {MAX_MESSAGE} bytes")]
+    TooLong,
+    /// Not JSON, or not one of the commands.
+    #[error("bad message: {0} (expected {{\"op\": \"control\"|\"packet\"|\"ui\"|\"reload\", ...}})")]
+    Json(#[from] serde_json::Error),
+    /// A packet over [`MAX_PACKET`] bytes.
+    #[error("packet longer than {MAX_PACKET} bytes")]
+    PacketTooLong,
+    /// A widget value that is an array or object.
+    #[error("a widget value must be a number, text, boolean or null")]
+    BadValue,
+}
+
+/// Parses and checks one text message.
+///
+/// # Errors
+/// See [`CommandError`].
+pub fn parse(text: &str) -> Result<ClientMessage, CommandError> {
+    if text.len() > MAX_MESSAGE {
+        return Err(CommandError::TooLong);
+    }
+    let msg: ClientMessage = serde_json::from_str(text)?;
+    match &msg.command {
+        Command::Packet { text } if text.len() > MAX_PACKET => Err(CommandError::PacketTooLong),
+        Command::Ui { value, .. } if value.is_array() || value.is_object() => Err(CommandError::BadValue),
+        _ => Ok(msg),
+    }
+}
+
+/// A widget value as the simulation's value type (integers stay integers, as simUI
+/// passes slider positions).
+pub fn ui_value(v: &serde_json::Value) -> Value {
+    match v {
+        serde_json::Value::Bool(b) => Value::Bool(*b),
+        serde_json::Value::Number(n) => match n.as_i64() {
+            Some(i) => Value::Int(i),
+            None => Value::Float(n.as_f64().unwrap_or(0.0)),
+        },
+        serde_json::Value::String(s) => Value::Str(s.clone()),
+        _ => Value::Nil,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commands_parse() {
+        let m = parse(r#"{"id":3,"op":"control","action":"step"}"#).unwrap();
+        assert_eq!(m.id, Some(3));
+        assert_eq!(
+            m.command,
+            Command::Control {
+                action: ControlAction::Step
+            }
+        );
+        let m = parse(r#"{"op":"packet","text":"<FK#J1=0.5>"}"#).unwrap();
+        assert_eq!(m.id, None);
+        assert!(matches!(m.command, Command::Packet { text } if text == "<FK#J1=0.5>"));
+        let m = parse(r#"{"op":"ui","ui":1000,"widget":1,"value":30}"#).unwrap();
+        let Command::Ui { ui, widget, value } = m.command else {
+            panic!("not ui")
+        };
+        assert_eq!((ui, widget, ui_value(&value)), (1000, 1, Value::Int(30)));
+        let m = parse(r#"{"op":"ui","ui":1000,"widget":2}"#).unwrap();
+        assert!(matches!(
+            m.command,
+            Command::Ui {
+                value: serde_json::Value::Null,
+                ..
+            }
+        ));
+        assert!(matches!(
+            parse(r#"{"op":"reload","script":2}"#).unwrap().command,
+            Command::Reload { script: 2 }
+        ));
+    }
+
+    #[test]
+    fn bad_messages_are_errors_not_panics() {
+        for bad in [
+            "",
+            "not json",
+            "[]",
+            "{}",
+            r#"{"op":"nope"}"#,
+            r#"{"op":"control","action":"explode"}"#,
+            r#"{"op":"control"}"#,
+            r#"{"op":"reload","script":-1}"#,
+            r#"{"op":"ui","ui":"x","widget":1}"#,
+            r#"{"op":"ui","ui":1,"widget":1,"value":[1,2]}"#,
+            r#"{"id":-5,"op":"control","action":"start"}"#,
+        ] {
+            assert!(parse(bad).is_err(), "{bad:?} parsed");
+        }
+        let long = format!(r#"{{"op":"packet","text":"{}"}}"#, "x".repeat(MAX_PACKET + 1));
+        assert!(matches!(parse(&long), Err(CommandError::PacketTooLong)));
+        assert!(matches!(
+            parse(&" ".repeat(MAX_MESSAGE + 1)),
+            Err(CommandError::TooLong)
+        ));
+    }
+
+    #[test]
+    fn values_convert() {
+        assert_eq!(ui_value(&serde_json::json!(2.5)), Value::Float(2.5));
+        assert_eq!(ui_value(&serde_json::json!("a")), Value::Str("a".into()));
+        assert_eq!(ui_value(&serde_json::json!(true)), Value::Bool(true));
+        assert_eq!(ui_value(&serde_json::json!(null)), Value::Nil);
+    }
+}

@@ -1,0 +1,213 @@
+//! The browser viewer and control page (issue 7): HTTP and WebSocket on one port.
+//!
+//! The page (`crates/server/web/`, embedded in the binary: no CDN, no build step) opens
+//! `/ws` and gets, in order: the scene description once ([`describe`]), the triangle
+//! meshes as binary messages, then a stream of deltas ([`FrameDelta`]) and, a few times
+//! a second, the slower panels ([`PanelCursor`]: scripts, log, custom UIs, graphs,
+//! vision images). It sends commands back as JSON ([`ClientMessage`]): simulation controls, text
+//! packets (the FK/IK panels send exactly what a TCP client would, through the same
+//! `sysCall_packet` path), custom-UI interactions (`simUI.interact`) and script
+//! reloads.
+//!
+//! Nothing here touches the world directly: poses come from the [`FramePublisher`]
+//! that the simulation thread runs as its [`Observer`](crate::sim_thread::Observer),
+//! everything else goes through [`SimHandle`] requests. Viewers are capped
+//! ([`HttpConfig::max_viewers`]), every incoming message is bounded, a malformed one
+//! gets an error reply, and a browser that stops reading is dropped after
+//! [`HttpConfig::send_timeout`] rather than holding memory.
+//!
+//! Plain HTTP routes, for scripts and tests:
+//! * `GET /api/status`: `{"time", "steps", "state", "viewers"}` as JSON;
+//! * `GET /api/graph/HANDLE.csv`: a graph's streams as CSV (the page's download link).
+//!
+//! Non-goals: authentication and TLS (the listener binds loopback by default, like the
+//! other channels), and editing the scene from the page.
+
+mod assets;
+mod command;
+mod frame;
+mod panels;
+mod scene;
+mod session;
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::Router;
+use axum::extract::ws::WebSocketUpgrade;
+use axum::extract::{Path, State};
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use tokio::net::TcpListener;
+use tokio::sync::{Semaphore, watch};
+
+pub use command::{ClientMessage, Command, CommandError, ControlAction, MAX_MESSAGE, MAX_PACKET, parse};
+pub use frame::{
+    DRAWING_REMOVED, DeltaMessages, DrawingFrame, Frame, FrameDelta, FramePublisher, FrameSender, IDLE_FRAME_RATE,
+    MAX_DRAWING_VERTICES, MAX_FRAME_RATE, MAX_FRAME_VERTICES, MSG_FRAME,
+};
+pub use panels::{
+    MAX_GRAPH_SAMPLES, MAX_LOG_LINES, MAX_LOG_MESSAGE, MAX_POLL_SAMPLES, MSG_IMAGE, PanelCursor, PanelUpdate, collect,
+};
+pub use scene::{MAX_MESH_TRIANGLES, MSG_MESH, SceneDescription, describe};
+
+use crate::sim_thread::SimHandle;
+
+/// Limits of the viewer server.
+#[derive(Debug, Clone)]
+pub struct HttpConfig {
+    /// Most viewer pages connected at once; the next gets HTTP 503.
+    pub max_viewers: usize,
+    /// How often each page's slower panels are refreshed.
+    pub panel_interval: Duration,
+    /// A page that does not take a message within this time is disconnected.
+    pub send_timeout: Duration,
+    /// When the port cannot be bound, warn and run without the viewer instead of
+    /// failing. For the default port: a second gantry (or a test run next to a
+    /// viewer) must still start, while a port the user asked for fails loudly.
+    pub optional: bool,
+}
+
+impl Default for HttpConfig {
+    fn default() -> Self {
+        Self {
+            max_viewers: 32,
+            panel_interval: Duration::from_millis(250),
+            send_timeout: Duration::from_secs(10),
+            optional: false,
+        }
+    }
+}
+
+/// What every request handler shares.
+#[derive(Clone)]
+struct AppState {
+    sim: SimHandle,
+    frames: FrameSender,
+    /// One permit per connected viewer page.
+    viewers: Arc<Semaphore>,
+    cfg: HttpConfig,
+    /// Turns true when gantry shuts down; sessions close their sockets then.
+    shutdown: watch::Receiver<bool>,
+}
+
+/// Serves the page, its assets, the WebSocket and the HTTP API until `shutdown`
+/// turns true.
+pub async fn serve(
+    listener: TcpListener,
+    sim: SimHandle,
+    frames: FrameSender,
+    cfg: HttpConfig,
+    shutdown: watch::Receiver<bool>,
+) {
+    let state = AppState {
+        sim,
+        frames,
+        viewers: Arc::new(Semaphore::new(cfg.max_viewers)),
+        cfg,
+        shutdown: shutdown.clone(),
+    };
+    let app = Router::new()
+        .route("/", get(assets::index))
+        .route("/app.js", get(assets::app_js))
+        .route("/style.css", get(assets::style_css))
+        .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
+        .route("/ws", get(websocket))
+        .route("/api/status", get(status))
+        .route("/api/graph/{file}", get(graph_csv))
+        .fallback(|| async { (StatusCode::NOT_FOUND, "not found: the viewer is at /\n") })
+        .with_state(state);
+    let mut stop = shutdown;
+    let result = axum::serve(listener, app)
+        .with_graceful_shutdown(async move {
+            while !*stop.borrow_and_update() {
+                if stop.changed().await.is_err() {
+                    break;
+                }
+            }
+        })
+        .await;
+    if let Err(e) = result {
+        tracing::error!("viewer server failed: {e}");
+    }
+}
+
+async fn websocket(ws: WebSocketUpgrade, State(st): State<AppState>) -> Response {
+    let Ok(permit) = st.viewers.clone().try_acquire_owned() else {
+        tracing::warn!("viewer: refusing a page: {} already connected", st.cfg.max_viewers);
+        return (
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!("too many viewers ({}); close a page and retry\n", st.cfg.max_viewers),
+        )
+            .into_response();
+    };
+    ws.max_message_size(MAX_MESSAGE)
+        .max_frame_size(MAX_MESSAGE)
+        .on_upgrade(move |socket| session::run(socket, st, permit))
+}
+
+async fn status(State(st): State<AppState>) -> Response {
+    let viewers = st.cfg.max_viewers - st.viewers.available_permits();
+    let result = st
+        .sim
+        .with(|sim| {
+            let w = sim.world();
+            (w.time(), w.steps(), w.state.code())
+        })
+        .await;
+    match result {
+        Ok((time, steps, state)) => json_response(&serde_json::json!({
+            "time": time,
+            "steps": steps,
+            "state": state,
+            "viewers": viewers,
+        })),
+        Err(e) => (StatusCode::SERVICE_UNAVAILABLE, format!("{e}\n")).into_response(),
+    }
+}
+
+/// `GET /api/graph/HANDLE.csv` (or without `.csv`).
+async fn graph_csv(Path(file): Path<String>, State(st): State<AppState>) -> Response {
+    let Ok(handle) = file.trim_end_matches(".csv").parse::<i64>() else {
+        return (StatusCode::BAD_REQUEST, "expected /api/graph/HANDLE.csv\n").into_response();
+    };
+    let result = st
+        .sim
+        .with(move |sim| {
+            let w = sim.world();
+            let alias = w.object(handle).map(|o| o.alias.clone()).ok()?;
+            w.graphs
+                .graphs()
+                .contains(&handle)
+                .then(|| (alias, w.graphs.to_csv(handle)))
+        })
+        .await;
+    match result {
+        Ok(Some((alias, csv))) => {
+            // Aliases are letters, digits and `_` in practice; anything else is
+            // replaced so the header stays valid.
+            let name: String = alias
+                .chars()
+                .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' })
+                .collect();
+            (
+                [
+                    (header::CONTENT_TYPE, "text/csv; charset=utf-8".to_owned()),
+                    (
+                        header::CONTENT_DISPOSITION,
+                        format!("attachment; filename=\"{name}.csv\""),
+                    ),
+                ],
+                csv,
+            )
+                .into_response()
+        }
+        Ok(None) => (StatusCode::NOT_FOUND, format!("no graph with handle {handle}\n")).into_response(),
+        Err(e) => (StatusCode::SERVICE_UNAVAILABLE, format!("{e}\n")).into_response(),
+    }
+}
+
+fn json_response(v: &serde_json::Value) -> Response {
+    ([(header::CONTENT_TYPE, "application/json")], v.to_string()).into_response()
+}

@@ -1,0 +1,192 @@
+//! The scene description a viewer gets once when it connects: the object tree (handles,
+//! aliases, parents), every shape's visual geometry and colour, joints with their limits,
+//! sensor volumes, and the triangle meshes as binary messages.
+//!
+//! Objects are listed in [`World::handles`] order (parents first), and the pose stream
+//! ([`super::frame`]) indexes objects, joints and proximity sensors in that same order.
+
+use std::sync::Arc;
+
+use gantry_sim_core::scene::{Geometry, JointMode, JointType, MeshData, ProximityModel};
+use gantry_sim_core::world::{ObjectKind, World};
+use serde_json::{Value as Json, json};
+
+use super::frame::pose_f32;
+
+/// Binary message type of a triangle mesh (the first little-endian `u32`).
+pub const MSG_MESH: u32 = 3;
+/// Most triangles sent per mesh; larger meshes are sent decimated by dropping triangles
+/// (rare for URDF visuals, and the page would struggle anyway).
+pub const MAX_MESH_TRIANGLES: usize = 500_000;
+
+/// The description: a JSON text message and the binary mesh messages it refers to.
+#[derive(Debug)]
+pub struct SceneDescription {
+    /// `{"t":"scene",...}`.
+    pub json: Json,
+    /// [`MSG_MESH`] messages, one per distinct mesh.
+    pub meshes: Vec<Vec<u8>>,
+}
+
+/// Describes the world. Runs on the simulation thread.
+pub fn describe(world: &World) -> SceneDescription {
+    let mut meshes: Vec<&Arc<MeshData>> = Vec::new();
+    let mut objects = Vec::with_capacity(world.handles().len());
+    let index_of = |h| world.handles().iter().position(|&x| x == h);
+    for &h in world.handles() {
+        let Ok(o) = world.object(h) else {
+            objects.push(json!({"handle": h, "alias": "", "parent": null, "kind": "gone"}));
+            continue;
+        };
+        let mut obj = json!({
+            "handle": h,
+            "alias": o.alias,
+            "parent": o.parent.and_then(index_of),
+            "model_base": o.model_base,
+            "kind": o.kind.name(),
+        });
+        match &o.kind {
+            ObjectKind::Shape(s) => {
+                let visuals: Vec<Json> = s
+                    .visuals
+                    .iter()
+                    .map(|v| {
+                        let mut g = geometry(&v.geometry, &mut meshes);
+                        g["local"] = json!(pose_f32(&v.local));
+                        g["color"] = json!(v.color);
+                        g
+                    })
+                    .collect();
+                obj["visuals"] = json!(visuals);
+                obj["dynamic"] = json!(s.dynamic);
+            }
+            ObjectKind::Joint(j) => {
+                obj["joint"] = json!({
+                    "type": match j.joint_type {
+                        JointType::Revolute => "revolute",
+                        JointType::Prismatic => "prismatic",
+                        JointType::Fixed => "fixed",
+                    },
+                    "mode": match j.mode {
+                        JointMode::Kinematic => "kinematic",
+                        JointMode::Position => "position",
+                        JointMode::Velocity => "velocity",
+                    },
+                    "limits": j.limits.map(|(lo, hi)| [lo, hi]),
+                    "cyclic": j.cyclic,
+                });
+            }
+            ObjectKind::ProximitySensor(p) => {
+                obj["proximity"] = match p.volume {
+                    ProximityModel::Ray { offset, range } => {
+                        json!({"shape": "ray", "offset": offset, "range": range})
+                    }
+                    ProximityModel::Cone {
+                        offset,
+                        range,
+                        half_angle,
+                    } => json!({"shape": "cone", "offset": offset, "range": range, "half_angle": half_angle}),
+                };
+            }
+            ObjectKind::VisionSensor(v) => {
+                obj["vision"] = json!({
+                    "resolution": v.resolution,
+                    "fov": v.fov,
+                    "near": v.near,
+                    "far": v.far,
+                });
+            }
+            _ => {}
+        }
+        objects.push(obj);
+    }
+    let json = json!({
+        "t": "scene",
+        "objects": objects,
+        "meshes": meshes.len(),
+        "dt": world.settings().dt,
+    });
+    let meshes = meshes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| encode_mesh(i as u32, m))
+        .collect();
+    SceneDescription { json, meshes }
+}
+
+/// One visual's geometry as JSON; meshes are numbered in first-seen order (shared
+/// meshes once).
+fn geometry<'a>(g: &'a Geometry, meshes: &mut Vec<&'a Arc<MeshData>>) -> Json {
+    match g {
+        Geometry::Box { half_extents } => json!({"geom": "box", "half_extents": half_extents}),
+        Geometry::Sphere { radius } => json!({"geom": "sphere", "radius": radius}),
+        Geometry::Cylinder { radius, length } => json!({"geom": "cylinder", "radius": radius, "length": length}),
+        Geometry::Capsule { radius, length } => json!({"geom": "capsule", "radius": radius, "length": length}),
+        Geometry::Mesh(m) => {
+            let id = match meshes.iter().position(|x| Arc::ptr_eq(x, m)) {
+                Some(i) => i,
+                None => {
+                    meshes.push(m);
+                    meshes.len() - 1
+                }
+            };
+            json!({"geom": "mesh", "mesh": id})
+        }
+    }
+}
+
+/// Binary layout, little-endian: `u32` [`MSG_MESH`], `u32` id, `u32` vertex count,
+/// `u32` triangle count, 3 `f32` per vertex (m, shape-part frame), 3 `u32` per triangle.
+fn encode_mesh(id: u32, m: &MeshData) -> Vec<u8> {
+    let nv = m.vertices.len();
+    // A triangle that names a missing vertex would make the page read garbage.
+    let tris = m
+        .indices
+        .iter()
+        .filter(|t| t.iter().all(|&i| (i as usize) < nv))
+        .take(MAX_MESH_TRIANGLES);
+    let nt = tris.clone().count();
+    let mut b = Vec::with_capacity(16 + 12 * nv + 12 * nt);
+    for v in [MSG_MESH, id, nv as u32, nt as u32] {
+        b.extend(v.to_le_bytes());
+    }
+    for v in m.vertices.iter().flatten() {
+        b.extend(v.to_le_bytes());
+    }
+    for i in tris.flatten() {
+        b.extend(i.to_le_bytes());
+    }
+    b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn meshes_are_encoded_with_valid_triangles_only() {
+        let m = MeshData {
+            source: "t.stl".into(),
+            vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            indices: vec![[0, 1, 2], [0, 1, 9]],
+        };
+        let b = encode_mesh(4, &m);
+        let word = |i: usize| u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        assert_eq!([word(0), word(4), word(8), word(12)], [MSG_MESH, 4, 3, 1]);
+        assert_eq!(b.len(), 16 + 9 * 4 + 3 * 4);
+    }
+
+    #[test]
+    fn shared_meshes_are_sent_once() {
+        let m = Arc::new(MeshData {
+            source: "t.stl".into(),
+            vertices: vec![],
+            indices: vec![],
+        });
+        let (a, b) = (Geometry::Mesh(m.clone()), Geometry::Mesh(m));
+        let mut meshes = Vec::new();
+        assert_eq!(geometry(&a, &mut meshes)["mesh"], 0);
+        assert_eq!(geometry(&b, &mut meshes)["mesh"], 0);
+        assert_eq!(meshes.len(), 1);
+    }
+}
