@@ -127,30 +127,33 @@ async fn handle_line(line: &str, client: i64, sim: &SimHandle) -> String {
         // CoppeliaSim's server echoes whatever it received, an empty line included.
         return "\n".into();
     }
+    format!("{}\n", deliver(line, client, sim).await)
+}
+
+/// Parses one packet line, delivers it to the scripts' `sysCall_packet` on the
+/// simulation thread and returns the reply without its newline: the hook's string, the
+/// line echoed when the hook returns nothing, or an `<ERR#...>`. The viewer's joint and
+/// IK panels use this too, so both transports behave the same.
+pub async fn deliver(line: &str, client: i64, sim: &SimHandle) -> String {
     let packet = match parse_packet(line) {
         Ok(p) => p,
-        Err(e) => return format!("{}\n", encode_error(&e.to_string())),
+        Err(e) => return encode_error(&e.to_string()),
     };
     let (reply, rx) = oneshot::channel();
     if let Err(e) = sim.send(Request::Packet {
         packet: packet_value(&packet, client),
         reply,
     }) {
-        return format!("{}\n", encode_error(&e.to_string()));
+        return encode_error(&e.to_string());
     }
     match rx.await {
-        Ok(PacketOutcome::Reply(s)) if s.ends_with('\n') => s,
-        Ok(PacketOutcome::Reply(s)) => format!("{s}\n"),
-        Ok(PacketOutcome::Handled) => format!("{line}\n"),
-        Ok(PacketOutcome::NoHandler) => format!(
-            "{}\n",
+        Ok(PacketOutcome::Reply(s)) => s.trim_end_matches(['\r', '\n']).to_owned(),
+        Ok(PacketOutcome::Handled) => line.to_owned(),
+        Ok(PacketOutcome::NoHandler) => {
             encode_error("no script handles packets: attach a script that defines sysCall_packet(packet)")
-        ),
-        Ok(PacketOutcome::Error(e)) => {
-            let first = e.lines().next().unwrap_or_default();
-            format!("{}\n", encode_error(&format!("script error: {first}")))
         }
-        Err(_) => format!("{}\n", encode_error("the simulation has ended")),
+        Ok(PacketOutcome::Error(e)) => encode_error(&format!("script error: {}", e.lines().next().unwrap_or_default())),
+        Err(_) => encode_error("the simulation has ended"),
     }
 }
 

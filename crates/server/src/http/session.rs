@@ -8,18 +8,16 @@
 use std::sync::atomic::{AtomicI64, Ordering};
 
 use axum::extract::ws::{Message, WebSocket};
-use gantry_protocol::{encode_error, parse_packet};
 use gantry_sim_core::Value;
 use serde_json::{Value as Json, json};
-use tokio::sync::{OwnedSemaphorePermit, oneshot};
+use tokio::sync::OwnedSemaphorePermit;
 
 use super::command::{self, Command};
 use super::frame::FrameDelta;
 use super::panels::{self, PanelCursor};
 use super::scene;
 use super::{AppState, HttpConfig};
-use crate::sim_thread::{PacketOutcome, Request, SimHandle};
-use crate::text::packet_value;
+use crate::sim_thread::SimHandle;
 
 /// `packet.client` ids of viewer pages, far above the text channel's connection
 /// counter so scripts can tell them apart.
@@ -203,23 +201,7 @@ async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, S
 /// A text packet, through the same `sysCall_packet` path and with the same reply as the
 /// TCP text channel (`<ERR#...>` replies count as failures here).
 async fn packet(text: &str, client: i64, sim: &SimHandle) -> Result<String, String> {
-    let line = text.trim();
-    let p = parse_packet(line).map_err(|e| encode_error(&e.to_string()))?;
-    let (reply, rx) = oneshot::channel();
-    sim.send(Request::Packet {
-        packet: packet_value(&p, client),
-        reply,
-    })
-    .map_err(|e| encode_error(&e.to_string()))?;
-    let reply = match rx.await {
-        Ok(PacketOutcome::Reply(s)) => s.trim_end().to_owned(),
-        Ok(PacketOutcome::Handled) => line.to_owned(),
-        Ok(PacketOutcome::NoHandler) => {
-            encode_error("no script handles packets: attach a script that defines sysCall_packet(packet)")
-        }
-        Ok(PacketOutcome::Error(e)) => encode_error(&format!("script error: {}", e.lines().next().unwrap_or_default())),
-        Err(_) => encode_error("the simulation has ended"),
-    };
+    let reply = crate::text::deliver(text.trim(), client, sim).await;
     if reply.starts_with("<ERR#") {
         Err(reply)
     } else {
