@@ -119,28 +119,39 @@ impl World {
                 None => roots.push(i as Handle),
             }
         }
+        // Model indices are parents-first, so one pass in index order computes every
+        // world pose; the physics mapping needs them before any body exists.
         let order: Vec<Handle> = (0..objects.len() as Handle).collect();
+        for &h in &order {
+            let i = h as usize;
+            let parent_frame = objects[i]
+                .parent
+                .map_or(Pose::identity(), |p| hanging_frame(&objects[p as usize]));
+            objects[i].world = parent_frame * objects[i].local;
+        }
         let mut warnings = model.warnings.clone();
-        let mut world = World {
+        let tree = TreeView {
+            parent: &|h| objects[h as usize].parent,
+            kind: &|h| &objects[h as usize].kind,
+            world: &|h| objects[h as usize].world,
+        };
+        let physics = Physics::build(
+            &tree,
+            &order,
+            model.settings.gravity,
+            model.settings.dt,
+            model.settings.substeps,
+            &mut warnings,
+        );
+        World {
             objects,
             roots,
             order,
-            physics: Physics::build(
-                &TreeView {
-                    parent: &|_| None,
-                    kind: &|_| &ObjectKind::Dummy,
-                    world: &|_| Pose::identity(),
-                },
-                &[],
-                model.settings.gravity,
-                model.settings.dt,
-                model.settings.substeps,
-                &mut warnings,
-            ),
+            physics,
             settings: model.settings,
             time: 0.0,
             steps: 0,
-            warnings: Vec::new(),
+            warnings,
             signals: Signals::default(),
             collections: Vec::new(),
             log: Log::default(),
@@ -151,24 +162,7 @@ impl World {
             uis: Default::default(),
             ik: Default::default(),
             vision: Default::default(),
-        };
-        world.refresh_all_poses();
-        let objects = &world.objects;
-        let tree = TreeView {
-            parent: &|h| objects[h as usize].parent,
-            kind: &|h| &objects[h as usize].kind,
-            world: &|h| objects[h as usize].world,
-        };
-        world.physics = Physics::build(
-            &tree,
-            &world.order,
-            model.settings.gravity,
-            model.settings.dt,
-            model.settings.substeps,
-            &mut warnings,
-        );
-        world.warnings = warnings;
-        world
+        }
     }
 
     /// Warnings from loading and building (unsupported features, ignored keys).
@@ -269,11 +263,7 @@ impl World {
 
     /// The frame children of `h` hang from: the object frame, moved by a joint's motion.
     fn child_frame(&self, h: Handle) -> Pose {
-        let o = &self.objects[h as usize];
-        match &o.kind {
-            ObjectKind::Joint(j) => o.world * j.motion(),
-            _ => o.world,
-        }
+        hanging_frame(&self.objects[h as usize])
     }
 
     /// World pose of the frame an object's local pose is relative to.
@@ -281,15 +271,6 @@ impl World {
         match self.objects.get(h as usize).and_then(|o| o.parent) {
             Some(p) => self.child_frame(p),
             None => Pose::identity(),
-        }
-    }
-
-    /// Recomputes every world pose from local poses, parents first.
-    fn refresh_all_poses(&mut self) {
-        for i in 0..self.order.len() {
-            let h = self.order[i];
-            let world = self.parent_frame(h) * self.objects[h as usize].local;
-            self.objects[h as usize].world = world;
         }
     }
 
@@ -670,6 +651,15 @@ impl World {
         let &(bi, rel) = self.physics.body_of.get(&h)?;
         let rb = self.physics.world.bodies.get(self.physics.bodies[bi].handle)?;
         Some(math::from_physics(rb.position()) * rel)
+    }
+}
+
+/// The world frame an object's children hang from: its own frame, moved by a joint's
+/// motion (children of a joint are attached to its moving side, as in CoppeliaSim).
+fn hanging_frame(o: &Object) -> Pose {
+    match &o.kind {
+        ObjectKind::Joint(j) => o.world * j.motion(),
+        _ => o.world,
     }
 }
 
