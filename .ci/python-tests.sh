@@ -12,20 +12,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 
-python="${PYTHON:-python3}"
-venv="$root/.venv"
-
-if [[ ! -x "$venv/bin/python" ]]; then
-    echo "python-tests: creating $venv"
-    if ! "$python" -m venv "$venv" 2>/dev/null; then
-        # Debian splits venv (ensurepip) into python3-venv; fall back to virtualenv.
-        rm -rf "$venv"
-        echo "python-tests: '$python -m venv' is unavailable; using virtualenv"
-        "$python" -m pip install --quiet --user virtualenv \
-            || "$python" -m pip install --quiet --user --break-system-packages virtualenv
-        "$python" -m virtualenv --quiet "$venv"
-    fi
-fi
+source "$root/tools/python-venv.sh"
 
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt
 

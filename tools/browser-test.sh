@@ -31,19 +31,7 @@ fi
 export CHROMIUM="$(command -v chromium)"
 "$CHROMIUM" --version 2>/dev/null | grep -v '^\s*$' | head -1 || true
 
-python="${PYTHON:-python3}"
-venv="$root/.venv"
-if [[ ! -x "$venv/bin/python" ]]; then
-    echo "browser-test: creating $venv"
-    if ! "$python" -m venv "$venv" 2>/dev/null; then
-        # Debian splits venv (ensurepip) into python3-venv; fall back to virtualenv.
-        rm -rf "$venv"
-        echo "browser-test: '$python -m venv' is unavailable; using virtualenv"
-        "$python" -m pip install --quiet --user virtualenv \
-            || "$python" -m pip install --quiet --user --break-system-packages virtualenv
-        "$python" -m virtualenv --quiet "$venv"
-    fi
-fi
+source "$root/tools/python-venv.sh"
 # Playwright's own browser download is never used: tests pass executable_path.
 export PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r tests/browser/requirements.txt

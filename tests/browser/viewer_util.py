@@ -24,7 +24,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "tests" / "python"))
-from gantry_proc import gantry_bin  # noqa: E402  (one definition of "the binary under test")
+from gantry_proc import ManagedProcess, gantry_bin  # noqa: E402  (one definition of "the binary under test")
 
 LISTENING = re.compile(r"listening (text|zmq|http)=([0-9.]+|\[[0-9a-fA-F:]+\]):(\d+)")
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
@@ -40,7 +40,7 @@ CHROMIUM_ARGS = [
 ]
 
 
-class Gantry:
+class Gantry(ManagedProcess):
     """A running gantry serving the showroom; ``addr[kind]`` is ``(host, port)``."""
 
     def __init__(self, *, fast: bool = False, extra: list[str] | None = None, prefix: list[str] | None = None,
@@ -90,24 +90,6 @@ class Gantry:
         host, port = self.addr["zmq"]
         return RemoteAPIClient(host=host, port=port)
 
-    def stderr(self) -> str:
-        return "\n".join(self.log)
-
-    def close(self) -> None:
-        """SIGTERM, then SIGKILL after 5 s."""
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(5)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait(5)
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
 
 def launch_chromium(playwright):

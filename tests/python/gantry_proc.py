@@ -34,7 +34,36 @@ def gantry_bin() -> Path:
     )
 
 
-class GantryProcess:
+class ManagedProcess:
+    """A child process with its stderr lines in ``self.log``, stopped on exit.
+
+    Subclasses set ``self.proc`` (a ``subprocess.Popen``) and ``self.log``.
+    """
+
+    proc: subprocess.Popen
+    log: deque
+
+    def stderr(self) -> str:
+        return "\n".join(self.log)
+
+    def close(self) -> None:
+        """Terminates the process (SIGTERM, then SIGKILL after 5 s)."""
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(5)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait(5)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class GantryProcess(ManagedProcess):
     """A running gantry serving the ZMQ remote API on a free port."""
 
     def __init__(self, scene: str | Path, *, fast: bool = True, extra: list[str] | None = None,
@@ -79,22 +108,3 @@ class GantryProcess:
         from coppeliasim_zmqremoteapi_client import RemoteAPIClient
 
         return RemoteAPIClient(host=self.host, port=self.port)
-
-    def stderr(self) -> str:
-        return "\n".join(self.log)
-
-    def close(self) -> None:
-        """Terminates the process (SIGTERM, then SIGKILL after 5 s)."""
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(5)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait(5)
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
