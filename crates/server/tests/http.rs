@@ -7,61 +7,34 @@
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{SocketAddr, TcpStream};
-use std::path::PathBuf;
-use std::sync::mpsc;
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use gantry_script::ScriptLimits;
+use gantry_server::ServeConfig;
 use gantry_server::http::HttpConfig;
-use gantry_server::{RunSummary, ServeConfig, ServerError, Shutdown, SimConfig};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use serde_json::Value as Json;
+use util::InProcess;
+
+mod util;
 
 /// A gantry run on the showroom serving the viewer on a free port; stopped when dropped.
 struct Server {
     addr: SocketAddr,
-    shutdown: Shutdown,
-    thread: Option<JoinHandle<Result<RunSummary, ServerError>>>,
+    _run: InProcess,
 }
 
 impl Server {
     fn start(http: HttpConfig) -> Self {
-        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/showroom.toml");
-        let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-        let shutdown = Shutdown::default();
-        let (tx, rx) = mpsc::channel();
-        let sd = shutdown.clone();
-        let thread = std::thread::spawn(move || {
-            let serve = ServeConfig {
+        let run = InProcess::start(
+            "showroom",
+            ServeConfig {
                 http_port: Some(0),
                 http,
                 ..ServeConfig::default()
-            };
-            let sim = SimConfig {
-                fast: true,
-                limits: ScriptLimits::default(),
-                autostart: true,
-                ..SimConfig::default()
-            };
-            gantry_server::run(model, sim, serve, sd, |bound| {
-                let _ = tx.send(bound.http.expect("http listener bound"));
-            })
-        });
-        let addr = rx.recv_timeout(Duration::from_secs(30)).expect("server ready");
+            },
+        );
         Self {
-            addr,
-            shutdown,
-            thread: Some(thread),
-        }
-    }
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        self.shutdown.trigger();
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
+            addr: run.bound.http.expect("http listener bound"),
+            _run: run,
         }
     }
 }

@@ -4,63 +4,35 @@
 //! These cover what the Python suite (tests/python) cannot reach cheaply: raw bytes that
 //! no real client sends, idle eviction with a short timeout, and exact replies.
 
-use std::path::PathBuf;
-use std::sync::mpsc;
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use gantry_protocol::Value;
 use gantry_protocol::remote_api::{FUNC_END, FUNC_EXECUTED, FUNC_WAIT, Reply, Request, decode_reply, encode_request};
-use gantry_script::ScriptLimits;
-use gantry_server::{RunSummary, ServeConfig, ServerError, Shutdown, SimConfig};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_server::ServeConfig;
+use util::InProcess;
 use zeromq::{ReqSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
+
+mod util;
 
 /// A gantry run serving ZMQ on a free port; stopped when dropped.
 struct Server {
     port: u16,
-    shutdown: Shutdown,
-    thread: Option<JoinHandle<Result<RunSummary, ServerError>>>,
+    _run: InProcess,
 }
 
 impl Server {
     /// Runs `assets/scenes/<scene>.toml` free-running at full speed (`--fast`).
     fn start(scene: &str) -> Self {
-        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../assets/scenes/{scene}.toml"));
-        let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-        let shutdown = Shutdown::default();
-        let (port_tx, port_rx) = mpsc::channel();
-        let sd = shutdown.clone();
-        let thread = std::thread::spawn(move || {
-            let serve = ServeConfig {
+        let run = InProcess::start(
+            scene,
+            ServeConfig {
                 zmq_port: Some(0),
                 ..ServeConfig::default()
-            };
-            let sim = SimConfig {
-                steps: None,
-                fast: true,
-                limits: ScriptLimits::default(),
-                autostart: true,
-                ..SimConfig::default()
-            };
-            gantry_server::run(model, sim, serve, sd, |bound| {
-                let _ = port_tx.send(bound.zmq.expect("zmq listener bound").port());
-            })
-        });
-        let port = port_rx.recv_timeout(Duration::from_secs(30)).expect("server ready");
+            },
+        );
         Self {
-            port,
-            shutdown,
-            thread: Some(thread),
-        }
-    }
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        self.shutdown.trigger();
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
+            port: run.bound.zmq.expect("zmq listener bound").port(),
+            _run: run,
         }
     }
 }
