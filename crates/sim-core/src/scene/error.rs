@@ -15,7 +15,7 @@ pub enum LoadError {
         /// Extra advice (e.g. which line referenced the file), possibly empty.
         hint: String,
     },
-    /// The TOML is malformed or has a value of the wrong type.
+    /// The TOML or URDF XML is malformed, or a TOML value has the wrong type.
     #[error("{path}:{line}:{column}: {message}")]
     Syntax {
         /// The file.

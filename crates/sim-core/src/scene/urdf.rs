@@ -14,7 +14,7 @@
 //! fixed), `<dynamics>`, `<mimic>`, `<safety_controller>`, `<calibration>`,
 //! `<transmission>`, `<gazebo>` and textures. Nothing is dropped without a warning.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
@@ -87,8 +87,9 @@ pub struct UrdfIndex {
 /// Reads a URDF file and appends its objects to `objects`.
 ///
 /// # Errors
-/// Malformed XML, a joint cycle or a link with two parents, an unknown link, a
-/// missing mesh.
+/// Malformed XML ([`LoadError::Syntax`], with line and column), a joint cycle, a link
+/// with two parents, two links or two joints with one name, an unknown link
+/// ([`LoadError::Invalid`] at the element), a missing mesh.
 pub fn import_urdf(
     files: &dyn Files,
     path: &Path,
@@ -106,13 +107,22 @@ pub fn import_urdf(
         path: path.to_owned(),
         message: "the file is not UTF-8 text".into(),
     })?;
-    let robot = urdf_rs::read_from_string(&text).map_err(|e| LoadError::Urdf {
-        path: path.to_owned(),
-        message: format!("malformed URDF: {e}"),
-    })?;
+    let robot = urdf_rs::read_from_string(&text).map_err(|e| malformed(path, &text, &e.to_string()))?;
     let urdf_err = |message: String| LoadError::Urdf {
         path: path.to_owned(),
         message,
+    };
+    // An error about one `<link>` or `<joint>` element, at its line and column.
+    let at = |tag: &str, name: &str, occurrence: usize, message: String| match element_position(
+        &text, tag, name, occurrence,
+    ) {
+        Some((line, column)) => LoadError::Invalid {
+            path: path.to_owned(),
+            line,
+            column,
+            message,
+        },
+        None => urdf_err(message),
     };
     for tag in ["transmission", "gazebo"] {
         if text.contains(&format!("<{tag}")) {
@@ -123,53 +133,109 @@ pub fn import_urdf(
         }
     }
 
-    // Build the link tree and check it is one tree.
-    let link_ids: HashMap<&str, usize> = robot
-        .links
-        .iter()
-        .enumerate()
-        .map(|(i, l)| (l.name.as_str(), i))
-        .collect();
-    if link_ids.len() != robot.links.len() {
-        return Err(urdf_err(
-            "two links have the same name; link names must be unique".into(),
-        ));
+    // Build the link tree and check it is one tree. Duplicate names are refused rather
+    // than letting the later element shadow the earlier one in `robot/part` references.
+    let mut link_ids: HashMap<&str, usize> = HashMap::new();
+    for (i, l) in robot.links.iter().enumerate() {
+        if link_ids.insert(l.name.as_str(), i).is_some() {
+            return Err(at(
+                "link",
+                &l.name,
+                1,
+                format!("two links are named '{}'; link names must be unique", l.name),
+            ));
+        }
+    }
+    let mut joint_names = HashSet::new();
+    for j in &robot.joints {
+        if !joint_names.insert(j.name.as_str()) {
+            return Err(at(
+                "joint",
+                &j.name,
+                1,
+                format!("two joints are named '{}'; joint names must be unique", j.name),
+            ));
+        }
     }
     let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
     let mut child_joints: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
+    // The parent and child link of each joint, by joint index.
+    let mut joint_parent: Vec<usize> = Vec::with_capacity(robot.joints.len());
+    let mut joint_child: Vec<usize> = Vec::with_capacity(robot.joints.len());
     for (ji, j) in robot.joints.iter().enumerate() {
         let p = *link_ids.get(j.parent.link.as_str()).ok_or_else(|| {
-            urdf_err(format!(
-                "joint '{}' names parent link '{}', which does not exist",
-                j.name, j.parent.link
-            ))
+            at(
+                "joint",
+                &j.name,
+                0,
+                format!(
+                    "joint '{}' names parent link '{}', which does not exist",
+                    j.name, j.parent.link
+                ),
+            )
         })?;
         let c = *link_ids.get(j.child.link.as_str()).ok_or_else(|| {
-            urdf_err(format!(
-                "joint '{}' names child link '{}', which does not exist",
-                j.name, j.child.link
-            ))
+            at(
+                "joint",
+                &j.name,
+                0,
+                format!(
+                    "joint '{}' names child link '{}', which does not exist",
+                    j.name, j.child.link
+                ),
+            )
         })?;
         if let Some(other) = parent_joint[c] {
-            return Err(urdf_err(format!(
-                "link '{}' is the child of two joints ('{}' and '{}'); a URDF must be a tree",
-                j.child.link, robot.joints[other].name, j.name
-            )));
+            return Err(at(
+                "joint",
+                &j.name,
+                0,
+                format!(
+                    "link '{}' is the child of two joints ('{}' and '{}'); a URDF must be a tree",
+                    j.child.link, robot.joints[other].name, j.name
+                ),
+            ));
         }
         parent_joint[c] = Some(ji);
         child_joints[p].push(ji);
+        joint_parent.push(p);
+        joint_child.push(c);
     }
     let roots: Vec<usize> = (0..robot.links.len()).filter(|&i| parent_joint[i].is_none()).collect();
-    let root = match roots.as_slice() {
-        [r] => *r,
-        [] => return Err(urdf_err("no root link: the joints form a cycle".into())),
-        many => {
-            let names: Vec<&str> = many.iter().map(|&i| robot.links[i].name.as_str()).collect();
-            return Err(urdf_err(format!(
-                "several root links ({}); connect them with joints so the robot is one tree",
-                names.join(", ")
-            )));
+    if roots.len() > 1 {
+        let names: Vec<&str> = roots.iter().map(|&i| robot.links[i].name.as_str()).collect();
+        return Err(urdf_err(format!(
+            "several root links ({}); connect them with joints so the robot is one tree",
+            names.join(", ")
+        )));
+    }
+    // Every link has at most one parent, so a link the root does not reach (every link,
+    // when no link is a root) hangs below a cycle of joints. Without this check such
+    // links would silently be left out of the robot.
+    let mut reachable = vec![false; robot.links.len()];
+    let mut todo = roots.clone();
+    while let Some(l) = todo.pop() {
+        if !std::mem::replace(&mut reachable[l], true) {
+            todo.extend(child_joints[l].iter().map(|&ji| joint_child[ji]));
         }
+    }
+    if let Some(stray) = reachable.iter().position(|r| !r) {
+        let cycle = joint_cycle(stray, &parent_joint, &joint_parent);
+        let names: Vec<String> = cycle.iter().map(|&ji| format!("'{}'", robot.joints[ji].name)).collect();
+        let first = cycle.first().map_or("", |&ji| robot.joints[ji].name.as_str());
+        return Err(at(
+            "joint",
+            first,
+            0,
+            format!(
+                "the joints {} form a cycle, so link '{}' is not connected to the root; a URDF must be a tree",
+                names.join(" -> "),
+                robot.links[stray].name
+            ),
+        ));
+    }
+    let Some(&root) = roots.first() else {
+        return Err(urdf_err("the robot has no <link>; a URDF needs at least one".into()));
     };
 
     let materials: HashMap<&str, [f32; 3]> = robot
@@ -327,6 +393,82 @@ pub fn import_urdf(
         }
     }
     Ok(index)
+}
+
+/// The error for a file urdf-rs cannot read. urdf-rs does not say where the problem is,
+/// so a well-formedness error is located with roxmltree (line and column); a well-formed
+/// file with a wrong structure (a missing attribute, a bad number) keeps urdf-rs's text.
+fn malformed(path: &Path, text: &str, reason: &str) -> LoadError {
+    match roxmltree::Document::parse_with_options(text, xml_options()) {
+        Err(e) => {
+            let pos = e.pos();
+            let message = e.to_string();
+            // roxmltree appends " at ROW:COL", which the error already leads with.
+            let message = message.strip_suffix(&format!(" at {pos}")).unwrap_or(&message);
+            LoadError::Syntax {
+                path: path.to_owned(),
+                line: pos.row as usize,
+                column: pos.col as usize,
+                message: format!("malformed URDF XML: {message}"),
+            }
+        }
+        Ok(_) => LoadError::Urdf {
+            path: path.to_owned(),
+            message: format!("malformed URDF: {reason}"),
+        },
+    }
+}
+
+/// URDFs may carry a DOCTYPE (roxmltree refuses one by default).
+fn xml_options() -> roxmltree::ParsingOptions {
+    roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..roxmltree::ParsingOptions::default()
+    }
+}
+
+/// Line and column (1-based) of the `occurrence`-th (0-based) `<tag name="name">` element
+/// below `<robot>`, for errors about one link or joint. Only used on error paths, so the
+/// file is parsed again here rather than carrying positions through urdf-rs.
+fn element_position(text: &str, tag: &str, name: &str, occurrence: usize) -> Option<(usize, usize)> {
+    let doc = roxmltree::Document::parse_with_options(text, xml_options()).ok()?;
+    let node = doc
+        .root_element()
+        .children()
+        .filter(|n| n.has_tag_name(tag) && n.attribute("name") == Some(name))
+        .nth(occurrence)?;
+    let pos = doc.text_pos_at(node.range().start);
+    Some((pos.row as usize, pos.col as usize))
+}
+
+/// The joints of the cycle reached by walking from link `start` towards its ancestors,
+/// in parent-to-child order starting with the joint that comes first in the file.
+/// `start` must not be reachable from a root link, so the walk never ends at a root.
+fn joint_cycle(start: usize, parent_joint: &[Option<usize>], joint_parent: &[usize]) -> Vec<usize> {
+    // Walk up until a link repeats: that link is on the cycle.
+    let mut seen = vec![false; parent_joint.len()];
+    let mut link = start;
+    while !std::mem::replace(&mut seen[link], true) {
+        match parent_joint[link] {
+            Some(j) => link = joint_parent[j],
+            None => return Vec::new(),
+        }
+    }
+    // Collect the cycle child-to-parent, then reverse it and rotate it to a stable start.
+    let mut cycle = Vec::new();
+    let first = link;
+    while let Some(j) = parent_joint[link] {
+        cycle.push(j);
+        link = joint_parent[j];
+        if link == first {
+            break;
+        }
+    }
+    cycle.reverse();
+    if let Some(k) = cycle.iter().enumerate().min_by_key(|(_, j)| **j).map(|(k, _)| k) {
+        cycle.rotate_left(k);
+    }
+    cycle
 }
 
 struct Ctx<'a> {
