@@ -43,11 +43,11 @@ fn gantry_rate(model: &SceneModel, seconds: f64) -> f64 {
 
 /// Steps per second of the same rapier world stepped bare: no tree, no sensors, no scripts.
 fn rapier_rate(model: &SceneModel, seconds: f64) -> f64 {
-    let (mut pw, substeps) = World::new(model).into_rapier();
+    let (mut pw, rapier_steps) = World::new(model).into_rapier();
     let t = Instant::now();
     let mut n = 0u64;
     while t.elapsed().as_secs_f64() < seconds {
-        for _ in 0..substeps {
+        for _ in 0..rapier_steps {
             pw.step();
         }
         n += 1;

@@ -254,6 +254,9 @@ impl Resolver<'_> {
                 }
                 s.substeps = n;
             }
+            if let Some(every) = sim.collisions_every_substep {
+                s.collisions_every_substep = every;
+            }
             if let Some(g) = sim.gravity {
                 if g.iter().any(|v| !v.is_finite()) {
                     return self.err_at(self.find_key("gravity"), "gravity must be finite");

@@ -36,6 +36,9 @@ pub struct SimSettings {
     pub dt: f64,
     /// Physics substeps per simulation step.
     pub substeps: u32,
+    /// Run collision detection at every substep (separate rapier steps) rather than once
+    /// per step with the substeps inside rapier's solver. See docs/performance.md.
+    pub collisions_every_substep: bool,
     /// Gravity in the world frame, m/s².
     pub gravity: [f64; 3],
 }
@@ -46,6 +49,7 @@ impl Default for SimSettings {
         Self {
             dt: 0.05,
             substeps: 10,
+            collisions_every_substep: false,
             gravity: [0.0, 0.0, -9.81],
         }
     }

@@ -35,6 +35,8 @@ pub struct RawSimulation {
     pub dt: Option<f64>,
     /// Physics substeps per simulation step (CoppeliaSim's default 10).
     pub substeps: Option<u32>,
+    /// Collision detection at every substep instead of once per step (default false).
+    pub collisions_every_substep: Option<bool>,
     /// Gravity in m/s², world frame (default `[0, 0, -9.81]`, Z up).
     pub gravity: Option<[f64; 3]>,
 }
@@ -197,7 +199,7 @@ pub struct RawScript {
 }
 
 const SCENE_KEYS: &[&str] = &["simulation", "floor", "server", "object", "robot", "script"];
-const SIMULATION_KEYS: &[&str] = &["dt", "substeps", "gravity"];
+const SIMULATION_KEYS: &[&str] = &["dt", "substeps", "collisions_every_substep", "gravity"];
 const FLOOR_KEYS: &[&str] = &["size", "friction", "color"];
 const SERVER_KEYS: &[&str] = &["bind", "text_port", "zmq_port", "http_port"];
 const OBJECT_KEYS: &[&str] = &[

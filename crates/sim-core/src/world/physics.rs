@@ -24,7 +24,7 @@ use rapier3d::prelude::*;
 
 use super::object::{Handle, ObjectKind};
 use crate::math::{self, Pose};
-use crate::scene::{Geometry, JointMode, JointType, MassModel, ShapeModel};
+use crate::scene::{Geometry, JointMode, JointType, MassModel, ShapeModel, SimSettings};
 
 /// How a body moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,10 +71,8 @@ pub(crate) struct Physics {
     pub collider_object: HashMap<ColliderHandle, Handle>,
     /// Colliders of each shape object, in creation order (deterministic iteration).
     pub object_colliders: HashMap<Handle, Vec<ColliderHandle>>,
-    /// Physics substep length, s.
-    pub substep_dt: f64,
-    /// Substeps per simulation step.
-    pub substeps: u32,
+    /// rapier steps per simulation step (1 unless collisions run at every substep).
+    pub rapier_steps: u32,
 }
 
 /// Rotation taking rapier's joint axis (local X) onto ours (local Z).
@@ -112,18 +110,10 @@ fn above(tree: &TreeView<'_>, h: Handle) -> Above {
 
 impl Physics {
     /// Builds rapier bodies, colliders and joints for `order` (parents before children).
-    pub fn build(
-        tree: &TreeView<'_>,
-        order: &[Handle],
-        gravity: [f64; 3],
-        dt: f64,
-        substeps: u32,
-        warnings: &mut Vec<String>,
-    ) -> Self {
+    pub fn build(tree: &TreeView<'_>, order: &[Handle], settings: &SimSettings, warnings: &mut Vec<String>) -> Self {
         let mut world = PhysicsWorld::new();
-        world.gravity = math::vec_to_physics(&gravity.into());
-        let substep_dt = dt / f64::from(substeps.max(1));
-        world.integration_parameters.dt = substep_dt as f32;
+        world.gravity = math::vec_to_physics(&settings.gravity.into());
+        let rapier_steps = configure_integration(&mut world.integration_parameters, settings);
         let mut p = Physics {
             world,
             bodies: Vec::new(),
@@ -132,8 +122,7 @@ impl Physics {
             force_joints: HashMap::new(),
             collider_object: HashMap::new(),
             object_colliders: HashMap::new(),
-            substep_dt,
-            substeps: substeps.max(1),
+            rapier_steps,
         };
         // A fixed body at the world origin anchors joints whose parent side is the world.
         let mut anchor: Option<usize> = None;
@@ -405,6 +394,31 @@ impl Physics {
             -1 => Pose::identity(),
             h => (tree.world)(h),
         }
+    }
+}
+
+/// rapier's settings for one simulation step of `dt` seconds split into `substeps`;
+/// returns how many rapier steps make one simulation step.
+///
+/// By default, one rapier step per simulation step with the substeps done inside the
+/// solver: rapier's soft-TGS solver re-linearises every constraint (contacts, joints,
+/// motors) and integrates positions at each of its `num_solver_iterations` substeps, so
+/// joints and motors see `dt / substeps` as with separate steps, while collision detection
+/// runs once per step instead of once per substep. For robots this is as accurate
+/// (contacts within the prediction distance are followed through every substep) and
+/// several times cheaper; docs/performance.md has the measurements behind the choice.
+/// `collisions_every_substep` restores separate rapier steps of `dt / substeps`, each with
+/// one solver iteration, for scenes with fast impacts.
+pub(crate) fn configure_integration(p: &mut IntegrationParameters, s: &SimSettings) -> u32 {
+    let n = s.substeps.max(1);
+    if s.collisions_every_substep {
+        p.dt = (s.dt / f64::from(n)) as f32;
+        p.num_solver_iterations = 1;
+        n
+    } else {
+        p.dt = s.dt as f32;
+        p.num_solver_iterations = n as usize;
+        1
     }
 }
 

@@ -108,63 +108,61 @@ impl World {
 
     /// Minimum distance between two sets of shapes, or `None` if either has no geometry
     /// or, with `threshold > 0`, nothing is closer than the threshold.
+    ///
+    /// Exact queries are expensive (GJK on every pair), and a rover measuring its distance
+    /// to `sim.handle_all` would pair its colliders with every collider in the scene, so
+    /// the cost of a hundred rovers would grow with the square of their number. Instead
+    /// the search looks in a growing box around the first set, asking rapier's broad-phase
+    /// tree for the colliders inside it, and stops as soon as the best distance found is
+    /// within the box's margin (nothing outside can be closer). Inside the box, candidate
+    /// pairs are visited nearest bounding box first, and the exact query runs only while a
+    /// pair's bounding-box gap (a lower bound) can still beat the best distance.
     pub fn distance(&self, a: &[Handle], b: &[Handle], threshold: f64) -> Option<DistanceResult> {
-        let colliders = &self.physics().world.colliders;
-        let mut best: Option<DistanceResult> = None;
-        let limit = |best: &Option<DistanceResult>| {
-            let t = if threshold > 0.0 { threshold } else { f64::INFINITY };
-            best.map_or(t, |r| r.distance.min(t))
+        let physics = self.physics();
+        let colliders = &physics.world.colliders;
+        let sa: Vec<(Handle, &Collider, Aabb)> = a
+            .iter()
+            .flat_map(|&h| self.colliders_of(h).iter().map(move |&c| (h, c)))
+            .filter_map(|(h, c)| colliders.get(c).map(|col| (h, col, col.compute_aabb())))
+            .collect();
+        let (Some(first), true) = (sa.first(), !b.is_empty()) else {
+            return None;
         };
-        for &ha in a {
-            for &ca in self.colliders_of(ha) {
-                let Some(c1) = colliders.get(ca) else {
-                    continue;
-                };
-                let aabb1 = c1.compute_aabb();
-                for &hb in b {
-                    if ha == hb {
-                        continue;
-                    }
-                    for &cb in self.colliders_of(hb) {
-                        let Some(c2) = colliders.get(cb) else {
-                            continue;
-                        };
-                        // Cheap lower bound: the gap between bounding boxes.
-                        let aabb2 = c2.compute_aabb();
-                        let gap = aabb_gap(&aabb1, &aabb2);
-                        let lim = limit(&best);
-                        if gap >= lim {
-                            continue;
-                        }
-                        let max = if lim.is_finite() { lim as f32 } else { f32::MAX };
-                        let Ok(cp) = query::closest_points(c1.position(), c1.shape(), c2.position(), c2.shape(), max)
-                        else {
-                            continue;
-                        };
-                        let (p1, p2) = match cp {
-                            query::ClosestPoints::Intersecting => {
-                                let p = math::vec_from_physics(c1.position().translation);
-                                (p, p)
-                            }
-                            query::ClosestPoints::WithinMargin(p1, p2) => {
-                                (math::vec_from_physics(p1), math::vec_from_physics(p2))
-                            }
-                            query::ClosestPoints::Disjoint => continue,
-                        };
-                        let d = (p2 - p1).norm();
-                        if d < lim {
-                            best = Some(DistanceResult {
-                                p1,
-                                p2,
-                                distance: d,
-                                objects: [ha, hb],
-                            });
-                        }
-                    }
-                }
+        let union = sa.iter().fold(first.2, |acc, (_, _, bb)| acc.merged(bb));
+        // Membership of the second set by object handle (handles index the object table).
+        let mut in_b = vec![false; self.handles().iter().max().map_or(0, |&m| m as usize + 1)];
+        for &h in b {
+            if let Some(slot) = usize::try_from(h).ok().and_then(|i| in_b.get_mut(i)) {
+                *slot = true;
             }
         }
-        best
+        let qp = physics.world.query_pipeline();
+        let limit0 = if threshold > 0.0 { threshold } else { f64::INFINITY };
+        let mut margin = if threshold > 0.0 { threshold } else { 0.25 };
+        loop {
+            let region = union.loosened(margin as f32);
+            let mut seen = 0;
+            let mut sb: Vec<(Handle, ColliderHandle, &Collider, Aabb)> = Vec::new();
+            for (ch, c) in qp.intersect_aabb_conservative(region) {
+                seen += 1;
+                if let Some(owner) = self.collider_owner(ch)
+                    && usize::try_from(owner).ok().and_then(|i| in_b.get(i)).copied() == Some(true)
+                {
+                    sb.push((owner, ch, c, c.compute_aabb()));
+                }
+            }
+            let covers_scene = seen == colliders.len();
+            // Broad-phase order is not the scene's; sort so that ties between equally
+            // distant pairs resolve the same way whatever the tree's shape.
+            sb.sort_by_key(|(h, ch, _, _)| (*h, ch.into_raw_parts()));
+            let sb: Vec<(Handle, &Collider, Aabb)> = sb.into_iter().map(|(h, _, c, bb)| (h, c, bb)).collect();
+            let best = nearest_pair(&sa, &sb, limit0);
+            match best {
+                Some(r) if r.distance <= margin => return Some(r),
+                _ if covers_scene || margin >= limit0 => return best,
+                _ => margin *= 4.0,
+            }
+        }
     }
 
     /// The first colliding pair between two sets of shapes.
@@ -194,6 +192,55 @@ impl World {
         }
         None
     }
+}
+
+/// The closest pair between two lists of colliders, nearest bounding boxes first, or
+/// `None` if none is closer than `limit`.
+fn nearest_pair(
+    sa: &[(Handle, &Collider, Aabb)],
+    sb: &[(Handle, &Collider, Aabb)],
+    limit: f64,
+) -> Option<DistanceResult> {
+    let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
+    for (i, (ha, _, aabb1)) in sa.iter().enumerate() {
+        for (k, (hb, _, aabb2)) in sb.iter().enumerate() {
+            let gap = aabb_gap(aabb1, aabb2);
+            if ha != hb && gap < limit {
+                candidates.push((gap, i, k));
+            }
+        }
+    }
+    candidates.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut best: Option<DistanceResult> = None;
+    for (gap, i, k) in candidates {
+        let lim = best.map_or(limit, |r| r.distance.min(limit));
+        if gap >= lim {
+            break;
+        }
+        let ((ha, c1, _), (hb, c2, _)) = (&sa[i], &sb[k]);
+        let max = if lim.is_finite() { lim as f32 } else { f32::MAX };
+        let Ok(cp) = query::closest_points(c1.position(), c1.shape(), c2.position(), c2.shape(), max) else {
+            continue;
+        };
+        let (p1, p2) = match cp {
+            query::ClosestPoints::Intersecting => {
+                let p = math::vec_from_physics(c1.position().translation);
+                (p, p)
+            }
+            query::ClosestPoints::WithinMargin(p1, p2) => (math::vec_from_physics(p1), math::vec_from_physics(p2)),
+            query::ClosestPoints::Disjoint => continue,
+        };
+        let d = (p2 - p1).norm();
+        if d < lim {
+            best = Some(DistanceResult {
+                p1,
+                p2,
+                distance: d,
+                objects: [*ha, *hb],
+            });
+        }
+    }
+    best
 }
 
 /// Distance between two axis-aligned boxes (0 when they overlap).

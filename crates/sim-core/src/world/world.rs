@@ -135,14 +135,7 @@ impl World {
             kind: &|h| &objects[h as usize].kind,
             world: &|h| objects[h as usize].world,
         };
-        let physics = Physics::build(
-            &tree,
-            &order,
-            model.settings.gravity,
-            model.settings.dt,
-            model.settings.substeps,
-            &mut warnings,
-        );
+        let physics = Physics::build(&tree, &order, &model.settings, &mut warnings);
         World {
             objects,
             roots,
@@ -445,7 +438,9 @@ impl World {
         }
     }
 
-    /// Advances physics by one simulation step (`substeps` rapier steps) and reads the
+    /// Advances physics by one simulation step (one rapier step of `substeps` solver
+    /// substeps, or `substeps` rapier steps, see [`physics::configure_integration`]) and
+    /// reads the
     /// results back into the tree. Does not advance simulation time (see
     /// [`World::advance_time`]), because CoppeliaSim scripts see the step's start time
     /// until the step ends.
@@ -458,7 +453,7 @@ impl World {
                 rb.set_next_kinematic_position(math::to_physics(&self.objects[e.object as usize].world));
             }
         }
-        for _ in 0..self.physics.substeps {
+        for _ in 0..self.physics.rapier_steps {
             self.physics.world.step();
         }
         self.queries_stale = false;
@@ -523,10 +518,10 @@ impl World {
         for (&h, &jh) in &self.physics.force_joints {
             if let Some(j) = self.physics.world.impulse_joints.get(jh) {
                 let imp = j.impulses;
-                // rapier splits each substep into `num_solver_iterations` smaller steps and
-                // keeps the impulse of the last one, so the force is impulse / (h / n).
-                let n = self.physics.world.integration_parameters.num_solver_iterations as f64;
-                let scale = n / self.physics.substep_dt;
+                // rapier splits its step into `num_solver_iterations` substeps and keeps
+                // the impulse of the last one, so the force is impulse / (dt / n).
+                let ip = &self.physics.world.integration_parameters;
+                let scale = ip.num_solver_iterations as f64 / f64::from(ip.dt);
                 if let ObjectKind::ForceSensor(r) = &mut self.objects[h as usize].kind {
                     r.valid = true;
                     r.force = Vec3::new(f64::from(imp[0]), f64::from(imp[1]), f64::from(imp[2])) * scale;
@@ -640,10 +635,11 @@ impl World {
         self.physics.object_colliders.get(&h).map_or(&[], Vec::as_slice)
     }
 
-    /// Gives up the world's rapier state and its number of substeps per step: the bare
-    /// physics floor that benchmarks compare gantry's per-step overhead against.
+    /// Gives up the world's rapier state and the number of rapier steps that make one
+    /// simulation step: the bare physics floor that benchmarks compare gantry's per-step
+    /// overhead against.
     pub fn into_rapier(self) -> (PhysicsWorld, u32) {
-        (self.physics.world, self.physics.substeps)
+        (self.physics.world, self.physics.rapier_steps)
     }
 
     /// Pose of a rapier body as the physics engine sees it (f32), for consistency tests.
