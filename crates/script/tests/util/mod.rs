@@ -237,6 +237,19 @@ pub fn script_error(sim: &Simulation, file: &str) -> String {
     }
 }
 
+/// The value of the Int32 signal `name` (set by scripts with `sim.setInt32Signal`),
+/// `None` when unset.
+pub fn int32_signal(sim: &mut Simulation, name: &str) -> Option<i64> {
+    match sim.call("getInt32Signal", &[Value::Str(name.to_owned())]) {
+        Ok(v) => match v.first() {
+            Some(Value::Int(i)) => Some(*i),
+            Some(Value::Nil) | None => None,
+            Some(other) => panic!("signal {name} is {other:?}"),
+        },
+        Err(e) => panic!("getInt32Signal({name}) failed: {e}"),
+    }
+}
+
 /// Position of `h` in the world frame, read from the world directly.
 pub fn world_position(sim: &Simulation, h: Handle) -> [f64; 3] {
     let w = sim.world();
