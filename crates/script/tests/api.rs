@@ -1040,7 +1040,8 @@ fn collections(tag: &str) -> Scene {
             return err(sim.checkDistance, 99999, sim.handle_all), err(sim.checkCollision, 'a', 1),
                 err(sim.addItemToCollection, 12345678, sim.handle_single, sim.getObject('/a'), 0),
                 err(sim.addItemToCollection, sim.createCollection(0), 3, sim.getObject('/a'), 0),
-                err(sim.checkDistance, sim.getObject('/a'), 7654321)
+                err(sim.checkDistance, sim.getObject('/a'), 7654321),
+                err(sim.checkDistance, sim.getObject('/a'), sim.handle_all, 0/0)
         end";
     let mut sc = Scene::new(
         tag,
@@ -1150,6 +1151,14 @@ fn check_collision_between_objects_and_collections() {
     assert_contains(e[2], &["collection", "(in function 'sim.addItemToCollection')"]);
     assert_contains(e[3], &["argument 2", "(in function 'sim.addItemToCollection')"]);
     assert_contains(e[4], &["(in function 'sim.checkDistance')"]);
+    // Issue #9: a NaN threshold used to be read as "no threshold".
+    assert_contains(
+        e[5],
+        &[
+            "argument 3: the threshold must be a number, got NaN",
+            "(in function 'sim.checkDistance')",
+        ],
+    );
 }
 
 // ---------------------------------------------------------------------------------------

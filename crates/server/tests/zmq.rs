@@ -6,8 +6,8 @@
 
 use std::time::{Duration, Instant};
 
-use gantry_protocol::Value;
 use gantry_protocol::remote_api::{FUNC_END, FUNC_EXECUTED, FUNC_WAIT, Reply, Request, decode_reply, encode_request};
+use gantry_protocol::{Value, cbor};
 use gantry_server::ServeConfig;
 use util::InProcess;
 use zeromq::{ReqSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
@@ -219,6 +219,261 @@ async fn errors_are_replies_and_hurt_nobody() {
     assert!(matches!(h[..], [Value::Int(_)]), "{h:?}");
     let mut d = Client::connect(server.port, "after-errors").await;
     assert_eq!(d.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
+}
+
+/// The `{"err": ...}` text of a raw message, which must be refused.
+async fn raw_err(c: &mut Client, bytes: Vec<u8>) -> String {
+    match c.raw(bytes.clone()).await {
+        Reply::Err(e) => e,
+        other => panic!(
+            "{:02x?}...: expected an error, got {other:?}",
+            &bytes[..bytes.len().min(16)]
+        ),
+    }
+}
+
+/// A request map with the given entries, encoded as CBOR.
+fn message(entries: Vec<(&str, Value)>) -> Vec<u8> {
+    cbor::to_vec(&Value::Map(
+        entries.into_iter().map(|(k, v)| (Value::from(k), v)).collect(),
+    ))
+}
+
+/// Issue #9: messages whose keys have the wrong types, and CBOR built to make a decoder
+/// recurse or allocate without bound. Each gets an error naming what is wrong, at once,
+/// and the simulation keeps stepping for everybody.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn wrong_message_fields_and_hostile_cbor_get_errors_naming_the_fault() {
+    let server = Server::start("fk_arm");
+    let mut c = Client::connect(server.port, "hostile").await;
+    let t0 = c.time().await;
+    let uuid = || ("uuid", Value::from("hostile"));
+    let cases: Vec<(Vec<u8>, &str)> = vec![
+        (
+            message(vec![("func", Value::Int(5)), uuid()]),
+            "message key \"func\" must be text, got number",
+        ),
+        (
+            message(vec![("func", "sim.getObject".into()), ("args", "/arm6".into()), uuid()]),
+            "message key \"args\" must be an array, got string",
+        ),
+        (
+            message(vec![
+                ("func", "sim.getObject".into()),
+                ("args", Value::Map(vec![])),
+                uuid(),
+            ]),
+            "message key \"args\" must be an array, got map",
+        ),
+        (
+            message(vec![("func", "sim.getObject".into()), ("uuid", Value::Int(7))]),
+            "message key \"uuid\" must be text, got number",
+        ),
+        (
+            message(vec![
+                ("func", "sim.getObject".into()),
+                ("argsL", Value::Int(-1)),
+                uuid(),
+            ]),
+            "\"argsL\" is -1; it must be between 0 and",
+        ),
+        (
+            message(vec![("args", Value::Array(vec![])), uuid()]),
+            "message has no \"func\" key naming the function to call",
+        ),
+        // 200 nested arrays: refused at the nesting limit, not by a stack overflow.
+        (
+            [vec![0x81; 200], vec![0x00]].concat(),
+            "message is not valid CBOR: CBOR nesting deeper than 64 levels",
+        ),
+        // An array announcing 2^64 - 1 elements in 9 bytes: nothing is allocated for it.
+        (
+            vec![0x9b, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff],
+            "message is not valid CBOR: ",
+        ),
+        // A text string that is not UTF-8.
+        (
+            vec![0xa1, 0x64, b'f', b'u', b'n', b'c', 0x62, 0xff, 0xfe],
+            "is not valid UTF-8",
+        ),
+    ];
+    for (bytes, expected) in cases {
+        let e = raw_err(&mut c, bytes).await;
+        assert!(e.contains(expected), "{e:?} should contain {expected:?}");
+    }
+    // The session survived: the same client is served and the simulation moved on.
+    let h = c.ok("sim.getObject", vec!["/arm6/joint1".into()]).await;
+    assert!(matches!(h[..], [Value::Int(_)]), "{h:?}");
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while c.time().await == t0 {
+        assert!(Instant::now() < deadline, "the simulation stopped stepping");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let mut d = Client::connect(server.port, "bystander").await;
+    assert_eq!(d.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
+}
+
+/// Issue #9: too few arguments and handles that name nothing are refused with
+/// CoppeliaSim's wording and the function's name; extra arguments are ignored, as
+/// CoppeliaSim does.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn wrong_argument_counts_and_invalid_handles_are_refused_by_name() {
+    let server = Server::start("fk_arm");
+    let mut c = Client::connect(server.port, "handles").await;
+    let joint = c.ok("sim.getObject", vec!["/arm6/joint1".into()]).await[0].clone();
+    let base = c.ok("sim.getObject", vec!["/arm6".into()]).await[0].clone();
+    let cases: Vec<(&str, Vec<Value>, &str)> = vec![
+        (
+            "sim.getObjectPosition",
+            vec![],
+            "argument 1: expected integer, got no value",
+        ),
+        (
+            "sim.setJointPosition",
+            vec![joint.clone()],
+            "argument 2: expected number, got no value",
+        ),
+        (
+            "sim.getObjectPosition",
+            vec![Value::Float(1.5)],
+            "argument 1: expected integer, got number",
+        ),
+        (
+            "sim.getObjectPosition",
+            vec![Value::Int(999_999)],
+            "object does not exist. (handle 999999)",
+        ),
+        (
+            "sim.getObjectPosition",
+            vec![Value::Int(-5)],
+            "object does not exist. (handle -5)",
+        ),
+        (
+            "sim.getObjectPosition",
+            vec![Value::Int(i64::MAX)],
+            "object does not exist. (handle 9223372036854775807)",
+        ),
+        (
+            "sim.getObjectPosition",
+            vec![joint.clone(), Value::Int(999_999)],
+            "object does not exist. (handle 999999)",
+        ),
+        (
+            "sim.setJointPosition",
+            vec![Value::Int(999_999), Value::Float(0.1)],
+            "object does not exist.",
+        ),
+        (
+            "sim.setJointPosition",
+            vec![base.clone(), Value::Float(0.1)],
+            "not a joint",
+        ),
+    ];
+    for (func, args, expected) in cases {
+        let e = c.err(func, args.clone()).await;
+        assert!(
+            e.contains(expected) && e.ends_with(&format!("(in function '{func}')")),
+            "{func}{args:?}: {e:?} should contain {expected:?}"
+        );
+    }
+    // Extra arguments are ignored.
+    let state = c
+        .ok("sim.getSimulationState", vec![1.into(), "extra".into(), Value::Nil])
+        .await;
+    assert_eq!(state, vec![Value::Int(17)]);
+    // The joint the failed calls aimed at is untouched, and calls on it still work.
+    assert_eq!(
+        c.ok("sim.getJointPosition", vec![joint.clone()]).await,
+        vec![Value::Float(0.0)]
+    );
+    c.ok("sim.setJointPosition", vec![joint.clone(), Value::Float(0.25)])
+        .await;
+    assert_eq!(
+        c.ok("sim.getJointPosition", vec![joint]).await,
+        vec![Value::Float(0.25)]
+    );
+}
+
+/// Position, target position and target velocity of a joint.
+async fn joint_state(c: &mut Client, joint: &Value) -> Vec<Value> {
+    let mut out = Vec::new();
+    for f in [
+        "sim.getJointPosition",
+        "sim.getJointTargetPosition",
+        "sim.getJointTargetVelocity",
+    ] {
+        out.extend(c.ok(f, vec![joint.clone()]).await);
+    }
+    out
+}
+
+/// Issue #9: NaN and infinite joint targets and positions are refused by the shared API
+/// (the same check Lua scripts get, see crates/script/tests/api.rs) before they reach
+/// the world, so nothing is moved and the simulation keeps stepping with finite poses.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn nan_and_inf_targets_and_positions_are_refused_and_the_world_steps() {
+    let server = Server::start("fk_arm");
+    let mut c = Client::connect(server.port, "nan").await;
+    let joint = c.ok("sim.getObject", vec!["/arm6/joint2".into()]).await[0].clone();
+    let target = c.ok("sim.getObject", vec!["/target".into()]).await[0].clone();
+    let tip = c.ok("sim.getObject", vec!["/arm6/tip".into()]).await[0].clone();
+    let before = joint_state(&mut c, &joint).await;
+    let target_before = c.ok("sim.getObjectPosition", vec![target.clone()]).await;
+    for func in [
+        "sim.setJointTargetPosition",
+        "sim.setJointPosition",
+        "sim.setJointTargetVelocity",
+    ] {
+        for (v, shown) in [(f64::NAN, "NaN"), (f64::INFINITY, "inf"), (f64::NEG_INFINITY, "-inf")] {
+            let e = c.err(func, vec![joint.clone(), Value::Float(v)]).await;
+            assert_eq!(
+                e,
+                format!("argument 2: expected a finite number, got {shown} (in function '{func}')")
+            );
+        }
+    }
+    let nan = Value::Float(f64::NAN);
+    let inf = Value::Float(f64::INFINITY);
+    let position_cases = [
+        // (h, position, relativeTo) and the legacy (h, relativeTo, position).
+        (
+            vec![target.clone(), Value::Array(vec![nan.clone(), 0.into(), 0.into()])],
+            "argument 2: element 1 must be a finite number",
+        ),
+        (
+            vec![
+                target.clone(),
+                Value::Int(-1),
+                Value::Array(vec![0.into(), inf.clone(), 0.into()]),
+            ],
+            "argument 3: element 2 must be a finite number",
+        ),
+    ];
+    for (args, expected) in position_cases {
+        let e = c.err("sim.setObjectPosition", args).await;
+        assert_eq!(e, format!("{expected} (in function 'sim.setObjectPosition')"));
+    }
+    assert_eq!(joint_state(&mut c, &joint).await, before, "the joint kept its state");
+    assert_eq!(
+        c.ok("sim.getObjectPosition", vec![target.clone()]).await,
+        target_before,
+        "the target did not move"
+    );
+    // The world steps on, with finite poses everywhere downstream of the joint.
+    let t0 = c.time().await;
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while c.time().await < t0 + 0.5 {
+        assert!(Instant::now() < deadline, "the simulation stopped stepping");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let p = c.ok("sim.getObjectPose", vec![tip]).await;
+    let Value::Array(p) = &p[0] else { panic!("{p:?}") };
+    assert!(p.iter().all(|v| v.as_f64().is_some_and(f64::is_finite)), "{p:?}");
+    // Finite values are accepted as before.
+    c.ok("sim.setJointTargetPosition", vec![joint.clone(), Value::Float(0.3)])
+        .await;
+    let q = c.ok("sim.getJointTargetPosition", vec![joint]).await;
+    assert_eq!(q, vec![Value::Float(0.3)]);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

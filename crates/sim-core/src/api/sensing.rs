@@ -129,11 +129,16 @@ pub(super) fn add_item_to_collection(w: &mut World, _: &CallContext<'_>, a: &Arg
 
 /// `sim.checkDistance(e1, e2, threshold=0)` → `result, [p1, p2, d], [obj1, obj2]`
 /// with world-frame points. `e2 = sim.handle_all` means every measurable shape not in e1.
+/// A threshold (metres) of 0 or less, or infinite, means none; NaN is refused rather
+/// than silently read as "none".
 pub(super) fn check_distance(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let threshold = a.opt_f64(2, 0.0)?;
+    if threshold.is_nan() {
+        return Err(ApiError::new("argument 3: the threshold must be a number, got NaN"));
+    }
     w.refresh_queries();
     let set1 = w.entity_shapes(a.handle(0)?, &[])?;
     let set2 = w.entity_shapes(a.handle(1)?, &set1)?;
-    let threshold = a.opt_f64(2, 0.0)?;
     Ok(match w.distance(&set1, &set2, threshold) {
         Some(r) => vec![
             Value::Int(1),
