@@ -120,6 +120,84 @@ fn check_reports_file_line_and_column() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Issue #9 from the command line: a missing scene, a malformed URDF and a URDF joint
+/// cycle each fail `check` and `run` with the file (and line and column) on stderr;
+/// unknown keys only warn, with a hint, and the scene still checks out and runs.
+#[test]
+fn bad_scene_files_fail_with_their_place_and_unknown_keys_only_warn() {
+    let dir = std::env::temp_dir().join(format!("gantry-cli-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    let stderr = |out: &std::process::Output| String::from_utf8_lossy(&out.stderr).into_owned();
+
+    let missing = dir.join("missing.toml");
+    let check = gantry().arg("check").arg(&missing).output().expect("runs");
+    let run = gantry()
+        .args(["run", "--no-listen"])
+        .arg(&missing)
+        .output()
+        .expect("runs");
+    for (cmd, out) in [("check", check), ("run", run)] {
+        assert!(!out.status.success(), "{cmd} of a missing scene succeeded");
+        let err = stderr(&out);
+        assert!(
+            err.contains(&missing.display().to_string()) && err.contains("cannot read"),
+            "{cmd}: {err}"
+        );
+    }
+
+    let urdf = dir.join("bot.urdf");
+    std::fs::write(&urdf, "<robot name=\"bot\">\n  <link name=\"a\">\n</robot>\n").expect("write");
+    let out = gantry().arg("check").arg(&urdf).output().expect("runs");
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("bot.urdf:3:1: malformed URDF XML: expected 'link' tag, not 'robot'"),
+        "{}",
+        stderr(&out)
+    );
+    std::fs::write(
+        &urdf,
+        "<robot name=\"bot\">\n<link name=\"root\"/><link name=\"a\"/><link name=\"b\"/>\n\
+         <joint name=\"ab\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>\n\
+         <joint name=\"ba\" type=\"fixed\"><parent link=\"b\"/><child link=\"a\"/></joint>\n</robot>\n",
+    )
+    .expect("write");
+    let out = gantry()
+        .args(["run", "--steps", "5", "--fast", "--no-listen"])
+        .arg(&urdf)
+        .output()
+        .expect("runs");
+    assert!(!out.status.success(), "a robot with a joint cycle ran");
+    assert!(
+        stderr(&out).contains("bot.urdf:3:1: the joints 'ab' -> 'ba' form a cycle"),
+        "{}",
+        stderr(&out)
+    );
+
+    let scene = dir.join("typo.toml");
+    std::fs::write(
+        &scene,
+        "[simulation]\nsubstep = 4\n\n[[object]]\nname = \"a\"\nkind = \"dummy\"\nparnet = \"b\"\n",
+    )
+    .expect("write");
+    let hints = [
+        "warning: unknown key 'simulation.substep' (did you mean 'substeps'?)",
+        "warning: unknown key 'object[0] ('a').parnet' (did you mean 'parent'?)",
+    ];
+    let out = gantry().arg("check").arg(&scene).output().expect("runs");
+    assert!(out.status.success(), "{}", stderr(&out));
+    for hint in hints {
+        assert!(stderr(&out).contains(hint), "check: {}", stderr(&out));
+    }
+    let out = gantry()
+        .args(["run", "--steps", "5", "--fast", "--no-listen"])
+        .arg(&scene)
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(summary(&out.stdout)[0], ("steps".to_owned(), 5.0));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn send_exits_non_zero_on_errors_and_failed_connections() {
     let g = common::start("assets/scenes/fk_arm.toml", &[]);
