@@ -423,7 +423,7 @@ fn huge_joint_angles_are_clamped_or_wrapped_and_the_arm_stays_finite() {
         assert!(q[k] > -pi && q[k] <= pi, "J{} = {} not wrapped", k + 1, q[k]);
     }
     // J2, J3 and J5 sit on the limits of arm6.urdf.
-    assert_eq!(q[1], 1.5707963267948966, "J2 at its upper limit");
+    assert_eq!(q[1], std::f64::consts::FRAC_PI_2, "J2 at its upper limit");
     assert_eq!(q[2], -0.8726646259971648, "J3 at its lower limit");
     assert_eq!(q[4], 2.0943951023931953, "J5 at its upper limit");
     // The smallest subnormal survives the round trip.
