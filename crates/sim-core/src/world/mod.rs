@@ -2,6 +2,7 @@
 //! rapier counterpart, and CoppeliaSim's path lookup.
 
 mod collection;
+mod containment;
 mod drawing;
 mod graph;
 mod log;

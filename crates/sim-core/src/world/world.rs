@@ -319,6 +319,8 @@ impl World {
                                 rb.set_position(pose, true);
                                 rb.set_linvel(Vector::ZERO, true);
                                 rb.set_angvel(Vector::ZERO, true);
+                                // Placing a body stopped by containment brings it back.
+                                rb.set_enabled(true);
                             }
                         }
                     }
@@ -455,6 +457,7 @@ impl World {
         }
         for _ in 0..self.physics.rapier_steps {
             self.physics.world.step();
+            self.contain_blow_ups();
         }
         self.queries_stale = false;
         self.read_back();
@@ -475,6 +478,11 @@ impl World {
                 let q = f64::from(l.joint.coords()[b.coord]);
                 let v = mb.joint_velocity(l);
                 let vel = v.get(0).copied().map_or(0.0, f64::from);
+                if !(q.is_finite() && vel.is_finite()) {
+                    // A blown-up mechanism (stopped by containment): keep the last good
+                    // reading rather than spread NaN into the tree and the API.
+                    continue;
+                }
                 if let ObjectKind::Joint(j) = &mut self.objects[h as usize].kind {
                     j.position = if j.cyclic { math::wrap_angle(q) } else { q };
                     j.velocity = vel;
@@ -592,6 +600,20 @@ impl World {
     /// The rapier world, read-only (sensors, distance queries, the viewer).
     pub(crate) fn physics(&self) -> &Physics {
         &self.physics
+    }
+
+    pub(crate) fn physics_mut(&mut self) -> &mut Physics {
+        &mut self.physics
+    }
+
+    /// The object that owns rapier body `b` (`None` for the world anchor).
+    pub(crate) fn body_owner(&self, b: RigidBodyHandle) -> Option<Handle> {
+        self.physics
+            .bodies
+            .iter()
+            .find(|e| e.handle == b)
+            .map(|e| e.object)
+            .filter(|&o| o >= 0)
     }
 
     /// Pose of `h` expressed in frame `rel`: `-1` world, `-11` (`sim.handle_parent`) the
