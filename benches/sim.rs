@@ -1,9 +1,11 @@
 //! `cargo bench --bench sim`: steps per second of gantry's scenes against bare rapier
 //! (the physics floor), the cost of scripts, and the text channel's latency.
 //!
-//! Every figure is a ratio or a rate measured in one run on one machine; it prints a
-//! Markdown table. Run a subset with `cargo bench --bench sim -- SECTION...` where a
-//! section is `scenes`, `rovers` or `text`.
+//! Every figure is a ratio or a rate measured in one run on one machine; it prints
+//! Markdown tables and writes every figure to `target/bench/gantry.json`, which
+//! `tools/bench/report.py` sets beside PyBullet's (`bash tools/bench.sh` runs both). Run a
+//! subset with `cargo bench --bench sim -- SECTION...` where a section is `scenes`, `arm`,
+//! `rovers` or `text`.
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -14,6 +16,7 @@ use gantry_script::{ScriptLimits, Simulation};
 use gantry_server::{ServeConfig, Shutdown, SimConfig};
 use gantry_sim_core::World;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene, load_scene_text};
+use serde_json::{Value as Json, json};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).to_owned()
@@ -55,8 +58,9 @@ fn rapier_rate(model: &SceneModel, seconds: f64) -> f64 {
     n as f64 / t.elapsed().as_secs_f64()
 }
 
-/// `n` BubbleRobs, each with its own script, in cells of a grid with two obstacles each.
-fn rovers(n: usize) -> SceneModel {
+/// `n` BubbleRobs, each with its own script (the lab sheet's, or with `controller` the
+/// benchmark's obstacle avoidance alone), in cells of a grid with two obstacles each.
+fn rovers(n: usize, controller: bool) -> SceneModel {
     let text = std::fs::read_to_string(root().join("assets/scenes/bubble_rob.toml")).expect("scene text");
     let mut blocks = text.split("\n[[object]]\n");
     let header = blocks.next().expect("header");
@@ -73,8 +77,14 @@ fn rovers(n: usize) -> SceneModel {
         for b in &rover {
             // Each rover runs its controller; the camera's edge-detection script is left
             // out (it is measured on its own by `cargo bench -p gantry-sim-core --bench vision`).
+            let mut b = b.replace("script = \"../../scripts/edge_detect.lua\"\n", "");
+            if controller {
+                b = b.replace(
+                    "../../scripts/bubble_rob.lua",
+                    "../../scripts/bench/rover_controller.lua",
+                );
+            }
             let b = b
-                .replace("script = \"../../scripts/edge_detect.lua\"\n", "")
                 .replace("name = \"", &format!("name = \"r{i}_"))
                 .replace("parent = \"", &format!("parent = \"r{i}_"))
                 .replace("position = [0, 0, 0.12]", &format!("position = [{cx}, {cy}, 0.12]"));
@@ -98,13 +108,14 @@ fn without_scripts(mut m: SceneModel) -> SceneModel {
     m
 }
 
-fn scenes(secs: f64) {
+fn scenes(secs: f64) -> Json {
     println!("\n### Scenes, headless, as fast as possible (dt 0.05 s, 10 substeps)\n");
     println!("| scene | gantry steps/s | real-time factor | bare rapier steps/s | gantry / rapier |");
     println!("|---|---|---|---|---|");
+    let mut out = Vec::new();
     for (name, model) in [
         ("fk_arm", scene("assets/scenes/fk_arm.toml")),
-        ("bubble_rob (with its script)", scene("assets/scenes/bubble_rob.toml")),
+        ("bubble_rob (with its scripts)", scene("assets/scenes/bubble_rob.toml")),
         (
             "bubble_rob (no script)",
             without_scripts(scene("assets/scenes/bubble_rob.toml")),
@@ -113,38 +124,120 @@ fn scenes(secs: f64) {
     ] {
         let g = gantry_rate(&model, secs);
         let r = rapier_rate(&model, secs);
-        println!(
-            "| {name} | {g:.0} | {:.0} | {r:.0} | {:.2} |",
-            g * model.settings.dt,
-            g / r
-        );
+        let rtf = g * model.settings.dt;
+        println!("| {name} | {g:.0} | {rtf:.0} | {r:.0} | {:.2} |", g / r);
+        out.push(json!({"scene": name, "steps_per_s": g, "rtf": rtf, "rapier_steps_per_s": r}));
     }
+    Json::Array(out)
 }
 
-fn rover_scaling(secs: f64) {
+/// The arm's floor: the same rapier world given the same targets straight through
+/// rapier's multibody API (no Lua, no tree, no read-back), so that both move alike.
+fn arm_rapier_rate(model: &SceneModel, steps: u64) -> f64 {
+    use gantry_sim_core::rapier3d::prelude::JointAxis;
+    const A: [f32; 6] = [0.6, 0.5, 0.4, 0.8, 0.6, 1.0];
+    const F: [f32; 6] = [0.25, 0.3, 0.35, 0.4, 0.45, 0.5];
+    let (mut pw, rapier_steps) = World::new(model).into_rapier();
+    // Revolute links in chain order (link ids grow from the base).
+    let mut joints: Vec<_> = pw
+        .multibody_joints
+        .iter()
+        .filter(|(_, _, _, link)| link.joint.ndofs() == 1)
+        .map(|(h, id, _, _)| (id.id, h))
+        .collect();
+    joints.sort_by_key(|&(id, _)| id);
+    assert_eq!(joints.len(), 6, "arm6 has six moving joints");
+    let dt = model.settings.dt as f32;
+    let t = Instant::now();
+    let mut sum = 0.0f32;
+    for k in 0..steps {
+        let time = (k + 1) as f32 * dt;
+        for (i, &(_, h)) in joints.iter().enumerate() {
+            if let Some((mb, link)) = pw.multibody_joints.get_mut(h)
+                && let Some(l) = mb.link_mut(link)
+            {
+                let target = A[i] * (2.0 * std::f32::consts::PI * F[i] * time).sin();
+                let m = l.joint.data.motor(JointAxis::AngX).copied().expect("position motor");
+                l.joint
+                    .data
+                    .set_motor(JointAxis::AngX, target, 0.0, m.stiffness, m.damping);
+            }
+        }
+        for _ in 0..rapier_steps {
+            pw.step();
+        }
+        for &(_, h) in &joints {
+            if let Some((mb, link)) = pw.multibody_joints.get(h) {
+                sum += mb.link(link).map_or(0.0, |l| l.joint.coords()[3]);
+            }
+        }
+    }
+    std::hint::black_box(sum);
+    steps as f64 / t.elapsed().as_secs_f64()
+}
+
+/// The arm benchmark: arm6 at dt 1/240 with one substep, a new position target for every
+/// joint every step from scripts/bench/arm_tracking.lua, 10,000 steps.
+fn arm(steps: u64) -> Json {
+    let model = scene("assets/scenes/bench/arm_tracking.toml");
+    let mut sim = Simulation::new(model.clone(), ScriptLimits::default()).expect("simulation");
+    sim.start();
+    let t = Instant::now();
+    for _ in 0..steps {
+        sim.step();
+    }
+    let rate = steps as f64 / t.elapsed().as_secs_f64();
+    let err = sim
+        .call_hook_function("trackingError", &[])
+        .expect("trackingError runs")
+        .expect("the benchmark script defines trackingError");
+    let num = |i: usize| err.get(i).and_then(gantry_sim_core::Value::as_f64).expect("a number");
+    let (rms, max) = (num(0), num(1));
+    let bare = arm_rapier_rate(&model, steps);
+    println!("\n### Arm: arm6, dt 1/240 s, 1 substep, new position targets every step from Lua\n");
+    println!("| steps | gantry steps/s | RMS joint error rad | largest error rad | bare rapier steps/s |");
+    println!("|---|---|---|---|---|");
+    println!("| {steps} | {rate:.0} | {rms:.2e} | {max:.2e} | {bare:.0} |");
+    json!({"steps": steps, "steps_per_s": rate, "rms_error_rad": rms, "max_error_rad": max, "rapier_steps_per_s": bare})
+}
+
+fn rover_scaling(secs: f64) -> Json {
     println!("\n### BubbleRobs, each running its own script (dt 0.05 s, 10 substeps)\n");
     println!(
-        "| rovers | gantry steps/s | real-time factor | no scripts steps/s | bare rapier steps/s | gantry / rapier |"
+        "| rovers | lab-sheet script steps/s | rtf | controller only steps/s | rtf | no scripts steps/s | bare rapier steps/s | controller / rapier |"
     );
-    println!("|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
+    let mut out = Vec::new();
     for n in [1, 10, 50, 100] {
-        let model = rovers(n);
-        let g = gantry_rate(&model, secs);
+        let model = rovers(n, false);
+        let dt = model.settings.dt;
+        let lab = gantry_rate(&model, secs);
+        let ctl = gantry_rate(&rovers(n, true), secs);
         let ns = gantry_rate(&without_scripts(model.clone()), secs);
         let r = rapier_rate(&model, secs);
         println!(
-            "| {n} | {g:.1} | {:.1} | {ns:.1} | {r:.1} | {:.2} |",
-            g * model.settings.dt,
-            g / r
+            "| {n} | {lab:.1} | {:.1} | {ctl:.1} | {:.1} | {ns:.1} | {r:.1} | {:.2} |",
+            lab * dt,
+            ctl * dt,
+            ctl / r
         );
+        out.push(json!({
+            "rovers": n,
+            "lab_sheet_steps_per_s": lab,
+            "controller_steps_per_s": ctl,
+            "no_scripts_steps_per_s": ns,
+            "rapier_steps_per_s": r,
+            "dt": dt,
+        }));
     }
+    Json::Array(out)
 }
 
 fn percentile(sorted: &[f64], p: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * p).round() as usize]
 }
 
-fn text_latency() {
+fn text_latency() -> Json {
     let model = scene("assets/scenes/fk_arm.toml");
     let (tx, rx) = std::sync::mpsc::channel();
     let shutdown = Shutdown::default();
@@ -240,6 +333,13 @@ fn text_latency() {
         percentile(&connect, 0.99)
     );
     println!("One persistent connection, request/reply: {rate:.0} packets/s");
+    json!({
+        "persistent_median_us": percentile(&persistent, 0.5),
+        "persistent_p99_us": percentile(&persistent, 0.99),
+        "per_connection_median_us": percentile(&per_conn, 0.5),
+        "per_connection_p99_us": percentile(&per_conn, 0.99),
+        "packets_per_s": rate,
+    })
 }
 
 fn main() {
@@ -253,13 +353,30 @@ fn main() {
         "gantry benchmark, {} cores, {secs} s per figure",
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
+    let mut report = serde_json::Map::new();
+    report.insert(
+        "cores".into(),
+        json!(std::thread::available_parallelism().map_or(1, |n| n.get())),
+    );
     if want("scenes") {
-        scenes(secs);
+        report.insert("scenes".into(), scenes(secs));
+    }
+    if want("arm") {
+        report.insert("arm".into(), arm(10_000));
     }
     if want("rovers") {
-        rover_scaling(secs);
+        report.insert("rovers".into(), rover_scaling(secs));
     }
     if want("text") {
-        text_latency();
+        report.insert("text".into(), text_latency());
     }
+    let dir = root().join("target/bench");
+    std::fs::create_dir_all(&dir).expect("target/bench");
+    let path = dir.join("gantry.json");
+    std::fs::write(
+        &path,
+        serde_json::to_string_pretty(&Json::Object(report)).expect("json"),
+    )
+    .expect("write");
+    println!("\nfigures written to {}", path.display());
 }

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# gantry's benchmark against PyBullet and bare rapier (issue 8), in one run on one
+# machine. Builds the release binary, runs `cargo bench --bench sim`, the PyBullet side,
+# the ZMQ latency benchmark with the real Python client and the start-up probe, then
+# prints the side-by-side report (also in target/bench/report.md) and draws
+# docs/rovers.png. Takes about ten minutes; run it on a quiet machine.
+#
+#   bash tools/bench.sh            # GANTRY_BENCH_SECONDS=3 by default
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+source tools/python-venv.sh
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt -r tools/bench/requirements.txt
+mkdir -p target/bench
+
+echo "== release build"
+cargo build --release --quiet
+echo "== gantry: cargo bench --bench sim"
+cargo bench --quiet --bench sim
+echo "== PyBullet"
+"$venv/bin/python" tools/bench/pybullet_bench.py --seconds "${GANTRY_BENCH_SECONDS:-3}" > target/bench/pybullet.json
+echo "== ZMQ latency (real Python client)"
+"$venv/bin/python" tests/python/bench_zmq.py --runs 3 --json target/bench/zmq.json
+echo "== start-up and memory"
+"$venv/bin/python" tools/bench/startup.py > target/bench/startup.json
+echo
+"$venv/bin/python" tools/bench/report.py

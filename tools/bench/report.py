@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Puts the benchmark's figures side by side (issue 8) and draws the rover plot.
+
+Reads, from target/bench/: gantry.json (`cargo bench --bench sim`), pybullet.json
+(tools/bench/pybullet_bench.py), zmq.json (tests/python/bench_zmq.py --json) and
+startup.json (tools/bench/startup.py); prints one Markdown report with ratios and the
+targets, writes it to target/bench/report.md, and draws steps/s against the number of
+rovers to docs/rovers.png. `bash tools/bench.sh` runs everything in order.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+BENCH = ROOT / "target/bench"
+
+
+def load(name: str) -> dict:
+    path = BENCH / name
+    if not path.exists():
+        sys.exit(f"{path} is missing: run `bash tools/bench.sh`")
+    return json.loads(path.read_text())
+
+
+def cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def verdict(ok: bool) -> str:
+    return "met" if ok else "**missed**"
+
+
+def report(g: dict, pb: dict, zmq: dict, start: dict) -> str:
+    out = []
+    w = out.append
+    w(f"Machine: {cpu_model()}, {g['cores']} cores; {platform.system()} {platform.release()}; "
+      f"PyBullet API {pb['pybullet']}.\n")
+
+    arm, parm = g["arm"], pb["arm"]
+    ratio = arm["steps_per_s"] / parm["steps_per_s"]
+    w("### 1. Arm: arm6.urdf, dt 1/240 s, 1 substep, new position targets every step, 10,000 steps\n")
+    w("| | steps/s | RMS joint error | largest joint error |")
+    w("|---|---|---|---|")
+    w(f"| gantry (targets from Lua) | {arm['steps_per_s']:,.0f} | {arm['rms_error_rad']:.4f} rad | {arm['max_error_rad']:.4f} rad |")
+    w(f"| PyBullet (setJointMotorControlArray) | {parm['steps_per_s']:,.0f} | {parm['rms_error_rad']:.4f} rad | {parm['max_error_rad']:.4f} rad |")
+    w(f"| bare rapier (same targets, no Lua) | {arm['rapier_steps_per_s']:,.0f} | | |")
+    w(f"\ngantry / PyBullet: **{ratio:.2f}x** (target ≥ 2x: {verdict(ratio >= 2)}); "
+      f"gantry / bare rapier: {arm['steps_per_s'] / arm['rapier_steps_per_s']:.2f}.\n")
+
+    w("### 2. Rovers: BubbleRob, dt 0.05 s, 10 substeps, one script (or ray test) per rover\n")
+    w("| rovers | gantry, controller script | rtf | gantry, lab-sheet script | rtf | bare rapier | PyBullet, ray test | rtf | gantry / PyBullet |")
+    w("|---|---|---|---|---|---|---|---|---|")
+    pyb = {r["rovers"]: r for r in pb["rovers"]}
+    hundred = None
+    for r in g["rovers"]:
+        n, dt = r["rovers"], r["dt"]
+        p = pyb[n]
+        ctl, lab = r["controller_steps_per_s"], r["lab_sheet_steps_per_s"]
+        if n == 100:
+            hundred = ctl * dt
+        w(f"| {n} | {ctl:,.1f} | {ctl * dt:,.1f} | {lab:,.1f} | {lab * dt:,.1f} | {r['rapier_steps_per_s']:,.1f} | "
+          f"{p['steps_per_s']:,.1f} | {p['rtf']:,.1f} | **{ctl / p['steps_per_s']:.2f}x** |")
+    w(f"\n100 rovers at {hundred:.1f}x real time (target ≥ 50x: {verdict(hundred >= 50)}).\n")
+
+    w("### 3. Overhead over bare rapier (same scene, no scripts, API or server)\n")
+    w("| scene | gantry steps/s | bare rapier steps/s | gantry / rapier |")
+    w("|---|---|---|---|")
+    for s in g["scenes"]:
+        w(f"| {s['scene']} | {s['steps_per_s']:,.0f} | {s['rapier_steps_per_s']:,.0f} | {s['steps_per_s'] / s['rapier_steps_per_s']:.2f} |")
+    w(f"| arm benchmark (Lua targets every step) | {arm['steps_per_s']:,.0f} | {arm['rapier_steps_per_s']:,.0f} | {arm['steps_per_s'] / arm['rapier_steps_per_s']:.2f} |")
+    for r in g["rovers"]:
+        w(f"| {r['rovers']} rovers, no scripts | {r['no_scripts_steps_per_s']:,.1f} | {r['rapier_steps_per_s']:,.1f} | "
+          f"{r['no_scripts_steps_per_s'] / r['rapier_steps_per_s']:.2f} |")
+    w("\nTarget: within 15 % of bare rapier (ratio ≥ 0.85).\n")
+
+    t = g["text"]
+    w("### 4. Latency\n")
+    w("| channel | median | p99 |")
+    w("|---|---|---|")
+    w(f"| ZMQ `sim.getObjectPosition`, real Python client, {zmq['scene']} at full speed | {zmq['median_us']:.0f} µs | {zmq['p99_us']:.0f} µs |")
+    w(f"| same client against an in-memory echo server (the client's own floor) | {zmq['floor_median_us']:.0f} µs | {zmq['floor_p99_us']:.0f} µs |")
+    w(f"| text packet round trip, persistent connection (fk_arm, real time) | {t['persistent_median_us']:.0f} µs | {t['persistent_p99_us']:.0f} µs |")
+    w(f"| text packet round trip, new connection per command | {t['per_connection_median_us']:.0f} µs | {t['per_connection_p99_us']:.0f} µs |")
+    w(f"\nRemote stepping (`client.step()`, {zmq['scene']}): {zmq['steps_per_s']:,.0f} steps/s; "
+      f"text channel: {t['packets_per_s']:,.0f} packets/s on one connection.\n")
+
+    w("### 5. Start-up and memory (showroom)\n")
+    w(f"Process start to first step (and exit): {start['start_to_first_step_ms']:.0f} ms median "
+      f"(max {start['start_to_first_step_max_ms']:.0f} ms); peak resident memory over 2,000 steps with every "
+      f"listener open: {start['peak_rss_mib']:.1f} MiB.\n")
+    return "\n".join(out)
+
+
+def plot(g: dict, pb: dict) -> Path | None:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib is not installed: no plot", file=sys.stderr)
+        return None
+    n = [r["rovers"] for r in g["rovers"]]
+    fig, ax = plt.subplots(figsize=(7, 4.5), dpi=120)
+    ax.plot(n, [r["controller_steps_per_s"] for r in g["rovers"]], "o-", label="gantry, controller script per rover")
+    ax.plot(n, [r["lab_sheet_steps_per_s"] for r in g["rovers"]], "s--", label="gantry, lab-sheet script per rover")
+    ax.plot(n, [r["rapier_steps_per_s"] for r in g["rovers"]], "^:", label="bare rapier (floor)")
+    ax.plot(n, [r["steps_per_s"] for r in pb["rovers"]], "d-", label="PyBullet, ray test per rover")
+    ax.axhline(1 / 0.05, color="grey", lw=0.8)
+    ax.text(n[-1], 1 / 0.05 * 1.1, "real time", ha="right", color="grey")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("rovers")
+    ax.set_ylabel("simulation steps per second (dt 0.05 s)")
+    ax.set_title("BubbleRob fleet, 10 substeps per step")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    path = ROOT / "docs/rovers.png"
+    fig.savefig(path)
+    return path
+
+
+def main() -> None:
+    g, pb, zmq, start = load("gantry.json"), load("pybullet.json"), load("zmq.json"), load("startup.json")
+    text = report(g, pb, zmq, start)
+    (BENCH / "report.md").write_text(text + "\n")
+    print(text)
+    path = plot(g, pb)
+    if path:
+        print(f"\nplot written to {path.relative_to(ROOT)}")
+
+
+if __name__ == "__main__":
+    main()
