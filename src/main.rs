@@ -15,7 +15,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use gantry_script::{ScriptLimits, check_syntax};
 use gantry_server::http::HttpConfig;
-use gantry_server::{ServeConfig, Shutdown, SimConfig, TextConfig};
+use gantry_server::{AccessToken, ServeConfig, Shutdown, SimConfig, TextConfig};
 use gantry_sim_core::scene::{DiskFiles, EmbeddedFiles, Files, LoadOptions, SceneModel, load_scene};
 
 #[derive(Parser)]
@@ -58,6 +58,10 @@ enum Command {
         /// Seconds to wait for each reply.
         #[arg(long, default_value_t = 5.0)]
         timeout: f64,
+        /// Access token of a gantry started with --token (default: $GANTRY_TOKEN); sent
+        /// as <AUTH#TOKEN> before the packets.
+        #[arg(long)]
+        token: Option<String>,
         /// Packets, e.g. '<FK#J1=0.5,J2=0,J3=0,J4=0,J5=-1.57,J6=0>'.
         #[arg(required = true)]
         packets: Vec<String>,
@@ -89,6 +93,15 @@ struct RunArgs {
     /// Address the listeners bind (default 127.0.0.1; anything else prints a warning).
     #[arg(long)]
     bind: Option<String>,
+    /// Require this access token on the text channel and the viewer (default:
+    /// $GANTRY_TOKEN, which other users cannot read in the process list). 8 to 256
+    /// letters, digits, '-', '_', '.', '~'; e.g. `openssl rand -hex 16`.
+    #[arg(long)]
+    token: Option<String>,
+    /// With --token and a non-loopback --bind, expose the ZMQ remote API on --bind too,
+    /// although it has no authentication (by default it then stays on loopback).
+    #[arg(long)]
+    expose_zmq: bool,
     /// Text command channel port (default 6000; 0 = any free port).
     #[arg(long)]
     text_port: Option<u16>,
@@ -124,7 +137,12 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Some(Command::Run(args)) => run(&args),
         Some(Command::Check { scene, package_paths }) => check(&scene, package_paths),
-        Some(Command::Send { addr, timeout, packets }) => send(&addr, timeout, &packets),
+        Some(Command::Send {
+            addr,
+            timeout,
+            token,
+            packets,
+        }) => access_token(token.as_deref()).and_then(|t| send(&addr, timeout, t.as_ref(), &packets)),
         None => run(&cli.run),
     };
     match result {
@@ -216,8 +234,11 @@ fn run(args: &RunArgs) -> Result<()> {
             Some(flag.or(scene).unwrap_or(default))
         }
     };
+    let token = access_token(args.token.as_deref())?;
     let serve = ServeConfig {
         bind,
+        token: token.clone(),
+        expose_zmq: args.expose_zmq,
         text_port: port(args.text_port, scene_server.text_port, 6000),
         zmq_port: port(args.zmq_port, scene_server.zmq_port, 23000),
         http_port: port(args.http_port, scene_server.http_port, 8080),
@@ -249,14 +270,31 @@ fn run(args: &RunArgs) -> Result<()> {
         }
         if let Some(a) = bound.http {
             eprintln!("listening http={a}");
+            // The one place the token is shown: the address for the user to open.
+            if let Some(t) = &token {
+                eprintln!("viewer url=http://{a}/?token={}", t.reveal());
+            }
         }
     })?;
     println!("{}", summary.line());
     Ok(())
 }
 
-/// The smallest text-channel client: one persistent connection, one line per packet.
-fn send(addr: &str, timeout: f64, packets: &[String]) -> Result<()> {
+/// The access token from `--token` or, without it, a non-empty `GANTRY_TOKEN`.
+fn access_token(flag: Option<&str>) -> Result<Option<AccessToken>> {
+    let value = match flag {
+        Some(t) => Some(t.to_owned()),
+        None => std::env::var("GANTRY_TOKEN").ok().filter(|t| !t.is_empty()),
+    };
+    // The error names the rule and at most one offending character, never the token.
+    value
+        .map(|t| AccessToken::new(&t).context("--token (or GANTRY_TOKEN)"))
+        .transpose()
+}
+
+/// The smallest text-channel client: one persistent connection, one line per packet,
+/// after `<AUTH#TOKEN>` when a token is given.
+fn send(addr: &str, timeout: f64, token: Option<&AccessToken>, packets: &[String]) -> Result<()> {
     use std::io::{BufRead, BufReader, Write};
     anyhow::ensure!(
         timeout.is_finite() && timeout > 0.0,
@@ -268,6 +306,23 @@ fn send(addr: &str, timeout: f64, packets: &[String]) -> Result<()> {
     stream.set_nodelay(true)?;
     let mut writer = stream.try_clone()?;
     let mut reader = BufReader::new(stream);
+    if let Some(t) = token {
+        writer.write_all(format!("<AUTH#{}>\n", t.reveal()).as_bytes())?;
+        let mut line = String::new();
+        reader
+            .read_line(&mut line)
+            .with_context(|| format!("no reply to the access token within {timeout} s"))?;
+        let line = line.trim_end_matches(['\r', '\n']);
+        anyhow::ensure!(
+            line == gantry_server::text::AUTH_OK,
+            "the access token was not accepted: {}",
+            if line.is_empty() {
+                "the server closed the connection"
+            } else {
+                line
+            }
+        );
+    }
     let mut failed = 0;
     for p in packets {
         writer.write_all(p.trim_end().as_bytes())?;

@@ -2,6 +2,7 @@
 //! `sim` API, and the step order that ties scripts to the world.
 
 mod convert;
+pub mod sandbox;
 mod simulation;
 
 pub use simulation::{Hook, ScriptError, ScriptLimits, ScriptState, Simulation, check_syntax};

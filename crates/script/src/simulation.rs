@@ -6,7 +6,9 @@
 //! stops. Scripts see the step's start time throughout the step, as in CoppeliaSim.
 //!
 //! All scripts share one Lua 5.4 state (vendored) but each has its own environment
-//! table, so one script cannot see another's globals. The world is shared with the `sim`
+//! table, with its own copies of the global tables (`sim`, `string`, ...), so one script
+//! can neither see another's globals nor change what another sees (see [`crate::sandbox`]
+//! for everything scripts cannot reach). The world is shared with the `sim`
 //! functions through an `Rc<RefCell<..>>` on this thread only: the `Lua` value is not
 //! `Send` and never leaves the simulation thread.
 
@@ -19,9 +21,10 @@ use gantry_sim_core::api::{self, Args, CallContext};
 use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::world::SimulationState;
 use gantry_sim_core::{Handle, Value, World};
-use mlua::{Function, HookTriggers, Lua, LuaOptions, MultiValue, StdLib, Table, Value as LuaValue, VmState};
+use mlua::{Function, HookTriggers, Lua, MultiValue, Table, Value as LuaValue, VmState};
 
 use crate::convert::{to_multi, to_value};
+use crate::sandbox::{self, SOURCE_MODE, new_state};
 
 /// Limits that keep a script from stalling or exhausting the simulator.
 #[derive(Debug, Clone, Copy)]
@@ -132,7 +135,8 @@ impl Simulation {
     /// The Lua state could not be created.
     pub fn new(model: SceneModel, limits: ScriptLimits) -> Result<Self, ScriptError> {
         let lua = new_state(limits).map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
-        let world = World::new(&model);
+        let mut world = World::new(&model);
+        sandbox::confine(&mut world, &model);
         for w in world.warnings() {
             tracing::warn!("{w}");
         }
@@ -201,10 +205,8 @@ impl Simulation {
     }
 
     fn make_env(&self, name: &Rc<str>) -> mlua::Result<Table> {
-        let env = self.lua.create_table()?;
-        let meta = self.lua.create_table()?;
-        meta.set("__index", self.lua.globals())?;
-        env.set_metatable(Some(meta))?;
+        // Private copies of the global tables: see `sandbox::script_env`.
+        let env = sandbox::script_env(&self.lua)?;
         // `print` logs with the script's name (CoppeliaSim prints to its status bar).
         let shared = self.shared.clone();
         let source = name.clone();
@@ -225,6 +227,7 @@ impl Simulation {
             .lua
             .load(source)
             .set_name(format!("@{}", script.path.display()))
+            .set_mode(SOURCE_MODE)
             .set_environment(script.env.clone())
             .exec();
         self.leave();
@@ -320,8 +323,10 @@ impl Simulation {
         }
         self.cleanup();
         let log = std::mem::take(&mut self.shared.world.borrow_mut().log);
-        *self.shared.world.borrow_mut() = World::new(&self.model);
-        self.shared.world.borrow_mut().log = log;
+        let mut world = World::new(&self.model);
+        sandbox::confine(&mut world, &self.model);
+        world.log = log;
+        *self.shared.world.borrow_mut() = world;
         self.load_scripts();
     }
 
@@ -516,8 +521,14 @@ impl Simulation {
             return Ok(vec![args.get(1).cloned().unwrap_or(Value::Int(-1))]);
         }
         if name == "callScriptFunction" {
-            return call_script_function(&self.lua, &self.shared, args)
-                .map_err(|e| format!("{} (in function 'sim.callScriptFunction')", error_text(&e)));
+            // Script code running for a remote client is outside any hook, so it gets a
+            // hook's time budget here; otherwise a loop in the called function would
+            // hold the simulation thread until the idle deadline, an hour away.
+            self.shared.deadline.set(Instant::now() + self.limits.time_budget);
+            self.shared.interrupted.set(false);
+            let r = call_script_function(&self.lua, &self.shared, args);
+            self.leave();
+            return r.map_err(|e| format!("{} (in function 'sim.callScriptFunction')", error_text(&e)));
         }
         let ctx = CallContext {
             script_object: None,
@@ -567,6 +578,7 @@ impl Simulation {
             .lua
             .load(&source)
             .set_name(format!("@{}", path.display()))
+            .set_mode(SOURCE_MODE)
             .into_function()
         {
             self.log(
@@ -729,26 +741,6 @@ fn display(v: &LuaValue) -> String {
         LuaValue::String(s) => s.to_string_lossy(),
         other => format!("{}: {:?}", other.type_name(), other.to_pointer()),
     }
-}
-
-/// A Lua state with the safe standard libraries only (no `io`, no `package`, no
-/// `debug`, no `os` functions that touch processes or files) and a memory cap.
-fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
-    let lua = Lua::new_with(
-        StdLib::TABLE | StdLib::STRING | StdLib::MATH | StdLib::UTF8 | StdLib::COROUTINE | StdLib::OS,
-        LuaOptions::default(),
-    )?;
-    let g = lua.globals();
-    // Loading code from files or bytecode would bypass the sandbox.
-    for name in ["dofile", "loadfile", "load", "loadstring", "require"] {
-        g.raw_set(name, LuaValue::Nil)?;
-    }
-    let os: Table = g.get("os")?;
-    for name in ["execute", "exit", "remove", "rename", "tmpname", "getenv", "setlocale"] {
-        os.raw_set(name, LuaValue::Nil)?;
-    }
-    lua.set_memory_limit(limits.memory)?;
-    Ok(lua)
 }
 
 /// Interrupts any Lua code that runs past the current deadline.
@@ -949,6 +941,7 @@ pub fn check_syntax(model: &SceneModel) -> Vec<String> {
         .filter_map(|s| {
             lua.load(&s.source)
                 .set_name(format!("@{}", s.path.display()))
+                .set_mode(SOURCE_MODE)
                 .into_function()
                 .err()
                 .map(|e| error_text(&e))

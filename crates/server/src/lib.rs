@@ -3,6 +3,7 @@
 //! One thread owns the world and Lua ([`sim_thread`]); transports send it requests over
 //! a bounded channel and await replies. There is no shared mutable world.
 
+pub mod auth;
 pub mod http;
 pub mod runner;
 pub mod sim_thread;
@@ -10,6 +11,7 @@ pub mod stepping;
 pub mod text;
 pub mod zmq;
 
+pub use auth::{AccessToken, TokenError};
 pub use runner::{BoundAddrs, ServeConfig, ServerError, Shutdown, run};
 pub use sim_thread::{
     Control, Observer, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig, SimHandle,

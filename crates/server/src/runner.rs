@@ -1,7 +1,7 @@
 //! Wiring: bind the listeners, start the simulation thread, shut everything down
 //! together on Ctrl-C, SIGTERM or the end of the run.
 
-use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -9,6 +9,7 @@ use gantry_sim_core::scene::SceneModel;
 use tokio::net::TcpListener;
 use tokio::sync::watch;
 
+use crate::auth::AccessToken;
 use crate::http::{FramePublisher, HttpConfig};
 use crate::sim_thread::{RunSummary, SimConfig, channel, run_sim_thread, run_sim_thread_observed};
 
@@ -28,6 +29,14 @@ pub struct ServeConfig {
     pub text: crate::text::TextConfig,
     /// Limits of the viewer.
     pub http: HttpConfig,
+    /// Access token required by the text channel and the viewer; `None` leaves them
+    /// open (fine on loopback). The ZMQ remote API cannot check it (CoppeliaSim's
+    /// protocol has no authentication), so with a token and a non-loopback `bind` it
+    /// stays on loopback unless `expose_zmq`.
+    pub token: Option<AccessToken>,
+    /// With a token and a non-loopback `bind`, bind the unauthenticated ZMQ remote API
+    /// on `bind` anyway instead of loopback.
+    pub expose_zmq: bool,
 }
 
 impl Default for ServeConfig {
@@ -39,6 +48,8 @@ impl Default for ServeConfig {
             http_port: None,
             text: crate::text::TextConfig::default(),
             http: HttpConfig::default(),
+            token: None,
+            expose_zmq: false,
         }
     }
 }
@@ -131,11 +142,12 @@ pub fn run(
                 listener,
                 handle.clone(),
                 serve.text.clone(),
+                serve.token.clone(),
                 stop_rx.clone(),
             ));
         }
         if let Some(port) = serve.zmq_port {
-            let addr = SocketAddr::new(serve.bind, port);
+            let addr = SocketAddr::new(zmq_ip(&serve), port);
             let (socket, local) = crate::zmq::bind(addr)
                 .await
                 .map_err(|source| ServerError::Bind { addr, source })?;
@@ -163,7 +175,10 @@ pub fn run(
             let local = listener
                 .local_addr()
                 .map_err(|source| ServerError::Bind { addr, source })?;
-            tracing::info!("viewer at http://{local}/");
+            match serve.token {
+                Some(_) => tracing::info!("viewer at http://{local}/ (access token required: open it with ?token=...)"),
+                None => tracing::info!("viewer at http://{local}/"),
+            }
             bound.http = Some(local);
             let (p, frames) = FramePublisher::new();
             publisher = Some(p);
@@ -172,16 +187,35 @@ pub fn run(
                 handle.clone(),
                 frames,
                 serve.http.clone(),
+                serve.token.clone(),
                 stop_rx.clone(),
             ));
         }
         Ok::<_, ServerError>(bound)
     })?;
     if !serve.bind.is_loopback() {
-        tracing::warn!(
-            "listening on {} (not loopback): anyone who can reach this machine can drive the simulation",
-            serve.bind
-        );
+        match serve.token {
+            None => tracing::warn!(
+                "listening on {} (not loopback): anyone who can reach this machine can drive the simulation (--token TOKEN requires an access token)",
+                serve.bind
+            ),
+            Some(_) => tracing::warn!(
+                "listening on {} (not loopback): the text channel and the viewer require the access token, which travels unencrypted (use an SSH tunnel on networks you do not trust)",
+                serve.bind
+            ),
+        }
+        if let (Some(_), Some(zmq)) = (&serve.token, bound.zmq) {
+            if zmq.ip().is_loopback() {
+                tracing::warn!(
+                    "ZMQ remote API kept on {zmq}: it has no authentication (CoppeliaSim's protocol), so with --token it does not follow --bind {}; reach it through an SSH tunnel, or pass --expose-zmq",
+                    serve.bind
+                );
+            } else {
+                tracing::warn!(
+                    "ZMQ remote API on {zmq} has no authentication: --token does not protect it (--expose-zmq)"
+                );
+            }
+        }
     }
     on_ready(&bound);
 
@@ -217,6 +251,19 @@ pub fn run(
     let _ = stop_tx.send(true);
     rt.shutdown_timeout(std::time::Duration::from_secs(2));
     Ok(result?)
+}
+
+/// Where the ZMQ remote API listens: `bind`, except with a token and a non-loopback
+/// `bind`, where an unauthenticated listener would leave the token protecting only
+/// two of the three ways in; then loopback of the same family, unless `expose_zmq`.
+fn zmq_ip(serve: &ServeConfig) -> IpAddr {
+    if serve.token.is_none() || serve.bind.is_loopback() || serve.expose_zmq {
+        return serve.bind;
+    }
+    match serve.bind {
+        IpAddr::V4(_) => IpAddr::V4(Ipv4Addr::LOCALHOST),
+        IpAddr::V6(_) => IpAddr::V6(Ipv6Addr::LOCALHOST),
+    }
 }
 
 async fn wait_for_signal() {

@@ -9,9 +9,17 @@
 //! `{key=, value=}` in packet order), `raw` (the line as received) and `client` (a
 //! connection id). The hook's returned string is the reply; with no return value the
 //! reply is the packet echoed (the paper's acknowledgement). Every problem gets an
-//! `<ERR#...>` line and the connection carries on, except an oversize line, after
-//! which the connection is closed.
+//! `<ERR#...>` line and the connection carries on, except an oversize line, an HTTP
+//! request line (a browser pointed at this port: closing stops a web page from smuggling
+//! packets in a request body) and a failed authentication, after which the connection
+//! is closed.
+//!
+//! With an access token (`--token`), the first line of every connection must be
+//! `<AUTH#TOKEN>`, answered `<AUTH#OK>`, within [`AUTH_TIMEOUT`]; anything else is
+//! answered with an `<ERR#...>` and the connection closed. Without a token, an
+//! `<AUTH#...>` line is answered `<AUTH#OK>` too, so a client may always authenticate.
 
+use std::net::SocketAddr;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -20,8 +28,18 @@ use gantry_sim_core::Value;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{Semaphore, oneshot, watch};
+use tokio::time::Instant;
 
+use crate::auth::AccessToken;
 use crate::sim_thread::{PacketOutcome, Request, SimHandle};
+
+/// Time a connection has, from accept, to authenticate when a token is set. Shorter than
+/// the idle timeout and counted once (not per read), so connections that never
+/// authenticate cannot hold the connection slots for long.
+pub const AUTH_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// The reply to a correct `<AUTH#TOKEN>` line.
+pub const AUTH_OK: &str = "<AUTH#OK>";
 
 /// Limits of the text channel.
 #[derive(Debug, Clone)]
@@ -44,8 +62,15 @@ impl Default for TextConfig {
     }
 }
 
-/// Accepts connections until `shutdown` turns true.
-pub async fn serve(listener: TcpListener, sim: SimHandle, cfg: TextConfig, mut shutdown: watch::Receiver<bool>) {
+/// Accepts connections until `shutdown` turns true. With `token`, each connection must
+/// authenticate first (see the module documentation).
+pub async fn serve(
+    listener: TcpListener,
+    sim: SimHandle,
+    cfg: TextConfig,
+    token: Option<AccessToken>,
+    mut shutdown: watch::Receiver<bool>,
+) {
     let slots = Arc::new(Semaphore::new(cfg.max_connections));
     let mut next_id: i64 = 0;
     loop {
@@ -56,9 +81,11 @@ pub async fn serve(listener: TcpListener, sim: SimHandle, cfg: TextConfig, mut s
                     next_id += 1;
                     match slots.clone().try_acquire_owned() {
                         Ok(permit) => {
-                            let (sim, cfg, shutdown) = (sim.clone(), cfg.clone(), shutdown.clone());
+                            let (sim, cfg, token, shutdown) = (sim.clone(), cfg.clone(), token.clone(), shutdown.clone());
                             tokio::spawn(async move {
-                                connection(sock, next_id, sim, cfg, shutdown).await;
+                                let authenticated = token.is_none();
+                                let client = Client { id: next_id, peer, token, authenticated };
+                                connection(sock, client, sim, cfg, shutdown).await;
                                 drop(permit);
                             });
                         }
@@ -85,16 +112,55 @@ pub async fn serve(listener: TcpListener, sim: SimHandle, cfg: TextConfig, mut s
     }
 }
 
-async fn connection(sock: TcpStream, id: i64, sim: SimHandle, cfg: TextConfig, mut shutdown: watch::Receiver<bool>) {
+/// Who is on the other end of a connection.
+struct Client {
+    /// `packet.client` for scripts.
+    id: i64,
+    /// For log lines.
+    peer: SocketAddr,
+    /// The token this connection must present first, if one is set.
+    token: Option<AccessToken>,
+    /// Whether it has (always true without a token).
+    authenticated: bool,
+}
+
+/// What the connection does with one received line.
+enum Verdict {
+    /// Send this reply (with its newline) and read on.
+    Reply(String),
+    /// Send this reply and close the connection.
+    Close(String),
+}
+
+async fn connection(
+    sock: TcpStream,
+    mut client: Client,
+    sim: SimHandle,
+    cfg: TextConfig,
+    mut shutdown: watch::Receiver<bool>,
+) {
     let _ = sock.set_nodelay(true);
     let (mut rd, mut wr) = sock.into_split();
     let mut decoder = LineDecoder::with_max_len(cfg.max_line);
     let mut buf: Vec<u8> = Vec::with_capacity(512);
     let mut chunk = [0u8; 4096];
+    let auth_deadline = Instant::now() + AUTH_TIMEOUT;
+    let mut first = true;
     loop {
         loop {
             let reply = match decoder.decode(&mut buf) {
-                Ok(Some(line)) => handle_line(&line, id, &sim).await,
+                Ok(Some(line)) => {
+                    let verdict = if first { first_line(&line, &mut client) } else { None };
+                    first = false;
+                    match verdict {
+                        Some(Verdict::Reply(r)) => r,
+                        Some(Verdict::Close(r)) => {
+                            let _ = wr.write_all(r.as_bytes()).await;
+                            return;
+                        }
+                        None => handle_line(&line, &client, &sim).await,
+                    }
+                }
                 Ok(None) => break,
                 Err(LineError::TooLong { max }) => {
                     let msg = format!(
@@ -110,9 +176,24 @@ async fn connection(sock: TcpStream, id: i64, sim: SimHandle, cfg: TextConfig, m
                 return;
             }
         }
+        let deadline = if client.authenticated {
+            Instant::now() + cfg.idle_timeout
+        } else {
+            auth_deadline.min(Instant::now() + cfg.idle_timeout)
+        };
         tokio::select! {
             _ = shutdown.changed() => return,
-            read = tokio::time::timeout(cfg.idle_timeout, rd.read(&mut chunk)) => match read {
+            read = tokio::time::timeout_at(deadline, rd.read(&mut chunk)) => match read {
+                Err(_) if !client.authenticated => {
+                    let limit = AUTH_TIMEOUT.min(cfg.idle_timeout);
+                    tracing::warn!("text channel: closing {}: no access token within {limit:?}", client.peer);
+                    let msg = format!(
+                        "{}\n",
+                        encode_error(&format!("access token required within {limit:?}; connection closed"))
+                    );
+                    let _ = wr.write_all(msg.as_bytes()).await;
+                    return;
+                }
                 // Idle too long, closed by the peer (a half packet is dropped), or broken.
                 Err(_) | Ok(Ok(0)) | Ok(Err(_)) => return,
                 Ok(Ok(n)) => buf.extend_from_slice(&chunk[..n]),
@@ -121,13 +202,64 @@ async fn connection(sock: TcpStream, id: i64, sim: SimHandle, cfg: TextConfig, m
     }
 }
 
-/// The reply line (with its newline) to one received line.
-async fn handle_line(line: &str, client: i64, sim: &SimHandle) -> String {
+/// Checks the first line of a connection: refuses HTTP, and with a token requires
+/// `<AUTH#TOKEN>`. `None`: an ordinary line, handled as any other.
+fn first_line(line: &str, client: &mut Client) -> Option<Verdict> {
+    if is_http_request(line) {
+        tracing::warn!("text channel: closing {}: it sent an HTTP request", client.peer);
+        return Some(Verdict::Close(format!(
+            "{}\n",
+            encode_error("this is gantry's text channel, not HTTP (the viewer has its own port); connection closed")
+        )));
+    }
+    let token = client.token.as_ref().filter(|_| !client.authenticated)?;
+    let verdict = match auth_request(line) {
+        Some(candidate) if token.matches(candidate.as_bytes()) => {
+            client.authenticated = true;
+            return Some(Verdict::Reply(format!("{AUTH_OK}\n")));
+        }
+        Some(_) => "wrong access token; connection closed",
+        None => "access token required: send <AUTH#TOKEN> as the first line; connection closed",
+    };
+    // The peer and the reason, never what was sent: it may be a near-miss token.
+    tracing::warn!("text channel: closing {}: {verdict}", client.peer);
+    Some(Verdict::Close(format!("{}\n", encode_error(verdict))))
+}
+
+/// The reply line (with its newline) to one received line after the first.
+async fn handle_line(line: &str, client: &Client, sim: &SimHandle) -> String {
     if line.trim().is_empty() {
         // CoppeliaSim's server echoes whatever it received, an empty line included.
         return "\n".into();
     }
-    format!("{}\n", deliver(line, client, sim).await)
+    if let Some(candidate) = auth_request(line) {
+        // Authenticated already, or no token is set: a repeated `<AUTH#...>` is
+        // acknowledged when right and answered with an error (nothing closes) when wrong.
+        return match &client.token {
+            Some(t) if !t.matches(candidate.as_bytes()) => format!("{}\n", encode_error("wrong access token")),
+            _ => format!("{AUTH_OK}\n"),
+        };
+    }
+    format!("{}\n", deliver(line, client.id, sim).await)
+}
+
+/// The token offered by an `<AUTH#TOKEN>` line (code case-insensitive, spaces around
+/// the parts tolerated as in other packets), or `None` for any other line.
+fn auth_request(line: &str) -> Option<&str> {
+    let inner = line.trim().strip_prefix('<')?.strip_suffix('>')?;
+    let (code, token) = inner.split_once('#')?;
+    code.trim().eq_ignore_ascii_case("AUTH").then(|| token.trim())
+}
+
+/// Whether `line` is an HTTP request line such as `GET / HTTP/1.1`.
+fn is_http_request(line: &str) -> bool {
+    let mut parts = line.trim_end().split(' ');
+    match (parts.next(), parts.next(), parts.next(), parts.next()) {
+        (Some(method), Some(_target), Some(version), None) => {
+            !method.is_empty() && method.bytes().all(|b| b.is_ascii_uppercase()) && version.starts_with("HTTP/")
+        }
+        _ => false,
+    }
 }
 
 /// Parses one packet line, delivers it to the scripts' `sysCall_packet` on the
@@ -181,4 +313,58 @@ pub fn packet_value(p: &Packet, client: i64) -> Value {
         (Value::from("raw"), Value::Str(p.raw.clone())),
         (Value::from("client"), Value::Int(client)),
     ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auth_lines_are_recognised() {
+        assert_eq!(auth_request("<AUTH#abc123>"), Some("abc123"));
+        assert_eq!(auth_request(" < auth # abc123 > "), Some("abc123"));
+        assert_eq!(auth_request("<AUTH#>"), Some(""));
+        assert_eq!(auth_request("<FK#J1=0>"), None);
+        assert_eq!(auth_request("AUTH#abc123"), None);
+        assert_eq!(auth_request("<AUTHX#abc123>"), None);
+    }
+
+    #[test]
+    fn http_request_lines_are_recognised() {
+        assert!(is_http_request("GET / HTTP/1.1"));
+        assert!(is_http_request("POST /x?y=1 HTTP/1.0\r"));
+        assert!(!is_http_request("<FK#J1=0>"));
+        assert!(!is_http_request("get / HTTP/1.1"));
+        assert!(!is_http_request("GET /"));
+        assert!(!is_http_request(""));
+    }
+
+    fn client(token: Option<&str>) -> Client {
+        Client {
+            id: 1,
+            peer: SocketAddr::from(([127, 0, 0, 1], 1)),
+            token: token.map(|t| AccessToken::new(t).expect("valid")),
+            authenticated: token.is_none(),
+        }
+    }
+
+    #[test]
+    fn the_first_line_gate() {
+        let mut c = client(Some("right-token"));
+        assert!(matches!(first_line("<AUTH#right-token>", &mut c), Some(Verdict::Reply(r)) if r == "<AUTH#OK>\n"));
+        assert!(c.authenticated);
+        let mut c = client(Some("right-token"));
+        assert!(
+            matches!(first_line("<AUTH#wrong-token>", &mut c), Some(Verdict::Close(r)) if r.contains("wrong access token"))
+        );
+        assert!(
+            matches!(first_line("<FK#J1=0>", &mut c), Some(Verdict::Close(r)) if r.contains("access token required"))
+        );
+        let mut open = client(None);
+        assert!(
+            first_line("<FK#J1=0>", &mut open).is_none(),
+            "no token: an ordinary line"
+        );
+        assert!(matches!(first_line("GET / HTTP/1.1", &mut open), Some(Verdict::Close(r)) if r.contains("not HTTP")));
+    }
 }

@@ -20,9 +20,15 @@
 //! * `GET /api/status`: `{"time", "steps", "state", "viewers"}` as JSON;
 //! * `GET /api/graph/HANDLE.csv`: a graph's streams as CSV (the page's download link).
 //!
-//! Non-goals: authentication and TLS (the listener binds loopback by default, like the
-//! other channels), and editing the scene from the page.
+//! Access: the listener binds loopback by default, like the other channels. With an
+//! access token (`--token`) every route, the page, its assets, the WebSocket, the CSV
+//! downloads and the API, requires it ([`access`]: `?token=` then a cookie, or a bearer
+//! header). In every mode a WebSocket handshake from another site's page is refused.
+//!
+//! Non-goals: TLS (put gantry behind an SSH tunnel or a reverse proxy for that), user
+//! accounts, and editing the scene from the page.
 
+mod access;
 mod assets;
 mod command;
 mod frame;
@@ -36,7 +42,7 @@ use std::time::Duration;
 use axum::Router;
 use axum::extract::ws::WebSocketUpgrade;
 use axum::extract::{Path, State};
-use axum::http::{StatusCode, header};
+use axum::http::{HeaderMap, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use tokio::net::TcpListener;
@@ -52,6 +58,7 @@ pub use panels::{
 };
 pub use scene::{MAX_MESH_TRIANGLES, MSG_MESH, SceneDescription, describe};
 
+use crate::auth::AccessToken;
 use crate::sim_thread::SimHandle;
 
 /// Limits of the viewer server.
@@ -93,12 +100,13 @@ struct AppState {
 }
 
 /// Serves the page, its assets, the WebSocket and the HTTP API until `shutdown`
-/// turns true.
+/// turns true. With `token`, every route requires it (see [`access`]).
 pub async fn serve(
     listener: TcpListener,
     sim: SimHandle,
     frames: FrameSender,
     cfg: HttpConfig,
+    token: Option<AccessToken>,
     shutdown: watch::Receiver<bool>,
 ) {
     let state = AppState {
@@ -118,6 +126,20 @@ pub async fn serve(
         .route("/api/graph/{file}", get(graph_csv))
         .fallback(|| async { (StatusCode::NOT_FOUND, "not found: the viewer is at /\n") })
         .with_state(state);
+    // Layered last, so it wraps every route and the fallback.
+    let app = match (token, listener.local_addr()) {
+        (Some(token), Ok(local)) => app.layer(axum::middleware::from_fn_with_state(
+            access::Gate::new(token, local.port()),
+            access::check,
+        )),
+        (Some(_), Err(e)) => {
+            // Serving without the gate is not an option; without the port the cookie
+            // cannot be named, so refuse to serve at all.
+            tracing::error!("viewer not started: cannot read its address: {e}");
+            return;
+        }
+        (None, _) => app,
+    };
     let mut stop = shutdown;
     let result = axum::serve(listener, app)
         .with_graceful_shutdown(async move {
@@ -133,7 +155,15 @@ pub async fn serve(
     }
 }
 
-async fn websocket(ws: WebSocketUpgrade, State(st): State<AppState>) -> Response {
+async fn websocket(ws: WebSocketUpgrade, headers: HeaderMap, State(st): State<AppState>) -> Response {
+    if !access::same_origin(&headers) {
+        tracing::warn!("viewer: refusing a WebSocket opened by a page of another site");
+        return (
+            StatusCode::FORBIDDEN,
+            "WebSocket refused: it was opened by a page of another site; open the viewer from its own address\n",
+        )
+            .into_response();
+    }
     let Ok(permit) = st.viewers.clone().try_acquire_owned() else {
         tracing::warn!("viewer: refusing a page: {} already connected", st.cfg.max_viewers);
         return (

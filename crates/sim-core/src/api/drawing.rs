@@ -271,15 +271,26 @@ fn get_graph_stream_values(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> 
 /// per graph with streams, named after the graph's alias (`time` column, then
 /// `name [unit]` per stream, one row per sample time). The directory is created if
 /// needed; files are replaced atomically.
+///
+/// Scripts and remote clients both reach this function, so the directory must lie
+/// inside the world's [`ExportScope`] (in gantry: the scene's folder, against which a
+/// relative `dir` resolves); anything else is refused before touching the disk.
+///
+/// [`ExportScope`]: crate::world::ExportScope
 fn export_graph_streams(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let dir = a.str(0)?;
     if dir.is_empty() {
         return Err(ApiError::new("argument 1: directory must not be empty"));
     }
+    let target = w
+        .graphs
+        .export_scope()
+        .resolve(Path::new(dir))
+        .map_err(|e| ApiError::new(format!("cannot export graph streams to '{dir}': {e}")))?;
     let names = |h: Handle| w.object(h).map_or_else(|_| format!("graph{h}"), |o| o.alias.clone());
     let paths = w
         .graphs
-        .export_csv(Path::new(dir), names)
+        .export_csv(&target, names)
         .map_err(|e| ApiError::new(format!("cannot export graph streams to '{dir}': {e}")))?;
     Ok(vec![Value::Array(
         paths

@@ -94,11 +94,129 @@ impl GraphStream {
     }
 }
 
+/// Where `sim.exportGraphStreams` may write. The API function is reachable from
+/// scripts and from remote clients, neither of which should be able to write anywhere
+/// the gantry process can; `--export-graphs DIR` is the user's own choice and does not
+/// go through this.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub enum ExportScope {
+    /// Anywhere the process may write: the default for a world built directly in Rust,
+    /// whose caller is trusted. A host that runs scripts or serves remote clients
+    /// confines it (gantry's `Simulation` does, to the scene's folder).
+    #[default]
+    Anywhere,
+    /// Only inside this folder (the scene's). Relative paths resolve against it; an
+    /// absolute path is accepted only when it lies inside it.
+    Within(PathBuf),
+    /// Nowhere: the scene has no folder on disk (the scene embedded in the binary).
+    Nowhere,
+}
+
+/// Why [`ExportScope::resolve`] refused a directory.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ExportDenied {
+    /// The directory lies outside the scene's folder: an absolute path elsewhere, `..`
+    /// climbing out of it, or a symbolic link pointing out of it.
+    #[error(
+        "{dir} is outside the scene's folder {root}; scripts and remote clients may only write inside it (give a path relative to the scene, or run gantry with --export-graphs DIR)"
+    )]
+    Outside {
+        /// The directory asked for, as given.
+        dir: PathBuf,
+        /// The scene's folder.
+        root: PathBuf,
+    },
+    /// The scene's folder cannot be resolved (removed while running?).
+    #[error("the scene's folder {root} is not accessible ({reason}), so nothing can be exported into it")]
+    RootUnavailable {
+        /// The scene's folder.
+        root: PathBuf,
+        /// The operating system's reason.
+        reason: String,
+    },
+    /// The scene has no folder on disk.
+    #[error(
+        "this scene has no folder on disk (it is embedded in gantry), so scripts and remote clients cannot export; run gantry with --export-graphs DIR"
+    )]
+    NoFolder,
+}
+
+impl ExportScope {
+    /// The directory `dir` designates under this scope: `dir` itself for
+    /// [`ExportScope::Anywhere`], else `dir` resolved against the folder and checked to
+    /// stay inside it, both as written (`..` components) and on disk (symbolic links
+    /// are followed as far as the path exists).
+    ///
+    /// # Errors
+    /// The directory is outside the folder, the folder is not accessible, or the scope
+    /// is [`ExportScope::Nowhere`].
+    pub fn resolve(&self, dir: &Path) -> Result<PathBuf, ExportDenied> {
+        let root = match self {
+            ExportScope::Anywhere => return Ok(dir.to_owned()),
+            ExportScope::Nowhere => return Err(ExportDenied::NoFolder),
+            ExportScope::Within(root) => root,
+        };
+        let unavailable = |e: io::Error| ExportDenied::RootUnavailable {
+            root: root.clone(),
+            reason: e.to_string(),
+        };
+        let outside = || ExportDenied::Outside {
+            dir: dir.to_owned(),
+            root: root.clone(),
+        };
+        // An empty folder is the current directory (a scene file given without folder).
+        let base = if root.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            root
+        };
+        let base = lexical_normal(&std::path::absolute(base).map_err(unavailable)?);
+        // `join` keeps an absolute `dir` as it is, so both cases go through one check.
+        let target = lexical_normal(&base.join(dir));
+        if !target.starts_with(&base) {
+            return Err(outside());
+        }
+        // The path as written stays inside; a symbolic link on the way could still lead
+        // out, so compare real paths as far as the target exists.
+        let real_base = std::fs::canonicalize(&base).map_err(unavailable)?;
+        // `symlink_metadata`, so a dangling link counts as existing and is refused below
+        // (it cannot be resolved) instead of being skipped over.
+        let existing = target
+            .ancestors()
+            .find(|p| p.symlink_metadata().is_ok())
+            .unwrap_or(&base);
+        let real = std::fs::canonicalize(existing).map_err(|_| outside())?;
+        if !real.starts_with(&real_base) {
+            return Err(outside());
+        }
+        Ok(target)
+    }
+}
+
+/// `path` with `.` removed and each `..` cancelling the component before it, without
+/// touching the disk. A `..` at the root stays at the root, as the OS treats it.
+fn lexical_normal(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other.as_os_str()),
+        }
+    }
+    out
+}
+
 /// Every graph stream of the scene, in creation order.
 #[derive(Debug, Clone)]
 pub struct Graphs {
     streams: Vec<GraphStream>,
     next_id: i64,
+    /// Where the API may export to; see [`ExportScope`].
+    export_scope: ExportScope,
 }
 
 impl Default for Graphs {
@@ -106,11 +224,22 @@ impl Default for Graphs {
         Self {
             streams: Vec::new(),
             next_id: FIRST_STREAM_ID,
+            export_scope: ExportScope::default(),
         }
     }
 }
 
 impl Graphs {
+    /// Where `sim.exportGraphStreams` may write.
+    pub fn export_scope(&self) -> &ExportScope {
+        &self.export_scope
+    }
+
+    /// Confines (or frees) `sim.exportGraphStreams`; see [`ExportScope`].
+    pub fn set_export_scope(&mut self, scope: ExportScope) {
+        self.export_scope = scope;
+    }
+
     /// Adds a stream to `graph`, or updates the unit, options, colour and cyclic range
     /// of the stream of that name (keeping its samples), and returns its id. The caller
     /// checks that `graph` is a graph object.
@@ -393,6 +522,58 @@ mod tests {
         for w in ts.windows(2) {
             assert!(time_key(w[0]) < time_key(w[1]), "{} < {}", w[0], w[1]);
         }
+    }
+
+    /// A fresh folder under the system temp dir for one test.
+    fn temp_root(tag: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("gantry-graph-scope-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("scene")).expect("temp dir");
+        dir
+    }
+
+    #[test]
+    fn export_scope_keeps_paths_inside_the_scene_folder() {
+        let top = temp_root("inside");
+        let root = top.join("scene");
+        let scope = ExportScope::Within(root.clone());
+        assert_eq!(scope.resolve(Path::new("out")), Ok(root.join("out")));
+        assert_eq!(scope.resolve(Path::new("./a/../b/c")), Ok(root.join("b/c")));
+        assert_eq!(scope.resolve(Path::new(".")), Ok(root.clone()));
+        assert_eq!(
+            scope.resolve(&root.join("abs")),
+            Ok(root.join("abs")),
+            "absolute inside"
+        );
+        for bad in ["..", "../x", "a/../../x", "/tmp", "/"] {
+            let e = scope.resolve(Path::new(bad)).expect_err(bad);
+            assert!(matches!(e, ExportDenied::Outside { .. }), "{bad}: {e}");
+            assert!(e.to_string().contains("outside the scene's folder"), "{e}");
+        }
+        // The scene folder's own name after `..` is inside again: only the result counts.
+        assert_eq!(scope.resolve(Path::new("../scene/x")), Ok(root.join("x")));
+        assert_eq!(
+            ExportScope::Nowhere.resolve(Path::new("x")),
+            Err(ExportDenied::NoFolder)
+        );
+        assert_eq!(
+            ExportScope::Anywhere.resolve(Path::new("/tmp/x")),
+            Ok(PathBuf::from("/tmp/x"))
+        );
+        let _ = std::fs::remove_dir_all(&top);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn export_scope_refuses_a_symlink_out_of_the_scene_folder() {
+        let top = temp_root("symlink");
+        let root = top.join("scene");
+        std::fs::create_dir_all(top.join("elsewhere")).expect("dir");
+        std::os::unix::fs::symlink(top.join("elsewhere"), root.join("link")).expect("symlink");
+        let scope = ExportScope::Within(root.clone());
+        let e = scope.resolve(Path::new("link/sub")).expect_err("through the link");
+        assert!(matches!(e, ExportDenied::Outside { .. }), "{e}");
+        let _ = std::fs::remove_dir_all(&top);
     }
 
     #[test]

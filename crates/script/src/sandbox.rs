@@ -1,0 +1,161 @@
+//! The sandbox scripts run in: what a scene's Lua code may reach, and what it may not.
+//!
+//! Scripts are student or downloaded code running inside the user's process, so they get
+//! computation and the `sim` API, and nothing that reaches the machine:
+//!
+//! * no process, file or environment access: `io`, `package`, `debug` and the `os`
+//!   functions listed in [`REMOVED_OS`] are not loaded; `os.time`, `os.clock`, `os.date`
+//!   and `os.difftime` remain;
+//! * no loading of code other than the script's own file: the globals in
+//!   [`REMOVED_GLOBALS`] are gone (so no `require` of a C module, no bytecode), and script
+//!   files themselves are compiled as text only ([`SOURCE_MODE`]), because Lua does not
+//!   verify binary chunks and a crafted one can corrupt memory;
+//! * no way to change what other scripts see: every script gets its own copy of the
+//!   global tables ([`script_env`]), as in CoppeliaSim where each script has its own Lua
+//!   state, and the one thing all scripts still share, the string metatable, is
+//!   protected;
+//! * no use of the shared collector against the others: `__gc` finalizers are refused
+//!   (they would run at the collector's convenience, inside whichever script happens
+//!   to allocate, or outside any time budget) and `collectgarbage` cannot stop or retune
+//!   the collector;
+//! * files written through the API only inside the scene's folder ([`confine`]).
+//!
+//! Time and memory are bounded elsewhere (the time budget hook and the state's memory
+//! cap, see `simulation.rs`). Non-goal: protecting against a malicious Rust host or
+//! against the scene's author, who chose the scripts.
+
+use gantry_sim_core::World;
+use gantry_sim_core::scene::{EmbeddedFiles, SceneModel};
+use gantry_sim_core::world::ExportScope;
+use mlua::chunk::ChunkMode;
+use mlua::{Lua, LuaOptions, StdLib, Table, Value as LuaValue};
+
+use crate::simulation::ScriptLimits;
+
+/// Globals removed from the base library: each loads code from a file or from a string
+/// (which may be bytecode), bypassing the checks on script files.
+pub const REMOVED_GLOBALS: &[&str] = &["dofile", "loadfile", "load", "loadstring", "require"];
+
+/// `os` functions removed: they run programs, touch files, read the environment, end
+/// the process or change its locale.
+pub const REMOVED_OS: &[&str] = &["execute", "exit", "remove", "rename", "tmpname", "getenv", "setlocale"];
+
+/// How script files are compiled: text only, never precompiled bytecode.
+pub const SOURCE_MODE: ChunkMode = ChunkMode::Text;
+
+/// Lua run once on the fresh state, before the API is installed: guards on the few
+/// shared things that copying the globals per script cannot make private.
+const HARDEN: &str = r#"
+-- The string metatable is shared by every script (`s:upper()` goes through it). With
+-- `__metatable` set, `getmetatable('')` returns false instead of the table, so no
+-- script can swap its `__index` and change string methods for the others.
+getmetatable('').__metatable = false
+
+local rawsetmetatable, rawget, error, type, tostring = setmetatable, rawget, error, type, tostring
+setmetatable = function(t, mt)
+    -- Lua marks an object for finalization when its metatable has a `__gc` field at
+    -- this moment (even a placeholder later replaced), so this one check covers it.
+    if type(mt) == 'table' and rawget(mt, '__gc') ~= nil then
+        error('setmetatable: __gc finalizers are not allowed in gantry scripts '
+            .. '(the collector would run them outside the script\'s time budget)', 2)
+    end
+    return rawsetmetatable(t, mt)
+end
+
+local rawcollect = collectgarbage
+local allowed = { collect = true, count = true, step = true, isrunning = true }
+collectgarbage = function(opt, ...)
+    if opt == nil or allowed[opt] then
+        return rawcollect(opt, ...)
+    end
+    error("collectgarbage('" .. tostring(opt) .. "') is not allowed in gantry scripts: the "
+        .. 'collector is shared by every script (allowed: collect, count, step, isrunning)', 2)
+end
+"#;
+
+/// A Lua state with the safe standard libraries only (no `io`, no `package`, no
+/// `debug`), without the globals and `os` functions listed above, with the shared
+/// metatables guarded and the memory capped at `limits.memory`.
+///
+/// # Errors
+/// Lua could not allocate the state.
+pub(crate) fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
+    // `new_with` refuses the unsafe libraries (debug, ffi) and, in this "safe" mode,
+    // C modules; `package` is simply not loaded.
+    let lua = Lua::new_with(
+        StdLib::TABLE | StdLib::STRING | StdLib::MATH | StdLib::UTF8 | StdLib::COROUTINE | StdLib::OS,
+        LuaOptions::default(),
+    )?;
+    let g = lua.globals();
+    for name in REMOVED_GLOBALS {
+        g.raw_set(*name, LuaValue::Nil)?;
+    }
+    let os: Table = g.get("os")?;
+    for name in REMOVED_OS {
+        os.raw_set(*name, LuaValue::Nil)?;
+    }
+    lua.load(HARDEN).set_name("@gantry/sandbox.lua").exec()?;
+    lua.set_memory_limit(limits.memory)?;
+    Ok(lua)
+}
+
+/// A fresh global table for one script: a copy of the state's globals in which every
+/// table (`sim`, `string`, `math`, ...) is itself copied, and `_G` is the script's own
+/// table. A script that assigns `sim.getObject` or `string.format`, even with
+/// `rawset`, changes only its own copy, as in CoppeliaSim, where each script has its
+/// own Lua state. Functions are shared: they hold no state a script can reach.
+///
+/// Call it after the API is installed: later changes to the globals are not seen.
+///
+/// # Errors
+/// Out of memory.
+pub(crate) fn script_env(lua: &Lua) -> mlua::Result<Table> {
+    let globals = lua.globals();
+    // Original table -> its copy, so shared and cyclic references stay shared and
+    // cyclic within the copy, and `_G` maps to the new table itself.
+    let copies = lua.create_table()?;
+    let env = lua.create_table()?;
+    copies.raw_set(&globals, &env)?;
+    copy_into(lua, &globals, &env, &copies)?;
+    Ok(env)
+}
+
+/// Copies every entry of `from` into `to`, tables through `copies` (see [`script_env`]).
+fn copy_into(lua: &Lua, from: &Table, to: &Table, copies: &Table) -> mlua::Result<()> {
+    for pair in from.pairs::<LuaValue, LuaValue>() {
+        let (k, v) = pair?;
+        let v = match v {
+            LuaValue::Table(t) => LuaValue::Table(copy_table(lua, &t, copies)?),
+            other => other,
+        };
+        to.raw_set(k, v)?;
+    }
+    Ok(())
+}
+
+fn copy_table(lua: &Lua, t: &Table, copies: &Table) -> mlua::Result<Table> {
+    if let Some(done) = copies.raw_get::<Option<Table>>(t)? {
+        return Ok(done);
+    }
+    let copy = lua.create_table()?;
+    copies.raw_set(t, &copy)?;
+    copy_into(lua, t, &copy, copies)?;
+    // Library tables have no metatables; a table that had one keeps it (shared), as
+    // copying metatables could change what its metamethods see.
+    if let Some(mt) = t.metatable() {
+        copy.set_metatable(Some(mt))?;
+    }
+    Ok(copy)
+}
+
+/// Confines the API's file exports (`sim.exportGraphStreams`) to the scene's folder, or
+/// forbids them for a scene embedded in the binary, which has no folder on disk. Remote
+/// clients call the same functions on the same world, so they are confined too.
+pub(crate) fn confine(world: &mut World, model: &SceneModel) {
+    let scope = if model.base_dir.starts_with(EmbeddedFiles::ROOT) {
+        ExportScope::Nowhere
+    } else {
+        ExportScope::Within(model.base_dir.clone())
+    };
+    world.graphs.set_export_scope(scope);
+}
