@@ -22,8 +22,9 @@ use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::world::SimulationState;
 use gantry_sim_core::{Handle, Value, World};
 use mlua::{Function, HookTriggers, Lua, MultiValue, Table, Value as LuaValue, VmState};
+use smallvec::SmallVec;
 
-use crate::convert::{to_multi, to_value};
+use crate::convert::{to_lua, to_multi, to_value};
 use crate::sandbox::{self, SOURCE_MODE, new_state};
 
 /// Limits that keep a script from stalling or exhausting the simulator.
@@ -821,8 +822,14 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
             let call = f.call;
             let qualified = format!("{}.{}", module.name, f.name);
             let func = lua.create_function(move |lua, args: MultiValue| {
-                let values = args.iter().map(to_value).collect::<mlua::Result<Vec<_>>>()?;
-                let source = shared.current_name.borrow().clone();
+                // This runs for every API call a script makes, often dozens per step: no
+                // heap allocation for the usual handful of arguments, and the caller's
+                // name is borrowed, not copied (API functions never call back into Lua).
+                let values = args
+                    .iter()
+                    .map(to_value)
+                    .collect::<mlua::Result<SmallVec<[Value; 4]>>>()?;
+                let source = shared.current_name.borrow();
                 let ctx = CallContext {
                     script_object: shared.current.get(),
                     source: &source,
@@ -837,8 +844,11 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
                 // The Lua wrapper turns (false, message) into a Lua string error.
                 match result {
                     Ok(ret) => {
-                        let mut out = to_multi(lua, &ret)?;
-                        out.push_front(LuaValue::Boolean(true));
+                        let mut out = MultiValue::with_capacity(ret.len() + 1);
+                        out.push_back(LuaValue::Boolean(true));
+                        for v in ret.iter() {
+                            out.push_back(to_lua(lua, v)?);
+                        }
                         Ok(out)
                     }
                     Err(e) => Ok(MultiValue::from_iter([

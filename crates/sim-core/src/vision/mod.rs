@@ -159,25 +159,43 @@ impl SensorImage {
     }
 
     /// CoppeliaSim's packet 1: min, max and average of intensity, R, G, B and depth.
+    ///
+    /// It runs after every render, so it works on the bytes: channel sums and extremes in
+    /// integers (intensity as r + g + b, 0..765), converted once at the end. The result is
+    /// the same as per-pixel floating point, without its cost.
     fn packet1(&self) -> Vec<f64> {
-        let mut min = [f64::INFINITY; 5];
-        let mut max = [f64::NEG_INFINITY; 5];
-        let mut sum = [0.0f64; 5];
-        for (px, &d) in self.rgb.chunks_exact(3).zip(&self.depth) {
-            let [r, g, b] = [px[0], px[1], px[2]].map(|c| f64::from(c) / 255.0);
-            let v = [(r + g + b) / 3.0, r, g, b, f64::from(d)];
-            for k in 0..5 {
+        if self.depth.is_empty() {
+            return vec![0.0; 15];
+        }
+        // [intensity (r + g + b), r, g, b]
+        let mut min = [u32::MAX; 4];
+        let mut max = [0u32; 4];
+        let mut sum = [0u64; 4];
+        for px in self.rgb.chunks_exact(3) {
+            let [r, g, b] = [px[0], px[1], px[2]].map(u32::from);
+            let v = [r + g + b, r, g, b];
+            for k in 0..4 {
                 min[k] = min[k].min(v[k]);
                 max[k] = max[k].max(v[k]);
-                sum[k] += v[k];
+                sum[k] += u64::from(v[k]);
             }
         }
-        let n = self.depth.len().max(1) as f64;
-        min.iter()
-            .chain(&max)
-            .copied()
-            .chain(sum.iter().map(|s| s / n))
-            .collect()
+        let (mut dmin, mut dmax, mut dsum) = (f32::INFINITY, f32::NEG_INFINITY, 0.0f64);
+        for &d in &self.depth {
+            dmin = dmin.min(d);
+            dmax = dmax.max(d);
+            dsum += f64::from(d);
+        }
+        let n = self.depth.len() as f64;
+        let scale = [765.0, 255.0, 255.0, 255.0];
+        let mut out = Vec::with_capacity(15);
+        out.extend((0..4).map(|k| f64::from(min[k]) / scale[k]));
+        out.push(f64::from(dmin));
+        out.extend((0..4).map(|k| f64::from(max[k]) / scale[k]));
+        out.push(f64::from(dmax));
+        out.extend((0..4).map(|k| sum[k] as f64 / n / scale[k]));
+        out.push(dsum / n);
+        out
     }
 }
 
