@@ -20,6 +20,11 @@ use crate::stepping::{ClientId, Stepping, SteppingError};
 /// Most requests queued for the simulation thread; beyond this, transports answer
 /// "busy" instead of growing memory.
 pub const QUEUE_CAPACITY: usize = 4096;
+/// How long the simulation thread polls for the next request before parking, and for
+/// how long after the last request it keeps doing so. The poll yields the core, so an
+/// idle simulator burns nothing and a busy client saves a thread wake-up per call.
+const SPIN_FOR: Duration = Duration::from_micros(200);
+const SPIN_AFTER_ACTIVITY: Duration = Duration::from_millis(20);
 
 /// A request to the simulation thread.
 pub enum Request {
@@ -291,6 +296,7 @@ pub fn run_sim_thread_observed(
     let mut origin = Instant::now();
     let mut paced_steps = 0u64;
     let mut last_reload = Instant::now();
+    let mut last_served = start.checked_sub(SPIN_AFTER_ACTIVITY).unwrap_or(start);
     'outer: loop {
         observer.observe(&lp.sim, lp.steps);
         if should_stop() || config.steps.is_some_and(|n| lp.steps >= n) {
@@ -324,8 +330,27 @@ pub fn run_sim_thread_observed(
             paced_steps = 0;
             Duration::from_millis(50)
         };
-        match rx.recv_timeout(wait) {
+        // A remote client in a call loop sends its next request within microseconds of
+        // the last reply; waking a parked thread costs tens of microseconds, which would
+        // be most of such a call. So, right after serving, poll briefly before parking.
+        let mut early = None;
+        if last_served.elapsed() < SPIN_AFTER_ACTIVITY {
+            let until = Instant::now() + SPIN_FOR.min(wait);
+            while Instant::now() < until {
+                if let Ok(req) = rx.try_recv() {
+                    early = Some(req);
+                    break;
+                }
+                std::thread::yield_now();
+            }
+        }
+        let received = match early {
+            Some(req) => Ok(req),
+            None => rx.recv_timeout(wait),
+        };
+        match received {
             Ok(req) => {
+                last_served = Instant::now();
                 lp.serve(req);
                 while let Ok(req) = rx.try_recv() {
                     lp.serve(req);
