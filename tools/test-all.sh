@@ -5,9 +5,10 @@
 #   bash tools/test-all.sh
 #
 # Stages: formatting, lints, the dependency-direction rule, the Rust tests (unit,
-# crate contracts, end-to-end against the real binary), the fuzz crate's build, the
-# Python suite that drives a real gantry with CoppeliaSim's own ZMQ client, and the
-# browser test (headless Chromium from Debian, driven by Playwright).
+# crate contracts, end-to-end against the real binary), a short run of every fuzz
+# target, the Python suite that drives a real gantry with CoppeliaSim's own ZMQ client,
+# a 20 s soak under hundreds of clients, and the browser test (headless Chromium from
+# Debian, driven by Playwright).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -38,11 +39,14 @@ fi
 stage "Rust tests (cargo test --workspace)"
 cargo test --workspace
 
-stage "fuzz targets compile (running them needs nightly: see fuzz/README.md)"
-(cd fuzz && cargo check --quiet)
+stage "fuzz smoke: every cargo-fuzz target for 15 s from its seeds (installs nightly and cargo-fuzz if missing)"
+bash tools/fuzz-smoke.sh --seconds 15
 
 stage "Python suite: CoppeliaSim's ZMQ client against a real gantry"
 bash .ci/python-tests.sh
+
+stage "soak: 200 text, 20 ZMQ and 4 viewer clients for 20 s, some killed mid-request; fds, memory, real-time factor"
+bash tools/soak.sh --seconds 20
 
 stage "browser test: the viewer page in headless chromium (Playwright) against a real gantry"
 bash tools/browser-test.sh

@@ -217,15 +217,26 @@ pub fn run(
             }
         }
     }
+    // Signals are caught from before `on_ready` announces the listeners: a client that
+    // sees them and at once sends SIGTERM must get a clean stop, not the default action
+    // (death by signal, no cleanup, no export).
+    let mut signals = {
+        let _rt = rt.enter();
+        Signals::register()
+    };
     on_ready(&bound);
 
-    // Signals only set the flag; the simulation thread notices it between steps.
+    // The first signal only sets the flag; the simulation thread notices it between
+    // steps, runs the cleanup hooks and exports. A second one exits at once.
     {
         let shutdown = shutdown.clone();
         rt.spawn(async move {
-            wait_for_signal().await;
-            tracing::info!("stopping (signal received)");
+            signals.recv().await;
+            tracing::info!("stopping (signal received; another one exits without cleanup)");
             shutdown.trigger();
+            signals.recv().await;
+            tracing::warn!("second signal: exiting without cleanup");
+            std::process::exit(130);
         });
     }
     let sim_shutdown = shutdown.clone();
@@ -266,21 +277,50 @@ fn zmq_ip(serve: &ServeConfig) -> IpAddr {
     }
 }
 
-async fn wait_for_signal() {
+/// Ctrl-C (SIGINT) and SIGTERM. Registered on creation (unlike `tokio::signal::ctrl_c`,
+/// which registers when first polled), so neither kills the process from then on.
+struct Signals {
     #[cfg(unix)]
-    {
-        use tokio::signal::unix::{SignalKind, signal};
-        let Ok(mut term) = signal(SignalKind::terminate()) else {
-            let _ = tokio::signal::ctrl_c().await;
-            return;
-        };
-        tokio::select! {
-            _ = tokio::signal::ctrl_c() => {}
-            _ = term.recv() => {}
+    int: Option<tokio::signal::unix::Signal>,
+    #[cfg(unix)]
+    term: Option<tokio::signal::unix::Signal>,
+}
+
+impl Signals {
+    /// Must run inside the runtime (`Runtime::enter`).
+    fn register() -> Self {
+        #[cfg(unix)]
+        {
+            use tokio::signal::unix::{SignalKind, signal};
+            Self {
+                int: signal(SignalKind::interrupt()).ok(),
+                term: signal(SignalKind::terminate()).ok(),
+            }
         }
+        #[cfg(not(unix))]
+        Self {}
     }
-    #[cfg(not(unix))]
-    {
-        let _ = tokio::signal::ctrl_c().await;
+
+    /// The next signal. Never returns if none could be registered.
+    async fn recv(&mut self) {
+        #[cfg(unix)]
+        {
+            async fn next(s: &mut Option<tokio::signal::unix::Signal>) {
+                if let Some(s) = s
+                    && s.recv().await.is_some()
+                {
+                    return;
+                }
+                std::future::pending().await
+            }
+            tokio::select! {
+                () = next(&mut self.int) => {}
+                () = next(&mut self.term) => {}
+            }
+        }
+        #[cfg(not(unix))]
+        if tokio::signal::ctrl_c().await.is_err() {
+            std::future::pending::<()>().await;
+        }
     }
 }
