@@ -10,6 +10,7 @@ pub mod sim_thread;
 pub mod stepping;
 pub mod text;
 pub mod zmq;
+pub mod zmq_guard;
 
 pub use auth::{AccessToken, TokenError};
 pub use runner::{BoundAddrs, ServeConfig, ServerError, Shutdown, run};

@@ -148,13 +148,14 @@ pub fn run(
         }
         if let Some(port) = serve.zmq_port {
             let addr = SocketAddr::new(zmq_ip(&serve), port);
-            let (socket, local) = crate::zmq::bind(addr)
+            // `local` is the public port, watched by the guard (crate::zmq_guard).
+            let (listener, local) = crate::zmq::bind(addr)
                 .await
                 .map_err(|source| ServerError::Bind { addr, source })?;
             tracing::info!("ZMQ remote API listening on {local}");
             bound.zmq = Some(local);
             tokio::spawn(crate::zmq::serve(
-                socket,
+                listener,
                 handle.clone(),
                 crate::zmq::ZmqConfig::default(),
                 stop_rx.clone(),

@@ -6,6 +6,9 @@
 //! reply may be deferred: a client parked in `sim.step()` waits for its reply while
 //! the others are served. Each frame holds one CBOR map; the codec lives in
 //! [`gantry_protocol::remote_api`] and this module only moves bytes and keeps sessions.
+//! Clients do not reach the socket directly: it listens on an internal loopback port
+//! behind [`crate::zmq_guard`], which owns the public port and refuses malformed ZMTP
+//! framing that the `zeromq` crate would act on (it has no size limit of its own).
 //!
 //! What is served where:
 //! * `zmqRemoteApi.require` / `zmqRemoteApi.info` for `sim`: here. INFO is generated
@@ -29,7 +32,7 @@
 //! strings), `eval`, and protocol v1 (answered with the real server's mismatch error).
 
 use std::collections::HashMap;
-use std::net::SocketAddr;
+use std::net::{Ipv4Addr, SocketAddr};
 use std::time::{Duration, Instant};
 
 use bytes::Bytes;
@@ -44,6 +47,7 @@ use zeromq::{RouterRecvHalf, RouterSendHalf, RouterSocket, Socket, SocketRecv, S
 
 use crate::sim_thread::{RemoteOp, Request, SimHandle};
 use crate::stepping::ClientId;
+use crate::zmq_guard;
 
 /// Functions that `Simulation::call` implements beyond [`api::FUNCTIONS`] (they need the
 /// Lua state, so they live in the script crate).
@@ -102,22 +106,53 @@ impl Default for ZmqConfig {
     }
 }
 
-/// Binds a ROUTER socket on `addr` (port 0 picks a free port) and returns it with the
-/// address actually bound.
-///
-/// # Errors
-/// The OS refused the address (in use, not local, no permission).
-pub async fn bind(addr: SocketAddr) -> std::io::Result<(RouterSocket, SocketAddr)> {
-    // Binding the TCP listener ourselves gives a plain io::Error and the chosen port.
-    let listener = std::net::TcpListener::bind(addr)?;
-    let local = listener.local_addr()?;
-    let mut socket = RouterSocket::new();
-    socket.bind_listener(listener).await.map_err(std::io::Error::other)?;
-    Ok((socket, local))
+/// The ZMQ remote API's listeners: the public port, watched by [`crate::zmq_guard`], and
+/// the ROUTER socket behind it on an internal loopback port.
+pub struct Listener {
+    /// The public port (what clients connect to and what is logged).
+    public: tokio::net::TcpListener,
+    /// The ROUTER socket's own port, reached only through the guard.
+    internal: SocketAddr,
+    /// The ROUTER socket, bound on `internal`.
+    socket: RouterSocket,
 }
 
-/// Serves remote API clients on `socket` until `shutdown` turns true.
-pub async fn serve(socket: RouterSocket, sim: SimHandle, cfg: ZmqConfig, mut shutdown: watch::Receiver<bool>) {
+/// Binds the remote API on `addr` (port 0 picks a free port) and returns it with the
+/// public address actually bound.
+///
+/// The ROUTER socket itself binds 127.0.0.1 on a free port, and every client reaches it
+/// through the guard on `addr`, which refuses malformed ZMTP framing before the
+/// `zeromq` crate can act on it (see [`crate::zmq_guard`]).
+///
+/// # Errors
+/// The OS refused the address (in use, not local, no permission), or the internal
+/// loopback port.
+pub async fn bind(addr: SocketAddr) -> std::io::Result<(Listener, SocketAddr)> {
+    let public = tokio::net::TcpListener::bind(addr).await?;
+    let local = public.local_addr()?;
+    // Binding the TCP listener ourselves gives a plain io::Error and the chosen port.
+    let listener = std::net::TcpListener::bind((Ipv4Addr::LOCALHOST, 0))?;
+    let internal = listener.local_addr()?;
+    let mut socket = RouterSocket::new();
+    socket.bind_listener(listener).await.map_err(std::io::Error::other)?;
+    Ok((
+        Listener {
+            public,
+            internal,
+            socket,
+        },
+        local,
+    ))
+}
+
+/// Serves remote API clients on `listener` until `shutdown` turns true.
+pub async fn serve(listener: Listener, sim: SimHandle, cfg: ZmqConfig, mut shutdown: watch::Receiver<bool>) {
+    let Listener {
+        public,
+        internal,
+        socket,
+    } = listener;
+    tokio::spawn(zmq_guard::serve(public, internal, shutdown.clone()));
     let (tx, mut rx): (RouterSendHalf, RouterRecvHalf) = socket.split();
     let mut server = Server::new(sim, cfg, tx);
     let mut sweep = tokio::time::interval(server.cfg.sweep_interval);

@@ -9,6 +9,8 @@ use std::time::{Duration, Instant};
 use gantry_protocol::remote_api::{FUNC_END, FUNC_EXECUTED, FUNC_WAIT, Reply, Request, decode_reply, encode_request};
 use gantry_protocol::{Value, cbor};
 use gantry_server::ServeConfig;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::TcpStream;
 use util::InProcess;
 use zeromq::{ReqSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
 
@@ -613,13 +615,86 @@ async fn wrong_peers_do_not_stop_the_listener() {
     }
     // A raw TCP peer speaking garbage instead of ZMTP.
     {
-        use tokio::io::AsyncWriteExt;
-        let mut s = tokio::net::TcpStream::connect(("127.0.0.1", server.port))
-            .await
-            .unwrap();
+        let mut s = TcpStream::connect(("127.0.0.1", server.port)).await.unwrap();
         let _ = s.write_all(&[0x13; 4096]).await;
     }
     tokio::time::sleep(Duration::from_millis(100)).await;
     let mut c = Client::connect(server.port, "after").await;
     assert_eq!(c.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
+}
+
+/// A ZMTP 3.0 greeting with the NULL mechanism, as a client sends it.
+fn zmtp_greeting() -> Vec<u8> {
+    let mut g = vec![0u8; 64];
+    g[0] = 0xff;
+    g[9] = 0x7f;
+    g[10] = 3;
+    g[12..16].copy_from_slice(b"NULL");
+    g
+}
+
+/// Reads until the server closes `s` (whatever it sent first, e.g. its greeting).
+async fn closed_by_server(s: &mut TcpStream) {
+    let mut buf = [0u8; 1024];
+    let drained = async {
+        while let Ok(n) = s.read(&mut buf).await
+            && n > 0
+        {}
+    };
+    tokio::time::timeout(Duration::from_secs(10), drained)
+        .await
+        .expect("the server closes the connection");
+}
+
+/// Regression: the `zeromq` crate reserved memory for any frame length a peer announced,
+/// so a greeting and the 9-byte header of a 2^50-byte frame made gantry abort ("memory
+/// allocation of 1125899906908169 bytes failed"). Now that connection alone is closed.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_oversized_frame_length_closes_only_that_connection() {
+    let server = Server::start("fk_arm");
+    let mut before = Client::connect(server.port, "connected-before").await;
+    assert_eq!(before.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
+
+    let mut raw = TcpStream::connect(("127.0.0.1", server.port)).await.unwrap();
+    let header = [&[0x06][..], &(1u64 << 50).to_be_bytes()].concat();
+    raw.write_all(&[zmtp_greeting(), header].concat()).await.unwrap();
+    closed_by_server(&mut raw).await;
+    // Also as a data frame, with the header split over two writes.
+    let mut raw = TcpStream::connect(("127.0.0.1", server.port)).await.unwrap();
+    raw.write_all(&[zmtp_greeting(), vec![0x02, 0, 0, 4]].concat())
+        .await
+        .unwrap();
+    raw.write_all(&[0; 5]).await.unwrap();
+    closed_by_server(&mut raw).await;
+
+    // The client connected before keeps its session, and new clients are served.
+    let h = before.ok("sim.getObject", vec!["/arm6/joint1".into()]).await;
+    assert!(matches!(h[..], [Value::Int(_)]), "{h:?}");
+    let mut after = Client::connect(server.port, "connected-after").await;
+    assert_eq!(after.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
+    assert_eq!(before.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
+}
+
+/// Frame flags with reserved bits set (ZMTP 3 allows only MORE, LONG and COMMAND) close
+/// that connection, after a valid greeting and handshake; nobody else notices.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn bad_frame_flags_close_only_that_connection() {
+    let server = Server::start("fk_arm");
+    let mut before = Client::connect(server.port, "connected-before").await;
+    assert_eq!(before.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
+
+    let ready = b"\x05READY\x0bSocket-Type\x00\x00\x00\x03REQ";
+    for flags in [0x08u8, 0x80, 0xff] {
+        let mut raw = TcpStream::connect(("127.0.0.1", server.port)).await.unwrap();
+        raw.write_all(&[zmtp_greeting(), vec![0x04, ready.len() as u8], ready.to_vec()].concat())
+            .await
+            .unwrap();
+        raw.write_all(&[flags, 1, 0]).await.unwrap();
+        closed_by_server(&mut raw).await;
+    }
+
+    let h = before.ok("sim.getObject", vec!["/arm6/joint1".into()]).await;
+    assert!(matches!(h[..], [Value::Int(_)]), "{h:?}");
+    let mut after = Client::connect(server.port, "connected-after").await;
+    assert_eq!(after.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
 }
