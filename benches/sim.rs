@@ -59,7 +59,9 @@ fn rapier_rate(model: &SceneModel, seconds: f64) -> f64 {
 }
 
 /// `n` BubbleRobs, each with its own script (the lab sheet's, or with `controller` the
-/// benchmark's obstacle avoidance alone), in cells of a grid with two obstacles each.
+/// benchmark's obstacle avoidance alone), in cells of a grid with two obstacles each,
+/// walled in so that no rover drives off the floor. tools/bench/pybullet_bench.py builds
+/// the same arena.
 fn rovers(n: usize, controller: bool) -> SceneModel {
     let text = std::fs::read_to_string(root().join("assets/scenes/bubble_rob.toml")).expect("scene text");
     let mut blocks = text.split("\n[[object]]\n");
@@ -99,8 +101,94 @@ fn rovers(n: usize, controller: bool) -> SceneModel {
             ));
         }
     }
+    // Walls along the floor's edges, 0.1 m thick and 0.2 m high.
+    let h = extent / 2.0;
+    for (k, (x, y, sx, sy)) in [
+        (0.0, h, extent, 0.1),
+        (0.0, -h, extent, 0.1),
+        (h, 0.0, 0.1, extent),
+        (-h, 0.0, 0.1, extent),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        out.push_str(&format!(
+            "\n[[object]]\nname = \"wall{k}\"\nkind = \"shape\"\nshape = \"box\"\nsize = [{sx}, {sy}, 0.2]\nposition = [{x}, {y}, 0.1]\n"
+        ));
+    }
     let path = root().join("assets/scenes/rovers_generated.toml");
     load_scene_text(&DiskFiles, &out, &path, &LoadOptions::default()).expect("generated scene loads")
+}
+
+/// The rover fleet's floor: the benchmark controller (scripts/bench/rover_controller.lua)
+/// written straight against rapier: a ray from each rover's nose through rapier's query
+/// pipeline instead of the proximity cone, motor targets through the multibody API, no
+/// object tree, scripts or sensors. The rovers move as they do in gantry, so both worlds
+/// have the same contacts to solve.
+fn rover_rapier_rate(model: &SceneModel, seconds: f64) -> f64 {
+    use gantry_sim_core::rapier3d::prelude::{JointAxis, MultibodyJointHandle, QueryFilter, Ray, RigidBodyHandle};
+    let speed = 175f32.to_radians();
+    let dt = model.settings.dt;
+    let (mut pw, rapier_steps) = World::new(model).into_rapier();
+    // Each rover is one multibody: its body is the root, its two wheels the links whose
+    // joint sits at +y (left) or -y (right) of the body.
+    struct Rover {
+        body: RigidBodyHandle,
+        left: MultibodyJointHandle,
+        right: MultibodyJointHandle,
+        back_until: f64,
+    }
+    let mut wheels: std::collections::HashMap<RigidBodyHandle, [Option<MultibodyJointHandle>; 2]> = Default::default();
+    for (h, _, mb, link) in pw.multibody_joints.iter() {
+        if link.joint.ndofs() == 1 {
+            let side = usize::from(link.joint.data.local_frame1.translation.y < 0.0);
+            wheels.entry(mb.root().rigid_body_handle()).or_default()[side] = Some(h);
+        }
+    }
+    let mut fleet: Vec<Rover> = wheels
+        .into_iter()
+        .map(|(body, [l, r])| Rover {
+            body,
+            left: l.expect("left wheel"),
+            right: r.expect("right wheel"),
+            back_until: -1.0,
+        })
+        .collect();
+    fleet.sort_by_key(|r| r.body.into_raw_parts());
+    let mut steps = 0u64;
+    let t = Instant::now();
+    while t.elapsed().as_secs_f64() < seconds {
+        let time = steps as f64 * dt;
+        for r in &mut fleet {
+            let pose = *pw.bodies[r.body].position();
+            let ahead = pose.rotation * gantry_sim_core::rapier3d::math::Vector::X;
+            let ray = Ray::new(pose.translation + ahead * 0.1, ahead);
+            let qp = pw
+                .query_pipeline()
+                .with_filter(QueryFilter::default().exclude_rigid_body(r.body));
+            if qp.cast_ray(&ray, 0.155, true).is_some() {
+                r.back_until = time + 4.0;
+            }
+            let (vl, vr) = if r.back_until < time {
+                (speed, speed)
+            } else {
+                (-speed / 2.0, -speed / 8.0)
+            };
+            for (joint, v) in [(r.left, vl), (r.right, vr)] {
+                if let Some((mb, link)) = pw.multibody_joints.get_mut(joint)
+                    && let Some(l) = mb.link_mut(link)
+                {
+                    let m = l.joint.data.motor(JointAxis::AngX).copied().expect("velocity motor");
+                    l.joint.data.set_motor(JointAxis::AngX, 0.0, v, 0.0, m.damping);
+                }
+            }
+        }
+        for _ in 0..rapier_steps {
+            pw.step();
+        }
+        steps += 1;
+    }
+    steps as f64 / t.elapsed().as_secs_f64()
 }
 
 fn without_scripts(mut m: SceneModel) -> SceneModel {
@@ -204,7 +292,7 @@ fn arm(steps: u64) -> Json {
 fn rover_scaling(secs: f64) -> Json {
     println!("\n### BubbleRobs, each running its own script (dt 0.05 s, 10 substeps)\n");
     println!(
-        "| rovers | lab-sheet script steps/s | rtf | controller only steps/s | rtf | no scripts steps/s | bare rapier steps/s | controller / rapier |"
+        "| rovers | lab-sheet script steps/s | rtf | controller only steps/s | rtf | no scripts (parked) steps/s | bare rapier, same controller steps/s | controller / rapier |"
     );
     println!("|---|---|---|---|---|---|---|---|");
     let mut out = Vec::new();
@@ -214,7 +302,7 @@ fn rover_scaling(secs: f64) -> Json {
         let lab = gantry_rate(&model, secs);
         let ctl = gantry_rate(&rovers(n, true), secs);
         let ns = gantry_rate(&without_scripts(model.clone()), secs);
-        let r = rapier_rate(&model, secs);
+        let r = rover_rapier_rate(&model, secs);
         println!(
             "| {n} | {lab:.1} | {:.1} | {ctl:.1} | {:.1} | {ns:.1} | {r:.1} | {:.2} |",
             lab * dt,

@@ -87,6 +87,11 @@ def rover_world(n: int, client: int) -> list[tuple[int, int, int]]:
     floor = p.createCollisionShape(p.GEOM_BOX, halfExtents=[extent / 2, extent / 2, 0.05], physicsClientId=client)
     p.createMultiBody(0, floor, basePosition=[0, 0, -0.05], physicsClientId=client)
     post = p.createCollisionShape(p.GEOM_CYLINDER, radius=0.05, height=0.2, physicsClientId=client)
+    # Walls along the floor's edges, 0.1 m thick and 0.2 m high, as in benches/sim.rs.
+    h = extent / 2
+    for x, y, sx, sy in [(0, h, extent, 0.1), (0, -h, extent, 0.1), (h, 0, 0.1, extent), (-h, 0, 0.1, extent)]:
+        wall = p.createCollisionShape(p.GEOM_BOX, halfExtents=[sx / 2, sy / 2, 0.1], physicsClientId=client)
+        p.createMultiBody(0, wall, basePosition=[x, y, 0.1], physicsClientId=client)
     rovers = []
     for i in range(n):
         cx = (i % side) * cell - extent / 2 + 1.5
