@@ -441,7 +441,13 @@ fn main() {
         "gantry benchmark, {} cores, {secs} s per figure",
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
-    let mut report = serde_json::Map::new();
+    let dir = root().join("target/bench");
+    let path = dir.join("gantry.json");
+    // A subset run updates its sections and keeps the others' last figures.
+    let mut report = std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Map<String, Json>>(&t).ok())
+        .unwrap_or_default();
     report.insert(
         "cores".into(),
         json!(std::thread::available_parallelism().map_or(1, |n| n.get())),
@@ -458,9 +464,7 @@ fn main() {
     if want("text") {
         report.insert("text".into(), text_latency());
     }
-    let dir = root().join("target/bench");
     std::fs::create_dir_all(&dir).expect("target/bench");
-    let path = dir.join("gantry.json");
     std::fs::write(
         &path,
         serde_json::to_string_pretty(&Json::Object(report)).expect("json"),

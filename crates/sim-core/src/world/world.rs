@@ -447,12 +447,18 @@ impl World {
     /// [`World::advance_time`]), because CoppeliaSim scripts see the step's start time
     /// until the step ends.
     pub fn step_physics(&mut self) {
-        // Kinematic bodies follow the tree.
+        // Kinematic bodies follow the tree. Only those that moved are touched: rapier
+        // treats every body given a target as moving (broad phase, contacts) even when
+        // the target is where it already is.
         for e in &self.physics.bodies {
-            if e.role == BodyRole::Kinematic
-                && let Some(rb) = self.physics.world.bodies.get_mut(e.handle)
+            if e.role != BodyRole::Kinematic {
+                continue;
+            }
+            let target = math::to_physics(&self.objects[e.object as usize].world);
+            if let Some(rb) = self.physics.world.bodies.get_mut(e.handle)
+                && *rb.position() != target
             {
-                rb.set_next_kinematic_position(math::to_physics(&self.objects[e.object as usize].world));
+                rb.set_next_kinematic_position(target);
             }
         }
         for _ in 0..self.physics.rapier_steps {
