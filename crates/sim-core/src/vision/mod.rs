@@ -171,17 +171,54 @@ impl SensorImage {
         let mut min = [u32::MAX; 4];
         let mut max = [0u32; 4];
         let mut sum = [0u64; 4];
-        for px in self.rgb.chunks_exact(3) {
+        // Blocks of 16 pixels: de-interleaved into fixed-size lanes the compiler
+        // vectorises (interleaved RGB with a stride of 3 defeats it).
+        let (blocks, rest) = self.rgb.as_chunks::<48>();
+        for block in blocks {
+            let mut lanes = [[0u16; 16]; 4];
+            for p in 0..16 {
+                let (r, g, b) = (
+                    u16::from(block[3 * p]),
+                    u16::from(block[3 * p + 1]),
+                    u16::from(block[3 * p + 2]),
+                );
+                lanes[0][p] = r + g + b;
+                lanes[1][p] = r;
+                lanes[2][p] = g;
+                lanes[3][p] = b;
+            }
+            for (k, lane) in lanes.iter().enumerate() {
+                min[k] = min[k].min(u32::from(lane.iter().copied().fold(u16::MAX, u16::min)));
+                max[k] = max[k].max(u32::from(lane.iter().copied().fold(0, u16::max)));
+                sum[k] += lane.iter().map(|&v| u64::from(v)).sum::<u64>();
+            }
+        }
+        for px in rest.chunks_exact(3) {
             let [r, g, b] = [px[0], px[1], px[2]].map(u32::from);
-            let v = [r + g + b, r, g, b];
-            for k in 0..4 {
-                min[k] = min[k].min(v[k]);
-                max[k] = max[k].max(v[k]);
-                sum[k] += u64::from(v[k]);
+            for (k, v) in [r + g + b, r, g, b].into_iter().enumerate() {
+                min[k] = min[k].min(v);
+                max[k] = max[k].max(v);
+                sum[k] += u64::from(v);
+            }
+        }
+        // Depth in 8 independent lanes (a serial sum or a NaN-aware min cannot be
+        // vectorised), folded at the end. Depth is never NaN: the rasteriser clamps it.
+        let (mut lo, mut hi, mut acc) = ([f32::INFINITY; 8], [f32::NEG_INFINITY; 8], [0.0f64; 8]);
+        let (chunks, tail) = self.depth.as_chunks::<8>();
+        for c in chunks {
+            for i in 0..8 {
+                lo[i] = if c[i] < lo[i] { c[i] } else { lo[i] };
+                hi[i] = if c[i] > hi[i] { c[i] } else { hi[i] };
+                acc[i] += f64::from(c[i]);
             }
         }
         let (mut dmin, mut dmax, mut dsum) = (f32::INFINITY, f32::NEG_INFINITY, 0.0f64);
-        for &d in &self.depth {
+        for i in 0..8 {
+            dmin = dmin.min(lo[i]);
+            dmax = dmax.max(hi[i]);
+            dsum += acc[i];
+        }
+        for &d in tail {
             dmin = dmin.min(d);
             dmax = dmax.max(d);
             dsum += f64::from(d);
@@ -407,12 +444,10 @@ pub(crate) fn work_to_sensor(world: &mut World, h: Handle, remove: bool) -> Resu
     let Some(work) = &s.work else {
         return Err(no_work_image(h));
     };
+    // `as u8` saturates (below 0 → 0, above 255 → 255) and maps NaN to 0: exactly the
+    // clamp CoppeliaSim applies, in a form the compiler vectorises.
     for (c, &v) in s.rgb.iter_mut().zip(work) {
-        *c = if v.is_nan() {
-            0
-        } else {
-            (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
-        };
+        *c = (v * 255.0 + 0.5) as u8;
     }
     if remove {
         s.work = None;
@@ -513,4 +548,54 @@ pub fn unpack_floats(bytes: &[u8]) -> Vec<f64> {
         .chunks_exact(4)
         .map(|c| f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Packet 1 the obvious way: per pixel, in f64.
+    fn reference(s: &SensorImage) -> Vec<f64> {
+        let mut min = [f64::INFINITY; 5];
+        let mut max = [f64::NEG_INFINITY; 5];
+        let mut sum = [0.0f64; 5];
+        for (px, &d) in s.rgb.chunks_exact(3).zip(&s.depth) {
+            let [r, g, b] = [px[0], px[1], px[2]].map(|c| f64::from(c) / 255.0);
+            let v = [(r + g + b) / 3.0, r, g, b, f64::from(d)];
+            for k in 0..5 {
+                min[k] = min[k].min(v[k]);
+                max[k] = max[k].max(v[k]);
+                sum[k] += v[k];
+            }
+        }
+        let n = s.depth.len() as f64;
+        min.iter()
+            .chain(&max)
+            .copied()
+            .chain(sum.iter().map(|s| s / n))
+            .collect()
+    }
+
+    #[test]
+    fn packet1_matches_the_per_pixel_definition() {
+        // Sizes with and without a partial 16-pixel block, and pseudo-random content.
+        for (w, h) in [(16, 1), (37, 5), (256, 256), (1, 1)] {
+            let mut s = SensorImage::new([w, h]);
+            let mut x = 0x2545_f491_4f6c_dd1du64;
+            for c in &mut s.rgb {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                *c = (x >> 24) as u8;
+            }
+            for (i, d) in s.depth.iter_mut().enumerate() {
+                *d = (i % 97) as f32 / 96.0;
+            }
+            let (got, want) = (s.packet1(), reference(&s));
+            assert_eq!(got.len(), 15);
+            for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert!((g - w).abs() < 1e-9, "{w}x{h}, value {k}: {g} vs {w}");
+            }
+        }
+    }
 }
