@@ -4,10 +4,10 @@
 
 use std::collections::HashMap;
 use std::io;
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use gantry_sim_core::scene::{EmbeddedFiles, Files, Geometry, ObjectModelKind, SceneModel};
+use gantry_sim_core::scene::{EmbeddedFiles, Files, Geometry, ObjectModelKind, SceneModel, normalize_path};
 
 /// A unit cube as OBJ text: the mesh fuzzed scenes can reference as
 /// `../meshes/cube.obj` (from `assets/scenes/`).
@@ -61,14 +61,14 @@ impl<'a> MemFiles<'a> {
     /// The shipped set; `extra` adds (or shadows) one file by virtual path.
     pub fn new(extra: Option<(PathBuf, &'a [u8])>) -> Self {
         Self {
-            extra: extra.map(|(p, b)| (normalize(&p), b)),
+            extra: extra.map(|(p, b)| (normalize_path(&p), b)),
         }
     }
 }
 
 impl Files for MemFiles<'_> {
     fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
-        let key = normalize(path);
+        let key = normalize_path(path);
         if let Some((p, b)) = &self.extra
             && *p == key
         {
@@ -81,26 +81,11 @@ impl Files for MemFiles<'_> {
     }
 
     fn is_file(&self, path: &Path) -> bool {
-        let key = normalize(path);
+        let key = normalize_path(path);
         self.extra.as_ref().is_some_and(|(p, _)| *p == key)
             || shipped().meshes.contains_key(&key)
             || shipped().embedded.is_file(path)
     }
-}
-
-/// Removes `.` and resolves `..` lexically, as the embedded file set does.
-fn normalize(path: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in path.components() {
-        match c {
-            Component::CurDir => {}
-            Component::ParentDir => {
-                out.pop();
-            }
-            other => out.push(other.as_os_str()),
-        }
-    }
-    out
 }
 
 /// What the resolver promises about every model it returns (`scene::model` docs):

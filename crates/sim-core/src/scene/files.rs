@@ -73,8 +73,10 @@ impl Files for EmbeddedFiles {
     }
 }
 
-/// Removes `.` and resolves `..` lexically (embedded paths have no symlinks).
-pub(crate) fn normalize(path: &Path) -> PathBuf {
+/// `path` with `.` removed and each `..` cancelling the component before it, without
+/// touching the disk (embedded paths have no symlinks). A `..` at the root stays at the
+/// root, as the OS treats it.
+pub fn normalize(path: &Path) -> PathBuf {
     let mut out = PathBuf::new();
     for c in path.components() {
         match c {

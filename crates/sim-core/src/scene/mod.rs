@@ -16,7 +16,7 @@ pub mod raw;
 mod urdf;
 
 pub use error::LoadError;
-pub use files::{DiskFiles, EmbeddedFiles, Files};
+pub use files::{DiskFiles, EmbeddedFiles, Files, normalize as normalize_path};
 pub use load::{LoadOptions, load_scene, load_scene_text};
 pub use mesh::{load_mesh, resolve_mesh_path};
 pub use model::*;

@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 
 use super::object::Handle;
 use crate::error::SimError;
+use crate::scene::normalize_path;
 
 /// Samples kept per stream; older ones are dropped (a ring buffer). At 20 steps per
 /// second this is 83 minutes of simulated time, 1.6 MB per stream.
@@ -170,9 +171,9 @@ impl ExportScope {
         } else {
             root
         };
-        let base = lexical_normal(&std::path::absolute(base).map_err(unavailable)?);
+        let base = normalize_path(&std::path::absolute(base).map_err(unavailable)?);
         // `join` keeps an absolute `dir` as it is, so both cases go through one check.
-        let target = lexical_normal(&base.join(dir));
+        let target = normalize_path(&base.join(dir));
         if !target.starts_with(&base) {
             return Err(outside());
         }
@@ -191,23 +192,6 @@ impl ExportScope {
         }
         Ok(target)
     }
-}
-
-/// `path` with `.` removed and each `..` cancelling the component before it, without
-/// touching the disk. A `..` at the root stays at the root, as the OS treats it.
-fn lexical_normal(path: &Path) -> PathBuf {
-    use std::path::Component;
-    let mut out = PathBuf::new();
-    for c in path.components() {
-        match c {
-            Component::CurDir => {}
-            Component::ParentDir => {
-                out.pop();
-            }
-            other => out.push(other.as_os_str()),
-        }
-    }
-    out
 }
 
 /// Every graph stream of the scene, in creation order.

@@ -130,7 +130,7 @@ impl World {
         };
         let union = sa.iter().fold(first.2, |acc, (_, _, bb)| acc.merged(bb));
         // Membership of the second set by object handle (handles index the object table).
-        let mut in_b = vec![false; self.handles().iter().max().map_or(0, |&m| m as usize + 1)];
+        let mut in_b = vec![false; self.handles().len()];
         for &h in b {
             if let Some(slot) = usize::try_from(h).ok().and_then(|i| in_b.get_mut(i)) {
                 *slot = true;
