@@ -39,7 +39,9 @@
 //! as an image of the current step, so an edge image written by `sysCall_vision` is what
 //! other scripts read until the sensor is handled again.
 
+mod bytes;
 mod raster;
+mod resolve;
 mod tessellate;
 mod work_image;
 
@@ -72,7 +74,7 @@ pub struct SensorImage {
     /// Simulation step of the last write of `rgb` (render or set); `None` before any.
     image_step: Option<u64>,
     explicit: bool,
-    work: Option<Vec<f32>>,
+    work: Option<Work>,
     /// Scratch image of the 3x3 filters, kept to avoid an allocation per call.
     filter_scratch: Vec<f32>,
     result: Option<VisionResult>,
@@ -144,9 +146,10 @@ impl SensorImage {
     }
 
     /// The simVision work image (RGB `f32`, nominally 0..1, bottom row first), if one
-    /// was created by `simVision.sensorImgToWorkImg` and not yet removed.
-    pub fn work_image(&self) -> Option<&[f32]> {
-        self.work.as_deref()
+    /// was created by `simVision.sensorImgToWorkImg` and not yet removed. A copy: the
+    /// image is kept in a compact form (see [`Work`]).
+    pub fn work_image(&self) -> Option<Vec<f32>> {
+        self.work.as_ref().map(Work::to_floats)
     }
 
     /// The detection state, `None` before the sensor was first handled.
@@ -156,83 +159,6 @@ impl SensorImage {
 
     fn size(&self) -> (usize, usize) {
         (self.resolution[0] as usize, self.resolution[1] as usize)
-    }
-
-    /// CoppeliaSim's packet 1: min, max and average of intensity, R, G, B and depth.
-    ///
-    /// It runs after every render, so it works on the bytes: channel sums and extremes in
-    /// integers (intensity as r + g + b, 0..765), converted once at the end. The result is
-    /// the same as per-pixel floating point, without its cost.
-    fn packet1(&self) -> Vec<f64> {
-        if self.depth.is_empty() {
-            return vec![0.0; 15];
-        }
-        // [intensity (r + g + b), r, g, b]
-        let mut min = [u32::MAX; 4];
-        let mut max = [0u32; 4];
-        let mut sum = [0u64; 4];
-        // Blocks of 16 pixels: de-interleaved into fixed-size lanes the compiler
-        // vectorises (interleaved RGB with a stride of 3 defeats it).
-        let (blocks, rest) = self.rgb.as_chunks::<48>();
-        for block in blocks {
-            let mut lanes = [[0u16; 16]; 4];
-            for p in 0..16 {
-                let (r, g, b) = (
-                    u16::from(block[3 * p]),
-                    u16::from(block[3 * p + 1]),
-                    u16::from(block[3 * p + 2]),
-                );
-                lanes[0][p] = r + g + b;
-                lanes[1][p] = r;
-                lanes[2][p] = g;
-                lanes[3][p] = b;
-            }
-            for (k, lane) in lanes.iter().enumerate() {
-                min[k] = min[k].min(u32::from(lane.iter().copied().fold(u16::MAX, u16::min)));
-                max[k] = max[k].max(u32::from(lane.iter().copied().fold(0, u16::max)));
-                sum[k] += lane.iter().map(|&v| u64::from(v)).sum::<u64>();
-            }
-        }
-        for px in rest.chunks_exact(3) {
-            let [r, g, b] = [px[0], px[1], px[2]].map(u32::from);
-            for (k, v) in [r + g + b, r, g, b].into_iter().enumerate() {
-                min[k] = min[k].min(v);
-                max[k] = max[k].max(v);
-                sum[k] += u64::from(v);
-            }
-        }
-        // Depth in 8 independent lanes (a serial sum or a NaN-aware min cannot be
-        // vectorised), folded at the end. Depth is never NaN: the rasteriser clamps it.
-        let (mut lo, mut hi, mut acc) = ([f32::INFINITY; 8], [f32::NEG_INFINITY; 8], [0.0f64; 8]);
-        let (chunks, tail) = self.depth.as_chunks::<8>();
-        for c in chunks {
-            for i in 0..8 {
-                lo[i] = if c[i] < lo[i] { c[i] } else { lo[i] };
-                hi[i] = if c[i] > hi[i] { c[i] } else { hi[i] };
-                acc[i] += f64::from(c[i]);
-            }
-        }
-        let (mut dmin, mut dmax, mut dsum) = (f32::INFINITY, f32::NEG_INFINITY, 0.0f64);
-        for i in 0..8 {
-            dmin = dmin.min(lo[i]);
-            dmax = dmax.max(hi[i]);
-            dsum += acc[i];
-        }
-        for &d in tail {
-            dmin = dmin.min(d);
-            dmax = dmax.max(d);
-            dsum += f64::from(d);
-        }
-        let n = self.depth.len() as f64;
-        let scale = [765.0, 255.0, 255.0, 255.0];
-        let mut out = Vec::with_capacity(15);
-        out.extend((0..4).map(|k| f64::from(min[k]) / scale[k]));
-        out.push(f64::from(dmin));
-        out.extend((0..4).map(|k| f64::from(max[k]) / scale[k]));
-        out.push(f64::from(dmax));
-        out.extend((0..4).map(|k| sum[k] as f64 / n / scale[k]));
-        out.push(dsum / n);
-        out
     }
 }
 
@@ -295,7 +221,7 @@ impl VisionStates {
             rgb: &mut s.rgb,
             depth: &mut s.depth,
         };
-        raster::render(world, &cam, &pose, shapes, scratch, frame);
+        let packet1 = raster::render(world, &cam, &pose, shapes, scratch, frame);
         s.renders += 1;
         s.rendered = Some(RenderStamp {
             step: world.steps(),
@@ -304,7 +230,7 @@ impl VisionStates {
         s.image_step = Some(world.steps());
         s.result = Some(VisionResult {
             trigger: false,
-            packets: vec![s.packet1()],
+            packets: vec![packet1.to_vec()],
         });
         Ok(())
     }
@@ -444,11 +370,7 @@ pub(crate) fn work_to_sensor(world: &mut World, h: Handle, remove: bool) -> Resu
     let Some(work) = &s.work else {
         return Err(no_work_image(h));
     };
-    // `as u8` saturates (below 0 → 0, above 255 → 255) and maps NaN to 0: exactly the
-    // clamp CoppeliaSim applies, in a form the compiler vectorises.
-    for (c, &v) in s.rgb.iter_mut().zip(work) {
-        *c = (v * 255.0 + 0.5) as u8;
-    }
+    work.write_bytes(&mut s.rgb);
     if remove {
         s.work = None;
     }
@@ -481,57 +403,157 @@ pub(crate) fn work(world: &mut World, h: Handle) -> Result<WorkImage<'_>, SimErr
     }
 }
 
+/// A work image as CoppeliaSim defines it: float RGB, nominally 0..1, bottom row
+/// first. It is kept in the cheapest form that holds its exact values, because the
+/// flow scripts use most, sensor image → edge detection → sensor image at every step,
+/// never needs the floats: a copy of the sensor's bytes and an edge image hold the
+/// same values as the float image in a quarter and a twelfth of the memory, and
+/// moving 800 KB of floats per operation was most of that flow's time.
+#[derive(Debug, Clone)]
+enum Work {
+    /// RGB bytes; each value is `byte / 255`.
+    Bytes(Vec<u8>),
+    /// One byte per pixel, 0 or 1, the same in R, G and B.
+    Binary(Vec<u8>),
+    /// Any values.
+    Float(Vec<f32>),
+}
+
+impl Work {
+    /// The values as float RGB.
+    fn to_floats(&self) -> Vec<f32> {
+        let mut out = Vec::new();
+        self.floats_into(&mut out);
+        out
+    }
+
+    fn floats_into(&self, out: &mut Vec<f32>) {
+        out.clear();
+        match self {
+            Work::Bytes(b) => out.extend(b.iter().map(|&c| f32::from(c) / 255.0)),
+            Work::Binary(m) => out.extend(m.iter().flat_map(|&v| [f32::from(v); 3])),
+            Work::Float(f) => out.extend_from_slice(f),
+        }
+    }
+
+    /// Switches to the float form (for the operations that need it) and returns it.
+    fn floats_mut(&mut self) -> &mut Vec<f32> {
+        if !matches!(self, Work::Float(_)) {
+            *self = Work::Float(self.to_floats());
+        }
+        match self {
+            Work::Float(f) => f,
+            // Just made the float form.
+            Work::Bytes(_) | Work::Binary(_) => unreachable!("work image converted to floats above"),
+        }
+    }
+
+    /// Per pixel, R + G + B, computed from the same f32 values as the float form has.
+    fn grey_sums(&self, out: &mut [f32]) {
+        match self {
+            Work::Bytes(b) => {
+                for (g, px) in out.iter_mut().zip(b.as_chunks::<3>().0) {
+                    let [r, gr, bl] = px.map(|c| f32::from(c) / 255.0);
+                    *g = r + gr + bl;
+                }
+            }
+            Work::Binary(m) => {
+                for (g, &v) in out.iter_mut().zip(m) {
+                    *g = 3.0 * f32::from(v);
+                }
+            }
+            Work::Float(f) => {
+                for (g, px) in out.iter_mut().zip(f.as_chunks::<3>().0) {
+                    *g = px[0] + px[1] + px[2];
+                }
+            }
+        }
+    }
+
+    /// `simVision.workImgToSensorImg`'s conversion: each value times 255, rounded,
+    /// clamped to 0..255 (NaN → 0), as CoppeliaSim does.
+    fn write_bytes(&self, rgb: &mut [u8]) {
+        match self {
+            // byte / 255 * 255 rounds back to the byte (tested for all 256).
+            Work::Bytes(b) => rgb.copy_from_slice(b),
+            Work::Binary(m) => {
+                for (px, &v) in rgb.as_chunks_mut::<3>().0.iter_mut().zip(m) {
+                    *px = [if v != 0 { 255 } else { 0 }; 3];
+                }
+            }
+            Work::Float(f) => {
+                for (c, &v) in rgb.iter_mut().zip(f) {
+                    *c = bytes::round_byte(v * 255.0);
+                }
+            }
+        }
+    }
+}
+
 /// A sensor's work image lent to a `simVision` operation.
 pub(crate) struct WorkImage<'a> {
     width: usize,
     height: usize,
-    work: &'a mut Vec<f32>,
+    work: &'a mut Work,
     scratch: &'a mut Vec<f32>,
 }
 
 impl WorkImage<'_> {
-    /// `simVision.edgeDetectionOnWorkImg`.
+    /// `simVision.edgeDetectionOnWorkImg`: the result is black and white, so it is
+    /// kept as [`Work::Binary`].
     pub fn edge_detection(&mut self, threshold: f32) {
-        work_image::edge_detection(self.width, self.height, self.work, self.scratch, threshold);
+        let n = self.width * self.height;
+        self.scratch.clear();
+        self.scratch.resize(2 * n, 0.0);
+        let (grey, filtered) = self.scratch.split_at_mut(n);
+        self.work.grey_sums(grey);
+        let mut mask = match std::mem::replace(self.work, Work::Binary(Vec::new())) {
+            Work::Binary(m) => m,
+            _ => Vec::new(),
+        };
+        work_image::edge_mask(self.width, self.height, grey, filtered, threshold, &mut mask);
+        *self.work = Work::Binary(mask);
     }
 
     /// `simVision.sharpenWorkImg`.
     pub fn sharpen(&mut self) {
-        work_image::sharpen(self.width, self.height, self.work, self.scratch);
+        work_image::sharpen(self.width, self.height, self.work.floats_mut(), self.scratch);
     }
 
     /// `simVision.horizontalFlipWorkImg`.
     pub fn flip_horizontal(&mut self) {
-        work_image::flip_horizontal(self.width, self.work);
+        work_image::flip_horizontal(self.width, self.work.floats_mut());
     }
 
     /// `simVision.verticalFlipWorkImg`.
     pub fn flip_vertical(&mut self) {
-        work_image::flip_vertical(self.width, self.height, self.work);
+        work_image::flip_vertical(self.width, self.height, self.work.floats_mut());
     }
 }
 
 impl SensorImage {
-    /// `simVision.sensorImgToWorkImg`: the sensor image as floats 0..1.
+    /// `simVision.sensorImgToWorkImg`: the sensor image as floats 0..1 (kept as its
+    /// bytes, see [`Work`]).
     pub(crate) fn rgb_to_work(&mut self) {
-        let work = self.work.get_or_insert_with(Vec::new);
-        work.clear();
-        work.extend(self.rgb.iter().map(|&c| f32::from(c) / 255.0));
+        let mut bytes = match self.work.take() {
+            Some(Work::Bytes(b)) => b,
+            _ => Vec::new(),
+        };
+        bytes.clear();
+        bytes.extend_from_slice(&self.rgb);
+        self.work = Some(Work::Bytes(bytes));
     }
 
     /// `simVision.sensorDepthMapToWorkImg`: normalised depth as grey levels.
     pub(crate) fn depth_to_work(&mut self) {
-        let work = self.work.get_or_insert_with(Vec::new);
-        work.clear();
-        work.extend(self.depth.iter().flat_map(|&d| [d; 3]));
+        let floats = self.depth.iter().flat_map(|&d| [d; 3]).collect();
+        self.work = Some(Work::Float(floats));
     }
 
     /// `simVision.uniformImgToWorkImg`: a work image of one colour.
     pub(crate) fn uniform_work(&mut self, color: [f32; 3]) {
         let n = self.depth.len();
-        let work = self.work.get_or_insert_with(Vec::new);
-        work.clear();
-        work.extend((0..n).flat_map(|_| color));
+        self.work = Some(Work::Float((0..n).flat_map(|_| color).collect()));
     }
 
     /// Mutable RGB bytes, for `sim.setVisionSensorImg`.
@@ -554,48 +576,69 @@ pub fn unpack_floats(bytes: &[u8]) -> Vec<f64> {
 mod tests {
     use super::*;
 
-    /// Packet 1 the obvious way: per pixel, in f64.
-    fn reference(s: &SensorImage) -> Vec<f64> {
-        let mut min = [f64::INFINITY; 5];
-        let mut max = [f64::NEG_INFINITY; 5];
-        let mut sum = [0.0f64; 5];
-        for (px, &d) in s.rgb.chunks_exact(3).zip(&s.depth) {
-            let [r, g, b] = [px[0], px[1], px[2]].map(|c| f64::from(c) / 255.0);
-            let v = [(r + g + b) / 3.0, r, g, b, f64::from(d)];
-            for k in 0..5 {
-                min[k] = min[k].min(v[k]);
-                max[k] = max[k].max(v[k]);
-                sum[k] += v[k];
-            }
+    #[test]
+    fn bytes_survive_the_trip_through_floats() {
+        // What makes `Work::Bytes` → sensor image a plain copy.
+        for c in 0..=255u8 {
+            assert_eq!(bytes::round_byte(f32::from(c) / 255.0 * 255.0), c);
         }
-        let n = s.depth.len() as f64;
-        min.iter()
-            .chain(&max)
-            .copied()
-            .chain(sum.iter().map(|s| s / n))
+    }
+
+    /// Pseudo-random RGB bytes.
+    fn noise(n: usize, mut x: u64) -> Vec<u8> {
+        (0..n)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                (x >> 40) as u8
+            })
             .collect()
     }
 
     #[test]
-    fn packet1_matches_the_per_pixel_definition() {
-        // Sizes with and without a partial 16-pixel block, and pseudo-random content.
-        for (w, h) in [(16, 1), (37, 5), (256, 256), (1, 1)] {
-            let mut s = SensorImage::new([w, h]);
-            let mut x = 0x2545_f491_4f6c_dd1du64;
-            for c in &mut s.rgb {
-                x ^= x << 13;
-                x ^= x >> 7;
-                x ^= x << 17;
-                *c = (x >> 24) as u8;
+    fn compact_work_images_give_the_same_results_as_floats() {
+        let (w, h) = (23, 17);
+        for seed in [1u64, 0xdead_beef, 42] {
+            let rgb = noise(3 * w * h, seed);
+            let compact = Work::Bytes(rgb.clone());
+            let float = Work::Float(compact.to_floats());
+            assert_eq!(
+                compact.to_floats(),
+                rgb.iter().map(|&c| f32::from(c) / 255.0).collect::<Vec<_>>()
+            );
+            // Edge detection from either form, then back to bytes.
+            let mut results = Vec::new();
+            for mut work in [compact.clone(), float] {
+                let mut scratch = Vec::new();
+                WorkImage {
+                    width: w,
+                    height: h,
+                    work: &mut work,
+                    scratch: &mut scratch,
+                }
+                .edge_detection(0.2);
+                assert!(matches!(work, Work::Binary(_)));
+                let mut out = vec![7u8; 3 * w * h];
+                work.write_bytes(&mut out);
+                assert!(out.iter().all(|&c| c == 0 || c == 255));
+                // The same image through floats.
+                let mut via_floats = vec![7u8; 3 * w * h];
+                Work::Float(work.to_floats()).write_bytes(&mut via_floats);
+                assert_eq!(out, via_floats);
+                results.push(out);
             }
-            for (i, d) in s.depth.iter_mut().enumerate() {
-                *d = (i % 97) as f32 / 96.0;
-            }
-            let (got, want) = (s.packet1(), reference(&s));
-            assert_eq!(got.len(), 15);
-            for (k, (g, w)) in got.iter().zip(&want).enumerate() {
-                assert!((g - w).abs() < 1e-9, "{w}x{h}, value {k}: {g} vs {w}");
-            }
+            assert_eq!(results[0], results[1]);
+            // Bytes back to the sensor image unchanged, and operations that need floats
+            // start from the same values.
+            let mut out = vec![0u8; 3 * w * h];
+            compact.write_bytes(&mut out);
+            assert_eq!(out, rgb);
+            let mut flipped = compact.clone();
+            work_image::flip_horizontal(w, flipped.floats_mut());
+            let mut reference = compact.to_floats();
+            work_image::flip_horizontal(w, &mut reference);
+            assert_eq!(flipped.to_floats(), reference);
         }
     }
 }

@@ -9,6 +9,8 @@
 
 use std::collections::BTreeMap;
 
+use super::bytes::round_byte;
+use super::resolve::{self, Packet1};
 use super::tessellate::{TriMesh, cross, dot, sub};
 use crate::math::Pose;
 use crate::scene::VisionModel;
@@ -162,6 +164,9 @@ pub(crate) struct Scratch {
     vertices: Vec<CamVertex>,
     /// Planar depth in metres per pixel, `INFINITY` where nothing was drawn.
     zbuf: Vec<f32>,
+    /// Colour per pixel as `0x00BBGGRR`: one word per pixel lets the fill loop store
+    /// with a select, which the compiler vectorises; packed to RGB bytes at the end.
+    color: Vec<u32>,
 }
 
 /// Where a frame goes: `rgb` (3 bytes per pixel) and `depth` (normalised), both bottom
@@ -174,8 +179,9 @@ pub(crate) struct Frame<'a> {
 /// A polygon after clipping a triangle against up to six planes has at most 9 corners.
 const MAX_POLY: usize = 12;
 
-/// Renders every shape of `world` as seen from `sensor` (the sensor's world pose).
-/// `frame` must hold exactly `width * height` pixels of `cam`.
+/// Renders every shape of `world` as seen from `sensor` (the sensor's world pose) and
+/// returns packet 1 of the image. `frame` must hold exactly `width * height` pixels of
+/// `cam`.
 pub(crate) fn render(
     world: &World,
     cam: &Camera,
@@ -183,15 +189,19 @@ pub(crate) fn render(
     shapes: &ShapeCache,
     scratch: &mut Scratch,
     frame: Frame<'_>,
-) {
+) -> Packet1 {
     let n = cam.width * cam.height;
     scratch.zbuf.clear();
     scratch.zbuf.resize(n, f32::INFINITY);
-    let bg = BACKGROUND.map(to_byte);
-    for px in frame.rgb.chunks_exact_mut(3) {
-        px.copy_from_slice(&bg);
-    }
+    scratch.color.clear();
+    scratch.color.resize(n, pack(BACKGROUND.map(to_byte)));
     let cam_from_world = sensor.inverse();
+    let mut target = Target {
+        width: cam.width,
+        height: cam.height,
+        zbuf: &mut scratch.zbuf,
+        color: &mut scratch.color,
+    };
     for &h in world.handles() {
         let (Some(visuals), Ok(object)) = (shapes.shapes.get(&h), world.object(h)) else {
             continue;
@@ -201,19 +211,30 @@ pub(crate) fn render(
                 continue;
             }
             let world_pose = object.world * v.local;
-            draw_visual(cam, &(cam_from_world * world_pose), &world_pose, v, scratch, frame.rgb);
+            draw_visual(
+                cam,
+                &(cam_from_world * world_pose),
+                &world_pose,
+                v,
+                &mut scratch.vertices,
+                &mut target,
+            );
         }
     }
-    // Planar depth normalised between the clipping planes, as CoppeliaSim's depth
-    // buffer; background pixels are at the far plane (1).
-    let span = cam.far - cam.near;
-    for (d, &z) in frame.depth.iter_mut().zip(&scratch.zbuf) {
-        *d = if z.is_finite() {
-            ((z - cam.near) / span).clamp(0.0, 1.0)
-        } else {
-            1.0
-        };
-    }
+    resolve::resolve(&scratch.color, &scratch.zbuf, cam.near, cam.far, frame.rgb, frame.depth)
+}
+
+/// `[r, g, b]` bytes as one `0x00BBGGRR` word.
+fn pack([r, g, b]: [u8; 3]) -> u32 {
+    u32::from(r) | u32::from(g) << 8 | u32::from(b) << 16
+}
+
+/// The buffers triangles are drawn into.
+struct Target<'a> {
+    width: usize,
+    height: usize,
+    zbuf: &'a mut [f32],
+    color: &'a mut [u32],
 }
 
 fn rows(p: &Pose) -> ([[f32; 3]; 3], [f32; 3]) {
@@ -229,8 +250,8 @@ fn draw_visual(
     cam_pose: &Pose,
     world_pose: &Pose,
     v: &CachedVisual,
-    scratch: &mut Scratch,
-    rgb: &mut [u8],
+    vertices: &mut Vec<CamVertex>,
+    target: &mut Target<'_>,
 ) {
     let (r, t) = rows(cam_pose);
     let xf = |p: [f32; 3]| [dot(r[0], p) + t[0], dot(r[1], p) + t[1], dot(r[2], p) + t[2]];
@@ -243,16 +264,14 @@ fn draw_visual(
     // camera-from-visual rotation) and the world's Z axis.
     let head = r[2];
     let up = rows(world_pose).0[2];
-    scratch.vertices.clear();
-    scratch
-        .vertices
-        .extend(v.mesh.positions.iter().zip(&v.mesh.normals).map(|(&p, &n)| CamVertex {
-            p: xf(p),
-            light: (AMBIENT + HEADLIGHT * dot(head, n).abs() + TOPLIGHT * dot(up, n).max(0.0)).min(1.0),
-        }));
+    vertices.clear();
+    vertices.extend(v.mesh.positions.iter().zip(&v.mesh.normals).map(|(&p, &n)| CamVertex {
+        p: xf(p),
+        light: (AMBIENT + HEADLIGHT * dot(head, n).abs() + TOPLIGHT * dot(up, n).max(0.0)).min(1.0),
+    }));
     let color = v.color.map(|c| c * 255.0);
     for tri in &v.mesh.triangles {
-        let Some([a, b, c]) = fetch(&scratch.vertices, *tri) else {
+        let Some([a, b, c]) = fetch(vertices, *tri) else {
             continue;
         };
         if v.mesh.closed {
@@ -267,14 +286,14 @@ fn draw_visual(
             continue;
         }
         if oa | ob | oc == 0 {
-            fill(cam, &mut scratch.zbuf, rgb, [a, b, c], color);
+            fill(cam, target, [a, b, c], color);
             continue;
         }
         let mut poly = [CamVertex::default(); MAX_POLY];
         poly[..3].copy_from_slice(&[a, b, c]);
         let n = clip(cam, &mut poly, 3, oa | ob | oc);
         for k in 1..n.saturating_sub(1) {
-            fill(cam, &mut scratch.zbuf, rgb, [poly[0], poly[k], poly[k + 1]], color);
+            fill(cam, target, [poly[0], poly[k], poly[k + 1]], color);
         }
     }
 }
@@ -352,11 +371,17 @@ fn edge(a: ScreenVertex, b: ScreenVertex, px: f32, py: f32) -> f32 {
 }
 
 fn to_byte(c: f32) -> u8 {
-    (c * 255.0 + 0.5).clamp(0.0, 255.0) as u8
+    round_byte(c * 255.0)
 }
 
 /// Fills one triangle that lies inside the frustum. `color` is RGB scaled to 0..255.
-fn fill(cam: &Camera, zbuf: &mut [f32], rgb: &mut [u8], tri: [CamVertex; 3], color: [f32; 3]) {
+///
+/// Per row, the pixels whose centres lie inside all three edges form one interval,
+/// found from the edge functions directly; 1/z and light/z are affine in screen space,
+/// so along that interval each pixel costs a multiply-add, a division (perspective-
+/// correct depth and light) and a depth test done with selects, which the compiler
+/// turns into vector code.
+fn fill(cam: &Camera, target: &mut Target<'_>, tri: [CamVertex; 3], color: [f32; 3]) {
     let [mut a, mut b, c] = tri.map(|v| project(cam, v));
     let mut area = edge(a, b, c.x, c.y);
     if !area.is_finite() || area.abs() < 1e-12 {
@@ -368,7 +393,7 @@ fn fill(cam: &Camera, zbuf: &mut [f32], rgb: &mut [u8], tri: [CamVertex; 3], col
         area = -area;
     }
     let inv_area = 1.0 / area;
-    let (w, h) = (cam.width, cam.height);
+    let (w, h) = (target.width, target.height);
     // Pixels whose centre may lie inside; clipping keeps corners within the image
     // (up to rounding), and the clamps make out-of-range indices impossible.
     let span = |lo: f32, hi: f32, n: usize| {
@@ -381,31 +406,62 @@ fn fill(cam: &Camera, zbuf: &mut [f32], rgb: &mut [u8], tri: [CamVertex; 3], col
     if x0 >= x1 || y0 >= y1 {
         return;
     }
-    // Edge functions step linearly along a row.
-    let (dx_a, dx_b, dx_c) = (-(c.y - b.y), -(a.y - c.y), -(b.y - a.y));
+    // Edge functions (opposite a, b, c) and their steps per pixel along a row.
+    let edges = [(b, c), (c, a), (a, b)];
+    let steps = edges.map(|(p, q)| -(q.y - p.y));
+    // 1/z and light/z as planes over the screen: value at pixel centre (0.5, y) of a
+    // row plus a step per pixel.
+    let weights = |f: fn(&ScreenVertex) -> f32| [f(&a), f(&b), f(&c)];
+    let (iz, lz) = (weights(|v| v.inv_z), weights(|v| v.light_z));
+    let grad = |k: [f32; 3]| (steps[0] * k[0] + steps[1] * k[1] + steps[2] * k[2]) * inv_area;
+    let (diz, dlz) = (grad(iz), grad(lz));
+    let [cr, cg, cb] = color;
     for row in y0..y1 {
         let py = row as f32 + 0.5;
-        let px = x0 as f32 + 0.5;
-        let (mut ea, mut eb, mut ec) = (edge(b, c, px, py), edge(c, a, px, py), edge(a, b, px, py));
-        let zrow = &mut zbuf[row * w..(row + 1) * w];
-        let crow = &mut rgb[row * w * 3..(row + 1) * w * 3];
-        for col in x0..x1 {
-            if ea >= 0.0 && eb >= 0.0 && ec >= 0.0 {
-                let (la, lb, lc) = (ea * inv_area, eb * inv_area, ec * inv_area);
-                let inv_z = la * a.inv_z + lb * b.inv_z + lc * c.inv_z;
-                let z = 1.0 / inv_z;
-                if z < zrow[col] {
-                    zrow[col] = z;
-                    let light = (la * a.light_z + lb * b.light_z + lc * c.light_z) * z;
-                    let px = &mut crow[col * 3..col * 3 + 3];
-                    for k in 0..3 {
-                        px[k] = (color[k] * light + 0.5).clamp(0.0, 255.0) as u8;
-                    }
-                }
+        // Edge values at the centre of column 0, and the columns where each is >= 0.
+        let e = edges.map(|(p, q)| edge(p, q, 0.5, py));
+        // Continuous column bounds, lo <= col <= hi, within the bounding box.
+        let (mut lo, mut hi) = (x0 as f32, (x1 - 1) as f32);
+        for k in 0..3 {
+            // A tolerance of 1e-4 px keeps pixel centres exactly on an edge shared by
+            // two triangles from being dropped by both through rounding.
+            let at = -e[k] / steps[k];
+            if steps[k] > 0.0 {
+                lo = lo.max(at - 1e-4);
+            } else if steps[k] < 0.0 {
+                hi = hi.min(at + 1e-4);
+            } else if e[k] < 0.0 {
+                hi = -1.0;
             }
-            ea += dx_a;
-            eb += dx_b;
-            ec += dx_c;
+        }
+        // Rounded with casts (lo >= x0 >= 0 here) rather than `ceil`/`floor`, which
+        // are library calls on baseline x86-64.
+        // (`max` and `min` skip a NaN bound, so neither is NaN.)
+        if lo > hi || hi < 0.0 {
+            continue;
+        }
+        let first = lo as usize + usize::from((lo as usize as f32) < lo);
+        let end = hi as usize + 1;
+        if first >= end {
+            continue;
+        }
+        let iz0 = (e[0] * iz[0] + e[1] * iz[1] + e[2] * iz[2]) * inv_area;
+        let lz0 = (e[0] * lz[0] + e[1] * lz[1] + e[2] * lz[2]) * inv_area;
+        let zrow = &mut target.zbuf[row * w + first..row * w + end];
+        let crow = &mut target.color[row * w + first..row * w + end];
+        let first = first as i32;
+        for (i, (zp, cp)) in zrow.iter_mut().zip(crow.iter_mut()).enumerate() {
+            let col = (first + i as i32) as f32;
+            let inv_z = iz0 + diz * col;
+            let z = 1.0 / inv_z;
+            let light = (lz0 + dlz * col) * z;
+            let byte = |c: f32| u32::from(round_byte(c * light));
+            let packed = byte(cr) | byte(cg) << 8 | byte(cb) << 16;
+            // The depth test as a bit blend: written as `if closer { .. }` (or as a
+            // select) the compiler makes each store conditional, lane by lane.
+            let keep_new = u32::from(z < *zp).wrapping_neg();
+            *zp = f32::from_bits(z.to_bits() & keep_new | zp.to_bits() & !keep_new);
+            *cp = packed & keep_new | *cp & !keep_new;
         }
     }
 }

@@ -13,13 +13,13 @@ const SHARPEN_KERNEL: [f32; 9] = [
     -0.1111, -0.1111, -0.1111, -0.1111, 1.8888, -0.1111, -0.1111, -0.1111, -0.1111,
 ];
 
-/// 3x3 convolution of an RGB image, `input` → `output`, as CoppeliaSim's
-/// `filter3x3RgbImage`: taps outside the image are left out and the sum is divided by
-/// (number of taps inside) / 9, so border pixels are scaled up rather than padded.
-/// With a zero-sum kernel this makes the border of any non-black image bright, which
-/// CoppeliaSim's edge images show too.
-fn filter3x3(width: usize, height: usize, input: &[f32], output: &mut [f32], m: &[f32; 9]) {
-    let stride = 3 * width;
+/// 3x3 convolution of an image of `C` interleaved channels, `input` → `output`, as
+/// CoppeliaSim's `filter3x3RgbImage`: taps outside the image are left out and the sum
+/// is divided by (number of taps inside) / 9, so border pixels are scaled up rather
+/// than padded. With a zero-sum kernel this makes the border of any non-black image
+/// bright, which CoppeliaSim's edge images show too.
+fn filter3x3<const C: usize>(width: usize, height: usize, input: &[f32], output: &mut [f32], m: &[f32; 9]) {
+    let stride = C * width;
     let interior = width >= 3 && height >= 3 && input.len() >= stride * height && output.len() >= stride * height;
     if interior {
         // All nine taps exist away from the border: straight-line code over three rows,
@@ -29,33 +29,44 @@ fn filter3x3(width: usize, height: usize, input: &[f32], output: &mut [f32], m: 
             let r1 = &input[y * stride..(y + 1) * stride];
             let r2 = &input[(y + 1) * stride..(y + 2) * stride];
             let out = &mut output[y * stride..(y + 1) * stride];
-            for i in 3..stride - 3 {
-                out[i] = m[0] * r0[i - 3]
+            for i in C..stride - C {
+                out[i] = m[0] * r0[i - C]
                     + m[1] * r0[i]
-                    + m[2] * r0[i + 3]
-                    + m[3] * r1[i - 3]
+                    + m[2] * r0[i + C]
+                    + m[3] * r1[i - C]
                     + m[4] * r1[i]
-                    + m[5] * r1[i + 3]
-                    + m[6] * r2[i - 3]
+                    + m[5] * r1[i + C]
+                    + m[6] * r2[i - C]
                     + m[7] * r2[i]
-                    + m[8] * r2[i + 3];
+                    + m[8] * r2[i + C];
             }
         }
     }
     for y in 0..height {
-        for x in 0..width {
-            let on_border = x == 0 || y == 0 || x + 1 == width || y + 1 == height;
-            if interior && !on_border {
-                continue;
+        let whole_row = !interior || y == 0 || y + 1 == height;
+        if whole_row {
+            for x in 0..width {
+                filter_pixel::<C>(width, height, input, output, m, x, y);
             }
-            filter_pixel(width, height, input, output, m, x, y);
+        } else {
+            // Only the first and last pixel of an interior row are on the border.
+            filter_pixel::<C>(width, height, input, output, m, 0, y);
+            filter_pixel::<C>(width, height, input, output, m, width - 1, y);
         }
     }
 }
 
 /// One output pixel of [`filter3x3`], with the border rule.
-fn filter_pixel(width: usize, height: usize, input: &[f32], output: &mut [f32], m: &[f32; 9], x: usize, y: usize) {
-    let mut sum = [0.0f32; 3];
+fn filter_pixel<const C: usize>(
+    width: usize,
+    height: usize,
+    input: &[f32],
+    output: &mut [f32],
+    m: &[f32; 9],
+    x: usize,
+    y: usize,
+) {
+    let mut sum = [0.0f32; C];
     let mut taps = 0.0f32;
     for dy in -1isize..=1 {
         let Some(yy) = y.checked_add_signed(dy).filter(|&v| v < height) else {
@@ -67,19 +78,19 @@ fn filter_pixel(width: usize, height: usize, input: &[f32], output: &mut [f32], 
             };
             // Offsets are in -1..=1, so the kernel index is 0..9.
             let w = m[((dx + 1) + (dy + 1) * 3) as usize];
-            let i = 3 * (xx + yy * width);
-            if let Some(px) = input.get(i..i + 3) {
-                for k in 0..3 {
+            let i = C * (xx + yy * width);
+            if let Some(px) = input.get(i..i + C) {
+                for k in 0..C {
                     sum[k] += px[k] * w;
                 }
             }
             taps += 1.0;
         }
     }
-    let i = 3 * (x + y * width);
-    if let Some(out) = output.get_mut(i..i + 3) {
+    let i = C * (x + y * width);
+    if let Some(out) = output.get_mut(i..i + C) {
         let norm = taps / 9.0;
-        for k in 0..3 {
+        for k in 0..C {
             out[k] = sum[k] / norm;
         }
     }
@@ -87,26 +98,31 @@ fn filter_pixel(width: usize, height: usize, input: &[f32], output: &mut [f32], 
 
 /// `simVision.edgeDetectionOnWorkImg`: the edge kernel over each channel, then every
 /// pixel becomes white where the mean of its filtered R, G, B exceeds `threshold`, and
-/// black elsewhere. `scratch` is resized as needed.
-pub(crate) fn edge_detection(width: usize, height: usize, work: &mut [f32], scratch: &mut Vec<f32>, threshold: f32) {
-    scratch.clear();
-    scratch.resize(work.len(), 0.0);
-    filter3x3(width, height, work, scratch, &EDGE_KERNEL);
-    for (out, px) in work.chunks_exact_mut(3).zip(scratch.chunks_exact(3)) {
-        let v = if (px[0] + px[1] + px[2]) / 3.0 > threshold {
-            1.0
-        } else {
-            0.0
-        };
-        out.fill(v);
-    }
+/// black elsewhere. Takes `grey`, each pixel's R + G + B, and writes `mask`, 1 for
+/// white and 0 for black per pixel; `filtered` is scratch of the same size as `grey`.
+///
+/// The filter is linear, so the mean of the three filtered channels is the filtered
+/// mean: one channel (R + G + B) is filtered instead of three, and compared with
+/// 3 * `threshold`. (Only a sum within rounding of the threshold can differ.)
+pub(crate) fn edge_mask(
+    width: usize,
+    height: usize,
+    grey: &[f32],
+    filtered: &mut [f32],
+    threshold: f32,
+    mask: &mut Vec<u8>,
+) {
+    filter3x3::<1>(width, height, grey, filtered, &EDGE_KERNEL);
+    let limit = 3.0 * threshold;
+    mask.clear();
+    mask.extend(filtered.iter().map(|&f| u8::from(f > limit)));
 }
 
 /// `simVision.sharpenWorkImg`: the sharpening kernel, then a clamp to 0..1.
 pub(crate) fn sharpen(width: usize, height: usize, work: &mut [f32], scratch: &mut Vec<f32>) {
     scratch.clear();
     scratch.resize(work.len(), 0.0);
-    filter3x3(width, height, work, scratch, &SHARPEN_KERNEL);
+    filter3x3::<3>(width, height, work, scratch, &SHARPEN_KERNEL);
     for (w, s) in work.iter_mut().zip(scratch.iter()) {
         *w = s.clamp(0.0, 1.0);
     }
@@ -140,6 +156,16 @@ pub(crate) fn flip_vertical(width: usize, height: usize, work: &mut [f32]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Edge detection on a float RGB image, in place, through [`edge_mask`].
+    fn edge_detection(width: usize, height: usize, img: &mut [f32], _: &mut Vec<f32>, threshold: f32) {
+        let grey: Vec<f32> = img.chunks_exact(3).map(|p| p[0] + p[1] + p[2]).collect();
+        let (mut filtered, mut mask) = (vec![0.0; grey.len()], Vec::new());
+        edge_mask(width, height, &grey, &mut filtered, threshold, &mut mask);
+        for (px, &m) in img.chunks_exact_mut(3).zip(&mask) {
+            px.fill(f32::from(m));
+        }
+    }
 
     fn grey(width: usize, height: usize, f: impl Fn(usize, usize) -> f32) -> Vec<f32> {
         let mut out = Vec::with_capacity(3 * width * height);
@@ -185,6 +211,35 @@ mod tests {
         let mut img = grey(w, h, |x, _| 0.1 * x as f32);
         edge_detection(w, h, &mut img, &mut Vec::new(), 0.2);
         assert_eq!(at(&img, w, 2, 2), 0.0);
+    }
+
+    #[test]
+    fn edge_detection_equals_filtering_each_channel() {
+        // The definition: the kernel over R, G and B separately, then the mean.
+        for (w, h) in [(1, 1), (2, 5), (3, 3), (17, 9), (64, 48)] {
+            let mut x = 0x853c_49e6_748f_ea9bu64;
+            let img: Vec<f32> = (0..3 * w * h)
+                .map(|_| {
+                    x ^= x << 13;
+                    x ^= x >> 7;
+                    x ^= x << 17;
+                    // Bytes as the sensor gives them, in 0..1.
+                    ((x >> 32) % 256) as f32 / 255.0
+                })
+                .collect();
+            let mut per_channel = vec![0.0; img.len()];
+            filter3x3::<3>(w, h, &img, &mut per_channel, &EDGE_KERNEL);
+            let mut fast = img.clone();
+            edge_detection(w, h, &mut fast, &mut Vec::new(), 0.2);
+            for i in 0..w * h {
+                let mean = (per_channel[3 * i] + per_channel[3 * i + 1] + per_channel[3 * i + 2]) / 3.0;
+                if (mean - 0.2).abs() < 1e-4 {
+                    continue; // a tie within rounding may go either way
+                }
+                let want = if mean > 0.2 { 1.0 } else { 0.0 };
+                assert_eq!(fast[3 * i..3 * i + 3], [want; 3], "{w}x{h} pixel {i}: mean {mean}");
+            }
+        }
     }
 
     #[test]
