@@ -352,6 +352,17 @@ impl Simulation {
     /// One simulation step in CoppeliaSim's order. Starts the simulation if stopped;
     /// does nothing while paused.
     pub fn step(&mut self) {
+        self.step_with(&mut |_| {});
+    }
+
+    /// [`Simulation::step`], calling `between` at each boundary between its phases:
+    /// after actuation, after physics and proximity sensing, and after each vision
+    /// sensor with a `sysCall_vision` (render and callback). No script is running at those points and
+    /// the world is consistent, so `between` may call [`Simulation::call`] and script
+    /// functions, as CoppeliaSim serves remote clients between its scripts. The server
+    /// uses it to answer requests during a long step instead of after it. It must not
+    /// start, stop, pause or step the simulation.
+    pub fn step_with(&mut self, between: &mut dyn FnMut(&mut Simulation)) {
         match self.state() {
             SimulationState::Stopped => self.start(),
             SimulationState::Paused => return,
@@ -364,12 +375,14 @@ impl Simulation {
                 self.call_hook(i, Hook::Actuation);
             }
         }
+        between(self);
         {
             let mut w = self.shared.world.borrow_mut();
             w.step_physics();
             w.handle_all_proximity_sensors();
         }
-        self.handle_vision();
+        between(self);
+        self.handle_vision(between);
         for k in 0..self.order.len() {
             let i = self.order[k];
             if self.scripts[i].sensing.is_some() {
@@ -418,7 +431,7 @@ impl Simulation {
     /// Renders the vision sensors whose scripts define `sysCall_vision`, then calls it
     /// with `inData.handle` (CoppeliaSim handles vision sensors after proximity sensors,
     /// before `sysCall_sensing`). Sensors without such a script render only when read.
-    fn handle_vision(&mut self) {
+    fn handle_vision(&mut self, between: &mut dyn FnMut(&mut Simulation)) {
         for k in 0..self.order.len() {
             let i = self.order[k];
             let Some(f) = self.scripts[i].vision.clone() else {
@@ -471,6 +484,9 @@ impl Simulation {
                     self.scripts[i] = s;
                 }
             }
+            // Not between the render and the callback: a reader there would see the
+            // image before `sysCall_vision` processed it, which CoppeliaSim never shows.
+            between(self);
         }
     }
 

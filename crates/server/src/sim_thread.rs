@@ -6,6 +6,7 @@
 //! tick — serves every request as soon as it arrives, so a reply never waits for the
 //! next 50 ms step.
 
+use std::collections::VecDeque;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::time::{Duration, Instant};
 
@@ -287,6 +288,7 @@ pub fn run_sim_thread_observed(
         sim: Simulation::new(model, config.limits)?,
         steps: 0,
         stepping: Stepping::default(),
+        deferred: VecDeque::new(),
     };
     if config.autostart {
         lp.sim.start();
@@ -309,7 +311,7 @@ pub fn run_sim_thread_observed(
             let due = origin + Duration::from_secs_f64(paced_steps as f64 * dt);
             let now = Instant::now();
             if config.fast || on_demand || now >= due {
-                lp.step();
+                lp.step_serving(&rx);
                 if on_demand {
                     origin = Instant::now();
                     paced_steps = 0;
@@ -406,6 +408,8 @@ struct SimLoop {
     /// remote clients' step targets stay comparable across a stop and start.
     steps: u64,
     stepping: Stepping,
+    /// Requests that arrived during a step and wait for its end, in arrival order.
+    deferred: VecDeque<Request>,
 }
 
 impl SimLoop {
@@ -413,6 +417,31 @@ impl SimLoop {
         self.sim.step();
         self.steps += 1;
         self.stepping.stepped(self.steps);
+    }
+
+    /// A step during which requests are served at the boundaries between its phases
+    /// (see `Simulation::step_with`), so that a call arriving during a long step (a
+    /// vision sensor rendering, physics with many substeps) is answered within one
+    /// phase rather than one step. Only world calls and text packets are served
+    /// there; anything that controls the simulation or the stepping clients (start,
+    /// stop, `sim.step`, stepping levels, viewer closures) waits for the end of the
+    /// step, and so does every request behind it, so replies keep arrival order.
+    fn step_serving(&mut self, rx: &Receiver<Request>) {
+        let deferred = &mut self.deferred;
+        self.sim.step_with(&mut |sim: &mut Simulation| {
+            while let Ok(req) = rx.try_recv() {
+                match req {
+                    Request::Call { name, args, reply } if deferred.is_empty() => serve_call(sim, &name, &args, reply),
+                    Request::Packet { packet, reply } if deferred.is_empty() => serve_packet(sim, packet, reply),
+                    other => deferred.push_back(other),
+                }
+            }
+        });
+        self.steps += 1;
+        self.stepping.stepped(self.steps);
+        while let Some(req) = self.deferred.pop_front() {
+            self.serve(req);
+        }
     }
 
     /// Stop: cleanup, the initial scene back, and every remote client's stepping level
@@ -430,20 +459,8 @@ impl SimLoop {
 
     fn serve(&mut self, req: Request) {
         match req {
-            Request::Call { name, args, reply } => {
-                let _ = reply.send(self.sim.call(&name, &args));
-            }
-            Request::Packet { packet, reply } => {
-                let outcome = match self.sim.call_hook_function("sysCall_packet", &[packet]) {
-                    Ok(None) => PacketOutcome::NoHandler,
-                    Ok(Some(values)) => match values.into_iter().next() {
-                        Some(Value::Str(s)) => PacketOutcome::Reply(s),
-                        _ => PacketOutcome::Handled,
-                    },
-                    Err(e) => PacketOutcome::Error(e),
-                };
-                let _ = reply.send(outcome);
-            }
+            Request::Call { name, args, reply } => serve_call(&mut self.sim, &name, &args, reply),
+            Request::Packet { packet, reply } => serve_packet(&mut self.sim, packet, reply),
             Request::Control { action, reply } => {
                 match action {
                     Control::Start => self.sim.start(),
@@ -493,4 +510,22 @@ impl SimLoop {
         }
         Ok(Vec::new())
     }
+}
+
+/// `sim.<name>(args)` for a remote client.
+fn serve_call(sim: &mut Simulation, name: &str, args: &[Value], reply: oneshot::Sender<Result<Vec<Value>, String>>) {
+    let _ = reply.send(sim.call(name, args));
+}
+
+/// A text packet to the scripts' `sysCall_packet`.
+fn serve_packet(sim: &mut Simulation, packet: Value, reply: oneshot::Sender<PacketOutcome>) {
+    let outcome = match sim.call_hook_function("sysCall_packet", &[packet]) {
+        Ok(None) => PacketOutcome::NoHandler,
+        Ok(Some(values)) => match values.into_iter().next() {
+            Some(Value::Str(s)) => PacketOutcome::Reply(s),
+            _ => PacketOutcome::Handled,
+        },
+        Err(e) => PacketOutcome::Error(e),
+    };
+    let _ = reply.send(outcome);
 }
