@@ -5,4 +5,4 @@ mod convert;
 pub mod sandbox;
 mod simulation;
 
-pub use simulation::{Hook, ScriptError, ScriptLimits, ScriptState, Simulation, check_syntax};
+pub use simulation::{Hook, ScriptError, ScriptLimits, ScriptState, Simulation, StepBoundary, check_syntax};

@@ -108,6 +108,19 @@ struct Shared {
     envs: RefCell<Vec<(Handle, Table, Rc<str>)>>,
 }
 
+/// A point inside a step where [`Simulation::step_with`] lets its caller serve
+/// requests, and what may be observed there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepBoundary {
+    /// Between two phases: anything may be read or called.
+    Phase,
+    /// A vision sensor has rendered and its `sysCall_vision` has not processed the
+    /// image yet. A reader of vision sensors, or a script (which might read one),
+    /// would see an image CoppeliaSim never shows, so such requests must wait; other
+    /// world calls are fine.
+    VisionUnprocessed,
+}
+
 /// The world and its scripts.
 pub struct Simulation {
     lua: Lua,
@@ -352,17 +365,18 @@ impl Simulation {
     /// One simulation step in CoppeliaSim's order. Starts the simulation if stopped;
     /// does nothing while paused.
     pub fn step(&mut self) {
-        self.step_with(&mut |_| {});
+        self.step_with(&mut |_, _| {});
     }
 
     /// [`Simulation::step`], calling `between` at each boundary between its phases:
-    /// after actuation, after physics and proximity sensing, and after each vision
-    /// sensor with a `sysCall_vision` (render and callback). No script is running at those points and
-    /// the world is consistent, so `between` may call [`Simulation::call`] and script
-    /// functions, as CoppeliaSim serves remote clients between its scripts. The server
-    /// uses it to answer requests during a long step instead of after it. It must not
+    /// after actuation, after physics and proximity sensing, and for each vision
+    /// sensor with a `sysCall_vision`, after its render and after its callback. No
+    /// script is running at those points, so `between` may call [`Simulation::call`]
+    /// and script functions, as CoppeliaSim serves remote clients between its scripts;
+    /// the [`StepBoundary`] says what is safe to observe there. The server uses it to
+    /// answer requests during a long step instead of after it. `between` must not
     /// start, stop, pause or step the simulation.
-    pub fn step_with(&mut self, between: &mut dyn FnMut(&mut Simulation)) {
+    pub fn step_with(&mut self, between: &mut dyn FnMut(&mut Simulation, StepBoundary)) {
         match self.state() {
             SimulationState::Stopped => self.start(),
             SimulationState::Paused => return,
@@ -375,13 +389,13 @@ impl Simulation {
                 self.call_hook(i, Hook::Actuation);
             }
         }
-        between(self);
+        between(self, StepBoundary::Phase);
         {
             let mut w = self.shared.world.borrow_mut();
             w.step_physics();
             w.handle_all_proximity_sensors();
         }
-        between(self);
+        between(self, StepBoundary::Phase);
         self.handle_vision(between);
         for k in 0..self.order.len() {
             let i = self.order[k];
@@ -431,7 +445,7 @@ impl Simulation {
     /// Renders the vision sensors whose scripts define `sysCall_vision`, then calls it
     /// with `inData.handle` (CoppeliaSim handles vision sensors after proximity sensors,
     /// before `sysCall_sensing`). Sensors without such a script render only when read.
-    fn handle_vision(&mut self, between: &mut dyn FnMut(&mut Simulation)) {
+    fn handle_vision(&mut self, between: &mut dyn FnMut(&mut Simulation, StepBoundary)) {
         for k in 0..self.order.len() {
             let i = self.order[k];
             let Some(f) = self.scripts[i].vision.clone() else {
@@ -445,6 +459,7 @@ impl Simulation {
                 self.scripts[i].vision = None;
                 continue;
             }
+            between(self, StepBoundary::VisionUnprocessed);
             let in_data = match self.vision_in_data(h) {
                 Ok(t) => t,
                 Err(e) => {
@@ -484,9 +499,7 @@ impl Simulation {
                     self.scripts[i] = s;
                 }
             }
-            // Not between the render and the callback: a reader there would see the
-            // image before `sysCall_vision` processed it, which CoppeliaSim never shows.
-            between(self);
+            between(self, StepBoundary::Phase);
         }
     }
 

@@ -10,7 +10,7 @@ use std::collections::VecDeque;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::time::{Duration, Instant};
 
-use gantry_script::{ScriptLimits, Simulation};
+use gantry_script::{ScriptLimits, Simulation, StepBoundary};
 use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::world::SimulationState;
 use gantry_sim_core::{Handle, Value};
@@ -423,16 +423,19 @@ impl SimLoop {
     /// (see `Simulation::step_with`), so that a call arriving during a long step (a
     /// vision sensor rendering, physics with many substeps) is answered within one
     /// phase rather than one step. Only world calls and text packets are served
-    /// there; anything that controls the simulation or the stepping clients (start,
-    /// stop, `sim.step`, stepping levels, viewer closures) waits for the end of the
-    /// step, and so does every request behind it, so replies keep arrival order.
+    /// there, and between a vision sensor's render and its `sysCall_vision` only world
+    /// calls that cannot see its unprocessed image; anything that controls the
+    /// simulation or the stepping clients (start, stop, `sim.step`, stepping levels,
+    /// viewer closures) waits for the end of the step, and so does every request
+    /// behind a waiting one, so replies keep arrival order.
     fn step_serving(&mut self, rx: &Receiver<Request>) {
         let deferred = &mut self.deferred;
-        self.sim.step_with(&mut |sim: &mut Simulation| {
+        self.sim.step_with(&mut |sim: &mut Simulation, at: StepBoundary| {
             while let Ok(req) = rx.try_recv() {
                 match req {
-                    Request::Call { name, args, reply } if deferred.is_empty() => serve_call(sim, &name, &args, reply),
-                    Request::Packet { packet, reply } if deferred.is_empty() => serve_packet(sim, packet, reply),
+                    req if !deferred.is_empty() || !may_serve_mid_step(&req, at) => deferred.push_back(req),
+                    Request::Call { name, args, reply } => serve_call(sim, &name, &args, reply),
+                    Request::Packet { packet, reply } => serve_packet(sim, packet, reply),
                     other => deferred.push_back(other),
                 }
             }
@@ -512,6 +515,26 @@ impl SimLoop {
     }
 }
 
+/// Whether `req` may be served at boundary `at` inside a step (see
+/// [`SimLoop::step_serving`]).
+fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
+    match req {
+        Request::Call { name, .. } => at == StepBoundary::Phase || !sees_vision(name),
+        Request::Packet { .. } => at == StepBoundary::Phase,
+        Request::Control { .. }
+        | Request::Remote { .. }
+        | Request::Step { .. }
+        | Request::DropClient(_)
+        | Request::With(_) => false,
+    }
+}
+
+/// Whether `sim.<name>` (or a qualified module function) may read a vision sensor's
+/// image, directly or through a script: such calls wait while an image is unprocessed.
+fn sees_vision(name: &str) -> bool {
+    name.contains("Vision") || name.contains("Script")
+}
+
 /// `sim.<name>(args)` for a remote client.
 fn serve_call(sim: &mut Simulation, name: &str, args: &[Value], reply: oneshot::Sender<Result<Vec<Value>, String>>) {
     let _ = reply.send(sim.call(name, args));
@@ -528,4 +551,71 @@ fn serve_packet(sim: &mut Simulation, packet: Value, reply: oneshot::Sender<Pack
         Err(e) => PacketOutcome::Error(e),
     };
     let _ = reply.send(outcome);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_function_that_reads_a_vision_image_waits_for_its_callback() {
+        for m in gantry_sim_core::api::MODULES {
+            for f in m.iter() {
+                let remote = if m.name == "sim" {
+                    f.name.to_owned()
+                } else {
+                    format!("{}.{}", m.name, f.name)
+                };
+                if m.name == "simVision" || f.name.contains("VisionSensor") || f.name.contains("Script") {
+                    assert!(sees_vision(&remote), "{remote}");
+                }
+            }
+        }
+        for world_call in [
+            "getObjectPosition",
+            "setJointTargetVelocity",
+            "readProximitySensor",
+            "getSimulationTime",
+        ] {
+            assert!(!sees_vision(world_call), "{world_call}");
+        }
+    }
+
+    fn call(name: &str) -> Request {
+        Request::Call {
+            name: name.to_owned(),
+            args: Vec::new(),
+            reply: oneshot::channel().0,
+        }
+    }
+
+    #[test]
+    fn what_is_served_inside_a_step() {
+        use StepBoundary::{Phase, VisionUnprocessed};
+        assert!(may_serve_mid_step(&call("getObjectPosition"), Phase));
+        assert!(may_serve_mid_step(&call("getObjectPosition"), VisionUnprocessed));
+        assert!(may_serve_mid_step(&call("getVisionSensorImg"), Phase));
+        assert!(!may_serve_mid_step(&call("getVisionSensorImg"), VisionUnprocessed));
+        assert!(!may_serve_mid_step(
+            &call("simVision.sensorImgToWorkImg"),
+            VisionUnprocessed
+        ));
+        let packet = Request::Packet {
+            packet: Value::Nil,
+            reply: oneshot::channel().0,
+        };
+        assert!(may_serve_mid_step(&packet, Phase));
+        assert!(!may_serve_mid_step(&packet, VisionUnprocessed));
+        let control = Request::Control {
+            action: Control::Stop,
+            reply: oneshot::channel().0,
+        };
+        assert!(!may_serve_mid_step(&control, Phase));
+        let step = Request::Step {
+            client: ClientId(1),
+            done: oneshot::channel().0,
+        };
+        assert!(!may_serve_mid_step(&step, Phase));
+        assert!(!may_serve_mid_step(&Request::With(Box::new(|_| {})), Phase));
+    }
 }
