@@ -9,6 +9,10 @@ Measures, against a gantry process it starts itself:
 
 Targets from the issue: median < 60 us, p99 < 500 us, > 2000 steps/s.
 
+Each run also prints what frames those figures on the machine at hand: the same call
+with the simulator idle between real-time steps, the client against an in-memory
+pyzmq echo server, and remote stepping of an empty scene (the protocol's own cost).
+
 Usage (from the repository root, after `cargo build --release`):
     .venv/bin/python tests/python/bench_zmq.py [--calls 20000] [--steps 3000] [--runs 3]
 GANTRY_BIN selects the binary (default target/release/gantry).
@@ -28,6 +32,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from gantry_proc import GantryProcess  # noqa: E402
 
 SCENE = "assets/scenes/bubble_rob.toml"
+# Nothing to simulate: remote stepping there is the protocol's own cost per step.
+EMPTY_SCENE = "assets/scenes/bench/empty.toml"
 TARGETS = {"median_us": 60.0, "p99_us": 500.0, "steps_per_s": 2000.0}
 
 
@@ -55,8 +61,8 @@ def latency(calls: int, scene: str, fast: bool) -> tuple[float, float, float]:
     return statistics.median(samples), percentile(samples, 99), advanced
 
 
-def stepping(steps: int) -> float:
-    with GantryProcess(SCENE, fast=True) as g:
+def stepping(steps: int, scene: str = SCENE) -> float:
+    with GantryProcess(scene, fast=True) as g:
         client = g.client()
         sim = client.require("sim")
         client.setStepping(True)
@@ -135,9 +141,21 @@ def main() -> int:
             f"({args.calls} calls; simulation advanced {advanced:.1f} s meanwhile); "
             f"client.step() {rate:.0f} steps/s ({args.steps} steps)"
         )
-        f_med, f_p99 = floor(args.calls)
+        # Context for reading the figures on this machine: the same calls with the
+        # simulator idle between them (real time), the client against a server that
+        # answers from memory, and remote stepping with nothing to simulate.
+        idle_med, idle_p99, _ = latency(args.calls // 4, args.scene, False)
+        f_med, f_p99 = floor(args.calls // 4)
+        ceiling = stepping(args.steps, EMPTY_SCENE)
+        print(f"       same call, simulator in real time (idle between steps): median {idle_med:.1f} us, p99 {idle_p99:.1f} us")
         print(f"       python client vs. an in-memory pyzmq echo server: median {f_med:.1f} us, p99 {f_p99:.1f} us")
-        runs.append({"median_us": med, "p99_us": p99, "steps_per_s": rate, "floor_median_us": f_med, "floor_p99_us": f_p99})
+        print(f"       client.step() on an empty scene (the protocol's ceiling): {ceiling:.0f} steps/s")
+        runs.append({
+            "median_us": med, "p99_us": p99, "steps_per_s": rate,
+            "idle_median_us": idle_med, "idle_p99_us": idle_p99,
+            "floor_median_us": f_med, "floor_p99_us": f_p99,
+            "empty_steps_per_s": ceiling,
+        })
         ok &= med < TARGETS["median_us"] and p99 < TARGETS["p99_us"] and rate > TARGETS["steps_per_s"]
     print("targets: median < 60 us, p99 < 500 us, > 2000 steps/s:", "met" if ok else "NOT met")
     if args.json:

@@ -90,10 +90,12 @@ def report(g: dict, pb: dict, zmq: dict, start: dict) -> str:
     w("| channel | median | p99 |")
     w("|---|---|---|")
     w(f"| ZMQ `sim.getObjectPosition`, real Python client, {zmq['scene']} at full speed | {zmq['median_us']:.0f} µs | {zmq['p99_us']:.0f} µs |")
-    w(f"| same client against an in-memory echo server (the client's own floor) | {zmq['floor_median_us']:.0f} µs | {zmq['floor_p99_us']:.0f} µs |")
+    w(f"| same call, {zmq['scene']} in real time (simulator idle between steps) | {zmq['idle_median_us']:.0f} µs | {zmq['idle_p99_us']:.0f} µs |")
+    w(f"| same client against an in-memory pyzmq echo server | {zmq['floor_median_us']:.0f} µs | {zmq['floor_p99_us']:.0f} µs |")
     w(f"| text packet round trip, persistent connection (fk_arm, real time) | {t['persistent_median_us']:.0f} µs | {t['persistent_p99_us']:.0f} µs |")
     w(f"| text packet round trip, new connection per command | {t['per_connection_median_us']:.0f} µs | {t['per_connection_p99_us']:.0f} µs |")
-    w(f"\nRemote stepping (`client.step()`, {zmq['scene']}): {zmq['steps_per_s']:,.0f} steps/s; "
+    w(f"\nRemote stepping (`client.step()`, {zmq['scene']}): {zmq['steps_per_s']:,.0f} steps/s "
+      f"(an empty scene, the protocol's own ceiling: {zmq['empty_steps_per_s']:,.0f} steps/s); "
       f"text channel: {t['packets_per_s']:,.0f} packets/s on one connection.\n")
 
     w("### 5. Start-up and memory (showroom)\n")
