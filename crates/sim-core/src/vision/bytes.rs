@@ -1,4 +1,4 @@
-//! Float to byte conversion for pixel loops.
+//! Byte conversions for pixel loops: floats to bytes, and packed pixels to RGB bytes.
 //!
 //! Rust's `as` cast from `f32` to an integer saturates and maps NaN to 0, which is the
 //! behaviour images need, but on x86 it compiles to a compare and branch per value,
@@ -22,6 +22,25 @@ pub(crate) fn round_byte(x: f32) -> u8 {
     let floor = if r > t { r - 1.0 } else { r };
     // `floor` is an integer in 0..=255, so the low byte of the mantissa holds it.
     ((floor + MAGIC).to_bits() & 0xff) as u8
+}
+
+/// Writes interleaved RGB bytes (3 per pixel) from `pixels`, each turned by `word` into
+/// a packed `0x00BBGGRR` word. Four pixels at a time are exactly three little-endian
+/// words of output, so the loop stores words instead of single bytes.
+#[inline]
+pub(crate) fn write_rgb<T: Copy>(pixels: &[T], rgb: &mut [u8], word: impl Fn(T) -> u32) {
+    let (blocks, rest) = pixels.as_chunks::<4>();
+    let (out_blocks, out_rest) = rgb.as_chunks_mut::<12>();
+    for (px, out) in blocks.iter().zip(out_blocks) {
+        let [p0, p1, p2, p3] = px.map(&word);
+        let words = [p0 | p1 << 24, p1 >> 8 | p2 << 16, p2 >> 16 | p3 << 8];
+        for (o, w) in out.as_chunks_mut::<4>().0.iter_mut().zip(words) {
+            *o = w.to_le_bytes();
+        }
+    }
+    for (&p, o) in rest.iter().zip(out_rest.chunks_exact_mut(3)) {
+        o.copy_from_slice(&word(p).to_le_bytes()[..3]);
+    }
 }
 
 #[cfg(test)]

@@ -480,22 +480,8 @@ impl Work {
         match self {
             // byte / 255 * 255 rounds back to the byte (tested for all 256).
             Work::Bytes(b) => rgb.copy_from_slice(b),
-            Work::Binary(m) => {
-                // Four pixels (12 bytes) at a time, as three words: each pixel is 0 or
-                // 0xffffff, and the words interleave them.
-                let (blocks, rest) = m.as_chunks::<4>();
-                let (out_blocks, out_rest) = rgb.as_chunks_mut::<12>();
-                for (px, out) in blocks.iter().zip(out_blocks) {
-                    let [p0, p1, p2, p3] = px.map(|v| u32::from(v != 0) * 0x00ff_ffff);
-                    let words = [p0 | p1 << 24, p1 >> 8 | p2 << 16, p2 >> 16 | p3 << 8];
-                    for (o, w) in out.as_chunks_mut::<4>().0.iter_mut().zip(words) {
-                        *o = w.to_le_bytes();
-                    }
-                }
-                for (o, &v) in out_rest.as_chunks_mut::<3>().0.iter_mut().zip(rest) {
-                    *o = [if v != 0 { 255 } else { 0 }; 3];
-                }
-            }
+            // Each pixel black (0) or white (0xffffff).
+            Work::Binary(m) => bytes::write_rgb(m, rgb, |v| u32::from(v != 0) * 0x00ff_ffff),
             Work::Float(f) => {
                 for (c, &v) in rgb.iter_mut().zip(f) {
                     *c = bytes::round_byte(v * 255.0);

@@ -59,18 +59,7 @@ fn colour(color: &[u32], rgb: &mut [u8]) -> [[f64; 4]; 3] {
         byte_extremes(part, &mut bmin, &mut bmax);
         pixel_stats(part, &mut imin, &mut imax, &mut sum);
     }
-    let (out_blocks, out_rest) = rgb.as_chunks_mut::<12>();
-    for (px, out) in blocks.iter().zip(out_blocks) {
-        // Four packed pixels are exactly three little-endian words of RGB bytes.
-        let [p0, p1, p2, p3] = *px;
-        let words = [p0 | p1 << 24, p1 >> 8 | p2 << 16, p2 >> 16 | p3 << 8];
-        for (o, w) in out.as_chunks_mut::<4>().0.iter_mut().zip(words) {
-            *o = w.to_le_bytes();
-        }
-    }
-    for (&p, o) in rest.iter().zip(out_rest.chunks_exact_mut(3)) {
-        o.copy_from_slice(&p.to_le_bytes()[..3]);
-    }
+    super::bytes::write_rgb(color, rgb, |p| p);
 
     let first = color[0].to_le_bytes().map(u64::from);
     let channel_sum = |k: usize| sum[k].iter().map(|&s| u64::from(s)).sum::<u64>() - padding as u64 * first[k];
