@@ -42,6 +42,19 @@ fn filter3x3<const C: usize>(width: usize, height: usize, input: &[f32], output:
             }
         }
     }
+    filter_border::<C>(width, height, input, output, m, interior);
+}
+
+/// The pixels [`filter3x3`]'s interior pass leaves out: the border (every pixel if
+/// `interior` is false, that is, if the interior pass did not run).
+fn filter_border<const C: usize>(
+    width: usize,
+    height: usize,
+    input: &[f32],
+    output: &mut [f32],
+    m: &[f32; 9],
+    interior: bool,
+) {
     for y in 0..height {
         let whole_row = !interior || y == 0 || y + 1 == height;
         if whole_row {
@@ -146,16 +159,7 @@ fn edge_filter(width: usize, height: usize, input: &[f32], output: &mut [f32]) {
         std::mem::swap(&mut above, &mut here);
         std::mem::swap(&mut here, &mut below);
     }
-    for y in 0..height {
-        if y == 0 || y + 1 == height {
-            for x in 0..width {
-                filter_pixel::<1>(width, height, input, output, &EDGE_KERNEL, x, y);
-            }
-        } else {
-            filter_pixel::<1>(width, height, input, output, &EDGE_KERNEL, 0, y);
-            filter_pixel::<1>(width, height, input, output, &EDGE_KERNEL, width - 1, y);
-        }
-    }
+    filter_border::<1>(width, height, input, output, &EDGE_KERNEL, true);
 }
 
 /// `simVision.sharpenWorkImg`: the sharpening kernel, then a clamp to 0..1.
