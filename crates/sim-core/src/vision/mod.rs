@@ -504,18 +504,20 @@ impl WorkImage<'_> {
     /// kept as [`Work::Binary`].
     pub fn edge_detection(&mut self, threshold: f32) {
         let n = self.width * self.height;
-        // Both halves are overwritten entirely; only grow the buffer, never clear it
-        // (zeroing 512 KB per frame showed in profiles).
-        if self.scratch.len() < 2 * n {
-            self.scratch.resize(2 * n, 0.0);
+        // The grey image, then the filter's scratch. Everything in it is overwritten,
+        // so the buffer only grows and is never cleared: this runs at every step.
+        let len = n + work_image::edge_scratch_len(self.width, self.height);
+        if self.scratch.len() < len {
+            self.scratch.resize(len, 0.0);
         }
-        let (grey, filtered) = self.scratch[..2 * n].split_at_mut(n);
+        let (grey, rest) = self.scratch[..len].split_at_mut(n);
         let scale = self.work.grey_sums(grey);
+        // The byte buffer of the old form becomes the mask: no allocation per frame.
         let mut mask = match std::mem::replace(self.work, Work::Binary(Vec::new())) {
-            Work::Binary(m) => m,
-            _ => Vec::new(),
+            Work::Binary(m) | Work::Bytes(m) => m,
+            Work::Float(_) => Vec::new(),
         };
-        work_image::edge_mask(self.width, self.height, grey, filtered, threshold * scale, &mut mask);
+        work_image::edge_mask(self.width, self.height, grey, rest, threshold * scale, &mut mask);
         *self.work = Work::Binary(mask);
     }
 
@@ -539,8 +541,9 @@ impl SensorImage {
     /// `simVision.sensorImgToWorkImg`: the sensor image as floats 0..1 (kept as its
     /// bytes, see [`Work`]).
     pub(crate) fn rgb_to_work(&mut self) {
+        // The buffer of a byte or edge image is reused: no allocation per frame.
         let mut bytes = match self.work.take() {
-            Some(Work::Bytes(b)) => b,
+            Some(Work::Bytes(b) | Work::Binary(b)) => b,
             _ => Vec::new(),
         };
         bytes.clear();
@@ -636,9 +639,10 @@ mod tests {
             // the filtered mean is within rounding of the threshold.
             let floats = compact.to_floats();
             let grey: Vec<f32> = floats.chunks_exact(3).map(|p| p[0] + p[1] + p[2]).collect();
-            let mut filtered = vec![0.0; grey.len()];
+            let mut scratch = vec![0.0; work_image::edge_scratch_len(w, h)];
             let mut mask = Vec::new();
-            work_image::edge_mask(w, h, &grey, &mut filtered, 0.2, &mut mask);
+            work_image::edge_mask(w, h, &grey, &mut scratch, 0.2, &mut mask);
+            let filtered = &scratch[..w * h];
             for i in 0..w * h {
                 if (filtered[i] / 3.0 - 0.2).abs() > 1e-4 {
                     assert_eq!(results[0][3 * i], results[1][3 * i], "pixel {i}: {}", filtered[i] / 3.0);

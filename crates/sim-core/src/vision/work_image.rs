@@ -121,43 +121,52 @@ pub(crate) fn edge_mask(
     width: usize,
     height: usize,
     grey: &[f32],
-    filtered: &mut [f32],
+    scratch: &mut [f32],
     threshold: f32,
     mask: &mut Vec<u8>,
 ) {
-    edge_filter(width, height, grey, filtered);
+    let (filtered, rows) = scratch.split_at_mut((width * height).min(scratch.len()));
+    edge_filter(width, height, grey, filtered, rows);
     let limit = 3.0 * threshold;
     mask.clear();
     mask.extend(filtered.iter().map(|&f| u8::from(f > limit)));
 }
 
+/// Scratch values [`edge_mask`] needs for a `width` x `height` image: the filtered
+/// image and three rows of horizontal sums.
+pub(crate) fn edge_scratch_len(width: usize, height: usize) -> usize {
+    width * height + 3 * width
+}
+
 /// [`filter3x3`] with [`EDGE_KERNEL`] on one channel. The kernel is 27 times the
 /// centre minus 3 times the 3x3 box sum, and box sums are separable: a row of
 /// horizontal sums, then three rows of those added. Four additions per pixel instead
-/// of nine multiply-adds. Border pixels take the general path.
-fn edge_filter(width: usize, height: usize, input: &[f32], output: &mut [f32]) {
+/// of nine multiply-adds. Border pixels take the general path. `rows` holds three
+/// rows of horizontal sums (at least `3 * width` values).
+fn edge_filter(width: usize, height: usize, input: &[f32], output: &mut [f32], rows: &mut [f32]) {
     let n = width * height;
-    if width < 3 || height < 3 || input.len() < n || output.len() < n {
+    if width < 3 || height < 3 || input.len() < n || output.len() < n || rows.len() < 3 * width {
         filter3x3::<1>(width, height, input, output, &EDGE_KERNEL);
         return;
     }
-    // Horizontal 3-sums of the three rows around y, rotated as y advances.
-    let hsum = |row: &[f32], out: &mut Vec<f32>| {
-        out.clear();
-        out.extend(row.windows(3).map(|w| w[0] + w[1] + w[2]));
+    // Row y's horizontal 3-sums go to slot y % 3, so the three around y are at hand.
+    let hsum = |rows: &mut [f32], y: usize| {
+        let slot = &mut rows[(y % 3) * width..(y % 3) * width + width - 2];
+        for (o, w) in slot.iter_mut().zip(input[y * width..(y + 1) * width].windows(3)) {
+            *o = w[0] + w[1] + w[2];
+        }
     };
-    let (mut above, mut here, mut below) = (Vec::new(), Vec::new(), Vec::new());
-    hsum(&input[..width], &mut above);
-    hsum(&input[width..2 * width], &mut here);
+    hsum(rows, 0);
+    hsum(rows, 1);
     for y in 1..height - 1 {
-        hsum(&input[(y + 1) * width..(y + 2) * width], &mut below);
+        hsum(rows, y + 1);
+        let slot = |k: usize| &rows[(k % 3) * width..(k % 3) * width + width - 2];
+        let (above, here, below) = (slot(y - 1), slot(y), slot(y + 1));
         let centre = &input[y * width + 1..(y + 1) * width - 1];
         let out = &mut output[y * width + 1..(y + 1) * width - 1];
-        for ((((o, &c), &a), &h), &b) in out.iter_mut().zip(centre).zip(&above).zip(&here).zip(&below) {
+        for ((((o, &c), &a), &h), &b) in out.iter_mut().zip(centre).zip(above).zip(here).zip(below) {
             *o = 27.0 * c - 3.0 * (a + h + b);
         }
-        std::mem::swap(&mut above, &mut here);
-        std::mem::swap(&mut here, &mut below);
     }
     filter_border::<1>(width, height, input, output, &EDGE_KERNEL, true);
 }
@@ -204,8 +213,8 @@ mod tests {
     /// Edge detection on a float RGB image, in place, through [`edge_mask`].
     fn edge_detection(width: usize, height: usize, img: &mut [f32], _: &mut Vec<f32>, threshold: f32) {
         let grey: Vec<f32> = img.chunks_exact(3).map(|p| p[0] + p[1] + p[2]).collect();
-        let (mut filtered, mut mask) = (vec![0.0; grey.len()], Vec::new());
-        edge_mask(width, height, &grey, &mut filtered, threshold, &mut mask);
+        let (mut scratch, mut mask) = (vec![0.0; edge_scratch_len(width, height)], Vec::new());
+        edge_mask(width, height, &grey, &mut scratch, threshold, &mut mask);
         for (px, &m) in img.chunks_exact_mut(3).zip(&mask) {
             px.fill(f32::from(m));
         }
@@ -292,7 +301,7 @@ mod tests {
             let img: Vec<f32> = (0..w * h).map(|i| ((i * 37 + 11) % 101) as f32 / 33.0).collect();
             let (mut general, mut fast) = (vec![0.0; w * h], vec![0.0; w * h]);
             filter3x3::<1>(w, h, &img, &mut general, &EDGE_KERNEL);
-            edge_filter(w, h, &img, &mut fast);
+            edge_filter(w, h, &img, &mut fast, &mut vec![0.0; 3 * w]);
             for (i, (g, f)) in general.iter().zip(&fast).enumerate() {
                 assert!((g - f).abs() < 1e-4, "{w}x{h} pixel {i}: {g} vs {f}");
             }
