@@ -42,6 +42,7 @@
 mod bytes;
 mod raster;
 mod resolve;
+mod simd;
 mod tessellate;
 mod work_image;
 
@@ -451,6 +452,7 @@ impl Work {
     /// Per pixel, R + G + B, in units where a channel at 1.0 counts as the returned
     /// scale. For bytes that is 255: the sums are then small integers, exact in `f32`,
     /// and so is the edge filter over them (no division per value, no rounding).
+    #[inline]
     fn grey_sums(&self, out: &mut [f32]) -> f32 {
         match self {
             Work::Bytes(b) => {
@@ -491,6 +493,23 @@ impl Work {
     }
 }
 
+simd::multiversion! {
+    /// [`WorkImage::edge_detection`] on a `width` x `height` image; `scratch` holds
+    /// the grey image, then the filter's scratch. Twice as fast with AVX2 (see
+    /// [`simd`]).
+    fn edge_detection(width: usize, height: usize, work: &mut Work, scratch: &mut [f32], threshold: f32) {
+        let (grey, rest) = scratch.split_at_mut((width * height).min(scratch.len()));
+        let scale = work.grey_sums(grey);
+        // The byte buffer of the old form becomes the mask: no allocation per frame.
+        let mut mask = match std::mem::replace(work, Work::Binary(Vec::new())) {
+            Work::Binary(m) | Work::Bytes(m) => m,
+            Work::Float(_) => Vec::new(),
+        };
+        work_image::edge_mask(width, height, grey, rest, threshold * scale, &mut mask);
+        *work = Work::Binary(mask);
+    }
+}
+
 /// A sensor's work image lent to a `simVision` operation.
 pub(crate) struct WorkImage<'a> {
     width: usize,
@@ -510,15 +529,7 @@ impl WorkImage<'_> {
         if self.scratch.len() < len {
             self.scratch.resize(len, 0.0);
         }
-        let (grey, rest) = self.scratch[..len].split_at_mut(n);
-        let scale = self.work.grey_sums(grey);
-        // The byte buffer of the old form becomes the mask: no allocation per frame.
-        let mut mask = match std::mem::replace(self.work, Work::Binary(Vec::new())) {
-            Work::Binary(m) | Work::Bytes(m) => m,
-            Work::Float(_) => Vec::new(),
-        };
-        work_image::edge_mask(self.width, self.height, grey, rest, threshold * scale, &mut mask);
-        *self.work = Work::Binary(mask);
+        edge_detection(self.width, self.height, self.work, &mut self.scratch[..len], threshold);
     }
 
     /// `simVision.sharpenWorkImg`.

@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 
 use super::bytes::round_byte;
 use super::resolve::{self, Packet1};
+use super::simd::multiversion;
 use super::tessellate::{TriMesh, cross, dot, sub};
 use crate::math::Pose;
 use crate::scene::VisionModel;
@@ -354,6 +355,7 @@ struct ScreenVertex {
     light_z: f32,
 }
 
+#[inline]
 fn project(cam: &Camera, v: CamVertex) -> ScreenVertex {
     let [x, y, z] = v.p;
     let inv_z = 1.0 / z;
@@ -366,6 +368,7 @@ fn project(cam: &Camera, v: CamVertex) -> ScreenVertex {
     }
 }
 
+#[inline]
 fn edge(a: ScreenVertex, b: ScreenVertex, px: f32, py: f32) -> f32 {
     (b.x - a.x) * (py - a.y) - (b.y - a.y) * (px - a.x)
 }
@@ -374,94 +377,96 @@ fn to_byte(c: f32) -> u8 {
     round_byte(c * 255.0)
 }
 
-/// Fills one triangle that lies inside the frustum. `color` is RGB scaled to 0..255.
-///
-/// Per row, the pixels whose centres lie inside all three edges form one interval,
-/// found from the edge functions directly; 1/z and light/z are affine in screen space,
-/// so along that interval each pixel costs a multiply-add, a division (perspective-
-/// correct depth and light) and a depth test done with selects, which the compiler
-/// turns into vector code.
-fn fill(cam: &Camera, target: &mut Target<'_>, tri: [CamVertex; 3], color: [f32; 3]) {
-    let [mut a, mut b, c] = tri.map(|v| project(cam, v));
-    let mut area = edge(a, b, c.x, c.y);
-    if !area.is_finite() || area.abs() < 1e-12 {
-        return;
-    }
-    if area < 0.0 {
-        // Drawn two-sided: orient every triangle counter-clockwise on screen.
-        std::mem::swap(&mut a, &mut b);
-        area = -area;
-    }
-    let inv_area = 1.0 / area;
-    let (w, h) = (target.width, target.height);
-    // Pixels whose centre may lie inside; clipping keeps corners within the image
-    // (up to rounding), and the clamps make out-of-range indices impossible.
-    let span = |lo: f32, hi: f32, n: usize| {
-        let first = (lo - 0.5).ceil().max(0.0) as usize;
-        let end = ((hi - 0.5).floor() + 1.0).clamp(0.0, n as f32) as usize;
-        (first, end)
-    };
-    let (x0, x1) = span(a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x), w);
-    let (y0, y1) = span(a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y), h);
-    if x0 >= x1 || y0 >= y1 {
-        return;
-    }
-    // Edge functions (opposite a, b, c) and their steps per pixel along a row.
-    let edges = [(b, c), (c, a), (a, b)];
-    let steps = edges.map(|(p, q)| -(q.y - p.y));
-    // 1/z and light/z as planes over the screen: value at pixel centre (0.5, y) of a
-    // row plus a step per pixel.
-    let weights = |f: fn(&ScreenVertex) -> f32| [f(&a), f(&b), f(&c)];
-    let (iz, lz) = (weights(|v| v.inv_z), weights(|v| v.light_z));
-    let grad = |k: [f32; 3]| (steps[0] * k[0] + steps[1] * k[1] + steps[2] * k[2]) * inv_area;
-    let (diz, dlz) = (grad(iz), grad(lz));
-    let [cr, cg, cb] = color;
-    for row in y0..y1 {
-        let py = row as f32 + 0.5;
-        // Edge values at the centre of column 0, and the columns where each is >= 0.
-        let e = edges.map(|(p, q)| edge(p, q, 0.5, py));
-        // Continuous column bounds, lo <= col <= hi, within the bounding box.
-        let (mut lo, mut hi) = (x0 as f32, (x1 - 1) as f32);
-        for k in 0..3 {
-            // A tolerance of 1e-4 px keeps pixel centres exactly on an edge shared by
-            // two triangles from being dropped by both through rounding.
-            let at = -e[k] / steps[k];
-            if steps[k] > 0.0 {
-                lo = lo.max(at - 1e-4);
-            } else if steps[k] < 0.0 {
-                hi = hi.min(at + 1e-4);
-            } else if e[k] < 0.0 {
-                hi = -1.0;
+multiversion! {
+    /// Fills one triangle that lies inside the frustum. `color` is RGB scaled to 0..255.
+    ///
+    /// Per row, the pixels whose centres lie inside all three edges form one interval,
+    /// found from the edge functions directly; 1/z and light/z are affine in screen space,
+    /// so along that interval each pixel costs a multiply-add, a division (perspective-
+    /// correct depth and light) and a depth test done with selects, which the compiler
+    /// turns into vector code (eight lanes with AVX2, see [`super::simd`]).
+    fn fill(cam: &Camera, target: &mut Target<'_>, tri: [CamVertex; 3], color: [f32; 3]) {
+        let [mut a, mut b, c] = tri.map(|v| project(cam, v));
+        let mut area = edge(a, b, c.x, c.y);
+        if !area.is_finite() || area.abs() < 1e-12 {
+            return;
+        }
+        if area < 0.0 {
+            // Drawn two-sided: orient every triangle counter-clockwise on screen.
+            std::mem::swap(&mut a, &mut b);
+            area = -area;
+        }
+        let inv_area = 1.0 / area;
+        let (w, h) = (target.width, target.height);
+        // Pixels whose centre may lie inside; clipping keeps corners within the image
+        // (up to rounding), and the clamps make out-of-range indices impossible.
+        let span = |lo: f32, hi: f32, n: usize| {
+            let first = (lo - 0.5).ceil().max(0.0) as usize;
+            let end = ((hi - 0.5).floor() + 1.0).clamp(0.0, n as f32) as usize;
+            (first, end)
+        };
+        let (x0, x1) = span(a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x), w);
+        let (y0, y1) = span(a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y), h);
+        if x0 >= x1 || y0 >= y1 {
+            return;
+        }
+        // Edge functions (opposite a, b, c) and their steps per pixel along a row.
+        let edges = [(b, c), (c, a), (a, b)];
+        let steps = edges.map(|(p, q)| -(q.y - p.y));
+        // 1/z and light/z as planes over the screen: value at pixel centre (0.5, y) of a
+        // row plus a step per pixel.
+        let weights = |f: fn(&ScreenVertex) -> f32| [f(&a), f(&b), f(&c)];
+        let (iz, lz) = (weights(|v| v.inv_z), weights(|v| v.light_z));
+        let grad = |k: [f32; 3]| (steps[0] * k[0] + steps[1] * k[1] + steps[2] * k[2]) * inv_area;
+        let (diz, dlz) = (grad(iz), grad(lz));
+        let [cr, cg, cb] = color;
+        for row in y0..y1 {
+            let py = row as f32 + 0.5;
+            // Edge values at the centre of column 0, and the columns where each is >= 0.
+            let e = edges.map(|(p, q)| edge(p, q, 0.5, py));
+            // Continuous column bounds, lo <= col <= hi, within the bounding box.
+            let (mut lo, mut hi) = (x0 as f32, (x1 - 1) as f32);
+            for k in 0..3 {
+                // A tolerance of 1e-4 px keeps pixel centres exactly on an edge shared by
+                // two triangles from being dropped by both through rounding.
+                let at = -e[k] / steps[k];
+                if steps[k] > 0.0 {
+                    lo = lo.max(at - 1e-4);
+                } else if steps[k] < 0.0 {
+                    hi = hi.min(at + 1e-4);
+                } else if e[k] < 0.0 {
+                    hi = -1.0;
+                }
             }
-        }
-        // Rounded with casts (lo >= x0 >= 0 here) rather than `ceil`/`floor`, which
-        // are library calls on baseline x86-64.
-        // (`max` and `min` skip a NaN bound, so neither is NaN.)
-        if lo > hi || hi < 0.0 {
-            continue;
-        }
-        let first = lo as usize + usize::from((lo as usize as f32) < lo);
-        let end = hi as usize + 1;
-        if first >= end {
-            continue;
-        }
-        let iz0 = (e[0] * iz[0] + e[1] * iz[1] + e[2] * iz[2]) * inv_area;
-        let lz0 = (e[0] * lz[0] + e[1] * lz[1] + e[2] * lz[2]) * inv_area;
-        let zrow = &mut target.zbuf[row * w + first..row * w + end];
-        let crow = &mut target.color[row * w + first..row * w + end];
-        let first = first as i32;
-        for (i, (zp, cp)) in zrow.iter_mut().zip(crow.iter_mut()).enumerate() {
-            let col = (first + i as i32) as f32;
-            let inv_z = iz0 + diz * col;
-            let z = 1.0 / inv_z;
-            let light = (lz0 + dlz * col) * z;
-            let byte = |c: f32| u32::from(round_byte(c * light));
-            let packed = byte(cr) | byte(cg) << 8 | byte(cb) << 16;
-            // The depth test as a bit blend: written as `if closer { .. }` (or as a
-            // select) the compiler makes each store conditional, lane by lane.
-            let keep_new = u32::from(z < *zp).wrapping_neg();
-            *zp = f32::from_bits(z.to_bits() & keep_new | zp.to_bits() & !keep_new);
-            *cp = packed & keep_new | *cp & !keep_new;
+            // Rounded with casts (lo >= x0 >= 0 here) rather than `ceil`/`floor`, which
+            // are library calls on baseline x86-64.
+            // (`max` and `min` skip a NaN bound, so neither is NaN.)
+            if lo > hi || hi < 0.0 {
+                continue;
+            }
+            let first = lo as usize + usize::from((lo as usize as f32) < lo);
+            let end = hi as usize + 1;
+            if first >= end {
+                continue;
+            }
+            let iz0 = (e[0] * iz[0] + e[1] * iz[1] + e[2] * iz[2]) * inv_area;
+            let lz0 = (e[0] * lz[0] + e[1] * lz[1] + e[2] * lz[2]) * inv_area;
+            let zrow = &mut target.zbuf[row * w + first..row * w + end];
+            let crow = &mut target.color[row * w + first..row * w + end];
+            let first = first as i32;
+            for (i, (zp, cp)) in zrow.iter_mut().zip(crow.iter_mut()).enumerate() {
+                let col = (first + i as i32) as f32;
+                let inv_z = iz0 + diz * col;
+                let z = 1.0 / inv_z;
+                let light = (lz0 + dlz * col) * z;
+                let byte = |c: f32| u32::from(round_byte(c * light));
+                let packed = byte(cr) | byte(cg) << 8 | byte(cb) << 16;
+                // The depth test as a bit blend: written as `if closer { .. }` (or as a
+                // select) the compiler makes each store conditional, lane by lane.
+                let keep_new = u32::from(z < *zp).wrapping_neg();
+                *zp = f32::from_bits(z.to_bits() & keep_new | zp.to_bits() & !keep_new);
+                *cp = packed & keep_new | *cp & !keep_new;
+            }
         }
     }
 }

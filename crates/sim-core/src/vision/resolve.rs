@@ -6,6 +6,8 @@
 //! extremes) that the compiler holds in vector registers; the lanes are folded once at
 //! the end.
 
+use super::simd::multiversion;
+
 /// Packet 1 as CoppeliaSim reports it: minimum, maximum and average of intensity, red,
 /// green, blue and normalised depth, in that order within each group, all 0..1.
 pub(crate) type Packet1 = [f64; 15];
@@ -95,21 +97,24 @@ fn byte_extremes(blocks: &[[u32; 4]], bmin: &mut [u8; 16], bmax: &mut [u8; 16]) 
     }
 }
 
-/// Intensity extremes and channel sums per pixel of four. At most 255 per channel and
-/// 512 * 512 / 4 pixels per lane, so no sum overflows.
-// Not inlined: inside a larger function the compiler has been seen to make this loop
-// scalar (15x slower).
-#[inline(never)]
-fn pixel_stats(blocks: &[[u32; 4]], imin: &mut [i32; 4], imax: &mut [i32; 4], sum: &mut [[u32; 4]; 3]) {
-    for px in blocks {
-        for i in 0..4 {
-            let (r, g, b) = (px[i] & 0xff, px[i] >> 8 & 0xff, px[i] >> 16 & 0xff);
-            let v = (r + g + b) as i32;
-            imin[i] = imin[i].min(v);
-            imax[i] = imax[i].max(v);
-            sum[0][i] += r;
-            sum[1][i] += g;
-            sum[2][i] += b;
+multiversion! {
+    /// Intensity extremes and channel sums per pixel of four. At most 255 per channel and
+    /// 512 * 512 / 4 pixels per lane, so no sum overflows.
+    ///
+    /// Not inlined: inside a larger function the compiler has been seen to make this loop
+    /// scalar (15x slower). Twice as fast with AVX2 (see [`super::simd`]).
+    #[inline(never)]
+    fn pixel_stats(blocks: &[[u32; 4]], imin: &mut [i32; 4], imax: &mut [i32; 4], sum: &mut [[u32; 4]; 3]) {
+        for px in blocks {
+            for i in 0..4 {
+                let (r, g, b) = (px[i] & 0xff, px[i] >> 8 & 0xff, px[i] >> 16 & 0xff);
+                let v = (r + g + b) as i32;
+                imin[i] = imin[i].min(v);
+                imax[i] = imax[i].max(v);
+                sum[0][i] += r;
+                sum[1][i] += g;
+                sum[2][i] += b;
+            }
         }
     }
 }

@@ -117,6 +117,8 @@ fn filter_pixel<const C: usize>(
 /// The filter is linear, so the mean of the three filtered channels is the filtered
 /// mean: one channel (R + G + B) is filtered instead of three, and compared with
 /// 3 * `threshold`. (Only a sum within rounding of the threshold can differ.)
+// Always inlined: into both copies of `vision::edge_detection` (see `vision::simd`).
+#[inline(always)]
 pub(crate) fn edge_mask(
     width: usize,
     height: usize,
@@ -143,6 +145,7 @@ pub(crate) fn edge_scratch_len(width: usize, height: usize) -> usize {
 /// horizontal sums, then three rows of those added. Four additions per pixel instead
 /// of nine multiply-adds. Border pixels take the general path. `rows` holds three
 /// rows of horizontal sums (at least `3 * width` values).
+#[inline(always)]
 fn edge_filter(width: usize, height: usize, input: &[f32], output: &mut [f32], rows: &mut [f32]) {
     let n = width * height;
     if width < 3 || height < 3 || input.len() < n || output.len() < n || rows.len() < 3 * width {
