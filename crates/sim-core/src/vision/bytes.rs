@@ -5,6 +5,8 @@
 //! which keeps loops over pixels scalar. [`round_byte`] computes the same result with
 //! plain float arithmetic and a bit cast, so such loops vectorise.
 
+use super::simd::multiversion;
+
 /// 2^23: adding it to a float in 0..2^23 leaves that float's value rounded to an
 /// integer in the low bits of the mantissa.
 const MAGIC: f32 = 8_388_608.0;
@@ -27,7 +29,7 @@ pub(crate) fn round_byte(x: f32) -> u8 {
 /// Writes interleaved RGB bytes (3 per pixel) from `pixels`, each turned by `word` into
 /// a packed `0x00BBGGRR` word. Four pixels at a time are exactly three little-endian
 /// words of output, so the loop stores words instead of single bytes.
-#[inline]
+#[inline(always)]
 pub(crate) fn write_rgb<T: Copy>(pixels: &[T], rgb: &mut [u8], word: impl Fn(T) -> u32) {
     let (blocks, rest) = pixels.as_chunks::<4>();
     let (out_blocks, out_rest) = rgb.as_chunks_mut::<12>();
@@ -40,6 +42,20 @@ pub(crate) fn write_rgb<T: Copy>(pixels: &[T], rgb: &mut [u8], word: impl Fn(T) 
     }
     for (&p, o) in rest.iter().zip(out_rest.chunks_exact_mut(3)) {
         o.copy_from_slice(&word(p).to_le_bytes()[..3]);
+    }
+}
+
+multiversion! {
+    /// [`write_rgb`] of packed `0x00BBGGRR` colours (the rasteriser's buffer).
+    pub(crate) fn write_packed_rgb(color: &[u32], rgb: &mut [u8]) {
+        write_rgb(color, rgb, |p| p);
+    }
+}
+
+multiversion! {
+    /// [`write_rgb`] of a black-and-white mask: 0 is black, anything else white.
+    pub(crate) fn write_mask_rgb(mask: &[u8], rgb: &mut [u8]) {
+        write_rgb(mask, rgb, |v| u32::from(v != 0) * 0x00ff_ffff);
     }
 }
 

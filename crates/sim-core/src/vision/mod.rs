@@ -483,7 +483,7 @@ impl Work {
             // byte / 255 * 255 rounds back to the byte (tested for all 256).
             Work::Bytes(b) => rgb.copy_from_slice(b),
             // Each pixel black (0) or white (0xffffff).
-            Work::Binary(m) => bytes::write_rgb(m, rgb, |v| u32::from(v != 0) * 0x00ff_ffff),
+            Work::Binary(m) => bytes::write_mask_rgb(m, rgb),
             Work::Float(f) => {
                 for (c, &v) in rgb.iter_mut().zip(f) {
                     *c = bytes::round_byte(v * 255.0);

@@ -61,7 +61,7 @@ fn colour(color: &[u32], rgb: &mut [u8]) -> [[f64; 4]; 3] {
         byte_extremes(part, &mut bmin, &mut bmax);
         pixel_stats(part, &mut imin, &mut imax, &mut sum);
     }
-    super::bytes::write_rgb(color, rgb, |p| p);
+    super::bytes::write_packed_rgb(color, rgb);
 
     let first = color[0].to_le_bytes().map(u64::from);
     let channel_sum = |k: usize| sum[k].iter().map(|&s| u64::from(s)).sum::<u64>() - padding as u64 * first[k];
@@ -82,7 +82,8 @@ fn colour(color: &[u32], rgb: &mut [u8]) -> [[f64; 4]; 3] {
 
 /// Extremes per byte of four packed pixels (R G B 0, four times).
 // Not inlined: inside a larger function the compiler has been seen to make this loop
-// scalar (15x slower).
+// scalar (15x slower). Not compiled for AVX2 either (`super::simd`): that copy measured
+// eight times slower.
 #[inline(never)]
 fn byte_extremes(blocks: &[[u32; 4]], bmin: &mut [u8; 16], bmax: &mut [u8; 16]) {
     for px in blocks {
@@ -122,7 +123,8 @@ multiversion! {
 /// Normalised depth from planar depth in metres (background at the far plane, as
 /// CoppeliaSim's depth buffer); returns its min, max and sum.
 // Not inlined: inside a larger function the compiler has been seen to make this loop
-// scalar (15x slower).
+// scalar (15x slower). Not compiled for AVX2 either (`super::simd`): that copy measured
+// twice as slow.
 #[inline(never)]
 fn depths(zbuf: &[f32], near: f32, far: f32, depth: &mut [f32]) -> [f64; 3] {
     const LANES: usize = 4;
