@@ -49,6 +49,21 @@ use crate::sim_thread::{RemoteOp, Request, SimHandle};
 use crate::stepping::ClientId;
 use crate::zmq_guard;
 
+// Polling instead of sleeping. Waking a sleeping thread costs 50-100 µs on a loaded
+// virtual machine, most of a round trip of this protocol, and it happens twice per
+// call: when the simulation thread answers, and when the client's next request
+// arrives. So the remote API polls for both, for a short while. Each turn of a poll
+// gives the core to any other thread that is ready to run, so the client and the
+// simulation lose nothing; an idle remote API does not poll at all.
+
+/// How long the simulation thread's answer is polled for before the wait sleeps:
+/// longer than most calls and steps take, short enough that a slow step does not keep
+/// a core busy.
+const POLL_ANSWER: Duration = Duration::from_millis(2);
+/// How long after a reply the next request is polled for. A client in a call or step
+/// loop sends it within 100-200 µs.
+const STAY_AWAKE: Duration = Duration::from_micros(300);
+
 /// Functions that `Simulation::call` implements beyond [`api::FUNCTIONS`] (they need the
 /// Lua state, so they live in the script crate).
 pub const SIMULATION_FUNCTIONS: &[&str] = &["callScriptFunction", "getScript"];
@@ -157,21 +172,50 @@ pub async fn serve(listener: Listener, sim: SimHandle, cfg: ZmqConfig, mut shutd
     let mut server = Server::new(sim, cfg, tx);
     let mut sweep = tokio::time::interval(server.cfg.sweep_interval);
     sweep.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut awake_until = Instant::now();
     loop {
         tokio::select! {
             _ = shutdown.changed() => break,
             _ = sweep.tick() => server.evict_idle(Instant::now()),
             received = rx.recv() => match received {
-                Ok(msg) => server.handle(msg).await,
+                Ok(msg) => {
+                    if server.handle(msg).await {
+                        awake_until = Instant::now() + STAY_AWAKE;
+                    }
+                }
                 Err(e) => {
                     // Only a socket-level failure gets here (peer errors are handled by
                     // the crate); back off rather than spin.
                     tracing::warn!("zmq remote API: receive failed: {e}");
                     tokio::time::sleep(Duration::from_millis(10)).await;
                 }
-            }
+            },
+            // Keeps this worker turning (the runtime polls the sockets between turns)
+            // instead of sleeping until the next message wakes it.
+            () = poll_turn(), if Instant::now() < awake_until => {}
         }
     }
+}
+
+/// One turn of a poll loop: gives the core to any other thread that is ready to run,
+/// then lets the runtime run its other tasks and poll its sockets.
+async fn poll_turn() {
+    std::thread::yield_now();
+    tokio::task::yield_now().await;
+}
+
+/// The value sent on `rx`, polled for up to [`POLL_ANSWER`] before sleeping on it;
+/// `None` if the sender was dropped.
+async fn answer<T>(mut rx: oneshot::Receiver<T>) -> Option<T> {
+    let poll_until = Instant::now() + POLL_ANSWER;
+    while Instant::now() < poll_until {
+        match rx.try_recv() {
+            Ok(v) => return Some(v),
+            Err(oneshot::error::TryRecvError::Closed) => return None,
+            Err(oneshot::error::TryRecvError::Empty) => poll_turn().await,
+        }
+    }
+    rx.await.ok()
 }
 
 /// One client's session.
@@ -236,12 +280,14 @@ impl Server {
     }
 
     /// Handles one received message: `[peer-id, (route frames...), "", payload]`.
-    async fn handle(&mut self, msg: ZmqMessage) {
+    /// Returns whether it was answered here (rather than by a parked step, or not at
+    /// all).
+    async fn handle(&mut self, msg: ZmqMessage) -> bool {
         let mut frames = msg.into_vec();
-        let Some(payload) = frames.pop() else { return };
+        let Some(payload) = frames.pop() else { return false };
         if frames.is_empty() {
             // No routing identity: nothing can be sent back (the crate always adds it).
-            return;
+            return false;
         }
         // `frames` is now the envelope, echoed in front of the reply.
         match self.dispatch(&payload, &frames) {
@@ -251,15 +297,16 @@ impl Server {
                 // answers one request at a time anyway, and this saves a task spawn and
                 // a wake-up per call. Only sim.step can take long, and it is never
                 // awaited here (see `executed`).
-                let bytes = match rx.await {
-                    Ok(Ok(values)) => encode_ret(&values),
-                    Ok(Err(msg)) => encode_err(&msg),
-                    Err(_) => encode_err("the simulation has ended"),
+                let bytes = match answer(rx).await {
+                    Some(Ok(values)) => encode_ret(&values),
+                    Some(Err(msg)) => encode_err(&msg),
+                    None => encode_err("the simulation has ended"),
                 };
                 send(&mut self.tx, frames, Bytes::from(bytes)).await;
             }
-            Outcome::Deferred => {}
+            Outcome::Deferred => return false,
         }
+        true
     }
 
     fn dispatch(&mut self, payload: &[u8], envelope: &[Bytes]) -> Outcome {
@@ -416,8 +463,14 @@ impl Server {
         session.parked = Some(tokio::spawn(async move {
             // A closed channel means the simulation ended or dropped the client; either
             // way there is no step left to wait for.
-            let _ = pending.await;
+            let _ = answer(pending).await;
             send(&mut tx, envelope, Bytes::from(encode_ret(&[]))).await;
+            // The client's next request comes right after this reply (see
+            // `STAY_AWAKE`); the serve loop only stays awake after its own replies.
+            let awake_until = Instant::now() + STAY_AWAKE;
+            while Instant::now() < awake_until {
+                poll_turn().await;
+            }
         }));
         Outcome::Deferred
     }
@@ -508,6 +561,33 @@ pub fn module_info(module: &api::Module) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[tokio::test]
+    async fn answers_are_polled_for_then_awaited() {
+        // Within the poll window.
+        let (tx, rx) = oneshot::channel();
+        tx.send(7).expect("receiver alive");
+        assert_eq!(answer(rx).await, Some(7));
+        // After it: the wait falls back to sleeping and still gets the value.
+        let (tx, rx) = oneshot::channel();
+        let late = tokio::spawn(async move {
+            tokio::time::sleep(POLL_ANSWER * 3).await;
+            tx.send(8).expect("receiver alive");
+        });
+        assert_eq!(answer(rx).await, Some(8));
+        late.await.expect("sender task");
+        // A dropped sender, before and after the poll window.
+        let (tx, rx) = oneshot::channel::<u8>();
+        drop(tx);
+        assert_eq!(answer(rx).await, None);
+        let (tx, rx) = oneshot::channel::<u8>();
+        let dropped = tokio::spawn(async move {
+            tokio::time::sleep(POLL_ANSWER * 3).await;
+            drop(tx);
+        });
+        assert_eq!(answer(rx).await, None);
+        dropped.await.expect("sender task");
+    }
 
     #[test]
     fn info_lists_core_host_and_constant_members_once() {
