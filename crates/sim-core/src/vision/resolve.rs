@@ -120,51 +120,55 @@ multiversion! {
     }
 }
 
-/// Normalised depth from planar depth in metres (background at the far plane, as
-/// CoppeliaSim's depth buffer); returns its min, max and sum.
-// Not inlined: inside a larger function the compiler has been seen to make this loop
-// scalar (15x slower). Not compiled for AVX2 either (`super::simd`): that copy measured
-// twice as slow.
-#[inline(never)]
-fn depths(zbuf: &[f32], near: f32, far: f32, depth: &mut [f32]) -> [f64; 3] {
-    const LANES: usize = 4;
-    let inv_span = 1.0 / (far - near);
-    // Nothing drawn is z = +inf, which the clamp takes to 1; z is never NaN. (Written
-    // as compares rather than `clamp`, whose NaN rules cost vector instructions.)
-    let normalise = |z: f32| {
-        let v = (z - near) * inv_span;
-        let v = if v > 0.0 { v } else { 0.0 };
-        if v < 1.0 { v } else { 1.0 }
-    };
-    let (mut lo, mut hi) = ([f32::INFINITY; LANES], [f32::NEG_INFINITY; LANES]);
-    let mut total = 0.0f64;
-    let (blocks, rest) = zbuf.as_chunks::<LANES>();
-    let (out_blocks, out_rest) = depth.as_chunks_mut::<LANES>();
-    // Sums in f32 lanes over 64 blocks at most (error below 1e-5 relative), then f64.
-    for (zs, ds) in blocks.chunks(64).zip(out_blocks.chunks_mut(64)) {
-        let mut acc = [0.0f32; LANES];
-        for (z, d) in zs.iter().zip(ds) {
-            for i in 0..LANES {
-                let v = normalise(z[i]);
-                d[i] = v;
-                lo[i] = if v < lo[i] { v } else { lo[i] };
-                hi[i] = if v > hi[i] { v } else { hi[i] };
-                acc[i] += v;
+multiversion! {
+    /// Normalised depth from planar depth in metres (background at the far plane, as
+    /// CoppeliaSim's depth buffer); returns its min, max and sum.
+    // Not inlined: inside a larger function the compiler has been seen to make this loop
+    // scalar (15x slower).
+    #[inline(never)]
+    fn depths(zbuf: &[f32], near: f32, far: f32, depth: &mut [f32]) -> [f64; 3] {
+        // Eight lanes: one AVX2 vector, two baseline ones. (With four, the AVX2 copy was
+        // twice as slow as the baseline.) The lanes fix the order of the f32 sums, so
+        // both copies give the same bits.
+        const LANES: usize = 8;
+        let inv_span = 1.0 / (far - near);
+        // Nothing drawn is z = +inf, which the clamp takes to 1; z is never NaN. (Written
+        // as compares rather than `clamp`, whose NaN rules cost vector instructions.)
+        let normalise = |z: f32| {
+            let v = (z - near) * inv_span;
+            let v = if v > 0.0 { v } else { 0.0 };
+            if v < 1.0 { v } else { 1.0 }
+        };
+        let (mut lo, mut hi) = ([f32::INFINITY; LANES], [f32::NEG_INFINITY; LANES]);
+        let mut total = 0.0f64;
+        let (blocks, rest) = zbuf.as_chunks::<LANES>();
+        let (out_blocks, out_rest) = depth.as_chunks_mut::<LANES>();
+        // Sums in f32 lanes over 64 blocks at most (error below 1e-5 relative), then f64.
+        for (zs, ds) in blocks.chunks(64).zip(out_blocks.chunks_mut(64)) {
+            let mut acc = [0.0f32; LANES];
+            for (z, d) in zs.iter().zip(ds) {
+                for i in 0..LANES {
+                    let v = normalise(z[i]);
+                    d[i] = v;
+                    lo[i] = if v < lo[i] { v } else { lo[i] };
+                    hi[i] = if v > hi[i] { v } else { hi[i] };
+                    acc[i] += v;
+                }
             }
+            total += acc.iter().map(|&a| f64::from(a)).sum::<f64>();
         }
-        total += acc.iter().map(|&a| f64::from(a)).sum::<f64>();
+        for (&z, d) in rest.iter().zip(out_rest) {
+            *d = normalise(z);
+            lo[0] = lo[0].min(*d);
+            hi[0] = hi[0].max(*d);
+            total += f64::from(*d);
+        }
+        [
+            f64::from(lo.iter().copied().fold(f32::INFINITY, f32::min)),
+            f64::from(hi.iter().copied().fold(f32::NEG_INFINITY, f32::max)),
+            total,
+        ]
     }
-    for (&z, d) in rest.iter().zip(out_rest) {
-        *d = normalise(z);
-        lo[0] = lo[0].min(*d);
-        hi[0] = hi[0].max(*d);
-        total += f64::from(*d);
-    }
-    [
-        f64::from(lo.iter().copied().fold(f32::INFINITY, f32::min)),
-        f64::from(hi.iter().copied().fold(f32::NEG_INFINITY, f32::max)),
-        total,
-    ]
 }
 
 #[cfg(test)]
