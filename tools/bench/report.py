@@ -91,7 +91,7 @@ def report(g: dict, pb: dict, zmq: dict, start: dict) -> str:
     w("|---|---|---|")
     w(f"| ZMQ `sim.getObjectPosition`, real Python client, {zmq['scene']} at full speed | {zmq['median_us']:.0f} µs | {zmq['p99_us']:.0f} µs |")
     w(f"| same call, {zmq['scene']} in real time (simulator idle between steps) | {zmq['idle_median_us']:.0f} µs | {zmq['idle_p99_us']:.0f} µs |")
-    w(f"| same client against an in-memory pyzmq echo server | {zmq['floor_median_us']:.0f} µs | {zmq['floor_p99_us']:.0f} µs |")
+    w(f"| same client against a busy-polling pyzmq echo server (the client's floor) | {zmq['floor_median_us']:.0f} µs | {zmq['floor_p99_us']:.0f} µs |")
     w(f"| text packet round trip, persistent connection (fk_arm, real time) | {t['persistent_median_us']:.0f} µs | {t['persistent_p99_us']:.0f} µs |")
     w(f"| text packet round trip, new connection per command | {t['per_connection_median_us']:.0f} µs | {t['per_connection_p99_us']:.0f} µs |")
     w(f"\nRemote stepping (`client.step()`, {zmq['scene']}): {zmq['steps_per_s']:,.0f} steps/s "
