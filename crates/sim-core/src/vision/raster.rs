@@ -192,10 +192,11 @@ pub(crate) fn render(
     frame: Frame<'_>,
 ) -> Packet1 {
     let n = cam.width * cam.height;
+    // CHUNK - 1 pixels of padding, which the last chunk of the last row may cover.
     scratch.zbuf.clear();
-    scratch.zbuf.resize(n, f32::INFINITY);
+    scratch.zbuf.resize(n + CHUNK - 1, f32::INFINITY);
     scratch.color.clear();
-    scratch.color.resize(n, pack(BACKGROUND.map(to_byte)));
+    scratch.color.resize(n + CHUNK - 1, pack(BACKGROUND.map(to_byte)));
     let cam_from_world = sensor.inverse();
     let mut target = Target {
         width: cam.width,
@@ -222,7 +223,14 @@ pub(crate) fn render(
             );
         }
     }
-    resolve::resolve(&scratch.color, &scratch.zbuf, cam.near, cam.far, frame.rgb, frame.depth)
+    resolve::resolve(
+        &scratch.color[..n],
+        &scratch.zbuf[..n],
+        cam.near,
+        cam.far,
+        frame.rgb,
+        frame.depth,
+    )
 }
 
 /// `[r, g, b]` bytes as one `0x00BBGGRR` word.
@@ -381,10 +389,9 @@ multiversion! {
     /// Fills one triangle that lies inside the frustum. `color` is RGB scaled to 0..255.
     ///
     /// Per row, the pixels whose centres lie inside all three edges form one interval,
-    /// found from the edge functions directly; 1/z and light/z are affine in screen space,
-    /// so along that interval each pixel costs a multiply-add, a division (perspective-
-    /// correct depth and light) and a depth test done with selects, which the compiler
-    /// turns into vector code (eight lanes with AVX2, see [`super::simd`]).
+    /// found from the edge functions directly; 1/z and light/z are affine in screen
+    /// space, and [`write_span`] draws the interval in vector code (eight lanes with
+    /// AVX2, see [`super::simd`]).
     fn fill(cam: &Camera, target: &mut Target<'_>, tri: [CamVertex; 3], color: [f32; 3]) {
         let [mut a, mut b, c] = tri.map(|v| project(cam, v));
         let mut area = edge(a, b, c.x, c.y);
@@ -419,7 +426,6 @@ multiversion! {
         let (iz, lz) = (weights(|v| v.inv_z), weights(|v| v.light_z));
         let grad = |k: [f32; 3]| (steps[0] * k[0] + steps[1] * k[1] + steps[2] * k[2]) * inv_area;
         let (diz, dlz) = (grad(iz), grad(lz));
-        let [cr, cg, cb] = color;
         for row in y0..y1 {
             let py = row as f32 + 0.5;
             // Edge values at the centre of column 0, and the columns where each is >= 0.
@@ -449,25 +455,98 @@ multiversion! {
             if first >= end {
                 continue;
             }
-            let iz0 = (e[0] * iz[0] + e[1] * iz[1] + e[2] * iz[2]) * inv_area;
-            let lz0 = (e[0] * lz[0] + e[1] * lz[1] + e[2] * lz[2]) * inv_area;
-            let zrow = &mut target.zbuf[row * w + first..row * w + end];
-            let crow = &mut target.color[row * w + first..row * w + end];
-            let first = first as i32;
-            for (i, (zp, cp)) in zrow.iter_mut().zip(crow.iter_mut()).enumerate() {
-                let col = (first + i as i32) as f32;
-                let inv_z = iz0 + diz * col;
-                let z = 1.0 / inv_z;
-                let light = (lz0 + dlz * col) * z;
-                let byte = |c: f32| u32::from(round_byte(c * light));
-                let packed = byte(cr) | byte(cg) << 8 | byte(cb) << 16;
-                // The depth test as a bit blend: written as `if closer { .. }` (or as a
-                // select) the compiler makes each store conditional, lane by lane.
-                let keep_new = u32::from(z < *zp).wrapping_neg();
-                *zp = f32::from_bits(z.to_bits() & keep_new | zp.to_bits() & !keep_new);
-                *cp = packed & keep_new | *cp & !keep_new;
-            }
+            let span = Span {
+                start: row * w,
+                first,
+                end,
+                iz0: (e[0] * iz[0] + e[1] * iz[1] + e[2] * iz[2]) * inv_area,
+                diz,
+                lz0: (e[0] * lz[0] + e[1] * lz[1] + e[2] * lz[2]) * inv_area,
+                dlz,
+            };
+            write_span(target.zbuf, target.color, &span, color);
         }
+    }
+}
+
+/// Depth (metres) and packed colour of column `col` of `span` in colour `rgb`.
+#[inline(always)]
+fn shade(span: &Span, col: i32, [cr, cg, cb]: [f32; 3]) -> (f32, u32) {
+    let x = col as f32;
+    let z = 1.0 / (span.iz0 + span.diz * x);
+    let light = (span.lz0 + span.dlz * x) * z;
+    let byte = |c: f32| u32::from(round_byte(c * light));
+    (z, byte(cr) | byte(cg) << 8 | byte(cb) << 16)
+}
+
+/// Pixels per chunk in [`write_span`]: one AVX2 vector of `f32`.
+const CHUNK: usize = 8;
+
+/// The pixels of one row that a triangle covers, with 1/z and light/z along the row.
+struct Span {
+    /// Index of the row's first pixel in the buffers.
+    start: usize,
+    /// Covered columns: `first..end`.
+    first: usize,
+    end: usize,
+    /// 1/z at column 0 and per column.
+    iz0: f32,
+    diz: f32,
+    /// light/z at column 0 and per column.
+    lz0: f32,
+    dlz: f32,
+}
+
+/// Draws `span` in colour `rgb` (scaled to 0..255) where it is closer than what the
+/// z-buffer holds. Each pixel costs a multiply-add, a division (perspective-correct
+/// depth and light) and a depth test done as a bit blend: written as `if closer { .. }`
+/// (or as a select) the compiler makes each store conditional, lane by lane.
+///
+/// The row is processed in whole chunks of [`CHUNK`] pixels aligned in the row, with
+/// the pixels outside the span masked out: most triangles are a few pixels wide, and a
+/// loop over the span alone would spend its time in scalar remainders. So a chunk may
+/// reach past the row's end into the next row, whose pixels it writes back unchanged,
+/// or into the buffers' padding of `CHUNK - 1` pixels (without it, the last pixels are
+/// drawn one by one).
+#[inline(always)]
+fn write_span(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
+    // Columns fit in i32 (images are at most MAX_RESOLUTION wide) and convert to f32
+    // exactly (below 2^24).
+    let (first, end) = (span.first as i32, span.end as i32);
+    let mut col0 = span.first - span.first % CHUNK;
+    while col0 < span.end {
+        let at = span.start + col0;
+        let (Some(zs), Some(cs)) = (
+            zbuf.get_mut(at..).and_then(|z| z.first_chunk_mut::<CHUNK>()),
+            color.get_mut(at..).and_then(|c| c.first_chunk_mut::<CHUNK>()),
+        ) else {
+            // Buffers without the padding: the rest pixel by pixel.
+            for col in col0.max(span.first)..span.end {
+                let i = span.start + col;
+                let (z, packed) = shade(span, col as i32, rgb);
+                if let (Some(zp), Some(cp)) = (zbuf.get_mut(i), color.get_mut(i))
+                    && z < *zp
+                {
+                    (*zp, *cp) = (z, packed);
+                }
+            }
+            return;
+        };
+        // Computed from copies into fresh arrays, which the compiler keeps in vector
+        // registers (working on `zs` and `cs` in place, it did not vectorise).
+        let (z_old, c_old) = (*zs, *cs);
+        let (mut z_new, mut c_new) = ([0.0f32; CHUNK], [0u32; CHUNK]);
+        for k in 0..CHUNK {
+            let col = (col0 + k) as i32;
+            let (z, packed) = shade(span, col, rgb);
+            let inside = (first <= col) & (col < end);
+            let keep_new = u32::from(inside & (z < z_old[k])).wrapping_neg();
+            z_new[k] = f32::from_bits(z.to_bits() & keep_new | z_old[k].to_bits() & !keep_new);
+            c_new[k] = packed & keep_new | c_old[k] & !keep_new;
+        }
+        *zs = z_new;
+        *cs = c_new;
+        col0 += CHUNK;
     }
 }
 
@@ -481,6 +560,78 @@ mod tests {
             fov,
             near,
             far,
+        }
+    }
+
+    /// [`write_span`] the obvious way: each covered pixel, one after the other.
+    fn write_span_by_pixel(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
+        for col in span.first..span.end {
+            let (z, packed) = shade(span, col as i32, rgb);
+            let i = span.start + col;
+            if z < zbuf[i] {
+                zbuf[i] = z;
+                color[i] = packed;
+            }
+        }
+    }
+
+    #[test]
+    fn spans_in_chunks_draw_exactly_the_covered_pixels() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move |n: u64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x % n
+        };
+        // Widths below, at and above one chunk, and not multiples of it.
+        for w in [1usize, 3, 7, 8, 9, 13, 64, 100] {
+            let h = 4;
+            let n = w * h;
+            // A scene drawn earlier: random depths 0.5..1.5 m, some pixels empty.
+            let zbuf: Vec<f32> = (0..n + CHUNK - 1)
+                .map(|i| {
+                    if i % 5 == 0 {
+                        f32::INFINITY
+                    } else {
+                        0.5 + next(1000) as f32 / 1000.0
+                    }
+                })
+                .collect();
+            let color: Vec<u32> = (0..n + CHUNK - 1).map(|_| next(1 << 24) as u32).collect();
+            let mut drawn = 0;
+            for _ in 0..200 {
+                let row = next(h as u64) as usize;
+                let first = next(w as u64) as usize;
+                let end = first + 1 + next((w - first) as u64) as usize;
+                // 1/z of 0.6..2 per metre across the row: depths 0.5..1.7 m, so some
+                // pixels are in front of what is drawn and some behind.
+                let iz0 = 0.6 + next(1000) as f32 / 1000.0;
+                let span = Span {
+                    start: row * w,
+                    first,
+                    end,
+                    iz0,
+                    diz: (next(1000) as f32 / 1000.0 - 0.5) / w as f32,
+                    lz0: iz0 * next(1000) as f32 / 1000.0,
+                    dlz: (next(1000) as f32 / 1000.0 - 0.5) / w as f32 * 0.1,
+                };
+                let rgb = [200.0, 100.0, 50.0];
+                let (mut z_want, mut c_want) = (zbuf.clone(), color.clone());
+                write_span_by_pixel(&mut z_want, &mut c_want, &span, rgb);
+                let bits = |z: &[f32]| z.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                // With the padding, and without (the buffers cut to the image).
+                for len in [n + CHUNK - 1, n] {
+                    let (mut z_fast, mut c_fast) = (zbuf[..len].to_vec(), color[..len].to_vec());
+                    write_span(&mut z_fast, &mut c_fast, &span, rgb);
+                    let at = format!("w {w}, row {row}, {first}..{end}, {len} pixels");
+                    assert_eq!(bits(&z_fast), bits(&z_want[..len]), "{at}");
+                    assert_eq!(c_fast, c_want[..len], "{at}");
+                }
+                drawn += usize::from(z_want != zbuf);
+            }
+            // Most spans draw something, so the comparison above is not empty.
+            assert!(drawn > 100, "w {w}: {drawn} of 200 spans drew");
         }
     }
 
