@@ -369,6 +369,78 @@ fn set_image_and_work_image_round_trip() {
 }
 
 #[test]
+fn portions_are_the_same_pixels_as_the_whole_image() {
+    let (mut w, sensor) = scene_with_obstacle();
+    let h = Value::Int(sensor);
+    // Around the obstacle's edge, so the portion holds different pixels.
+    let (x0, y0, pw, ph) = (90usize, 100usize, 7usize, 5usize);
+    let pos = Value::floats(&[x0 as f64, y0 as f64]);
+    let size = Value::floats(&[pw as f64, ph as f64]);
+    let (full, res) = rgb(&mut w, sensor);
+    let (full_depth, _) = depth_floats(&call(&mut w, "sim.getVisionSensorDepth", std::slice::from_ref(&h)).unwrap());
+    let portion = |opts: i64, cutoff: f64, w: &mut World| {
+        let args = [
+            h.clone(),
+            Value::Int(opts),
+            Value::Float(cutoff),
+            pos.clone(),
+            size.clone(),
+        ];
+        image(&call(w, "sim.getVisionSensorImg", &args).unwrap())
+    };
+    let (part, pres) = portion(0, 0.0, &mut w);
+    let (grey, _) = portion(1, 0.0, &mut w);
+    let (rgba, _) = portion(0, 0.5, &mut w);
+    let depth_args = [h.clone(), Value::Int(0), pos.clone(), size.clone()];
+    let (depth, dres) = depth_floats(&call(&mut w, "sim.getVisionSensorDepth", &depth_args).unwrap());
+    assert_eq!((pres, dres), ([pw, ph], [pw, ph]));
+    let mut distinct = std::collections::BTreeSet::new();
+    for y in 0..ph {
+        for x in 0..pw {
+            let (i, whole) = (y * pw + x, (y0 + y) * res[0] + x0 + x);
+            let px = pixel(&full, res, x0 + x, y0 + y);
+            distinct.insert(px);
+            assert_eq!(part[3 * i..3 * i + 3], px, "RGB ({x}, {y})");
+            let mean = (px.iter().map(|&c| u16::from(c)).sum::<u16>() + 1) / 3;
+            assert_eq!(u16::from(grey[i]), mean, "grey ({x}, {y})");
+            assert_eq!(rgba[4 * i..4 * i + 3], px, "RGBA ({x}, {y})");
+            let alpha = if f64::from(full_depth[whole]) < 0.5 { 255 } else { 0 };
+            assert_eq!(rgba[4 * i + 3], alpha, "alpha ({x}, {y})");
+            assert_eq!(depth[i], full_depth[whole], "depth ({x}, {y})");
+        }
+    }
+    assert!(distinct.len() > 1, "the portion shows an edge");
+
+    // Writing a portion changes those pixels and no others.
+    let block: Vec<u8> = (0..3 * pw * ph).map(|i| (i * 7 % 256) as u8).collect();
+    call(
+        &mut w,
+        "sim.setVisionSensorImg",
+        &[
+            h.clone(),
+            Value::Bytes(block.clone()),
+            Value::Int(0),
+            pos.clone(),
+            size.clone(),
+        ],
+    )
+    .unwrap();
+    let (after, _) = rgb(&mut w, sensor);
+    for y in 0..res[1] {
+        for x in 0..res[0] {
+            let inside = (x0..x0 + pw).contains(&x) && (y0..y0 + ph).contains(&y);
+            let want = if inside {
+                let i = 3 * ((y - y0) * pw + x - x0);
+                [block[i], block[i + 1], block[i + 2]]
+            } else {
+                pixel(&full, res, x, y)
+            };
+            assert_eq!(pixel(&after, res, x, y), want, "({x}, {y}) after writing");
+        }
+    }
+}
+
+#[test]
 fn rgba_cut_off_and_options() {
     let (mut w, sensor) = scene_with_obstacle();
     let reply = call(

@@ -100,9 +100,11 @@ struct Portion {
 }
 
 impl Portion {
-    /// Pixel indices of the portion, bottom row first.
-    fn pixels(self, image_width: usize) -> impl Iterator<Item = usize> {
-        (self.y..self.y + self.h).flat_map(move |row| (self.x..self.x + self.w).map(move |col| row * image_width + col))
+    /// Pixel indices of the portion, one range per row, bottom row first. Images are
+    /// copied row by row: a remote client fetching the whole 256 x 256 image paid
+    /// 0.1-0.2 ms for a loop over pixels.
+    fn rows(self, image_width: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+        (self.y..self.y + self.h).map(move |row| row * image_width + self.x..row * image_width + self.x + self.w)
     }
 
     fn size_value(self) -> Value {
@@ -247,19 +249,24 @@ pub(super) fn get_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
         3
     };
     let mut out = Vec::with_capacity(p.w * p.h * bpp);
-    for i in p.pixels(width) {
-        let Some(px) = rgb.get(3 * i..3 * i + 3) else {
+    // The portion lies within the image (checked by `portion`), and so do its rows.
+    for row in p.rows(width) {
+        let (Some(px), Some(d)) = (rgb.get(3 * row.start..3 * row.end), depth.get(row)) else {
             continue;
         };
         if grey {
             // Integer mean, rounded, of three bytes: at most 255.
-            out.push(((u16::from(px[0]) + u16::from(px[1]) + u16::from(px[2]) + 1) / 3) as u8);
+            out.extend(
+                px.chunks_exact(3)
+                    .map(|c| ((u16::from(c[0]) + u16::from(c[1]) + u16::from(c[2]) + 1) / 3) as u8),
+            );
+        } else if rgba {
+            for (c, &dv) in px.chunks_exact(3).zip(d) {
+                out.extend_from_slice(c);
+                out.push(if f64::from(dv) < cutoff { 255 } else { 0 });
+            }
         } else {
             out.extend_from_slice(px);
-            if rgba {
-                let near = depth.get(i).is_some_and(|&d| f64::from(d) < cutoff);
-                out.push(if near { 255 } else { 0 });
-            }
         }
     }
     Ok(vec![Value::Bytes(out), p.size_value()])
@@ -279,10 +286,14 @@ pub(super) fn get_vision_sensor_depth(w: &mut World, _: &CallContext<'_>, a: &Ar
     let metres = options & 1 != 0;
     let (near, far) = (model.near as f32, model.far as f32);
     let mut out = Vec::with_capacity(4 * p.w * p.h);
-    for i in p.pixels(width) {
-        let d = s.depth().get(i).copied().unwrap_or(1.0);
-        let v = if metres { near + d * (far - near) } else { d };
-        out.extend_from_slice(&v.to_le_bytes());
+    for row in p.rows(width) {
+        let Some(ds) = s.depth().get(row) else {
+            continue;
+        };
+        for &d in ds {
+            let v = if metres { near + d * (far - near) } else { d };
+            out.extend_from_slice(&v.to_le_bytes());
+        }
     }
     Ok(vec![Value::Bytes(out), p.size_value()])
 }
@@ -309,13 +320,16 @@ pub(super) fn set_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
     }
     let width = model.resolution[0] as usize;
     let rgb = vision::write(w, h)?.rgb_mut();
-    for (i, src) in p.pixels(width).zip(data.chunks_exact(bpp)) {
-        if let Some(dst) = rgb.get_mut(3 * i..3 * i + 3) {
-            if bpp == 1 {
-                dst.fill(src[0]);
-            } else {
-                dst.copy_from_slice(src);
+    for (row, src) in p.rows(width).zip(data.chunks_exact(bpp * p.w)) {
+        let Some(dst) = rgb.get_mut(3 * row.start..3 * row.end) else {
+            continue;
+        };
+        if bpp == 1 {
+            for (d, &g) in dst.chunks_exact_mut(3).zip(src) {
+                d.fill(g);
             }
+        } else {
+            dst.copy_from_slice(src);
         }
     }
     Ok(Vec::new())
