@@ -49,3 +49,49 @@ def test_stepping_client_and_observer(gantry):
     t1 = sim_o.getSimulationTime()
     time.sleep(0.1)
     assert sim_o.getSimulationTime() > t1
+
+
+STEPPER = """
+import sys
+from coppeliasim_zmqremoteapi_client import RemoteAPIClient
+client = RemoteAPIClient(host="127.0.0.1", port=int(sys.argv[1]))
+sim = client.require("sim")
+client.setStepping(True)
+client.step()
+print("stepping", flush=True)
+sys.stdin.readline()  # holds the simulation until killed
+"""
+
+
+@pytest.mark.parametrize("how", ["kill", "interrupt"])
+def test_a_vanished_stepping_client_releases_the_simulation(gantry, how):
+    """CoppeliaSim keeps a stepping client's hold until its session times out (600 s by
+    default), so a script stopped with Ctrl-C freezes the simulation. gantry ends the
+    session when the client's connection closes."""
+    import signal
+    import subprocess
+    import sys
+
+    g = gantry("assets/scenes/bubble_rob.toml", fast=False)
+    proc = subprocess.Popen([sys.executable, "-c", STEPPER, str(g.port)],
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "stepping"
+        sim = g.client().require("sim")
+        t0 = sim.getSimulationTime()
+        time.sleep(0.3)
+        assert sim.getSimulationTime() == t0, "held by the stepping client"
+        proc.send_signal(signal.SIGKILL if how == "kill" else signal.SIGINT)
+        proc.wait(10)
+        # Released within a moment: the simulation runs in real time again.
+        deadline = time.monotonic() + 5
+        while sim.getSimulationTime() == t0 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        t1 = sim.getSimulationTime()
+        assert t1 > t0, "the simulation runs again"
+        time.sleep(0.3)
+        assert sim.getSimulationTime() > t1
+        assert "disconnected; its stepping level and locks are released" in g.stderr()
+    finally:
+        proc.kill()
+        proc.wait()

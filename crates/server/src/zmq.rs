@@ -22,10 +22,12 @@
 //!   implementation shared with Lua scripts.
 //! * Control words: `_*executed*_` (the client's answer to `_*wait*_`) and `_*end*_`.
 //!
-//! Sessions are keyed by the client's `uuid`. A session is dropped on `_*end*_` or after
-//! the client's `timeout` (seconds, sent with its first message; 600 by default) without
-//! a message, and its stepping level and locks go with it, so a vanished client cannot
-//! hold the simulation for longer than its timeout.
+//! Sessions are keyed by the client's `uuid`. A session is dropped on `_*end*_`, when
+//! the last connection that spoke for it closes, or after the client's `timeout`
+//! (seconds, sent with its first message; 600 by default) without a message, and its
+//! stepping level and locks go with it. So a stepping client stopped with Ctrl-C (or
+//! killed) releases the simulation at once, where CoppeliaSim holds it until the
+//! timeout; one that hangs without closing its socket holds it until its timeout.
 //!
 //! Every malformed message gets an `{"err": ...}` reply and touches nothing else.
 //! Non-goals: callbacks into the client (`...@func` arguments are passed through as
@@ -36,6 +38,7 @@ use std::net::{Ipv4Addr, SocketAddr};
 use std::time::{Duration, Instant};
 
 use bytes::Bytes;
+use futures_util::StreamExt;
 use gantry_protocol::remote_api::{
     FUNC_END, FUNC_EXECUTED, decode_request, encode_empty_map, encode_err, encode_ret, encode_wait,
 };
@@ -43,7 +46,7 @@ use gantry_protocol::{Value, cbor};
 use gantry_sim_core::api::{self, Args};
 use tokio::sync::{oneshot, watch};
 use tokio::task::JoinHandle;
-use zeromq::{RouterRecvHalf, RouterSendHalf, RouterSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
+use zeromq::{RouterRecvHalf, RouterSendHalf, RouterSocket, Socket, SocketEvent, SocketRecv, SocketSend, ZmqMessage};
 
 use crate::sim_thread::{RemoteOp, Request, SimHandle};
 use crate::stepping::ClientId;
@@ -165,9 +168,11 @@ pub async fn serve(listener: Listener, sim: SimHandle, cfg: ZmqConfig, mut shutd
     let Listener {
         public,
         internal,
-        socket,
+        mut socket,
     } = listener;
     tokio::spawn(zmq_guard::serve(public, internal, shutdown.clone()));
+    // Closed connections, to end the sessions they spoke for.
+    let mut events = socket.monitor();
     let (tx, mut rx): (RouterSendHalf, RouterRecvHalf) = socket.split();
     let mut server = Server::new(sim, cfg, tx);
     let mut sweep = tokio::time::interval(server.cfg.sweep_interval);
@@ -177,6 +182,11 @@ pub async fn serve(listener: Listener, sim: SimHandle, cfg: ZmqConfig, mut shutd
         tokio::select! {
             _ = shutdown.changed() => break,
             _ = sweep.tick() => server.evict_idle(Instant::now()),
+            Some(event) = events.next() => {
+                if let SocketEvent::Disconnected(peer) = event {
+                    server.disconnected(&Bytes::from(peer));
+                }
+            }
             received = rx.recv() => match received {
                 Ok(msg) => {
                     if server.handle(msg).await {
@@ -261,6 +271,9 @@ struct Server {
     /// Clients to forget whose `DropClient` found the simulation queue full; retried
     /// on the next sweep so that no stepping level is leaked.
     pending_drops: Vec<ClientId>,
+    /// The session each open connection (by its routing identity) last spoke for.
+    /// The asyncio client speaks for one session over several connections.
+    connections: HashMap<Bytes, String>,
 }
 
 impl Server {
@@ -276,6 +289,7 @@ impl Server {
                 .map(|m| (m.name, Bytes::from(encode_ret(&[module_info(m)]))))
                 .collect(),
             pending_drops: Vec::new(),
+            connections: HashMap::new(),
         }
     }
 
@@ -331,6 +345,11 @@ impl Server {
         if req.func == FUNC_END {
             self.forget(&uuid);
             return Outcome::Reply(encode_empty_map());
+        }
+        if let Some(peer) = envelope.first()
+            && self.connections.get(peer) != Some(&uuid)
+        {
+            self.connections.insert(peer.clone(), uuid.clone());
         }
         let now = Instant::now();
         let Some(session) = self.session(&uuid, now) else {
@@ -491,8 +510,22 @@ impl Server {
             .retain(|&id| self.sim.send(Request::DropClient(id)).is_err());
     }
 
+    /// A connection closed: the session it spoke for ends if no other connection
+    /// speaks for it (the client process is gone, for instance stopped with Ctrl-C).
+    fn disconnected(&mut self, peer: &Bytes) {
+        let Some(uuid) = self.connections.remove(peer) else {
+            return;
+        };
+        if self.connections.values().any(|u| *u == uuid) || !self.sessions.contains_key(&uuid) {
+            return;
+        }
+        tracing::info!("zmq remote API: client {uuid} disconnected; its stepping level and locks are released");
+        self.forget(&uuid);
+    }
+
     /// Forgets a session here and on the simulation thread.
     fn forget(&mut self, uuid: &str) {
+        self.connections.retain(|_, u| u != uuid);
         if let Some(s) = self.sessions.remove(uuid) {
             if let Some(p) = s.parked {
                 p.abort();

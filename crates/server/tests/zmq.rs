@@ -606,6 +606,40 @@ async fn end_and_idle_timeout_release_a_stepping_client() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_session_ends_with_the_last_connection_that_spoke_for_it() {
+    let server = Server::start("bubble_rob");
+    let mut watcher = Client::connect(server.port, "watcher").await;
+    // The asyncio client speaks for one session over several connections.
+    let mut a = Client::connect(server.port, "pool").await;
+    let mut b = Client::connect(server.port, "pool").await;
+    a.ok("sim.setStepping", vec![true.into()]).await;
+    b.time().await;
+    let t = watcher.time().await;
+    drop(a);
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    assert_eq!(
+        watcher.time().await,
+        t,
+        "held while another connection speaks for the session"
+    );
+    drop(b);
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while watcher.time().await == t {
+        assert!(
+            Instant::now() < deadline,
+            "the closed session still holds the simulation"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    // A client connecting again under the same uuid starts a fresh session (level 0).
+    let mut again = Client::connect(server.port, "pool").await;
+    assert_eq!(
+        again.ok("sim.setStepping", vec![true.into()]).await,
+        vec![Value::Int(0)]
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn wrong_peers_do_not_stop_the_listener() {
     let server = Server::start("fk_arm");
     // A client that sends a request and vanishes before its reply.
