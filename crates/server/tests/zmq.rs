@@ -574,6 +574,16 @@ async fn stop_resets_levels_and_start_runs_again() {
     assert_eq!(a.time().await, t, "paused: step returns without stepping");
 }
 
+/// Waits (10 s at most, else fails with `why`) until `watcher` sees the simulation time
+/// move on from `t`.
+async fn runs_again(watcher: &mut Client, t: f64, why: &str) {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while watcher.time().await == t {
+        assert!(Instant::now() < deadline, "{why}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn end_and_idle_timeout_release_a_stepping_client() {
     let server = Server::start("bubble_rob");
@@ -596,11 +606,7 @@ async fn end_and_idle_timeout_release_a_stepping_client() {
     let t = watcher.time().await;
     tokio::time::sleep(Duration::from_millis(300)).await;
     assert_eq!(watcher.time().await, t, "held while the client may still come back");
-    let deadline = Instant::now() + Duration::from_secs(10);
-    while watcher.time().await == t {
-        assert!(Instant::now() < deadline, "the idle client was never dropped");
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    }
+    runs_again(&mut watcher, t, "the idle client was never dropped").await;
     // The watcher itself, with the default timeout, is still known: its calls work.
     assert_eq!(watcher.ok("sim.getSimulationState", vec![]).await, vec![Value::Int(17)]);
 }
@@ -623,14 +629,7 @@ async fn a_session_ends_with_the_last_connection_that_spoke_for_it() {
         "held while another connection speaks for the session"
     );
     drop(b);
-    let deadline = Instant::now() + Duration::from_secs(10);
-    while watcher.time().await == t {
-        assert!(
-            Instant::now() < deadline,
-            "the closed session still holds the simulation"
-        );
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
+    runs_again(&mut watcher, t, "the closed session still holds the simulation").await;
     // A client connecting again under the same uuid starts a fresh session (level 0).
     let mut again = Client::connect(server.port, "pool").await;
     assert_eq!(
