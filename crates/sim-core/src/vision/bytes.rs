@@ -30,7 +30,7 @@ pub(crate) fn round_byte(x: f32) -> u8 {
 /// a packed `0x00BBGGRR` word. Four pixels at a time are exactly three little-endian
 /// words of output, so the loop stores words instead of single bytes.
 #[inline(always)]
-pub(crate) fn write_rgb<T: Copy>(pixels: &[T], rgb: &mut [u8], word: impl Fn(T) -> u32) {
+fn write_rgb<T: Copy>(pixels: &[T], rgb: &mut [u8], word: impl Fn(T) -> u32) {
     let (blocks, rest) = pixels.as_chunks::<4>();
     let (out_blocks, out_rest) = rgb.as_chunks_mut::<12>();
     for (px, out) in blocks.iter().zip(out_blocks) {

@@ -423,17 +423,10 @@ enum Work {
 impl Work {
     /// The values as float RGB.
     fn to_floats(&self) -> Vec<f32> {
-        let mut out = Vec::new();
-        self.floats_into(&mut out);
-        out
-    }
-
-    fn floats_into(&self, out: &mut Vec<f32>) {
-        out.clear();
         match self {
-            Work::Bytes(b) => out.extend(b.iter().map(|&c| f32::from(c) / 255.0)),
-            Work::Binary(m) => out.extend(m.iter().flat_map(|&v| [f32::from(v); 3])),
-            Work::Float(f) => out.extend_from_slice(f),
+            Work::Bytes(b) => b.iter().map(|&c| f32::from(c) / 255.0).collect(),
+            Work::Binary(m) => m.iter().flat_map(|&v| [f32::from(v); 3]).collect(),
+            Work::Float(f) => f.clone(),
         }
     }
 
