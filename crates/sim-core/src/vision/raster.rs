@@ -165,8 +165,9 @@ pub(crate) struct Scratch {
     vertices: Vec<CamVertex>,
     /// Planar depth in metres per pixel, `INFINITY` where nothing was drawn.
     zbuf: Vec<f32>,
-    /// Colour per pixel as `0x00BBGGRR`: one word per pixel lets the fill loop store
-    /// with a select, which the compiler vectorises; packed to RGB bytes at the end.
+    /// Colour per pixel as `0x00BBGGRR`: one word per pixel lets the fill loop blend
+    /// whole words, which the compiler vectorises; packed to RGB bytes at the end.
+    /// Both buffers carry `CHUNK - 1` pixels of padding after the image.
     color: Vec<u32>,
 }
 

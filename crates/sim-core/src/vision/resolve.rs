@@ -1,6 +1,7 @@
 //! The last pass of a render: the rasteriser's buffers (packed colour, planar depth in
 //! metres) become the sensor image (RGB bytes, normalised depth), and CoppeliaSim's
-//! packet 1 (image statistics) is gathered on the way, in one read of each buffer.
+//! packet 1 (image statistics) is gathered on the way: with the depth normalisation in
+//! one pass, and over the colours in three simple passes (see `colour`).
 //!
 //! Each statistic is kept in a few independent lanes (per byte for the channel
 //! extremes) that the compiler holds in vector registers; the lanes are folded once at

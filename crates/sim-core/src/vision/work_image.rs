@@ -171,7 +171,7 @@ fn filter_pixel<const C: usize>(
 /// `simVision.edgeDetectionOnWorkImg`: the edge kernel over each channel, then every
 /// pixel becomes white where the mean of its filtered R, G, B exceeds `threshold`, and
 /// black elsewhere. Takes `grey`, each pixel's R + G + B, and writes `mask`, 1 for
-/// white and 0 for black per pixel; `filtered` is scratch of the same size as `grey`.
+/// white and 0 for black per pixel; `scratch` holds [`edge_scratch_len`] values.
 ///
 /// The filter is linear, so the mean of the three filtered channels is the filtered
 /// mean: one channel (R + G + B) is filtered instead of three, and compared with
@@ -202,8 +202,8 @@ pub(crate) fn edge_scratch_len(width: usize, height: usize) -> usize {
 /// [`filter3x3`] with [`EDGE_KERNEL`] on one channel. The kernel is 27 times the
 /// centre minus 3 times the 3x3 box sum, and box sums are separable: a row of
 /// horizontal sums, then three rows of those added. Four additions per pixel instead
-/// of nine multiply-adds. Border pixels take the general path. `rows` holds three
-/// rows of horizontal sums (at least `3 * width` values).
+/// of nine multiply-adds. Border pixels follow the border rule ([`filter_border`]).
+/// `rows` holds three rows of horizontal sums (at least `3 * width` values).
 #[inline(always)]
 fn edge_filter(width: usize, height: usize, input: &[f32], output: &mut [f32], rows: &mut [f32]) {
     let n = width * height;
