@@ -148,7 +148,7 @@ impl SensorImage {
 
     /// The simVision work image (RGB `f32`, nominally 0..1, bottom row first), if one
     /// was created by `simVision.sensorImgToWorkImg` and not yet removed. A copy: the
-    /// image is kept in a compact form (see [`Work`]).
+    /// image is kept in a compact form (`Work`).
     pub fn work_image(&self) -> Option<Vec<f32>> {
         self.work.as_ref().map(Work::to_floats)
     }

@@ -441,7 +441,7 @@ impl World {
     }
 
     /// Advances physics by one simulation step (one rapier step of `substeps` solver
-    /// substeps, or `substeps` rapier steps, see [`physics::configure_integration`]) and
+    /// substeps, or `substeps` rapier steps, see `physics::configure_integration`) and
     /// reads the
     /// results back into the tree. Does not advance simulation time (see
     /// [`World::advance_time`]), because CoppeliaSim scripts see the step's start time
