@@ -1,11 +1,17 @@
 #!/usr/bin/env bash
 # gantry's benchmark against PyBullet and bare rapier (issue 8), in one run on one
 # machine. Builds the release binary, runs `cargo bench --bench sim`, the PyBullet side,
-# the ZMQ latency benchmark with the real Python client and the start-up probe, then
-# prints the side-by-side report (also in target/bench/report.md) and draws
-# docs/rovers.png. Takes about ten minutes; run it on a quiet machine.
+# the public robots (mesh-collision arms from pybullet_data and example-robot-data, in
+# gantry and PyBullet; issue 15), the ZMQ latency benchmark with the real Python client
+# and the start-up probe, then prints the side-by-side report (also in
+# target/bench/report.md) and draws docs/rovers.png. Takes about ten minutes; run it on
+# a quiet machine.
 #
 #   bash tools/bench.sh            # GANTRY_BENCH_SECONDS=3 by default
+#
+# The public robots alone, with a given binary (the report's section 6):
+#   GANTRY_BIN=target/release/gantry .venv/bin/python tools/bench/public_robots.py \
+#       --repeat 3 > target/bench/public.json && .venv/bin/python tools/bench/report.py --public-only
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -19,6 +25,8 @@ echo "== gantry: cargo bench --bench sim"
 cargo bench --quiet --bench sim
 echo "== PyBullet"
 "$venv/bin/python" tools/bench/pybullet_bench.py --seconds "${GANTRY_BENCH_SECONDS:-3}" > target/bench/pybullet.json
+echo "== public robots: mesh-collision arms in gantry and PyBullet"
+"$venv/bin/python" tools/bench/public_robots.py --repeat 3 > target/bench/public.json
 echo "== ZMQ latency (real Python client)"
 "$venv/bin/python" tests/python/bench_zmq.py --runs 3 --json target/bench/zmq.json
 echo "== start-up and memory"

@@ -6,7 +6,8 @@
 #
 # Stages: formatting, lints, the dependency-direction rule, the Rust tests (unit,
 # crate contracts, end-to-end against the real binary), a short run of every fuzz
-# target, the Python suite that drives a real gantry with CoppeliaSim's own ZMQ client,
+# target, the Python suite that drives a real gantry with CoppeliaSim's own ZMQ client
+# (and loads public robots from PyPI packages, checked against Pinocchio),
 # a 20 s soak under hundreds of clients, and the browser test (headless Chromium from
 # Debian, driven by Playwright).
 set -euo pipefail
@@ -42,7 +43,7 @@ cargo test --workspace
 stage "fuzz smoke: every cargo-fuzz target for 15 s from its seeds (installs nightly and cargo-fuzz if missing)"
 bash tools/fuzz-smoke.sh --seconds 15
 
-stage "Python suite: CoppeliaSim's ZMQ client against a real gantry"
+stage "Python suite: CoppeliaSim's ZMQ client against a real gantry; public robots against Pinocchio"
 bash .ci/python-tests.sh
 
 stage "soak: 200 text, 20 ZMQ and 4 viewer clients for 20 s, some killed mid-request; fds, memory, real-time factor"

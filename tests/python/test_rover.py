@@ -64,7 +64,7 @@ def test_rover_drives_forward_until_the_sensor_sees_an_obstacle(gantry, scene_wi
             break
     assert detected is not None, "the nose sensor never saw anything"
     distance, point, obj = detected
-    assert 0 < distance <= 0.15 + 1e-6  # the sensor's range
+    assert 0 < distance <= 0.155 + 1e-6  # the cone reaches offset + range = 0.005 + 0.15 m
     assert math.dist(point, [0, 0, 0]) == pytest.approx(distance, abs=1e-6)  # point is in the sensor frame
     assert sim.getObjectAlias(obj) in ("obstacle", "wall")
     x, _, _ = sim.getObjectPosition(rob, sim.handle_world)

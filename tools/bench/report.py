@@ -2,14 +2,19 @@
 """Puts the benchmark's figures side by side (issue 8) and draws the rover plot.
 
 Reads, from target/bench/: gantry.json (`cargo bench --bench sim`), pybullet.json
-(tools/bench/pybullet_bench.py), zmq.json (tests/python/bench_zmq.py --json) and
-startup.json (tools/bench/startup.py); prints one Markdown report with ratios and the
+(tools/bench/pybullet_bench.py), zmq.json (tests/python/bench_zmq.py --json),
+startup.json (tools/bench/startup.py) and, if present, public.json
+(tools/bench/public_robots.py); prints one Markdown report with ratios and the
 targets, writes it to target/bench/report.md, and draws steps/s against the number of
 rovers to docs/rovers.png. `bash tools/bench.sh` runs everything in order.
+
+    python3 tools/bench/report.py                 # the whole report
+    python3 tools/bench/report.py --public-only   # only the public robots' table
 """
 
 from __future__ import annotations
 
+import argparse
 import json
 import platform
 import sys
@@ -105,6 +110,60 @@ def report(g: dict, pb: dict, zmq: dict, start: dict) -> str:
     return "\n".join(out)
 
 
+def public_robots(pub: dict) -> str:
+    """Section 6: gantry and PyBullet on public mesh-collision arms (issue 15)."""
+    out = []
+    w = out.append
+    w(f"### 6. Public robots: mesh-collision arms, dt 1/240 s, 1 substep, new position targets every step, "
+      f"{pub['steps']:,} steps\n")
+    w("| arm (package: URDF) | DoF | collision meshes: parts per link | gantry steps/s | PyBullet steps/s | "
+      "gantry / PyBullet | gantry RMS / max error | PyBullet RMS / max error | RMS gantry / PyBullet |")
+    w("|---|---|---|---|---|---|---|---|---|")
+    fast, accurate, failed = [], [], []
+    for a in pub["arms"]:
+        g, p, c = a["gantry"], a["pybullet"], a["collision"]
+        parts = list(c["parts_per_link"].values())
+        lo, hi = min(parts), max(parts)
+        mesh = (f"{'/'.join(c['kinds'])}, {lo if lo == hi else f'{lo}–{hi}'} "
+                f"({sum(parts)} parts, {c['triangles']:,} triangles)")
+        name = f"{a['arm']} ({a['package']}: {a['path']})"
+        pyb = f"{p['steps_per_s']:,.0f} | "
+        perr = f"{p['rms_error']:.4f} / {p['max_error']:.4f}"
+        if "error" in g:
+            failed.append(a["arm"])
+            why = g["error"] if len(g["error"]) <= 60 else g["error"][:57] + "..."
+            w(f"| {name} | {a['dof']} | {mesh} | failed: {why} | {pyb} | | {perr} | |")
+            continue
+        ratio = a["ratio"]  # the median of the per-repeat ratios
+        rms = g["rms_error"] / p["rms_error"]
+        fast.append(ratio >= 1.5)
+        accurate.append(rms <= 1.25)
+        w(f"| {name} | {a['dof']} | {mesh} | {g['steps_per_s']:,.0f} | {pyb}**{ratio:.2f}x** | "
+          f"{g['rms_error']:.4f} / {g['max_error']:.4f} | {perr} | {rms:.2f} |")
+    n = len(pub["arms"])
+    w(f"\ngantry ≥ 1.5x PyBullet's steps/s on every arm: {verdict(len(fast) == n and all(fast))} "
+      f"({sum(fast)} of {n}); gantry's RMS error ≤ 1.25x PyBullet's on every arm: "
+      f"{verdict(len(accurate) == n and all(accurate))} ({sum(accurate)} of {n})"
+      + (f"; failed: {', '.join(failed)} (see target/bench/public.json)" if failed else "") + ".")
+    w(f"Binary: `{pub['gantry_bin']}`. steps/s is the median of {pub['repeat']} run(s) each, the ratio the "
+      "median of the ratios of back-to-back runs; both count the stepping loop only (gantry's own figure, from "
+      "after loading and `sysCall_init`; PyBullet's from after loadURDF). Errors are in rad (m for prismatic "
+      "joints) over every movable joint and step. Targets come from a Lua script in gantry "
+      "(scripts/bench/arm_tracking_any.lua) and from setJointMotorControlArray in PyBullet.")
+    loads = ", ".join(f"{a['arm']} {a['gantry']['load_s']:.2f} / {a['pybullet']['load_s']:.2f}"
+                      for a in pub["arms"] if "error" not in a["gantry"])
+    w(f"Load time, s (gantry: process start to exit minus the stepping loop; PyBullet: loadURDF): {loads}.")
+    alone = ", ".join(f"{a['arm']} {a['pybullet']['step_only_steps_per_s']:,.0f}" for a in pub["arms"])
+    w(f"PyBullet's stepSimulation alone, without the Python calls around it, steps/s: {alone}.")
+    notes = "; ".join(
+        f"{a['arm']}: {' '.join(a['pybullet']['warnings'])}" for a in pub["arms"] if a["pybullet"].get("warnings")
+    )
+    if notes:
+        w(f"PyBullet's importer warned: {notes}.")
+    w("")
+    return "\n".join(out)
+
+
 def plot(g: dict, pb: dict) -> Path | None:
     try:
         import matplotlib
@@ -138,8 +197,16 @@ def plot(g: dict, pb: dict) -> Path | None:
 
 
 def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--public-only", action="store_true", help="print only the public robots' table")
+    args = ap.parse_args()
+    if args.public_only:
+        print(public_robots(load("public.json")))
+        return
     g, pb, zmq, start = load("gantry.json"), load("pybullet.json"), load("zmq.json"), load("startup.json")
     text = report(g, pb, zmq, start)
+    if (BENCH / "public.json").exists():
+        text += "\n" + public_robots(load("public.json"))
     (BENCH / "report.md").write_text(text + "\n")
     print(text)
     path = plot(g, pb)

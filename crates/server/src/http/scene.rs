@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use gantry_sim_core::scene::{Geometry, JointMode, JointType, MeshData, ProximityModel};
+use gantry_sim_core::scene::{Geometry, JointType, MeshData, ProximityModel};
 use gantry_sim_core::world::{ObjectKind, World};
 use serde_json::{Value as Json, json};
 
@@ -67,11 +67,7 @@ pub fn describe(world: &World) -> SceneDescription {
                         JointType::Prismatic => "prismatic",
                         JointType::Fixed => "fixed",
                     },
-                    "mode": match j.mode {
-                        JointMode::Kinematic => "kinematic",
-                        JointMode::Position => "position",
-                        JointMode::Velocity => "velocity",
-                    },
+                    "mode": j.mode.name(),
                     "limits": j.limits.map(|(lo, hi)| [lo, hi]),
                     "cyclic": j.cyclic,
                 });
@@ -169,6 +165,7 @@ mod tests {
             source: "t.stl".into(),
             vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
             indices: vec![[0, 1, 2], [0, 1, 9]],
+            parts: Vec::new(),
         };
         let b = encode_mesh(4, &m);
         let word = |i: usize| u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
@@ -182,6 +179,7 @@ mod tests {
             source: "t.stl".into(),
             vertices: vec![],
             indices: vec![],
+            parts: Vec::new(),
         });
         let (a, b) = (Geometry::Mesh(m.clone()), Geometry::Mesh(m));
         let mut meshes = Vec::new();

@@ -22,6 +22,13 @@ use crate::math::{Pose, pose_from_euler};
 /// Default damping of velocity-mode joints, N·m·s/rad: the gain of the velocity servo.
 pub const DEFAULT_VELOCITY_KD: f64 = 10.0;
 
+/// Viscous damping of a scene-file joint in a simulated mode, N·m·s/rad (N·s/m): what
+/// rapier gave every multibody joint before URDF `<dynamics>` set it per joint (URDF
+/// joints without `<dynamics>` get 0, as in PyBullet). It keeps the shipped scenes as
+/// they were tuned, and a free-wheeling rover at rest on its frictionless caster from
+/// creeping away on contact noise.
+const TOML_JOINT_DAMPING: f64 = 0.1;
+
 /// Options that come from the command line rather than the scene.
 #[derive(Debug, Clone, Default)]
 pub struct LoadOptions {
@@ -78,7 +85,7 @@ fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
         server: ServerSettings::default(),
         objects,
         scripts: Vec::new(),
-        warnings,
+        warnings: dedup(warnings),
     })
 }
 
@@ -154,8 +161,15 @@ pub fn load_scene_text(
         server,
         objects: r.objects,
         scripts: r.scripts,
-        warnings: r.warnings,
+        warnings: dedup(r.warnings),
     })
+}
+
+/// Drops repeated warnings, keeping the first of each in order: a URDF included twice
+/// has the same problems twice, and they are worth saying once.
+pub(crate) fn dedup(warnings: Vec<String>) -> Vec<String> {
+    let mut seen = std::collections::HashSet::new();
+    warnings.into_iter().filter(|w| seen.insert(w.clone())).collect()
 }
 
 fn stem(path: &Path) -> String {
@@ -189,6 +203,7 @@ fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> ObjectModel {
             respondable: true,
             detectable: false,
             measurable: false,
+            self_collision: true,
         }),
     }
 }
@@ -598,6 +613,9 @@ impl Resolver<'_> {
             respondable: o.respondable.unwrap_or(true),
             detectable: o.detectable.unwrap_or(true),
             measurable: o.measurable.unwrap_or(true),
+            // Scene-file mechanisms keep CoppeliaSim's rule: their parts collide unless
+            // collision groups or a joint between them say otherwise.
+            self_collision: true,
         })
     }
 
@@ -606,9 +624,10 @@ impl Resolver<'_> {
             None | Some((_, "kinematic")) => Ok(JointMode::Kinematic),
             Some((_, "position")) => Ok(JointMode::Position),
             Some((_, "velocity")) => Ok(JointMode::Velocity),
+            Some((_, "free")) => Ok(JointMode::Free),
             Some((m, other)) => self.err_at(
                 m.span(),
-                format!("unknown joint mode '{other}'; use kinematic, position or velocity"),
+                format!("unknown joint mode '{other}'; use kinematic, position, velocity or free"),
             ),
         }
     }
@@ -674,6 +693,10 @@ impl Resolver<'_> {
                 JointMode::Velocity => DEFAULT_VELOCITY_KD,
                 _ => DEFAULT_KD,
             }),
+            damping: TOML_JOINT_DAMPING,
+            friction: 0.0,
+            max_velocity: None,
+            mimic: None,
         })
     }
 
@@ -761,8 +784,28 @@ impl Resolver<'_> {
                 }
             }
         }
+        let mut joint_modes = HashMap::new();
+        if let Some(t) = &r.joint_modes {
+            for (k, v) in t {
+                let mode = match v.as_str() {
+                    Some("kinematic") => JointMode::Kinematic,
+                    Some("position") => JointMode::Position,
+                    Some("velocity") => JointMode::Velocity,
+                    Some("free") => JointMode::Free,
+                    _ => {
+                        return self.err_at(
+                            r.urdf.span(),
+                            format!("robot '{name}': joint_modes.{k} must be \"kinematic\", \"position\", \"velocity\" or \"free\""),
+                        );
+                    }
+                };
+                joint_modes.insert(k.clone(), mode);
+            }
+        }
         let include = UrdfInclude {
             name: r.name.as_ref().map(|n| n.get_ref().clone()),
+            joint_modes,
+            self_collision: r.self_collision.unwrap_or(false),
             parent,
             pose: Self::pose(r.position, r.orientation_deg),
             fixed_base: r.fixed_base.unwrap_or(true),
@@ -786,6 +829,12 @@ impl Resolver<'_> {
             &mut self.objects,
             &mut self.warnings,
         )?;
+        if let Some(k) = include.joint_modes.keys().find(|k| !idx.joints.contains_key(*k)) {
+            return self.err_at(
+                r.urdf.span(),
+                format!("robot '{name}': joint_modes.{k} names no joint of the URDF"),
+            );
+        }
         for k in include.initial.keys() {
             if !idx.joints.contains_key(k) {
                 self.warnings.push(format!(

@@ -7,7 +7,9 @@ use super::error::LoadError;
 use super::files::Files;
 use super::model::MeshData;
 
-/// Loads a mesh file and applies a per-axis scale. Sub-meshes are merged.
+/// Loads a mesh file and applies a per-axis scale. Sub-meshes are merged for drawing;
+/// the sections of a multi-part OBJ are also kept as [`MeshData::parts`], the convex parts
+/// a dynamic body collides with.
 ///
 /// # Errors
 /// [`LoadError::Mesh`] if the file is missing, of an unknown format, or has no triangles.
@@ -23,13 +25,23 @@ pub fn load_mesh(files: &dyn Files, path: &Path, scale: [f64; 3]) -> Result<Arc<
         path: path.to_owned(),
         message: format!("cannot read mesh: {e}"),
     })?;
-    let scene = mesh_loader::Loader::default()
-        .merge_meshes(true)
-        .load_from_slice(&bytes, path)
-        .map_err(|e| LoadError::Mesh {
-            path: path.to_owned(),
-            message: format!("cannot decode mesh: {e}"),
-        })?;
+    let loader = mesh_loader::Loader::default().merge_meshes(true);
+    let scene = match loader.load_from_slice(&bytes, path) {
+        Ok(scene) => Ok(scene),
+        // Some exporters (the Solo and Bolt feet in example-robot-data) begin a binary STL's
+        // free-form header with `solid`, which reads as ASCII STL and fails. When the size
+        // is exactly a binary STL's, parse it again with the header blanked.
+        Err(_) if ext.as_deref() == Some("stl") && is_binary_stl_size(&bytes) => {
+            let mut binary = bytes.clone();
+            binary[..80].fill(0);
+            loader.load_from_slice(&binary, path)
+        }
+        Err(e) => Err(e),
+    }
+    .map_err(|e| LoadError::Mesh {
+        path: path.to_owned(),
+        message: format!("cannot decode mesh: {e}"),
+    })?;
     let mut vertices = Vec::new();
     let mut indices = Vec::new();
     for mesh in scene.meshes {
@@ -57,11 +69,46 @@ pub fn load_mesh(files: &dyn Files, path: &Path, scale: [f64; 3]) -> Result<Arc<
             t.swap(1, 2);
         }
     }
+    let parts = if ext.as_deref() == Some("obj") {
+        let text = String::from_utf8_lossy(&bytes);
+        let parts = super::obj_parts(&text);
+        if parts.len() > 1 {
+            parts
+                .iter()
+                .map(|p| {
+                    p.iter()
+                        .map(|v| {
+                            [
+                                (v[0] * scale[0]) as f32,
+                                (v[1] * scale[1]) as f32,
+                                (v[2] * scale[2]) as f32,
+                            ]
+                        })
+                        .collect()
+                })
+                .collect()
+        } else {
+            Vec::new()
+        }
+    } else {
+        Vec::new()
+    };
     Ok(Arc::new(MeshData {
         source: path.to_owned(),
         vertices,
         indices,
+        parts,
     }))
+}
+
+/// True if `bytes` is as long as a binary STL whose header declares its triangle count:
+/// an 80-byte header, a little-endian `u32` count and 50 bytes per triangle.
+fn is_binary_stl_size(bytes: &[u8]) -> bool {
+    let Some(count) = bytes.get(80..84) else {
+        return false;
+    };
+    let count = u64::from(u32::from_le_bytes([count[0], count[1], count[2], count[3]]));
+    count > 0 && bytes.len() as u64 == 84 + 50 * count
 }
 
 /// Resolves a URDF mesh reference the way ROS tools do.
@@ -128,6 +175,48 @@ mod tests {
         assert_eq!(via_path, Ok(pkg.join("meshes/a.stl")));
         let missing = resolve_mesh_path(&DiskFiles, "package://other/x.stl", &pkg.join("urdf"), &[]);
         assert!(missing.is_err_and(|t| !t.is_empty()));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn multi_part_obj_keeps_its_sections_scaled() {
+        let dir = std::env::temp_dir().join(format!("gantry-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("tmp dir");
+        let p = dir.join("two.obj");
+        std::fs::write(
+            &p,
+            "o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n\
+             o b\nv 3 0 0\nv 4 0 0\nv 3 1 0\nv 3 0 1\nf 5 6 7\nf 5 6 8\nf 5 7 8\nf 6 7 8\n",
+        )
+        .expect("write");
+        let m = load_mesh(&DiskFiles, &p, [2.0, 1.0, 1.0]).expect("loads");
+        assert_eq!(m.indices.len(), 8, "drawn as one merged mesh");
+        assert_eq!(m.parts.len(), 2);
+        assert!(m.parts[1].contains(&[8.0, 0.0, 0.0]), "{:?}", m.parts[1]);
+        // A one-section OBJ needs no parts: its hull is that of the whole mesh.
+        let q = dir.join("one.obj");
+        std::fs::write(&q, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").expect("write");
+        assert!(load_mesh(&DiskFiles, &q, [1.0; 3]).expect("loads").parts.is_empty());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn binary_stl_whose_header_starts_with_solid_loads() {
+        // The layout of solo_foot.stl in example-robot-data: "solid foot" padded with
+        // spaces to 80 bytes, then a binary triangle count and triangles.
+        let mut bytes = format!("{:<80}", "solid foot").into_bytes();
+        bytes.extend(1u32.to_le_bytes());
+        for f in [0.0f32, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
+            bytes.extend(f.to_le_bytes());
+        }
+        bytes.extend([0, 0]);
+        let dir = std::env::temp_dir().join(format!("gantry-bstl-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("tmp dir");
+        let p = dir.join("foot.stl");
+        std::fs::write(&p, &bytes).expect("write");
+        let m = load_mesh(&DiskFiles, &p, [1.0; 3]).expect("loads as binary STL");
+        assert_eq!(m.indices.len(), 1);
+        assert!(m.vertices.contains(&[1.0, 0.0, 0.0]), "{:?}", m.vertices);
         std::fs::remove_dir_all(&dir).ok();
     }
 

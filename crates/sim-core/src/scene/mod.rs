@@ -12,12 +12,16 @@ mod files;
 mod load;
 mod mesh;
 pub mod model;
+mod obj_parts;
 pub mod raw;
 mod urdf;
+mod urdf_fixups;
 
 pub use error::LoadError;
 pub use files::{DiskFiles, EmbeddedFiles, Files, normalize as normalize_path};
+pub(crate) use load::dedup as dedup_warnings;
 pub use load::{LoadOptions, load_scene, load_scene_text};
 pub use mesh::{load_mesh, resolve_mesh_path};
 pub use model::*;
+pub use obj_parts::obj_parts;
 pub use urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};

@@ -127,6 +127,10 @@ pub struct ShapeModel {
     pub detectable: bool,
     /// Seen by distance queries.
     pub measurable: bool,
+    /// Whether this shape, as a link of a simulated mechanism (a rapier multibody),
+    /// collides with the other links of that mechanism. `false` for URDF robots unless
+    /// their `self_collision` is set; pairs joined directly by a joint never collide.
+    pub self_collision: bool,
 }
 
 /// One collision part of a shape.
@@ -189,6 +193,10 @@ pub struct MeshData {
     pub vertices: Vec<[f32; 3]>,
     /// Triangles as vertex indices.
     pub indices: Vec<[u32; 3]>,
+    /// The convex parts a dynamic body collides with, as point sets in metres (scaled like
+    /// `vertices`): one per `o`/`g` section of a multi-part OBJ (a convex decomposition),
+    /// as PyBullet reads it. Empty when the mesh is one part: then the hull of `vertices`.
+    pub parts: Vec<Vec<[f32; 3]>>,
 }
 
 /// How a shape's mass is specified.
@@ -231,6 +239,37 @@ pub enum JointMode {
     Position,
     /// Dynamic, with a velocity controller limited by `max_force`.
     Velocity,
+    /// Dynamic, with no motor at all (CoppeliaSim's "motor disabled", PyBullet's velocity
+    /// control with zero force): only gravity, contacts, damping, friction and limits act.
+    Free,
+}
+
+impl JointMode {
+    /// Whether the physics engine simulates the joint (every mode but kinematic).
+    pub fn is_dynamic(self) -> bool {
+        self != JointMode::Kinematic
+    }
+
+    /// The scene file's name of the mode.
+    pub fn name(self) -> &'static str {
+        match self {
+            JointMode::Kinematic => "kinematic",
+            JointMode::Position => "position",
+            JointMode::Velocity => "velocity",
+            JointMode::Free => "free",
+        }
+    }
+}
+
+/// A joint that follows another (URDF `<mimic>`): `q = multiplier · q_leader + offset`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MimicModel {
+    /// Index of the leading joint object.
+    pub leader: usize,
+    /// Ratio of the follower's motion to the leader's.
+    pub multiplier: f64,
+    /// Follower position when the leader is at zero, rad or m.
+    pub offset: f64,
 }
 
 /// A joint.
@@ -256,6 +295,17 @@ pub struct JointModel {
     pub kp: f64,
     /// Damping.
     pub kd: f64,
+    /// Viscous joint damping (URDF `<dynamics damping>`), N·m·s/rad or N·s/m. It acts in
+    /// every dynamic mode, on top of the motor, and is not limited by `max_force`.
+    pub damping: f64,
+    /// Coulomb joint friction (URDF `<dynamics friction>`): the largest torque (N·m) or
+    /// force (N) friction can oppose motion with, in every dynamic mode.
+    pub friction: f64,
+    /// Largest speed of the position and velocity controllers (URDF `<limit velocity>`),
+    /// rad/s or m/s; `None` for no limit.
+    pub max_velocity: Option<f64>,
+    /// The joint this one follows, if any.
+    pub mimic: Option<MimicModel>,
 }
 
 /// Proximity sensor volumes. The sensor looks along its local +Z axis.

@@ -175,8 +175,12 @@ pub struct RawRobot {
     pub orientation_deg: Option<[f64; 3]>,
     /// Whether the base link is fixed to the world (default true, like PyBullet's `useFixedBase`).
     pub fixed_base: Option<bool>,
-    /// Mode of every joint: `kinematic` (default), `position` or `velocity`.
+    /// Mode of every joint: `kinematic` (default), `position`, `velocity` or `free`.
     pub joint_mode: Option<Spanned<String>>,
+    /// Modes of single joints by URDF joint name, overriding `joint_mode`.
+    pub joint_modes: Option<toml::Table>,
+    /// Whether the robot's links collide with each other (default false, as PyBullet).
+    pub self_collision: Option<bool>,
     /// Maximum joint torque/force; default: the URDF `effort` limit, else 100.
     pub max_force: Option<f64>,
     /// Position-control stiffness for every joint.
@@ -255,6 +259,8 @@ const ROBOT_KEYS: &[&str] = &[
     "orientation_deg",
     "fixed_base",
     "joint_mode",
+    "joint_modes",
+    "self_collision",
     "max_force",
     "kp",
     "kd",

@@ -5,14 +5,18 @@
 //! - each joint an object aliased by the joint name, between its parent and child link,
 //!   oriented so that its local Z axis is the URDF axis (gantry joints move about/along Z).
 //!
-//! Supported: `revolute`, `continuous`, `prismatic` and `fixed` joints with limits and
-//! effort; `<inertial>`; `<visual>` and `<collision>` with box, cylinder, sphere, capsule
-//! and STL/OBJ/DAE meshes (with scale); robot-level and inline materials.
-//! Documented, not warned (every real URDF has it): `<limit velocity>` is not enforced;
-//! joints respect `effort` through their motor's maximum force.
-//! Reported as warnings and otherwise ignored: `floating` and `planar` joints (imported as
-//! fixed), `<dynamics>`, `<mimic>`, `<safety_controller>`, `<calibration>`,
-//! `<transmission>`, `<gazebo>` and textures. Nothing is dropped without a warning.
+//! Honoured: `revolute`, `continuous`, `prismatic` and `fixed` joints with `<limit lower
+//! upper effort velocity>` (effort is the motor's maximum force, velocity the largest speed
+//! of the position and velocity controllers); `<dynamics damping friction>` (viscous
+//! damping and Coulomb friction on the joint); `<mimic joint multiplier offset>` (the joint
+//! follows its leader); `<inertial>`; `<visual>` and `<collision>` with box, cylinder,
+//! sphere, capsule and STL/OBJ/DAE meshes (with scale; a multi-part OBJ is a convex
+//! decomposition, see `world::physics`); robot-level and inline materials.
+//!
+//! Approximated or ignored, each said once per file in one warning that names every
+//! element concerned: `floating` and `planar` joints (imported as fixed: gantry joints have
+//! one degree of freedom), `<safety_controller>`, `<calibration>`, `<transmission>`,
+//! `<gazebo>`, textures and any other top-level element. Nothing is dropped silently.
 
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -23,8 +27,8 @@ use super::error::LoadError;
 use super::files::Files;
 use super::mesh::{load_mesh, resolve_mesh_path};
 use super::model::{
-    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind, ShapeModel,
-    VisualModel,
+    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, MimicModel, ObjectModel, ObjectModelKind,
+    ShapeModel, VisualModel,
 };
 use crate::math::{Pose, rotation_z_to};
 
@@ -41,6 +45,10 @@ pub struct UrdfInclude {
     pub fixed_base: bool,
     /// Mode of every movable joint.
     pub joint_mode: JointMode,
+    /// Modes of single joints by URDF joint name, overriding `joint_mode`.
+    pub joint_modes: HashMap<String, JointMode>,
+    /// Whether the robot's links collide with each other (parent-child pairs never do).
+    pub self_collision: bool,
     /// Maximum torque/force override; default: the URDF effort, else 100.
     pub max_force: Option<f64>,
     /// Position stiffness for every joint.
@@ -60,6 +68,8 @@ impl Default for UrdfInclude {
             pose: Pose::identity(),
             fixed_base: true,
             joint_mode: JointMode::Kinematic,
+            joint_modes: HashMap::new(),
+            self_collision: false,
             max_force: None,
             kp: DEFAULT_KP,
             kd: DEFAULT_KD,
@@ -89,7 +99,8 @@ pub struct UrdfIndex {
 /// # Errors
 /// Malformed XML ([`LoadError::Syntax`], with line and column), a joint cycle, a link
 /// with two parents, two links or two joints with one name, an unknown link
-/// ([`LoadError::Invalid`] at the element), a missing mesh.
+/// ([`LoadError::Invalid`] at the element), a missing mesh, a `<mimic>` naming a missing
+/// joint or forming a cycle.
 pub fn import_urdf(
     files: &dyn Files,
     path: &Path,
@@ -107,6 +118,8 @@ pub fn import_urdf(
         path: path.to_owned(),
         message: "the file is not UTF-8 text".into(),
     })?;
+    let (text, repairs) = super::urdf_fixups::repair(&text);
+    warnings.extend(repairs.into_iter().map(|r| format!("{}: {r}", path.display())));
     let robot = urdf_rs::read_from_string(&text).map_err(|e| malformed(path, &text, &e.to_string()))?;
     let urdf_err = |message: String| LoadError::Urdf {
         path: path.to_owned(),
@@ -124,12 +137,48 @@ pub fn import_urdf(
         },
         None => urdf_err(message),
     };
-    for tag in ["transmission", "gazebo"] {
-        if text.contains(&format!("<{tag}")) {
-            warnings.push(format!(
-                "{}: <{tag}> elements are not supported and were ignored",
-                path.display()
-            ));
+    top_level_warnings(path, &text, warnings);
+    // Elements that are read but not acted on, by element, with the joints carrying them,
+    // so each is reported once per file rather than once per joint.
+    let mut ignored: Vec<(&str, &str, Vec<&str>)> = vec![
+        (
+            "floating joints",
+            "imported as fixed: gantry joints have one degree of freedom (use `fixed_base = false` for a free-floating base)",
+            Vec::new(),
+        ),
+        (
+            "planar joints",
+            "imported as fixed: gantry joints have one degree of freedom",
+            Vec::new(),
+        ),
+        (
+            "<safety_controller>",
+            "ignored: the <limit> range is enforced instead",
+            Vec::new(),
+        ),
+        (
+            "<calibration>",
+            "ignored: joints start at `initial` (default 0)",
+            Vec::new(),
+        ),
+    ];
+    for j in &robot.joints {
+        let mut note = |k: usize| ignored[k].2.push(j.name.as_str());
+        match j.joint_type {
+            urdf_rs::JointType::Floating => note(0),
+            urdf_rs::JointType::Planar => note(1),
+            _ => {}
+        }
+        if j.safety_controller.is_some() {
+            note(2);
+        }
+        if j.calibration.is_some() {
+            note(3);
+        }
+    }
+    for (what, fate, joints) in &ignored {
+        if !joints.is_empty() {
+            warnings.push(format!("{}: {what} ({}): {fate}", path.display(), joints.join(", ")));
         }
     }
 
@@ -250,6 +299,7 @@ pub fn import_urdf(
         urdf_dir,
         package_paths,
         materials,
+        self_collision: include.self_collision,
     };
 
     let base_alias = include.name.clone().unwrap_or_else(|| robot.name.clone());
@@ -319,14 +369,8 @@ pub fn import_urdf(
                 urdf_rs::JointType::Continuous => (JointType::Revolute, None, true),
                 urdf_rs::JointType::Prismatic => (JointType::Prismatic, limit, false),
                 urdf_rs::JointType::Fixed => (JointType::Fixed, None, false),
-                ref other => {
-                    warnings.push(format!(
-                        "{}: joint '{}' of type {other:?} is not supported; imported as fixed",
-                        path.display(),
-                        j.name
-                    ));
-                    (JointType::Fixed, None, false)
-                }
+                // Floating, planar and urdf-rs's spherical: reported above, once per file.
+                _ => (JointType::Fixed, None, false),
             };
             if let Some((lo, hi)) = limits
                 && lo > hi
@@ -336,20 +380,21 @@ pub fn import_urdf(
                     j.name
                 )));
             }
-            for (present, what) in [
-                (j.dynamics.is_some(), "<dynamics>"),
-                (j.mimic.is_some(), "<mimic>"),
-                (j.safety_controller.is_some(), "<safety_controller>"),
-                (j.calibration.is_some(), "<calibration>"),
-            ] {
-                if present {
-                    warnings.push(format!(
-                        "{}: joint '{}': {what} is not supported and was ignored",
-                        path.display(),
+            let (damping, friction) = j.dynamics.as_ref().map_or((0.0, 0.0), |d| (d.damping, d.friction));
+            if !(damping.is_finite() && damping >= 0.0 && friction.is_finite() && friction >= 0.0) {
+                return Err(at(
+                    "joint",
+                    &j.name,
+                    0,
+                    format!(
+                        "joint '{}': <dynamics damping=\"{damping}\" friction=\"{friction}\"> must both be finite and >= 0",
                         j.name
-                    ));
-                }
+                    ),
+                ));
             }
+            let max_velocity =
+                (joint_type != JointType::Fixed && j.limit.velocity.is_finite() && j.limit.velocity > 0.0)
+                    .then_some(j.limit.velocity);
             let initial = match include.initial.get(&j.name) {
                 Some(v) if joint_type == JointType::Revolute => v.to_radians(),
                 Some(v) => *v,
@@ -358,7 +403,7 @@ pub fn import_urdf(
             let mode = if joint_type == JointType::Fixed {
                 JointMode::Kinematic
             } else {
-                include.joint_mode
+                include.joint_modes.get(&j.name).copied().unwrap_or(include.joint_mode)
             };
             let effort = if j.limit.effort > 0.0 { j.limit.effort } else { 100.0 };
             let joint_obj = objects.len();
@@ -378,6 +423,11 @@ pub fn import_urdf(
                     max_force: include.max_force.unwrap_or(effort),
                     kp: include.kp,
                     kd: include.kd,
+                    damping,
+                    friction,
+                    max_velocity,
+                    // Resolved below, once every joint has its object.
+                    mimic: None,
                 }),
             });
             index.joints.insert(j.name.clone(), joint_obj);
@@ -387,12 +437,119 @@ pub fn import_urdf(
             let child_local = Pose::from_parts(Translation3::identity(), align.inverse());
             let child_dynamic = match mode {
                 JointMode::Kinematic => joint_type == JointType::Fixed && dynamic,
-                JointMode::Position | JointMode::Velocity => true,
+                JointMode::Position | JointMode::Velocity | JointMode::Free => true,
             };
             stack.push((child, joint_obj, child_local, child_dynamic));
         }
     }
+    resolve_mimics(path, &robot, &index, objects, &at, warnings)?;
     Ok(index)
+}
+
+/// Links each `<mimic>` follower to its leader's object. A follower starts where its
+/// leader's initial position puts it.
+fn resolve_mimics(
+    path: &Path,
+    robot: &urdf_rs::Robot,
+    index: &UrdfIndex,
+    objects: &mut [ObjectModel],
+    at: &dyn Fn(&str, &str, usize, String) -> LoadError,
+    warnings: &mut Vec<String>,
+) -> Result<(), LoadError> {
+    let moving = |o: &ObjectModel| matches!(&o.kind, ObjectModelKind::Joint(m) if m.joint_type != JointType::Fixed);
+    // Vendor files (TALOS's grippers, for one) carry `<mimic>` on joints they later
+    // declared `fixed`; there is nothing to couple, so the mimic is dropped, as PyBullet
+    // and Pinocchio do, and said once per file.
+    let mut inert: Vec<&str> = Vec::new();
+    for j in &robot.joints {
+        let Some(m) = &j.mimic else { continue };
+        let bad = |why: String| {
+            Err(at(
+                "joint",
+                &j.name,
+                0,
+                format!("joint '{}': <mimic joint=\"{}\">: {why}", j.name, m.joint),
+            ))
+        };
+        let Some(&leader) = index.joints.get(&m.joint) else {
+            return bad("no joint has that name".into());
+        };
+        let follower = index.joints[&j.name];
+        if !moving(&objects[leader]) || !moving(&objects[follower]) {
+            inert.push(&j.name);
+            continue;
+        }
+        // A chain of mimics is fine (each follows its own leader), a loop is not.
+        let mut cur = &m.joint;
+        let mut hops = 0;
+        while let Some(next) = robot
+            .joints
+            .iter()
+            .find(|k| &k.name == cur)
+            .and_then(|k| k.mimic.as_ref())
+        {
+            cur = &next.joint;
+            hops += 1;
+            if cur == &j.name || hops > robot.joints.len() {
+                return bad("the mimic joints form a cycle".into());
+            }
+        }
+        let multiplier = m.multiplier.unwrap_or(1.0);
+        let offset = m.offset.unwrap_or(0.0);
+        if !(multiplier.is_finite() && offset.is_finite()) {
+            return bad("multiplier and offset must be finite".into());
+        }
+        let ObjectModelKind::Joint(lead) = &objects[leader].kind else {
+            unreachable!("checked above that the leader is a joint")
+        };
+        let start = multiplier * lead.initial + offset;
+        if let ObjectModelKind::Joint(f) = &mut objects[follower].kind {
+            f.mimic = Some(MimicModel {
+                leader,
+                multiplier,
+                offset,
+            });
+            f.initial = start;
+            f.target_position = start;
+        }
+    }
+    if !inert.is_empty() {
+        warnings.push(format!(
+            "{}: <mimic> on joints that cannot move or whose leader cannot ({}): ignored",
+            path.display(),
+            inert.join(", ")
+        ));
+    }
+    Ok(())
+}
+
+/// One warning per kind of top-level element that gantry does not act on: transmissions,
+/// Gazebo extensions and anything else that is not a link, joint or material.
+fn top_level_warnings(path: &Path, text: &str, warnings: &mut Vec<String>) {
+    let Ok(doc) = roxmltree::Document::parse_with_options(text, xml_options()) else {
+        return;
+    };
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    for n in doc.root_element().children().filter(roxmltree::Node::is_element) {
+        let name = n.tag_name().name();
+        if matches!(name, "link" | "joint" | "material") {
+            continue;
+        }
+        match counts.iter_mut().find(|(t, _)| t == name) {
+            Some((_, c)) => *c += 1,
+            None => counts.push((name.to_owned(), 1)),
+        }
+    }
+    for (tag, count) in counts {
+        let fate = match tag.as_str() {
+            "transmission" => {
+                "ignored: gantry drives joints with its own motors (`joint_mode`, `kp`, `kd`, `max_force`)"
+            }
+            "gazebo" => "ignored: Gazebo plugins, materials and physics settings do not apply to gantry",
+            _ => "ignored: not part of the URDF elements gantry reads (link, joint, material)",
+        };
+        warnings.push(format!("{}: {count} <{tag}> element(s) {fate}", path.display()));
+    }
 }
 
 /// The error for a file urdf-rs cannot read. urdf-rs does not say where the problem is,
@@ -420,7 +577,7 @@ fn malformed(path: &Path, text: &str, reason: &str) -> LoadError {
 }
 
 /// URDFs may carry a DOCTYPE (roxmltree refuses one by default).
-fn xml_options() -> roxmltree::ParsingOptions {
+pub(super) fn xml_options() -> roxmltree::ParsingOptions {
     roxmltree::ParsingOptions {
         allow_dtd: true,
         ..roxmltree::ParsingOptions::default()
@@ -477,6 +634,7 @@ struct Ctx<'a> {
     urdf_dir: &'a Path,
     package_paths: &'a [PathBuf],
     materials: HashMap<&'a str, [f32; 3]>,
+    self_collision: bool,
 }
 
 impl Ctx<'_> {
@@ -517,7 +675,27 @@ impl Ctx<'_> {
             });
         }
         let i = &link.inertial;
-        let mass = if i.mass.value > 0.0 {
+        let tensor = [
+            i.inertia.ixx,
+            i.inertia.ixy,
+            i.inertia.ixz,
+            i.inertia.iyy,
+            i.inertia.iyz,
+            i.inertia.izz,
+        ];
+        if !(i.mass.value.is_finite() && i.mass.value >= 0.0 && tensor.iter().all(|v| v.is_finite())) {
+            return Err(LoadError::Urdf {
+                path: self.path.to_owned(),
+                message: format!(
+                    "link '{}': <inertial> mass must be finite and >= 0 and its inertia finite",
+                    link.name
+                ),
+            });
+        }
+        // A massless link with a rotational inertia (Franka's flange in pybullet_data) is
+        // kept as written, as PyBullet and Pinocchio do: only a link with neither is given
+        // a mass from its geometry.
+        let mass = if i.mass.value > 0.0 || tensor.iter().any(|v| *v != 0.0) {
             let o = urdf_pose(&i.origin);
             let t = o.translation.vector;
             let r = o.rotation;
@@ -556,6 +734,7 @@ impl Ctx<'_> {
             respondable: true,
             detectable: true,
             measurable: true,
+            self_collision: self.self_collision,
         })
     }
 
@@ -650,7 +829,11 @@ mod tests {
         // The child link frame at q = 0 is the URDF joint origin: identity rotation.
         let child_world = objects[2].local * objects[3].local;
         assert!(child_world.rotation.angle() < 1e-12);
-        assert!(warnings.iter().any(|w| w.contains("<dynamics>")), "{warnings:?}");
+        let ObjectModelKind::Joint(j) = &objects[2].kind else {
+            panic!("joint expected")
+        };
+        assert_eq!((j.damping, j.friction, j.max_velocity), (0.1, 0.0, Some(1.0)));
+        assert!(warnings.is_empty(), "{warnings:?}");
     }
 
     #[test]

@@ -348,6 +348,7 @@ mod tests {
             source: PathBuf::from("test"),
             vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [f32::NAN, 0.0, 0.0]],
             indices: vec![[0, 1, 2], [0, 1, 3], [0, 1, 9], [0, 0, 1]],
+            parts: Vec::new(),
         };
         let m = TriMesh::from_geometry(&Geometry::Mesh(Arc::new(data)));
         assert_eq!(m.triangles.len(), 1);

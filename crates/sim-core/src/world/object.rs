@@ -100,6 +100,32 @@ pub struct Joint {
     pub kd: f64,
     /// Torque/force the motor applied in the last step (estimated from its PD law).
     pub force: f64,
+    /// Viscous damping, N·m·s/rad or N·s/m (URDF `<dynamics damping>`).
+    pub damping: f64,
+    /// Coulomb friction, N·m or N (URDF `<dynamics friction>`).
+    pub friction: f64,
+    /// Largest speed of the position and velocity controllers, rad/s or m/s.
+    pub max_velocity: Option<f64>,
+    /// The joint this one follows, if any (URDF `<mimic>`).
+    pub mimic: Option<Mimic>,
+    /// Position mode: where the controller servos to this step. It is the target itself
+    /// unless `max_velocity` is set; then it moves towards the target at that speed at
+    /// most (CoppeliaSim's motion profile in its simplest form), so a far target does not
+    /// make the joint jump, and its speed is fed forward to the motor.
+    pub reference: f64,
+    /// Speed of `reference` over the last step, rad/s or m/s.
+    pub reference_velocity: f64,
+}
+
+/// A joint that follows another: `q = multiplier · q_leader + offset`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mimic {
+    /// The leading joint.
+    pub leader: Handle,
+    /// Ratio of the follower's motion to the leader's.
+    pub multiplier: f64,
+    /// Follower position when the leader is at zero, rad or m.
+    pub offset: f64,
 }
 
 impl Joint {
@@ -110,6 +136,34 @@ impl Joint {
             JointType::Revolute => Pose::rotation(Vec3::z() * self.position),
             JointType::Prismatic => Pose::translation(0.0, 0.0, self.position),
             JointType::Fixed => Pose::identity(),
+        }
+    }
+
+    /// Moves the position controller's reference one step of `dt` seconds towards the
+    /// target, at `max_velocity` at most. Returns whether the reference changed.
+    pub fn advance_reference(&mut self, dt: f64) -> bool {
+        let before = (self.reference, self.reference_velocity);
+        match self.max_velocity {
+            Some(v) if dt > 0.0 => {
+                let step = (self.target_position - self.reference).clamp(-v * dt, v * dt);
+                self.reference += step;
+                self.reference_velocity = step / dt;
+            }
+            // Without a limit the controller servos straight to the target, with no speed
+            // fed forward (a jump of the target would otherwise be an unbounded kick).
+            _ => {
+                self.reference = self.target_position;
+                self.reference_velocity = 0.0;
+            }
+        }
+        before != (self.reference, self.reference_velocity)
+    }
+
+    /// The velocity target the velocity controller uses: the set one, within the limit.
+    pub fn commanded_velocity(&self) -> f64 {
+        match self.max_velocity {
+            Some(v) => self.target_velocity.clamp(-v, v),
+            None => self.target_velocity,
         }
     }
 

@@ -13,6 +13,15 @@
 //!   it is a *kinematic* body whose pose the tree dictates every step (kinematic-mode
 //!   joints, the paper's arm); at the top of the tree it is a fixed body.
 //!
+//! Links of one mechanism (a URDF robot, unless its `self_collision` is set) do not
+//! collide with each other: the multibody's self-contacts are off, which rapier checks
+//! before any contact is computed. Joined parent and child links never collide.
+//!
+//! Mesh colliders: a dynamic body collides with convex hulls (one per part of a
+//! multi-part OBJ, as PyBullet does), because triangle meshes have no inside and give
+//! dynamic bodies poor contacts; a non-convex one-part mesh on a dynamic body is warned
+//! about. Static and kinematic bodies keep the triangle mesh, concavities included.
+//!
 //! The object tree (f64) is the source of truth for poses. After a step only two things
 //! are read back from rapier: the poses of free bodies (including multibody roots) and
 //! the positions of dynamic joints. Everything else follows by forward kinematics in the
@@ -140,21 +149,21 @@ impl Physics {
                         };
                         // A fixed joint has nothing to drive: its dynamic child is a rigid
                         // multibody link whatever the mode says.
-                        if joint.mode == JointMode::Kinematic && joint.joint_type != JointType::Fixed {
-                            p.new_body(h, &pose, BodyRole::Kinematic, shape);
+                        if !joint.mode.is_dynamic() && joint.joint_type != JointType::Fixed {
+                            p.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
                         } else {
                             let parent_body = p.parent_body(tree, j, &mut anchor);
-                            let child = p.new_body(h, &pose, BodyRole::Link, shape);
-                            p.add_multibody_joint(tree, j, parent_body, child, warnings);
+                            let child = p.new_body(h, &pose, BodyRole::Link, shape, warnings);
+                            p.add_multibody_joint(tree, j, parent_body, child, shape.self_collision, warnings);
                         }
                     }
                     Above::ForceSensor(f) => {
                         let parent_body = p.parent_body(tree, f, &mut anchor);
-                        let child = p.new_body(h, &pose, BodyRole::Free, shape);
+                        let child = p.new_body(h, &pose, BodyRole::Free, shape, warnings);
                         p.add_force_joint(tree, f, parent_body, child);
                     }
                     Above::Shape(_) | Above::Root => {
-                        p.new_body(h, &pose, BodyRole::Free, shape);
+                        p.new_body(h, &pose, BodyRole::Free, shape, warnings);
                     }
                 }
             } else {
@@ -163,47 +172,132 @@ impl Physics {
                         Some((bi, offset)) => {
                             let rel = offset * (tree.world)(s).inverse() * pose;
                             p.body_of.insert(h, (bi, rel));
-                            p.add_colliders(h, bi, &rel, shape);
+                            p.add_colliders(h, bi, &rel, shape, warnings);
                         }
                         None => {
-                            p.new_body(h, &pose, BodyRole::Fixed, shape);
+                            p.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
                         }
                     },
+                    Above::Joint(j) if matches!((tree.kind)(j), ObjectKind::Joint(jt) if jt.joint_type == JointType::Fixed) =>
+                    {
+                        // Welded to what is above (the `world` link ROS arm descriptions
+                        // start with): ride on its body rather than be a kinematic body of
+                        // its own. A multibody rooted on an awake kinematic body is
+                        // integrated twice per step by rapier 0.36's solver (the root and
+                        // its first link both enlist it), so arms below one fell at twice
+                        // the speed.
+                        match above(tree, j) {
+                            Above::Shape(s) => match p.body_of.get(&s).copied() {
+                                Some((bi, offset))
+                                    if matches!(p.bodies[bi].role, BodyRole::Fixed | BodyRole::Kinematic) =>
+                                {
+                                    let rel = offset * (tree.world)(s).inverse() * pose;
+                                    p.body_of.insert(h, (bi, rel));
+                                    p.add_colliders(h, bi, &rel, shape, warnings);
+                                }
+                                _ => {
+                                    p.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
+                                }
+                            },
+                            Above::Root => {
+                                p.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
+                            }
+                            Above::Joint(_) | Above::ForceSensor(_) => {
+                                p.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
+                            }
+                        }
+                    }
                     Above::Joint(_) | Above::ForceSensor(_) => {
-                        p.new_body(h, &pose, BodyRole::Kinematic, shape);
+                        p.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
                     }
                     Above::Root => {
-                        p.new_body(h, &pose, BodyRole::Fixed, shape);
+                        p.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
                     }
                 }
             }
         }
         for &h in order {
             if let ObjectKind::Joint(j) = (tree.kind)(h)
-                && j.mode != JointMode::Kinematic
+                && j.mode.is_dynamic()
                 && j.joint_type != JointType::Fixed
                 && !p.joints.contains_key(&h)
             {
                 warnings.push(format!(
-                    "joint {h} is in {:?} mode but has no dynamic shape below it, so it cannot move; make its child shape dynamic or use kinematic mode",
-                    j.mode
+                    "joint {h} is in {} mode but has no dynamic shape below it, so it cannot move; make its child shape dynamic or use kinematic mode",
+                    j.mode.name()
                 ));
             }
         }
+        p.couple_mimics(tree, order, warnings);
         p
+    }
+
+    /// Ties each simulated `<mimic>` follower to its simulated leader with rapier's DoF
+    /// coupling (`q_f = m q_l + c` as a velocity-level equality), so the mechanism moves as
+    /// one, as a gear would. Followers of kinematic leaders follow in the tree instead
+    /// (`World::set_joint_position`).
+    fn couple_mimics(&mut self, tree: &TreeView<'_>, order: &[Handle], warnings: &mut Vec<String>) {
+        for &h in order {
+            let ObjectKind::Joint(j) = (tree.kind)(h) else { continue };
+            let Some(m) = j.mimic else { continue };
+            let (Some(f), Some(l)) = (self.joints.get(&h).copied(), self.joints.get(&m.leader).copied()) else {
+                if j.mode.is_dynamic() != matches!((tree.kind)(m.leader), ObjectKind::Joint(l) if l.mode.is_dynamic()) {
+                    warnings.push(format!(
+                        "joint {h} mimics joint {}, but one is simulated and the other kinematic; the follower is set from the leader after each step",
+                        m.leader
+                    ));
+                }
+                continue;
+            };
+            let mbj = &mut self.world.multibody_joints;
+            let (Some((mb_l, link_l)), Some((mb_f, link_f))) = (mbj.get(l.joint), mbj.get(f.joint)) else {
+                continue;
+            };
+            if !std::ptr::eq(mb_l, mb_f) {
+                warnings.push(format!(
+                    "joint {h} mimics joint {}, which belongs to another mechanism; the coupling was not simulated",
+                    m.leader
+                ));
+                continue;
+            }
+            if let Some((mb, _)) = mbj.get_mut(f.joint) {
+                mb.add_dof_coupling(MultibodyDofCoupling {
+                    link1: link_l,
+                    dof1: 0,
+                    axis1: l.coord,
+                    link2: link_f,
+                    dof2: 0,
+                    axis2: f.coord,
+                    coeff: m.multiplier as f32,
+                    offset: m.offset as f32,
+                });
+            }
+        }
     }
 
     /// The body index on the parent side of joint or force sensor `j`.
     fn parent_body(&mut self, tree: &TreeView<'_>, j: Handle, anchor: &mut Option<usize>) -> usize {
         match above(tree, j) {
-            Above::Shape(s) => {
-                if let Some((bi, _)) = self.body_of.get(&s) {
-                    return *bi;
-                }
-                self.anchor(anchor)
-            }
+            Above::Shape(s) => match self.body_of.get(&s) {
+                Some(&(bi, _)) if self.bodies[bi].role == BodyRole::Kinematic => self.mount(bi),
+                Some(&(bi, _)) => bi,
+                None => self.anchor(anchor),
+            },
             _ => self.anchor(anchor),
         }
+    }
+
+    /// Kinematic body `bi`, made the root of a mechanism hanging from it. It becomes a
+    /// fixed body that [`World`](super::World) teleports to its tree pose each step:
+    /// rapier 0.36 integrates a multibody rooted on an awake kinematic body twice per
+    /// step (its solver enlists the multibody for the root and again for the first
+    /// link), so a free arm below a kinematic joint fell at twice the speed. The cost:
+    /// contacts with that one link see it jump rather than move with a velocity.
+    fn mount(&mut self, bi: usize) -> usize {
+        if let Some(rb) = self.world.bodies.get_mut(self.bodies[bi].handle) {
+            rb.set_body_type(RigidBodyType::Fixed, true);
+        }
+        bi
     }
 
     fn anchor(&mut self, anchor: &mut Option<usize>) -> usize {
@@ -218,7 +312,14 @@ impl Physics {
         })
     }
 
-    fn new_body(&mut self, h: Handle, pose: &Pose, role: BodyRole, shape: &ShapeModel) -> usize {
+    fn new_body(
+        &mut self,
+        h: Handle,
+        pose: &Pose,
+        role: BodyRole,
+        shape: &ShapeModel,
+        warnings: &mut Vec<String>,
+    ) -> usize {
         let builder = match role {
             BodyRole::Fixed => RigidBodyBuilder::fixed(),
             BodyRole::Kinematic => RigidBodyBuilder::kinematic_position_based(),
@@ -261,12 +362,14 @@ impl Physics {
         });
         let bi = self.bodies.len() - 1;
         self.body_of.insert(h, (bi, Pose::identity()));
-        self.add_colliders(h, bi, &Pose::identity(), shape);
+        self.add_colliders(h, bi, &Pose::identity(), shape, warnings);
         bi
     }
 
-    /// Adds one collider per geometry part of `shape`, placed at `rel` in the body frame.
-    fn add_colliders(&mut self, h: Handle, bi: usize, rel: &Pose, shape: &ShapeModel) {
+    /// Adds one collider per geometry part of `shape` (a mesh on a dynamic body may give
+    /// several: its convex parts), placed at `rel` in the body frame.
+    fn add_colliders(&mut self, h: Handle, bi: usize, rel: &Pose, shape: &ShapeModel, warnings: &mut Vec<String>) {
+        let dynamic = matches!(self.bodies[bi].role, BodyRole::Free | BodyRole::Link);
         let volume: f64 = shape.geoms.iter().map(|g| geometry_volume(&g.geometry)).sum();
         let density = match shape.mass {
             MassModel::Density(d) => d,
@@ -281,21 +384,22 @@ impl Physics {
             InteractionTestMode::And,
         );
         for g in &shape.geoms {
-            let (shared, fix) = shared_shape(&g.geometry);
-            let local = rel * g.local * fix;
-            let collider = ColliderBuilder::new(shared)
-                .position(math::to_physics(&local))
-                .density(density as f32)
-                .friction(shape.friction as f32)
-                .restitution(shape.restitution as f32)
-                .collision_groups(groups)
-                .solver_groups(groups)
-                .sensor(!shape.respondable)
-                .build();
-            let body = self.bodies[bi].handle;
-            let ch = self.world.insert_collider(collider, Some(body));
-            self.collider_object.insert(ch, h);
-            self.object_colliders.entry(h).or_default().push(ch);
+            for (shared, fix) in collision_shapes(&g.geometry, dynamic, warnings) {
+                let local = rel * g.local * fix;
+                let collider = ColliderBuilder::new(shared)
+                    .position(math::to_physics(&local))
+                    .density(density as f32)
+                    .friction(shape.friction as f32)
+                    .restitution(shape.restitution as f32)
+                    .collision_groups(groups)
+                    .solver_groups(groups)
+                    .sensor(!shape.respondable)
+                    .build();
+                let body = self.bodies[bi].handle;
+                let ch = self.world.insert_collider(collider, Some(body));
+                self.collider_object.insert(ch, h);
+                self.object_colliders.entry(h).or_default().push(ch);
+            }
         }
     }
 
@@ -305,6 +409,7 @@ impl Physics {
         j: Handle,
         parent: usize,
         child: usize,
+        self_collision: bool,
         warnings: &mut Vec<String>,
     ) {
         let ObjectKind::Joint(joint) = (tree.kind)(j) else {
@@ -366,7 +471,23 @@ impl Physics {
                         let mut disp = [0.0f32; 6];
                         disp[0] = joint.position as f32;
                         l.joint.apply_displacement(&disp[..l.joint.ndofs()]);
+                        // rapier gives every free angular DoF a damping of 0.1 N·m·s/rad
+                        // unasked; gantry's joints have exactly the damping and Coulomb
+                        // friction the model gives (URDF `<dynamics>`, else none), so that
+                        // passive motion matches other engines. Both are per DoF, at the
+                        // link's assembly index, which rapier keeps when the root's DoFs
+                        // are dropped at the first step.
+                        let dof = l.assembly_id();
+                        if let Some(d) = mb.damping_mut().get_mut(dof) {
+                            *d = joint.damping as f32;
+                        }
+                        if let Some(f) = mb.frictions_mut().get_mut(dof) {
+                            *f = joint.friction as f32;
+                        }
                     }
+                }
+                if !self_collision && let Some((mb, _)) = self.world.multibody_joints.get_mut(handle) {
+                    mb.set_self_contacts_enabled(false);
                 }
             }
             None => warnings.push(format!(
@@ -423,25 +544,128 @@ pub(crate) fn configure_integration(p: &mut IntegrationParameters, s: &SimSettin
 }
 
 /// Sets a joint's motor from its mode and targets (ForceBased: torque = kp e + kd ė).
+/// A simulated `<mimic>` follower has no motor: the coupling moves it.
 pub(crate) fn configure_motor(data: &mut GenericJoint, axis: JointAxis, joint: &super::object::Joint) {
-    match joint.mode {
+    let mode = if joint.mimic.is_some() {
+        JointMode::Free
+    } else {
+        joint.mode
+    };
+    match mode {
         JointMode::Position => {
             data.set_motor(
                 axis,
-                joint.target_position as f32,
-                0.0,
+                joint.reference as f32,
+                joint.reference_velocity as f32,
                 joint.kp as f32,
                 joint.kd as f32,
             );
         }
         JointMode::Velocity => {
-            data.set_motor(axis, 0.0, joint.target_velocity as f32, 0.0, joint.kd as f32);
+            data.set_motor(axis, 0.0, joint.commanded_velocity() as f32, 0.0, joint.kd as f32);
         }
-        JointMode::Kinematic => {
+        JointMode::Kinematic | JointMode::Free => {
             data.set_motor(axis, 0.0, 0.0, 0.0, 0.0);
         }
     }
-    data.set_motor_max_force(axis, joint.max_force as f32);
+    let max_force = if mode == JointMode::Free { 0.0 } else { joint.max_force };
+    data.set_motor_max_force(axis, max_force as f32);
+}
+
+/// The collision shapes of a geometry on a body: one for a primitive, one triangle mesh
+/// for a mesh on a static or kinematic body, and on a dynamic body one convex hull per
+/// part of the mesh (PyBullet's rule), with a warning when a one-part mesh is not convex.
+fn collision_shapes(g: &Geometry, dynamic: bool, warnings: &mut Vec<String>) -> Vec<(SharedShape, Pose)> {
+    let Geometry::Mesh(m) = g else {
+        return vec![shared_shape(g)];
+    };
+    if !dynamic {
+        return vec![shared_shape(g)];
+    }
+    // Distinct points only: an STL repeats each vertex for every triangle that shares it
+    // (about six times), and the hull and the convexity check cost per point.
+    let distinct = |vertices: &[[f32; 3]]| {
+        let mut keys: Vec<[u32; 3]> = vertices.iter().map(|v| v.map(f32::to_bits)).collect();
+        keys.sort_unstable();
+        keys.dedup();
+        keys.into_iter()
+            .map(|k| rapier3d::math::Vector::new(f32::from_bits(k[0]), f32::from_bits(k[1]), f32::from_bits(k[2])))
+            .collect::<Vec<_>>()
+    };
+    let parts: Vec<Vec<rapier3d::math::Vector>> = if m.parts.is_empty() {
+        vec![distinct(&m.vertices)]
+    } else {
+        m.parts.iter().map(|p| distinct(p)).collect()
+    };
+    let mut hulls = Vec::with_capacity(parts.len());
+    for points in &parts {
+        match hull(points) {
+            Some((vertices, indices)) => {
+                if m.parts.is_empty() && !is_convex(points, &vertices, &indices) {
+                    warnings.push(format!(
+                        "mesh {}: not convex, so a dynamic body collides with its convex hull (as in PyBullet); for a closer fit give a convex decomposition (an OBJ with one `o` section per convex part)",
+                        m.source.display()
+                    ));
+                }
+                if let Some(s) = SharedShape::convex_mesh(vertices, &indices) {
+                    hulls.push((rapier3d::math::Pose::IDENTITY, s));
+                }
+            }
+            None => warnings.push(format!(
+                "mesh {}: a part has no volume (flat, or fewer than 4 points) and cannot collide on a dynamic body; it was left out",
+                m.source.display()
+            )),
+        }
+    }
+    if hulls.is_empty() {
+        // A body needs a collider for sensors and queries to see it; a tiny ball at its
+        // origin keeps it valid without changing contacts.
+        return vec![(SharedShape::ball(1e-4), Pose::identity())];
+    }
+    // The hulls go into one compound even when there is one: parry bounds a convex
+    // polyhedron by visiting every vertex (the hulls of vendor STL meshes have hundreds)
+    // at every step a link moves, which was a third of a mesh arm's step; a compound
+    // keeps its local bounding box and only transforms it (Bullet's cached hull bounds).
+    vec![(SharedShape::compound(hulls), Pose::identity())]
+}
+
+/// A hull's vertices and outward triangles.
+type Hull = (Vec<rapier3d::math::Vector>, Vec<[u32; 3]>);
+
+/// The convex hull of a point set, or `None` when it is flat or degenerate. parry's hull
+/// may panic on some degenerate inputs; a bad mesh must not bring the simulator down.
+fn hull(points: &[rapier3d::math::Vector]) -> Option<Hull> {
+    if points.len() < 4 || points.iter().any(|p| !p.is_finite()) {
+        return None;
+    }
+    let result = std::panic::catch_unwind(|| parry3d::transformation::try_convex_hull(points)).ok()?;
+    let (vertices, indices) = result.ok()?;
+    (!indices.is_empty()).then_some((vertices, indices))
+}
+
+/// Whether a mesh equals its convex hull: no mesh vertex lies clearly inside the hull
+/// (deeper than 0.5 % of the hull's diagonal below every face). A concave mesh has such a
+/// vertex at the bottom of each dent, unless the dent is spanned by hull vertices alone.
+fn is_convex(points: &[rapier3d::math::Vector], vertices: &[rapier3d::math::Vector], indices: &[[u32; 3]]) -> bool {
+    let (mut lo, mut hi) = (vertices[0], vertices[0]);
+    for v in vertices {
+        lo = lo.min(*v);
+        hi = hi.max(*v);
+    }
+    let tolerance = 0.005 * (hi - lo).length();
+    // Outward face planes n·x = d; a point is at depth d - n·x below a face.
+    let planes: Vec<(rapier3d::math::Vector, f32)> = indices
+        .iter()
+        .filter_map(|t| {
+            let [a, b, c] = t.map(|i| vertices[i as usize]);
+            let n = (b - a).cross(c - a);
+            let len = n.length();
+            (len > 0.0).then(|| (n / len, (n / len).dot(a)))
+        })
+        .collect();
+    points
+        .iter()
+        .all(|p| planes.iter().any(|(n, d)| d - n.dot(*p) <= tolerance))
 }
 
 /// A parry shape for a geometry, and the pose correction from parry's axis convention

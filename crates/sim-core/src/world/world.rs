@@ -4,7 +4,7 @@ use rapier3d::prelude::*;
 
 use super::collection::Collection;
 use super::log::Log;
-use super::object::{Detection, ForceReading, Handle, Joint, Object, ObjectKind, ProximitySensor};
+use super::object::{Detection, ForceReading, Handle, Joint, Mimic, Object, ObjectKind, ProximitySensor};
 use super::object_path::{ObjectTree, PathError, PathQuery, resolve};
 use super::physics::{BodyRole, Physics, TreeView, configure_motor};
 use super::signals::Signals;
@@ -45,6 +45,10 @@ pub struct World {
     /// Whether bodies were moved since rapier's collision structures were last updated,
     /// so scene queries must refresh them first (rapier updates them only when stepping).
     queries_stale: bool,
+    /// Joints that follow another (`<mimic>`), in handle order.
+    mimics: Vec<Handle>,
+    /// Simulated joints with a speed limit, whose position reference moves each step.
+    profiled: Vec<Handle>,
 }
 
 /// CoppeliaSim's simulation states (`sim.getSimulationState`).
@@ -98,8 +102,25 @@ impl World {
                             kp: j.kp,
                             kd: j.kd,
                             force: 0.0,
+                            damping: j.damping,
+                            friction: j.friction,
+                            max_velocity: j.max_velocity,
+                            mimic: j.mimic.map(|m| Mimic {
+                                leader: m.leader as Handle,
+                                multiplier: m.multiplier,
+                                offset: m.offset,
+                            }),
+                            reference: 0.0,
+                            reference_velocity: 0.0,
                         };
                         joint.position = joint.constrain(j.initial);
+                        // A speed-limited controller starts where the joint is and moves
+                        // towards the target from there; an unlimited one servos to it.
+                        joint.reference = if joint.max_velocity.is_some() {
+                            joint.position
+                        } else {
+                            joint.target_position
+                        };
                         ObjectKind::Joint(joint)
                     }
                     ObjectModelKind::Dummy => ObjectKind::Dummy,
@@ -136,6 +157,20 @@ impl World {
             world: &|h| objects[h as usize].world,
         };
         let physics = Physics::build(&tree, &order, &model.settings, &mut warnings);
+        let warnings = crate::scene::dedup_warnings(warnings);
+        let mimics = objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| matches!(&o.kind, ObjectKind::Joint(j) if j.mimic.is_some()))
+            .map(|(i, _)| i as Handle)
+            .collect();
+        let profiled = objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| matches!(&o.kind, ObjectKind::Joint(j) if j.max_velocity.is_some()))
+            .map(|(i, _)| i as Handle)
+            .filter(|h| physics.joints.contains_key(h))
+            .collect();
         World {
             objects,
             roots,
@@ -155,6 +190,8 @@ impl World {
             uis: Default::default(),
             ik: Default::default(),
             vision: Default::default(),
+            mimics,
+            profiled,
         }
     }
 
@@ -314,7 +351,7 @@ impl World {
                     let pose = math::to_physics(&(self.objects[cur as usize].world * rel.inverse()));
                     if let Some(rb) = self.physics.world.bodies.get_mut(entry.handle) {
                         match entry.role {
-                            BodyRole::Kinematic => rb.set_next_kinematic_position(pose),
+                            BodyRole::Kinematic => place_kinematic(rb, pose),
                             _ => {
                                 rb.set_position(pose, true);
                                 rb.set_linvel(Vector::ZERO, true);
@@ -356,13 +393,51 @@ impl World {
             )));
         }
         let j = self.joint_mut(h)?;
+        if j.max_velocity.is_some() {
+            // The speed-limited controller goes on from where the joint now is.
+            j.reference = j.constrain(q);
+            j.reference_velocity = 0.0;
+        }
+        self.place_joint(h, q)?;
+        self.move_followers(h)
+    }
+
+    /// Puts the `<mimic>` followers of joint `h` where its position says, and theirs in
+    /// turn (the loader refuses mimic cycles, and the depth is bounded by the count).
+    fn move_followers(&mut self, h: Handle) -> Result<(), SimError> {
+        let mut todo = vec![h];
+        let mut hops = 0;
+        while let Some(leader) = todo.pop() {
+            hops += 1;
+            if hops > self.mimics.len() + 1 {
+                break;
+            }
+            let q = self.joint(leader)?.position;
+            for i in 0..self.mimics.len() {
+                let f = self.mimics[i];
+                let Ok(Joint { mimic: Some(m), .. }) = self.joint(f) else {
+                    continue;
+                };
+                if m.leader == leader {
+                    let target = m.multiplier * q + m.offset;
+                    self.place_joint(f, target)?;
+                    todo.push(f);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Sets one joint's position (clamped, wrapped), and rapier's coordinate if it is
+    /// simulated, and moves its subtree; its followers are `move_followers`'s business.
+    fn place_joint(&mut self, h: Handle, q: f64) -> Result<(), SimError> {
+        let j = self.joint_mut(h)?;
         let q = j.constrain(q);
         let old = j.position;
         j.position = q;
         if let Some(b) = self.physics.joints.get(&h).copied()
             && let Some((mb, link)) = self.physics.world.multibody_joints.get_mut(b.joint)
         {
-            // A dynamic joint: move rapier's coordinate too, then its links.
             if let Some(l) = mb.link_mut(link) {
                 let mut disp = [0.0f32; 6];
                 disp[0] = (q - old) as f32;
@@ -392,6 +467,10 @@ impl World {
             // CoppeliaSim moves a kinematic joint towards its target; gantry moves it at once.
             let q = j.target_position;
             return self.set_joint_position(h, q);
+        }
+        if j.max_velocity.is_none() {
+            // A speed-limited reference moves at the next step (`step_physics`).
+            j.advance_reference(0.0);
         }
         self.push_motor(h);
         Ok(())
@@ -447,6 +526,17 @@ impl World {
     /// [`World::advance_time`]), because CoppeliaSim scripts see the step's start time
     /// until the step ends.
     pub fn step_physics(&mut self) {
+        // Speed-limited position controllers: move their references one step on.
+        let dt = self.settings.dt;
+        for i in 0..self.profiled.len() {
+            let h = self.profiled[i];
+            if let ObjectKind::Joint(j) = &mut self.objects[h as usize].kind
+                && j.mode == JointMode::Position
+                && j.advance_reference(dt)
+            {
+                self.push_motor(h);
+            }
+        }
         // Kinematic bodies follow the tree. Only those that moved are touched: rapier
         // treats every body given a target as moving (broad phase, contacts) even when
         // the target is where it already is.
@@ -458,7 +548,7 @@ impl World {
             if let Some(rb) = self.physics.world.bodies.get_mut(e.handle)
                 && *rb.position() != target
             {
-                rb.set_next_kinematic_position(target);
+                place_kinematic(rb, target);
             }
         }
         for _ in 0..self.physics.rapier_steps {
@@ -467,6 +557,22 @@ impl World {
         }
         self.queries_stale = false;
         self.read_back();
+        // Kinematic followers of simulated leaders follow in the tree (simulated pairs are
+        // coupled inside rapier and read back like any joint).
+        for i in 0..self.mimics.len() {
+            let f = self.mimics[i];
+            if self.physics.joints.contains_key(&f) {
+                continue;
+            }
+            if let Ok(Joint { mimic: Some(m), .. }) = self.joint(f)
+                && self.physics.joints.contains_key(&m.leader)
+                && let Ok(leader) = self.joint(m.leader)
+            {
+                let q = m.multiplier * leader.position + m.offset;
+                // Both handles were checked to be joints above, so this cannot fail.
+                let _ = self.place_joint(f, q);
+            }
+        }
     }
 
     /// Moves simulation time forward by one step.
@@ -493,11 +599,11 @@ impl World {
                     j.position = if j.cyclic { math::wrap_angle(q) } else { q };
                     j.velocity = vel;
                     j.force = match j.mode {
-                        JointMode::Position => {
-                            (j.kp * (j.target_position - q) - j.kd * vel).clamp(-j.max_force, j.max_force)
-                        }
-                        JointMode::Velocity => (j.kd * (j.target_velocity - vel)).clamp(-j.max_force, j.max_force),
-                        JointMode::Kinematic => 0.0,
+                        _ if j.mimic.is_some() => 0.0,
+                        JointMode::Position => (j.kp * (j.reference - q) + j.kd * (j.reference_velocity - vel))
+                            .clamp(-j.max_force, j.max_force),
+                        JointMode::Velocity => (j.kd * (j.commanded_velocity() - vel)).clamp(-j.max_force, j.max_force),
+                        JointMode::Kinematic | JointMode::Free => 0.0,
                     };
                 }
             }
@@ -675,6 +781,17 @@ impl World {
         let &(bi, rel) = self.physics.body_of.get(&h)?;
         let rb = self.physics.world.bodies.get(self.physics.bodies[bi].handle)?;
         Some(math::from_physics(rb.position()) * rel)
+    }
+}
+
+/// Moves a body that follows the tree: a kinematic body is given its next pose (so
+/// contacts see its velocity); one that roots a mechanism was made fixed (see
+/// `Physics::mount`) and is teleported.
+fn place_kinematic(rb: &mut RigidBody, pose: rapier3d::math::Pose) {
+    if rb.is_fixed() {
+        rb.set_position(pose, true);
+    } else {
+        rb.set_next_kinematic_position(pose);
     }
 }
 
