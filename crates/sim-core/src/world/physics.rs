@@ -383,23 +383,42 @@ impl Physics {
             Group::from_bits_retain(shape.collision_mask),
             InteractionTestMode::And,
         );
+        // The convex parts of every mesh of a dynamic shape go into one compound, even
+        // when there is one: parry bounds a convex polyhedron by visiting all its points
+        // (the hulls of vendor STL meshes have hundreds) whenever the body moves, which
+        // was a third of a mesh arm's step, while a compound keeps its local bounding box
+        // and only transforms it (Bullet caches hull bounds the same way). One collider
+        // per link also leaves the broad phase fewer pairs between a robot's links.
+        let mut hulls: Vec<(rapier3d::math::Pose, SharedShape)> = Vec::new();
+        let mut pieces: Vec<(SharedShape, Pose)> = Vec::new();
         for g in &shape.geoms {
+            let merge = dynamic && matches!(g.geometry, Geometry::Mesh(_));
             for (shared, fix) in collision_shapes(&g.geometry, dynamic, warnings) {
                 let local = rel * g.local * fix;
-                let collider = ColliderBuilder::new(shared)
-                    .position(math::to_physics(&local))
-                    .density(density as f32)
-                    .friction(shape.friction as f32)
-                    .restitution(shape.restitution as f32)
-                    .collision_groups(groups)
-                    .solver_groups(groups)
-                    .sensor(!shape.respondable)
-                    .build();
-                let body = self.bodies[bi].handle;
-                let ch = self.world.insert_collider(collider, Some(body));
-                self.collider_object.insert(ch, h);
-                self.object_colliders.entry(h).or_default().push(ch);
+                if merge {
+                    hulls.push((math::to_physics(&local), shared));
+                } else {
+                    pieces.push((shared, local));
+                }
             }
+        }
+        if !hulls.is_empty() {
+            pieces.push((SharedShape::compound(hulls), Pose::identity()));
+        }
+        for (shared, local) in pieces {
+            let collider = ColliderBuilder::new(shared)
+                .position(math::to_physics(&local))
+                .density(density as f32)
+                .friction(shape.friction as f32)
+                .restitution(shape.restitution as f32)
+                .collision_groups(groups)
+                .solver_groups(groups)
+                .sensor(!shape.respondable)
+                .build();
+            let body = self.bodies[bi].handle;
+            let ch = self.world.insert_collider(collider, Some(body));
+            self.collider_object.insert(ch, h);
+            self.object_colliders.entry(h).or_default().push(ch);
         }
     }
 
@@ -608,7 +627,7 @@ fn collision_shapes(g: &Geometry, dynamic: bool, warnings: &mut Vec<String>) -> 
                     ));
                 }
                 if let Some(s) = SharedShape::convex_mesh(vertices, &indices) {
-                    hulls.push((rapier3d::math::Pose::IDENTITY, s));
+                    hulls.push((s, Pose::identity()));
                 }
             }
             None => warnings.push(format!(
@@ -620,13 +639,9 @@ fn collision_shapes(g: &Geometry, dynamic: bool, warnings: &mut Vec<String>) -> 
     if hulls.is_empty() {
         // A body needs a collider for sensors and queries to see it; a tiny ball at its
         // origin keeps it valid without changing contacts.
-        return vec![(SharedShape::ball(1e-4), Pose::identity())];
+        hulls.push((SharedShape::ball(1e-4), Pose::identity()));
     }
-    // The hulls go into one compound even when there is one: parry bounds a convex
-    // polyhedron by visiting every vertex (the hulls of vendor STL meshes have hundreds)
-    // at every step a link moves, which was a third of a mesh arm's step; a compound
-    // keeps its local bounding box and only transforms it (Bullet's cached hull bounds).
-    vec![(SharedShape::compound(hulls), Pose::identity())]
+    hulls
 }
 
 /// A hull's vertices and outward triangles.
