@@ -78,20 +78,28 @@ fn pendulum(world_root: bool, dynamics: &str) -> String {
     } else {
         ""
     };
+    let bob = bob_link();
     format!(
         r#"<robot name="pendulum">
   {root}
   <link name="base">
     <inertial><mass value="2"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
   </link>
-  <link name="bob">
-    <inertial><origin xyz="{L} 0 0"/><mass value="{M}"/>
-      <inertia ixx="{I_COM}" iyy="{I_COM}" izz="{I_COM}" ixy="0" ixz="0" iyz="0"/></inertial>
-  </link>
+  {bob}
   <joint name="swing" type="continuous">
     <origin xyz="0 0 1"/><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/>{dynamics}
   </joint>
 </robot>"#
+    )
+}
+
+/// The pendulum's bob: its centre of mass `L` along +X of its link frame.
+fn bob_link() -> String {
+    format!(
+        r#"<link name="bob">
+    <inertial><origin xyz="{L} 0 0"/><mass value="{M}"/>
+      <inertia ixx="{I_COM}" iyy="{I_COM}" izz="{I_COM}" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>"#
     )
 }
 
@@ -140,16 +148,14 @@ fn free_pendulum_falls_as_the_equation_of_motion_says() {
 fn free_pendulum_below_a_kinematic_joint_falls_at_the_right_speed() {
     // A mixed robot: a kinematic shoulder (held where the script puts it) carrying a free
     // pendulum. The pendulum's mechanism is rooted on the shoulder's kinematic body.
+    let bob = bob_link();
     let urdf = format!(
         r#"<robot name="mixed">
   <link name="base"/>
   <link name="upper">
     <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
   </link>
-  <link name="bob">
-    <inertial><origin xyz="{L} 0 0"/><mass value="{M}"/>
-      <inertia ixx="{I_COM}" iyy="{I_COM}" izz="{I_COM}" ixy="0" ixz="0" iyz="0"/></inertial>
-  </link>
+  {bob}
   <joint name="shoulder" type="continuous">
     <origin xyz="0 0 1"/><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
   </joint>

@@ -675,6 +675,7 @@ impl Ctx<'_> {
             });
         }
         let i = &link.inertial;
+        // Upper triangle, row by row: ixx, ixy, ixz, iyy, iyz, izz (kg·m²).
         let tensor = [
             i.inertia.ixx,
             i.inertia.ixy,
@@ -703,14 +704,7 @@ impl Ctx<'_> {
                 mass: i.mass.value,
                 com: [t.x, t.y, t.z],
                 frame: [r.i, r.j, r.k, r.w],
-                inertia: [
-                    i.inertia.ixx,
-                    i.inertia.ixy,
-                    i.inertia.ixz,
-                    i.inertia.iyy,
-                    i.inertia.iyz,
-                    i.inertia.izz,
-                ],
+                inertia: tensor,
             }
         } else {
             if dynamic {
