@@ -226,10 +226,23 @@ fn a_viewer_gets_the_scene_then_deltas_and_panels() {
     let rob = objects.iter().find(|o| o["alias"] == "bubbleRob").unwrap();
     assert_eq!(rob["visuals"][0]["geom"], "sphere");
 
-    // The first delta has every pose; the tick has every joint.
+    // The first delta has every pose; the tick has every joint; the panels list three
+    // running scripts and BubbleRob's speed slider. They come in whatever order the
+    // simulation's timing gives, and the slider's panel only once (panels are sent when
+    // they change), so one loop takes each from whichever frame carries it.
     let mut poses = None;
     let mut tick = None;
-    while poses.is_none() || tick.is_none() {
+    let mut scripts = None;
+    let mut uis = None;
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while poses.is_none() || tick.is_none() || scripts.is_none() || uis.is_none() {
+        assert!(
+            Instant::now() < deadline,
+            "within 30 s: poses {poses:?}, tick {}, scripts {}, uis {}",
+            tick.is_some(),
+            scripts.is_some(),
+            uis.is_some()
+        );
         let f = ws.recv();
         match f.opcode {
             2 if f.payload[..4] == 1u32.to_le_bytes() => {
@@ -239,6 +252,13 @@ fn a_viewer_gets_the_scene_then_deltas_and_panels() {
                 let j: Json = serde_json::from_slice(&f.payload).unwrap();
                 if j["t"] == "tick" && j.get("joints").is_some() {
                     tick.get_or_insert(j);
+                } else if j["t"] == "panels" {
+                    if let Some(s) = j.get("scripts") {
+                        scripts = Some(s.clone());
+                    }
+                    if let Some(u) = j.get("uis").filter(|u| !u.as_array().unwrap().is_empty()) {
+                        uis = Some(u.clone());
+                    }
                 }
             }
             _ => {}
@@ -249,18 +269,6 @@ fn a_viewer_gets_the_scene_then_deltas_and_panels() {
     assert_eq!(tick["joints"].as_array().unwrap().len(), joints);
     assert_eq!(tick["state"], 17);
 
-    // Panels: three running scripts and BubbleRob's speed slider.
-    let mut scripts = None;
-    let mut uis = None;
-    while scripts.is_none() || uis.is_none() {
-        let p = ws.recv_type("panels");
-        if let Some(s) = p.get("scripts") {
-            scripts = Some(s.clone());
-        }
-        if let Some(u) = p.get("uis").filter(|u| !u.as_array().unwrap().is_empty()) {
-            uis = Some(u.clone());
-        }
-    }
     let scripts = scripts.unwrap();
     assert_eq!(scripts.as_array().unwrap().len(), 3);
     assert!(scripts.as_array().unwrap().iter().all(|s| s["state"] == "running"));
