@@ -157,9 +157,16 @@ mod tests {
     use super::*;
     use crate::scene::files::DiskFiles;
 
+    /// A fresh folder for one test's files (each test removes its own at the end).
+    fn scratch(tag: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("gantry-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("tmp dir");
+        dir
+    }
+
     #[test]
     fn package_uri_resolves_against_ancestors_and_package_paths() {
-        let dir = std::env::temp_dir().join(format!("gantry-mesh-{}", std::process::id()));
+        let dir = scratch("mesh");
         let pkg = dir.join("my_robot");
         std::fs::create_dir_all(pkg.join("meshes")).expect("tmp dir");
         std::fs::create_dir_all(pkg.join("urdf")).expect("tmp dir");
@@ -180,8 +187,7 @@ mod tests {
 
     #[test]
     fn multi_part_obj_keeps_its_sections_scaled() {
-        let dir = std::env::temp_dir().join(format!("gantry-obj-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("tmp dir");
+        let dir = scratch("obj");
         let p = dir.join("two.obj");
         std::fs::write(
             &p,
@@ -210,8 +216,7 @@ mod tests {
             bytes.extend(f.to_le_bytes());
         }
         bytes.extend([0, 0]);
-        let dir = std::env::temp_dir().join(format!("gantry-bstl-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("tmp dir");
+        let dir = scratch("bstl");
         let p = dir.join("foot.stl");
         std::fs::write(&p, &bytes).expect("write");
         let m = load_mesh(&DiskFiles, &p, [1.0; 3]).expect("loads as binary STL");
@@ -222,8 +227,7 @@ mod tests {
 
     #[test]
     fn ascii_stl_loads_and_scales() {
-        let dir = std::env::temp_dir().join(format!("gantry-stl-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("tmp dir");
+        let dir = scratch("stl");
         let p = dir.join("tri.stl");
         std::fs::write(
             &p,

@@ -169,11 +169,7 @@ impl Physics {
             } else {
                 match placement {
                     Above::Shape(s) => match p.body_of.get(&s).copied() {
-                        Some((bi, offset)) => {
-                            let rel = offset * (tree.world)(s).inverse() * pose;
-                            p.body_of.insert(h, (bi, rel));
-                            p.add_colliders(h, bi, &rel, shape, warnings);
-                        }
+                        Some((bi, offset)) => p.ride(tree, h, s, (bi, offset), shape, warnings),
                         None => {
                             p.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
                         }
@@ -191,9 +187,7 @@ impl Physics {
                                 Some((bi, offset))
                                     if matches!(p.bodies[bi].role, BodyRole::Fixed | BodyRole::Kinematic) =>
                                 {
-                                    let rel = offset * (tree.world)(s).inverse() * pose;
-                                    p.body_of.insert(h, (bi, rel));
-                                    p.add_colliders(h, bi, &rel, shape, warnings);
+                                    p.ride(tree, h, s, (bi, offset), shape, warnings);
                                 }
                                 _ => {
                                     p.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
@@ -273,6 +267,22 @@ impl Physics {
                 });
             }
         }
+    }
+
+    /// Makes shape `h` ride on the body of shape `s`, which sits at `offset` in body
+    /// `bi`: its colliders join that body, at their pose relative to it.
+    fn ride(
+        &mut self,
+        tree: &TreeView<'_>,
+        h: Handle,
+        s: Handle,
+        (bi, offset): (usize, Pose),
+        shape: &ShapeModel,
+        warnings: &mut Vec<String>,
+    ) {
+        let rel = offset * (tree.world)(s).inverse() * (tree.world)(h);
+        self.body_of.insert(h, (bi, rel));
+        self.add_colliders(h, bi, &rel, shape, warnings);
     }
 
     /// The body index on the parent side of joint or force sensor `j`.
