@@ -4,5 +4,10 @@
 mod convert;
 pub mod sandbox;
 mod simulation;
+mod threads;
 
-pub use simulation::{Hook, ScriptError, ScriptLimits, ScriptState, Simulation, StepBoundary, check_syntax};
+pub use threads::{HOST_FUNCTIONS, HostAvailability};
+
+pub use simulation::{
+    Hook, ScriptControl, ScriptError, ScriptLimits, ScriptState, Simulation, StepBoundary, check_syntax,
+};

@@ -3,11 +3,12 @@
 //! Scripts are student or downloaded code running inside the user's process, so they get
 //! computation and the `sim` API, and nothing that reaches the machine:
 //!
-//! * no process, file or environment access: `io`, `package`, `debug` and the `os`
-//!   functions listed in [`REMOVED_OS`] are not loaded; `os.time`, `os.clock`, `os.date`
-//!   and `os.difftime` remain;
+//! * no process, file or environment access: `io`, `package`, `debug` (but for
+//!   `debug.traceback`) and the `os` functions listed in [`REMOVED_OS`] are not loaded;
+//!   `os.time`, `os.clock`, `os.date` and `os.difftime` remain;
 //! * no loading of code other than the script's own file: the globals in
-//!   [`REMOVED_GLOBALS`] are gone (so no `require` of a C module, no bytecode), and script
+//!   [`REMOVED_GLOBALS`] are gone (so no bytecode; `require` returns only the API's
+//!   namespaces, [`REQUIRABLE`]), and script
 //!   files themselves are compiled as text only ([`SOURCE_MODE`]), because Lua does not
 //!   verify binary chunks and a crafted one can corrupt memory;
 //! * no way to change what other scripts see: every script gets its own copy of the
@@ -34,7 +35,9 @@ use crate::simulation::ScriptLimits;
 
 /// Globals removed from the base library: each loads code from a file or from a string
 /// (which may be bytecode), bypassing the checks on script files.
-pub const REMOVED_GLOBALS: &[&str] = &["dofile", "loadfile", "load", "loadstring", "require"];
+/// (`require` comes with the `package` library, which is not loaded; scripts get the
+/// sandbox's own, see [`add_require`].)
+pub const REMOVED_GLOBALS: &[&str] = &["dofile", "loadfile", "load", "loadstring"];
 
 /// `os` functions removed: they run programs, touch files, read the environment, end
 /// the process or change its locale.
@@ -95,6 +98,32 @@ pub(crate) fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
         os.raw_set(*name, LuaValue::Nil)?;
     }
     lua.load(HARDEN).set_name("@gantry/sandbox.lua").exec()?;
+    // `debug.traceback` only: the templates of CoppeliaSim 4.3-4.5 threaded scripts
+    // report a coroutine's error with `error(debug.traceback(co, msg), 2)`. The rest of
+    // the debug library reaches other scripts' locals and the registry.
+    let debug = lua.create_table()?;
+    debug.set(
+        "traceback",
+        lua.create_function(|lua, args: mlua::MultiValue| {
+            let mut it = args.into_iter();
+            match it.next().unwrap_or(LuaValue::Nil) {
+                // A coroutine's stack cannot be walked without the debug library; its
+                // message alone already names file and line.
+                LuaValue::Thread(_) => Ok(it.next().unwrap_or(LuaValue::Nil)),
+                LuaValue::String(m) => {
+                    let level = match it.next() {
+                        Some(LuaValue::Integer(l)) => usize::try_from(l).unwrap_or(1),
+                        _ => 1,
+                    };
+                    Ok(LuaValue::String(lua.traceback(Some(&m.to_string_lossy()), level)?))
+                }
+                LuaValue::Nil => Ok(LuaValue::String(lua.traceback(None, 1)?)),
+                // Lua returns a message that is not a string untouched.
+                other => Ok(other),
+            }
+        })?,
+    )?;
+    g.raw_set("debug", debug)?;
     lua.set_memory_limit(limits.memory)?;
     Ok(lua)
 }
@@ -146,6 +175,47 @@ fn copy_table(lua: &Lua, t: &Table, copies: &Table) -> mlua::Result<Table> {
         copy.set_metatable(Some(mt))?;
     }
     Ok(copy)
+}
+
+/// The modules `require` returns: the API's namespaces, as in CoppeliaSim 4.6+ where
+/// scripts begin with `sim = require 'sim'`.
+pub const REQUIRABLE: &[&str] = &["sim", "simIK", "simUI", "simVision"];
+
+/// Gives a script's environment a `require` that returns the script's own copy of an
+/// API namespace and refuses everything else by name: there is no file or C module to
+/// load in the sandbox. Written in Lua and compiled with the script's environment so
+/// that it closes over that environment only through Lua (collectable with it).
+pub(crate) fn add_require(lua: &Lua, env: &Table) -> mlua::Result<()> {
+    const REQUIRE: &str = r#"
+local allowed, error, type, tostring, concat = ...
+function require(name)
+    if type(name) ~= 'string' then
+        error("bad argument #1 to 'require' (string expected, got " .. type(name) .. ")", 2)
+    end
+    -- CoppeliaSim 4.6 also accepts versioned names such as 'sim-2'.
+    local base = name:match('^([%w_]+)%-%d+$') or name
+    if allowed[base] then return _ENV[base] end
+    error("module '" .. tostring(name) .. "' is not available in gantry: scripts may require "
+        .. concat(allowed, ', ') .. " (loading files and C modules is not allowed in the sandbox)", 2)
+end
+"#;
+    let allowed = lua.create_table()?;
+    for (i, name) in REQUIRABLE.iter().enumerate() {
+        allowed.raw_set(i + 1, *name)?;
+        allowed.raw_set(*name, true)?;
+    }
+    let g = lua.globals();
+    let concat = g.get::<Table>("table")?.get::<mlua::Function>("concat")?;
+    lua.load(REQUIRE)
+        .set_name("@gantry/require.lua")
+        .set_environment(env.clone())
+        .call::<()>((
+            allowed,
+            g.get::<mlua::Function>("error")?,
+            g.get::<mlua::Function>("type")?,
+            g.get::<mlua::Function>("tostring")?,
+            concat,
+        ))
 }
 
 /// Confines the API's file exports (`sim.exportGraphStreams`) to the scene's folder, or

@@ -21,11 +21,13 @@ use gantry_sim_core::api::{self, Args, CallContext};
 use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::world::SimulationState;
 use gantry_sim_core::{Handle, Value, World};
-use mlua::{Function, HookTriggers, Lua, MultiValue, Table, Value as LuaValue, VmState};
+use mlua::thread::ThreadStatus;
+use mlua::{Function, HookTriggers, Lua, MultiValue, Table, Thread, Value as LuaValue, VmState};
 use smallvec::SmallVec;
 
 use crate::convert::{to_lua, to_multi, to_value};
 use crate::sandbox::{self, SOURCE_MODE, new_state};
+use crate::threads::{self, ThreadMode};
 
 /// Limits that keep a script from stalling or exhausting the simulator.
 #[derive(Debug, Clone, Copy)]
@@ -93,19 +95,65 @@ struct Script {
     vision: Option<Function>,
     state: ScriptState,
     initialised: bool,
+    /// The coroutine running `sysCall_thread` (or `sysCall_threadmain`), from
+    /// initialisation until it returns or fails (see [`crate::threads`]).
+    thread: Option<Thread>,
 }
 
 /// What the `sim` closures share with the simulation.
-struct Shared {
-    world: RefCell<World>,
+pub(crate) struct Shared {
+    pub(crate) world: RefCell<World>,
     /// Object of the script running now, for `'.'` in paths.
-    current: Cell<Option<Handle>>,
-    current_name: RefCell<Rc<str>>,
-    deadline: Cell<Instant>,
+    pub(crate) current: Cell<Option<Handle>>,
+    /// Index of the script running now, for its thread mode.
+    pub(crate) current_script: Cell<Option<usize>>,
+    pub(crate) current_name: RefCell<Rc<str>>,
+    pub(crate) deadline: Cell<Instant>,
     /// Set once the running hook passed its deadline; cleared when the next hook starts.
-    interrupted: Cell<bool>,
+    pub(crate) interrupted: Cell<bool>,
     /// Environments of scripts by object, for `sim.callScriptFunction`.
-    envs: RefCell<Vec<(Handle, Table, Rc<str>)>>,
+    pub(crate) envs: RefCell<Vec<(Handle, Table, Rc<str>)>>,
+    /// Each script's thread mode, by script index.
+    pub(crate) thread_modes: RefCell<Vec<ThreadMode>>,
+    /// The script thread being resumed now (null when none): only it is pre-empted,
+    /// not a coroutine of the script's own running inside it.
+    pub(crate) running_thread: Cell<*const std::ffi::c_void>,
+    /// When the thread being resumed is pre-empted, if its mode allows it.
+    pub(crate) slice_end: Cell<Option<Instant>>,
+    /// A start, pause or stop asked for by a script, carried out once no script runs.
+    pub(crate) control: Cell<Option<ScriptControl>>,
+}
+
+impl Shared {
+    /// Whether the running code is a script thread whose time slice is over and whose
+    /// mode lets it be pre-empted (see [`crate::threads`]).
+    fn preemption_due(&self, lua: &Lua, now: Instant) -> bool {
+        let Some(end) = self.slice_end.get() else {
+            return false;
+        };
+        if now <= end {
+            return false;
+        }
+        let preemptive = self
+            .current_script
+            .get()
+            .and_then(|i| self.thread_modes.borrow().get(i).map(ThreadMode::preemptive))
+            .unwrap_or(false);
+        preemptive && lua.current_thread().to_pointer() == self.running_thread.get()
+    }
+}
+
+/// Simulation control asked for by a script (`sim.stopSimulation()` ...). A script
+/// cannot stop the simulation under its own feet, so the request is carried out at the
+/// end of the step (or of the call) during which it was made, as in CoppeliaSim.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScriptControl {
+    /// `sim.startSimulation()`.
+    Start,
+    /// `sim.pauseSimulation()`.
+    Pause,
+    /// `sim.stopSimulation()`.
+    Stop,
 }
 
 /// A point inside a step where [`Simulation::step_with`] lets its caller serve
@@ -157,10 +205,15 @@ impl Simulation {
         let shared = Rc::new(Shared {
             world: RefCell::new(world),
             current: Cell::new(None),
+            current_script: Cell::new(None),
             current_name: RefCell::new(Rc::from("remote")),
             deadline: Cell::new(Instant::now() + Duration::from_secs(3600)),
             interrupted: Cell::new(false),
             envs: RefCell::new(Vec::new()),
+            thread_modes: RefCell::new(Vec::new()),
+            running_thread: Cell::new(std::ptr::null()),
+            slice_end: Cell::new(None),
+            control: Cell::new(None),
         });
         install_api(&lua, &shared).map_err(|e| ScriptError(format!("cannot install the sim API: {e}")))?;
         install_budget(&lua, &shared, limits.time_budget)
@@ -181,6 +234,7 @@ impl Simulation {
     fn load_scripts(&mut self) {
         self.scripts.clear();
         self.shared.envs.borrow_mut().clear();
+        *self.shared.thread_modes.borrow_mut() = vec![ThreadMode::default(); self.model.scripts.len()];
         for (index, s) in self.model.scripts.clone().into_iter().enumerate() {
             let object = s.object as Handle;
             let name: Rc<str> = Rc::from(s.path.file_name().and_then(|n| n.to_str()).unwrap_or("script"));
@@ -194,7 +248,7 @@ impl Simulation {
                 Ok(e) => (e, None),
                 Err(e) => (self.lua.globals(), Some(e)),
             };
-            let mut script = Script {
+            let script = Script {
                 object,
                 name: name.clone(),
                 path: s.path.clone(),
@@ -205,14 +259,15 @@ impl Simulation {
                 vision: None,
                 state: ScriptState::Running,
                 initialised: false,
+                thread: None,
             };
-            if let Some(e) = env_error {
-                self.fail(&mut script, e);
-            } else if let Err(e) = self.exec_chunk(&script, &s.source) {
-                self.fail(&mut script, e);
-            }
             self.shared.envs.borrow_mut().push((object, script.env.clone(), name));
             self.scripts.push(script);
+            if let Some(e) = env_error {
+                self.fail(index, e);
+            } else if let Err(e) = self.exec_chunk(index, &s.source) {
+                self.fail(index, e);
+            }
         }
         self.mtimes = self.scripts.iter().map(|s| s.modified).collect();
         self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
@@ -232,11 +287,13 @@ impl Simulation {
             Ok(())
         })?;
         env.set("print", print)?;
+        sandbox::add_require(&self.lua, &env)?;
         Ok(env)
     }
 
-    fn exec_chunk(&self, script: &Script, source: &str) -> mlua::Result<()> {
-        self.enter(script);
+    fn exec_chunk(&self, i: usize, source: &str) -> mlua::Result<()> {
+        self.enter(i);
+        let script = &self.scripts[i];
         let r = self
             .lua
             .load(source)
@@ -248,8 +305,10 @@ impl Simulation {
         r
     }
 
-    fn enter(&self, script: &Script) {
+    fn enter(&self, i: usize) {
+        let script = &self.scripts[i];
         self.shared.current.set(Some(script.object));
+        self.shared.current_script.set(Some(i));
         *self.shared.current_name.borrow_mut() = script.name.clone();
         self.shared.deadline.set(Instant::now() + self.limits.time_budget);
         self.shared.interrupted.set(false);
@@ -258,11 +317,15 @@ impl Simulation {
     fn leave(&self) {
         self.shared.interrupted.set(false);
         self.shared.current.set(None);
+        self.shared.current_script.set(None);
         self.shared.deadline.set(Instant::now() + Duration::from_secs(3600));
     }
 
-    fn fail(&self, script: &mut Script, e: mlua::Error) {
+    /// Marks script `i` errored after `e`: it receives no more hooks but cleanup, and
+    /// its thread, if any, is not resumed again.
+    fn fail(&mut self, i: usize, e: mlua::Error) {
         let msg = error_text(&e);
+        let script = &mut self.scripts[i];
         let mut w = self.shared.world.borrow_mut();
         let t = w.time();
         w.log.push(
@@ -275,6 +338,7 @@ impl Simulation {
         script.actuation = None;
         script.sensing = None;
         script.vision = None;
+        script.thread = None;
     }
 
     /// Calls one hook of one script, if it defines it and has not errored.
@@ -289,13 +353,11 @@ impl Simulation {
             Hook::Init | Hook::Cleanup => script.env.raw_get::<Option<Function>>(hook.name()).ok().flatten(),
         };
         let Some(f) = f else { return };
-        self.enter(&self.scripts[i]);
+        self.enter(i);
         let r = f.call::<()>(());
         self.leave();
         if let Err(e) = r {
-            let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
-            self.fail(&mut s, e);
-            self.scripts[i] = s;
+            self.fail(i, e);
         }
     }
 
@@ -304,6 +366,42 @@ impl Simulation {
         s.actuation = s.env.raw_get::<Option<Function>>(Hook::Actuation.name()).ok().flatten();
         s.sensing = s.env.raw_get::<Option<Function>>(Hook::Sensing.name()).ok().flatten();
         s.vision = s.env.raw_get::<Option<Function>>("sysCall_vision").ok().flatten();
+        // 4.6+ names the thread's body sysCall_thread; 4.0-4.2 threaded child scripts,
+        // sysCall_threadmain. The coroutine first runs at the next step's actuation.
+        let body = ["sysCall_thread", "sysCall_threadmain"]
+            .iter()
+            .find_map(|name| s.env.raw_get::<Option<Function>>(*name).ok().flatten());
+        s.thread = None;
+        if let Some(body) = body {
+            match self.lua.create_thread(body) {
+                Ok(t) => self.scripts[i].thread = Some(t),
+                Err(e) => self.fail(i, e),
+            }
+        }
+    }
+
+    /// Resumes every script thread once, in hook order (see [`crate::threads`]).
+    fn resume_threads(&mut self) {
+        for k in 0..self.order.len() {
+            let i = self.order[k];
+            let Some(thread) = self.scripts[i].thread.clone() else {
+                continue;
+            };
+            self.enter(i);
+            let mode = self.shared.thread_modes.borrow().get(i).copied().unwrap_or_default();
+            self.shared.running_thread.set(thread.to_pointer());
+            self.shared.slice_end.set(Some(Instant::now() + mode.auto_yield));
+            let r = thread.resume::<()>(());
+            self.shared.slice_end.set(None);
+            self.shared.running_thread.set(std::ptr::null());
+            self.leave();
+            match r {
+                Ok(()) if thread.status() == ThreadStatus::Resumable => {}
+                // The body returned: the thread has ended, the script's hooks go on.
+                Ok(()) => self.scripts[i].thread = None,
+                Err(e) => self.fail(i, e),
+            }
+        }
     }
 
     /// Starts (or resumes) the simulation; runs `sysCall_init` of scripts not yet initialised.
@@ -318,6 +416,18 @@ impl Simulation {
                     self.cache_hooks(i);
                 }
             }
+        }
+        self.apply_control();
+    }
+
+    /// Carries out a start, pause or stop that a script asked for (see
+    /// [`ScriptControl`]), now that no script is running.
+    fn apply_control(&mut self) {
+        match self.shared.control.take() {
+            Some(ScriptControl::Start) if self.state() != SimulationState::Running => self.start(),
+            Some(ScriptControl::Pause) => self.pause(),
+            Some(ScriptControl::Stop) => self.stop(),
+            _ => {}
         }
     }
 
@@ -342,6 +452,9 @@ impl Simulation {
         world.log = log;
         *self.shared.world.borrow_mut() = world;
         self.load_scripts();
+        // A cleanup hook asking to stop again, or to start, is not obeyed: the stop
+        // was asked for by whoever called this.
+        self.shared.control.set(None);
     }
 
     /// Runs `sysCall_cleanup` of every initialised script (errored ones included, as in
@@ -382,7 +495,13 @@ impl Simulation {
             SimulationState::Paused => return,
             SimulationState::Running => {}
         }
+        // A script's sysCall_init may have stopped or paused the simulation.
+        if self.state() != SimulationState::Running {
+            return;
+        }
         self.dispatch_ui_events();
+        // CoppeliaSim resumes threads at the start of actuation.
+        self.resume_threads();
         for k in 0..self.order.len() {
             let i = self.order[k];
             if self.scripts[i].actuation.is_some() {
@@ -404,6 +523,7 @@ impl Simulation {
             }
         }
         self.shared.world.borrow_mut().advance_time();
+        self.apply_control();
     }
 
     /// Runs the callbacks of UI events (a slider moved in the viewer, `simUI.interact`)
@@ -431,13 +551,11 @@ impl Simulation {
                     continue;
                 }
             };
-            self.enter(&self.scripts[i]);
+            self.enter(i);
             let r = f.call::<()>(args);
             self.leave();
             if let Err(e) = r {
-                let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
-                self.fail(&mut s, e);
-                self.scripts[i] = s;
+                self.fail(i, e);
             }
         }
     }
@@ -463,13 +581,11 @@ impl Simulation {
             let in_data = match self.vision_in_data(h) {
                 Ok(t) => t,
                 Err(e) => {
-                    let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
-                    self.fail(&mut s, e);
-                    self.scripts[i] = s;
+                    self.fail(i, e);
                     continue;
                 }
             };
-            self.enter(&self.scripts[i]);
+            self.enter(i);
             let r = f.call::<Option<Table>>(in_data);
             self.leave();
             match r {
@@ -494,9 +610,7 @@ impl Simulation {
                 }
                 Ok(None) => {}
                 Err(e) => {
-                    let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
-                    self.fail(&mut s, e);
-                    self.scripts[i] = s;
+                    self.fail(i, e);
                 }
             }
             between(self, StepBoundary::Phase);
@@ -546,9 +660,18 @@ impl Simulation {
     /// # Errors
     /// The CoppeliaSim-style error message.
     pub fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+        if name == "getScriptAssociatedWithObject" {
+            return script_handle(
+                &self.shared,
+                &[Value::Int(1), args.first().cloned().unwrap_or_default()],
+            )
+            .map(|h| vec![Value::Int(h)])
+            .map_err(|e| format!("{e} (in function 'sim.getScriptAssociatedWithObject')"));
+        }
         if name == "getScript" {
-            // A script's handle is the handle of the object it is attached to.
-            return Ok(vec![args.get(1).cloned().unwrap_or(Value::Int(-1))]);
+            return script_handle(&self.shared, args)
+                .map(|h| vec![Value::Int(h)])
+                .map_err(|e| format!("{e} (in function 'sim.getScript')"));
         }
         if name == "callScriptFunction" {
             // Script code running for a remote client is outside any hook, so it gets a
@@ -558,6 +681,7 @@ impl Simulation {
             self.shared.interrupted.set(false);
             let r = call_script_function(&self.lua, &self.shared, args);
             self.leave();
+            self.apply_control();
             return r.map_err(|e| format!("{} (in function 'sim.callScriptFunction')", error_text(&e)));
         }
         let ctx = CallContext {
@@ -637,16 +761,19 @@ impl Simulation {
         s.sensing = None;
         s.vision = None;
         s.initialised = false;
+        // A reloaded threaded script starts its thread afresh, in the default mode.
+        s.thread = None;
+        if let Some(m) = self.shared.thread_modes.borrow_mut().get_mut(i) {
+            *m = ThreadMode::default();
+        }
         for e in self.shared.envs.borrow_mut().iter_mut() {
             if e.0 == object && e.2 == name {
                 e.1 = env.clone();
             }
         }
-        let r = self.exec_chunk(&self.scripts[i], &source);
+        let r = self.exec_chunk(i, &source);
         if let Err(e) = r {
-            let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
-            self.fail(&mut s, e);
-            self.scripts[i] = s;
+            self.fail(i, e);
             return;
         }
         self.model.scripts[i].source = source;
@@ -684,10 +811,10 @@ impl Simulation {
                 continue;
             };
             let lua_args = to_multi(&self.lua, args).map_err(|e| e.to_string())?;
-            self.enter(&self.scripts[i]);
+            self.enter(i);
             let r = f.call::<MultiValue>(lua_args);
             self.leave();
-            return match r {
+            let out = match r {
                 Ok(values) => values
                     .iter()
                     .map(to_value)
@@ -696,30 +823,14 @@ impl Simulation {
                     .map_err(|e| e.to_string()),
                 Err(e) => {
                     let text = error_text(&e);
-                    let mut s = std::mem::replace(&mut self.scripts[i], placeholder_script(&self.lua));
-                    self.fail(&mut s, e);
-                    self.scripts[i] = s;
+                    self.fail(i, e);
                     Err(text)
                 }
             };
+            self.apply_control();
+            return out;
         }
         Ok(None)
-    }
-}
-
-/// A throwaway script used while the real one is borrowed out for error handling.
-fn placeholder_script(lua: &Lua) -> Script {
-    Script {
-        object: -1,
-        name: Rc::from(""),
-        path: PathBuf::new(),
-        modified: None,
-        env: lua.globals(),
-        actuation: None,
-        sensing: None,
-        vision: None,
-        state: ScriptState::Running,
-        initialised: false,
     }
 }
 
@@ -780,8 +891,11 @@ fn display(v: &LuaValue) -> String {
 /// cannot defeat the budget.
 fn install_budget(lua: &Lua, shared: &Rc<Shared>, budget: Duration) -> mlua::Result<()> {
     let hook_shared = shared.clone();
-    lua.set_hook(HookTriggers::new().every_nth_instruction(4096), move |lua, debug| {
-        if hook_shared.interrupted.get() || Instant::now() > hook_shared.deadline.get() {
+    // A global hook: mlua gives it to every thread it creates, and Lua copies it into
+    // the coroutines scripts create, so no coroutine escapes the budget.
+    lua.set_global_hook(HookTriggers::new().every_nth_instruction(4096), move |lua, debug| {
+        let now = Instant::now();
+        if hook_shared.interrupted.get() || now > hook_shared.deadline.get() {
             hook_shared.interrupted.set(true);
             let src = debug.source();
             let place = match (src.short_src.as_deref(), debug.current_line()) {
@@ -795,6 +909,11 @@ fn install_budget(lua: &Lua, shared: &Rc<Shared>, budget: Duration) -> mlua::Res
             // loop can be found like any other runtime error.
             let traceback = lua.traceback(Some(&msg), 0).map(|s| s.to_string_lossy()).unwrap_or(msg);
             Err(mlua::Error::runtime(traceback))
+        } else if hook_shared.preemption_due(lua, now) {
+            // Yields only the script's thread itself, and only at a point where Lua
+            // can yield (mlua checks; where it cannot, the thread runs on and the
+            // budget above still applies). It is resumed at the next step.
+            Ok(VmState::Yield)
         } else {
             Ok(VmState::Continue)
         }
@@ -846,10 +965,10 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
     let mut sim = None;
     for module in api::MODULES {
         let table = lua.create_table()?;
-        for f in module.iter() {
+        for (name, f) in module.callable() {
             let shared = shared.clone();
             let call = f.call;
-            let qualified = format!("{}.{}", module.name, f.name);
+            let qualified = format!("{}.{name}", module.name);
             let func = lua.create_function(move |lua, args: MultiValue| {
                 // This runs for every API call a script makes, often dozens per step: no
                 // heap allocation for the usual handful of arguments, and the caller's
@@ -886,7 +1005,7 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
                     ])),
                 }
             })?;
-            table.set(f.name, wrap.call::<Function>(func)?)?;
+            table.set(name, wrap.call::<Function>(func)?)?;
         }
         for (name, value) in module.constants {
             table.set(*name, *value)?;
@@ -919,11 +1038,81 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         .and_then(|f| wrap.call::<Function>(f))?,
     )?;
     // A script's handle is the handle of the object it is attached to.
+    let gs_shared = shared.clone();
     sim.set(
         "getScript",
-        lua.create_function(|_, (_kind, object): (i64, Option<i64>)| Ok(object.unwrap_or(-1)))?,
+        lua.create_function(move |lua, args: MultiValue| {
+            let values = args.iter().map(to_value).collect::<mlua::Result<Vec<_>>>()?;
+            Ok(match script_handle(&gs_shared, &values) {
+                Ok(h) => (true, LuaValue::Integer(h)),
+                Err(e) => (
+                    false,
+                    LuaValue::String(lua.create_string(format!("{e} (in function 'sim.getScript')"))?),
+                ),
+            })
+        })
+        .and_then(|f| wrap.call::<Function>(f))?,
     )?;
-    Ok(())
+    // CoppeliaSim 4.0-4.2: the script attached to an object, -1 when none.
+    let sa_shared = shared.clone();
+    sim.set(
+        "getScriptAssociatedWithObject",
+        lua.create_function(move |_, object: LuaValue| {
+            let object = to_value(&object)?;
+            Ok(script_handle(&sa_shared, &[Value::Int(1), object]).unwrap_or(-1))
+        })?,
+    )?;
+    for (name, control) in [
+        ("startSimulation", ScriptControl::Start),
+        ("pauseSimulation", ScriptControl::Pause),
+        ("stopSimulation", ScriptControl::Stop),
+    ] {
+        let shared = shared.clone();
+        sim.set(
+            name,
+            lua.create_function(move |_, ()| {
+                shared.control.set(Some(control));
+                Ok(())
+            })?,
+        )?;
+    }
+    threads::install(lua, shared, &sim)
+}
+
+/// `sim.getScript(scriptType, object = -1)`: the handle of the script attached to
+/// `object` (a handle or a path), which in gantry is the object's handle, or -1 when
+/// it has no script; `sim.getScript(sim.handle_self)` is the calling script's.
+fn script_handle(shared: &Shared, args: &[Value]) -> Result<i64, String> {
+    const HANDLE_SELF: i64 = -4;
+    let kind = args
+        .first()
+        .and_then(Value::as_i64)
+        .ok_or("argument 1: expected integer (a script type or sim.handle_self)")?;
+    if kind == HANDLE_SELF {
+        return shared
+            .current
+            .get()
+            .ok_or_else(|| "sim.handle_self names the calling script, and a remote client has none".to_owned());
+    }
+    let object = match args.get(1) {
+        None | Some(Value::Nil) => return Ok(-1),
+        Some(Value::Str(path)) => {
+            let ctx = CallContext {
+                script_object: shared.current.get(),
+                source: "getScript",
+            };
+            let mut world = shared
+                .world
+                .try_borrow_mut()
+                .map_err(|_| "the world is busy".to_owned())?;
+            let found = api::call(&mut world, &ctx, "getObject", &[Value::Str(path.clone())])
+                .map_err(|e| e.replace(" (in function 'sim.getObject')", ""))?;
+            found.first().and_then(Value::as_i64).unwrap_or(-1)
+        }
+        Some(v) => v.as_i64().ok_or("argument 2: expected an object handle or path")?,
+    };
+    let attached = shared.envs.borrow().iter().any(|(h, _, _)| *h == object);
+    Ok(if attached { object } else { -1 })
 }
 
 /// `sim.callScriptFunction(name, scriptHandle, ...)`: calls a global function of the

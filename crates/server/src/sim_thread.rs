@@ -417,6 +417,18 @@ impl SimLoop {
         self.sim.step();
         self.steps += 1;
         self.stepping.stepped(self.steps);
+        self.after_script_control();
+    }
+
+    /// A script may have paused or stopped the simulation during the step
+    /// (`sim.pauseSimulation()` ...): the remote clients' stepping follows, as when a
+    /// client asks.
+    fn after_script_control(&mut self) {
+        match self.sim.state() {
+            SimulationState::Stopped => self.stepping.stopped(),
+            SimulationState::Paused => self.stepping.release_waiters(),
+            SimulationState::Running => {}
+        }
     }
 
     /// A step during which requests are served at the boundaries between its phases
@@ -442,6 +454,7 @@ impl SimLoop {
         });
         self.steps += 1;
         self.stepping.stepped(self.steps);
+        self.after_script_control();
         while let Some(req) = self.deferred.pop_front() {
             self.serve(req);
         }

@@ -69,7 +69,7 @@ const STAY_AWAKE: Duration = Duration::from_micros(300);
 
 /// Functions that `Simulation::call` implements beyond [`api::FUNCTIONS`] (they need the
 /// Lua state, so they live in the script crate).
-pub const SIMULATION_FUNCTIONS: &[&str] = &["callScriptFunction", "getScript"];
+pub const SIMULATION_FUNCTIONS: &[&str] = &["callScriptFunction", "getScript", "getScriptAssociatedWithObject"];
 
 /// Functions the remote API adds on top of the core: they act on the client's session
 /// or the simulation loop, not on the world.
@@ -580,7 +580,7 @@ pub fn module_info(module: &api::Module) -> Value {
     } else {
         Vec::new()
     };
-    let names = module.iter().map(|f| f.name).chain(extra);
+    let names = module.callable().map(|(name, _)| name).chain(extra);
     let mut pairs: Vec<(Value, Value)> = names.map(|n| (n.into(), func())).collect();
     pairs.extend(
         module

@@ -96,11 +96,13 @@ pub fn pose_from_matrix12(m: &[f64; 12]) -> Option<Pose> {
         return None;
     }
     let rot = Matrix3::new(m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]);
-    let r = Rotation3::from_matrix(&rot);
-    Some(Isometry3::from_parts(
-        Translation3::new(m[3], m[7], m[11]),
-        UnitQuaternion::from_rotation_matrix(&r),
-    ))
+    // The closed-form (trace) conversion: bounded work whatever the numbers. nalgebra's
+    // `Rotation3::from_matrix` iterates until it converges, and on a reflection such
+    // as -I it never does, which froze the simulation thread in `sim.setObjectMatrix`.
+    // A rotation block gives its own quaternion, anything else some rotation.
+    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(rot)).into_inner();
+    let q = quat_from_array([q.i, q.j, q.k, q.w])?;
+    Some(Isometry3::from_parts(Translation3::new(m[3], m[7], m[11]), q))
 }
 
 /// The rotation that takes the local +Z axis onto `axis` (unit), choosing a rotation
@@ -165,6 +167,19 @@ pub fn vec_from_physics(v: rapier3d::math::Vector) -> Vec3 {
 mod tests {
     use super::*;
     use std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn matrix_conversion_ends_on_any_block_and_keeps_rotations() {
+        // A reflection (-I) made nalgebra's iterative orthonormalisation loop forever.
+        let reflection = [-1.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 2.0, 0.0, 0.0, -1.0, 3.0];
+        let p = pose_from_matrix12(&reflection).expect("some pose");
+        assert_eq!(p.translation.vector, Vec3::new(1.0, 2.0, 3.0));
+        // A rotation round-trips.
+        let q = quat_from_euler([0.3, -1.2, 2.9]);
+        let m = pose_to_matrix12(&Isometry3::from_parts(Translation3::new(0.1, 0.2, 0.3), q));
+        let back = pose_from_matrix12(&m).expect("a pose");
+        assert!(back.rotation.angle_to(&q) < 1e-12);
+    }
 
     #[test]
     fn euler_round_trip_matches_coppeliasim_convention() {

@@ -80,6 +80,12 @@ pub struct Frame {
     pub drawings: Vec<DrawingFrame>,
     /// `Uis::revision`: changes whenever a custom UI does.
     pub ui_revision: u64,
+    /// `World::scene_revision`: when it differs from the scene description's, objects
+    /// were created, removed, re-parented or restyled and the page needs the scene again.
+    pub scene_revision: u64,
+    /// `World::structure_revision`: when it differs, the object list or its order changed
+    /// and poses no longer line up with the description until it is sent again.
+    pub structure_revision: u64,
 }
 
 impl Frame {
@@ -90,6 +96,8 @@ impl Frame {
             steps: world.steps(),
             state: world.state.code(),
             ui_revision: world.uis.revision(),
+            scene_revision: world.scene_revision(),
+            structure_revision: world.structure_revision(),
             ..Frame::default()
         };
         f.poses.reserve(world.handles().len());

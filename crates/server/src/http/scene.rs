@@ -4,6 +4,9 @@
 //!
 //! Objects are listed in [`World::handles`] order (parents first), and the pose stream
 //! ([`super::frame`]) indexes objects, joints and proximity sensors in that same order.
+//! The description carries [`World::scene_revision`]; a frame with another revision
+//! (objects created, removed, re-parented, restyled) makes the session send it again.
+//! Shapes on visibility layer 0 are sent without visuals, so the page does not draw them.
 
 use std::sync::Arc;
 
@@ -47,9 +50,11 @@ pub fn describe(world: &World) -> SceneDescription {
         });
         match &o.kind {
             ObjectKind::Shape(s) => {
+                let hidden = world.layer(h).is_ok_and(|l| l == 0);
                 let visuals: Vec<Json> = s
                     .visuals
                     .iter()
+                    .filter(|_| !hidden)
                     .map(|v| {
                         let mut g = geometry(&v.geometry, &mut meshes);
                         g["local"] = json!(pose_f32(&v.local));
@@ -101,6 +106,8 @@ pub fn describe(world: &World) -> SceneDescription {
         "objects": objects,
         "meshes": meshes.len(),
         "dt": world.settings().dt,
+        "revision": world.scene_revision(),
+        "structure": world.structure_revision(),
     });
     let meshes = meshes
         .iter()

@@ -23,6 +23,12 @@ use crate::sim_thread::SimHandle;
 /// counter so scripts can tell them apart.
 static NEXT_CLIENT: AtomicI64 = AtomicI64::new(1 << 40);
 
+/// Shortest time between two scene descriptions sent because the scene changed in place
+/// (a colour, an alias, a joint mode): a script restyling objects every step must not
+/// make the page download the scene, meshes included, at the frame rate. Changes of the
+/// object list or order are described at once (the pose stream depends on them).
+const RESEND_INTERVAL: std::time::Duration = std::time::Duration::from_millis(250);
+
 /// The socket closed, broke, or the page stopped reading: end the session.
 struct Gone;
 
@@ -32,9 +38,10 @@ pub(super) async fn run(mut socket: WebSocket, st: AppState, _permit: OwnedSemap
     let mut frames = st.frames.subscribe();
     let mut shutdown = st.shutdown.clone();
     let mut delta = FrameDelta::default();
-    let Ok(mut objects) = send_scene(&mut socket, &st.sim, &st.cfg).await else {
+    let Ok(mut described) = send_scene(&mut socket, &st.sim, &st.cfg).await else {
         return;
     };
+    let mut described_at = std::time::Instant::now();
     let mut cursor = PanelCursor::default();
     let mut poll = tokio::time::interval(st.cfg.panel_interval);
     poll.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
@@ -47,13 +54,18 @@ pub(super) async fn run(mut socket: WebSocket, st: AppState, _permit: OwnedSemap
                 Err(_) => Err(Gone),
                 Ok(()) => {
                     let frame = frames.borrow_and_update().clone();
+                    let (objects, revision, structure) = described;
                     if frame.poses.is_empty() && objects > 0 {
                         // Nothing published yet.
                         Ok(())
-                    } else if frame.poses.len() != objects {
-                        // Objects were added or removed: describe the scene again.
+                    } else if frame.poses.len() != objects
+                        || frame.structure_revision != structure
+                        || (frame.scene_revision != revision && described_at.elapsed() >= RESEND_INTERVAL)
+                    {
+                        // Objects were added, removed or changed: describe the scene again.
                         delta.reset();
-                        send_scene(&mut socket, &st.sim, &st.cfg).await.map(|n| objects = n)
+                        described_at = std::time::Instant::now();
+                        send_scene(&mut socket, &st.sim, &st.cfg).await.map(|d| described = d)
                     } else {
                         let m = delta.update(&frame);
                         send_frame(&mut socket, &st.cfg, m.tick, m.binary).await
@@ -110,8 +122,9 @@ async fn send_frame(
     Ok(())
 }
 
-/// Sends the scene description and its meshes; returns the number of objects.
-async fn send_scene(socket: &mut WebSocket, sim: &SimHandle, cfg: &HttpConfig) -> Result<usize, Gone> {
+/// Sends the scene description and its meshes; returns the number of objects and the
+/// scene and structure revisions it describes.
+async fn send_scene(socket: &mut WebSocket, sim: &SimHandle, cfg: &HttpConfig) -> Result<(usize, u64, u64), Gone> {
     let desc = match sim.with(|s| scene::describe(&s.world())).await {
         Ok(d) => d,
         Err(e) => {
@@ -121,11 +134,13 @@ async fn send_scene(socket: &mut WebSocket, sim: &SimHandle, cfg: &HttpConfig) -
         }
     };
     let objects = desc.json["objects"].as_array().map_or(0, Vec::len);
+    let revision = desc.json["revision"].as_u64().unwrap_or(0);
+    let structure = desc.json["structure"].as_u64().unwrap_or(0);
     send(socket, cfg, Message::Text(desc.json.to_string().into())).await?;
     for m in desc.meshes {
         send(socket, cfg, Message::Binary(m.into())).await?;
     }
-    Ok(objects)
+    Ok((objects, revision, structure))
 }
 
 async fn send_panels(socket: &mut WebSocket, st: &AppState, cursor: &mut PanelCursor) -> Result<(), Gone> {

@@ -9,10 +9,18 @@
 mod args;
 mod drawing;
 mod ik;
+mod ik_legacy;
 mod joints;
+pub mod legacy;
+mod matrix;
 mod misc;
 mod objects;
+mod packing;
+mod params;
+pub(crate) mod ruckig;
+mod scene;
 mod sensing;
+mod sensing_more;
 mod ui;
 mod vision;
 
@@ -282,8 +290,31 @@ pub struct Module {
     pub name: &'static str,
     /// Function tables, each owned by one implementation file.
     pub functions: &'static [&'static [ApiFunction]],
-    /// Constants, e.g. `simIK.constraint_pose`.
-    pub constants: &'static [(&'static str, i64)],
+    /// Constants, e.g. `simIK.constraint_pose`, gathered like the functions.
+    pub constants: Constants,
+    /// Older names of functions that were only renamed: `(old, current)`.
+    pub aliases: &'static [(&'static str, &'static str)],
+}
+
+/// A module's constants: the tables of the files that define them, read as one list
+/// (`for (name, value) in module.constants`).
+#[derive(Clone, Copy)]
+pub struct Constants(pub &'static [&'static [(&'static str, i64)]]);
+
+impl Constants {
+    /// Every constant, table by table.
+    pub fn iter(self) -> <Self as IntoIterator>::IntoIter {
+        self.into_iter()
+    }
+}
+
+impl IntoIterator for Constants {
+    type Item = &'static (&'static str, i64);
+    type IntoIter = std::iter::Flatten<std::iter::Copied<std::slice::Iter<'static, &'static [(&'static str, i64)]>>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.0.iter().copied().flatten()
+    }
 }
 
 impl Module {
@@ -292,9 +323,27 @@ impl Module {
         self.functions.iter().flat_map(|t| t.iter())
     }
 
-    /// Looks a function up by its unqualified name.
+    /// Looks a function up by its unqualified name, or by an older name of it.
     pub fn function(&self, name: &str) -> Option<&'static ApiFunction> {
-        self.iter().find(|f| f.name == name)
+        self.iter().find(|f| f.name == name).or_else(|| {
+            let (_, current) = self.aliases.iter().find(|(old, _)| *old == name)?;
+            self.iter().find(|f| f.name == *current)
+        })
+    }
+
+    /// Every name a script or client may call: the functions, then the aliases, each
+    /// with the function it runs.
+    pub fn callable(&self) -> impl Iterator<Item = (&'static str, &'static ApiFunction)> + use<> {
+        let functions = self.iter().map(|f| (f.name, f));
+        let module: &'static [&'static [ApiFunction]] = self.functions;
+        let aliases = self.aliases.iter().filter_map(move |(old, current)| {
+            module
+                .iter()
+                .flat_map(|t| t.iter())
+                .find(|f| f.name == *current)
+                .map(|f| (*old, f))
+        });
+        functions.chain(aliases)
     }
 }
 
@@ -302,23 +351,44 @@ impl Module {
 pub const MODULES: &[Module] = &[
     Module {
         name: "sim",
-        functions: &[FUNCTIONS, drawing::FUNCTIONS, vision::FUNCTIONS],
-        constants: CONSTANTS,
+        functions: &[
+            FUNCTIONS,
+            drawing::FUNCTIONS,
+            vision::FUNCTIONS,
+            matrix::FUNCTIONS,
+            packing::FUNCTIONS,
+            ruckig::FUNCTIONS,
+            scene::FUNCTIONS,
+            params::FUNCTIONS,
+            legacy::FUNCTIONS,
+            sensing_more::FUNCTIONS,
+        ],
+        constants: Constants(&[
+            CONSTANTS,
+            scene::CONSTANTS,
+            params::CONSTANTS,
+            ruckig::CONSTANTS,
+            legacy::CONSTANTS,
+        ]),
+        aliases: legacy::ALIASES,
     },
     Module {
         name: "simIK",
-        functions: &[ik::FUNCTIONS],
-        constants: ik::CONSTANTS,
+        functions: &[ik::FUNCTIONS, ik_legacy::FUNCTIONS],
+        constants: Constants(&[ik::CONSTANTS]),
+        aliases: ik_legacy::ALIASES,
     },
     Module {
         name: "simUI",
         functions: &[ui::FUNCTIONS],
-        constants: ui::CONSTANTS,
+        constants: Constants(&[ui::CONSTANTS]),
+        aliases: &[],
     },
     Module {
         name: "simVision",
         functions: &[vision::SIM_VISION_FUNCTIONS],
-        constants: &[],
+        constants: Constants(&[]),
+        aliases: &[],
     },
 ];
 
@@ -432,6 +502,11 @@ mod tests {
             names.sort_unstable();
             names.dedup();
             assert_eq!(names.len(), n, "a function of {} is registered twice", m.name);
+            let mut constants: Vec<&str> = m.constants.iter().map(|(c, _)| *c).collect();
+            let n = constants.len();
+            constants.sort_unstable();
+            constants.dedup();
+            assert_eq!(constants.len(), n, "a constant of {} is defined twice", m.name);
         }
     }
 }

@@ -10,6 +10,9 @@ use crate::Value;
 use crate::ui::{UiError, Uis};
 use crate::world::World;
 
+/// Verbosity of parser notes in the log (`sim.verbosity_scriptinfos`).
+const INFO: i64 = 450;
+
 /// Verbosity of parser warnings in the log (`sim.verbosity_warnings`).
 const WARNING: i64 = 300;
 
@@ -117,6 +120,9 @@ fn with_uis<T>(
     let t = w.time();
     for msg in w.uis.take_warnings() {
         w.log.push(t, WARNING, ctx.source, &msg);
+    }
+    for msg in w.uis.take_notes() {
+        w.log.push(t, INFO, ctx.source, &msg);
     }
     Ok(result?)
 }

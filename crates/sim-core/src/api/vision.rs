@@ -23,8 +23,18 @@ const HANDLE_SELF: Handle = -4;
 /// The `sim.*` vision functions this file implements, in alphabetical order.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
+        // CoppeliaSim 4.0-4.5's byte image.
+        name: "getVisionSensorCharImage",
+        call: get_vision_sensor_char_image,
+    },
+    ApiFunction {
         name: "getVisionSensorDepth",
         call: get_vision_sensor_depth,
+    },
+    ApiFunction {
+        // CoppeliaSim 4.0-4.5's float image.
+        name: "getVisionSensorImage",
+        call: get_vision_sensor_image,
     },
     ApiFunction {
         name: "getVisionSensorImg",
@@ -398,4 +408,85 @@ fn vertical_flip_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) ->
     let h = sensor_handle(ctx, a, 0)?;
     vision::work(w, h)?.flip_vertical();
     Ok(Vec::new())
+}
+
+/// `sim.handleflag_greyscale`, or-ed into the sensor handle of the 4.x image getters.
+const HANDLEFLAG_GREYSCALE: Handle = 0x0040_0000;
+
+/// The 4.x getters' `(handle [| handleflag_greyscale], posX, posY, sizeX, sizeY)` as
+/// `getVisionSensorImg`'s arguments `(handle, options, rgbaCutOff, pos, size)`, and the
+/// plain sensor handle.
+fn legacy_img_args(a: &Args<'_>, cutoff: f64) -> Result<(Handle, Vec<Value>), ApiError> {
+    let raw = a.handle(0)?;
+    let grey = raw >= 0 && raw & HANDLEFLAG_GREYSCALE != 0;
+    let h = if grey { raw & !HANDLEFLAG_GREYSCALE } else { raw };
+    let mut xy = [0i64; 4];
+    for (k, v) in xy.iter_mut().enumerate() {
+        *v = a.opt_int(k + 1, 0)?;
+        if *v < 0 {
+            return Err(ApiError::new(format!(
+                "argument {}: expected a non-negative integer, got {v}",
+                k + 2
+            )));
+        }
+    }
+    let pair = |x: i64, y: i64| Value::Array(vec![Value::Int(x), Value::Int(y)]);
+    let args = vec![
+        Value::Int(h),
+        Value::Int(i64::from(grey)),
+        Value::Float(cutoff),
+        pair(xy[0], xy[1]),
+        pair(xy[2], xy[3]),
+    ];
+    Ok((h, args))
+}
+
+/// The bytes of a `getVisionSensorImg` reply.
+fn reply_bytes(mut reply: Ret) -> Vec<u8> {
+    match reply.drain(..).next() {
+        Some(Value::Bytes(b)) => b,
+        _ => Vec::new(),
+    }
+}
+
+/// `sim.getVisionSensorCharImage(h, posX=0, posY=0, sizeX=0, sizeY=0, rgbaCutOff=0)` →
+/// `bytes, resX, resY` (CoppeliaSim 4.0-4.5): `getVisionSensorImg` with the portion as
+/// four integers. `h | sim.handleflag_greyscale` gives 1 byte per pixel; a non-zero
+/// `rgbaCutOff` gives RGBA. `resX, resY` are the sensor's full resolution, not the
+/// portion's, as CoppeliaSim returns them.
+fn get_vision_sensor_char_image(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let cutoff = a.opt_f64(5, 0.0)?;
+    let (h, args) = legacy_img_args(a, cutoff)?;
+    let bytes = reply_bytes(get_vision_sensor_img(w, ctx, &Args::new(&args))?);
+    let (m, _) = vision::sensor_model(w, h)?;
+    Ok(vec![
+        Value::Bytes(bytes),
+        Value::Int(i64::from(m.resolution[0])),
+        Value::Int(i64::from(m.resolution[1])),
+    ])
+}
+
+/// `sim.getVisionSensorImage(h, posX=0, posY=0, sizeX=0, sizeY=0, returnType=0)` → the
+/// image as numbers 0..1 (CoppeliaSim 4.0-4.5): R, G, B per pixel (one value with
+/// `h | sim.handleflag_greyscale`), bottom row first. `returnType` 1 packs them as
+/// little-endian `f32` bytes instead of a table. Values are the byte image divided by
+/// 255, so they take the 256 levels of `getVisionSensorImg`.
+fn get_vision_sensor_image(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let packed = match a.opt_int(5, 0)? {
+        0 => false,
+        1 => true,
+        other => {
+            return Err(ApiError::new(format!(
+                "argument 6: returnType must be 0 (table) or 1 (packed floats), got {other}"
+            )));
+        }
+    };
+    let (_, args) = legacy_img_args(a, 0.0)?;
+    let bytes = reply_bytes(get_vision_sensor_img(w, ctx, &Args::new(&args))?);
+    let values = bytes.iter().map(|&b| f32::from(b) / 255.0);
+    Ok(vec![if packed {
+        Value::Bytes(values.flat_map(f32::to_le_bytes).collect())
+    } else {
+        Value::Array(values.map(|v| Value::Float(f64::from(v))).collect())
+    }])
 }

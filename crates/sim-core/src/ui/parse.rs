@@ -2,9 +2,11 @@
 //!
 //! What is copied from simUI (`XMLUtils.cpp`, `Widget.cpp`, `LayoutWidget.cpp`):
 //! * unknown attributes are ignored with a warning "unknown UI XML attribute 'x' in
-//!   widget 'y'" (so the tutorial's `resizeable` typo still works);
+//!   widget 'y'"; the tutorial's `resizeable` is read as `resizable`, silently, as
+//!   CoppeliaSim runs the tutorial without a warning;
 //! * hyphen-less spellings of hyphenated attributes (`onchange`, `tickposition`) are
-//!   accepted, with a "deprecated" warning once per name;
+//!   accepted, with a "deprecated" note once per name (an information line, not a
+//!   warning: the seed scripts use them and work as intended);
 //! * booleans must be exactly `true` or `false`; integers must parse as 32-bit;
 //! * ids must be positive; widgets without one get negative ids; ids are unique per UI;
 //! * `<stretch>` only in vbox/hbox, `<br/>` only in grid, `geometry` only in `layout="none"`,
@@ -39,6 +41,8 @@ const MAX_XML_NODES: u32 = 8 * MAX_WIDGETS as u32 + 64;
 pub(super) struct Diagnostics {
     /// Warning lines not yet moved to the log.
     pub warnings: Vec<String>,
+    /// Information lines (deprecated spellings) not yet moved to the log.
+    pub notes: Vec<String>,
     /// Hyphen-less attribute names already warned about.
     pub deprecated_seen: BTreeSet<String>,
 }
@@ -464,6 +468,14 @@ impl<'a, 'input> Attrs<'a, 'input> {
         if let Some(v) = self.node.attribute(name) {
             return Some(v);
         }
+        // CoppeliaSim's BubbleRob tutorial (and the lab sheet) spell it so, and
+        // CoppeliaSim takes it without a word.
+        if name == "resizable"
+            && let Some(v) = self.node.attribute("resizeable")
+        {
+            self.known.insert("resizeable".to_owned());
+            return Some(v);
+        }
         if name.contains('-') {
             let old = name.replace('-', "");
             if let Some(v) = self.node.attribute(old.as_str()) {
@@ -553,7 +565,7 @@ impl<'a, 'input> Attrs<'a, 'input> {
     fn finish(&mut self, widget: &str, diag: &mut Diagnostics) {
         for (old, new) in std::mem::take(&mut self.deprecated) {
             if diag.deprecated_seen.insert(old.clone()) {
-                diag.warnings.push(format!(
+                diag.notes.push(format!(
                     "simUI: attribute name '{old}' is deprecated. please use '{new}' instead."
                 ));
             }

@@ -163,6 +163,11 @@ impl Uis {
         std::mem::take(&mut self.diag.warnings)
     }
 
+    /// Parser notes (deprecated spellings) that wait to be logged as information.
+    pub fn take_notes(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.diag.notes)
+    }
+
     /// The widget `id` of UI `ui`.
     ///
     /// # Errors

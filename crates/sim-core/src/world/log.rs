@@ -26,7 +26,14 @@ pub struct LogLine {
 pub struct Log {
     lines: VecDeque<LogLine>,
     next_seq: u64,
+    /// Titles of the auxiliary consoles scripts opened (`sim.auxiliaryConsoleOpen`), by
+    /// handle - [`FIRST_CONSOLE_HANDLE`]; `None` once closed. Their text goes to the log
+    /// (which the viewer shows) under the console's title.
+    consoles: Vec<Option<String>>,
 }
+
+/// The first auxiliary console handle; later ones count up and are never reused.
+pub const FIRST_CONSOLE_HANDLE: i64 = 3_000_000;
 
 impl Log {
     /// Appends a line (dropping the oldest past [`LOG_CAPACITY`]) and mirrors it to tracing.
@@ -52,6 +59,29 @@ impl Log {
     /// Lines with a sequence number of at least `from`, oldest first.
     pub fn since(&self, from: u64) -> impl Iterator<Item = &LogLine> {
         self.lines.iter().filter(move |l| l.seq >= from)
+    }
+
+    /// Opens an auxiliary console titled `title`; returns its handle.
+    pub fn open_console(&mut self, title: &str) -> i64 {
+        self.consoles.push(Some(title.to_owned()));
+        FIRST_CONSOLE_HANDLE + self.consoles.len() as i64 - 1
+    }
+
+    /// The title of open console `h`.
+    pub fn console(&self, h: i64) -> Option<&str> {
+        let i = usize::try_from(h.checked_sub(FIRST_CONSOLE_HANDLE)?).ok()?;
+        self.consoles.get(i)?.as_deref()
+    }
+
+    /// Closes console `h`; whether it was open.
+    pub fn close_console(&mut self, h: i64) -> bool {
+        let Some(i) = h
+            .checked_sub(FIRST_CONSOLE_HANDLE)
+            .and_then(|i| usize::try_from(i).ok())
+        else {
+            return false;
+        };
+        self.consoles.get_mut(i).and_then(Option::take).is_some()
     }
 
     /// Every kept line, oldest first.

@@ -1,9 +1,11 @@
 //! The simulated world: the object tree (handles, aliases, parents, f64 poses), its
-//! rapier counterpart, and CoppeliaSim's path lookup.
+//! rapier counterpart, CoppeliaSim's path lookup, and editing the scene at run time.
 
 mod collection;
 mod containment;
+mod custom_data;
 mod drawing;
+mod edit;
 mod graph;
 mod log;
 mod object;
@@ -18,7 +20,9 @@ mod signals;
 mod world;
 
 pub use collection::{Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind};
+pub use custom_data::CustomData;
 pub use drawing::*;
+pub use edit::{ColorComponent, EditCounters, MIN_SHAPE_MASS};
 pub use graph::*;
 pub use log::{LOG_CAPACITY, Log, LogLine};
 pub use object::{Detection, ForceReading, Handle, Joint, Object, ObjectKind, ProximitySensor};

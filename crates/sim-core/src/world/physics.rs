@@ -1,7 +1,8 @@
 //! The rapier side of the world: how objects map onto bodies, colliders and joints, and
 //! the synchronisation before and after each physics step.
 //!
-//! Mapping (CoppeliaSim's rules, decided once when the world is built):
+//! Mapping (CoppeliaSim's rules, applied when the world is built and again to the part of
+//! the tree a run-time edit touches, see `World`'s scene editing):
 //! - A **dynamic shape** is its own dynamic body. If a dynamic-mode joint lies between it
 //!   and the next body up the tree, it is a link of a rapier *multibody* (reduced
 //!   coordinates: no joint drift); if a force sensor lies there, it is welded to that body
@@ -82,7 +83,12 @@ pub(crate) struct Physics {
     pub object_colliders: HashMap<Handle, Vec<ColliderHandle>>,
     /// rapier steps per simulation step (1 unless collisions run at every substep).
     pub rapier_steps: u32,
+    /// Index in `bodies` of the fixed body at the world origin, once one was needed.
+    pub anchor: Option<usize>,
 }
+
+/// `BodyEntry::object` of a slot whose body was removed (the anchor is -1).
+pub(crate) const REMOVED_BODY: Handle = Handle::MIN;
 
 /// Rotation taking rapier's joint axis (local X) onto ours (local Z).
 fn x_to_z() -> Pose {
@@ -132,89 +138,25 @@ impl Physics {
             collider_object: HashMap::new(),
             object_colliders: HashMap::new(),
             rapier_steps,
+            anchor: None,
         };
-        // A fixed body at the world origin anchors joints whose parent side is the world.
-        let mut anchor: Option<usize> = None;
+        p.insert(tree, order, warnings);
+        p
+    }
+
+    /// Adds the bodies, colliders and joints of the objects in `order` (parents before
+    /// children), placed by the rules in the module docs. Whatever lies above them must
+    /// already be in place: the whole tree when the world is built, or the rest of the
+    /// scene when part of it is rebuilt after an edit (`World`'s scene editing).
+    pub fn insert(&mut self, tree: &TreeView<'_>, order: &[Handle], warnings: &mut Vec<String>) {
         for &h in order {
-            let ObjectKind::Shape(shape) = (tree.kind)(h) else {
-                continue;
-            };
-            let pose = (tree.world)(h);
-            let placement = above(tree, h);
-            if shape.dynamic {
-                match placement {
-                    Above::Joint(j) => {
-                        let ObjectKind::Joint(joint) = (tree.kind)(j) else {
-                            unreachable!("above() returned a joint")
-                        };
-                        // A fixed joint has nothing to drive: its dynamic child is a rigid
-                        // multibody link whatever the mode says.
-                        if !joint.mode.is_dynamic() && joint.joint_type != JointType::Fixed {
-                            p.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
-                        } else {
-                            let parent_body = p.parent_body(tree, j, &mut anchor);
-                            let child = p.new_body(h, &pose, BodyRole::Link, shape, warnings);
-                            p.add_multibody_joint(tree, j, parent_body, child, shape.self_collision, warnings);
-                        }
-                    }
-                    Above::ForceSensor(f) => {
-                        let parent_body = p.parent_body(tree, f, &mut anchor);
-                        let child = p.new_body(h, &pose, BodyRole::Free, shape, warnings);
-                        p.add_force_joint(tree, f, parent_body, child);
-                    }
-                    Above::Shape(_) | Above::Root => {
-                        p.new_body(h, &pose, BodyRole::Free, shape, warnings);
-                    }
-                }
-            } else {
-                match placement {
-                    Above::Shape(s) => match p.body_of.get(&s).copied() {
-                        Some((bi, offset)) => p.ride(tree, h, s, (bi, offset), shape, warnings),
-                        None => {
-                            p.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
-                        }
-                    },
-                    Above::Joint(j) if matches!((tree.kind)(j), ObjectKind::Joint(jt) if jt.joint_type == JointType::Fixed) =>
-                    {
-                        // Welded to what is above (the `world` link ROS arm descriptions
-                        // start with): ride on its body rather than be a kinematic body of
-                        // its own. A multibody rooted on an awake kinematic body is
-                        // integrated twice per step by rapier 0.36's solver (the root and
-                        // its first link both enlist it), so arms below one fell at twice
-                        // the speed.
-                        match above(tree, j) {
-                            Above::Shape(s) => match p.body_of.get(&s).copied() {
-                                Some((bi, offset))
-                                    if matches!(p.bodies[bi].role, BodyRole::Fixed | BodyRole::Kinematic) =>
-                                {
-                                    p.ride(tree, h, s, (bi, offset), shape, warnings);
-                                }
-                                _ => {
-                                    p.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
-                                }
-                            },
-                            Above::Root => {
-                                p.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
-                            }
-                            Above::Joint(_) | Above::ForceSensor(_) => {
-                                p.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
-                            }
-                        }
-                    }
-                    Above::Joint(_) | Above::ForceSensor(_) => {
-                        p.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
-                    }
-                    Above::Root => {
-                        p.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
-                    }
-                }
-            }
+            self.place(tree, h, warnings);
         }
         for &h in order {
             if let ObjectKind::Joint(j) = (tree.kind)(h)
                 && j.mode.is_dynamic()
                 && j.joint_type != JointType::Fixed
-                && !p.joints.contains_key(&h)
+                && !self.joints.contains_key(&h)
             {
                 warnings.push(format!(
                     "joint {h} is in {} mode but has no dynamic shape below it, so it cannot move; make its child shape dynamic or use kinematic mode",
@@ -222,15 +164,91 @@ impl Physics {
                 ));
             }
         }
-        p.couple_mimics(tree, order, warnings);
-        p
+        self.couple_mimics(tree, order, warnings);
+    }
+
+    /// Gives shape `h` its body or colliders (anything else has none of its own).
+    fn place(&mut self, tree: &TreeView<'_>, h: Handle, warnings: &mut Vec<String>) {
+        let ObjectKind::Shape(shape) = (tree.kind)(h) else {
+            return;
+        };
+        let pose = (tree.world)(h);
+        let placement = above(tree, h);
+        if shape.dynamic {
+            match placement {
+                Above::Joint(j) => {
+                    let ObjectKind::Joint(joint) = (tree.kind)(j) else {
+                        unreachable!("above() returned a joint")
+                    };
+                    // A fixed joint has nothing to drive: its dynamic child is a rigid
+                    // multibody link whatever the mode says.
+                    if !joint.mode.is_dynamic() && joint.joint_type != JointType::Fixed {
+                        self.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
+                    } else {
+                        let parent_body = self.parent_body(tree, j);
+                        let child = self.new_body(h, &pose, BodyRole::Link, shape, warnings);
+                        self.add_multibody_joint(tree, j, parent_body, child, shape.self_collision, warnings);
+                    }
+                }
+                Above::ForceSensor(f) => {
+                    let parent_body = self.parent_body(tree, f);
+                    let child = self.new_body(h, &pose, BodyRole::Free, shape, warnings);
+                    self.add_force_joint(tree, f, parent_body, child);
+                }
+                Above::Shape(_) | Above::Root => {
+                    self.new_body(h, &pose, BodyRole::Free, shape, warnings);
+                }
+            }
+        } else {
+            match placement {
+                Above::Shape(s) => match self.body_of.get(&s).copied() {
+                    Some((bi, offset)) => self.ride(tree, h, s, (bi, offset), shape, warnings),
+                    None => {
+                        self.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
+                    }
+                },
+                Above::Joint(j) if matches!((tree.kind)(j), ObjectKind::Joint(jt) if jt.joint_type == JointType::Fixed) =>
+                {
+                    // Welded to what is above (the `world` link ROS arm descriptions
+                    // start with): ride on its body rather than be a kinematic body of
+                    // its own. A multibody rooted on an awake kinematic body is
+                    // integrated twice per step by rapier 0.36's solver (the root and
+                    // its first link both enlist it), so arms below one fell at twice
+                    // the speed.
+                    match above(tree, j) {
+                        Above::Shape(s) => match self.body_of.get(&s).copied() {
+                            Some((bi, offset))
+                                if matches!(self.bodies[bi].role, BodyRole::Fixed | BodyRole::Kinematic) =>
+                            {
+                                self.ride(tree, h, s, (bi, offset), shape, warnings);
+                            }
+                            _ => {
+                                self.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
+                            }
+                        },
+                        Above::Root => {
+                            self.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
+                        }
+                        Above::Joint(_) | Above::ForceSensor(_) => {
+                            self.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
+                        }
+                    }
+                }
+                Above::Joint(_) | Above::ForceSensor(_) => {
+                    self.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
+                }
+                Above::Root => {
+                    self.new_body(h, &pose, BodyRole::Fixed, shape, warnings);
+                }
+            }
+        }
     }
 
     /// Ties each simulated `<mimic>` follower to its simulated leader with rapier's DoF
     /// coupling (`q_f = m q_l + c` as a velocity-level equality), so the mechanism moves as
     /// one, as a gear would. Followers of kinematic leaders follow in the tree instead
     /// (`World::set_joint_position`).
-    fn couple_mimics(&mut self, tree: &TreeView<'_>, order: &[Handle], warnings: &mut Vec<String>) {
+    pub(crate) fn couple_mimics(&mut self, tree: &TreeView<'_>, order: &[Handle], warnings: &mut Vec<String>) {
         for &h in order {
             let ObjectKind::Joint(j) = (tree.kind)(h) else { continue };
             let Some(m) = j.mimic else { continue };
@@ -286,14 +304,14 @@ impl Physics {
     }
 
     /// The body index on the parent side of joint or force sensor `j`.
-    fn parent_body(&mut self, tree: &TreeView<'_>, j: Handle, anchor: &mut Option<usize>) -> usize {
+    fn parent_body(&mut self, tree: &TreeView<'_>, j: Handle) -> usize {
         match above(tree, j) {
             Above::Shape(s) => match self.body_of.get(&s) {
                 Some(&(bi, _)) if self.bodies[bi].role == BodyRole::Kinematic => self.mount(bi),
                 Some(&(bi, _)) => bi,
-                None => self.anchor(anchor),
+                None => self.anchor(),
             },
-            _ => self.anchor(anchor),
+            _ => self.anchor(),
         }
     }
 
@@ -310,16 +328,67 @@ impl Physics {
         bi
     }
 
-    fn anchor(&mut self, anchor: &mut Option<usize>) -> usize {
-        *anchor.get_or_insert_with(|| {
-            let handle = self.world.insert_body(RigidBodyBuilder::fixed());
-            self.bodies.push(BodyEntry {
-                handle,
-                object: -1,
-                role: BodyRole::Fixed,
-            });
-            self.bodies.len() - 1
-        })
+    /// The fixed body at the world origin that anchors joints whose parent side is the
+    /// world, created on first need.
+    fn anchor(&mut self) -> usize {
+        if let Some(a) = self.anchor {
+            return a;
+        }
+        let handle = self.world.insert_body(RigidBodyBuilder::fixed());
+        let a = self.push_entry(BodyEntry {
+            handle,
+            object: -1,
+            role: BodyRole::Fixed,
+        });
+        self.anchor = Some(a);
+        a
+    }
+
+    /// Stores a body entry, in the slot of a removed body if there is one (indices of
+    /// live entries must not move: `body_of` holds them).
+    fn push_entry(&mut self, entry: BodyEntry) -> usize {
+        match self.bodies.iter().position(|e| e.object == REMOVED_BODY) {
+            Some(i) => {
+                self.bodies[i] = entry;
+                i
+            }
+            None => {
+                self.bodies.push(entry);
+                self.bodies.len() - 1
+            }
+        }
+    }
+
+    /// Takes object `h` out of rapier: the body it owns (with every collider and joint
+    /// attached to it) or, for a shape riding on another body, its own colliders, and
+    /// every side-table entry that names it. Objects that depended on it (riders,
+    /// mechanisms hanging from it) must be removed and re-inserted by the caller.
+    pub fn remove_object(&mut self, h: Handle) {
+        if let Some((bi, _)) = self.body_of.remove(&h)
+            && self.bodies[bi].object == h
+        {
+            self.world.remove_body(self.bodies[bi].handle);
+            // The slot stays (other entries keep their indices) and is reused; a fixed
+            // role keeps the per-step kinematic update away from it.
+            self.bodies[bi].object = REMOVED_BODY;
+            self.bodies[bi].role = BodyRole::Fixed;
+        }
+        for c in self.object_colliders.remove(&h).unwrap_or_default() {
+            self.world.remove_collider(c);
+            self.collider_object.remove(&c);
+        }
+        self.joints.remove(&h);
+        if let Some(j) = self.force_joints.remove(&h) {
+            self.world.remove_impulse_joint(j);
+        }
+    }
+
+    /// Forgets joint bindings whose rapier joint went away with a removed body.
+    pub fn prune_joints(&mut self) {
+        let multibody = &self.world.multibody_joints;
+        self.joints.retain(|_, b| multibody.get(b.joint).is_some());
+        let impulse = &self.world.impulse_joints;
+        self.force_joints.retain(|_, j| impulse.get(*j).is_some());
     }
 
     fn new_body(
@@ -338,39 +407,15 @@ impl Physics {
             BodyRole::Free | BodyRole::Link => RigidBodyBuilder::dynamic().can_sleep(false),
         };
         let mut builder = builder.pose(math::to_physics(pose));
-        if let MassModel::Inertial {
-            mass,
-            com,
-            frame,
-            inertia,
-        } = shape.mass
-        {
-            let [ixx, ixy, ixz, iyy, iyz, izz] = inertia;
-            let m = nalgebra::Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
-            let r = math::quat_from_array(frame).unwrap_or_else(math::Quat::identity);
-            let rm = r.to_rotation_matrix();
-            let i = rm.matrix() * m * rm.matrix().transpose();
-            let mat = rapier3d::math::Matrix::from_cols_array(&[
-                i[(0, 0)] as f32,
-                i[(1, 0)] as f32,
-                i[(2, 0)] as f32,
-                i[(0, 1)] as f32,
-                i[(1, 1)] as f32,
-                i[(2, 1)] as f32,
-                i[(0, 2)] as f32,
-                i[(1, 2)] as f32,
-                i[(2, 2)] as f32,
-            ]);
-            let com = rapier3d::math::Vector::new(com[0] as f32, com[1] as f32, com[2] as f32);
-            builder = builder.additional_mass_properties(MassProperties::with_inertia_matrix(com, mass as f32, mat));
+        if let Some(props) = inertial_properties(&shape.mass) {
+            builder = builder.additional_mass_properties(props);
         }
         let handle = self.world.insert_body(builder);
-        self.bodies.push(BodyEntry {
+        let bi = self.push_entry(BodyEntry {
             handle,
             object: h,
             role,
         });
-        let bi = self.bodies.len() - 1;
         self.body_of.insert(h, (bi, Pose::identity()));
         self.add_colliders(h, bi, &Pose::identity(), shape, warnings);
         bi
@@ -545,6 +590,38 @@ impl Physics {
             h => (tree.world)(h),
         }
     }
+}
+
+/// rapier's mass properties for an explicit inertial (URDF `<inertial>`), `None` for the
+/// other mass models (their mass comes from the colliders).
+pub(crate) fn inertial_properties(model: &MassModel) -> Option<MassProperties> {
+    let MassModel::Inertial {
+        mass,
+        com,
+        frame,
+        inertia,
+    } = *model
+    else {
+        return None;
+    };
+    let [ixx, ixy, ixz, iyy, iyz, izz] = inertia;
+    let m = nalgebra::Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
+    let r = math::quat_from_array(frame).unwrap_or_else(math::Quat::identity);
+    let rm = r.to_rotation_matrix();
+    let i = rm.matrix() * m * rm.matrix().transpose();
+    let mat = rapier3d::math::Matrix::from_cols_array(&[
+        i[(0, 0)] as f32,
+        i[(1, 0)] as f32,
+        i[(2, 0)] as f32,
+        i[(0, 1)] as f32,
+        i[(1, 1)] as f32,
+        i[(2, 1)] as f32,
+        i[(0, 2)] as f32,
+        i[(1, 2)] as f32,
+        i[(2, 2)] as f32,
+    ]);
+    let com = rapier3d::math::Vector::new(com[0] as f32, com[1] as f32, com[2] as f32);
+    Some(MassProperties::with_inertia_matrix(com, mass as f32, mat))
 }
 
 /// rapier's settings for one simulation step of `dt` seconds split into `substeps`;
@@ -726,7 +803,7 @@ fn shared_shape(g: &Geometry) -> (SharedShape, Pose) {
 
 /// Volume of a geometry, m³ (meshes: of their bounding box, a documented approximation
 /// used only to spread a given total mass).
-fn geometry_volume(g: &Geometry) -> f64 {
+pub(crate) fn geometry_volume(g: &Geometry) -> f64 {
     use std::f64::consts::PI;
     match g {
         Geometry::Box {

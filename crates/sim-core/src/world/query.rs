@@ -129,8 +129,9 @@ impl World {
             return None;
         };
         let union = sa.iter().fold(first.2, |acc, (_, _, bb)| acc.merged(bb));
-        // Membership of the second set by object handle (handles index the object table).
-        let mut in_b = vec![false; self.handles().len()];
+        // Membership of the second set by object handle (handles index the object table,
+        // which keeps removed objects' slots: `len`, not the number of live objects).
+        let mut in_b = vec![false; self.len()];
         for &h in b {
             if let Some(slot) = usize::try_from(h).ok().and_then(|i| in_b.get_mut(i)) {
                 *slot = true;

@@ -15,17 +15,21 @@ use crate::scene::{JointMode, ObjectModelKind, SceneModel, SimSettings};
 /// The simulated scene. It is not `Sync` and lives on the simulation thread; every other
 /// part of gantry reaches it through requests to that thread.
 pub struct World {
-    objects: Vec<Object>,
-    roots: Vec<Handle>,
+    /// Objects by handle; removed objects stay as tombstones (see `edit`), so handles are
+    /// never reused.
+    pub(super) objects: Vec<Object>,
+    pub(super) roots: Vec<Handle>,
     /// Handles with every parent before its children; world poses are refreshed in this order.
-    order: Vec<Handle>,
-    physics: Physics,
-    settings: SimSettings,
+    pub(super) order: Vec<Handle>,
+    pub(super) physics: Physics,
+    pub(super) settings: SimSettings,
     time: f64,
     steps: u64,
     warnings: Vec<String>,
     /// Named signals shared by scripts and clients.
     pub signals: Signals,
+    /// Values attached to objects (user parameters).
+    pub custom: super::CustomData,
     /// Collections by handle - FIRST_COLLECTION_HANDLE; `None` once destroyed.
     pub collections: Vec<Option<Collection>>,
     /// The simulation log.
@@ -42,13 +46,17 @@ pub struct World {
     pub ik: crate::ik::IkEnvironments,
     /// Vision sensors' images.
     pub vision: crate::vision::VisionStates,
+    /// Ruckig trajectory generators (`sim.ruckigPos`), gone with the world at stop.
+    pub(crate) ruckig: crate::api::ruckig::RuckigObjects,
     /// Whether bodies were moved since rapier's collision structures were last updated,
     /// so scene queries must refresh them first (rapier updates them only when stepping).
-    queries_stale: bool,
+    pub(super) queries_stale: bool,
     /// Joints that follow another (`<mimic>`), in handle order.
-    mimics: Vec<Handle>,
+    pub(super) mimics: Vec<Handle>,
     /// Simulated joints with a speed limit, whose position reference moves each step.
-    profiled: Vec<Handle>,
+    pub(super) profiled: Vec<Handle>,
+    /// Run-time scene editing: removed handles, the scene revision, pending forces.
+    pub(super) edit: super::edit::EditState,
 }
 
 /// CoppeliaSim's simulation states (`sim.getSimulationState`).
@@ -171,6 +179,7 @@ impl World {
             .map(|(i, _)| i as Handle)
             .filter(|h| physics.joints.contains_key(h))
             .collect();
+        let objects_len = objects.len();
         World {
             objects,
             roots,
@@ -181,6 +190,7 @@ impl World {
             steps: 0,
             warnings,
             signals: Signals::default(),
+            custom: super::CustomData::default(),
             collections: Vec::new(),
             log: Log::default(),
             state: SimulationState::Stopped,
@@ -190,6 +200,8 @@ impl World {
             uis: Default::default(),
             ik: Default::default(),
             vision: Default::default(),
+            ruckig: Default::default(),
+            edit: super::edit::EditState::new(objects_len),
             mimics,
             profiled,
         }
@@ -215,7 +227,8 @@ impl World {
         self.steps
     }
 
-    /// Number of objects (handles are `0..len`).
+    /// Number of handles handed out so far: live objects have handles in `0..len`, but
+    /// removed ones leave gaps (CoppeliaSim never reuses a handle).
     pub fn len(&self) -> usize {
         self.objects.len()
     }
@@ -242,13 +255,15 @@ impl World {
     pub fn object(&self, h: Handle) -> Result<&Object, SimError> {
         usize::try_from(h)
             .ok()
+            .filter(|_| !self.edit.is_removed(h))
             .and_then(|i| self.objects.get(i))
             .ok_or(SimError::NoSuchObject(h))
     }
 
-    fn object_mut(&mut self, h: Handle) -> Result<&mut Object, SimError> {
+    pub(super) fn object_mut(&mut self, h: Handle) -> Result<&mut Object, SimError> {
         usize::try_from(h)
             .ok()
+            .filter(|_| !self.edit.is_removed(h))
             .and_then(|i| self.objects.get_mut(i))
             .ok_or(SimError::NoSuchObject(h))
     }
@@ -268,7 +283,7 @@ impl World {
         }
     }
 
-    fn joint_mut(&mut self, h: Handle) -> Result<&mut Joint, SimError> {
+    pub(super) fn joint_mut(&mut self, h: Handle) -> Result<&mut Joint, SimError> {
         match &mut self.object_mut(h)?.kind {
             ObjectKind::Joint(j) => Ok(j),
             other => Err(SimError::WrongKind {
@@ -305,7 +320,7 @@ impl World {
     }
 
     /// Recomputes world poses of `h` and its descendants.
-    fn refresh_subtree(&mut self, h: Handle) {
+    pub(super) fn refresh_subtree(&mut self, h: Handle) {
         let mut stack = vec![h];
         while let Some(cur) = stack.pop() {
             let world = self.parent_frame(cur) * self.objects[cur as usize].local;
@@ -341,7 +356,7 @@ impl World {
     }
 
     /// Teleports the rapier bodies of `h`'s subtree to their tree poses.
-    fn push_body_pose(&mut self, h: Handle) {
+    pub(super) fn push_body_pose(&mut self, h: Handle) {
         self.queries_stale = true;
         let mut stack = vec![h];
         while let Some(cur) = stack.pop() {
@@ -505,7 +520,7 @@ impl World {
         Ok(())
     }
 
-    fn push_motor(&mut self, h: Handle) {
+    pub(super) fn push_motor(&mut self, h: Handle) {
         let Some(b) = self.physics.joints.get(&h).copied() else {
             return;
         };
@@ -555,6 +570,8 @@ impl World {
             self.physics.world.step();
             self.contain_blow_ups();
         }
+        // `sim.addForce` acts during one step only; rapier would keep applying it.
+        self.clear_step_forces();
         self.queries_stale = false;
         self.read_back();
         // Kinematic followers of simulated leaders follow in the tree (simulated pairs are

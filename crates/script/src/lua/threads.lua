@@ -1,0 +1,89 @@
+-- Blocking calls for threaded scripts (see threads.rs).
+--
+-- A threaded script runs as a coroutine that the simulation thread resumes once per
+-- step, at the start of actuation. Every blocking call is a yield: `sim.step` yields
+-- once, `sim.wait` and `sim.waitForSignal` yield until their condition holds. The same
+-- calls inside a coroutine of the script's own (the CoppeliaSim 4.0-4.5 pattern: a
+-- coroutine created in sysCall_init and resumed from sysCall_actuation) yield to that
+-- script's `coroutine.resume`, which is what CoppeliaSim does too.
+--
+-- Loaded once into the shared globals before the scripts' environments are copied,
+-- with the functions it needs passed in, so that a script replacing `sim.getSimulationTime`
+-- in its own copy cannot change how `sim.wait` measures time.
+local sim, host, coroutine, error, type, string = ...
+local yield, isyieldable = coroutine.yield, coroutine.isyieldable
+local getTime, getSystemTime = sim.getSimulationTime, sim.getSystemTime
+local getInt, getFloat, getString = sim.getInt32Signal, sim.getFloatSignal, sim.getStringSignal
+
+-- Raises the error CoppeliaSim users need when a blocking call is made where nothing
+-- can be suspended: the non-threaded hooks must return for the simulation to advance.
+-- `level` 3 points at the script line that called the API function.
+local function need_thread(name)
+    if not isyieldable() then
+        error(string.format("sim.%s blocks, and blocking calls need a threaded script: call it "
+            .. "from sysCall_thread (or a coroutine), not from a non-threaded hook such as "
+            .. "sysCall_actuation, which must return for the simulation to advance "
+            .. "(in function 'sim.%s')", name, name), 3)
+    end
+end
+
+local function number_arg(value, index, name)
+    if type(value) ~= 'number' then
+        error(string.format("argument %d: expected number, got %s (in function 'sim.%s')",
+            index, value == nil and 'no value' or type(value), name), 3)
+    end
+end
+
+function sim.step()
+    need_thread('step')
+    yield()
+end
+
+-- CoppeliaSim 4.0-4.5 name of sim.step.
+function sim.switchThread()
+    need_thread('switchThread')
+    yield()
+end
+
+-- Scripts see the step's start time for the whole step, so the wait ends at the first
+-- step that starts at least dt after the call, and returns the overshoot (<= 0).
+-- The 1e-9 s slack absorbs rounding in the accumulated time (dt = 0.05 is not exact).
+function sim.wait(dt, simTime)
+    number_arg(dt, 1, 'wait')
+    need_thread('wait')
+    local now = (simTime == false) and getSystemTime or getTime
+    local t0 = now()
+    while now() - t0 < dt - 1e-9 do
+        yield()
+    end
+    return (t0 + dt) - now()
+end
+
+-- Waits until a signal of any type exists and returns its value. Accepts the signal
+-- name alone (4.0-4.5) or after a target handle (4.6+, the target is the scene here).
+function sim.waitForSignal(a, b)
+    local name = b
+    if type(a) == 'string' then name = a end
+    if type(name) ~= 'string' then
+        error("argument 1: expected string (the signal name) (in function 'sim.waitForSignal')", 2)
+    end
+    need_thread('waitForSignal')
+    while true do
+        local v = getInt(name)
+        if v == nil then v = getFloat(name) end
+        if v == nil then v = getString(name) end
+        if v ~= nil then return v end
+        yield()
+    end
+end
+
+sim.setStepping = host.setStepping
+sim.getStepping = host.getStepping
+sim.setThreadAutomaticSwitch = host.setThreadAutomaticSwitch
+sim.getThreadAutomaticSwitch = host.getThreadAutomaticSwitch
+sim.setAutoYieldDelay = host.setAutoYieldDelay
+sim.getAutoYieldDelay = host.getAutoYieldDelay
+sim.setThreadSwitchTiming = host.setThreadSwitchTiming
+sim.acquireLock = host.acquireLock
+sim.releaseLock = host.releaseLock
+sim.isScriptRunningInThread = host.isScriptRunningInThread

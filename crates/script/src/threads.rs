@@ -1,0 +1,259 @@
+//! Threaded scripts: `sysCall_thread` (CoppeliaSim 4.6+) and `sysCall_threadmain`
+//! (4.0-4.2), run as Lua coroutines on the one simulation thread.
+//!
+//! The simulation resumes each script's coroutine once per step, at the start of
+//! actuation (before the non-threaded `sysCall_actuation` hooks), as CoppeliaSim does.
+//! A coroutine gives control back in one of three ways:
+//! * a blocking call (`sim.step`, `sim.switchThread`, `sim.wait`, `sim.waitForSignal`,
+//!   and what is built on them such as `sim.moveToConfig`) yields; these are written
+//!   in Lua (`lua/threads.lua`) because only Lua code can yield across itself here;
+//! * in the default, non-stepping mode, the time-budget hook yields it once it has run
+//!   for the auto-yield delay (2 ms, `sim.setAutoYieldDelay`), as CoppeliaSim pre-empts
+//!   its threads; `sim.setStepping(true)`, `sim.setThreadAutomaticSwitch(false)` and
+//!   `sim.acquireLock()` turn that off (each is a level: calls nest);
+//! * it returns (the thread has ended; the script keeps its other hooks) or raises an
+//!   error (the script is marked errored, like an error in any hook).
+//!
+//! Each resumption is one hook call for the time budget: 1 s of running without
+//! yielding, in stepping mode, interrupts the script.
+//!
+//! No OS thread is involved: "thread" is CoppeliaSim's word, and the world is only
+//! ever touched by the simulation thread.
+
+use std::rc::Rc;
+use std::time::Duration;
+
+use mlua::{Lua, Table};
+
+use crate::simulation::Shared;
+
+/// Where a function the Lua host adds (beyond the core registry) may be called.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HostAvailability {
+    /// From any hook of a script (and, where the remote API serves the same name,
+    /// from clients too).
+    Scripts,
+    /// Only from a threaded script or a coroutine: it blocks (yields).
+    Threaded,
+}
+
+/// The `sim.*` functions the Lua host adds to the core registry, because they need the
+/// Lua state (script functions, blocking calls) or act on the simulation loop. A test
+/// checks this list against what scripts actually see; `docs/api.md` is generated
+/// from it and the registry.
+pub const HOST_FUNCTIONS: &[(&str, HostAvailability)] = &[
+    ("acquireLock", HostAvailability::Scripts),
+    ("callScriptFunction", HostAvailability::Scripts),
+    ("getAutoYieldDelay", HostAvailability::Scripts),
+    ("getScript", HostAvailability::Scripts),
+    ("getScriptAssociatedWithObject", HostAvailability::Scripts),
+    ("getStepping", HostAvailability::Scripts),
+    ("getThreadAutomaticSwitch", HostAvailability::Scripts),
+    ("isScriptRunningInThread", HostAvailability::Scripts),
+    ("moveToConfig", HostAvailability::Threaded),
+    ("moveToConfig_cleanup", HostAvailability::Scripts),
+    ("moveToConfig_init", HostAvailability::Scripts),
+    ("moveToConfig_step", HostAvailability::Scripts),
+    ("moveToPose", HostAvailability::Threaded),
+    ("moveToPose_cleanup", HostAvailability::Scripts),
+    ("moveToPose_init", HostAvailability::Scripts),
+    ("moveToPose_step", HostAvailability::Scripts),
+    ("pauseSimulation", HostAvailability::Scripts),
+    ("releaseLock", HostAvailability::Scripts),
+    ("setAutoYieldDelay", HostAvailability::Scripts),
+    ("setStepping", HostAvailability::Scripts),
+    ("setThreadAutomaticSwitch", HostAvailability::Scripts),
+    ("setThreadSwitchTiming", HostAvailability::Scripts),
+    ("startSimulation", HostAvailability::Scripts),
+    ("step", HostAvailability::Threaded),
+    ("stopSimulation", HostAvailability::Scripts),
+    ("switchThread", HostAvailability::Threaded),
+    ("wait", HostAvailability::Threaded),
+    ("waitForSignal", HostAvailability::Threaded),
+];
+
+/// CoppeliaSim's default auto-yield delay (`sim.getAutoYieldDelay`).
+pub const DEFAULT_AUTO_YIELD: Duration = Duration::from_millis(2);
+
+/// How one script's thread gives control back; one per script, reset when it loads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ThreadMode {
+    /// `sim.setStepping` level: above 0, the thread yields only in blocking calls.
+    pub stepping: u32,
+    /// Levels of `sim.setThreadAutomaticSwitch(false)` and `sim.acquireLock()`: above
+    /// 0, no pre-emption either.
+    pub locks: u32,
+    /// How long the thread runs before it is pre-empted, when pre-emption is on.
+    pub auto_yield: Duration,
+}
+
+impl Default for ThreadMode {
+    fn default() -> Self {
+        Self {
+            stepping: 0,
+            locks: 0,
+            auto_yield: DEFAULT_AUTO_YIELD,
+        }
+    }
+}
+
+impl ThreadMode {
+    /// Whether the thread is pre-empted after [`ThreadMode::auto_yield`].
+    pub fn preemptive(&self) -> bool {
+        self.stepping == 0 && self.locks == 0
+    }
+}
+
+/// The Lua side of the blocking calls.
+const THREADS_LUA: &str = include_str!("lua/threads.lua");
+
+/// `sim.moveToConfig` and `sim.moveToPose`, blocking calls built on `sim.ruckigPos`,
+/// `sim.ruckigStep` and `sim.step`.
+const MOTION_LUA: &str = include_str!("lua/motion.lua");
+
+/// Installs the thread functions into the global `sim` table: the blocking calls from
+/// `lua/threads.lua` and the mode setters below, which act on the calling script.
+pub(crate) fn install(lua: &Lua, shared: &Rc<Shared>, sim: &Table) -> mlua::Result<()> {
+    let host = lua.create_table()?;
+    // Each setter reads or changes the mode of the script running now; outside any
+    // script (never reached from Lua) there is no mode to change.
+    let with_mode = |f: fn(&mut ThreadMode, Option<mlua::Value>) -> mlua::Result<mlua::Value>| {
+        let shared = shared.clone();
+        lua.create_function(move |_, arg: Option<mlua::Value>| {
+            let i = shared
+                .current_script
+                .get()
+                .ok_or_else(|| mlua::Error::runtime("no script is running"))?;
+            let mut modes = shared.thread_modes.borrow_mut();
+            let mode = modes
+                .get_mut(i)
+                .ok_or_else(|| mlua::Error::runtime("no script is running"))?;
+            f(mode, arg)
+        })
+    };
+    host.set(
+        "setStepping",
+        with_mode(|m, arg| {
+            let enable = truthy(arg.as_ref(), "setStepping")?;
+            let previous = m.stepping;
+            m.stepping = level(m.stepping, enable);
+            Ok(mlua::Value::Integer(i64::from(previous)))
+        })?,
+    )?;
+    host.set(
+        "getStepping",
+        with_mode(|m, _| Ok(mlua::Value::Boolean(m.stepping > 0)))?,
+    )?;
+    host.set(
+        "setThreadAutomaticSwitch",
+        with_mode(|m, arg| {
+            let automatic = truthy(arg.as_ref(), "setThreadAutomaticSwitch")?;
+            let previous = m.locks;
+            m.locks = level(m.locks, !automatic);
+            Ok(mlua::Value::Integer(i64::from(previous)))
+        })?,
+    )?;
+    host.set(
+        "getThreadAutomaticSwitch",
+        with_mode(|m, _| Ok(mlua::Value::Boolean(m.preemptive())))?,
+    )?;
+    host.set(
+        "acquireLock",
+        with_mode(|m, _| {
+            m.locks = m.locks.saturating_add(1);
+            Ok(mlua::Value::Nil)
+        })?,
+    )?;
+    host.set(
+        "releaseLock",
+        with_mode(|m, _| {
+            m.locks = m.locks.saturating_sub(1);
+            Ok(mlua::Value::Nil)
+        })?,
+    )?;
+    host.set(
+        "setAutoYieldDelay",
+        with_mode(|m, arg| {
+            let seconds = seconds(arg.as_ref(), "setAutoYieldDelay", 1.0)?;
+            let previous = m.auto_yield.as_secs_f64();
+            m.auto_yield = Duration::from_secs_f64(seconds);
+            Ok(mlua::Value::Number(previous))
+        })?,
+    )?;
+    host.set(
+        "getAutoYieldDelay",
+        with_mode(|m, _| Ok(mlua::Value::Number(m.auto_yield.as_secs_f64())))?,
+    )?;
+    // CoppeliaSim 4.0-4.5: the same delay in milliseconds.
+    host.set(
+        "setThreadSwitchTiming",
+        with_mode(|m, arg| {
+            let ms = seconds(arg.as_ref(), "setThreadSwitchTiming", 1000.0)?;
+            m.auto_yield = Duration::from_secs_f64(ms / 1000.0);
+            Ok(mlua::Value::Integer(1))
+        })?,
+    )?;
+    let running = shared.clone();
+    host.set(
+        "isScriptRunningInThread",
+        lua.create_function(move |lua, ()| {
+            let ptr = lua.current_thread().to_pointer();
+            Ok(i64::from(!ptr.is_null() && ptr == running.running_thread.get()))
+        })?,
+    )?;
+    lua.load(MOTION_LUA)
+        .set_name("@gantry/motion.lua")
+        .call::<()>(sim.clone())?;
+    lua.load(THREADS_LUA).set_name("@gantry/threads.lua").call::<()>((
+        sim.clone(),
+        host,
+        lua.globals().get::<Table>("coroutine")?,
+        lua.globals().get::<mlua::Function>("error")?,
+        lua.globals().get::<mlua::Function>("type")?,
+        lua.globals().get::<Table>("string")?,
+    ))
+}
+
+/// A level that `true` raises and `false` lowers (never below 0).
+fn level(current: u32, raise: bool) -> u32 {
+    if raise {
+        current.saturating_add(1)
+    } else {
+        current.saturating_sub(1)
+    }
+}
+
+/// A boolean argument; CoppeliaSim 4.0-4.5 scripts also pass 0 and 1.
+fn truthy(v: Option<&mlua::Value>, f: &str) -> mlua::Result<bool> {
+    match v {
+        Some(mlua::Value::Boolean(b)) => Ok(*b),
+        Some(mlua::Value::Integer(i)) => Ok(*i != 0),
+        Some(mlua::Value::Number(n)) => Ok(*n != 0.0),
+        other => Err(mlua::Error::runtime(format!(
+            "argument 1: expected boolean, got {} (in function 'sim.{f}')",
+            other.map_or("no value", |v| v.type_name())
+        ))),
+    }
+}
+
+/// A non-negative, finite duration argument in seconds (`scale` converts other units),
+/// at most one hour.
+fn seconds(v: Option<&mlua::Value>, f: &str, scale: f64) -> mlua::Result<f64> {
+    let x = match v {
+        Some(mlua::Value::Integer(i)) => *i as f64,
+        Some(mlua::Value::Number(n)) => *n,
+        other => {
+            return Err(mlua::Error::runtime(format!(
+                "argument 1: expected number, got {} (in function 'sim.{f}')",
+                other.map_or("no value", |v| v.type_name())
+            )));
+        }
+    };
+    let s = x / scale;
+    if !(0.0..=3600.0).contains(&s) {
+        return Err(mlua::Error::runtime(format!(
+            "argument 1: expected a delay between 0 and 3600 s, got {x} (in function 'sim.{f}')"
+        )));
+    }
+    Ok(x)
+}

@@ -1,0 +1,140 @@
+//! Scripts written for CoppeliaSim 4.0-4.2 and for 4.6+, run unmodified: the old names
+//! (`sim.getObjectHandle` with its suffixes, integer signals, the status bar, auxiliary
+//! consoles, user parameters, `sysCall_threadmain`) and the new module form
+//! (`sim = require 'sim'`, `sysCall_thread`).
+
+mod util;
+
+use gantry_script::ScriptState;
+use gantry_sim_core::Value;
+use util::{Scene, assert_contains, log_lines, script_state};
+
+/// The rover of the BubbleRob scene with a 4.2-style threaded script: the old lookup,
+/// signals, status bar, console and user parameters, driving the motors for 1 s.
+const SCRIPT_4_2: &str = r#"
+function sysCall_threadmain()
+    sim.setThreadAutomaticSwitch(false)
+    local self = sim.getObjectAssociatedWithScript(sim.handle_self)
+    local body = sim.getObjectHandle('bubbleRob')
+    local same = sim.getObjectHandle('bubbleRob#')
+    local left = sim.getObjectHandle('leftMotor')
+    local right = sim.getObjectHandle('rightMotor')
+    local missing = sim.getObjectHandle('noSuchThing@silentError')
+    local ok = pcall(sim.getObjectHandle, 'noSuchThing')
+    sim.addStatusbarMessage('handles ' .. tostring(self == body) .. ' ' .. tostring(same == body)
+        .. ' ' .. missing .. ' ' .. tostring(ok))
+    local console = sim.auxiliaryConsoleOpen('BubbleRob', 10, 1)
+    sim.auxiliaryConsolePrint(console, 'line one\nline two\n')
+    sim.setScriptSimulationParameter(sim.handle_self, 'speed', 2.5)
+    local speed = sim.getScriptSimulationParameter(sim.handle_self, 'speed')
+    local t0 = sim.getSystemTimeInMs(-1)
+    while sim.getSimulationTime() < 1 do
+        sim.setJointTargetVelocity(left, speed)
+        sim.setJointTargetVelocity(right, speed)
+        sim.setIntegerSignal('loops', (sim.getIntegerSignal('loops') or 0) + 1)
+        sim.switchThread()
+    end
+    sim.setJointTargetVelocity(left, 0)
+    sim.setJointTargetVelocity(right, 0)
+    sim.addStatusbarMessage('elapsed ms >= 0: ' .. tostring(sim.getSystemTimeInMs(t0) >= 0))
+    sim.auxiliaryConsoleClose(console)
+    sim.stopSimulation()
+end
+"#;
+
+#[test]
+fn a_coppeliasim_4_2_threaded_script_runs_unmodified() {
+    let mut sc = Scene::new(
+        "legacy-4-2",
+        &util::bubble_rob_toml(Some("probe.lua")),
+        &[("probe.lua", SCRIPT_4_2)],
+        gantry_script::ScriptLimits::default(),
+    );
+    let mut steps = 0;
+    while sc.sim.state() != gantry_sim_core::world::SimulationState::Stopped || steps == 0 {
+        sc.sim.step();
+        steps += 1;
+        assert!(steps < 100, "the script did not stop the simulation");
+    }
+    // 1 s at dt = 0.05 s: the loop ran 20 times, then the script stopped the simulation
+    // (the world is back at its start, the log kept).
+    assert_eq!(steps, 21);
+    let lines: Vec<(String, String)> = log_lines(&sc.sim).into_iter().map(|(s, _, m)| (s, m)).collect();
+    let has = |src: &str, msg: &str| lines.iter().any(|(s, m)| s == src && m == msg);
+    assert!(has("probe.lua", "handles true true -1 false"), "{lines:?}");
+    assert!(has("console: BubbleRob", "line one"), "{lines:?}");
+    assert!(has("console: BubbleRob", "line two"), "{lines:?}");
+    assert!(has("probe.lua", "elapsed ms >= 0: true"), "{lines:?}");
+    assert!(lines.iter().all(|(_, m)| !m.contains("error")), "{lines:?}");
+}
+
+#[test]
+fn the_rover_moves_under_the_4_2_script() {
+    let mut sc = Scene::new(
+        "legacy-4-2-moves",
+        &util::bubble_rob_toml(Some("probe.lua")),
+        &[("probe.lua", SCRIPT_4_2)],
+        gantry_script::ScriptLimits::default(),
+    );
+    let body = sc.find("/bubbleRob");
+    let start = util::world_position(&sc.sim, body);
+    for _ in 0..15 {
+        sc.sim.step();
+    }
+    let now = util::world_position(&sc.sim, body);
+    let moved = ((now[0] - start[0]).powi(2) + (now[1] - start[1]).powi(2)).sqrt();
+    // 2.5 rad/s on 0.04 m wheels is 0.1 m/s: about 0.07 m in 0.7 s.
+    assert!(moved > 0.03, "moved {moved} m");
+    assert_eq!(util::int32_signal(&mut sc.sim, "loops"), Some(15));
+}
+
+#[test]
+fn a_coppeliasim_4_6_module_script_runs_unmodified() {
+    let script = r#"
+sim = require 'sim'
+simUI = require('simUI')
+
+function sysCall_init()
+    body = sim.getObject('/bubbleRob')
+    left = sim.getObject('/bubbleRob/leftMotor')
+end
+
+function sysCall_thread()
+    sim.setStepping(true)
+    sim.setJointTargetVelocity(left, 1)
+    sim.wait(0.5)
+    sim.setJointTargetVelocity(left, 0)
+    sim.setInt32Signal('done', 1)
+end
+"#;
+    let mut sc = Scene::new(
+        "module-4-6",
+        &util::bubble_rob_toml(Some("probe.lua")),
+        &[("probe.lua", script)],
+        gantry_script::ScriptLimits::default(),
+    );
+    for _ in 0..12 {
+        sc.sim.step();
+    }
+    assert_eq!(util::int32_signal(&mut sc.sim, "done"), Some(1));
+    assert_eq!(script_state(&sc.sim, "probe.lua"), ScriptState::Running);
+}
+
+#[test]
+fn remote_clients_see_the_old_names_too() {
+    let mut sc = Scene::rover("legacy-remote", "function sysCall_init() end");
+    let h = sc.remote("getObjectHandle", &[Value::Str("bubbleRob".into())]);
+    assert_eq!(h, [Value::Int(sc.find("/bubbleRob"))]);
+    sc.remote("setIntegerSignal", &[Value::Str("x".into()), Value::Int(3)]);
+    assert_eq!(sc.remote("getInt32Signal", &[Value::Str("x".into())]), [Value::Int(3)]);
+    let e = sc
+        .sim
+        .call("getObjectHandle", &[Value::Str("nope".into())])
+        .unwrap_err();
+    assert_contains(&e, &["object does not exist", "sim.getObjectHandle"]);
+    let e = sc
+        .sim
+        .call("getObjectAssociatedWithScript", &[Value::Int(-4)])
+        .unwrap_err();
+    assert_contains(&e, &["remote client"]);
+}

@@ -1,0 +1,549 @@
+//! Threaded scripts: `sysCall_thread` (4.6+), `sysCall_threadmain` and script-owned
+//! coroutines (4.0-4.5), the blocking calls, pre-emption, errors, stop and restart,
+//! hot reload, `require`, and simulation control from scripts.
+//!
+//! Each expectation is CoppeliaSim's documented behaviour: threads are resumed once per
+//! step at the start of actuation; `sim.step` yields until the next step; `sim.wait`
+//! waits in simulation time with the step's resolution and returns the overshoot;
+//! non-stepping threads are pre-empted instead of freezing the simulator.
+
+mod util;
+
+use std::time::Duration;
+
+use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_sim_core::Value;
+use gantry_sim_core::world::SimulationState;
+use util::{Scene, assert_contains, log_lines, script_error, script_state};
+
+/// Two dummies, each with a script: `a.lua` on `/a`, `b.lua` on `/b`.
+const TWO: &str = r#"
+[[object]]
+name = "a"
+kind = "dummy"
+script = "a.lua"
+
+[[object]]
+name = "b"
+kind = "dummy"
+script = "b.lua"
+"#;
+
+/// One dummy with `a.lua`.
+const ONE: &str = r#"
+[[object]]
+name = "a"
+kind = "dummy"
+script = "a.lua"
+"#;
+
+fn scene(tag: &str, toml: &str, files: &[(&str, &str)]) -> Scene {
+    Scene::new(tag, toml, files, ScriptLimits::default())
+}
+
+fn steps(sim: &mut Simulation, n: usize) {
+    for _ in 0..n {
+        sim.step();
+    }
+}
+
+/// The `print` lines of `file` (information, not errors), in order.
+fn printed(sim: &Simulation, file: &str) -> Vec<String> {
+    log_lines(sim)
+        .into_iter()
+        .filter(|(src, v, _)| src == file && *v == 450)
+        .map(|(_, _, m)| m)
+        .collect()
+}
+
+#[test]
+fn a_thread_is_resumed_once_per_step_at_the_start_of_actuation() {
+    let a = "function sysCall_thread()
+        sim.setStepping(true)
+        for i = 1, 3 do
+            print(string.format('thread %d t=%.2f', i, sim.getSimulationTime()))
+            sim.step()
+        end
+        print('thread done')
+    end";
+    let b = "function sysCall_actuation() print(string.format('actuation t=%.2f', sim.getSimulationTime())) end";
+    let mut sc = scene("order", TWO, &[("a.lua", a), ("b.lua", b)]);
+    steps(&mut sc.sim, 5);
+    let all: Vec<String> = log_lines(&sc.sim)
+        .into_iter()
+        .filter(|(src, _, _)| src.ends_with(".lua"))
+        .map(|(_, _, m)| m)
+        .collect();
+    assert_eq!(
+        all,
+        [
+            "thread 1 t=0.00",
+            "actuation t=0.00",
+            "thread 2 t=0.05",
+            "actuation t=0.05",
+            "thread 3 t=0.10",
+            "actuation t=0.10",
+            "thread done",
+            "actuation t=0.15",
+            "actuation t=0.20",
+        ]
+    );
+    // A thread that returned has ended cleanly: no error, the script keeps running.
+    assert_eq!(script_state(&sc.sim, "a.lua"), ScriptState::Running);
+}
+
+#[test]
+fn sim_wait_blocks_in_simulation_time_and_returns_the_overshoot() {
+    let a = "function sysCall_thread()
+        sim.setStepping(true)
+        local t0 = sim.getSimulationTime()
+        local left = sim.wait(0.12)
+        print(string.format('waited %.2f left %.3f', sim.getSimulationTime() - t0, left))
+        left = sim.wait(0.1)
+        print(string.format('then at %.2f, on time: %s', sim.getSimulationTime(), tostring(math.abs(left) < 1e-9)))
+    end";
+    let mut sc = scene("wait", ONE, &[("a.lua", a)]);
+    steps(&mut sc.sim, 10);
+    // dt = 0.05 s: 0.12 s ends at the first step starting >= 0.12 s later, t = 0.15,
+    // 0.03 s late; 0.1 s is two steps exactly.
+    assert_eq!(
+        printed(&sc.sim, "a.lua"),
+        ["waited 0.15 left -0.030", "then at 0.25, on time: true"]
+    );
+}
+
+#[test]
+fn a_thread_waits_for_a_signal_set_by_another_script() {
+    let a = "function sysCall_thread()
+        local v = sim.waitForSignal('go')
+        print(string.format('go=%s at t=%.2f', tostring(v), sim.getSimulationTime()))
+        local w = sim.waitForSignal(sim.handle_scene, 'name')
+        print('name=' .. w)
+    end";
+    let b = "function sysCall_sensing()
+        local t = sim.getSimulationTime()
+        if t > 0.19 and t < 0.21 then sim.setInt32Signal('go', 7) end
+        if t > 0.29 and t < 0.31 then sim.setStringSignal('name', 'gripper') end
+    end";
+    let mut sc = scene("signal", TWO, &[("a.lua", a), ("b.lua", b)]);
+    steps(&mut sc.sim, 10);
+    // Set during the sensing of the step at t = 0.2, seen at the next resumption.
+    assert_eq!(printed(&sc.sim, "a.lua"), ["go=7 at t=0.25", "name=gripper"]);
+}
+
+#[test]
+fn a_thread_that_errors_names_file_and_line_and_the_others_go_on() {
+    let a = "function sysCall_thread()
+        sim.step()
+        sim.step()
+        local x = nil
+        return x.field
+    end";
+    let b = "n = 0
+    function sysCall_actuation() n = n + 1 end
+    function count() return n end";
+    let mut sc = scene("error", TWO, &[("a.lua", a), ("b.lua", b)]);
+    steps(&mut sc.sim, 6);
+    let e = script_error(&sc.sim, "a.lua");
+    assert_contains(&e, &["a.lua:5:", "attempt to index a nil value"]);
+    assert_eq!(sc.call("count", &[]), [Value::Int(6)]);
+    let errors = log_lines(&sc.sim)
+        .iter()
+        .filter(|(s, v, _)| s == "a.lua" && *v == 200)
+        .count();
+    assert_eq!(errors, 1, "the error is reported once");
+}
+
+#[test]
+fn blocking_calls_in_non_threaded_hooks_fail_clearly() {
+    for call in [
+        "sim.step()",
+        "sim.wait(0.1)",
+        "sim.waitForSignal('x')",
+        "sim.switchThread()",
+    ] {
+        let a = format!("function sysCall_actuation()\n    {call}\nend");
+        let mut sc = scene("blocking", ONE, &[("a.lua", &a)]);
+        steps(&mut sc.sim, 2);
+        let e = script_error(&sc.sim, "a.lua");
+        assert_contains(
+            &e,
+            &["a.lua:2:", "blocking calls need a threaded script", "sysCall_thread"],
+        );
+        // The simulation went on.
+        assert!((sc.sim.world().time() - 0.1).abs() < 1e-9, "{call}");
+    }
+}
+
+#[test]
+fn non_stepping_threads_are_preempted_and_stepping_ones_hit_the_budget() {
+    // A busy loop that never yields: CoppeliaSim pre-empts it after the auto-yield
+    // delay, so the simulation advances and the loop continues next step.
+    let a = "n = 0
+    function sysCall_thread()
+        while true do n = n + 1 end
+    end
+    function count() return n end";
+    let limits = ScriptLimits {
+        time_budget: Duration::from_millis(300),
+        ..ScriptLimits::default()
+    };
+    let mut sc = Scene::new("preempt", ONE, &[("a.lua", a)], limits);
+    steps(&mut sc.sim, 3);
+    let after3 = util::int(&sc.call("count", &[])[0]);
+    steps(&mut sc.sim, 3);
+    let after6 = util::int(&sc.call("count", &[])[0]);
+    assert!(after3 > 0 && after6 > after3, "{after3} then {after6}");
+    assert_eq!(script_state(&sc.sim, "a.lua"), ScriptState::Running);
+
+    // In stepping mode nothing pre-empts it: the per-resumption budget stops it.
+    let a = "function sysCall_thread()
+        sim.setStepping(true)
+        while true do end
+    end";
+    let mut sc = Scene::new("budget", ONE, &[("a.lua", a)], limits);
+    steps(&mut sc.sim, 2);
+    assert_contains(&script_error(&sc.sim, "a.lua"), &["a.lua:3:", "time budget"]);
+}
+
+#[test]
+fn stepping_levels_nest_and_report_the_previous_level() {
+    let a = "function sysCall_thread()
+        local r = {}
+        r[#r+1] = sim.setStepping(true)
+        r[#r+1] = sim.setStepping(true)
+        r[#r+1] = sim.setStepping(false)
+        r[#r+1] = sim.getThreadAutomaticSwitch() and 1 or 0
+        r[#r+1] = sim.setStepping(false)
+        r[#r+1] = sim.getThreadAutomaticSwitch() and 1 or 0
+        r[#r+1] = sim.getAutoYieldDelay()
+        print(table.concat(r, ','))
+    end";
+    let mut sc = scene("levels", ONE, &[("a.lua", a)]);
+    steps(&mut sc.sim, 1);
+    assert_eq!(printed(&sc.sim, "a.lua"), ["0,1,2,0,1,1,0.002"]);
+}
+
+#[test]
+fn coppeliasim_4_2_threadmain_with_switch_thread_runs() {
+    // The 4.0-4.2 threaded child script: one function, automatic switching off and
+    // an explicit switch per loop iteration, until the simulation stops.
+    let a = "function sysCall_threadmain()
+        sim.setThreadAutomaticSwitch(false)
+        local n = 0
+        while sim.getSimulationState() ~= sim.simulation_advancing_abouttostop do
+            n = n + 1
+            sim.setIntegerSignal('loops', n)
+            sim.switchThread()
+        end
+    end";
+    let mut sc = scene("threadmain", ONE, &[("a.lua", a)]);
+    steps(&mut sc.sim, 4);
+    assert_eq!(util::int32_signal(&mut sc.sim, "loops"), Some(4));
+}
+
+#[test]
+fn coppeliasim_4_3_coroutine_pattern_runs() {
+    // The 4.3-4.5 template: a coroutine created in sysCall_init, resumed from
+    // sysCall_actuation, its errors reported with debug.traceback.
+    let a = "function sysCall_init()
+        corout = coroutine.create(coroutineMain)
+    end
+    function sysCall_actuation()
+        if coroutine.status(corout) ~= 'dead' then
+            local ok, errorMsg = coroutine.resume(corout)
+            if errorMsg then error(debug.traceback(corout, errorMsg), 2) end
+        end
+    end
+    function coroutineMain()
+        sim.setThreadAutomaticSwitch(false)
+        for i = 1, 2 do
+            print('step ' .. i)
+            sim.switchThread()
+        end
+        sim.wait(0.1)
+        print('waited')
+        error('boom')
+    end";
+    let mut sc = scene("coroutine", ONE, &[("a.lua", a)]);
+    steps(&mut sc.sim, 8);
+    assert_eq!(printed(&sc.sim, "a.lua"), ["step 1", "step 2", "waited"]);
+    assert_contains(&script_error(&sc.sim, "a.lua"), &["a.lua:18:", "boom"]);
+}
+
+#[test]
+fn stop_and_restart_while_a_thread_is_suspended() {
+    let a = "function sysCall_init() print('init') end
+    function sysCall_thread()
+        sim.setStepping(true)
+        local i = 0
+        while true do
+            i = i + 1
+            sim.setInt32Signal('i', i)
+            sim.wait(0.05)
+        end
+    end
+    function sysCall_cleanup() print('cleanup') end";
+    let mut sc = scene("restart", ONE, &[("a.lua", a)]);
+    steps(&mut sc.sim, 5);
+    assert_eq!(util::int32_signal(&mut sc.sim, "i"), Some(5));
+    sc.sim.stop();
+    assert_eq!(sc.sim.state(), SimulationState::Stopped);
+    // The restarted thread starts from the top, in a fresh world (signals cleared).
+    assert_eq!(util::int32_signal(&mut sc.sim, "i"), None);
+    steps(&mut sc.sim, 2);
+    assert_eq!(util::int32_signal(&mut sc.sim, "i"), Some(2));
+    assert_eq!(printed(&sc.sim, "a.lua"), ["init", "cleanup", "init"]);
+}
+
+#[test]
+fn hot_reload_restarts_a_threaded_script_with_the_new_code() {
+    let v1 = "function sysCall_thread()
+        sim.setStepping(true)
+        while true do sim.setInt32Signal('version', 1); sim.step() end
+    end";
+    let v2 = "function sysCall_thread()
+        sim.setStepping(true)
+        while true do sim.setInt32Signal('version', 2); sim.step() end
+    end";
+    let mut sc = scene("reload", ONE, &[("a.lua", v1)]);
+    steps(&mut sc.sim, 3);
+    assert_eq!(util::int32_signal(&mut sc.sim, "version"), Some(1));
+    sc.dir.write("a.lua", v2);
+    sc.sim.reload(0);
+    steps(&mut sc.sim, 2);
+    assert_eq!(util::int32_signal(&mut sc.sim, "version"), Some(2));
+    assert_eq!(script_state(&sc.sim, "a.lua"), ScriptState::Running);
+}
+
+#[test]
+fn a_script_can_stop_and_pause_the_simulation() {
+    let a = "function sysCall_thread()
+        sim.setStepping(true)
+        sim.wait(0.1)
+        sim.pauseSimulation()
+        sim.step()
+        sim.stopSimulation()
+        sim.step()
+        print('never')
+    end
+    function sysCall_cleanup() print('cleanup') end";
+    let mut sc = scene("control", ONE, &[("a.lua", a)]);
+    steps(&mut sc.sim, 3);
+    // Paused at the end of the step during which it asked (the third, t = 0.1).
+    assert_eq!(sc.sim.state(), SimulationState::Paused);
+    assert!((sc.sim.world().time() - 0.15).abs() < 1e-9);
+    sc.sim.start();
+    sc.sim.step();
+    assert_eq!(sc.sim.state(), SimulationState::Stopped);
+    assert_eq!(printed(&sc.sim, "a.lua"), ["cleanup"]);
+}
+
+#[test]
+fn require_returns_the_api_and_refuses_anything_else_by_name() {
+    let a = "local s = require('sim')
+    local ik = require 'simIK'
+    same = (s == sim) and (ik == simIK) and require('sim-2') == sim
+    function check() return same end
+    function other(name) return pcall(require, name) end";
+    let mut sc = scene("require", ONE, &[("a.lua", a)]);
+    sc.sim.start();
+    assert_eq!(sc.call("check", &[]), [Value::Bool(true)]);
+    let r = sc.call("other", &[Value::Str("socket.core".into())]);
+    assert_eq!(r[0], Value::Bool(false));
+    assert_contains(
+        util::text(&r[1]),
+        &[
+            "module 'socket.core' is not available in gantry",
+            "sim, simIK, simUI, simVision",
+        ],
+    );
+}
+
+#[test]
+fn a_loop_in_a_coroutine_of_a_non_threaded_hook_is_interrupted() {
+    // Coroutines a script creates get the time-budget hook too: before threads, a
+    // loop inside one ran forever.
+    let a = "function sysCall_actuation()
+        local co = coroutine.create(function() while true do end end)
+        coroutine.resume(co)
+    end";
+    let limits = ScriptLimits {
+        time_budget: Duration::from_millis(200),
+        ..ScriptLimits::default()
+    };
+    let mut sc = Scene::new("coroutine-budget", ONE, &[("a.lua", a)], limits);
+    steps(&mut sc.sim, 2);
+    assert_contains(&script_error(&sc.sim, "a.lua"), &["time budget"]);
+}
+
+/// The arm of the paper's scene with kinematic joints, a pick-and-place thread on it
+/// and a non-threaded script that gives the start signal.
+fn pick_and_place_scene(thread: &str, starter: &str) -> Scene {
+    let urdf = util::repo("assets/robots/arm6/arm6.urdf");
+    let toml = format!(
+        r#"
+[simulation]
+dt = 0.05
+
+[floor]
+size = [4, 4]
+
+[[robot]]
+name = "arm6"
+urdf = "{}"
+joint_mode = "kinematic"
+script = "pick.lua"
+
+[[object]]
+name = "starter"
+kind = "dummy"
+script = "starter.lua"
+"#,
+        urdf.display()
+    );
+    Scene::new(
+        "pick",
+        &toml,
+        &[("pick.lua", thread), ("starter.lua", starter)],
+        ScriptLimits::default(),
+    )
+}
+
+#[test]
+fn pick_and_place_with_move_to_config_in_a_thread() {
+    // Written in the style of the manual's threaded examples: wait for a start
+    // signal, move to the pick configuration, grasp (attach), move to the place
+    // configuration with the 4.0-4.5 call form, release, go home.
+    let thread = "
+    local qPick = {0.5, 0.3, 0.2, 0, -1.2, 0}
+    local qPlace = {-0.6, 0.2, 0.4, 0, -1.0, 0.3}
+    local vmax, amax, jmax = 1.0, 2.0, 10.0
+
+    local function tipAt(q)
+        -- Forward kinematics by posing the arm, as a script would with IK off.
+        local saved = {}
+        for i = 1, 6 do saved[i] = sim.getJointPosition(joints[i]); sim.setJointPosition(joints[i], q[i]) end
+        local p = sim.getObjectPosition(tip, sim.handle_world)
+        for i = 1, 6 do sim.setJointPosition(joints[i], saved[i]) end
+        return p
+    end
+
+    function sysCall_init()
+        joints = {}
+        for i = 1, 6 do joints[i] = sim.getObject('./joint' .. i) end
+        tip = sim.getObject('./tip')
+        pickAt, placeAt = tipAt(qPick), tipAt(qPlace)
+        cube = sim.createPrimitiveShape(sim.primitiveshape_cuboid, {0.04, 0.04, 0.04})
+        sim.setObjectPosition(cube, pickAt, sim.handle_world)
+        sim.setObjectAlias(cube, 'cube')
+    end
+
+    function sysCall_thread()
+        sim.setStepping(true)
+        sim.waitForSignal('start')
+        local t0 = sim.getSimulationTime()
+        local r = sim.moveToConfig({joints = joints, targetPos = qPick,
+            maxVel = {vmax, vmax, vmax, vmax, vmax, vmax},
+            maxAccel = {amax, amax, amax, amax, amax, amax},
+            maxJerk = {jmax, jmax, jmax, jmax, jmax, jmax}})
+        sim.setFloatSignal('pickTime', sim.getSimulationTime() - t0)
+        sim.setObjectParent(cube, tip, true)
+
+        local current = {}
+        for i = 1, 6 do current[i] = sim.getJointPosition(joints[i]) end
+        local v, a, j = {}, {}, {}
+        for i = 1, 6 do v[i], a[i], j[i] = vmax, amax, jmax end
+        local endPos = sim.moveToConfig(-1, current, nil, nil, v, a, j, qPlace, nil,
+            function(q) for i = 1, 6 do sim.setJointPosition(joints[i], q[i]) end end)
+        sim.setObjectParent(cube, -1, true)
+        local c = sim.getObjectPosition(cube, sim.handle_world)
+        local err = 0
+        for k = 1, 3 do err = math.max(err, math.abs(c[k] - placeAt[k])) end
+        sim.setFloatSignal('placeError', err)
+        sim.setFloatSignal('endError', math.abs(endPos[1] - qPlace[1]))
+
+        sim.moveToConfig({joints = joints, targetPos = {0, 0, 0, 0, 0, 0},
+            maxVel = v, maxAccel = a, maxJerk = j})
+        local after = sim.getObjectPosition(cube, sim.handle_world)
+        local moved = 0
+        for k = 1, 3 do moved = math.max(moved, math.abs(after[k] - c[k])) end
+        sim.setFloatSignal('cubeMovedAfterRelease', moved)
+        sim.setInt32Signal('done', 1)
+    end";
+    // The non-threaded part: gives the start signal at t = 0.2 s, and measures the
+    // fastest joint 1 motion seen between two steps.
+    let starter = "
+    function sysCall_init() j1 = sim.getObject('/arm6/joint1'); last = nil; fastest = 0 end
+    function sysCall_actuation()
+        if sim.getSimulationTime() >= 0.2 then sim.setInt32Signal('start', 1) end
+    end
+    function sysCall_sensing()
+        local q = sim.getJointPosition(j1)
+        if last then fastest = math.max(fastest, math.abs(q - last) / sim.getSimulationTimeStep()) end
+        last = q
+        sim.setFloatSignal('fastest', fastest)
+    end";
+    let mut sc = pick_and_place_scene(thread, starter);
+    let mut n = 0;
+    while util::int32_signal(&mut sc.sim, "done").is_none() {
+        sc.sim.step();
+        n += 1;
+        assert!(
+            n < 400,
+            "the sequence did not finish in 20 s; log: {:?}",
+            log_lines(&sc.sim)
+        );
+    }
+    let float = |sc: &mut Scene, name: &str| util::num(&sc.remote("getFloatSignal", &[Value::Str(name.into())])[0]);
+    // Joint 1 moves 0.5 rad at <= 1 rad/s with accel <= 2 rad/s^2: at least
+    // 0.5 s + ramp time; jerk-limited, so a little more.
+    let pick_time = float(&mut sc, "pickTime");
+    assert!((0.55..3.0).contains(&pick_time), "pick took {pick_time} s");
+    let fastest = float(&mut sc, "fastest");
+    assert!(
+        fastest <= 1.0 + 1e-6 && fastest > 0.5,
+        "joint 1 moved at up to {fastest} rad/s"
+    );
+    // The cube rode on the tip to the place pose and stayed there.
+    assert!(float(&mut sc, "placeError") < 1e-6);
+    assert!(float(&mut sc, "endError") < 1e-9);
+    assert!(float(&mut sc, "cubeMovedAfterRelease") < 1e-9);
+    assert_eq!(script_state(&sc.sim, "pick.lua"), ScriptState::Running);
+    assert_eq!(script_state(&sc.sim, "starter.lua"), ScriptState::Running);
+}
+
+#[test]
+fn every_sim_function_a_script_sees_is_in_the_registry_or_the_host_list() {
+    // The docs are generated from these two lists; a function installed without
+    // being listed (or listed without being installed) would make them lie.
+    let a = "function names()
+        local t = {}
+        for k, v in pairs(sim) do if type(v) == 'function' then t[#t + 1] = k end end
+        table.sort(t)
+        return table.concat(t, ',')
+    end";
+    let mut sc = scene("names", ONE, &[("a.lua", a)]);
+    sc.sim.start();
+    let seen: std::collections::BTreeSet<String> = util::text(&sc.call("names", &[])[0])
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let module = gantry_sim_core::api::module("sim").expect("sim");
+    let mut listed: std::collections::BTreeSet<String> = module.callable().map(|(n, _)| n.to_owned()).collect();
+    listed.extend(gantry_script::HOST_FUNCTIONS.iter().map(|(n, _)| (*n).to_owned()));
+    let unlisted: Vec<&String> = seen.difference(&listed).collect();
+    let missing: Vec<&String> = listed.difference(&seen).collect();
+    assert!(unlisted.is_empty(), "installed but not listed: {unlisted:?}");
+    assert!(missing.is_empty(), "listed but not installed: {missing:?}");
+}
+
+#[test]
+fn the_default_scene_starts_and_runs_without_a_warning() {
+    let path = util::repo("assets/scenes/bubble_rob.toml");
+    let mut sim = Simulation::new(util::load(&path), ScriptLimits::default()).expect("builds");
+    steps(&mut sim, 40);
+    let warnings: Vec<(String, i64, String)> = log_lines(&sim).into_iter().filter(|(_, v, _)| *v <= 300).collect();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert!(sim.world().warnings().is_empty(), "{:?}", sim.world().warnings());
+}

@@ -1,0 +1,408 @@
+//! Names from CoppeliaSim 4.0-4.5 that tutorials, course material and lab code still
+//! call, with the semantics of the version that documented them.
+//!
+//! A rename with unchanged arguments and results is an alias ([`ALIASES`]): the
+//! registry resolves it to the current function, so there is one implementation. What
+//! behaves differently (lookup by name with `#` suffixes, the status bar, auxiliary
+//! consoles, dialogs, millisecond time) is implemented here.
+
+use std::sync::OnceLock;
+use std::time::Instant;
+
+use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::world::{Handle, World};
+
+/// `(old name, current name)`: old names that are pure renames.
+pub const ALIASES: &[(&str, &str)] = &[
+    ("clearIntegerSignal", "clearInt32Signal"),
+    ("getArrayParameter", "getArrayParam"),
+    ("getBoolParameter", "getBoolParam"),
+    ("getFloatParameter", "getFloatParam"),
+    ("getInt32Parameter", "getInt32Param"),
+    ("getIntegerSignal", "getInt32Signal"),
+    ("getObjectName", "getObjectAlias"),
+    ("getVelocity", "getObjectVelocity"),
+    ("setArrayParameter", "setArrayParam"),
+    ("setBoolParameter", "setBoolParam"),
+    ("setFloatParameter", "setFloatParam"),
+    ("setInt32Parameter", "setInt32Param"),
+    ("setIntegerSignal", "setInt32Signal"),
+    ("setJointForce", "setJointMaxForce"),
+    ("setObjectFloatParameter", "setObjectFloatParam"),
+    ("setObjectInt32Parameter", "setObjectInt32Param"),
+    ("setObjectName", "setObjectAlias"),
+];
+
+/// The old functions whose behaviour is their own, in alphabetical order.
+pub const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "addStatusbarMessage",
+        call: add_statusbar_message,
+    },
+    ApiFunction {
+        name: "announceSceneContentChange",
+        call: announce_scene_content_change,
+    },
+    ApiFunction {
+        name: "auxiliaryConsoleClose",
+        call: auxiliary_console_close,
+    },
+    ApiFunction {
+        name: "auxiliaryConsoleOpen",
+        call: auxiliary_console_open,
+    },
+    ApiFunction {
+        name: "auxiliaryConsolePrint",
+        call: auxiliary_console_print,
+    },
+    ApiFunction {
+        name: "auxiliaryConsoleShow",
+        call: auxiliary_console_show,
+    },
+    ApiFunction {
+        name: "displayDialog",
+        call: display_dialog,
+    },
+    ApiFunction {
+        name: "endDialog",
+        call: end_dialog,
+    },
+    ApiFunction {
+        name: "getDialogResult",
+        call: get_dialog_result,
+    },
+    ApiFunction {
+        name: "getObjectAssociatedWithScript",
+        call: get_object_associated_with_script,
+    },
+    ApiFunction {
+        name: "getNamedInt32Param",
+        call: get_named_int32_param,
+    },
+    ApiFunction {
+        name: "getObjectFloatParameter",
+        call: get_object_float_parameter,
+    },
+    ApiFunction {
+        name: "getObjectHandle",
+        call: get_object_handle,
+    },
+    ApiFunction {
+        name: "getObjectInt32Parameter",
+        call: get_object_int32_parameter,
+    },
+    ApiFunction {
+        name: "getObjectSizeFactor",
+        call: get_object_size_factor,
+    },
+    ApiFunction {
+        name: "getScriptHandle",
+        call: get_script_handle,
+    },
+    ApiFunction {
+        name: "getScriptSimulationParameter",
+        call: get_script_simulation_parameter,
+    },
+    ApiFunction {
+        name: "getShapeBB",
+        call: get_shape_bb,
+    },
+    ApiFunction {
+        name: "getSystemTimeInMs",
+        call: get_system_time_in_ms,
+    },
+    ApiFunction {
+        name: "getUserParameter",
+        call: get_user_parameter,
+    },
+    ApiFunction {
+        name: "isDynamicallyEnabled",
+        call: is_dynamically_enabled,
+    },
+    ApiFunction {
+        name: "isHandle",
+        call: is_handle,
+    },
+    ApiFunction {
+        name: "setScriptSimulationParameter",
+        call: set_script_simulation_parameter,
+    },
+    ApiFunction {
+        name: "setUserParameter",
+        call: set_user_parameter,
+    },
+];
+
+/// Constants of the old functions, with CoppeliaSim's values.
+pub const CONSTANTS: &[(&str, i64)] = &[
+    ("dlgstyle_message", 0),
+    ("dlgstyle_input", 1),
+    ("dlgstyle_ok", 2),
+    ("dlgstyle_ok_cancel", 3),
+    ("dlgstyle_yes_no", 4),
+    ("dlgret_still_open", 0),
+    ("dlgret_ok", 1),
+    ("dlgret_cancel", 2),
+    ("dlgret_yes", 3),
+    ("dlgret_no", 4),
+];
+
+/// CoppeliaSim's `sim.handle_self`.
+const HANDLE_SELF: i64 = -4;
+
+/// Verbosity of the lines the status bar and consoles write (`sim.verbosity_scriptinfos`).
+const INFO: i64 = 450;
+
+/// `sim.getObjectHandle(name)` (4.0-4.2): the object whose name is `name`. A suffix
+/// `#k` names the (k+1)-th object of that name (CoppeliaSim names copies `name#0`,
+/// `name#1`, ...), a bare `#` the original; `name@silentError` returns -1 instead of
+/// failing when there is none. A path (`/a/b`, `./c`) is resolved as `sim.getObject` does.
+fn get_object_handle(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    if let Some(h) = a.get(0).as_i64() {
+        // `sim.getObjectHandle(sim.handle_self)` was accepted by old versions.
+        if h == HANDLE_SELF {
+            return Ok(vec![Value::Int(calling_object(ctx)?)]);
+        }
+    }
+    let raw = a.str(0)?;
+    let (name, silent) = match raw.strip_suffix("@silentError") {
+        Some(n) => (n, true),
+        None => (raw, false),
+    };
+    match find_by_name(w, ctx, name) {
+        Some(h) => Ok(vec![Value::Int(h)]),
+        None if silent => Ok(vec![Value::Int(-1)]),
+        None => Err(ApiError::new(format!("object does not exist: '{name}'"))),
+    }
+}
+
+fn find_by_name(w: &World, ctx: &CallContext<'_>, name: &str) -> Option<Handle> {
+    if name.starts_with(['/', '.', ':']) {
+        return w.find(name, ctx.script_object, 0).ok();
+    }
+    let (base, index) = match name.rsplit_once('#') {
+        Some((base, "")) => (base, 0),
+        Some((base, k)) => match k.parse::<usize>() {
+            Ok(k) => (base, k + 1),
+            Err(_) => (name, 0),
+        },
+        None => (name, 0),
+    };
+    w.handles()
+        .iter()
+        .copied()
+        .filter(|&h| w.object(h).is_ok_and(|o| o.alias == base))
+        .nth(index)
+}
+
+fn calling_object(ctx: &CallContext<'_>) -> Result<Handle, ApiError> {
+    ctx.script_object
+        .ok_or_else(|| ApiError::new("sim.handle_self names the calling script, and a remote client has none"))
+}
+
+/// `sim.getObjectAssociatedWithScript(scriptHandle)`: the object a script is attached
+/// to. In gantry a script's handle is its object's handle.
+fn get_object_associated_with_script(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.int(0)?;
+    let object = if h == HANDLE_SELF { calling_object(ctx)? } else { h };
+    w.object(object)?;
+    Ok(vec![Value::Int(object)])
+}
+
+/// `sim.getScriptHandle(name = sim.handle_self)`: the calling script's handle, or the
+/// handle of the script attached to the object named `name`.
+fn get_script_handle(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    match a.get(0) {
+        Value::Nil => Ok(vec![Value::Int(calling_object(ctx)?)]),
+        Value::Str(_) => get_object_handle(w, ctx, a),
+        v if v.as_i64() == Some(HANDLE_SELF) => Ok(vec![Value::Int(calling_object(ctx)?)]),
+        _ => Err(ApiError::new("argument 1: expected a script name or sim.handle_self")),
+    }
+}
+
+/// `sim.getObjectSizeFactor(h)`: 1, as objects are never scaled in gantry.
+fn get_object_size_factor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    w.object(a.handle(0)?)?;
+    Ok(vec![Value::Float(1.0)])
+}
+
+/// `sim.isHandle(h)`: whether an object with that handle exists.
+fn is_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.int(0)?;
+    Ok(vec![Value::Bool(w.object(h).is_ok())])
+}
+
+/// `sim.isDynamicallyEnabled(h)`: whether the physics engine simulates the object: a
+/// dynamic shape, or a joint in a dynamic mode. `sim.moveToConfig` uses it to choose
+/// between driving a joint's target and setting its position.
+fn is_dynamically_enabled(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    use crate::world::ObjectKind;
+    let enabled = match &w.object(a.handle(0)?)?.kind {
+        ObjectKind::Shape(s) => s.dynamic,
+        ObjectKind::Joint(j) => j.mode.is_dynamic(),
+        _ => false,
+    };
+    Ok(vec![Value::Bool(enabled)])
+}
+
+/// `sim.addStatusbarMessage(text)`: a line in the log (the viewer shows it); `nil`
+/// clears CoppeliaSim's status bar and does nothing here.
+fn add_statusbar_message(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    if let Value::Nil = a.get(0) {
+        return Ok(Vec::new());
+    }
+    let text = a.str(0)?;
+    let t = w.time();
+    w.log.push(t, INFO, ctx.source, text);
+    Ok(Vec::new())
+}
+
+/// `sim.auxiliaryConsoleOpen(title, maxLines, mode, ...)` → handle. The console is a
+/// source in the log, named after its title; position, size and colours are ignored.
+fn auxiliary_console_open(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let title = a.str(0)?;
+    Ok(vec![Value::Int(w.log.open_console(title))])
+}
+
+/// `sim.auxiliaryConsolePrint(handle, text)` → 1, or 0 for a closed console; one log
+/// line per line of `text` (`nil` clears the console and logs nothing).
+fn auxiliary_console_print(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.int(0)?;
+    let Some(title) = w.log.console(h).map(|t| format!("console: {t}")) else {
+        return Ok(vec![Value::Int(0)]);
+    };
+    if let Value::Nil = a.get(1) {
+        return Ok(vec![Value::Int(1)]);
+    }
+    let text = a.str(1)?;
+    let t = w.time();
+    for line in text.trim_end_matches('\n').split('\n') {
+        w.log.push(t, INFO, &title, line);
+    }
+    Ok(vec![Value::Int(1)])
+}
+
+/// `sim.auxiliaryConsoleClose(handle)` → 1, or 0 when it was not open.
+fn auxiliary_console_close(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Int(i64::from(w.log.close_console(a.int(0)?)))])
+}
+
+/// `sim.auxiliaryConsoleShow(handle, show)` → 1, or 0 for a closed console.
+fn auxiliary_console_show(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Int(i64::from(w.log.console(a.int(0)?).is_some()))])
+}
+
+/// `sim.displayDialog(title, text, style, modal, ...)` → dialog handle. gantry has no
+/// modal windows: the dialog is a log line and is answered "OK" at once
+/// (`sim.getDialogResult` returns `sim.dlgret_ok`).
+fn display_dialog(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let title = a.str(0)?;
+    let text = a.str(1)?;
+    let t = w.time();
+    w.log.push(t, INFO, ctx.source, &format!("{title}: {text}"));
+    Ok(vec![Value::Int(w.log.open_console(title))])
+}
+
+/// `sim.getDialogResult(handle)` → `sim.dlgret_ok` (1), or -1 for an unknown dialog.
+fn get_dialog_result(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let known = w.log.console(a.int(0)?).is_some();
+    Ok(vec![Value::Int(if known { 1 } else { -1 })])
+}
+
+/// `sim.endDialog(handle)` → 1, or -1 for an unknown dialog.
+fn end_dialog(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Int(if w.log.close_console(a.int(0)?) { 1 } else { -1 })])
+}
+
+/// `sim.getSystemTimeInMs(previous)`: with -1, milliseconds since an arbitrary start
+/// (here the first call in the process); otherwise the milliseconds elapsed since
+/// `previous`, a value it returned before.
+fn get_system_time_in_ms(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    static START: OnceLock<Instant> = OnceLock::new();
+    let now = i64::try_from(START.get_or_init(Instant::now).elapsed().as_millis()).unwrap_or(i64::MAX);
+    let previous = a.opt_int(0, -1)?;
+    Ok(vec![Value::Int(if previous < 0 { now } else { now - previous })])
+}
+
+/// `sim.getObjectInt32Parameter(h, id)` (4.0-4.2) → result, value: the current
+/// `sim.getObjectInt32Param` with the old leading result (1, or 0 when the parameter
+/// does not apply to the object).
+fn get_object_int32_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    with_result(w, ctx, a, "getObjectInt32Param")
+}
+
+/// `sim.getObjectFloatParameter(h, id)` (4.0-4.2) → result, value (see
+/// [`get_object_int32_parameter`]).
+fn get_object_float_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    with_result(w, ctx, a, "getObjectFloatParam")
+}
+
+fn with_result(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>, current: &str) -> Result<Ret, ApiError> {
+    let f = super::function(current).ok_or_else(|| ApiError::new(format!("sim.{current} is not available")))?;
+    let value = (f.call)(w, ctx, a)?.into_iter().next().unwrap_or(Value::Nil);
+    let found = i64::from(value != Value::Nil);
+    Ok(vec![Value::Int(found), value])
+}
+
+/// `sim.getNamedInt32Param(name)` → nil: gantry has no named parameters (CoppeliaSim
+/// sets them from its command line), so every name is unset, which scripts check for.
+fn get_named_int32_param(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    a.str(0)?;
+    Ok(vec![Value::Nil])
+}
+
+/// The object a script handle or `sim.handle_self` names.
+fn script_object(w: &World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Handle, ApiError> {
+    let h = a.int(0)?;
+    let object = if h == HANDLE_SELF { calling_object(ctx)? } else { h };
+    w.object(object)?;
+    Ok(object)
+}
+
+/// `sim.getScriptSimulationParameter(scriptHandle, name)` → the value of a model's user
+/// parameter, or nil when unset. gantry scenes define none; scripts set them with
+/// `sim.setScriptSimulationParameter`.
+fn get_script_simulation_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let object = script_object(w, ctx, a)?;
+    let name = a.str(1)?;
+    Ok(vec![w.custom.get(object, name).cloned().unwrap_or(Value::Nil)])
+}
+
+/// `sim.setScriptSimulationParameter(scriptHandle, name, value)` → 1.
+fn set_script_simulation_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let object = script_object(w, ctx, a)?;
+    let name = a.str(1)?.to_owned();
+    w.custom.set(object, &name, a.get(2).clone());
+    Ok(vec![Value::Int(1)])
+}
+
+/// `sim.getUserParameter(objectHandle, name)` (4.0-4.2 customization scripts): the same
+/// store as [`get_script_simulation_parameter`], addressed by object.
+fn get_user_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    get_script_simulation_parameter(w, ctx, a)
+}
+
+/// `sim.setUserParameter(objectHandle, name, value)` → 1.
+fn set_user_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    set_script_simulation_parameter(w, ctx, a)
+}
+
+/// `sim.getShapeBB(shapeHandle)` → the size of the shape's bounding box in its own
+/// frame (x, y, z extents, m).
+fn get_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    if !matches!(w.object(h)?.kind, crate::world::ObjectKind::Shape(_)) {
+        return Err(ApiError::new("object is not a shape."));
+    }
+    let (lo, hi) = w.bounding_box(h)?;
+    Ok(vec![Value::Array(
+        (0..3).map(|k| Value::Float(hi[k] - lo[k])).collect(),
+    )])
+}
+
+/// `sim.announceSceneContentChange()` → 1: in CoppeliaSim it records an undo point for
+/// the editor; gantry has no scene editor, so there is nothing to record.
+fn announce_scene_content_change(_: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Int(1)])
+}

@@ -1,0 +1,440 @@
+//! Numbered parameters: of objects (`sim.getObjectInt32Param`, `sim.setObjectFloatParam`,
+//! ...) and of the simulation (`sim.getInt32Param`, `sim.setArrayParam`, ...).
+//!
+//! CoppeliaSim's rules, kept here: an object parameter that does not apply (an unknown
+//! id, or a shape parameter asked of a joint) is "not retrieved", which is no error: the
+//! getter returns nothing (`nil`) and the setter does nothing. A simulation parameter
+//! gantry does not have, or cannot set, is an error. A handle that names no object is
+//! always an error.
+
+use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::scene::{JointMode, ProximityModel};
+use crate::world::{ObjectKind, World};
+
+/// CoppeliaSim version gantry's API follows (4.6.0), as `sim.intparam_program_version`
+/// encodes it: major·10000 + minor·100 + patch.
+pub const PROGRAM_VERSION: i64 = 40600;
+
+// Object parameter ids (CoppeliaSim's `sim.*param_*` numbers).
+const OBJ_VISIBILITY_LAYER: i64 = 10;
+const OBJ_ABS_X_VELOCITY: i64 = 11;
+const OBJ_ABS_ROT_VELOCITY: i64 = 14;
+const OBJ_BBOX_MIN_X: i64 = 15;
+const OBJ_BBOX_MAX_Z: i64 = 20;
+const VISION_NEAR: i64 = 1000;
+const VISION_FAR: i64 = 1001;
+const VISION_RES_X: i64 = 1002;
+const VISION_RES_Y: i64 = 1003;
+const VISION_ANGLE: i64 = 1004;
+const JOINT_MOTOR_ENABLED: i64 = 2000;
+const JOINT_CTRL_ENABLED: i64 = 2001;
+const JOINT_PID_P: i64 = 2002;
+const JOINT_PID_I: i64 = 2003;
+const JOINT_PID_D: i64 = 2004;
+const JOINT_VELOCITY: i64 = 2012;
+const JOINT_UPPER_LIMIT: i64 = 2017;
+const JOINT_MAXVEL: i64 = 2036;
+const JOINT_DYNCTRLMODE: i64 = 2039;
+const SHAPE_STATIC: i64 = 3003;
+const SHAPE_RESPONDABLE: i64 = 3004;
+const SHAPE_MASS: i64 = 3005;
+const PROX_VOLUME_TYPE: i64 = 4001;
+
+// `sim.jointdynctrl_*`.
+const DYNCTRL_FREE: i64 = 0;
+const DYNCTRL_VELOCITY: i64 = 4;
+const DYNCTRL_POSITION: i64 = 8;
+
+// Simulation parameter ids.
+const INT_PROGRAM_VERSION: i64 = 1;
+const INT_DYNAMIC_STEP_DIVIDER: i64 = 7;
+const INT_PLATFORM: i64 = 19;
+const INT_PROGRAM_REVISION: i64 = 30;
+const INT_PROGRAM_FULL_VERSION: i64 = 39;
+const INT_OBJECT_CREATION_COUNTER: i64 = 48;
+const INT_OBJECT_DESTRUCTION_COUNTER: i64 = 49;
+const INT_HIERARCHY_CHANGE_COUNTER: i64 = 50;
+const FLOAT_RAND: i64 = 0;
+const FLOAT_SIMULATION_TIME_STEP: i64 = 1;
+const FLOAT_DYNAMIC_STEP_SIZE: i64 = 3;
+const FLOAT_PHYSICS_TIME_STEP: i64 = 5;
+const BOOL_DYNAMICS_HANDLING: i64 = 6;
+const BOOL_PROXIMITY_SENSOR_HANDLING: i64 = 9;
+const BOOL_VISION_SENSOR_HANDLING: i64 = 10;
+const BOOL_REALTIME_SIMULATION: i64 = 25;
+const BOOL_HEADLESS: i64 = 34;
+const ARRAY_GRAVITY: i64 = 0;
+
+/// The parameter constants, with CoppeliaSim 4.6's values.
+pub const CONSTANTS: &[(&str, i64)] = &[
+    ("intparam_program_version", INT_PROGRAM_VERSION),
+    ("intparam_dynamic_step_divider", INT_DYNAMIC_STEP_DIVIDER),
+    ("intparam_platform", INT_PLATFORM),
+    ("intparam_program_revision", INT_PROGRAM_REVISION),
+    ("intparam_program_full_version", INT_PROGRAM_FULL_VERSION),
+    ("intparam_objectcreationcounter", INT_OBJECT_CREATION_COUNTER),
+    ("intparam_objectdestructioncounter", INT_OBJECT_DESTRUCTION_COUNTER),
+    ("intparam_hierarchychangecounter", INT_HIERARCHY_CHANGE_COUNTER),
+    ("floatparam_rand", FLOAT_RAND),
+    ("floatparam_simulation_time_step", FLOAT_SIMULATION_TIME_STEP),
+    ("floatparam_dynamic_step_size", FLOAT_DYNAMIC_STEP_SIZE),
+    ("floatparam_physicstimestep", FLOAT_PHYSICS_TIME_STEP),
+    ("boolparam_dynamics_handling_enabled", BOOL_DYNAMICS_HANDLING),
+    (
+        "boolparam_proximity_sensor_handling_enabled",
+        BOOL_PROXIMITY_SENSOR_HANDLING,
+    ),
+    ("boolparam_vision_sensor_handling_enabled", BOOL_VISION_SENSOR_HANDLING),
+    ("boolparam_realtime_simulation", BOOL_REALTIME_SIMULATION),
+    ("boolparam_headless", BOOL_HEADLESS),
+    ("arrayparam_gravity", ARRAY_GRAVITY),
+    ("objintparam_visibility_layer", OBJ_VISIBILITY_LAYER),
+    ("objfloatparam_abs_x_velocity", OBJ_ABS_X_VELOCITY),
+    ("objfloatparam_abs_y_velocity", OBJ_ABS_X_VELOCITY + 1),
+    ("objfloatparam_abs_z_velocity", OBJ_ABS_X_VELOCITY + 2),
+    ("objfloatparam_abs_rot_velocity", OBJ_ABS_ROT_VELOCITY),
+    ("objfloatparam_objbbox_min_x", OBJ_BBOX_MIN_X),
+    ("objfloatparam_objbbox_min_y", OBJ_BBOX_MIN_X + 1),
+    ("objfloatparam_objbbox_min_z", OBJ_BBOX_MIN_X + 2),
+    ("objfloatparam_objbbox_max_x", OBJ_BBOX_MIN_X + 3),
+    ("objfloatparam_objbbox_max_y", OBJ_BBOX_MIN_X + 4),
+    ("objfloatparam_objbbox_max_z", OBJ_BBOX_MAX_Z),
+    ("visionfloatparam_near_clipping", VISION_NEAR),
+    ("visionfloatparam_far_clipping", VISION_FAR),
+    ("visionintparam_resolution_x", VISION_RES_X),
+    ("visionintparam_resolution_y", VISION_RES_Y),
+    ("visionfloatparam_perspective_angle", VISION_ANGLE),
+    ("jointintparam_motor_enabled", JOINT_MOTOR_ENABLED),
+    ("jointintparam_ctrl_enabled", JOINT_CTRL_ENABLED),
+    ("jointfloatparam_pid_p", JOINT_PID_P),
+    ("jointfloatparam_pid_i", JOINT_PID_I),
+    ("jointfloatparam_pid_d", JOINT_PID_D),
+    ("jointfloatparam_velocity", JOINT_VELOCITY),
+    ("jointfloatparam_upper_limit", JOINT_UPPER_LIMIT),
+    ("jointfloatparam_maxvel", JOINT_MAXVEL),
+    ("jointintparam_dynctrlmode", JOINT_DYNCTRLMODE),
+    ("jointdynctrl_free", DYNCTRL_FREE),
+    ("jointdynctrl_force", 1),
+    ("jointdynctrl_velocity", DYNCTRL_VELOCITY),
+    ("jointdynctrl_position", DYNCTRL_POSITION),
+    ("jointdynctrl_spring", 12),
+    ("jointdynctrl_callback", 16),
+    ("shapeintparam_static", SHAPE_STATIC),
+    ("shapeintparam_respondable", SHAPE_RESPONDABLE),
+    ("shapefloatparam_mass", SHAPE_MASS),
+    ("proxintparam_volume_type", PROX_VOLUME_TYPE),
+    ("volume_pyramid", 0),
+    ("volume_cylinder", 1),
+    ("volume_disc", 2),
+    ("volume_cone", 3),
+    ("volume_ray", 4),
+];
+
+/// The functions of this file, sorted by name.
+pub const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "getArrayParam",
+        call: get_array_param,
+    },
+    ApiFunction {
+        name: "getBoolParam",
+        call: get_bool_param,
+    },
+    ApiFunction {
+        name: "getFloatParam",
+        call: get_float_param,
+    },
+    ApiFunction {
+        name: "getInt32Param",
+        call: get_int32_param,
+    },
+    ApiFunction {
+        name: "getObjectFloatParam",
+        call: get_object_float_param,
+    },
+    ApiFunction {
+        name: "getObjectInt32Param",
+        call: get_object_int32_param,
+    },
+    ApiFunction {
+        name: "setArrayParam",
+        call: set_array_param,
+    },
+    ApiFunction {
+        name: "setBoolParam",
+        call: set_bool_param,
+    },
+    ApiFunction {
+        name: "setFloatParam",
+        call: set_float_param,
+    },
+    ApiFunction {
+        name: "setInt32Param",
+        call: set_int32_param,
+    },
+    ApiFunction {
+        name: "setObjectFloatParam",
+        call: set_object_float_param,
+    },
+    ApiFunction {
+        name: "setObjectInt32Param",
+        call: set_object_int32_param,
+    },
+];
+
+/// A parameter value, or nothing when the parameter does not apply.
+fn found(v: Option<Value>) -> Ret {
+    v.into_iter().collect()
+}
+
+/// `sim.getObjectInt32Param(objectHandle, parameterID)` → value, or nothing (`nil`) when
+/// the parameter does not apply to the object.
+fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let id = a.int(1)?;
+    let kind = &w.object(h)?.kind;
+    let v = match (id, kind) {
+        (OBJ_VISIBILITY_LAYER, _) => Some(w.layer(h)?),
+        (SHAPE_STATIC, ObjectKind::Shape(s)) => Some(i64::from(!s.dynamic)),
+        (SHAPE_RESPONDABLE, ObjectKind::Shape(s)) => Some(i64::from(s.respondable)),
+        (VISION_RES_X, ObjectKind::VisionSensor(v)) => Some(i64::from(v.resolution[0])),
+        (VISION_RES_Y, ObjectKind::VisionSensor(v)) => Some(i64::from(v.resolution[1])),
+        (PROX_VOLUME_TYPE, ObjectKind::ProximitySensor(p)) => Some(match p.volume {
+            ProximityModel::Ray { .. } => 4,
+            ProximityModel::Cone { .. } => 3,
+        }),
+        (JOINT_MOTOR_ENABLED, ObjectKind::Joint(j)) => {
+            Some(i64::from(j.mode.is_dynamic() && j.mode != JointMode::Free))
+        }
+        (JOINT_CTRL_ENABLED, ObjectKind::Joint(j)) => Some(i64::from(j.mode == JointMode::Position)),
+        (JOINT_DYNCTRLMODE, ObjectKind::Joint(j)) => Some(match j.mode {
+            JointMode::Position => DYNCTRL_POSITION,
+            JointMode::Velocity => DYNCTRL_VELOCITY,
+            JointMode::Free | JointMode::Kinematic => DYNCTRL_FREE,
+        }),
+        _ => None,
+    };
+    Ok(found(v.map(Value::Int)))
+}
+
+/// `sim.setObjectInt32Param(objectHandle, parameterID, value)`; a parameter that does
+/// not apply is ignored. Setting `sim.jointintparam_dynctrlmode` makes the joint
+/// dynamic with that controller (free, velocity or position).
+fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let id = a.int(1)?;
+    let v = a.int(2)?;
+    let kind = &w.object(h)?.kind;
+    match (id, kind) {
+        (OBJ_VISIBILITY_LAYER, _) => w.set_layer(h, v)?,
+        (SHAPE_STATIC, ObjectKind::Shape(_)) => w.set_shape_dynamic(h, v == 0)?,
+        (SHAPE_RESPONDABLE, ObjectKind::Shape(_)) => w.set_shape_respondable(h, v != 0)?,
+        (VISION_RES_X | VISION_RES_Y, ObjectKind::VisionSensor(m)) => {
+            let mut m = *m;
+            let side = u32::try_from(v).map_err(|_| ApiError::new(format!("argument 3: invalid resolution {v}")))?;
+            m.resolution[usize::from(id == VISION_RES_Y)] = side;
+            w.set_vision_model(h, m)?;
+        }
+        (JOINT_DYNCTRLMODE, ObjectKind::Joint(_)) => {
+            let mode = match v {
+                DYNCTRL_FREE => JointMode::Free,
+                DYNCTRL_VELOCITY => JointMode::Velocity,
+                DYNCTRL_POSITION => JointMode::Position,
+                _ => {
+                    return Err(ApiError::new(format!(
+                        "argument 3: gantry's dynamic joints have the free (0), velocity (4) and position (8) controllers, not {v}"
+                    )));
+                }
+            };
+            w.set_joint_mode(h, mode)?;
+        }
+        _ => {}
+    }
+    Ok(Vec::new())
+}
+
+/// `sim.getObjectFloatParam(objectHandle, parameterID)` → value, or nothing (`nil`) when
+/// the parameter does not apply. Velocities are m/s and rad/s in the world frame, the
+/// bounding box in m in the object's frame, angles in rad.
+fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let id = a.int(1)?;
+    let kind = &w.object(h)?.kind;
+    let v = match (id, kind) {
+        (OBJ_ABS_X_VELOCITY..=OBJ_ABS_ROT_VELOCITY, _) => {
+            let (lin, ang) = w.velocity(h)?;
+            Some(match id {
+                OBJ_ABS_ROT_VELOCITY => ang.norm(),
+                _ => lin[(id - OBJ_ABS_X_VELOCITY) as usize],
+            })
+        }
+        (OBJ_BBOX_MIN_X..=OBJ_BBOX_MAX_Z, _) => {
+            let (lo, hi) = w.bounding_box(h)?;
+            let i = (id - OBJ_BBOX_MIN_X) as usize;
+            Some(if i < 3 { lo[i] } else { hi[i - 3] })
+        }
+        (SHAPE_MASS, ObjectKind::Shape(_)) => Some(w.shape_mass(h)?),
+        (VISION_NEAR, ObjectKind::VisionSensor(v)) => Some(v.near),
+        (VISION_FAR, ObjectKind::VisionSensor(v)) => Some(v.far),
+        (VISION_ANGLE, ObjectKind::VisionSensor(v)) => Some(v.fov),
+        (JOINT_PID_P, ObjectKind::Joint(j)) => Some(j.kp),
+        (JOINT_PID_I, ObjectKind::Joint(_)) => Some(0.0),
+        (JOINT_PID_D, ObjectKind::Joint(j)) => Some(j.kd),
+        (JOINT_VELOCITY, ObjectKind::Joint(j)) => Some(j.velocity),
+        // No limit reads as an infinite one.
+        (JOINT_MAXVEL | JOINT_UPPER_LIMIT, ObjectKind::Joint(j)) => Some(j.max_velocity.unwrap_or(f64::INFINITY)),
+        _ => None,
+    };
+    Ok(found(v.map(Value::Float)))
+}
+
+/// `sim.setObjectFloatParam(objectHandle, parameterID, value)`; a parameter that does
+/// not apply, or is read-only, is ignored.
+fn set_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let id = a.int(1)?;
+    let v = a.f64(2)?;
+    let kind = &w.object(h)?.kind;
+    match (id, kind) {
+        (SHAPE_MASS, ObjectKind::Shape(_)) => w.set_shape_mass(h, v)?,
+        (VISION_NEAR | VISION_FAR | VISION_ANGLE, ObjectKind::VisionSensor(m)) => {
+            let mut m = *m;
+            match id {
+                VISION_NEAR => m.near = v,
+                VISION_FAR => m.far = v,
+                _ => m.fov = v,
+            }
+            w.set_vision_model(h, m)?;
+        }
+        (JOINT_PID_P, ObjectKind::Joint(_)) => w.set_joint_gains(h, Some(v), None)?,
+        (JOINT_PID_D, ObjectKind::Joint(_)) => w.set_joint_gains(h, None, Some(v))?,
+        (JOINT_MAXVEL | JOINT_UPPER_LIMIT, ObjectKind::Joint(_)) => {
+            w.set_joint_max_velocity(h, (v != f64::INFINITY).then_some(v))?;
+        }
+        _ => {}
+    }
+    Ok(Vec::new())
+}
+
+fn unknown(what: &str, id: i64) -> ApiError {
+    ApiError::new(format!("could not {what} parameter {id}: gantry does not have it"))
+}
+
+/// `sim.getInt32Param(parameter)`: the program version (40600, the CoppeliaSim API
+/// gantry follows), revision, full version, platform (0 Windows, 1 macOS, 2 Linux),
+/// physics substeps per step, and the object creation/destruction/hierarchy counters.
+fn get_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let id = a.int(0)?;
+    let c = w.edit_counters();
+    let v = match id {
+        INT_PROGRAM_VERSION => PROGRAM_VERSION,
+        INT_PROGRAM_REVISION => 0,
+        INT_PROGRAM_FULL_VERSION => PROGRAM_VERSION * 100,
+        INT_PLATFORM => match std::env::consts::OS {
+            "windows" => 0,
+            "macos" => 1,
+            _ => 2,
+        },
+        INT_DYNAMIC_STEP_DIVIDER => i64::from(w.settings().substeps.max(1)),
+        INT_OBJECT_CREATION_COUNTER => c.created as i64,
+        INT_OBJECT_DESTRUCTION_COUNTER => c.destroyed as i64,
+        INT_HIERARCHY_CHANGE_COUNTER => c.hierarchy as i64,
+        _ => return Err(unknown("retrieve", id)),
+    };
+    Ok(vec![Value::Int(v)])
+}
+
+/// `sim.setInt32Param(parameter, value)`: gantry's integer parameters are all read-only.
+fn set_int32_param(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let id = a.int(0)?;
+    a.int(1)?;
+    Err(unknown("set", id))
+}
+
+/// `sim.getFloatParam(parameter)`: a random number in [0, 1), the simulation time step
+/// (s), or the physics time step (s, the step over the substeps).
+fn get_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let id = a.int(0)?;
+    let s = *w.settings();
+    let v = match id {
+        FLOAT_RAND => w.next_random(),
+        FLOAT_SIMULATION_TIME_STEP => s.dt,
+        FLOAT_DYNAMIC_STEP_SIZE | FLOAT_PHYSICS_TIME_STEP => s.dt / f64::from(s.substeps.max(1)),
+        _ => return Err(unknown("retrieve", id)),
+    };
+    Ok(vec![Value::Float(v)])
+}
+
+/// `sim.setFloatParam(parameter, value)`: the simulation time step (s), while stopped.
+fn set_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let id = a.int(0)?;
+    let v = a.f64(1)?;
+    match id {
+        FLOAT_SIMULATION_TIME_STEP => w.set_time_step(v)?,
+        _ => return Err(unknown("set", id)),
+    }
+    Ok(Vec::new())
+}
+
+/// `sim.getBoolParam(parameter)`: whether dynamics, proximity and vision sensors are
+/// handled (always), headless (always: the viewer is a separate page), and the
+/// real-time flag as last set.
+fn get_bool_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let id = a.int(0)?;
+    let v = match id {
+        BOOL_DYNAMICS_HANDLING | BOOL_PROXIMITY_SENSOR_HANDLING | BOOL_VISION_SENSOR_HANDLING | BOOL_HEADLESS => true,
+        BOOL_REALTIME_SIMULATION => w.realtime_flag(),
+        _ => return Err(unknown("retrieve", id)),
+    };
+    Ok(vec![Value::Bool(v)])
+}
+
+/// `sim.setBoolParam(parameter, value)`: only the real-time flag, which is stored and
+/// reported back (gantry's pacing is chosen on the command line, `--fast`).
+fn set_bool_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let id = a.int(0)?;
+    let v = a.bool(1)?;
+    match id {
+        BOOL_REALTIME_SIMULATION => w.set_realtime_flag(v),
+        _ => return Err(unknown("set", id)),
+    }
+    Ok(Vec::new())
+}
+
+/// `sim.getArrayParam(parameter)`: gravity, `[x, y, z]` in m/s².
+fn get_array_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let id = a.int(0)?;
+    match id {
+        ARRAY_GRAVITY => Ok(vec![Value::floats(w.gravity().as_slice())]),
+        _ => Err(unknown("retrieve", id)),
+    }
+}
+
+/// `sim.setArrayParam(parameter, values)`: gravity, `[x, y, z]` in m/s², from the next
+/// step on.
+fn set_array_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let id = a.int(0)?;
+    match id {
+        ARRAY_GRAVITY => w.set_gravity(a.vec3(1)?)?,
+        _ => return Err(unknown("set", id)),
+    }
+    Ok(Vec::new())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_is_sorted_and_constants_unique() {
+        for w in FUNCTIONS.windows(2) {
+            assert!(w[0].name < w[1].name, "{} / {}", w[0].name, w[1].name);
+        }
+        let mut names: Vec<&str> = CONSTANTS.iter().map(|(n, _)| *n).collect();
+        names.sort_unstable();
+        let n = names.len();
+        names.dedup();
+        assert_eq!(names.len(), n);
+    }
+}

@@ -1,0 +1,598 @@
+//! The scene as data: creating, copying, removing and re-parenting objects, aliases,
+//! shape colours and masses, forces, dynamic resets and joint modes.
+//!
+//! The world does the editing (`world::edit`); this file reads CoppeliaSim 4.6's argument
+//! forms and defaults and gives its return shapes.
+
+use std::f64::consts::PI;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::math::{Pose, Vec3};
+use crate::scene::{GeomModel, Geometry, JointMode, MassModel, MeshData, ShapeModel, VisualModel};
+use crate::world::object_path::ObjectTree;
+use crate::world::{ColorComponent, Handle, ObjectKind, World};
+
+/// `sim.handleflag_resetforce`: OR-ed onto a handle, clears the accumulated force.
+const RESET_FORCE: i64 = 0x0040_0000;
+/// `sim.handleflag_resettorque`: OR-ed onto a handle, clears the accumulated torque.
+const RESET_TORQUE: i64 = 0x0080_0000;
+
+/// The `sim.*` constants of this file, with CoppeliaSim 4.6's values.
+pub const CONSTANTS: &[(&str, i64)] = &[
+    ("primitiveshape_none", 0),
+    ("primitiveshape_plane", 1),
+    ("primitiveshape_disc", 2),
+    ("primitiveshape_cuboid", 3),
+    ("primitiveshape_spheroid", 4),
+    ("primitiveshape_cylinder", 5),
+    ("primitiveshape_cone", 6),
+    ("primitiveshape_heightfield", 7),
+    ("primitiveshape_capsule", 8),
+    ("colorcomponent_ambient", 0),
+    ("colorcomponent_ambient_diffuse", 0),
+    ("colorcomponent_diffuse", 1),
+    ("colorcomponent_specular", 2),
+    ("colorcomponent_emission", 3),
+    ("colorcomponent_transparency", 4),
+    ("colorcomponent_auxiliary", 5),
+    ("handleflag_resetforce", RESET_FORCE),
+    ("handleflag_resettorque", RESET_TORQUE),
+    ("handleflag_resetforcetorque", RESET_FORCE | RESET_TORQUE),
+];
+
+/// The functions of this file, sorted by name.
+pub const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "addForce",
+        call: add_force,
+    },
+    ApiFunction {
+        name: "addForceAndTorque",
+        call: add_force_and_torque,
+    },
+    ApiFunction {
+        name: "copyPasteObjects",
+        call: copy_paste_objects,
+    },
+    ApiFunction {
+        name: "createDummy",
+        call: create_dummy,
+    },
+    ApiFunction {
+        name: "createPrimitiveShape",
+        call: create_primitive_shape,
+    },
+    ApiFunction {
+        name: "getJointMaxForce",
+        call: get_joint_max_force,
+    },
+    ApiFunction {
+        name: "getJointMode",
+        call: get_joint_mode,
+    },
+    ApiFunction {
+        name: "getJointTargetForce",
+        call: get_joint_max_force,
+    },
+    ApiFunction {
+        name: "getObjectChild",
+        call: get_object_child,
+    },
+    ApiFunction {
+        name: "getObjects",
+        call: get_objects,
+    },
+    ApiFunction {
+        name: "getShapeColor",
+        call: get_shape_color,
+    },
+    ApiFunction {
+        name: "getShapeMass",
+        call: get_shape_mass,
+    },
+    ApiFunction {
+        name: "removeObject",
+        call: remove_object,
+    },
+    ApiFunction {
+        name: "removeObjects",
+        call: remove_objects,
+    },
+    ApiFunction {
+        name: "resetDynamicObject",
+        call: reset_dynamic_object,
+    },
+    ApiFunction {
+        name: "setJointMaxForce",
+        call: set_joint_max_force,
+    },
+    ApiFunction {
+        name: "setJointMode",
+        call: set_joint_mode,
+    },
+    ApiFunction {
+        name: "setObjectAlias",
+        call: set_object_alias,
+    },
+    ApiFunction {
+        name: "setObjectParent",
+        call: set_object_parent,
+    },
+    ApiFunction {
+        name: "setShapeColor",
+        call: set_shape_color,
+    },
+    ApiFunction {
+        name: "setShapeMass",
+        call: set_shape_mass,
+    },
+];
+
+/// A required table of handles.
+fn handle_list(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, ApiError> {
+    match a.get(i) {
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                v.as_i64()
+                    .ok_or_else(|| ApiError::new(format!("argument {}: element {} must be a handle", i + 1, k + 1)))
+            })
+            .collect(),
+        // An empty Lua table arrives as an empty map.
+        Value::Map(pairs) if pairs.is_empty() => Ok(Vec::new()),
+        other => Err(ApiError::new(format!(
+            "argument {}: expected table of handles, got {}",
+            i + 1,
+            other.type_name()
+        ))),
+    }
+}
+
+/// `sim.createPrimitiveShape(primitiveType, sizes, options=0)` → handle.
+///
+/// `sizes` are the bounding box's x, y, z in m (diameters for round shapes; a capsule's
+/// z is its total length). The shape is created at the world origin, static and not
+/// respondable, white, with a density of 1000 kg/m³, as CoppeliaSim creates it; make it
+/// fall with `sim.setObjectInt32Param(h, sim.shapeintparam_static, 0)` and
+/// `sim.shapeintparam_respondable, 1`. Options bit 0 (culling), 1 (edges) and 2 (open
+/// ends) only change how CoppeliaSim draws it and are accepted and ignored.
+fn create_primitive_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let kind = a.int(0)?;
+    let sizes = a.floats::<3>(1)?;
+    a.opt_int(2, 0)?;
+    if let Some(s) = sizes.iter().find(|s| **s <= 0.0) {
+        return Err(ApiError::new(format!("argument 2: sizes must be positive, got {s}")));
+    }
+    let [x, y, z] = sizes;
+    let thin = 1e-4; // CoppeliaSim's thickness of planes and discs, m
+    let (alias, geometry) = match kind {
+        1 => (
+            "Plane",
+            Geometry::Box {
+                half_extents: [x / 2.0, y / 2.0, thin / 2.0],
+            },
+        ),
+        2 => (
+            "Disc",
+            Geometry::Cylinder {
+                radius: (x + y) / 4.0,
+                length: thin,
+            },
+        ),
+        3 => (
+            "Cuboid",
+            Geometry::Box {
+                half_extents: [x / 2.0, y / 2.0, z / 2.0],
+            },
+        ),
+        4 if x == y && y == z => ("Sphere", Geometry::Sphere { radius: x / 2.0 }),
+        4 => ("Sphere", revolved_mesh("spheroid", &sphere_profile(), [x, y, z])),
+        5 if x == y => (
+            "Cylinder",
+            Geometry::Cylinder {
+                radius: x / 2.0,
+                length: z,
+            },
+        ),
+        5 => (
+            "Cylinder",
+            revolved_mesh(
+                "cylinder",
+                &[(0.0, -0.5), (1.0, -0.5), (1.0, 0.5), (0.0, 0.5)],
+                [x, y, z],
+            ),
+        ),
+        6 => (
+            "Cone",
+            revolved_mesh("cone", &[(0.0, -0.5), (1.0, -0.5), (0.0, 0.5)], [x, y, z]),
+        ),
+        8 => {
+            let radius = (x + y) / 4.0;
+            (
+                "Capsule",
+                Geometry::Capsule {
+                    radius,
+                    length: (z - 2.0 * radius).max(0.0),
+                },
+            )
+        }
+        _ => {
+            return Err(ApiError::new(format!(
+                "argument 1: invalid primitive type {kind} (sim.primitiveshape_plane, _disc, _cuboid, _spheroid, _cylinder, _cone or _capsule)"
+            )));
+        }
+    };
+    let shape = ShapeModel {
+        geoms: vec![GeomModel {
+            geometry: geometry.clone(),
+            local: Pose::identity(),
+        }],
+        visuals: vec![VisualModel {
+            geometry,
+            local: Pose::identity(),
+            color: [1.0, 1.0, 1.0],
+        }],
+        dynamic: false,
+        mass: MassModel::Density(1000.0),
+        friction: 0.5,
+        restitution: 0.0,
+        collision_group: u32::MAX,
+        collision_mask: u32::MAX,
+        respondable: false,
+        detectable: true,
+        measurable: true,
+        self_collision: true,
+    };
+    let h = w.add_object(alias, ObjectKind::Shape(Box::new(shape)), None, Pose::identity())?;
+    Ok(vec![Value::Int(h)])
+}
+
+/// The unit half circle from the south to the north pole, as `(radius, z)` pairs.
+fn sphere_profile() -> Vec<(f64, f64)> {
+    const RINGS: usize = 12;
+    (0..=RINGS)
+        .map(|i| {
+            let a = -PI / 2.0 + PI * i as f64 / RINGS as f64;
+            // Exact zeros at the poles, where the ring collapses to one vertex.
+            let r = if i == 0 || i == RINGS { 0.0 } else { a.cos() };
+            (r, 0.5 * a.sin())
+        })
+        .collect()
+}
+
+/// A closed surface of revolution about Z from a profile of `(radius, z)` pairs (radius
+/// 1 and z in -0.5..0.5 at full size, first and last radius 0), scaled to the box
+/// `size` (x, y, z in m): how non-round spheroids, elliptic cylinders and cones, which
+/// rapier has no primitive for, become (convex) meshes.
+fn revolved_mesh(name: &str, profile: &[(f64, f64)], size: [f64; 3]) -> Geometry {
+    const SIDES: usize = 32;
+    let scale = |r: f64, a: f64, z: f64| {
+        [
+            (r * a.cos() * size[0] / 2.0) as f32,
+            (r * a.sin() * size[1] / 2.0) as f32,
+            (z * size[2]) as f32,
+        ]
+    };
+    let mut vertices = Vec::new();
+    let mut rings = Vec::new();
+    for &(r, z) in profile {
+        let start = vertices.len() as u32;
+        if r == 0.0 {
+            vertices.push(scale(0.0, 0.0, z));
+            rings.push((start, 1));
+        } else {
+            for k in 0..SIDES {
+                vertices.push(scale(r, 2.0 * PI * k as f64 / SIDES as f64, z));
+            }
+            rings.push((start, SIDES as u32));
+        }
+    }
+    let mut indices = Vec::new();
+    let n = SIDES as u32;
+    for pair in rings.windows(2) {
+        let ((a, na), (b, nb)) = (pair[0], pair[1]);
+        for k in 0..n {
+            let (k1, k2) = (k, (k + 1) % n);
+            let at = |start: u32, count: u32, i: u32| if count == 1 { start } else { start + i };
+            let (a1, a2, b1, b2) = (at(a, na, k1), at(a, na, k2), at(b, nb, k1), at(b, nb, k2));
+            // Counter-clockwise seen from outside, going up the profile.
+            if a1 != a2 {
+                indices.push([a1, a2, b1]);
+            }
+            if b1 != b2 {
+                indices.push([a2, b2, b1]);
+            }
+        }
+    }
+    Geometry::Mesh(Arc::new(MeshData {
+        source: PathBuf::from(format!("<{name} primitive>")),
+        vertices,
+        indices,
+        parts: Vec::new(),
+    }))
+}
+
+/// `sim.createDummy(size)` → handle, at the world origin. The size (m) only sets how
+/// big CoppeliaSim draws it.
+fn create_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    a.finite(0)?;
+    let h = w.add_object("Dummy", ObjectKind::Dummy, None, Pose::identity())?;
+    Ok(vec![Value::Int(h)])
+}
+
+/// `sim.removeObjects(objectHandles)`: all or nothing; children of a removed object move
+/// up to its parent.
+fn remove_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    w.remove_objects(&handle_list(a, 0)?)?;
+    Ok(Vec::new())
+}
+
+/// `sim.removeObject(objectHandle)`: the pre-4.3 name for one object.
+fn remove_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    w.remove_objects(&[a.handle(0)?])?;
+    Ok(Vec::new())
+}
+
+/// `sim.copyPasteObjects(objectHandles, options=0)` → copies' handles, in the given order.
+/// Options bit 0: copy whole models for model bases.
+fn copy_paste_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let handles = handle_list(a, 0)?;
+    let options = a.opt_int(1, 0)?;
+    let copies = w.copy_objects(&handles, options & 1 != 0)?;
+    Ok(vec![Value::Array(copies.into_iter().map(Value::Int).collect())])
+}
+
+/// `sim.setObjectParent(objectHandle, parentHandle, keepInPlace=true)`; a parent of -1
+/// makes the object a root.
+fn set_object_parent(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let parent = match a.handle(1)? {
+        -1 => None,
+        p => Some(p),
+    };
+    let keep = a.opt_bool(2, true)?;
+    w.set_parent(h, parent, keep)?;
+    Ok(Vec::new())
+}
+
+/// `sim.getObjectChild(objectHandle, index)` → the index-th child (0-based, hierarchy
+/// order), or -1 past the last.
+fn get_object_child(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let index = a.int(1)?;
+    w.object(h)?;
+    let child = usize::try_from(index)
+        .ok()
+        .and_then(|i| w.children(h).get(i).copied())
+        .unwrap_or(-1);
+    Ok(vec![Value::Int(child)])
+}
+
+/// `sim.getObjects(index, objectType)` → the index-th object (0-based, creation order)
+/// of a type (`sim.handle_all` for any), or -1 past the last.
+fn get_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let index = a.int(0)?;
+    let kind = a.int(1)?;
+    let found = usize::try_from(index).ok().and_then(|i| {
+        (0..w.len() as Handle)
+            .filter(|&h| w.object(h).is_ok_and(|o| kind == -2 || o.kind.type_code() == kind))
+            .nth(i)
+    });
+    Ok(vec![Value::Int(found.unwrap_or(-1))])
+}
+
+/// `sim.setObjectAlias(objectHandle, alias)`.
+fn set_object_alias(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    w.set_alias(h, a.str(1)?)?;
+    Ok(Vec::new())
+}
+
+/// The colour name argument: `nil`, `""` and `"@compound"` mean every part; gantry's
+/// parts have no names, so any other name matches nothing.
+fn all_parts(a: &Args<'_>, i: usize) -> Result<bool, ApiError> {
+    match a.get(i) {
+        Value::Nil => Ok(true),
+        _ => Ok(matches!(a.str(i)?, "" | "@compound")),
+    }
+}
+
+fn color_component(a: &Args<'_>, i: usize) -> Result<ColorComponent, ApiError> {
+    let c = a.int(i)?;
+    ColorComponent::from_code(c).ok_or_else(|| {
+        ApiError::new(format!(
+            "argument {}: invalid color component {c} (sim.colorcomponent_ambient_diffuse .. _auxiliary)",
+            i + 1
+        ))
+    })
+}
+
+/// `sim.getShapeColor(shapeHandle, colorName, colorComponent)` → `result, rgbData`:
+/// result 1 and the colour when found, 0 and zeros when the name matches no part.
+fn get_shape_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let all = all_parts(a, 1)?;
+    let component = color_component(a, 2)?;
+    let color = w.shape_color(h, component)?.filter(|_| all);
+    Ok(match color {
+        Some(c) => vec![Value::Int(1), Value::floats(&c)],
+        None => vec![Value::Int(0), Value::floats(&vec![0.0; component.value_count()])],
+    })
+}
+
+/// `sim.setShapeColor(shapeHandle, colorName, colorComponent, rgbData)`: 3 values in
+/// 0..1 (1 for transparency).
+fn set_shape_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let all = all_parts(a, 1)?;
+    let component = color_component(a, 2)?;
+    let values: Vec<f64> = match a.get(3) {
+        Value::Array(items) => items.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect(),
+        other => {
+            return Err(ApiError::new(format!(
+                "argument 4: expected table of numbers, got {}",
+                other.type_name()
+            )));
+        }
+    };
+    w.shape(h)?;
+    if all {
+        w.set_shape_color(h, component, &values)?;
+    }
+    Ok(Vec::new())
+}
+
+/// `sim.getShapeMass(shapeHandle)` → kg.
+fn get_shape_mass(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Float(w.shape_mass(a.handle(0)?)?)])
+}
+
+/// `sim.setShapeMass(shapeHandle, mass)`, kg.
+fn set_shape_mass(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    w.set_shape_mass(h, a.finite(1)?)?;
+    Ok(Vec::new())
+}
+
+/// Splits `sim.handleflag_resetforce` / `_resettorque` off a handle and applies them.
+fn flagged_handle(w: &mut World, raw: i64) -> Result<Handle, ApiError> {
+    let h = raw & !(RESET_FORCE | RESET_TORQUE);
+    let (force, torque) = (raw & RESET_FORCE != 0, raw & RESET_TORQUE != 0);
+    if force || torque {
+        w.reset_force(h, force, torque)?;
+    }
+    Ok(h)
+}
+
+/// `sim.addForce(shapeHandle, position, force)`: a force (N) at a point (m), both in
+/// absolute coordinates, on a dynamic shape for the next simulation step only.
+fn add_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = flagged_handle(w, a.handle(0)?)?;
+    let at = a.vec3(1)?;
+    let force = a.vec3(2)?;
+    w.add_force(h, force, Some(at), Vec3::zeros())?;
+    Ok(Vec::new())
+}
+
+/// `sim.addForceAndTorque(shapeHandle, force=nil, torque=nil)`: a force (N) at the centre
+/// of mass and a torque (N·m), absolute coordinates, for the next simulation step only.
+fn add_force_and_torque(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = flagged_handle(w, a.handle(0)?)?;
+    let opt = |i: usize| match a.get(i) {
+        Value::Nil => Ok(Vec3::zeros()),
+        _ => a.vec3(i),
+    };
+    let (force, torque) = (opt(1)?, opt(2)?);
+    w.add_force(h, force, None, torque)?;
+    Ok(Vec::new())
+}
+
+/// `sim.resetDynamicObject(objectHandle)`: the object and everything below it leave the
+/// physics engine and come back at rest where they are; `sim.handle_all` resets the
+/// whole scene.
+fn reset_dynamic_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    match a.handle(0)? {
+        -2 => {
+            for h in w.roots().to_vec() {
+                w.reset_dynamics(h)?;
+            }
+        }
+        h => w.reset_dynamics(h)?,
+    }
+    Ok(Vec::new())
+}
+
+/// `sim.setJointMode(jointHandle, jointMode, options=0)`: `sim.jointmode_kinematic` (0)
+/// or `sim.jointmode_dynamic` (5; a joint that was kinematic becomes position-controlled
+/// and holds where it is). `sim.jointmode_dependent` (4) exists only for URDF `<mimic>`
+/// followers, which already are.
+fn set_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let mode = a.int(1)?;
+    a.opt_int(2, 0)?;
+    let joint = w.joint(h)?;
+    let new = match mode {
+        0 => JointMode::Kinematic,
+        5 if joint.mode.is_dynamic() => joint.mode,
+        5 => JointMode::Position,
+        4 if joint.mimic.is_some() => joint.mode,
+        4 => {
+            return Err(ApiError::new(
+                "argument 2: gantry has dependent joints only as URDF <mimic> followers",
+            ));
+        }
+        _ => {
+            return Err(ApiError::new(format!(
+                "argument 2: invalid joint mode {mode} (sim.jointmode_kinematic or sim.jointmode_dynamic)"
+            )));
+        }
+    };
+    w.set_joint_mode(h, new)?;
+    Ok(Vec::new())
+}
+
+/// `sim.getJointMode(jointHandle)` → `jointMode, options`: 0 kinematic, 4 a `<mimic>`
+/// follower, 5 dynamic; options are always 0.
+fn get_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let j = w.joint(a.handle(0)?)?;
+    let mode = match j.mode {
+        _ if j.mimic.is_some() => 4,
+        JointMode::Kinematic => 0,
+        _ => 5,
+    };
+    Ok(vec![Value::Int(mode), Value::Int(0)])
+}
+
+/// `sim.getJointMaxForce(jointHandle)` / `sim.getJointTargetForce` → the motor's largest
+/// torque (N·m) or force (N).
+fn get_joint_max_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Float(w.joint(a.handle(0)?)?.max_force)])
+}
+
+/// `sim.setJointMaxForce(jointHandle, forceOrTorque)`: the pre-4.3 name of
+/// `sim.setJointTargetForce`.
+fn set_joint_max_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    w.set_joint_max_force(h, a.finite(1)?)?;
+    Ok(Vec::new())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_is_sorted() {
+        for w in FUNCTIONS.windows(2) {
+            assert!(w[0].name < w[1].name, "{} / {}", w[0].name, w[1].name);
+        }
+    }
+
+    #[test]
+    fn revolved_meshes_are_closed_and_sized() {
+        for (profile, top) in [
+            (vec![(0.0, -0.5), (1.0, -0.5), (0.0, 0.5)], 0.5),
+            (sphere_profile(), 0.5),
+        ] {
+            let Geometry::Mesh(m) = revolved_mesh("t", &profile, [0.2, 0.4, 1.0]) else {
+                panic!("a mesh")
+            };
+            // Closed: every edge is shared by exactly two triangles.
+            let mut edges = std::collections::HashMap::new();
+            for t in &m.indices {
+                for k in 0..3 {
+                    let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
+                    *edges.entry((a, b)).or_insert(0) += 1;
+                }
+            }
+            assert!(edges.values().all(|&n| n == 2), "open mesh");
+            let max = |i: usize| m.vertices.iter().map(|v| v[i]).fold(f32::MIN, f32::max);
+            assert!((max(0) - 0.1).abs() < 1e-6 && (max(1) - 0.2).abs() < 1e-6);
+            assert!((max(2) - top).abs() < 1e-6);
+        }
+    }
+}

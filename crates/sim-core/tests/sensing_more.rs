@@ -1,0 +1,204 @@
+//! `sim.checkProximitySensor` on BubbleRob's nose sensor, and the CoppeliaSim 4.0-4.5
+//! image getters (`sim.getVisionSensorCharImage`, `sim.getVisionSensorImage`) against
+//! `sim.getVisionSensorImg`.
+
+use std::path::Path;
+
+use gantry_sim_core::api::{self, CallContext};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_sim_core::{Handle, Value, World};
+
+fn bubble_rob() -> World {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
+    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
+    World::new(&model)
+}
+
+fn find(w: &World, path: &str, index: usize) -> Handle {
+    w.find(path, None, index).expect(path)
+}
+
+fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+    api::call(w, &CallContext::default(), name, args)
+}
+
+fn int(v: &Value) -> i64 {
+    v.as_i64().unwrap_or_else(|| panic!("expected integer, got {v:?}"))
+}
+
+/// Obstacle 0 with its front face 0.1 m ahead of the nose sensor, obstacle 1 behind it
+/// (front face 0.14 m ahead, within the 0.15 m range). Returns world, sensor, obstacles.
+fn two_obstacles_ahead() -> (World, Handle, [Handle; 2]) {
+    let mut w = bubble_rob();
+    let base = find(&w, "/bubbleRob", 0);
+    let nose = find(&w, "/bubbleRob/sensingNose", 0);
+    let obstacles = [find(&w, "/obstacle", 0), find(&w, "/obstacle", 1)];
+    for (o, ahead) in obstacles.iter().zip([0.1, 0.14]) {
+        let mut pose = w.object(base).expect("base").world;
+        // Sensor 0.1 m in front of the base centre, cylinders of radius 0.05.
+        pose.translation.vector.x += 0.1 + ahead + 0.05;
+        pose.translation.vector.z = 0.1;
+        pose.rotation = nalgebra::UnitQuaternion::identity();
+        w.set_world_pose(*o, pose).expect("moves");
+    }
+    (w, nose, obstacles)
+}
+
+fn distance(r: &[Value]) -> f64 {
+    r[1].as_f64().expect("distance")
+}
+
+#[test]
+fn check_proximity_sensor_sees_only_the_entity_and_stays_silent() {
+    let (mut w, nose, [o0, o1]) = two_obstacles_ahead();
+
+    // Each obstacle on its own: the nearer does not hide the farther.
+    let r = call(&mut w, "sim.checkProximitySensor", &[Value::Int(nose), Value::Int(o1)]).expect("check");
+    assert_eq!((int(&r[0]), int(&r[3])), (1, o1), "{r:?}");
+    assert!((distance(&r) - 0.14).abs() < 0.01, "{r:?}");
+    let Value::Array(point) = &r[2] else {
+        panic!("point: {r:?}")
+    };
+    assert_eq!(point.len(), 3);
+    let r = call(&mut w, "sim.checkProximitySensor", &[Value::Int(nose), Value::Int(o0)]).expect("check");
+    assert_eq!((int(&r[0]), int(&r[3])), (1, o0));
+    assert!((distance(&r) - 0.1).abs() < 0.01, "{r:?}");
+
+    // sim.handle_all: the nearest detectable shape, as handleProximitySensor finds it.
+    let all = call(&mut w, "sim.checkProximitySensor", &[Value::Int(nose), Value::Int(-2)]).expect("all");
+    let handled = call(&mut w, "sim.handleProximitySensor", &[Value::Int(nose)]).expect("handle");
+    assert_eq!(int(&all[3]), o0);
+    assert_eq!(int(&handled[3]), o0);
+    assert!((distance(&all) - distance(&handled)).abs() < 1e-9);
+
+    // A collection holding only obstacle 1.
+    let coll = int(&call(&mut w, "sim.createCollection", &[Value::Int(0)]).expect("coll")[0]);
+    call(
+        &mut w,
+        "sim.addItemToCollection",
+        &[Value::Int(coll), Value::Int(-8), Value::Int(o1), Value::Int(0)],
+    )
+    .expect("add");
+    let r = call(
+        &mut w,
+        "sim.checkProximitySensor",
+        &[Value::Int(nose), Value::Int(coll)],
+    )
+    .expect("coll");
+    assert_eq!(int(&r[3]), o1);
+
+    // Silent: the reading of the last handling is untouched.
+    let before = call(&mut w, "sim.readProximitySensor", &[Value::Int(nose)]).expect("read");
+    call(&mut w, "sim.checkProximitySensor", &[Value::Int(nose), Value::Int(o1)]).expect("check");
+    let after = call(&mut w, "sim.readProximitySensor", &[Value::Int(nose)]).expect("read");
+    assert_eq!(before, after);
+}
+
+#[test]
+fn check_proximity_sensor_out_of_range_and_bad_arguments() {
+    let (mut w, nose, [o0, _]) = two_obstacles_ahead();
+    let body = find(&w, "/bubbleRob", 0);
+    // Never handled: a check does not make a reading appear.
+    let r = call(
+        &mut w,
+        "sim.checkProximitySensor",
+        &[Value::Int(nose), Value::Int(body)],
+    )
+    .expect("check");
+    assert_eq!(r.len(), 5);
+    assert_eq!(
+        (int(&r[0]), int(&r[3])),
+        (0, -1),
+        "the sensor's own body is not seen: {r:?}"
+    );
+    let read = call(&mut w, "sim.readProximitySensor", &[Value::Int(nose)]).expect("read");
+    assert_eq!(int(&read[0]), -1);
+
+    let e = call(&mut w, "sim.checkProximitySensor", &[Value::Int(o0), Value::Int(o0)]).expect_err("not a sensor");
+    assert!(
+        e.contains("not a proximity sensor") && e.contains("sim.checkProximitySensor"),
+        "{e}"
+    );
+    let e = call(
+        &mut w,
+        "sim.checkProximitySensor",
+        &[Value::Int(nose), Value::Int(99_999)],
+    )
+    .expect_err("no entity");
+    assert!(e.contains("sim.checkProximitySensor"), "{e}");
+}
+
+fn bytes(v: &Value) -> Vec<u8> {
+    match v {
+        Value::Bytes(b) => b.clone(),
+        other => panic!("expected bytes, got {other:?}"),
+    }
+}
+
+#[test]
+fn legacy_image_getters_match_get_vision_sensor_img() {
+    let (mut w, _, _) = two_obstacles_ahead();
+    let cam = find(&w, "/bubbleRob/visionSensor", 0);
+    call(&mut w, "sim.handleVisionSensor", &[Value::Int(cam)]).expect("render");
+    let img = bytes(&call(&mut w, "sim.getVisionSensorImg", &[Value::Int(cam)]).expect("img")[0]);
+    assert_eq!(img.len(), 256 * 256 * 3);
+
+    let r = call(&mut w, "sim.getVisionSensorCharImage", &[Value::Int(cam)]).expect("char image");
+    assert_eq!(bytes(&r[0]), img);
+    assert_eq!((int(&r[1]), int(&r[2])), (256, 256));
+
+    // A portion: columns 10..14, rows 20..23 (from the bottom); resX/resY stay the sensor's.
+    let portion: Vec<Value> = [cam, 10, 20, 4, 3].iter().map(|&i| Value::Int(i)).collect();
+    let r = call(&mut w, "sim.getVisionSensorCharImage", &portion).expect("portion");
+    let expected: Vec<u8> = (20..23)
+        .flat_map(|row| img[3 * (row * 256 + 10)..3 * (row * 256 + 14)].to_vec())
+        .collect();
+    assert_eq!(bytes(&r[0]), expected);
+    assert_eq!((int(&r[1]), int(&r[2])), (256, 256));
+
+    // sim.handleflag_greyscale: one byte per pixel, as getVisionSensorImg's option 1.
+    let grey_handle = Value::Int(cam | 0x0040_0000);
+    let grey = bytes(
+        &call(
+            &mut w,
+            "sim.getVisionSensorCharImage",
+            std::slice::from_ref(&grey_handle),
+        )
+        .expect("grey")[0],
+    );
+    let grey_img =
+        bytes(&call(&mut w, "sim.getVisionSensorImg", &[Value::Int(cam), Value::Int(1)]).expect("grey img")[0]);
+    assert_eq!(grey, grey_img);
+
+    // Floats 0..1: RGB per pixel, the bytes divided by 255; packed as f32 with returnType 1.
+    let r = call(&mut w, "sim.getVisionSensorImage", &portion).expect("float image");
+    let Value::Array(f) = &r[0] else { panic!("table: {r:?}") };
+    assert_eq!(f.len(), expected.len());
+    for (v, &b) in f.iter().zip(&expected) {
+        assert!((v.as_f64().expect("number") - f64::from(b) / 255.0).abs() < 1e-6);
+    }
+    let mut packed_args = portion.clone();
+    packed_args.push(Value::Int(1));
+    let packed = bytes(&call(&mut w, "sim.getVisionSensorImage", &packed_args).expect("packed")[0]);
+    assert_eq!(packed.len(), 4 * expected.len());
+    let g = call(&mut w, "sim.getVisionSensorImage", &[grey_handle]).expect("grey floats");
+    let Value::Array(g) = &g[0] else { panic!("table") };
+    assert_eq!(g.len(), 256 * 256);
+
+    let e = call(
+        &mut w,
+        "sim.getVisionSensorCharImage",
+        &[
+            Value::Int(cam),
+            Value::Int(250),
+            Value::Int(0),
+            Value::Int(10),
+            Value::Int(1),
+        ],
+    )
+    .expect_err("outside");
+    assert!(
+        e.contains("exceeds") && e.contains("sim.getVisionSensorCharImage"),
+        "{e}"
+    );
+}

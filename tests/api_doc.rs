@@ -1,0 +1,144 @@
+//! `docs/api.md` is generated from the registry: every function scripts and remote
+//! clients can call, where each may be called, and every constant, with the notes on
+//! differences from CoppeliaSim kept in `docs/api-notes.md`.
+//!
+//! The test fails when the file and the registry disagree. To regenerate after adding
+//! a function: `GANTRY_BLESS=1 cargo test --test api_doc`.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use gantry_script::{HOST_FUNCTIONS as LUA_HOST, HostAvailability};
+use gantry_server::zmq::{HOST_FUNCTIONS as REMOTE_HOST, SIMULATION_FUNCTIONS};
+use gantry_sim_core::api::MODULES;
+
+/// What one row says.
+struct Row {
+    scripts: &'static str,
+    remote: &'static str,
+    notes: Vec<String>,
+}
+
+/// Notes by qualified name, from lines "- `sim.name`: text" of docs/api-notes.md.
+fn notes(text: &str) -> BTreeMap<String, Vec<String>> {
+    let mut out: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for line in text.lines() {
+        let Some(rest) = line.strip_prefix("- `") else { continue };
+        let Some((name, note)) = rest.split_once("`: ") else {
+            continue;
+        };
+        out.entry(name.to_owned()).or_default().push(note.trim().to_owned());
+    }
+    out
+}
+
+fn generate(notes_text: &str) -> (String, Vec<String>) {
+    let mut notes = notes(notes_text);
+    let remote_extra = |name: &str| SIMULATION_FUNCTIONS.contains(&name) || REMOTE_HOST.iter().any(|(n, _)| *n == name);
+    let mut out = String::new();
+    let mut functions = 0;
+    let mut constants = 0;
+    let mut modules = String::new();
+    for module in MODULES {
+        let mut rows: BTreeMap<String, Row> = BTreeMap::new();
+        for (name, f) in module.callable() {
+            let mut row = Row {
+                scripts: "yes",
+                remote: "yes",
+                notes: Vec::new(),
+            };
+            if f.name != name {
+                row.notes
+                    .push(format!("CoppeliaSim 4.0-4.5 name of `{}.{}`.", module.name, f.name));
+            }
+            rows.insert(name.to_owned(), row);
+        }
+        if module.name == "sim" {
+            for (name, availability) in LUA_HOST {
+                let scripts = match availability {
+                    HostAvailability::Scripts => "yes",
+                    HostAvailability::Threaded => "threaded scripts",
+                };
+                let remote = if remote_extra(name) { "yes" } else { "no" };
+                rows.insert(
+                    (*name).to_owned(),
+                    Row {
+                        scripts,
+                        remote,
+                        notes: Vec::new(),
+                    },
+                );
+            }
+            for (name, _) in REMOTE_HOST {
+                rows.entry((*name).to_owned()).or_insert(Row {
+                    scripts: "no",
+                    remote: "yes",
+                    notes: Vec::new(),
+                });
+            }
+        }
+        let _ = writeln!(modules, "\n## {}\n", module.name);
+        let _ = writeln!(modules, "| Function | Scripts | Remote clients | Notes |");
+        let _ = writeln!(modules, "|---|---|---|---|");
+        for (name, mut row) in rows {
+            let qualified = format!("{}.{name}", module.name);
+            row.notes.extend(notes.remove(&qualified).unwrap_or_default());
+            let _ = writeln!(
+                modules,
+                "| `{qualified}` | {} | {} | {} |",
+                row.scripts,
+                row.remote,
+                row.notes.join(" ").replace('|', "\\|")
+            );
+            functions += 1;
+        }
+        let mut consts: Vec<(&str, i64)> = module.constants.iter().map(|(n, v)| (*n, *v)).collect();
+        if !consts.is_empty() {
+            consts.sort_unstable();
+            let _ = writeln!(modules, "\nConstants of `{}`:\n", module.name);
+            let list: Vec<String> = consts.iter().map(|(n, v)| format!("`{n}` = {v}")).collect();
+            let _ = writeln!(modules, "{}", list.join(", "));
+            constants += consts.len();
+        }
+    }
+    let _ = writeln!(
+        out,
+        "# The gantry API\n\n\
+         Every function gantry's Lua scripts and remote clients (ZMQ remote API, Python) can call, \
+         and every constant: {functions} functions in {} modules, {constants} constants. \
+         Generated from the registry by `GANTRY_BLESS=1 cargo test --test api_doc`; the test fails \
+         when this file and the code disagree. Differences from CoppeliaSim are noted per function \
+         (kept in `docs/api-notes.md`).\n\n\
+         \"Scripts\" is where a Lua script may call it (\"threaded scripts\": only from \
+         `sysCall_thread`, `sysCall_threadmain` or a coroutine, because it blocks). \"Remote \
+         clients\" is whether the ZMQ remote API serves it. Units are SI and angles radians, \
+         as in CoppeliaSim.",
+        MODULES.len()
+    );
+    out.push_str(&modules);
+    let unknown = notes.into_keys().collect();
+    (out, unknown)
+}
+
+#[test]
+fn api_reference_matches_the_registry() {
+    let root = common::root();
+    let notes_text = std::fs::read_to_string(root.join("docs/api-notes.md")).expect("docs/api-notes.md");
+    let (generated, unknown) = generate(&notes_text);
+    assert!(
+        unknown.is_empty(),
+        "docs/api-notes.md has notes for functions that do not exist: {unknown:?}"
+    );
+    let path = root.join("docs/api.md");
+    if std::env::var_os("GANTRY_BLESS").is_some() {
+        std::fs::write(&path, &generated).expect("write docs/api.md");
+        return;
+    }
+    let current = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        current == generated,
+        "docs/api.md is out of date with the registry: run `GANTRY_BLESS=1 cargo test --test api_doc`"
+    );
+}
