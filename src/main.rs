@@ -258,6 +258,7 @@ fn run(args: &RunArgs) -> Result<()> {
         limits: ScriptLimits::default(),
         autostart: true,
         export_graphs: args.export_graphs.clone(),
+        load_options: opts.clone(),
     };
     let summary = gantry_server::run(model, sim, serve, Shutdown::default(), |bound| {
         // One machine-readable line per listener on stderr, for scripts that start

@@ -69,3 +69,33 @@ def test_math_packing_and_old_names(gantry):
     assert sim.getScriptAssociatedWithObject(rob) == rob
     sim.setIntegerSignal("n", 4)
     assert sim.getInt32Signal("n") == 4
+
+
+def test_load_scene_and_close_scene(gantry):
+    from gantry_proc import REPO
+
+    g = gantry("assets/scenes/bubble_rob.toml")
+    sim = g.client().require("sim")
+    assert sim.getObject("/bubbleRob") >= 0
+
+    # As CoppeliaSim's examples begin: load the scene to work on.
+    sim.loadScene(str(REPO / "assets/scenes/fk_arm.toml"))
+    assert sim.getSimulationState() == sim.simulation_stopped
+    assert sim.getObject("/arm6") >= 0
+    with pytest.raises(Exception, match="object does not exist"):
+        sim.getObject("/bubbleRob")
+    sim.startSimulation()
+    # 16 until the first step is done, 17 after (CoppeliaSim's advancing passes).
+    assert sim.getSimulationState() in (sim.simulation_advancing_firstafterstop, sim.simulation_advancing_running)
+
+    # A CoppeliaSim scene file is refused by name; a missing file names the file; the
+    # scene stays as it was.
+    with pytest.raises(Exception, match=r"CoppeliaSim file, which gantry cannot read.*\.toml"):
+        sim.loadScene("/tmp/scene.ttt")
+    with pytest.raises(Exception, match="no-such-scene.toml"):
+        sim.loadScene(str(REPO / "no-such-scene.toml"))
+    assert sim.getObject("/arm6") >= 0
+
+    sim.closeScene()
+    with pytest.raises(Exception, match="object does not exist"):
+        sim.getObject("/arm6")

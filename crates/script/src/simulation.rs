@@ -19,7 +19,7 @@ use std::time::{Duration, Instant, SystemTime};
 
 use gantry_sim_core::api::{self, Args, CallContext};
 use gantry_sim_core::scene::SceneModel;
-use gantry_sim_core::world::SimulationState;
+use gantry_sim_core::world::{Advancing, SimulationState};
 use gantry_sim_core::{Handle, Value, World};
 use mlua::thread::ThreadStatus;
 use mlua::{Function, HookTriggers, Lua, MultiValue, Table, Thread, Value as LuaValue, VmState};
@@ -58,6 +58,17 @@ pub enum Hook {
     Sensing,
     /// `sysCall_cleanup`.
     Cleanup,
+    /// `sysCall_beforeSimulation`: when a stopped simulation starts, before any
+    /// `sysCall_init`.
+    BeforeSimulation,
+    /// `sysCall_afterSimulation`: when the simulation has ended, after every cleanup.
+    AfterSimulation,
+    /// `sysCall_suspend`: when the simulation pauses.
+    Suspend,
+    /// `sysCall_resume`: when a paused simulation resumes.
+    Resume,
+    /// `sysCall_nonSimulation`: regularly while the simulation is stopped.
+    NonSimulation,
 }
 
 impl Hook {
@@ -67,9 +78,32 @@ impl Hook {
             Hook::Actuation => "sysCall_actuation",
             Hook::Sensing => "sysCall_sensing",
             Hook::Cleanup => "sysCall_cleanup",
+            Hook::BeforeSimulation => "sysCall_beforeSimulation",
+            Hook::AfterSimulation => "sysCall_afterSimulation",
+            Hook::Suspend => "sysCall_suspend",
+            Hook::Resume => "sysCall_resume",
+            Hook::NonSimulation => "sysCall_nonSimulation",
         }
     }
 }
+
+/// Every `sysCall_*` function gantry calls. A script defining another gets one
+/// warning at load, naming it, instead of silently never being called.
+pub const SUPPORTED_HOOKS: &[&str] = &[
+    "sysCall_actuation",
+    "sysCall_afterSimulation",
+    "sysCall_beforeSimulation",
+    "sysCall_cleanup",
+    "sysCall_init",
+    "sysCall_nonSimulation",
+    "sysCall_packet",
+    "sysCall_resume",
+    "sysCall_sensing",
+    "sysCall_suspend",
+    "sysCall_thread",
+    "sysCall_threadmain",
+    "sysCall_vision",
+];
 
 /// A script's state, as the viewer and `gantry check` report it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -271,6 +305,52 @@ impl Simulation {
         }
         self.mtimes = self.scripts.iter().map(|s| s.modified).collect();
         self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
+        for i in 0..self.scripts.len() {
+            self.warn_unsupported_hooks(i);
+        }
+    }
+
+    /// Names, once per load, the `sysCall_*` functions of script `i` that gantry never
+    /// calls (CoppeliaSim's add-on and editor callbacks, `sysCall_contactCallback`, ...).
+    fn warn_unsupported_hooks(&self, i: usize) {
+        let script = &self.scripts[i];
+        let mut unsupported: Vec<String> = script
+            .env
+            .pairs::<LuaValue, LuaValue>()
+            .filter_map(|pair| {
+                let (k, v) = pair.ok()?;
+                let name = k.as_string()?.to_str().ok()?.to_owned();
+                (name.starts_with("sysCall_") && v.is_function() && !SUPPORTED_HOOKS.contains(&name.as_str()))
+                    .then_some(name)
+            })
+            .collect();
+        if unsupported.is_empty() {
+            return;
+        }
+        unsupported.sort_unstable();
+        let msg = format!(
+            "{} not supported by gantry and will never be called (supported: {})",
+            unsupported.join(", "),
+            SUPPORTED_HOOKS.join(", ")
+        );
+        self.log(300, &script.name.clone(), &msg);
+    }
+
+    /// Calls `hook` of every script that has not errored, in hook order.
+    fn call_hook_everywhere(&mut self, hook: Hook) {
+        for k in 0..self.order.len() {
+            let i = self.order[k];
+            self.call_hook(i, hook);
+        }
+    }
+
+    /// `sysCall_nonSimulation` of every script, if the simulation is stopped. The
+    /// simulation thread calls it regularly while stopped, as CoppeliaSim does.
+    pub fn non_simulation(&mut self) {
+        if self.state() == SimulationState::Stopped {
+            self.call_hook_everywhere(Hook::NonSimulation);
+            self.apply_control();
+        }
     }
 
     fn make_env(&self, name: &Rc<str>) -> mlua::Result<Table> {
@@ -350,7 +430,7 @@ impl Simulation {
         let f = match hook {
             Hook::Actuation => script.actuation.clone(),
             Hook::Sensing => script.sensing.clone(),
-            Hook::Init | Hook::Cleanup => script.env.raw_get::<Option<Function>>(hook.name()).ok().flatten(),
+            _ => script.env.raw_get::<Option<Function>>(hook.name()).ok().flatten(),
         };
         let Some(f) = f else { return };
         self.enter(i);
@@ -406,6 +486,20 @@ impl Simulation {
 
     /// Starts (or resumes) the simulation; runs `sysCall_init` of scripts not yet initialised.
     pub fn start(&mut self) {
+        match self.state() {
+            SimulationState::Stopped => {
+                self.call_hook_everywhere(Hook::BeforeSimulation);
+                self.shared.world.borrow_mut().advancing = Advancing::FirstAfterStop;
+            }
+            SimulationState::Paused => {
+                let mut w = self.shared.world.borrow_mut();
+                w.state = SimulationState::Running;
+                w.advancing = Advancing::FirstAfterPause;
+                drop(w);
+                self.call_hook_everywhere(Hook::Resume);
+            }
+            SimulationState::Running => {}
+        }
         self.shared.world.borrow_mut().state = SimulationState::Running;
         for k in 0..self.order.len() {
             let i = self.order[k];
@@ -433,9 +527,9 @@ impl Simulation {
 
     /// Pauses: steps are refused until [`Simulation::start`].
     pub fn pause(&mut self) {
-        let mut w = self.shared.world.borrow_mut();
-        if w.state == SimulationState::Running {
-            w.state = SimulationState::Paused;
+        if self.state() == SimulationState::Running {
+            self.shared.world.borrow_mut().state = SimulationState::Paused;
+            self.call_hook_everywhere(Hook::Suspend);
         }
     }
 
@@ -445,6 +539,7 @@ impl Simulation {
         if self.state() == SimulationState::Stopped {
             return;
         }
+        self.shared.world.borrow_mut().advancing = Advancing::AboutToStop;
         self.cleanup();
         let log = std::mem::take(&mut self.shared.world.borrow_mut().log);
         let mut world = World::new(&self.model);
@@ -460,6 +555,7 @@ impl Simulation {
     /// Runs `sysCall_cleanup` of every initialised script (errored ones included, as in
     /// CoppeliaSim). Called by [`Simulation::stop`] and on process exit.
     pub fn cleanup(&mut self) {
+        let ended = self.state() != SimulationState::Stopped;
         for k in 0..self.order.len() {
             let i = self.order[k];
             if self.scripts[i].initialised {
@@ -468,6 +564,9 @@ impl Simulation {
             }
         }
         self.shared.world.borrow_mut().state = SimulationState::Stopped;
+        if ended {
+            self.call_hook_everywhere(Hook::AfterSimulation);
+        }
     }
 
     /// The simulation state.
@@ -522,7 +621,13 @@ impl Simulation {
                 self.call_hook(i, Hook::Sensing);
             }
         }
-        self.shared.world.borrow_mut().advance_time();
+        {
+            let mut w = self.shared.world.borrow_mut();
+            w.advance_time();
+            if matches!(w.advancing, Advancing::FirstAfterStop | Advancing::FirstAfterPause) {
+                w.advancing = Advancing::Running;
+            }
+        }
         self.apply_control();
     }
 
@@ -1072,6 +1177,17 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
             name,
             lua.create_function(move |_, ()| {
                 shared.control.set(Some(control));
+                // Scripts see the request in `sim.getSimulationState` for the rest of
+                // the step, as CoppeliaSim's "last before pause" / "about to stop".
+                if let Ok(mut w) = shared.world.try_borrow_mut()
+                    && w.state == SimulationState::Running
+                {
+                    match control {
+                        ScriptControl::Pause => w.advancing = Advancing::LastBeforePause,
+                        ScriptControl::Stop => w.advancing = Advancing::AboutToStop,
+                        ScriptControl::Start => {}
+                    }
+                }
                 Ok(())
             })?,
         )?;

@@ -119,16 +119,18 @@ pub(crate) fn install(lua: &Lua, shared: &Rc<Shared>, sim: &Table) -> mlua::Resu
     // script (never reached from Lua) there is no mode to change.
     let with_mode = |f: fn(&mut ThreadMode, Option<mlua::Value>) -> mlua::Result<mlua::Value>| {
         let shared = shared.clone();
-        lua.create_function(move |_, arg: Option<mlua::Value>| {
-            let i = shared
-                .current_script
-                .get()
-                .ok_or_else(|| mlua::Error::runtime("no script is running"))?;
+        // Failures come back as (false, message) and threads.lua raises the message
+        // as a Lua string from the caller's line, like every other API error.
+        lua.create_function(move |lua, arg: Option<mlua::Value>| {
             let mut modes = shared.thread_modes.borrow_mut();
-            let mode = modes
-                .get_mut(i)
-                .ok_or_else(|| mlua::Error::runtime("no script is running"))?;
-            f(mode, arg)
+            let result = match shared.current_script.get().and_then(|i| modes.get_mut(i)) {
+                Some(mode) => f(mode, arg),
+                None => Err(mlua::Error::runtime("no script is running")),
+            };
+            Ok(match result {
+                Ok(v) => (true, v),
+                Err(e) => (false, mlua::Value::String(lua.create_string(e.to_string())?)),
+            })
         })
     };
     host.set(
@@ -188,8 +190,7 @@ pub(crate) fn install(lua: &Lua, shared: &Rc<Shared>, sim: &Table) -> mlua::Resu
     host.set(
         "setThreadSwitchTiming",
         with_mode(|m, arg| {
-            let ms = seconds(arg.as_ref(), "setThreadSwitchTiming", 1000.0)?;
-            m.auto_yield = Duration::from_secs_f64(ms / 1000.0);
+            m.auto_yield = Duration::from_secs_f64(seconds(arg.as_ref(), "setThreadSwitchTiming", 1000.0)?);
             Ok(mlua::Value::Integer(1))
         })?,
     )?;
@@ -211,6 +212,7 @@ pub(crate) fn install(lua: &Lua, shared: &Rc<Shared>, sim: &Table) -> mlua::Resu
         lua.globals().get::<mlua::Function>("error")?,
         lua.globals().get::<mlua::Function>("type")?,
         lua.globals().get::<Table>("string")?,
+        lua.globals().get::<mlua::Function>("ipairs")?,
     ))
 }
 
@@ -236,8 +238,8 @@ fn truthy(v: Option<&mlua::Value>, f: &str) -> mlua::Result<bool> {
     }
 }
 
-/// A non-negative, finite duration argument in seconds (`scale` converts other units),
-/// at most one hour.
+/// A non-negative duration argument of at most one hour, in seconds; `scale` is the
+/// argument's units per second (1000 for milliseconds).
 fn seconds(v: Option<&mlua::Value>, f: &str, scale: f64) -> mlua::Result<f64> {
     let x = match v {
         Some(mlua::Value::Integer(i)) => *i as f64,
@@ -255,5 +257,5 @@ fn seconds(v: Option<&mlua::Value>, f: &str, scale: f64) -> mlua::Result<f64> {
             "argument 1: expected a delay between 0 and 3600 s, got {x} (in function 'sim.{f}')"
         )));
     }
-    Ok(x)
+    Ok(s)
 }

@@ -178,7 +178,7 @@ fn each_script_has_its_own_globals_and_dot_is_its_object() {
     assert_eq!(signal(sim, "b.wheel"), Some(util::find(sim, "/bubbleRob/rightWheel")));
     assert_eq!(
         sim.call("getStringSignal", &[s("a.alias")]).expect("signal"),
-        vec![s("leftMotor")]
+        vec![Value::Bytes(b"leftMotor".to_vec())]
     );
     // Stop runs cleanup and restores the scene; the next start begins afresh.
     sim.stop();

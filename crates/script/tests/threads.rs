@@ -217,11 +217,14 @@ fn stepping_levels_nest_and_report_the_previous_level() {
         r[#r+1] = sim.setStepping(false)
         r[#r+1] = sim.getThreadAutomaticSwitch() and 1 or 0
         r[#r+1] = sim.getAutoYieldDelay()
+        sim.setThreadSwitchTiming(5) -- the 4.0-4.5 setter, in milliseconds
+        r[#r+1] = sim.getAutoYieldDelay()
+        r[#r+1] = select(2, pcall(sim.setAutoYieldDelay, -1)):match('between 0 and 3600 s') and 'refused' or 'accepted'
         print(table.concat(r, ','))
     end";
     let mut sc = scene("levels", ONE, &[("a.lua", a)]);
     steps(&mut sc.sim, 1);
-    assert_eq!(printed(&sc.sim, "a.lua"), ["0,1,2,0,1,1,0.002"]);
+    assert_eq!(printed(&sc.sim, "a.lua"), ["0,1,2,0,1,1,0.002,0.005,refused"]);
 }
 
 #[test]
@@ -546,4 +549,84 @@ fn the_default_scene_starts_and_runs_without_a_warning() {
     let warnings: Vec<(String, i64, String)> = log_lines(&sim).into_iter().filter(|(_, v, _)| *v <= 300).collect();
     assert!(warnings.is_empty(), "{warnings:?}");
     assert!(sim.world().warnings().is_empty(), "{:?}", sim.world().warnings());
+}
+
+#[test]
+fn simulation_lifecycle_hooks_run_at_coppeliasims_moments() {
+    let a = "function sysCall_beforeSimulation() print('before') end
+    function sysCall_init() print('init') end
+    function sysCall_suspend() print('suspend') end
+    function sysCall_resume() print('resume') end
+    function sysCall_cleanup() print('cleanup') end
+    function sysCall_afterSimulation() print('after') end
+    function sysCall_nonSimulation() print('non') end";
+    let mut sc = scene("lifecycle", ONE, &[("a.lua", a)]);
+    sc.sim.non_simulation();
+    steps(&mut sc.sim, 1);
+    sc.sim.non_simulation(); // running: not called
+    sc.sim.pause();
+    sc.sim.pause(); // already paused: no second suspend
+    sc.sim.start();
+    steps(&mut sc.sim, 1);
+    sc.sim.stop();
+    sc.sim.non_simulation();
+    // The log survives the stop; the scripts are new after it.
+    assert_eq!(
+        printed(&sc.sim, "a.lua"),
+        ["non", "before", "init", "suspend", "resume", "cleanup", "after", "non"]
+    );
+}
+
+#[test]
+fn an_unsupported_hook_is_named_once_at_load() {
+    let a = "function sysCall_init() end
+    function sysCall_contactCallback() end
+    function sysCall_beforeInstanceSwitch() end";
+    let mut sc = scene("unsupported", ONE, &[("a.lua", a)]);
+    steps(&mut sc.sim, 3);
+    let warnings: Vec<String> = log_lines(&sc.sim)
+        .into_iter()
+        .filter(|(s, v, _)| s == "a.lua" && *v == 300)
+        .map(|(_, _, m)| m)
+        .collect();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert_contains(
+        &warnings[0],
+        &[
+            "sysCall_beforeInstanceSwitch, sysCall_contactCallback not supported by gantry",
+            "never be called",
+        ],
+    );
+}
+
+#[test]
+fn simulation_state_reports_coppeliasims_advancing_passes() {
+    let a = "function sysCall_init() print('init ' .. sim.getSimulationState()) end
+    function sysCall_actuation()
+        local t = sim.getSimulationTime()
+        print(string.format('%.2f %d', t, sim.getSimulationState()))
+        if t > 0.09 and t < 0.11 then sim.pauseSimulation(); print('asked ' .. sim.getSimulationState()) end
+        if t > 0.19 and t < 0.21 then sim.stopSimulation(); print('asked ' .. sim.getSimulationState()) end
+    end
+    function sysCall_cleanup() print('cleanup ' .. sim.getSimulationState()) end";
+    let mut sc = scene("states", ONE, &[("a.lua", a)]);
+    steps(&mut sc.sim, 3);
+    assert_eq!(sc.sim.state(), SimulationState::Paused);
+    sc.sim.start();
+    steps(&mut sc.sim, 2);
+    assert_eq!(sc.sim.state(), SimulationState::Stopped);
+    assert_eq!(
+        printed(&sc.sim, "a.lua"),
+        [
+            "init 16",
+            "0.00 16",
+            "0.05 17",
+            "0.10 17",
+            "asked 19",
+            "0.15 20",
+            "0.20 17",
+            "asked 21",
+            "cleanup 21",
+        ]
+    );
 }

@@ -72,6 +72,14 @@ pub enum Request {
     /// A remote client left or timed out: forget its stepping level and locks, so it
     /// can no longer hold the simulation.
     DropClient(ClientId),
+    /// `sim.loadScene(path)` (`Some`) or `sim.closeScene()` (`None`, an empty scene):
+    /// the running simulation stops and the new scene waits, stopped, for a start.
+    LoadScene {
+        /// The scene file (`.toml`) or URDF, as the client named it.
+        path: Option<std::path::PathBuf>,
+        /// Empty results, or a CoppeliaSim-style error message.
+        reply: oneshot::Sender<Result<Vec<Value>, String>>,
+    },
     /// Run a closure on the simulation thread (for viewer snapshots and tests).
     With(Box<dyn FnOnce(&mut Simulation) + Send>),
 }
@@ -201,6 +209,8 @@ pub struct SimConfig {
     pub autostart: bool,
     /// Write every graph stream as CSV into this folder when the run ends.
     pub export_graphs: Option<std::path::PathBuf>,
+    /// How scenes loaded later by remote clients (`sim.loadScene`) are read.
+    pub load_options: gantry_sim_core::scene::LoadOptions,
 }
 
 /// What a finished run reports.
@@ -289,6 +299,8 @@ pub fn run_sim_thread_observed(
         steps: 0,
         stepping: Stepping::default(),
         deferred: VecDeque::new(),
+        limits: config.limits,
+        load_options: config.load_options.clone(),
     };
     if config.autostart {
         lp.sim.start();
@@ -298,6 +310,7 @@ pub fn run_sim_thread_observed(
     let mut origin = Instant::now();
     let mut paced_steps = 0u64;
     let mut last_reload = Instant::now();
+    let mut last_idle = Instant::now();
     let mut last_served = start.checked_sub(SPIN_AFTER_ACTIVITY).unwrap_or(start);
     'outer: loop {
         observer.observe(&lp.sim, lp.steps);
@@ -373,6 +386,12 @@ pub fn run_sim_thread_observed(
             last_reload = Instant::now();
             lp.sim.reload_changed();
         }
+        // Scripts' sysCall_nonSimulation, about 20 times a second while stopped (the
+        // loop wakes every 50 ms then, or on a request).
+        if lp.sim.state() == SimulationState::Stopped && last_idle.elapsed() >= Duration::from_millis(50) {
+            last_idle = Instant::now();
+            lp.sim.non_simulation();
+        }
     }
     lp.sim.cleanup();
     if let Some(dir) = &config.export_graphs {
@@ -410,6 +429,9 @@ struct SimLoop {
     stepping: Stepping,
     /// Requests that arrived during a step and wait for its end, in arrival order.
     deferred: VecDeque<Request>,
+    /// For scenes loaded later (`sim.loadScene`).
+    limits: ScriptLimits,
+    load_options: gantry_sim_core::scene::LoadOptions,
 }
 
 impl SimLoop {
@@ -502,8 +524,42 @@ impl SimLoop {
                 self.stepping.request_step(client, self.steps, advancing, done);
             }
             Request::DropClient(client) => self.stepping.drop_client(client),
+            Request::LoadScene { path, reply } => {
+                let _ = reply.send(self.load_scene(path.as_deref()));
+            }
             Request::With(f) => f(&mut self.sim),
         }
+    }
+
+    /// Replaces the scene (see [`Request::LoadScene`]). A file that does not load
+    /// leaves the current scene as it was.
+    fn load_scene(&mut self, path: Option<&std::path::Path>) -> Result<Vec<Value>, String> {
+        use gantry_sim_core::scene::{DiskFiles, load_scene, load_scene_text};
+        let (function, model) = match path {
+            Some(path) => {
+                let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+                if matches!(ext.as_deref(), Some("ttt" | "ttm" | "simscene" | "simmodel")) {
+                    return Err(format!(
+                        "'{}' is a CoppeliaSim file, which gantry cannot read: load a gantry scene                          (.toml, see docs/scene-format.md) or a robot (.urdf) (in function 'sim.loadScene')",
+                        path.display()
+                    ));
+                }
+                let model = load_scene(&DiskFiles, path, &self.load_options)
+                    .map_err(|e| format!("{e} (in function 'sim.loadScene')"))?;
+                ("loadScene", model)
+            }
+            None => {
+                let here = std::env::current_dir().unwrap_or_default().join("empty.toml");
+                let model = load_scene_text(&DiskFiles, "", &here, &self.load_options)
+                    .map_err(|e| format!("{e} (in function 'sim.closeScene')"))?;
+                ("closeScene", model)
+            }
+        };
+        let sim = Simulation::new(model, self.limits).map_err(|e| format!("{e} (in function 'sim.{function}')"))?;
+        // Cleanup hooks of the old scene run; its log goes with it.
+        self.stop();
+        self.sim = sim;
+        Ok(Vec::new())
     }
 
     fn remote(&mut self, client: ClientId, op: RemoteOp) -> Result<Vec<Value>, String> {
@@ -538,6 +594,7 @@ fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
         | Request::Remote { .. }
         | Request::Step { .. }
         | Request::DropClient(_)
+        | Request::LoadScene { .. }
         | Request::With(_) => false,
     }
 }

@@ -75,6 +75,8 @@ pub const SIMULATION_FUNCTIONS: &[&str] = &["callScriptFunction", "getScript", "
 /// or the simulation loop, not on the world.
 pub const HOST_FUNCTIONS: &[(&str, HostFn)] = &[
     ("acquireLock", HostFn::Remote(RemoteOp::Lock(true))),
+    ("closeScene", HostFn::LoadScene),
+    ("loadScene", HostFn::LoadScene),
     ("pauseSimulation", HostFn::Remote(RemoteOp::Pause)),
     ("releaseLock", HostFn::Remote(RemoteOp::Lock(false))),
     ("setStepping", HostFn::SetStepping),
@@ -92,6 +94,8 @@ pub enum HostFn {
     SetStepping,
     /// `sim.step()`: park the client until the next step is done.
     Step,
+    /// `sim.loadScene(path)`, `sim.closeScene()`: replace the scene.
+    LoadScene,
 }
 
 /// The text the real server sends to clients that do not send a `uuid` (protocol v1).
@@ -427,6 +431,14 @@ impl Server {
             // `sim.step(false)` (client.step(wait=False)) lets the simulation go on
             // without waiting for the step.
             Some(HostFn::Step) => return self.step(client, uuid, args.first() != Some(&Value::Bool(false))),
+            Some(HostFn::LoadScene) if name == "closeScene" => Request::LoadScene { path: None, reply },
+            Some(HostFn::LoadScene) => match Args::new(&args).str(0) {
+                Ok(path) => Request::LoadScene {
+                    path: Some(path.into()),
+                    reply,
+                },
+                Err(e) => return Outcome::Reply(encode_err(&e.in_function("sim.loadScene"))),
+            },
         };
         if let Err(e) = self.sim.send(request) {
             return Outcome::Reply(encode_err(&format!("{e} (in function 'sim.{name}')")));

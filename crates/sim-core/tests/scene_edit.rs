@@ -932,3 +932,23 @@ fn objects_created_after_a_removal_are_measured() {
     let d = floats(&r[1])[6];
     assert!((d - 0.85).abs() < 1e-3, "distance {d}");
 }
+
+/// Regression: a shape placed and made dynamic at run time, followed by a scene query
+/// before the next step (a sensor, a vision render), stayed frozen in mid-air: rapier's
+/// collision pipeline took the body's changes without filing it in an island.
+#[test]
+fn a_shape_made_dynamic_before_a_scene_query_still_falls() {
+    let mut w = world();
+    let b = ok(&mut w, "createPrimitiveShape", vec![i(3), v3(0.1, 0.1, 0.1)])[0].clone();
+    let h = int(&b);
+    ok(&mut w, "setObjectPosition", vec![b.clone(), v3(0.5, 0.5, 1.0), i(-1)]);
+    ok(&mut w, "setObjectInt32Param", vec![b.clone(), i(3003), i(0)]);
+    w.refresh_queries();
+    for _ in 0..4 {
+        w.step_physics();
+        w.advance_time();
+    }
+    let z = position(&mut w, h)[2];
+    // Free fall for 0.2 s: 0.196 m.
+    assert!((1.0 - z - 0.5 * 9.81 * 0.2 * 0.2).abs() < 0.02, "z = {z}");
+}

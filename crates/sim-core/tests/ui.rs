@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::ui::{Layout, MAX_UIS, MAX_WIDGETS, MAX_XML_LEN, UiEvent, WidgetKind};
+use gantry_sim_core::ui::{Layout, MAX_UIS, MAX_WIDGETS, MAX_XML_LEN, Placement, UiEvent, WidgetKind};
 use gantry_sim_core::{Handle, Value, World};
 
 fn world() -> World {
@@ -685,4 +685,147 @@ fn no_input_prefix_panics() {
     )
     .expect("create"));
     assert_eq!(w.uis.slider_value(ui, 1), Ok(0));
+}
+
+/// A window with a button (1) and a slider (2), created by BubbleRob's script.
+fn window_ui() -> (World, CallContext<'static>, i64) {
+    let mut w = world();
+    let ctx = script(base(&w));
+    let xml = "<ui title=\"Panel\" placement=\"center\" position=\"10,20\">\
+               <button id=\"1\" text=\"Go\" on-click=\"go\"/>\
+               <hslider id=\"2\" minimum=\"0\" maximum=\"10\" on-change=\"moved\"/></ui>";
+    let ui = int(&call(&mut w, &ctx, "simUI.create", &[Value::from(xml)]).expect("create"));
+    (w, ctx, ui)
+}
+
+#[test]
+fn position_and_title_read_back_and_move_the_window() {
+    let (mut w, ctx, ui) = window_ui();
+    let h = Value::Int(ui);
+    let pos = call(&mut w, &ctx, "simUI.getPosition", std::slice::from_ref(&h)).expect("get");
+    assert_eq!(pos, vec![Value::Int(10), Value::Int(20)]);
+    let rev = w.uis.revision();
+    call(
+        &mut w,
+        &ctx,
+        "simUI.setPosition",
+        &[h.clone(), Value::Int(300), Value::Int(-40)],
+    )
+    .expect("set");
+    assert!(w.uis.revision() != rev, "the viewer sees the change");
+    let pos = call(&mut w, &ctx, "simUI.getPosition", std::slice::from_ref(&h)).expect("get");
+    assert_eq!(pos, vec![Value::Int(300), Value::Int(-40)]);
+    // Qt moves the window to screen coordinates, whatever the XML's placement.
+    assert_eq!(w.uis.get(ui).expect("ui").placement, Placement::Absolute);
+    call(
+        &mut w,
+        &ctx,
+        "simUI.setPosition",
+        &[h.clone(), Value::Int(1), Value::Int(2), Value::Bool(false)],
+    )
+    .expect("suppressEvents accepted");
+
+    let title = call(&mut w, &ctx, "simUI.getTitle", std::slice::from_ref(&h)).expect("title");
+    assert_eq!(title, vec![Value::from("Panel")]);
+    call(&mut w, &ctx, "simUI.setTitle", &[h.clone(), Value::from("Renamed")]).expect("set title");
+    assert_eq!(w.uis.get(ui).expect("ui").title, "Renamed");
+    assert_eq!(
+        call(&mut w, &ctx, "simUI.getTitle", &[h]).expect("title"),
+        vec![Value::from("Renamed")]
+    );
+    assert!(w.uis.take_events().is_empty(), "no callback for moves or titles");
+}
+
+#[test]
+fn hidden_widgets_and_button_text() {
+    let (mut w, ctx, ui) = window_ui();
+    let h = Value::Int(ui);
+    let visible = |w: &mut World, id: i64| {
+        call(w, &ctx, "simUI.getWidgetVisibility", &[Value::Int(ui), Value::Int(id)]).expect("get")
+    };
+    assert_eq!(visible(&mut w, 1), vec![Value::Bool(true)]);
+    call(
+        &mut w,
+        &ctx,
+        "simUI.setWidgetVisibility",
+        &[h.clone(), Value::Int(1), Value::Bool(false)],
+    )
+    .expect("hide");
+    assert_eq!(visible(&mut w, 1), vec![Value::Bool(false)]);
+    assert!(!w.uis.widget(ui, 1).expect("widget").visible);
+    // A user cannot click what is hidden.
+    assert!(call(&mut w, &ctx, "simUI.interact", &[h.clone(), Value::Int(1), Value::Nil]).is_err());
+    call(
+        &mut w,
+        &ctx,
+        "simUI.setWidgetVisibility",
+        &[h.clone(), Value::Int(1), Value::Bool(true)],
+    )
+    .expect("show");
+    call(&mut w, &ctx, "simUI.interact", &[h.clone(), Value::Int(1), Value::Nil]).expect("click");
+    assert_eq!(w.uis.take_events().len(), 1);
+
+    call(
+        &mut w,
+        &ctx,
+        "simUI.setButtonText",
+        &[h.clone(), Value::Int(1), Value::from("Stop")],
+    )
+    .expect("text");
+    let WidgetKind::Button(b) = &w.uis.widget(ui, 1).expect("widget").kind else {
+        panic!("widget 1 is a button");
+    };
+    assert_eq!(b.text, "Stop");
+    assert!(w.uis.take_events().is_empty(), "a text change clicks nothing");
+}
+
+#[test]
+fn window_and_widget_setters_check_handles_ids_and_types() {
+    let (mut w, ctx, ui) = window_ui();
+    let h = Value::Int(ui);
+    for (name, args, expect) in [
+        ("simUI.getPosition", vec![Value::Int(4242)], "invalid ui handle: 4242"),
+        (
+            "simUI.setPosition",
+            vec![Value::Int(4242), Value::Int(0), Value::Int(0)],
+            "invalid ui handle: 4242",
+        ),
+        ("simUI.getTitle", vec![Value::Int(4242)], "invalid ui handle: 4242"),
+        (
+            "simUI.setTitle",
+            vec![Value::Int(4242), Value::from("t")],
+            "invalid ui handle: 4242",
+        ),
+        (
+            "simUI.setPosition",
+            vec![h.clone(), Value::from("x"), Value::Int(0)],
+            "argument 2",
+        ),
+        (
+            "simUI.setWidgetVisibility",
+            vec![h.clone(), Value::Int(9), Value::Bool(true)],
+            "invalid widget id: 9",
+        ),
+        (
+            "simUI.getWidgetVisibility",
+            vec![h.clone(), Value::Int(9)],
+            "invalid widget id: 9",
+        ),
+        (
+            "simUI.setButtonText",
+            vec![h.clone(), Value::Int(2), Value::from("x")],
+            "invalid widget type. expected button",
+        ),
+        (
+            "simUI.setButtonText",
+            vec![h.clone(), Value::Int(1), Value::Int(3)],
+            "argument 3",
+        ),
+    ] {
+        let e = call(&mut w, &ctx, name, &args).expect_err(name);
+        assert!(e.contains(expect), "{name}: {e}");
+        assert!(e.ends_with(&format!("(in function '{name}')")), "{e}");
+    }
+    let long = "x".repeat(gantry_sim_core::ui::MAX_TEXT_LEN + 1);
+    assert!(call(&mut w, &ctx, "simUI.setTitle", &[h, Value::from(long)]).is_err());
 }

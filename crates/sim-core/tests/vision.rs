@@ -549,3 +549,284 @@ fn render_time_in_the_test_profile() {
     let ms = t.elapsed().as_secs_f64() * 1e3 / f64::from(n);
     eprintln!("vision: 256x256 BubbleRob render {ms:.2} ms (test profile)");
 }
+
+/// A 256 x 256 black sensor image with a red 20 x 20 square at columns 30..50, rows
+/// 40..60 and a green 10 x 30 rectangle at columns 150..160, rows 100..130, loaded as
+/// the work image.
+fn two_squares() -> (World, Handle) {
+    let mut w = bubble_rob();
+    let sensor = find(&w, "/bubbleRob/visionSensor", 0);
+    let mut img = vec![0u8; 256 * 256 * 3];
+    let mut fill = |xs: std::ops::Range<usize>, ys: std::ops::Range<usize>, c: [u8; 3]| {
+        for y in ys {
+            for x in xs.clone() {
+                let i = 3 * (y * 256 + x);
+                img[i..i + 3].copy_from_slice(&c);
+            }
+        }
+    };
+    fill(30..50, 40..60, [255, 0, 0]);
+    fill(150..160, 100..130, [0, 255, 0]);
+    call(
+        &mut w,
+        "sim.setVisionSensorImg",
+        &[Value::Int(sensor), Value::Bytes(img)],
+    )
+    .unwrap();
+    call(&mut w, "simVision.sensorImgToWorkImg", &[Value::Int(sensor)]).unwrap();
+    (w, sensor)
+}
+
+/// The work image written back to the sensor, as bytes.
+fn work_bytes(w: &mut World, sensor: Handle) -> (Vec<u8>, [usize; 2]) {
+    call(
+        w,
+        "simVision.workImgToSensorImg",
+        &[Value::Int(sensor), Value::Bool(false)],
+    )
+    .unwrap();
+    rgb(w, sensor)
+}
+
+/// `blobDetectionOnWorkImg`'s reply: trigger, then the packet's floats.
+fn blobs(w: &mut World, sensor: Handle, args: &[Value]) -> (bool, Vec<f64>) {
+    let mut all = vec![Value::Int(sensor)];
+    all.extend_from_slice(args);
+    let reply = call(w, "simVision.blobDetectionOnWorkImg", &all).unwrap();
+    let Some(Value::Bool(trigger)) = reply.first() else {
+        panic!("expected a trigger, got {reply:?}");
+    };
+    let Some(Value::Bytes(packet)) = reply.get(1) else {
+        panic!("expected a packed packet, got {reply:?}");
+    };
+    (*trigger, vision::unpack_floats(packet))
+}
+
+fn close(actual: f64, expected: f64, what: &str) {
+    assert!((actual - expected).abs() < 1e-4, "{what}: {actual} != {expected}");
+}
+
+#[test]
+fn blob_detection_finds_two_squares_where_they_are() {
+    let (mut w, sensor) = two_squares();
+    let (trigger, p) = blobs(
+        &mut w,
+        sensor,
+        &[Value::Float(0.2), Value::Float(0.0), Value::Bool(false)],
+    );
+    assert!(!trigger);
+    assert_eq!(p.len(), 2 + 2 * 6, "{p:?}");
+    assert_eq!((p[0], p[1]), (2.0, 6.0));
+    let n = 256.0;
+    // First pixel first: the red square (row 40) before the green one (row 100).
+    let red = &p[2..8];
+    close(red[0], 400.0 / (n * n), "red size");
+    close(red[1], 0.0, "red orientation");
+    close(red[2], 40.0 / n, "red x");
+    close(red[3], 50.0 / n, "red y");
+    close(red[4], 20.0 / n, "red width");
+    close(red[5], 20.0 / n, "red height");
+    let green = &p[8..14];
+    close(green[0], 300.0 / (n * n), "green size");
+    close(green[1], 0.0, "green orientation");
+    close(green[2], 155.0 / n, "green x");
+    close(green[3], 115.0 / n, "green y");
+    close(green[4], 10.0 / n, "green width");
+    close(green[5], 30.0 / n, "green height");
+
+    // The image is untouched without modifyWorkImage or overlay.
+    let (img, res) = work_bytes(&mut w, sensor);
+    assert_eq!(pixel(&img, res, 35, 45), [255, 0, 0]);
+    assert_eq!(pixel(&img, res, 155, 115), [0, 255, 0]);
+
+    // The packet unpacks with sim.unpackFloatTable, as scripts read it.
+    let (mut w2, sensor2) = two_squares();
+    let reply = call(
+        &mut w2,
+        "simVision.blobDetectionOnWorkImg",
+        &[
+            Value::Int(sensor2),
+            Value::Float(0.2),
+            Value::Float(0.0),
+            Value::Bool(false),
+        ],
+    )
+    .unwrap();
+    let unpacked = call(&mut w2, "sim.unpackFloatTable", &reply[1..2]).unwrap();
+    let Some(Value::Array(values)) = unpacked.first() else {
+        panic!("expected a table, got {unpacked:?}");
+    };
+    assert_eq!(values.first().and_then(Value::as_f64), Some(2.0));
+}
+
+#[test]
+fn small_blobs_are_dropped_and_blacked_out() {
+    let (mut w, sensor) = two_squares();
+    // Red covers 400 / 65536 = 0.0061 of the image, green 0.0046.
+    let (_, p) = blobs(
+        &mut w,
+        sensor,
+        &[Value::Float(0.2), Value::Float(0.005), Value::Bool(false)],
+    );
+    assert_eq!(p[0], 1.0);
+    close(p[4], 40.0 / 256.0, "the red square is left");
+    let (img, res) = work_bytes(&mut w, sensor);
+    assert_eq!(
+        pixel(&img, res, 155, 115),
+        [0, 0, 0],
+        "simVision blacks out small blobs"
+    );
+    assert_eq!(pixel(&img, res, 35, 45), [255, 0, 0]);
+    // A threshold above both squares' intensity (1/3) finds nothing.
+    let (mut w, sensor) = two_squares();
+    let (_, p) = blobs(
+        &mut w,
+        sensor,
+        &[Value::Float(0.5), Value::Float(0.0), Value::Bool(false)],
+    );
+    assert_eq!(p, vec![0.0, 6.0]);
+}
+
+#[test]
+fn blob_detection_recolours_and_draws_overlays() {
+    let (mut w, sensor) = two_squares();
+    blobs(
+        &mut w,
+        sensor,
+        &[Value::Float(0.2), Value::Float(0.0), Value::Bool(true)],
+    );
+    let (img, res) = work_bytes(&mut w, sensor);
+    // First blob red, second green, both at 0.8.
+    assert_eq!(pixel(&img, res, 35, 45), [204, 0, 0]);
+    assert_eq!(pixel(&img, res, 155, 115), [0, 204, 0]);
+    assert_eq!(pixel(&img, res, 100, 100), [0, 0, 0], "the background stays black");
+
+    let (mut w, sensor) = two_squares();
+    blobs(
+        &mut w,
+        sensor,
+        &[
+            Value::Float(0.2),
+            Value::Float(0.0),
+            Value::Bool(false),
+            Value::floats(&[0.0, 0.0, 1.0]),
+        ],
+    );
+    let (img, res) = work_bytes(&mut w, sensor);
+    // The outline runs along the squares' outer pixels; the inside is untouched.
+    for (x, y) in [
+        (30, 40),
+        (49, 40),
+        (49, 59),
+        (30, 59),
+        (40, 40),
+        (30, 50),
+        (150, 100),
+        (159, 129),
+    ] {
+        assert_eq!(pixel(&img, res, x, y), [0, 0, 255], "outline at {x}, {y}");
+    }
+    assert_eq!(pixel(&img, res, 40, 50), [255, 0, 0]);
+    assert_eq!(pixel(&img, res, 29, 50), [0, 0, 0], "nothing outside");
+}
+
+#[test]
+fn selective_colour_keeps_or_removes_the_matching_pixels() {
+    let red = (35, 45);
+    let green = (155, 115);
+    let run = |args: &[Value]| {
+        let (mut w, sensor) = two_squares();
+        let mut all = vec![Value::Int(sensor)];
+        all.extend_from_slice(args);
+        let reply = call(&mut w, "simVision.selectiveColorOnWorkImg", &all).unwrap();
+        assert!(reply.is_empty());
+        let (img, res) = work_bytes(&mut w, sensor);
+        (pixel(&img, res, red.0, red.1), pixel(&img, res, green.0, green.1))
+    };
+    let red_rgb = [
+        Value::floats(&[1.0, 0.0, 0.0]),
+        Value::floats(&[0.1, 0.1, 0.1]),
+        Value::Bool(true),
+    ];
+    // keep: only red is left.
+    let mut args = red_rgb.to_vec();
+    args.extend([Value::Bool(true), Value::Bool(false)]);
+    assert_eq!(run(&args), ([255, 0, 0], [0, 0, 0]));
+    // not keep: red is removed, the rest stays.
+    let mut args = red_rgb.to_vec();
+    args.extend([Value::Bool(false), Value::Bool(false)]);
+    assert_eq!(run(&args), ([0, 0, 0], [0, 255, 0]));
+    // In HSL: green has hue 1/3, saturation 1, lightness 0.5.
+    let args = [
+        Value::floats(&[1.0 / 3.0, 1.0, 0.5]),
+        Value::floats(&[0.05, 0.1, 0.1]),
+        Value::Bool(false),
+        Value::Bool(true),
+        Value::Bool(false),
+    ];
+    assert_eq!(run(&args), ([0, 0, 0], [0, 255, 0]));
+    // A tolerance spanning 0..1 in every component matches every pixel.
+    let args = [
+        Value::floats(&[0.5, 0.5, 0.5]),
+        Value::floats(&[0.5, 0.5, 0.5]),
+        Value::Bool(true),
+        Value::Bool(true),
+        Value::Bool(false),
+    ];
+    assert_eq!(
+        run(&args),
+        ([255, 0, 0], [0, 255, 0]),
+        "a tolerance covering everything keeps all"
+    );
+}
+
+#[test]
+fn blob_and_colour_arguments_are_checked() {
+    let (mut w, sensor) = two_squares();
+    let h = Value::Int(sensor);
+    let e = call(
+        &mut w,
+        "simVision.selectiveColorOnWorkImg",
+        &[
+            h.clone(),
+            Value::floats(&[1.0, 0.0, 0.0]),
+            Value::floats(&[0.1, 0.1, 0.1]),
+            Value::Bool(true),
+            Value::Bool(true),
+            Value::Bool(true),
+        ],
+    )
+    .unwrap_err();
+    assert!(e.contains("argument 6") && e.contains("buffer 1"), "{e}");
+    let e = call(
+        &mut w,
+        "simVision.selectiveColorOnWorkImg",
+        &[h.clone(), Value::floats(&[1.0, 0.0]), Value::floats(&[0.1, 0.1, 0.1])],
+    )
+    .unwrap_err();
+    assert!(e.contains("argument 2"), "{e}");
+    let e = call(
+        &mut w,
+        "simVision.blobDetectionOnWorkImg",
+        &[
+            h.clone(),
+            Value::Float(0.2),
+            Value::Float(0.0),
+            Value::Bool(false),
+            Value::Int(1),
+        ],
+    )
+    .unwrap_err();
+    assert!(e.contains("argument 5"), "{e}");
+    call(&mut w, "simVision.workImgToSensorImg", std::slice::from_ref(&h)).unwrap();
+    let e = call(
+        &mut w,
+        "simVision.blobDetectionOnWorkImg",
+        &[h, Value::Float(0.2), Value::Float(0.0), Value::Bool(false)],
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("no work image") && e.ends_with("(in function 'simVision.blobDetectionOnWorkImg')"),
+        "{e}"
+    );
+}

@@ -10,7 +10,7 @@
 -- Loaded once into the shared globals before the scripts' environments are copied,
 -- with the functions it needs passed in, so that a script replacing `sim.getSimulationTime`
 -- in its own copy cannot change how `sim.wait` measures time.
-local sim, host, coroutine, error, type, string = ...
+local sim, host, coroutine, error, type, string, ipairs = ...
 local yield, isyieldable = coroutine.yield, coroutine.isyieldable
 local getTime, getSystemTime = sim.getSimulationTime, sim.getSystemTime
 local getInt, getFloat, getString = sim.getInt32Signal, sim.getFloatSignal, sim.getStringSignal
@@ -77,13 +77,19 @@ function sim.waitForSignal(a, b)
     end
 end
 
-sim.setStepping = host.setStepping
-sim.getStepping = host.getStepping
-sim.setThreadAutomaticSwitch = host.setThreadAutomaticSwitch
-sim.getThreadAutomaticSwitch = host.getThreadAutomaticSwitch
-sim.setAutoYieldDelay = host.setAutoYieldDelay
-sim.getAutoYieldDelay = host.getAutoYieldDelay
-sim.setThreadSwitchTiming = host.setThreadSwitchTiming
-sim.acquireLock = host.acquireLock
-sim.releaseLock = host.releaseLock
+-- The mode setters (Rust, threads.rs) return ok, value; a failure is raised here, from
+-- the script's line, as a string like every API error.
+local function raising(f)
+    return function(...)
+        local ok, value = f(...)
+        if not ok then error(value, 2) end
+        return value
+    end
+end
+
+for _, name in ipairs({'setStepping', 'getStepping', 'setThreadAutomaticSwitch',
+        'getThreadAutomaticSwitch', 'setAutoYieldDelay', 'getAutoYieldDelay',
+        'setThreadSwitchTiming', 'acquireLock', 'releaseLock'}) do
+    sim[name] = raising(host[name])
+end
 sim.isScriptRunningInThread = host.isScriptRunningInThread

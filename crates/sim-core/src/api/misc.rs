@@ -14,9 +14,9 @@ pub(super) fn get_simulation_time_step(w: &mut World, _: &CallContext<'_>, _: &A
     Ok(vec![Value::Float(w.settings().dt)])
 }
 
-/// `sim.getSimulationState()` → 0 stopped, 8 paused, 17 running.
+/// `sim.getSimulationState()` → 0 stopped, 8 paused, 16-21 advancing (see `Advancing`).
 pub(super) fn get_simulation_state(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::Int(w.state.code())])
+    Ok(vec![Value::Int(w.simulation_state_code())])
 }
 
 /// `sim.getSystemTime()` → wall-clock seconds since the Unix epoch.
@@ -98,14 +98,13 @@ pub(super) fn set_string_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>
     Ok(Vec::new())
 }
 
-/// `sim.getStringSignal(name)` → value (text when valid UTF-8, else bytes), or nil.
+/// `sim.getStringSignal(name)` → the value as bytes, or nil.
 pub(super) fn get_string_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    // Always a byte buffer, as in CoppeliaSim 4.6+ (Python clients get `bytes`);
+    // Lua sees a string either way.
     Ok(vec![match w.signals.string.get(a.str(0)?) {
         None => Value::Nil,
-        Some(b) => match std::str::from_utf8(b) {
-            Ok(s) => Value::Str(s.to_owned()),
-            Err(_) => Value::Bytes(b.clone()),
-        },
+        Some(b) => Value::Bytes(b.clone()),
     }])
 }
 

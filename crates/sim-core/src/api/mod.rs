@@ -7,6 +7,7 @@
 //! which the front end appends `(in function 'sim.name')`.
 
 mod args;
+mod custom_data;
 mod drawing;
 mod ik;
 mod ik_legacy;
@@ -362,6 +363,7 @@ pub const MODULES: &[Module] = &[
             params::FUNCTIONS,
             legacy::FUNCTIONS,
             sensing_more::FUNCTIONS,
+            custom_data::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,

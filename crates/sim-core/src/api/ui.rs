@@ -43,6 +43,10 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: get_label_text,
     },
     ApiFunction {
+        name: "getPosition",
+        call: get_position,
+    },
+    ApiFunction {
         name: "getRadiobuttonValue",
         call: get_radiobutton_value,
     },
@@ -55,6 +59,14 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: get_spinbox_value,
     },
     ApiFunction {
+        name: "getTitle",
+        call: get_title,
+    },
+    ApiFunction {
+        name: "getWidgetVisibility",
+        call: get_widget_visibility,
+    },
+    ApiFunction {
         name: "hide",
         call: hide,
     },
@@ -65,6 +77,10 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "isVisible",
         call: is_visible,
+    },
+    ApiFunction {
+        name: "setButtonText",
+        call: set_button_text,
     },
     ApiFunction {
         name: "setCheckboxValue",
@@ -83,6 +99,10 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: set_label_text,
     },
     ApiFunction {
+        name: "setPosition",
+        call: set_position,
+    },
+    ApiFunction {
         name: "setRadiobuttonValue",
         call: set_radiobutton_value,
     },
@@ -93,6 +113,14 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "setSpinboxValue",
         call: set_spinbox_value,
+    },
+    ApiFunction {
+        name: "setTitle",
+        call: set_title,
+    },
+    ApiFunction {
+        name: "setWidgetVisibility",
+        call: set_widget_visibility,
     },
     ApiFunction {
         name: "show",
@@ -260,5 +288,53 @@ fn is_visible(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
 fn interact(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, value) = (a.handle(0)?, a.int(1)?, a.get(2));
     with_uis(w, ctx, |u| u.interact(ui, id, value))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getPosition(ui)` → `x, y` in pixels.
+fn get_position(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let [x, y] = w.uis.position(a.handle(0)?)?;
+    Ok(vec![Value::Int(x), Value::Int(y)])
+}
+
+/// `simUI.setPosition(ui, x, y, suppressEvents=true)`: moves the window (pixels).
+fn set_position(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, x, y) = (a.handle(0)?, a.int(1)?, a.int(2)?);
+    // Checked for type only: gantry's windows have no move callback to suppress.
+    a.opt_bool(3, true)?;
+    with_uis(w, ctx, |u| u.set_position(ui, [x, y]))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getTitle(ui)` → text.
+fn get_title(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::from(w.uis.title(a.handle(0)?)?)])
+}
+
+/// `simUI.setTitle(ui, title, suppressEvents=true)`.
+fn set_title(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, title) = (a.handle(0)?, a.str(1)?);
+    // Checked for type only: a title change has no callback.
+    a.opt_bool(2, true)?;
+    with_uis(w, ctx, |u| u.set_title(ui, title))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.getWidgetVisibility(ui, id)` → boolean.
+fn get_widget_visibility(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Bool(w.uis.widget_visible(a.handle(0)?, a.int(1)?)?)])
+}
+
+/// `simUI.setWidgetVisibility(ui, id, visible)`.
+fn set_widget_visibility(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, visible) = (a.handle(0)?, a.int(1)?, a.bool(2)?);
+    with_uis(w, ctx, |u| u.set_widget_visible(ui, id, visible))?;
+    Ok(Vec::new())
+}
+
+/// `simUI.setButtonText(ui, id, text)`.
+fn set_button_text(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (ui, id, text) = (a.handle(0)?, a.int(1)?, a.str(2)?);
+    with_uis(w, ctx, |u| u.set_button_text(ui, id, text))?;
     Ok(Vec::new())
 }

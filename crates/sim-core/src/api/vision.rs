@@ -66,12 +66,20 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
 /// The `simVision.*` functions, in alphabetical order.
 pub(super) const SIM_VISION_FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
+        name: "blobDetectionOnWorkImg",
+        call: blob_detection_on_work_img,
+    },
+    ApiFunction {
         name: "edgeDetectionOnWorkImg",
         call: edge_detection_on_work_img,
     },
     ApiFunction {
         name: "horizontalFlipWorkImg",
         call: horizontal_flip_work_img,
+    },
+    ApiFunction {
+        name: "selectiveColorOnWorkImg",
+        call: selective_color_on_work_img,
     },
     ApiFunction {
         name: "sensorDepthMapToWorkImg",
@@ -408,6 +416,48 @@ fn vertical_flip_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) ->
     let h = sensor_handle(ctx, a, 0)?;
     vision::work(w, h)?.flip_vertical();
     Ok(Vec::new())
+}
+
+/// `simVision.selectiveColorOnWorkImg(h, color, colorTolerance, rgb, keep,
+/// removedPartToBuffer1)`: with `keep`, pixels whose colour is not within
+/// `colorTolerance` of `color` (per component, in RGB when `rgb` is true, else in HSL
+/// with the hue wrapping around) turn black; without `keep`, those within do.
+/// gantry has no buffer 1, so `removedPartToBuffer1` must be false.
+fn selective_color_on_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    let color = a.floats::<3>(1)?.map(|c| c as f32);
+    let tolerance = a.floats::<3>(2)?.map(|c| c as f32);
+    let (rgb, keep, to_buffer1) = (a.bool(3)?, a.bool(4)?, a.bool(5)?);
+    if to_buffer1 {
+        return Err(ApiError::new(
+            "argument 6: removedPartToBuffer1 is not supported (gantry has no buffer 1); pass false",
+        ));
+    }
+    vision::work(w, h)?.selective_color(color, tolerance, rgb, keep);
+    Ok(Vec::new())
+}
+
+/// `simVision.blobDetectionOnWorkImg(h, threshold, minBlobSize, modifyWorkImage,
+/// overlayColor)` → `trigger, packedPacket`: finds the 8-connected blobs of pixels whose
+/// mean of R, G, B is at least `threshold`. Blobs smaller than `minBlobSize` (a
+/// fraction of the image's pixels) are left out and blacked out in the work image.
+/// `modifyWorkImage` paints the background black and each blob in its own colour;
+/// a given `overlayColor` ({r, g, b}) draws each blob's rectangle. `trigger` is always
+/// false. The packet is packed floats: blob count, 6, then per blob its size (fraction
+/// of the pixels), orientation (radians), centre x and y, width and height (fractions
+/// of the image's width and height; y from the bottom).
+fn blob_detection_on_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = sensor_handle(ctx, a, 0)?;
+    let threshold = a.finite(1)? as f32;
+    let min_size = a.finite(2)?;
+    let recolor = a.bool(3)?;
+    let overlay = match a.get(4) {
+        Value::Nil => None,
+        _ => Some(a.floats::<3>(4)?.map(|c| c as f32)),
+    };
+    let packet = vision::work(w, h)?.blob_detection(threshold, min_size, recolor, overlay);
+    let bytes = packet.iter().flat_map(|v| v.to_le_bytes()).collect();
+    Ok(vec![Value::Bool(false), Value::Bytes(bytes)])
 }
 
 /// `sim.handleflag_greyscale`, or-ed into the sensor handle of the 4.x image getters.

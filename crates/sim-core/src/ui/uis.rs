@@ -411,6 +411,85 @@ impl Uis {
         Ok(())
     }
 
+    /// `simUI.getPosition`: the window's `position` in pixels.
+    ///
+    /// # Errors
+    /// [`UiError::NoSuchUi`].
+    pub fn position(&self, ui: i64) -> Result<[i64; 2], UiError> {
+        Ok(self.uis.get(&ui).ok_or(UiError::NoSuchUi(ui))?.position)
+    }
+
+    /// `simUI.setPosition`: moves the window to `position` in screen pixels. simUI moves
+    /// the Qt window to absolute coordinates, so the placement becomes
+    /// [`Placement::Absolute`](super::Placement::Absolute) whatever the XML said.
+    ///
+    /// # Errors
+    /// [`UiError::NoSuchUi`].
+    pub fn set_position(&mut self, ui: i64, position: [i64; 2]) -> Result<(), UiError> {
+        let window = self.uis.get_mut(&ui).ok_or(UiError::NoSuchUi(ui))?;
+        window.position = position;
+        window.placement = super::Placement::Absolute;
+        self.touch();
+        Ok(())
+    }
+
+    /// `simUI.getTitle`.
+    ///
+    /// # Errors
+    /// [`UiError::NoSuchUi`].
+    pub fn title(&self, ui: i64) -> Result<&str, UiError> {
+        Ok(&self.uis.get(&ui).ok_or(UiError::NoSuchUi(ui))?.title)
+    }
+
+    /// `simUI.setTitle`.
+    ///
+    /// # Errors
+    /// [`UiError::NoSuchUi`], or a title over [`MAX_TEXT_LEN`].
+    pub fn set_title(&mut self, ui: i64, title: &str) -> Result<(), UiError> {
+        check_text(title)?;
+        let window = self.uis.get_mut(&ui).ok_or(UiError::NoSuchUi(ui))?;
+        title.clone_into(&mut window.title);
+        self.touch();
+        Ok(())
+    }
+
+    /// `simUI.getWidgetVisibility`: the widget's own flag (a hidden group or window
+    /// also hides it).
+    ///
+    /// # Errors
+    /// Bad handle or id.
+    pub fn widget_visible(&self, ui: i64, id: i64) -> Result<bool, UiError> {
+        Ok(self.widget(ui, id)?.visible)
+    }
+
+    /// `simUI.setWidgetVisibility`. A hidden widget refuses [`Uis::interact`], as a
+    /// user cannot reach it.
+    ///
+    /// # Errors
+    /// Bad handle or id.
+    pub fn set_widget_visible(&mut self, ui: i64, id: i64, visible: bool) -> Result<(), UiError> {
+        let (_, w) = widget_mut(&mut self.uis, ui, id)?;
+        w.visible = visible;
+        self.touch();
+        Ok(())
+    }
+
+    /// `simUI.setButtonText`. Queues no event: Qt's `clicked` does not fire on a
+    /// text change.
+    ///
+    /// # Errors
+    /// Bad handle or id, not a button, or text over [`MAX_TEXT_LEN`].
+    pub fn set_button_text(&mut self, ui: i64, id: i64, text: &str) -> Result<(), UiError> {
+        check_text(text)?;
+        let (_, w) = widget_mut(&mut self.uis, ui, id)?;
+        let WidgetKind::Button(b) = &mut w.kind else {
+            return Err(wrong_type(id, "button", &w.kind));
+        };
+        text.clone_into(&mut b.text);
+        self.touch();
+        Ok(())
+    }
+
     /// Acts as the user would (gantry's `simUI.interact`, for the viewer and tests):
     ///
     /// | widget | `value` | effect | event |

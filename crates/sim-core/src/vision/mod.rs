@@ -39,6 +39,7 @@
 //! as an image of the current step, so an edge image written by `sysCall_vision` is what
 //! other scripts read until the sensor is handled again.
 
+mod blobs;
 mod bytes;
 mod raster;
 mod resolve;
@@ -538,6 +539,35 @@ impl WorkImage<'_> {
     /// `simVision.verticalFlipWorkImg`.
     pub fn flip_vertical(&mut self) {
         work_image::flip_vertical(self.width, self.height, self.work.floats_mut());
+    }
+
+    /// `simVision.selectiveColorOnWorkImg`: blacks out the pixels that do not match
+    /// `color` within `tolerance` (with `keep`), or those that do (without); in RGB, or
+    /// in HSL when `rgb` is false. See [`blobs::selective_color`].
+    pub fn selective_color(&mut self, color: [f32; 3], tolerance: [f32; 3], rgb: bool, keep: bool) {
+        blobs::selective_color(self.work.floats_mut(), color, tolerance, rgb, keep);
+    }
+
+    /// `simVision.blobDetectionOnWorkImg`: the packet of the blobs of pixels whose mean
+    /// of R, G, B is at least `threshold`, blobs under `min_size` (a fraction of the
+    /// image's pixels) left out and blacked out; with `recolor`, the background turns
+    /// black and each blob takes a colour; with `overlay`, each blob's rectangle is
+    /// drawn in that colour. See [`blobs::blob_packet`] for the packet.
+    pub fn blob_detection(
+        &mut self,
+        threshold: f32,
+        min_size: f64,
+        recolor: bool,
+        overlay: Option<[f32; 3]>,
+    ) -> Vec<f32> {
+        let options = blobs::BlobOptions {
+            threshold,
+            min_size,
+            recolor,
+            overlay,
+        };
+        let found = blobs::detect_blobs(self.width, self.height, self.work.floats_mut(), options);
+        blobs::blob_packet(self.width, self.height, &found)
     }
 }
 

@@ -1,5 +1,7 @@
-//! Named values attached to objects: a model's user parameters (CoppeliaSim 4.0-4.2's
-//! `sim.getScriptSimulationParameter`), kept with the world so a stop restores them.
+//! Named values attached to objects, kept with the world: a model's user parameters
+//! (CoppeliaSim 4.0-4.2's `sim.getScriptSimulationParameter`) and custom data blocks
+//! (`sim.writeCustomDataBlock`). The two are separate namespaces, as in CoppeliaSim,
+//! where a user parameter and a data block of the same name never meet.
 
 use std::collections::BTreeMap;
 
@@ -10,6 +12,9 @@ use crate::world::Handle;
 #[derive(Debug, Clone, Default)]
 pub struct CustomData {
     values: BTreeMap<(Handle, String), Value>,
+    /// Data blocks, as [`Value::Str`] or [`Value::Bytes`]: a block reads back with the
+    /// type it was written with, so Lua text stays a string and a buffer a buffer.
+    blocks: BTreeMap<(Handle, String), Value>,
 }
 
 impl CustomData {
@@ -27,8 +32,43 @@ impl CustomData {
         }
     }
 
+    /// The data block `tag` of `owner` (an object, or `sim.handle_scene`), if written.
+    pub fn block(&self, owner: Handle, tag: &str) -> Option<&Value> {
+        self.blocks.get(&(owner, tag.to_owned()))
+    }
+
+    /// Writes the data block `tag` of `owner`. `data` is text or bytes; empty data or
+    /// `Value::Nil` deletes the block (CoppeliaSim stores no empty block).
+    pub fn write_block(&mut self, owner: Handle, tag: &str, data: Value) {
+        let empty = match &data {
+            Value::Str(s) => s.is_empty(),
+            Value::Bytes(b) => b.is_empty(),
+            _ => true,
+        };
+        if empty {
+            self.blocks.remove(&(owner, tag.to_owned()));
+        } else {
+            self.blocks.insert((owner, tag.to_owned()), data);
+        }
+    }
+
+    /// Deletes every data block of `owner`.
+    pub fn clear_blocks(&mut self, owner: Handle) {
+        self.blocks.retain(|(o, _), _| *o != owner);
+    }
+
+    /// The tags of `owner`'s data blocks, in byte order of the names.
+    pub fn block_tags(&self, owner: Handle) -> Vec<&str> {
+        self.blocks
+            .range((owner, String::new())..)
+            .take_while(|((o, _), _)| *o == owner)
+            .map(|((_, tag), _)| tag.as_str())
+            .collect()
+    }
+
     /// Forgets everything attached to a removed object.
     pub fn remove_object(&mut self, h: Handle) {
         self.values.retain(|(owner, _), _| *owner != h);
+        self.clear_blocks(h);
     }
 }

@@ -29,4 +29,4 @@ pub use object::{Detection, ForceReading, Handle, Joint, Object, ObjectKind, Pro
 pub(crate) use physics::Physics;
 pub use query::DistanceResult;
 pub use signals::Signals;
-pub use world::{SimulationState, World};
+pub use world::{Advancing, SimulationState, World};

@@ -36,6 +36,8 @@ pub struct World {
     pub log: Log,
     /// Running, paused or stopped, as the orchestrator reports it.
     pub state: SimulationState,
+    /// Which pass of a running simulation this is (see [`Advancing`]).
+    pub advancing: Advancing,
     /// Drawing objects.
     pub drawings: super::drawing::Drawings,
     /// Graph streams.
@@ -70,6 +72,37 @@ pub enum SimulationState {
     Paused,
 }
 
+/// Which pass of an advancing simulation this is, as `sim.getSimulationState` reports
+/// it (CoppeliaSim 4.x): scripts that loop until "about to stop", or that act once
+/// on the first pass after a start or a pause, depend on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Advancing {
+    /// The first step after a start (`simulation_advancing_firstafterstop`, 16).
+    FirstAfterStop,
+    /// Any other step (`simulation_advancing_running`, 17).
+    #[default]
+    Running,
+    /// A pause was asked for and happens at the end of this step (19).
+    LastBeforePause,
+    /// The first step after a pause (`simulation_advancing_firstafterpause`, 20).
+    FirstAfterPause,
+    /// A stop was asked for: the rest of this step and the cleanup hooks (21).
+    AboutToStop,
+}
+
+impl Advancing {
+    /// CoppeliaSim's number.
+    pub fn code(self) -> i64 {
+        match self {
+            Advancing::FirstAfterStop => 16,
+            Advancing::Running => 17,
+            Advancing::LastBeforePause => 19,
+            Advancing::FirstAfterPause => 20,
+            Advancing::AboutToStop => 21,
+        }
+    }
+}
+
 impl SimulationState {
     /// CoppeliaSim's number: 0 stopped, 8 paused, 17 advancing/running.
     pub fn code(self) -> i64 {
@@ -82,6 +115,14 @@ impl SimulationState {
 }
 
 impl World {
+    /// `sim.getSimulationState()`: 0 stopped, 8 paused, or the advancing pass (16-21).
+    pub fn simulation_state_code(&self) -> i64 {
+        match self.state {
+            SimulationState::Running => self.advancing.code(),
+            other => other.code(),
+        }
+    }
+
     /// Builds the world from a resolved scene. Object handles are model indices.
     pub fn new(model: &SceneModel) -> Self {
         let mut objects: Vec<Object> = model
@@ -194,6 +235,7 @@ impl World {
             collections: Vec::new(),
             log: Log::default(),
             state: SimulationState::Stopped,
+            advancing: Advancing::default(),
             queries_stale: true,
             drawings: Default::default(),
             graphs: Default::default(),
@@ -352,6 +394,15 @@ impl World {
     pub fn refresh_queries(&mut self) {
         if std::mem::take(&mut self.queries_stale) {
             self.physics.world.detect_collisions(&(), &());
+            // rapier 0.36's collision pipeline takes the bodies' list of changes without
+            // passing it to the island manager, so a body created, made dynamic or woken
+            // since the last step would never be simulated (it froze in mid-air). Mark
+            // the moving bodies changed again: the next step files them properly.
+            let bodies = &mut self.physics.world.bodies;
+            let moving: Vec<_> = bodies.iter().filter(|(_, rb)| !rb.is_fixed()).map(|(h, _)| h).collect();
+            for h in moving {
+                let _ = bodies.get_mut(h);
+            }
         }
     }
 

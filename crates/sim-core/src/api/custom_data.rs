@@ -1,0 +1,77 @@
+//! Custom data blocks: `sim.writeCustomDataBlock`, `sim.readCustomDataBlock`,
+//! `sim.readCustomDataBlockTags`.
+//!
+//! A block is named data attached to an object, or to the scene with
+//! `sim.handle_scene`, stored in [`World::custom`](crate::world::World) apart from user
+//! parameters. Data are text or bytes and read back as written. Blocks of a removed
+//! object go with it.
+
+use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::world::{Handle, World};
+
+/// `sim.handle_scene`: the scene's own blocks.
+const HANDLE_SCENE: Handle = -12;
+
+/// The functions this file implements, in alphabetical order.
+pub(super) const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "readCustomDataBlock",
+        call: read_custom_data_block,
+    },
+    ApiFunction {
+        name: "readCustomDataBlockTags",
+        call: read_custom_data_block_tags,
+    },
+    ApiFunction {
+        name: "writeCustomDataBlock",
+        call: write_custom_data_block,
+    },
+];
+
+/// Argument `i` as the owner of blocks: an existing object or `sim.handle_scene`.
+fn owner(w: &World, a: &Args<'_>, i: usize) -> Result<Handle, ApiError> {
+    let h = a.handle(i)?;
+    if h != HANDLE_SCENE {
+        w.object(h)?;
+    }
+    Ok(h)
+}
+
+/// `sim.writeCustomDataBlock(objectHandle, tagName, data)`: stores `data` (text or
+/// bytes) under `tagName`. Empty or nil data deletes the block; an empty `tagName`
+/// deletes every block of the object.
+fn write_custom_data_block(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = owner(w, a, 0)?;
+    let tag = a.str(1)?;
+    let data = match a.get(2) {
+        v @ (Value::Str(_) | Value::Bytes(_) | Value::Nil) => v.clone(),
+        other => {
+            return Err(ApiError::new(format!(
+                "argument 3: expected string or buffer, got {}",
+                other.type_name()
+            )));
+        }
+    };
+    if tag.is_empty() {
+        w.custom.clear_blocks(h);
+    } else {
+        w.custom.write_block(h, tag, data);
+    }
+    Ok(Vec::new())
+}
+
+/// `sim.readCustomDataBlock(objectHandle, tagName)` → the data as written, or nil.
+fn read_custom_data_block(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = owner(w, a, 0)?;
+    let tag = a.str(1)?;
+    Ok(vec![w.custom.block(h, tag).cloned().unwrap_or(Value::Nil)])
+}
+
+/// `sim.readCustomDataBlockTags(objectHandle)` → the tags as a table of strings (empty
+/// when the object has no block), in byte order.
+fn read_custom_data_block_tags(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = owner(w, a, 0)?;
+    let tags = w.custom.block_tags(h).into_iter().map(Value::from).collect();
+    Ok(vec![Value::Array(tags)])
+}
