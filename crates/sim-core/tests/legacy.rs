@@ -227,6 +227,9 @@ fn user_parameters_script_association_and_misc() {
         [Value::Float(1.0)]
     );
     assert_eq!(ok(&mut w, "getNamedInt32Param", &[s("anything")]), [Value::Nil]);
+    assert_eq!(ok(&mut w, "getNameSuffix", &[s("arm#2")]), [Value::Int(2), s("arm")]);
+    assert_eq!(ok(&mut w, "getNameSuffix", &[s("arm")]), [Value::Int(-1), s("arm")]);
+    assert_eq!(ok(&mut w, "getNameSuffix", &[Value::Nil]), [Value::Int(-1), s("")]);
     ok(&mut w, "setUserParameter", &[Value::Int(hinge), s("k"), s("v")]);
     assert_eq!(ok(&mut w, "getUserParameter", &[Value::Int(hinge), s("k")]), [s("v")]);
     let bb = ok(&mut w, "getShapeBB", &[Value::Int(fixed)]);

@@ -73,12 +73,16 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: get_dialog_result,
     },
     ApiFunction {
-        name: "getObjectAssociatedWithScript",
-        call: get_object_associated_with_script,
+        name: "getNameSuffix",
+        call: get_name_suffix,
     },
     ApiFunction {
         name: "getNamedInt32Param",
         call: get_named_int32_param,
+    },
+    ApiFunction {
+        name: "getObjectAssociatedWithScript",
+        call: get_object_associated_with_script,
     },
     ApiFunction {
         name: "getObjectFloatParameter",
@@ -405,4 +409,18 @@ fn get_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 /// the editor; gantry has no scene editor, so there is nothing to record.
 fn announce_scene_content_change(_: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![Value::Int(1)])
+}
+
+/// `sim.getNameSuffix(nameWithSuffix)` (4.0-4.2) → suffix, name: `"arm#2"` gives 2 and
+/// "arm", a name without `#` -1 and itself. With nil, the suffix of the calling script's
+/// copy: gantry never numbers copies that way, so -1.
+fn get_name_suffix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    if let Value::Nil = a.get(0) {
+        return Ok(vec![Value::Int(-1), Value::Str(String::new())]);
+    }
+    let name = a.str(0)?;
+    Ok(match name.rsplit_once('#').map(|(base, k)| (base, k.parse::<i64>())) {
+        Some((base, Ok(k))) if k >= 0 => vec![Value::Int(k), Value::Str(base.to_owned())],
+        _ => vec![Value::Int(-1), Value::Str(name.to_owned())],
+    })
 }

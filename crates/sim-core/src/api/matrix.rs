@@ -581,13 +581,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn table_is_sorted() {
-        for w in FUNCTIONS.windows(2) {
-            assert!(w[0].name < w[1].name, "{} / {}", w[0].name, w[1].name);
-        }
-    }
-
-    #[test]
     fn rigid_inverse_undoes_the_transform() {
         let m = math::pose_to_matrix12(&math::pose_from_euler([1.0, -2.0, 0.5], [0.3, -0.2, 1.1]));
         let id = mat_mul(&mat_rigid_inverse(&m), &m);

@@ -421,20 +421,3 @@ fn set_array_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
     }
     Ok(Vec::new())
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn table_is_sorted_and_constants_unique() {
-        for w in FUNCTIONS.windows(2) {
-            assert!(w[0].name < w[1].name, "{} / {}", w[0].name, w[1].name);
-        }
-        let mut names: Vec<&str> = CONSTANTS.iter().map(|(n, _)| *n).collect();
-        names.sort_unstable();
-        let n = names.len();
-        names.dedup();
-        assert_eq!(names.len(), n);
-    }
-}

@@ -381,13 +381,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn table_is_sorted() {
-        for w in FUNCTIONS.windows(2) {
-            assert!(w[0].name < w[1].name, "{} / {}", w[0].name, w[1].name);
-        }
-    }
-
-    #[test]
     fn handles_count_up_and_are_not_reused() {
         let mut objs = RuckigObjects::default();
         let make = || RuckigObject {

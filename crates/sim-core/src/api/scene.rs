@@ -566,13 +566,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn table_is_sorted() {
-        for w in FUNCTIONS.windows(2) {
-            assert!(w[0].name < w[1].name, "{} / {}", w[0].name, w[1].name);
-        }
-    }
-
-    #[test]
     fn revolved_meshes_are_closed_and_sized() {
         for (profile, top) in [
             (vec![(0.0, -0.5), (1.0, -0.5), (0.0, 0.5)], 0.5),

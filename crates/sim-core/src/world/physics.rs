@@ -77,6 +77,10 @@ pub(crate) struct Physics {
     pub joints: HashMap<Handle, JointBinding>,
     /// Force sensors bound to impulse joints.
     pub force_joints: HashMap<Handle, ImpulseJointHandle>,
+    /// Dummy links (`sim.setLinkDummy`): the first dummy's partner and the fixed
+    /// impulse joint that makes their frames coincide (CoppeliaSim's dynamic loop
+    /// closure, which suction pads and attachments use).
+    pub dummy_links: HashMap<Handle, (Handle, ImpulseJointHandle)>,
     /// Which object each collider belongs to, for sensor results.
     pub collider_object: HashMap<ColliderHandle, Handle>,
     /// Colliders of each shape object, in creation order (deterministic iteration).
@@ -135,6 +139,7 @@ impl Physics {
             body_of: HashMap::new(),
             joints: HashMap::new(),
             force_joints: HashMap::new(),
+            dummy_links: HashMap::new(),
             collider_object: HashMap::new(),
             object_colliders: HashMap::new(),
             rapier_steps,
@@ -381,6 +386,82 @@ impl Physics {
         if let Some(j) = self.force_joints.remove(&h) {
             self.world.remove_impulse_joint(j);
         }
+        self.unlink_dummy(h);
+    }
+
+    /// Ties dummy `a` to dummy `b`: a fixed impulse joint between the bodies they ride
+    /// on pulls their frames together. Each side is a body index and the dummy's frame
+    /// in that body, or `None` and the dummy's world pose for a dummy on no body (the
+    /// world anchor holds it). Returns false, with no joint, when both ride on the
+    /// same body.
+    pub fn link_dummies(&mut self, a: (Handle, Option<usize>, Pose), b: (Handle, Option<usize>, Pose)) -> bool {
+        self.unlink_dummy(a.0);
+        self.unlink_dummy(b.0);
+        let (ba, fa) = (a.1.unwrap_or_else(|| self.anchor()), a.2);
+        let (bb, fb) = (b.1.unwrap_or_else(|| self.anchor()), b.2);
+        let (a, b) = (a.0, b.0);
+        if ba == bb {
+            return false;
+        }
+        let data = GenericJointBuilder::new(JointAxesMask::LOCKED_FIXED_AXES)
+            .local_frame1(math::to_physics(&fa))
+            .local_frame2(math::to_physics(&fb))
+            .contacts_enabled(false)
+            .build();
+        let handle = self
+            .world
+            .insert_impulse_joint(self.bodies[ba].handle, self.bodies[bb].handle, data);
+        self.dummy_links.insert(a, (b, handle));
+        true
+    }
+
+    /// Removes the link of dummy `h`, whichever side of it `h` is.
+    pub fn unlink_dummy(&mut self, h: Handle) {
+        let keys: Vec<Handle> = self
+            .dummy_links
+            .iter()
+            .filter(|(a, (b, _))| **a == h || *b == h)
+            .map(|(a, _)| *a)
+            .collect();
+        for a in keys {
+            if let Some((_, j)) = self.dummy_links.remove(&a) {
+                self.world.remove_impulse_joint(j);
+            }
+        }
+    }
+
+    /// The dummy linked to `h`, if any.
+    pub fn linked_dummy(&self, h: Handle) -> Option<Handle> {
+        self.dummy_links.iter().find_map(|(a, (b, _))| {
+            if *a == h {
+                Some(*b)
+            } else if *b == h {
+                Some(*a)
+            } else {
+                None
+            }
+        })
+    }
+
+    /// The body under object `h` (its own, or its nearest ancestor's: dummies ride on
+    /// the body of the shape they are attached to) and `h`'s frame in it, given the
+    /// world poses of the tree; `None` and the world pose when no ancestor has one.
+    pub fn body_frame(
+        &self,
+        h: Handle,
+        parent: impl Fn(Handle) -> Option<Handle>,
+        world: impl Fn(Handle) -> Pose,
+    ) -> (Option<usize>, Pose) {
+        let mut cur = Some(h);
+        while let Some(o) = cur {
+            if let Some(&(bi, rel)) = self.body_of.get(&o) {
+                // The body's world pose from its object's, then h's frame in it.
+                let body_world = world(o) * rel.inverse();
+                return (Some(bi), body_world.inverse() * world(h));
+            }
+            cur = parent(o);
+        }
+        (None, world(h))
     }
 
     /// Forgets joint bindings whose rapier joint went away with a removed body.
@@ -389,6 +470,7 @@ impl Physics {
         self.joints.retain(|_, b| multibody.get(b.joint).is_some());
         let impulse = &self.world.impulse_joints;
         self.force_joints.retain(|_, j| impulse.get(*j).is_some());
+        self.dummy_links.retain(|_, (_, j)| impulse.get(*j).is_some());
     }
 
     fn new_body(

@@ -115,6 +115,38 @@ impl SimulationState {
 }
 
 impl World {
+    /// `sim.setLinkDummy(a, b)`: links dummy `a` to dummy `b` (`None` unlinks `a`). The
+    /// link holds the two frames together in the physics: a suction pad's dummy linked to
+    /// one on a box carries the box. Linking two dummies on the same body is allowed and
+    /// does nothing physically.
+    ///
+    /// # Errors
+    /// An object that does not exist or is not a dummy.
+    pub fn set_link_dummy(&mut self, a: Handle, b: Option<Handle>) -> Result<(), SimError> {
+        for h in std::iter::once(a).chain(b) {
+            if !matches!(self.object(h)?.kind, ObjectKind::Dummy) {
+                return Err(SimError::InvalidArgument(format!("object {h} is not a dummy")));
+            }
+        }
+        match b {
+            None => self.physics.unlink_dummy(a),
+            Some(b) => {
+                let objects = &self.objects;
+                let parent = |h: Handle| objects[h as usize].parent;
+                let world = |h: Handle| objects[h as usize].world;
+                let (ba, fa) = self.physics.body_frame(a, parent, world);
+                let (bb, fb) = self.physics.body_frame(b, parent, world);
+                self.physics.link_dummies((a, ba, fa), (b, bb, fb));
+            }
+        }
+        Ok(())
+    }
+
+    /// The dummy linked to `h` (`sim.getLinkDummy`), if any.
+    pub fn linked_dummy(&self, h: Handle) -> Option<Handle> {
+        self.physics.linked_dummy(h)
+    }
+
     /// `sim.getSimulationState()`: 0 stopped, 8 paused, or the advancing pass (16-21).
     pub fn simulation_state_code(&self) -> i64 {
         match self.state {
