@@ -74,6 +74,23 @@ fn overrides_and_embedded_scene_from_another_directory() {
 }
 
 #[test]
+fn the_default_scene_starts_without_a_warning() {
+    // The lab sheet's UI used to warn about its `resizeable` attribute at every start.
+    let out = gantry()
+        .args(["--steps", "40", "--fast", "--no-listen"])
+        .current_dir(std::env::temp_dir())
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let noisy: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("WARN") || l.contains("ERROR"))
+        .collect();
+    assert!(noisy.is_empty(), "{noisy:#?}");
+}
+
+#[test]
 fn check_reports_file_line_and_column() {
     let dir = std::env::temp_dir().join(format!("gantry-cli-check-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("tmp dir");
