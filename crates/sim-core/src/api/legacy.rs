@@ -22,6 +22,8 @@ pub const ALIASES: &[(&str, &str)] = &[
     ("getInt32Parameter", "getInt32Param"),
     ("getIntegerSignal", "getInt32Signal"),
     ("getObjectName", "getObjectAlias"),
+    // 4.0-4.2 customization scripts address the same user parameters by object.
+    ("getUserParameter", "getScriptSimulationParameter"),
     ("getVelocity", "getObjectVelocity"),
     ("setArrayParameter", "setArrayParam"),
     ("setBoolParameter", "setBoolParam"),
@@ -32,6 +34,7 @@ pub const ALIASES: &[(&str, &str)] = &[
     ("setObjectFloatParameter", "setObjectFloatParam"),
     ("setObjectInt32Parameter", "setObjectInt32Param"),
     ("setObjectName", "setObjectAlias"),
+    ("setUserParameter", "setScriptSimulationParameter"),
 ];
 
 /// The old functions whose behaviour is their own, in alphabetical order.
@@ -117,10 +120,6 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: get_system_time_in_ms,
     },
     ApiFunction {
-        name: "getUserParameter",
-        call: get_user_parameter,
-    },
-    ApiFunction {
         name: "isDynamicallyEnabled",
         call: is_dynamically_enabled,
     },
@@ -131,10 +130,6 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "setScriptSimulationParameter",
         call: set_script_simulation_parameter,
-    },
-    ApiFunction {
-        name: "setUserParameter",
-        call: set_user_parameter,
     },
 ];
 
@@ -208,10 +203,7 @@ fn calling_object(ctx: &CallContext<'_>) -> Result<Handle, ApiError> {
 /// `sim.getObjectAssociatedWithScript(scriptHandle)`: the object a script is attached
 /// to. In gantry a script's handle is its object's handle.
 fn get_object_associated_with_script(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let h = a.int(0)?;
-    let object = if h == HANDLE_SELF { calling_object(ctx)? } else { h };
-    w.object(object)?;
-    Ok(vec![Value::Int(object)])
+    Ok(vec![Value::Int(script_object(w, ctx, a)?)])
 }
 
 /// `sim.getScriptHandle(name = sim.handle_self)`: the calling script's handle, or the
@@ -333,18 +325,18 @@ fn get_system_time_in_ms(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Re
 /// `sim.getObjectInt32Param` with the old leading result (1, or 0 when the parameter
 /// does not apply to the object).
 fn get_object_int32_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    with_result(w, ctx, a, "getObjectInt32Param")
+    with_result(super::params::get_object_int32_param(w, ctx, a)?)
 }
 
 /// `sim.getObjectFloatParameter(h, id)` (4.0-4.2) → result, value (see
 /// [`get_object_int32_parameter`]).
 fn get_object_float_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    with_result(w, ctx, a, "getObjectFloatParam")
+    with_result(super::params::get_object_float_param(w, ctx, a)?)
 }
 
-fn with_result(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>, current: &str) -> Result<Ret, ApiError> {
-    let f = super::function(current).ok_or_else(|| ApiError::new(format!("sim.{current} is not available")))?;
-    let value = (f.call)(w, ctx, a)?.into_iter().next().unwrap_or(Value::Nil);
+/// The current getter's result with the old leading result code.
+fn with_result(current: Ret) -> Result<Ret, ApiError> {
+    let value = current.into_iter().next().unwrap_or(Value::Nil);
     let found = i64::from(value != Value::Nil);
     Ok(vec![Value::Int(found), value])
 }
@@ -379,17 +371,6 @@ fn set_script_simulation_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Arg
     let name = a.str(1)?.to_owned();
     w.custom.set(object, &name, a.get(2).clone());
     Ok(vec![Value::Int(1)])
-}
-
-/// `sim.getUserParameter(objectHandle, name)` (4.0-4.2 customization scripts): the same
-/// store as [`get_script_simulation_parameter`], addressed by object.
-fn get_user_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    get_script_simulation_parameter(w, ctx, a)
-}
-
-/// `sim.setUserParameter(objectHandle, name, value)` → 1.
-fn set_user_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    set_script_simulation_parameter(w, ctx, a)
 }
 
 /// `sim.getShapeBB(shapeHandle)` → the size of the shape's bounding box in its own

@@ -190,7 +190,7 @@ fn found(v: Option<Value>) -> Ret {
 
 /// `sim.getObjectInt32Param(objectHandle, parameterID)` → value, or nothing (`nil`) when
 /// the parameter does not apply to the object.
-fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
     let kind = &w.object(h)?.kind;
@@ -257,7 +257,7 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 /// `sim.getObjectFloatParam(objectHandle, parameterID)` → value, or nothing (`nil`) when
 /// the parameter does not apply. Velocities are m/s and rad/s in the world frame, the
 /// bounding box in m in the object's frame, angles in rad.
-fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
     let kind = &w.object(h)?.kind;

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use super::{ApiError, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::math::{Pose, Vec3};
-use crate::scene::{GeomModel, Geometry, JointMode, MassModel, MeshData, ShapeModel, VisualModel};
+use crate::scene::{Geometry, JointMode, MeshData, ShapeModel};
 use crate::world::object_path::ObjectTree;
 use crate::world::{ColorComponent, Handle, ObjectKind, World};
 
@@ -226,26 +226,10 @@ fn create_primitive_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
             )));
         }
     };
+    // CoppeliaSim creates primitives white and not respondable.
     let shape = ShapeModel {
-        geoms: vec![GeomModel {
-            geometry: geometry.clone(),
-            local: Pose::identity(),
-        }],
-        visuals: vec![VisualModel {
-            geometry,
-            local: Pose::identity(),
-            color: [1.0, 1.0, 1.0],
-        }],
-        dynamic: false,
-        mass: MassModel::Density(1000.0),
-        friction: 0.5,
-        restitution: 0.0,
-        collision_group: u32::MAX,
-        collision_mask: u32::MAX,
         respondable: false,
-        detectable: true,
-        measurable: true,
-        self_collision: true,
+        ..ShapeModel::single(geometry, [1.0, 1.0, 1.0])
     };
     let h = w.add_object(alias, ObjectKind::Shape(Box::new(shape)), None, Pose::identity())?;
     Ok(vec![Value::Int(h)])

@@ -587,15 +587,6 @@ impl Resolver<'_> {
         };
         let color = o.color.unwrap_or([0.8, 0.8, 0.8]);
         Ok(ShapeModel {
-            geoms: vec![GeomModel {
-                geometry: geometry.clone(),
-                local: Pose::identity(),
-            }],
-            visuals: vec![VisualModel {
-                geometry,
-                local: Pose::identity(),
-                color,
-            }],
             dynamic: o.dynamic.unwrap_or(false),
             mass,
             friction: o.friction.unwrap_or(0.5),
@@ -616,6 +607,7 @@ impl Resolver<'_> {
             // Scene-file mechanisms keep CoppeliaSim's rule: their parts collide unless
             // collision groups or a joint between them say otherwise.
             self_collision: true,
+            ..ShapeModel::single(geometry, color)
         })
     }
 

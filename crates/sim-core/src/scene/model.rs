@@ -133,6 +133,35 @@ pub struct ShapeModel {
     pub self_collision: bool,
 }
 
+impl ShapeModel {
+    /// One primitive (or mesh) both collided with and drawn in `color`, in the object's
+    /// frame, with the scene format's defaults: static, respondable, 1000 kg/m³,
+    /// friction 0.5, no restitution, colliding with everything.
+    pub fn single(geometry: Geometry, color: [f32; 3]) -> Self {
+        ShapeModel {
+            geoms: vec![GeomModel {
+                geometry: geometry.clone(),
+                local: Pose::identity(),
+            }],
+            visuals: vec![VisualModel {
+                geometry,
+                local: Pose::identity(),
+                color,
+            }],
+            dynamic: false,
+            mass: MassModel::Density(1000.0),
+            friction: 0.5,
+            restitution: 0.0,
+            collision_group: u32::MAX,
+            collision_mask: u32::MAX,
+            respondable: true,
+            detectable: true,
+            measurable: true,
+            self_collision: true,
+        }
+    }
+}
+
 /// One collision part of a shape.
 #[derive(Debug, Clone)]
 pub struct GeomModel {

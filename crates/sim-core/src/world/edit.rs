@@ -521,8 +521,9 @@ impl World {
         self.order = self.subtrees(&roots);
     }
 
-    /// Rebuilds the lists the world keeps of mimic followers and speed-limited joints.
-    fn refresh_caches(&mut self) {
+    /// Rebuilds the lists the world keeps of mimic followers and speed-limited joints
+    /// (at construction, and after every edit that adds or removes objects).
+    pub(super) fn refresh_caches(&mut self) {
         let live = |h: &Handle| !self.edit.is_removed(*h);
         let joint = |h: Handle| match &self.objects[h as usize].kind {
             ObjectKind::Joint(j) => Some(j),

@@ -239,21 +239,8 @@ impl World {
         };
         let physics = Physics::build(&tree, &order, &model.settings, &mut warnings);
         let warnings = crate::scene::dedup_warnings(warnings);
-        let mimics = objects
-            .iter()
-            .enumerate()
-            .filter(|(_, o)| matches!(&o.kind, ObjectKind::Joint(j) if j.mimic.is_some()))
-            .map(|(i, _)| i as Handle)
-            .collect();
-        let profiled = objects
-            .iter()
-            .enumerate()
-            .filter(|(_, o)| matches!(&o.kind, ObjectKind::Joint(j) if j.max_velocity.is_some()))
-            .map(|(i, _)| i as Handle)
-            .filter(|h| physics.joints.contains_key(h))
-            .collect();
         let objects_len = objects.len();
-        World {
+        let mut world = World {
             objects,
             roots,
             order,
@@ -276,9 +263,11 @@ impl World {
             vision: Default::default(),
             ruckig: Default::default(),
             edit: super::edit::EditState::new(objects_len),
-            mimics,
-            profiled,
-        }
+            mimics: Vec::new(),
+            profiled: Vec::new(),
+        };
+        world.refresh_caches();
+        world
     }
 
     /// Warnings from loading and building (unsupported features, ignored keys).
