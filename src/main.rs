@@ -114,6 +114,10 @@ struct RunArgs {
     /// Open no network listener at all (headless batch runs).
     #[arg(long)]
     no_listen: bool,
+    /// Debug the scene's scripts from an editor: serve the Debug Adapter Protocol on
+    /// 127.0.0.1:PORT (default 4711; 0 = any free port). See docs/debugging.md.
+    #[arg(long, value_name = "PORT", num_args = 0..=1, default_missing_value = "4711", require_equals = true)]
+    debug: Option<u16>,
     /// Most simultaneous text-channel connections.
     #[arg(long, default_value_t = 256)]
     max_connections: usize,
@@ -242,6 +246,7 @@ fn run(args: &RunArgs) -> Result<()> {
         text_port: port(args.text_port, scene_server.text_port, 6000),
         zmq_port: port(args.zmq_port, scene_server.zmq_port, 23000),
         http_port: port(args.http_port, scene_server.http_port, 8080),
+        dap_port: args.debug,
         text: TextConfig {
             max_connections: args.max_connections,
             ..TextConfig::default()
@@ -268,6 +273,9 @@ fn run(args: &RunArgs) -> Result<()> {
         }
         if let Some(a) = bound.zmq {
             eprintln!("listening zmq={a}");
+        }
+        if let Some(a) = bound.dap {
+            eprintln!("listening dap={a}");
         }
         if let Some(a) = bound.http {
             eprintln!("listening http={a}");

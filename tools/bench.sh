@@ -29,6 +29,8 @@ echo "== public robots: mesh-collision arms in gantry and PyBullet"
 "$venv/bin/python" tools/bench/public_robots.py --repeat 3 > target/bench/public.json
 echo "== ZMQ latency (real Python client)"
 "$venv/bin/python" tests/python/bench_zmq.py --runs 3 --json target/bench/zmq.json
+echo "== script debugger: step rate with and without --debug"
+"$venv/bin/python" tools/bench/debugger.py --steps 10000 --repeat 3 --json target/bench/debugger.json
 echo "== start-up and memory"
 "$venv/bin/python" tools/bench/startup.py > target/bench/startup.json
 echo

@@ -8,8 +8,9 @@
 # crate contracts, end-to-end against the real binary), a short run of every fuzz
 # target, the Python suite that drives a real gantry with CoppeliaSim's own ZMQ client
 # (and loads public robots from PyPI packages, checked against Pinocchio),
-# a 20 s soak under hundreds of clients, and the browser test (headless Chromium from
-# Debian, driven by Playwright).
+# a 20 s soak under hundreds of clients, the browser test (headless Chromium from
+# Debian, driven by Playwright), and the script debugger's end-to-end tests with
+# Microsoft's DAP test client (node; installed from Debian when missing).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -51,6 +52,9 @@ bash tools/soak.sh --seconds 20
 
 stage "browser test: the viewer page in headless chromium (Playwright) against a real gantry"
 bash tools/browser-test.sh
+
+stage "debugger: Microsoft's DAP test client (@vscode/debugadapter-testsupport) against gantry --debug"
+GANTRY_BIN="$root/target/release/gantry" bash tools/dap-tests.sh
 
 echo
 echo "all test suites passed"

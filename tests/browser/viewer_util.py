@@ -26,7 +26,7 @@ REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "tests" / "python"))
 from gantry_proc import ManagedProcess, gantry_bin  # noqa: E402  (one definition of "the binary under test")
 
-LISTENING = re.compile(r"listening (text|zmq|http)=([0-9.]+|\[[0-9a-fA-F:]+\]):(\d+)")
+LISTENING = re.compile(r"listening (text|zmq|http|dap)=([0-9.]+|\[[0-9a-fA-F:]+\]):(\d+)")
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
 CHROMIUM_ARGS = [
     "--headless",
@@ -53,6 +53,8 @@ class Gantry(ManagedProcess):
         self.cmd = cmd
         self.log: deque[str] = deque(maxlen=2000)
         self.addr: dict[str, tuple[str, int]] = {}
+        # With --debug, the debugger's DAP listener is a fourth.
+        listeners = 3 + any(a.startswith("--debug") for a in cmd)
         self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                      stderr=subprocess.PIPE, text=True, errors="replace")
         ready = threading.Event()
@@ -64,13 +66,13 @@ class Gantry(ManagedProcess):
                 m = LISTENING.search(line)
                 if m:
                     self.addr[m.group(1)] = (m.group(2).strip("[]"), int(m.group(3)))
-                    if len(self.addr) == 3:
+                    if len(self.addr) == listeners:
                         ready.set()
             ready.set()  # stderr closed: the process ended
 
         threading.Thread(target=drain, daemon=True).start()
         ready.wait(ready_timeout)
-        if len(self.addr) != 3:
+        if len(self.addr) != listeners:
             self.close()
             raise RuntimeError(f"gantry did not report its listeners: {' '.join(cmd)}\n{self.stderr()}")
 

@@ -2,10 +2,12 @@
 //! `sim` API, and the step order that ties scripts to the world.
 
 mod convert;
+pub mod debugger;
 pub mod sandbox;
 mod simulation;
 mod threads;
 
+pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
 pub use threads::{HOST_FUNCTIONS, HostAvailability};
 
 pub use simulation::{

@@ -85,10 +85,48 @@ end
 pub(crate) fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
     // `new_with` refuses the unsafe libraries (debug, ffi) and, in this "safe" mode,
     // C modules; `package` is simply not loaded.
-    let lua = Lua::new_with(
-        StdLib::TABLE | StdLib::STRING | StdLib::MATH | StdLib::UTF8 | StdLib::COROUTINE | StdLib::OS,
-        LuaOptions::default(),
-    )?;
+    let lua = Lua::new_with(safe_libs(), LuaOptions::default())?;
+    harden(&lua, limits)?;
+    Ok(lua)
+}
+
+/// The libraries scripts get (some trimmed below).
+fn safe_libs() -> StdLib {
+    StdLib::TABLE | StdLib::STRING | StdLib::MATH | StdLib::UTF8 | StdLib::COROUTINE | StdLib::OS
+}
+
+/// [`new_state`] for `gantry run --debug`: the same sandbox for scripts, plus Lua's
+/// full `debug` library returned to the host alone (the debugger reads frames, locals
+/// and upvalues with it). It is never a global: scripts cannot reach it, and without
+/// `--debug` it is not loaded at all.
+///
+/// # Errors
+/// Lua could not allocate the state.
+pub(crate) fn new_debuggable_state(limits: ScriptLimits) -> mlua::Result<(Lua, HostLibs)> {
+    // SAFETY: mlua calls the debug library unsafe because Lua code holding it can break
+    // mlua's invariants (registry, userdata metatables). Only the host's debugger chunk
+    // (lua/debugger.lua) receives it, and it only reads and writes frames' locals and
+    // upvalues; `package` stays unloaded, so no C module can be loaded either.
+    #[expect(unsafe_code, reason = "the debug library, for the host's debugger only")]
+    let lua = unsafe { Lua::unsafe_new_with(safe_libs() | StdLib::DEBUG, LuaOptions::default()) };
+    let libs = HostLibs {
+        debug: lua.globals().get("debug")?,
+        load: lua.globals().get("load")?,
+    };
+    harden(&lua, limits)?;
+    Ok((lua, libs))
+}
+
+/// What the host's debugger keeps of the libraries the sandbox takes from scripts.
+pub(crate) struct HostLibs {
+    /// Lua's `debug` library.
+    pub(crate) debug: Table,
+    /// `load`, to compile the expressions typed in the editor (as text only).
+    pub(crate) load: mlua::Function,
+}
+
+/// Trims the fresh state's globals to the sandbox (see the module docs).
+fn harden(lua: &Lua, limits: ScriptLimits) -> mlua::Result<()> {
     let g = lua.globals();
     for name in REMOVED_GLOBALS {
         g.raw_set(*name, LuaValue::Nil)?;
@@ -125,7 +163,7 @@ pub(crate) fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
     )?;
     g.raw_set("debug", debug)?;
     lua.set_memory_limit(limits.memory)?;
-    Ok(lua)
+    Ok(())
 }
 
 /// A fresh global table for one script: a copy of the state's globals in which every

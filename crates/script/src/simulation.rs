@@ -12,6 +12,7 @@
 //! functions through an `Rc<RefCell<..>>` on this thread only: the `Lua` value is not
 //! `Send` and never leaves the simulation thread.
 
+use std::borrow::Cow;
 use std::cell::{Cell, RefCell};
 use std::path::PathBuf;
 use std::rc::Rc;
@@ -26,7 +27,8 @@ use mlua::{Function, HookTriggers, Lua, MultiValue, Table, Thread, Value as LuaV
 use smallvec::SmallVec;
 
 use crate::convert::{to_lua, to_multi, to_value};
-use crate::sandbox::{self, SOURCE_MODE, new_state};
+use crate::debugger::{DebugHost, DebugLink};
+use crate::sandbox::{self, SOURCE_MODE, new_debuggable_state, new_state};
 use crate::threads::{self, ThreadMode};
 
 /// Limits that keep a script from stalling or exhausting the simulator.
@@ -156,6 +158,15 @@ pub(crate) struct Shared {
     pub(crate) slice_end: Cell<Option<Instant>>,
     /// A start, pause or stop asked for by a script, carried out once no script runs.
     pub(crate) control: Cell<Option<ScriptControl>>,
+    /// Counts the host's calls into scripts, so that a step knows when the hook it
+    /// started in has returned.
+    pub(crate) entries: Cell<u64>,
+    /// The hook (or callback) being called, as the debugger names the bottom frame.
+    pub(crate) current_hook: RefCell<Cow<'static, str>>,
+    /// The per-hook time budget, for code the debugger runs.
+    pub(crate) time_budget: Cell<Duration>,
+    /// With `gantry run --debug`: the script debugger.
+    pub(crate) debugger: Option<DebugHost>,
 }
 
 impl Shared {
@@ -215,6 +226,9 @@ pub struct Simulation {
     /// Modification time of each script file as last loaded, so a stop/start keeps a
     /// hot-reloaded version instead of reloading it again.
     mtimes: Vec<Option<SystemTime>>,
+    /// With the debugger: calls a script function in a protected call whose message
+    /// handler stops at an uncaught error (see [`install_debugger`]).
+    debug_call: Option<Function>,
 }
 
 /// A script load or syntax problem, with file and line in the message.
@@ -231,6 +245,28 @@ impl Simulation {
     /// The Lua state could not be created.
     pub fn new(model: SceneModel, limits: ScriptLimits) -> Result<Self, ScriptError> {
         let lua = new_state(limits).map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
+        Self::build(lua, model, limits, None)
+    }
+
+    /// [`Simulation::new`] with the script debugger attached to `link` (`gantry run
+    /// --debug`): Lua's line hook is installed and scripts stop where a client asks.
+    ///
+    /// # Errors
+    /// The Lua state could not be created.
+    pub fn with_debugger(model: SceneModel, limits: ScriptLimits, link: DebugLink) -> Result<Self, ScriptError> {
+        let (lua, libs) =
+            new_debuggable_state(limits).map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
+        let host =
+            DebugHost::new(&lua, libs, link).map_err(|e| ScriptError(format!("cannot start the debugger: {e}")))?;
+        Self::build(lua, model, limits, Some(host))
+    }
+
+    fn build(
+        lua: Lua,
+        model: SceneModel,
+        limits: ScriptLimits,
+        debugger: Option<DebugHost>,
+    ) -> Result<Self, ScriptError> {
         let mut world = World::new(&model);
         sandbox::confine(&mut world, &model);
         for w in world.warnings() {
@@ -248,10 +284,20 @@ impl Simulation {
             running_thread: Cell::new(std::ptr::null()),
             slice_end: Cell::new(None),
             control: Cell::new(None),
+            entries: Cell::new(0),
+            current_hook: RefCell::new(Cow::Borrowed("")),
+            time_budget: Cell::new(limits.time_budget),
+            debugger,
         });
         install_api(&lua, &shared).map_err(|e| ScriptError(format!("cannot install the sim API: {e}")))?;
         install_budget(&lua, &shared, limits.time_budget)
             .map_err(|e| ScriptError(format!("cannot install the time budget: {e}")))?;
+        let debug_call = match shared.debugger {
+            Some(_) => Some(
+                install_debugger(&lua, &shared).map_err(|e| ScriptError(format!("cannot start the debugger: {e}")))?,
+            ),
+            None => None,
+        };
         let mut sim = Simulation {
             lua,
             shared,
@@ -260,12 +306,16 @@ impl Simulation {
             model,
             limits,
             mtimes: Vec::new(),
+            debug_call,
         };
         sim.load_scripts();
         Ok(sim)
     }
 
     fn load_scripts(&mut self) {
+        if let Some(d) = &self.shared.debugger {
+            d.clear_scripts();
+        }
         self.scripts.clear();
         self.shared.envs.borrow_mut().clear();
         *self.shared.thread_modes.borrow_mut() = vec![ThreadMode::default(); self.model.scripts.len()];
@@ -297,6 +347,7 @@ impl Simulation {
             };
             self.shared.envs.borrow_mut().push((object, script.env.clone(), name));
             self.scripts.push(script);
+            self.register_with_debugger(index, &s.source);
             if let Some(e) = env_error {
                 self.fail(index, e);
             } else if let Err(e) = self.exec_chunk(index, &s.source) {
@@ -372,7 +423,7 @@ impl Simulation {
     }
 
     fn exec_chunk(&self, i: usize, source: &str) -> mlua::Result<()> {
-        self.enter(i);
+        self.enter(i, Cow::Borrowed("main chunk"));
         let script = &self.scripts[i];
         let r = self
             .lua
@@ -385,13 +436,57 @@ impl Simulation {
         r
     }
 
-    fn enter(&self, i: usize) {
+    fn enter(&self, i: usize, hook: Cow<'static, str>) {
+        self.shared.entries.set(self.shared.entries.get().wrapping_add(1));
+        *self.shared.current_hook.borrow_mut() = hook;
         let script = &self.scripts[i];
         self.shared.current.set(Some(script.object));
         self.shared.current_script.set(Some(i));
         *self.shared.current_name.borrow_mut() = script.name.clone();
         self.shared.deadline.set(Instant::now() + self.limits.time_budget);
         self.shared.interrupted.set(false);
+    }
+
+    /// Calls a script function: directly, or with the debugger through the protected
+    /// call that stops at an uncaught error.
+    fn call_script<R: mlua::FromLuaMulti>(&self, f: &Function, args: impl mlua::IntoLuaMulti) -> mlua::Result<R> {
+        match &self.debug_call {
+            None => f.call(args),
+            Some(dc) => {
+                let mut all = args.into_lua_multi(&self.lua)?;
+                all.push_front(LuaValue::Function(f.clone()));
+                dc.call(all)
+            }
+        }
+    }
+
+    /// Tells the debugger (if any) about script `i` and its source.
+    fn register_with_debugger(&self, i: usize, source: &str) {
+        let Some(d) = &self.shared.debugger else { return };
+        let script = &self.scripts[i];
+        let object_path = {
+            use gantry_sim_core::world::object_path::object_alias;
+            object_alias(&*self.shared.world.borrow(), script.object, 2)
+        };
+        d.register_script(i, &script.path, object_path, source);
+    }
+
+    /// Serves the debugger's requests that arrived while no script is stopped (a
+    /// stopped script serves them itself). The simulation thread calls it between steps.
+    pub fn debug_poll(&mut self) {
+        if let Some(d) = &self.shared.debugger {
+            d.poll(&self.lua, &self.shared);
+        }
+    }
+
+    /// Whether this simulation runs with the debugger.
+    pub fn debugging(&self) -> bool {
+        self.shared.debugger.is_some()
+    }
+
+    /// Takes the debugger's link, to give it to the simulation of a newly loaded scene.
+    pub fn take_debug_link(&mut self) -> Option<DebugLink> {
+        self.shared.debugger.as_ref().and_then(DebugHost::take_link)
     }
 
     fn leave(&self) {
@@ -433,8 +528,8 @@ impl Simulation {
             _ => script.env.raw_get::<Option<Function>>(hook.name()).ok().flatten(),
         };
         let Some(f) = f else { return };
-        self.enter(i);
-        let r = f.call::<()>(());
+        self.enter(i, Cow::Borrowed(hook.name()));
+        let r = self.call_script::<()>(&f, ());
         self.leave();
         if let Err(e) = r {
             self.fail(i, e);
@@ -453,7 +548,13 @@ impl Simulation {
             .find_map(|name| s.env.raw_get::<Option<Function>>(*name).ok().flatten());
         s.thread = None;
         if let Some(body) = body {
-            match self.lua.create_thread(body) {
+            // With the debugger, the body runs inside the protected call that stops at
+            // an uncaught error (Lua 5.4 lets a coroutine yield across it).
+            let body = match &self.debug_call {
+                Some(dc) => dc.bind(body),
+                None => Ok(body),
+            };
+            match body.and_then(|b| self.lua.create_thread(b)) {
                 Ok(t) => self.scripts[i].thread = Some(t),
                 Err(e) => self.fail(i, e),
             }
@@ -467,7 +568,7 @@ impl Simulation {
             let Some(thread) = self.scripts[i].thread.clone() else {
                 continue;
             };
-            self.enter(i);
+            self.enter(i, Cow::Borrowed("sysCall_thread"));
             let mode = self.shared.thread_modes.borrow().get(i).copied().unwrap_or_default();
             self.shared.running_thread.set(thread.to_pointer());
             self.shared.slice_end.set(Some(Instant::now() + mode.auto_yield));
@@ -656,8 +757,8 @@ impl Simulation {
                     continue;
                 }
             };
-            self.enter(i);
-            let r = f.call::<()>(args);
+            self.enter(i, Cow::Owned(ev.callback.clone()));
+            let r = self.call_script::<()>(&f, args);
             self.leave();
             if let Err(e) = r {
                 self.fail(i, e);
@@ -690,8 +791,8 @@ impl Simulation {
                     continue;
                 }
             };
-            self.enter(i);
-            let r = f.call::<Option<Table>>(in_data);
+            self.enter(i, Cow::Borrowed("sysCall_vision"));
+            let r = self.call_script::<Option<Table>>(&f, in_data);
             self.leave();
             match r {
                 // `return {trigger = true, packedPackets = {sim.packFloatTable(...)}}`
@@ -881,6 +982,7 @@ impl Simulation {
             self.fail(i, e);
             return;
         }
+        self.register_with_debugger(i, &source);
         self.model.scripts[i].source = source;
         self.log(450, &name, "reloaded");
         if was_running && self.state() != SimulationState::Stopped {
@@ -916,8 +1018,8 @@ impl Simulation {
                 continue;
             };
             let lua_args = to_multi(&self.lua, args).map_err(|e| e.to_string())?;
-            self.enter(i);
-            let r = f.call::<MultiValue>(lua_args);
+            self.enter(i, Cow::Owned(function.to_owned()));
+            let r = self.call_script::<MultiValue>(&f, lua_args);
             self.leave();
             let out = match r {
                 Ok(values) => values
@@ -998,7 +1100,18 @@ fn install_budget(lua: &Lua, shared: &Rc<Shared>, budget: Duration) -> mlua::Res
     let hook_shared = shared.clone();
     // A global hook: mlua gives it to every thread it creates, and Lua copies it into
     // the coroutines scripts create, so no coroutine escapes the budget.
-    lua.set_global_hook(HookTriggers::new().every_nth_instruction(4096), move |lua, debug| {
+    // With the debugger, the same hook also sees every new line (see `debugger`).
+    let triggers = match shared.debugger {
+        Some(_) => HookTriggers::new().every_nth_instruction(4096).every_line(),
+        None => HookTriggers::new().every_nth_instruction(4096),
+    };
+    lua.set_global_hook(triggers, move |lua, debug| {
+        if debug.event() == mlua::debug::DebugEvent::Line {
+            return match &hook_shared.debugger {
+                Some(d) => d.on_line(lua, debug, &hook_shared),
+                None => Ok(VmState::Continue),
+            };
+        }
         let now = Instant::now();
         if hook_shared.interrupted.get() || now > hook_shared.deadline.get() {
             hook_shared.interrupted.set(true);
@@ -1044,6 +1157,35 @@ fn install_budget(lua: &Lua, shared: &Rc<Shared>, budget: Duration) -> mlua::Res
         lua.globals().get::<Function>("xpcall")?,
         lua.globals().get::<Table>("coroutine")?.get::<Function>("resume")?,
         lua.globals().get::<Function>("error")?,
+    ))
+}
+
+/// The protected call scripts run in under the debugger: `call(f, ...)` runs `f` with
+/// a message handler that lets the debugger stop at an uncaught error while the failing
+/// frame is still on the stack, then raises the error on as if nothing had been there.
+fn install_debugger(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<Function> {
+    let hook_shared = shared.clone();
+    let on_error = lua.create_function(move |lua, message: LuaValue| {
+        if let Some(d) = &hook_shared.debugger {
+            d.on_error(lua, &message, &hook_shared);
+        }
+        Ok(message)
+    })?;
+    lua.load(
+        r#"
+        local xpcall, error, on_error = ...
+        local function finish(ok, ...)
+            if ok then return ... end
+            error((...), 0)
+        end
+        return function(f, ...) return finish(xpcall(f, on_error, ...)) end
+        "#,
+    )
+    .set_name("@gantry/debug_call.lua")
+    .call((
+        lua.globals().get::<Function>("xpcall")?,
+        lua.globals().get::<Function>("error")?,
+        on_error,
     ))
 }
 

@@ -4,6 +4,8 @@
 //! a bounded channel and await replies. There is no shared mutable world.
 
 pub mod auth;
+pub mod dap;
+pub mod debug;
 pub mod http;
 pub mod runner;
 pub mod sim_thread;
@@ -13,10 +15,11 @@ pub mod zmq;
 pub mod zmq_guard;
 
 pub use auth::{AccessToken, TokenError};
+pub use debug::{DebugHub, PausedAt};
 pub use runner::{BoundAddrs, ServeConfig, ServerError, Shutdown, run};
 pub use sim_thread::{
     Control, Observer, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig, SimHandle,
-    channel, run_sim_thread, run_sim_thread_observed,
+    channel, run_sim_thread, run_sim_thread_debugged, run_sim_thread_observed,
 };
 pub use stepping::ClientId;
 pub use text::TextConfig;

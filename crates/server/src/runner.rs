@@ -11,7 +11,7 @@ use tokio::sync::watch;
 
 use crate::auth::AccessToken;
 use crate::http::{FramePublisher, HttpConfig};
-use crate::sim_thread::{RunSummary, SimConfig, channel, run_sim_thread, run_sim_thread_observed};
+use crate::sim_thread::{RunSummary, SimConfig, channel, run_sim_thread_debugged};
 
 /// Which listeners to open. A port of `None` disables that listener; `Some(0)` lets
 /// the OS pick a free port (the bound address is logged).
@@ -25,6 +25,9 @@ pub struct ServeConfig {
     pub zmq_port: Option<u16>,
     /// Browser viewer (HTTP and WebSocket).
     pub http_port: Option<u16>,
+    /// The script debugger's Debug Adapter Protocol listener (`--debug`); `None`: no
+    /// debugger at all (nothing is installed in the Lua host).
+    pub dap_port: Option<u16>,
     /// Limits of the text channel.
     pub text: crate::text::TextConfig,
     /// Limits of the viewer.
@@ -46,6 +49,7 @@ impl Default for ServeConfig {
             text_port: None,
             zmq_port: None,
             http_port: None,
+            dap_port: None,
             text: crate::text::TextConfig::default(),
             http: HttpConfig::default(),
             token: None,
@@ -100,6 +104,8 @@ pub struct BoundAddrs {
     pub zmq: Option<SocketAddr>,
     /// Browser viewer: open `http://ADDR/`.
     pub http: Option<SocketAddr>,
+    /// The debugger's DAP listener.
+    pub dap: Option<SocketAddr>,
 }
 
 /// Runs a scene with its listeners until the run ends or `shutdown` triggers (Ctrl-C
@@ -122,6 +128,14 @@ pub fn run(
         .map_err(ServerError::Runtime)?;
     let (handle, rx) = channel();
     let (stop_tx, stop_rx) = watch::channel(false);
+    let (debug_hub, debug_link) = match serve.dap_port {
+        Some(_) => {
+            // A stopped script resumes when the process is asked to stop.
+            let (hub, link) = crate::debug::DebugHub::new(handle.clone(), shutdown.0.clone());
+            (Some(hub), Some(link))
+        }
+        None => (None, None),
+    };
 
     // The viewer's pose stream: published by the simulation thread, only when a page
     // is connected.
@@ -161,6 +175,20 @@ pub fn run(
                 stop_rx.clone(),
             ));
         }
+        if let (Some(port), Some(hub)) = (serve.dap_port, &debug_hub) {
+            // Always loopback: the debugger runs code in the scripts (evaluate), so it is
+            // never exposed with --bind.
+            let addr = SocketAddr::new(loopback_of(serve.bind), port);
+            let listener = TcpListener::bind(addr)
+                .await
+                .map_err(|source| ServerError::Bind { addr, source })?;
+            let local = listener
+                .local_addr()
+                .map_err(|source| ServerError::Bind { addr, source })?;
+            tracing::info!("script debugger (DAP) listening on {local}");
+            bound.dap = Some(local);
+            tokio::spawn(crate::dap::serve(listener, hub.clone(), stop_rx.clone()));
+        }
         if let Some(port) = serve.http_port {
             let addr = SocketAddr::new(serve.bind, port);
             let listener = match TcpListener::bind(addr).await {
@@ -190,6 +218,7 @@ pub fn run(
                 serve.http.clone(),
                 serve.token.clone(),
                 stop_rx.clone(),
+                debug_hub.clone(),
             ));
         }
         Ok::<_, ServerError>(bound)
@@ -246,8 +275,8 @@ pub fn run(
         .spawn(move || {
             let should_stop = || sim_shutdown.is_triggered();
             match publisher {
-                Some(mut p) => run_sim_thread_observed(model, sim, rx, should_stop, &mut p),
-                None => run_sim_thread(model, sim, rx, should_stop),
+                Some(mut p) => run_sim_thread_debugged(model, sim, rx, should_stop, &mut p, debug_link),
+                None => run_sim_thread_debugged(model, sim, rx, should_stop, &mut (), debug_link),
             }
         })
         .map_err(ServerError::Runtime)?;
@@ -273,6 +302,14 @@ fn zmq_ip(serve: &ServeConfig) -> IpAddr {
         return serve.bind;
     }
     match serve.bind {
+        IpAddr::V4(_) => IpAddr::V4(Ipv4Addr::LOCALHOST),
+        IpAddr::V6(_) => IpAddr::V6(Ipv6Addr::LOCALHOST),
+    }
+}
+
+/// Loopback of the same family as `bind`.
+fn loopback_of(bind: IpAddr) -> IpAddr {
+    match bind {
         IpAddr::V4(_) => IpAddr::V4(Ipv4Addr::LOCALHOST),
         IpAddr::V6(_) => IpAddr::V6(Ipv6Addr::LOCALHOST),
     }

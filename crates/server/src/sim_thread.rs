@@ -293,9 +293,29 @@ pub fn run_sim_thread_observed(
     should_stop: impl Fn() -> bool,
     observer: &mut impl Observer,
 ) -> Result<RunSummary, gantry_script::ScriptError> {
+    run_sim_thread_debugged(model, config, rx, should_stop, observer, None)
+}
+
+/// [`run_sim_thread_observed`], with the script debugger on `debug` when given
+/// (`gantry run --debug`; see [`crate::debug`]).
+///
+/// # Errors
+/// The simulation could not be created (Lua state).
+pub fn run_sim_thread_debugged(
+    model: SceneModel,
+    config: SimConfig,
+    rx: Receiver<Request>,
+    should_stop: impl Fn() -> bool,
+    observer: &mut impl Observer,
+    debug: Option<gantry_script::DebugLink>,
+) -> Result<RunSummary, gantry_script::ScriptError> {
     let dt = model.settings.dt;
+    let sim = match debug {
+        Some(link) => Simulation::with_debugger(model, config.limits, link)?,
+        None => Simulation::new(model, config.limits)?,
+    };
     let mut lp = SimLoop {
-        sim: Simulation::new(model, config.limits)?,
+        sim,
         steps: 0,
         stepping: Stepping::default(),
         deferred: VecDeque::new(),
@@ -555,7 +575,13 @@ impl SimLoop {
                 ("closeScene", model)
             }
         };
-        let sim = Simulation::new(model, self.limits).map_err(|e| format!("{e} (in function 'sim.{function}')"))?;
+        // The debugger's link moves to the new scene (its breakpoints stay with the
+        // client, which sets them again per file).
+        let sim = match self.sim.take_debug_link() {
+            Some(link) => Simulation::with_debugger(model, self.limits, link),
+            None => Simulation::new(model, self.limits),
+        }
+        .map_err(|e| format!("{e} (in function 'sim.{function}')"))?;
         // Cleanup hooks of the old scene run; its log goes with it.
         self.stop();
         self.sim = sim;

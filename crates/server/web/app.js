@@ -773,8 +773,20 @@ function connect() {
         break;
       }
       case 'error': showError(msg.text); break;
+      case 'debug': onDebug(msg.paused); break;
     }
   };
+}
+
+// gantry run --debug: a script stopped at a breakpoint holds the whole simulation.
+function onDebug(paused) {
+  const banner = $('debug-banner');
+  banner.hidden = !paused;
+  if (paused) $('debug-where').textContent = `paused in ${paused.script}:${paused.line} (${paused.reason})`;
+}
+
+for (const b of document.querySelectorAll('#debug-banner button')) {
+  b.addEventListener('click', () => send({ op: 'debug', action: b.dataset.debug }, (r) => { if (!r.ok) showError(r.text); }));
 }
 
 function setBadge(e, text, cls) { e.textContent = text; e.className = `badge ${cls || ''}`; }

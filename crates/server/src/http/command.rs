@@ -6,6 +6,7 @@
 //! {"id": 8, "op": "packet", "text": "<FK#J1=0.5>"}     // as the text channel would
 //! {"id": 9, "op": "ui", "ui": 1000, "widget": 1, "value": 30}   // simUI.interact
 //! {"id": 10, "op": "reload", "script": 0}              // index in the scripts panel
+//! {"id": 11, "op": "debug", "action": "continue"}      // with --debug: continue, step_over, step_in, step_out, pause
 //! ```
 //!
 //! `id` is optional and echoed in the reply. Anything else gets an error reply; the
@@ -61,6 +62,39 @@ pub enum Command {
         /// Index in the scripts list the page received.
         script: usize,
     },
+    /// Resume or step a script stopped in the debugger (`gantry run --debug`).
+    Debug {
+        /// What to do.
+        action: DebugAction,
+    },
+}
+
+/// The debugger buttons of the page's "paused in SCRIPT:LINE" banner.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DebugAction {
+    /// Resume.
+    Continue,
+    /// Next line (over calls).
+    StepOver,
+    /// Next line, into calls.
+    StepIn,
+    /// Until the function returns.
+    StepOut,
+    /// Stop at the next script line.
+    Pause,
+}
+
+impl From<DebugAction> for gantry_script::DebugRequest {
+    fn from(a: DebugAction) -> Self {
+        match a {
+            DebugAction::Continue => Self::Continue,
+            DebugAction::StepOver => Self::StepOver,
+            DebugAction::StepIn => Self::StepIn,
+            DebugAction::StepOut => Self::StepOut,
+            DebugAction::Pause => Self::Pause,
+        }
+    }
 }
 
 /// The simulation controls the page offers.
@@ -95,7 +129,7 @@ pub enum CommandError {
     #[error("message longer than {MAX_MESSAGE} bytes")]
     TooLong,
     /// Not JSON, or not one of the commands.
-    #[error("bad message: {0} (expected {{\"op\": \"control\"|\"packet\"|\"ui\"|\"reload\", ...}})")]
+    #[error("bad message: {0} (expected {{\"op\": \"control\"|\"packet\"|\"ui\"|\"reload\"|\"debug\", ...}})")]
     Json(#[from] serde_json::Error),
     /// A packet over [`MAX_PACKET`] bytes.
     #[error("packet longer than {MAX_PACKET} bytes")]
@@ -169,6 +203,12 @@ mod tests {
             parse(r#"{"op":"reload","script":2}"#).unwrap().command,
             Command::Reload { script: 2 }
         ));
+        assert_eq!(
+            parse(r#"{"op":"debug","action":"step_out"}"#).unwrap().command,
+            Command::Debug {
+                action: DebugAction::StepOut
+            }
+        );
     }
 
     #[test]
@@ -182,6 +222,7 @@ mod tests {
             r#"{"op":"control","action":"explode"}"#,
             r#"{"op":"control"}"#,
             r#"{"op":"reload","script":-1}"#,
+            r#"{"op":"debug","action":"jump"}"#,
             r#"{"op":"ui","ui":"x","widget":1}"#,
             r#"{"op":"ui","ui":1,"widget":1,"value":[1,2]}"#,
             r#"{"id":-5,"op":"control","action":"start"}"#,

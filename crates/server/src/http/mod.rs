@@ -48,7 +48,7 @@ use axum::routing::get;
 use tokio::net::TcpListener;
 use tokio::sync::{Semaphore, watch};
 
-pub use command::{ClientMessage, Command, CommandError, ControlAction, MAX_MESSAGE, MAX_PACKET, parse};
+pub use command::{ClientMessage, Command, CommandError, ControlAction, DebugAction, MAX_MESSAGE, MAX_PACKET, parse};
 pub use frame::{
     DRAWING_REMOVED, DeltaMessages, DrawingFrame, Frame, FrameDelta, FramePublisher, FrameSender, IDLE_FRAME_RATE,
     MAX_DRAWING_VERTICES, MAX_FRAME_RATE, MAX_FRAME_VERTICES, MSG_FRAME,
@@ -59,6 +59,7 @@ pub use panels::{
 pub use scene::{MAX_MESH_TRIANGLES, MSG_MESH, SceneDescription, describe};
 
 use crate::auth::AccessToken;
+use crate::debug::DebugHub;
 use crate::sim_thread::SimHandle;
 
 /// Limits of the viewer server.
@@ -97,6 +98,8 @@ struct AppState {
     cfg: HttpConfig,
     /// Turns true when gantry shuts down; sessions close their sockets then.
     shutdown: watch::Receiver<bool>,
+    /// With `--debug`: the script debugger, for the "paused in SCRIPT:LINE" banner.
+    debug: Option<DebugHub>,
 }
 
 /// Serves the page, its assets, the WebSocket and the HTTP API until `shutdown`
@@ -108,6 +111,7 @@ pub async fn serve(
     cfg: HttpConfig,
     token: Option<AccessToken>,
     shutdown: watch::Receiver<bool>,
+    debug: Option<DebugHub>,
 ) {
     let state = AppState {
         sim,
@@ -115,6 +119,7 @@ pub async fn serve(
         viewers: Arc::new(Semaphore::new(cfg.max_viewers)),
         cfg,
         shutdown: shutdown.clone(),
+        debug,
     };
     let app = Router::new()
         .route("/", get(assets::index))
@@ -178,6 +183,18 @@ async fn websocket(ws: WebSocketUpgrade, headers: HeaderMap, State(st): State<Ap
 }
 
 async fn status(State(st): State<AppState>) -> Response {
+    // A script stopped in the debugger holds the simulation thread: say so at once
+    // rather than leave the request waiting.
+    if let Some(p) = st.debug.as_ref().and_then(|d| d.paused().borrow().clone()) {
+        return (
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!(
+                "paused in debugger at {}:{} ({}): continue from the editor or the viewer\n",
+                p.script, p.line, p.reason
+            ),
+        )
+            .into_response();
+    }
     let viewers = st.cfg.max_viewers - st.viewers.available_permits();
     let result = st
         .sim

@@ -10,13 +10,14 @@ use std::sync::atomic::{AtomicI64, Ordering};
 use axum::extract::ws::{Message, WebSocket};
 use gantry_sim_core::Value;
 use serde_json::{Value as Json, json};
-use tokio::sync::OwnedSemaphorePermit;
+use tokio::sync::{OwnedSemaphorePermit, watch};
 
 use super::command::{self, Command};
 use super::frame::FrameDelta;
 use super::panels::{self, PanelCursor};
 use super::scene;
 use super::{AppState, HttpConfig};
+use crate::debug::{DebugHub, PausedAt};
 use crate::sim_thread::SimHandle;
 
 /// `packet.client` ids of viewer pages, far above the text channel's connection
@@ -33,13 +34,71 @@ const RESEND_INTERVAL: std::time::Duration = std::time::Duration::from_millis(25
 struct Gone;
 
 /// Serves one page until it leaves or gantry shuts down. `_permit` is its viewer slot.
+///
+/// With the debugger, a script may stop and hold the simulation thread: the page then
+/// gets `{"t":"debug","paused":{"script","line","reason"}}` (and `"paused":null` when it
+/// resumes), its banner's buttons are answered by the debugger directly, and its other
+/// commands wait in order in a worker task so the socket keeps being served.
 pub(super) async fn run(mut socket: WebSocket, st: AppState, _permit: OwnedSemaphorePermit) {
     let client = NEXT_CLIENT.fetch_add(1, Ordering::Relaxed);
     let mut frames = st.frames.subscribe();
     let mut shutdown = st.shutdown.clone();
     let mut delta = FrameDelta::default();
+    let mut paused = st.debug.as_ref().map(DebugHub::paused);
+    if let Some(p) = &paused {
+        let now = p.borrow().clone();
+        if send(&mut socket, &st.cfg, debug_message(now.as_ref())).await.is_err() {
+            return;
+        }
+    }
+    // A page opened while a script is stopped: the scene cannot be read before it
+    // resumes, but the banner's buttons work.
+    while let Some(p) = paused.as_mut().filter(|p| p.borrow().is_some()) {
+        let step = tokio::select! {
+            _ = shutdown.changed() => Err(Gone),
+            changed = p.changed() => match changed {
+                Err(_) => Err(Gone),
+                Ok(()) => {
+                    let now = p.borrow_and_update().clone();
+                    send(&mut socket, &st.cfg, debug_message(now.as_ref())).await
+                }
+            },
+            msg = socket.recv() => match msg {
+                None | Some(Err(_)) | Some(Ok(Message::Close(_))) => Err(Gone),
+                Some(Ok(Message::Text(text))) => {
+                    let reply = match command::parse(text.as_str()) {
+                        Ok(m) => match m.command {
+                            Command::Debug { action } => reply(m.id, debug(st.debug.as_ref(), action).await),
+                            _ => reply(m.id, Err("paused in debugger: continue or step first".into())),
+                        },
+                        Err(e) => reply(None, Err(e.to_string())),
+                    };
+                    send(&mut socket, &st.cfg, Message::Text(reply.to_string().into())).await
+                }
+                Some(Ok(_)) => Ok(()),
+            },
+        };
+        if step.is_err() {
+            return;
+        }
+    }
     let Ok(mut described) = send_scene(&mut socket, &st.sim, &st.cfg).await else {
         return;
+    };
+    // Commands that go to the simulation run one after another, in the order sent,
+    // in a worker, whose replies come back here.
+    let (work_tx, mut work_rx) = tokio::sync::mpsc::channel::<(Option<u64>, Command)>(64);
+    let (reply_tx, mut replies) = tokio::sync::mpsc::channel::<Json>(64);
+    let worker = {
+        let sim = st.sim.clone();
+        tokio::spawn(async move {
+            while let Some((id, cmd)) = work_rx.recv().await {
+                let r = reply(id, execute(cmd, client, &sim).await);
+                if reply_tx.send(r).await.is_err() {
+                    break;
+                }
+            }
+        })
     };
     let mut described_at = std::time::Instant::now();
     let mut cursor = PanelCursor::default();
@@ -73,12 +132,30 @@ pub(super) async fn run(mut socket: WebSocket, st: AppState, _permit: OwnedSemap
                 }
             },
             _ = poll.tick() => send_panels(&mut socket, &st, &mut cursor).await,
+            now = pause_change(&mut paused) => send(&mut socket, &st.cfg, debug_message(now.as_ref())).await,
+            Some(r) = replies.recv() => send(&mut socket, &st.cfg, Message::Text(r.to_string().into())).await,
             msg = socket.recv() => match msg {
                 None | Some(Err(_)) | Some(Ok(Message::Close(_))) => Err(Gone),
-                Some(Ok(Message::Text(text))) => {
-                    let reply = handle(text.as_str(), client, &st.sim).await;
-                    send(&mut socket, &st.cfg, Message::Text(reply.to_string().into())).await
-                }
+                Some(Ok(Message::Text(text))) => match command::parse(text.as_str()) {
+                    Ok(m) => match m.command {
+                        // Not queued: the worker may be waiting on a stopped simulation.
+                        Command::Debug { action } => {
+                            let r = reply(m.id, debug(st.debug.as_ref(), action).await);
+                            send(&mut socket, &st.cfg, Message::Text(r.to_string().into())).await
+                        }
+                        cmd => match work_tx.try_send((m.id, cmd)) {
+                            Ok(()) => Ok(()),
+                            Err(_) => {
+                                let r = reply(m.id, Err("too many commands waiting; retry".into()));
+                                send(&mut socket, &st.cfg, Message::Text(r.to_string().into())).await
+                            }
+                        },
+                    },
+                    Err(e) => {
+                        let r = reply(None, Err(e.to_string()));
+                        send(&mut socket, &st.cfg, Message::Text(r.to_string().into())).await
+                    }
+                },
                 Some(Ok(Message::Binary(_))) => {
                     let reply = json!({"t": "reply", "id": null, "ok": false,
                         "text": "binary messages are not understood; send JSON text"});
@@ -92,7 +169,46 @@ pub(super) async fn run(mut socket: WebSocket, st: AppState, _permit: OwnedSemap
             break;
         }
     }
+    worker.abort();
     let _ = tokio::time::timeout(st.cfg.send_timeout, socket.send(Message::Close(None))).await;
+}
+
+/// The next change of where a script is stopped; never, without the debugger.
+async fn pause_change(paused: &mut Option<watch::Receiver<Option<PausedAt>>>) -> Option<PausedAt> {
+    match paused {
+        Some(p) => {
+            if p.changed().await.is_err() {
+                std::future::pending::<()>().await;
+            }
+            p.borrow_and_update().clone()
+        }
+        None => std::future::pending().await,
+    }
+}
+
+/// Resolves once a script is stopped in the debugger; never, without it.
+async fn until_paused(debug: Option<&DebugHub>) {
+    let Some(hub) = debug else {
+        return std::future::pending().await;
+    };
+    let mut p = hub.paused();
+    if p.wait_for(Option::is_some).await.is_err() {
+        std::future::pending::<()>().await;
+    }
+}
+
+fn debug_message(paused: Option<&PausedAt>) -> Message {
+    let body = match paused {
+        Some(p) => json!({"t": "debug", "paused": {"script": p.script, "line": p.line, "reason": p.reason}}),
+        None => json!({"t": "debug", "paused": null}),
+    };
+    Message::Text(body.to_string().into())
+}
+
+/// A banner button: to the debugger directly.
+async fn debug(hub: Option<&DebugHub>, action: command::DebugAction) -> Result<String, String> {
+    let hub = hub.ok_or("the debugger is off: start gantry with --debug")?;
+    hub.request(action.into()).await.map(|_| String::new())
 }
 
 async fn send(socket: &mut WebSocket, cfg: &HttpConfig, msg: Message) -> Result<(), Gone> {
@@ -145,14 +261,17 @@ async fn send_scene(socket: &mut WebSocket, sim: &SimHandle, cfg: &HttpConfig) -
 
 async fn send_panels(socket: &mut WebSocket, st: &AppState, cursor: &mut PanelCursor) -> Result<(), Gone> {
     let mut next = cursor.clone();
-    let update = match st
-        .sim
-        .with(move |sim| {
-            let u = panels::collect(sim, &mut next);
-            (next, u)
-        })
-        .await
-    {
+    let collect = st.sim.with(move |sim| {
+        let u = panels::collect(sim, &mut next);
+        (next, u)
+    });
+    // A stopped script holds the simulation: give up this refresh (the request runs
+    // later, its answer is dropped, and the cursor stays) rather than stall the page.
+    let result = tokio::select! {
+        r = collect => r,
+        () = until_paused(st.debug.as_ref()) => return Ok(()),
+    };
+    let update = match result {
         Ok((next, u)) => {
             *cursor = next;
             u
@@ -170,12 +289,8 @@ async fn send_panels(socket: &mut WebSocket, st: &AppState, cursor: &mut PanelCu
     Ok(())
 }
 
-/// Carries out one command and returns the reply `{"t":"reply","id","ok","text"}`.
-async fn handle(text: &str, client: i64, sim: &SimHandle) -> Json {
-    let (id, result) = match command::parse(text) {
-        Err(e) => (None, Err(e.to_string())),
-        Ok(msg) => (msg.id, execute(msg.command, client, sim).await),
-    };
+/// The reply `{"t":"reply","id","ok","text"}` to a command.
+fn reply(id: Option<u64>, result: Result<String, String>) -> Json {
     match result {
         Ok(text) => json!({"t": "reply", "id": id, "ok": true, "text": text}),
         Err(text) => json!({"t": "reply", "id": id, "ok": false, "text": text}),
@@ -193,6 +308,7 @@ async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, S
             let args = vec![Value::Int(ui), Value::Int(widget), command::ui_value(&value)];
             sim.call("simUI.interact", args).await.map(|_| String::new())
         }
+        Command::Debug { action } => Err(format!("{action:?} is answered by the session, not the worker")),
         Command::Reload { script } => {
             let found = sim
                 .with(move |s| {
