@@ -21,7 +21,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{broadcast, watch};
 
-use crate::debug::DebugHub;
+use crate::debug::{DebugHub, display_name};
 
 /// The one DAP thread.
 const THREAD_ID: i64 = 1;
@@ -460,11 +460,6 @@ fn capabilities() -> Json {
              "description": "Stop where an error no script catches is raised"}
         ],
     })
-}
-
-fn display_name(path: &std::path::Path) -> String {
-    path.file_name()
-        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 
 fn source_json(path: &std::path::Path) -> Json {

@@ -8,11 +8,9 @@
 //! a no-op request on the queue wakes the thread so the debugger's request is served
 //! between steps without delay.
 
-use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use gantry_script::debugger::StopReason;
 use gantry_script::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
 use tokio::sync::{broadcast, oneshot, watch};
 
@@ -58,9 +56,9 @@ impl DebugHub {
                 match &e {
                     DebugEvent::Stopped { reason, path, line, .. } => {
                         let _ = paused_tx.send(Some(PausedAt {
-                            script: file_name(path),
+                            script: display_name(path),
                             line: *line,
-                            reason: reason_name(*reason),
+                            reason: reason.as_str(),
                         }));
                     }
                     DebugEvent::Continued => {
@@ -124,12 +122,8 @@ impl DebugHub {
 
 const ENDED: &str = "the simulation has ended";
 
-fn file_name(path: &std::path::Path) -> String {
+/// A script's file name, as the viewer's banner and the editor's stop message show it.
+pub(crate) fn display_name(path: &std::path::Path) -> String {
     path.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| PathBuf::from(path).display().to_string())
-}
-
-fn reason_name(r: StopReason) -> &'static str {
-    r.as_str()
+        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
