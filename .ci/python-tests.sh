@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Python suite of the ZMQ remote API (issue 6): the real CoppeliaSim client
-# (coppeliasim-zmqremoteapi-client==2.0.4 from PyPI) drives a real gantry process.
+# Python suite: the real CoppeliaSim ZMQ client (coppeliasim-zmqremoteapi-client==2.0.4
+# from PyPI) drives a real gantry process (issue 6), and the same tests run a second
+# time in-process against the `gantry` package (issue 18), whose wheel this script
+# builds with maturin and installs, with its Gymnasium and Ray suites.
 #
-#   bash .ci/python-tests.sh            # builds target/release/gantry first
-#   GANTRY_BIN=path/to/gantry bash .ci/python-tests.sh   # uses that binary, no build
+#   bash .ci/python-tests.sh            # builds target/release/gantry and the wheel first
+#   GANTRY_BIN=path/to/gantry bash .ci/python-tests.sh   # uses that binary (the wheel is still built)
 #
 # Creates (or reuses) the virtual environment .venv at the repository root. Extra
 # arguments go to pytest, e.g. `bash .ci/python-tests.sh -k fk`.
@@ -25,5 +27,7 @@ if [[ ! -x "$GANTRY_BIN" ]]; then
     exit 1
 fi
 echo "python-tests: gantry at $GANTRY_BIN"
+
+source "$root/tools/python-wheel.sh"
 
 exec "$venv/bin/python" -m pytest tests/python -q "$@"

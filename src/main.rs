@@ -5,8 +5,6 @@
 //! validates a scene without running it. On exit `run` prints one machine-readable line:
 //! `steps=N sim_time=S wall_s=W steps_per_s=R rtf=X`.
 
-mod embedded;
-
 use std::net::{IpAddr, Ipv4Addr};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -16,7 +14,7 @@ use clap::{Args, Parser, Subcommand};
 use gantry_script::{ScriptLimits, check_syntax};
 use gantry_server::http::HttpConfig;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, SimConfig, TextConfig};
-use gantry_sim_core::scene::{DiskFiles, EmbeddedFiles, Files, LoadOptions, SceneModel, load_scene};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_bundled, load_scene};
 
 #[derive(Parser)]
 #[command(
@@ -161,11 +159,9 @@ fn main() -> ExitCode {
 fn load(scene: Option<&PathBuf>, opts: &LoadOptions) -> Result<SceneModel> {
     match scene {
         Some(path) => load_scene(&DiskFiles, path, opts).with_context(|| format!("cannot load {}", path.display())),
-        None => {
-            let files = embedded::files();
-            load_scene(&files as &dyn Files, &EmbeddedFiles::path(embedded::SHOWROOM), opts)
-                .context("the embedded showroom scene does not load (a build problem)")
-        }
+        None => load_bundled("showroom", opts)
+            .context("the showroom is bundled")?
+            .context("the embedded showroom scene does not load (a build problem)"),
     }
 }
 

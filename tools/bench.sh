@@ -29,6 +29,11 @@ echo "== public robots: mesh-collision arms in gantry and PyBullet"
 "$venv/bin/python" tools/bench/public_robots.py --repeat 3 > target/bench/public.json
 echo "== ZMQ latency (real Python client)"
 "$venv/bin/python" tests/python/bench_zmq.py --runs 3 --json target/bench/zmq.json
+echo "== Python in-process: call latency and stepping against ZMQ and PyBullet; Ray batch speed-up"
+source tools/python-wheel.sh
+"$venv/bin/python" tools/bench/python_inproc.py --repeat 3 --json target/bench/python.json
+# The batch benchmark exits 1 below its target speed-up; the report says so too.
+"$venv/bin/python" tools/bench/ray_batch.py --json target/bench/ray.json || true
 echo "== script debugger: step rate with and without --debug"
 "$venv/bin/python" tools/bench/debugger.py --steps 10000 --repeat 3 --json target/bench/debugger.json
 echo "== start-up and memory"

@@ -88,6 +88,10 @@ from public_robots import (
     zero_configuration,
 )
 
+# The robots load through gantry's command line (package paths, viewer port): the
+# binary's ZMQ server only. The loader is the same code in-process.
+pytestmark = pytest.mark.zmq_only
+
 # --- forward kinematics
 N_CONFIGS = 20  # the zero configuration, then N_CONFIGS - 1 random ones
 TOL_POS_M = 1e-6

@@ -6,6 +6,9 @@ import time
 
 import pytest
 
+# Several clients of one simulation, over the network: what only the server has.
+pytestmark = pytest.mark.zmq_only
+
 
 def test_stepping_client_and_observer(gantry):
     g = gantry("assets/scenes/bubble_rob.toml")  # --fast: free-running at full speed

@@ -4,7 +4,8 @@
 Reads, from target/bench/: gantry.json (`cargo bench --bench sim`), pybullet.json
 (tools/bench/pybullet_bench.py), zmq.json (tests/python/bench_zmq.py --json),
 startup.json (tools/bench/startup.py) and, if present, public.json
-(tools/bench/public_robots.py); prints one Markdown report with ratios and the
+(tools/bench/public_robots.py), python.json (tools/bench/python_inproc.py) and ray.json
+(tools/bench/ray_batch.py); prints one Markdown report with ratios and the
 targets, writes it to target/bench/report.md, and draws steps/s against the number of
 rovers to docs/rovers.png. `bash tools/bench.sh` runs everything in order.
 
@@ -110,6 +111,28 @@ def report(g: dict, pb: dict, zmq: dict, start: dict) -> str:
     return "\n".join(out)
 
 
+def python_section(py: dict, ray: dict | None) -> str:
+    out = []
+    w = out.append
+    w("### 7. Python: in-process package against the ZMQ client and PyBullet (bubble_rob)\n")
+    w("| call | median | p99 |")
+    w("|---|---|---|")
+    w(f"| `sim.getObjectPosition`, `gantry.Client` in-process | {py['inproc_median_us']:.2f} µs | {py['inproc_p99_us']:.2f} µs |")
+    w(f"| `sim.getObjectPosition`, CoppeliaSim's ZMQ client against `gantry run --fast` | {py['zmq_median_us']:.0f} µs | {py['zmq_p99_us']:.0f} µs |")
+    w(f"| PyBullet `getBasePositionAndOrientation` (DIRECT) | {py['pybullet_median_us']:.2f} µs | {py['pybullet_p99_us']:.2f} µs |")
+    w(f"\nTarget median < 2 µs: {verdict(py['inproc_median_us'] < 2.0)}. Stepping: the headless binary "
+      f"{py['binary_steps_per_s']:,.0f} steps/s; in-process `client.advance(n)` {py['advance_steps_per_s']:,.0f} "
+      f"({py['advance_ratio']:.1%}), a `sim.step()` loop {py['step_loop_steps_per_s']:,.0f} "
+      f"({py['step_loop_ratio']:.1%}); target >= 95 %: "
+      f"{verdict(min(py['advance_ratio'], py['step_loop_ratio']) >= 0.95)}.")
+    if ray:
+        w(f"\nRay batch (`gantry.batch.run`), {ray['runs']} BubbleRob runs of {ray['sim_seconds']:g} simulated s "
+          f"({ray['run_wall_s']:.1f} s wall each) on a local Ray with {ray['cpus']} CPUs: {ray['serial_s']:.1f} s one "
+          f"after another, {ray['ray_s']:.1f} s on Ray, speed-up {ray['speedup']:.2f}x (target {ray['min_speedup']}x: "
+          f"{verdict(ray['speedup'] >= ray['min_speedup'])}); identical results both ways.")
+    return "\n".join(out) + "\n"
+
+
 def public_robots(pub: dict) -> str:
     """Section 6: gantry and PyBullet on public mesh-collision arms (issue 15)."""
     out = []
@@ -205,6 +228,9 @@ def main() -> None:
         return
     g, pb, zmq, start = load("gantry.json"), load("pybullet.json"), load("zmq.json"), load("startup.json")
     text = report(g, pb, zmq, start)
+    if (BENCH / "python.json").exists():
+        ray = load("ray.json") if (BENCH / "ray.json").exists() else None
+        text += "\n" + python_section(load("python.json"), ray)
     if (BENCH / "public.json").exists():
         text += "\n" + public_robots(load("public.json"))
     (BENCH / "report.md").write_text(text + "\n")

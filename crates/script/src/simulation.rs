@@ -897,6 +897,20 @@ impl Simulation {
         api::call(&mut self.shared.world.borrow_mut(), &ctx, name, args)
     }
 
+    /// Calls one registry function for a client outside the scene (no emitting object),
+    /// already looked up: what an in-process client does on every call, so that no
+    /// name is searched for per call. The error is the function's own, unqualified.
+    ///
+    /// # Errors
+    /// The function's error.
+    pub fn call_function(&mut self, f: &api::ApiFunction, args: &[Value]) -> Result<Vec<Value>, api::ApiError> {
+        let ctx = CallContext {
+            script_object: None,
+            source: "remote",
+        };
+        (f.call)(&mut self.shared.world.borrow_mut(), &ctx, &Args::new(args))
+    }
+
     /// Reloads scripts whose files changed on disk: the old script's cleanup runs, then
     /// the new one loads and initialises, with the world left as it is. A script that
     /// fails to compile keeps the old version running and the error is logged.

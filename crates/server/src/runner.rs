@@ -11,7 +11,7 @@ use tokio::sync::watch;
 
 use crate::auth::AccessToken;
 use crate::http::{FramePublisher, HttpConfig};
-use crate::sim_thread::{RunSummary, SimConfig, channel, run_sim_thread_debugged};
+use crate::sim_thread::{RunSummary, SimConfig, SimHandle, channel, run_sim_thread_debugged};
 
 /// Which listeners to open. A port of `None` disables that listener; `Some(0)` lets
 /// the OS pick a free port (the bound address is logged).
@@ -121,6 +121,87 @@ pub fn run(
     shutdown: Shutdown,
     on_ready: impl FnOnce(&BoundAddrs),
 ) -> Result<RunSummary, ServerError> {
+    let running = start(model, sim, serve, shutdown, Signals::Catch)?;
+    on_ready(running.bound());
+    running.wait()
+}
+
+/// Whether [`start`] takes over Ctrl-C and SIGTERM.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Signals {
+    /// The first signal stops the run cleanly, a second exits at once: the binary.
+    Catch,
+    /// Leave signals to the host process (Python keeps its KeyboardInterrupt).
+    Leave,
+}
+
+/// A scene running on its simulation thread with its listeners, started by [`start`].
+pub struct Running {
+    rt: tokio::runtime::Runtime,
+    handle: SimHandle,
+    bound: BoundAddrs,
+    sim_thread: std::thread::JoinHandle<Result<RunSummary, gantry_script::ScriptError>>,
+    stop_tx: watch::Sender<bool>,
+    shutdown: Shutdown,
+}
+
+impl Running {
+    /// The addresses the listeners bound.
+    pub fn bound(&self) -> &BoundAddrs {
+        &self.bound
+    }
+
+    /// A handle for sending requests to the simulation thread, as the transports do.
+    pub fn handle(&self) -> SimHandle {
+        self.handle.clone()
+    }
+
+    /// Asks the run to end (cleanup hooks run on the simulation thread).
+    pub fn stop(&self) {
+        self.shutdown.trigger();
+    }
+
+    /// Waits for the run to end, then closes every listener. The run ends when the
+    /// step count is reached, `shutdown` triggers, or no request handle is left.
+    ///
+    /// # Errors
+    /// The simulation could not be created, or its thread panicked.
+    pub fn wait(self) -> Result<RunSummary, ServerError> {
+        let Running {
+            rt,
+            handle,
+            sim_thread,
+            stop_tx,
+            ..
+        } = self;
+        drop(handle);
+        let result = sim_thread.join().map_err(|p| {
+            ServerError::Panic(
+                p.downcast_ref::<String>()
+                    .cloned()
+                    .or_else(|| p.downcast_ref::<&str>().map(|s| (*s).to_owned()))
+                    .unwrap_or_default(),
+            )
+        })?;
+        let _ = stop_tx.send(true);
+        rt.shutdown_timeout(std::time::Duration::from_secs(2));
+        Ok(result?)
+    }
+}
+
+/// Binds the listeners and starts the simulation thread, without waiting for the run
+/// to end (see [`Running::wait`]). The binary uses it through [`run`]; the Python
+/// package uses it to let a viewer, text or ZMQ clients watch a run it drives.
+///
+/// # Errors
+/// A listener could not bind, or the runtime or thread could not start.
+pub fn start(
+    model: SceneModel,
+    sim: SimConfig,
+    serve: ServeConfig,
+    shutdown: Shutdown,
+    signals: Signals,
+) -> Result<Running, ServerError> {
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -247,18 +328,16 @@ pub fn run(
             }
         }
     }
-    // Signals are caught from before `on_ready` announces the listeners: a client that
+    // Signals are caught from before the caller announces the listeners: a client that
     // sees them and at once sends SIGTERM must get a clean stop, not the default action
-    // (death by signal, no cleanup, no export).
-    let mut signals = {
-        let _rt = rt.enter();
-        Signals::register()
-    };
-    on_ready(&bound);
-
-    // The first signal only sets the flag; the simulation thread notices it between
-    // steps, runs the cleanup hooks and exports. A second one exits at once.
-    {
+    // (death by signal, no cleanup, no export). The first signal only sets the flag;
+    // the simulation thread notices it between steps, runs the cleanup hooks and
+    // exports. A second one exits at once.
+    if signals == Signals::Catch {
+        let mut signals = {
+            let _rt = rt.enter();
+            SignalStream::register()
+        };
         let shutdown = shutdown.clone();
         rt.spawn(async move {
             signals.recv().await;
@@ -280,18 +359,14 @@ pub fn run(
             }
         })
         .map_err(ServerError::Runtime)?;
-    drop(handle);
-    let result = sim_thread.join().map_err(|p| {
-        ServerError::Panic(
-            p.downcast_ref::<String>()
-                .cloned()
-                .or_else(|| p.downcast_ref::<&str>().map(|s| (*s).to_owned()))
-                .unwrap_or_default(),
-        )
-    })?;
-    let _ = stop_tx.send(true);
-    rt.shutdown_timeout(std::time::Duration::from_secs(2));
-    Ok(result?)
+    Ok(Running {
+        rt,
+        handle,
+        bound,
+        sim_thread,
+        stop_tx,
+        shutdown,
+    })
 }
 
 /// Where the ZMQ remote API listens: `bind`, except with a token and a non-loopback
@@ -317,14 +392,14 @@ fn loopback_of(bind: IpAddr) -> IpAddr {
 
 /// Ctrl-C (SIGINT) and SIGTERM. Registered on creation (unlike `tokio::signal::ctrl_c`,
 /// which registers when first polled), so neither kills the process from then on.
-struct Signals {
+struct SignalStream {
     #[cfg(unix)]
     int: Option<tokio::signal::unix::Signal>,
     #[cfg(unix)]
     term: Option<tokio::signal::unix::Signal>,
 }
 
-impl Signals {
+impl SignalStream {
     /// Must run inside the runtime (`Runtime::enter`).
     fn register() -> Self {
         #[cfg(unix)]

@@ -554,27 +554,9 @@ impl SimLoop {
     /// Replaces the scene (see [`Request::LoadScene`]). A file that does not load
     /// leaves the current scene as it was.
     fn load_scene(&mut self, path: Option<&std::path::Path>) -> Result<Vec<Value>, String> {
-        use gantry_sim_core::scene::{DiskFiles, load_scene, load_scene_text};
-        let (function, model) = match path {
-            Some(path) => {
-                let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-                if matches!(ext.as_deref(), Some("ttt" | "ttm" | "simscene" | "simmodel")) {
-                    return Err(format!(
-                        "'{}' is a CoppeliaSim file, which gantry cannot read: load a gantry scene                          (.toml, see docs/scene-format.md) or a robot (.urdf) (in function 'sim.loadScene')",
-                        path.display()
-                    ));
-                }
-                let model = load_scene(&DiskFiles, path, &self.load_options)
-                    .map_err(|e| format!("{e} (in function 'sim.loadScene')"))?;
-                ("loadScene", model)
-            }
-            None => {
-                let here = std::env::current_dir().unwrap_or_default().join("empty.toml");
-                let model = load_scene_text(&DiskFiles, "", &here, &self.load_options)
-                    .map_err(|e| format!("{e} (in function 'sim.closeScene')"))?;
-                ("closeScene", model)
-            }
-        };
+        let function = if path.is_some() { "loadScene" } else { "closeScene" };
+        let model = gantry_sim_core::scene::load_client_scene(path, &self.load_options)
+            .map_err(|e| format!("{e} (in function 'sim.{function}')"))?;
         // The debugger's link moves to the new scene (its breakpoints stay with the
         // client, which sets them again per file).
         let sim = match self.sim.take_debug_link() {

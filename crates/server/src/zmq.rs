@@ -564,7 +564,8 @@ fn module_name(args: &[Value]) -> Option<&str> {
     args.first().and_then(Value::as_str)
 }
 
-fn no_module(name: Option<&str>) -> String {
+/// The error for a module gantry does not have (`require`), or a missing module name.
+pub fn no_module(name: Option<&str>) -> String {
     match name {
         Some(n) => {
             let names: Vec<&str> = api::MODULES.iter().map(|m| m.name).collect();

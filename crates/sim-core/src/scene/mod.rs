@@ -7,6 +7,8 @@
 //!
 //! Bare URDFs load as a floor plus the robot. `docs/scene-format.md` documents the file.
 
+mod bundled;
+mod client_load;
 mod error;
 mod files;
 mod load;
@@ -17,6 +19,8 @@ pub mod raw;
 mod urdf;
 mod urdf_fixups;
 
+pub use bundled::{BUNDLED_SCENES, bundled_files, load_bundled};
+pub use client_load::load_client_scene;
 pub use error::LoadError;
 pub use files::{DiskFiles, EmbeddedFiles, Files, normalize as normalize_path};
 pub(crate) use load::dedup as dedup_warnings;

@@ -1,0 +1,432 @@
+"""Gymnasium environments on gantry simulations.
+
+A :class:`GantryEnv` is a generic ``gymnasium.Env``: a gantry scene plus a small
+:class:`Task` that says how to randomise, act on, observe and reward it. The env owns an
+in-process :class:`gantry.Client`, created with the env (so it belongs to the env's
+thread, as clients do) with real-time pacing off: the simulation advances only when
+``step()`` asks, ``Task.steps_per_action`` simulation steps per action, so a run is as
+fast as the physics allows and, the physics being deterministic, reproducible.
+
+``reset()`` stops the simulation, which restores the scene as loaded, starts it again and
+lets the task look up its handles (``Task.setup``) and draw a random initial state from
+the env's seeded ``np_random`` (``Task.reset``): the same seed and the same actions give
+the same observations and rewards.
+
+Importing this module registers two ready environments with Gymnasium:
+
+* ``gantry/ArmReach-v0`` (:class:`ArmReach`): the six-axis arm of the ``fk_arm`` scene
+  brings its tool tip to a random reachable point.
+* ``gantry/BubbleRobAvoid-v0`` (:class:`BubbleRobAvoid`): BubbleRob, without its Lua
+  controller, drives around its arena without running into obstacles.
+
+Units are SI (metres, seconds) and angles are radians, as in the ``sim`` API. Actions of
+the ready tasks are normalised to [-1, 1] and scaled by the task (as Gymnasium advises);
+observations are ``float32``.
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+import os
+from types import MappingProxyType
+from typing import Any, Mapping, Optional
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+
+from . import Client
+
+__all__ = ["GantryEnv", "Task", "ArmReach", "BubbleRobAvoid", "arm_reach_env", "bubble_rob_avoid_env"]
+
+
+class Task(abc.ABC):
+    """What an episode on a scene is: the spaces, the actions, the observations, the reward.
+
+    A subclass sets ``scene`` (anything :class:`gantry.Client` accepts), the two ``Box``
+    spaces (the observation space ``float32``) and implements :meth:`act`,
+    :meth:`observe` and :meth:`reward`. After each action the env steps the simulation
+    ``steps_per_action`` times, then calls :meth:`observe`, :meth:`reward`,
+    :meth:`terminated` and :meth:`info` in that order, so a task may keep what
+    :meth:`observe` measured for the others.
+    """
+
+    scene: str | os.PathLike
+    #: Extra :class:`gantry.Client` arguments (``scripts=False``, ``http_port=0``...);
+    #: not ``realtime`` or ``autostart``, which the env sets.
+    client_options: Mapping[str, Any] = MappingProxyType({})
+    #: Simulation steps per action.
+    steps_per_action: int = 1
+    #: Actions after which ``step()`` reports truncation; None for never.
+    max_episode_steps: Optional[int] = None
+    #: Path of a vision sensor that ``render_mode="rgb_array"`` shows; None for no rendering.
+    camera: Optional[str] = None
+    observation_space: spaces.Box
+    action_space: spaces.Box
+
+    def setup(self, sim: Any) -> None:
+        """Called after each (re)start of the simulation: look up handles here (objects
+        made during a run, such as collections, are gone after a restart)."""
+
+    def reset(self, sim: Any, rng: np.random.Generator) -> None:
+        """Randomises the initial state of an episode, drawing only from ``rng``."""
+
+    @abc.abstractmethod
+    def act(self, sim: Any, action: np.ndarray) -> None:
+        """Applies an action, already checked and clipped to ``action_space``."""
+
+    @abc.abstractmethod
+    def observe(self, sim: Any) -> np.ndarray:
+        """The observation, of the shape of ``observation_space``."""
+
+    @abc.abstractmethod
+    def reward(self, sim: Any, obs: np.ndarray, action: np.ndarray) -> float:
+        """The reward for the action that led to ``obs``."""
+
+    def terminated(self, sim: Any, obs: np.ndarray) -> bool:
+        """Whether the episode has ended (success or failure)."""
+        return False
+
+    def info(self, sim: Any, obs: np.ndarray) -> dict[str, Any]:
+        """Diagnostics returned alongside ``obs``."""
+        return {}
+
+
+class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
+    """A Gymnasium environment running ``task`` on its scene in this process.
+
+    ``client`` and ``sim`` give the simulation itself (for diagnostics; actions should go
+    through ``step``). ``render_mode="rgb_array"`` is offered when the task names a
+    camera: ``render()`` returns its ``(height, width, 3)`` ``uint8`` image. ``step()``
+    reports truncation after the task's ``max_episode_steps`` actions. Like its client,
+    the env belongs to the thread that made it.
+    """
+
+    # What make() reads before building an env; each env narrows it to what its task offers.
+    metadata: dict[str, Any] = {"render_modes": ["rgb_array"]}
+
+    def __init__(self, task: Task, render_mode: Optional[str] = None):
+        name = type(task).__name__
+        if not isinstance(task.action_space, spaces.Box) or not isinstance(task.observation_space, spaces.Box):
+            raise TypeError(f"{name}'s action_space and observation_space must be gymnasium.spaces.Box")
+        if task.observation_space.dtype != np.float32:
+            raise TypeError(f"{name}'s observation_space must be float32, not {task.observation_space.dtype}")
+        fixed = sorted({"realtime", "autostart"} & set(task.client_options))
+        if fixed:
+            raise ValueError(f"client_options may not set {fixed}: GantryEnv steps the simulation itself")
+        render_modes = ["rgb_array"] if task.camera is not None else []
+        if render_mode is not None and render_mode not in render_modes:
+            raise ValueError(f"render_mode {render_mode!r} is not offered by {name} (offered: {render_modes})")
+
+        self.task = task
+        self.action_space = task.action_space
+        self.observation_space = task.observation_space
+        self.render_mode = render_mode
+        self.client = Client(task.scene, realtime=False, autostart=False, **task.client_options)
+        self.sim: Any = self.client.require("sim")
+        dt = self.sim.getSimulationTimeStep()
+        self.metadata = {"render_modes": render_modes, "render_fps": 1.0 / (dt * task.steps_per_action)}
+        self._camera = -1
+        self._steps: Optional[int] = None  # actions since the last reset; None before the first
+
+    def reset(
+        self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Restarts the scene as loaded and randomises it; ``options`` is unused."""
+        super().reset(seed=seed)
+        self.sim.stopSimulation()
+        # A stop resets the client's stepping level. Stepping matters when the client
+        # serves listeners (http_port...): the simulation thread would otherwise run free.
+        self.client.setStepping(True)
+        self.sim.startSimulation()
+        if self.task.camera is not None:
+            self._camera = self.sim.getObject(self.task.camera)
+        self.task.setup(self.sim)
+        self.task.reset(self.sim, self.np_random)
+        self._steps = 0
+        obs = self._observe()
+        return obs, self.task.info(self.sim, obs)
+
+    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if self._steps is None:
+            raise RuntimeError("call reset() before step()")
+        action = self._checked_action(action)
+        self.task.act(self.sim, action)
+        for _ in range(self.task.steps_per_action):
+            self.sim.step()
+        self._steps += 1
+        obs = self._observe()
+        reward = float(self.task.reward(self.sim, obs, action))
+        terminated = bool(self.task.terminated(self.sim, obs))
+        limit = self.task.max_episode_steps
+        truncated = limit is not None and self._steps >= limit
+        return obs, reward, terminated, truncated, self.task.info(self.sim, obs)
+
+    def render(self) -> Optional[np.ndarray]:
+        if self.render_mode is None:
+            return None
+        if self._steps is None:
+            raise RuntimeError("call reset() before render()")
+        # The image as of the last step, row 0 on top; copied so that kept frames stay put.
+        return self.client.image(self._camera).copy()
+
+    def close(self) -> None:
+        self.client.close()
+
+    def _checked_action(self, action: Any) -> np.ndarray:
+        space = self.action_space
+        a = np.asarray(action, dtype=np.float64)
+        if a.shape != space.shape:
+            raise ValueError(f"action must have shape {space.shape}, got {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"action must be finite, got {a}")
+        return np.clip(a, space.low, space.high).astype(space.dtype)
+
+    def _observe(self) -> np.ndarray:
+        obs = np.asarray(self.task.observe(self.sim), dtype=np.float32)
+        if obs.shape != self.observation_space.shape:
+            raise ValueError(
+                f"{type(self.task).__name__}.observe returned shape {obs.shape}, "
+                f"not the observation space's {self.observation_space.shape}"
+            )
+        return obs
+
+
+# --- ArmReach ------------------------------------------------------------------------
+
+
+def _box(low: list[float], high: list[float]) -> spaces.Box:
+    return spaces.Box(np.array(low, dtype=np.float32), np.array(high, dtype=np.float32), dtype=np.float32)
+
+
+# arm6.urdf's limits; joints 1, 4 and 6 are continuous and read back wrapped to [-pi, pi].
+_ARM_JOINT_LOW = [-math.pi, math.radians(-110), math.radians(-50), -math.pi, math.radians(-120), -math.pi]
+_ARM_JOINT_HIGH = [math.pi, math.radians(90), math.radians(230), math.pi, math.radians(120), math.pi]
+# Everywhere the tip can be: shoulder at (0.07, 0, 0.352), 0.8 m from shoulder to tip.
+_ARM_TIP_LOW = [-1.0, -1.0, -0.5]
+_ARM_TIP_HIGH = [1.0, 1.0, 1.2]
+_ARM_REACH_STEPS = 200  # 10 s
+
+
+class ArmReach(Task):
+    """The ``fk_arm`` arm brings its tool tip within ``tolerance`` of a random target.
+
+    The target (``target``) is the tip position of a random joint configuration
+    (``target_config``) within ``target_spread`` rad of the start pose on each joint and at least
+    ``min_target_height`` above the floor, so it is always reachable. Action: joint
+    position increments in [-1, 1], times ``max_joint_step`` rad per action (the joints are
+    kinematic: they reach their target within the step). Observation: the six joint
+    positions (rad), the tip position and the target position (m, world frame). Reward:
+    minus the tip-target distance (m), plus ``success_bonus`` on reaching the target, which
+    ends the episode.
+    """
+
+    scene = "fk_arm"
+    client_options = MappingProxyType({"scripts": False})
+
+    def __init__(
+        self,
+        *,
+        tolerance: float = 0.02,
+        max_joint_step: float = 0.1,
+        target_spread: float = 1.0,
+        min_target_height: float = 0.1,
+        success_bonus: float = 10.0,
+        max_episode_steps: Optional[int] = _ARM_REACH_STEPS,
+    ):
+        self.tolerance = tolerance
+        self.max_joint_step = max_joint_step
+        self.target_spread = target_spread
+        self.min_target_height = min_target_height
+        self.success_bonus = success_bonus
+        self.max_episode_steps = max_episode_steps
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(6,), dtype=np.float32)
+        self.observation_space = _box(
+            _ARM_JOINT_LOW + _ARM_TIP_LOW + _ARM_TIP_LOW, _ARM_JOINT_HIGH + _ARM_TIP_HIGH + _ARM_TIP_HIGH
+        )
+        self.target_config = np.zeros(6)
+        self.target = np.zeros(3)
+
+    def setup(self, sim: Any) -> None:
+        self.joints = [sim.getObject(f"/arm6/joint{i}") for i in range(1, 7)]
+        self.tip = sim.getObject("/arm6/tip/tip")  # the scene's tip_frame dummy
+        self.target_dummy = sim.getObject("/target")
+
+    def _config(self, sim: Any) -> np.ndarray:
+        return np.array([sim.getJointPosition(j) for j in self.joints])
+
+    def _set_config(self, sim: Any, config: np.ndarray) -> None:
+        for joint, q in zip(self.joints, config):
+            sim.setJointPosition(joint, float(q))
+
+    def reset(self, sim: Any, rng: np.random.Generator) -> None:
+        start = self._config(sim)
+        low, high = np.array(_ARM_JOINT_LOW), np.array(_ARM_JOINT_HIGH)
+        # Kinematic joints move at once, so the tip's position is read back directly.
+        for _ in range(1000):
+            config = np.clip(start + rng.uniform(-self.target_spread, self.target_spread, 6), low, high)
+            self._set_config(sim, config)
+            tip = np.array(sim.getObjectPosition(self.tip, sim.handle_world))
+            if tip[2] >= self.min_target_height:
+                break
+        else:
+            raise ValueError(f"no target found at least {self.min_target_height} m above the floor")
+        self._set_config(sim, start)
+        self.target_config, self.target = config, tip
+        # Only to show the target in the viewer.
+        sim.setObjectPosition(self.target_dummy, tip.tolist(), sim.handle_world)
+
+    def act(self, sim: Any, action: np.ndarray) -> None:
+        # The simulator clamps limited joints and wraps the continuous ones.
+        for joint, q, dq in zip(self.joints, self._config(sim), action):
+            sim.setJointTargetPosition(joint, float(q + dq * self.max_joint_step))
+
+    def observe(self, sim: Any) -> np.ndarray:
+        tip = sim.getObjectPosition(self.tip, sim.handle_world)
+        return np.concatenate([self._config(sim), tip, self.target])
+
+    def _distance(self, obs: np.ndarray) -> float:
+        return float(np.linalg.norm(obs[6:9] - obs[9:12]))
+
+    def reward(self, sim: Any, obs: np.ndarray, action: np.ndarray) -> float:
+        distance = self._distance(obs)
+        return -distance + (self.success_bonus if distance < self.tolerance else 0.0)
+
+    def terminated(self, sim: Any, obs: np.ndarray) -> bool:
+        return self._distance(obs) < self.tolerance
+
+    def info(self, sim: Any, obs: np.ndarray) -> dict[str, Any]:
+        distance = self._distance(obs)
+        return {"distance": distance, "is_success": distance < self.tolerance}
+
+
+# --- BubbleRobAvoid ------------------------------------------------------------------
+
+_NOSE_RANGE = 0.15  # m, the sensingNose's range in bubble_rob.toml
+_WHEEL_RADIUS = 0.04  # m
+_BUBBLE_ROB_STEPS = 400  # 40 s
+
+
+class BubbleRobAvoid(Task):
+    """BubbleRob (``bubble_rob`` without its Lua controller) drives fast without hitting
+    anything.
+
+    Each episode starts at a random position within ``start_spread`` m of the arena's
+    centre with a random heading. Action: the left and right wheel target velocities in
+    [-1, 1], times ``max_wheel_speed`` rad/s; each lasts two steps (0.1 s). Observation:
+    whether the nose sensor detects something (0 or 1), the detected distance (m, its
+    range of 0.15 m when nothing is detected), the position x, y (m), the heading as cos
+    and sin, the forward speed (m/s) and the yaw rate (rad/s), the last two clipped to
+    their bounds. Reward: the forward speed as a fraction of the top speed, minus
+    ``proximity_penalty`` times how far into the sensor's range the detected object is
+    (0 at its edge, 1 on contact); a collision (clearance below ``collision_clearance``
+    m between the rover and any other object) costs ``collision_penalty`` and ends the
+    episode.
+    """
+
+    scene = "bubble_rob"
+    client_options = MappingProxyType({"scripts": False})
+    steps_per_action = 2
+    camera = "/bubbleRob/visionSensor"
+
+    def __init__(
+        self,
+        *,
+        max_wheel_speed: float = 5.0,
+        start_spread: float = 0.5,
+        proximity_penalty: float = 2.0,
+        collision_penalty: float = 10.0,
+        collision_clearance: float = 0.005,
+        max_episode_steps: Optional[int] = _BUBBLE_ROB_STEPS,
+    ):
+        self.max_wheel_speed = max_wheel_speed
+        self.start_spread = start_spread
+        self.proximity_penalty = proximity_penalty
+        self.collision_penalty = collision_penalty
+        self.collision_clearance = collision_clearance
+        self.max_episode_steps = max_episode_steps
+        self.top_speed = max_wheel_speed * _WHEEL_RADIUS
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
+        # Walls' inner faces at 2.4 m; speeds at twice the top speed allow for bumps.
+        self.observation_space = _box(
+            [0, 0, -2.5, -2.5, -1, -1, -2 * self.top_speed, -10.0],
+            [1, _NOSE_RANGE, 2.5, 2.5, 1, 1, 2 * self.top_speed, 10.0],
+        )
+        self.clearance = math.inf
+
+    def setup(self, sim: Any) -> None:
+        self.body = sim.getObject("/bubbleRob")
+        self.motors = [sim.getObject("/bubbleRob/leftMotor"), sim.getObject("/bubbleRob/rightMotor")]
+        self.nose = sim.getObject("/bubbleRob/sensingNose")
+        self.rover = sim.createCollection(0)
+        sim.addItemToCollection(self.rover, sim.handle_tree, self.body, 0)
+
+    def reset(self, sim: Any, rng: np.random.Generator) -> None:
+        x, y = rng.uniform(-self.start_spread, self.start_spread, 2)
+        heading = rng.uniform(-math.pi, math.pi)
+        z = sim.getObjectPosition(self.body, sim.handle_world)[2]
+        # Moving the model base before the first step carries the wheels and caster along.
+        sim.setObjectPosition(self.body, [float(x), float(y), z], sim.handle_world)
+        sim.setObjectOrientation(self.body, [0.0, 0.0, float(heading)], sim.handle_world)
+
+    def act(self, sim: Any, action: np.ndarray) -> None:
+        for motor, a in zip(self.motors, action):
+            sim.setJointTargetVelocity(motor, float(a) * self.max_wheel_speed)
+
+    def observe(self, sim: Any) -> np.ndarray:
+        # Sensed explicitly so that the observation after reset() reflects the new pose.
+        detected, distance, *_ = sim.handleProximitySensor(self.nose)
+        if detected <= 0:
+            distance = _NOSE_RANGE
+        m = sim.getObjectMatrix(self.body, sim.handle_world)
+        heading = math.atan2(m[4], m[0])  # of the body's x axis, its forward direction
+        (vx, vy, _), (_, _, yaw_rate) = sim.getObjectVelocity(self.body)
+        forward = vx * math.cos(heading) + vy * math.sin(heading)
+        result, data, _ = sim.checkDistance(self.rover, sim.handle_all)
+        self.clearance = data[6] if result > 0 else math.inf
+        obs = np.array(
+            [detected > 0, distance, m[3], m[7], math.cos(heading), math.sin(heading), forward, yaw_rate],
+            dtype=np.float32,
+        )
+        return np.clip(obs, self.observation_space.low, self.observation_space.high)
+
+    def _collided(self) -> bool:
+        return self.clearance < self.collision_clearance
+
+    def reward(self, sim: Any, obs: np.ndarray, action: np.ndarray) -> float:
+        reward = float(obs[6]) / self.top_speed
+        if obs[0] > 0:
+            reward -= self.proximity_penalty * (1.0 - float(obs[1]) / _NOSE_RANGE)
+        return reward - (self.collision_penalty if self._collided() else 0.0)
+
+    def terminated(self, sim: Any, obs: np.ndarray) -> bool:
+        return self._collided()
+
+    def info(self, sim: Any, obs: np.ndarray) -> dict[str, Any]:
+        return {"clearance": self.clearance, "collision": self._collided()}
+
+
+# --- registration --------------------------------------------------------------------
+
+
+def arm_reach_env(render_mode: Optional[str] = None, **options: Any) -> GantryEnv:
+    """A :class:`GantryEnv` on :class:`ArmReach` (``options`` are its arguments)."""
+    return GantryEnv(ArmReach(**options), render_mode=render_mode)
+
+
+def bubble_rob_avoid_env(render_mode: Optional[str] = None, **options: Any) -> GantryEnv:
+    """A :class:`GantryEnv` on :class:`BubbleRobAvoid` (``options`` are its arguments)."""
+    return GantryEnv(BubbleRobAvoid(**options), render_mode=render_mode)
+
+
+# The TimeLimit wrapper that make() adds truncates registered envs (so that
+# make(id, max_episode_steps=n) can change the limit); their tasks do not.
+for _id, _entry, _limit in (
+    ("gantry/ArmReach-v0", "gantry.gym:arm_reach_env", _ARM_REACH_STEPS),
+    ("gantry/BubbleRobAvoid-v0", "gantry.gym:bubble_rob_avoid_env", _BUBBLE_ROB_STEPS),
+):
+    if _id not in gymnasium.registry:
+        gymnasium.register(
+            _id, entry_point=_entry, max_episode_steps=_limit, kwargs={"max_episode_steps": None}
+        )

@@ -1,0 +1,448 @@
+//! `gantry._gantry`: the simulator as a Python extension module.
+//!
+//! This crate is a converter, like the Lua host and the ZMQ transport: it turns Python
+//! objects into [`Value`]s, calls the one implementation of each function
+//! ([`gantry_sim_core::api::MODULES`], the Lua host's script functions, and the
+//! remote API's simulation control, [`gantry_server::zmq::HOST_FUNCTIONS`]), and turns
+//! the results back with the shapes CoppeliaSim's Python client gives. The Python
+//! package around it (`python/gantry/`) adds `Client`, `require` and the extras.
+
+mod convert;
+mod direct;
+mod served;
+
+use std::net::IpAddr;
+use std::path::PathBuf;
+
+use gantry_script::ScriptLimits;
+use gantry_server::sim_thread::SimConfig;
+use gantry_server::zmq::{HOST_FUNCTIONS, HostFn, SIMULATION_FUNCTIONS, no_module};
+use gantry_server::{AccessToken, ServeConfig, Shutdown, Signals};
+use gantry_sim_core::Value;
+use gantry_sim_core::api::{self, ApiFunction};
+use gantry_sim_core::scene::{BUNDLED_SCENES, LoadOptions, load_bundled, load_client_scene, load_scene};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use crate::convert::{results, to_value};
+use crate::direct::Direct;
+use crate::served::Served;
+
+/// How a function is carried out.
+#[derive(Clone, Copy)]
+enum Kind {
+    /// A registry function of sim-core, looked up once.
+    Api(&'static ApiFunction),
+    /// A function of the Lua host (`getScript`, `callScriptFunction`, ...).
+    Script(&'static str),
+    /// Simulation control or stepping.
+    Host(HostFn, &'static str),
+}
+
+/// Looks a name up as the remote API does: `getObject` or `sim.getObject` in `sim`,
+/// `simIK.handleGroup` in another module.
+fn resolve(name: &str) -> Option<Kind> {
+    let (module, function) = name.split_once('.').unwrap_or(("sim", name));
+    if module == "sim" {
+        if let Some((n, h)) = HOST_FUNCTIONS.iter().find(|(n, _)| *n == function) {
+            return Some(Kind::Host(*h, n));
+        }
+        if let Some(n) = SIMULATION_FUNCTIONS.iter().find(|n| **n == function) {
+            return Some(Kind::Script(n));
+        }
+    }
+    api::module(module)?.function(function).map(Kind::Api)
+}
+
+/// Where the simulation runs.
+enum Backend {
+    /// In the calling thread.
+    Direct(Box<Direct>),
+    /// On gantry's simulation thread, with listeners.
+    Served(Box<Served>),
+}
+
+/// A simulation and the client driving it. Bound to the thread that created it (the
+/// Lua state cannot move between threads); several engines in several threads run in
+/// parallel, since steps release the GIL.
+#[pyclass(unsendable, module = "gantry._gantry")]
+pub struct Engine {
+    backend: Option<Backend>,
+}
+
+impl Engine {
+    fn backend(&mut self) -> PyResult<&mut Backend> {
+        self.backend
+            .as_mut()
+            .ok_or_else(|| PyRuntimeError::new_err("this gantry client is closed"))
+    }
+
+    /// Carries out one call.
+    fn invoke(&mut self, py: Python<'_>, kind: Kind, qualified: &str, args: &[Value]) -> PyResult<Vec<Value>> {
+        let remote = qualified.strip_prefix("sim.").unwrap_or(qualified);
+        let out = match self.backend()? {
+            Backend::Direct(d) => match kind {
+                Kind::Api(f) => d.call_function(py, f, qualified, args),
+                Kind::Script(name) => d.call_named(py, name, args),
+                Kind::Host(h, name) => d.host(py, h, name, args),
+            },
+            Backend::Served(s) => match kind {
+                Kind::Api(_) | Kind::Script(_) => s.call(py, remote, qualified, args),
+                Kind::Host(h, name) => s.host(py, h, name, args),
+            },
+        };
+        // The remote client raises a plain Exception with the server's message.
+        out.map_err(PyException::new_err)
+    }
+}
+
+#[pymethods]
+impl Engine {
+    /// Loads `scene` (a gantry `.toml` scene, a `.urdf` robot, or the name of a bundled
+    /// scene such as `bubble_rob`; `None`: an empty scene)
+    /// and creates its simulation, in this thread, or with listeners when a port is
+    /// given.
+    #[new]
+    #[pyo3(signature = (scene=None, *, dt=None, substeps=None, autostart=true, realtime=true,
+                        package_paths=Vec::new(), free_base=false, scripts=true, bind=None, http_port=None,
+                        zmq_port=None, text_port=None, token=None))]
+    #[expect(clippy::too_many_arguments, reason = "Python keyword arguments")]
+    fn new(
+        py: Python<'_>,
+        scene: Option<PathBuf>,
+        dt: Option<f64>,
+        substeps: Option<u32>,
+        autostart: bool,
+        realtime: bool,
+        package_paths: Vec<PathBuf>,
+        free_base: bool,
+        scripts: bool,
+        bind: Option<String>,
+        http_port: Option<u16>,
+        zmq_port: Option<u16>,
+        text_port: Option<u16>,
+        token: Option<String>,
+    ) -> PyResult<Self> {
+        let options = LoadOptions {
+            package_paths,
+            free_base,
+        };
+        let mut model = py
+            .detach(|| match &scene {
+                Some(path) => match path.to_str().and_then(|name| load_bundled(name, &options)) {
+                    Some(bundled) => {
+                        bundled.map_err(|e| format!("the bundled scene {} does not load: {e}", path.display()))
+                    }
+                    // The load error names the file.
+                    None => load_scene(&gantry_sim_core::scene::DiskFiles, path, &options).map_err(|e| e.to_string()),
+                },
+                None => load_client_scene(None, &options),
+            })
+            .map_err(PyValueError::new_err)?;
+        if !scripts {
+            // The Python program is then the only controller (reinforcement learning).
+            model.scripts.clear();
+        }
+        if let Some(dt) = dt {
+            if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
+                return Err(PyValueError::new_err(format!(
+                    "dt={dt}: the time step must be in (0, 1] s"
+                )));
+            }
+            model.settings.dt = dt;
+        }
+        if let Some(n) = substeps {
+            if !(1..=1000).contains(&n) {
+                return Err(PyValueError::new_err(format!("substeps={n}: use 1 to 1000")));
+            }
+            model.settings.substeps = n;
+        }
+        for w in &model.warnings {
+            tracing::warn!("{w}");
+        }
+        let limits = ScriptLimits::default();
+        let backend = if http_port.is_some() || zmq_port.is_some() || text_port.is_some() {
+            let bind: IpAddr = match bind.as_deref() {
+                Some(b) => b
+                    .parse()
+                    .map_err(|_| PyValueError::new_err(format!("bind={b:?}: not an IP address")))?,
+                None => IpAddr::from([127, 0, 0, 1]),
+            };
+            let token = token
+                .map(|t| AccessToken::new(&t).map_err(|e| PyValueError::new_err(format!("token: {e}"))))
+                .transpose()?;
+            let serve = ServeConfig {
+                bind,
+                token,
+                http_port,
+                zmq_port,
+                text_port,
+                ..ServeConfig::default()
+            };
+            let config = SimConfig {
+                fast: !realtime,
+                limits,
+                autostart,
+                load_options: options,
+                ..SimConfig::default()
+            };
+            let running = gantry_server::start(model, config, serve, Shutdown::default(), Signals::Leave)
+                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+            Backend::Served(Box::new(Served::new(running)))
+        } else {
+            let d = Direct::new(py, model, limits, options, autostart, realtime).map_err(PyRuntimeError::new_err)?;
+            Backend::Direct(Box::new(d))
+        };
+        Ok(Self { backend: Some(backend) })
+    }
+
+    /// The callable functions of `module` (`sim`, `simIK`, `simUI`, `simVision`) as
+    /// `(name, Function)` pairs.
+    fn functions(slf: &Bound<'_, Self>, module: &str) -> PyResult<Vec<(String, Function)>> {
+        let m = api::module(module).ok_or_else(|| PyException::new_err(no_module(Some(module))))?;
+        let mut names: Vec<&'static str> = m.callable().map(|(n, _)| n).collect();
+        if module == "sim" {
+            names.extend(SIMULATION_FUNCTIONS.iter().copied());
+            names.extend(HOST_FUNCTIONS.iter().map(|(n, _)| *n));
+        }
+        let engine = slf.clone().unbind();
+        names
+            .into_iter()
+            .filter_map(|n| {
+                let qualified = format!("{module}.{n}");
+                resolve(&qualified).map(|kind| (n, qualified, kind))
+            })
+            .map(|(n, qualified, kind)| {
+                Ok((
+                    n.to_owned(),
+                    Function {
+                        engine: engine.clone_ref(slf.py()),
+                        kind,
+                        qualified,
+                        owner: std::thread::current().id(),
+                    },
+                ))
+            })
+            .collect()
+    }
+
+    /// The constants of `module` as `(name, value)` pairs.
+    #[staticmethod]
+    fn constants(module: &str) -> PyResult<Vec<(&'static str, i64)>> {
+        let m = api::module(module).ok_or_else(|| PyException::new_err(no_module(Some(module))))?;
+        Ok(m.constants.iter().map(|(n, v)| (*n, *v)).collect())
+    }
+
+    /// The names of the scenes compiled into gantry (`Client("bubble_rob")`).
+    #[staticmethod]
+    fn bundled_scenes() -> Vec<&'static str> {
+        BUNDLED_SCENES.iter().map(|(n, _)| *n).collect()
+    }
+
+    /// The module names gantry provides.
+    #[staticmethod]
+    fn modules() -> Vec<&'static str> {
+        api::MODULES.iter().map(|m| m.name).collect()
+    }
+
+    /// `client.call("sim.getObject", ["/arm"])`: a call by name, as
+    /// `RemoteAPIClient.call` makes it.
+    fn call(&mut self, py: Python<'_>, name: &str, args: Vec<Bound<'_, PyAny>>) -> PyResult<Py<PyAny>> {
+        let qualified = if name.contains('.') {
+            name.to_owned()
+        } else {
+            format!("sim.{name}")
+        };
+        let kind = resolve(&qualified).ok_or_else(|| PyException::new_err(format!("No such function: {qualified}")))?;
+        let values = args.iter().map(to_value).collect::<PyResult<Vec<_>>>()?;
+        let out = self.invoke(py, kind, &qualified, &values)?;
+        results(py, &out)
+    }
+
+    /// Takes `n` steps as fast as possible, whatever the stepping mode (starting a
+    /// stopped simulation first); returns the steps taken (fewer if a script stops
+    /// it). In-process only.
+    fn advance(&mut self, py: Python<'_>, n: u64) -> PyResult<u64> {
+        match self.backend()? {
+            Backend::Direct(d) => Ok(d.advance(py, n)),
+            Backend::Served(_) => Err(PyRuntimeError::new_err(
+                "advance() is for in-process clients; a served simulation steps with sim.step()",
+            )),
+        }
+    }
+
+    /// A vision sensor's image as a numpy array `(height, width, channels)` of `uint8`
+    /// (channels 3, 1 with `options` bit 0, 4 with `rgba_cutoff`), without copying the
+    /// pixels; `top_first` flips the rows (a view, no copy) so that row 0 is the top,
+    /// as numpy, OpenCV and PIL expect (CoppeliaSim stores the bottom row first).
+    #[pyo3(signature = (sensor, options=0, rgba_cutoff=0.0, top_first=true))]
+    fn image<'py>(
+        &mut self,
+        py: Python<'py>,
+        sensor: i64,
+        options: i64,
+        rgba_cutoff: f64,
+        top_first: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let args = [Value::Int(sensor), Value::Int(options), Value::Float(rgba_cutoff)];
+        let (bytes, [w, h]) = self.sensor_bytes(py, "getVisionSensorImg", &args)?;
+        let channels = bytes.len().checked_div(w * h).unwrap_or(3);
+        let array = PyArray1::from_vec(py, bytes).reshape([h, w, channels])?.into_any();
+        flip(array, top_first)
+    }
+
+    /// A vision sensor's depth map as a numpy array `(height, width)` of `float32`:
+    /// normalised 0..1 between the clipping planes, or metres with `metres`. The
+    /// floats are reinterpreted in place, not copied; `top_first` as for `image`.
+    #[pyo3(signature = (sensor, metres=false, top_first=true))]
+    fn depth<'py>(
+        &mut self,
+        py: Python<'py>,
+        sensor: i64,
+        metres: bool,
+        top_first: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let args = [Value::Int(sensor), Value::Int(i64::from(metres))];
+        let (bytes, [w, h]) = self.sensor_bytes(py, "getVisionSensorDepth", &args)?;
+        let bytes = PyArray1::from_vec(py, bytes);
+        let floats = bytes.call_method1("view", ("<f4",))?;
+        let array = floats.call_method1("reshape", ((h, w),))?;
+        flip(array, top_first)
+    }
+
+    /// The listeners' addresses (`{"http": "127.0.0.1:8080", ...}`) of a served
+    /// simulation; empty in-process.
+    fn addresses<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        if let Backend::Served(s) = self.backend()?
+            && let Some(b) = s.bound()
+        {
+            for (name, addr) in [("http", b.http), ("zmq", b.zmq), ("text", b.text)] {
+                if let Some(a) = addr {
+                    d.set_item(name, a.to_string())?;
+                }
+            }
+        }
+        Ok(d)
+    }
+
+    /// Whether this client runs the simulation in its own thread (not served).
+    fn in_process(&mut self) -> PyResult<bool> {
+        Ok(matches!(self.backend()?, Backend::Direct(_)))
+    }
+
+    /// Ends the simulation: cleanup hooks run, listeners close. Later calls fail.
+    fn close(&mut self, py: Python<'_>) {
+        match self.backend.take() {
+            Some(Backend::Direct(mut d)) => d.close(),
+            Some(Backend::Served(mut s)) => s.close(py),
+            None => {}
+        }
+    }
+}
+
+impl Engine {
+    /// `bytes, {width, height}` of a vision sensor reply.
+    fn sensor_bytes(&mut self, py: Python<'_>, name: &'static str, args: &[Value]) -> PyResult<(Vec<u8>, [usize; 2])> {
+        let qualified = format!("sim.{name}");
+        let kind = resolve(&qualified).ok_or_else(|| PyRuntimeError::new_err(format!("{qualified} is missing")))?;
+        let out = self.invoke(py, kind, &qualified, args)?;
+        let mut it = out.into_iter();
+        match (it.next(), it.next()) {
+            (Some(Value::Bytes(b)), Some(Value::Array(size))) => {
+                let dim = |i: usize| {
+                    size.get(i)
+                        .and_then(Value::as_i64)
+                        .and_then(|v| usize::try_from(v).ok())
+                };
+                match (dim(0), dim(1)) {
+                    (Some(w), Some(h)) => Ok((b, [w, h])),
+                    _ => Err(PyRuntimeError::new_err(format!("{qualified}: malformed size"))),
+                }
+            }
+            _ => Err(PyRuntimeError::new_err(format!("{qualified}: unexpected reply"))),
+        }
+    }
+}
+
+/// Rows reversed (a view) when `top_first`.
+fn flip(array: Bound<'_, PyAny>, top_first: bool) -> PyResult<Bound<'_, PyAny>> {
+    if top_first {
+        let py = array.py();
+        let rows = pyo3::types::PySlice::new(py, isize::MAX, isize::MIN, -1);
+        array.get_item(rows)
+    } else {
+        Ok(array)
+    }
+}
+
+/// One function of a module, bound to its engine: `sim.getObjectPosition` and the
+/// like. Calling it converts the arguments, runs the one implementation, and converts
+/// the results.
+#[pyclass(frozen, module = "gantry._gantry")]
+pub struct Function {
+    engine: Py<Engine>,
+    kind: Kind,
+    qualified: String,
+    /// The engine's thread. Checked here, before PyO3's own check of an `unsendable`
+    /// class, which panics (a `BaseException` that `except Exception` misses).
+    owner: std::thread::ThreadId,
+}
+
+#[pymethods]
+impl Function {
+    #[pyo3(signature = (*args))]
+    fn __call__(&self, py: Python<'_>, args: &Bound<'_, PyTuple>) -> PyResult<Py<PyAny>> {
+        if std::thread::current().id() != self.owner {
+            return Err(PyRuntimeError::new_err(format!(
+                "{}: a gantry client belongs to the thread that created it; make one client per thread",
+                self.qualified
+            )));
+        }
+        let values = args.iter().map(|a| to_value(&a)).collect::<PyResult<Vec<_>>>()?;
+        let mut engine = self.engine.bind(py).try_borrow_mut().map_err(|_| {
+            PyRuntimeError::new_err(format!(
+                "{}: the client is busy (a call from inside another call)",
+                self.qualified
+            ))
+        })?;
+        let out = engine.invoke(py, self.kind, &self.qualified, &values)?;
+        results(py, &out)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<gantry function {}>", self.qualified)
+    }
+
+    /// The qualified name, e.g. `sim.getObject`.
+    #[getter]
+    fn __name__(&self) -> &str {
+        &self.qualified
+    }
+}
+
+/// Sends gantry's log (scripts' `print` and `sim.addLog` at "info", warnings, errors)
+/// to stderr. `level` is a filter as `RUST_LOG` takes it ("info", "warn", ...). Only the
+/// first call in a process takes effect.
+#[pyfunction]
+#[pyo3(signature = (level="info"))]
+fn log_to_stderr(level: &str) -> PyResult<bool> {
+    let filter = tracing_subscriber::EnvFilter::try_new(level)
+        .map_err(|e| PyValueError::new_err(format!("level={level:?}: {e}")))?;
+    Ok(tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .try_init()
+        .is_ok())
+}
+
+#[pymodule]
+fn _gantry(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Engine>()?;
+    m.add_class::<Function>()?;
+    m.add_function(wrap_pyfunction!(log_to_stderr, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

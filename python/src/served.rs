@@ -1,0 +1,109 @@
+//! The simulation on gantry's own simulation thread, with its listeners (viewer, text
+//! channel, ZMQ remote API) open, so that a run driven from Python can be watched and
+//! joined by other clients. The Python client is then one more client of that thread:
+//! its calls travel as the ZMQ transport's do ([`Request`]s), minus the bytes, and it
+//! has its own stepping level beside theirs.
+
+use std::path::PathBuf;
+
+use gantry_server::sim_thread::{Request, SimHandle};
+use gantry_server::zmq::HostFn;
+use gantry_server::{BoundAddrs, ClientId, RemoteOp, Running};
+use gantry_sim_core::Value;
+use gantry_sim_core::api::Args;
+use pyo3::Python;
+use tokio::sync::oneshot;
+
+/// The Python client's id among the remote clients; the ZMQ transport counts from 1.
+const ME: ClientId = ClientId(u64::MAX);
+
+/// A simulation thread with listeners, driven from Python.
+pub struct Served {
+    running: Option<Running>,
+    handle: SimHandle,
+}
+
+impl Served {
+    /// Wraps a started run (see [`gantry_server::start`]).
+    pub fn new(running: Running) -> Self {
+        let handle = running.handle();
+        Self {
+            running: Some(running),
+            handle,
+        }
+    }
+
+    /// The addresses the listeners bound.
+    pub fn bound(&self) -> Option<&BoundAddrs> {
+        self.running.as_ref().map(Running::bound)
+    }
+
+    /// Sends a request built around a reply channel and waits for the answer with the
+    /// GIL released.
+    fn ask<T: Send>(
+        &self,
+        py: Python<'_>,
+        name: &str,
+        make: impl FnOnce(oneshot::Sender<T>) -> Request,
+    ) -> Result<T, String> {
+        let (reply, rx) = oneshot::channel();
+        self.handle
+            .send(make(reply))
+            .map_err(|e| format!("{e} (in function '{name}')"))?;
+        py.detach(|| rx.blocking_recv())
+            .map_err(|_| format!("the simulation has ended (in function '{name}')"))
+    }
+
+    /// Any function served by `Simulation::call` on the simulation thread; `remote` is
+    /// the name as the ZMQ transport sends it (`getObject`, `simIK.handleGroup`).
+    ///
+    /// # Errors
+    /// The CoppeliaSim-style message.
+    pub fn call(&self, py: Python<'_>, remote: &str, qualified: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+        let args = args.to_vec();
+        let name = remote.to_owned();
+        self.ask(py, qualified, |reply| Request::Call { name, args, reply })?
+    }
+
+    /// Simulation control and stepping, as the ZMQ transport serves them.
+    ///
+    /// # Errors
+    /// Bad arguments, nesting too deep, a scene that does not load, or an ended run.
+    pub fn host(&self, py: Python<'_>, f: HostFn, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+        let qualified = format!("sim.{name}");
+        let remote = |op: RemoteOp| -> Result<Vec<Value>, String> {
+            self.ask(py, &qualified, |reply| Request::Remote { client: ME, op, reply })?
+        };
+        match f {
+            HostFn::Remote(op) => remote(op),
+            HostFn::SetStepping => {
+                let enable = Args::new(args).bool(0).map_err(|e| e.in_function(&qualified))?;
+                remote(RemoteOp::SetStepping(enable))
+            }
+            HostFn::Step => {
+                self.ask(py, &qualified, |done| Request::Step { client: ME, done })?;
+                Ok(Vec::new())
+            }
+            HostFn::LoadScene => {
+                let path = match name {
+                    "closeScene" => None,
+                    _ => Some(PathBuf::from(
+                        Args::new(args).str(0).map_err(|e| e.in_function(&qualified))?,
+                    )),
+                };
+                self.ask(py, &qualified, |reply| Request::LoadScene { path, reply })?
+            }
+        }
+    }
+
+    /// Ends the run: cleanup hooks, listeners closed.
+    pub fn close(&mut self, py: Python<'_>) {
+        if let Some(running) = self.running.take() {
+            running.stop();
+            let _ = self.handle.send(Request::DropClient(ME));
+            if let Err(e) = py.detach(|| running.wait()) {
+                tracing::error!("the served simulation ended with an error: {e}");
+            }
+        }
+    }
+}
