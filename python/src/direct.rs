@@ -80,7 +80,8 @@ impl Direct {
         autostart: bool,
         realtime: bool,
     ) -> Result<Self, String> {
-        let sim = Simulation::new(model, limits).map_err(|e| e.to_string())?;
+        let mut sim = Simulation::new(model, limits).map_err(|e| e.to_string())?;
+        sim.set_load_options(load_options.clone());
         let mut d = Self {
             sim,
             stepping: Stepping::default(),
@@ -214,7 +215,8 @@ impl Direct {
         let options = self.load_options.clone();
         let limits = self.limits;
         let model = py.detach(|| load_client_scene(path, &options))?;
-        let sim = Simulation::new(model, limits).map_err(|e| e.to_string())?;
+        let mut sim = Simulation::new(model, limits).map_err(|e| e.to_string())?;
+        sim.set_load_options(options);
         self.stop(py);
         self.sim = sim;
         Ok(())

@@ -162,6 +162,40 @@ def test_bubblerob_speed_slider_calls_back_the_script(page, gantry):
         for s in (speed, speed / 2, speed / 8)), what="page to show the new target speed")
 
 
+def test_keys_in_the_view_reach_sim_get_simulator_message(page, gantry):
+    """Keys pressed on the 3D view are CoppeliaSim's key-press messages: a remote
+    client's queue gets them in order, with CoppeliaSim's codes (arrows 2007-2010)."""
+    client = gantry.zmq_client()
+    sim = client.require("sim")
+
+    def drain():
+        got = []
+        while True:
+            msg, aux, _ = sim.getSimulatorMessage()
+            if msg == -1:
+                return got
+            got.append((msg, aux))
+
+    drain()  # whatever was pressed before
+    page.click("#gl")
+    for key in ("ArrowUp", "ArrowLeft", "a", "Shift+B", "Control+x"):
+        page.keyboard.press(key)
+    want = [(2007, 0), (2009, 0), (ord("a"), 0), (ord("B"), 2), (ord("x"), 1)]
+    got: list = []
+
+    def arrived():
+        got.extend(drain())
+        return len(got) >= len(want)
+
+    wait_for(arrived, what="five key-press messages")
+    assert [(m, a[0], a[1]) for m, a in got] == [(sim.message_keypress, k, mods) for k, mods in want], got
+    # Typing into a panel's text box is not a key press for the scripts.
+    page.locator('#ik-tx').focus()
+    page.keyboard.press("z")
+    page.wait_for_timeout(300)
+    assert drain() == []
+
+
 def test_picking_shows_alias_path_handle_pose(page):
     idx = page.evaluate("gantry.objects.findIndex(o => o.alias === 'obstacle')")
     pos = page.evaluate(f"gantry.screenPosition({idx})")

@@ -99,3 +99,48 @@ def test_load_scene_and_close_scene(gantry):
     sim.closeScene()
     with pytest.raises(Exception, match="object does not exist"):
         sim.getObject("/arm6")
+
+
+def test_load_model_adds_a_public_robot_to_the_running_scene(gantry):
+    """sim.loadModel with a URDF from pybullet_data (not ours): the robot joins the
+    scene beside BubbleRob, with PyBullet's joints and, at a random configuration,
+    PyBullet's forward kinematics."""
+    import math
+    import os
+    import random
+
+    import pybullet as pb
+    import pybullet_data
+
+    urdf = os.path.join(pybullet_data.getDataPath(), "kuka_iiwa", "model.urdf")
+    g = gantry("assets/scenes/bubble_rob.toml")
+    client = g.client()
+    sim = client.require("sim")
+    client.setStepping(True)
+    base = sim.loadModel(urdf)
+    assert sim.getObjectAlias(base) == "lbr_iiwa"
+    assert sim.getObject("/bubbleRob") >= 0  # the scene is still there
+    joints = sim.getObjectsInTree(base, sim.object_joint_type, 0)
+
+    cid = pb.connect(pb.DIRECT)
+    try:
+        body = pb.loadURDF(urdf, useFixedBase=True, physicsClientId=cid)
+        info = [pb.getJointInfo(body, i, physicsClientId=cid) for i in range(pb.getNumJoints(body, physicsClientId=cid))]
+        revolute = [i for i in info if i[2] == pb.JOINT_REVOLUTE]
+        assert len(joints) == len(revolute) == 7
+        rng = random.Random(18)
+        for j, i in zip(joints, revolute):
+            q = rng.uniform(max(i[8], -2.0), min(i[9], 2.0))
+            sim.setJointPosition(j, q)
+            pb.resetJointState(body, i[0], q, physicsClientId=cid)
+        tip = pb.getLinkState(body, revolute[-1][0], computeForwardKinematics=True, physicsClientId=cid)[4]
+        got = sim.getObjectPosition(sim.getObject("/lbr_iiwa/lbr_iiwa_link_7"), sim.handle_world)
+        assert math.dist(got, tip) < 1e-5, (got, tip)
+    finally:
+        pb.disconnect(cid)
+
+    # Bad files are refused by name, and the scene is unchanged.
+    with pytest.raises(Exception, match=r"CoppeliaSim model.*\(in function 'sim.loadModel'\)"):
+        sim.loadModel("/tmp/robot.ttm")
+    sim.stopSimulation()
+    assert sim.getObject("/lbr_iiwa") == base  # a loaded model stays in the scene

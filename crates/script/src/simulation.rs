@@ -19,7 +19,7 @@ use std::rc::Rc;
 use std::time::{Duration, Instant, SystemTime};
 
 use gantry_sim_core::api::{self, Args, CallContext};
-use gantry_sim_core::scene::SceneModel;
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, ScriptModel, load_model};
 use gantry_sim_core::world::{Advancing, SimulationState};
 use gantry_sim_core::{Handle, Value, World};
 use mlua::thread::ThreadStatus;
@@ -151,6 +151,11 @@ pub(crate) struct Shared {
     pub(crate) envs: RefCell<Vec<(Handle, Table, Rc<str>)>>,
     /// Each script's thread mode, by script index.
     pub(crate) thread_modes: RefCell<Vec<ThreadMode>>,
+    /// How model files are read (`sim.loadModel`): package paths, free bases.
+    pub(crate) load_options: RefCell<LoadOptions>,
+    /// Models loaded by `sim.loadModel` whose objects are in the world and whose scripts
+    /// load once no script is running (see `Simulation::attach_loaded_models`).
+    pub(crate) loaded_models: RefCell<Vec<LoadedModel>>,
     /// The script thread being resumed now (null when none): only it is pre-empted,
     /// not a coroutine of the script's own running inside it.
     pub(crate) running_thread: Cell<*const std::ffi::c_void>,
@@ -281,6 +286,8 @@ impl Simulation {
             interrupted: Cell::new(false),
             envs: RefCell::new(Vec::new()),
             thread_modes: RefCell::new(Vec::new()),
+            load_options: RefCell::new(LoadOptions::default()),
+            loaded_models: RefCell::new(Vec::new()),
             running_thread: Cell::new(std::ptr::null()),
             slice_end: Cell::new(None),
             control: Cell::new(None),
@@ -320,7 +327,19 @@ impl Simulation {
         self.shared.envs.borrow_mut().clear();
         *self.shared.thread_modes.borrow_mut() = vec![ThreadMode::default(); self.model.scripts.len()];
         for (index, s) in self.model.scripts.clone().into_iter().enumerate() {
-            let object = s.object as Handle;
+            self.load_script(index, &s, s.object as Handle);
+        }
+        self.mtimes = self.scripts.iter().map(|s| s.modified).collect();
+        self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
+        for i in 0..self.scripts.len() {
+            self.warn_unsupported_hooks(i);
+        }
+    }
+
+    /// Loads script `index` of the model (`s`), attached to `object` in the world, and
+    /// runs its chunk; a failure marks it errored, keeping indices aligned with the model.
+    fn load_script(&mut self, index: usize, s: &ScriptModel, object: Handle) {
+        {
             let name: Rc<str> = Rc::from(s.path.file_name().and_then(|n| n.to_str()).unwrap_or("script"));
             let modified = match self.mtimes.get(index) {
                 Some(m) => *m,
@@ -354,10 +373,66 @@ impl Simulation {
                 self.fail(index, e);
             }
         }
-        self.mtimes = self.scripts.iter().map(|s| s.modified).collect();
-        self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
-        for i in 0..self.scripts.len() {
-            self.warn_unsupported_hooks(i);
+    }
+
+    /// Sets how model files are read (`sim.loadModel`); the host passes the options its
+    /// scene was loaded with.
+    pub fn set_load_options(&mut self, options: LoadOptions) {
+        *self.shared.load_options.borrow_mut() = options;
+    }
+
+    /// `sim.loadModel(path)` for a remote client: a robot (`.urdf`) or a gantry model
+    /// (`.toml`) from any path gantry can read, as `sim.loadScene`. Returns the handle of
+    /// the model base.
+    ///
+    /// # Errors
+    /// The file is not a model or does not load.
+    pub fn load_model(&mut self, path: &std::path::Path) -> Result<Handle, String> {
+        let h = load_model_into(&self.shared, path, false)?;
+        self.attach_loaded_models();
+        Ok(h)
+    }
+
+    /// Makes the models `sim.loadModel` put into the world part of the scene: the
+    /// model's objects join the scene model (so a stop rebuilds them too) and its
+    /// scripts load, and initialise at once if the simulation is running.
+    fn attach_loaded_models(&mut self) {
+        let loaded = std::mem::take(&mut *self.shared.loaded_models.borrow_mut());
+        for LoadedModel { model, handles } in loaded {
+            let offset = self.model.objects.len();
+            for mut o in model.objects {
+                o.parent = o.parent.map(|p| p + offset);
+                if let gantry_sim_core::scene::ObjectModelKind::Joint(j) = &mut o.kind
+                    && let Some(m) = &mut j.mimic
+                {
+                    m.leader += offset;
+                }
+                self.model.objects.push(o);
+            }
+            let first = self.scripts.len();
+            for s in model.scripts {
+                let live = handles[s.object];
+                let s = ScriptModel {
+                    object: s.object + offset,
+                    ..s
+                };
+                let index = self.model.scripts.len();
+                self.model.scripts.push(s.clone());
+                self.shared.thread_modes.borrow_mut().push(ThreadMode::default());
+                self.load_script(index, &s, live);
+                self.mtimes.push(self.scripts[index].modified);
+                self.warn_unsupported_hooks(index);
+            }
+            self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
+            if self.state() != SimulationState::Stopped {
+                for i in first..self.scripts.len() {
+                    self.scripts[i].initialised = true;
+                    self.call_hook(i, Hook::Init);
+                    if self.scripts[i].state == ScriptState::Running {
+                        self.cache_hooks(i);
+                    }
+                }
+            }
         }
     }
 
@@ -618,6 +693,9 @@ impl Simulation {
     /// Carries out a start, pause or stop that a script asked for (see
     /// [`ScriptControl`]), now that no script is running.
     fn apply_control(&mut self) {
+        if !self.shared.loaded_models.borrow().is_empty() {
+            self.attach_loaded_models();
+        }
         match self.shared.control.take() {
             Some(ScriptControl::Start) if self.state() != SimulationState::Running => self.start(),
             Some(ScriptControl::Pause) => self.pause(),
@@ -873,6 +951,14 @@ impl Simulation {
             )
             .map(|h| vec![Value::Int(h)])
             .map_err(|e| format!("{e} (in function 'sim.getScriptAssociatedWithObject')"));
+        }
+        if name == "loadModel" {
+            return match args.first() {
+                Some(Value::Str(path)) => self.load_model(std::path::Path::new(path)),
+                _ => Err("argument 1: expected the model file's path as a string".to_owned()),
+            }
+            .map(|h| vec![Value::Int(h)])
+            .map_err(|e| format!("{e} (in function 'sim.loadModel')"));
         }
         if name == "getScript" {
             return script_handle(&self.shared, args)
@@ -1314,6 +1400,30 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         })
         .and_then(|f| wrap.call::<Function>(f))?,
     )?;
+    // A model's objects join the world at once (the handle is returned); its scripts
+    // load when the calling hook has returned. Scripts read model files inside the
+    // scene's folder only, as they write exports there.
+    let lm_shared = shared.clone();
+    sim.set(
+        "loadModel",
+        lua.create_function(move |lua, path: LuaValue| {
+            let loaded = match &path {
+                LuaValue::String(p) => load_model_into(&lm_shared, std::path::Path::new(&*p.to_str()?), true),
+                other => Err(format!(
+                    "argument 1: expected the model file's path as a string, got {}",
+                    other.type_name()
+                )),
+            };
+            Ok(match loaded {
+                Ok(h) => (true, LuaValue::Integer(h)),
+                Err(e) => (
+                    false,
+                    LuaValue::String(lua.create_string(format!("{e} (in function 'sim.loadModel')"))?),
+                ),
+            })
+        })
+        .and_then(|f| wrap.call::<Function>(f))?,
+    )?;
     // CoppeliaSim 4.0-4.2: the script attached to an object, -1 when none.
     let sa_shared = shared.clone();
     sim.set(
@@ -1447,4 +1557,50 @@ pub fn check_syntax(model: &SceneModel) -> Vec<String> {
                 .map(|e| error_text(&e))
         })
         .collect()
+}
+
+/// A model `sim.loadModel` put into the world, waiting for its scripts to load.
+pub(crate) struct LoadedModel {
+    /// The model file as loaded.
+    model: SceneModel,
+    /// The world handle of each of its objects.
+    handles: Vec<Handle>,
+}
+
+/// Reads the model file `path` and adds its objects to the world; returns the model
+/// base's handle. `confined`: only inside the scene's folder (for scripts).
+fn load_model_into(shared: &Shared, path: &std::path::Path, confined: bool) -> Result<Handle, String> {
+    let path = if confined {
+        shared
+            .world
+            .borrow()
+            .graphs
+            .export_scope()
+            .resolve(path)
+            .map_err(|e| match e {
+                gantry_sim_core::world::ExportDenied::NoFolder => {
+                    "this scene has no folder on disk (it is embedded in gantry), so its scripts cannot load model files".to_owned()
+                }
+                _ => format!(
+                    "{}: scripts load model files only from inside the scene's folder (give a path relative to the scene)",
+                    path.display()
+                ),
+            })?
+    } else {
+        path.to_owned()
+    };
+    let options = shared.load_options.borrow().clone();
+    let model = load_model(&DiskFiles, &path, &options).map_err(|e| e.to_string())?;
+    let (handles, warnings) = shared
+        .world
+        .try_borrow_mut()
+        .map_err(|_| "the world is busy".to_owned())?
+        .import_model(&model);
+    // The model's own warnings (unknown keys, URDF features) and the building's.
+    for w in warnings {
+        tracing::warn!("{w}");
+    }
+    let base = handles[0];
+    shared.loaded_models.borrow_mut().push(LoadedModel { model, handles });
+    Ok(base)
 }

@@ -50,6 +50,7 @@ pub const HOST_FUNCTIONS: &[(&str, HostAvailability)] = &[
     ("getStepping", HostAvailability::Scripts),
     ("getThreadAutomaticSwitch", HostAvailability::Scripts),
     ("isScriptRunningInThread", HostAvailability::Scripts),
+    ("loadModel", HostAvailability::Scripts),
     ("moveToConfig", HostAvailability::Threaded),
     ("moveToConfig_cleanup", HostAvailability::Scripts),
     ("moveToConfig_init", HostAvailability::Scripts),

@@ -733,7 +733,9 @@ fn joint_interval_type_and_targets() {
     assert_eq!((int(&r[6]), int(&r[7])), (10, 11));
     assert_eq!((int(&r[8]), int(&r[9])), (10, 11));
     assert_eq!(num(&r[10]), 0.3);
-    assert!((num(&r[11]) - 0.3).abs() < 1e-12, "kinematic joints follow");
+    // A kinematic joint moves to its target over the following steps, as CoppeliaSim's
+    // (crates/sim-core/tests/kinematic_motion.rs), not at once.
+    assert_eq!(num(&r[11]), 0.0, "kinematic joints move at the next steps");
     assert_eq!(num(&r[12]), 0.2, "target clamped to the limits");
     assert_eq!(num(&r[13]), -1.25);
 }

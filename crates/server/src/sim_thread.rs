@@ -310,10 +310,11 @@ pub fn run_sim_thread_debugged(
     debug: Option<gantry_script::DebugLink>,
 ) -> Result<RunSummary, gantry_script::ScriptError> {
     let dt = model.settings.dt;
-    let sim = match debug {
+    let mut sim = match debug {
         Some(link) => Simulation::with_debugger(model, config.limits, link)?,
         None => Simulation::new(model, config.limits)?,
     };
+    sim.set_load_options(config.load_options.clone());
     let mut lp = SimLoop {
         sim,
         steps: 0,
@@ -559,11 +560,12 @@ impl SimLoop {
             .map_err(|e| format!("{e} (in function 'sim.{function}')"))?;
         // The debugger's link moves to the new scene (its breakpoints stay with the
         // client, which sets them again per file).
-        let sim = match self.sim.take_debug_link() {
+        let mut sim = match self.sim.take_debug_link() {
             Some(link) => Simulation::with_debugger(model, self.limits, link),
             None => Simulation::new(model, self.limits),
         }
         .map_err(|e| format!("{e} (in function 'sim.{function}')"))?;
+        sim.set_load_options(self.load_options.clone());
         // Cleanup hooks of the old scene run; its log goes with it.
         self.stop();
         self.sim = sim;

@@ -69,7 +69,12 @@ const STAY_AWAKE: Duration = Duration::from_micros(300);
 
 /// Functions that `Simulation::call` implements beyond [`api::FUNCTIONS`] (they need the
 /// Lua state, so they live in the script crate).
-pub const SIMULATION_FUNCTIONS: &[&str] = &["callScriptFunction", "getScript", "getScriptAssociatedWithObject"];
+pub const SIMULATION_FUNCTIONS: &[&str] = &[
+    "callScriptFunction",
+    "getScript",
+    "getScriptAssociatedWithObject",
+    "loadModel",
+];
 
 /// Functions the remote API adds on top of the core: they act on the client's session
 /// or the simulation loop, not on the world.

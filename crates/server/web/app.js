@@ -7,7 +7,7 @@
 //                          {"t":"panels"}  scripts, log, custom UIs, graph samples
 //                          {"t":"reply"}   answer to a command (matched by id)
 //                   binary u32 type 1: pose and drawing deltas, 2: vision image, 3: mesh
-//   page -> server  text   {"id","op":"control"|"packet"|"ui"|"reload",...}
+//   page -> server  text   {"id","op":"control"|"packet"|"ui"|"reload"|"debug"|"key",...}
 // World frame: Z up, metres, radians; poses are [x, y, z, qx, qy, qz, qw].
 'use strict';
 
@@ -475,6 +475,26 @@ function viewProj() {
 // Mouse: left drag orbits, right or shift drag pans, wheel zooms, a click picks.
 let drag = null;
 canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+
+// Keys pressed while nothing editable has the focus (click the 3D view first) go to the
+// scripts as CoppeliaSim's key-press messages (sim.getSimulatorMessage), with its codes:
+// a character's own code, the arrows 2007-2010; modifiers bit 0 ctrl, bit 1 shift.
+const SPECIAL_KEYS = {
+  ArrowUp: 2007, ArrowDown: 2008, ArrowLeft: 2009, ArrowRight: 2010,
+  Enter: 13, Escape: 27, Backspace: 8, Tab: 9, Delete: 127,
+};
+canvas.tabIndex = 0;
+document.addEventListener('keydown', (e) => {
+  const t = e.target;
+  const editable = t instanceof HTMLElement
+    && (t.isContentEditable || ['INPUT', 'TEXTAREA', 'SELECT', 'BUTTON'].includes(t.tagName));
+  if (editable || e.altKey || e.metaKey) return;
+  const key = SPECIAL_KEYS[e.key] ?? ([...e.key].length === 1 ? e.key.codePointAt(0) : null);
+  if (!key) return;
+  // The page would scroll on arrows and the space bar.
+  if (e.key.startsWith('Arrow') || e.key === ' ') e.preventDefault();
+  send({ op: 'key', key, mods: (e.ctrlKey ? 1 : 0) | (e.shiftKey ? 2 : 0) });
+});
 canvas.addEventListener('pointerdown', (e) => {
   canvas.setPointerCapture(e.pointerId);
   drag = { x: e.clientX, y: e.clientY, pan: e.button === 2 || e.shiftKey, moved: 0 };

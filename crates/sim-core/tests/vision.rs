@@ -458,6 +458,64 @@ fn rgba_cut_off_and_options() {
     assert_eq!(grey.len(), 256 * 256);
 }
 
+/// Options bit 1, as CoppeliaSim documents it for `sim.setVisionSensorImg` (the same
+/// layout both ways): one more byte per pixel, alpha, after RGB or after the grey byte.
+/// Without a cut-off the sensor's image is opaque; with one, alpha follows the depth.
+#[test]
+fn alpha_option_adds_a_byte_per_pixel_both_ways() {
+    let (mut w, sensor) = scene_with_obstacle();
+    let get = |w: &mut World, options: i64, cutoff: f64| {
+        image(
+            &call(
+                w,
+                "sim.getVisionSensorImg",
+                &[Value::Int(sensor), Value::Int(options), Value::Float(cutoff)],
+            )
+            .unwrap(),
+        )
+        .0
+    };
+    let rgb = get(&mut w, 0, 0.0);
+    let rgba = get(&mut w, 2, 0.0);
+    assert_eq!(rgba.len(), 4 * 256 * 256);
+    for (px, c) in rgba.chunks_exact(4).zip(rgb.chunks_exact(3)) {
+        assert_eq!(&px[..3], c);
+        assert_eq!(px[3], 255, "opaque without a cut-off");
+    }
+    let grey = get(&mut w, 1, 0.0);
+    let grey_alpha = get(&mut w, 3, 0.5);
+    assert_eq!(grey_alpha.len(), 2 * 256 * 256);
+    let at = |x: usize, y: usize| 2 * (y * 256 + x);
+    assert_eq!(grey_alpha[at(128, 128)], grey[128 * 256 + 128]);
+    assert_eq!(grey_alpha[at(128, 128) + 1], 255, "obstacle nearer than the cut-off");
+    assert_eq!(grey_alpha[at(0, 255) + 1], 0, "background beyond it");
+    // Bit 1 and a cut-off together are the same RGBA image as the cut-off alone.
+    assert_eq!(get(&mut w, 2, 0.5), get(&mut w, 0, 0.5));
+
+    // Written back with the alpha byte (which the opaque image drops), the same pixels.
+    let mut inverted = rgba.clone();
+    for px in inverted.chunks_exact_mut(4) {
+        for c in &mut px[..3] {
+            *c = 255 - *c;
+        }
+    }
+    call(
+        &mut w,
+        "sim.setVisionSensorImg",
+        &[Value::Int(sensor), Value::Bytes(inverted.clone()), Value::Int(2)],
+    )
+    .unwrap();
+    let back = get(&mut w, 2, 0.0);
+    assert_eq!(back, inverted);
+    let short = call(
+        &mut w,
+        "sim.setVisionSensorImg",
+        &[Value::Int(sensor), Value::Bytes(rgb), Value::Int(2)],
+    )
+    .unwrap_err();
+    assert!(short.contains("4 per pixel"), "{short}");
+}
+
 #[test]
 fn bad_arguments_name_the_function() {
     let (mut w, sensor) = scene_with_obstacle();

@@ -7,6 +7,7 @@
 //! {"id": 9, "op": "ui", "ui": 1000, "widget": 1, "value": 30}   // simUI.interact
 //! {"id": 10, "op": "reload", "script": 0}              // index in the scripts panel
 //! {"id": 11, "op": "debug", "action": "continue"}      // with --debug: continue, step_over, step_in, step_out, pause
+//! {"op": "key", "key": 2007, "mods": 0}                // a key pressed in the 3D view, for sim.getSimulatorMessage
 //! ```
 //!
 //! `id` is optional and echoed in the reply. Anything else gets an error reply; the
@@ -67,7 +68,20 @@ pub enum Command {
         /// What to do.
         action: DebugAction,
     },
+    /// A key pressed in the 3D view: a `sim.message_keypress` for
+    /// `sim.getSimulatorMessage` (CoppeliaSim's key codes: characters by their code,
+    /// arrows 2007-2010).
+    Key {
+        /// The key's code.
+        key: i64,
+        /// Bit 0 ctrl, bit 1 shift.
+        #[serde(default)]
+        mods: i64,
+    },
 }
+
+/// Largest key code accepted: the Unicode range (CoppeliaSim's special keys are below).
+pub const MAX_KEY_CODE: i64 = 0x10_FFFF;
 
 /// The debugger buttons of the page's "paused in SCRIPT:LINE" banner.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -129,7 +143,7 @@ pub enum CommandError {
     #[error("message longer than {MAX_MESSAGE} bytes")]
     TooLong,
     /// Not JSON, or not one of the commands.
-    #[error("bad message: {0} (expected {{\"op\": \"control\"|\"packet\"|\"ui\"|\"reload\"|\"debug\", ...}})")]
+    #[error("bad message: {0} (expected {{\"op\": \"control\"|\"packet\"|\"ui\"|\"reload\"|\"debug\"|\"key\", ...}})")]
     Json(#[from] serde_json::Error),
     /// A packet over [`MAX_PACKET`] bytes.
     #[error("packet longer than {MAX_PACKET} bytes")]
@@ -137,6 +151,9 @@ pub enum CommandError {
     /// A widget value that is an array or object.
     #[error("a widget value must be a number, text, boolean or null")]
     BadValue,
+    /// A key code or modifier outside the ranges.
+    #[error("a key code is 1..=1114111 and its modifiers 0..=3")]
+    BadKey,
 }
 
 /// Parses and checks one text message.
@@ -151,6 +168,9 @@ pub fn parse(text: &str) -> Result<ClientMessage, CommandError> {
     match &msg.command {
         Command::Packet { text } if text.len() > MAX_PACKET => Err(CommandError::PacketTooLong),
         Command::Ui { value, .. } if value.is_array() || value.is_object() => Err(CommandError::BadValue),
+        Command::Key { key, mods } if !(1..=MAX_KEY_CODE).contains(key) || !(0..=3).contains(mods) => {
+            Err(CommandError::BadKey)
+        }
         _ => Ok(msg),
     }
 }
@@ -172,6 +192,23 @@ pub fn ui_value(v: &serde_json::Value) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn keys_parse_within_their_ranges() {
+        let m = parse(r#"{"op":"key","key":2007,"mods":2}"#).unwrap();
+        assert_eq!(m.command, Command::Key { key: 2007, mods: 2 });
+        let m = parse(r#"{"op":"key","key":97}"#).unwrap();
+        assert_eq!(m.command, Command::Key { key: 97, mods: 0 });
+        for bad in [
+            r#"{"op":"key","key":0}"#,
+            r#"{"op":"key","key":-5}"#,
+            r#"{"op":"key","key":1114112}"#,
+            r#"{"op":"key","key":97,"mods":4}"#,
+        ] {
+            assert!(matches!(parse(bad), Err(CommandError::BadKey)), "{bad}");
+        }
+        assert!(matches!(parse(r#"{"op":"key","key":"a"}"#), Err(CommandError::Json(_))));
+    }
 
     #[test]
     fn commands_parse() {

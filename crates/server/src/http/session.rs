@@ -309,6 +309,11 @@ async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, S
             sim.call("simUI.interact", args).await.map(|_| String::new())
         }
         Command::Debug { action } => Err(format!("{action:?} is answered by the session, not the worker")),
+        Command::Key { key, mods } => sim
+            .with(move |s| s.world_mut().messages.post_key(key, mods))
+            .await
+            .map(|()| String::new())
+            .map_err(|e| e.to_string()),
         Command::Reload { script } => {
             let found = sim
                 .with(move |s| {

@@ -28,8 +28,9 @@ pub(super) fn get_joint_target_position(w: &mut World, _: &CallContext<'_>, a: &
     Ok(vec![Value::Float(w.joint(a.handle(0)?)?.target_position)])
 }
 
-/// `sim.setJointTargetPosition(h, q, motionParams={})`; motion parameters are accepted
-/// and ignored (dynamic joints follow their PD controller).
+/// `sim.setJointTargetPosition(h, q, motionParams={})`: dynamic joints servo to it with
+/// their controller; kinematic ones move there over the next steps (see
+/// `Joint::kinematic_step`). Motion parameters are accepted and ignored.
 pub(super) fn set_joint_target_position(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     w.set_joint_target_position(h, a.finite(1)?)?;
@@ -48,10 +49,14 @@ pub(super) fn set_joint_target_velocity(w: &mut World, _: &CallContext<'_>, a: &
     Ok(Vec::new())
 }
 
-/// `sim.setJointTargetForce(h, f, signedValue=true)`: the motor's maximum torque/force.
+/// `sim.setJointTargetForce(h, f, signedValue=true)`: in force/torque mode
+/// (`sim.jointdynctrl_force`) the torque (N·m) or force (N) the joint applies, signed
+/// unless `signedValue` is false; in the velocity and position modes, `|f|` is the
+/// controller's largest torque or force.
 pub(super) fn set_joint_target_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
-    w.set_joint_max_force(h, a.finite(1)?)?;
+    let signed = a.opt_bool(2, true)?;
+    w.set_joint_target_force(h, a.finite(1)?, signed)?;
     Ok(Vec::new())
 }
 

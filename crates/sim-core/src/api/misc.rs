@@ -45,6 +45,19 @@ pub(super) fn set_int32_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>)
     Ok(Vec::new())
 }
 
+/// `sim.getSimulatorMessage()` → `message, auxiliaryData, auxiliaryData2`: the caller's
+/// next user-interface event (each script, and the remote clients together, read their
+/// own queue), `-1, {0, 0, 0, 0}, {}` when there is none. gantry posts key presses in
+/// the viewer: `sim.message_keypress`, `{code, modifiers, 0, 0}`.
+pub(super) fn get_simulator_message(w: &mut World, ctx: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+    let (kind, aux) = w
+        .messages
+        .next(ctx.script_object)
+        .map_or((-1, [0; 4]), |m| (m.kind, m.aux));
+    let aux = Value::Array(aux.iter().map(|&v| Value::Int(v)).collect());
+    Ok(vec![Value::Int(kind), aux, Value::Array(Vec::new())])
+}
+
 /// `sim.getInt32Signal(name)` → value, or nil when not set.
 pub(super) fn get_int32_signal(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![

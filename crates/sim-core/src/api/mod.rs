@@ -216,6 +216,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: misc::get_simulation_time_step,
     },
     ApiFunction {
+        name: "getSimulatorMessage",
+        call: misc::get_simulator_message,
+    },
+    ApiFunction {
         name: "getStringSignal",
         call: misc::get_string_signal,
     },
@@ -422,6 +426,7 @@ pub fn call(world: &mut World, ctx: &CallContext<'_>, name: &str, args: &[Value]
 /// The `sim.*` constants scripts and clients use, with CoppeliaSim's values.
 pub const CONSTANTS: &[(&str, i64)] = &[
     ("handle_world", -1),
+    ("message_keypress", crate::world::MESSAGE_KEYPRESS),
     ("handle_all", -2),
     ("handle_all_except_explicit", -3),
     ("handle_self", -4),

@@ -43,6 +43,7 @@ const PROX_VOLUME_TYPE: i64 = 4001;
 
 // `sim.jointdynctrl_*`.
 const DYNCTRL_FREE: i64 = 0;
+const DYNCTRL_FORCE: i64 = 1;
 const DYNCTRL_VELOCITY: i64 = 4;
 const DYNCTRL_POSITION: i64 = 8;
 
@@ -115,7 +116,7 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("jointfloatparam_maxvel", JOINT_MAXVEL),
     ("jointintparam_dynctrlmode", JOINT_DYNCTRLMODE),
     ("jointdynctrl_free", DYNCTRL_FREE),
-    ("jointdynctrl_force", 1),
+    ("jointdynctrl_force", DYNCTRL_FORCE),
     ("jointdynctrl_velocity", DYNCTRL_VELOCITY),
     ("jointdynctrl_position", DYNCTRL_POSITION),
     ("jointdynctrl_spring", 12),
@@ -211,6 +212,7 @@ pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (JOINT_DYNCTRLMODE, ObjectKind::Joint(j)) => Some(match j.mode {
             JointMode::Position => DYNCTRL_POSITION,
             JointMode::Velocity => DYNCTRL_VELOCITY,
+            JointMode::Force => DYNCTRL_FORCE,
             JointMode::Free | JointMode::Kinematic => DYNCTRL_FREE,
         }),
         _ => None,
@@ -239,11 +241,12 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
         (JOINT_DYNCTRLMODE, ObjectKind::Joint(_)) => {
             let mode = match v {
                 DYNCTRL_FREE => JointMode::Free,
+                DYNCTRL_FORCE => JointMode::Force,
                 DYNCTRL_VELOCITY => JointMode::Velocity,
                 DYNCTRL_POSITION => JointMode::Position,
                 _ => {
                     return Err(ApiError::new(format!(
-                        "argument 3: gantry's dynamic joints have the free (0), velocity (4) and position (8) controllers, not {v}"
+                        "argument 3: gantry's dynamic joints have the free (0), force (1), velocity (4) and position (8) controllers, not {v}"
                     )));
                 }
             };

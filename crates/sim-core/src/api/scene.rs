@@ -75,7 +75,7 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
     ApiFunction {
         name: "getJointTargetForce",
-        call: get_joint_max_force,
+        call: get_joint_target_force,
     },
     ApiFunction {
         name: "getObjectChild",
@@ -531,10 +531,14 @@ fn get_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
     Ok(vec![Value::Int(mode), Value::Int(0)])
 }
 
-/// `sim.getJointMaxForce(jointHandle)` / `sim.getJointTargetForce` → the motor's largest
-/// torque (N·m) or force (N).
+/// `sim.getJointMaxForce(jointHandle)` → the motor's largest torque (N·m) or force (N).
 fn get_joint_max_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![Value::Float(w.joint(a.handle(0)?)?.max_force)])
+}
+
+/// `sim.getJointTargetForce(jointHandle)` → `sim.setJointTargetForce`'s value, signed.
+fn get_joint_target_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Float(w.joint(a.handle(0)?)?.target_force)])
 }
 
 /// `sim.setJointMaxForce(jointHandle, forceOrTorque)`: the pre-4.3 name of

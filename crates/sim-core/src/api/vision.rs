@@ -239,9 +239,11 @@ pub(super) fn get_vision_sensor_res(w: &mut World, _: &CallContext<'_>, a: &Args
 
 /// `sim.getVisionSensorImg(h, options=0, rgbaCutOff=0, pos={0,0}, size={0,0})` →
 /// `bytes, {width, height}`. Options bit 0: greyscale, 1 byte per pixel, the mean of
-/// R, G, B. Otherwise, when `rgbaCutOff` is not 0, RGBA with alpha 255 where the
-/// normalised depth is below `rgbaCutOff` and 0 elsewhere; else RGB. Other option bits
-/// are ignored.
+/// R, G, B; otherwise RGB. Bit 1, or a `rgbaCutOff` other than 0: one more byte per
+/// pixel, alpha (RGBA, or greyscale + alpha), as `sim.setVisionSensorImg` takes it:
+/// with a cut-off, 255 where the normalised depth is below `rgbaCutOff` and 0
+/// elsewhere; without one, 255 (the sensor's image is opaque). Other option bits are
+/// ignored.
 pub(super) fn get_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let options = a.opt_int(1, 0)?;
@@ -258,13 +260,10 @@ pub(super) fn get_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
     let s = vision::read(w, h)?;
     let (rgb, depth) = (s.rgb(), s.depth());
     let grey = options & 1 != 0;
-    let rgba = !grey && cutoff != 0.0;
-    let bpp = if grey {
-        1
-    } else if rgba {
-        4
-    } else {
-        3
+    let alpha = options & 2 != 0 || cutoff != 0.0;
+    let bpp = usize::from(if grey { 1u8 } else { 3 }) + usize::from(alpha);
+    let alpha_of = |d: f32| {
+        if cutoff == 0.0 || f64::from(d) < cutoff { 255 } else { 0 }
     };
     let mut out = Vec::with_capacity(p.w * p.h * bpp);
     // The portion lies within the image (checked by `portion`), and so do its rows.
@@ -272,19 +271,16 @@ pub(super) fn get_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
         let (Some(px), Some(d)) = (rgb.get(3 * row.start..3 * row.end), depth.get(row)) else {
             continue;
         };
-        if grey {
-            // Integer mean, rounded, of three bytes: at most 255.
-            out.extend(
-                px.chunks_exact(3)
-                    .map(|c| ((u16::from(c[0]) + u16::from(c[1]) + u16::from(c[2]) + 1) / 3) as u8),
-            );
-        } else if rgba {
-            for (c, &dv) in px.chunks_exact(3).zip(d) {
+        for (c, &dv) in px.chunks_exact(3).zip(d) {
+            if grey {
+                // Integer mean, rounded, of three bytes: at most 255.
+                out.push(((u16::from(c[0]) + u16::from(c[1]) + u16::from(c[2]) + 1) / 3) as u8);
+            } else {
                 out.extend_from_slice(c);
-                out.push(if f64::from(dv) < cutoff { 255 } else { 0 });
             }
-        } else {
-            out.extend_from_slice(px);
+            if alpha {
+                out.push(alpha_of(dv));
+            }
         }
     }
     Ok(vec![Value::Bytes(out), p.size_value()])
@@ -317,8 +313,9 @@ pub(super) fn get_vision_sensor_depth(w: &mut World, _: &CallContext<'_>, a: &Ar
 }
 
 /// `sim.setVisionSensorImg(h, image, options=0, pos={0,0}, size={0,0})`: writes RGB
-/// bytes (options bit 0: greyscale, 1 byte per pixel copied to R, G and B) into the
-/// sensor image, bottom row first. The length must match the portion exactly. The
+/// bytes (options bit 0: greyscale, 1 byte per pixel copied to R, G and B; bit 1: one
+/// more byte per pixel, alpha, which the sensor's opaque image drops) into the sensor
+/// image, bottom row first. The length must match the portion exactly. The
 /// written image is what readers get until the sensor renders again.
 pub(super) fn set_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
@@ -326,7 +323,8 @@ pub(super) fn set_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
     let options = a.opt_int(2, 0)?;
     let (&model, _) = vision::sensor_model(w, h)?;
     let p = portion(a, 3, model.resolution)?;
-    let bpp = if options & 1 != 0 { 1 } else { 3 };
+    let colour = if options & 1 != 0 { 1 } else { 3 };
+    let bpp = colour + usize::from(options & 2 != 0);
     let expected = p.w * p.h * bpp;
     if data.len() != expected {
         return Err(ApiError::new(format!(
@@ -342,12 +340,12 @@ pub(super) fn set_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
         let Some(dst) = rgb.get_mut(3 * row.start..3 * row.end) else {
             continue;
         };
-        if bpp == 1 {
-            for (d, &g) in dst.chunks_exact_mut(3).zip(src) {
-                d.fill(g);
+        for (d, px) in dst.chunks_exact_mut(3).zip(src.chunks_exact(bpp)) {
+            if colour == 1 {
+                d.fill(px[0]);
+            } else {
+                d.copy_from_slice(&px[..3]);
             }
-        } else {
-            dst.copy_from_slice(src);
         }
     }
     Ok(Vec::new())

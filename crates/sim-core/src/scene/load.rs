@@ -72,12 +72,17 @@ pub fn load_scene(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
 /// A URDF on a 5 x 5 m floor, base fixed unless `opts.free_base` (PyBullet's `useFixedBase`).
 fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
     let mut objects = vec![floor_object([5.0, 5.0], 1.0, [0.55, 0.55, 0.5])];
-    let mut warnings = Vec::new();
-    let include = UrdfInclude {
-        fixed_base: !opts.free_base,
-        ..UrdfInclude::default()
-    };
-    import_urdf(files, path, &include, &opts.package_paths, &mut objects, &mut warnings)?;
+    let (robot, warnings) = load_urdf_objects(files, path, opts)?;
+    // The floor is object 0: the robot's parent indices move up by one.
+    objects.extend(robot.into_iter().map(|mut o| {
+        o.parent = o.parent.map(|p| p + 1);
+        if let ObjectModelKind::Joint(j) = &mut o.kind
+            && let Some(m) = &mut j.mimic
+        {
+            m.leader += 1;
+        }
+        o
+    }));
     Ok(SceneModel {
         name: stem(path),
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
@@ -87,6 +92,23 @@ fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
         scripts: Vec::new(),
         warnings: dedup(warnings),
     })
+}
+
+/// A URDF robot's objects on their own (no floor), its base fixed unless
+/// `opts.free_base`, with the import's warnings.
+pub(super) fn load_urdf_objects(
+    files: &dyn Files,
+    path: &Path,
+    opts: &LoadOptions,
+) -> Result<(Vec<ObjectModel>, Vec<String>), LoadError> {
+    let mut objects = Vec::new();
+    let mut warnings = Vec::new();
+    let include = UrdfInclude {
+        fixed_base: !opts.free_base,
+        ..UrdfInclude::default()
+    };
+    import_urdf(files, path, &include, &opts.package_paths, &mut objects, &mut warnings)?;
+    Ok((objects, dedup(warnings)))
 }
 
 /// Resolves the text of a scene file. `path` names the file in messages and anchors
@@ -172,7 +194,7 @@ pub(crate) fn dedup(warnings: Vec<String>) -> Vec<String> {
     warnings.into_iter().filter(|w| seen.insert(w.clone())).collect()
 }
 
-fn stem(path: &Path) -> String {
+pub(super) fn stem(path: &Path) -> String {
     path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_owned()
 }
 
@@ -617,9 +639,10 @@ impl Resolver<'_> {
             Some((_, "position")) => Ok(JointMode::Position),
             Some((_, "velocity")) => Ok(JointMode::Velocity),
             Some((_, "free")) => Ok(JointMode::Free),
+            Some((_, "force")) => Ok(JointMode::Force),
             Some((m, other)) => self.err_at(
                 m.span(),
-                format!("unknown joint mode '{other}'; use kinematic, position, velocity or free"),
+                format!("unknown joint mode '{other}'; use kinematic, position, velocity, free or force"),
             ),
         }
     }
@@ -784,10 +807,11 @@ impl Resolver<'_> {
                     Some("position") => JointMode::Position,
                     Some("velocity") => JointMode::Velocity,
                     Some("free") => JointMode::Free,
+                    Some("force") => JointMode::Force,
                     _ => {
                         return self.err_at(
                             r.urdf.span(),
-                            format!("robot '{name}': joint_modes.{k} must be \"kinematic\", \"position\", \"velocity\" or \"free\""),
+                            format!("robot '{name}': joint_modes.{k} must be \"kinematic\", \"position\", \"velocity\", \"free\" or \"force\""),
                         );
                     }
                 };

@@ -271,6 +271,10 @@ pub enum JointMode {
     /// Dynamic, with no motor at all (CoppeliaSim's "motor disabled", PyBullet's velocity
     /// control with zero force): only gravity, contacts, damping, friction and limits act.
     Free,
+    /// Dynamic, applying a set torque (N·m) or force (N), signed, whatever the motion:
+    /// CoppeliaSim's force/torque control (`sim.jointdynctrl_force`), PyBullet's
+    /// `TORQUE_CONTROL`. The value is `sim.setJointTargetForce`'s.
+    Force,
 }
 
 impl JointMode {
@@ -286,6 +290,7 @@ impl JointMode {
             JointMode::Position => "position",
             JointMode::Velocity => "velocity",
             JointMode::Free => "free",
+            JointMode::Force => "force",
         }
     }
 }

@@ -437,7 +437,7 @@ pub fn import_urdf(
             let child_local = Pose::from_parts(Translation3::identity(), align.inverse());
             let child_dynamic = match mode {
                 JointMode::Kinematic => joint_type == JointType::Fixed && dynamic,
-                JointMode::Position | JointMode::Velocity | JointMode::Free => true,
+                JointMode::Position | JointMode::Velocity | JointMode::Free | JointMode::Force => true,
             };
             stack.push((child, joint_obj, child_local, child_dynamic));
         }

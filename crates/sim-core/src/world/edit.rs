@@ -31,7 +31,7 @@ use super::physics::{BodyRole, TreeView, configure_integration, geometry_volume,
 use super::world::{SimulationState, World};
 use crate::error::SimError;
 use crate::math::{self, Pose, Vec3};
-use crate::scene::{Geometry, JointMode, MassModel, ShapeModel, VisionModel};
+use crate::scene::{Geometry, JointMode, MassModel, SceneModel, ShapeModel, VisionModel};
 
 /// Smallest shape mass, kg (CoppeliaSim clamps `sim.setShapeMass` to the same).
 pub const MIN_SHAPE_MASS: f64 = 1e-7;
@@ -384,6 +384,42 @@ impl World {
         self.edit.counters.created += sources.len() as u64;
         self.bump();
         Ok(handles.iter().map(|h| copy_of[h]).collect())
+    }
+
+    /// Adds the objects of `model` (a model file: `sim.loadModel`) to the scene, with
+    /// their physics, where the model places them; returns each model object's new
+    /// handle, in the model's order (its first object is the model base), and the
+    /// warnings of loading and building it.
+    pub fn import_model(&mut self, model: &SceneModel) -> (Vec<Handle>, Vec<String>) {
+        // Built as a world of its own first, so that every object is made exactly as at
+        // load (initial joint positions, sensors, world poses), then moved in.
+        let other = World::new(model);
+        let mut map: Vec<Handle> = Vec::with_capacity(other.objects.len());
+        let mut tops = Vec::new();
+        for src in &other.objects {
+            let parent = src.parent.map(|p| map[p as usize]);
+            let h = self.push_object(Object {
+                parent,
+                children: Vec::new(),
+                ..src.clone()
+            });
+            if parent.is_none() {
+                tops.push(h);
+            }
+            map.push(h);
+        }
+        for &h in &map {
+            if let ObjectKind::Joint(Joint { mimic: Some(m), .. }) = &mut self.objects[h as usize].kind {
+                m.leader = map[m.leader as usize];
+            }
+        }
+        for &t in &tops {
+            self.refresh_subtree(t);
+        }
+        self.rebuild_physics(&tops);
+        self.edit.counters.created += map.len() as u64;
+        self.bump();
+        (map, other.warnings().to_vec())
     }
 
     /// Moves `h` below `parent` (the root for `None`), last among its new siblings
@@ -813,6 +849,7 @@ impl World {
             j.target_position = j.position;
         }
         j.mode = mode;
+        j.motion = super::object::KinematicMotion::Still;
         j.reference = j.position;
         j.reference_velocity = 0.0;
         self.rebuild_physics(&[h]);

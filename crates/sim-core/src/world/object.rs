@@ -92,8 +92,11 @@ pub struct Joint {
     pub target_position: f64,
     /// Velocity target (velocity mode).
     pub target_velocity: f64,
-    /// Maximum torque (N·m) or force (N).
+    /// Maximum torque (N·m) or force (N) of the position and velocity controllers.
     pub max_force: f64,
+    /// `sim.setJointTargetForce`'s value, signed: what a joint in force mode applies.
+    /// Its magnitude is `max_force`.
+    pub target_force: f64,
     /// Position stiffness.
     pub kp: f64,
     /// Damping.
@@ -115,6 +118,22 @@ pub struct Joint {
     pub reference: f64,
     /// Speed of `reference` over the last step, rad/s or m/s.
     pub reference_velocity: f64,
+    /// A kinematic joint's motion from step to step (CoppeliaSim's motion profile for
+    /// kinematic joints, `sim.setJointTargetPosition`/`setJointTargetVelocity`).
+    pub motion: KinematicMotion,
+}
+
+/// How a kinematic joint moves from step to step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum KinematicMotion {
+    /// It stays where it was placed.
+    #[default]
+    Still,
+    /// Towards `target_position` at `max_velocity` (else [`Joint::kinematic_speed`]),
+    /// then still.
+    ToTarget,
+    /// At `target_velocity` (within `max_velocity`) until a limit stops it.
+    AtVelocity,
 }
 
 /// A joint that follows another: `q = multiplier · q_leader + offset`.
@@ -157,6 +176,46 @@ impl Joint {
             }
         }
         before != (self.reference, self.reference_velocity)
+    }
+
+    /// Largest speed of a kinematic joint's motion towards a target: its `max_velocity`,
+    /// else gantry's default of 180 deg/s (rad/s) or 0.5 m/s (prismatic).
+    pub fn kinematic_speed(&self) -> f64 {
+        self.max_velocity.unwrap_or(match self.joint_type {
+            JointType::Prismatic => 0.5,
+            _ => std::f64::consts::PI,
+        })
+    }
+
+    /// One step of a kinematic joint's motion: the position to place it at, or `None`
+    /// when it is still. Ends the motion when the target or a limit is reached.
+    pub fn kinematic_step(&mut self, dt: f64) -> Option<f64> {
+        match self.motion {
+            KinematicMotion::Still => None,
+            KinematicMotion::ToTarget => {
+                let v = self.kinematic_speed() * dt;
+                let delta = if self.cyclic {
+                    crate::math::wrap_angle(self.target_position - self.position)
+                } else {
+                    self.target_position - self.position
+                };
+                let step = delta.clamp(-v, v);
+                if (delta - step).abs() <= 1e-12 {
+                    self.motion = KinematicMotion::Still;
+                    return Some(self.target_position);
+                }
+                Some(self.constrain(self.position + step))
+            }
+            KinematicMotion::AtVelocity => {
+                let q = self.position + self.commanded_velocity() * dt;
+                let placed = self.constrain(q);
+                if !self.cyclic && placed != q {
+                    // A limit stops it, as it stops CoppeliaSim's.
+                    self.motion = KinematicMotion::Still;
+                }
+                Some(placed)
+            }
+        }
     }
 
     /// The velocity target the velocity controller uses: the set one, within the limit.

@@ -733,6 +733,12 @@ pub(crate) fn configure_integration(p: &mut IntegrationParameters, s: &SimSettin
 
 /// Sets a joint's motor from its mode and targets (ForceBased: torque = kp e + kd ė).
 /// A simulated `<mimic>` follower has no motor: the coupling moves it.
+/// Force mode's motor speed, rad/s or m/s: far beyond any joint's, so that the motor
+/// always pushes with its largest force.
+const FORCE_MODE_SPEED: f32 = 1.0e6;
+/// Force mode's motor gain: any velocity error saturates the motor at once.
+const FORCE_MODE_GAIN: f32 = 1.0e6;
+
 pub(crate) fn configure_motor(data: &mut GenericJoint, axis: JointAxis, joint: &super::object::Joint) {
     let mode = if joint.mimic.is_some() {
         JointMode::Free
@@ -752,11 +758,21 @@ pub(crate) fn configure_motor(data: &mut GenericJoint, axis: JointAxis, joint: &
         JointMode::Velocity => {
             data.set_motor(axis, 0.0, joint.commanded_velocity() as f32, 0.0, joint.kd as f32);
         }
+        JointMode::Force => {
+            // A velocity motor that can never reach its speed applies its largest force
+            // every step: exactly the set torque, in the set direction.
+            let speed = FORCE_MODE_SPEED.copysign(joint.target_force as f32);
+            data.set_motor(axis, 0.0, speed, 0.0, FORCE_MODE_GAIN);
+        }
         JointMode::Kinematic | JointMode::Free => {
             data.set_motor(axis, 0.0, 0.0, 0.0, 0.0);
         }
     }
-    let max_force = if mode == JointMode::Free { 0.0 } else { joint.max_force };
+    let max_force = match mode {
+        JointMode::Free => 0.0,
+        JointMode::Force => joint.target_force.abs(),
+        _ => joint.max_force,
+    };
     data.set_motor_max_force(axis, max_force as f32);
 }
 

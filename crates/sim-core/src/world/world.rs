@@ -4,7 +4,9 @@ use rapier3d::prelude::*;
 
 use super::collection::Collection;
 use super::log::Log;
-use super::object::{Detection, ForceReading, Handle, Joint, Mimic, Object, ObjectKind, ProximitySensor};
+use super::object::{
+    Detection, ForceReading, Handle, Joint, KinematicMotion, Mimic, Object, ObjectKind, ProximitySensor,
+};
 use super::object_path::{ObjectTree, PathError, PathQuery, resolve};
 use super::physics::{BodyRole, Physics, TreeView, configure_motor};
 use super::signals::Signals;
@@ -28,6 +30,8 @@ pub struct World {
     warnings: Vec<String>,
     /// Named signals shared by scripts and clients.
     pub signals: Signals,
+    /// User-interface events for `sim.getSimulatorMessage` (keys pressed in the viewer).
+    pub messages: super::SimulatorMessages,
     /// Values attached to objects (user parameters).
     pub custom: super::CustomData,
     /// Collections by handle - FIRST_COLLECTION_HANDLE; `None` once destroyed.
@@ -57,6 +61,8 @@ pub struct World {
     pub(super) mimics: Vec<Handle>,
     /// Simulated joints with a speed limit, whose position reference moves each step.
     pub(super) profiled: Vec<Handle>,
+    /// Kinematic joints in motion (see [`KinematicMotion`]), moved at each step.
+    pub(super) kinematic_moving: Vec<Handle>,
     /// Run-time scene editing: removed handles, the scene revision, pending forces.
     pub(super) edit: super::edit::EditState,
 }
@@ -180,6 +186,7 @@ impl World {
                             target_position: j.target_position,
                             target_velocity: j.target_velocity,
                             max_force: j.max_force,
+                            target_force: j.max_force,
                             kp: j.kp,
                             kd: j.kd,
                             force: 0.0,
@@ -193,6 +200,7 @@ impl World {
                             }),
                             reference: 0.0,
                             reference_velocity: 0.0,
+                            motion: KinematicMotion::Still,
                         };
                         joint.position = joint.constrain(j.initial);
                         // A speed-limited controller starts where the joint is and moves
@@ -250,6 +258,7 @@ impl World {
             steps: 0,
             warnings,
             signals: Signals::default(),
+            messages: Default::default(),
             custom: super::CustomData::default(),
             collections: Vec::new(),
             log: Log::default(),
@@ -265,6 +274,7 @@ impl World {
             edit: super::edit::EditState::new(objects_len),
             mimics: Vec::new(),
             profiled: Vec::new(),
+            kinematic_moving: Vec::new(),
         };
         world.refresh_caches();
         world
@@ -480,6 +490,8 @@ impl World {
             )));
         }
         let j = self.joint_mut(h)?;
+        // Placing a joint ends its kinematic motion (a later target starts a new one).
+        j.motion = KinematicMotion::Still;
         if j.max_velocity.is_some() {
             // The speed-limited controller goes on from where the joint now is.
             j.reference = j.constrain(q);
@@ -551,9 +563,10 @@ impl World {
         let j = self.joint_mut(h)?;
         j.target_position = if j.cyclic { q } else { j.constrain(q) };
         if j.mode == JointMode::Kinematic {
-            // CoppeliaSim moves a kinematic joint towards its target; gantry moves it at once.
-            let q = j.target_position;
-            return self.set_joint_position(h, q);
+            // As CoppeliaSim's: the joint moves there over the next steps, at its speed.
+            j.motion = KinematicMotion::ToTarget;
+            self.start_kinematic_motion(h);
+            return Ok(());
         }
         if j.max_velocity.is_none() {
             // A speed-limited reference moves at the next step (`step_physics`).
@@ -573,9 +586,60 @@ impl World {
                 "target velocity must be finite, got {v}"
             )));
         }
-        self.joint_mut(h)?.target_velocity = v;
+        let j = self.joint_mut(h)?;
+        j.target_velocity = v;
+        if j.mode == JointMode::Kinematic {
+            // As CoppeliaSim's: a kinematic joint moves at that speed from the next step.
+            j.motion = if v == 0.0 {
+                KinematicMotion::Still
+            } else {
+                KinematicMotion::AtVelocity
+            };
+            self.start_kinematic_motion(h);
+            return Ok(());
+        }
         self.push_motor(h);
         Ok(())
+    }
+
+    fn start_kinematic_motion(&mut self, h: Handle) {
+        if !self.kinematic_moving.contains(&h) {
+            self.kinematic_moving.push(h);
+        }
+    }
+
+    /// Moves the kinematic joints in motion one step on (`dt` seconds), and sets their
+    /// velocity to what the step did.
+    fn step_kinematic_joints(&mut self, dt: f64) {
+        let mut i = 0;
+        while i < self.kinematic_moving.len() {
+            let h = self.kinematic_moving[i];
+            let next = match &mut self.objects[h as usize].kind {
+                ObjectKind::Joint(j) if j.mode == JointMode::Kinematic && !self.edit.is_removed(h) => {
+                    j.kinematic_step(dt).map(|q| (j.position, q))
+                }
+                _ => None,
+            };
+            if let Some((_, q)) = next
+                && self.place_joint(h, q).is_ok()
+            {
+                let _ = self.move_followers(h);
+            }
+            let mut moving = false;
+            if let ObjectKind::Joint(j) = &mut self.objects[h as usize].kind {
+                j.velocity = match next {
+                    Some((before, _)) if j.cyclic => math::wrap_angle(j.position - before) / dt,
+                    Some((before, _)) => (j.position - before) / dt,
+                    None => 0.0,
+                };
+                moving = j.mode == JointMode::Kinematic && (j.motion != KinematicMotion::Still || j.velocity != 0.0);
+            }
+            if moving {
+                i += 1;
+            } else {
+                self.kinematic_moving.swap_remove(i);
+            }
+        }
     }
 
     /// Sets a joint's maximum torque/force (its magnitude; CoppeliaSim's signed variant
@@ -584,10 +648,22 @@ impl World {
     /// # Errors
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_max_force(&mut self, h: Handle, f: f64) -> Result<(), SimError> {
+        self.set_joint_target_force(h, f, false)
+    }
+
+    /// `sim.setJointTargetForce(h, f, signedValue)`: the largest torque (N·m) or force
+    /// (N) of the joint's controller, `|f|`; a joint in force mode applies `f` itself,
+    /// or `|f|` when `signed` is false.
+    ///
+    /// # Errors
+    /// No such object, not a joint, or a non-finite value.
+    pub fn set_joint_target_force(&mut self, h: Handle, f: f64, signed: bool) -> Result<(), SimError> {
         if !f.is_finite() {
             return Err(SimError::InvalidArgument(format!("force must be finite, got {f}")));
         }
-        self.joint_mut(h)?.max_force = f.abs();
+        let j = self.joint_mut(h)?;
+        j.max_force = f.abs();
+        j.target_force = if signed { f } else { f.abs() };
         self.push_motor(h);
         Ok(())
     }
@@ -615,6 +691,7 @@ impl World {
     pub fn step_physics(&mut self) {
         // Speed-limited position controllers: move their references one step on.
         let dt = self.settings.dt;
+        self.step_kinematic_joints(dt);
         for i in 0..self.profiled.len() {
             let h = self.profiled[i];
             if let ObjectKind::Joint(j) = &mut self.objects[h as usize].kind
@@ -692,6 +769,7 @@ impl World {
                         JointMode::Position => (j.kp * (j.reference - q) + j.kd * (j.reference_velocity - vel))
                             .clamp(-j.max_force, j.max_force),
                         JointMode::Velocity => (j.kd * (j.commanded_velocity() - vel)).clamp(-j.max_force, j.max_force),
+                        JointMode::Force => j.target_force,
                         JointMode::Kinematic | JointMode::Free => 0.0,
                     };
                 }

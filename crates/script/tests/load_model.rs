@@ -1,0 +1,184 @@
+//! `sim.loadModel(path)`: a robot (`.urdf`) or a gantry model (`.toml` with objects,
+//! robots and scripts) joins the running scene, from a remote client (any readable
+//! path, as `sim.loadScene`) or from a script (inside the scene's folder only). The
+//! model's scripts run as the scene's do, and the model stays part of the scene
+//! across a stop.
+
+mod util;
+
+use gantry_script::{ScriptLimits, Simulation};
+use gantry_sim_core::Value;
+use util::{Scene, assert_contains, find, int, int32_signal, repo, text};
+
+fn s(v: &str) -> Value {
+    Value::Str(v.to_owned())
+}
+
+fn step(sim: &mut Simulation, n: usize) {
+    for _ in 0..n {
+        sim.step();
+    }
+}
+
+/// A model with a dummy carrying a script that counts its hooks in signals, and a
+/// shape below it.
+const BEACON: &str = r#"
+[[object]]
+name = "beacon"
+kind = "dummy"
+position = [1, 2, 0.5]
+script = "beacon.lua"
+
+[[object]]
+name = "lamp"
+kind = "shape"
+shape = "sphere"
+radius = 0.05
+parent = "beacon"
+position = [0, 0, 0.1]
+"#;
+
+const BEACON_LUA: &str = "
+function sysCall_init()
+    sim.setInt32Signal('beacon_init', (sim.getInt32Signal('beacon_init') or 0) + 1)
+    self = sim.getObject('.')
+end
+function sysCall_actuation()
+    sim.setInt32Signal('beacon_steps', (sim.getInt32Signal('beacon_steps') or 0) + 1)
+end
+";
+
+const EMPTY_SCENE: &str = "[floor]\nsize = [2, 2]\n";
+
+#[test]
+fn a_remote_client_loads_a_urdf_robot_that_stays_across_a_stop() {
+    let mut scene = Scene::new("load-urdf", EMPTY_SCENE, &[], ScriptLimits::default());
+    let urdf = repo("assets/robots/arm6/arm6.urdf");
+    let base = int(&scene.remote("loadModel", &[s(urdf.to_str().unwrap())])[0]);
+    assert_eq!(base, scene.find("/arm6"), "the handle is the model base's");
+    let joint = scene.find("/arm6/joint2");
+    scene.remote("setJointPosition", &[Value::Int(joint), Value::Float(0.5)]);
+    assert_eq!(
+        scene.remote("getJointPosition", &[Value::Int(joint)]),
+        [Value::Float(0.5)]
+    );
+    // Part of the scene from now on: it runs, and a stop restores it as loaded.
+    scene.sim.start();
+    step(&mut scene.sim, 3);
+    scene.sim.stop();
+    assert_eq!(scene.find("/arm6"), base);
+    assert_eq!(
+        scene.remote("getJointPosition", &[Value::Int(joint)]),
+        [Value::Float(0.0)]
+    );
+}
+
+#[test]
+fn a_models_scripts_run_at_once_when_loaded_during_the_run() {
+    let mut scene = Scene::new("load-running", EMPTY_SCENE, &[], ScriptLimits::default());
+    let model = scene.dir.write("beacon.toml", BEACON);
+    scene.dir.write("beacon.lua", BEACON_LUA);
+    scene.sim.start();
+    step(&mut scene.sim, 2);
+    let base = int(&scene.remote("loadModel", &[s(model.to_str().unwrap())])[0]);
+    assert_eq!(base, find(&scene.sim, "/beacon"));
+    assert_eq!(
+        int32_signal(&mut scene.sim, "beacon_init"),
+        Some(1),
+        "sysCall_init ran on load"
+    );
+    step(&mut scene.sim, 3);
+    assert_eq!(int32_signal(&mut scene.sim, "beacon_steps"), Some(3));
+    let lamp = find(&scene.sim, "/beacon/lamp");
+    let pos = scene.remote("getObjectPosition", &[Value::Int(lamp), Value::Int(-1)]);
+    assert_eq!(pos, [Value::floats(&[1.0, 2.0, 0.6])]);
+    // After a stop and a start, the model's script initialises again, with the scene.
+    scene.sim.stop();
+    scene.sim.start();
+    assert_eq!(
+        int32_signal(&mut scene.sim, "beacon_init"),
+        Some(1),
+        "signals were cleared by the stop"
+    );
+}
+
+#[test]
+fn a_script_loads_a_model_from_its_scene_folder_only() {
+    let toml = r#"
+[floor]
+size = [2, 2]
+
+[[object]]
+name = "loader"
+kind = "dummy"
+script = "loader.lua"
+"#;
+    let loader = r#"
+function sysCall_init()
+    local h = sim.loadModel('beacon.toml')
+    sim.setInt32Signal('model_base', h)
+    -- The model's objects are there at once; its script loads after this hook.
+    sim.setInt32Signal('lamp_seen', sim.getObject('/beacon/lamp') >= 0 and 1 or 0)
+end
+function outside()
+    local ok, e = pcall(sim.loadModel, '../elsewhere.toml')
+    return tostring(e)
+end
+function wrong()
+    local ok, e = pcall(sim.loadModel, 42)
+    return tostring(e)
+end
+"#;
+    let mut scene = Scene::new(
+        "load-script",
+        toml,
+        &[
+            ("loader.lua", loader),
+            ("beacon.toml", BEACON),
+            ("beacon.lua", BEACON_LUA),
+        ],
+        ScriptLimits::default(),
+    );
+    scene.sim.start();
+    let base = find(&scene.sim, "/beacon");
+    assert_eq!(int32_signal(&mut scene.sim, "model_base"), Some(base));
+    assert_eq!(int32_signal(&mut scene.sim, "lamp_seen"), Some(1));
+    assert_eq!(int32_signal(&mut scene.sim, "beacon_init"), Some(1));
+    step(&mut scene.sim, 1);
+    assert_eq!(int32_signal(&mut scene.sim, "beacon_steps"), Some(1));
+    let e = scene.call("outside", &[]);
+    assert_contains(
+        text(&e[0]),
+        &["elsewhere.toml", "inside the scene's folder", "sim.loadModel"],
+    );
+    let e = scene.call("wrong", &[]);
+    assert_contains(text(&e[0]), &["argument 1", "string", "sim.loadModel"]);
+}
+
+#[test]
+fn files_that_are_not_models_are_refused_and_change_nothing() {
+    let mut scene = Scene::new("load-bad", EMPTY_SCENE, &[], ScriptLimits::default());
+    let whole = scene.dir.write(
+        "whole.toml",
+        "[floor]\nsize = [1, 1]\n[[object]]\nname = \"x\"\nkind = \"dummy\"\n",
+    );
+    let ttm = scene.dir.write("robot.ttm", "binary");
+    let empty = scene.dir.write("empty.toml", "# nothing\n");
+    let missing = scene.dir.path().join("missing.urdf");
+    let before = scene.sim.world().len();
+    for (path, expected) in [
+        (whole, "no [floor] section"),
+        (ttm, "CoppeliaSim model"),
+        (empty, "no objects"),
+        (missing, "missing.urdf"),
+    ] {
+        let e = scene
+            .sim
+            .call("loadModel", &[s(path.to_str().unwrap())])
+            .expect_err("refused");
+        assert_contains(&e, &[expected, "(in function 'sim.loadModel')"]);
+    }
+    let e = scene.sim.call("loadModel", &[Value::Int(3)]).expect_err("refused");
+    assert_contains(&e, &["argument 1"]);
+    assert_eq!(scene.sim.world().len(), before);
+}
