@@ -196,6 +196,41 @@ def test_keys_in_the_view_reach_sim_get_simulator_message(page, gantry):
     assert drain() == []
 
 
+def test_floating_views_show_a_vision_sensor_over_the_3d_view(page, gantry):
+    """sim.floatingViewAdd / adjustView / floatingViewRemove, as the quadricopter
+    scripts of CoppeliaSim's examples use them: an overlay at the requested place that
+    mirrors the sensor's image."""
+    client = gantry.zmq_client()
+    sim = client.require("sim")
+    sensor = sim.getObject("/visionSensor")
+    view = sim.floatingViewAdd(0.9, 0.9, 0.2, 0.2, 0)
+    assert sim.adjustView(view, sensor, 64) == 1
+    fig = page.locator(f'#views .fview[data-view="{view}"]')
+    wait_for(lambda: fig.count() == 1, what="the floating view on the page")
+    assert fig.locator("figcaption").inner_text() == "visionSensor"
+    # Top right: its centre at 90 % of the 3D view's width and height.
+    box, gl = fig.bounding_box(), page.locator("#gl").bounding_box()
+    cx = (box["x"] + box["width"] / 2 - gl["x"]) / gl["width"]
+    cy = 1 - (box["y"] + box["height"] / 2 - gl["y"]) / gl["height"]
+    assert abs(cx - 0.9) < 0.02 and abs(cy - 0.9) < 0.02, (cx, cy)
+
+    def shows_the_image():
+        return page.evaluate(f"""() => {{
+            const cv = document.querySelector('#views .fview[data-view="{view}"] canvas');
+            if (cv.width < 2) return false;
+            const d = cv.getContext('2d').getImageData(0, 0, cv.width, cv.height).data;
+            for (let i = 0; i < d.length; i += 4) if (d[i] + d[i + 1] + d[i + 2] > 0) return true;
+            return false;
+        }}""")
+
+    wait_for(shows_the_image, what="the sensor's image in the floating view")
+    assert sim.floatingViewRemove(view) == 1
+    assert sim.floatingViewRemove(view) == 0
+    wait_for(lambda: fig.count() == 0, what="the floating view gone")
+    with pytest.raises(Exception, match="not a vision sensor"):
+        sim.adjustView(sim.floatingViewAdd(0.5, 0.5, 0.1, 0.1, 0), sim.getObject("/bubbleRob"), 0)
+
+
 def test_picking_shows_alias_path_handle_pose(page):
     idx = page.evaluate("gantry.objects.findIndex(o => o.alias === 'obstacle')")
     pos = page.evaluate(f"gantry.screenPosition({idx})")

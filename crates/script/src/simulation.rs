@@ -114,6 +114,9 @@ pub enum ScriptState {
     Running,
     /// Stopped receiving hooks (except cleanup) after this error.
     Errored(String),
+    /// Removed by `sim.removeScript`: its cleanup ran and it receives nothing more until
+    /// the scene is restored by a stop.
+    Removed,
 }
 
 /// One attached script.
@@ -151,6 +154,8 @@ pub(crate) struct Shared {
     pub(crate) envs: RefCell<Vec<(Handle, Table, Rc<str>)>>,
     /// Each script's thread mode, by script index.
     pub(crate) thread_modes: RefCell<Vec<ThreadMode>>,
+    /// Scripts `sim.removeScript` removes once no script is running (by index).
+    pub(crate) removals: RefCell<Vec<usize>>,
     /// How model files are read (`sim.loadModel`): package paths, free bases.
     pub(crate) load_options: RefCell<LoadOptions>,
     /// Models loaded by `sim.loadModel` whose objects are in the world and whose scripts
@@ -286,6 +291,7 @@ impl Simulation {
             interrupted: Cell::new(false),
             envs: RefCell::new(Vec::new()),
             thread_modes: RefCell::new(Vec::new()),
+            removals: RefCell::new(Vec::new()),
             load_options: RefCell::new(LoadOptions::default()),
             loaded_models: RefCell::new(Vec::new()),
             running_thread: Cell::new(std::ptr::null()),
@@ -391,6 +397,29 @@ impl Simulation {
         let h = load_model_into(&self.shared, path, false)?;
         self.attach_loaded_models();
         Ok(h)
+    }
+
+    /// `sim.removeScript`: script `i`'s cleanup runs (if it was initialised), then it
+    /// receives nothing more and no longer answers `sim.getScript`.
+    fn remove_script(&mut self, i: usize) {
+        if i >= self.scripts.len() || self.scripts[i].state == ScriptState::Removed {
+            return;
+        }
+        if self.scripts[i].initialised {
+            self.call_hook(i, Hook::Cleanup);
+            self.scripts[i].initialised = false;
+        }
+        let s = &mut self.scripts[i];
+        s.state = ScriptState::Removed;
+        s.actuation = None;
+        s.sensing = None;
+        s.vision = None;
+        s.thread = None;
+        if let Some(entry) = self.shared.envs.borrow_mut().get_mut(i) {
+            entry.0 = REMOVED_SCRIPT;
+        }
+        let name = self.scripts[i].name.clone();
+        self.log(400, &name, "script removed (sim.removeScript)");
     }
 
     /// Makes the models `sim.loadModel` put into the world part of the scene: the
@@ -594,7 +623,7 @@ impl Simulation {
     /// Calls one hook of one script, if it defines it and has not errored.
     fn call_hook(&mut self, i: usize, hook: Hook) {
         let script = &self.scripts[i];
-        if hook != Hook::Cleanup && script.state != ScriptState::Running {
+        if script.state == ScriptState::Removed || hook != Hook::Cleanup && script.state != ScriptState::Running {
             return;
         }
         let f = match hook {
@@ -695,6 +724,10 @@ impl Simulation {
     fn apply_control(&mut self) {
         if !self.shared.loaded_models.borrow().is_empty() {
             self.attach_loaded_models();
+        }
+        let removals = std::mem::take(&mut *self.shared.removals.borrow_mut());
+        for i in removals {
+            self.remove_script(i);
         }
         match self.shared.control.take() {
             Some(ScriptControl::Start) if self.state() != SimulationState::Running => self.start(),
@@ -952,6 +985,19 @@ impl Simulation {
             .map(|h| vec![Value::Int(h)])
             .map_err(|e| format!("{e} (in function 'sim.getScriptAssociatedWithObject')"));
         }
+        if name == "removeScript" {
+            let h = args.first().and_then(Value::as_i64);
+            return match h.and_then(|h| script_index(&self.shared, h)) {
+                Some(i) => {
+                    self.remove_script(i);
+                    Ok(Vec::new())
+                }
+                None => Err(format!(
+                    "argument 1: no script has handle {} (in function 'sim.removeScript')",
+                    args.first().map_or("nil".to_owned(), |v| format!("{v:?}"))
+                )),
+            };
+        }
         if name == "loadModel" {
             return match args.first() {
                 Some(Value::Str(path)) => self.load_model(std::path::Path::new(path)),
@@ -1003,7 +1049,11 @@ impl Simulation {
     pub fn reload_changed(&mut self) {
         for i in 0..self.scripts.len() {
             let modified = std::fs::metadata(&self.scripts[i].path).and_then(|m| m.modified()).ok();
-            if modified.is_none() || modified == self.scripts[i].modified {
+            // A removed script stays removed until a stop restores the scene.
+            if modified.is_none()
+                || modified == self.scripts[i].modified
+                || self.scripts[i].state == ScriptState::Removed
+            {
                 continue;
             }
             self.scripts[i].modified = modified;
@@ -1424,6 +1474,37 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         })
         .and_then(|f| wrap.call::<Function>(f))?,
     )?;
+    // Removal waits for the calling hook to return (a script may remove itself and go
+    // on, as CoppeliaSim's does, until its function ends).
+    let rs_shared = shared.clone();
+    sim.set(
+        "removeScript",
+        lua.create_function(move |lua, h: LuaValue| {
+            let handle = match &h {
+                LuaValue::Integer(i) => Some(*i),
+                LuaValue::Number(n) if n.fract() == 0.0 => Some(*n as i64),
+                _ => None,
+            };
+            let handle = match handle {
+                Some(HANDLE_SELF) => rs_shared.current.get(),
+                other => other,
+            };
+            Ok(match handle.and_then(|h| script_index(&rs_shared, h)) {
+                Some(i) => {
+                    rs_shared.removals.borrow_mut().push(i);
+                    (true, LuaValue::Nil)
+                }
+                None => (
+                    false,
+                    LuaValue::String(lua.create_string(format!(
+                        "argument 1: no script has handle {} (in function 'sim.removeScript')",
+                        handle.map_or_else(|| format!("{h:?}"), |h| h.to_string())
+                    ))?),
+                ),
+            })
+        })
+        .and_then(|f| wrap.call::<Function>(f))?,
+    )?;
     // CoppeliaSim 4.0-4.2: the script attached to an object, -1 when none.
     let sa_shared = shared.clone();
     sim.set(
@@ -1464,8 +1545,20 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
 /// `sim.getScript(scriptType, object = -1)`: the handle of the script attached to
 /// `object` (a handle or a path), which in gantry is the object's handle, or -1 when
 /// it has no script; `sim.getScript(sim.handle_self)` is the calling script's.
+/// `sim.handle_self`.
+const HANDLE_SELF: i64 = -4;
+/// The object of a removed script's environment entry: no handle matches it.
+const REMOVED_SCRIPT: Handle = i64::MIN;
+
+/// The index of the script whose handle (its object's) is `h`.
+fn script_index(shared: &Shared, h: Handle) -> Option<usize> {
+    if h == REMOVED_SCRIPT {
+        return None;
+    }
+    shared.envs.borrow().iter().position(|(o, _, _)| *o == h)
+}
+
 fn script_handle(shared: &Shared, args: &[Value]) -> Result<i64, String> {
-    const HANDLE_SELF: i64 = -4;
     let kind = args
         .first()
         .and_then(Value::as_i64)

@@ -61,6 +61,7 @@ pub const HOST_FUNCTIONS: &[(&str, HostAvailability)] = &[
     ("moveToPose_step", HostAvailability::Scripts),
     ("pauseSimulation", HostAvailability::Scripts),
     ("releaseLock", HostAvailability::Scripts),
+    ("removeScript", HostAvailability::Scripts),
     ("setAutoYieldDelay", HostAvailability::Scripts),
     ("setStepping", HostAvailability::Scripts),
     ("setThreadAutomaticSwitch", HostAvailability::Scripts),

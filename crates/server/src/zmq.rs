@@ -74,6 +74,7 @@ pub const SIMULATION_FUNCTIONS: &[&str] = &[
     "getScript",
     "getScriptAssociatedWithObject",
     "loadModel",
+    "removeScript",
 ];
 
 /// Functions the remote API adds on top of the core: they act on the client's session

@@ -483,7 +483,6 @@ const SPECIAL_KEYS = {
   ArrowUp: 2007, ArrowDown: 2008, ArrowLeft: 2009, ArrowRight: 2010,
   Enter: 13, Escape: 27, Backspace: 8, Tab: 9, Delete: 127,
 };
-canvas.tabIndex = 0;
 document.addEventListener('keydown', (e) => {
   const t = e.target;
   const editable = t instanceof HTMLElement
@@ -983,6 +982,7 @@ function onPanels(p) {
   if (p.scripts) showScripts(p.scripts);
   if (p.log) appendLog(p.log);
   if (p.uis) showUis(p.uis);
+  if (p.views) showViews(p.views);
   if (p.graphs) addGraphSamples(p.graphs);
 }
 
@@ -1204,6 +1204,38 @@ function buildVisionPanels() {
   }));
 }
 
+// Floating views (sim.floatingViewAdd / adjustView): overlays on the 3D view that mirror
+// a vision sensor's image. Centre and size are relative to the view, from the bottom left.
+const viewCanvases = new Map();  // sensor handle -> overlay canvases
+function showViews(views) {
+  viewCanvases.clear();
+  $('views').replaceChildren(...views.map((v) => {
+    const cv = el('canvas', { width: 1, height: 1 });
+    const fig = el('figure', { class: 'fview', 'data-view': String(v.handle) }, cv,
+      el('figcaption', { text: v.label || (v.object === null ? 'no view' : `object ${v.object}`) }));
+    Object.assign(fig.style, {
+      left: `${(v.centre[0] - v.size[0] / 2) * 100}%`, bottom: `${(v.centre[1] - v.size[1] / 2) * 100}%`,
+      width: `${v.size[0] * 100}%`, height: `${v.size[1] * 100}%`,
+    });
+    if (v.object !== null) {
+      if (!viewCanvases.has(v.object)) viewCanvases.set(v.object, []);
+      viewCanvases.get(v.object).push(cv);
+      mirror(v.object);
+    }
+    return fig;
+  }));
+}
+
+// Copies a sensor's panel image into the floating views that show it.
+function mirror(handle) {
+  const src = visionCanvases.get(handle);
+  for (const cv of viewCanvases.get(handle) ?? []) {
+    if (!src) continue;
+    if (cv.width !== src.width || cv.height !== src.height) { cv.width = src.width; cv.height = src.height; }
+    cv.getContext('2d').drawImage(src, 0, 0);
+  }
+}
+
 function onImage(dv, buf) {
   const handle = dv.getUint32(4, true), w = dv.getUint32(8, true), h = dv.getUint32(12, true);
   const cv = visionCanvases.get(handle);
@@ -1222,6 +1254,7 @@ function onImage(dv, buf) {
     }
   }
   ctx.putImageData(img, 0, 0);
+  mirror(handle);
   S.images++;
 }
 

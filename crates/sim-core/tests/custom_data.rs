@@ -163,3 +163,54 @@ fn removed_objects_forget_their_blocks() {
     );
     assert_eq!(read(&mut w, h, "stays"), Value::from("y"));
 }
+
+/// CoppeliaSim 4.7's property spelling of the same blocks, as scripts written for it
+/// store data (`sim.setBufferProperty(h, 'customData.Odometry', sim.packTable(...))`).
+#[test]
+fn buffer_properties_are_custom_data_blocks() {
+    let mut w = world();
+    let h = base(&w);
+    let data = Value::Bytes(vec![1, 2, 3]);
+    call(
+        &mut w,
+        "sim.setBufferProperty",
+        &[Value::Int(h), Value::Str("customData.Odometry".into()), data.clone()],
+    )
+    .unwrap();
+    assert_eq!(read(&mut w, h, "Odometry"), data);
+    write(&mut w, h, "other", Value::Str("x".into()));
+    let got = call(
+        &mut w,
+        "sim.getBufferProperty",
+        &[Value::Int(h), Value::Str("customData.other".into())],
+    )
+    .unwrap();
+    assert_eq!(got, [Value::Str("x".into())]);
+    let e = call(
+        &mut w,
+        "sim.getBufferProperty",
+        &[Value::Int(h), Value::Str("customData.none".into())],
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("does not exist") && e.contains("sim.getBufferProperty"),
+        "{e}"
+    );
+    let quiet = Value::Map(vec![(Value::Str("noError".into()), Value::Bool(true))]);
+    assert_eq!(
+        call(
+            &mut w,
+            "sim.getBufferProperty",
+            &[Value::Int(h), Value::Str("customData.none".into()), quiet]
+        )
+        .unwrap(),
+        [Value::Nil]
+    );
+    let e = call(
+        &mut w,
+        "sim.setBufferProperty",
+        &[Value::Int(h), Value::Str("signal.x".into()), Value::Bytes(vec![])],
+    )
+    .unwrap_err();
+    assert!(e.contains("customData.<tag>") && e.contains("argument 2"), "{e}");
+}

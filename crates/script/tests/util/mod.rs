@@ -234,6 +234,7 @@ pub fn script_error(sim: &Simulation, file: &str) -> String {
     match script_state(sim, file) {
         ScriptState::Errored(e) => e,
         ScriptState::Running => panic!("script {file} is still running"),
+        ScriptState::Removed => panic!("script {file} was removed, not errored"),
     }
 }
 

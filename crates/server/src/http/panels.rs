@@ -32,6 +32,8 @@ pub struct PanelCursor {
     log_seq: u64,
     /// `Uis::revision` last sent.
     ui_revision: Option<u64>,
+    /// `FloatingViews::revision` last sent.
+    view_revision: Option<u64>,
     /// The scripts list last sent.
     scripts: Option<Json>,
     /// Per graph stream `(graph, id)`: time of the newest sample sent, s.
@@ -58,6 +60,7 @@ pub fn collect(sim: &Simulation, cursor: &mut PanelCursor) -> PanelUpdate {
     let world = sim.world();
     if world.steps() < cursor.steps {
         cursor.ui_revision = None;
+        cursor.view_revision = None;
         cursor.images.clear();
     }
     cursor.steps = world.steps();
@@ -87,6 +90,23 @@ pub fn collect(sim: &Simulation, cursor: &mut PanelCursor) -> PanelUpdate {
     if cursor.ui_revision != Some(world.uis.revision()) {
         cursor.ui_revision = Some(world.uis.revision());
         msg.insert("uis".into(), Json::Array(world.uis.iter().map(ui_json).collect()));
+    }
+    if cursor.view_revision != Some(world.views.revision()) {
+        cursor.view_revision = Some(world.views.revision());
+        let views = world
+            .views
+            .iter()
+            .map(|v| {
+                json!({
+                    "handle": v.handle,
+                    "centre": v.centre,
+                    "size": v.size,
+                    "object": v.object,
+                    "label": v.label,
+                })
+            })
+            .collect();
+        msg.insert("views".into(), Json::Array(views));
     }
     let graphs = graph_updates(&world, &mut cursor.graphs);
     if !graphs.is_empty() {
@@ -123,6 +143,7 @@ fn scripts_json(sim: &Simulation) -> Json {
             let (state, error) = match state {
                 ScriptState::Running => ("running", None),
                 ScriptState::Errored(e) => ("errored", Some(e)),
+                ScriptState::Removed => ("removed", None),
             };
             json!({
                 "index": i,

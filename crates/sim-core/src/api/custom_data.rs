@@ -1,5 +1,6 @@
 //! Custom data blocks: `sim.writeCustomDataBlock`, `sim.readCustomDataBlock`,
-//! `sim.readCustomDataBlockTags`.
+//! `sim.readCustomDataBlockTags`, and CoppeliaSim 4.7's property spelling of the same
+//! blocks, `sim.setBufferProperty`/`sim.getBufferProperty` on `customData.<tag>`.
 //!
 //! A block is named data attached to an object, or to the scene with
 //! `sim.handle_scene`, stored in [`World::custom`](crate::world::World) apart from user
@@ -16,6 +17,10 @@ const HANDLE_SCENE: Handle = -12;
 /// The functions this file implements, in alphabetical order.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
+        name: "getBufferProperty",
+        call: get_buffer_property,
+    },
+    ApiFunction {
         name: "readCustomDataBlock",
         call: read_custom_data_block,
     },
@@ -24,10 +29,58 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: read_custom_data_block_tags,
     },
     ApiFunction {
+        name: "setBufferProperty",
+        call: set_buffer_property,
+    },
+    ApiFunction {
         name: "writeCustomDataBlock",
         call: write_custom_data_block,
     },
 ];
+
+/// The custom-data tag a property name designates: `customData.<tag>`.
+fn custom_data_tag<'a>(a: &Args<'a>, i: usize) -> Result<&'a str, ApiError> {
+    let name = a.str(i)?;
+    match name.strip_prefix("customData.") {
+        Some(tag) if !tag.is_empty() => Ok(tag),
+        _ => Err(ApiError::new(format!(
+            "argument {}: gantry's buffer properties are the custom data blocks, 'customData.<tag>', not '{name}'",
+            i + 1
+        ))),
+    }
+}
+
+/// `sim.setBufferProperty(target, 'customData.<tag>', data, options={})`: the block
+/// `tag` of the object (or `sim.handle_scene`), as `sim.writeCustomDataBlock`; empty
+/// data removes it.
+fn set_buffer_property(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = owner(w, a, 0)?;
+    let tag = custom_data_tag(a, 1)?;
+    let data = match a.get(2) {
+        v @ (Value::Str(_) | Value::Bytes(_)) => v.clone(),
+        other => {
+            return Err(ApiError::new(format!(
+                "argument 3: expected a buffer, got {}",
+                other.type_name()
+            )));
+        }
+    };
+    w.custom.write_block(h, tag, data);
+    Ok(Vec::new())
+}
+
+/// `sim.getBufferProperty(target, 'customData.<tag>', options={})` → the data; a
+/// missing block is an error, or nil with `options.noError`.
+fn get_buffer_property(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = owner(w, a, 0)?;
+    let tag = custom_data_tag(a, 1)?;
+    let no_error = matches!(a.get(2).get("noError"), Some(Value::Bool(true)));
+    match w.custom.block(h, tag) {
+        Some(v) => Ok(vec![v.clone()]),
+        None if no_error => Ok(vec![Value::Nil]),
+        None => Err(ApiError::new(format!("property 'customData.{tag}' does not exist"))),
+    }
+}
 
 /// Argument `i` as the owner of blocks: an existing object or `sim.handle_scene`.
 fn owner(w: &World, a: &Args<'_>, i: usize) -> Result<Handle, ApiError> {

@@ -24,6 +24,7 @@ mod scene;
 mod sensing;
 mod sensing_more;
 mod ui;
+mod views;
 mod vision;
 
 pub use args::Args;
@@ -370,6 +371,7 @@ pub const MODULES: &[Module] = &[
             links::FUNCTIONS,
             sensing_more::FUNCTIONS,
             custom_data::FUNCTIONS,
+            views::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,

@@ -19,11 +19,13 @@
 mod error;
 mod parse;
 mod uis;
+mod views;
 mod widget;
 mod window;
 
 pub use error::UiError;
 pub use uis::{UiEvent, Uis};
+pub use views::{FloatingView, FloatingViews, MAX_LABEL_LEN, MAX_VIEWS, ViewError};
 pub use widget::{
     Button, Checkbox, Container, Edit, Group, Label, Layout, Orientation, Radiobutton, Slider, Spinbox, Stretch,
     TickPosition, Widget, WidgetKind,

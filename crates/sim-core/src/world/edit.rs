@@ -297,6 +297,7 @@ impl World {
             .collect();
         for h in removed {
             self.custom.remove_object(h);
+            self.views.forget_object(h);
         }
         let mut freed = Vec::new();
         for (h, o) in self.objects.iter_mut().enumerate() {

@@ -48,6 +48,8 @@ pub struct World {
     pub graphs: super::graph::Graphs,
     /// Custom UIs.
     pub uis: crate::ui::Uis,
+    /// Floating views over the viewer's 3D view (`sim.floatingViewAdd`).
+    pub views: crate::ui::FloatingViews,
     /// IK environments.
     pub ik: crate::ik::IkEnvironments,
     /// Vision sensors' images.
@@ -268,6 +270,7 @@ impl World {
             drawings: Default::default(),
             graphs: Default::default(),
             uis: Default::default(),
+            views: Default::default(),
             ik: Default::default(),
             vision: Default::default(),
             ruckig: Default::default(),

@@ -1,8 +1,8 @@
-//! `sim.loadModel(path)`: a robot (`.urdf`) or a gantry model (`.toml` with objects,
-//! robots and scripts) joins the running scene, from a remote client (any readable
-//! path, as `sim.loadScene`) or from a script (inside the scene's folder only). The
-//! model's scripts run as the scene's do, and the model stays part of the scene
-//! across a stop.
+//! The scene changed while it runs: `sim.loadModel(path)` adds a robot (`.urdf`) or a
+//! gantry model (`.toml` with objects, robots and scripts), from a remote client (any
+//! readable path, as `sim.loadScene`) or from a script (inside the scene's folder only);
+//! the model's scripts run as the scene's do, and the model stays part of the scene
+//! across a stop. `sim.removeScript` takes a script out until a stop restores it.
 
 mod util;
 
@@ -181,4 +181,82 @@ fn files_that_are_not_models_are_refused_and_change_nothing() {
     let e = scene.sim.call("loadModel", &[Value::Int(3)]).expect_err("refused");
     assert_contains(&e, &["argument 1"]);
     assert_eq!(scene.sim.world().len(), before);
+}
+
+/// `sim.removeScript`, as the crane example's window does when closed: a script
+/// removes itself and finishes the function it is in; its cleanup runs, it gets no more
+/// hooks, `sim.getScript` no longer finds it; a stop restores the scene with it.
+#[test]
+fn a_script_removes_itself_and_a_client_removes_another() {
+    let toml = r#"
+[[object]]
+name = "window"
+kind = "dummy"
+script = "window.lua"
+
+[[object]]
+name = "other"
+kind = "dummy"
+script = "other.lua"
+"#;
+    let window = "
+function sysCall_init() sim.setInt32Signal('window_init', (sim.getInt32Signal('window_init') or 0) + 1) end
+function sysCall_actuation() sim.setInt32Signal('window_steps', (sim.getInt32Signal('window_steps') or 0) + 1) end
+function sysCall_cleanup() sim.setInt32Signal('window_cleanup', 1) end
+function close()
+    sim.removeScript(sim.handle_self)
+    sim.setInt32Signal('after_remove', 1)   -- the function goes on to its end
+    return 'closed'
+end
+";
+    let other = "
+function sysCall_actuation() sim.setInt32Signal('other_steps', (sim.getInt32Signal('other_steps') or 0) + 1) end
+function probe(h)
+    local ok, e = pcall(sim.removeScript, h)
+    return tostring(e)
+end
+";
+    let mut scene = Scene::new(
+        "remove-script",
+        toml,
+        &[("window.lua", window), ("other.lua", other)],
+        ScriptLimits::default(),
+    );
+    scene.sim.start();
+    step(&mut scene.sim, 2);
+    let win = scene.find("/window");
+    assert_eq!(scene.call("close", &[]), [s("closed")]);
+    assert_eq!(int32_signal(&mut scene.sim, "after_remove"), Some(1));
+    assert_eq!(
+        int32_signal(&mut scene.sim, "window_cleanup"),
+        Some(1),
+        "its cleanup ran"
+    );
+    step(&mut scene.sim, 3);
+    assert_eq!(
+        int32_signal(&mut scene.sim, "window_steps"),
+        Some(2),
+        "no hook after removal"
+    );
+    assert_eq!(int32_signal(&mut scene.sim, "other_steps"), Some(5));
+    let script = scene.remote("getScript", &[Value::Int(1), Value::Int(win)]);
+    assert_eq!(script, [Value::Int(-1)], "sim.getScript no longer finds it");
+    let e = scene.call("probe", &[Value::Int(win)]);
+    assert_contains(text(&e[0]), &["no script has handle", "sim.removeScript"]);
+    // A remote client removes the other one.
+    let other_h = scene.find("/other");
+    scene.remote("removeScript", &[Value::Int(other_h)]);
+    step(&mut scene.sim, 1);
+    assert_eq!(int32_signal(&mut scene.sim, "other_steps"), Some(5));
+    let e = scene
+        .sim
+        .call("removeScript", &[Value::Int(other_h)])
+        .expect_err("gone");
+    assert_contains(&e, &["no script has handle", "(in function 'sim.removeScript')"]);
+    // A stop restores the scene as loaded, scripts included.
+    scene.sim.stop();
+    scene.sim.start();
+    assert_eq!(int32_signal(&mut scene.sim, "window_init"), Some(1));
+    step(&mut scene.sim, 1);
+    assert_eq!(int32_signal(&mut scene.sim, "other_steps"), Some(1));
 }

@@ -1,0 +1,75 @@
+//! `sim.floatingViewAdd`, `sim.adjustView`, `sim.floatingViewRemove`: floating views
+//! over the viewer's 3D view (see [`crate::ui::FloatingViews`]).
+
+use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::world::{ObjectKind, World};
+
+/// The functions of this file.
+pub(super) const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "adjustView",
+        call: adjust_view,
+    },
+    ApiFunction {
+        name: "floatingViewAdd",
+        call: floating_view_add,
+    },
+    ApiFunction {
+        name: "floatingViewRemove",
+        call: floating_view_remove,
+    },
+];
+
+/// `sim.floatingViewAdd(posX, posY, sizeX, sizeY, options)` → the view's handle. The
+/// position is the view's centre and the size its extent, both relative to the main
+/// view (0..1, from the bottom left).
+fn floating_view_add(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let centre = [a.finite(0)?, a.finite(1)?];
+    let size = [a.finite(2)?, a.finite(3)?];
+    let options = a.opt_int(4, 0)?;
+    let h = w
+        .views
+        .add(centre, size, options)
+        .map_err(|e| ApiError::new(e.to_string()))?;
+    Ok(vec![Value::Int(h)])
+}
+
+/// `sim.adjustView(viewHandle, objectHandle, options, viewLabel=nil)` → 1: the view
+/// shows what `objectHandle` sees (a vision sensor's image in gantry's viewer; -1 for
+/// nothing), captioned `viewLabel` or the object's alias. `options` are accepted and
+/// ignored.
+fn adjust_view(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let view = a.int(0)?;
+    let object = match a.int(1)? {
+        -1 => None,
+        h => {
+            let o = w.object(h)?;
+            if !matches!(o.kind, ObjectKind::VisionSensor(_)) {
+                return Err(ApiError::new(format!(
+                    "argument 2: object {h} is not a vision sensor: gantry's floating views show vision sensors"
+                )));
+            }
+            Some(h)
+        }
+    };
+    a.opt_int(2, 0)?;
+    let label = match a.get(3) {
+        Value::Nil => match object {
+            Some(h) => w.object(h)?.alias.clone(),
+            None => String::new(),
+        },
+        _ => a.str(3)?.to_owned(),
+    };
+    w.views
+        .adjust(view, object, &label)
+        .map_err(|e| ApiError::new(format!("argument 1: {e}")))?;
+    Ok(vec![Value::Int(1)])
+}
+
+/// `sim.floatingViewRemove(viewHandle)` → 1 when removed, 0 when there was no such
+/// view (CoppeliaSim's result, not an error).
+fn floating_view_remove(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let view = a.int(0)?;
+    Ok(vec![Value::Int(i64::from(w.views.remove(view)))])
+}
