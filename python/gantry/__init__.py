@@ -27,7 +27,6 @@ from __future__ import annotations
 import copy as _copy
 import os as _os
 import threading as _threading
-import weakref as _weakref
 from typing import TYPE_CHECKING, Any, Iterable, Literal, Optional, overload
 
 from ._gantry import Engine as _Engine
@@ -214,18 +213,21 @@ class Client:
 
 
 def _script_functions(client: Client):
-    """``getScriptFunctions(scriptHandle)`` over ``client``, which it refers to weakly:
-    the ``sim`` module that holds it belongs to the client."""
-    ref = _weakref.ref(client)
+    """``getScriptFunctions(scriptHandle)`` over ``client``'s engine. It holds the engine,
+    not the client: the ``sim`` module that keeps this function belongs to the client,
+    and a reference back would make a cycle, freed by the garbage collector in whatever
+    thread it runs, while a simulation must end in its own."""
+    engine, owner = client._engine, client._owner
 
     def get(scriptHandle: int) -> Any:
         class _ScriptFunctions:
             def __getattr__(self, func: str):
                 def call(*args):
-                    owner = ref()
-                    if owner is None:
-                        raise RuntimeError("this gantry client is closed")
-                    return owner.call("sim.callScriptFunction", [func, scriptHandle, *args])
+                    if _threading.get_ident() != owner:
+                        raise RuntimeError(
+                            "a gantry client belongs to the thread that created it; make one client per thread"
+                        )
+                    return engine.call("sim.callScriptFunction", [func, scriptHandle, *args])
 
                 return call
 

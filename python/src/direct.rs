@@ -24,6 +24,17 @@ use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
 use gantry_sim_core::world::SimulationState;
 use pyo3::Python;
 
+/// Whether a registry function may take long enough (rendering, IK, collision and
+/// distance queries) to be worth releasing the GIL for; the quick ones (a pose, a
+/// signal) keep it, since releasing and retaking it costs more than they do.
+fn releases_gil(qualified: &str) -> bool {
+    qualified.starts_with("simIK.")
+        || qualified.starts_with("simVision.")
+        || ["Vision", "handle", "check", "IK"]
+            .iter()
+            .any(|k| qualified.contains(k))
+}
+
 /// The one client of an in-process simulation, for the stepping rules shared with the
 /// remote API ([`Stepping`]).
 const ME: ClientId = ClientId(0);
@@ -94,6 +105,7 @@ impl Direct {
         };
         if autostart {
             d.detached(py, |d| d.sim.start());
+            d.sync_state();
         }
         Ok(d)
     }
@@ -117,7 +129,12 @@ impl Direct {
         args: &[Value],
     ) -> Result<Vec<Value>, String> {
         self.before_call(py);
-        self.sim.call_function(f, args).map_err(|e| e.in_function(qualified))
+        let out = if releases_gil(qualified) {
+            self.detached(py, |d| d.sim.call_function(f, args))
+        } else {
+            self.sim.call_function(f, args)
+        };
+        out.map_err(|e| e.in_function(qualified))
     }
 
     /// A function the Lua host implements (`getScript`, `callScriptFunction`, ...).
@@ -126,8 +143,11 @@ impl Direct {
     /// The CoppeliaSim-style message.
     pub fn call_named(&mut self, py: Python<'_>, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
         self.before_call(py);
-        // A called script function may run for a while (up to the script time budget).
-        self.detached(py, |d| d.sim.call(name, args))
+        // A called script function may run for a while (up to the script time budget),
+        // and may start, pause or stop the simulation.
+        let out = self.detached(py, |d| d.sim.call(name, args));
+        self.sync_state();
+        out
     }
 
     /// Simulation control and stepping (`sim.startSimulation`, `sim.step`, ...).
@@ -146,7 +166,17 @@ impl Direct {
                     .map_err(|e| in_function(&e))?;
                 return Ok(vec![Value::Int(i64::from(previous))]);
             }
-            HostFn::Step => self.step(py),
+            // Not re-paced below: the step keeps the real-time schedule it follows.
+            HostFn::Step => {
+                if self.stepping.holds_lock(ME) {
+                    // The remote API would wait for ever: the lock holds the simulation.
+                    return Err(in_function(
+                        &"this client holds sim.acquireLock: release it before stepping",
+                    ));
+                }
+                self.step(py);
+                return Ok(Vec::new());
+            }
             HostFn::LoadScene => {
                 let path = match name {
                     "closeScene" => None,
@@ -177,7 +207,7 @@ impl Direct {
                 return Ok(vec![Value::Int(i64::from(previous))]);
             }
         }
-        self.pace = None;
+        self.sync_state();
         Ok(Vec::new())
     }
 
@@ -206,8 +236,28 @@ impl Direct {
     /// Stop: cleanup hooks, the initial scene back, stepping levels reset.
     fn stop(&mut self, py: Python<'_>) {
         self.detached(py, |d| d.sim.stop());
-        self.stepping.stopped();
-        self.pace = None;
+        self.sync_state();
+    }
+
+    /// After anything that may have started, paused or stopped the simulation or
+    /// changed the stepping (a control call, a script's `sim.stopSimulation()`): the
+    /// stepping rules follow, as for remote clients, and real-time pacing starts afresh
+    /// from now when the simulation runs free, so the wall time since counts.
+    fn sync_state(&mut self) {
+        match self.sim.state() {
+            SimulationState::Stopped => self.stepping.stopped(),
+            SimulationState::Paused => self.stepping.release_waiters(),
+            SimulationState::Running => {}
+        }
+        self.pace = self.free_running().then(|| (Instant::now(), 0));
+    }
+
+    /// Running, in real time, held by no stepping level or lock.
+    fn free_running(&self) -> bool {
+        self.realtime
+            && self.sim.state() == SimulationState::Running
+            && !self.stepping.any_stepping()
+            && self.stepping.may_advance(self.steps)
     }
 
     /// Replaces the scene; one that does not load leaves the current one as it was.
@@ -239,11 +289,7 @@ impl Direct {
     /// one simulated second's worth per call (a simulation slower than real time then
     /// falls behind instead of stalling the caller).
     fn catch_up(&mut self, py: Python<'_>) {
-        let free = self.realtime
-            && self.sim.state() == SimulationState::Running
-            && !self.stepping.any_stepping()
-            && self.stepping.may_advance(self.steps);
-        if !free {
+        if !self.free_running() {
             self.pace = None;
             return;
         }
@@ -275,27 +321,44 @@ impl Direct {
         self.stepping.stepped(self.steps);
         // A script may have paused or stopped the simulation (`sim.stopSimulation()`):
         // stepping follows, as it does for remote clients.
-        match self.sim.state() {
-            SimulationState::Stopped => self.stepping.stopped(),
-            SimulationState::Paused => self.stepping.release_waiters(),
-            SimulationState::Running => {}
+        if self.sim.state() != SimulationState::Running {
+            self.sync_state();
         }
         taken
     }
 
     /// Steps `n` times as fast as possible whatever the stepping mode (stopped: starts
     /// first). Returns the steps taken. The fast path for training loops and benchmarks.
-    pub fn advance(&mut self, py: Python<'_>, n: u64) -> u64 {
+    /// Ctrl-C interrupts it between batches of steps.
+    ///
+    /// # Errors
+    /// `KeyboardInterrupt` (or another signal's exception) raised meanwhile.
+    pub fn advance(&mut self, py: Python<'_>, n: u64) -> pyo3::PyResult<u64> {
+        /// Steps between checks for a signal: a few milliseconds of bubble_rob.
+        const BATCH: u64 = 16;
         if self.sim.state() != SimulationState::Running {
             self.detached(py, |d| d.sim.start());
         }
-        let taken = self.run_steps(py, n);
-        self.pace = None;
-        taken
+        let mut taken = 0;
+        while taken < n && self.sim.state() == SimulationState::Running {
+            let batch = (n - taken).min(BATCH);
+            taken += self.run_steps(py, batch);
+            py.check_signals()?;
+        }
+        self.sync_state();
+        Ok(taken)
     }
 
     /// Cleanup hooks, once, when the client closes.
     pub fn close(&mut self) {
+        self.sim.cleanup();
+    }
+}
+
+/// A client dropped without `close()` (garbage collected on its own thread) still ends
+/// its simulation properly: `sysCall_cleanup` runs (a second cleanup does nothing).
+impl Drop for Direct {
+    fn drop(&mut self) {
         self.sim.cleanup();
     }
 }

@@ -70,6 +70,8 @@ enum Backend {
 #[pyclass(unsendable, module = "gantry._gantry")]
 pub struct Engine {
     backend: Option<Backend>,
+    /// The thread that made it, which its functions must be called from.
+    owner: std::thread::ThreadId,
 }
 
 impl Engine {
@@ -146,9 +148,11 @@ impl Engine {
             model.scripts.clear();
         }
         if let Some(dt) = dt {
-            if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
+            // A lower bound too: real-time pacing takes up to a simulated second of steps
+            // per call, which a vanishing step would make endless.
+            if !(dt.is_finite() && (1e-4..=1.0).contains(&dt)) {
                 return Err(PyValueError::new_err(format!(
-                    "dt={dt}: the time step must be in (0, 1] s"
+                    "dt={dt}: the time step must be in [0.0001, 1] s"
                 )));
             }
             model.settings.dt = dt;
@@ -195,7 +199,10 @@ impl Engine {
             let d = Direct::new(py, model, limits, options, autostart, realtime).map_err(PyRuntimeError::new_err)?;
             Backend::Direct(Box::new(d))
         };
-        Ok(Self { backend: Some(backend) })
+        Ok(Self {
+            backend: Some(backend),
+            owner: std::thread::current().id(),
+        })
     }
 
     /// The callable functions of `module` (`sim`, `simIK`, `simUI`, `simVision`) as
@@ -207,6 +214,7 @@ impl Engine {
             names.extend(SIMULATION_FUNCTIONS.iter().copied());
             names.extend(HOST_FUNCTIONS.iter().map(|(n, _)| *n));
         }
+        let owner = slf.borrow().owner;
         let engine = slf.clone().unbind();
         names
             .into_iter()
@@ -221,7 +229,7 @@ impl Engine {
                         engine: engine.clone_ref(slf.py()),
                         kind,
                         qualified,
-                        owner: std::thread::current().id(),
+                        owner,
                     },
                 ))
             })
@@ -266,7 +274,7 @@ impl Engine {
     /// it). In-process only.
     fn advance(&mut self, py: Python<'_>, n: u64) -> PyResult<u64> {
         match self.backend()? {
-            Backend::Direct(d) => Ok(d.advance(py, n)),
+            Backend::Direct(d) => d.advance(py, n),
             Backend::Served(_) => Err(PyRuntimeError::new_err(
                 "advance() is for in-process clients; a served simulation steps with sim.step()",
             )),

@@ -12,6 +12,8 @@ use gantry_server::{BoundAddrs, ClientId, RemoteOp, Running};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::Args;
 use pyo3::Python;
+use std::time::{Duration, Instant};
+
 use tokio::sync::oneshot;
 
 /// The Python client's id among the remote clients; the ZMQ transport counts from 1.
@@ -39,19 +41,44 @@ impl Served {
     }
 
     /// Sends a request built around a reply channel and waits for the answer with the
-    /// GIL released.
+    /// GIL released, checking for Ctrl-C now and then (a `sim.step()` may wait as long
+    /// as another client holds the simulation).
     fn ask<T: Send>(
         &self,
         py: Python<'_>,
         name: &str,
         make: impl FnOnce(oneshot::Sender<T>) -> Request,
     ) -> Result<T, String> {
-        let (reply, rx) = oneshot::channel();
+        use tokio::sync::oneshot::error::TryRecvError;
+        let (reply, mut rx) = oneshot::channel();
         self.handle
             .send(make(reply))
             .map_err(|e| format!("{e} (in function '{name}')"))?;
-        py.detach(|| rx.blocking_recv())
-            .map_err(|_| format!("the simulation has ended (in function '{name}')"))
+        let started = Instant::now();
+        loop {
+            match rx.try_recv() {
+                Ok(v) => return Ok(v),
+                Err(TryRecvError::Closed) => return Err(format!("the simulation has ended (in function '{name}')")),
+                Err(TryRecvError::Empty) => {}
+            }
+            // Most answers come within tens of microseconds: yield at first, then sleep
+            // so that a long wait costs no CPU.
+            let pause = if started.elapsed() < Duration::from_millis(2) {
+                Duration::ZERO
+            } else {
+                Duration::from_millis(1)
+            };
+            py.detach(|| {
+                if pause.is_zero() {
+                    std::thread::yield_now();
+                } else {
+                    std::thread::sleep(pause);
+                }
+            });
+            if started.elapsed() > Duration::from_millis(50) {
+                py.check_signals().map_err(|e| format!("{e} (in function '{name}')"))?;
+            }
+        }
     }
 
     /// Any function served by `Simulation::call` on the simulation thread; `remote` is
@@ -99,11 +126,26 @@ impl Served {
     /// Ends the run: cleanup hooks, listeners closed.
     pub fn close(&mut self, py: Python<'_>) {
         if let Some(running) = self.running.take() {
-            running.stop();
-            let _ = self.handle.send(Request::DropClient(ME));
-            if let Err(e) = py.detach(|| running.wait()) {
-                tracing::error!("the served simulation ended with an error: {e}");
-            }
+            py.detach(|| end(running, &self.handle));
         }
+    }
+}
+
+/// A served client dropped without `close()` still ends its run, so no simulation thread
+/// is left running (the thread needs no GIL to finish).
+impl Drop for Served {
+    fn drop(&mut self) {
+        if let Some(running) = self.running.take() {
+            end(running, &self.handle);
+        }
+    }
+}
+
+/// Stops a run and waits for its threads: cleanup hooks, listeners closed.
+fn end(running: Running, handle: &SimHandle) {
+    running.stop();
+    let _ = handle.send(Request::DropClient(ME));
+    if let Err(e) = running.wait() {
+        tracing::error!("the served simulation ended with an error: {e}");
     }
 }

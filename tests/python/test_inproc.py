@@ -85,6 +85,58 @@ def test_free_running_client_sees_time_pass_in_real_time():
         assert time.monotonic() - start >= 0.5 - 0.05 - 0.02
 
 
+def test_free_running_time_counts_from_the_start_and_step_takes_one_step():
+    import time
+
+    with gantry.Client(BUBBLE_ROB) as client:
+        sim = client.require("sim")
+        # The wall time between the start and the first call counts.
+        time.sleep(0.5)
+        assert sim.getSimulationTime() >= 0.4
+        # Free running, sim.step() waits for the next due step: ten of them advance
+        # about ten steps, not twenty.
+        t0, w0 = sim.getSimulationTime(), time.monotonic()
+        for _ in range(10):
+            sim.step()
+        dt_sim, dt_wall = sim.getSimulationTime() - t0, time.monotonic() - w0
+        assert dt_wall >= 0.45 - 0.06, dt_wall
+        assert dt_sim <= dt_wall + 0.1 + 1e-9, (dt_sim, dt_wall)
+
+
+def _sim_threads() -> int:
+    """gantry simulation threads of this process (Linux thread names)."""
+    import glob
+
+    names = []
+    for comm in glob.glob("/proc/self/task/*/comm"):
+        try:
+            with open(comm) as f:
+                names.append(f.read().strip())
+        except OSError:
+            pass
+    return names.count("gantry-sim")
+
+
+def test_an_unclosed_served_client_ends_its_simulation_when_collected():
+    import gc
+
+    import time
+
+    def settles(want: int) -> bool:
+        # A thread takes its name once it runs: poll briefly.
+        deadline = time.monotonic() + 10
+        while _sim_threads() != want and time.monotonic() < deadline:
+            time.sleep(0.01)
+        return _sim_threads() == want
+
+    before = _sim_threads()
+    client = gantry.Client(BUBBLE_ROB, zmq_port=0, realtime=False)
+    assert settles(before + 1)
+    del client
+    gc.collect()
+    assert settles(before), "the simulation thread outlived its client"
+
+
 def test_closed_client_and_context_manager():
     client = gantry.Client(BUBBLE_ROB)
     sim = client.require("sim")
@@ -213,6 +265,15 @@ def test_bad_arguments_are_clear_errors_and_harmless():
         rob = sim.getObject("/bubbleRob")
         sim.setObjectPosition(rob, np.array([0.5, 0.25, 0.12]), sim.handle_world)
         assert sim.getObjectPosition(rob, np.int64(-1)) == pytest.approx([0.5, 0.25, 0.12])
+        # Stepping while holding the lock would wait for ever against a server: an error.
+        client.setStepping(True)
+        sim.acquireLock()
+        with pytest.raises(Exception, match=r"holds sim.acquireLock.*\(in function 'sim.step'\)"):
+            sim.step()
+        sim.releaseLock()
+        t = sim.getSimulationTime()
+        sim.step()
+        assert sim.getSimulationTime() == pytest.approx(t + 0.05)
         # The other modules are there with their constants.
         simIK = client.require("simIK")
         assert isinstance(simIK.constraint_pose, int)

@@ -399,6 +399,28 @@ impl Simulation {
         Ok(h)
     }
 
+    /// Appends a loaded model's objects and scripts to the scene model (indices moved
+    /// past the scene's), so that a stop rebuilds them; returns the offset.
+    fn merge_into_model(&mut self, model: SceneModel) -> usize {
+        let offset = self.model.objects.len();
+        for mut o in model.objects {
+            o.parent = o.parent.map(|p| p + offset);
+            if let gantry_sim_core::scene::ObjectModelKind::Joint(j) = &mut o.kind
+                && let Some(m) = &mut j.mimic
+            {
+                m.leader += offset;
+            }
+            self.model.objects.push(o);
+        }
+        for s in model.scripts {
+            self.model.scripts.push(ScriptModel {
+                object: s.object + offset,
+                ..s
+            });
+        }
+        offset
+    }
+
     /// `sim.removeScript`: script `i`'s cleanup runs (if it was initialised), then it
     /// receives nothing more and no longer answers `sim.getScript`.
     fn remove_script(&mut self, i: usize) {
@@ -428,25 +450,16 @@ impl Simulation {
     fn attach_loaded_models(&mut self) {
         let loaded = std::mem::take(&mut *self.shared.loaded_models.borrow_mut());
         for LoadedModel { model, handles } in loaded {
-            let offset = self.model.objects.len();
-            for mut o in model.objects {
-                o.parent = o.parent.map(|p| p + offset);
-                if let gantry_sim_core::scene::ObjectModelKind::Joint(j) = &mut o.kind
-                    && let Some(m) = &mut j.mimic
-                {
-                    m.leader += offset;
-                }
-                self.model.objects.push(o);
-            }
+            // Script indices stay aligned with the model's: the new ones come last in both.
             let first = self.scripts.len();
-            for s in model.scripts {
-                let live = handles[s.object];
-                let s = ScriptModel {
-                    object: s.object + offset,
-                    ..s
-                };
-                let index = self.model.scripts.len();
-                self.model.scripts.push(s.clone());
+            let objects: Vec<usize> = model.scripts.iter().map(|s| s.object).collect();
+            self.merge_into_model(model);
+            for (k, object) in objects.into_iter().enumerate() {
+                // The script runs on the object's live handle (the model's index is
+                // where a stop will rebuild it).
+                let live = handles[object];
+                let index = first + k;
+                let s = self.model.scripts[index].clone();
                 self.shared.thread_modes.borrow_mut().push(ThreadMode::default());
                 self.load_script(index, &s, live);
                 self.mtimes.push(self.scripts[index].modified);
@@ -753,6 +766,13 @@ impl Simulation {
         }
         self.shared.world.borrow_mut().advancing = Advancing::AboutToStop;
         self.cleanup();
+        // What cleanup hooks asked for: a removal ends with the run (the scene comes back
+        // as loaded), a model loaded joins the scene now being rebuilt.
+        self.shared.removals.borrow_mut().clear();
+        let loaded = std::mem::take(&mut *self.shared.loaded_models.borrow_mut());
+        for l in loaded {
+            self.merge_into_model(l.model);
+        }
         let log = std::mem::take(&mut self.shared.world.borrow_mut().log);
         let mut world = World::new(&self.model);
         sandbox::confine(&mut world, &self.model);
@@ -987,14 +1007,20 @@ impl Simulation {
         }
         if name == "removeScript" {
             let h = args.first().and_then(Value::as_i64);
-            return match h.and_then(|h| script_index(&self.shared, h)) {
-                Some(i) => {
+            return match h.map(|h| (h, script_index(&self.shared, h))) {
+                Some((_, Some(i))) => {
                     self.remove_script(i);
                     Ok(Vec::new())
                 }
+                Some((HANDLE_SELF, None)) => {
+                    Err("sim.handle_self names the calling script, and a remote client has none (in function 'sim.removeScript')".to_owned())
+                }
+                Some((h, None)) => Err(format!(
+                    "argument 1: no script has handle {h} (in function 'sim.removeScript')"
+                )),
                 None => Err(format!(
-                    "argument 1: no script has handle {} (in function 'sim.removeScript')",
-                    args.first().map_or("nil".to_owned(), |v| format!("{v:?}"))
+                    "argument 1: expected a script handle, got {} (in function 'sim.removeScript')",
+                    args.first().map_or("nil", Value::type_name)
                 )),
             };
         }
@@ -1485,21 +1511,26 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
                 LuaValue::Number(n) if n.fract() == 0.0 => Some(*n as i64),
                 _ => None,
             };
-            let handle = match handle {
-                Some(HANDLE_SELF) => rs_shared.current.get(),
-                other => other,
+            // The calling script itself, even when its object carries several scripts.
+            let index = match handle {
+                Some(HANDLE_SELF) => rs_shared.current_script.get(),
+                Some(h) => script_index(&rs_shared, h),
+                None => None,
             };
-            Ok(match handle.and_then(|h| script_index(&rs_shared, h)) {
+            Ok(match index {
                 Some(i) => {
                     rs_shared.removals.borrow_mut().push(i);
                     (true, LuaValue::Nil)
                 }
                 None => (
                     false,
-                    LuaValue::String(lua.create_string(format!(
-                        "argument 1: no script has handle {} (in function 'sim.removeScript')",
-                        handle.map_or_else(|| format!("{h:?}"), |h| h.to_string())
-                    ))?),
+                    LuaValue::String(lua.create_string(match handle {
+                        Some(h) => format!("argument 1: no script has handle {h} (in function 'sim.removeScript')"),
+                        None => format!(
+                            "argument 1: expected a script handle, got {} (in function 'sim.removeScript')",
+                            h.type_name()
+                        ),
+                    })?),
                 ),
             })
         })
@@ -1693,7 +1724,9 @@ fn load_model_into(shared: &Shared, path: &std::path::Path, confined: bool) -> R
     for w in warnings {
         tracing::warn!("{w}");
     }
-    let base = handles[0];
+    let base = *handles
+        .first()
+        .ok_or_else(|| format!("{}: the model has no objects", path.display()))?;
     shared.loaded_models.borrow_mut().push(LoadedModel { model, handles });
     Ok(base)
 }

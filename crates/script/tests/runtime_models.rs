@@ -260,3 +260,76 @@ end
     step(&mut scene.sim, 1);
     assert_eq!(int32_signal(&mut scene.sim, "other_steps"), Some(1));
 }
+
+/// What cleanup hooks ask for at a stop: a model loaded there joins the rebuilt scene
+/// (its script runs in the next run), a removal ends with the run; and a script that
+/// removes itself is the one removed even when its object carries another script.
+#[test]
+fn requests_made_by_cleanup_hooks_and_scripts_sharing_an_object() {
+    let toml = r#"
+[[object]]
+name = "base"
+kind = "dummy"
+
+[[script]]
+object = "base"
+file = "first.lua"
+
+[[script]]
+object = "base"
+file = "second.lua"
+"#;
+    let first = "
+function sysCall_actuation() sim.setInt32Signal('first', (sim.getInt32Signal('first') or 0) + 1) end
+function sysCall_cleanup()
+    if not sim.getInt32Signal('loaded') then
+        sim.setInt32Signal('loaded', sim.loadModel('beacon.toml'))
+    end
+end
+";
+    let second = "
+function sysCall_actuation() sim.setInt32Signal('second', (sim.getInt32Signal('second') or 0) + 1) end
+function leave() sim.removeScript(sim.handle_self) end
+function sysCall_cleanup() sim.removeScript(sim.handle_self) end
+";
+    let mut scene = Scene::new(
+        "cleanup-requests",
+        toml,
+        &[
+            ("first.lua", first),
+            ("second.lua", second),
+            ("beacon.toml", BEACON),
+            ("beacon.lua", BEACON_LUA),
+        ],
+        ScriptLimits::default(),
+    );
+    scene.sim.start();
+    step(&mut scene.sim, 1);
+    scene.call("leave", &[]);
+    step(&mut scene.sim, 2);
+    assert_eq!(
+        int32_signal(&mut scene.sim, "first"),
+        Some(3),
+        "the other script on the object runs on"
+    );
+    assert_eq!(
+        int32_signal(&mut scene.sim, "second"),
+        Some(1),
+        "the one that left does not"
+    );
+    // The stop runs first.lua's cleanup, which loads the model: it is in the new run.
+    scene.sim.stop();
+    assert!(
+        scene.sim.world().find("/beacon", None, 0).is_ok(),
+        "the model joined the scene"
+    );
+    scene.sim.start();
+    assert_eq!(int32_signal(&mut scene.sim, "beacon_init"), Some(1));
+    step(&mut scene.sim, 1);
+    assert_eq!(
+        int32_signal(&mut scene.sim, "second"),
+        Some(1),
+        "restored by the stop, and running"
+    );
+    assert_eq!(int32_signal(&mut scene.sim, "beacon_steps"), Some(1));
+}

@@ -518,7 +518,11 @@ impl SimLoop {
 
     fn serve(&mut self, req: Request) {
         match req {
-            Request::Call { name, args, reply } => serve_call(&mut self.sim, &name, &args, reply),
+            Request::Call { name, args, reply } => {
+                serve_call(&mut self.sim, &name, &args, reply);
+                // A called script function may have stopped or paused the simulation.
+                self.after_script_control();
+            }
             Request::Packet { packet, reply } => serve_packet(&mut self.sim, packet, reply),
             Request::Control { action, reply } => {
                 match action {
@@ -598,6 +602,9 @@ impl SimLoop {
 /// [`SimLoop::step_serving`]).
 fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
     match req {
+        // The Lua host's functions run script code, which may start, stop or pause the
+        // simulation, load a model or remove a script: never inside a step.
+        Request::Call { name, .. } if crate::zmq::SIMULATION_FUNCTIONS.contains(&name.as_str()) => false,
         Request::Call { name, .. } => at == StepBoundary::Phase || !sees_vision(name),
         Request::Packet { .. } => at == StepBoundary::Phase,
         Request::Control { .. }
@@ -697,5 +704,9 @@ mod tests {
         };
         assert!(!may_serve_mid_step(&step, Phase));
         assert!(!may_serve_mid_step(&Request::With(Box::new(|_| {})), Phase));
+        // Script code (which may stop the simulation or load a model) waits for the end.
+        for script_host in crate::zmq::SIMULATION_FUNCTIONS {
+            assert!(!may_serve_mid_step(&call(script_host), Phase), "{script_host}");
+        }
     }
 }

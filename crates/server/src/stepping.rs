@@ -134,6 +134,11 @@ impl Stepping {
         }
     }
 
+    /// Whether `client` holds a lock (`sim.acquireLock`).
+    pub fn holds_lock(&self, client: ClientId) -> bool {
+        self.clients.get(&client).is_some_and(|c| c.locks > 0)
+    }
+
     /// Whether the simulation may go from step count `current` to `current + 1`.
     pub fn may_advance(&self, current: u64) -> bool {
         self.clients
