@@ -105,7 +105,7 @@ impl Direct {
         };
         if autostart {
             d.detached(py, |d| d.sim.start());
-            d.sync_state();
+            d.sync_state(SimulationState::Stopped);
         }
         Ok(d)
     }
@@ -145,8 +145,9 @@ impl Direct {
         self.before_call(py);
         // A called script function may run for a while (up to the script time budget),
         // and may start, pause or stop the simulation.
+        let before = self.sim.state();
         let out = self.detached(py, |d| d.sim.call(name, args));
-        self.sync_state();
+        self.sync_state(before);
         out
     }
 
@@ -157,6 +158,7 @@ impl Direct {
     pub fn host(&mut self, py: Python<'_>, f: HostFn, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
         let in_function = |e: &dyn std::fmt::Display| format!("{e} (in function 'sim.{name}')");
         self.before_call(py);
+        let before = self.sim.state();
         match f {
             HostFn::SetStepping => {
                 let enable = Args::new(args).bool(0).map_err(|e| e.in_function("sim.setStepping"))?;
@@ -207,7 +209,7 @@ impl Direct {
                 return Ok(vec![Value::Int(i64::from(previous))]);
             }
         }
-        self.sync_state();
+        self.sync_state(before);
         Ok(Vec::new())
     }
 
@@ -235,19 +237,28 @@ impl Direct {
 
     /// Stop: cleanup hooks, the initial scene back, stepping levels reset.
     fn stop(&mut self, py: Python<'_>) {
+        let before = self.sim.state();
         self.detached(py, |d| d.sim.stop());
-        self.sync_state();
+        // A stop resets the stepping levels, as the remote API's does, even when the
+        // simulation was stopped already.
+        self.stepping.stopped();
+        self.sync_state(before);
     }
 
     /// After anything that may have started, paused or stopped the simulation or
-    /// changed the stepping (a control call, a script's `sim.stopSimulation()`): the
-    /// stepping rules follow, as for remote clients, and real-time pacing starts afresh
-    /// from now when the simulation runs free, so the wall time since counts.
-    fn sync_state(&mut self) {
-        match self.sim.state() {
-            SimulationState::Stopped => self.stepping.stopped(),
-            SimulationState::Paused => self.stepping.release_waiters(),
-            SimulationState::Running => {}
+    /// changed the stepping (a control call, a script's `sim.stopSimulation()`), given
+    /// the state `before` it: a change to stopped or paused is followed by the stepping
+    /// rules, as for remote clients (a call made while stopped leaves the levels alone),
+    /// and real-time pacing starts afresh from now when the simulation runs free, so
+    /// the wall time since counts.
+    fn sync_state(&mut self, before: SimulationState) {
+        let now = self.sim.state();
+        if now != before {
+            match now {
+                SimulationState::Stopped => self.stepping.stopped(),
+                SimulationState::Paused => self.stepping.release_waiters(),
+                SimulationState::Running => {}
+            }
         }
         self.pace = self.free_running().then(|| (Instant::now(), 0));
     }
@@ -322,7 +333,7 @@ impl Direct {
         // A script may have paused or stopped the simulation (`sim.stopSimulation()`):
         // stepping follows, as it does for remote clients.
         if self.sim.state() != SimulationState::Running {
-            self.sync_state();
+            self.sync_state(SimulationState::Running);
         }
         taken
     }
@@ -336,7 +347,8 @@ impl Direct {
     pub fn advance(&mut self, py: Python<'_>, n: u64) -> pyo3::PyResult<u64> {
         /// Steps between checks for a signal: a few milliseconds of bubble_rob.
         const BATCH: u64 = 16;
-        if self.sim.state() != SimulationState::Running {
+        let before = self.sim.state();
+        if before != SimulationState::Running {
             self.detached(py, |d| d.sim.start());
         }
         let mut taken = 0;
@@ -345,7 +357,7 @@ impl Direct {
             taken += self.run_steps(py, batch);
             py.check_signals()?;
         }
-        self.sync_state();
+        self.sync_state(before);
         Ok(taken)
     }
 

@@ -103,6 +103,28 @@ def test_free_running_time_counts_from_the_start_and_step_takes_one_step():
         assert dt_sim <= dt_wall + 0.1 + 1e-9, (dt_sim, dt_wall)
 
 
+def test_calls_while_stopped_keep_the_stepping_level():
+    """As test_public_robots does it: stop, setStepping, set the scene up with calls
+    (script functions and locks included), start: the simulation waits for sim.step()."""
+    import time
+
+    with gantry.Client(BUBBLE_ROB) as client:
+        sim = client.require("sim")
+        sim.stopSimulation()
+        assert client.setStepping(True) == 0
+        rob = sim.getObject("/bubbleRob")
+        assert sim.getScript(sim.scripttype_childscript, rob) == rob
+        sim.acquireLock()
+        sim.releaseLock()
+        sim.startSimulation()
+        time.sleep(0.3)
+        assert sim.getSimulationTime() == 0.0, "held by the stepping level"
+        for _ in range(4):
+            sim.step()
+        assert sim.getSimulationTime() == pytest.approx(0.2)
+        assert client.setStepping(False) == 1
+
+
 def _sim_threads() -> int:
     """gantry simulation threads of this process (Linux thread names)."""
     import glob

@@ -62,6 +62,7 @@ pub const HOST_FUNCTIONS: &[(&str, HostAvailability)] = &[
     ("pauseSimulation", HostAvailability::Scripts),
     ("releaseLock", HostAvailability::Scripts),
     ("removeScript", HostAvailability::Scripts),
+    ("rmlMoveToJointPositions", HostAvailability::Threaded),
     ("setAutoYieldDelay", HostAvailability::Scripts),
     ("setStepping", HostAvailability::Scripts),
     ("setThreadAutomaticSwitch", HostAvailability::Scripts),

@@ -630,3 +630,48 @@ fn simulation_state_reports_coppeliasims_advancing_passes() {
         ]
     );
 }
+
+/// CoppeliaSim 3.x-4.2's `sim.rmlMoveToJointPositions` in a `sysCall_threadmain`, as
+/// the raven2 example calls it: the joints reach the target within the limits, and the
+/// call returns 1 with the end state.
+#[test]
+fn rml_move_to_joint_positions_in_a_4_2_thread() {
+    let thread = "
+    function sysCall_threadmain()
+        local joints = {}
+        for i = 1, 3 do joints[i] = sim.getObjectHandle('joint' .. i) end
+        local vmax, amax, jmax = {1, 1, 1}, {2, 2, 2}, {20, 20, 20}
+        local target = {0.5, -0.4, 0.3}
+        local t0 = sim.getSimulationTime()
+        local result, pos, vel = sim.rmlMoveToJointPositions(joints, -1, {0, 0, 0}, {0, 0, 0},
+            vmax, amax, jmax, target, {0, 0, 0})
+        sim.setFloatSignal('rmlTime', sim.getSimulationTime() - t0)
+        sim.setInt32Signal('rmlResult', result)
+        local err = 0
+        for i = 1, 3 do err = math.max(err, math.abs(sim.getJointPosition(joints[i]) - target[i]), math.abs(pos[i] - target[i])) end
+        sim.setFloatSignal('rmlError', err)
+        local ok, e = pcall(sim.rmlMoveToJointPositions, joints, -1, nil, nil, vmax, amax, jmax, target, nil, {1, 0, 0})
+        sim.setStringSignal('rmlDirection', tostring(e))
+        sim.setInt32Signal('done', 1)
+    end";
+    let starter = "function sysCall_init() end";
+    let mut sc = pick_and_place_scene(thread, starter);
+    let mut n = 0;
+    while util::int32_signal(&mut sc.sim, "done").is_none() {
+        sc.sim.step();
+        n += 1;
+        assert!(n < 200, "did not finish in 10 s; log: {:?}", log_lines(&sc.sim));
+    }
+    let float = |sc: &mut Scene, name: &str| util::num(&sc.remote("getFloatSignal", &[Value::Str(name.into())])[0]);
+    assert_eq!(util::int32_signal(&mut sc.sim, "rmlResult"), Some(1));
+    assert!(float(&mut sc, "rmlError") < 1e-9);
+    // 0.5 rad at <= 1 rad/s and <= 2 rad/s^2: more than 0.5 s, not instantaneous.
+    let t = float(&mut sc, "rmlTime");
+    assert!((0.55..3.0).contains(&t), "the motion took {t} s");
+    // String signals read back as bytes by remote callers (CoppeliaSim 4.6+).
+    let e = match &sc.remote("getStringSignal", &[Value::Str("rmlDirection".into())])[0] {
+        Value::Bytes(b) => String::from_utf8_lossy(b).into_owned(),
+        other => panic!("{other:?}"),
+    };
+    assert_contains(&e, &["only 0", "sim.rmlMoveToJointPositions"]);
+}

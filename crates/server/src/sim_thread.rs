@@ -519,9 +519,14 @@ impl SimLoop {
     fn serve(&mut self, req: Request) {
         match req {
             Request::Call { name, args, reply } => {
+                let before = self.sim.state();
                 serve_call(&mut self.sim, &name, &args, reply);
-                // A called script function may have stopped or paused the simulation.
-                self.after_script_control();
+                // A called script function may have stopped or paused the simulation;
+                // the stepping clients follow such a change (and only a change: a call
+                // made while stopped must not reset their levels).
+                if self.sim.state() != before {
+                    self.after_script_control();
+                }
             }
             Request::Packet { packet, reply } => serve_packet(&mut self.sim, packet, reply),
             Request::Control { action, reply } => {

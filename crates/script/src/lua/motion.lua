@@ -296,9 +296,8 @@ local function config_step(data)
         end
         if abort then res = 2 end
     elseif data.joints then
-        -- CoppeliaSim's default: dynamic joints get a target, kinematic ones move. In
-        -- gantry a target also moves a kinematic joint at once, so without
-        -- sim.isDynamicallyEnabled the target setter is right for both.
+        -- CoppeliaSim's default: dynamic joints get a target, kinematic ones are placed
+        -- (a target would start a kinematic joint's own, slower, motion profile).
         for i = 1, n do
             local j = data.joints[i]
             if sim.isDynamicallyEnabled == nil or sim.isDynamicallyEnabled(j) then
@@ -368,6 +367,53 @@ sim.moveToConfig_init = public(config_init)
 sim.moveToConfig_step = public(config_step)
 sim.moveToConfig_cleanup = public(config_cleanup)
 sim.moveToConfig = public(move_to_config)
+
+---------------------------------------------------------------------------------------
+-- sim.rmlMoveToJointPositions (CoppeliaSim 3.x-4.2, threaded scripts): the joints move
+-- to targetPos under velocity, acceleration and jerk limits, blocking until they are
+-- there, as sim.moveToConfig (which replaced it) moves them: dynamic joints get targets,
+-- kinematic ones are placed. Returns result (1: reached), newPos, newVel, newAccel and
+-- timeLeft. `direction` (cyclic joints: which way round) takes the shorter way.
+
+local function rml_move_to_joint_positions(jointHandles, flags, currentVel, currentAccel, maxVel, maxAccel, maxJerk, targetPos, targetVel, direction)
+    local fname = 'rmlMoveToJointPositions'
+    if type(jointHandles) ~= 'table' or #jointHandles == 0 then
+        fail(fname, "argument 1: expected a table of joint handles")
+    end
+    local n = #jointHandles
+    -- `direction`: per cyclic joint, 0 for the shorter way round, +-x for x-1 extra full
+    -- turns, which gantry does not do.
+    local cyclic = nil
+    if direction ~= nil then
+        if type(direction) ~= 'table' then
+            fail(fname, "argument 10 (direction): expected a table of integers")
+        end
+        cyclic = {}
+        for i = 1, n do
+            local d = direction[i] or 0
+            if d ~= 0 then
+                fail(fname, "argument 10 (direction): only 0 (the shorter way round) is supported, got %s", tostring(d))
+            end
+            cyclic[i] = sim.getJointInterval(jointHandles[i])
+        end
+    end
+    local data = run(fname, config_init, config_step, config_cleanup, {
+        tolerantArgs = true,
+        joints = jointHandles,
+        flags = integer(fname, "argument 2 (flags)", flags),
+        vel = currentVel,
+        accel = currentAccel,
+        maxVel = numbers(fname, "argument 5 (maxVel)", maxVel, n, true, true),
+        maxAccel = numbers(fname, "argument 6 (maxAccel)", maxAccel, n, true, true),
+        maxJerk = numbers(fname, "argument 7 (maxJerk)", maxJerk, n, true, true),
+        targetPos = numbers(fname, "argument 8 (targetPos)", targetPos, n, true),
+        targetVel = targetVel,
+        cyclicJoints = cyclic,
+    })
+    return 1, data.pos, data.vel, data.accel, data.timeLeft
+end
+
+sim.rmlMoveToJointPositions = public(rml_move_to_joint_positions)
 
 ---------------------------------------------------------------------------------------
 -- sim.moveToPose
