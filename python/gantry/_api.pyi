@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 204 functions, 158 constants."""
+    """`sim`: 206 functions, 158 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -274,6 +274,8 @@ class Sim:
     def getObjectPose(self, *args: Any) -> Any: ...
     def getObjectPosition(self, *args: Any) -> Any: ...
     def getObjectQuaternion(self, *args: Any) -> Any: ...
+    def getObjectSel(self, *args: Any) -> Any:
+        """the selection is the viewer's: a click on an object selects it (a click on nothing clears it)."""
     def getObjectSizeFactor(self, *args: Any) -> Any:
         """always 1 (objects are never scaled)."""
     def getObjectType(self, *args: Any) -> Any: ...
@@ -405,6 +407,8 @@ class Sim:
     def setObjectPose(self, *args: Any) -> Any: ...
     def setObjectPosition(self, *args: Any) -> Any: ...
     def setObjectQuaternion(self, *args: Any) -> Any: ...
+    def setObjectSel(self, *args: Any) -> Any:
+        """the viewer shows the first selected object; handles must exist; at most 1024."""
     def setScriptSimulationParameter(self, *args: Any) -> Any: ...
     def setShapeColor(self, *args: Any) -> Any:
         """shapes have no named colour parts: a name other than nil, "" or "@compound" matches nothing; only ambient-diffuse is drawn, the other components are stored and read back."""

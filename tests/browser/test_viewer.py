@@ -242,6 +242,22 @@ def test_picking_shows_alias_path_handle_pose(page):
     assert f"{obj['pose'][0]:.3f}" in info, info
 
 
+def test_the_pick_is_the_simulations_selection(page, gantry):
+    """A click selects for sim.getObjectSel too, and sim.setObjectSel shows on the page."""
+    client = gantry.zmq_client()
+    sim = client.require("sim")
+    obstacle = sim.getObject("/obstacle")
+    idx = page.evaluate("gantry.objects.findIndex(o => o.alias === 'obstacle')")
+    pos = page.evaluate(f"gantry.screenPosition({idx})")
+    page.mouse.click(pos["x"], pos["y"])
+    wait_for(lambda: sim.getObjectSel() == [obstacle], what="the click in sim.getObjectSel")
+    rob = sim.getObject("/bubbleRob")
+    sim.setObjectSel([rob])
+    wait_for(lambda: "bubbleRob" in page.inner_text("#pick-info"), what="the page showing the script's selection")
+    sim.setObjectSel([])
+    wait_for(lambda: page.inner_text("#pick-info") == "Nothing selected.", what="the selection cleared")
+
+
 def test_simulation_controls(page, gantry):
     page.click("#btn-pause")
     wait_for(lambda: gantry.status()["state"] == 8, what="paused")

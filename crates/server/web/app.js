@@ -7,7 +7,7 @@
 //                          {"t":"panels"}  scripts, log, custom UIs, graph samples
 //                          {"t":"reply"}   answer to a command (matched by id)
 //                   binary u32 type 1: pose and drawing deltas, 2: vision image, 3: mesh
-//   page -> server  text   {"id","op":"control"|"packet"|"ui"|"reload"|"debug"|"key",...}
+//   page -> server  text   {"id","op":"control"|"packet"|"ui"|"reload"|"debug"|"key"|"select",...}
 // World frame: Z up, metres, radians; poses are [x, y, z, qx, qy, qz, qw].
 'use strict';
 
@@ -703,7 +703,10 @@ S.screenPosition = (idx) => {
 // preserved between frames, which saves a copy per frame).
 S.capture = () => { render(); return canvas.toDataURL('image/png'); };
 
-function select(idx) {
+// Selects object `idx` (-1: nothing) on the page and, unless the server asked for it,
+// as the simulation's selection (sim.getObjectSel).
+function select(idx, fromServer = false) {
+  if (!fromServer) send({ op: 'select', handles: idx >= 0 ? [S.objects[idx].handle] : [] });
   S.selected = idx;
   for (const s of document.querySelectorAll('#object-tree span.selected')) s.classList.remove('selected');
   if (idx >= 0) document.querySelector(`#object-tree span[data-index="${idx}"]`)?.classList.add('selected');
@@ -983,6 +986,11 @@ function onPanels(p) {
   if (p.log) appendLog(p.log);
   if (p.uis) showUis(p.uis);
   if (p.views) showViews(p.views);
+  if (p.selection) {
+    // A script or client set the selection (sim.setObjectSel): show its first object.
+    const idx = p.selection.length ? S.objects.findIndex((o) => o.handle === p.selection[0]) : -1;
+    if (idx !== S.selected) select(idx, true);
+  }
   if (p.graphs) addGraphSamples(p.graphs);
 }
 

@@ -8,6 +8,7 @@
 //! {"id": 10, "op": "reload", "script": 0}              // index in the scripts panel
 //! {"id": 11, "op": "debug", "action": "continue"}      // with --debug: continue, step_over, step_in, step_out, pause
 //! {"op": "key", "key": 2007, "mods": 0}                // a key pressed in the 3D view, for sim.getSimulatorMessage
+//! {"op": "select", "handles": [12]}                    // the user picked an object: sim.getObjectSel
 //! ```
 //!
 //! `id` is optional and echoed in the reply. Anything else gets an error reply; the
@@ -67,6 +68,12 @@ pub enum Command {
     Debug {
         /// What to do.
         action: DebugAction,
+    },
+    /// The user picked objects in the view (an empty list: clicked on nothing); what
+    /// `sim.getObjectSel` returns.
+    Select {
+        /// The picked objects' handles.
+        handles: Vec<i64>,
     },
     /// A key pressed in the 3D view: a `sim.message_keypress` for
     /// `sim.getSimulatorMessage` (CoppeliaSim's key codes: characters by their code,
@@ -143,7 +150,9 @@ pub enum CommandError {
     #[error("message longer than {MAX_MESSAGE} bytes")]
     TooLong,
     /// Not JSON, or not one of the commands.
-    #[error("bad message: {0} (expected {{\"op\": \"control\"|\"packet\"|\"ui\"|\"reload\"|\"debug\"|\"key\", ...}})")]
+    #[error(
+        "bad message: {0} (expected {{\"op\": \"control\"|\"packet\"|\"ui\"|\"reload\"|\"debug\"|\"key\"|\"select\", ...}})"
+    )]
     Json(#[from] serde_json::Error),
     /// A packet over [`MAX_PACKET`] bytes.
     #[error("packet longer than {MAX_PACKET} bytes")]

@@ -34,6 +34,8 @@ pub struct PanelCursor {
     ui_revision: Option<u64>,
     /// `FloatingViews::revision` last sent.
     view_revision: Option<u64>,
+    /// `Selection::revision` last sent.
+    selection_revision: Option<u64>,
     /// The scripts list last sent.
     scripts: Option<Json>,
     /// Per graph stream `(graph, id)`: time of the newest sample sent, s.
@@ -61,6 +63,7 @@ pub fn collect(sim: &Simulation, cursor: &mut PanelCursor) -> PanelUpdate {
     if world.steps() < cursor.steps {
         cursor.ui_revision = None;
         cursor.view_revision = None;
+        cursor.selection_revision = None;
         cursor.images.clear();
     }
     cursor.steps = world.steps();
@@ -107,6 +110,10 @@ pub fn collect(sim: &Simulation, cursor: &mut PanelCursor) -> PanelUpdate {
             })
             .collect();
         msg.insert("views".into(), Json::Array(views));
+    }
+    if cursor.selection_revision != Some(world.selection.revision()) {
+        cursor.selection_revision = Some(world.selection.revision());
+        msg.insert("selection".into(), json!(world.selection.handles()));
     }
     let graphs = graph_updates(&world, &mut cursor.graphs);
     if !graphs.is_empty() {

@@ -309,6 +309,10 @@ async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, S
             sim.call("simUI.interact", args).await.map(|_| String::new())
         }
         Command::Debug { action } => Err(format!("{action:?} is answered by the session, not the worker")),
+        Command::Select { handles } => {
+            let handles = Value::Array(handles.into_iter().map(Value::Int).collect());
+            sim.call("setObjectSel", vec![handles]).await.map(|_| String::new())
+        }
         Command::Key { key, mods } => sim
             .with(move |s| s.world_mut().messages.post_key(key, mods))
             .await

@@ -1,5 +1,7 @@
-//! `sim.floatingViewAdd`, `sim.adjustView`, `sim.floatingViewRemove`: floating views
-//! over the viewer's 3D view (see [`crate::ui::FloatingViews`]).
+//! What the user interface shows: floating views over the viewer's 3D view
+//! (`sim.floatingViewAdd`, `sim.adjustView`, `sim.floatingViewRemove`; see
+//! [`crate::ui::FloatingViews`]) and the object selection (`sim.getObjectSel`,
+//! `sim.setObjectSel`; see [`crate::world::Selection`]).
 
 use super::{ApiError, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
@@ -19,7 +21,56 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         name: "floatingViewRemove",
         call: floating_view_remove,
     },
+    ApiFunction {
+        name: "getObjectSel",
+        call: get_object_sel,
+    },
+    ApiFunction {
+        name: "setObjectSel",
+        call: set_object_sel,
+    },
 ];
+
+/// `sim.getObjectSel()` → the selected objects' handles, in selection order (the
+/// viewer's click selects one).
+fn get_object_sel(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Array(
+        w.selection.handles().iter().map(|&h| Value::Int(h)).collect(),
+    )])
+}
+
+/// `sim.setObjectSel(handles)`: replaces the selection (the viewer shows its first
+/// object); every handle must name an object; an empty table clears it.
+fn set_object_sel(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let handles = match a.get(0) {
+        Value::Array(items) => items
+            .iter()
+            .map(|v| {
+                v.as_i64()
+                    .ok_or_else(|| ApiError::new(format!("argument 1: expected object handles, got {}", v.type_name())))
+            })
+            .collect::<Result<Vec<_>, _>>()?,
+        // An empty Lua table converts to an empty map.
+        Value::Map(pairs) if pairs.is_empty() => Vec::new(),
+        other => {
+            return Err(ApiError::new(format!(
+                "argument 1: expected a table of object handles, got {}",
+                other.type_name()
+            )));
+        }
+    };
+    if handles.len() > crate::world::MAX_SELECTION {
+        return Err(ApiError::new(format!(
+            "argument 1: at most {} objects can be selected",
+            crate::world::MAX_SELECTION
+        )));
+    }
+    for &h in &handles {
+        w.object(h)?;
+    }
+    w.selection.set(&handles);
+    Ok(Vec::new())
+}
 
 /// `sim.floatingViewAdd(posX, posY, sizeX, sizeY, options)` → the view's handle. The
 /// position is the view's centre and the size its extent, both relative to the main

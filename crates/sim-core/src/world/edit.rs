@@ -298,6 +298,7 @@ impl World {
         for h in removed {
             self.custom.remove_object(h);
             self.views.forget_object(h);
+            self.selection.forget(h);
         }
         let mut freed = Vec::new();
         for (h, o) in self.objects.iter_mut().enumerate() {

@@ -13,6 +13,7 @@ mod object;
 pub mod object_path;
 mod physics;
 mod query;
+mod selection;
 mod signals;
 #[expect(
     clippy::module_inception,
@@ -30,5 +31,6 @@ pub use messages::{MESSAGE_CAPACITY, MESSAGE_KEYPRESS, SimulatorMessage, Simulat
 pub use object::{Detection, ForceReading, Handle, Joint, KinematicMotion, Object, ObjectKind, ProximitySensor};
 pub(crate) use physics::Physics;
 pub use query::DistanceResult;
+pub use selection::{MAX_SELECTION, Selection};
 pub use signals::Signals;
 pub use world::{Advancing, SimulationState, World};

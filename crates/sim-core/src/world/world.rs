@@ -32,6 +32,8 @@ pub struct World {
     pub signals: Signals,
     /// User-interface events for `sim.getSimulatorMessage` (keys pressed in the viewer).
     pub messages: super::SimulatorMessages,
+    /// The selected objects (`sim.getObjectSel`; the viewer's pick).
+    pub selection: super::Selection,
     /// Values attached to objects (user parameters).
     pub custom: super::CustomData,
     /// Collections by handle - FIRST_COLLECTION_HANDLE; `None` once destroyed.
@@ -261,6 +263,7 @@ impl World {
             warnings,
             signals: Signals::default(),
             messages: Default::default(),
+            selection: Default::default(),
             custom: super::CustomData::default(),
             collections: Vec::new(),
             log: Log::default(),

@@ -1,0 +1,48 @@
+//! `sim.getObjectSel` / `sim.setObjectSel`: the selection scripts and clients share with
+//! the viewer (whose click selects); the page side is in tests/browser/test_viewer.py.
+
+use std::path::Path;
+
+use gantry_sim_core::api::{self, CallContext};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
+use gantry_sim_core::{Value, World};
+
+fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+    api::call(w, &CallContext::default(), name, args)
+}
+
+fn ints(v: &[i64]) -> Value {
+    Value::Array(v.iter().map(|&h| Value::Int(h)).collect())
+}
+
+#[test]
+fn the_selection_is_set_read_and_forgets_removed_objects() {
+    let text = "[[object]]\nname = \"a\"\nkind = \"dummy\"\n\n[[object]]\nname = \"b\"\nkind = \"dummy\"\n";
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("sel.toml");
+    let mut w = World::new(&load_scene_text(&DiskFiles, text, &path, &LoadOptions::default()).expect("scene"));
+    let (a, b) = (w.find("/a", None, 0).unwrap(), w.find("/b", None, 0).unwrap());
+    assert_eq!(call(&mut w, "sim.getObjectSel", &[]).unwrap(), [ints(&[])]);
+    call(&mut w, "sim.setObjectSel", &[ints(&[b, a, b])]).unwrap();
+    assert_eq!(
+        call(&mut w, "sim.getObjectSel", &[]).unwrap(),
+        [ints(&[b, a])],
+        "order kept, no duplicate"
+    );
+    let r = w.selection.revision();
+    call(&mut w, "sim.setObjectSel", &[ints(&[b, a])]).unwrap();
+    assert_eq!(w.selection.revision(), r, "an unchanged selection is not a change");
+    let e = call(&mut w, "sim.setObjectSel", &[ints(&[a, 999])]).unwrap_err();
+    assert!(e.contains("999") && e.contains("sim.setObjectSel"), "{e}");
+    assert_eq!(
+        call(&mut w, "sim.getObjectSel", &[]).unwrap(),
+        [ints(&[b, a])],
+        "a refused call changes nothing"
+    );
+    call(&mut w, "sim.removeObjects", &[ints(&[b])]).unwrap();
+    assert_eq!(call(&mut w, "sim.getObjectSel", &[]).unwrap(), [ints(&[a])]);
+    // An empty Lua table arrives as an empty map.
+    call(&mut w, "sim.setObjectSel", &[Value::Map(Vec::new())]).unwrap();
+    assert_eq!(call(&mut w, "sim.getObjectSel", &[]).unwrap(), [ints(&[])]);
+    let e = call(&mut w, "sim.setObjectSel", &[Value::Int(a)]).unwrap_err();
+    assert!(e.contains("argument 1"), "{e}");
+}
