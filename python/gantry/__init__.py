@@ -33,7 +33,7 @@ from ._gantry import Engine as _Engine
 from ._gantry import Function, __version__, log_to_stderr
 
 if TYPE_CHECKING:
-    # Generated from the registry (tests/python_stubs.rs): what editors complete.
+    # Generated from the registry (tests/api_doc.rs): what editors complete.
     from ._api import Sim, SimIK, SimUI, SimVision
 
 __all__ = ["Client", "Function", "bundled_scenes", "log_to_stderr", "__version__"]

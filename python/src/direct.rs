@@ -17,9 +17,9 @@ use gantry_script::{ScriptLimits, Simulation};
 use gantry_server::ClientId;
 use gantry_server::RemoteOp;
 use gantry_server::stepping::Stepping;
-use gantry_server::zmq::HostFn;
+use gantry_server::zmq::{HostCall, HostFn};
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{ApiFunction, Args};
+use gantry_sim_core::api::ApiFunction;
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
 use gantry_sim_core::world::SimulationState;
 use pyo3::Python;
@@ -159,17 +159,10 @@ impl Direct {
         let in_function = |e: &dyn std::fmt::Display| format!("{e} (in function 'sim.{name}')");
         self.before_call(py);
         let before = self.sim.state();
-        match f {
-            HostFn::SetStepping => {
-                let enable = Args::new(args).bool(0).map_err(|e| e.in_function("sim.setStepping"))?;
-                let previous = self
-                    .stepping
-                    .set_stepping(ME, enable, self.steps)
-                    .map_err(|e| in_function(&e))?;
-                return Ok(vec![Value::Int(i64::from(previous))]);
-            }
-            // Not re-paced below: the step keeps the real-time schedule it follows.
-            HostFn::Step => {
+        match HostCall::parse(f, args)? {
+            // Not re-paced below: the step keeps the real-time schedule it follows. The
+            // Python client always waits (its calls are synchronous).
+            HostCall::Step { .. } => {
                 if self.stepping.holds_lock(ME) {
                     // The remote API would wait for ever: the lock holds the simulation.
                     return Err(in_function(
@@ -179,29 +172,17 @@ impl Direct {
                 self.step(py);
                 return Ok(Vec::new());
             }
-            HostFn::LoadScene => {
-                let path = match name {
-                    "closeScene" => None,
-                    _ => Some(
-                        Args::new(args)
-                            .str(0)
-                            .map_err(|e| e.in_function("sim.loadScene"))?
-                            .to_owned(),
-                    ),
-                };
-                self.load_scene(py, path.as_deref().map(Path::new))
-                    .map_err(|e| in_function(&e))?;
-            }
-            HostFn::Remote(RemoteOp::Start) => self.detached(py, |d| d.sim.start()),
-            HostFn::Remote(RemoteOp::Pause) => {
+            HostCall::LoadScene(path) => self.load_scene(py, path.as_deref()).map_err(|e| in_function(&e))?,
+            HostCall::Remote(RemoteOp::Start) => self.detached(py, |d| d.sim.start()),
+            HostCall::Remote(RemoteOp::Pause) => {
                 self.sim.pause();
                 self.stepping.release_waiters();
             }
-            HostFn::Remote(RemoteOp::Stop) => self.stop(py),
-            HostFn::Remote(RemoteOp::Lock(acquire)) => {
+            HostCall::Remote(RemoteOp::Stop) => self.stop(py),
+            HostCall::Remote(RemoteOp::Lock(acquire)) => {
                 self.stepping.lock(ME, acquire).map_err(|e| in_function(&e))?;
             }
-            HostFn::Remote(RemoteOp::SetStepping(enable)) => {
+            HostCall::Remote(RemoteOp::SetStepping(enable)) => {
                 let previous = self
                     .stepping
                     .set_stepping(ME, enable, self.steps)

@@ -4,13 +4,10 @@
 //! its calls travel as the ZMQ transport's do ([`Request`]s), minus the bytes, and it
 //! has its own stepping level beside theirs.
 
-use std::path::PathBuf;
-
 use gantry_server::sim_thread::{Request, SimHandle};
-use gantry_server::zmq::HostFn;
-use gantry_server::{BoundAddrs, ClientId, RemoteOp, Running};
+use gantry_server::zmq::{HostCall, HostFn};
+use gantry_server::{BoundAddrs, ClientId, Running};
 use gantry_sim_core::Value;
-use gantry_sim_core::api::Args;
 use pyo3::Python;
 use std::time::{Duration, Instant};
 
@@ -98,28 +95,14 @@ impl Served {
     /// Bad arguments, nesting too deep, a scene that does not load, or an ended run.
     pub fn host(&self, py: Python<'_>, f: HostFn, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
         let qualified = format!("sim.{name}");
-        let remote = |op: RemoteOp| -> Result<Vec<Value>, String> {
-            self.ask(py, &qualified, |reply| Request::Remote { client: ME, op, reply })?
-        };
-        match f {
-            HostFn::Remote(op) => remote(op),
-            HostFn::SetStepping => {
-                let enable = Args::new(args).bool(0).map_err(|e| e.in_function(&qualified))?;
-                remote(RemoteOp::SetStepping(enable))
-            }
-            HostFn::Step => {
+        match HostCall::parse(f, args)? {
+            HostCall::Remote(op) => self.ask(py, &qualified, |reply| Request::Remote { client: ME, op, reply })?,
+            // The Python client always waits: its calls are synchronous.
+            HostCall::Step { .. } => {
                 self.ask(py, &qualified, |done| Request::Step { client: ME, done })?;
                 Ok(Vec::new())
             }
-            HostFn::LoadScene => {
-                let path = match name {
-                    "closeScene" => None,
-                    _ => Some(PathBuf::from(
-                        Args::new(args).str(0).map_err(|e| e.in_function(&qualified))?,
-                    )),
-                };
-                self.ask(py, &qualified, |reply| Request::LoadScene { path, reply })?
-            }
+            HostCall::LoadScene(path) => self.ask(py, &qualified, |reply| Request::LoadScene { path, reply })?,
         }
     }
 

@@ -81,7 +81,7 @@ pub const SIMULATION_FUNCTIONS: &[&str] = &[
 /// or the simulation loop, not on the world.
 pub const HOST_FUNCTIONS: &[(&str, HostFn)] = &[
     ("acquireLock", HostFn::Remote(RemoteOp::Lock(true))),
-    ("closeScene", HostFn::LoadScene),
+    ("closeScene", HostFn::CloseScene),
     ("loadScene", HostFn::LoadScene),
     ("pauseSimulation", HostFn::Remote(RemoteOp::Pause)),
     ("releaseLock", HostFn::Remote(RemoteOp::Lock(false))),
@@ -100,8 +100,49 @@ pub enum HostFn {
     SetStepping,
     /// `sim.step()`: park the client until the next step is done.
     Step,
-    /// `sim.loadScene(path)`, `sim.closeScene()`: replace the scene.
+    /// `sim.loadScene(path)`: replace the scene.
     LoadScene,
+    /// `sim.closeScene()`: an empty scene.
+    CloseScene,
+}
+
+/// A [`HOST_FUNCTIONS`] call with its arguments read: what each front end (this
+/// transport, the Python package) then carries out in its own way.
+#[derive(Debug, Clone, PartialEq)]
+pub enum HostCall {
+    /// A simulation-thread operation, `sim.setStepping(enable)` included.
+    Remote(RemoteOp),
+    /// `sim.step(wait=true)`; `wait` false (`client.step(wait=False)`) lets the
+    /// simulation go on without waiting for the step.
+    Step {
+        /// Whether the caller waits for the step to be done.
+        wait: bool,
+    },
+    /// `sim.loadScene(path)` (`Some`) or `sim.closeScene()` (`None`).
+    LoadScene(Option<std::path::PathBuf>),
+}
+
+impl HostCall {
+    /// Reads the arguments of the host function `f`.
+    ///
+    /// # Errors
+    /// A bad argument, in CoppeliaSim's words with the function's name.
+    pub fn parse(f: HostFn, args: &[Value]) -> Result<Self, String> {
+        let a = Args::new(args);
+        Ok(match f {
+            HostFn::Remote(op) => HostCall::Remote(op),
+            HostFn::SetStepping => HostCall::Remote(RemoteOp::SetStepping(
+                a.bool(0).map_err(|e| e.in_function("sim.setStepping"))?,
+            )),
+            HostFn::Step => HostCall::Step {
+                wait: args.first() != Some(&Value::Bool(false)),
+            },
+            HostFn::LoadScene => {
+                HostCall::LoadScene(Some(a.str(0).map_err(|e| e.in_function("sim.loadScene"))?.into()))
+            }
+            HostFn::CloseScene => HostCall::LoadScene(None),
+        })
+    }
 }
 
 /// The text the real server sends to clients that do not send a `uuid` (protocol v1).
@@ -419,32 +460,20 @@ impl Server {
     fn sim_function(&mut self, client: ClientId, uuid: &str, name: &str, args: Vec<Value>) -> Outcome {
         let host = HOST_FUNCTIONS.iter().find(|(n, _)| *n == name).map(|(_, f)| *f);
         let (reply, rx) = oneshot::channel();
-        let request = match host {
+        let call = match host.map(|f| HostCall::parse(f, &args)) {
+            None => None,
+            Some(Ok(call)) => Some(call),
+            Some(Err(e)) => return Outcome::Reply(encode_err(&e)),
+        };
+        let request = match call {
             None => Request::Call {
                 name: name.to_owned(),
                 args,
                 reply,
             },
-            Some(HostFn::Remote(op)) => Request::Remote { client, op, reply },
-            Some(HostFn::SetStepping) => match Args::new(&args).bool(0) {
-                Ok(enable) => Request::Remote {
-                    client,
-                    op: RemoteOp::SetStepping(enable),
-                    reply,
-                },
-                Err(e) => return Outcome::Reply(encode_err(&e.in_function("sim.setStepping"))),
-            },
-            // `sim.step(false)` (client.step(wait=False)) lets the simulation go on
-            // without waiting for the step.
-            Some(HostFn::Step) => return self.step(client, uuid, args.first() != Some(&Value::Bool(false))),
-            Some(HostFn::LoadScene) if name == "closeScene" => Request::LoadScene { path: None, reply },
-            Some(HostFn::LoadScene) => match Args::new(&args).str(0) {
-                Ok(path) => Request::LoadScene {
-                    path: Some(path.into()),
-                    reply,
-                },
-                Err(e) => return Outcome::Reply(encode_err(&e.in_function("sim.loadScene"))),
-            },
+            Some(HostCall::Remote(op)) => Request::Remote { client, op, reply },
+            Some(HostCall::Step { wait }) => return self.step(client, uuid, wait),
+            Some(HostCall::LoadScene(path)) => Request::LoadScene { path, reply },
         };
         if let Err(e) = self.sim.send(request) {
             return Outcome::Reply(encode_err(&format!("{e} (in function 'sim.{name}')")));
