@@ -28,7 +28,7 @@ cargo fmt --all -- --check
 stage "lints (cargo clippy -D warnings)"
 cargo clippy --workspace --all-targets -- -D warnings
 
-stage "dependency direction: protocol stays pure (no tokio runtime, rapier or mlua)"
+stage "dependency direction: protocol stays pure (no tokio runtime, rapier or mlua); floors inside sim-core and the Lua host"
 if cargo tree -p gantry-protocol -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d) ' ; then
     echo "gantry-protocol must not depend on the crates listed above" >&2
     exit 1
@@ -37,6 +37,8 @@ if cargo tree -p gantry-sim-core -e normal --prefix none | grep -E '^(tokio|mlua
     echo "gantry-sim-core must not depend on tokio or mlua" >&2
     exit 1
 fi
+# Inside the crates: sim-core's floors (world, subsystems, Sim, api) and the Lua host's.
+python3 tools/layers.py
 
 stage "Rust tests (cargo test --workspace)"
 cargo test --workspace

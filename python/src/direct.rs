@@ -21,7 +21,7 @@ use gantry_server::zmq::{HostCall, HostFn};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::ApiFunction;
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
-use gantry_sim_core::world::SimulationState;
+use gantry_sim_core::sim::SimulationState;
 use pyo3::Python;
 
 /// Whether a registry function may take long enough (rendering, IK, collision and

@@ -3,6 +3,7 @@
 
 mod convert;
 pub mod debugger;
+mod limits;
 pub mod sandbox;
 mod simulation;
 mod threads;
@@ -10,6 +11,5 @@ mod threads;
 pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
 pub use threads::{HOST_FUNCTIONS, HostAvailability};
 
-pub use simulation::{
-    Hook, ScriptControl, ScriptError, ScriptLimits, ScriptState, Simulation, StepBoundary, check_syntax,
-};
+pub use limits::ScriptLimits;
+pub use simulation::{Hook, ScriptError, ScriptState, Simulation, StepBoundary, check_syntax};

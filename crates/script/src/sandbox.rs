@@ -25,13 +25,13 @@
 //! cap, see `simulation.rs`). Non-goal: protecting against a malicious Rust host or
 //! against the scene's author, who chose the scripts.
 
-use gantry_sim_core::World;
+use gantry_sim_core::Sim;
+use gantry_sim_core::graph::ExportScope;
 use gantry_sim_core::scene::{EmbeddedFiles, SceneModel};
-use gantry_sim_core::world::ExportScope;
 use mlua::chunk::ChunkMode;
 use mlua::{Lua, LuaOptions, StdLib, Table, Value as LuaValue};
 
-use crate::simulation::ScriptLimits;
+use crate::limits::ScriptLimits;
 
 /// Globals removed from the base library: each loads code from a file or from a string
 /// (which may be bytecode), bypassing the checks on script files.
@@ -259,11 +259,11 @@ end
 /// Confines the API's file exports (`sim.exportGraphStreams`) to the scene's folder, or
 /// forbids them for a scene embedded in the binary, which has no folder on disk. Remote
 /// clients call the same functions on the same world, so they are confined too.
-pub(crate) fn confine(world: &mut World, model: &SceneModel) {
+pub(crate) fn confine(sim: &mut Sim, model: &SceneModel) {
     let scope = if model.base_dir.starts_with(EmbeddedFiles::ROOT) {
         ExportScope::Nowhere
     } else {
         ExportScope::Within(model.base_dir.clone())
     };
-    world.graphs.set_export_scope(scope);
+    sim.graphs.set_export_scope(scope);
 }

@@ -20,34 +20,18 @@ use std::time::{Duration, Instant, SystemTime};
 
 use gantry_sim_core::api::{self, Args, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, ScriptModel, load_model};
-use gantry_sim_core::world::{Advancing, SimulationState};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::sim::Control;
+use gantry_sim_core::sim::{Advancing, SimulationState};
+use gantry_sim_core::{Handle, Sim, Value, World};
 use mlua::thread::ThreadStatus;
 use mlua::{Function, HookTriggers, Lua, MultiValue, Table, Thread, Value as LuaValue, VmState};
 use smallvec::SmallVec;
 
 use crate::convert::{to_lua, to_multi, to_value};
 use crate::debugger::{DebugHost, DebugLink};
+use crate::limits::ScriptLimits;
 use crate::sandbox::{self, SOURCE_MODE, new_debuggable_state, new_state};
 use crate::threads::{self, ThreadMode};
-
-/// Limits that keep a script from stalling or exhausting the simulator.
-#[derive(Debug, Clone, Copy)]
-pub struct ScriptLimits {
-    /// Longest a single hook call may run before it is interrupted.
-    pub time_budget: Duration,
-    /// Memory of the shared Lua state, bytes.
-    pub memory: usize,
-}
-
-impl Default for ScriptLimits {
-    fn default() -> Self {
-        Self {
-            time_budget: Duration::from_secs(1),
-            memory: 512 << 20,
-        }
-    }
-}
 
 /// The hooks a script may define.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -141,7 +125,8 @@ struct Script {
 
 /// What the `sim` closures share with the simulation.
 pub(crate) struct Shared {
-    pub(crate) world: RefCell<World>,
+    /// The simulation scripts act on.
+    pub(crate) sim: RefCell<Sim>,
     /// Object of the script running now, for `'.'` in paths.
     pub(crate) current: Cell<Option<Handle>>,
     /// Index of the script running now, for its thread mode.
@@ -167,7 +152,7 @@ pub(crate) struct Shared {
     /// When the thread being resumed is pre-empted, if its mode allows it.
     pub(crate) slice_end: Cell<Option<Instant>>,
     /// A start, pause or stop asked for by a script, carried out once no script runs.
-    pub(crate) control: Cell<Option<ScriptControl>>,
+    pub(crate) control: Cell<Option<Control>>,
     /// Counts the host's calls into scripts, so that a step knows when the hook it
     /// started in has returned.
     pub(crate) entries: Cell<u64>,
@@ -196,19 +181,6 @@ impl Shared {
             .unwrap_or(false);
         preemptive && lua.current_thread().to_pointer() == self.running_thread.get()
     }
-}
-
-/// Simulation control asked for by a script (`sim.stopSimulation()` ...). A script
-/// cannot stop the simulation under its own feet, so the request is carried out at the
-/// end of the step (or of the call) during which it was made, as in CoppeliaSim.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ScriptControl {
-    /// `sim.startSimulation()`.
-    Start,
-    /// `sim.pauseSimulation()`.
-    Pause,
-    /// `sim.stopSimulation()`.
-    Stop,
 }
 
 /// A point inside a step where [`Simulation::step_with`] lets its caller serve
@@ -277,13 +249,13 @@ impl Simulation {
         limits: ScriptLimits,
         debugger: Option<DebugHost>,
     ) -> Result<Self, ScriptError> {
-        let mut world = World::new(&model);
-        sandbox::confine(&mut world, &model);
-        for w in world.warnings() {
+        let mut core = Sim::new(&model);
+        sandbox::confine(&mut core, &model);
+        for w in core.world.warnings() {
             tracing::warn!("{w}");
         }
         let shared = Rc::new(Shared {
-            world: RefCell::new(world),
+            sim: RefCell::new(core),
             current: Cell::new(None),
             current_script: Cell::new(None),
             current_name: RefCell::new(Rc::from("remote")),
@@ -336,7 +308,7 @@ impl Simulation {
             self.load_script(index, &s, s.object as Handle);
         }
         self.mtimes = self.scripts.iter().map(|s| s.modified).collect();
-        self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
+        self.order = hook_order(&self.shared.sim.borrow().world, &self.scripts);
         for i in 0..self.scripts.len() {
             self.warn_unsupported_hooks(i);
         }
@@ -465,7 +437,7 @@ impl Simulation {
                 self.mtimes.push(self.scripts[index].modified);
                 self.warn_unsupported_hooks(index);
             }
-            self.order = hook_order(&self.shared.world.borrow(), &self.scripts);
+            self.order = hook_order(&self.shared.sim.borrow().world, &self.scripts);
             if self.state() != SimulationState::Stopped {
                 for i in first..self.scripts.len() {
                     self.scripts[i].initialised = true;
@@ -529,7 +501,7 @@ impl Simulation {
         let source = name.clone();
         let print = self.lua.create_function(move |_, args: MultiValue| {
             let text: Vec<String> = args.iter().map(display).collect();
-            let mut w = shared.world.borrow_mut();
+            let w = &mut shared.sim.borrow_mut().world;
             let t = w.time();
             w.log.push(t, 450, &source, &text.join("\t"));
             Ok(())
@@ -583,7 +555,7 @@ impl Simulation {
         let script = &self.scripts[i];
         let object_path = {
             use gantry_sim_core::world::object_path::object_alias;
-            object_alias(&*self.shared.world.borrow(), script.object, 2)
+            object_alias(&self.shared.sim.borrow().world, script.object, 2)
         };
         d.register_script(i, &script.path, object_path, source);
     }
@@ -618,7 +590,7 @@ impl Simulation {
     fn fail(&mut self, i: usize, e: mlua::Error) {
         let msg = error_text(&e);
         let script = &mut self.scripts[i];
-        let mut w = self.shared.world.borrow_mut();
+        let w = &mut self.shared.sim.borrow_mut().world;
         let t = w.time();
         w.log.push(
             t,
@@ -707,10 +679,10 @@ impl Simulation {
         match self.state() {
             SimulationState::Stopped => {
                 self.call_hook_everywhere(Hook::BeforeSimulation);
-                self.shared.world.borrow_mut().advancing = Advancing::FirstAfterStop;
+                self.shared.sim.borrow_mut().advancing = Advancing::FirstAfterStop;
             }
             SimulationState::Paused => {
-                let mut w = self.shared.world.borrow_mut();
+                let mut w = self.shared.sim.borrow_mut();
                 w.state = SimulationState::Running;
                 w.advancing = Advancing::FirstAfterPause;
                 drop(w);
@@ -718,7 +690,7 @@ impl Simulation {
             }
             SimulationState::Running => {}
         }
-        self.shared.world.borrow_mut().state = SimulationState::Running;
+        self.shared.sim.borrow_mut().state = SimulationState::Running;
         for k in 0..self.order.len() {
             let i = self.order[k];
             if !self.scripts[i].initialised {
@@ -733,7 +705,7 @@ impl Simulation {
     }
 
     /// Carries out a start, pause or stop that a script asked for (see
-    /// [`ScriptControl`]), now that no script is running.
+    /// [`Control`]), now that no script is running.
     fn apply_control(&mut self) {
         if !self.shared.loaded_models.borrow().is_empty() {
             self.attach_loaded_models();
@@ -743,9 +715,9 @@ impl Simulation {
             self.remove_script(i);
         }
         match self.shared.control.take() {
-            Some(ScriptControl::Start) if self.state() != SimulationState::Running => self.start(),
-            Some(ScriptControl::Pause) => self.pause(),
-            Some(ScriptControl::Stop) => self.stop(),
+            Some(Control::Start) if self.state() != SimulationState::Running => self.start(),
+            Some(Control::Pause) => self.pause(),
+            Some(Control::Stop) => self.stop(),
             _ => {}
         }
     }
@@ -753,7 +725,7 @@ impl Simulation {
     /// Pauses: steps are refused until [`Simulation::start`].
     pub fn pause(&mut self) {
         if self.state() == SimulationState::Running {
-            self.shared.world.borrow_mut().state = SimulationState::Paused;
+            self.shared.sim.borrow_mut().state = SimulationState::Paused;
             self.call_hook_everywhere(Hook::Suspend);
         }
     }
@@ -764,7 +736,7 @@ impl Simulation {
         if self.state() == SimulationState::Stopped {
             return;
         }
-        self.shared.world.borrow_mut().advancing = Advancing::AboutToStop;
+        self.shared.sim.borrow_mut().advancing = Advancing::AboutToStop;
         self.cleanup();
         // What cleanup hooks asked for: a removal ends with the run (the scene comes back
         // as loaded), a model loaded joins the scene now being rebuilt.
@@ -773,11 +745,11 @@ impl Simulation {
         for l in loaded {
             self.merge_into_model(l.model);
         }
-        let log = std::mem::take(&mut self.shared.world.borrow_mut().log);
-        let mut world = World::new(&self.model);
-        sandbox::confine(&mut world, &self.model);
-        world.log = log;
-        *self.shared.world.borrow_mut() = world;
+        let log = std::mem::take(&mut self.shared.sim.borrow_mut().world.log);
+        let mut sim = Sim::new(&self.model);
+        sandbox::confine(&mut sim, &self.model);
+        sim.world.log = log;
+        *self.shared.sim.borrow_mut() = sim;
         self.load_scripts();
         // A cleanup hook asking to stop again, or to start, is not obeyed: the stop
         // was asked for by whoever called this.
@@ -795,7 +767,7 @@ impl Simulation {
                 self.scripts[i].initialised = false;
             }
         }
-        self.shared.world.borrow_mut().state = SimulationState::Stopped;
+        self.shared.sim.borrow_mut().state = SimulationState::Stopped;
         if ended {
             self.call_hook_everywhere(Hook::AfterSimulation);
         }
@@ -803,7 +775,7 @@ impl Simulation {
 
     /// The simulation state.
     pub fn state(&self) -> SimulationState {
-        self.shared.world.borrow().state
+        self.shared.sim.borrow().state
     }
 
     /// One simulation step in CoppeliaSim's order. Starts the simulation if stopped;
@@ -840,11 +812,7 @@ impl Simulation {
             }
         }
         between(self, StepBoundary::Phase);
-        {
-            let mut w = self.shared.world.borrow_mut();
-            w.step_physics();
-            w.handle_all_proximity_sensors();
-        }
+        self.shared.sim.borrow_mut().step_dynamics();
         between(self, StepBoundary::Phase);
         self.handle_vision(between);
         for k in 0..self.order.len() {
@@ -853,13 +821,7 @@ impl Simulation {
                 self.call_hook(i, Hook::Sensing);
             }
         }
-        {
-            let mut w = self.shared.world.borrow_mut();
-            w.advance_time();
-            if matches!(w.advancing, Advancing::FirstAfterStop | Advancing::FirstAfterPause) {
-                w.advancing = Advancing::Running;
-            }
-        }
+        self.shared.sim.borrow_mut().finish_step();
         self.apply_control();
     }
 
@@ -867,7 +829,7 @@ impl Simulation {
     /// in the scripts that created the UIs: `callback(ui, id, value)`, on the script's
     /// next turn, before actuation.
     fn dispatch_ui_events(&mut self) {
-        let events = self.shared.world.borrow_mut().uis.take_events();
+        let events = self.shared.sim.borrow_mut().uis.take_events();
         for ev in events {
             let Some(i) = self
                 .scripts
@@ -907,7 +869,10 @@ impl Simulation {
                 continue;
             };
             let h = self.scripts[i].object;
-            let rendered = gantry_sim_core::vision::handle_vision_sensor(&mut self.shared.world.borrow_mut(), h);
+            let rendered = {
+                let sim = &mut *self.shared.sim.borrow_mut();
+                gantry_sim_core::vision::handle_vision_sensor(&sim.world, &mut sim.vision, h)
+            };
             if let Err(e) = rendered {
                 let msg = format!("sysCall_vision needs the script on a vision sensor: {e}");
                 self.log(300, &self.scripts[i].name.clone(), &msg);
@@ -940,7 +905,7 @@ impl Simulation {
                         .collect();
                     let _ = self
                         .shared
-                        .world
+                        .sim
                         .borrow_mut()
                         .vision
                         .set_callback_result(h, trigger, packets);
@@ -960,7 +925,7 @@ impl Simulation {
         let t = self.lua.create_table()?;
         t.set("handle", h)?;
         if let Ok(gantry_sim_core::world::ObjectKind::VisionSensor(v)) =
-            self.shared.world.borrow().object(h).map(|o| &o.kind)
+            self.shared.sim.borrow().world.object(h).map(|o| &o.kind)
         {
             t.set(
                 "resolution",
@@ -974,14 +939,25 @@ impl Simulation {
         Ok(t)
     }
 
-    /// The world, borrowed for reading.
+    /// The world (objects and physics), borrowed for reading.
     pub fn world(&self) -> std::cell::Ref<'_, World> {
-        self.shared.world.borrow()
+        std::cell::Ref::map(self.shared.sim.borrow(), |s| &s.world)
     }
 
     /// The world, borrowed for writing.
     pub fn world_mut(&self) -> std::cell::RefMut<'_, World> {
-        self.shared.world.borrow_mut()
+        std::cell::RefMut::map(self.shared.sim.borrow_mut(), |s| &mut s.world)
+    }
+
+    /// The whole simulation (the world and the subsystems on it: UIs, drawings,
+    /// graphs, vision images, IK, signals), borrowed for reading.
+    pub fn core(&self) -> std::cell::Ref<'_, Sim> {
+        self.shared.sim.borrow()
+    }
+
+    /// The whole simulation, borrowed for writing.
+    pub fn core_mut(&self) -> std::cell::RefMut<'_, Sim> {
+        self.shared.sim.borrow_mut()
     }
 
     /// Each script's file and state.
@@ -1052,7 +1028,7 @@ impl Simulation {
             script_object: None,
             source: "remote",
         };
-        api::call(&mut self.shared.world.borrow_mut(), &ctx, name, args)
+        api::call(&mut self.shared.sim.borrow_mut(), &ctx, name, args)
     }
 
     /// Calls one registry function for a client outside the scene (no emitting object),
@@ -1066,7 +1042,7 @@ impl Simulation {
             script_object: None,
             source: "remote",
         };
-        (f.call)(&mut self.shared.world.borrow_mut(), &ctx, &Args::new(args))
+        f.invoke(&mut self.shared.sim.borrow_mut(), &ctx, &Args::new(args))
     }
 
     /// Reloads scripts whose files changed on disk: the old script's cleanup runs, then
@@ -1171,7 +1147,7 @@ impl Simulation {
     }
 
     fn log(&self, verbosity: i64, source: &str, msg: &str) {
-        let mut w = self.shared.world.borrow_mut();
+        let w = &mut self.shared.sim.borrow_mut().world;
         let t = w.time();
         w.log.push(t, verbosity, source, msg);
     }
@@ -1390,7 +1366,7 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         let table = lua.create_table()?;
         for (name, f) in module.callable() {
             let shared = shared.clone();
-            let call = f.call;
+            let f = *f;
             let qualified = format!("{}.{name}", module.name);
             let func = lua.create_function(move |lua, args: MultiValue| {
                 // This runs for every API call a script makes, often dozens per step: no
@@ -1406,11 +1382,11 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
                     source: &source,
                 };
                 let result = {
-                    let mut world = shared
-                        .world
+                    let mut sim = shared
+                        .sim
                         .try_borrow_mut()
                         .map_err(|_| mlua::Error::runtime(format!("the world is busy (in function '{qualified}')")))?;
-                    call(&mut world, &ctx, &Args::new(&values))
+                    f.invoke(&mut sim, &ctx, &Args::new(&values))
                 };
                 // The Lua wrapper turns (false, message) into a Lua string error.
                 match result {
@@ -1546,9 +1522,9 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         })?,
     )?;
     for (name, control) in [
-        ("startSimulation", ScriptControl::Start),
-        ("pauseSimulation", ScriptControl::Pause),
-        ("stopSimulation", ScriptControl::Stop),
+        ("startSimulation", Control::Start),
+        ("pauseSimulation", Control::Pause),
+        ("stopSimulation", Control::Stop),
     ] {
         let shared = shared.clone();
         sim.set(
@@ -1557,13 +1533,13 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
                 shared.control.set(Some(control));
                 // Scripts see the request in `sim.getSimulationState` for the rest of
                 // the step, as CoppeliaSim's "last before pause" / "about to stop".
-                if let Ok(mut w) = shared.world.try_borrow_mut()
+                if let Ok(mut w) = shared.sim.try_borrow_mut()
                     && w.state == SimulationState::Running
                 {
                     match control {
-                        ScriptControl::Pause => w.advancing = Advancing::LastBeforePause,
-                        ScriptControl::Stop => w.advancing = Advancing::AboutToStop,
-                        ScriptControl::Start => {}
+                        Control::Pause => w.advancing = Advancing::LastBeforePause,
+                        Control::Stop => w.advancing = Advancing::AboutToStop,
+                        Control::Start => {}
                     }
                 }
                 Ok(())
@@ -1608,7 +1584,7 @@ fn script_handle(shared: &Shared, args: &[Value]) -> Result<i64, String> {
                 source: "getScript",
             };
             let mut world = shared
-                .world
+                .sim
                 .try_borrow_mut()
                 .map_err(|_| "the world is busy".to_owned())?;
             let found = api::call(&mut world, &ctx, "getObject", &[Value::Str(path.clone())])
@@ -1696,13 +1672,13 @@ pub(crate) struct LoadedModel {
 fn load_model_into(shared: &Shared, path: &std::path::Path, confined: bool) -> Result<Handle, String> {
     let path = if confined {
         shared
-            .world
+            .sim
             .borrow()
             .graphs
             .export_scope()
             .resolve(path)
             .map_err(|e| match e {
-                gantry_sim_core::world::ExportDenied::NoFolder => {
+                gantry_sim_core::graph::ExportDenied::NoFolder => {
                     "this scene has no folder on disk (it is embedded in gantry), so its scripts cannot load model files".to_owned()
                 }
                 _ => format!(
@@ -1716,9 +1692,10 @@ fn load_model_into(shared: &Shared, path: &std::path::Path, confined: bool) -> R
     let options = shared.load_options.borrow().clone();
     let model = load_model(&DiskFiles, &path, &options).map_err(|e| e.to_string())?;
     let (handles, warnings) = shared
-        .world
+        .sim
         .try_borrow_mut()
         .map_err(|_| "the world is busy".to_owned())?
+        .world
         .import_model(&model);
     // The model's own warnings (unknown keys, URDF features) and the building's.
     for w in warnings {

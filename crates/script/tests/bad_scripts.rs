@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 
 use gantry_script::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::Value;
-use gantry_sim_core::world::SimulationState;
+use gantry_sim_core::sim::SimulationState;
 use util::{Scene, assert_contains, int32_signal, messages_from, script_error, script_state};
 
 /// The well-behaved neighbour: counts its hooks in signals and answers packets.

@@ -51,7 +51,7 @@ fn a_coppeliasim_4_2_threaded_script_runs_unmodified() {
         gantry_script::ScriptLimits::default(),
     );
     let mut steps = 0;
-    while sc.sim.state() != gantry_sim_core::world::SimulationState::Stopped || steps == 0 {
+    while sc.sim.state() != gantry_sim_core::sim::SimulationState::Stopped || steps == 0 {
         sc.sim.step();
         steps += 1;
         assert!(steps < 100, "the script did not stop the simulation");

@@ -35,12 +35,9 @@ fn seed_controller_draws_plots_and_stays_healthy() {
         assert_eq!(state, ScriptState::Running, "{}", path.display());
     }
     // The seed creates the green segment first, then the yellow trace.
-    let handles: Vec<i64> = sim
-        .world()
-        .drawings
-        .iter_world(&sim.world())
-        .map(|d| d.handle)
-        .collect();
+    let core = sim.core();
+    let handles: Vec<i64> = core.drawings.iter_world(&core.world).map(|d| d.handle).collect();
+    drop(core);
     assert_eq!(handles.len(), 2, "two drawing objects");
     let (kind, segment) = drawing(&mut sim, handles[0]);
     assert_eq!(kind, 1, "sim.drawing_lines");
@@ -59,7 +56,7 @@ fn seed_controller_draws_plots_and_stays_healthy() {
     // The clearance stream has a value per step, and it is the segment's length.
     let graph = find(&sim, "/bubbleRob/graph");
     let stream = {
-        let w = sim.world();
+        let w = sim.core();
         let s = w.graphs.streams().next().expect("the script added a stream");
         assert_eq!(s.label(), "bubbleRob clearance [m]");
         s.id()
@@ -91,7 +88,7 @@ fn moving_the_speed_slider_changes_the_wheel_speed() {
         (before - 175f64.to_radians()).abs() < 1e-9,
         "starts at the middle speed: {before}"
     );
-    let ui = sim.world().uis.iter().next().expect("the script created its UI").handle;
+    let ui = sim.core().uis.iter().next().expect("the script created its UI").handle;
     assert_eq!(
         int(&call(&mut sim, "simUI.getSliderValue", &[Value::Int(ui), Value::Int(1)])[0]),
         50

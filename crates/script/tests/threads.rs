@@ -13,7 +13,7 @@ use std::time::Duration;
 
 use gantry_script::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::Value;
-use gantry_sim_core::world::SimulationState;
+use gantry_sim_core::sim::SimulationState;
 use util::{Scene, assert_contains, log_lines, script_error, script_state};
 
 /// Two dummies, each with a script: `a.lua` on `/a`, `b.lua` on `/b`.

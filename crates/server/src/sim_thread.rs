@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 
 use gantry_script::{ScriptLimits, Simulation, StepBoundary};
 use gantry_sim_core::scene::SceneModel;
-use gantry_sim_core::world::SimulationState;
+use gantry_sim_core::sim::SimulationState;
 use gantry_sim_core::{Handle, Value};
 use tokio::sync::oneshot;
 
@@ -417,13 +417,14 @@ pub fn run_sim_thread_debugged(
     lp.sim.cleanup();
     if let Some(dir) = &config.export_graphs {
         // Cleanup hooks ran first: their last values are part of the export.
-        let w = lp.sim.world();
+        let core = lp.sim.core();
+        let w = &core.world;
         let alias = |h: Handle| {
             w.object(h)
                 .map(|o| o.alias.clone())
                 .unwrap_or_else(|_| format!("graph{h}"))
         };
-        match w.graphs.export_csv(dir, alias) {
+        match core.graphs.export_csv(dir, alias) {
             Ok(files) => {
                 for f in files {
                     tracing::info!("graph streams written to {}", f.display());

@@ -11,13 +11,13 @@ use std::time::Instant;
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::math::Pose;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::{Handle, Value, World, vision};
+use gantry_sim_core::{Handle, Sim, Value, vision};
 
-fn bubble_rob() -> (World, Handle) {
+fn bubble_rob() -> (Sim, Handle) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    let w = World::new(&model);
-    let sensor = w.find("/bubbleRob/visionSensor", None, 0).expect("sensor");
+    let w = Sim::new(&model);
+    let sensor = w.world.find("/bubbleRob/visionSensor", None, 0).expect("sensor");
     (w, sensor)
 }
 
@@ -41,14 +41,20 @@ fn main() {
 
     // The scene as loaded: floor, walls and obstacle 0 within the 1 m far plane.
     let (mut w, sensor) = bubble_rob();
-    vision::handle_vision_sensor(&mut w, sensor).expect("render");
-    let ms = median_ms(300, || vision::handle_vision_sensor(&mut w, sensor).expect("render"));
+    vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render");
+    let ms = median_ms(300, || {
+        vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render")
+    });
     println!("| render, scene as loaded | {ms} |");
 
     // An obstacle filling the middle of the view (more pixels drawn twice).
-    let o0 = w.find("/obstacle", None, 0).expect("obstacle");
-    w.set_world_pose(o0, Pose::translation(0.35, 0.0, 0.1)).expect("pose");
-    let ms = median_ms(300, || vision::handle_vision_sensor(&mut w, sensor).expect("render"));
+    let o0 = w.world.find("/obstacle", None, 0).expect("obstacle");
+    w.world
+        .set_world_pose(o0, Pose::translation(0.35, 0.0, 0.1))
+        .expect("pose");
+    let ms = median_ms(300, || {
+        vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render")
+    });
     println!("| render, obstacle 0.2 m ahead | {ms} |");
 
     // The tutorial's sysCall_vision on top of a render.
@@ -59,7 +65,7 @@ fn main() {
     let h = [Value::Int(sensor)];
     let edge = [Value::Int(sensor), Value::Float(0.2)];
     let ms = median_ms(300, || {
-        vision::handle_vision_sensor(&mut w, sensor).expect("render");
+        vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render");
         api::call(&mut w, &ctx, "simVision.sensorImgToWorkImg", &h).expect("to work");
         api::call(&mut w, &ctx, "simVision.edgeDetectionOnWorkImg", &edge).expect("edges");
         api::call(&mut w, &ctx, "simVision.workImgToSensorImg", &h).expect("to sensor");

@@ -13,7 +13,7 @@
 
 use std::path::{Path, PathBuf};
 
-use gantry_sim_core::World;
+use gantry_sim_core::Sim;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene_text};
 
 fn root() -> PathBuf {
@@ -25,10 +25,9 @@ fn scene(text: &str) -> SceneModel {
     load_scene_text(&DiskFiles, text, &path, &LoadOptions::default()).expect("scene loads")
 }
 
-fn step(w: &mut World, n: usize) {
+fn step(w: &mut Sim, n: usize) {
     for _ in 0..n {
-        w.step_physics();
-        w.advance_time();
+        w.step();
     }
 }
 
@@ -37,17 +36,17 @@ fn rover(settings: &str) -> (f64, f64) {
     let text = std::fs::read_to_string(root().join("assets/scenes/bubble_rob.toml")).expect("scene");
     let mut m = scene(&text.replace("substeps = 10", settings));
     m.scripts.clear();
-    let mut w = World::new(&m);
-    let find = |w: &World, p: &str| w.find(p, None, 0).expect(p);
+    let mut w = Sim::new(&m);
+    let find = |w: &Sim, p: &str| w.world.find(p, None, 0).expect(p);
     let (l, r, b) = (find(&w, "/leftMotor"), find(&w, "/rightMotor"), find(&w, "/bubbleRob"));
     step(&mut w, 20);
-    let p0 = w.object(b).expect("rover").world.translation.vector;
-    w.set_joint_target_velocity(l, 3.054).expect("left");
-    w.set_joint_target_velocity(r, 3.054).expect("right");
+    let p0 = w.world.object(b).expect("rover").world.translation.vector;
+    w.world.set_joint_target_velocity(l, 3.054).expect("left");
+    w.world.set_joint_target_velocity(r, 3.054).expect("right");
     step(&mut w, 20);
-    let p1 = w.object(b).expect("rover").world.translation.vector;
+    let p1 = w.world.object(b).expect("rover").world.translation.vector;
     step(&mut w, 100);
-    let p2 = w.object(b).expect("rover").world.translation.vector;
+    let p2 = w.world.object(b).expect("rover").world.translation.vector;
     ((p2 - p1).norm() / 5.0, (p2 - p0).y)
 }
 
@@ -58,12 +57,12 @@ fn drop_test(settings: &str) -> (f64, f64, f64) {
          [[object]]\nname = \"box\"\nkind = \"shape\"\nshape = \"box\"\nsize = [0.1, 0.1, 0.1]\nposition = [0, 0, 1.0]\ndynamic = true\nmass = 1.0\n\
          [[object]]\nname = \"ball\"\nkind = \"shape\"\nshape = \"sphere\"\nradius = 0.05\nposition = [0.5, 0, 3.0]\ndynamic = true\nmass = 1.0\n"
     );
-    let mut w = World::new(&scene(&text));
+    let mut w = Sim::new(&scene(&text));
     let (bx, bl) = (
-        w.find("/box", None, 0).expect("box"),
-        w.find("/ball", None, 0).expect("ball"),
+        w.world.find("/box", None, 0).expect("box"),
+        w.world.find("/ball", None, 0).expect("ball"),
     );
-    let z = |w: &World, h| w.object(h).expect("object").world.translation.z;
+    let z = |w: &Sim, h| w.world.object(h).expect("object").world.translation.z;
     let (mut box_min, mut ball_min) = (f64::MAX, f64::MAX);
     for _ in 0..60 {
         step(&mut w, 1);
@@ -80,17 +79,17 @@ fn arm(settings: &str) -> (f64, f64) {
         .replace("substeps = 10", settings)
         .replace("joint_mode = \"kinematic\"", "joint_mode = \"position\"")
         .replace("script = \"../../scripts/fk_server.lua\"", "");
-    let mut w = World::new(&scene(&text));
+    let mut w = Sim::new(&scene(&text));
     let joints: Vec<_> = (1..=6)
-        .map(|i| w.find(&format!("/arm6/joint{i}"), None, 0).expect("joint"))
+        .map(|i| w.world.find(&format!("/arm6/joint{i}"), None, 0).expect("joint"))
         .collect();
     for &j in &joints {
-        w.set_joint_target_position(j, 0.5).expect("target");
+        w.world.set_joint_target_position(j, 0.5).expect("target");
     }
-    let err = |w: &World| {
+    let err = |w: &Sim| {
         joints
             .iter()
-            .map(|&j| (w.joint(j).expect("joint").position - 0.5).abs())
+            .map(|&j| (w.world.joint(j).expect("joint").position - 0.5).abs())
             .fold(0.0, f64::max)
     };
     step(&mut w, 20);

@@ -1,6 +1,6 @@
 //! The error of world operations, shared by every `sim.*` function.
 
-use crate::world::Handle;
+use crate::handle::Handle;
 
 /// Why a world operation was refused. Messages follow CoppeliaSim's wording where one
 /// exists, so ported scripts see familiar errors.

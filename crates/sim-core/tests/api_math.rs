@@ -8,28 +8,28 @@ use std::path::Path;
 
 use gantry_sim_core::api::{CallContext, call};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Value, World};
+use gantry_sim_core::{Sim, Value};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 /// An empty scene: these functions never touch the world.
-fn world() -> World {
+fn world() -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/empty.toml");
     let model =
         load_scene_text(&DiskFiles, "[simulation]\ndt = 0.05\n", &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn sim(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn sim(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     call(w, &CallContext::default(), name, args)
 }
 
 /// Calls a function that must succeed.
-fn ok(w: &mut World, name: &str, args: &[Value]) -> Vec<Value> {
+fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
     sim(w, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
 /// Calls a function that must fail, and returns its message.
-fn err(w: &mut World, name: &str, args: &[Value]) -> String {
+fn err(w: &mut Sim, name: &str, args: &[Value]) -> String {
     match sim(w, name, args) {
         Ok(r) => panic!("{name}({args:?}) should fail, returned {r:?}"),
         Err(e) => e,
@@ -357,7 +357,7 @@ fn yaw_pitch_roll_conversions() {
 #[test]
 fn build_pose_from_axes() {
     let mut w = world();
-    let axes = |pose: &[f64], w: &mut World| block(&floats(&ok(w, "poseToMatrix", &[v(pose)])[0]));
+    let axes = |pose: &[f64], w: &mut Sim| block(&floats(&ok(w, "poseToMatrix", &[v(pose)])[0]));
     // Modes 1-3: that axis of the frame is the vector given.
     let dir = Vector3::new(1.0, 2.0, -2.0);
     for mode in 1..=3_i64 {
@@ -563,7 +563,7 @@ fn numbers_pack_little_endian_and_round_trip() {
 fn start_index_count_and_byte_offset() {
     let mut w = world();
     let t = v(&[1.0, 2.0, 3.0, 4.0, 5.0]);
-    let packed = |w: &mut World, s: i64, c: i64| {
+    let packed = |w: &mut Sim, s: i64, c: i64| {
         let data = ok(w, "packDoubleTable", &[t.clone(), s.into(), c.into()]).remove(0);
         floats(&ok(w, "unpackDoubleTable", &[data])[0])
     };
@@ -573,7 +573,7 @@ fn start_index_count_and_byte_offset() {
     assert_eq!(packed(&mut w, 3, 10), [4.0, 5.0]);
     assert!(packed(&mut w, 9, 0).is_empty());
     let data = ok(&mut w, "packDoubleTable", std::slice::from_ref(&t)).remove(0);
-    let u = |w: &mut World, args: &[i64]| {
+    let u = |w: &mut Sim, args: &[i64]| {
         let mut a = vec![data.clone()];
         a.extend(args.iter().map(|&x| Value::Int(x)));
         floats(&ok(w, "unpackDoubleTable", &a)[0])

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use gantry_sim_core::api::{CallContext, call};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Value, World};
+use gantry_sim_core::{Sim, Value};
 
 /// `sim.ruckig_nosync`, `sim.ruckig_minvel`, `sim.ruckig_minaccel`.
 const NOSYNC: i64 = 3;
@@ -17,22 +17,22 @@ const BASE: f64 = 1e-4;
 /// The simulation step used here, s.
 const DT: f64 = 0.01;
 
-fn world() -> World {
+fn world() -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/empty.toml");
     let model =
         load_scene_text(&DiskFiles, "[simulation]\ndt = 0.05\n", &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn sim(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn sim(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     call(w, &CallContext::default(), name, args)
 }
 
-fn ok(w: &mut World, name: &str, args: &[Value]) -> Vec<Value> {
+fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
     sim(w, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn err(w: &mut World, name: &str, args: &[Value]) -> String {
+fn err(w: &mut Sim, name: &str, args: &[Value]) -> String {
     match sim(w, name, args) {
         Ok(r) => panic!("{name}({args:?}) should fail, returned {r:?}"),
         Err(e) => e,
@@ -51,7 +51,7 @@ fn floats(v: &Value) -> Vec<f64> {
 }
 
 /// One `sim.ruckigStep`: result code, positions/velocities/accelerations, sync time.
-fn step(w: &mut World, h: i64, dt: f64) -> (i64, Vec<f64>, f64) {
+fn step(w: &mut Sim, h: i64, dt: f64) -> (i64, Vec<f64>, f64) {
     let r = ok(w, "ruckigStep", &[h.into(), dt.into()]);
     assert_eq!(r.len(), 3);
     (
@@ -62,7 +62,7 @@ fn step(w: &mut World, h: i64, dt: f64) -> (i64, Vec<f64>, f64) {
 }
 
 /// A 2-DoF position generator from rest at the origin.
-fn two_dof(w: &mut World, flags: i64, limits: &[f64], target: &[f64]) -> i64 {
+fn two_dof(w: &mut Sim, flags: i64, limits: &[f64], target: &[f64]) -> i64 {
     let h = ok(
         w,
         "ruckigPos",
@@ -81,7 +81,7 @@ fn two_dof(w: &mut World, flags: i64, limits: &[f64], target: &[f64]) -> i64 {
 
 /// Steps until the result is not 0, checking the limits at every step; returns the
 /// states and the steps taken.
-fn run(w: &mut World, h: i64, vmax: [f64; 2], vmin: [f64; 2], amax: [f64; 2]) -> (Vec<Vec<f64>>, i64) {
+fn run(w: &mut Sim, h: i64, vmax: [f64; 2], vmin: [f64; 2], amax: [f64; 2]) -> (Vec<Vec<f64>>, i64) {
     let mut states = Vec::new();
     let mut prev_sync = f64::INFINITY;
     for n in 1..10_000 {
@@ -246,7 +246,12 @@ fn invalid_input_is_a_result_code_with_the_reason_logged() {
         assert_eq!(s, [0.0; 6], "the state stays as it was");
         assert_eq!(sync, 0.0);
     }
-    let logged: Vec<_> = w.log.lines().filter(|l| l.message.contains("sim.ruckigStep")).collect();
+    let logged: Vec<_> = w
+        .world
+        .log
+        .lines()
+        .filter(|l| l.message.contains("sim.ruckigStep"))
+        .collect();
     assert_eq!(logged.len(), 1, "logged once: {logged:?}");
     assert!(logged[0].message.contains("velocity"), "{}", logged[0].message);
 }

@@ -5,36 +5,36 @@ use std::path::{Path, PathBuf};
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
 /// `sim.handle_scene`.
 const SCENE: i64 = -12;
 
-fn world() -> World {
+fn world() -> Sim {
     let path: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn base(w: &World) -> Handle {
-    w.find("/bubbleRob", None, 0).expect("/bubbleRob")
+fn base(w: &Sim) -> Handle {
+    w.world.find("/bubbleRob", None, 0).expect("/bubbleRob")
 }
 
-fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     api::call(w, &CallContext::default(), name, args)
 }
 
-fn write(w: &mut World, h: i64, tag: &str, data: Value) {
+fn write(w: &mut Sim, h: i64, tag: &str, data: Value) {
     call(w, "sim.writeCustomDataBlock", &[Value::Int(h), Value::from(tag), data]).expect("write");
 }
 
-fn read(w: &mut World, h: i64, tag: &str) -> Value {
+fn read(w: &mut Sim, h: i64, tag: &str) -> Value {
     let r = call(w, "sim.readCustomDataBlock", &[Value::Int(h), Value::from(tag)]).expect("read");
     assert_eq!(r.len(), 1, "one result");
     r.into_iter().next().unwrap_or(Value::Nil)
 }
 
-fn tags(w: &mut World, h: i64) -> Vec<String> {
+fn tags(w: &mut Sim, h: i64) -> Vec<String> {
     let r = call(w, "sim.readCustomDataBlockTags", &[Value::Int(h)]).expect("tags");
     let Some(Value::Array(items)) = r.first() else {
         panic!("expected a table, got {r:?}");
@@ -84,7 +84,10 @@ fn empty_or_nil_data_deletes_and_an_empty_tag_clears_all() {
 fn tags_list_only_that_objects_blocks() {
     let mut w = world();
     let h = base(&w);
-    let other = w.find("/bubbleRob/sensingNose", None, 0).expect("a second object");
+    let other = w
+        .world
+        .find("/bubbleRob/sensingNose", None, 0)
+        .expect("a second object");
     assert!(tags(&mut w, h).is_empty());
     write(&mut w, h, "zeta", Value::from("1"));
     write(&mut w, h, "alpha", Value::from("2"));
@@ -148,11 +151,14 @@ fn bad_handles_and_arguments_name_the_function() {
 fn removed_objects_forget_their_blocks() {
     let mut w = world();
     let h = base(&w);
-    let other = w.find("/bubbleRob/sensingNose", None, 0).expect("a second object");
+    let other = w
+        .world
+        .find("/bubbleRob/sensingNose", None, 0)
+        .expect("a second object");
     write(&mut w, other, "gone", Value::from("x"));
     write(&mut w, h, "stays", Value::from("y"));
     call(&mut w, "sim.removeObjects", &[Value::Array(vec![Value::Int(other)])]).expect("remove");
-    assert!(w.custom.block(other, "gone").is_none());
+    assert!(w.world.custom.block(other, "gone").is_none());
     assert!(
         call(
             &mut w,

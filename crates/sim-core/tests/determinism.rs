@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::{Handle, World};
+use gantry_sim_core::{Handle, Sim};
 
 /// Steps per run: 20 s of simulated time at the scenes' 50 ms step.
 const STEPS: usize = 400;
@@ -22,21 +22,22 @@ struct Run {
     max_rover_distance: f64,
 }
 
-fn load(rel: &str) -> World {
+fn load(rel: &str) -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel);
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0).unwrap_or_else(|e| panic!("{path}: {e}"))
+fn find(w: &Sim, path: &str) -> Handle {
+    w.world.find(path, None, 0).unwrap_or_else(|e| panic!("{path}: {e}"))
 }
 
-fn snapshot(w: &World) -> Snapshot {
-    w.handles()
+fn snapshot(w: &Sim) -> Snapshot {
+    w.world
+        .handles()
         .iter()
         .map(|&h| {
-            let pose = w.object(h).expect("object exists").world;
+            let pose = w.world.object(h).expect("object exists").world;
             let t = pose.translation.vector;
             let q = pose.rotation;
             [t.x, t.y, t.z, q.i, q.j, q.k, q.w].map(f64::to_bits)
@@ -57,26 +58,24 @@ fn run(scene: &str, arm: bool) -> Run {
     } else {
         Vec::new()
     };
-    let start = w.object(rover).expect("rover").world.translation.vector;
+    let start = w.world.object(rover).expect("rover").world.translation.vector;
     let mut out = Run {
         snapshots: Vec::with_capacity(STEPS),
         max_rover_distance: 0.0,
     };
     for step in 0..STEPS {
         if let Some(&(_, l, r)) = WHEEL_SCHEDULE.iter().find(|(at, _, _)| *at == step) {
-            w.set_joint_target_velocity(left, l).expect("left motor");
-            w.set_joint_target_velocity(right, r).expect("right motor");
+            w.world.set_joint_target_velocity(left, l).expect("left motor");
+            w.world.set_joint_target_velocity(right, r).expect("right motor");
         }
         for (i, &j) in joints.iter().enumerate() {
             // A smooth sweep per joint; out-of-limit values are clamped, which is fine.
             let q = 0.8 * (0.05 * step as f64 + i as f64).sin();
-            w.set_joint_position(j, q).expect("arm joint");
+            w.world.set_joint_position(j, q).expect("arm joint");
         }
-        w.step_physics();
-        w.handle_all_proximity_sensors();
-        w.advance_time();
+        w.step();
         out.snapshots.push(snapshot(&w));
-        let p = w.object(rover).expect("rover").world.translation.vector;
+        let p = w.world.object(rover).expect("rover").world.translation.vector;
         out.max_rover_distance = out.max_rover_distance.max((p - start).norm());
     }
     out
@@ -124,6 +123,7 @@ fn showroom_runs_with_moving_arm_are_bit_identical() {
     let w = load(scene);
     let tip = find(&w, "/arm6/tip");
     let tip = w
+        .world
         .handles()
         .iter()
         .position(|&h| h == tip)

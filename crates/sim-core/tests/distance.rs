@@ -6,7 +6,7 @@ use std::path::Path;
 
 use gantry_sim_core::api::{CallContext, call};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Value, World};
+use gantry_sim_core::{Sim, Value};
 
 const HANDLE_ALL: i64 = -2;
 
@@ -30,7 +30,7 @@ struct Ball {
 
 /// `n` static spheres scattered over a `spread` × `spread` m square, some in tight
 /// clusters and some far apart, so the search box must grow several times.
-fn scatter(seed: u64, n: usize, spread: f64) -> (World, Vec<Ball>) {
+fn scatter(seed: u64, n: usize, spread: f64) -> (Sim, Vec<Ball>) {
     let mut rng = Lcg(seed);
     let mut text = String::from("[simulation]\ndt = 0.05\n");
     let mut balls = Vec::new();
@@ -50,7 +50,7 @@ fn scatter(seed: u64, n: usize, spread: f64) -> (World, Vec<Ball>) {
     }
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scattered.toml");
     let model = load_scene_text(&DiskFiles, &text, &path, &LoadOptions::default()).expect("scene loads");
-    (World::new(&model), balls)
+    (Sim::new(&model), balls)
 }
 
 fn gap(a: &Ball, b: &Ball) -> f64 {
@@ -59,8 +59,8 @@ fn gap(a: &Ball, b: &Ball) -> f64 {
 }
 
 /// checkDistance(ball i, everything, threshold) → (distance, other ball index) or None.
-fn check(w: &mut World, i: usize, threshold: f64) -> Option<(f64, usize)> {
-    let h = w.find(&format!("/b{i}"), None, 0).expect("ball");
+fn check(w: &mut Sim, i: usize, threshold: f64) -> Option<(f64, usize)> {
+    let h = w.world.find(&format!("/b{i}"), None, 0).expect("ball");
     let r = call(
         w,
         &CallContext::default(),
@@ -79,7 +79,7 @@ fn check(w: &mut World, i: usize, threshold: f64) -> Option<(f64, usize)> {
         panic!("objectPair is an array: {r:?}")
     };
     let other = pair[1].as_i64().expect("handle");
-    let name = w.object(other).expect("object").alias.clone();
+    let name = w.world.object(other).expect("object").alias.clone();
     Some((d, name.trim_start_matches('b').parse().expect("ball index")))
 }
 

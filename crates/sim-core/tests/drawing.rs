@@ -4,9 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use gantry_sim_core::api::{CallContext, call};
+use gantry_sim_core::drawing::{FIRST_DRAWING_HANDLE, HANDLEFLAG_ADD_MULTIPLE};
+use gantry_sim_core::graph::MAX_STREAM_SAMPLES;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::world::{FIRST_DRAWING_HANDLE, HANDLEFLAG_ADD_MULTIPLE, MAX_STREAM_SAMPLES};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
 // sim.* constants the seed uses.
 const DRAWING_LINES: i64 = 1;
@@ -17,23 +18,23 @@ const DRAWING_LOCAL: i64 = 0x80_0000;
 const HANDLE_ALL: i64 = -2;
 const HANDLE_TREE: i64 = -6;
 
-fn world() -> World {
+fn world() -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn sim(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn sim(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     call(w, &CallContext::default(), name, args)
 }
 
 /// Calls a function that must succeed.
-fn ok(w: &mut World, name: &str, args: &[Value]) -> Vec<Value> {
+fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
     sim(w, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
 /// Calls a function that must fail, and returns its message.
-fn err(w: &mut World, name: &str, args: &[Value]) -> String {
+fn err(w: &mut Sim, name: &str, args: &[Value]) -> String {
     match sim(w, name, args) {
         Ok(r) => panic!("{name}({args:?}) should fail, returned {r:?}"),
         Err(e) => e,
@@ -51,8 +52,8 @@ fn floats(v: &Value) -> Vec<f64> {
     }
 }
 
-fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0).expect(path)
+fn find(w: &Sim, path: &str) -> Handle {
+    w.world.find(path, None, 0).expect(path)
 }
 
 fn h(v: Handle) -> Value {
@@ -68,12 +69,12 @@ fn v3(x: f64, y: f64, z: f64) -> Value {
 }
 
 /// `sim.getDrawingObjectItems(h)` → (type, size, color, world-frame vertex floats).
-fn items(w: &mut World, d: Handle) -> (i64, f64, Vec<f64>, Vec<f64>) {
+fn items(w: &mut Sim, d: Handle) -> (i64, f64, Vec<f64>, Vec<f64>) {
     let r = ok(w, "getDrawingObjectItems", &[h(d)]);
     (int(&r[0]), r[1].as_f64().expect("size"), floats(&r[2]), floats(&r[3]))
 }
 
-fn add_item(w: &mut World, d: Handle, data: Value) -> i64 {
+fn add_item(w: &mut Sim, d: Handle, data: Value) -> i64 {
     int(&ok(w, "addDrawingObjectItem", &[h(d), data])[0])
 }
 
@@ -221,11 +222,11 @@ fn seed_sensing_over_real_steps() {
     // Forward at the tutorial's initial speed, 3.054 rad/s.
     for motor in ["/bubbleRob/leftMotor", "/bubbleRob/rightMotor"] {
         let m = find(&w, motor);
-        w.set_joint_target_velocity(m, 3.054).expect("joint");
+        w.world.set_joint_target_velocity(m, 3.054).expect("joint");
     }
     let steps = 300;
     for _ in 0..steps {
-        w.step_physics();
+        w.world.step_physics();
         let r = ok(&mut w, "checkDistance", &[h(coll), h(HANDLE_ALL)]);
         if int(&r[0]) > 0 {
             add_item(&mut w, seg, Value::Nil);
@@ -235,7 +236,7 @@ fn seed_sensing_over_real_steps() {
         }
         let p = ok(&mut w, "getObjectPosition", &[h(base), h(-1)]).remove(0);
         add_item(&mut w, trace, p);
-        w.advance_time();
+        w.world.advance_time();
     }
     assert_eq!(w.drawings.object(seg).expect("segment").item_count(), 1);
     assert_eq!(w.drawings.object(trace).expect("trace").item_count(), 200);
@@ -245,11 +246,15 @@ fn seed_sensing_over_real_steps() {
     assert_eq!(values.len(), steps);
     assert!(values.iter().all(|v| *v > 0.0), "clearances are positive distances");
     // Stamped at each step's end, like CoppeliaSim's sim.handleGraph: dt, 2 dt, ...
-    let dt = w.settings().dt;
+    let dt = w.world.settings().dt;
     assert!((times[0] - dt).abs() < 1e-12 && (times[steps - 1] - dt * steps as f64).abs() < 1e-9);
     // The trace's newest point is where the robot is.
-    let now = w.object(base).expect("base").world.translation.vector;
-    let view = w.drawings.iter_world(&w).find(|v| v.handle == trace).expect("trace");
+    let now = w.world.object(base).expect("base").world.translation.vector;
+    let view = w
+        .drawings
+        .iter_world(&w.world)
+        .find(|v| v.handle == trace)
+        .expect("trace");
     let last = view.vertices().last().expect("points");
     assert!((last - now).norm() < 1e-12);
 }
@@ -290,7 +295,7 @@ fn duplicate_tolerance_applies_to_single_vertex_items() {
 fn items_follow_their_parent() {
     let mut w = world();
     let base = find(&w, "/bubbleRob");
-    let start = w.object(base).expect("base").world;
+    let start = w.world.object(base).expect("base").world;
     // World coordinates with a parent: drawn where given, then carried along.
     let world_pts = int(&ok(
         &mut w,
@@ -329,9 +334,9 @@ fn items_follow_their_parent() {
     assert_close(&moved, &[expected.x, expected.y + 0.5, expected.z], 1e-9);
     assert_close(&items(&mut w, fixed).3, &[1.0, 2.0, 3.0], 0.0);
     // The Rust view agrees with the API, in creation order.
-    let handles: Vec<Handle> = w.drawings.iter_world(&w).map(|v| v.handle).collect();
+    let handles: Vec<Handle> = w.drawings.iter_world(&w.world).map(|v| v.handle).collect();
     assert_eq!(handles, [world_pts, local_pts, fixed]);
-    let view = w.drawings.iter_world(&w).nth(1).expect("local");
+    let view = w.drawings.iter_world(&w.world).nth(1).expect("local");
     let v: Vec<f64> = view.vertices().flat_map(|v| [v.x, v.y, v.z]).collect();
     assert_close(&v, &moved, 0.0);
 }
@@ -356,7 +361,7 @@ fn add_multiple_packs_items() {
 #[test]
 fn removal() {
     let mut w = world();
-    let mk = |w: &mut World| {
+    let mk = |w: &mut Sim| {
         int(&ok(
             w,
             "addDrawingObject",
@@ -425,7 +430,10 @@ fn drawing_bad_arguments() {
         (100.0, 0.0, 100_000)
     );
     assert_eq!(o.color(), [1.0, 0.0, 0.5]);
-    assert!(w.log.lines().any(|l| l.message.contains("capped")), "the cap is logged");
+    assert!(
+        w.world.log.lines().any(|l| l.message.contains("capped")),
+        "the cap is logged"
+    );
 }
 
 #[test]
@@ -433,12 +441,12 @@ fn graph_stream_records_with_step_end_times() {
     let mut w = world();
     let graph = find(&w, "/bubbleRob/graph");
     let s = int(&ok(&mut w, "addGraphStream", &[h(graph), "speed".into(), "m/s".into()])[0]);
-    let dt = w.settings().dt;
+    let dt = w.world.settings().dt;
     for k in 0..5 {
         if k != 2 {
             ok(&mut w, "setGraphStreamValue", &[h(graph), h(s), f(f64::from(k))]);
         }
-        w.advance_time();
+        w.world.advance_time();
     }
     // Two values in one step: the last one counts.
     ok(&mut w, "setGraphStreamValue", &[h(graph), h(s), f(10.0)]);
@@ -515,7 +523,7 @@ fn graph_streams_export_to_csv() {
         if k % 2 == 1 {
             ok(&mut w, "setGraphStreamValue", &[h(graph), h(b), f(-f64::from(k))]);
         }
-        w.advance_time();
+        w.world.advance_time();
     }
     let dir = temp_dir("export");
     let r = ok(&mut w, "exportGraphStreams", &[dir.to_string_lossy().as_ref().into()]);
@@ -529,7 +537,7 @@ fn graph_streams_export_to_csv() {
     let mut lines = text.lines();
     let header = csv_cells(lines.next().expect("header"));
     assert_eq!(header, ["time", "bubbleRob clearance [m]", "speed, left [rad/s]"]);
-    let dt = w.settings().dt;
+    let dt = w.world.settings().dt;
     let rows: Vec<Vec<String>> = lines.map(csv_cells).collect();
     assert_eq!(rows.len(), 4);
     for (k, row) in rows.iter().enumerate() {

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Value, World};
+use gantry_sim_core::{Sim, Value};
 
 const SCENE: &str = r#"
 [[object]]
@@ -19,7 +19,7 @@ name = "body"
 kind = "dummy"
 "#;
 
-fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     let ctx = CallContext {
         script_object: None,
         source: "views.lua",
@@ -34,9 +34,9 @@ fn f(v: f64) -> Value {
 #[test]
 fn views_are_added_associated_and_removed() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("views.toml");
-    let mut w = World::new(&load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene"));
-    let cam = w.find("/floorCam", None, 0).expect("camera");
-    let body = w.find("/body", None, 0).expect("body");
+    let mut w = Sim::new(&load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene"));
+    let cam = w.world.find("/floorCam", None, 0).expect("camera");
+    let body = w.world.find("/body", None, 0).expect("body");
     let v = call(
         &mut w,
         "sim.floatingViewAdd",

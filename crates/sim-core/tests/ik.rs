@@ -10,7 +10,7 @@ use gantry_sim_core::api::{CallContext, call};
 use gantry_sim_core::ik::{self, Apply, IkResult};
 use gantry_sim_core::math::Pose;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
 const DEG: f64 = PI / 180.0;
 /// The acceptance bounds of issue 4.
@@ -24,7 +24,7 @@ fn asset(rel: &str) -> PathBuf {
 }
 
 struct Arm {
-    world: World,
+    sim: Sim,
     base: Handle,
     joints: [Handle; 6],
     tip: Handle,
@@ -33,12 +33,12 @@ struct Arm {
 
 fn arm() -> Arm {
     let model = load_scene(&DiskFiles, &asset("scenes/fk_arm.toml"), &LoadOptions::default()).expect("fk_arm loads");
-    let world = World::new(&model);
-    let find = |p: &str| world.find(p, None, 0).unwrap_or_else(|e| panic!("{p}: {e}"));
+    let sim = Sim::new(&model);
+    let find = |p: &str| sim.world.find(p, None, 0).unwrap_or_else(|e| panic!("{p}: {e}"));
     let joints = [1, 2, 3, 4, 5, 6].map(|i| find(&format!("/arm6/joint{i}")));
     let (base, tip, target) = (find("/arm6"), find("/arm6/tip/tip"), find("/target"));
     Arm {
-        world,
+        sim,
         base,
         joints,
         tip,
@@ -46,7 +46,7 @@ fn arm() -> Arm {
     }
 }
 
-fn api(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn api(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     call(w, &CallContext::default(), name, args)
 }
 
@@ -60,10 +60,10 @@ fn ints(v: &[i64]) -> Vec<Value> {
 
 /// Environment and group set up as the paper's script: DLS, damping 0.3, 100 iterations.
 fn setup(a: &mut Arm, constraints: i64) -> (i64, i64, i64) {
-    let env = int(&api(&mut a.world, "simIK.createEnvironment", &[]).expect("env")[0]);
-    let group = int(&api(&mut a.world, "simIK.createGroup", &[Value::Int(env)]).expect("group")[0]);
+    let env = int(&api(&mut a.sim, "simIK.createEnvironment", &[]).expect("env")[0]);
+    let group = int(&api(&mut a.sim, "simIK.createGroup", &[Value::Int(env)]).expect("group")[0]);
     api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.setGroupCalculation",
         &[
             Value::Int(env),
@@ -75,7 +75,7 @@ fn setup(a: &mut Arm, constraints: i64) -> (i64, i64, i64) {
     )
     .expect("setGroupCalculation");
     let r = api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.addElementFromScene",
         &ints(&[env, group, a.base, a.tip, a.target, constraints]),
     )
@@ -101,10 +101,10 @@ impl Rng {
 }
 
 /// A random configuration within arm6's limits (cyclic joints over the whole turn).
-fn random_config(w: &World, joints: &[Handle; 6], rng: &mut Rng) -> [f64; 6] {
+fn random_config(w: &Sim, joints: &[Handle; 6], rng: &mut Rng) -> [f64; 6] {
     let mut q = [0.0; 6];
     for (qi, &h) in q.iter_mut().zip(joints) {
-        let j = w.joint(h).expect("joint");
+        let j = w.world.joint(h).expect("joint");
         let (lo, hi) = if j.cyclic {
             (-PI, PI)
         } else {
@@ -115,18 +115,18 @@ fn random_config(w: &World, joints: &[Handle; 6], rng: &mut Rng) -> [f64; 6] {
     q
 }
 
-fn set_joints(w: &mut World, joints: &[Handle; 6], q: &[f64; 6]) {
+fn set_joints(w: &mut Sim, joints: &[Handle; 6], q: &[f64; 6]) {
     for (&h, &qi) in joints.iter().zip(q) {
-        w.set_joint_position(h, qi).expect("joint");
+        w.world.set_joint_position(h, qi).expect("joint");
     }
 }
 
-fn joint_values(w: &World, joints: &[Handle; 6]) -> [f64; 6] {
-    joints.map(|h| w.joint(h).expect("joint").position)
+fn joint_values(w: &Sim, joints: &[Handle; 6]) -> [f64; 6] {
+    joints.map(|h| w.world.joint(h).expect("joint").position)
 }
 
-fn pose(w: &World, h: Handle) -> Pose {
-    w.object(h).expect("object").world
+fn pose(w: &Sim, h: Handle) -> Pose {
+    w.world.object(h).expect("object").world
 }
 
 /// Position (m) and orientation (rad) distance between two poses.
@@ -137,9 +137,9 @@ fn pose_error(a: &Pose, b: &Pose) -> (f64, f64) {
     )
 }
 
-fn assert_within_limits(w: &World, joints: &[Handle; 6]) {
+fn assert_within_limits(w: &Sim, joints: &[Handle; 6]) {
     for &h in joints {
-        let j = w.joint(h).expect("joint");
+        let j = w.world.joint(h).expect("joint");
         assert!(j.position.is_finite());
         if j.cyclic {
             assert!(
@@ -159,9 +159,9 @@ fn assert_within_limits(w: &World, joints: &[Handle; 6]) {
 
 /// Places the target where the tip is at configuration `q` (a reachable pose).
 fn reachable_target(a: &mut Arm, q: &[f64; 6]) -> Pose {
-    set_joints(&mut a.world, &a.joints, q);
-    let goal = pose(&a.world, a.tip);
-    a.world.set_world_pose(a.target, goal).expect("target");
+    set_joints(&mut a.sim, &a.joints, q);
+    let goal = pose(&a.sim, a.tip);
+    a.sim.world.set_world_pose(a.target, goal).expect("target");
     goal
 }
 
@@ -178,45 +178,46 @@ struct Stats {
 /// Solves 50 random reachable pose targets, each from a start chosen by `start`: first
 /// `handleGroup` (a local solve, as CoppeliaSim's), then, if it failed, `simIK.findConfig`
 /// (multi-start search) applied with `sim.setJointPosition`, as a script would.
-fn campaign(seed: u64, start: impl Fn(&World, &[Handle; 6], &mut Rng) -> [f64; 6]) -> Stats {
+fn campaign(seed: u64, start: impl Fn(&Sim, &[Handle; 6], &mut Rng) -> [f64; 6]) -> Stats {
     let mut a = arm();
     let (env, group, _) = setup(&mut a, 31);
     let mut rng = Rng(seed);
     let mut stats = Stats::default();
     for _ in 0..50 {
-        let q_goal = random_config(&a.world, &a.joints, &mut rng);
+        let q_goal = random_config(&a.sim, &a.joints, &mut rng);
         let goal = reachable_target(&mut a, &q_goal);
-        let q0 = start(&a.world, &a.joints, &mut rng);
-        set_joints(&mut a.world, &a.joints, &q0);
-        let out = ik::handle_groups(&mut a.world, env, &[group], Apply::OnSuccess).expect("solve");
-        assert_within_limits(&a.world, &a.joints);
+        let q0 = start(&a.sim, &a.joints, &mut rng);
+        set_joints(&mut a.sim, &a.joints, &q0);
+        let out = ik::handle_groups(&mut a.sim.world, &mut a.sim.ik, env, &[group], Apply::OnSuccess).expect("solve");
+        assert_within_limits(&a.sim, &a.joints);
         stats.iterations.push(out.iterations);
         if out.result == IkResult::Success {
             assert!(out.applied);
             stats.local += 1;
         } else {
             assert_eq!(
-                joint_values(&a.world, &a.joints),
+                joint_values(&a.sim, &a.joints),
                 q0,
                 "a failed solve must leave the scene alone"
             );
             let joints = Value::Array(ints(&a.joints));
             let r = api(
-                &mut a.world,
+                &mut a.sim,
                 "simIK.findConfig",
                 &[Value::Int(env), Value::Int(group), joints],
             )
             .expect("findConfig");
             if let Value::Array(q) = &r[0] {
                 for (&h, v) in a.joints.iter().zip(q) {
-                    a.world
+                    a.sim
+                        .world
                         .set_joint_position(h, v.as_f64().expect("number"))
                         .expect("joint");
                 }
             }
-            assert_within_limits(&a.world, &a.joints);
+            assert_within_limits(&a.sim, &a.joints);
         }
-        let (dp, da) = pose_error(&pose(&a.world, a.tip), &goal);
+        let (dp, da) = pose_error(&pose(&a.sim, a.tip), &goal);
         if dp <= POS_TOL && da <= ANG_TOL {
             stats.reached += 1;
             stats.worst = (stats.worst.0.max(dp), stats.worst.1.max(da));
@@ -250,7 +251,7 @@ fn reaches_50_random_targets_from_near_the_start_pose() {
     let stats = campaign(4, |w, joints, rng| {
         let mut q = START;
         for (qi, &h) in q.iter_mut().zip(joints) {
-            let j = w.joint(h).expect("joint");
+            let j = w.world.joint(h).expect("joint");
             let lo_hi = j.limits.unwrap_or((-PI, PI));
             *qi = (*qi + rng.range(-20.0, 20.0) * DEG).clamp(lo_hi.0, lo_hi.1);
         }
@@ -271,13 +272,13 @@ fn local_solves_near_the_goal_always_succeed() {
     let mut rng = Rng(15);
     let mut iterations = Vec::new();
     for _ in 0..50 {
-        let q_goal = random_config(&a.world, &a.joints, &mut rng);
+        let q_goal = random_config(&a.sim, &a.joints, &mut rng);
         let goal = reachable_target(&mut a, &q_goal);
         let q0 = q_goal.map(|q| q + rng.range(-15.0, 15.0) * DEG);
-        set_joints(&mut a.world, &a.joints, &q0);
-        let out = ik::handle_groups(&mut a.world, env, &[group], Apply::OnSuccess).expect("solve");
+        set_joints(&mut a.sim, &a.joints, &q0);
+        let out = ik::handle_groups(&mut a.sim.world, &mut a.sim.ik, env, &[group], Apply::OnSuccess).expect("solve");
         assert_eq!(out.result, IkResult::Success, "from {q0:?} to {q_goal:?}");
-        let (dp, da) = pose_error(&pose(&a.world, a.tip), &goal);
+        let (dp, da) = pose_error(&pose(&a.sim, a.tip), &goal);
         assert!(dp <= POS_TOL && da <= ANG_TOL);
         iterations.push(out.iterations);
     }
@@ -305,9 +306,9 @@ fn handle_group_through_the_api_moves_the_scene_joints() {
     let mut a = arm();
     let (env, group, _) = setup(&mut a, 31);
     let goal = reachable_target(&mut a, &[0.4, -0.3, 0.5, 0.2, -1.2, 0.3]);
-    set_joints(&mut a.world, &a.joints, &START);
+    set_joints(&mut a.sim, &a.joints, &START);
     let r = api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.handleGroup",
         &[
             Value::Int(env),
@@ -321,21 +322,21 @@ fn handle_group_through_the_api_moves_the_scene_joints() {
         panic!("precision table")
     };
     assert!(prec[0].as_f64().expect("lin") < 5e-4);
-    let (dp, da) = pose_error(&pose(&a.world, a.tip), &goal);
+    let (dp, da) = pose_error(&pose(&a.sim, a.tip), &goal);
     assert!(dp < POS_TOL && da < ANG_TOL);
 
     // handleIkGroup (4.1) and applyIkEnvironmentToScene (4.2) solve and write back too.
-    set_joints(&mut a.world, &a.joints, &START);
-    let r = api(&mut a.world, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
+    set_joints(&mut a.sim, &a.joints, &START);
+    let r = api(&mut a.sim, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
     assert_eq!(int(&r[0]), 1);
-    assert!(pose_error(&pose(&a.world, a.tip), &goal).0 < POS_TOL);
-    set_joints(&mut a.world, &a.joints, &START);
-    let r = api(&mut a.world, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
+    assert!(pose_error(&pose(&a.sim, a.tip), &goal).0 < POS_TOL);
+    set_joints(&mut a.sim, &a.joints, &START);
+    let r = api(&mut a.sim, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
     assert_eq!(int(&r[0]), 1);
-    assert!(pose_error(&pose(&a.world, a.tip), &goal).0 < POS_TOL);
+    assert!(pose_error(&pose(&a.sim, a.tip), &goal).0 < POS_TOL);
 
-    api(&mut a.world, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
-    let e = api(&mut a.world, "simIK.handleGroup", &ints(&[env, group])).expect_err("erased");
+    api(&mut a.sim, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
+    let e = api(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect_err("erased");
     assert!(e.contains("simIK.handleGroup") && e.contains("environment"), "{e}");
 }
 
@@ -347,22 +348,22 @@ fn handle_group_through_the_api_moves_the_scene_joints() {
 fn every_solve_starts_from_the_current_scene() {
     let mut a = arm();
     let (env, group, _) = setup(&mut a, 31);
-    let mut goal = pose(&a.world, a.target);
+    let mut goal = pose(&a.sim, a.target);
     goal.translation.vector.x -= 0.1;
     goal.translation.vector.y += 0.15;
-    a.world.set_world_pose(a.target, goal).expect("target");
-    let out = ik::handle_groups(&mut a.world, env, &[group], Apply::OnSuccess).expect("solve");
+    a.sim.world.set_world_pose(a.target, goal).expect("target");
+    let out = ik::handle_groups(&mut a.sim.world, &mut a.sim.ik, env, &[group], Apply::OnSuccess).expect("solve");
     assert_eq!(out.result, IkResult::Success);
     println!("paper-style IK command: {} iterations", out.iterations);
 
     // An FK command elsewhere, then the target placed on the tip: nothing to do.
     let q_fk = [0.5, 0.2, 0.3, -0.4, -1.0, 0.7];
-    set_joints(&mut a.world, &a.joints, &q_fk);
-    let tip = pose(&a.world, a.tip);
-    a.world.set_world_pose(a.target, tip).expect("target");
-    let out = ik::handle_groups(&mut a.world, env, &[group], Apply::OnSuccess).expect("solve");
+    set_joints(&mut a.sim, &a.joints, &q_fk);
+    let tip = pose(&a.sim, a.tip);
+    a.sim.world.set_world_pose(a.target, tip).expect("target");
+    let out = ik::handle_groups(&mut a.sim.world, &mut a.sim.ik, env, &[group], Apply::OnSuccess).expect("solve");
     assert_eq!((out.result, out.iterations), (IkResult::Success, 0));
-    let q = joint_values(&a.world, &a.joints);
+    let q = joint_values(&a.sim, &a.joints);
     for (x, y) in q.iter().zip(&q_fk) {
         assert!((x - y).abs() < 1e-12);
     }
@@ -372,26 +373,21 @@ fn every_solve_starts_from_the_current_scene() {
 fn position_only_constraint_ignores_orientation() {
     let mut a = arm();
     let (env, group, element) = setup(&mut a, 7);
-    let r = api(
-        &mut a.world,
-        "simIK.getElementConstraints",
-        &ints(&[env, group, element]),
-    )
-    .expect("get");
+    let r = api(&mut a.sim, "simIK.getElementConstraints", &ints(&[env, group, element])).expect("get");
     assert_eq!(int(&r[0]), 7);
     let mut rng = Rng(7);
     for _ in 0..10 {
-        let q_goal = random_config(&a.world, &a.joints, &mut rng);
+        let q_goal = random_config(&a.sim, &a.joints, &mut rng);
         let mut goal = reachable_target(&mut a, &q_goal);
         // An orientation the arm need not match.
         goal.rotation = gantry_sim_core::math::quat_from_euler([rng.range(-PI, PI), 0.3, 1.0]);
-        a.world.set_world_pose(a.target, goal).expect("target");
-        set_joints(&mut a.world, &a.joints, &START);
-        let r = api(&mut a.world, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
+        a.sim.world.set_world_pose(a.target, goal).expect("target");
+        set_joints(&mut a.sim, &a.joints, &START);
+        let r = api(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
         assert_eq!(int(&r[0]), 1, "{r:?}");
-        let (dp, _) = pose_error(&pose(&a.world, a.tip), &goal);
+        let (dp, _) = pose_error(&pose(&a.sim, a.tip), &goal);
         assert!(dp < POS_TOL, "{dp}");
-        assert_within_limits(&a.world, &a.joints);
+        assert_within_limits(&a.sim, &a.joints);
     }
 }
 
@@ -400,20 +396,20 @@ fn unreachable_target_fails_without_nan_and_leaves_the_scene() {
     let mut a = arm();
     let (env, group, _) = setup(&mut a, 31);
     let far = Pose::translation(3.0, 1.0, 0.5);
-    a.world.set_world_pose(a.target, far).expect("target");
-    set_joints(&mut a.world, &a.joints, &START);
-    let before = joint_values(&a.world, &a.joints);
-    let r = api(&mut a.world, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
+    a.sim.world.set_world_pose(a.target, far).expect("target");
+    set_joints(&mut a.sim, &a.joints, &START);
+    let before = joint_values(&a.sim, &a.joints);
+    let r = api(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
     assert_eq!(int(&r[0]), 2, "result_fail: {r:?}");
     assert_ne!(int(&r[1]) & 4, 0, "calc_notwithintolerance");
     let Value::Array(prec) = &r[2] else { panic!("precision") };
     assert!(prec.iter().all(|v| v.as_f64().is_some_and(f64::is_finite)));
-    assert_eq!(joint_values(&a.world, &a.joints), before);
+    assert_eq!(joint_values(&a.sim, &a.joints), before);
 
     // allowError: the best effort is applied, finite, within limits, and closer.
-    let d0 = pose_error(&pose(&a.world, a.tip), &far).0;
+    let d0 = pose_error(&pose(&a.sim, a.tip), &far).0;
     let r = api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.handleGroup",
         &[
             Value::Int(env),
@@ -423,8 +419,8 @@ fn unreachable_target_fails_without_nan_and_leaves_the_scene() {
     )
     .expect("solve");
     assert_eq!(int(&r[0]), 2);
-    assert_within_limits(&a.world, &a.joints);
-    assert!(pose_error(&pose(&a.world, a.tip), &far).0 < d0);
+    assert_within_limits(&a.sim, &a.joints);
+    assert!(pose_error(&pose(&a.sim, a.tip), &far).0 < d0);
 }
 
 /// With `syncWorlds=false` the scene is untouched; the solution is readable through
@@ -434,35 +430,35 @@ fn without_sync_the_solution_waits_for_sync_to_sim() {
     let mut a = arm();
     let (env, group, _) = setup(&mut a, 31);
     let goal = reachable_target(&mut a, &[-0.6, 0.1, 0.4, 0.0, -1.0, 0.2]);
-    set_joints(&mut a.world, &a.joints, &START);
+    set_joints(&mut a.sim, &a.joints, &START);
     let opts = Value::Map(vec![("syncWorlds".into(), false.into())]);
     let r = api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.handleGroup",
         &[Value::Int(env), Value::Int(group), opts],
     )
     .expect("solve");
     assert_eq!(int(&r[0]), 1);
-    assert_eq!(joint_values(&a.world, &a.joints), START);
-    let j1 = api(&mut a.world, "simIK.getJointPosition", &ints(&[env, a.joints[0]])).expect("get");
+    assert_eq!(joint_values(&a.sim, &a.joints), START);
+    let j1 = api(&mut a.sim, "simIK.getJointPosition", &ints(&[env, a.joints[0]])).expect("get");
     assert!(
         (j1[0].as_f64().expect("q") - START[0]).abs() > 0.1,
         "pending value differs from the scene"
     );
     api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.syncToSim",
         &[Value::Int(env), Value::Array(ints(&[group]))],
     )
     .expect("sync");
-    assert!(pose_error(&pose(&a.world, a.tip), &goal).0 < POS_TOL);
+    assert!(pose_error(&pose(&a.sim, a.tip), &goal).0 < POS_TOL);
 }
 
 #[test]
 fn group_settings_round_trip() {
     let mut a = arm();
     let (env, group, element) = setup(&mut a, 31);
-    let r = api(&mut a.world, "simIK.getGroupCalculation", &ints(&[env, group])).expect("get");
+    let r = api(&mut a.sim, "simIK.getGroupCalculation", &ints(&[env, group])).expect("get");
     assert_eq!((int(&r[0]), r[1].as_f64(), int(&r[2])), (1, Some(0.3), 100));
     let args = [
         Value::Int(env),
@@ -470,23 +466,18 @@ fn group_settings_round_trip() {
         Value::Int(element),
         Value::floats(&[1e-4, 0.01]),
     ];
-    api(&mut a.world, "simIK.setElementPrecision", &args).expect("set");
-    let r = api(&mut a.world, "simIK.getElementPrecision", &ints(&[env, group, element])).expect("get");
+    api(&mut a.sim, "simIK.setElementPrecision", &args).expect("set");
+    let r = api(&mut a.sim, "simIK.getElementPrecision", &ints(&[env, group, element])).expect("get");
     assert_eq!(r[0], Value::floats(&[1e-4, 0.01]));
-    let named = int(&api(&mut a.world, "simIK.createGroup", &[Value::Int(env), "second".into()]).expect("g")[0]);
-    let r = api(
-        &mut a.world,
-        "simIK.getGroupHandle",
-        &[Value::Int(env), "second".into()],
-    )
-    .expect("h");
+    let named = int(&api(&mut a.sim, "simIK.createGroup", &[Value::Int(env), "second".into()]).expect("g")[0]);
+    let r = api(&mut a.sim, "simIK.getGroupHandle", &[Value::Int(env), "second".into()]).expect("h");
     assert_eq!(int(&r[0]), named);
     // An empty group has nothing to do.
-    let r = api(&mut a.world, "simIK.handleGroup", &ints(&[env, named])).expect("empty");
+    let r = api(&mut a.sim, "simIK.handleGroup", &ints(&[env, named])).expect("empty");
     assert_eq!(int(&r[0]), 0, "result_not_performed");
     // The element map is the identity over the chain.
     let r = api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.addElementFromScene",
         &ints(&[env, named, a.base, a.tip, a.target, 31]),
     )
@@ -502,7 +493,7 @@ fn group_settings_round_trip() {
 fn bad_arguments_raise_errors_naming_the_function() {
     let mut a = arm();
     let (env, group, _) = setup(&mut a, 31);
-    let tip_link = a.world.parent(a.tip).expect("tip").expect("has parent");
+    let tip_link = a.sim.world.parent(a.tip).expect("tip").expect("has parent");
     let cases: Vec<(&str, Vec<Value>, &str)> = vec![
         ("simIK.handleGroup", ints(&[99, group]), "environment 99"),
         ("simIK.handleGroup", ints(&[env, 12345]), "group 12345"),
@@ -589,14 +580,14 @@ fn bad_arguments_raise_errors_naming_the_function() {
         ("simIK.getJointPosition", ints(&[env, a.tip]), "not a joint"),
     ];
     for (name, args, needle) in cases {
-        let e = api(&mut a.world, name, &args).expect_err(name);
+        let e = api(&mut a.sim, name, &args).expect_err(name);
         assert!(e.contains(&format!("'{name}'")), "{e}");
         assert!(e.contains(needle), "{name}: '{e}' lacks '{needle}'");
     }
     // A base partway up the arm is fine: the chain is then joint2..joint6.
-    let mid = a.world.parent(a.joints[1]).expect("joint2").expect("has parent");
+    let mid = a.sim.world.parent(a.joints[1]).expect("joint2").expect("has parent");
     let r = api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.addElementFromScene",
         &ints(&[env, group, mid, a.tip, a.target, 31]),
     )

@@ -9,7 +9,7 @@ use std::path::Path;
 use gantry_sim_core::api::{CallContext, call};
 use gantry_sim_core::math::Pose;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
 const DEG: f64 = PI / 180.0;
 const POS_TOL: f64 = 1e-3;
@@ -20,7 +20,7 @@ const START: [f64; 6] = [0.0, 0.0, 0.0, 0.0, -90.0 * DEG, 0.0];
 const GOAL: [f64; 6] = [0.4, -0.3, 0.5, 0.2, -1.2, 0.3];
 
 struct Arm {
-    world: World,
+    sim: Sim,
     base: Handle,
     joints: [Handle; 6],
     tip: Handle,
@@ -30,12 +30,12 @@ struct Arm {
 fn arm() -> Arm {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/fk_arm.toml");
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("fk_arm loads");
-    let world = World::new(&model);
-    let find = |p: &str| world.find(p, None, 0).unwrap_or_else(|e| panic!("{p}: {e}"));
+    let sim = Sim::new(&model);
+    let find = |p: &str| sim.world.find(p, None, 0).unwrap_or_else(|e| panic!("{p}: {e}"));
     let joints = [1, 2, 3, 4, 5, 6].map(|i| find(&format!("/arm6/joint{i}")));
     let (base, tip, target) = (find("/arm6"), find("/arm6/tip/tip"), find("/target"));
     Arm {
-        world,
+        sim,
         base,
         joints,
         tip,
@@ -43,7 +43,7 @@ fn arm() -> Arm {
     }
 }
 
-fn api(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn api(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     call(w, &CallContext::default(), name, args)
 }
 
@@ -57,16 +57,16 @@ fn ints(v: &[i64]) -> Vec<Value> {
 
 fn set_joints(a: &mut Arm, q: &[f64; 6]) {
     for (&h, &qi) in a.joints.iter().zip(q) {
-        a.world.set_joint_position(h, qi).expect("joint");
+        a.sim.world.set_joint_position(h, qi).expect("joint");
     }
 }
 
 fn joint_values(a: &Arm) -> [f64; 6] {
-    a.joints.map(|h| a.world.joint(h).expect("joint").position)
+    a.joints.map(|h| a.sim.world.joint(h).expect("joint").position)
 }
 
-fn pose(w: &World, h: Handle) -> Pose {
-    w.object(h).expect("object").world
+fn pose(w: &Sim, h: Handle) -> Pose {
+    w.world.object(h).expect("object").world
 }
 
 fn pose_error(a: &Pose, b: &Pose) -> (f64, f64) {
@@ -80,8 +80,8 @@ fn pose_error(a: &Pose, b: &Pose) -> (f64, f64) {
 /// arm is put back at `START`.
 fn goal_matrix(a: &mut Arm) -> (Value, Pose) {
     set_joints(a, &GOAL);
-    let m = api(&mut a.world, "sim.getObjectMatrix", &ints(&[a.tip, a.base])).expect("matrix");
-    let goal = pose(&a.world, a.tip);
+    let m = api(&mut a.sim, "sim.getObjectMatrix", &ints(&[a.tip, a.base])).expect("matrix");
+    let goal = pose(&a.sim, a.tip);
     set_joints(a, &START);
     (m[0].clone(), goal)
 }
@@ -89,7 +89,7 @@ fn goal_matrix(a: &mut Arm) -> (Value, Pose) {
 /// The 4.2 set-up of CoppeliaSim's IK tutorials: a named group, DLS, an element from the
 /// scene, its precision, weights, constraints and base. Returns env, group and element.
 fn setup_42(a: &mut Arm) -> (i64, i64, i64) {
-    let w = &mut a.world;
+    let w = &mut a.sim;
     let env = int(&api(w, "simIK.createEnvironment", &[]).expect("env")[0]);
     let group = int(&api(w, "simIK.createIkGroup", &[Value::Int(env), "arm".into()]).expect("createIkGroup")[0]);
     let found = api(w, "simIK.getIkGroupHandle", &[Value::Int(env), "arm".into()]).expect("getIkGroupHandle");
@@ -143,7 +143,7 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
 
     // 4.2 order: (env, object, relativeTo, matrix). The target is its own IK counterpart.
     api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.setObjectMatrix",
         &[
             Value::Int(env),
@@ -153,12 +153,12 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
         ],
     )
     .expect("setObjectMatrix");
-    let (dp, da) = pose_error(&pose(&a.world, a.target), &goal);
+    let (dp, da) = pose_error(&pose(&a.sim, a.target), &goal);
     assert!(
         dp < 1e-12 && da < 1e-9,
         "target placed at {dp} m, {da} rad from the goal"
     );
-    let back = api(&mut a.world, "simIK.getObjectMatrix", &ints(&[env, a.target, a.base])).expect("getObjectMatrix");
+    let back = api(&mut a.sim, "simIK.getObjectMatrix", &ints(&[env, a.target, a.base])).expect("getObjectMatrix");
     let (Value::Array(x), Value::Array(y)) = (&back[0], &goal_m) else {
         panic!("matrices: {back:?}")
     };
@@ -166,20 +166,20 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
         assert!((p.as_f64().expect("number") - q.as_f64().expect("number")).abs() < 1e-9);
     }
 
-    let r = api(&mut a.world, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
+    let r = api(&mut a.sim, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
     assert_eq!(int(&r[0]), 1, "result_success: {r:?}");
-    let (dp, da) = pose_error(&pose(&a.world, a.tip), &goal);
+    let (dp, da) = pose_error(&pose(&a.sim, a.tip), &goal);
     assert!(dp < POS_TOL && da < ANG_TOL, "tip {dp} m, {da} rad from the goal");
     let q42 = joint_values(&a);
     // A 4.2 script then copies the IK joints onto the scene; here they are the same.
     for &j in &a.joints {
-        let q = api(&mut a.world, "simIK.getJointPosition", &ints(&[env, j])).expect("getJointPosition");
-        assert_eq!(q[0].as_f64(), Some(a.world.joint(j).expect("joint").position));
+        let q = api(&mut a.sim, "simIK.getJointPosition", &ints(&[env, j])).expect("getJointPosition");
+        assert_eq!(q[0].as_f64(), Some(a.sim.world.joint(j).expect("joint").position));
     }
 
     // The 4.3 calls from the same start find the same joint values.
     set_joints(&mut a, &START);
-    let w = &mut a.world;
+    let w = &mut a.sim;
     let env43 = int(&api(w, "simIK.createEnvironment", &[]).expect("env")[0]);
     let g43 = int(&api(w, "simIK.createGroup", &[Value::Int(env43)]).expect("createGroup")[0]);
     api(
@@ -214,14 +214,14 @@ fn the_45_argument_order_of_set_object_matrix_works_too() {
     let (goal_m, goal) = goal_matrix(&mut a);
     let (env, group, _) = setup_42(&mut a);
     api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.setObjectMatrix",
         &[Value::Int(env), Value::Int(a.target), goal_m, Value::Int(a.base)],
     )
     .expect("setObjectMatrix");
-    let r = api(&mut a.world, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
+    let r = api(&mut a.sim, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
     assert_eq!(int(&r[0]), 1);
-    let (dp, da) = pose_error(&pose(&a.world, a.tip), &goal);
+    let (dp, da) = pose_error(&pose(&a.sim, a.tip), &goal);
     assert!(dp < POS_TOL && da < ANG_TOL);
 }
 
@@ -231,13 +231,13 @@ fn set_joint_position_writes_the_scene_joint() {
     let (env, _, _) = setup_42(&mut a);
     let j = a.joints[1];
     api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.setJointPosition",
         &[Value::Int(env), Value::Int(j), Value::Float(0.25)],
     )
     .expect("setJointPosition");
-    assert!((a.world.joint(j).expect("joint").position - 0.25).abs() < 1e-12);
-    let q = api(&mut a.world, "simIK.getJointPosition", &ints(&[env, j])).expect("get");
+    assert!((a.sim.world.joint(j).expect("joint").position - 0.25).abs() < 1e-12);
+    let q = api(&mut a.sim, "simIK.getJointPosition", &ints(&[env, j])).expect("get");
     assert!((q[0].as_f64().expect("number") - 0.25).abs() < 1e-12);
 }
 
@@ -250,21 +250,21 @@ fn unsupported_uses_fail_loudly_and_name_the_function() {
     // Constraints relative to another frame than the base.
     let mut args = ege.clone();
     args.extend(ints(&[a.base, a.target]));
-    let e = api(&mut a.world, "simIK.setIkElementBase", &args).expect_err("other frame");
+    let e = api(&mut a.sim, "simIK.setIkElementBase", &args).expect_err("other frame");
     assert!(e.contains("simIK.setIkElementBase") && e.contains("argument 5"), "{e}");
 
     // A base the tip does not hang below leaves the element as it was.
     let mut args = ege.clone();
     args.push(Value::Int(a.target));
-    let e = api(&mut a.world, "simIK.setElementBase", &args).expect_err("not a chain");
+    let e = api(&mut a.sim, "simIK.setElementBase", &args).expect_err("not a chain");
     assert!(e.contains("simIK.setElementBase"), "{e}");
-    let r = api(&mut a.world, "simIK.getElementBase", &ege).expect("getElementBase");
+    let r = api(&mut a.sim, "simIK.getElementBase", &ege).expect("getElementBase");
     assert_eq!(int(&r[0]), a.base);
 
     // Moving a joint object would reshape the robot in the scene.
-    let m = api(&mut a.world, "sim.getObjectMatrix", &ints(&[a.joints[0], -1])).expect("matrix");
+    let m = api(&mut a.sim, "sim.getObjectMatrix", &ints(&[a.joints[0], -1])).expect("matrix");
     let e = api(
-        &mut a.world,
+        &mut a.sim,
         "simIK.setObjectMatrix",
         &[Value::Int(env), Value::Int(a.joints[0]), Value::Int(-1), m[0].clone()],
     )
@@ -272,8 +272,8 @@ fn unsupported_uses_fail_loudly_and_name_the_function() {
     assert!(e.contains("simIK.setObjectMatrix") && e.contains("joint"), "{e}");
 
     // A stale environment.
-    api(&mut a.world, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
-    let e = api(&mut a.world, "simIK.getObjectMatrix", &ints(&[env, a.target, -1])).expect_err("erased");
+    api(&mut a.sim, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
+    let e = api(&mut a.sim, "simIK.getObjectMatrix", &ints(&[env, a.target, -1])).expect_err("erased");
     assert!(e.contains("environment"), "{e}");
 
     // The 4.2 functions that build a separate IK world are not offered.
@@ -283,7 +283,7 @@ fn unsupported_uses_fail_loudly_and_name_the_function() {
         "simIK.addIkElement",
         "simIK.setLinkedDummy",
     ] {
-        let e = api(&mut a.world, f, &ints(&[1])).expect_err(f);
+        let e = api(&mut a.sim, f, &ints(&[1])).expect_err(f);
         assert!(e.starts_with("No such function"), "{e}");
     }
 }

@@ -12,7 +12,7 @@ use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
 /// A 1 kg cylinder of radius 0.2 m on a hinge about world Z: I = m r² / 2 = 0.02 kg·m².
 const SCENE: &str = r#"
@@ -58,15 +58,15 @@ fn spin_up(tau: f64, t: f64) -> f64 {
     tau / DAMPING * (1.0 - (-DAMPING * t / INERTIA).exp())
 }
 
-fn world() -> (World, Handle) {
+fn world() -> (Sim, Handle) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("joint_force.toml");
     let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    let w = World::new(&model);
-    let h = w.find("/hinge", None, 0).expect("hinge");
+    let w = Sim::new(&model);
+    let h = w.world.find("/hinge", None, 0).expect("hinge");
     (w, h)
 }
 
-fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     let ctx = CallContext {
         script_object: None,
         source: "joint_force.lua",
@@ -74,20 +74,19 @@ fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String>
     api::call(w, &ctx, name, args)
 }
 
-fn float(w: &mut World, name: &str, h: Handle) -> f64 {
+fn float(w: &mut Sim, name: &str, h: Handle) -> f64 {
     call(w, name, &[Value::Int(h)]).expect(name)[0]
         .as_f64()
         .expect("a number")
 }
 
-fn steps(w: &mut World, n: usize) {
+fn steps(w: &mut Sim, n: usize) {
     for _ in 0..n {
-        w.step_physics();
-        w.advance_time();
+        w.step();
     }
 }
 
-fn force_mode(w: &mut World, h: Handle) {
+fn force_mode(w: &mut Sim, h: Handle) {
     let ctrl = call(w, "sim.getObjectInt32Param", &[Value::Int(h), Value::Int(2039)]).expect("dynctrl");
     assert_eq!(ctrl, [Value::Int(4)], "the scene's joint starts in velocity control");
     call(

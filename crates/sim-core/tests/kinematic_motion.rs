@@ -9,7 +9,7 @@ use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
 const SCENE: &str = r#"
 [simulation]
@@ -38,13 +38,13 @@ position = [1, 0, 0.5]
 
 const DT: f64 = 0.05;
 
-fn world() -> World {
+fn world() -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("kinematic_motion.toml");
     let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn call(w: &mut World, name: &str, args: &[Value]) -> Vec<Value> {
+fn call(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
     let ctx = CallContext {
         script_object: None,
         source: "kinematic_motion.lua",
@@ -52,17 +52,16 @@ fn call(w: &mut World, name: &str, args: &[Value]) -> Vec<Value> {
     api::call(w, &ctx, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn get(w: &mut World, name: &str, h: Handle) -> f64 {
+fn get(w: &mut Sim, name: &str, h: Handle) -> f64 {
     call(w, name, &[Value::Int(h)])[0].as_f64().expect("a number")
 }
 
-fn step(w: &mut World) {
-    w.step_physics();
-    w.advance_time();
+fn step(w: &mut Sim) {
+    w.step();
 }
 
-fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0).expect(path)
+fn find(w: &Sim, path: &str) -> Handle {
+    w.world.find(path, None, 0).expect(path)
 }
 
 #[test]

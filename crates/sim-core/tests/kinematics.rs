@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene, load_scene_text};
 use gantry_sim_core::world::ObjectKind;
-use gantry_sim_core::{Handle, World};
+use gantry_sim_core::{Handle, Sim};
 
 // ---------------------------------------------------------------------------------------
 // The independent model: plain f64 rotation matrices, no gantry or nalgebra math.
@@ -173,18 +173,18 @@ fn asset(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
 }
 
-fn fk_arm() -> World {
+fn fk_arm() -> Sim {
     let model = load_scene(&DiskFiles, &asset("scenes/fk_arm.toml"), &LoadOptions::default()).expect("fk_arm loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0).unwrap_or_else(|e| panic!("{path}: {e}"))
+fn find(w: &Sim, path: &str) -> Handle {
+    w.world.find(path, None, 0).unwrap_or_else(|e| panic!("{path}: {e}"))
 }
 
 /// The world frame of an object, converted to the model's plain arrays.
-fn world_frame(w: &World, h: Handle) -> Frame {
-    let pose = w.object(h).expect("object exists").world;
+fn world_frame(w: &Sim, h: Handle) -> Frame {
+    let pose = w.world.object(h).expect("object exists").world;
     let m = pose.rotation.to_rotation_matrix().into_inner();
     let t = pose.translation.vector;
     Frame {
@@ -208,7 +208,7 @@ fn rotation_angle(a: &Mat3, b: &Mat3) -> f64 {
 }
 
 /// Largest position and orientation errors of the seven link frames against the model.
-fn fk_errors(w: &World, links: &[Handle; 7], q: &[f64; 6]) -> (f64, f64) {
+fn fk_errors(w: &Sim, links: &[Handle; 7], q: &[f64; 6]) -> (f64, f64) {
     let expected = model_fk(q);
     let mut worst = (0.0f64, 0.0f64);
     for (h, e) in links.iter().zip(&expected) {
@@ -219,13 +219,13 @@ fn fk_errors(w: &World, links: &[Handle; 7], q: &[f64; 6]) -> (f64, f64) {
     worst
 }
 
-fn set_joints(w: &mut World, joints: &[Handle; 6], q: &[f64; 6]) {
+fn set_joints(w: &mut Sim, joints: &[Handle; 6], q: &[f64; 6]) {
     for (h, qi) in joints.iter().zip(q) {
-        w.set_joint_position(*h, *qi).expect("joint");
+        w.world.set_joint_position(*h, *qi).expect("joint");
     }
 }
 
-fn handles<const N: usize>(w: &World, paths: [&str; N]) -> [Handle; N] {
+fn handles<const N: usize>(w: &Sim, paths: [&str; N]) -> [Handle; N] {
     paths.map(|p| find(w, p))
 }
 
@@ -249,11 +249,11 @@ fn scene_starts_in_the_documented_pose() {
     let joints = handles(&w, JOINTS);
     let links = handles(&w, LINKS);
     assert!(
-        matches!(w.object(links[6]).expect("tip").kind, ObjectKind::Shape(_)),
+        matches!(w.world.object(links[6]).expect("tip").kind, ObjectKind::Shape(_)),
         "/arm6/tip should be the URDF link"
     );
     // `initial = { joint5 = -90 }` is in degrees; the world reads radians.
-    let q: [f64; 6] = joints.map(|h| w.joint(h).expect("joint").position);
+    let q: [f64; 6] = joints.map(|h| w.world.joint(h).expect("joint").position);
     assert_eq!(q[..4], [0.0; 4]);
     assert!((q[4] + FRAC_PI_2).abs() < 1e-15, "joint5 starts at {}", q[4]);
     let (dp, da) = fk_errors(&w, &links, &q);
@@ -273,7 +273,7 @@ fn forward_kinematics_matches_independent_model() {
         // Every sample is inside the limits, so the joints must read back what was set
         // (wrapping of a continuous joint may move it by an ulp, not more).
         for (h, qi) in joints.iter().zip(&q) {
-            let read = w.joint(*h).expect("joint").position;
+            let read = w.world.joint(*h).expect("joint").position;
             assert!(
                 (read - qi).abs() < 1e-12,
                 "config {i}: joint {h} set to {qi}, reads {read}"
@@ -297,11 +297,11 @@ fn joint_position_is_clamped_to_its_limits() {
     let joints = handles(&w, JOINTS);
     let links = handles(&w, LINKS);
     // joint2's URDF limits are [-110, 90] deg, given in the file as radians.
-    w.set_joint_position(joints[1], 3.0).expect("joint");
-    let upper = w.joint(joints[1]).expect("joint").position;
+    w.world.set_joint_position(joints[1], 3.0).expect("joint");
+    let upper = w.world.joint(joints[1]).expect("joint").position;
     assert_eq!(upper, FRAC_PI_2, "joint2 set to 3.0 rad reads {upper}");
-    w.set_joint_position(joints[1], -3.0).expect("joint");
-    let lower = w.joint(joints[1]).expect("joint").position;
+    w.world.set_joint_position(joints[1], -3.0).expect("joint");
+    let lower = w.world.joint(joints[1]).expect("joint").position;
     assert_eq!(lower, -1.9198621771937625, "joint2 set to -3.0 rad reads {lower}");
     // The links follow the clamped value, not the requested one.
     let (dp, da) = fk_errors(&w, &links, &[0.0, lower, 0.0, 0.0, -FRAC_PI_2, 0.0]);
@@ -316,8 +316,8 @@ fn continuous_joint_wraps_into_half_open_interval() {
     let mut w = fk_arm();
     let joint1 = find(&w, "/arm6/joint1");
     let links = handles(&w, LINKS);
-    w.set_joint_position(joint1, 1.5 * PI).expect("joint");
-    let q = w.joint(joint1).expect("joint").position;
+    w.world.set_joint_position(joint1, 1.5 * PI).expect("joint");
+    let q = w.world.joint(joint1).expect("joint").position;
     assert!(
         (q + FRAC_PI_2).abs() < 1e-12,
         "joint1 set to 3pi/2 reads {q}, expected -pi/2"
@@ -328,10 +328,14 @@ fn continuous_joint_wraps_into_half_open_interval() {
         "links off the wrapped pose by {dp} m, {da} rad"
     );
     // The range is (-pi, pi]: -pi itself is reported as +pi, and +pi stays +pi.
-    w.set_joint_position(joint1, -PI).expect("joint");
-    assert_eq!(w.joint(joint1).expect("joint").position, PI, "-pi must wrap to +pi");
-    w.set_joint_position(joint1, PI).expect("joint");
-    assert_eq!(w.joint(joint1).expect("joint").position, PI, "+pi must stay +pi");
+    w.world.set_joint_position(joint1, -PI).expect("joint");
+    assert_eq!(
+        w.world.joint(joint1).expect("joint").position,
+        PI,
+        "-pi must wrap to +pi"
+    );
+    w.world.set_joint_position(joint1, PI).expect("joint");
+    assert_eq!(w.world.joint(joint1).expect("joint").position, PI, "+pi must stay +pi");
 }
 
 #[test]
@@ -340,9 +344,9 @@ fn set_joint_position_moves_descendants_before_any_step() {
     let joint1 = find(&w, "/arm6/joint1");
     let tip = find(&w, "/arm6/tip");
     let before = world_frame(&w, tip).p;
-    w.set_joint_position(joint1, 0.5).expect("joint");
+    w.world.set_joint_position(joint1, 0.5).expect("joint");
     let after = world_frame(&w, tip).p;
-    assert_eq!(w.steps(), 0, "no step may have run");
+    assert_eq!(w.world.steps(), 0, "no step may have run");
     // Yawing the base by 0.5 rad swings the tip about world Z at radius 0.45 m.
     let expected = [0.45 * 0.5f64.cos(), 0.45 * 0.5f64.sin(), 0.652];
     assert!(
@@ -354,7 +358,7 @@ fn set_joint_position_moves_descendants_before_any_step() {
         "tip at {after:?}, expected {expected:?}"
     );
     // The scene's dummy below the tip link moves along with it.
-    let dummy = w.find("/arm6/tip/tip", None, 0).expect("tip_frame dummy");
+    let dummy = w.world.find("/arm6/tip/tip", None, 0).expect("tip_frame dummy");
     assert!(distance(&world_frame(&w, dummy).p, &expected) < 1e-12);
 }
 
@@ -394,19 +398,17 @@ fn scene_format_doc_example_loads() {
         model.warnings
     );
     assert!(!model.scripts.is_empty(), "the example should attach a script");
-    let mut w = World::new(&model);
+    let mut w = Sim::new(&model);
     assert!(
-        w.warnings().is_empty(),
+        w.world.warnings().is_empty(),
         "building the example warns: {:?}",
-        w.warnings()
+        w.world.warnings()
     );
     for _ in 0..10 {
-        w.step_physics();
-        w.handle_all_proximity_sensors();
-        w.advance_time();
+        w.step();
     }
-    for &h in w.handles() {
-        let p = w.object(h).expect("exists").world.translation.vector;
+    for &h in w.world.handles() {
+        let p = w.world.object(h).expect("exists").world.translation.vector;
         assert!(
             p.iter().all(|v| v.is_finite()),
             "object {h} has a non-finite pose after 10 steps"

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
 /// Three shapes named as CoppeliaSim names copies (`box`, `box#0`'s original name is
 /// `box` too), a dynamic one, and a joint.
@@ -41,14 +41,14 @@ mode = "velocity"
 position = [2, 0, 0.5]
 "#;
 
-fn world() -> World {
+fn world() -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("legacy.toml");
     let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
 /// A call as the script attached to `object` makes it.
-fn call(w: &mut World, object: Option<Handle>, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, object: Option<Handle>, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     let ctx = CallContext {
         script_object: object,
         source: "legacy.lua",
@@ -56,7 +56,7 @@ fn call(w: &mut World, object: Option<Handle>, name: &str, args: &[Value]) -> Re
     api::call(w, &ctx, name, args)
 }
 
-fn ok(w: &mut World, name: &str, args: &[Value]) -> Vec<Value> {
+fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
     call(w, None, name, args).unwrap_or_else(|e| panic!("sim.{name}: {e}"))
 }
 
@@ -64,8 +64,8 @@ fn s(v: &str) -> Value {
     Value::Str(v.to_owned())
 }
 
-fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0).expect(path)
+fn find(w: &Sim, path: &str) -> Handle {
+    w.world.find(path, None, 0).expect(path)
 }
 
 #[test]
@@ -171,7 +171,12 @@ fn status_bar_consoles_and_dialogs_write_to_the_log() {
     .clone();
     assert_eq!(ok(&mut w, "getDialogResult", std::slice::from_ref(&d)), [Value::Int(1)]);
     assert_eq!(ok(&mut w, "endDialog", &[d]), [Value::Int(1)]);
-    let lines: Vec<(String, String)> = w.log.lines().map(|l| (l.source.clone(), l.message.clone())).collect();
+    let lines: Vec<(String, String)> = w
+        .world
+        .log
+        .lines()
+        .map(|l| (l.source.clone(), l.message.clone()))
+        .collect();
     assert_eq!(
         lines,
         [
@@ -188,7 +193,7 @@ fn user_parameters_script_association_and_misc() {
     let mut w = world();
     let ball = find(&w, "/ball");
     let hinge = find(&w, "/hinge");
-    let own = |w: &mut World, name: &str, args: &[Value]| call(w, Some(ball), name, args).expect(name);
+    let own = |w: &mut Sim, name: &str, args: &[Value]| call(w, Some(ball), name, args).expect(name);
     assert_eq!(
         own(&mut w, "getScriptSimulationParameter", &[Value::Int(-4), s("gain")]),
         [Value::Nil]

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
 /// A fixed holder at 1 m with a pad dummy under it, and a free 10 cm box below whose
 /// grip dummy sits 5 cm under the pad.
@@ -45,31 +45,30 @@ parent = "box"
 position = [0, 0, 0.05]
 "#;
 
-fn world() -> World {
+fn world() -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("links.toml");
     let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     api::call(w, &CallContext::default(), name, args)
 }
 
-fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0).expect(path)
+fn find(w: &Sim, path: &str) -> Handle {
+    w.world.find(path, None, 0).expect(path)
 }
 
-fn height(w: &mut World, h: Handle) -> f64 {
+fn height(w: &mut Sim, h: Handle) -> f64 {
     match &call(w, "getObjectPosition", &[Value::Int(h), Value::Int(-1)]).expect("position")[0] {
         Value::Array(p) => p[2].as_f64().expect("z"),
         other => panic!("{other:?}"),
     }
 }
 
-fn steps(w: &mut World, n: usize) {
+fn steps(w: &mut Sim, n: usize) {
     for _ in 0..n {
-        w.step_physics();
-        w.advance_time();
+        w.step();
     }
 }
 

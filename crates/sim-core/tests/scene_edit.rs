@@ -5,7 +5,7 @@ use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
 /// A floor, a rotated dummy, a box carrying a kinematic hinge with a dynamic link, and a
 /// vision sensor.
@@ -65,21 +65,21 @@ const GRAVITY: i64 = 0;
 const AMBIENT_DIFFUSE: i64 = 0;
 const DT: f64 = 0.05;
 
-fn world() -> World {
+fn world() -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scene_edit.toml");
     let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn call(w: &mut World, name: &str, args: Vec<Value>) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, name: &str, args: Vec<Value>) -> Result<Vec<Value>, String> {
     api::call(w, &CallContext::default(), name, &args)
 }
 
-fn ok(w: &mut World, name: &str, args: Vec<Value>) -> Vec<Value> {
+fn ok(w: &mut Sim, name: &str, args: Vec<Value>) -> Vec<Value> {
     call(w, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn err(w: &mut World, name: &str, args: Vec<Value>) -> String {
+fn err(w: &mut Sim, name: &str, args: Vec<Value>) -> String {
     match call(w, name, args) {
         Ok(r) => panic!("{name} should fail, returned {r:?}"),
         Err(e) => e,
@@ -113,27 +113,26 @@ fn handles(hs: &[Handle]) -> Value {
     Value::Array(hs.iter().map(|&h| Value::Int(h)).collect())
 }
 
-fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0).expect(path)
+fn find(w: &Sim, path: &str) -> Handle {
+    w.world.find(path, None, 0).expect(path)
 }
 
-fn position(w: &mut World, h: Handle) -> Vec<f64> {
+fn position(w: &mut Sim, h: Handle) -> Vec<f64> {
     floats(&ok(w, "sim.getObjectPosition", vec![i(h), i(-1)])[0])
 }
 
-fn velocity(w: &mut World, h: Handle) -> Vec<f64> {
+fn velocity(w: &mut Sim, h: Handle) -> Vec<f64> {
     floats(&ok(w, "sim.getObjectVelocity", vec![i(h)])[0])
 }
 
-fn step(w: &mut World, n: usize) {
+fn step(w: &mut Sim, n: usize) {
     for _ in 0..n {
-        w.step_physics();
-        w.advance_time();
+        w.step();
     }
 }
 
 /// A 10 cm cube at `at`, made dynamic and respondable as CoppeliaSim scripts do.
-fn dynamic_cube(w: &mut World, at: [f64; 3]) -> Handle {
+fn dynamic_cube(w: &mut Sim, at: [f64; 3]) -> Handle {
     let h = int(&ok(w, "sim.createPrimitiveShape", vec![i(CUBOID), v3(0.1, 0.1, 0.1)])[0]);
     ok(w, "sim.setObjectPosition", vec![i(h), v3(at[0], at[1], at[2])]);
     ok(w, "sim.setObjectInt32Param", vec![i(h), i(SHAPE_STATIC), i(0)]);
@@ -213,8 +212,8 @@ fn every_primitive_can_be_created_and_falls() {
             );
         }
     }
-    let created: Vec<Handle> = (0..w.len() as Handle)
-        .filter(|&h| w.object(h).is_ok_and(|o| o.kind.type_code() == 0) && h > find(&w, "/camera"))
+    let created: Vec<Handle> = (0..w.world.len() as Handle)
+        .filter(|&h| w.world.object(h).is_ok_and(|o| o.kind.type_code() == 0) && h > find(&w, "/camera"))
         .collect();
     assert_eq!(created.len(), 14);
     step(&mut w, 60);
@@ -250,9 +249,9 @@ fn removed_handles_error_and_are_never_reused() {
     // All or nothing: one bad handle removes nothing.
     let e = err(&mut w, "sim.removeObjects", vec![handles(&[c, b])]);
     assert!(e.contains("object does not exist"), "{e}");
-    assert!(w.object(c).is_ok());
+    assert!(w.world.object(c).is_ok());
     // Removed objects are not found by path either, nor listed.
-    assert!(!w.handles().contains(&a) && !w.handles().contains(&b));
+    assert!(!w.world.handles().contains(&a) && !w.world.handles().contains(&b));
     let all = floats(&ok(&mut w, "sim.getObjectsInTree", vec![i(-12)])[0]);
     assert!(!all.contains(&(a as f64)) && all.contains(&(c as f64)));
 }
@@ -316,7 +315,7 @@ fn removing_a_mechanism_part_leaves_a_working_world() {
     assert!(z < 0.35, "the link fell: z = {z}");
     ok(&mut w, "sim.removeObjects", vec![handles(&[stand, link])]);
     step(&mut w, 3);
-    assert!(w.handles().iter().all(|&h| w.object(h).is_ok()));
+    assert!(w.world.handles().iter().all(|&h| w.world.object(h).is_ok()));
 }
 
 #[test]
@@ -469,13 +468,13 @@ fn colors_round_trip() {
     let h = int(&ok(&mut w, "sim.createPrimitiveShape", vec![i(CUBOID), v3(0.1, 0.1, 0.1)])[0]);
     let r = ok(&mut w, "sim.getShapeColor", vec![i(h), Value::Nil, i(AMBIENT_DIFFUSE)]);
     assert_eq!((int(&r[0]), floats(&r[1])), (1, vec![1.0, 1.0, 1.0]), "created white");
-    let rev = w.scene_revision();
+    let rev = w.world.scene_revision();
     ok(
         &mut w,
         "sim.setShapeColor",
         vec![i(h), Value::Nil, i(AMBIENT_DIFFUSE), v3(0.2, 0.4, 0.6)],
     );
-    assert!(w.scene_revision() > rev, "the viewer learns of the change");
+    assert!(w.world.scene_revision() > rev, "the viewer learns of the change");
     let r = ok(
         &mut w,
         "sim.getShapeColor",
@@ -806,28 +805,28 @@ fn bad_arguments_give_clear_errors() {
     let e = err(&mut w, "sim.copyPasteObjects", vec![handles(&[12_345])]);
     assert!(e.contains("object does not exist"), "{e}");
     // Removing everything the calls above touched leaves an empty, steppable world.
-    let all: Vec<Handle> = w.handles().to_vec();
+    let all: Vec<Handle> = w.world.handles().to_vec();
     ok(&mut w, "sim.removeObjects", vec![handles(&all)]);
-    assert!(w.handles().is_empty() && w.roots().is_empty());
+    assert!(w.world.handles().is_empty() && w.world.roots().is_empty());
     step(&mut w, 2);
 }
 
 #[test]
 fn scene_revision_tracks_what_the_viewer_shows() {
     let mut w = world();
-    let (r0, s0) = (w.scene_revision(), w.structure_revision());
+    let (r0, s0) = (w.world.scene_revision(), w.world.structure_revision());
     let h = int(&ok(&mut w, "sim.createDummy", vec![f(0.1)])[0]);
-    assert!(w.scene_revision() > r0 && w.structure_revision() > s0);
-    let (r1, s1) = (w.scene_revision(), w.structure_revision());
+    assert!(w.world.scene_revision() > r0 && w.world.structure_revision() > s0);
+    let (r1, s1) = (w.world.scene_revision(), w.world.structure_revision());
     ok(&mut w, "sim.setObjectAlias", vec![i(h), Value::Str("named".into())]);
-    assert!(w.scene_revision() > r1);
-    assert_eq!(w.structure_revision(), s1, "a rename keeps the object list");
+    assert!(w.world.scene_revision() > r1);
+    assert_eq!(w.world.structure_revision(), s1, "a rename keeps the object list");
     // Moving objects is not a scene change: poses stream separately.
-    let r2 = w.scene_revision();
+    let r2 = w.world.scene_revision();
     ok(&mut w, "sim.setObjectPosition", vec![i(h), v3(1.0, 2.0, 3.0)]);
-    assert_eq!(w.scene_revision(), r2);
+    assert_eq!(w.world.scene_revision(), r2);
     ok(&mut w, "sim.removeObject", vec![i(h)]);
-    assert!(w.structure_revision() > s1);
+    assert!(w.world.structure_revision() > s1);
 }
 
 #[test]
@@ -894,7 +893,7 @@ fn rebuilding_a_mimic_leader_keeps_its_follower_coupled() {
     let scene = "[simulation]\ndt = 0.01\nsubsteps = 1\n\n[[robot]]\nname = \"r\"\nurdf = \"gripper.urdf\"\njoint_mode = \"position\"\n";
     let model = load_scene_text(&DiskFiles, scene, &dir.join("scene.toml"), &LoadOptions::default());
     std::fs::remove_dir_all(&dir).ok();
-    let mut w = World::new(&model.expect("scene loads"));
+    let mut w = Sim::new(&model.expect("scene loads"));
     let (left, right) = (find(&w, "/r/left_slide"), find(&w, "/r/right_slide"));
     assert_eq!(
         ok(&mut w, "sim.getJointMode", vec![i(right)])[0],
@@ -906,8 +905,8 @@ fn rebuilding_a_mimic_leader_keeps_its_follower_coupled() {
     ok(&mut w, "sim.setJointTargetPosition", vec![i(left), f(0.03)]);
     step(&mut w, 200);
     let (l, r) = (
-        w.joint(left).expect("joint").position,
-        w.joint(right).expect("joint").position,
+        w.world.joint(left).expect("joint").position,
+        w.world.joint(right).expect("joint").position,
     );
     assert!((l - 0.03).abs() < 2e-3, "leader at {l}");
     assert!((r + l).abs() < 1e-3, "follower at {r} for leader at {l}");
@@ -924,7 +923,7 @@ fn objects_created_after_a_removal_are_measured() {
     ok(&mut w, "sim.removeObject", vec![i(gone)]);
     // Its handle is past the number of live objects.
     let h = int(&ok(&mut w, "sim.createPrimitiveShape", vec![i(CUBOID), v3(0.1, 0.1, 0.1)])[0]);
-    assert!(h as usize >= w.handles().len());
+    assert!(h as usize >= w.world.handles().len());
     ok(&mut w, "sim.setObjectPosition", vec![i(h), v3(-1.0, 1.0, 0.1)]);
     let stand = find(&w, "/stand");
     let r = ok(&mut w, "sim.checkDistance", vec![i(stand), i(h)]);
@@ -943,10 +942,9 @@ fn a_shape_made_dynamic_before_a_scene_query_still_falls() {
     let h = int(&b);
     ok(&mut w, "setObjectPosition", vec![b.clone(), v3(0.5, 0.5, 1.0), i(-1)]);
     ok(&mut w, "setObjectInt32Param", vec![b.clone(), i(3003), i(0)]);
-    w.refresh_queries();
+    w.world.refresh_queries();
     for _ in 0..4 {
-        w.step_physics();
-        w.advance_time();
+        w.step();
     }
     let z = position(&mut w, h)[2];
     // Free fall for 0.2 s: 0.196 m.

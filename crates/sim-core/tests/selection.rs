@@ -5,9 +5,9 @@ use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::{Value, World};
+use gantry_sim_core::{Sim, Value};
 
-fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     api::call(w, &CallContext::default(), name, args)
 }
 
@@ -19,8 +19,11 @@ fn ints(v: &[i64]) -> Value {
 fn the_selection_is_set_read_and_forgets_removed_objects() {
     let text = "[[object]]\nname = \"a\"\nkind = \"dummy\"\n\n[[object]]\nname = \"b\"\nkind = \"dummy\"\n";
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("sel.toml");
-    let mut w = World::new(&load_scene_text(&DiskFiles, text, &path, &LoadOptions::default()).expect("scene"));
-    let (a, b) = (w.find("/a", None, 0).unwrap(), w.find("/b", None, 0).unwrap());
+    let mut w = Sim::new(&load_scene_text(&DiskFiles, text, &path, &LoadOptions::default()).expect("scene"));
+    let (a, b) = (
+        w.world.find("/a", None, 0).unwrap(),
+        w.world.find("/b", None, 0).unwrap(),
+    );
     assert_eq!(call(&mut w, "sim.getObjectSel", &[]).unwrap(), [ints(&[])]);
     call(&mut w, "sim.setObjectSel", &[ints(&[b, a, b])]).unwrap();
     assert_eq!(
@@ -28,9 +31,13 @@ fn the_selection_is_set_read_and_forgets_removed_objects() {
         [ints(&[b, a])],
         "order kept, no duplicate"
     );
-    let r = w.selection.revision();
+    let r = w.world.selection.revision();
     call(&mut w, "sim.setObjectSel", &[ints(&[b, a])]).unwrap();
-    assert_eq!(w.selection.revision(), r, "an unchanged selection is not a change");
+    assert_eq!(
+        w.world.selection.revision(),
+        r,
+        "an unchanged selection is not a change"
+    );
     let e = call(&mut w, "sim.setObjectSel", &[ints(&[a, 999])]).unwrap_err();
     assert!(e.contains("999") && e.contains("sim.setObjectSel"), "{e}");
     assert_eq!(

@@ -6,19 +6,19 @@ use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
-fn bubble_rob() -> World {
+fn bubble_rob() -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn find(w: &World, path: &str, index: usize) -> Handle {
-    w.find(path, None, index).expect(path)
+fn find(w: &Sim, path: &str, index: usize) -> Handle {
+    w.world.find(path, None, index).expect(path)
 }
 
-fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     api::call(w, &CallContext::default(), name, args)
 }
 
@@ -28,18 +28,18 @@ fn int(v: &Value) -> i64 {
 
 /// Obstacle 0 with its front face 0.1 m ahead of the nose sensor, obstacle 1 behind it
 /// (front face 0.14 m ahead, within the 0.15 m range). Returns world, sensor, obstacles.
-fn two_obstacles_ahead() -> (World, Handle, [Handle; 2]) {
+fn two_obstacles_ahead() -> (Sim, Handle, [Handle; 2]) {
     let mut w = bubble_rob();
     let base = find(&w, "/bubbleRob", 0);
     let nose = find(&w, "/bubbleRob/sensingNose", 0);
     let obstacles = [find(&w, "/obstacle", 0), find(&w, "/obstacle", 1)];
     for (o, ahead) in obstacles.iter().zip([0.1, 0.14]) {
-        let mut pose = w.object(base).expect("base").world;
+        let mut pose = w.world.object(base).expect("base").world;
         // Sensor 0.1 m in front of the base centre, cylinders of radius 0.05.
         pose.translation.vector.x += 0.1 + ahead + 0.05;
         pose.translation.vector.z = 0.1;
         pose.rotation = nalgebra::UnitQuaternion::identity();
-        w.set_world_pose(*o, pose).expect("moves");
+        w.world.set_world_pose(*o, pose).expect("moves");
     }
     (w, nose, obstacles)
 }

@@ -6,10 +6,10 @@ use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-use gantry_sim_core::world::keys;
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::ui::keys;
+use gantry_sim_core::{Handle, Sim, Value};
 
-fn next(w: &mut World, reader: Option<Handle>) -> (i64, Vec<Value>) {
+fn next(w: &mut Sim, reader: Option<Handle>) -> (i64, Vec<Value>) {
     let ctx = CallContext {
         script_object: reader,
         source: "messages.lua",
@@ -31,7 +31,7 @@ fn each_reader_drains_its_own_queue() {
         &LoadOptions::default(),
     )
     .expect("scene");
-    let mut w = World::new(&model);
+    let mut w = Sim::new(&model);
     let keypress = api::module("sim")
         .and_then(|m| m.constants.iter().find(|(n, _)| *n == "message_keypress"))
         .map(|(_, v)| *v)

@@ -6,16 +6,16 @@ use std::path::{Path, PathBuf};
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::ui::{Layout, MAX_UIS, MAX_WIDGETS, MAX_XML_LEN, Placement, UiEvent, WidgetKind};
-use gantry_sim_core::{Handle, Value, World};
+use gantry_sim_core::{Handle, Sim, Value};
 
-fn world() -> World {
+fn world() -> Sim {
     let path: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn base(w: &World) -> Handle {
-    w.find("/bubbleRob", None, 0).expect("/bubbleRob")
+fn base(w: &Sim) -> Handle {
+    w.world.find("/bubbleRob", None, 0).expect("/bubbleRob")
 }
 
 /// The context of BubbleRob's child script.
@@ -26,7 +26,7 @@ fn script(obj: Handle) -> CallContext<'static> {
     }
 }
 
-fn call(w: &mut World, ctx: &CallContext<'_>, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, ctx: &CallContext<'_>, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     api::call(w, ctx, name, args)
 }
 
@@ -45,7 +45,7 @@ fn seed_xml(alias: &str) -> String {
 }
 
 /// Creates the seed UI from BubbleRob's script; returns the world, the script context and the handle.
-fn seed_ui() -> (World, CallContext<'static>, i64) {
+fn seed_ui() -> (Sim, CallContext<'static>, i64) {
     let mut w = world();
     let ctx = script(base(&w));
     let obj = Value::Int(base(&w));
@@ -55,8 +55,9 @@ fn seed_ui() -> (World, CallContext<'static>, i64) {
     (w, ctx, ui)
 }
 
-fn warnings(w: &World) -> Vec<String> {
-    w.log
+fn warnings(w: &Sim) -> Vec<String> {
+    w.world
+        .log
         .lines()
         .filter(|l| l.verbosity == 300)
         .map(|l| l.message.clone())
@@ -99,7 +100,7 @@ fn seed_xml_creates_its_ui_without_a_warning() {
         notes[0].contains("'onchange' is deprecated. please use 'on-change'"),
         "{notes:?}"
     );
-    assert!(w.log.lines().all(|l| l.source == "bubbleRob.lua"));
+    assert!(w.world.log.lines().all(|l| l.source == "bubbleRob.lua"));
 
     // The attribute is read: `resizeable="true"` makes a resizable window.
     let mut w = world();
@@ -111,8 +112,9 @@ fn seed_xml_creates_its_ui_without_a_warning() {
 }
 
 /// Log lines at one verbosity.
-fn lines_at(w: &World, verbosity: i64) -> Vec<String> {
-    w.log
+fn lines_at(w: &Sim, verbosity: i64) -> Vec<String> {
+    w.world
+        .log
         .lines()
         .filter(|l| l.verbosity == verbosity)
         .map(|l| l.message.clone())
@@ -131,8 +133,7 @@ fn deprecated_spelling_is_reported_once_per_world() {
 #[test]
 fn slider_values_round_and_clamp_without_events_by_default() {
     let (mut w, ctx, ui) = seed_ui();
-    let get =
-        |w: &mut World| int(&call(w, &ctx, "simUI.getSliderValue", &[Value::Int(ui), Value::Int(1)]).expect("get"));
+    let get = |w: &mut Sim| int(&call(w, &ctx, "simUI.getSliderValue", &[Value::Int(ui), Value::Int(1)]).expect("get"));
     // The seed's 100*(speed-min)/(max-min), which is 50 give or take a rounding error.
     let (min, max) = (50f64.to_radians(), 300f64.to_radians());
     let v = 100.0 * ((min + max) * 0.5 - min) / (max - min);
@@ -194,7 +195,7 @@ fn interact_queues_exactly_one_callback_event() {
 #[test]
 fn suppress_events_false_queues_the_callback_on_change_only() {
     let (mut w, ctx, ui) = seed_ui();
-    let set = |w: &mut World, v: i64, suppress: Value| {
+    let set = |w: &mut Sim, v: i64, suppress: Value| {
         call(
             w,
             &ctx,
@@ -434,10 +435,10 @@ fn a_panel_of_every_widget_reads_and_reacts() {
     );
     assert_eq!(window.widgets().len(), 13);
 
-    let i = |w: &mut World, id: i64, v: Value| {
+    let i = |w: &mut Sim, id: i64, v: Value| {
         call(w, &ctx, "simUI.interact", &[Value::Int(ui), Value::Int(id), v]).expect("interact");
     };
-    let names = |w: &mut World| -> Vec<(String, Value)> {
+    let names = |w: &mut Sim| -> Vec<(String, Value)> {
         w.uis.take_events().into_iter().map(|e| (e.callback, e.value)).collect()
     };
 
@@ -688,7 +689,7 @@ fn no_input_prefix_panics() {
 }
 
 /// A window with a button (1) and a slider (2), created by BubbleRob's script.
-fn window_ui() -> (World, CallContext<'static>, i64) {
+fn window_ui() -> (Sim, CallContext<'static>, i64) {
     let mut w = world();
     let ctx = script(base(&w));
     let xml = "<ui title=\"Panel\" placement=\"center\" position=\"10,20\">\
@@ -740,7 +741,7 @@ fn position_and_title_read_back_and_move_the_window() {
 fn hidden_widgets_and_button_text() {
     let (mut w, ctx, ui) = window_ui();
     let h = Value::Int(ui);
-    let visible = |w: &mut World, id: i64| {
+    let visible = |w: &mut Sim, id: i64| {
         call(w, &ctx, "simUI.getWidgetVisibility", &[Value::Int(ui), Value::Int(id)]).expect("get")
     };
     assert_eq!(visible(&mut w, 1), vec![Value::Bool(true)]);

@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::{Handle, World};
+use gantry_sim_core::{Handle, Sim};
 
 /// A scratch folder with a scene and its URDF, removed on drop.
 struct Scratch(PathBuf);
@@ -23,7 +23,7 @@ impl Scratch {
 
     /// Writes `robot.urdf` and a scene that includes it with `robot_keys`, at `dt`
     /// seconds and one substep, and loads the scene.
-    fn world(&self, urdf: &str, robot_keys: &str, dt: f64) -> World {
+    fn world(&self, urdf: &str, robot_keys: &str, dt: f64) -> Sim {
         std::fs::write(self.0.join("robot.urdf"), urdf).expect("write urdf");
         self.scene(&format!(
             "[simulation]\ndt = {dt}\nsubsteps = 1\n\n[[robot]]\nname = \"r\"\nurdf = \"robot.urdf\"\n{robot_keys}\n"
@@ -36,11 +36,11 @@ impl Scratch {
     }
 
     /// Loads a scene file with this text from the folder.
-    fn scene(&self, text: &str) -> World {
+    fn scene(&self, text: &str) -> Sim {
         let path = self.0.join("scene.toml");
         std::fs::write(&path, text).expect("write scene");
         let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-        World::new(&model)
+        Sim::new(&model)
     }
 }
 
@@ -50,15 +50,14 @@ impl Drop for Scratch {
     }
 }
 
-fn step(w: &mut World, n: usize) {
+fn step(w: &mut Sim, n: usize) {
     for _ in 0..n {
-        w.step_physics();
-        w.advance_time();
+        w.step();
     }
 }
 
-fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0).expect(path)
+fn find(w: &Sim, path: &str) -> Handle {
+    w.world.find(path, None, 0).expect(path)
 }
 
 /// The pendulum's numbers: a 1 kg bob whose centre of mass is `L` from a joint about +Y.
@@ -131,7 +130,7 @@ fn free_pendulum_falls_as_the_equation_of_motion_says() {
             let mut w = dir.world(&pendulum(world_root, dynamics), "joint_mode = \"free\"", dt);
             let swing = find(&w, "/r/swing");
             step(&mut w, 500);
-            let q = w.joint(swing).expect("joint").position;
+            let q = w.world.joint(swing).expect("joint").position;
             let want = pendulum_angle(0.5, damping);
             // Semi-implicit Euler at 1 ms against RK4: about 1e-3 rad apart after 0.5 s.
             assert!(
@@ -172,7 +171,7 @@ fn free_pendulum_below_a_kinematic_joint_falls_at_the_right_speed() {
     );
     let swing = find(&w, "/r/swing");
     step(&mut w, 500);
-    let q = w.joint(swing).expect("joint").position;
+    let q = w.world.joint(swing).expect("joint").position;
     let want = pendulum_angle(0.5, 0.0);
     assert!(
         (q - want).abs() < 5e-3,
@@ -182,12 +181,13 @@ fn free_pendulum_below_a_kinematic_joint_falls_at_the_right_speed() {
     // swing leaves alone) turns from +Y to -X, in the tree and in rapier alike.
     let shoulder = find(&w, "/r/shoulder");
     let bob = find(&w, "/r/bob");
-    w.set_joint_position(shoulder, std::f64::consts::FRAC_PI_2)
+    w.world
+        .set_joint_position(shoulder, std::f64::consts::FRAC_PI_2)
         .expect("joint");
     step(&mut w, 2);
     let axis = |p: &gantry_sim_core::math::Pose| p.rotation * nalgebra::Vector3::y();
-    let tree = axis(&w.object(bob).expect("bob").world);
-    let body = axis(&w.physics_pose(bob).expect("bob has a body"));
+    let tree = axis(&w.world.object(bob).expect("bob").world);
+    let body = axis(&w.world.physics_pose(bob).expect("bob has a body"));
     for a in [tree, body] {
         assert!(
             (a - nalgebra::Vector3::new(-1.0, 0.0, 0.0)).norm() < 1e-3,
@@ -227,7 +227,7 @@ fn links_of_one_robot_collide_only_with_self_collision_on() {
         let mut w = dir.world(SWINGING_BAR, &format!("{keys}\n{extra}"), 1.0 / 240.0);
         let elbow = find(&w, "/r/elbow");
         step(&mut w, 240);
-        w.joint(elbow).expect("joint").position
+        w.world.joint(elbow).expect("joint").position
     };
     // Off (the default): the bar swings through the base and hangs about straight down.
     let through = elbow_after("");
@@ -270,16 +270,16 @@ fn mimic_followers_move_with_their_leader_in_every_mode() {
     // Kinematic: setting the leader places the follower at once.
     let mut w = dir.world(gripper, "", 0.01);
     let (left, right) = (find(&w, "/r/left_slide"), find(&w, "/r/right_slide"));
-    w.set_joint_position(left, 0.03).expect("joint");
-    assert!((w.joint(right).expect("joint").position + 0.03).abs() < 1e-12);
+    w.world.set_joint_position(left, 0.03).expect("joint");
+    assert!((w.world.joint(right).expect("joint").position + 0.03).abs() < 1e-12);
     // Simulated: the follower is coupled inside the mechanism and tracks the leader's
     // motor on its own (its own target is never set).
     let mut w = dir.world(gripper, "joint_mode = \"position\"", 0.01);
-    w.set_joint_target_position(left, 0.03).expect("joint");
+    w.world.set_joint_target_position(left, 0.03).expect("joint");
     step(&mut w, 200);
     let (l, r) = (
-        w.joint(left).expect("joint").position,
-        w.joint(right).expect("joint").position,
+        w.world.joint(left).expect("joint").position,
+        w.world.joint(right).expect("joint").position,
     );
     assert!((l - 0.03).abs() < 2e-3, "leader at {l}");
     assert!((r + l).abs() < 1e-3, "follower at {r} for leader at {l}");
@@ -302,24 +302,24 @@ fn limit_velocity_bounds_position_and_velocity_control() {
     let dir = Scratch::new("vlimit");
     let mut w = dir.world(SLOW_JOINT, "joint_mode = \"position\"", 0.01);
     let turn = find(&w, "/r/turn");
-    w.set_joint_target_position(turn, 1.0).expect("joint");
+    w.world.set_joint_target_position(turn, 1.0).expect("joint");
     step(&mut w, 100);
-    let q = w.joint(turn).expect("joint").position;
+    let q = w.world.joint(turn).expect("joint").position;
     assert!(
         (q - 0.5).abs() < 0.05,
         "after 1 s at 0.5 rad/s the joint should be near 0.5 rad: {q:.3}"
     );
     step(&mut w, 200);
-    let q = w.joint(turn).expect("joint").position;
+    let q = w.world.joint(turn).expect("joint").position;
     assert!(
         (q - 1.0).abs() < 0.01,
         "the joint should then settle on its target: {q:.3}"
     );
 
     let mut w = dir.world(SLOW_JOINT, "joint_mode = \"velocity\"", 0.01);
-    w.set_joint_target_velocity(turn, 2.0).expect("joint");
+    w.world.set_joint_target_velocity(turn, 2.0).expect("joint");
     step(&mut w, 100);
-    let v = w.joint(turn).expect("joint").velocity;
+    let v = w.world.joint(turn).expect("joint").velocity;
     assert!(
         (v - 0.5).abs() < 0.02,
         "a 2 rad/s command is capped at 0.5 rad/s: {v:.3}"
@@ -345,7 +345,7 @@ fn unsupported_elements_are_reported_once_per_file_even_when_loaded_twice() {
     let robot =
         |name: &str, x: f64| format!("[[robot]]\nname = \"{name}\"\nurdf = \"robot.urdf\"\nposition = [{x}, 0, 0]\n");
     let w = dir.scene(&(robot("one", 0.0) + &robot("two", 1.0)));
-    let warnings = w.warnings();
+    let warnings = w.world.warnings();
     for needle in [
         "2 <transmission>",
         "1 <gazebo>",
@@ -400,14 +400,14 @@ fn concave_meshes_are_hulled_on_dynamic_links_and_warned_about_once() {
         link("p", "parts.obj")
     );
     let w = dir.world(&urdf, "joint_mode = \"free\"", 0.01);
-    let concave: Vec<_> = w.warnings().iter().filter(|m| m.contains("not convex")).collect();
-    assert_eq!(concave.len(), 1, "{:#?}", w.warnings());
+    let concave: Vec<_> = w.world.warnings().iter().filter(|m| m.contains("not convex")).collect();
+    assert_eq!(concave.len(), 1, "{:#?}", w.world.warnings());
     assert!(concave[0].contains("dent.obj"), "{concave:?}");
     // Kinematic links keep the triangle mesh, concavity and all: nothing to warn about.
     let w = dir.world(&urdf, "", 0.01);
     assert!(
-        !w.warnings().iter().any(|m| m.contains("not convex")),
+        !w.world.warnings().iter().any(|m| m.contains("not convex")),
         "{:#?}",
-        w.warnings()
+        w.world.warnings()
     );
 }

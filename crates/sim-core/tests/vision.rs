@@ -8,33 +8,35 @@ use std::time::Instant;
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::math::Pose;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene, load_scene_text};
-use gantry_sim_core::{Handle, Value, World, vision};
+use gantry_sim_core::{Handle, Sim, Value, vision};
 
 fn asset(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
 }
 
-fn bubble_rob() -> World {
+fn bubble_rob() -> Sim {
     let model = load_scene(&DiskFiles, &asset("scenes/bubble_rob.toml"), &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn find(w: &World, path: &str, index: usize) -> Handle {
-    w.find(path, None, index).expect(path)
+fn find(w: &Sim, path: &str, index: usize) -> Handle {
+    w.world.find(path, None, index).expect(path)
 }
 
-fn call(w: &mut World, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
     api::call(w, &CallContext::default(), name, args)
 }
 
 /// The sensor 0.12 m above the floor at (0.1, 0, 0.12), looking along +X, with
 /// obstacle 0 (a grey cylinder, radius 0.05, height 0.2) centred 0.4 m ahead: its
 /// front face is 0.35 m away. Obstacle 1 is moved out of sight.
-fn scene_with_obstacle() -> (World, Handle) {
+fn scene_with_obstacle() -> (Sim, Handle) {
     let mut w = bubble_rob();
     let sensor = find(&w, "/bubbleRob/visionSensor", 0);
     let o0 = find(&w, "/obstacle", 0);
-    w.set_world_pose(o0, Pose::translation(0.5, 0.0, 0.1)).expect("pose");
+    w.world
+        .set_world_pose(o0, Pose::translation(0.5, 0.0, 0.1))
+        .expect("pose");
     (w, sensor)
 }
 
@@ -50,7 +52,7 @@ fn image(reply: &[Value]) -> (Vec<u8>, [usize; 2]) {
     (bytes.clone(), [dim(0), dim(1)])
 }
 
-fn rgb(w: &mut World, h: Handle) -> (Vec<u8>, [usize; 2]) {
+fn rgb(w: &mut Sim, h: Handle) -> (Vec<u8>, [usize; 2]) {
     image(&call(w, "sim.getVisionSensorImg", &[Value::Int(h)]).expect("image"))
 }
 
@@ -120,7 +122,9 @@ fn image_left_is_the_sensor_x_axis_and_row_zero_the_bottom() {
     // The sensor's +X is the world's +Y (its left when looking along +X); an obstacle
     // there must appear in the left half of the image.
     let o1 = find(&w, "/obstacle", 1);
-    w.set_world_pose(o1, Pose::translation(0.7, 0.15, 0.1)).expect("pose");
+    w.world
+        .set_world_pose(o1, Pose::translation(0.7, 0.15, 0.1))
+        .expect("pose");
     let (img, res) = rgb(&mut w, sensor);
     assert_ne!(pixel(&img, res, 70, 140), [0, 0, 0], "obstacle 1 on the left");
     assert_eq!(pixel(&img, res, 186, 140), [0, 0, 0], "nothing on the right");
@@ -155,7 +159,7 @@ position = [1, 0.5, 0.75]
 color = [1, 0, 0]
 "#;
     let model = load_scene_text(&DiskFiles, text, Path::new("inline.toml"), &LoadOptions::default()).expect("scene");
-    let mut w = World::new(&model);
+    let mut w = Sim::new(&model);
     let cam = find(&w, "/cam", 0);
     let (img, res) = rgb(&mut w, cam);
     assert_eq!(res, [128, 64]);
@@ -238,7 +242,7 @@ fn images_render_only_when_handled() {
     call(&mut w, "sim.getVisionSensorDepth", &[Value::Int(sensor)]).unwrap();
     call(&mut w, "sim.readVisionSensor", &[Value::Int(sensor)]).unwrap();
     assert_eq!(w.vision.render_count(sensor), 1, "one render per step for readers");
-    w.advance_time();
+    w.world.advance_time();
     rgb(&mut w, sensor);
     assert_eq!(w.vision.render_count(sensor), 2, "a new step makes the image stale");
     let stamp = w.vision.image(sensor).and_then(|s| s.rendered()).expect("stamp");
@@ -249,10 +253,10 @@ fn images_render_only_when_handled() {
     call(&mut w, "sim.handleVisionSensor", &[Value::Int(sensor)]).unwrap();
     call(&mut w, "sim.handleVisionSensor", &[Value::Int(sensor)]).unwrap();
     assert_eq!(w.vision.render_count(sensor), 4);
-    w.advance_time();
+    w.world.advance_time();
     rgb(&mut w, sensor);
     assert_eq!(w.vision.render_count(sensor), 4);
-    vision::handle_vision_sensor(&mut w, sensor).unwrap();
+    vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).unwrap();
     assert_eq!(w.vision.render_count(sensor), 5);
 }
 
@@ -378,7 +382,7 @@ fn portions_are_the_same_pixels_as_the_whole_image() {
     let size = Value::floats(&[pw as f64, ph as f64]);
     let (full, res) = rgb(&mut w, sensor);
     let (full_depth, _) = depth_floats(&call(&mut w, "sim.getVisionSensorDepth", std::slice::from_ref(&h)).unwrap());
-    let portion = |opts: i64, cutoff: f64, w: &mut World| {
+    let portion = |opts: i64, cutoff: f64, w: &mut Sim| {
         let args = [
             h.clone(),
             Value::Int(opts),
@@ -464,7 +468,7 @@ fn rgba_cut_off_and_options() {
 #[test]
 fn alpha_option_adds_a_byte_per_pixel_both_ways() {
     let (mut w, sensor) = scene_with_obstacle();
-    let get = |w: &mut World, options: i64, cutoff: f64| {
+    let get = |w: &mut Sim, options: i64, cutoff: f64| {
         image(
             &call(
                 w,
@@ -598,11 +602,11 @@ fn bad_arguments_name_the_function() {
 #[test]
 fn render_time_in_the_test_profile() {
     let (mut w, sensor) = scene_with_obstacle();
-    vision::handle_vision_sensor(&mut w, sensor).unwrap();
+    vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).unwrap();
     let n = 10;
     let t = Instant::now();
     for _ in 0..n {
-        vision::handle_vision_sensor(&mut w, sensor).unwrap();
+        vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).unwrap();
     }
     let ms = t.elapsed().as_secs_f64() * 1e3 / f64::from(n);
     eprintln!("vision: 256x256 BubbleRob render {ms:.2} ms (test profile)");
@@ -611,7 +615,7 @@ fn render_time_in_the_test_profile() {
 /// A 256 x 256 black sensor image with a red 20 x 20 square at columns 30..50, rows
 /// 40..60 and a green 10 x 30 rectangle at columns 150..160, rows 100..130, loaded as
 /// the work image.
-fn two_squares() -> (World, Handle) {
+fn two_squares() -> (Sim, Handle) {
     let mut w = bubble_rob();
     let sensor = find(&w, "/bubbleRob/visionSensor", 0);
     let mut img = vec![0u8; 256 * 256 * 3];
@@ -636,7 +640,7 @@ fn two_squares() -> (World, Handle) {
 }
 
 /// The work image written back to the sensor, as bytes.
-fn work_bytes(w: &mut World, sensor: Handle) -> (Vec<u8>, [usize; 2]) {
+fn work_bytes(w: &mut Sim, sensor: Handle) -> (Vec<u8>, [usize; 2]) {
     call(
         w,
         "simVision.workImgToSensorImg",
@@ -647,7 +651,7 @@ fn work_bytes(w: &mut World, sensor: Handle) -> (Vec<u8>, [usize; 2]) {
 }
 
 /// `blobDetectionOnWorkImg`'s reply: trigger, then the packet's floats.
-fn blobs(w: &mut World, sensor: Handle, args: &[Value]) -> (bool, Vec<f64>) {
+fn blobs(w: &mut Sim, sensor: Handle, args: &[Value]) -> (bool, Vec<f64>) {
     let mut all = vec![Value::Int(sensor)];
     all.extend_from_slice(args);
     let reply = call(w, "simVision.blobDetectionOnWorkImg", &all).unwrap();

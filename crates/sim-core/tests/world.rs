@@ -4,19 +4,19 @@ use std::path::{Path, PathBuf};
 
 use gantry_sim_core::scene::{DiskFiles, JointMode, JointType, LoadOptions, ObjectModelKind, load_scene};
 use gantry_sim_core::world::ObjectKind;
-use gantry_sim_core::{Handle, World};
+use gantry_sim_core::{Handle, Sim};
 
 fn asset(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
 }
 
-fn world(rel: &str) -> World {
+fn world(rel: &str) -> Sim {
     let model = load_scene(&DiskFiles, &asset(rel), &LoadOptions::default()).expect("scene loads");
-    World::new(&model)
+    Sim::new(&model)
 }
 
-fn find(w: &World, path: &str) -> Handle {
-    w.find(path, None, 0).expect(path)
+fn find(w: &Sim, path: &str) -> Handle {
+    w.world.find(path, None, 0).expect(path)
 }
 
 #[test]
@@ -29,12 +29,10 @@ fn every_scene_loads_and_steps() {
     ] {
         let mut w = world(scene);
         for _ in 0..200 {
-            w.step_physics();
-            w.handle_all_proximity_sensors();
-            w.advance_time();
+            w.step();
         }
-        for &h in w.handles() {
-            let p = w.object(h).expect("exists").world.translation.vector;
+        for &h in w.world.handles() {
+            let p = w.world.object(h).expect("exists").world.translation.vector;
             assert!(
                 p.iter().all(|v| v.is_finite()),
                 "{scene}: object {h} has a non-finite pose"
@@ -49,19 +47,17 @@ fn rover_drives_straight_at_wheel_speed() {
     let base = find(&w, "/bubbleRob");
     let (l, r) = (find(&w, "/bubbleRob/leftMotor"), find(&w, "/bubbleRob/rightMotor"));
     let rate = 3.054; // rad/s, the tutorial's initial speed
-    w.set_joint_target_velocity(l, rate).expect("joint");
-    w.set_joint_target_velocity(r, rate).expect("joint");
+    w.world.set_joint_target_velocity(l, rate).expect("joint");
+    w.world.set_joint_target_velocity(r, rate).expect("joint");
     // Let it accelerate for 1 s, then measure over 3 s.
     for _ in 0..20 {
-        w.step_physics();
-        w.advance_time();
+        w.step();
     }
-    let x0 = w.object(base).expect("base").world.translation.vector;
+    let x0 = w.world.object(base).expect("base").world.translation.vector;
     for _ in 0..60 {
-        w.step_physics();
-        w.advance_time();
+        w.step();
     }
-    let x1 = w.object(base).expect("base").world.translation.vector;
+    let x1 = w.world.object(base).expect("base").world.translation.vector;
     let speed = (x1 - x0).norm() / 3.0;
     let expected = 0.04 * rate;
     eprintln!(
@@ -82,17 +78,19 @@ fn proximity_sensor_sees_obstacle_ahead() {
     let nose = find(&w, "/bubbleRob/sensingNose");
     // Put an obstacle 0.1 m in front of the nose: obstacle0 at x + 0.1 (sensor) + 0.05 + 0.05 (radius).
     let obstacle = find(&w, "/obstacle");
-    let mut pose = w.object(base).expect("base").world;
+    let mut pose = w.world.object(base).expect("base").world;
     pose.translation.vector.x += 0.1 + 0.1 + 0.05;
     pose.translation.vector.z = 0.1;
     pose.rotation = nalgebra::UnitQuaternion::identity();
-    w.set_world_pose(obstacle, pose).expect("moves");
-    w.step_physics();
-    let hit = w.handle_proximity_sensor(nose).expect("sensor").expect("detects");
+    w.world.set_world_pose(obstacle, pose).expect("moves");
+    w.world.step_physics();
+    let hit = gantry_sim_core::sensor::handle_proximity_sensor(&mut w.world, nose)
+        .expect("sensor")
+        .expect("detects");
     assert_eq!(hit.object, obstacle);
     assert!((hit.distance - 0.1).abs() < 0.01, "distance {}", hit.distance);
     assert!(matches!(
-        w.object(nose).expect("nose").kind,
+        w.world.object(nose).expect("nose").kind,
         ObjectKind::ProximitySensor(_)
     ));
 }
@@ -108,24 +106,23 @@ fn position_target_settles() {
             _ => {}
         }
     }
-    let mut w = World::new(&model);
+    let mut w = Sim::new(&model);
     let j1 = find(&w, "/arm6/joint1");
     let j2 = find(&w, "/arm6/joint2");
-    w.set_joint_target_position(j1, 0.5).expect("joint");
-    w.set_joint_target_position(j2, 0.3).expect("joint");
+    w.world.set_joint_target_position(j1, 0.5).expect("joint");
+    w.world.set_joint_target_position(j2, 0.3).expect("joint");
     for _ in 0..60 {
-        w.step_physics();
-        w.advance_time();
+        w.step();
     }
-    let q1 = w.joint(j1).expect("joint").position;
-    let q2 = w.joint(j2).expect("joint").position;
+    let q1 = w.world.joint(j1).expect("joint").position;
+    let q2 = w.world.joint(j2).expect("joint").position;
     eprintln!("q1 {q1} q2 {q2}");
     assert!((q1 - 0.5).abs() < 0.01, "joint1 at {q1}");
     assert!((q2 - 0.3).abs() < 0.02, "joint2 at {q2}");
     // The tree and rapier agree on where the links are.
     let link2 = find(&w, "/arm6/link2");
-    let tree = w.object(link2).expect("link").world;
-    let phys = w.physics_pose(link2).expect("body");
+    let tree = w.world.object(link2).expect("link").world;
+    let phys = w.world.physics_pose(link2).expect("body");
     assert!(
         (tree.translation.vector - phys.translation.vector).norm() < 1e-3,
         "{tree:?} vs {phys:?}"

@@ -15,7 +15,9 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use gantry_script::Simulation;
-use gantry_sim_core::world::{DrawingKind, ObjectKind, World};
+use gantry_sim_core::Sim;
+use gantry_sim_core::drawing::DrawingKind;
+use gantry_sim_core::world::ObjectKind;
 use serde_json::json;
 use tokio::sync::watch;
 
@@ -89,13 +91,14 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// Reads a frame from the world. `steps_per_s` and `rtf` are left at 0.
-    pub fn capture(world: &World) -> Frame {
+    /// Reads a frame from the simulation. `steps_per_s` and `rtf` are left at 0.
+    pub fn capture(sim: &Sim) -> Frame {
+        let world = &sim.world;
         let mut f = Frame {
             time: world.time(),
             steps: world.steps(),
-            state: world.state.code(),
-            ui_revision: world.uis.revision(),
+            state: sim.state.code(),
+            ui_revision: sim.uis.revision(),
             scene_revision: world.scene_revision(),
             structure_revision: world.structure_revision(),
             ..Frame::default()
@@ -124,7 +127,7 @@ impl Frame {
             }
         }
         let mut budget = MAX_FRAME_VERTICES;
-        for view in world.drawings.iter_world(world) {
+        for view in sim.drawings.iter_world(world) {
             let o = view.object;
             let n = view.vertices().len();
             let keep = n.min(MAX_DRAWING_VERTICES).min(budget);
@@ -219,7 +222,8 @@ impl Observer for FramePublisher {
         {
             return;
         }
-        let world = sim.world();
+        let core = sim.core();
+        let world = &core.world;
         match self.window {
             Some((t0, s0, time0)) if now.duration_since(t0) >= RATE_WINDOW => {
                 let wall = now.duration_since(t0).as_secs_f64();
@@ -231,7 +235,7 @@ impl Observer for FramePublisher {
             Some(_) => {}
             None => self.window = Some((now, run_steps, world.time())),
         }
-        let mut frame = Frame::capture(&world);
+        let mut frame = Frame::capture(&core);
         (frame.steps_per_s, frame.rtf) = self.rates;
         self.tx.send_replace(Arc::new(frame));
         self.last = Some(now);

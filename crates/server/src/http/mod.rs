@@ -199,8 +199,8 @@ async fn status(State(st): State<AppState>) -> Response {
     let result = st
         .sim
         .with(|sim| {
-            let w = sim.world();
-            (w.time(), w.steps(), w.state.code())
+            let s = sim.core();
+            (s.world.time(), s.world.steps(), s.state.code())
         })
         .await;
     match result {
@@ -222,12 +222,12 @@ async fn graph_csv(Path(file): Path<String>, State(st): State<AppState>) -> Resp
     let result = st
         .sim
         .with(move |sim| {
-            let w = sim.world();
-            let alias = w.object(handle).map(|o| o.alias.clone()).ok()?;
-            w.graphs
+            let s = sim.core();
+            let alias = s.world.object(handle).map(|o| o.alias.clone()).ok()?;
+            s.graphs
                 .graphs()
                 .contains(&handle)
-                .then(|| (alias, w.graphs.to_csv(handle)))
+                .then(|| (alias, s.graphs.to_csv(handle)))
         })
         .await;
     match result {

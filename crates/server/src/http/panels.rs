@@ -9,8 +9,10 @@ use std::collections::BTreeMap;
 
 use gantry_script::{ScriptState, Simulation};
 use gantry_sim_core::Handle;
+use gantry_sim_core::Sim;
+use gantry_sim_core::graph::GraphStream;
 use gantry_sim_core::ui::{Container, Layout, Ui, Widget, WidgetKind};
-use gantry_sim_core::world::{GraphStream, ObjectKind, World};
+use gantry_sim_core::world::ObjectKind;
 use serde_json::{Value as Json, json};
 
 /// Binary message type of a vision sensor image (the first little-endian `u32`).
@@ -59,7 +61,8 @@ pub struct PanelUpdate {
 /// Gathers what is new since `cursor` and advances it. Runs on the simulation thread.
 pub fn collect(sim: &Simulation, cursor: &mut PanelCursor) -> PanelUpdate {
     let scripts = scripts_json(sim);
-    let world = sim.world();
+    let core = sim.core();
+    let world = &core.world;
     if world.steps() < cursor.steps {
         cursor.ui_revision = None;
         cursor.view_revision = None;
@@ -90,13 +93,13 @@ pub fn collect(sim: &Simulation, cursor: &mut PanelCursor) -> PanelUpdate {
         cursor.log_seq = last["seq"].as_u64().unwrap_or(cursor.log_seq) + 1;
         msg.insert("log".into(), Json::Array(log));
     }
-    if cursor.ui_revision != Some(world.uis.revision()) {
-        cursor.ui_revision = Some(world.uis.revision());
-        msg.insert("uis".into(), Json::Array(world.uis.iter().map(ui_json).collect()));
+    if cursor.ui_revision != Some(core.uis.revision()) {
+        cursor.ui_revision = Some(core.uis.revision());
+        msg.insert("uis".into(), Json::Array(core.uis.iter().map(ui_json).collect()));
     }
-    if cursor.view_revision != Some(world.views.revision()) {
-        cursor.view_revision = Some(world.views.revision());
-        let views = world
+    if cursor.view_revision != Some(core.views.revision()) {
+        cursor.view_revision = Some(core.views.revision());
+        let views = core
             .views
             .iter()
             .map(|v| {
@@ -115,11 +118,11 @@ pub fn collect(sim: &Simulation, cursor: &mut PanelCursor) -> PanelUpdate {
         cursor.selection_revision = Some(world.selection.revision());
         msg.insert("selection".into(), json!(world.selection.handles()));
     }
-    let graphs = graph_updates(&world, &mut cursor.graphs);
+    let graphs = graph_updates(&core, &mut cursor.graphs);
     if !graphs.is_empty() {
         msg.insert("graphs".into(), Json::Array(graphs));
     }
-    let images = image_updates(&world, &mut cursor.images);
+    let images = image_updates(&core, &mut cursor.images);
     let json = (!msg.is_empty()).then(|| {
         msg.insert("t".into(), json!("panels"));
         Json::Object(msg)
@@ -166,10 +169,10 @@ fn scripts_json(sim: &Simulation) -> Json {
 }
 
 /// New samples of every graph stream since the cursor's times.
-fn graph_updates(world: &World, seen: &mut BTreeMap<(Handle, i64), f64>) -> Vec<Json> {
+fn graph_updates(sim: &Sim, seen: &mut BTreeMap<(Handle, i64), f64>) -> Vec<Json> {
     let mut out = Vec::new();
     let mut budget = MAX_POLL_SAMPLES;
-    for s in world.graphs.streams() {
+    for s in sim.graphs.streams() {
         if budget == 0 {
             break;
         }
@@ -199,7 +202,7 @@ fn graph_updates(world: &World, seen: &mut BTreeMap<(Handle, i64), f64>) -> Vec<
         let p = s.params();
         out.push(json!({
             "graph": s.graph(),
-            "graph_alias": world.object(s.graph()).map(|o| o.alias.clone()).unwrap_or_default(),
+            "graph_alias": sim.world.object(s.graph()).map(|o| o.alias.clone()).unwrap_or_default(),
             "id": s.id(),
             "label": s.label(),
             "unit": p.unit,
@@ -228,14 +231,15 @@ fn first_after(s: &GraphStream, t: f64) -> usize {
 
 /// Images of vision sensors that changed since the cursor: `u32` [`MSG_IMAGE`], `u32`
 /// handle, `u32` width, `u32` height, then RGB bytes, bottom row first.
-fn image_updates(world: &World, seen: &mut BTreeMap<Handle, (u64, u64)>) -> Vec<Vec<u8>> {
+fn image_updates(sim: &Sim, seen: &mut BTreeMap<Handle, (u64, u64)>) -> Vec<Vec<u8>> {
+    let world = &sim.world;
     let mut out = Vec::new();
     for &h in world.handles() {
         let Ok(o) = world.object(h) else { continue };
         if !matches!(o.kind, ObjectKind::VisionSensor(_)) {
             continue;
         }
-        let Some(img) = world.vision.image(h) else { continue };
+        let Some(img) = sim.vision.image(h) else { continue };
         // Scripts may rewrite the image without rendering (simVision filters), so a
         // new step counts as a change too.
         let stamp = (img.renders(), world.steps());

@@ -314,7 +314,7 @@ async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, S
             sim.call("setObjectSel", vec![handles]).await.map(|_| String::new())
         }
         Command::Key { key, mods } => sim
-            .with(move |s| s.world_mut().messages.post_key(key, mods))
+            .with(move |s| s.core_mut().messages.post_key(key, mods))
             .await
             .map(|()| String::new())
             .map_err(|e| e.to_string()),

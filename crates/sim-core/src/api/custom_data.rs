@@ -7,7 +7,7 @@
 //! parameters. Data are text or bytes and read back as written. Blocks of a removed
 //! object go with it.
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::world::{Handle, World};
 
@@ -18,23 +18,23 @@ const HANDLE_SCENE: Handle = -12;
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getBufferProperty",
-        call: get_buffer_property,
+        call: ApiFn::World(get_buffer_property),
     },
     ApiFunction {
         name: "readCustomDataBlock",
-        call: read_custom_data_block,
+        call: ApiFn::World(read_custom_data_block),
     },
     ApiFunction {
         name: "readCustomDataBlockTags",
-        call: read_custom_data_block_tags,
+        call: ApiFn::World(read_custom_data_block_tags),
     },
     ApiFunction {
         name: "setBufferProperty",
-        call: set_buffer_property,
+        call: ApiFn::World(set_buffer_property),
     },
     ApiFunction {
         name: "writeCustomDataBlock",
-        call: write_custom_data_block,
+        call: ApiFn::World(write_custom_data_block),
     },
 ];
 

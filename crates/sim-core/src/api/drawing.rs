@@ -3,47 +3,48 @@
 //! and export extensions (`getDrawingObjectItems`, `getGraphStreamValues`,
 //! `exportGraphStreams`). The models live in `world::drawing` and `world::graph`.
 
+use crate::sim::Sim;
 use std::path::Path;
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
-use crate::world::{
-    DrawingKind, DrawingParams, HANDLEFLAG_ADD_MULTIPLE, Handle, MAX_DRAWING_ITEMS, ObjectKind, StreamParams, World,
-};
+use crate::drawing::{DrawingKind, DrawingParams, HANDLEFLAG_ADD_MULTIPLE, MAX_DRAWING_ITEMS};
+use crate::graph::StreamParams;
+use crate::world::{Handle, ObjectKind, World};
 
 /// The functions this file implements.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addDrawingObject",
-        call: add_drawing_object,
+        call: ApiFn::Sim(add_drawing_object),
     },
     ApiFunction {
         name: "addDrawingObjectItem",
-        call: add_drawing_object_item,
+        call: ApiFn::Sim(add_drawing_object_item),
     },
     ApiFunction {
         name: "addGraphStream",
-        call: add_graph_stream,
+        call: ApiFn::Sim(add_graph_stream),
     },
     ApiFunction {
         name: "exportGraphStreams",
-        call: export_graph_streams,
+        call: ApiFn::Sim(export_graph_streams),
     },
     ApiFunction {
         name: "getDrawingObjectItems",
-        call: get_drawing_object_items,
+        call: ApiFn::Sim(get_drawing_object_items),
     },
     ApiFunction {
         name: "getGraphStreamValues",
-        call: get_graph_stream_values,
+        call: ApiFn::Sim(get_graph_stream_values),
     },
     ApiFunction {
         name: "removeDrawingObject",
-        call: remove_drawing_object,
+        call: ApiFn::Sim(remove_drawing_object),
     },
     ApiFunction {
         name: "setGraphStreamValue",
-        call: set_graph_stream_value,
+        call: ApiFn::Sim(set_graph_stream_value),
     },
 ];
 
@@ -74,14 +75,14 @@ fn opt_color(a: &Args<'_>, i: usize, default: [f64; 3]) -> Result<[f64; 3], ApiE
 /// `parentHandle` -1 draws in the world frame. `maxItemCount` 0 means 1000; above
 /// 100,000 it is capped with a warning in the log. Unknown type codes are drawn as
 /// points, with a warning.
-fn add_drawing_object(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_drawing_object(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let object_type = a.int(0)?;
     let size = a.finite(1)?;
     let duplicate_tolerance = a.finite(2)?;
     let parent = match a.handle(3)? {
         HANDLE_WORLD => None,
         h => {
-            w.object(h)?;
+            sim.world.object(h)?;
             Some(h)
         }
     };
@@ -96,7 +97,7 @@ fn add_drawing_object(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
         Value::Nil => None,
         _ => Some(opt_color(a, 8, [0.0; 3])?),
     };
-    let h = w.drawings.create(DrawingParams {
+    let h = sim.drawings.create(DrawingParams {
         object_type,
         size,
         duplicate_tolerance,
@@ -107,9 +108,9 @@ fn add_drawing_object(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
     })?;
     // Warn only once the object exists, so a refused call logs nothing.
     let (_, known) = DrawingKind::from_type(object_type);
-    let time = w.time();
+    let time = sim.world.time();
     if !known {
-        w.log.push(
+        sim.world.log.push(
             time,
             WARNING,
             ctx.source,
@@ -120,7 +121,7 @@ fn add_drawing_object(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
         );
     }
     if max_items > MAX_DRAWING_ITEMS {
-        w.log.push(
+        sim.world.log.push(
             time,
             WARNING,
             ctx.source,
@@ -168,13 +169,13 @@ fn item_data(a: &Args<'_>, i: usize) -> Result<Option<Vec<f64>>, ApiError> {
 /// Coordinates are world-frame, or parent-frame with `sim.drawing_local`. `nil` clears
 /// the object and returns 0. With `sim.handleflag_addmultiple` OR-ed on the handle the
 /// data is packed items; the result is 1 if any was added.
-fn add_drawing_object_item(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_drawing_object_item(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let raw = a.handle(0)?;
     let multiple = raw > 0 && raw & HANDLEFLAG_ADD_MULTIPLE != 0;
     let h = if multiple { raw & !HANDLEFLAG_ADD_MULTIPLE } else { raw };
     let data = item_data(a, 1)?;
-    let frame = w.drawings.object(h)?.frame(w);
-    let object = w.drawings.object_mut(h)?;
+    let frame = sim.drawings.object(h)?.frame(&sim.world);
+    let object = sim.drawings.object_mut(h)?;
     let added = match data {
         None => {
             object.clear();
@@ -187,10 +188,10 @@ fn add_drawing_object_item(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> 
 }
 
 /// `sim.removeDrawingObject(handle)`; `sim.handle_all` removes every drawing object.
-fn remove_drawing_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn remove_drawing_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     match a.handle(0)? {
-        HANDLE_ALL => w.drawings.clear(),
-        h => w.drawings.remove(h)?,
+        HANDLE_ALL => sim.drawings.clear(),
+        h => sim.drawings.remove(h)?,
     }
     Ok(Vec::new())
 }
@@ -199,9 +200,9 @@ fn remove_drawing_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Re
 /// vertices`: the type as created (kind in the low 5 bits, flags above), the size
 /// (pixels, or m for spheres), `{r, g, b}`, and every stored vertex oldest first as a
 /// flat list `{x1, y1, z1, x2, ...}` in the world frame (m).
-fn get_drawing_object_items(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let object = w.drawings.object(a.handle(0)?)?;
-    let frame = object.frame(w);
+fn get_drawing_object_items(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let object = sim.drawings.object(a.handle(0)?)?;
+    let frame = object.frame(&sim.world);
     let flat: Vec<f64> = object.world_vertices(&frame).flat_map(|v| [v.x, v.y, v.z]).collect();
     Ok(vec![
         Value::Int(object.object_type()),
@@ -222,8 +223,8 @@ fn graph(w: &World, h: Handle) -> Result<Handle, ApiError> {
 /// `sim.addGraphStream(graphHandle, name, unit='', options=0, color={1,0,0},
 /// cyclicRange=0)` → stream id. A stream of the same name on the same graph is updated
 /// (unit, options, colour) and keeps its id and values.
-fn add_graph_stream(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let g = graph(w, a.handle(0)?)?;
+fn add_graph_stream(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let g = graph(&sim.world, a.handle(0)?)?;
     let name = a.str(1)?;
     if name.is_empty() {
         return Err(ApiError::new("argument 2: stream name must not be empty"));
@@ -242,27 +243,27 @@ fn add_graph_stream(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<
             _ => a.finite(5)?,
         },
     };
-    Ok(vec![Value::Int(w.graphs.add_stream(g, params)?)])
+    Ok(vec![Value::Int(sim.graphs.add_stream(g, params)?)])
 }
 
 /// `sim.setGraphStreamValue(graphHandle, streamId, value)`. The value is stamped with
 /// the current step's end time `sim.getSimulationTime() + dt`, the time CoppeliaSim's
 /// `sim.handleGraph` records it with; a second value in the same step replaces the
 /// first.
-fn set_graph_stream_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let g = graph(w, a.handle(0)?)?;
+fn set_graph_stream_value(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let g = graph(&sim.world, a.handle(0)?)?;
     let id = a.int(1)?;
     let value = a.finite(2)?;
-    let t = w.time() + w.settings().dt;
-    w.graphs.record(g, id, t, value)?;
+    let t = sim.world.time() + sim.world.settings().dt;
+    sim.graphs.record(g, id, t, value)?;
     Ok(Vec::new())
 }
 
 /// gantry extension: `sim.getGraphStreamValues(graphHandle, streamId)` → `times,
 /// values`: the kept samples, oldest first, times in s.
-fn get_graph_stream_values(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let g = graph(w, a.handle(0)?)?;
-    let s = w.graphs.stream(g, a.int(1)?)?;
+fn get_graph_stream_values(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let g = graph(&sim.world, a.handle(0)?)?;
+    let s = sim.graphs.stream(g, a.int(1)?)?;
     let (times, values): (Vec<f64>, Vec<f64>) = s.samples().unzip();
     Ok(vec![Value::floats(&times), Value::floats(&values)])
 }
@@ -277,18 +278,22 @@ fn get_graph_stream_values(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> 
 /// relative `dir` resolves); anything else is refused before touching the disk.
 ///
 /// [`ExportScope`]: crate::world::ExportScope
-fn export_graph_streams(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn export_graph_streams(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let dir = a.str(0)?;
     if dir.is_empty() {
         return Err(ApiError::new("argument 1: directory must not be empty"));
     }
-    let target = w
+    let target = sim
         .graphs
         .export_scope()
         .resolve(Path::new(dir))
         .map_err(|e| ApiError::new(format!("cannot export graph streams to '{dir}': {e}")))?;
-    let names = |h: Handle| w.object(h).map_or_else(|_| format!("graph{h}"), |o| o.alias.clone());
-    let paths = w
+    let names = |h: Handle| {
+        sim.world
+            .object(h)
+            .map_or_else(|_| format!("graph{h}"), |o| o.alias.clone())
+    };
+    let paths = sim
         .graphs
         .export_csv(&target, names)
         .map_err(|e| ApiError::new(format!("cannot export graph streams to '{dir}': {e}")))?;

@@ -6,10 +6,11 @@
 //! `simToIkMap`/`ikToSimMap` are identity maps over the chain's objects, and functions
 //! taking an IK joint (`getJointPosition`) take the scene joint.
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::ik::{self, Apply, Constraints, GroupsOutcome, IkError, IkMethod};
-use crate::world::{Handle, World};
+use crate::sim::Sim;
+use crate::world::Handle;
 
 impl From<IkError> for ApiError {
     fn from(e: IkError) -> Self {
@@ -21,95 +22,95 @@ impl From<IkError> for ApiError {
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addElementFromScene",
-        call: add_element_from_scene,
+        call: ApiFn::Sim(add_element_from_scene),
     },
     ApiFunction {
         name: "addIkElementFromScene",
-        call: add_ik_element_from_scene,
+        call: ApiFn::Sim(add_ik_element_from_scene),
     },
     ApiFunction {
         name: "applyIkEnvironmentToScene",
-        call: apply_ik_environment_to_scene,
+        call: ApiFn::Sim(apply_ik_environment_to_scene),
     },
     ApiFunction {
         name: "applySceneToIkEnvironment",
-        call: apply_scene_to_ik_environment,
+        call: ApiFn::Sim(apply_scene_to_ik_environment),
     },
     ApiFunction {
         name: "createEnvironment",
-        call: create_environment,
+        call: ApiFn::Sim(create_environment),
     },
     ApiFunction {
         name: "createGroup",
-        call: create_group,
+        call: ApiFn::Sim(create_group),
     },
     ApiFunction {
         name: "eraseEnvironment",
-        call: erase_environment,
+        call: ApiFn::Sim(erase_environment),
     },
     ApiFunction {
         name: "findConfig",
-        call: find_config,
+        call: ApiFn::Sim(find_config),
     },
     ApiFunction {
         name: "getElementConstraints",
-        call: get_element_constraints,
+        call: ApiFn::Sim(get_element_constraints),
     },
     ApiFunction {
         name: "getElementPrecision",
-        call: get_element_precision,
+        call: ApiFn::Sim(get_element_precision),
     },
     ApiFunction {
         name: "getElementWeights",
-        call: get_element_weights,
+        call: ApiFn::Sim(get_element_weights),
     },
     ApiFunction {
         name: "getGroupCalculation",
-        call: get_group_calculation,
+        call: ApiFn::Sim(get_group_calculation),
     },
     ApiFunction {
         name: "getGroupHandle",
-        call: get_group_handle,
+        call: ApiFn::Sim(get_group_handle),
     },
     ApiFunction {
         name: "getJointPosition",
-        call: get_joint_position,
+        call: ApiFn::Sim(get_joint_position),
     },
     ApiFunction {
         name: "handleGroup",
-        call: handle_group,
+        call: ApiFn::Sim(handle_group),
     },
     ApiFunction {
         name: "handleGroups",
-        call: handle_groups,
+        call: ApiFn::Sim(handle_groups),
     },
     ApiFunction {
         name: "handleIkGroup",
-        call: handle_ik_group,
+        call: ApiFn::Sim(handle_ik_group),
     },
     ApiFunction {
         name: "setElementConstraints",
-        call: set_element_constraints,
+        call: ApiFn::Sim(set_element_constraints),
     },
     ApiFunction {
         name: "setElementPrecision",
-        call: set_element_precision,
+        call: ApiFn::Sim(set_element_precision),
     },
     ApiFunction {
         name: "setElementWeights",
-        call: set_element_weights,
+        call: ApiFn::Sim(set_element_weights),
     },
     ApiFunction {
         name: "setGroupCalculation",
-        call: set_group_calculation,
+        call: ApiFn::Sim(set_group_calculation),
     },
     ApiFunction {
         name: "syncFromSim",
-        call: sync_from_sim,
+        call: ApiFn::Sim(sync_from_sim),
     },
     ApiFunction {
         name: "syncToSim",
-        call: sync_to_sim,
+        call: ApiFn::Sim(sync_to_sim),
     },
 ];
 
@@ -143,26 +144,26 @@ pub(super) const CONSTANTS: &[(&str, i64)] = &[
 ];
 
 /// `simIK.createEnvironment(flags=0)` → environment handle. Flags are accepted and ignored.
-fn create_environment(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create_environment(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     a.opt_int(0, 0)?;
-    Ok(vec![Value::Int(w.ik.create())])
+    Ok(vec![Value::Int(sim.ik.create())])
 }
 
 /// `simIK.eraseEnvironment(env)`: drops its groups and elements; the scene is untouched.
-fn erase_environment(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    w.ik.erase(a.handle(0)?)?;
+fn erase_environment(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    sim.ik.erase(a.handle(0)?)?;
     Ok(Vec::new())
 }
 
 /// `simIK.createGroup(env, name='')` → group handle. New groups use CoppeliaSim's
 /// defaults: pseudo-inverse, damping 0.1, 3 iterations.
-fn create_group(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let env = a.handle(0)?;
     let name = match a.get(1) {
         Value::Nil => "",
         _ => a.str(1)?,
     };
-    let environment = w.ik.get_mut(env)?;
+    let environment = sim.ik.get_mut(env)?;
     if environment.group_by_name(name).is_some() {
         return Err(ApiError::new(format!("an IK group named '{name}' already exists")));
     }
@@ -170,10 +171,11 @@ fn create_group(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 }
 
 /// `simIK.getGroupHandle(env, name)` → group handle.
-fn get_group_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_group_handle(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let env = a.handle(0)?;
     let name = a.str(1)?;
-    w.ik.get(env)?
+    sim.ik
+        .get(env)?
         .group_by_name(name)
         .map(|h| vec![Value::Int(h)])
         .ok_or_else(|| ApiError::new(format!("no IK group named '{name}'")))
@@ -182,7 +184,7 @@ fn get_group_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 /// `simIK.setGroupCalculation(env, group, method, damping, maxIterations)`.
 /// Damping must be finite and >= 0; iterations between 1 and 100000 (a bound on the time
 /// one call may take on the sim thread).
-fn set_group_calculation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let code = a.int(2)?;
     let method = IkMethod::from_code(code).ok_or_else(|| {
@@ -202,7 +204,7 @@ fn set_group_calculation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Re
         .ok()
         .filter(|n| (1..=100_000).contains(n))
         .ok_or_else(|| ApiError::new(format!("argument 5: maxIterations must be 1..100000, got {iterations}")))?;
-    let g = w.ik.get_mut(env)?.group_mut(group)?;
+    let g = sim.ik.get_mut(env)?.group_mut(group)?;
     g.method = method;
     g.damping = damping;
     g.max_iterations = max_iterations;
@@ -210,8 +212,8 @@ fn set_group_calculation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Re
 }
 
 /// `simIK.getGroupCalculation(env, group)` → method, damping, maxIterations.
-fn get_group_calculation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let g = w.ik.get(a.handle(0)?)?.group(a.handle(1)?)?;
+fn get_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let g = sim.ik.get(a.handle(0)?)?.group(a.handle(1)?)?;
     Ok(vec![
         Value::Int(g.method.code()),
         Value::Float(g.damping),
@@ -232,11 +234,11 @@ fn constraints_arg(a: &Args<'_>, i: usize) -> Result<Constraints, ApiError> {
 
 /// The shared part of the two `addElementFromScene` spellings: element handle and the
 /// identity map over the chain's objects.
-fn add_element(w: &mut World, a: &Args<'_>) -> Result<(Value, Value), ApiError> {
+fn add_element(sim: &mut Sim, a: &Args<'_>) -> Result<(Value, Value), ApiError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let ends = [a.handle(2)?, a.handle(3)?, a.handle(4)?];
     let constraints = constraints_arg(a, 5)?;
-    let (element, objects) = ik::add_element_from_scene(w, env, group, ends, constraints)?;
+    let (element, objects) = ik::add_element_from_scene(&sim.world, &mut sim.ik, env, group, ends, constraints)?;
     let map = Value::Map(objects.iter().map(|&h| (Value::Int(h), Value::Int(h))).collect());
     Ok((Value::Int(element), map))
 }
@@ -246,34 +248,34 @@ fn add_element(w: &mut World, a: &Args<'_>) -> Result<(Value, Value), ApiError> 
 /// prismatic joint on the tree path from `tip` up to `base`. Both maps are identity maps
 /// (scene handle → the same handle) over base, the path objects and the target, because
 /// gantry's IK objects are the scene objects.
-fn add_element_from_scene(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let (element, map) = add_element(w, a)?;
+fn add_element_from_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (element, map) = add_element(sim, a)?;
     Ok(vec![element, map.clone(), map])
 }
 
 /// `simIK.addIkElementFromScene(...)`: the 4.2 name; returns element, simToIkMap.
-fn add_ik_element_from_scene(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let (element, map) = add_element(w, a)?;
+fn add_ik_element_from_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (element, map) = add_element(sim, a)?;
     Ok(vec![element, map])
 }
 
 /// Resolves (env, group, element) from arguments 0..3 and runs `f` on the element.
-fn with_element<T>(w: &mut World, a: &Args<'_>, f: impl FnOnce(&mut ik::IkElement) -> T) -> Result<T, ApiError> {
+fn with_element<T>(sim: &mut Sim, a: &Args<'_>, f: impl FnOnce(&mut ik::IkElement) -> T) -> Result<T, ApiError> {
     let (env, group, element) = (a.handle(0)?, a.handle(1)?, a.handle(2)?);
-    let e = w.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?;
+    let e = sim.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?;
     Ok(f(e))
 }
 
 /// `simIK.setElementConstraints(env, group, element, constraints)`.
-fn set_element_constraints(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_element_constraints(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let c = constraints_arg(a, 3)?;
-    with_element(w, a, |e| e.constraints = c)?;
+    with_element(sim, a, |e| e.constraints = c)?;
     Ok(Vec::new())
 }
 
 /// `simIK.getElementConstraints(env, group, element)` → constraints.
-fn get_element_constraints(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let c = with_element(w, a, |e| e.constraints)?;
+fn get_element_constraints(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let c = with_element(sim, a, |e| e.constraints)?;
     Ok(vec![Value::Int(i64::from(c.0))])
 }
 
@@ -288,21 +290,21 @@ fn pair_arg(a: &Args<'_>, i: usize, what: &str) -> Result<[f64; 2], ApiError> {
 
 /// `simIK.setElementPrecision(env, group, element, {linear (m), angular (rad)})`: the
 /// distances below which the element counts as solved.
-fn set_element_precision(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_element_precision(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let p = pair_arg(a, 3, "precisions")?;
-    with_element(w, a, |e| e.precision = p)?;
+    with_element(sim, a, |e| e.precision = p)?;
     Ok(Vec::new())
 }
 
 /// `simIK.getElementPrecision(env, group, element)` → {linear (m), angular (rad)}.
-fn get_element_precision(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let p = with_element(w, a, |e| e.precision)?;
+fn get_element_precision(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let p = with_element(sim, a, |e| e.precision)?;
     Ok(vec![Value::floats(&p)])
 }
 
 /// `simIK.setElementWeights(env, group, element, {linear, angular[, element]})`: factors on
 /// the error rows (CoppeliaSim weights the error, not the Jacobian).
-fn set_element_weights(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_element_weights(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let [lin, ang] = pair_arg(a, 3, "weights")?;
     let whole = match a.get(3) {
         Value::Array(v) if v.len() >= 3 => match v[2].as_f64() {
@@ -311,13 +313,13 @@ fn set_element_weights(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Resu
         },
         _ => 1.0,
     };
-    with_element(w, a, |e| e.weights = [lin, ang, whole])?;
+    with_element(sim, a, |e| e.weights = [lin, ang, whole])?;
     Ok(Vec::new())
 }
 
 /// `simIK.getElementWeights(env, group, element)` → {linear, angular, element}.
-fn get_element_weights(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let wts = with_element(w, a, |e| e.weights)?;
+fn get_element_weights(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let wts = with_element(sim, a, |e| e.weights)?;
     Ok(vec![Value::floats(&wts)])
 }
 
@@ -370,10 +372,16 @@ fn outcome_values(o: &GroupsOutcome) -> Ret {
 /// solution is written to the scene joints only if every element ended within its
 /// precision (or `allowError=true`), as CoppeliaSim's `handleGroup`; otherwise the scene is
 /// unchanged and the solution waits for `simIK.syncToSim`.
-fn handle_group(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn handle_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let apply = apply_policy(a, 2)?;
-    Ok(outcome_values(&ik::handle_groups(w, env, &[group], apply)?))
+    Ok(outcome_values(&ik::handle_groups(
+        &mut sim.world,
+        &mut sim.ik,
+        env,
+        &[group],
+        apply,
+    )?))
 }
 
 /// Argument `i` as a non-empty array of group handles.
@@ -397,57 +405,63 @@ fn groups_arg(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, ApiError> {
 /// `simIK.handleGroups(env, {groups}, options={})`: as `handleGroup`, solving the groups in
 /// order, each starting from the previous ones' solution. Result is the worst result,
 /// flags are or-ed, precision is the largest remaining distance.
-fn handle_groups(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn handle_groups(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let env = a.handle(0)?;
     let groups = groups_arg(a, 1)?;
     let apply = apply_policy(a, 2)?;
-    Ok(outcome_values(&ik::handle_groups(w, env, &groups, apply)?))
+    Ok(outcome_values(&ik::handle_groups(
+        &mut sim.world,
+        &mut sim.ik,
+        env,
+        &groups,
+        apply,
+    )?))
 }
 
 /// `simIK.handleIkGroup(env, group)` → result: the 4.1 name. The paper's script followed it
 /// by copying the IK joints onto the scene whatever the result, so gantry writes the
 /// solution back always (finite values within limits).
-fn handle_ik_group(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn handle_ik_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
-    let o = ik::handle_groups(w, env, &[group], Apply::Always)?;
+    let o = ik::handle_groups(&mut sim.world, &mut sim.ik, env, &[group], Apply::Always)?;
     Ok(vec![Value::Int(o.result.code())])
 }
 
 /// `simIK.applyIkEnvironmentToScene(env, group, applyOnlyWhenSuccessful=false)` → result:
 /// solve from the scene and write back (4.2-4.3 convenience function).
-fn apply_ik_environment_to_scene(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn apply_ik_environment_to_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let apply = if a.opt_bool(2, false)? {
         Apply::OnSuccess
     } else {
         Apply::Always
     };
-    let o = ik::handle_groups(w, env, &[group], apply)?;
+    let o = ik::handle_groups(&mut sim.world, &mut sim.ik, env, &[group], apply)?;
     Ok(vec![Value::Int(o.result.code())])
 }
 
 /// `simIK.applySceneToIkEnvironment(env, group)`: gantry always solves from the scene, so
 /// this only forgets the group's pending solution (and checks its arguments).
-fn apply_scene_to_ik_environment(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn apply_scene_to_ik_environment(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
-    ik::sync_from_scene(w, env, &[group])?;
+    ik::sync_from_scene(&sim.world, &mut sim.ik, env, &[group])?;
     Ok(Vec::new())
 }
 
 /// `simIK.syncFromSim(env, {groups})`: forget pending solutions of those groups.
-fn sync_from_sim(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sync_from_sim(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let env = a.handle(0)?;
     let groups = groups_arg(a, 1)?;
-    ik::sync_from_scene(w, env, &groups)?;
+    ik::sync_from_scene(&sim.world, &mut sim.ik, env, &groups)?;
     Ok(Vec::new())
 }
 
 /// `simIK.syncToSim(env, {groups})`: write pending solutions (from `syncWorlds=false`
 /// solves) of those groups' joints into the scene.
-fn sync_to_sim(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sync_to_sim(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let env = a.handle(0)?;
     let groups = groups_arg(a, 1)?;
-    ik::sync_to_scene(w, env, &groups)?;
+    ik::sync_to_scene(&mut sim.world, &mut sim.ik, env, &groups)?;
     Ok(Vec::new())
 }
 
@@ -462,12 +476,12 @@ const FIND_CONFIG_ATTEMPTS: u32 = 100;
 /// `sim.setJointPosition`. gantry searches up to a fixed number of starts instead of for
 /// `maxTime` seconds, so the result does not depend on the machine's speed; `thresholdDist`,
 /// `metric` and the validation callback are accepted and ignored.
-fn find_config(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn find_config(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let joints = groups_arg(a, 2).map_err(|_| ApiError::new("argument 3: expected array of joint handles"))?;
     a.opt_f64(3, 0.1)?;
     a.opt_f64(4, 0.5)?;
-    let Some(found) = ik::find_config(w, env, group, FIND_CONFIG_ATTEMPTS)? else {
+    let Some(found) = ik::find_config(&sim.world, &sim.ik, env, group, FIND_CONFIG_ATTEMPTS)? else {
         return Ok(vec![Value::Nil]);
     };
     let values = joints
@@ -484,12 +498,12 @@ fn find_config(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
 
 /// `simIK.getJointPosition(env, joint)` → the joint's value in the IK world: a pending
 /// solution if there is one, else the scene's value (rad or m).
-fn get_joint_position(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_joint_position(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, joint) = (a.handle(0)?, a.handle(1)?);
-    let pending = w.ik.get(env)?.pending.get(&joint).copied();
+    let pending = sim.ik.get(env)?.pending.get(&joint).copied();
     let q = match pending {
         Some(q) => q,
-        None => w.joint(joint)?.position,
+        None => sim.world.joint(joint)?.position,
     };
     Ok(vec![Value::Float(q)])
 }

@@ -10,32 +10,33 @@
 //! absent: they would edit the scene's tree or create an element without a target, so a
 //! script using them fails with "No such function" instead of solving something else.
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret, joints, objects};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret, joints, objects};
 use crate::Value;
 use crate::ik::{IkElement, KinematicModel};
-use crate::world::{Handle, ObjectKind, World};
+use crate::sim::Sim;
+use crate::world::{Handle, ObjectKind};
 
 /// The functions this file implements, in alphabetical order.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getElementBase",
-        call: get_element_base,
+        call: ApiFn::Sim(get_element_base),
     },
     ApiFunction {
         name: "getObjectMatrix",
-        call: get_object_matrix,
+        call: ApiFn::Sim(get_object_matrix),
     },
     ApiFunction {
         name: "setElementBase",
-        call: set_element_base,
+        call: ApiFn::Sim(set_element_base),
     },
     ApiFunction {
         name: "setJointPosition",
-        call: set_joint_position,
+        call: ApiFn::Sim(set_joint_position),
     },
     ApiFunction {
         name: "setObjectMatrix",
-        call: set_object_matrix,
+        call: ApiFn::Sim(set_object_matrix),
     },
 ];
 
@@ -56,8 +57,8 @@ const HANDLE_WORLD: Handle = -1;
 /// Checks that argument 0 names a live environment, so that a call with a stale
 /// environment fails as every other `simIK` call does even though the object functions
 /// below only touch the scene.
-fn check_environment(w: &World, a: &Args<'_>) -> Result<(), ApiError> {
-    w.ik.get(a.handle(0)?)?;
+fn check_environment(sim: &Sim, a: &Args<'_>) -> Result<(), ApiError> {
+    sim.ik.get(a.handle(0)?)?;
     Ok(())
 }
 
@@ -71,7 +72,7 @@ fn without_environment<'a>(a: &Args<'a>) -> Vec<Value> {
 /// expressed in the base's frame, so `constraintsBase` may only be -1 or `base`; another
 /// frame is refused rather than ignored, because partial constraints (`constraint_x`, ...)
 /// would silently mean other axes.
-fn set_element_base(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group, element) = (a.handle(0)?, a.handle(1)?, a.handle(2)?);
     let base = a.handle(3)?;
     let constraints_base = a.opt_int(4, HANDLE_WORLD)?;
@@ -81,57 +82,57 @@ fn set_element_base(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<
              (gantry expresses them in the base's frame: pass -1)"
         )));
     }
-    let mut probe: IkElement = w.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.clone();
+    let mut probe: IkElement = sim.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.clone();
     probe.base = base;
     // The checks handleGroup relies on (base exists, tip below it, a joint between) run
     // now, so a bad base fails here and not at the next solve.
-    KinematicModel::from_world(w, std::slice::from_ref(&probe))?;
-    w.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.base = base;
+    KinematicModel::from_world(&sim.world, std::slice::from_ref(&probe))?;
+    sim.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.base = base;
     Ok(Vec::new())
 }
 
 /// `simIK.getElementBase(env, group, element)` → base, constraintsBase. The constraint
 /// frame is always the base, reported as -1 as CoppeliaSim does for "same as base".
-fn get_element_base(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group, element) = (a.handle(0)?, a.handle(1)?, a.handle(2)?);
-    let base = w.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.base;
+    let base = sim.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.base;
     Ok(vec![Value::Int(base), Value::Int(HANDLE_WORLD)])
 }
 
 /// `simIK.getObjectMatrix(env, object, relativeTo=-1)` → 12 numbers, row-major 3x4 (m):
 /// the scene object's pose, as `sim.getObjectMatrix`. A solution held back by
 /// `handleGroup{syncWorlds=false}` is not reflected (it lives only as joint values).
-fn get_object_matrix(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    check_environment(w, a)?;
+fn get_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    check_environment(sim, a)?;
     let rest = without_environment(a);
-    objects::get_object_matrix(w, ctx, &Args::new(&rest))
+    objects::get_object_matrix(&mut sim.world, ctx, &Args::new(&rest))
 }
 
 /// `simIK.setObjectMatrix(env, object, relativeTo, matrix)` (4.2-4.4 order) or
 /// `(env, object, matrix, relativeTo=-1)` (4.5+): moves the scene object. Scripts use it
 /// to copy a target's pose into the IK world, which here is the scene itself. Joints are
 /// refused: moving one would reshape the robot in the scene, not just in an IK copy.
-fn set_object_matrix(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    check_environment(w, a)?;
+fn set_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    check_environment(sim, a)?;
     let h = a.handle(1)?;
-    if matches!(w.object(h)?.kind, ObjectKind::Joint(_)) {
+    if matches!(sim.world.object(h)?.kind, ObjectKind::Joint(_)) {
         return Err(ApiError::new(format!(
             "object {h} is a joint: gantry's IK objects are the scene's, so set its value with \
              simIK.setJointPosition instead of moving it"
         )));
     }
     let rest = without_environment(a);
-    objects::set_object_matrix(w, ctx, &Args::new(&rest))
+    objects::set_object_matrix(&mut sim.world, ctx, &Args::new(&rest))
 }
 
 /// `simIK.setJointPosition(env, joint, position)`: sets the scene joint (rad or m, clamped
 /// to its limits as `sim.setJointPosition`) and forgets any solution pending for it, so
 /// `simIK.getJointPosition` returns the new value.
-fn set_joint_position(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_joint_position(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, joint) = (a.handle(0)?, a.handle(1)?);
-    w.ik.get(env)?;
+    sim.ik.get(env)?;
     let rest = without_environment(a);
-    let out = joints::set_joint_position(w, ctx, &Args::new(&rest))?;
-    w.ik.get_mut(env)?.pending.remove(&joint);
+    let out = joints::set_joint_position(&mut sim.world, ctx, &Args::new(&rest))?;
+    sim.ik.get_mut(env)?.pending.remove(&joint);
     Ok(out)
 }

@@ -9,7 +9,7 @@
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::world::{Handle, World};
 
@@ -41,95 +41,95 @@ pub const ALIASES: &[(&str, &str)] = &[
 pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addStatusbarMessage",
-        call: add_statusbar_message,
+        call: ApiFn::World(add_statusbar_message),
     },
     ApiFunction {
         name: "announceSceneContentChange",
-        call: announce_scene_content_change,
+        call: ApiFn::World(announce_scene_content_change),
     },
     ApiFunction {
         name: "auxiliaryConsoleClose",
-        call: auxiliary_console_close,
+        call: ApiFn::World(auxiliary_console_close),
     },
     ApiFunction {
         name: "auxiliaryConsoleOpen",
-        call: auxiliary_console_open,
+        call: ApiFn::World(auxiliary_console_open),
     },
     ApiFunction {
         name: "auxiliaryConsolePrint",
-        call: auxiliary_console_print,
+        call: ApiFn::World(auxiliary_console_print),
     },
     ApiFunction {
         name: "auxiliaryConsoleShow",
-        call: auxiliary_console_show,
+        call: ApiFn::World(auxiliary_console_show),
     },
     ApiFunction {
         name: "displayDialog",
-        call: display_dialog,
+        call: ApiFn::World(display_dialog),
     },
     ApiFunction {
         name: "endDialog",
-        call: end_dialog,
+        call: ApiFn::World(end_dialog),
     },
     ApiFunction {
         name: "getDialogResult",
-        call: get_dialog_result,
+        call: ApiFn::World(get_dialog_result),
     },
     ApiFunction {
         name: "getNameSuffix",
-        call: get_name_suffix,
+        call: ApiFn::World(get_name_suffix),
     },
     ApiFunction {
         name: "getNamedInt32Param",
-        call: get_named_int32_param,
+        call: ApiFn::World(get_named_int32_param),
     },
     ApiFunction {
         name: "getObjectAssociatedWithScript",
-        call: get_object_associated_with_script,
+        call: ApiFn::World(get_object_associated_with_script),
     },
     ApiFunction {
         name: "getObjectFloatParameter",
-        call: get_object_float_parameter,
+        call: ApiFn::World(get_object_float_parameter),
     },
     ApiFunction {
         name: "getObjectHandle",
-        call: get_object_handle,
+        call: ApiFn::World(get_object_handle),
     },
     ApiFunction {
         name: "getObjectInt32Parameter",
-        call: get_object_int32_parameter,
+        call: ApiFn::World(get_object_int32_parameter),
     },
     ApiFunction {
         name: "getObjectSizeFactor",
-        call: get_object_size_factor,
+        call: ApiFn::World(get_object_size_factor),
     },
     ApiFunction {
         name: "getScriptHandle",
-        call: get_script_handle,
+        call: ApiFn::World(get_script_handle),
     },
     ApiFunction {
         name: "getScriptSimulationParameter",
-        call: get_script_simulation_parameter,
+        call: ApiFn::World(get_script_simulation_parameter),
     },
     ApiFunction {
         name: "getShapeBB",
-        call: get_shape_bb,
+        call: ApiFn::World(get_shape_bb),
     },
     ApiFunction {
         name: "getSystemTimeInMs",
-        call: get_system_time_in_ms,
+        call: ApiFn::World(get_system_time_in_ms),
     },
     ApiFunction {
         name: "isDynamicallyEnabled",
-        call: is_dynamically_enabled,
+        call: ApiFn::World(is_dynamically_enabled),
     },
     ApiFunction {
         name: "isHandle",
-        call: is_handle,
+        call: ApiFn::World(is_handle),
     },
     ApiFunction {
         name: "setScriptSimulationParameter",
-        call: set_script_simulation_parameter,
+        call: ApiFn::World(set_script_simulation_parameter),
     },
 ];
 

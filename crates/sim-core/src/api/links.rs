@@ -2,7 +2,7 @@
 //! together, CoppeliaSim's dynamic loop closure (suction pads, attachments, closed
 //! chains).
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::world::World;
 
@@ -10,11 +10,11 @@ use crate::world::World;
 pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getLinkDummy",
-        call: get_link_dummy,
+        call: ApiFn::World(get_link_dummy),
     },
     ApiFunction {
         name: "setLinkDummy",
-        call: set_link_dummy,
+        call: ApiFn::World(set_link_dummy),
     },
 ];
 

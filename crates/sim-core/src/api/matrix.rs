@@ -17,7 +17,7 @@
 
 use nalgebra::{Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::math::{self, Pose, Quat, Vec3};
 use crate::world::World;
@@ -26,79 +26,79 @@ use crate::world::World;
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "alphaBetaGammaToYawPitchRoll",
-        call: alpha_beta_gamma_to_yaw_pitch_roll,
+        call: ApiFn::World(alpha_beta_gamma_to_yaw_pitch_roll),
     },
     ApiFunction {
         name: "buildIdentityMatrix",
-        call: build_identity_matrix,
+        call: ApiFn::World(build_identity_matrix),
     },
     ApiFunction {
         name: "buildMatrix",
-        call: build_matrix,
+        call: ApiFn::World(build_matrix),
     },
     ApiFunction {
         name: "buildMatrixQ",
-        call: build_matrix_q,
+        call: ApiFn::World(build_matrix_q),
     },
     ApiFunction {
         name: "buildPose",
-        call: build_pose,
+        call: ApiFn::World(build_pose),
     },
     ApiFunction {
         name: "getEulerAnglesFromMatrix",
-        call: get_euler_angles_from_matrix,
+        call: ApiFn::World(get_euler_angles_from_matrix),
     },
     ApiFunction {
         name: "getMatrixInverse",
-        call: get_matrix_inverse,
+        call: ApiFn::World(get_matrix_inverse),
     },
     ApiFunction {
         name: "getPoseInverse",
-        call: get_pose_inverse,
+        call: ApiFn::World(get_pose_inverse),
     },
     ApiFunction {
         name: "getQuaternionFromMatrix",
-        call: get_quaternion_from_matrix,
+        call: ApiFn::World(get_quaternion_from_matrix),
     },
     ApiFunction {
         name: "getRotationAxis",
-        call: get_rotation_axis,
+        call: ApiFn::World(get_rotation_axis),
     },
     ApiFunction {
         name: "interpolateMatrices",
-        call: interpolate_matrices,
+        call: ApiFn::World(interpolate_matrices),
     },
     ApiFunction {
         name: "interpolatePoses",
-        call: interpolate_poses,
+        call: ApiFn::World(interpolate_poses),
     },
     ApiFunction {
         name: "matrixToPose",
-        call: matrix_to_pose,
+        call: ApiFn::World(matrix_to_pose),
     },
     ApiFunction {
         name: "multiplyMatrices",
-        call: multiply_matrices,
+        call: ApiFn::World(multiply_matrices),
     },
     ApiFunction {
         name: "multiplyPoses",
-        call: multiply_poses,
+        call: ApiFn::World(multiply_poses),
     },
     ApiFunction {
         name: "multiplyVector",
-        call: multiply_vector,
+        call: ApiFn::World(multiply_vector),
     },
     ApiFunction {
         name: "poseToMatrix",
-        call: pose_to_matrix,
+        call: ApiFn::World(pose_to_matrix),
     },
     ApiFunction {
         name: "rotateAroundAxis",
-        call: rotate_around_axis,
+        call: ApiFn::World(rotate_around_axis),
     },
     ApiFunction {
         name: "yawPitchRollToAlphaBetaGamma",
-        call: yaw_pitch_roll_to_alpha_beta_gamma,
+        call: ApiFn::World(yaw_pitch_roll_to_alpha_beta_gamma),
     },
 ];
 

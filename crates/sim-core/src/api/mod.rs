@@ -31,6 +31,7 @@ pub use args::Args;
 
 use crate::Value;
 use crate::error::SimError;
+use crate::sim::Sim;
 use crate::world::{Handle, World};
 
 /// Who is calling: scripts have an object ("emitting object" for `.` in paths),
@@ -74,8 +75,21 @@ impl From<SimError> for ApiError {
 /// What a function returns: CoppeliaSim's multiple return values.
 pub type Ret = Vec<Value>;
 
-/// A `sim.*` function.
-pub type ApiFn = fn(&mut World, &CallContext<'_>, &Args<'_>) -> Result<Ret, ApiError>;
+/// A `sim.*` function that touches only the world: objects and physics.
+pub type WorldFn = fn(&mut World, &CallContext<'_>, &Args<'_>) -> Result<Ret, ApiError>;
+
+/// A `sim.*` function that touches the floors above the world too: the simulation
+/// state, signals, drawings, graphs, UIs, IK environments, vision images, generators.
+pub type SimFn = fn(&mut Sim, &CallContext<'_>, &Args<'_>) -> Result<Ret, ApiError>;
+
+/// An implementation, typed by what it may touch.
+#[derive(Clone, Copy)]
+pub enum ApiFn {
+    /// The world only.
+    World(WorldFn),
+    /// Anything in the simulation.
+    Sim(SimFn),
+}
 
 /// One entry of the registry.
 #[derive(Clone, Copy)]
@@ -86,207 +100,225 @@ pub struct ApiFunction {
     pub call: ApiFn,
 }
 
+impl ApiFunction {
+    /// Runs the function on `sim`.
+    ///
+    /// # Errors
+    /// The function's own error, without its name (see [`ApiError::in_function`]).
+    pub fn invoke(&self, sim: &mut Sim, ctx: &CallContext<'_>, args: &Args<'_>) -> Result<Ret, ApiError> {
+        match self.call {
+            ApiFn::World(f) => f(&mut sim.world, ctx, args),
+            ApiFn::Sim(f) => f(sim, ctx, args),
+        }
+    }
+
+    /// Whether the function touches only the world.
+    pub fn world_only(&self) -> bool {
+        matches!(self.call, ApiFn::World(_))
+    }
+}
+
 /// Every `sim.*` function implemented in the core, in alphabetical order.
 pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addItemToCollection",
-        call: sensing::add_item_to_collection,
+        call: ApiFn::World(sensing::add_item_to_collection),
     },
     ApiFunction {
         name: "addLog",
-        call: misc::add_log,
+        call: ApiFn::World(misc::add_log),
     },
     ApiFunction {
         name: "checkCollision",
-        call: sensing::check_collision,
+        call: ApiFn::World(sensing::check_collision),
     },
     ApiFunction {
         name: "checkDistance",
-        call: sensing::check_distance,
+        call: ApiFn::World(sensing::check_distance),
     },
     ApiFunction {
         name: "clearFloatSignal",
-        call: misc::clear_float_signal,
+        call: ApiFn::Sim(misc::clear_float_signal),
     },
     ApiFunction {
         name: "clearInt32Signal",
-        call: misc::clear_int32_signal,
+        call: ApiFn::Sim(misc::clear_int32_signal),
     },
     ApiFunction {
         name: "clearStringSignal",
-        call: misc::clear_string_signal,
+        call: ApiFn::Sim(misc::clear_string_signal),
     },
     ApiFunction {
         name: "createCollection",
-        call: sensing::create_collection,
+        call: ApiFn::World(sensing::create_collection),
     },
     ApiFunction {
         name: "destroyCollection",
-        call: sensing::destroy_collection,
+        call: ApiFn::World(sensing::destroy_collection),
     },
     ApiFunction {
         name: "getFloatSignal",
-        call: misc::get_float_signal,
+        call: ApiFn::Sim(misc::get_float_signal),
     },
     ApiFunction {
         name: "getInt32Signal",
-        call: misc::get_int32_signal,
+        call: ApiFn::Sim(misc::get_int32_signal),
     },
     ApiFunction {
         name: "getJointForce",
-        call: joints::get_joint_force,
+        call: ApiFn::World(joints::get_joint_force),
     },
     ApiFunction {
         name: "getJointInterval",
-        call: joints::get_joint_interval,
+        call: ApiFn::World(joints::get_joint_interval),
     },
     ApiFunction {
         name: "getJointPosition",
-        call: joints::get_joint_position,
+        call: ApiFn::World(joints::get_joint_position),
     },
     ApiFunction {
         name: "getJointTargetPosition",
-        call: joints::get_joint_target_position,
+        call: ApiFn::World(joints::get_joint_target_position),
     },
     ApiFunction {
         name: "getJointTargetVelocity",
-        call: joints::get_joint_target_velocity,
+        call: ApiFn::World(joints::get_joint_target_velocity),
     },
     ApiFunction {
         name: "getJointType",
-        call: joints::get_joint_type,
+        call: ApiFn::World(joints::get_joint_type),
     },
     ApiFunction {
         name: "getJointVelocity",
-        call: joints::get_joint_velocity,
+        call: ApiFn::World(joints::get_joint_velocity),
     },
     ApiFunction {
         name: "getObject",
-        call: objects::get_object,
+        call: ApiFn::World(objects::get_object),
     },
     ApiFunction {
         name: "getObjectAlias",
-        call: objects::get_object_alias,
+        call: ApiFn::World(objects::get_object_alias),
     },
     ApiFunction {
         name: "getObjectMatrix",
-        call: objects::get_object_matrix,
+        call: ApiFn::World(objects::get_object_matrix),
     },
     ApiFunction {
         name: "getObjectOrientation",
-        call: objects::get_object_orientation,
+        call: ApiFn::World(objects::get_object_orientation),
     },
     ApiFunction {
         name: "getObjectParent",
-        call: objects::get_object_parent,
+        call: ApiFn::World(objects::get_object_parent),
     },
     ApiFunction {
         name: "getObjectPose",
-        call: objects::get_object_pose,
+        call: ApiFn::World(objects::get_object_pose),
     },
     ApiFunction {
         name: "getObjectPosition",
-        call: objects::get_object_position,
+        call: ApiFn::World(objects::get_object_position),
     },
     ApiFunction {
         name: "getObjectQuaternion",
-        call: objects::get_object_quaternion,
+        call: ApiFn::World(objects::get_object_quaternion),
     },
     ApiFunction {
         name: "getObjectType",
-        call: objects::get_object_type,
+        call: ApiFn::World(objects::get_object_type),
     },
     ApiFunction {
         name: "getObjectVelocity",
-        call: objects::get_object_velocity,
+        call: ApiFn::World(objects::get_object_velocity),
     },
     ApiFunction {
         name: "getObjectsInTree",
-        call: objects::get_objects_in_tree,
+        call: ApiFn::World(objects::get_objects_in_tree),
     },
     ApiFunction {
         name: "getSimulationState",
-        call: misc::get_simulation_state,
+        call: ApiFn::Sim(misc::get_simulation_state),
     },
     ApiFunction {
         name: "getSimulationTime",
-        call: misc::get_simulation_time,
+        call: ApiFn::World(misc::get_simulation_time),
     },
     ApiFunction {
         name: "getSimulationTimeStep",
-        call: misc::get_simulation_time_step,
+        call: ApiFn::World(misc::get_simulation_time_step),
     },
     ApiFunction {
         name: "getSimulatorMessage",
-        call: misc::get_simulator_message,
+        call: ApiFn::Sim(misc::get_simulator_message),
     },
     ApiFunction {
         name: "getStringSignal",
-        call: misc::get_string_signal,
+        call: ApiFn::Sim(misc::get_string_signal),
     },
     ApiFunction {
         name: "getSystemTime",
-        call: misc::get_system_time,
+        call: ApiFn::World(misc::get_system_time),
     },
     ApiFunction {
         name: "handleProximitySensor",
-        call: sensing::handle_proximity_sensor,
+        call: ApiFn::World(sensing::handle_proximity_sensor),
     },
     ApiFunction {
         name: "readForceSensor",
-        call: sensing::read_force_sensor,
+        call: ApiFn::World(sensing::read_force_sensor),
     },
     ApiFunction {
         name: "readProximitySensor",
-        call: sensing::read_proximity_sensor,
+        call: ApiFn::World(sensing::read_proximity_sensor),
     },
     ApiFunction {
         name: "setFloatSignal",
-        call: misc::set_float_signal,
+        call: ApiFn::Sim(misc::set_float_signal),
     },
     ApiFunction {
         name: "setInt32Signal",
-        call: misc::set_int32_signal,
+        call: ApiFn::Sim(misc::set_int32_signal),
     },
     ApiFunction {
         name: "setJointPosition",
-        call: joints::set_joint_position,
+        call: ApiFn::World(joints::set_joint_position),
     },
     ApiFunction {
         name: "setJointTargetForce",
-        call: joints::set_joint_target_force,
+        call: ApiFn::World(joints::set_joint_target_force),
     },
     ApiFunction {
         name: "setJointTargetPosition",
-        call: joints::set_joint_target_position,
+        call: ApiFn::World(joints::set_joint_target_position),
     },
     ApiFunction {
         name: "setJointTargetVelocity",
-        call: joints::set_joint_target_velocity,
+        call: ApiFn::World(joints::set_joint_target_velocity),
     },
     ApiFunction {
         name: "setObjectMatrix",
-        call: objects::set_object_matrix,
+        call: ApiFn::World(objects::set_object_matrix),
     },
     ApiFunction {
         name: "setObjectOrientation",
-        call: objects::set_object_orientation,
+        call: ApiFn::World(objects::set_object_orientation),
     },
     ApiFunction {
         name: "setObjectPose",
-        call: objects::set_object_pose,
+        call: ApiFn::World(objects::set_object_pose),
     },
     ApiFunction {
         name: "setObjectPosition",
-        call: objects::set_object_position,
+        call: ApiFn::World(objects::set_object_position),
     },
     ApiFunction {
         name: "setObjectQuaternion",
-        call: objects::set_object_quaternion,
+        call: ApiFn::World(objects::set_object_quaternion),
     },
     ApiFunction {
         name: "setStringSignal",
-        call: misc::set_string_signal,
+        call: ApiFn::Sim(misc::set_string_signal),
     },
 ];
 
@@ -417,18 +449,19 @@ pub fn function(name: &str) -> Option<&'static ApiFunction> {
 /// # Errors
 /// Unknown function (`No such function: sim.x`) or the function's own error, already
 /// qualified with `(in function 'sim.x')`.
-pub fn call(world: &mut World, ctx: &CallContext<'_>, name: &str, args: &[Value]) -> Result<Ret, String> {
+pub fn call(sim: &mut Sim, ctx: &CallContext<'_>, name: &str, args: &[Value]) -> Result<Ret, String> {
     let (module_name, fname) = name.split_once('.').unwrap_or(("sim", name));
     let f = module(module_name)
         .and_then(|m| m.function(fname))
         .ok_or_else(|| format!("No such function: {module_name}.{fname}"))?;
-    (f.call)(world, ctx, &Args::new(args)).map_err(|e| e.in_function(&format!("{module_name}.{fname}")))
+    f.invoke(sim, ctx, &Args::new(args))
+        .map_err(|e| e.in_function(&format!("{module_name}.{fname}")))
 }
 
 /// The `sim.*` constants scripts and clients use, with CoppeliaSim's values.
 pub const CONSTANTS: &[(&str, i64)] = &[
     ("handle_world", -1),
-    ("message_keypress", crate::world::MESSAGE_KEYPRESS),
+    ("message_keypress", crate::ui::MESSAGE_KEYPRESS),
     ("handle_all", -2),
     ("handle_all_except_explicit", -3),
     ("handle_self", -4),

@@ -11,7 +11,7 @@
 
 use gantry_protocol::cbor;
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::world::World;
 
@@ -19,59 +19,59 @@ use crate::world::World;
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "packDoubleTable",
-        call: pack_double_table,
+        call: ApiFn::World(pack_double_table),
     },
     ApiFunction {
         name: "packFloatTable",
-        call: pack_float_table,
+        call: ApiFn::World(pack_float_table),
     },
     ApiFunction {
         name: "packInt32Table",
-        call: pack_int32_table,
+        call: ApiFn::World(pack_int32_table),
     },
     ApiFunction {
         name: "packTable",
-        call: pack_table,
+        call: ApiFn::World(pack_table),
     },
     ApiFunction {
         name: "packUInt16Table",
-        call: pack_uint16_table,
+        call: ApiFn::World(pack_uint16_table),
     },
     ApiFunction {
         name: "packUInt32Table",
-        call: pack_uint32_table,
+        call: ApiFn::World(pack_uint32_table),
     },
     ApiFunction {
         name: "packUInt8Table",
-        call: pack_uint8_table,
+        call: ApiFn::World(pack_uint8_table),
     },
     ApiFunction {
         name: "unpackDoubleTable",
-        call: unpack_double_table,
+        call: ApiFn::World(unpack_double_table),
     },
     ApiFunction {
         name: "unpackFloatTable",
-        call: unpack_float_table,
+        call: ApiFn::World(unpack_float_table),
     },
     ApiFunction {
         name: "unpackInt32Table",
-        call: unpack_int32_table,
+        call: ApiFn::World(unpack_int32_table),
     },
     ApiFunction {
         name: "unpackTable",
-        call: unpack_table,
+        call: ApiFn::World(unpack_table),
     },
     ApiFunction {
         name: "unpackUInt16Table",
-        call: unpack_uint16_table,
+        call: ApiFn::World(unpack_uint16_table),
     },
     ApiFunction {
         name: "unpackUInt32Table",
-        call: unpack_uint32_table,
+        call: ApiFn::World(unpack_uint32_table),
     },
     ApiFunction {
         name: "unpackUInt8Table",
-        call: unpack_uint8_table,
+        call: ApiFn::World(unpack_uint8_table),
     },
 ];
 

@@ -7,9 +7,10 @@
 //! gantry does not have, or cannot set, is an error. A handle that names no object is
 //! always an error.
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::scene::{JointMode, ProximityModel};
+use crate::sim::Sim;
 use crate::world::{ObjectKind, World};
 
 /// CoppeliaSim version gantry's API follows (4.6.0), as `sim.intparam_program_version`
@@ -136,51 +137,51 @@ pub const CONSTANTS: &[(&str, i64)] = &[
 pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getArrayParam",
-        call: get_array_param,
+        call: ApiFn::World(get_array_param),
     },
     ApiFunction {
         name: "getBoolParam",
-        call: get_bool_param,
+        call: ApiFn::World(get_bool_param),
     },
     ApiFunction {
         name: "getFloatParam",
-        call: get_float_param,
+        call: ApiFn::World(get_float_param),
     },
     ApiFunction {
         name: "getInt32Param",
-        call: get_int32_param,
+        call: ApiFn::World(get_int32_param),
     },
     ApiFunction {
         name: "getObjectFloatParam",
-        call: get_object_float_param,
+        call: ApiFn::World(get_object_float_param),
     },
     ApiFunction {
         name: "getObjectInt32Param",
-        call: get_object_int32_param,
+        call: ApiFn::World(get_object_int32_param),
     },
     ApiFunction {
         name: "setArrayParam",
-        call: set_array_param,
+        call: ApiFn::World(set_array_param),
     },
     ApiFunction {
         name: "setBoolParam",
-        call: set_bool_param,
+        call: ApiFn::World(set_bool_param),
     },
     ApiFunction {
         name: "setFloatParam",
-        call: set_float_param,
+        call: ApiFn::Sim(set_float_param),
     },
     ApiFunction {
         name: "setInt32Param",
-        call: set_int32_param,
+        call: ApiFn::World(set_int32_param),
     },
     ApiFunction {
         name: "setObjectFloatParam",
-        call: set_object_float_param,
+        call: ApiFn::World(set_object_float_param),
     },
     ApiFunction {
         name: "setObjectInt32Param",
-        call: set_object_int32_param,
+        call: ApiFn::World(set_object_int32_param),
     },
 ];
 
@@ -370,11 +371,11 @@ fn get_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 }
 
 /// `sim.setFloatParam(parameter, value)`: the simulation time step (s), while stopped.
-fn set_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_float_param(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let id = a.int(0)?;
     let v = a.f64(1)?;
     match id {
-        FLOAT_SIMULATION_TIME_STEP => w.set_time_step(v)?,
+        FLOAT_SIMULATION_TIME_STEP => sim.set_time_step(v)?,
         _ => return Err(unknown("set", id)),
     }
     Ok(Vec::new())

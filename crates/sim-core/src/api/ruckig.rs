@@ -5,7 +5,7 @@
 //! `ruckigPos`/`ruckigVel` create a generator and return its handle; each
 //! `ruckigStep(handle, cycleTime)` advances it by `cycleTime` seconds and returns the
 //! new position, velocity and acceleration of every DoF. The generators live in the
-//! world ([`RuckigObjects`]), so they disappear with it when the simulation stops, as
+//! simulation ([`crate::motion::RuckigObjects`]), so they disappear with it when the simulation stops, as
 //! CoppeliaSim removes a script's objects with the script.
 //!
 //! Conventions, as CoppeliaSim: the state and limit tables concatenate one value per
@@ -16,34 +16,32 @@
 //! minimum velocity / acceleration tables after the maximum ones. Units are the caller's (rad or m, per
 //! second, per second squared, per second cubed).
 
-use std::collections::BTreeMap;
-
 use rsruckig::prelude::{
-    ControlInterface, DataArrayOrVec, InputParameter, OutputParameter, Ruckig, RuckigError, RuckigErrorHandler,
-    Synchronization,
+    ControlInterface, DataArrayOrVec, InputParameter, OutputParameter, Ruckig, RuckigError, Synchronization,
 };
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
-use crate::world::World;
+use crate::motion::RuckigObject;
+use crate::sim::Sim;
 
 /// The functions this file implements, sorted by name.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "ruckigPos",
-        call: ruckig_pos,
+        call: ApiFn::Sim(ruckig_pos),
     },
     ApiFunction {
         name: "ruckigRemove",
-        call: ruckig_remove,
+        call: ApiFn::Sim(ruckig_remove),
     },
     ApiFunction {
         name: "ruckigStep",
-        call: ruckig_step,
+        call: ApiFn::Sim(ruckig_step),
     },
     ApiFunction {
         name: "ruckigVel",
-        call: ruckig_vel,
+        call: ApiFn::Sim(ruckig_vel),
     },
 ];
 
@@ -63,73 +61,11 @@ pub(super) const CONSTANTS: &[(&str, i64)] = &[
 ];
 /// Most DoFs of one generator: far more than any robot, few enough that one step stays cheap.
 pub(crate) const MAX_DOFS: usize = 1024;
-/// Most generators alive at once in a world, so a script that never removes them
-/// (`sim.ruckigRemove`) fails clearly instead of growing memory without end.
-pub(crate) const MAX_OBJECTS: usize = 10_000;
 /// How far `cycleTime` may be from a whole number of base cycles (relative), as
 /// CoppeliaSim checks it.
 const CYCLE_TOLERANCE: f64 = 1e-3;
 /// `sim.verbosity_scriptwarnings`, for Ruckig's reason when it rejects an input.
 const WARNING: i64 = 420;
-
-/// Ruckig's error policy here: an invalid input stops the calculation with its reason
-/// (reported as `ErrorInvalidInput`, -100, and logged), a failed calculation returns its
-/// own result code (-101 to -111), as the C++ library does.
-#[derive(Debug, Clone, Copy, Default)]
-struct ResultCodes;
-
-impl RuckigErrorHandler for ResultCodes {
-    fn handle_validation_error(message: &str) -> Result<(), RuckigError> {
-        Err(RuckigError::ValidationError(message.to_owned()))
-    }
-
-    fn handle_calculator_error(_: &str) -> Result<(), RuckigError> {
-        Ok(())
-    }
-}
-
-/// One generator.
-#[derive(Debug)]
-struct RuckigObject {
-    otg: Ruckig<0, ResultCodes>,
-    /// The current state (fed back from each step's output) and the fixed target and limits.
-    input: InputParameter<0>,
-    output: OutputParameter<0>,
-    dofs: usize,
-    /// The smallest cycle time the caller declared, s; every step is a multiple of it.
-    base_cycle: f64,
-    /// Time stepped so far, s.
-    elapsed: f64,
-    /// The trajectory's duration, s, known after the first successful step.
-    duration: Option<f64>,
-    /// Whether the reason for an invalid input was logged already (once per generator).
-    warned: bool,
-}
-
-/// The Ruckig generators of a world, by handle (handles count up from 0 and are not reused).
-#[derive(Debug, Default)]
-pub(crate) struct RuckigObjects {
-    objects: BTreeMap<i64, RuckigObject>,
-    next_handle: i64,
-}
-
-impl RuckigObjects {
-    fn insert(&mut self, object: RuckigObject) -> Result<i64, ApiError> {
-        if self.objects.len() >= MAX_OBJECTS {
-            return Err(ApiError::new(format!(
-                "too many Ruckig objects ({MAX_OBJECTS}): remove finished ones with sim.ruckigRemove"
-            )));
-        }
-        let h = self.next_handle;
-        self.next_handle += 1;
-        self.objects.insert(h, object);
-        Ok(h)
-    }
-
-    fn get_mut(&mut self, h: i64) -> Result<&mut RuckigObject, ApiError> {
-        self.objects.get_mut(&h).ok_or_else(|| no_object(h))
-    }
-}
 
 fn no_object(h: i64) -> ApiError {
     ApiError::new(format!(
@@ -262,7 +198,7 @@ fn min_flags(flags: i64) -> (bool, bool) {
 
 /// `sim.ruckigPos(dofs, baseCycleTime, flags, currentPosVelAccel[3n],
 /// maxVelAccelJerk[3n (+n minVel) (+n minAccel)], selection[n], targetPosVel[2n])` → handle.
-fn ruckig_pos(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn ruckig_pos(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (n, base, flags) = header(a)?;
     let cur = numbers(a, 3, "currentPosVelAccel", 3 * n, false)?;
     let (min_vel, min_accel) = min_flags(flags);
@@ -287,12 +223,12 @@ fn ruckig_pos(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
     if min_accel {
         input.min_acceleration = Some(DataArrayOrVec::Heap(limits[next..next + n].to_vec()));
     }
-    Ok(vec![Value::Int(w.ruckig.insert(obj)?)])
+    Ok(vec![Value::Int(sim.ruckig.insert(obj)?)])
 }
 
 /// `sim.ruckigVel(dofs, baseCycleTime, flags, currentPosVelAccel[3n],
 /// maxAccelJerk[2n (+n minAccel)], selection[n], targetVel[n])` → handle.
-fn ruckig_vel(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn ruckig_vel(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (n, base, flags) = header(a)?;
     let cur = numbers(a, 3, "currentPosVelAccel", 3 * n, false)?;
     let (_, min_accel) = min_flags(flags);
@@ -309,7 +245,7 @@ fn ruckig_vel(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
     if min_accel {
         input.min_acceleration = Some(DataArrayOrVec::Heap(limits[2 * n..3 * n].to_vec()));
     }
-    Ok(vec![Value::Int(w.ruckig.insert(obj)?)])
+    Ok(vec![Value::Int(sim.ruckig.insert(obj)?)])
 }
 
 /// `sim.ruckigStep(handle, cycleTime)` → `result, newPosVelAccel[3n], synchronizationTime`.
@@ -321,11 +257,11 @@ fn ruckig_vel(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
 /// the state is returned unchanged. `synchronizationTime` is the time still needed to
 /// reach the target after this step: the trajectory's duration minus the time stepped,
 /// negative by the unused part of the last cycle once finished.
-fn ruckig_step(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn ruckig_step(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let cycle = a.f64(1)?;
-    let now = w.time();
-    let obj = w.ruckig.get_mut(h)?;
+    let now = sim.world.time();
+    let obj = sim.ruckig.get_mut(h).ok_or_else(|| no_object(h))?;
     let cycles = (cycle / obj.base_cycle).round();
     if !(cycle.is_finite() && cycles >= 1.0 && (1.0 - cycles * obj.base_cycle / cycle).abs() < CYCLE_TOLERANCE) {
         return Err(ApiError::new(format!(
@@ -359,7 +295,7 @@ fn ruckig_step(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret
         .collect();
     if let Some(m) = warning.filter(|_| !obj.warned) {
         obj.warned = true;
-        w.log.push(
+        sim.world.log.push(
             now,
             WARNING,
             ctx.source,
@@ -370,33 +306,8 @@ fn ruckig_step(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret
 }
 
 /// `sim.ruckigRemove(handle)`.
-fn ruckig_remove(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn ruckig_remove(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
-    w.ruckig.objects.remove(&h).ok_or_else(|| no_object(h))?;
+    sim.ruckig.objects.remove(&h).ok_or_else(|| no_object(h))?;
     Ok(Vec::new())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn handles_count_up_and_are_not_reused() {
-        let mut objs = RuckigObjects::default();
-        let make = || RuckigObject {
-            otg: Ruckig::new(Some(1), 0.001),
-            input: InputParameter::new(Some(1)),
-            output: OutputParameter::new(Some(1)),
-            dofs: 1,
-            base_cycle: 0.001,
-            elapsed: 0.0,
-            duration: None,
-            warned: false,
-        };
-        let a = objs.insert(make()).expect("room");
-        let b = objs.insert(make()).expect("room");
-        assert_eq!((a, b), (0, 1));
-        objs.objects.remove(&a);
-        assert_eq!(objs.insert(make()).expect("room"), 2);
-    }
 }

@@ -4,11 +4,12 @@
 //! The world does the editing (`world::edit`); this file reads CoppeliaSim 4.6's argument
 //! forms and defaults and gives its return shapes.
 
+use crate::sim::Sim;
 use std::f64::consts::PI;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::math::{Pose, Vec3};
 use crate::scene::{Geometry, JointMode, MeshData, ShapeModel};
@@ -47,87 +48,87 @@ pub const CONSTANTS: &[(&str, i64)] = &[
 pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addForce",
-        call: add_force,
+        call: ApiFn::World(add_force),
     },
     ApiFunction {
         name: "addForceAndTorque",
-        call: add_force_and_torque,
+        call: ApiFn::World(add_force_and_torque),
     },
     ApiFunction {
         name: "copyPasteObjects",
-        call: copy_paste_objects,
+        call: ApiFn::World(copy_paste_objects),
     },
     ApiFunction {
         name: "createDummy",
-        call: create_dummy,
+        call: ApiFn::World(create_dummy),
     },
     ApiFunction {
         name: "createPrimitiveShape",
-        call: create_primitive_shape,
+        call: ApiFn::World(create_primitive_shape),
     },
     ApiFunction {
         name: "getJointMaxForce",
-        call: get_joint_max_force,
+        call: ApiFn::World(get_joint_max_force),
     },
     ApiFunction {
         name: "getJointMode",
-        call: get_joint_mode,
+        call: ApiFn::World(get_joint_mode),
     },
     ApiFunction {
         name: "getJointTargetForce",
-        call: get_joint_target_force,
+        call: ApiFn::World(get_joint_target_force),
     },
     ApiFunction {
         name: "getObjectChild",
-        call: get_object_child,
+        call: ApiFn::World(get_object_child),
     },
     ApiFunction {
         name: "getObjects",
-        call: get_objects,
+        call: ApiFn::World(get_objects),
     },
     ApiFunction {
         name: "getShapeColor",
-        call: get_shape_color,
+        call: ApiFn::World(get_shape_color),
     },
     ApiFunction {
         name: "getShapeMass",
-        call: get_shape_mass,
+        call: ApiFn::World(get_shape_mass),
     },
     ApiFunction {
         name: "removeObject",
-        call: remove_object,
+        call: ApiFn::Sim(remove_object),
     },
     ApiFunction {
         name: "removeObjects",
-        call: remove_objects,
+        call: ApiFn::Sim(remove_objects),
     },
     ApiFunction {
         name: "resetDynamicObject",
-        call: reset_dynamic_object,
+        call: ApiFn::World(reset_dynamic_object),
     },
     ApiFunction {
         name: "setJointMaxForce",
-        call: set_joint_max_force,
+        call: ApiFn::World(set_joint_max_force),
     },
     ApiFunction {
         name: "setJointMode",
-        call: set_joint_mode,
+        call: ApiFn::World(set_joint_mode),
     },
     ApiFunction {
         name: "setObjectAlias",
-        call: set_object_alias,
+        call: ApiFn::World(set_object_alias),
     },
     ApiFunction {
         name: "setObjectParent",
-        call: set_object_parent,
+        call: ApiFn::World(set_object_parent),
     },
     ApiFunction {
         name: "setShapeColor",
-        call: set_shape_color,
+        call: ApiFn::World(set_shape_color),
     },
     ApiFunction {
         name: "setShapeMass",
-        call: set_shape_mass,
+        call: ApiFn::World(set_shape_mass),
     },
 ];
 
@@ -310,14 +311,14 @@ fn create_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 
 /// `sim.removeObjects(objectHandles)`: all or nothing; children of a removed object move
 /// up to its parent.
-fn remove_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    w.remove_objects(&handle_list(a, 0)?)?;
+fn remove_objects(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    sim.remove_objects(&handle_list(a, 0)?)?;
     Ok(Vec::new())
 }
 
 /// `sim.removeObject(objectHandle)`: the pre-4.3 name for one object.
-fn remove_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    w.remove_objects(&[a.handle(0)?])?;
+fn remove_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    sim.remove_objects(&[a.handle(0)?])?;
     Ok(Vec::new())
 }
 

@@ -43,10 +43,10 @@ pub(super) fn read_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args
 pub(super) fn handle_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     if h == -2 || h == -3 {
-        w.handle_all_proximity_sensors();
+        crate::sensor::handle_all_proximity_sensors(w);
         return Ok(detection_values(Some(None)));
     }
-    let d = w.handle_proximity_sensor(h)?;
+    let d = crate::sensor::handle_proximity_sensor(w, h)?;
     Ok(detection_values(Some(d)))
 }
 

@@ -1,6 +1,6 @@
 //! `sim.checkProximitySensor`: a proximity sensor's detection restricted to one entity.
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::math::{self, Vec3};
 use crate::sensor::ProximityVolume;
@@ -9,7 +9,7 @@ use crate::world::{Detection, FIRST_COLLECTION_HANDLE, Handle, ObjectKind, World
 /// The functions this file implements, in alphabetical order.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[ApiFunction {
     name: "checkProximitySensor",
-    call: check_proximity_sensor,
+    call: ApiFn::World(check_proximity_sensor),
 }];
 
 /// `sim.handle_all`.

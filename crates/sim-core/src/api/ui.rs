@@ -5,10 +5,10 @@
 //! values (slider positions) are rounded to the nearest integer, so a script computing
 //! `100*(speed-min)/(max-min)` gets 50 even when the float is 49.999999.
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::sim::Sim;
 use crate::ui::{UiError, Uis};
-use crate::world::World;
 
 /// Verbosity of parser notes in the log (`sim.verbosity_scriptinfos`).
 const INFO: i64 = 450;
@@ -20,111 +20,111 @@ const WARNING: i64 = 300;
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "create",
-        call: create,
+        call: ApiFn::Sim(create),
     },
     ApiFunction {
         name: "destroy",
-        call: destroy,
+        call: ApiFn::Sim(destroy),
     },
     ApiFunction {
         name: "getCheckboxValue",
-        call: get_checkbox_value,
+        call: ApiFn::Sim(get_checkbox_value),
     },
     ApiFunction {
         name: "getEditValue",
-        call: get_edit_value,
+        call: ApiFn::Sim(get_edit_value),
     },
     ApiFunction {
         name: "getEnabled",
-        call: get_enabled,
+        call: ApiFn::Sim(get_enabled),
     },
     ApiFunction {
         name: "getLabelText",
-        call: get_label_text,
+        call: ApiFn::Sim(get_label_text),
     },
     ApiFunction {
         name: "getPosition",
-        call: get_position,
+        call: ApiFn::Sim(get_position),
     },
     ApiFunction {
         name: "getRadiobuttonValue",
-        call: get_radiobutton_value,
+        call: ApiFn::Sim(get_radiobutton_value),
     },
     ApiFunction {
         name: "getSliderValue",
-        call: get_slider_value,
+        call: ApiFn::Sim(get_slider_value),
     },
     ApiFunction {
         name: "getSpinboxValue",
-        call: get_spinbox_value,
+        call: ApiFn::Sim(get_spinbox_value),
     },
     ApiFunction {
         name: "getTitle",
-        call: get_title,
+        call: ApiFn::Sim(get_title),
     },
     ApiFunction {
         name: "getWidgetVisibility",
-        call: get_widget_visibility,
+        call: ApiFn::Sim(get_widget_visibility),
     },
     ApiFunction {
         name: "hide",
-        call: hide,
+        call: ApiFn::Sim(hide),
     },
     ApiFunction {
         name: "interact",
-        call: interact,
+        call: ApiFn::Sim(interact),
     },
     ApiFunction {
         name: "isVisible",
-        call: is_visible,
+        call: ApiFn::Sim(is_visible),
     },
     ApiFunction {
         name: "setButtonText",
-        call: set_button_text,
+        call: ApiFn::Sim(set_button_text),
     },
     ApiFunction {
         name: "setCheckboxValue",
-        call: set_checkbox_value,
+        call: ApiFn::Sim(set_checkbox_value),
     },
     ApiFunction {
         name: "setEditValue",
-        call: set_edit_value,
+        call: ApiFn::Sim(set_edit_value),
     },
     ApiFunction {
         name: "setEnabled",
-        call: set_enabled,
+        call: ApiFn::Sim(set_enabled),
     },
     ApiFunction {
         name: "setLabelText",
-        call: set_label_text,
+        call: ApiFn::Sim(set_label_text),
     },
     ApiFunction {
         name: "setPosition",
-        call: set_position,
+        call: ApiFn::Sim(set_position),
     },
     ApiFunction {
         name: "setRadiobuttonValue",
-        call: set_radiobutton_value,
+        call: ApiFn::Sim(set_radiobutton_value),
     },
     ApiFunction {
         name: "setSliderValue",
-        call: set_slider_value,
+        call: ApiFn::Sim(set_slider_value),
     },
     ApiFunction {
         name: "setSpinboxValue",
-        call: set_spinbox_value,
+        call: ApiFn::Sim(set_spinbox_value),
     },
     ApiFunction {
         name: "setTitle",
-        call: set_title,
+        call: ApiFn::Sim(set_title),
     },
     ApiFunction {
         name: "setWidgetVisibility",
-        call: set_widget_visibility,
+        call: ApiFn::Sim(set_widget_visibility),
     },
     ApiFunction {
         name: "show",
-        call: show,
+        call: ApiFn::Sim(show),
     },
 ];
 
@@ -140,17 +140,17 @@ impl From<UiError> for ApiError {
 /// Runs `f` on the UIs, then moves any warnings it produced (unknown XML attributes,
 /// a full event queue) to the world log under the caller's name.
 fn with_uis<T>(
-    w: &mut World,
+    sim: &mut Sim,
     ctx: &CallContext<'_>,
     f: impl FnOnce(&mut Uis) -> Result<T, UiError>,
 ) -> Result<T, ApiError> {
-    let result = f(&mut w.uis);
-    let t = w.time();
-    for msg in w.uis.take_warnings() {
-        w.log.push(t, WARNING, ctx.source, &msg);
+    let result = f(&mut sim.uis);
+    let t = sim.world.time();
+    for msg in sim.uis.take_warnings() {
+        sim.world.log.push(t, WARNING, ctx.source, &msg);
     }
-    for msg in w.uis.take_notes() {
-        w.log.push(t, INFO, ctx.source, &msg);
+    for msg in sim.uis.take_notes() {
+        sim.world.log.push(t, INFO, ctx.source, &msg);
     }
     Ok(result?)
 }
@@ -163,178 +163,178 @@ fn rounded(a: &Args<'_>, i: usize) -> Result<i64, ApiError> {
 }
 
 /// `simUI.create(xml)` → ui handle.
-fn create(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let xml = a.str(0)?;
     let owner = ctx.script_object;
-    let ui = with_uis(w, ctx, |u| u.create(xml, owner))?;
+    let ui = with_uis(sim, ctx, |u| u.create(xml, owner))?;
     Ok(vec![Value::Int(ui)])
 }
 
 /// `simUI.destroy(ui)`.
-fn destroy(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn destroy(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let ui = a.handle(0)?;
-    with_uis(w, ctx, |u| u.destroy(ui))?;
+    with_uis(sim, ctx, |u| u.destroy(ui))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getSliderValue(ui, id)` → integer.
-fn get_slider_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::Int(w.uis.slider_value(a.handle(0)?, a.int(1)?)?)])
+fn get_slider_value(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Int(sim.uis.slider_value(a.handle(0)?, a.int(1)?)?)])
 }
 
 /// `simUI.setSliderValue(ui, id, value, suppressEvents=true)`.
-fn set_slider_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_slider_value(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, value, suppress) = (a.handle(0)?, a.int(1)?, rounded(a, 2)?, a.opt_bool(3, true)?);
-    with_uis(w, ctx, |u| u.set_slider_value(ui, id, value, suppress))?;
+    with_uis(sim, ctx, |u| u.set_slider_value(ui, id, value, suppress))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getLabelText(ui, id)` → text.
-fn get_label_text(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::from(w.uis.label_text(a.handle(0)?, a.int(1)?)?)])
+fn get_label_text(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::from(sim.uis.label_text(a.handle(0)?, a.int(1)?)?)])
 }
 
 /// `simUI.setLabelText(ui, id, text, suppressEvents=true)`; labels queue no event either way.
-fn set_label_text(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_label_text(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, text) = (a.handle(0)?, a.int(1)?, a.str(2)?);
     // Checked for type only: simUI accepts the flag, and a label has no signal to suppress.
     a.opt_bool(3, true)?;
-    with_uis(w, ctx, |u| u.set_label_text(ui, id, text))?;
+    with_uis(sim, ctx, |u| u.set_label_text(ui, id, text))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getEditValue(ui, id)` → text.
-fn get_edit_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::from(w.uis.edit_value(a.handle(0)?, a.int(1)?)?)])
+fn get_edit_value(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::from(sim.uis.edit_value(a.handle(0)?, a.int(1)?)?)])
 }
 
 /// `simUI.setEditValue(ui, id, text, suppressEvents=true)`.
-fn set_edit_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_edit_value(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, text, suppress) = (a.handle(0)?, a.int(1)?, a.str(2)?, a.opt_bool(3, true)?);
-    with_uis(w, ctx, |u| u.set_edit_value(ui, id, text, suppress))?;
+    with_uis(sim, ctx, |u| u.set_edit_value(ui, id, text, suppress))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getCheckboxValue(ui, id)` → 0 unchecked, 1 partial, 2 checked.
-fn get_checkbox_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::Int(w.uis.checkbox_value(a.handle(0)?, a.int(1)?)?)])
+fn get_checkbox_value(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Int(sim.uis.checkbox_value(a.handle(0)?, a.int(1)?)?)])
 }
 
 /// `simUI.setCheckboxValue(ui, id, value, suppressEvents=true)` with value 0, 1 or 2.
-fn set_checkbox_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_checkbox_value(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, value, suppress) = (a.handle(0)?, a.int(1)?, a.int(2)?, a.opt_bool(3, true)?);
-    with_uis(w, ctx, |u| u.set_checkbox_value(ui, id, value, suppress))?;
+    with_uis(sim, ctx, |u| u.set_checkbox_value(ui, id, value, suppress))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getRadiobuttonValue(ui, id)` → 1 checked, 0 not.
-fn get_radiobutton_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let checked = w.uis.radiobutton_value(a.handle(0)?, a.int(1)?)?;
+fn get_radiobutton_value(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let checked = sim.uis.radiobutton_value(a.handle(0)?, a.int(1)?)?;
     Ok(vec![Value::Int(i64::from(checked))])
 }
 
 /// `simUI.setRadiobuttonValue(ui, id, value, suppressEvents=true)`; value 1/true checks.
-fn set_radiobutton_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_radiobutton_value(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, checked, suppress) = (a.handle(0)?, a.int(1)?, a.bool(2)?, a.opt_bool(3, true)?);
-    with_uis(w, ctx, |u| u.set_radiobutton_value(ui, id, checked, suppress))?;
+    with_uis(sim, ctx, |u| u.set_radiobutton_value(ui, id, checked, suppress))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getSpinboxValue(ui, id)` → number.
-fn get_spinbox_value(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::Float(w.uis.spinbox_value(a.handle(0)?, a.int(1)?)?)])
+fn get_spinbox_value(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Float(sim.uis.spinbox_value(a.handle(0)?, a.int(1)?)?)])
 }
 
 /// `simUI.setSpinboxValue(ui, id, value, suppressEvents=true)`.
-fn set_spinbox_value(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_spinbox_value(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, value, suppress) = (a.handle(0)?, a.int(1)?, a.finite(2)?, a.opt_bool(3, true)?);
-    with_uis(w, ctx, |u| u.set_spinbox_value(ui, id, value, suppress))?;
+    with_uis(sim, ctx, |u| u.set_spinbox_value(ui, id, value, suppress))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getEnabled(ui, id)` → boolean (gantry; simUI has only the setter).
-fn get_enabled(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::Bool(w.uis.enabled(a.handle(0)?, a.int(1)?)?)])
+fn get_enabled(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Bool(sim.uis.enabled(a.handle(0)?, a.int(1)?)?)])
 }
 
 /// `simUI.setEnabled(ui, id, enabled)`.
-fn set_enabled(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_enabled(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, enabled) = (a.handle(0)?, a.int(1)?, a.bool(2)?);
-    with_uis(w, ctx, |u| u.set_enabled(ui, id, enabled))?;
+    with_uis(sim, ctx, |u| u.set_enabled(ui, id, enabled))?;
     Ok(Vec::new())
 }
 
 /// `simUI.show(ui)`.
-fn show(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn show(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let ui = a.handle(0)?;
-    with_uis(w, ctx, |u| u.set_visible(ui, true))?;
+    with_uis(sim, ctx, |u| u.set_visible(ui, true))?;
     Ok(Vec::new())
 }
 
 /// `simUI.hide(ui)`.
-fn hide(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn hide(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let ui = a.handle(0)?;
-    with_uis(w, ctx, |u| u.set_visible(ui, false))?;
+    with_uis(sim, ctx, |u| u.set_visible(ui, false))?;
     Ok(Vec::new())
 }
 
 /// `simUI.isVisible(ui)` → boolean.
-fn is_visible(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::Bool(w.uis.is_visible(a.handle(0)?)?)])
+fn is_visible(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Bool(sim.uis.is_visible(a.handle(0)?)?)])
 }
 
 /// `simUI.interact(ui, id, value)` (gantry): acts as the user on widget `id` (0 = the
 /// window's close button) and queues its callback; see [`Uis::interact`].
-fn interact(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn interact(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, value) = (a.handle(0)?, a.int(1)?, a.get(2));
-    with_uis(w, ctx, |u| u.interact(ui, id, value))?;
+    with_uis(sim, ctx, |u| u.interact(ui, id, value))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getPosition(ui)` → `x, y` in pixels.
-fn get_position(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let [x, y] = w.uis.position(a.handle(0)?)?;
+fn get_position(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let [x, y] = sim.uis.position(a.handle(0)?)?;
     Ok(vec![Value::Int(x), Value::Int(y)])
 }
 
 /// `simUI.setPosition(ui, x, y, suppressEvents=true)`: moves the window (pixels).
-fn set_position(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_position(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, x, y) = (a.handle(0)?, a.int(1)?, a.int(2)?);
     // Checked for type only: gantry's windows have no move callback to suppress.
     a.opt_bool(3, true)?;
-    with_uis(w, ctx, |u| u.set_position(ui, [x, y]))?;
+    with_uis(sim, ctx, |u| u.set_position(ui, [x, y]))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getTitle(ui)` → text.
-fn get_title(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::from(w.uis.title(a.handle(0)?)?)])
+fn get_title(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::from(sim.uis.title(a.handle(0)?)?)])
 }
 
 /// `simUI.setTitle(ui, title, suppressEvents=true)`.
-fn set_title(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_title(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, title) = (a.handle(0)?, a.str(1)?);
     // Checked for type only: a title change has no callback.
     a.opt_bool(2, true)?;
-    with_uis(w, ctx, |u| u.set_title(ui, title))?;
+    with_uis(sim, ctx, |u| u.set_title(ui, title))?;
     Ok(Vec::new())
 }
 
 /// `simUI.getWidgetVisibility(ui, id)` → boolean.
-fn get_widget_visibility(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    Ok(vec![Value::Bool(w.uis.widget_visible(a.handle(0)?, a.int(1)?)?)])
+fn get_widget_visibility(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    Ok(vec![Value::Bool(sim.uis.widget_visible(a.handle(0)?, a.int(1)?)?)])
 }
 
 /// `simUI.setWidgetVisibility(ui, id, visible)`.
-fn set_widget_visibility(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_widget_visibility(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, visible) = (a.handle(0)?, a.int(1)?, a.bool(2)?);
-    with_uis(w, ctx, |u| u.set_widget_visible(ui, id, visible))?;
+    with_uis(sim, ctx, |u| u.set_widget_visible(ui, id, visible))?;
     Ok(Vec::new())
 }
 
 /// `simUI.setButtonText(ui, id, text)`.
-fn set_button_text(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_button_text(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (ui, id, text) = (a.handle(0)?, a.int(1)?, a.str(2)?);
-    with_uis(w, ctx, |u| u.set_button_text(ui, id, text))?;
+    with_uis(sim, ctx, |u| u.set_button_text(ui, id, text))?;
     Ok(Vec::new())
 }

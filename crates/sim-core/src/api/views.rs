@@ -3,45 +3,46 @@
 //! [`crate::ui::FloatingViews`]) and the object selection (`sim.getObjectSel`,
 //! `sim.setObjectSel`; see [`crate::world::Selection`]).
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
-use crate::world::{ObjectKind, World};
+use crate::sim::Sim;
+use crate::world::ObjectKind;
 
 /// The functions of this file.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "adjustView",
-        call: adjust_view,
+        call: ApiFn::Sim(adjust_view),
     },
     ApiFunction {
         name: "floatingViewAdd",
-        call: floating_view_add,
+        call: ApiFn::Sim(floating_view_add),
     },
     ApiFunction {
         name: "floatingViewRemove",
-        call: floating_view_remove,
+        call: ApiFn::Sim(floating_view_remove),
     },
     ApiFunction {
         name: "getObjectSel",
-        call: get_object_sel,
+        call: ApiFn::Sim(get_object_sel),
     },
     ApiFunction {
         name: "setObjectSel",
-        call: set_object_sel,
+        call: ApiFn::Sim(set_object_sel),
     },
 ];
 
 /// `sim.getObjectSel()` → the selected objects' handles, in selection order (the
 /// viewer's click selects one).
-fn get_object_sel(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_sel(sim: &mut Sim, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
     Ok(vec![Value::Array(
-        w.selection.handles().iter().map(|&h| Value::Int(h)).collect(),
+        sim.world.selection.handles().iter().map(|&h| Value::Int(h)).collect(),
     )])
 }
 
 /// `sim.setObjectSel(handles)`: replaces the selection (the viewer shows its first
 /// object); every handle must name an object; an empty table clears it.
-fn set_object_sel(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_object_sel(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let handles = match a.get(0) {
         Value::Array(items) => items
             .iter()
@@ -66,20 +67,20 @@ fn set_object_sel(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
         )));
     }
     for &h in &handles {
-        w.object(h)?;
+        sim.world.object(h)?;
     }
-    w.selection.set(&handles);
+    sim.world.selection.set(&handles);
     Ok(Vec::new())
 }
 
 /// `sim.floatingViewAdd(posX, posY, sizeX, sizeY, options)` → the view's handle. The
 /// position is the view's centre and the size its extent, both relative to the main
 /// view (0..1, from the bottom left).
-fn floating_view_add(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn floating_view_add(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let centre = [a.finite(0)?, a.finite(1)?];
     let size = [a.finite(2)?, a.finite(3)?];
     let options = a.opt_int(4, 0)?;
-    let h = w
+    let h = sim
         .views
         .add(centre, size, options)
         .map_err(|e| ApiError::new(e.to_string()))?;
@@ -90,12 +91,12 @@ fn floating_view_add(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result
 /// shows what `objectHandle` sees (a vision sensor's image in gantry's viewer; -1 for
 /// nothing), captioned `viewLabel` or the object's alias. `options` are accepted and
 /// ignored.
-fn adjust_view(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn adjust_view(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let view = a.int(0)?;
     let object = match a.int(1)? {
         -1 => None,
         h => {
-            let o = w.object(h)?;
+            let o = sim.world.object(h)?;
             if !matches!(o.kind, ObjectKind::VisionSensor(_)) {
                 return Err(ApiError::new(format!(
                     "argument 2: object {h} is not a vision sensor: gantry's floating views show vision sensors"
@@ -107,12 +108,12 @@ fn adjust_view(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
     a.opt_int(2, 0)?;
     let label = match a.get(3) {
         Value::Nil => match object {
-            Some(h) => w.object(h)?.alias.clone(),
+            Some(h) => sim.world.object(h)?.alias.clone(),
             None => String::new(),
         },
         _ => a.str(3)?.to_owned(),
     };
-    w.views
+    sim.views
         .adjust(view, object, &label)
         .map_err(|e| ApiError::new(format!("argument 1: {e}")))?;
     Ok(vec![Value::Int(1)])
@@ -120,7 +121,7 @@ fn adjust_view(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
 
 /// `sim.floatingViewRemove(viewHandle)` → 1 when removed, 0 when there was no such
 /// view (CoppeliaSim's result, not an error).
-fn floating_view_remove(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn floating_view_remove(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let view = a.int(0)?;
-    Ok(vec![Value::Int(i64::from(w.views.remove(view)))])
+    Ok(vec![Value::Int(i64::from(sim.views.remove(view)))])
 }

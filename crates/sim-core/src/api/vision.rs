@@ -8,10 +8,11 @@
 //! the defaults `{0, 0}`, `{0, 0}` mean the whole image. Functions returning an image
 //! also return the portion's `{width, height}`.
 
-use super::{ApiError, ApiFunction, Args, CallContext, Ret};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::sim::Sim;
 use crate::vision::{self, SensorImage, VisionResult};
-use crate::world::{Handle, World};
+use crate::world::Handle;
 
 /// `sim.handle_all`.
 const HANDLE_ALL: Handle = -2;
@@ -25,41 +26,41 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         // CoppeliaSim 4.0-4.5's byte image.
         name: "getVisionSensorCharImage",
-        call: get_vision_sensor_char_image,
+        call: ApiFn::Sim(get_vision_sensor_char_image),
     },
     ApiFunction {
         name: "getVisionSensorDepth",
-        call: get_vision_sensor_depth,
+        call: ApiFn::Sim(get_vision_sensor_depth),
     },
     ApiFunction {
         // CoppeliaSim 4.0-4.5's float image.
         name: "getVisionSensorImage",
-        call: get_vision_sensor_image,
+        call: ApiFn::Sim(get_vision_sensor_image),
     },
     ApiFunction {
         name: "getVisionSensorImg",
-        call: get_vision_sensor_img,
+        call: ApiFn::Sim(get_vision_sensor_img),
     },
     ApiFunction {
         name: "getVisionSensorRes",
-        call: get_vision_sensor_res,
+        call: ApiFn::Sim(get_vision_sensor_res),
     },
     ApiFunction {
         // CoppeliaSim 4.1's name of getVisionSensorRes.
         name: "getVisionSensorResolution",
-        call: get_vision_sensor_res,
+        call: ApiFn::Sim(get_vision_sensor_res),
     },
     ApiFunction {
         name: "handleVisionSensor",
-        call: handle_vision_sensor,
+        call: ApiFn::Sim(handle_vision_sensor),
     },
     ApiFunction {
         name: "readVisionSensor",
-        call: read_vision_sensor,
+        call: ApiFn::Sim(read_vision_sensor),
     },
     ApiFunction {
         name: "setVisionSensorImg",
-        call: set_vision_sensor_img,
+        call: ApiFn::Sim(set_vision_sensor_img),
     },
 ];
 
@@ -67,43 +68,43 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
 pub(super) const SIM_VISION_FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "blobDetectionOnWorkImg",
-        call: blob_detection_on_work_img,
+        call: ApiFn::Sim(blob_detection_on_work_img),
     },
     ApiFunction {
         name: "edgeDetectionOnWorkImg",
-        call: edge_detection_on_work_img,
+        call: ApiFn::Sim(edge_detection_on_work_img),
     },
     ApiFunction {
         name: "horizontalFlipWorkImg",
-        call: horizontal_flip_work_img,
+        call: ApiFn::Sim(horizontal_flip_work_img),
     },
     ApiFunction {
         name: "selectiveColorOnWorkImg",
-        call: selective_color_on_work_img,
+        call: ApiFn::Sim(selective_color_on_work_img),
     },
     ApiFunction {
         name: "sensorDepthMapToWorkImg",
-        call: sensor_depth_map_to_work_img,
+        call: ApiFn::Sim(sensor_depth_map_to_work_img),
     },
     ApiFunction {
         name: "sensorImgToWorkImg",
-        call: sensor_img_to_work_img,
+        call: ApiFn::Sim(sensor_img_to_work_img),
     },
     ApiFunction {
         name: "sharpenWorkImg",
-        call: sharpen_work_img,
+        call: ApiFn::Sim(sharpen_work_img),
     },
     ApiFunction {
         name: "uniformImgToWorkImg",
-        call: uniform_img_to_work_img,
+        call: ApiFn::Sim(uniform_img_to_work_img),
     },
     ApiFunction {
         name: "verticalFlipWorkImg",
-        call: vertical_flip_work_img,
+        call: ApiFn::Sim(vertical_flip_work_img),
     },
     ApiFunction {
         name: "workImgToSensorImg",
-        call: work_img_to_sensor_img,
+        call: ApiFn::Sim(work_img_to_sensor_img),
     },
 ];
 
@@ -209,28 +210,28 @@ fn result_values(result: Option<&VisionResult>) -> Ret {
 /// depth); `detectionCount` is 0 until a `sysCall_vision` callback triggers.
 /// `sim.handle_all` / `sim.handle_all_except_explicit` render every (non-explicit)
 /// sensor and return only the count of triggered sensors, 0.
-pub(super) fn handle_vision_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn handle_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     if h == HANDLE_ALL || h == HANDLE_ALL_EXCEPT_EXPLICIT {
-        vision::handle_all_vision_sensors(w, h == HANDLE_ALL_EXCEPT_EXPLICIT)?;
+        vision::handle_all_vision_sensors(&sim.world, &mut sim.vision, h == HANDLE_ALL_EXCEPT_EXPLICIT)?;
         return Ok(vec![Value::Int(0)]);
     }
-    vision::handle_vision_sensor(w, h)?;
-    Ok(result_values(w.vision.image(h).and_then(SensorImage::result)))
+    vision::handle_vision_sensor(&sim.world, &mut sim.vision, h)?;
+    Ok(result_values(sim.vision.image(h).and_then(SensorImage::result)))
 }
 
 /// `sim.readVisionSensor(h)` → `result, packet1, packet2, ...` of the last handling;
 /// `result` is -1 (and alone) if the sensor was never handled.
-pub(super) fn read_vision_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn read_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
-    let s = vision::read(w, h)?;
+    let s = vision::read(&sim.world, &mut sim.vision, h)?;
     Ok(result_values(s.result()))
 }
 
 /// `sim.getVisionSensorRes(h)` → `{width, height}` in pixels.
-pub(super) fn get_vision_sensor_res(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_vision_sensor_res(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
-    let (m, _) = vision::sensor_model(w, h)?;
+    let (m, _) = vision::sensor_model(&sim.world, h)?;
     Ok(vec![Value::Array(vec![
         Value::Int(i64::from(m.resolution[0])),
         Value::Int(i64::from(m.resolution[1])),
@@ -244,7 +245,7 @@ pub(super) fn get_vision_sensor_res(w: &mut World, _: &CallContext<'_>, a: &Args
 /// with a cut-off, 255 where the normalised depth is below `rgbaCutOff` and 0
 /// elsewhere; without one, 255 (the sensor's image is opaque). Other option bits are
 /// ignored.
-pub(super) fn get_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let options = a.opt_int(1, 0)?;
     let cutoff = a.opt_f64(2, 0.0)?;
@@ -254,10 +255,10 @@ pub(super) fn get_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
         )));
     }
     // Arguments are checked against the model before reading, so a bad call renders nothing.
-    let (&model, _) = vision::sensor_model(w, h)?;
+    let (&model, _) = vision::sensor_model(&sim.world, h)?;
     let p = portion(a, 3, model.resolution)?;
     let width = model.resolution[0] as usize;
-    let s = vision::read(w, h)?;
+    let s = vision::read(&sim.world, &mut sim.vision, h)?;
     let (rgb, depth) = (s.rgb(), s.depth());
     let grey = options & 1 != 0;
     let alpha = options & 2 != 0 || cutoff != 0.0;
@@ -290,13 +291,13 @@ pub(super) fn get_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
 /// height}`: one little-endian `f32` per pixel, the planar depth normalised to 0..1
 /// between the clipping planes (1 where nothing is seen); options bit 0: in metres
 /// instead (`near + d * (far - near)`).
-pub(super) fn get_vision_sensor_depth(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_vision_sensor_depth(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let options = a.opt_int(1, 0)?;
-    let (&model, _) = vision::sensor_model(w, h)?;
+    let (&model, _) = vision::sensor_model(&sim.world, h)?;
     let p = portion(a, 2, model.resolution)?;
     let width = model.resolution[0] as usize;
-    let s = vision::read(w, h)?;
+    let s = vision::read(&sim.world, &mut sim.vision, h)?;
     let metres = options & 1 != 0;
     let (near, far) = (model.near as f32, model.far as f32);
     let mut out = Vec::with_capacity(4 * p.w * p.h);
@@ -317,11 +318,11 @@ pub(super) fn get_vision_sensor_depth(w: &mut World, _: &CallContext<'_>, a: &Ar
 /// more byte per pixel, alpha, which the sensor's opaque image drops) into the sensor
 /// image, bottom row first. The length must match the portion exactly. The
 /// written image is what readers get until the sensor renders again.
-pub(super) fn set_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn set_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let data = a.bytes(1)?;
     let options = a.opt_int(2, 0)?;
-    let (&model, _) = vision::sensor_model(w, h)?;
+    let (&model, _) = vision::sensor_model(&sim.world, h)?;
     let p = portion(a, 3, model.resolution)?;
     let colour = if options & 1 != 0 { 1 } else { 3 };
     let bpp = colour + usize::from(options & 2 != 0);
@@ -335,7 +336,7 @@ pub(super) fn set_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
         )));
     }
     let width = model.resolution[0] as usize;
-    let rgb = vision::write(w, h)?.rgb_mut();
+    let rgb = vision::write(&sim.world, &mut sim.vision, h)?.rgb_mut();
     for (row, src) in p.rows(width).zip(data.chunks_exact(bpp * p.w)) {
         let Some(dst) = rgb.get_mut(3 * row.start..3 * row.end) else {
             continue;
@@ -353,66 +354,66 @@ pub(super) fn set_vision_sensor_img(w: &mut World, _: &CallContext<'_>, a: &Args
 
 /// `simVision.sensorImgToWorkImg(h)`: the sensor image (rendered first if stale, as
 /// any reader) becomes the work image, as floats 0..1.
-fn sensor_img_to_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sensor_img_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
-    vision::read(w, h)?.rgb_to_work();
+    vision::read(&sim.world, &mut sim.vision, h)?.rgb_to_work();
     Ok(Vec::new())
 }
 
 /// `simVision.sensorDepthMapToWorkImg(h)`: the normalised depth map becomes the work
 /// image, as grey levels (near = black, far = white).
-fn sensor_depth_map_to_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sensor_depth_map_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
-    vision::read(w, h)?.depth_to_work();
+    vision::read(&sim.world, &mut sim.vision, h)?.depth_to_work();
     Ok(Vec::new())
 }
 
 /// `simVision.uniformImgToWorkImg(h, {r, g, b})`: a work image of one colour (0..1).
-fn uniform_img_to_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn uniform_img_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
     let color = a.floats::<3>(1)?.map(|c| c as f32);
-    vision::state(w, h)?.uniform_work(color);
+    vision::state(&sim.world, &mut sim.vision, h)?.uniform_work(color);
     Ok(Vec::new())
 }
 
 /// `simVision.workImgToSensorImg(h, removeBuffer=true)`: the work image, clamped to
 /// 0..1, becomes the sensor image (what `sim.getVisionSensorImg` then returns); the
 /// work image is dropped unless `removeBuffer` is false.
-fn work_img_to_sensor_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn work_img_to_sensor_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
     let remove = a.opt_bool(1, true)?;
-    vision::work_to_sensor(w, h, remove)?;
+    vision::work_to_sensor(&sim.world, &mut sim.vision, h, remove)?;
     Ok(Vec::new())
 }
 
 /// `simVision.edgeDetectionOnWorkImg(h, threshold)`: CoppeliaSim's edge filter (a 3x3
 /// Laplacian, -3 around and 24 in the centre, per channel), then white where the mean
 /// of R, G, B exceeds `threshold` and black elsewhere.
-fn edge_detection_on_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn edge_detection_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
     let threshold = a.finite(1)? as f32;
-    vision::work(w, h)?.edge_detection(threshold);
+    vision::work(&sim.world, &mut sim.vision, h)?.edge_detection(threshold);
     Ok(Vec::new())
 }
 
 /// `simVision.sharpenWorkImg(h)`.
-fn sharpen_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sharpen_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
-    vision::work(w, h)?.sharpen();
+    vision::work(&sim.world, &mut sim.vision, h)?.sharpen();
     Ok(Vec::new())
 }
 
 /// `simVision.horizontalFlipWorkImg(h)`: mirrors the work image left to right.
-fn horizontal_flip_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn horizontal_flip_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
-    vision::work(w, h)?.flip_horizontal();
+    vision::work(&sim.world, &mut sim.vision, h)?.flip_horizontal();
     Ok(Vec::new())
 }
 
 /// `simVision.verticalFlipWorkImg(h)`: mirrors the work image top to bottom.
-fn vertical_flip_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn vertical_flip_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
-    vision::work(w, h)?.flip_vertical();
+    vision::work(&sim.world, &mut sim.vision, h)?.flip_vertical();
     Ok(Vec::new())
 }
 
@@ -421,7 +422,7 @@ fn vertical_flip_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) ->
 /// `colorTolerance` of `color` (per component, in RGB when `rgb` is true, else in HSL
 /// with the hue wrapping around) turn black; without `keep`, those within do.
 /// gantry has no buffer 1, so `removedPartToBuffer1` must be false.
-fn selective_color_on_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn selective_color_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
     let color = a.floats::<3>(1)?.map(|c| c as f32);
     let tolerance = a.floats::<3>(2)?.map(|c| c as f32);
@@ -431,7 +432,7 @@ fn selective_color_on_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_
             "argument 6: removedPartToBuffer1 is not supported (gantry has no buffer 1); pass false",
         ));
     }
-    vision::work(w, h)?.selective_color(color, tolerance, rgb, keep);
+    vision::work(&sim.world, &mut sim.vision, h)?.selective_color(color, tolerance, rgb, keep);
     Ok(Vec::new())
 }
 
@@ -444,7 +445,7 @@ fn selective_color_on_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_
 /// false. The packet is packed floats: blob count, 6, then per blob its size (fraction
 /// of the pixels), orientation (radians), centre x and y, width and height (fractions
 /// of the image's width and height; y from the bottom).
-fn blob_detection_on_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn blob_detection_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = sensor_handle(ctx, a, 0)?;
     let threshold = a.finite(1)? as f32;
     let min_size = a.finite(2)?;
@@ -453,7 +454,7 @@ fn blob_detection_on_work_img(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>
         Value::Nil => None,
         _ => Some(a.floats::<3>(4)?.map(|c| c as f32)),
     };
-    let packet = vision::work(w, h)?.blob_detection(threshold, min_size, recolor, overlay);
+    let packet = vision::work(&sim.world, &mut sim.vision, h)?.blob_detection(threshold, min_size, recolor, overlay);
     let bytes = packet.iter().flat_map(|v| v.to_le_bytes()).collect();
     Ok(vec![Value::Bool(false), Value::Bytes(bytes)])
 }
@@ -502,11 +503,11 @@ fn reply_bytes(mut reply: Ret) -> Vec<u8> {
 /// four integers. `h | sim.handleflag_greyscale` gives 1 byte per pixel; a non-zero
 /// `rgbaCutOff` gives RGBA. `resX, resY` are the sensor's full resolution, not the
 /// portion's, as CoppeliaSim returns them.
-fn get_vision_sensor_char_image(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let cutoff = a.opt_f64(5, 0.0)?;
     let (h, args) = legacy_img_args(a, cutoff)?;
-    let bytes = reply_bytes(get_vision_sensor_img(w, ctx, &Args::new(&args))?);
-    let (m, _) = vision::sensor_model(w, h)?;
+    let bytes = reply_bytes(get_vision_sensor_img(sim, ctx, &Args::new(&args))?);
+    let (m, _) = vision::sensor_model(&sim.world, h)?;
     Ok(vec![
         Value::Bytes(bytes),
         Value::Int(i64::from(m.resolution[0])),
@@ -519,7 +520,7 @@ fn get_vision_sensor_char_image(w: &mut World, ctx: &CallContext<'_>, a: &Args<'
 /// `h | sim.handleflag_greyscale`), bottom row first. `returnType` 1 packs them as
 /// little-endian `f32` bytes instead of a table. Values are the byte image divided by
 /// 255, so they take the 256 levels of `getVisionSensorImg`.
-fn get_vision_sensor_image(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_vision_sensor_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let packed = match a.opt_int(5, 0)? {
         0 => false,
         1 => true,
@@ -530,7 +531,7 @@ fn get_vision_sensor_image(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -
         }
     };
     let (_, args) = legacy_img_args(a, 0.0)?;
-    let bytes = reply_bytes(get_vision_sensor_img(w, ctx, &Args::new(&args))?);
+    let bytes = reply_bytes(get_vision_sensor_img(sim, ctx, &Args::new(&args))?);
     let values = bytes.iter().map(|&b| f32::from(b) / 255.0);
     Ok(vec![if packed {
         Value::Bytes(values.flat_map(f32::to_le_bytes).collect())

@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::world::Handle;
+use crate::handle::Handle;
 
 /// How a group turns the Jacobian into joint steps (`simIK.method_*`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -71,13 +71,14 @@ pub struct GroupsOutcome {
 /// # Errors
 /// Unknown environment, group or object, a tip not below its base, or no joint between.
 pub fn add_element_from_scene(
-    world: &mut World,
+    world: &World,
+    envs: &mut IkEnvironments,
     env: Handle,
     group: Handle,
     [base, tip, target]: [Handle; 3],
     constraints: Constraints,
 ) -> Result<(Handle, Vec<Handle>), IkError> {
-    world.ik.get(env)?.group(group)?;
+    envs.get(env)?.group(group)?;
     world.object(target).map_err(|_| IkError::NoSuchObject {
         role: "target",
         handle: target,
@@ -100,10 +101,7 @@ pub fn add_element_from_scene(
     if !objects.contains(&target) {
         objects.push(target);
     }
-    let handle = world
-        .ik
-        .get_mut(env)?
-        .add_element(group, base, tip, target, constraints)?;
+    let handle = envs.get_mut(env)?.add_element(group, base, tip, target, constraints)?;
     Ok((handle, objects))
 }
 
@@ -116,12 +114,13 @@ pub fn add_element_from_scene(
 /// Unknown environment or group, or an element whose objects no longer form a chain.
 pub fn handle_groups(
     world: &mut World,
+    envs: &mut IkEnvironments,
     env: Handle,
     groups: &[Handle],
     apply: Apply,
 ) -> Result<GroupsOutcome, IkError> {
     // Resolve everything before touching the scene, so an error leaves it unchanged.
-    let environment = world.ik.get(env)?;
+    let environment = envs.get(env)?;
     let configs: Vec<IkGroup> = groups
         .iter()
         .map(|&g| environment.group(g).cloned())
@@ -198,7 +197,7 @@ pub fn handle_groups(
         return Err(e);
     }
     outcome.applied = write;
-    let pending = &mut world.ik.get_mut(env)?.pending;
+    let pending = &mut envs.get_mut(env)?.pending;
     for (&h, &q) in &outcome.joints {
         if write {
             pending.remove(&h);
@@ -221,11 +220,12 @@ pub fn handle_groups(
 /// Unknown environment or group, or an element that no longer forms a chain.
 pub fn find_config(
     world: &World,
+    envs: &IkEnvironments,
     env: Handle,
     group: Handle,
     attempts: u32,
 ) -> Result<Option<BTreeMap<Handle, f64>>, IkError> {
-    let g = world.ik.get(env)?.group(group)?;
+    let g = envs.get(env)?.group(group)?;
     let mut model = KinematicModel::from_world(world, &g.elements)?;
     let params = SolveParams {
         method: g.method,
@@ -274,9 +274,14 @@ impl SplitMix64 {
 ///
 /// # Errors
 /// Unknown environment or group.
-pub fn sync_to_scene(world: &mut World, env: Handle, groups: &[Handle]) -> Result<(), IkError> {
-    let joints = group_joints(world, env, groups)?;
-    let environment = world.ik.get_mut(env)?;
+pub fn sync_to_scene(
+    world: &mut World,
+    envs: &mut IkEnvironments,
+    env: Handle,
+    groups: &[Handle],
+) -> Result<(), IkError> {
+    let joints = group_joints(world, envs, env, groups)?;
+    let environment = envs.get_mut(env)?;
     let values: Vec<(Handle, f64)> = joints
         .into_iter()
         .filter_map(|h| environment.pending.remove(&h).map(|q| (h, q)))
@@ -292,9 +297,14 @@ pub fn sync_to_scene(world: &mut World, env: Handle, groups: &[Handle]) -> Resul
 ///
 /// # Errors
 /// Unknown environment or group.
-pub fn sync_from_scene(world: &mut World, env: Handle, groups: &[Handle]) -> Result<(), IkError> {
-    let joints = group_joints(world, env, groups)?;
-    let environment = world.ik.get_mut(env)?;
+pub fn sync_from_scene(
+    world: &World,
+    envs: &mut IkEnvironments,
+    env: Handle,
+    groups: &[Handle],
+) -> Result<(), IkError> {
+    let joints = group_joints(world, envs, env, groups)?;
+    let environment = envs.get_mut(env)?;
     for h in joints {
         environment.pending.remove(&h);
     }
@@ -302,8 +312,8 @@ pub fn sync_from_scene(world: &mut World, env: Handle, groups: &[Handle]) -> Res
 }
 
 /// The movable joints of every element of `groups` (duplicates removed, scene order kept).
-fn group_joints(world: &World, env: Handle, groups: &[Handle]) -> Result<Vec<Handle>, IkError> {
-    let environment = world.ik.get(env)?;
+fn group_joints(world: &World, envs: &IkEnvironments, env: Handle, groups: &[Handle]) -> Result<Vec<Handle>, IkError> {
+    let environment = envs.get(env)?;
     let mut out = Vec::new();
     for &g in groups {
         let elements = &environment.group(g)?.elements;

@@ -12,8 +12,9 @@ use toml::Spanned;
 use super::error::{LoadError, line_col};
 use super::files::{Files, normalize};
 use super::model::{
-    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, ObjectModel, ObjectModelKind, ProximityModel,
-    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel,
+    GeomModel, Geometry, JointMode, JointModel, JointType, MAX_VISION_RESOLUTION, MassModel, ObjectModel,
+    ObjectModelKind, ProximityModel, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
+    VisualModel,
 };
 use super::raw::{RawObject, RawRobot, RawScene, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
@@ -749,11 +750,11 @@ impl Resolver<'_> {
 
     fn vision(&self, o: &RawObject) -> Result<VisionModel, LoadError> {
         let [w, h] = o.resolution.unwrap_or([256, 256]);
-        if !(1..=512).contains(&w) || !(1..=512).contains(&h) {
+        if !(1..=MAX_VISION_RESOLUTION).contains(&w) || !(1..=MAX_VISION_RESOLUTION).contains(&h) {
             return self.err_at(
                 o.name.span(),
                 format!(
-                    "vision sensor '{}': resolution must be 1..=512 per side",
+                    "vision sensor '{}': resolution must be 1..={MAX_VISION_RESOLUTION} per side",
                     o.name.get_ref()
                 ),
             );

@@ -364,6 +364,10 @@ pub enum ProximityModel {
     },
 }
 
+/// Largest vision-sensor image side, in pixels: the loader, `sim.setObjectInt32Param`
+/// and the renderer all hold images to it.
+pub const MAX_VISION_RESOLUTION: u32 = 512;
+
 /// A perspective vision sensor. It looks along its local +Z axis, image X along local X.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VisionModel {

@@ -7,6 +7,7 @@ pub use proximity_volume::{ProximityHit, ProximityVolume};
 
 use rapier3d::prelude::*;
 
+use crate::error::SimError;
 use crate::math::{self, Pose, Vec3};
 use crate::scene::ProximityModel;
 use crate::world::{Detection, Handle, ObjectKind, Physics, World};
@@ -31,12 +32,46 @@ impl From<&ProximityModel> for ProximityVolume {
     }
 }
 
+/// Runs proximity sensor `h` against the current collision world, stores the result
+/// in the object (`sim.readProximitySensor` reads it) and returns it.
+///
+/// # Errors
+/// No such object, or not a proximity sensor.
+pub fn handle_proximity_sensor(world: &mut World, h: Handle) -> Result<Option<Detection>, SimError> {
+    let (volume, sensor_world) = match world.object(h)? {
+        o @ crate::world::Object {
+            kind: ObjectKind::ProximitySensor(s),
+            ..
+        } => (s.volume, o.world),
+        other => {
+            return Err(SimError::WrongKind {
+                handle: h,
+                expected: "proximity sensor",
+                actual: other.kind.name(),
+            });
+        }
+    };
+    world.refresh_queries();
+    let result = detect(world, world.physics(), h, &sensor_world, &volume);
+    world.store_detection(h, result);
+    Ok(result)
+}
+
+/// Handles every proximity sensor (the sensing phase of a step).
+pub fn handle_all_proximity_sensors(world: &mut World) {
+    for h in 0..world.len() as Handle {
+        if matches!(world.object(h).map(|o| &o.kind), Ok(ObjectKind::ProximitySensor(_))) {
+            let _ = handle_proximity_sensor(world, h);
+        }
+    }
+}
+
 /// Nearest detectable point in a sensor's volume, or `None`.
 ///
 /// The body the sensor is mounted on is never detected: a sensor sees the world, not
 /// its own robot (CoppeliaSim would report it when it pokes into the volume; BubbleRob's
 /// nose sensor sits on its body's surface, where f32 contact noise would make that flicker).
-pub(crate) fn detect(
+fn detect(
     world: &World,
     physics: &Physics,
     sensor: Handle,

@@ -17,6 +17,7 @@
 //! [`MAX_DEPTH`], [`MAX_TEXT_LEN`] and [`MAX_EVENTS`].
 
 mod error;
+mod messages;
 mod parse;
 mod uis;
 mod views;
@@ -24,6 +25,7 @@ mod widget;
 mod window;
 
 pub use error::UiError;
+pub use messages::{MESSAGE_CAPACITY, MESSAGE_KEYPRESS, SimulatorMessage, SimulatorMessages, keys};
 pub use uis::{UiEvent, Uis};
 pub use views::{FloatingView, FloatingViews, MAX_LABEL_LEN, MAX_VIEWS, ViewError};
 pub use widget::{

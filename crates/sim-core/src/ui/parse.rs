@@ -28,7 +28,7 @@ use super::widget::{
 };
 use super::window::{Placement, Ui};
 use super::{MAX_DEPTH, MAX_WIDGETS, MAX_XML_LEN};
-use crate::world::Handle;
+use crate::handle::Handle;
 
 /// XML nodes of any kind (elements, text, comments) the parser builds at most. Bounds
 /// memory before widgets are even counted; generous for [`MAX_WIDGETS`] elements with

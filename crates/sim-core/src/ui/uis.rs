@@ -9,7 +9,7 @@ use super::widget::{Container, Widget, WidgetKind};
 use super::window::Ui;
 use super::{FIRST_UI_HANDLE, MAX_EVENTS, MAX_TEXT_LEN, MAX_UIS};
 use crate::Value;
-use crate::world::Handle;
+use crate::handle::Handle;
 
 /// A callback a widget asks its script to run: `callback(ui, widget, value)`.
 ///

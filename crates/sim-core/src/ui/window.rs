@@ -1,7 +1,7 @@
 //! One custom UI: a window with its attributes and its widget tree.
 
 use super::widget::{Container, Widget};
-use crate::world::Handle;
+use crate::handle::Handle;
 
 /// Where the window opens (`placement`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

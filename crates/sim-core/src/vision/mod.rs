@@ -54,7 +54,7 @@ use crate::scene::VisionModel;
 use crate::world::{Handle, ObjectKind, World};
 
 /// Largest image side rendered, in pixels (the scene loader enforces the same limit).
-pub const MAX_RESOLUTION: u32 = 512;
+pub use crate::scene::MAX_VISION_RESOLUTION as MAX_RESOLUTION;
 
 /// Rendered images and work images of every vision sensor, by handle, plus the
 /// renderer's caches (tessellated shapes, reusable buffers).
@@ -276,9 +276,9 @@ fn camera(h: Handle, m: &VisionModel) -> Result<raster::Camera, SimError> {
 ///
 /// # Errors
 /// No such object, not a vision sensor, or a sensor model out of range.
-pub fn handle_vision_sensor(world: &mut World, h: Handle) -> Result<(), SimError> {
-    with_states(world, |states, world| states.render(world, h))?;
-    if let Some(s) = world.vision.sensors.get_mut(&h) {
+pub fn handle_vision_sensor(world: &World, states: &mut VisionStates, h: Handle) -> Result<(), SimError> {
+    states.render(world, h)?;
+    if let Some(s) = states.sensors.get_mut(&h) {
         s.explicit = true;
     }
     Ok(())
@@ -290,18 +290,22 @@ pub fn handle_vision_sensor(world: &mut World, h: Handle) -> Result<(), SimError
 ///
 /// # Errors
 /// The first sensor that fails to render (the others still render).
-pub fn handle_all_vision_sensors(world: &mut World, except_explicit: bool) -> Result<usize, SimError> {
+pub fn handle_all_vision_sensors(
+    world: &World,
+    states: &mut VisionStates,
+    except_explicit: bool,
+) -> Result<usize, SimError> {
     let sensors: Vec<Handle> = world
         .handles()
         .iter()
         .copied()
         .filter(|&h| matches!(world.object(h).map(|o| &o.kind), Ok(ObjectKind::VisionSensor(_))))
-        .filter(|h| !except_explicit || !world.vision.sensors.get(h).is_some_and(|s| s.explicit))
+        .filter(|h| !except_explicit || !states.sensors.get(h).is_some_and(|s| s.explicit))
         .collect();
     let mut first_error = None;
     let mut count = 0;
     for h in sensors {
-        match with_states(world, |states, world| states.render(world, h)) {
+        match states.render(world, h) {
             Ok(()) => count += 1,
             Err(e) => {
                 first_error.get_or_insert(e);
@@ -311,41 +315,40 @@ pub fn handle_all_vision_sensors(world: &mut World, except_explicit: bool) -> Re
     first_error.map_or(Ok(count), Err)
 }
 
-/// Runs `f` with the vision states lent out of the world, so the renderer can read
-/// the world while writing the states.
-fn with_states<T>(world: &mut World, f: impl FnOnce(&mut VisionStates, &World) -> T) -> T {
-    let mut states = std::mem::take(&mut world.vision);
-    let out = f(&mut states, world);
-    world.vision = states;
-    out
-}
-
 /// A reader's access: renders sensor `h` if it is not explicitly handled and its image
 /// is older than the current step, then returns its state.
 ///
 /// # Errors
 /// As [`handle_vision_sensor`].
-pub(crate) fn read(world: &mut World, h: Handle) -> Result<&mut SensorImage, SimError> {
+pub(crate) fn read<'a>(
+    world: &World,
+    states: &'a mut VisionStates,
+    h: Handle,
+) -> Result<&'a mut SensorImage, SimError> {
     let (model, _) = sensor_model(world, h)?;
     let step = world.steps();
-    let stale = match world.vision.sensors.get(&h) {
+    let stale = match states.sensors.get(&h) {
         Some(s) => (!s.explicit && s.image_step.is_none_or(|at| at < step)) || s.resolution != model.resolution,
         None => true,
     };
     if stale {
-        with_states(world, |states, world| states.render(world, h))?;
+        states.render(world, h)?;
     }
     let (&model, _) = sensor_model(world, h)?;
-    Ok(world.vision.state_mut(h, &model))
+    Ok(states.state_mut(h, &model))
 }
 
 /// The sensor's state without rendering, created black if it never rendered.
 ///
 /// # Errors
 /// No such object or not a vision sensor.
-pub(crate) fn state(world: &mut World, h: Handle) -> Result<&mut SensorImage, SimError> {
+pub(crate) fn state<'a>(
+    world: &World,
+    states: &'a mut VisionStates,
+    h: Handle,
+) -> Result<&'a mut SensorImage, SimError> {
     let (&model, _) = sensor_model(world, h)?;
-    Ok(world.vision.state_mut(h, &model))
+    Ok(states.state_mut(h, &model))
 }
 
 /// A writer's access (`sim.setVisionSensorImg`): like [`state`], and the image then
@@ -353,9 +356,13 @@ pub(crate) fn state(world: &mut World, h: Handle) -> Result<&mut SensorImage, Si
 ///
 /// # Errors
 /// No such object or not a vision sensor.
-pub(crate) fn write(world: &mut World, h: Handle) -> Result<&mut SensorImage, SimError> {
+pub(crate) fn write<'a>(
+    world: &World,
+    states: &'a mut VisionStates,
+    h: Handle,
+) -> Result<&'a mut SensorImage, SimError> {
     let step = world.steps();
-    let s = state(world, h)?;
+    let s = state(world, states, h)?;
     s.image_step = Some(step);
     Ok(s)
 }
@@ -366,9 +373,14 @@ pub(crate) fn write(world: &mut World, h: Handle) -> Result<&mut SensorImage, Si
 ///
 /// # Errors
 /// No such object, not a vision sensor, or no work image.
-pub(crate) fn work_to_sensor(world: &mut World, h: Handle, remove: bool) -> Result<(), SimError> {
+pub(crate) fn work_to_sensor(
+    world: &World,
+    states: &mut VisionStates,
+    h: Handle,
+    remove: bool,
+) -> Result<(), SimError> {
     let step = world.steps();
-    let s = state(world, h)?;
+    let s = state(world, states, h)?;
     let Some(work) = &s.work else {
         return Err(no_work_image(h));
     };
@@ -390,9 +402,9 @@ fn no_work_image(h: Handle) -> SimError {
 ///
 /// # Errors
 /// No such object, not a vision sensor, or no work image.
-pub(crate) fn work(world: &mut World, h: Handle) -> Result<WorkImage<'_>, SimError> {
+pub(crate) fn work<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Result<WorkImage<'a>, SimError> {
     let (&model, _) = sensor_model(world, h)?;
-    let s = world.vision.state_mut(h, &model);
+    let s = states.state_mut(h, &model);
     let (width, height) = s.size();
     match &mut s.work {
         Some(work) => Ok(WorkImage {

@@ -73,7 +73,7 @@ pub(crate) mod tests {
     use crate::api::{self, CallContext};
     use crate::math::Pose;
     use crate::scene::{DiskFiles, LoadOptions, load_scene};
-    use crate::{Handle, Value, World};
+    use crate::{Handle, Sim, Value};
 
     thread_local! {
         /// Set by [`portable_only`] to run the baseline copies on this thread.
@@ -97,9 +97,9 @@ pub(crate) mod tests {
     fn frames() -> Vec<Frame> {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
         let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-        let mut w = World::new(&model);
-        let sensor: Handle = w.find("/bubbleRob/visionSensor", None, 0).expect("sensor");
-        let obstacle = w.find("/obstacle", None, 0).expect("obstacle");
+        let mut w = Sim::new(&model);
+        let sensor: Handle = w.world.find("/bubbleRob/visionSensor", None, 0).expect("sensor");
+        let obstacle = w.world.find("/obstacle", None, 0).expect("obstacle");
         let ctx = CallContext {
             script_object: Some(sensor),
             source: "test",
@@ -107,9 +107,10 @@ pub(crate) mod tests {
         let h = [Value::Int(sensor)];
         let mut out = Vec::new();
         for x in [3.0, 0.9, 0.35, 0.2] {
-            w.set_world_pose(obstacle, Pose::translation(x, 0.03, 0.1))
+            w.world
+                .set_world_pose(obstacle, Pose::translation(x, 0.03, 0.1))
                 .expect("pose");
-            crate::vision::handle_vision_sensor(&mut w, sensor).expect("render");
+            crate::vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render");
             let img = w.vision.image(sensor).expect("image");
             let packet1 = img.result().expect("result").packets[0]
                 .iter()

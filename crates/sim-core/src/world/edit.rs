@@ -28,7 +28,7 @@ use rapier3d::prelude::RigidBodyHandle;
 use super::collection::ItemKind;
 use super::object::{Handle, Joint, Object, ObjectKind};
 use super::physics::{BodyRole, TreeView, configure_integration, geometry_volume, inertial_properties};
-use super::world::{SimulationState, World};
+use super::world::World;
 use crate::error::SimError;
 use crate::math::{self, Pose, Vec3};
 use crate::scene::{Geometry, JointMode, MassModel, SceneModel, ShapeModel, VisionModel};
@@ -144,6 +144,11 @@ fn invalid(msg: impl Into<String>) -> SimError {
 }
 
 impl World {
+    /// Whether `h` names an object removed at run time (its handle is never reused).
+    pub fn is_removed(&self, h: Handle) -> bool {
+        self.edit.is_removed(h)
+    }
+
     /// A number that changes whenever the scene's description does: objects created,
     /// copied or removed, re-parented or renamed, shape colours, static/dynamic flags,
     /// joint modes, vision sensor settings or visibility layers. The viewer sends the
@@ -274,30 +279,20 @@ impl World {
         Ok(())
     }
 
-    /// Drops what referred to removed objects: collection items, drawing objects
-    /// attached to them, mimic couplings to removed leaders, side tables.
+    /// Drops what referred to removed objects on this floor: collection items, mimic
+    /// couplings to removed leaders, side tables ([`crate::sim::Sim::forget_removed`]
+    /// does the floors above).
     fn forget_removed(&mut self) {
         let edit = &self.edit;
         for c in self.collections.iter_mut().flatten() {
             c.items
                 .retain(|i| i.kind == ItemKind::All || !edit.is_removed(i.object));
         }
-        let orphans: Vec<Handle> = self
-            .drawings
-            .iter()
-            .filter(|(_, d)| d.parent().is_some_and(|p| edit.is_removed(p)))
-            .map(|(h, _)| h)
-            .collect();
-        for d in orphans {
-            // Listed just above, so it exists.
-            let _ = self.drawings.remove(d);
-        }
         let removed: Vec<Handle> = (0..self.objects.len() as Handle)
             .filter(|h| edit.is_removed(*h))
             .collect();
         for h in removed {
             self.custom.remove_object(h);
-            self.views.forget_object(h);
             self.selection.forget(h);
         }
         let mut freed = Vec::new();
@@ -920,17 +915,12 @@ impl World {
         Ok(())
     }
 
-    /// Sets the simulation time step, s (`sim.floatparam_simulation_time_step`). As in
-    /// CoppeliaSim, only while the simulation is stopped.
+    /// Sets the simulation time step, s (`sim.floatparam_simulation_time_step`);
+    /// [`crate::sim::Sim::set_time_step`] allows it only while the simulation is stopped.
     ///
     /// # Errors
-    /// The simulation is not stopped, or `dt` is not a positive number.
+    /// `dt` is not a positive number.
     pub fn set_time_step(&mut self, dt: f64) -> Result<(), SimError> {
-        if self.state != SimulationState::Stopped {
-            return Err(invalid(
-                "the time step can only be changed while the simulation is stopped",
-            ));
-        }
         if !(dt.is_finite() && dt > 0.0) {
             return Err(invalid(format!("time step must be positive, got {dt}")));
         }
@@ -990,9 +980,9 @@ impl World {
     ///
     /// # Errors
     /// No such object, not a vision sensor, or a setting out of range (resolution
-    /// 1..=[`crate::vision::MAX_RESOLUTION`] per side, 0 < view angle < π, 0 < near < far).
+    /// 1..=[`crate::scene::MAX_VISION_RESOLUTION`] per side, 0 < view angle < π, 0 < near < far).
     pub fn set_vision_model(&mut self, h: Handle, model: VisionModel) -> Result<(), SimError> {
-        let max = crate::vision::MAX_RESOLUTION;
+        let max = crate::scene::MAX_VISION_RESOLUTION;
         let ok = model.resolution.iter().all(|r| (1..=max).contains(r))
             && model.fov > 0.0
             && model.fov < std::f64::consts::PI

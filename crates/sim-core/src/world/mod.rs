@@ -1,20 +1,20 @@
 //! The simulated world: the object tree (handles, aliases, parents, f64 poses), its
 //! rapier counterpart, CoppeliaSim's path lookup, and editing the scene at run time.
+//!
+//! This floor knows objects and physics only. What scripts build on top of them
+//! (drawings, graphs, UIs, IK environments, vision images, trajectory generators,
+//! signals) lives on the floors above, and [`crate::sim::Sim`] owns both.
 
 mod collection;
 mod containment;
 mod custom_data;
-mod drawing;
 mod edit;
-mod graph;
 mod log;
-mod messages;
 mod object;
 pub mod object_path;
 mod physics;
 mod query;
 mod selection;
-mod signals;
 #[expect(
     clippy::module_inception,
     reason = "the World type's file is named after it, like rapier's rigid_body/rigid_body.rs"
@@ -23,14 +23,10 @@ mod world;
 
 pub use collection::{Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind};
 pub use custom_data::CustomData;
-pub use drawing::*;
 pub use edit::{ColorComponent, EditCounters, MIN_SHAPE_MASS};
-pub use graph::*;
 pub use log::{LOG_CAPACITY, Log, LogLine};
-pub use messages::{MESSAGE_CAPACITY, MESSAGE_KEYPRESS, SimulatorMessage, SimulatorMessages, keys};
 pub use object::{Detection, ForceReading, Handle, Joint, KinematicMotion, Object, ObjectKind, ProximitySensor};
 pub(crate) use physics::Physics;
 pub use query::DistanceResult;
 pub use selection::{MAX_SELECTION, Selection};
-pub use signals::Signals;
-pub use world::{Advancing, SimulationState, World};
+pub use world::World;

@@ -3,8 +3,7 @@
 use crate::math::{Pose, Vec3};
 use crate::scene::{JointMode, JointType, ProximityModel, ShapeModel, VisionModel};
 
-/// An object handle: CoppeliaSim's integer handle, stable for the scene's life.
-pub type Handle = i64;
+pub use crate::handle::Handle;
 
 /// One object of the tree.
 #[derive(Debug, Clone)]

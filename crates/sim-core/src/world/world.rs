@@ -9,7 +9,6 @@ use super::object::{
 };
 use super::object_path::{ObjectTree, PathError, PathQuery, resolve};
 use super::physics::{BodyRole, Physics, TreeView, configure_motor};
-use super::signals::Signals;
 use crate::error::SimError;
 use crate::math::{self, Pose, Vec3};
 use crate::scene::{JointMode, ObjectModelKind, SceneModel, SimSettings};
@@ -28,10 +27,6 @@ pub struct World {
     time: f64,
     steps: u64,
     warnings: Vec<String>,
-    /// Named signals shared by scripts and clients.
-    pub signals: Signals,
-    /// User-interface events for `sim.getSimulatorMessage` (keys pressed in the viewer).
-    pub messages: super::SimulatorMessages,
     /// The selected objects (`sim.getObjectSel`; the viewer's pick).
     pub selection: super::Selection,
     /// Values attached to objects (user parameters).
@@ -40,24 +35,6 @@ pub struct World {
     pub collections: Vec<Option<Collection>>,
     /// The simulation log.
     pub log: Log,
-    /// Running, paused or stopped, as the orchestrator reports it.
-    pub state: SimulationState,
-    /// Which pass of a running simulation this is (see [`Advancing`]).
-    pub advancing: Advancing,
-    /// Drawing objects.
-    pub drawings: super::drawing::Drawings,
-    /// Graph streams.
-    pub graphs: super::graph::Graphs,
-    /// Custom UIs.
-    pub uis: crate::ui::Uis,
-    /// Floating views over the viewer's 3D view (`sim.floatingViewAdd`).
-    pub views: crate::ui::FloatingViews,
-    /// IK environments.
-    pub ik: crate::ik::IkEnvironments,
-    /// Vision sensors' images.
-    pub vision: crate::vision::VisionStates,
-    /// Ruckig trajectory generators (`sim.ruckigPos`), gone with the world at stop.
-    pub(crate) ruckig: crate::api::ruckig::RuckigObjects,
     /// Whether bodies were moved since rapier's collision structures were last updated,
     /// so scene queries must refresh them first (rapier updates them only when stepping).
     pub(super) queries_stale: bool,
@@ -69,59 +46,6 @@ pub struct World {
     pub(super) kinematic_moving: Vec<Handle>,
     /// Run-time scene editing: removed handles, the scene revision, pending forces.
     pub(super) edit: super::edit::EditState,
-}
-
-/// CoppeliaSim's simulation states (`sim.getSimulationState`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SimulationState {
-    /// Not running; the scene is in its initial state.
-    Stopped,
-    /// Running (advancing).
-    Running,
-    /// Paused.
-    Paused,
-}
-
-/// Which pass of an advancing simulation this is, as `sim.getSimulationState` reports
-/// it (CoppeliaSim 4.x): scripts that loop until "about to stop", or that act once
-/// on the first pass after a start or a pause, depend on it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Advancing {
-    /// The first step after a start (`simulation_advancing_firstafterstop`, 16).
-    FirstAfterStop,
-    /// Any other step (`simulation_advancing_running`, 17).
-    #[default]
-    Running,
-    /// A pause was asked for and happens at the end of this step (19).
-    LastBeforePause,
-    /// The first step after a pause (`simulation_advancing_firstafterpause`, 20).
-    FirstAfterPause,
-    /// A stop was asked for: the rest of this step and the cleanup hooks (21).
-    AboutToStop,
-}
-
-impl Advancing {
-    /// CoppeliaSim's number.
-    pub fn code(self) -> i64 {
-        match self {
-            Advancing::FirstAfterStop => 16,
-            Advancing::Running => 17,
-            Advancing::LastBeforePause => 19,
-            Advancing::FirstAfterPause => 20,
-            Advancing::AboutToStop => 21,
-        }
-    }
-}
-
-impl SimulationState {
-    /// CoppeliaSim's number: 0 stopped, 8 paused, 17 advancing/running.
-    pub fn code(self) -> i64 {
-        match self {
-            SimulationState::Stopped => 0,
-            SimulationState::Paused => 8,
-            SimulationState::Running => 17,
-        }
-    }
 }
 
 impl World {
@@ -155,14 +79,6 @@ impl World {
     /// The dummy linked to `h` (`sim.getLinkDummy`), if any.
     pub fn linked_dummy(&self, h: Handle) -> Option<Handle> {
         self.physics.linked_dummy(h)
-    }
-
-    /// `sim.getSimulationState()`: 0 stopped, 8 paused, or the advancing pass (16-21).
-    pub fn simulation_state_code(&self) -> i64 {
-        match self.state {
-            SimulationState::Running => self.advancing.code(),
-            other => other.code(),
-        }
     }
 
     /// Builds the world from a resolved scene. Object handles are model indices.
@@ -261,22 +177,11 @@ impl World {
             time: 0.0,
             steps: 0,
             warnings,
-            signals: Signals::default(),
-            messages: Default::default(),
             selection: Default::default(),
             custom: super::CustomData::default(),
             collections: Vec::new(),
             log: Log::default(),
-            state: SimulationState::Stopped,
-            advancing: Advancing::default(),
             queries_stale: true,
-            drawings: Default::default(),
-            graphs: Default::default(),
-            uis: Default::default(),
-            views: Default::default(),
-            ik: Default::default(),
-            vision: Default::default(),
-            ruckig: Default::default(),
             edit: super::edit::EditState::new(objects_len),
             mimics: Vec::new(),
             profiled: Vec::new(),
@@ -844,36 +749,14 @@ impl World {
         Ok((math::vec_from_physics(rb.linvel()) + w.cross(&(p - com)), w))
     }
 
-    /// Runs proximity sensor `h` against the current collision world and stores the result.
-    ///
-    /// # Errors
-    /// No such object, or not a proximity sensor.
-    pub fn handle_proximity_sensor(&mut self, h: Handle) -> Result<Option<Detection>, SimError> {
-        let volume = match &self.object(h)?.kind {
-            ObjectKind::ProximitySensor(s) => s.volume,
-            other => {
-                return Err(SimError::WrongKind {
-                    handle: h,
-                    expected: "proximity sensor",
-                    actual: other.name(),
-                });
-            }
-        };
-        self.refresh_queries();
-        let sensor_world = self.objects[h as usize].world;
-        let result = crate::sensor::detect(self, &self.physics, h, &sensor_world, &volume);
-        if let ObjectKind::ProximitySensor(s) = &mut self.objects[h as usize].kind {
-            s.last = Some(result);
-        }
-        Ok(result)
-    }
-
-    /// Handles every proximity sensor (the sensing phase of a step).
-    pub fn handle_all_proximity_sensors(&mut self) {
-        for i in 0..self.objects.len() {
-            if matches!(self.objects[i].kind, ObjectKind::ProximitySensor(_)) {
-                let _ = self.handle_proximity_sensor(i as Handle);
-            }
+    /// Stores proximity sensor `h`'s latest detection (the sensor floor computes it).
+    pub(crate) fn store_detection(&mut self, h: Handle, detection: Option<Detection>) {
+        if let Some(Object {
+            kind: ObjectKind::ProximitySensor(s),
+            ..
+        }) = self.objects.get_mut(h as usize)
+        {
+            s.last = Some(detection);
         }
     }
 

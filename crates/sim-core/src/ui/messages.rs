@@ -8,7 +8,7 @@
 
 use std::collections::{HashMap, VecDeque};
 
-use super::object::Handle;
+use crate::handle::Handle;
 
 /// Messages kept for readers that have not read them yet.
 pub const MESSAGE_CAPACITY: usize = 256;

@@ -18,10 +18,10 @@
 
 use std::collections::{BTreeMap, VecDeque};
 
-use super::object::Handle;
-use super::world::World;
 use crate::error::SimError;
+use crate::handle::Handle;
 use crate::math::{Pose, Vec3};
+use crate::world::World;
 
 /// The first drawing object handle. Drawing objects, collections and scene objects
 /// never share handles, so passing one where another is expected fails clearly.

@@ -14,8 +14,8 @@ use std::collections::{BTreeMap, VecDeque};
 use std::io::{self, Write as _};
 use std::path::{Path, PathBuf};
 
-use super::object::Handle;
 use crate::error::SimError;
+use crate::handle::Handle;
 use crate::scene::normalize_path;
 
 /// Samples kept per stream; older ones are dropped (a ring buffer). At 20 steps per

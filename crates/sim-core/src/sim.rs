@@ -1,0 +1,223 @@
+//! [`Sim`]: the top floor of sim-core. It owns the world (object tree and physics) and
+//! the subsystems built on it, knows whether the simulation runs, and has the one
+//! [`Sim::step`] every caller without scripts uses (benches, tests, tools). The Lua host
+//! runs the same phases with its hooks between them ([`Sim::step_dynamics`],
+//! [`Sim::finish_step`]), so the order is written once.
+//!
+//! Floors, each importing only from those below it (checked by `tools/layers.py`):
+//!
+//! 1. `handle`, `math`, `error`, `signals`: leaves.
+//! 2. `scene`: the model read from files.
+//! 3. `world`: objects and physics.
+//! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`: subsystems, each
+//!    taking the world as an argument.
+//! 5. `sim`: this aggregate.
+//! 6. `api`: the `sim.*` registry over [`Sim`].
+
+use crate::drawing::Drawings;
+use crate::error::SimError;
+use crate::graph::Graphs;
+use crate::handle::Handle;
+use crate::ik::IkEnvironments;
+use crate::motion::RuckigObjects;
+use crate::scene::SceneModel;
+use crate::signals::Signals;
+use crate::ui::{FloatingViews, SimulatorMessages, Uis};
+use crate::vision::VisionStates;
+use crate::world::World;
+
+/// A simulation: the world and everything scripts and clients build on it.
+pub struct Sim {
+    /// The object tree and physics.
+    pub world: World,
+    /// Running, paused or stopped, as the orchestrator (the Lua host) reports it.
+    pub state: SimulationState,
+    /// Which pass of a running simulation this is (see [`Advancing`]).
+    pub advancing: Advancing,
+    /// Named signals shared by scripts and clients.
+    pub signals: Signals,
+    /// User-interface events for `sim.getSimulatorMessage` (keys pressed in the viewer).
+    pub messages: SimulatorMessages,
+    /// Drawing objects.
+    pub drawings: Drawings,
+    /// Graph streams.
+    pub graphs: Graphs,
+    /// Custom UIs.
+    pub uis: Uis,
+    /// Floating views over the viewer's 3D view (`sim.floatingViewAdd`).
+    pub views: FloatingViews,
+    /// IK environments.
+    pub ik: IkEnvironments,
+    /// Vision sensors' images.
+    pub vision: VisionStates,
+    /// Ruckig trajectory generators (`sim.ruckigPos`), gone with the simulation at stop.
+    pub ruckig: RuckigObjects,
+}
+
+impl Sim {
+    /// A stopped simulation of a resolved scene, with no drawings, UIs, IK environments
+    /// or signals yet (scripts create those).
+    pub fn new(model: &SceneModel) -> Self {
+        Self::from_world(World::new(model))
+    }
+
+    /// A stopped simulation of an already built world.
+    pub fn from_world(world: World) -> Self {
+        Self {
+            world,
+            state: SimulationState::Stopped,
+            advancing: Advancing::default(),
+            signals: Signals::default(),
+            messages: SimulatorMessages::default(),
+            drawings: Drawings::default(),
+            graphs: Graphs::default(),
+            uis: Uis::default(),
+            views: FloatingViews::default(),
+            ik: IkEnvironments::default(),
+            vision: VisionStates::default(),
+            ruckig: RuckigObjects::default(),
+        }
+    }
+
+    /// `sim.getSimulationState()`: 0 stopped, 8 paused, or the advancing pass (16-21).
+    pub fn simulation_state_code(&self) -> i64 {
+        match self.state {
+            SimulationState::Running => self.advancing.code(),
+            other => other.code(),
+        }
+    }
+
+    /// One simulation step without scripts: [`Sim::step_dynamics`], then vision sensors
+    /// not handled explicitly render lazily when read, then [`Sim::finish_step`].
+    pub fn step(&mut self) {
+        self.step_dynamics();
+        self.finish_step();
+    }
+
+    /// The part of a step between actuation and sensing, in CoppeliaSim's order:
+    /// joints and physics advance one step, then every proximity sensor is handled.
+    /// Simulation time does not move yet: scripts see the step's start time until
+    /// [`Sim::finish_step`].
+    pub fn step_dynamics(&mut self) {
+        self.world.step_physics();
+        crate::sensor::handle_all_proximity_sensors(&mut self.world);
+    }
+
+    /// Ends a step: simulation time moves on, and the first pass after a start or a
+    /// pause becomes an ordinary one.
+    pub fn finish_step(&mut self) {
+        self.world.advance_time();
+        if matches!(self.advancing, Advancing::FirstAfterStop | Advancing::FirstAfterPause) {
+            self.advancing = Advancing::Running;
+        }
+    }
+
+    /// Sets the simulation time step, s. As in CoppeliaSim, only while stopped.
+    ///
+    /// # Errors
+    /// The simulation is not stopped, or `dt` is not a positive number.
+    pub fn set_time_step(&mut self, dt: f64) -> Result<(), SimError> {
+        if self.state != SimulationState::Stopped {
+            return Err(SimError::InvalidArgument(
+                "the time step can only be changed while the simulation is stopped".into(),
+            ));
+        }
+        self.world.set_time_step(dt)
+    }
+
+    /// Removes objects (`sim.removeObjects`) and what the floors above attached to them:
+    /// drawing objects parented to them, floating views showing them.
+    ///
+    /// # Errors
+    /// As [`World::remove_objects`]; nothing is removed then.
+    pub fn remove_objects(&mut self, handles: &[Handle]) -> Result<(), SimError> {
+        self.world.remove_objects(handles)?;
+        self.forget_removed();
+        Ok(())
+    }
+
+    /// Drops what the floors above the world kept about removed objects.
+    pub fn forget_removed(&mut self) {
+        let world = &self.world;
+        let orphans: Vec<Handle> = self
+            .drawings
+            .iter()
+            .filter(|(_, d)| d.parent().is_some_and(|p| world.is_removed(p)))
+            .map(|(h, _)| h)
+            .collect();
+        for d in orphans {
+            // Listed just above, so it exists.
+            let _ = self.drawings.remove(d);
+        }
+        for h in 0..world.len() as Handle {
+            if world.is_removed(h) {
+                self.views.forget_object(h);
+            }
+        }
+    }
+}
+
+/// Starting, pausing and stopping, whoever asks (a script, a remote client, the
+/// viewer's buttons, the command line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    /// `sim.startSimulation()`: start, or resume from pause.
+    Start,
+    /// `sim.pauseSimulation()`.
+    Pause,
+    /// `sim.stopSimulation()`: cleanup hooks run and the scene returns to its initial state.
+    Stop,
+}
+
+/// CoppeliaSim's simulation states (`sim.getSimulationState`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SimulationState {
+    /// Not running; the scene is in its initial state.
+    Stopped,
+    /// Running (advancing).
+    Running,
+    /// Paused.
+    Paused,
+}
+
+/// Which pass of an advancing simulation this is, as `sim.getSimulationState` reports
+/// it (CoppeliaSim 4.x): scripts that loop until "about to stop", or that act once
+/// on the first pass after a start or a pause, depend on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Advancing {
+    /// The first step after a start (`simulation_advancing_firstafterstop`, 16).
+    FirstAfterStop,
+    /// Any other step (`simulation_advancing_running`, 17).
+    #[default]
+    Running,
+    /// A pause was asked for and happens at the end of this step (19).
+    LastBeforePause,
+    /// The first step after a pause (`simulation_advancing_firstafterpause`, 20).
+    FirstAfterPause,
+    /// A stop was asked for: the rest of this step and the cleanup hooks (21).
+    AboutToStop,
+}
+
+impl Advancing {
+    /// CoppeliaSim's number.
+    pub fn code(self) -> i64 {
+        match self {
+            Advancing::FirstAfterStop => 16,
+            Advancing::Running => 17,
+            Advancing::LastBeforePause => 19,
+            Advancing::FirstAfterPause => 20,
+            Advancing::AboutToStop => 21,
+        }
+    }
+}
+
+impl SimulationState {
+    /// CoppeliaSim's number: 0 stopped, 8 paused, 17 advancing/running.
+    pub fn code(self) -> i64 {
+        match self {
+            SimulationState::Stopped => 0,
+            SimulationState::Paused => 8,
+            SimulationState::Running => 17,
+        }
+    }
+}
