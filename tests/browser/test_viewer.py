@@ -11,9 +11,12 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
+import struct
 import urllib.error
 import urllib.request
+import zlib
 
 import pytest
 from playwright.sync_api import sync_playwright
@@ -334,17 +337,99 @@ def test_http_api_errors(gantry):
     assert json.loads(urllib.request.urlopen(gantry.url + "api/status", timeout=5).read())["viewers"] >= 1
 
 
-def test_screenshot(page):
+def png_pixels(path, rows_wanted: int | None = None) -> tuple[int, int, list[bytes]]:
+    """Width, height and RGB rows (the first ``rows_wanted``, or all) of an 8-bit,
+    non-interlaced RGB or RGBA PNG (what Playwright's screenshots are), decoded with the
+    standard library."""
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    pos, idat, header = 8, b"", None
+    while pos < len(data):
+        (length,) = struct.unpack(">I", data[pos:pos + 4])
+        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + length]
+        pos += 12 + length
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+    assert header is not None, "no IHDR"
+    w, h, depth, colour, _, _, interlace = header
+    assert depth == 8 and colour in (2, 6) and interlace == 0, header
+    bpp = 3 if colour == 2 else 4
+    raw, stride = zlib.decompress(idat), w * bpp
+    rows: list[bytes] = []
+    prev = bytearray(stride)
+    for y in range(h if rows_wanted is None else min(h, rows_wanted)):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - bpp] if i >= bpp else 0
+            b, c = prev[i], prev[i - bpp] if i >= bpp else 0
+            if f == 1:
+                line[i] = (line[i] + a) & 255
+            elif f == 2:
+                line[i] = (line[i] + b) & 255
+            elif f == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif f == 4:
+                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(bytes(x for i in range(0, stride, bpp) for x in line[i:i + 3]))
+        prev = line
+    return w, h, rows
+
+
+def test_screenshot(page, gantry):
+    """The README's picture, checked: link2 picked in the 3D view, its panel showing what
+    the API says about it, and the orange arm drawn where the page says link2 is."""
     # Pick the arm in the 3D view so the picture shows the selection panel filled in.
     idx = page.evaluate("gantry.objects.findIndex(o => o.alias === 'link2')")
     pos = page.evaluate(f"gantry.screenPosition({idx})")
     page.mouse.click(pos["x"], pos["y"])
     page.evaluate("document.getElementById('side').scrollTop = 0")
+
+    client = gantry.zmq_client()
+    sim = client.require("sim")
+    link2 = sim.getObject("/arm6/link2")
+
+    def panel_with_orientation():
+        info = page.evaluate("""() => Object.fromEntries([...document.querySelectorAll('#pick-info tr')]
+            .map((tr) => [tr.cells[0].textContent, tr.cells[1].textContent]))""")
+        e = info.get("orientation", "")
+        return info if "°" in e and "–" not in e else None
+
+    # The Euler angles come from the server once the pick is the simulation's selection.
+    info = wait_for(panel_with_orientation, what="link2's panel with its orientation")
+    assert info["alias"] == "link2", info
+    assert info["handle"] == str(link2), info
+    assert info["path"] == sim.getObjectAlias(link2, 2), info
+    assert sim.getObject(info["path"]) == link2, info
+    shown = re.fullmatch(r"α (\S+)°, β (\S+)°, γ (\S+)°", info["orientation"])
+    assert shown, info
+    want = [math.degrees(a) for a in sim.getObjectOrientation(link2, -1)]
+    # Two decimals on the page: equal to within the last shown digit's rounding.
+    assert all(abs(float(s) - w) <= 0.005 + 1e-9 for s, w in zip(shown.groups(), want)), (info, want)
+
     page.wait_for_timeout(300)
     ARTIFACTS.mkdir(exist_ok=True)
     shot = ARTIFACTS / "viewer.png"
     page.screenshot(path=str(shot))
-    assert shot.stat().st_size > 20_000
+    # link2's box (arm6.urdf: orange, centred 0.18 m up its frame's z) drawn at the point
+    # the page projects its centre to. The window's median ignores the selection's axis
+    # lines, which cross it.
+    centre = page.evaluate(f"gantry.screenPosition({idx}, [0, 0, 0.18])")
+    cx, cy = round(centre["x"]), round(centre["y"])
+    w, h, pixels = png_pixels(shot, rows_wanted=cy + 4)
+    assert 3 <= cx < w - 3 and 3 <= cy < h - 3, (centre, w, h)
+    window = sorted((pixels[y][3 * x:3 * x + 3] for y in range(cy - 3, cy + 4) for x in range(cx - 3, cx + 4)),
+                    key=sum)
+    r, g, b = window[len(window) // 2]
+    clear = (41, 46, 54)  # the 3D view's clear colour, (0.16, 0.18, 0.21)
+    assert sum(abs(p - q) for p, q in zip((r, g, b), clear)) > 60, ("background at the arm", (r, g, b))
+    assert r > 120 and r > g > b and r - b > 80, ("not the orange arm", (r, g, b))
+    # The selection's highlight (45 % of (1, 0.75, 0.2) over the lit colour) lifts green
+    # to 0.6-0.7 of red, from the other links' 0.48: this is link2 itself, not a link
+    # in front of it.
+    assert 0.55 * r < g < 0.8 * r, ("not link2's highlighted orange", (r, g, b))
     # The README's screenshot: refreshed only on request, so a test run leaves the
     # working tree clean (GANTRY_UPDATE_SCREENSHOT=1 bash tools/browser-test.sh).
     if os.environ.get("GANTRY_UPDATE_SCREENSHOT") == "1":

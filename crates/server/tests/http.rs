@@ -7,10 +7,14 @@
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{SocketAddr, TcpStream};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use gantry_server::ServeConfig;
 use gantry_server::http::HttpConfig;
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
+use gantry_sim_core::world::World;
+use gantry_sim_core::world::object_path::object_alias;
 use serde_json::Value as Json;
 use util::InProcess;
 
@@ -275,6 +279,108 @@ fn a_viewer_gets_the_scene_then_deltas_and_panels() {
     let slider = &uis.unwrap()[0]["content"]["rows"][0][0];
     assert_eq!(slider["type"], "hslider");
     assert_eq!(slider["id"], 1);
+}
+
+/// Siblings sharing an alias at three levels (roots, children, grandchildren), next to
+/// unique ones.
+const DUPLICATE_ALIASES: &str = r#"
+[simulation]
+dt = 0.05
+
+[[object]]
+name = "r0"
+alias = "robot"
+kind = "dummy"
+
+[[object]]
+name = "r1"
+alias = "robot"
+kind = "dummy"
+
+[[object]]
+name = "solo"
+kind = "dummy"
+
+[[object]]
+name = "r0_leg0"
+alias = "leg"
+kind = "dummy"
+parent = "r0"
+
+[[object]]
+name = "r0_arm"
+alias = "arm"
+kind = "dummy"
+parent = "r0"
+
+[[object]]
+name = "r0_leg1"
+alias = "leg"
+kind = "dummy"
+parent = "r0"
+
+[[object]]
+name = "r1_leg"
+alias = "leg"
+kind = "dummy"
+parent = "r1"
+
+[[object]]
+name = "foot_a"
+alias = "foot"
+kind = "dummy"
+parent = "r0_leg1"
+
+[[object]]
+name = "foot_b"
+alias = "foot"
+kind = "dummy"
+parent = "r0_leg1"
+"#;
+
+#[test]
+fn scene_paths_are_sim_cores_with_duplicate_sibling_aliases() {
+    let model = load_scene_text(
+        &DiskFiles,
+        DUPLICATE_ALIASES,
+        Path::new("duplicate_aliases.toml"),
+        &LoadOptions::default(),
+    )
+    .expect("scene loads");
+    // The same scene as a bare world: handles are model indices in both.
+    let world = World::new(&model);
+    let run = InProcess::start_model(
+        model,
+        ServeConfig {
+            http_port: Some(0),
+            ..ServeConfig::default()
+        },
+    );
+    let mut ws = Ws::connect(run.bound.http.expect("http listener bound")).expect("upgrade");
+    let scene = ws.recv_type("scene");
+    let objects = scene["objects"].as_array().unwrap();
+    assert_eq!(objects.len(), 9, "{scene}");
+    for o in objects {
+        let handle = o["handle"].as_i64().unwrap();
+        // sim.getObjectAlias(h, 2): the full path.
+        assert_eq!(o["path"], object_alias(&world, handle, 2), "{o}");
+    }
+    let mut paths: Vec<&str> = objects.iter().map(|o| o["path"].as_str().unwrap()).collect();
+    paths.sort_unstable();
+    assert_eq!(
+        paths,
+        [
+            "/robot[0]",
+            "/robot[0]/arm",
+            "/robot[0]/leg[0]",
+            "/robot[0]/leg[1]",
+            "/robot[0]/leg[1]/foot[0]",
+            "/robot[0]/leg[1]/foot[1]",
+            "/robot[1]",
+            "/robot[1]/leg",
+            "/solo",
+        ]
+    );
 }
 
 #[test]

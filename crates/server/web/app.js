@@ -2,8 +2,8 @@
 //
 // Plain JavaScript, no framework, no build step: gantry embeds this file in its binary.
 // The server protocol (see crates/server/src/http/) over one WebSocket at /ws:
-//   server -> page  text   {"t":"scene"}   object tree, visuals, joints, sensors (once)
-//                          {"t":"tick"}    time, state, rates, joints, detections
+//   server -> page  text   {"t":"scene"}   object tree (paths included), visuals, joints, sensors (once)
+//                          {"t":"tick"}    time, state, rates, joints, detections, picked object's Euler angles
 //                          {"t":"panels"}  scripts, log, custom UIs, graph samples
 //                          {"t":"reply"}   answer to a command (matched by id)
 //                   binary u32 type 1: pose and drawing deltas, 2: vision image, 3: mesh
@@ -67,16 +67,6 @@ const scale3 = (a, s) => [a[0] * s, a[1] * s, a[2] * s];
 const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
 const norm = (a) => { const l = Math.hypot(a[0], a[1], a[2]) || 1; return [a[0] / l, a[1] / l, a[2] / l]; };
-
-// CoppeliaSim Euler angles (R = Rx(a) Ry(b) Rz(g)) from a quaternion, for the pick panel.
-function eulerFromQuat([qx, qy, qz, qw]) {
-  const m = M4.fromPose([0, 0, 0, qx, qy, qz, qw]);
-  // Row r, column c of the rotation is m[c * 4 + r].
-  const r = (row, col) => m[col * 4 + row];
-  const s = Math.max(-1, Math.min(1, r(0, 2)));
-  if (Math.abs(s) >= 0.999995) return [0, Math.sign(s) * Math.PI / 2, Math.atan2(r(1, 0), r(1, 1))];
-  return [Math.atan2(-r(1, 2), r(2, 2)), Math.asin(s), Math.atan2(-r(0, 1), r(0, 0))];
-}
 
 const deg = (rad) => rad * 180 / Math.PI;
 const rad = (d) => d * Math.PI / 180;
@@ -324,7 +314,7 @@ const GRID = gl && gridDrawable();
 
 const S = {
   scene: null,          // the scene message
-  objects: [],          // per object: {handle, alias, parent, kind, pose, world, visuals, ...}
+  objects: [],          // per object: {handle, alias, path, parent, kind, pose, world, visuals, ...}
   byHandle: new Map(),
   meshes: [],           // mesh id -> {pos, idx} until a visual uploads it
   jointIndex: [],       // joint k -> object index
@@ -334,6 +324,7 @@ const S = {
   detections: [],
   drawings: new Map(),  // handle -> {kind, size, color, drawable}
   selected: -1,
+  selectedOrientation: null,  // {handle, euler: [a, b, g] rad}: the server's, for the pick panel
   tick: null,
   framesRendered: 0,
   frameMessages: 0,
@@ -688,10 +679,12 @@ function pickAt(clientX, clientY) {
   select(idx >= 0 && idx < S.objects.length ? idx : -1);
 }
 
-// Where object `idx`'s origin appears on the page (CSS pixels), or null when behind the
-// camera: for tests and tools that want to click an object.
-S.screenPosition = (idx) => {
-  const p = S.objects[idx].pose;
+// Where object `idx`'s origin (or the point `local`, m, in its frame) appears on the page
+// (CSS pixels), or null when behind the camera: for tests and tools that want to click
+// an object or look at it.
+S.screenPosition = (idx, local = [0, 0, 0]) => {
+  const w = S.objects[idx].world;
+  const p = [0, 1, 2].map((r) => w[r] * local[0] + w[4 + r] * local[1] + w[8 + r] * local[2] + w[12 + r]);
   const m = viewProj();
   const c = [0, 1, 2, 3].map((r) => m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r]);
   if (c[3] <= 0) return null;
@@ -714,26 +707,17 @@ function select(idx, fromServer = false) {
   dirty = true;
 }
 
-// CoppeliaSim-style path: aliases from the root, with [n] when siblings share an alias.
-function objectPath(idx) {
-  const parts = [];
-  for (let o = S.objects[idx]; o; o = o.parent != null ? S.objects[o.parent] : null) {
-    const siblings = o.parent != null ? S.objects[o.parent].children.map((i) => S.objects[i])
-      : S.objects.filter((x) => x.parent == null);
-    const same = siblings.filter((x) => x.alias === o.alias);
-    parts.unshift(same.length > 1 ? `${o.alias}[${same.indexOf(o)}]` : o.alias);
-  }
-  return '/' + parts.join('/');
-}
-
 function showPick(idx) {
   const box = $('pick-info');
   if (idx < 0) { box.textContent = 'Nothing selected.'; box.className = 'muted'; return; }
   const o = S.objects[idx];
   const p = o.pose;
-  const e = eulerFromQuat(p.slice(3)).map((a) => fmt(deg(a), 2));
+  // The server's Euler angles (sim.getObjectOrientation's) follow the simulation's
+  // selection, which this pick becomes one round trip later: '–' until then.
+  const sel = S.selectedOrientation;
+  const e = (sel && sel.handle === o.handle ? sel.euler : [NaN, NaN, NaN]).map((a) => fmt(deg(a), 2));
   const rows = [
-    ['alias', o.alias], ['path', objectPath(idx)], ['handle', String(o.handle)], ['type', o.kind],
+    ['alias', o.alias], ['path', o.path], ['handle', String(o.handle)], ['type', o.kind],
     ['position', `${fmt(p[0])}, ${fmt(p[1])}, ${fmt(p[2])} m`],
     ['orientation', `α ${e[0]}°, β ${e[1]}°, γ ${e[2]}°`],
     ['quaternion', p.slice(3).map((q) => fmt(q, 4)).join(', ')],
@@ -829,6 +813,7 @@ const STATES = { 0: ['stopped', 'bad'], 8: ['paused', 'warn'], 17: ['running', '
 function onTick(t) {
   const stateChanged = !S.tick || S.tick.state !== t.state;
   S.tick = t;
+  if ('selected' in t) S.selectedOrientation = t.selected;
   if (t.joints) { S.joints = t.joints; S.jointVel = t.joint_target_velocities; }
   if (t.detections) { S.detections = t.detections; streamDirty = true; }
   // Text and inputs change at most PANEL_FPS: every DOM change repaints the page, which
@@ -890,11 +875,11 @@ function buildJointPanels() {
       const toUi = prismatic ? (v) => v * 1000 : deg, fromUi = prismatic ? (v) => v / 1000 : rad;
       const lim = o.joint.limits && !o.joint.cyclic ? o.joint.limits.map(toUi) : prismatic ? [-1000, 1000] : [-180, 180];
       const readOnly = o.joint.mode === 'velocity';
-      const slider = el('input', { type: 'range', min: lim[0], max: lim[1], step: prismatic ? 1 : 0.1, disabled: readOnly, title: `${objectPath(o.index)} (J${n + 1})` });
+      const slider = el('input', { type: 'range', min: lim[0], max: lim[1], step: prismatic ? 1 : 0.1, disabled: readOnly, title: `${o.path} (J${n + 1})` });
       const num = el('input', { type: 'number', min: lim[0], max: lim[1], step: prismatic ? 1 : 0.1, disabled: readOnly });
       const row = { k, n, robot: ks, slider, box: num, toUi, fromUi, busy: false, readOnly };
-      const rowEl = el('div', { class: 'joint-row', 'data-joint': objectPath(o.index), 'data-fk': `J${n + 1}` },
-        el('span', { class: 'name', text: `J${n + 1} ${o.alias}`, title: objectPath(o.index) }), slider, num);
+      const rowEl = el('div', { class: 'joint-row', 'data-joint': o.path, 'data-fk': `J${n + 1}` },
+        el('span', { class: 'name', text: `J${n + 1} ${o.alias}`, title: o.path }), slider, num);
       if (readOnly) {
         row.info = el('span', { class: 'unit', text: '' });
         rowEl.append(row.info);
@@ -1206,7 +1191,7 @@ function buildVisionPanels() {
   if (!sensors.length) { box.textContent = 'No vision sensor.'; return; }
   box.replaceChildren(...sensors.map((o) => {
     const [w, h] = o.vision.resolution;
-    const cv = el('canvas', { width: w, height: h, title: objectPath(o.index) });
+    const cv = el('canvas', { width: w, height: h, title: o.path });
     visionCanvases.set(o.handle, cv);
     return el('figure', { class: 'vision', 'data-sensor': String(o.handle) }, cv, el('figcaption', { text: `${o.alias} ${w}×${h}` }));
   }));

@@ -17,6 +17,7 @@ use std::time::{Duration, Instant};
 use gantry_script::Simulation;
 use gantry_sim_core::Sim;
 use gantry_sim_core::drawing::DrawingKind;
+use gantry_sim_core::math::euler_from_quat;
 use gantry_sim_core::world::ObjectKind;
 use serde_json::json;
 use tokio::sync::watch;
@@ -70,7 +71,7 @@ pub struct Frame {
     /// Real-time factor (simulated seconds per wall-clock second), same window.
     pub rtf: f64,
     /// World pose of every object as `x, y, z, qx, qy, qz, qw` (m), in the scene
-    /// description's object order ([`World::handles`]).
+    /// description's object order ([`gantry_sim_core::World::handles`]).
     pub poses: Vec<[f32; 7]>,
     /// Position of every joint (rad or m), in the scene description's joint order.
     pub joints: Vec<f32>,
@@ -80,6 +81,10 @@ pub struct Frame {
     pub detections: Vec<f32>,
     /// Every drawing object.
     pub drawings: Vec<DrawingFrame>,
+    /// The first selected object (`sim.getObjectSel`, the page's pick) and its
+    /// orientation as `sim.getObjectOrientation(h, -1)` gives it: CoppeliaSim Euler
+    /// angles, world frame, rad. One object only, so frames stay as cheap as before.
+    pub selected: Option<SelectedOrientation>,
     /// `Uis::revision`: changes whenever a custom UI does.
     pub ui_revision: u64,
     /// `World::scene_revision`: when it differs from the scene description's, objects
@@ -88,6 +93,16 @@ pub struct Frame {
     /// `World::structure_revision`: when it differs, the object list or its order changed
     /// and poses no longer line up with the description until it is sent again.
     pub structure_revision: u64,
+}
+
+/// The picked object's orientation, for the page's pick panel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelectedOrientation {
+    /// The object's handle.
+    pub handle: i64,
+    /// `alpha, beta, gamma` (rad), from sim-core's `euler_from_quat` in f64: the page
+    /// shows exactly what the API returns.
+    pub euler: [f64; 3],
 }
 
 impl Frame {
@@ -126,6 +141,13 @@ impl Frame {
                 _ => {}
             }
         }
+        f.selected = world.selection.handles().first().and_then(|&h| {
+            let o = world.object(h).ok()?;
+            Some(SelectedOrientation {
+                handle: h,
+                euler: euler_from_quat(&o.world.rotation),
+            })
+        });
         let mut budget = MAX_FRAME_VERTICES;
         for view in sim.drawings.iter_world(world) {
             let o = view.object;
@@ -251,14 +273,18 @@ pub struct FrameDelta {
     joint_target_velocities: Vec<f32>,
     detections: Vec<f32>,
     drawings: Vec<DrawingFrame>,
+    /// `None` until sent once (so a first or reset delta always says what is selected).
+    selected: Option<Option<SelectedOrientation>>,
     scalars: Option<(f64, u64, i64, f64, f64)>,
 }
 
-/// One frame's messages for a session: a JSON text (scalars, joints, sensors) and a
-/// binary message (poses and drawings); either is `None` when nothing of it changed.
+/// One frame's messages for a session: a JSON text (scalars, joints, sensors, the
+/// picked object's orientation) and a binary message (poses and drawings); either is
+/// `None` when nothing of it changed.
 #[derive(Debug, Default)]
 pub struct DeltaMessages {
-    /// `{"t":"tick",...}`.
+    /// `{"t":"tick",...}`; `"selected": {"handle", "euler"}` or `null` when the pick or
+    /// its orientation changed.
     pub tick: Option<serde_json::Value>,
     /// [`MSG_FRAME`] binary message.
     pub binary: Option<Vec<u8>>,
@@ -339,7 +365,8 @@ impl FrameDelta {
         let scalars = (frame.time, frame.steps, frame.state, frame.steps_per_s, frame.rtf);
         let joints = self.joints != frame.joints || self.joint_target_velocities != frame.joint_target_velocities;
         let detections = self.detections != frame.detections;
-        if self.scalars != Some(scalars) || joints || detections {
+        let selected = self.selected != Some(frame.selected);
+        if self.scalars != Some(scalars) || joints || detections || selected {
             let mut tick = json!({
                 "t": "tick",
                 "time": frame.time,
@@ -358,6 +385,13 @@ impl FrameDelta {
             if detections {
                 tick["detections"] = json!(frame.detections);
                 self.detections.clone_from(&frame.detections);
+            }
+            if selected {
+                tick["selected"] = match frame.selected {
+                    Some(s) => json!({"handle": s.handle, "euler": s.euler}),
+                    None => json!(null),
+                };
+                self.selected = Some(frame.selected);
             }
             self.scalars = Some(scalars);
             out.tick = Some(tick);
@@ -429,6 +463,29 @@ mod tests {
         later.time = 0.55;
         let tick = d.update(&later).tick.expect("time changed");
         assert!(tick.get("joints").is_none(), "joints did not change: {tick}");
+    }
+
+    #[test]
+    fn the_picked_orientation_is_sent_when_it_changes() {
+        let mut d = FrameDelta::default();
+        let first = d.update(&frame(1.0)).tick.expect("first tick");
+        assert_eq!(first["selected"], json!(null), "a first tick says nothing is picked");
+
+        let mut picked = frame(1.0);
+        picked.selected = Some(SelectedOrientation {
+            handle: 7,
+            euler: [0.5, -0.25, 1.0],
+        });
+        let tick = d.update(&picked).tick.expect("the pick changed");
+        assert_eq!(tick["selected"], json!({"handle": 7, "euler": [0.5, -0.25, 1.0]}));
+        assert!(d.update(&picked).tick.is_none(), "nothing changed");
+
+        let cleared = d.update(&frame(1.0)).tick.expect("the pick was cleared");
+        assert_eq!(cleared["selected"], json!(null));
+        let mut later = frame(1.0);
+        later.time = 0.55;
+        let tick = d.update(&later).tick.expect("time changed");
+        assert!(tick.get("selected").is_none(), "the pick did not change: {tick}");
     }
 
     #[test]

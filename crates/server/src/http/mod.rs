@@ -51,7 +51,7 @@ use tokio::sync::{Semaphore, watch};
 pub use command::{ClientMessage, Command, CommandError, ControlAction, DebugAction, MAX_MESSAGE, MAX_PACKET, parse};
 pub use frame::{
     DRAWING_REMOVED, DeltaMessages, DrawingFrame, Frame, FrameDelta, FramePublisher, FrameSender, IDLE_FRAME_RATE,
-    MAX_DRAWING_VERTICES, MAX_FRAME_RATE, MAX_FRAME_VERTICES, MSG_FRAME,
+    MAX_DRAWING_VERTICES, MAX_FRAME_RATE, MAX_FRAME_VERTICES, MSG_FRAME, SelectedOrientation,
 };
 pub use panels::{
     MAX_GRAPH_SAMPLES, MAX_LOG_LINES, MAX_LOG_MESSAGE, MAX_POLL_SAMPLES, MSG_IMAGE, PanelCursor, PanelUpdate, collect,

@@ -1,6 +1,10 @@
 //! The scene description a viewer gets once when it connects: the object tree (handles,
-//! aliases, parents), every shape's visual geometry and colour, joints with their limits,
-//! sensor volumes, and the triangle meshes as binary messages.
+//! aliases, parents, paths), every shape's visual geometry and colour, joints with their
+//! limits, sensor volumes, and the triangle meshes as binary messages.
+//!
+//! Each object's `path` is `sim.getObjectAlias(h, 2)` (the full path, `[n]` where
+//! siblings share an alias), from sim-core's one implementation, so the page never
+//! rebuilds it.
 //!
 //! Objects are listed in [`World::handles`] order (parents first), and the pose stream
 //! ([`super::frame`]) indexes objects, joints and proximity sensors in that same order.
@@ -11,6 +15,7 @@
 use std::sync::Arc;
 
 use gantry_sim_core::scene::{Geometry, JointType, MeshData, ProximityModel};
+use gantry_sim_core::world::object_path::object_alias;
 use gantry_sim_core::world::{ObjectKind, World};
 use serde_json::{Value as Json, json};
 
@@ -21,6 +26,10 @@ pub const MSG_MESH: u32 = 3;
 /// Most triangles sent per mesh; larger meshes are sent decimated by dropping triangles
 /// (rare for URDF visuals, and the page would struggle anyway).
 pub const MAX_MESH_TRIANGLES: usize = 500_000;
+
+/// `sim.getObjectAlias` option for the full path: every ancestor, each with its `[n]`
+/// when siblings share its alias (`/bubbleRob/leftMotor`, `/obstacle[3]`).
+const FULL_PATH: i64 = 2;
 
 /// The description: a JSON text message and the binary mesh messages it refers to.
 #[derive(Debug)]
@@ -38,12 +47,13 @@ pub fn describe(world: &World) -> SceneDescription {
     let index_of = |h| world.handles().iter().position(|&x| x == h);
     for &h in world.handles() {
         let Ok(o) = world.object(h) else {
-            objects.push(json!({"handle": h, "alias": "", "parent": null, "kind": "gone"}));
+            objects.push(json!({"handle": h, "alias": "", "path": "", "parent": null, "kind": "gone"}));
             continue;
         };
         let mut obj = json!({
             "handle": h,
             "alias": o.alias,
+            "path": object_alias(world, h, FULL_PATH),
             "parent": o.parent.and_then(index_of),
             "model_base": o.model_base,
             "kind": o.kind.name(),

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use gantry_script::ScriptLimits;
 use gantry_server::{BoundAddrs, RunSummary, ServeConfig, ServerError, Shutdown, SimConfig};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene};
 
 /// A running server; the simulation steps as fast as it can (`--fast`).
 pub struct InProcess {
@@ -23,6 +23,11 @@ impl InProcess {
     pub fn start(scene: &str, serve: ServeConfig) -> Self {
         let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../assets/scenes/{scene}.toml"));
         let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
+        Self::start_model(model, serve)
+    }
+
+    /// Runs a loaded scene (e.g. one a test wrote) with the listeners of `serve`.
+    pub fn start_model(model: SceneModel, serve: ServeConfig) -> Self {
         let shutdown = Shutdown::default();
         let (tx, rx) = mpsc::channel();
         let sd = shutdown.clone();
