@@ -12,9 +12,8 @@ mod common;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
-use gantry_script::{HOST_FUNCTIONS as LUA_HOST, HostAvailability};
-use gantry_server::zmq::{HOST_FUNCTIONS as REMOTE_HOST, SIMULATION_FUNCTIONS};
 use gantry_sim_core::api::MODULES;
+use gantry_sim_core::api::{HOST_FUNCTIONS, InScripts, Remote};
 
 /// What one row says.
 struct Row {
@@ -38,7 +37,6 @@ fn notes(text: &str) -> BTreeMap<String, Vec<String>> {
 
 fn generate(notes_text: &str) -> (String, Vec<String>) {
     let mut notes = notes(notes_text);
-    let remote_extra = |name: &str| SIMULATION_FUNCTIONS.contains(&name) || REMOTE_HOST.iter().any(|(n, _)| *n == name);
     let mut out = String::new();
     let mut functions = 0;
     let mut constants = 0;
@@ -58,27 +56,21 @@ fn generate(notes_text: &str) -> (String, Vec<String>) {
             rows.insert(name.to_owned(), row);
         }
         if module.name == "sim" {
-            for (name, availability) in LUA_HOST {
-                let scripts = match availability {
-                    HostAvailability::Scripts => "yes",
-                    HostAvailability::Threaded => "threaded scripts",
+            for h in HOST_FUNCTIONS {
+                let scripts = match h.scripts {
+                    InScripts::No => "no",
+                    InScripts::AnyHook => "yes",
+                    InScripts::ThreadedOnly => "threaded scripts",
                 };
-                let remote = if remote_extra(name) { "yes" } else { "no" };
+                let remote = if h.remote == Remote::No { "no" } else { "yes" };
                 rows.insert(
-                    (*name).to_owned(),
+                    h.name.to_owned(),
                     Row {
                         scripts,
                         remote,
                         notes: Vec::new(),
                     },
                 );
-            }
-            for (name, _) in REMOTE_HOST {
-                rows.entry((*name).to_owned()).or_insert(Row {
-                    scripts: "no",
-                    remote: "yes",
-                    notes: Vec::new(),
-                });
             }
         }
         let _ = writeln!(modules, "\n## {}\n", module.name);
@@ -168,8 +160,7 @@ fn generate_stubs(notes_text: &str) -> String {
     for module in MODULES {
         let mut names: BTreeSet<&str> = module.callable().map(|(n, _)| n).collect();
         if module.name == "sim" {
-            names.extend(SIMULATION_FUNCTIONS.iter().copied());
-            names.extend(REMOTE_HOST.iter().map(|(n, _)| *n));
+            names.extend(HOST_FUNCTIONS.iter().filter(|h| h.remote != Remote::No).map(|h| h.name));
         }
         let _ = writeln!(out, "\nclass {}:", class_name(module.name));
         let _ = writeln!(

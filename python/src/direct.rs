@@ -21,6 +21,7 @@ use gantry_server::zmq::{HostCall, HostFn};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::ApiFunction;
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
+use gantry_sim_core::sim::Control;
 use gantry_sim_core::sim::SimulationState;
 use pyo3::Python;
 
@@ -148,7 +149,8 @@ impl Direct {
         let before = self.sim.state();
         let out = self.detached(py, |d| d.sim.call(name, args));
         self.sync_state(before);
-        out
+        // The edge: the structured error becomes CoppeliaSim's text here.
+        out.map_err(|e| e.to_string())
     }
 
     /// Simulation control and stepping (`sim.startSimulation`, `sim.step`, ...).
@@ -159,7 +161,7 @@ impl Direct {
         let in_function = |e: &dyn std::fmt::Display| format!("{e} (in function 'sim.{name}')");
         self.before_call(py);
         let before = self.sim.state();
-        match HostCall::parse(f, args)? {
+        match HostCall::parse(f, args).map_err(|e| e.to_string())? {
             // Not re-paced below: the step keeps the real-time schedule it follows. The
             // Python client always waits (its calls are synchronous).
             HostCall::Step { .. } => {
@@ -173,12 +175,12 @@ impl Direct {
                 return Ok(Vec::new());
             }
             HostCall::LoadScene(path) => self.load_scene(py, path.as_deref()).map_err(|e| in_function(&e))?,
-            HostCall::Remote(RemoteOp::Start) => self.detached(py, |d| d.sim.start()),
-            HostCall::Remote(RemoteOp::Pause) => {
+            HostCall::Remote(RemoteOp::Control(Control::Start)) => self.detached(py, |d| d.sim.start()),
+            HostCall::Remote(RemoteOp::Control(Control::Pause)) => {
                 self.sim.pause();
                 self.stepping.release_waiters();
             }
-            HostCall::Remote(RemoteOp::Stop) => self.stop(py),
+            HostCall::Remote(RemoteOp::Control(Control::Stop)) => self.stop(py),
             HostCall::Remote(RemoteOp::Lock(acquire)) => {
                 self.stepping.lock(ME, acquire).map_err(|e| in_function(&e))?;
             }

@@ -3,7 +3,7 @@
 //! This crate is a converter, like the Lua host and the ZMQ transport: it turns Python
 //! objects into [`Value`]s, calls the one implementation of each function
 //! ([`gantry_sim_core::api::MODULES`], the Lua host's script functions, and the
-//! remote API's simulation control, [`gantry_server::zmq::HOST_FUNCTIONS`]), and turns
+//! remote API's simulation control, [`api::HOST_FUNCTIONS`]), and turns
 //! the results back with the shapes CoppeliaSim's Python client gives. The Python
 //! package around it (`python/gantry/`) adds `Client`, `require` and the extras.
 
@@ -16,7 +16,7 @@ use std::path::PathBuf;
 
 use gantry_script::ScriptLimits;
 use gantry_server::sim_thread::SimConfig;
-use gantry_server::zmq::{HOST_FUNCTIONS, HostFn, SIMULATION_FUNCTIONS, no_module};
+use gantry_server::zmq::{FRONT_END_FUNCTIONS, HostFn, no_module};
 use gantry_server::{AccessToken, ServeConfig, Shutdown, Signals};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{self, ApiFunction};
@@ -46,11 +46,11 @@ enum Kind {
 fn resolve(name: &str) -> Option<Kind> {
     let (module, function) = name.split_once('.').unwrap_or(("sim", name));
     if module == "sim" {
-        if let Some((n, h)) = HOST_FUNCTIONS.iter().find(|(n, _)| *n == function) {
+        if let Some((n, h)) = FRONT_END_FUNCTIONS.iter().find(|(n, _)| *n == function) {
             return Some(Kind::Host(*h, n));
         }
-        if let Some(n) = SIMULATION_FUNCTIONS.iter().find(|n| **n == function) {
-            return Some(Kind::Script(n));
+        if let Some(h) = api::host_function(function).filter(|h| h.remote == api::Remote::ByScriptHost) {
+            return Some(Kind::Script(h.name));
         }
     }
     api::module(module)?.function(function).map(Kind::Api)
@@ -211,8 +211,8 @@ impl Engine {
         let m = api::module(module).ok_or_else(|| PyException::new_err(no_module(Some(module))))?;
         let mut names: Vec<&'static str> = m.callable().map(|(n, _)| n).collect();
         if module == "sim" {
-            names.extend(SIMULATION_FUNCTIONS.iter().copied());
-            names.extend(HOST_FUNCTIONS.iter().map(|(n, _)| *n));
+            names.extend(api::host::remote_names(api::Remote::ByScriptHost));
+            names.extend(api::host::remote_names(api::Remote::ByFrontEnd));
         }
         let owner = slf.borrow().owner;
         let engine = slf.clone().unbind();

@@ -87,6 +87,7 @@ impl Served {
         let args = args.to_vec();
         let name = remote.to_owned();
         self.ask(py, qualified, |reply| Request::Call { name, args, reply })?
+            .map_err(|e| e.to_string())
     }
 
     /// Simulation control and stepping, as the ZMQ transport serves them.
@@ -95,14 +96,18 @@ impl Served {
     /// Bad arguments, nesting too deep, a scene that does not load, or an ended run.
     pub fn host(&self, py: Python<'_>, f: HostFn, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
         let qualified = format!("sim.{name}");
-        match HostCall::parse(f, args)? {
-            HostCall::Remote(op) => self.ask(py, &qualified, |reply| Request::Remote { client: ME, op, reply })?,
+        match HostCall::parse(f, args).map_err(|e| e.to_string())? {
+            HostCall::Remote(op) => self
+                .ask(py, &qualified, |reply| Request::Remote { client: ME, op, reply })?
+                .map_err(|e| e.to_string()),
             // The Python client always waits: its calls are synchronous.
             HostCall::Step { .. } => {
                 self.ask(py, &qualified, |done| Request::Step { client: ME, done })?;
                 Ok(Vec::new())
             }
-            HostCall::LoadScene(path) => self.ask(py, &qualified, |reply| Request::LoadScene { path, reply })?,
+            HostCall::LoadScene(path) => self
+                .ask(py, &qualified, |reply| Request::LoadScene { path, reply })?
+                .map_err(|e| e.to_string()),
         }
     }
 

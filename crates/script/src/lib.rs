@@ -9,7 +9,6 @@ mod simulation;
 mod threads;
 
 pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
-pub use threads::{HOST_FUNCTIONS, HostAvailability};
 
 pub use limits::ScriptLimits;
 pub use simulation::{Hook, ScriptError, ScriptState, Simulation, StepBoundary, check_syntax};

@@ -18,7 +18,7 @@ use std::path::PathBuf;
 use std::rc::Rc;
 use std::time::{Duration, Instant, SystemTime};
 
-use gantry_sim_core::api::{self, Args, CallContext};
+use gantry_sim_core::api::{self, ApiError, Args, CallContext, CallError, ErrorKind};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, ScriptModel, load_model};
 use gantry_sim_core::sim::Control;
 use gantry_sim_core::sim::{Advancing, SimulationState};
@@ -972,14 +972,14 @@ impl Simulation {
     ///
     /// # Errors
     /// The CoppeliaSim-style error message.
-    pub fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+    pub fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, CallError> {
         if name == "getScriptAssociatedWithObject" {
             return script_handle(
                 &self.shared,
                 &[Value::Int(1), args.first().cloned().unwrap_or_default()],
             )
             .map(|h| vec![Value::Int(h)])
-            .map_err(|e| format!("{e} (in function 'sim.getScriptAssociatedWithObject')"));
+            .map_err(|e| CallError::failed("sim.getScriptAssociatedWithObject", ApiError::new(e)));
         }
         if name == "removeScript" {
             let h = args.first().and_then(Value::as_i64);
@@ -988,17 +988,19 @@ impl Simulation {
                     self.remove_script(i);
                     Ok(Vec::new())
                 }
-                Some((HANDLE_SELF, None)) => {
-                    Err("sim.handle_self names the calling script, and a remote client has none (in function 'sim.removeScript')".to_owned())
-                }
-                Some((h, None)) => Err(format!(
-                    "argument 1: no script has handle {h} (in function 'sim.removeScript')"
+                Some((HANDLE_SELF, None)) => Err(ApiError::bad_argument(
+                    "sim.handle_self names the calling script, and a remote client has none",
                 )),
-                None => Err(format!(
-                    "argument 1: expected a script handle, got {} (in function 'sim.removeScript')",
+                Some((h, None)) => Err(ApiError::of(
+                    ErrorKind::NoSuchObject,
+                    format!("argument 1: no script has handle {h}"),
+                )),
+                None => Err(ApiError::bad_argument(format!(
+                    "argument 1: expected a script handle, got {}",
                     args.first().map_or("nil", Value::type_name)
-                )),
-            };
+                ))),
+            }
+            .map_err(|e| CallError::failed("sim.removeScript", e));
         }
         if name == "loadModel" {
             return match args.first() {
@@ -1006,12 +1008,12 @@ impl Simulation {
                 _ => Err("argument 1: expected the model file's path as a string".to_owned()),
             }
             .map(|h| vec![Value::Int(h)])
-            .map_err(|e| format!("{e} (in function 'sim.loadModel')"));
+            .map_err(|e| CallError::failed("sim.loadModel", ApiError::new(e)));
         }
         if name == "getScript" {
             return script_handle(&self.shared, args)
                 .map(|h| vec![Value::Int(h)])
-                .map_err(|e| format!("{e} (in function 'sim.getScript')"));
+                .map_err(|e| CallError::failed("sim.getScript", ApiError::new(e)));
         }
         if name == "callScriptFunction" {
             // Script code running for a remote client is outside any hook, so it gets a
@@ -1022,7 +1024,7 @@ impl Simulation {
             let r = call_script_function(&self.lua, &self.shared, args);
             self.leave();
             self.apply_control();
-            return r.map_err(|e| format!("{} (in function 'sim.callScriptFunction')", error_text(&e)));
+            return r.map_err(|e| CallError::failed("sim.callScriptFunction", ApiError::new(error_text(&e))));
         }
         let ctx = CallContext {
             script_object: None,
@@ -1587,8 +1589,10 @@ fn script_handle(shared: &Shared, args: &[Value]) -> Result<i64, String> {
                 .sim
                 .try_borrow_mut()
                 .map_err(|_| "the world is busy".to_owned())?;
-            let found = api::call(&mut world, &ctx, "getObject", &[Value::Str(path.clone())])
-                .map_err(|e| e.replace(" (in function 'sim.getObject')", ""))?;
+            let found = api::call(&mut world, &ctx, "getObject", &[Value::Str(path.clone())]).map_err(|e| match e {
+                CallError::Failed { error, .. } => error.message,
+                other => other.to_string(),
+            })?;
             found.first().and_then(Value::as_i64).unwrap_or(-1)
         }
         Some(v) => v.as_i64().ok_or("argument 2: expected an object handle or path")?,

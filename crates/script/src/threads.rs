@@ -27,54 +27,6 @@ use mlua::{Lua, Table};
 
 use crate::simulation::Shared;
 
-/// Where a function the Lua host adds (beyond the core registry) may be called.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum HostAvailability {
-    /// From any hook of a script (and, where the remote API serves the same name,
-    /// from clients too).
-    Scripts,
-    /// Only from a threaded script or a coroutine: it blocks (yields).
-    Threaded,
-}
-
-/// The `sim.*` functions the Lua host adds to the core registry, because they need the
-/// Lua state (script functions, blocking calls) or act on the simulation loop. A test
-/// checks this list against what scripts actually see; `docs/api.md` is generated
-/// from it and the registry.
-pub const HOST_FUNCTIONS: &[(&str, HostAvailability)] = &[
-    ("acquireLock", HostAvailability::Scripts),
-    ("callScriptFunction", HostAvailability::Scripts),
-    ("getAutoYieldDelay", HostAvailability::Scripts),
-    ("getScript", HostAvailability::Scripts),
-    ("getScriptAssociatedWithObject", HostAvailability::Scripts),
-    ("getStepping", HostAvailability::Scripts),
-    ("getThreadAutomaticSwitch", HostAvailability::Scripts),
-    ("isScriptRunningInThread", HostAvailability::Scripts),
-    ("loadModel", HostAvailability::Scripts),
-    ("moveToConfig", HostAvailability::Threaded),
-    ("moveToConfig_cleanup", HostAvailability::Scripts),
-    ("moveToConfig_init", HostAvailability::Scripts),
-    ("moveToConfig_step", HostAvailability::Scripts),
-    ("moveToPose", HostAvailability::Threaded),
-    ("moveToPose_cleanup", HostAvailability::Scripts),
-    ("moveToPose_init", HostAvailability::Scripts),
-    ("moveToPose_step", HostAvailability::Scripts),
-    ("pauseSimulation", HostAvailability::Scripts),
-    ("releaseLock", HostAvailability::Scripts),
-    ("removeScript", HostAvailability::Scripts),
-    ("rmlMoveToJointPositions", HostAvailability::Threaded),
-    ("setAutoYieldDelay", HostAvailability::Scripts),
-    ("setStepping", HostAvailability::Scripts),
-    ("setThreadAutomaticSwitch", HostAvailability::Scripts),
-    ("setThreadSwitchTiming", HostAvailability::Scripts),
-    ("startSimulation", HostAvailability::Scripts),
-    ("step", HostAvailability::Threaded),
-    ("stopSimulation", HostAvailability::Scripts),
-    ("switchThread", HostAvailability::Threaded),
-    ("wait", HostAvailability::Threaded),
-    ("waitForSignal", HostAvailability::Threaded),
-];
-
 /// CoppeliaSim's default auto-yield delay (`sim.getAutoYieldDelay`).
 pub const DEFAULT_AUTO_YIELD: Duration = Duration::from_millis(2);
 

@@ -1481,7 +1481,7 @@ fn remote_calls_return_what_lua_returns() {
         let mut lua_args = vec![s(name)];
         lua_args.extend(args.iter().cloned());
         let from_lua = sc.call("lua_err", &lua_args);
-        let remote = sc.sim.call(name, &args).expect_err("remote call fails");
+        let remote = sc.sim.call(name, &args).expect_err("remote call fails").to_string();
         assert_contains(text(&from_lua[0]), &[&remote]);
         assert_contains(&remote, &[&format!("(in function 'sim.{name}')")]);
     }

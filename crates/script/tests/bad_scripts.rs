@@ -48,7 +48,7 @@ fn good_carried_on(sim: &mut Simulation, steps: i64) {
 /// The error is the script's state and is logged, both with file and line.
 #[track_caller]
 fn reported(sim: &Simulation, place: &str, what: &str) {
-    assert_contains(&script_error(sim, "rogue.lua"), &[place, what]);
+    assert_contains(script_error(sim, "rogue.lua"), &[place, what]);
     let logged = messages_from(sim, "rogue.lua");
     assert!(
         logged.iter().any(|m| m.contains(place) && m.contains(what)),

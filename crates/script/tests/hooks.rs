@@ -285,11 +285,11 @@ script = "ininit.lua"
         ],
         ScriptLimits::default(),
     );
-    assert_contains(&script_error(&sc.sim, "atload.lua"), &["atload.lua:2:"]);
+    assert_contains(script_error(&sc.sim, "atload.lua"), &["atload.lua:2:"]);
     for _ in 0..3 {
         sc.sim.step();
     }
-    assert_contains(&script_error(&sc.sim, "ininit.lua"), &["ininit.lua:2:", "boom in init"]);
+    assert_contains(script_error(&sc.sim, "ininit.lua"), &["ininit.lua:2:", "boom in init"]);
     assert_eq!(signal(&mut sc.sim, "good"), Some(1));
     assert_eq!(signal(&mut sc.sim, "atload"), None);
     assert_eq!(signal(&mut sc.sim, "ininit"), None);
@@ -339,7 +339,7 @@ function sysCall_cleanup() print('rogue cleanup') end
     }
     assert!(t1.elapsed() < Duration::from_secs(2), "later steps are fast");
     assert_eq!(signal(&mut sc.sim, "good"), Some(6));
-    assert_contains(&script_error(&sc.sim, "rogue.lua"), &["time budget"]);
+    assert_contains(script_error(&sc.sim, "rogue.lua"), &["time budget"]);
     sc.sim.stop();
     assert!(messages_from(&sc.sim, "rogue.lua").contains(&"rogue cleanup".to_owned()));
 }
@@ -360,7 +360,7 @@ fn the_interrupt_error_says_where_the_loop_is() {
     );
     sc.sim.step();
     assert_contains(
-        &script_error(&sc.sim, "rogue.lua"),
+        script_error(&sc.sim, "rogue.lua"),
         &["time budget", "rogue.lua:2:", "traceback"],
     );
 }
@@ -393,8 +393,8 @@ end
     }
     assert!(t0.elapsed() < Duration::from_secs(4), "{:?}", t0.elapsed());
     assert_eq!(signal(&mut sc.sim, "good"), Some(4));
-    assert_contains(&script_error(&sc.sim, "rogue.lua"), &["time budget"]);
-    assert_contains(&script_error(&sc.sim, "initloop.lua"), &["time budget"]);
+    assert_contains(script_error(&sc.sim, "rogue.lua"), &["time budget"]);
+    assert_contains(script_error(&sc.sim, "initloop.lua"), &["time budget"]);
 }
 
 #[test]
@@ -462,7 +462,7 @@ end
     for _ in 0..5 {
         sc.sim.step();
     }
-    assert_contains(&script_error(&sc.sim, "rogue.lua"), &["memory"]);
+    assert_contains(script_error(&sc.sim, "rogue.lua"), &["memory"]);
     assert_eq!(signal(&mut sc.sim, "good"), Some(5));
     assert_eq!(signal(&mut sc.sim, "goodLen"), Some(1000));
     assert_eq!(script_state(&sc.sim, "good.lua"), ScriptState::Running);
@@ -639,7 +639,7 @@ fn check_syntax_reports_file_and_line() {
         "{errors:?}"
     );
     let mut sim = Simulation::new(model, ScriptLimits::default()).expect("builds");
-    assert_contains(&script_error(&sim, "broken.lua"), &["broken.lua:"]);
+    assert_contains(script_error(&sim, "broken.lua"), &["broken.lua:"]);
     sim.step();
     assert_eq!(signal(&mut sim, "good"), Some(1));
     let clean = load(&util::repo("assets/scenes/bubble_rob.toml"));

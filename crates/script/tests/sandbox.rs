@@ -287,7 +287,7 @@ fn a_binary_chunk_script_file_is_refused() {
     // crafted one could corrupt memory. Script files are compiled as text only.
     let bad = "\x1bLua\u{54}\u{0}garbage that a bytecode loader would try to run";
     let mut sc = Scene::new("binary", PROBE_SCENE, &[("probe.lua", bad)], ScriptLimits::default());
-    assert_contains(&script_error(&sc.sim, "probe.lua"), &["binary chunk"]);
+    assert_contains(script_error(&sc.sim, "probe.lua"), &["binary chunk"]);
     sc.sim.start();
     sc.sim.step();
     assert_eq!(sc.sim.world().steps(), 1, "the simulation runs without it");

@@ -18,8 +18,8 @@ pub use auth::{AccessToken, TokenError};
 pub use debug::{DebugHub, PausedAt};
 pub use runner::{BoundAddrs, Running, ServeConfig, ServerError, Shutdown, Signals, run, start};
 pub use sim_thread::{
-    Control, Observer, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig, SimHandle,
-    channel, run_sim_thread, run_sim_thread_debugged, run_sim_thread_observed,
+    LoopControl, Observer, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig,
+    SimHandle, channel, run_sim_thread, run_sim_thread_debugged, run_sim_thread_observed,
 };
 pub use stepping::ClientId;
 pub use text::TextConfig;

@@ -11,9 +11,10 @@ use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError
 use std::time::{Duration, Instant};
 
 use gantry_script::{ScriptLimits, Simulation, StepBoundary};
+use gantry_sim_core::api::{ApiError, CallError};
 use gantry_sim_core::scene::SceneModel;
-use gantry_sim_core::sim::SimulationState;
-use gantry_sim_core::{Handle, Value};
+use gantry_sim_core::sim::{Control, SimulationState};
+use gantry_sim_core::{Handle, Value, api};
 use tokio::sync::oneshot;
 
 use crate::stepping::{ClientId, Stepping, SteppingError};
@@ -36,7 +37,7 @@ pub enum Request {
         /// Arguments.
         args: Vec<Value>,
         /// The results or a CoppeliaSim-style error message.
-        reply: oneshot::Sender<Result<Vec<Value>, String>>,
+        reply: oneshot::Sender<Result<Vec<Value>, CallError>>,
     },
     /// Deliver a text packet to the scripts' `sysCall_packet(packet)`.
     Packet {
@@ -48,7 +49,7 @@ pub enum Request {
     /// Start, pause or stop the simulation, or do a single step while paused.
     Control {
         /// What to do.
-        action: Control,
+        action: LoopControl,
         /// The state afterwards.
         reply: oneshot::Sender<SimulationState>,
     },
@@ -59,7 +60,7 @@ pub enum Request {
         /// What to do.
         op: RemoteOp,
         /// The results (as for [`Request::Call`]) or a CoppeliaSim-style error message.
-        reply: oneshot::Sender<Result<Vec<Value>, String>>,
+        reply: oneshot::Sender<Result<Vec<Value>, CallError>>,
     },
     /// `sim.step()` of a remote client: answered on `done` once the simulation has taken
     /// the next step (at once if it is stopped or paused; see [`crate::stepping`]).
@@ -78,7 +79,7 @@ pub enum Request {
         /// The scene file (`.toml`) or URDF, as the client named it.
         path: Option<std::path::PathBuf>,
         /// Empty results, or a CoppeliaSim-style error message.
-        reply: oneshot::Sender<Result<Vec<Value>, String>>,
+        reply: oneshot::Sender<Result<Vec<Value>, CallError>>,
     },
     /// Run a closure on the simulation thread (for viewer snapshots and tests).
     With(Box<dyn FnOnce(&mut Simulation) + Send>),
@@ -90,25 +91,20 @@ pub enum Request {
 pub enum RemoteOp {
     /// `sim.setStepping(enable)`: returns the client's previous stepping level.
     SetStepping(bool),
-    /// `sim.startSimulation()`: start, or resume from pause (`sysCall_init` runs on start).
-    Start,
-    /// `sim.pauseSimulation()`.
-    Pause,
-    /// `sim.stopSimulation()`: cleanup, initial scene restored, stepping levels reset.
-    Stop,
+    /// `sim.startSimulation()` (start, or resume from pause; `sysCall_init` runs on
+    /// start), `sim.pauseSimulation()`, `sim.stopSimulation()` (cleanup, initial scene
+    /// restored, stepping levels reset).
+    Control(Control),
     /// `sim.acquireLock()` (`true`) or `sim.releaseLock()` (`false`).
     Lock(bool),
 }
 
-/// Simulation controls.
+/// What the viewer's buttons and the command line ask of the simulation loop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Control {
-    /// Start or resume.
-    Start,
-    /// Pause.
-    Pause,
-    /// Stop: cleanup hooks run and the scene returns to its initial state.
-    Stop,
+pub enum LoopControl {
+    /// Start or resume, pause, or stop (cleanup hooks run and the scene returns to its
+    /// initial state).
+    Control(Control),
     /// One step, whatever the state (a stopped simulation starts, then pauses).
     Step,
 }
@@ -167,14 +163,16 @@ impl SimHandle {
             reply,
         })
         .map_err(|e| e.to_string())?;
-        rx.await.map_err(|_| SendError::Closed.to_string())?
+        rx.await
+            .map_err(|_| SendError::Closed.to_string())?
+            .map_err(|e| e.to_string())
     }
 
     /// Sends a control action and awaits the resulting state.
     ///
     /// # Errors
     /// Why it could not be delivered.
-    pub async fn control(&self, action: Control) -> Result<SimulationState, SendError> {
+    pub async fn control(&self, action: LoopControl) -> Result<SimulationState, SendError> {
         let (reply, rx) = oneshot::channel();
         self.send(Request::Control { action, reply })?;
         rx.await.map_err(|_| SendError::Closed)
@@ -517,6 +515,15 @@ impl SimLoop {
         self.stepping.release_waiters();
     }
 
+    /// Start, pause or stop, whoever asks (a remote client, the viewer, the command line).
+    fn control(&mut self, c: Control) {
+        match c {
+            Control::Start => self.sim.start(),
+            Control::Pause => self.pause(),
+            Control::Stop => self.stop(),
+        }
+    }
+
     fn serve(&mut self, req: Request) {
         match req {
             Request::Call { name, args, reply } => {
@@ -532,10 +539,8 @@ impl SimLoop {
             Request::Packet { packet, reply } => serve_packet(&mut self.sim, packet, reply),
             Request::Control { action, reply } => {
                 match action {
-                    Control::Start => self.sim.start(),
-                    Control::Pause => self.pause(),
-                    Control::Stop => self.stop(),
-                    Control::Step => {
+                    LoopControl::Control(c) => self.control(c),
+                    LoopControl::Step => {
                         if self.sim.state() != SimulationState::Running {
                             self.sim.start();
                             self.step();
@@ -564,17 +569,21 @@ impl SimLoop {
 
     /// Replaces the scene (see [`Request::LoadScene`]). A file that does not load
     /// leaves the current scene as it was.
-    fn load_scene(&mut self, path: Option<&std::path::Path>) -> Result<Vec<Value>, String> {
-        let function = if path.is_some() { "loadScene" } else { "closeScene" };
-        let model = gantry_sim_core::scene::load_client_scene(path, &self.load_options)
-            .map_err(|e| format!("{e} (in function 'sim.{function}')"))?;
+    fn load_scene(&mut self, path: Option<&std::path::Path>) -> Result<Vec<Value>, CallError> {
+        let function = if path.is_some() {
+            "sim.loadScene"
+        } else {
+            "sim.closeScene"
+        };
+        let refused = |e: &dyn std::fmt::Display| CallError::failed(function, ApiError::new(e.to_string()));
+        let model = gantry_sim_core::scene::load_client_scene(path, &self.load_options).map_err(|e| refused(&e))?;
         // The debugger's link moves to the new scene (its breakpoints stay with the
         // client, which sets them again per file).
         let mut sim = match self.sim.take_debug_link() {
             Some(link) => Simulation::with_debugger(model, self.limits, link),
             None => Simulation::new(model, self.limits),
         }
-        .map_err(|e| format!("{e} (in function 'sim.{function}')"))?;
+        .map_err(|e| refused(&e))?;
         sim.set_load_options(self.load_options.clone());
         // Cleanup hooks of the old scene run; its log goes with it.
         self.stop();
@@ -582,8 +591,9 @@ impl SimLoop {
         Ok(Vec::new())
     }
 
-    fn remote(&mut self, client: ClientId, op: RemoteOp) -> Result<Vec<Value>, String> {
-        let in_function = |e: SteppingError, f: &str| format!("{e} (in function 'sim.{f}')");
+    fn remote(&mut self, client: ClientId, op: RemoteOp) -> Result<Vec<Value>, CallError> {
+        let in_function =
+            |e: SteppingError, f: &str| CallError::failed(format!("sim.{f}"), ApiError::new(e.to_string()));
         match op {
             RemoteOp::SetStepping(enable) => {
                 let previous = self
@@ -592,9 +602,7 @@ impl SimLoop {
                     .map_err(|e| in_function(e, "setStepping"))?;
                 return Ok(vec![Value::Int(i64::from(previous))]);
             }
-            RemoteOp::Start => self.sim.start(),
-            RemoteOp::Pause => self.pause(),
-            RemoteOp::Stop => self.stop(),
+            RemoteOp::Control(c) => self.control(c),
             RemoteOp::Lock(acquire) => {
                 let name = if acquire { "acquireLock" } else { "releaseLock" };
                 self.stepping.lock(client, acquire).map_err(|e| in_function(e, name))?;
@@ -610,7 +618,11 @@ fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
     match req {
         // The Lua host's functions run script code, which may start, stop or pause the
         // simulation, load a model or remove a script: never inside a step.
-        Request::Call { name, .. } if crate::zmq::SIMULATION_FUNCTIONS.contains(&name.as_str()) => false,
+        Request::Call { name, .. }
+            if api::host_function(name).is_some_and(|h| h.remote == api::Remote::ByScriptHost) =>
+        {
+            false
+        }
         Request::Call { name, .. } => at == StepBoundary::Phase || !sees_vision(name),
         Request::Packet { .. } => at == StepBoundary::Phase,
         Request::Control { .. }
@@ -629,7 +641,7 @@ fn sees_vision(name: &str) -> bool {
 }
 
 /// `sim.<name>(args)` for a remote client.
-fn serve_call(sim: &mut Simulation, name: &str, args: &[Value], reply: oneshot::Sender<Result<Vec<Value>, String>>) {
+fn serve_call(sim: &mut Simulation, name: &str, args: &[Value], reply: oneshot::Sender<Result<Vec<Value>, CallError>>) {
     let _ = reply.send(sim.call(name, args));
 }
 
@@ -700,7 +712,7 @@ mod tests {
         assert!(may_serve_mid_step(&packet, Phase));
         assert!(!may_serve_mid_step(&packet, VisionUnprocessed));
         let control = Request::Control {
-            action: Control::Stop,
+            action: LoopControl::Control(Control::Stop),
             reply: oneshot::channel().0,
         };
         assert!(!may_serve_mid_step(&control, Phase));
@@ -711,7 +723,7 @@ mod tests {
         assert!(!may_serve_mid_step(&step, Phase));
         assert!(!may_serve_mid_step(&Request::With(Box::new(|_| {})), Phase));
         // Script code (which may stop the simulation or load a model) waits for the end.
-        for script_host in crate::zmq::SIMULATION_FUNCTIONS {
+        for script_host in api::host::remote_names(api::Remote::ByScriptHost) {
             assert!(!may_serve_mid_step(&call(script_host), Phase), "{script_host}");
         }
     }

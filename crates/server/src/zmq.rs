@@ -13,7 +13,7 @@
 //! What is served where:
 //! * `zmqRemoteApi.require` / `zmqRemoteApi.info` for `sim`: here. INFO is generated
 //!   from [`api::FUNCTIONS`], [`api::CONSTANTS`] and the functions listed in
-//!   [`SIMULATION_FUNCTIONS`] and [`HOST_FUNCTIONS`], so a function exists remotely
+//!   the registry's host functions ([`api::HOST_FUNCTIONS`]), so a function exists remotely
 //!   exactly when it is implemented.
 //! * `sim.setStepping`, `sim.step`, `sim.start/pause/stopSimulation`,
 //!   `sim.acquireLock`/`sim.releaseLock`: they concern clients and the simulation loop,
@@ -43,7 +43,8 @@ use gantry_protocol::remote_api::{
     FUNC_END, FUNC_EXECUTED, decode_request, encode_empty_map, encode_err, encode_ret, encode_wait,
 };
 use gantry_protocol::{Value, cbor};
-use gantry_sim_core::api::{self, Args};
+use gantry_sim_core::api::{self, Args, CallError};
+use gantry_sim_core::sim::Control;
 use tokio::sync::{oneshot, watch};
 use tokio::task::JoinHandle;
 use zeromq::{RouterRecvHalf, RouterSendHalf, RouterSocket, Socket, SocketEvent, SocketRecv, SocketSend, ZmqMessage};
@@ -67,31 +68,22 @@ const POLL_ANSWER: Duration = Duration::from_millis(2);
 /// loop sends it within 100-200 µs.
 const STAY_AWAKE: Duration = Duration::from_micros(300);
 
-/// Functions that `Simulation::call` implements beyond [`api::FUNCTIONS`] (they need the
-/// Lua state, so they live in the script crate).
-pub const SIMULATION_FUNCTIONS: &[&str] = &[
-    "callScriptFunction",
-    "getScript",
-    "getScriptAssociatedWithObject",
-    "loadModel",
-    "removeScript",
-];
-
-/// Functions the remote API adds on top of the core: they act on the client's session
-/// or the simulation loop, not on the world.
-pub const HOST_FUNCTIONS: &[(&str, HostFn)] = &[
+/// How the front ends serve the registry's host functions marked
+/// [`api::Remote::ByFrontEnd`] (they act on the client's session or the simulation
+/// loop, not on the world); a test checks the two lists name the same functions.
+pub const FRONT_END_FUNCTIONS: &[(&str, HostFn)] = &[
     ("acquireLock", HostFn::Remote(RemoteOp::Lock(true))),
     ("closeScene", HostFn::CloseScene),
     ("loadScene", HostFn::LoadScene),
-    ("pauseSimulation", HostFn::Remote(RemoteOp::Pause)),
+    ("pauseSimulation", HostFn::Remote(RemoteOp::Control(Control::Pause))),
     ("releaseLock", HostFn::Remote(RemoteOp::Lock(false))),
     ("setStepping", HostFn::SetStepping),
-    ("startSimulation", HostFn::Remote(RemoteOp::Start)),
+    ("startSimulation", HostFn::Remote(RemoteOp::Control(Control::Start))),
     ("step", HostFn::Step),
-    ("stopSimulation", HostFn::Remote(RemoteOp::Stop)),
+    ("stopSimulation", HostFn::Remote(RemoteOp::Control(Control::Stop))),
 ];
 
-/// How a [`HOST_FUNCTIONS`] entry is served.
+/// How a [`FRONT_END_FUNCTIONS`] entry is served.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum HostFn {
     /// A simulation-thread operation that needs no arguments.
@@ -106,7 +98,7 @@ pub enum HostFn {
     CloseScene,
 }
 
-/// A [`HOST_FUNCTIONS`] call with its arguments read: what each front end (this
+/// A [`FRONT_END_FUNCTIONS`] call with its arguments read: what each front end (this
 /// transport, the Python package) then carries out in its own way.
 #[derive(Debug, Clone, PartialEq)]
 pub enum HostCall {
@@ -127,19 +119,19 @@ impl HostCall {
     ///
     /// # Errors
     /// A bad argument, in CoppeliaSim's words with the function's name.
-    pub fn parse(f: HostFn, args: &[Value]) -> Result<Self, String> {
+    pub fn parse(f: HostFn, args: &[Value]) -> Result<Self, CallError> {
         let a = Args::new(args);
         Ok(match f {
             HostFn::Remote(op) => HostCall::Remote(op),
             HostFn::SetStepping => HostCall::Remote(RemoteOp::SetStepping(
-                a.bool(0).map_err(|e| e.in_function("sim.setStepping"))?,
+                a.bool(0).map_err(|e| CallError::failed("sim.setStepping", e))?,
             )),
             HostFn::Step => HostCall::Step {
                 wait: args.first() != Some(&Value::Bool(false)),
             },
-            HostFn::LoadScene => {
-                HostCall::LoadScene(Some(a.str(0).map_err(|e| e.in_function("sim.loadScene"))?.into()))
-            }
+            HostFn::LoadScene => HostCall::LoadScene(Some(
+                a.str(0).map_err(|e| CallError::failed("sim.loadScene", e))?.into(),
+            )),
             HostFn::CloseScene => HostCall::LoadScene(None),
         })
     }
@@ -305,7 +297,7 @@ enum Outcome {
     /// Reply now with these bytes.
     Reply(Vec<u8>),
     /// Reply with the simulation thread's answer.
-    Await(oneshot::Receiver<Result<Vec<Value>, String>>),
+    Await(oneshot::Receiver<Result<Vec<Value>, CallError>>),
     /// A parked-step task replies later (it owns a clone of the send half).
     Deferred,
 }
@@ -364,7 +356,7 @@ impl Server {
                 // awaited here (see `executed`).
                 let bytes = match answer(rx).await {
                     Some(Ok(values)) => encode_ret(&values),
-                    Some(Err(msg)) => encode_err(&msg),
+                    Some(Err(e)) => encode_err(&e.to_string()),
                     None => encode_err("the simulation has ended"),
                 };
                 send(&mut self.tx, frames, Bytes::from(bytes)).await;
@@ -458,12 +450,12 @@ impl Server {
     }
 
     fn sim_function(&mut self, client: ClientId, uuid: &str, name: &str, args: Vec<Value>) -> Outcome {
-        let host = HOST_FUNCTIONS.iter().find(|(n, _)| *n == name).map(|(_, f)| *f);
+        let host = FRONT_END_FUNCTIONS.iter().find(|(n, _)| *n == name).map(|(_, f)| *f);
         let (reply, rx) = oneshot::channel();
         let call = match host.map(|f| HostCall::parse(f, &args)) {
             None => None,
             Some(Ok(call)) => Some(call),
-            Some(Err(e)) => return Outcome::Reply(encode_err(&e)),
+            Some(Err(e)) => return Outcome::Reply(encode_err(&e.to_string())),
         };
         let request = match call {
             None => Request::Call {
@@ -620,10 +612,8 @@ pub fn sim_info() -> Value {
 pub fn module_info(module: &api::Module) -> Value {
     let func = || Value::Map(vec![("func".into(), Value::Map(Vec::new()))]);
     let extra: Vec<&str> = if module.name == "sim" {
-        SIMULATION_FUNCTIONS
-            .iter()
-            .copied()
-            .chain(HOST_FUNCTIONS.iter().map(|(n, _)| *n))
+        api::host::remote_names(api::Remote::ByScriptHost)
+            .chain(api::host::remote_names(api::Remote::ByFrontEnd))
             .collect()
     } else {
         Vec::new()
@@ -701,12 +691,9 @@ mod tests {
     }
 
     #[test]
-    fn host_functions_do_not_shadow_the_core() {
-        for (name, _) in HOST_FUNCTIONS {
-            assert!(api::function(name).is_none(), "{name} is implemented twice");
-        }
-        for name in SIMULATION_FUNCTIONS {
-            assert!(api::function(name).is_none(), "{name} is implemented twice");
-        }
+    fn the_front_end_serves_exactly_the_registrys_front_end_functions() {
+        let served: Vec<&str> = FRONT_END_FUNCTIONS.iter().map(|(n, _)| *n).collect();
+        let assigned: Vec<&str> = api::host::remote_names(api::Remote::ByFrontEnd).collect();
+        assert_eq!(served, assigned);
     }
 }

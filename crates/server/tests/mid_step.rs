@@ -8,9 +8,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use gantry_script::ScriptLimits;
-use gantry_server::{ClientId, Control, RemoteOp, Request, SimConfig, SimHandle, channel, run_sim_thread};
+use gantry_server::{ClientId, LoopControl, RemoteOp, Request, SimConfig, SimHandle, channel, run_sim_thread};
 use gantry_sim_core::Value;
+use gantry_sim_core::api::CallError;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_sim_core::sim::Control;
 use tokio::sync::oneshot;
 
 /// A scene whose one script spends 1 s in actuation and 0.5 s in sensing (so that the
@@ -44,7 +46,7 @@ end
     (dir, model)
 }
 
-fn call(sim: &SimHandle, name: &str, args: Vec<Value>) -> oneshot::Receiver<Result<Vec<Value>, String>> {
+fn call(sim: &SimHandle, name: &str, args: Vec<Value>) -> oneshot::Receiver<Result<Vec<Value>, CallError>> {
     let (reply, rx) = oneshot::channel();
     sim.send(Request::Call {
         name: name.to_owned(),
@@ -94,7 +96,7 @@ fn a_world_call_during_a_long_phase_is_answered_before_the_step_ends() {
     level.blocking_recv().expect("reply").expect("stepping on");
     let (reply, started) = oneshot::channel();
     sim.send(Request::Control {
-        action: Control::Start,
+        action: LoopControl::Control(Control::Start),
         reply,
     })
     .expect("queued");
@@ -107,7 +109,7 @@ fn a_world_call_during_a_long_phase_is_answered_before_the_step_ends() {
     let set = call(&sim, "setInt32Signal", vec![Value::Str("mid".into()), Value::Int(1)]);
     let (reply, mut paused) = oneshot::channel();
     sim.send(Request::Control {
-        action: Control::Pause,
+        action: LoopControl::Control(Control::Pause),
         reply,
     })
     .expect("queued");

@@ -25,4 +25,8 @@ pub enum SimError {
     /// An argument is out of range or malformed.
     #[error("{0}")]
     InvalidArgument(String),
+    /// A valid request refused in the simulation's current state (e.g. a time step
+    /// changed while running).
+    #[error("{0}")]
+    Refused(String),
 }

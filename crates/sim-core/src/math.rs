@@ -113,6 +113,20 @@ pub fn rotation_z_to(axis: &Vec3) -> Quat {
         .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI))
 }
 
+/// A joint position as CoppeliaSim's `setJointPosition` takes it: a cyclic joint's
+/// wrapped into (-pi, pi], any other clamped to its `(min, max)` limits when it has
+/// some. The scene and the IK solver both constrain with this, so the solver never
+/// works with a value the scene would not take.
+pub fn constrain_joint(q: f64, cyclic: bool, limits: Option<(f64, f64)>) -> f64 {
+    if cyclic {
+        wrap_angle(q)
+    } else if let Some((lo, hi)) = limits {
+        q.clamp(lo, hi)
+    } else {
+        q
+    }
+}
+
 /// Wraps an angle into CoppeliaSim's cyclic range (-pi, pi]. Angles already in range
 /// are returned unchanged, bit for bit (a round trip through atan2 would not be).
 pub fn wrap_angle(a: f64) -> f64 {

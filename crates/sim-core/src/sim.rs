@@ -118,7 +118,7 @@ impl Sim {
     /// The simulation is not stopped, or `dt` is not a positive number.
     pub fn set_time_step(&mut self, dt: f64) -> Result<(), SimError> {
         if self.state != SimulationState::Stopped {
-            return Err(SimError::InvalidArgument(
+            return Err(SimError::Refused(
                 "the time step can only be changed while the simulation is stopped".into(),
             ));
         }

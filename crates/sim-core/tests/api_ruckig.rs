@@ -25,7 +25,7 @@ fn world() -> Sim {
 }
 
 fn sim(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    call(w, &CallContext::default(), name, args)
+    call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
 }
 
 fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {

@@ -21,7 +21,7 @@ fn base(w: &Sim) -> Handle {
 }
 
 fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, args)
+    api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
 }
 
 fn write(w: &mut Sim, h: i64, tag: &str, data: Value) {

@@ -24,7 +24,7 @@ fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
         script_object: None,
         source: "views.lua",
     };
-    api::call(w, &ctx, name, args)
+    api::call(w, &ctx, name, args).map_err(|e| e.to_string())
 }
 
 fn f(v: f64) -> Value {

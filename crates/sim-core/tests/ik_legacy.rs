@@ -44,7 +44,7 @@ fn arm() -> Arm {
 }
 
 fn api(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    call(w, &CallContext::default(), name, args)
+    call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
 }
 
 fn int(v: &Value) -> i64 {

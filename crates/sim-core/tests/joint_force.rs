@@ -71,7 +71,7 @@ fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
         script_object: None,
         source: "joint_force.lua",
     };
-    api::call(w, &ctx, name, args)
+    api::call(w, &ctx, name, args).map_err(|e| e.to_string())
 }
 
 fn float(w: &mut Sim, name: &str, h: Handle) -> f64 {

@@ -53,7 +53,7 @@ fn call(w: &mut Sim, object: Option<Handle>, name: &str, args: &[Value]) -> Resu
         script_object: object,
         source: "legacy.lua",
     };
-    api::call(w, &ctx, name, args)
+    api::call(w, &ctx, name, args).map_err(|e| e.to_string())
 }
 
 fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {

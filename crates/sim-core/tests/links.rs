@@ -52,7 +52,7 @@ fn world() -> Sim {
 }
 
 fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, args)
+    api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
 }
 
 fn find(w: &Sim, path: &str) -> Handle {

@@ -72,7 +72,7 @@ fn world() -> Sim {
 }
 
 fn call(w: &mut Sim, name: &str, args: Vec<Value>) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, &args)
+    api::call(w, &CallContext::default(), name, &args).map_err(|e| e.to_string())
 }
 
 fn ok(w: &mut Sim, name: &str, args: Vec<Value>) -> Vec<Value> {

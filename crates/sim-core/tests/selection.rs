@@ -8,7 +8,7 @@ use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Sim, Value};
 
 fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, args)
+    api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
 }
 
 fn ints(v: &[i64]) -> Value {

@@ -19,7 +19,7 @@ fn find(w: &Sim, path: &str, index: usize) -> Handle {
 }
 
 fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, args)
+    api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
 }
 
 fn int(v: &Value) -> i64 {

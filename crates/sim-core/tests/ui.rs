@@ -27,7 +27,7 @@ fn script(obj: Handle) -> CallContext<'static> {
 }
 
 fn call(w: &mut Sim, ctx: &CallContext<'_>, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, ctx, name, args)
+    api::call(w, ctx, name, args).map_err(|e| e.to_string())
 }
 
 fn int(v: &[Value]) -> i64 {

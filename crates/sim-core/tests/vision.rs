@@ -24,7 +24,7 @@ fn find(w: &Sim, path: &str, index: usize) -> Handle {
 }
 
 fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, args)
+    api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
 }
 
 /// The sensor 0.12 m above the floor at (0.1, 0, 0.12), looking along +X, with

@@ -19,8 +19,11 @@ fn find(w: &Sim, path: &str) -> Handle {
     w.world.find(path, None, 0).expect(path)
 }
 
+/// Every bundled scene, left alone (no scripts, no commands), settles: after 10 s each
+/// step is exactly one time step, nothing fell through the floor or flew off, and
+/// every object has come to rest where the first second left it.
 #[test]
-fn every_scene_loads_and_steps() {
+fn every_scene_loads_steps_and_settles() {
     for scene in [
         "scenes/fk_arm.toml",
         "scenes/bubble_rob.toml",
@@ -28,14 +31,48 @@ fn every_scene_loads_and_steps() {
         "robots/arm6/arm6.urdf",
     ] {
         let mut w = world(scene);
+        let dt = w.world.settings().dt;
+        let positions = |w: &gantry_sim_core::Sim| -> Vec<(Handle, [f64; 3])> {
+            w.world
+                .handles()
+                .iter()
+                .map(|&h| {
+                    let p = w.world.object(h).expect("exists").world.translation.vector;
+                    (h, [p.x, p.y, p.z])
+                })
+                .collect()
+        };
         for _ in 0..200 {
             w.step();
         }
-        for &h in w.world.handles() {
-            let p = w.world.object(h).expect("exists").world.translation.vector;
+        let settled = positions(&w);
+        for _ in 0..20 {
+            w.step();
+        }
+        assert_eq!(w.world.steps(), 220, "{scene}");
+        assert!(
+            (w.world.time() - 220.0 * dt).abs() < 1e-9,
+            "{scene}: time {}",
+            w.world.time()
+        );
+        for ((h, a), (_, b)) in settled.iter().zip(positions(&w)) {
             assert!(
-                p.iter().all(|v| v.is_finite()),
+                b.iter().all(|v| v.is_finite()),
                 "{scene}: object {h} has a non-finite pose"
+            );
+            assert!(
+                b[2] > -0.01,
+                "{scene}: object {h} fell through the floor to z = {}",
+                b[2]
+            );
+            assert!(
+                b.iter().all(|v| v.abs() < 100.0),
+                "{scene}: object {h} flew off to {b:?}"
+            );
+            let moved = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt();
+            assert!(
+                moved < 1e-3,
+                "{scene}: object {h} still moves ({moved} m in the last 20 steps)"
             );
         }
     }

@@ -194,9 +194,10 @@ pub fn assert_close(actual: &[f64], expected: &[f64], tol: f64) {
     }
 }
 
-/// Asserts that `message` contains every one of `parts`.
+/// Asserts that `message` (as printed: an error's text) contains every one of `parts`.
 #[track_caller]
-pub fn assert_contains(message: &str, parts: &[&str]) {
+pub fn assert_contains(message: impl std::fmt::Display, parts: &[&str]) {
+    let message = message.to_string();
     for p in parts {
         assert!(message.contains(p), "{message:?} does not contain {p:?}");
     }

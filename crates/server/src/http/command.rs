@@ -17,7 +17,9 @@
 use gantry_sim_core::Value;
 use serde::Deserialize;
 
-use crate::sim_thread::Control;
+use gantry_sim_core::sim::Control;
+
+use crate::sim_thread::LoopControl;
 
 /// Longest text message accepted, bytes (the WebSocket layer refuses longer frames too).
 pub const MAX_MESSAGE: usize = 16 * 1024;
@@ -132,13 +134,13 @@ pub enum ControlAction {
     Step,
 }
 
-impl From<ControlAction> for Control {
+impl From<ControlAction> for LoopControl {
     fn from(a: ControlAction) -> Self {
         match a {
-            ControlAction::Start => Control::Start,
-            ControlAction::Pause => Control::Pause,
-            ControlAction::Stop => Control::Stop,
-            ControlAction::Step => Control::Step,
+            ControlAction::Start => LoopControl::Control(Control::Start),
+            ControlAction::Pause => LoopControl::Control(Control::Pause),
+            ControlAction::Stop => LoopControl::Control(Control::Stop),
+            ControlAction::Step => LoopControl::Step,
         }
     }
 }

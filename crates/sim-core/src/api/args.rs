@@ -42,7 +42,7 @@ impl<'a> Args<'a> {
             None => "no value",
             Some(v) => v.type_name(),
         };
-        ApiError::new(format!("argument {}: expected {expected}, got {got}", i + 1))
+        ApiError::bad_argument(format!("argument {}: expected {expected}, got {got}", i + 1))
     }
 
     /// A required number.
@@ -56,7 +56,7 @@ impl<'a> Args<'a> {
         if v.is_finite() {
             Ok(v)
         } else {
-            Err(ApiError::new(format!(
+            Err(ApiError::bad_argument(format!(
                 "argument {}: expected a finite number, got {v}",
                 i + 1
             )))
@@ -131,7 +131,7 @@ impl<'a> Args<'a> {
             return Err(self.bad(i, &expected()));
         };
         if items.len() < N {
-            return Err(ApiError::new(format!(
+            return Err(ApiError::bad_argument(format!(
                 "argument {}: expected {}, got {} values",
                 i + 1,
                 expected(),
@@ -143,7 +143,7 @@ impl<'a> Args<'a> {
             match v.as_f64() {
                 Some(f) if f.is_finite() => out[k] = f,
                 _ => {
-                    return Err(ApiError::new(format!(
+                    return Err(ApiError::bad_argument(format!(
                         "argument {}: element {} must be a finite number",
                         i + 1,
                         k + 1

@@ -9,6 +9,8 @@
 mod args;
 mod custom_data;
 mod drawing;
+mod error;
+pub mod host;
 mod ik;
 mod ik_legacy;
 mod joints;
@@ -28,9 +30,10 @@ mod views;
 mod vision;
 
 pub use args::Args;
+pub use error::{ApiError, CallError, ErrorKind};
+pub use host::{HOST_FUNCTIONS, HostFunction, InScripts, Remote, Touches, host_function};
 
 use crate::Value;
-use crate::error::SimError;
 use crate::sim::Sim;
 use crate::world::{Handle, World};
 
@@ -42,34 +45,6 @@ pub struct CallContext<'a> {
     pub script_object: Option<Handle>,
     /// A name for log lines (a script file, or "remote").
     pub source: &'a str,
-}
-
-/// A failed call: the message without the function name.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct ApiError(pub String);
-
-impl ApiError {
-    /// An error with a message.
-    pub fn new(message: impl Into<String>) -> Self {
-        Self(message.into())
-    }
-
-    /// The full message as CoppeliaSim prints it: `msg (in function 'sim.name')`.
-    pub fn in_function(&self, qualified_name: &str) -> String {
-        format!("{} (in function '{qualified_name}')", self.0)
-    }
-}
-
-impl From<SimError> for ApiError {
-    fn from(e: SimError) -> Self {
-        ApiError(match e {
-            // CoppeliaSim's own wording, which ported scripts and clients may match on.
-            SimError::PathNotFound(_) => "object does not exist, or alias/path is ill formatted.".into(),
-            SimError::NoSuchObject(h) => format!("object does not exist. (handle {h})"),
-            other => other.to_string(),
-        })
-    }
 }
 
 /// What a function returns: CoppeliaSim's multiple return values.
@@ -447,15 +422,14 @@ pub fn function(name: &str) -> Option<&'static ApiFunction> {
 /// Calls `sim.<name>`, or `<module>.<name>` when `name` is qualified (`simIK.handleGroup`).
 ///
 /// # Errors
-/// Unknown function (`No such function: sim.x`) or the function's own error, already
-/// qualified with `(in function 'sim.x')`.
-pub fn call(sim: &mut Sim, ctx: &CallContext<'_>, name: &str, args: &[Value]) -> Result<Ret, String> {
+/// Unknown function, or the function's own error with its qualified name.
+pub fn call(sim: &mut Sim, ctx: &CallContext<'_>, name: &str, args: &[Value]) -> Result<Ret, CallError> {
     let (module_name, fname) = name.split_once('.').unwrap_or(("sim", name));
     let f = module(module_name)
         .and_then(|m| m.function(fname))
-        .ok_or_else(|| format!("No such function: {module_name}.{fname}"))?;
+        .ok_or_else(|| CallError::NoSuchFunction(format!("{module_name}.{fname}")))?;
     f.invoke(sim, ctx, &Args::new(args))
-        .map_err(|e| e.in_function(&format!("{module_name}.{fname}")))
+        .map_err(|e| CallError::failed(format!("{module_name}.{fname}"), e))
 }
 
 /// The `sim.*` constants scripts and clients use, with CoppeliaSim's values.

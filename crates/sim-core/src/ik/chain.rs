@@ -34,17 +34,10 @@ pub struct JointSlot {
 }
 
 impl JointSlot {
-    /// Clamps to the limits, or wraps a cyclic joint, exactly as
-    /// [`World::set_joint_position`] will when the solution is applied, so that the solver
-    /// never works with a value the scene would not take.
+    /// Clamps to the limits, or wraps a cyclic joint, as the scene will when the
+    /// solution is applied ([`crate::math::constrain_joint`]).
     pub fn constrain(&self, q: f64) -> f64 {
-        if self.cyclic {
-            crate::math::wrap_angle(q)
-        } else if let Some((lo, hi)) = self.limits {
-            q.clamp(lo, hi)
-        } else {
-            q
-        }
+        crate::math::constrain_joint(q, self.cyclic, self.limits)
     }
 
     /// The joint's motion at position `q`: rotation about, or translation along, local Z.

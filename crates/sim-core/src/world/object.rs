@@ -227,13 +227,7 @@ impl Joint {
 
     /// Clamps to the limits, or wraps a cyclic joint, as CoppeliaSim's `setJointPosition`.
     pub fn constrain(&self, q: f64) -> f64 {
-        if self.cyclic {
-            crate::math::wrap_angle(q)
-        } else if let Some((lo, hi)) = self.limits {
-            q.clamp(lo, hi)
-        } else {
-            q
-        }
+        crate::math::constrain_joint(q, self.cyclic, self.limits)
     }
 }
 

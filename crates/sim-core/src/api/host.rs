@@ -1,0 +1,150 @@
+//! The `sim.*` names that the core does not implement itself, because they need
+//! something only a host has: the Lua state (script functions, blocking calls that
+//! yield a threaded script) or the simulation loop and the client's session (starting,
+//! stepping, locks, loading a scene). Together with [`super::MODULES`] this is the one
+//! list of every name a script or client can call, with where it may run and what it
+//! touches. The Lua host and the remote front ends each implement the entries assigned
+//! to them; tests in each check that they implement exactly those, and docs/api.md and
+//! the Python stubs are generated from here.
+
+/// Whether scripts may call a host function, and from where.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InScripts {
+    /// Not from scripts (a scene is loaded by the user or a client, not by a script).
+    No,
+    /// From any hook of any script.
+    AnyHook,
+    /// Only from a threaded script or a coroutine: the call blocks (yields) until a
+    /// later step.
+    ThreadedOnly,
+}
+
+/// Whether remote clients (ZMQ, the in-process Python client) may call a host
+/// function, and who serves it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Remote {
+    /// Not remotely.
+    No,
+    /// The Lua host serves it for clients too (`Simulation::call`): it needs the scripts.
+    ByScriptHost,
+    /// The front end serves it: it concerns the client's session or the simulation loop.
+    ByFrontEnd,
+}
+
+/// What a host function acts on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Touches {
+    /// The simulation loop: running state, stepping levels, locks.
+    Loop,
+    /// The scripts: their functions, threads and time slices.
+    Scripts,
+    /// The scene as a whole: loading a scene or a model.
+    Scene,
+    /// The world, through a motion run by a threaded script over several steps.
+    Motion,
+}
+
+/// One host function.
+#[derive(Debug, Clone, Copy)]
+pub struct HostFunction {
+    /// Name without the `sim.` prefix.
+    pub name: &'static str,
+    /// From scripts.
+    pub scripts: InScripts,
+    /// From remote clients.
+    pub remote: Remote,
+    /// What it acts on.
+    pub touches: Touches,
+}
+
+const fn f(name: &'static str, scripts: InScripts, remote: Remote, touches: Touches) -> HostFunction {
+    HostFunction {
+        name,
+        scripts,
+        remote,
+        touches,
+    }
+}
+
+use InScripts::{AnyHook, ThreadedOnly};
+use Remote::{ByFrontEnd, ByScriptHost};
+use Touches::{Loop, Motion, Scene, Scripts};
+
+/// Every host function of module `sim`, sorted by name.
+pub const HOST_FUNCTIONS: &[HostFunction] = &[
+    f("acquireLock", AnyHook, ByFrontEnd, Loop),
+    f("callScriptFunction", AnyHook, ByScriptHost, Scripts),
+    f("closeScene", InScripts::No, ByFrontEnd, Scene),
+    f("getAutoYieldDelay", AnyHook, Remote::No, Scripts),
+    f("getScript", AnyHook, ByScriptHost, Scripts),
+    f("getScriptAssociatedWithObject", AnyHook, ByScriptHost, Scripts),
+    f("getStepping", AnyHook, Remote::No, Scripts),
+    f("getThreadAutomaticSwitch", AnyHook, Remote::No, Scripts),
+    f("isScriptRunningInThread", AnyHook, Remote::No, Scripts),
+    f("loadModel", AnyHook, ByScriptHost, Scene),
+    f("loadScene", InScripts::No, ByFrontEnd, Scene),
+    f("moveToConfig", ThreadedOnly, Remote::No, Motion),
+    f("moveToConfig_cleanup", AnyHook, Remote::No, Motion),
+    f("moveToConfig_init", AnyHook, Remote::No, Motion),
+    f("moveToConfig_step", AnyHook, Remote::No, Motion),
+    f("moveToPose", ThreadedOnly, Remote::No, Motion),
+    f("moveToPose_cleanup", AnyHook, Remote::No, Motion),
+    f("moveToPose_init", AnyHook, Remote::No, Motion),
+    f("moveToPose_step", AnyHook, Remote::No, Motion),
+    f("pauseSimulation", AnyHook, ByFrontEnd, Loop),
+    f("releaseLock", AnyHook, ByFrontEnd, Loop),
+    f("removeScript", AnyHook, ByScriptHost, Scripts),
+    f("rmlMoveToJointPositions", ThreadedOnly, Remote::No, Motion),
+    f("setAutoYieldDelay", AnyHook, Remote::No, Scripts),
+    f("setStepping", AnyHook, ByFrontEnd, Loop),
+    f("setThreadAutomaticSwitch", AnyHook, Remote::No, Scripts),
+    f("setThreadSwitchTiming", AnyHook, Remote::No, Scripts),
+    f("startSimulation", AnyHook, ByFrontEnd, Loop),
+    f("step", ThreadedOnly, ByFrontEnd, Loop),
+    f("stopSimulation", AnyHook, ByFrontEnd, Loop),
+    f("switchThread", ThreadedOnly, Remote::No, Scripts),
+    f("wait", ThreadedOnly, Remote::No, Loop),
+    f("waitForSignal", ThreadedOnly, Remote::No, Loop),
+];
+
+/// The host function named `name` (without `sim.`).
+pub fn host_function(name: &str) -> Option<&'static HostFunction> {
+    HOST_FUNCTIONS.iter().find(|h| h.name == name)
+}
+
+/// Names scripts may call beyond the core registry.
+pub fn script_host_names() -> impl Iterator<Item = &'static str> {
+    HOST_FUNCTIONS
+        .iter()
+        .filter(|h| h.scripts != InScripts::No)
+        .map(|h| h.name)
+}
+
+/// Names remote clients may call beyond the core registry, served by `by`.
+pub fn remote_names(by: Remote) -> impl Iterator<Item = &'static str> {
+    HOST_FUNCTIONS.iter().filter(move |h| h.remote == by).map(|h| h.name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sorted_unique_and_not_in_the_core() {
+        for pair in HOST_FUNCTIONS.windows(2) {
+            assert!(pair[0].name < pair[1].name, "{} before {}", pair[0].name, pair[1].name);
+        }
+        for h in HOST_FUNCTIONS {
+            assert!(
+                super::super::function(h.name).is_none(),
+                "{} is implemented twice",
+                h.name
+            );
+            assert!(
+                h.scripts != InScripts::No || h.remote != Remote::No,
+                "{} is callable from nowhere",
+                h.name
+            );
+        }
+    }
+}
