@@ -226,7 +226,7 @@ fn seed_sensing_over_real_steps() {
     }
     let steps = 300;
     for _ in 0..steps {
-        w.world.step_physics();
+        w.step_dynamics();
         let r = ok(&mut w, "checkDistance", &[h(coll), h(HANDLE_ALL)]);
         if int(&r[0]) > 0 {
             add_item(&mut w, seg, Value::Nil);
@@ -236,7 +236,7 @@ fn seed_sensing_over_real_steps() {
         }
         let p = ok(&mut w, "getObjectPosition", &[h(base), h(-1)]).remove(0);
         add_item(&mut w, trace, p);
-        w.world.advance_time();
+        w.finish_step();
     }
     assert_eq!(w.drawings.object(seg).expect("segment").item_count(), 1);
     assert_eq!(w.drawings.object(trace).expect("trace").item_count(), 200);
@@ -446,7 +446,7 @@ fn graph_stream_records_with_step_end_times() {
         if k != 2 {
             ok(&mut w, "setGraphStreamValue", &[h(graph), h(s), f(f64::from(k))]);
         }
-        w.world.advance_time();
+        w.finish_step();
     }
     // Two values in one step: the last one counts.
     ok(&mut w, "setGraphStreamValue", &[h(graph), h(s), f(10.0)]);
@@ -523,7 +523,7 @@ fn graph_streams_export_to_csv() {
         if k % 2 == 1 {
             ok(&mut w, "setGraphStreamValue", &[h(graph), h(b), f(-f64::from(k))]);
         }
-        w.world.advance_time();
+        w.finish_step();
     }
     let dir = temp_dir("export");
     let r = ok(&mut w, "exportGraphStreams", &[dir.to_string_lossy().as_ref().into()]);

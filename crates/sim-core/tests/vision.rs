@@ -242,7 +242,7 @@ fn images_render_only_when_handled() {
     call(&mut w, "sim.getVisionSensorDepth", &[Value::Int(sensor)]).unwrap();
     call(&mut w, "sim.readVisionSensor", &[Value::Int(sensor)]).unwrap();
     assert_eq!(w.vision.render_count(sensor), 1, "one render per step for readers");
-    w.world.advance_time();
+    w.finish_step();
     rgb(&mut w, sensor);
     assert_eq!(w.vision.render_count(sensor), 2, "a new step makes the image stale");
     let stamp = w.vision.image(sensor).and_then(|s| s.rendered()).expect("stamp");
@@ -253,7 +253,7 @@ fn images_render_only_when_handled() {
     call(&mut w, "sim.handleVisionSensor", &[Value::Int(sensor)]).unwrap();
     call(&mut w, "sim.handleVisionSensor", &[Value::Int(sensor)]).unwrap();
     assert_eq!(w.vision.render_count(sensor), 4);
-    w.world.advance_time();
+    w.finish_step();
     rgb(&mut w, sensor);
     assert_eq!(w.vision.render_count(sensor), 4);
     vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).unwrap();

@@ -120,7 +120,7 @@ fn proximity_sensor_sees_obstacle_ahead() {
     pose.translation.vector.z = 0.1;
     pose.rotation = nalgebra::UnitQuaternion::identity();
     w.world.set_world_pose(obstacle, pose).expect("moves");
-    w.world.step_physics();
+    w.step_dynamics();
     let hit = gantry_sim_core::sensor::handle_proximity_sensor(&mut w.world, nose)
         .expect("sensor")
         .expect("detects");

@@ -599,7 +599,7 @@ impl World {
     /// results back into the tree. Does not advance simulation time (see
     /// [`World::advance_time`]), because CoppeliaSim scripts see the step's start time
     /// until the step ends.
-    pub fn step_physics(&mut self) {
+    pub(crate) fn step_physics(&mut self) {
         // Speed-limited position controllers: move their references one step on.
         let dt = self.settings.dt;
         self.step_kinematic_joints(dt);
@@ -653,7 +653,7 @@ impl World {
     }
 
     /// Moves simulation time forward by one step.
-    pub fn advance_time(&mut self) {
+    pub(crate) fn advance_time(&mut self) {
         self.steps += 1;
         self.time = self.steps as f64 * self.settings.dt;
     }
