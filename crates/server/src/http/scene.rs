@@ -15,7 +15,7 @@
 use std::sync::Arc;
 
 use gantry_sim_core::scene::{Geometry, JointType, MeshData, ProximityModel};
-use gantry_sim_core::world::object_path::object_alias;
+use gantry_sim_core::world::object_path::full_paths;
 use gantry_sim_core::world::{ObjectKind, World};
 use serde_json::{Value as Json, json};
 
@@ -26,10 +26,6 @@ pub const MSG_MESH: u32 = 3;
 /// Most triangles sent per mesh; larger meshes are sent decimated by dropping triangles
 /// (rare for URDF visuals, and the page would struggle anyway).
 pub const MAX_MESH_TRIANGLES: usize = 500_000;
-
-/// `sim.getObjectAlias` option for the full path: every ancestor, each with its `[n]`
-/// when siblings share its alias (`/bubbleRob/leftMotor`, `/obstacle[3]`).
-const FULL_PATH: i64 = 2;
 
 /// The description: a JSON text message and the binary mesh messages it refers to.
 #[derive(Debug)]
@@ -44,7 +40,11 @@ pub struct SceneDescription {
 pub fn describe(world: &World) -> SceneDescription {
     let mut meshes: Vec<&Arc<MeshData>> = Vec::new();
     let mut objects = Vec::with_capacity(world.handles().len());
-    let index_of = |h| world.handles().iter().position(|&x| x == h);
+    // Both by handle, built once: the description stays linear in the number of objects.
+    let index: std::collections::HashMap<i64, usize> =
+        world.handles().iter().enumerate().map(|(i, &h)| (h, i)).collect();
+    let index_of = |h: i64| index.get(&h).copied();
+    let mut paths = full_paths(world);
     for &h in world.handles() {
         let Ok(o) = world.object(h) else {
             objects.push(json!({"handle": h, "alias": "", "path": "", "parent": null, "kind": "gone"}));
@@ -53,7 +53,7 @@ pub fn describe(world: &World) -> SceneDescription {
         let mut obj = json!({
             "handle": h,
             "alias": o.alias,
-            "path": object_alias(world, h, FULL_PATH),
+            "path": paths.remove(&h).unwrap_or_default(),
             "parent": o.parent.and_then(index_of),
             "model_base": o.model_base,
             "kind": o.kind.name(),

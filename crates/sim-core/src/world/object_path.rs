@@ -735,6 +735,42 @@ fn full_path<T: ObjectTree + ?Sized>(tree: &T, h: i64) -> String {
     out
 }
 
+/// Every object's full path (option 2 of [`object_alias`]), by handle, in one walk of
+/// the tree: linear in the number of objects, where asking [`object_alias`] for each
+/// object would rank every object among all its siblings (quadratic when thousands of
+/// siblings share an alias). The viewer's scene description uses it.
+pub fn full_paths<T: ObjectTree + ?Sized>(tree: &T) -> HashMap<i64, String> {
+    let mut out = HashMap::new();
+    // (node list, the path of their parent, their depth)
+    let mut stack: Vec<(&[i64], String, usize)> = vec![(tree.roots(), String::new(), 1)];
+    while let Some((nodes, parent_path, depth)) = stack.pop() {
+        let mut count: HashMap<&str, usize> = HashMap::new();
+        for &n in nodes {
+            *count.entry(tree.alias(n)).or_default() += 1;
+        }
+        let mut rank: HashMap<&str, usize> = HashMap::new();
+        for &n in nodes {
+            let alias = tree.alias(n);
+            let r = rank.entry(alias).or_default();
+            let path = if count[alias] < 2 {
+                format!("{parent_path}/{alias}")
+            } else {
+                format!("{parent_path}/{alias}[{r}]")
+            };
+            *r += 1;
+            // A malformed tree (a node listed twice) keeps its first path.
+            if out.contains_key(&n) {
+                continue;
+            }
+            out.insert(n, path.clone());
+            if depth < MAX_ANCESTOR_STEPS {
+                stack.push((tree.children(n), path, depth + 1));
+            }
+        }
+    }
+    out
+}
+
 /// Option 3's test. CoppeliaSim checks that `/alias` has no second match (index 1); for the
 /// aliases CoppeliaSim allows (no wildcards, slashes or brackets) that is the same as "no other
 /// object has this exact alias", which is what is counted here so odd aliases cannot confuse it.
@@ -1581,6 +1617,18 @@ mod tests {
         t.add(None, "leafElsewhere", "leaf", false);
         assert_eq!(object_alias(&t, leaf, 1), "/y/x/leaf");
         assert_eq!(object_alias(&t, t.h("leafElsewhere"), 1), "/leaf");
+    }
+
+    #[test]
+    fn all_full_paths_in_one_walk_equal_each_objects_full_path() {
+        let t = scene();
+        let all = full_paths(&t);
+        assert_eq!(all.len(), t.order.len());
+        for &h in &t.order {
+            assert_eq!(all[&h], full_path(&t, h), "object {h}");
+        }
+        // The scene has siblings sharing an alias, so ranks are exercised.
+        assert!(all.values().any(|p| p.contains('[')), "{all:?}");
     }
 
     #[test]
