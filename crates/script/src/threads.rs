@@ -43,6 +43,7 @@ pub enum HostAvailability {
 /// from it and the registry.
 pub const HOST_FUNCTIONS: &[(&str, HostAvailability)] = &[
     ("acquireLock", HostAvailability::Scripts),
+    ("broadcastMsg", HostAvailability::Scripts),
     ("callScriptFunction", HostAvailability::Scripts),
     ("getAutoYieldDelay", HostAvailability::Scripts),
     ("getScript", HostAvailability::Scripts),

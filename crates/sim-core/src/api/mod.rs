@@ -11,6 +11,7 @@ mod custom_data;
 mod drawing;
 mod ik;
 mod ik_legacy;
+mod ik_objects;
 mod joints;
 pub mod legacy;
 mod links;
@@ -416,8 +417,8 @@ pub const MODULES: &[Module] = &[
     },
     Module {
         name: "simIK",
-        functions: &[ik::FUNCTIONS, ik_legacy::FUNCTIONS],
-        constants: Constants(&[ik::CONSTANTS]),
+        functions: &[ik::FUNCTIONS, ik_objects::FUNCTIONS, ik_legacy::FUNCTIONS],
+        constants: Constants(&[ik::CONSTANTS, ik_objects::CONSTANTS]),
         aliases: ik_legacy::ALIASES,
     },
     Module {
