@@ -33,7 +33,7 @@ CRATES = {
     "crates/script/src": [
         ({"limits", "convert"}, False),
         ({"sandbox"}, False),
-        ({"threads", "simulation", "debugger"}, True),
+        ({"threads", "simulation", "messages", "debugger"}, True),
     ],
 }
 

@@ -4,6 +4,7 @@
 mod convert;
 pub mod debugger;
 mod limits;
+mod messages;
 pub mod sandbox;
 mod simulation;
 mod threads;

@@ -30,6 +30,7 @@ use smallvec::SmallVec;
 use crate::convert::{to_lua, to_multi, to_value};
 use crate::debugger::{DebugHost, DebugLink};
 use crate::limits::ScriptLimits;
+use crate::messages;
 use crate::sandbox::{self, SOURCE_MODE, new_debuggable_state, new_state};
 use crate::threads::{self, ThreadMode};
 
@@ -81,6 +82,7 @@ pub const SUPPORTED_HOOKS: &[&str] = &[
     "sysCall_beforeSimulation",
     "sysCall_cleanup",
     "sysCall_init",
+    "sysCall_msg",
     "sysCall_nonSimulation",
     "sysCall_packet",
     "sysCall_resume",
@@ -137,6 +139,11 @@ pub(crate) struct Shared {
     pub(crate) interrupted: Cell<bool>,
     /// Environments of scripts by object, for `sim.callScriptFunction`.
     pub(crate) envs: RefCell<Vec<(Handle, Table, Rc<str>)>>,
+    /// Each script's `sysCall_msg`, by script index, while it may receive messages
+    /// (initialised, running, not cleaned up); see [`crate::messages`].
+    pub(crate) msg_hooks: RefCell<Vec<Option<Function>>>,
+    /// Scripts whose `sysCall_msg` raised an error, marked errored once no script runs.
+    pub(crate) msg_failures: RefCell<Vec<(usize, mlua::Error)>>,
     /// Each script's thread mode, by script index.
     pub(crate) thread_modes: RefCell<Vec<ThreadMode>>,
     /// Scripts `sim.removeScript` removes once no script is running (by index).
@@ -262,6 +269,8 @@ impl Simulation {
             deadline: Cell::new(Instant::now() + Duration::from_secs(3600)),
             interrupted: Cell::new(false),
             envs: RefCell::new(Vec::new()),
+            msg_hooks: RefCell::new(Vec::new()),
+            msg_failures: RefCell::new(Vec::new()),
             thread_modes: RefCell::new(Vec::new()),
             removals: RefCell::new(Vec::new()),
             load_options: RefCell::new(LoadOptions::default()),
@@ -303,6 +312,8 @@ impl Simulation {
         }
         self.scripts.clear();
         self.shared.envs.borrow_mut().clear();
+        self.shared.msg_hooks.borrow_mut().clear();
+        self.shared.msg_failures.borrow_mut().clear();
         *self.shared.thread_modes.borrow_mut() = vec![ThreadMode::default(); self.model.scripts.len()];
         for (index, s) in self.model.scripts.clone().into_iter().enumerate() {
             self.load_script(index, &s, s.object as Handle);
@@ -343,6 +354,7 @@ impl Simulation {
                 thread: None,
             };
             self.shared.envs.borrow_mut().push((object, script.env.clone(), name));
+            self.shared.msg_hooks.borrow_mut().push(None);
             self.scripts.push(script);
             self.register_with_debugger(index, &s.source);
             if let Some(e) = env_error {
@@ -409,6 +421,7 @@ impl Simulation {
         s.sensing = None;
         s.vision = None;
         s.thread = None;
+        self.set_msg_hook(i, None);
         if let Some(entry) = self.shared.envs.borrow_mut().get_mut(i) {
             entry.0 = REMOVED_SCRIPT;
         }
@@ -603,6 +616,14 @@ impl Simulation {
         script.sensing = None;
         script.vision = None;
         script.thread = None;
+        self.set_msg_hook(i, None);
+    }
+
+    /// Sets (or, with `None`, withdraws) script `i`'s message receiver.
+    fn set_msg_hook(&self, i: usize, f: Option<Function>) {
+        if let Some(slot) = self.shared.msg_hooks.borrow_mut().get_mut(i) {
+            *slot = f;
+        }
     }
 
     /// Calls one hook of one script, if it defines it and has not errored.
@@ -630,6 +651,9 @@ impl Simulation {
         s.actuation = s.env.raw_get::<Option<Function>>(Hook::Actuation.name()).ok().flatten();
         s.sensing = s.env.raw_get::<Option<Function>>(Hook::Sensing.name()).ok().flatten();
         s.vision = s.env.raw_get::<Option<Function>>("sysCall_vision").ok().flatten();
+        let msg = s.env.raw_get::<Option<Function>>("sysCall_msg").ok().flatten();
+        self.set_msg_hook(i, msg);
+        let s = &mut self.scripts[i];
         // 4.6+ names the thread's body sysCall_thread; 4.0-4.2 threaded child scripts,
         // sysCall_threadmain. The coroutine first runs at the next step's actuation.
         let body = ["sysCall_thread", "sysCall_threadmain"]
@@ -710,6 +734,12 @@ impl Simulation {
         if !self.shared.loaded_models.borrow().is_empty() {
             self.attach_loaded_models();
         }
+        let failures = std::mem::take(&mut *self.shared.msg_failures.borrow_mut());
+        for (i, e) in failures {
+            if self.scripts.get(i).is_some_and(|s| s.state == ScriptState::Running) {
+                self.fail(i, e);
+            }
+        }
         let removals = std::mem::take(&mut *self.shared.removals.borrow_mut());
         for i in removals {
             self.remove_script(i);
@@ -765,6 +795,7 @@ impl Simulation {
             if self.scripts[i].initialised {
                 self.call_hook(i, Hook::Cleanup);
                 self.scripts[i].initialised = false;
+                self.set_msg_hook(i, None);
             }
         }
         self.shared.sim.borrow_mut().state = SimulationState::Stopped;
@@ -1106,6 +1137,7 @@ impl Simulation {
         if was_running {
             self.call_hook(i, Hook::Cleanup);
         }
+        self.set_msg_hook(i, None);
         let env = match self.make_env(&name) {
             Ok(e) => e,
             Err(e) => {
@@ -1454,6 +1486,21 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         })
         .and_then(|f| wrap.call::<Function>(f))?,
     )?;
+    // Delivered at once to the other scripts' sysCall_msg (see `crate::messages`).
+    let bm_shared = shared.clone();
+    sim.set(
+        "broadcastMsg",
+        lua.create_function(move |lua, args: MultiValue| {
+            Ok(match messages::broadcast(lua, &bm_shared, &args) {
+                Ok(()) => (true, LuaValue::Nil),
+                Err(e) => (
+                    false,
+                    LuaValue::String(lua.create_string(format!("{e} (in function 'sim.broadcastMsg')"))?),
+                ),
+            })
+        })
+        .and_then(|f| wrap.call::<Function>(f))?,
+    )?;
     // A model's objects join the world at once (the handle is returned); its scripts
     // load when the calling hook has returned. Scripts read model files inside the
     // scene's folder only, as they write exports there.
@@ -1557,7 +1604,7 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
 /// `sim.handle_self`.
 const HANDLE_SELF: i64 = -4;
 /// The object of a removed script's environment entry: no handle matches it.
-const REMOVED_SCRIPT: Handle = i64::MIN;
+pub(crate) const REMOVED_SCRIPT: Handle = i64::MIN;
 
 /// The index of the script whose handle (its object's) is `h`.
 fn script_index(shared: &Shared, h: Handle) -> Option<usize> {

@@ -276,14 +276,17 @@ fn unsupported_uses_fail_loudly_and_name_the_function() {
     let e = api(&mut a.sim, "simIK.getObjectMatrix", &ints(&[env, a.target, -1])).expect_err("erased");
     assert!(e.contains("environment"), "{e}");
 
-    // The 4.2 functions that build a separate IK world are not offered.
-    for f in [
-        "simIK.createDummy",
-        "simIK.createJoint",
-        "simIK.addIkElement",
-        "simIK.setLinkedDummy",
+    // The 4.2 functions that build an IK world object by object (tests/ik_objects.rs)
+    // work on the environment's own objects; on scene objects, those that would reshape
+    // the scene's tree are refused, saying what to use instead.
+    let env = int(&api(&mut a.sim, "simIK.createEnvironment", &[]).expect("env")[0]);
+    for (f, args) in [
+        ("simIK.setObjectParent", ints(&[env, a.joints[1], -1])),
+        ("simIK.setJointMode", ints(&[env, a.joints[1], 0])),
+        ("simIK.setLinkedDummy", ints(&[env, a.tip, a.target])),
+        ("simIK.eraseObject", ints(&[env, a.target])),
     ] {
-        let e = api(&mut a.sim, f, &ints(&[1])).expect_err(f);
-        assert!(e.starts_with("No such function"), "{e}");
+        let e = api(&mut a.sim, f, &args).expect_err(f);
+        assert!(e.contains(f) && e.contains("scene object") && e.contains("use "), "{e}");
     }
 }

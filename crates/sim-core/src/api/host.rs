@@ -73,6 +73,7 @@ use Touches::{Loop, Motion, Scene, Scripts};
 /// Every host function of module `sim`, sorted by name.
 pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("acquireLock", AnyHook, ByFrontEnd, Loop),
+    f("broadcastMsg", AnyHook, Remote::No, Scripts),
     f("callScriptFunction", AnyHook, ByScriptHost, Scripts),
     f("closeScene", InScripts::No, ByFrontEnd, Scene),
     f("getAutoYieldDelay", AnyHook, Remote::No, Scripts),

@@ -1,14 +1,16 @@
-//! `simIK.*`: CoppeliaSim 4.x's kinematics plugin API over gantry's scene (see
-//! [`crate::ik`] for the model: no separate IK world, every solve starts from the scene).
+//! `simIK.*`: CoppeliaSim 4.x's kinematics plugin API: environments, groups, elements and
+//! solving (see [`crate::ik`] for the model). The functions on objects are in
+//! [`super::ik_objects`].
 //!
 //! Handles: environments are numbered from 1; groups and elements share one counter per
-//! environment. IK objects *are* the scene objects, so `addElementFromScene`'s
-//! `simToIkMap`/`ikToSimMap` are identity maps over the chain's objects, and functions
-//! taking an IK joint (`getJointPosition`) take the scene joint.
+//! environment; an environment's own objects are numbered from [`ik::FIRST_OBJECT`]. An
+//! element made from the scene has no copy of its objects (the scene is its IK world),
+//! so `addElementFromScene`'s `simToIkMap`/`ikToSimMap` are identity maps over the
+//! chain's objects.
 
 use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
-use crate::ik::{self, Apply, Constraints, GroupsOutcome, IkError, IkMethod};
+use crate::ik::{self, Apply, Constraints, GroupFlags, GroupsOutcome, IkError, IkMethod};
 use crate::sim::Sim;
 use crate::world::Handle;
 
@@ -20,6 +22,10 @@ impl From<IkError> for ApiError {
 
 /// The functions this file implements, in alphabetical order.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "addElement",
+        call: ApiFn::Sim(add_element_to_group),
+    },
     ApiFunction {
         name: "addElementFromScene",
         call: ApiFn::Sim(add_element_from_scene),
@@ -69,12 +75,12 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::Sim(get_group_calculation),
     },
     ApiFunction {
-        name: "getGroupHandle",
-        call: ApiFn::Sim(get_group_handle),
+        name: "getGroupFlags",
+        call: ApiFn::Sim(get_group_flags),
     },
     ApiFunction {
-        name: "getJointPosition",
-        call: ApiFn::Sim(get_joint_position),
+        name: "getGroupHandle",
+        call: ApiFn::Sim(get_group_handle),
     },
     ApiFunction {
         name: "handleGroup",
@@ -103,6 +109,10 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "setGroupCalculation",
         call: ApiFn::Sim(set_group_calculation),
+    },
+    ApiFunction {
+        name: "setGroupFlags",
+        call: ApiFn::Sim(set_group_flags),
     },
     ApiFunction {
         name: "syncFromSim",
@@ -141,6 +151,10 @@ pub(super) const CONSTANTS: &[(&str, i64)] = &[
     ("calc_stepstoobig", 8),
     ("calc_limithit", ik::CALC_LIMIT_HIT),
     ("handle_world", -1),
+    ("group_enabled", 1),
+    ("group_ignoremaxsteps", 2),
+    ("group_restoreonbadlintol", 4),
+    ("group_restoreonbadangtol", 8),
 ];
 
 /// `simIK.createEnvironment(flags=0)` → environment handle. Flags are accepted and ignored.
@@ -211,6 +225,30 @@ fn set_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Re
     Ok(Vec::new())
 }
 
+/// `simIK.setGroupFlags(env, group, flags)` (4.2: `setIkGroupFlags`): `simIK.group_enabled`
+/// (1; a disabled group is skipped), `group_ignoremaxsteps` (2; accepted, gantry has no
+/// maximum steps), `group_restoreonbadlintol` (4) and `group_restoreonbadangtol` (8; the
+/// joints keep their values when the position or orientation ends outside its precision).
+/// Other bits (stop on limit hit, avoid limits, ...) are refused.
+fn set_group_flags(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, group) = (a.handle(0)?, a.handle(1)?);
+    let code = a.int(2)?;
+    let flags = GroupFlags::from_code(code).ok_or_else(|| {
+        ApiError::new(format!(
+            "argument 3: unsupported group flags {code} (combine simIK.group_enabled, group_ignoremaxsteps, \
+             group_restoreonbadlintol and group_restoreonbadangtol, 0..15)"
+        ))
+    })?;
+    sim.ik.get_mut(env)?.group_mut(group)?.flags = flags;
+    Ok(Vec::new())
+}
+
+/// `simIK.getGroupFlags(env, group)` → flags (default 3: enabled, ignoring maximum steps).
+fn get_group_flags(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let g = sim.ik.get(a.handle(0)?)?.group(a.handle(1)?)?;
+    Ok(vec![Value::Int(i64::from(g.flags.0))])
+}
+
 /// `simIK.getGroupCalculation(env, group)` → method, damping, maxIterations.
 fn get_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let g = sim.ik.get(a.handle(0)?)?.group(a.handle(1)?)?;
@@ -257,6 +295,22 @@ fn add_element_from_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> R
 fn add_ik_element_from_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (element, map) = add_element(sim, a)?;
     Ok(vec![element, map])
+}
+
+/// `simIK.addElement(env, group, tipDummy)` (4.2: `addIkElement`) → element. The tip is a
+/// dummy, usually one of the environment's own; its target is whatever dummy it is linked
+/// to when the group is solved (`simIK.setLinkedDummy`; `sim.setLinkDummy` for a scene
+/// dummy). The element's base is the world until `setElementBase`, and it constrains the
+/// full pose until `setElementConstraints`, as in CoppeliaSim.
+fn add_element_to_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, group, tip) = (a.handle(0)?, a.handle(1)?, a.handle(2)?);
+    Ok(vec![Value::Int(ik::add_element(
+        &sim.world,
+        &mut sim.ik,
+        env,
+        group,
+        tip,
+    )?)])
 }
 
 /// Resolves (env, group, element) from arguments 0..3 and runs `f` on the element.
@@ -368,10 +422,12 @@ fn outcome_values(o: &GroupsOutcome) -> Ret {
 
 /// `simIK.handleGroup(env, group, options={})` → result, flags, {linear (m), angular (rad)}.
 ///
-/// Solves from the scene's current joint values. With `syncWorlds` (default true) the
-/// solution is written to the scene joints only if every element ended within its
-/// precision (or `allowError=true`), as CoppeliaSim's `handleGroup`; otherwise the scene is
-/// unchanged and the solution waits for `simIK.syncToSim`.
+/// Solves from the current joint values. The environment's own joints take the solution
+/// (unless the group's flags restore them). For a chain made from the scene, with
+/// `syncWorlds` (default true) the solution is written to the scene joints only if every
+/// element ended within its precision (or `allowError=true`), as CoppeliaSim's
+/// `handleGroup`; otherwise the scene is unchanged and the solution waits for
+/// `simIK.syncToSim`.
 fn handle_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let apply = apply_policy(a, 2)?;
@@ -418,9 +474,12 @@ fn handle_groups(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret
     )?))
 }
 
-/// `simIK.handleIkGroup(env, group)` → result: the 4.1 name. The paper's script followed it
-/// by copying the IK joints onto the scene whatever the result, so gantry writes the
-/// solution back always (finite values within limits).
+/// `simIK.handleIkGroup(env, group)` → result: the 4.1-4.2 name. For a chain of the
+/// environment's own objects the solution stays in them (a script copies it to the scene
+/// with `simIK.getJointPosition`). For a chain made from the scene, the paper's script
+/// followed it by copying the IK joints onto the scene whatever the result, so gantry
+/// writes the solution to the scene always (finite values within limits). Either way the
+/// group's flags may keep the previous values (`group_restoreonbadlintol`, ...).
 fn handle_ik_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let o = ik::handle_groups(&mut sim.world, &mut sim.ik, env, &[group], Apply::Always)?;
@@ -481,7 +540,14 @@ fn find_config(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
     let joints = groups_arg(a, 2).map_err(|_| ApiError::new("argument 3: expected array of joint handles"))?;
     a.opt_f64(3, 0.1)?;
     a.opt_f64(4, 0.5)?;
-    let Some(found) = ik::find_config(&sim.world, &sim.ik, env, group, FIND_CONFIG_ATTEMPTS)? else {
+    let Some(found) = ik::find_config(
+        &sim.world,
+        &sim.ik,
+        env,
+        group,
+        &ik::ConfigSearch::attempts(FIND_CONFIG_ATTEMPTS),
+    )?
+    else {
         return Ok(vec![Value::Nil]);
     };
     let values = joints
@@ -494,16 +560,4 @@ fn find_config(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok(vec![Value::Array(values)])
-}
-
-/// `simIK.getJointPosition(env, joint)` → the joint's value in the IK world: a pending
-/// solution if there is one, else the scene's value (rad or m).
-fn get_joint_position(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let (env, joint) = (a.handle(0)?, a.handle(1)?);
-    let pending = sim.ik.get(env)?.pending.get(&joint).copied();
-    let q = match pending {
-        Some(q) => q,
-        None => sim.world.joint(joint)?.position,
-    };
-    Ok(vec![Value::Float(q)])
 }

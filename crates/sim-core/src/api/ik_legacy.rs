@@ -1,71 +1,51 @@
 //! `simIK.*` functions of CoppeliaSim 4.2 whose arguments differ from a 4.3+ function, and
 //! the 4.3+ functions those names need that [`super::ik`] does not have yet.
 //!
-//! Pure renames (`createIkGroup` → `createGroup`, ...) are aliases of the simIK module in
-//! [`super::MODULES`], not functions here. gantry's IK objects *are* the scene objects (see
-//! [`crate::ik`]), so the functions that address IK objects (`setObjectMatrix`,
-//! `setJointPosition`, ...) read and write the scene. The 4.2 functions that build a
-//! separate IK world object by object (`createDummy`, `createJoint`, `setObjectParent`,
-//! `setJointMode`, `setJointInterval`, `setLinkedDummy`, `addIkElement`) are deliberately
-//! absent: they would edit the scene's tree or create an element without a target, so a
-//! script using them fails with "No such function" instead of solving something else.
+//! Pure renames (`createIkGroup` → `createGroup`, `setLinkedDummy` → `setTargetDummy`,
+//! ...) are aliases of the simIK module in [`super::MODULES`], not functions here. The
+//! functions on objects, the environment's own (`createDummy`, `createJoint`, ...) and
+//! the scene's, are in [`super::ik_objects`].
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret, joints, objects};
+use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
-use crate::ik::{IkElement, KinematicModel};
+use crate::ik::{self, Trees};
 use crate::sim::Sim;
-use crate::world::{Handle, ObjectKind};
+use crate::world::Handle;
 
 /// The functions this file implements, in alphabetical order.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "getConfigForTipPose",
+        call: ApiFn::Sim(get_config_for_tip_pose),
+    },
     ApiFunction {
         name: "getElementBase",
         call: ApiFn::Sim(get_element_base),
     },
     ApiFunction {
-        name: "getObjectMatrix",
-        call: ApiFn::Sim(get_object_matrix),
-    },
-    ApiFunction {
         name: "setElementBase",
         call: ApiFn::Sim(set_element_base),
-    },
-    ApiFunction {
-        name: "setJointPosition",
-        call: ApiFn::Sim(set_joint_position),
-    },
-    ApiFunction {
-        name: "setObjectMatrix",
-        call: ApiFn::Sim(set_object_matrix),
     },
 ];
 
 /// 4.2 names that only differ from a 4.3+ name by spelling: `(old, current)`.
 pub(super) const ALIASES: &[(&str, &str)] = &[
+    ("addIkElement", "addElement"),
     ("createIkGroup", "createGroup"),
+    ("getIkGroupFlags", "getGroupFlags"),
     ("getIkGroupHandle", "getGroupHandle"),
+    ("getLinkedDummy", "getTargetDummy"),
     ("setIkElementBase", "setElementBase"),
     ("setIkElementConstraints", "setElementConstraints"),
     ("setIkElementPrecision", "setElementPrecision"),
     ("setIkElementWeights", "setElementWeights"),
     ("setIkGroupCalculation", "setGroupCalculation"),
+    ("setIkGroupFlags", "setGroupFlags"),
+    ("setLinkedDummy", "setTargetDummy"),
 ];
 
 /// `sim.handle_world` (also `simIK.handle_world`).
 const HANDLE_WORLD: Handle = -1;
-
-/// Checks that argument 0 names a live environment, so that a call with a stale
-/// environment fails as every other `simIK` call does even though the object functions
-/// below only touch the scene.
-fn check_environment(sim: &Sim, a: &Args<'_>) -> Result<(), ApiError> {
-    sim.ik.get(a.handle(0)?)?;
-    Ok(())
-}
-
-/// The arguments after the environment handle, for the `sim.*` function of the same shape.
-fn without_environment<'a>(a: &Args<'a>) -> Vec<Value> {
-    (1..a.len()).map(|i| a.get(i).clone()).collect()
-}
 
 /// `simIK.setElementBase(env, group, element, base, constraintsBase=-1)` (4.2:
 /// `setIkElementBase`): the chain now starts at `base` (-1: the world). Constraints are
@@ -82,11 +62,10 @@ fn set_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<
              (gantry expresses them in the base's frame: pass -1)"
         )));
     }
-    let mut probe: IkElement = sim.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.clone();
-    probe.base = base;
-    // The checks handleGroup relies on (base exists, tip below it, a joint between) run
-    // now, so a bad base fails here and not at the next solve.
-    KinematicModel::from_world(&sim.world, std::slice::from_ref(&probe))?;
+    let tip = sim.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.tip;
+    // The checks handleGroup relies on (base exists in the tip's tree, tip below it, a
+    // joint between) run now, so a bad base fails here and not at the next solve.
+    ik::check_chain(&Trees::new(&sim.world, &sim.ik.get(env)?.objects), base, tip)?;
     sim.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.base = base;
     Ok(Vec::new())
 }
@@ -99,40 +78,76 @@ fn get_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<
     Ok(vec![Value::Int(base), Value::Int(HANDLE_WORLD)])
 }
 
-/// `simIK.getObjectMatrix(env, object, relativeTo=-1)` → 12 numbers, row-major 3x4 (m):
-/// the scene object's pose, as `sim.getObjectMatrix`. A solution held back by
-/// `handleGroup{syncWorlds=false}` is not reflected (it lives only as joint values).
-fn get_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    check_environment(sim, a)?;
-    let rest = without_environment(a);
-    objects::get_object_matrix(&mut sim.world, ctx, &Args::new(&rest))
-}
+/// How `getConfigForTipPose` searches, in place of CoppeliaSim's time limit: random
+/// configurations drawn at most, and solves run at most from those near enough.
+const CONFIG_SAMPLES: u32 = 10_000;
+const CONFIG_SOLVES: u32 = 1_000;
+/// Iterations each of its solves gets at least (see [`ik::ConfigSearch::min_iterations`]).
+const CONFIG_MIN_ITERATIONS: u32 = 100;
 
-/// `simIK.setObjectMatrix(env, object, relativeTo, matrix)` (4.2-4.4 order) or
-/// `(env, object, matrix, relativeTo=-1)` (4.5+): moves the scene object. Scripts use it
-/// to copy a target's pose into the IK world, which here is the scene itself. Joints are
-/// refused: moving one would reshape the robot in the scene, not just in an IK copy.
-fn set_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    check_environment(sim, a)?;
-    let h = a.handle(1)?;
-    if matches!(sim.world.object(h)?.kind, ObjectKind::Joint(_)) {
+/// `simIK.getConfigForTipPose(env, group, jointHandles, distanceThreshold=0.1,
+/// maxTimeInMs=100, metric=nil, validationCallback=nil, auxData=nil, jointOptions=nil,
+/// lowLimits=nil, ranges=nil)` → joint values in the order of `jointHandles`, or `nil`
+/// (CoppeliaSim 4.2; 4.3 renamed it `findConfig`).
+///
+/// Searches for a configuration putting the group's tips on their targets without moving
+/// any joint, as CoppeliaSim does: random configurations within the joints' limits, and
+/// from those whose tips lie within `distanceThreshold` of their targets (in the
+/// `metric`, default {1, 1, 1, 0.1}: metres, and radians counting a tenth), a solve with
+/// the group's settings but at least 100 iterations (gantry's steps are shorter than
+/// CoppeliaSim's; see [`ik::find_config`]). The script applies the result. gantry
+/// draws a fixed number of configurations from a fixed seed instead of sampling for
+/// `maxTimeInMs`, so the result does not depend on the machine's speed. The validation
+/// callback must be a function name (or empty) and is not called; `auxData`, the joint
+/// options and custom limits are ignored.
+fn get_config_for_tip_pose(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let (env, group) = (a.handle(0)?, a.handle(1)?);
+    let Value::Array(items) = a.get(2) else {
         return Err(ApiError::new(format!(
-            "object {h} is a joint: gantry's IK objects are the scene's, so set its value with \
-             simIK.setJointPosition instead of moving it"
+            "argument 3: expected array of joint handles, got {}",
+            a.get(2).type_name()
         )));
+    };
+    let joints = items
+        .iter()
+        .map(|v| {
+            v.as_i64()
+                .ok_or_else(|| ApiError::new("argument 3: joint handles must be integers"))
+        })
+        .collect::<Result<Vec<Handle>, _>>()?;
+    let threshold = a.opt_f64(3, 0.1)?;
+    a.opt_f64(4, 100.0)?;
+    let metric = match a.get(5) {
+        Value::Nil => ik::ConfigSearch::DEFAULT_METRIC,
+        _ => a.floats::<4>(5)?,
+    };
+    match a.get(6) {
+        Value::Nil | Value::Str(_) => {}
+        other => {
+            return Err(ApiError::new(format!(
+                "argument 7: expected the validation callback's name (a string), got {}",
+                other.type_name()
+            )));
+        }
     }
-    let rest = without_environment(a);
-    objects::set_object_matrix(&mut sim.world, ctx, &Args::new(&rest))
-}
-
-/// `simIK.setJointPosition(env, joint, position)`: sets the scene joint (rad or m, clamped
-/// to its limits as `sim.setJointPosition`) and forgets any solution pending for it, so
-/// `simIK.getJointPosition` returns the new value.
-fn set_joint_position(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let (env, joint) = (a.handle(0)?, a.handle(1)?);
-    sim.ik.get(env)?;
-    let rest = without_environment(a);
-    let out = joints::set_joint_position(&mut sim.world, ctx, &Args::new(&rest))?;
-    sim.ik.get_mut(env)?.pending.remove(&joint);
-    Ok(out)
+    let search = ik::ConfigSearch {
+        samples: CONFIG_SAMPLES,
+        solves: CONFIG_SOLVES,
+        threshold: Some(threshold),
+        metric,
+        min_iterations: CONFIG_MIN_ITERATIONS,
+    };
+    let Some(found) = ik::find_config(&sim.world, &sim.ik, env, group, &search)? else {
+        return Ok(vec![Value::Nil]);
+    };
+    let values = joints
+        .iter()
+        .map(|h| {
+            found
+                .get(h)
+                .map(|&q| Value::Float(q))
+                .ok_or_else(|| ApiError::new(format!("argument 3: joint {h} is not in the group's chains")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(vec![Value::Array(values)])
 }

@@ -13,6 +13,7 @@ mod error;
 pub mod host;
 mod ik;
 mod ik_legacy;
+mod ik_objects;
 mod joints;
 pub mod legacy;
 mod links;
@@ -391,8 +392,8 @@ pub const MODULES: &[Module] = &[
     },
     Module {
         name: "simIK",
-        functions: &[ik::FUNCTIONS, ik_legacy::FUNCTIONS],
-        constants: Constants(&[ik::CONSTANTS]),
+        functions: &[ik::FUNCTIONS, ik_objects::FUNCTIONS, ik_legacy::FUNCTIONS],
+        constants: Constants(&[ik::CONSTANTS, ik_objects::CONSTANTS]),
         aliases: ik_legacy::ALIASES,
     },
     Module {

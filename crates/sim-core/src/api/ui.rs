@@ -39,6 +39,10 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::Sim(get_enabled),
     },
     ApiFunction {
+        name: "getKeyboardModifiers",
+        call: ApiFn::Sim(get_keyboard_modifiers),
+    },
+    ApiFunction {
         name: "getLabelText",
         call: ApiFn::Sim(get_label_text),
     },
@@ -337,4 +341,19 @@ fn set_button_text(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result
     let (ui, id, text) = (a.handle(0)?, a.int(1)?, a.str(2)?);
     with_uis(sim, ctx, |u| u.set_button_text(ui, id, text))?;
     Ok(Vec::new())
+}
+
+/// `simUI.getKeyboardModifiers()` → `{control=bool, shift=bool, alt=bool}`: the modifier
+/// keys held now. gantry has no keyboard of its own; a front end reports them
+/// ([`crate::ui::SimulatorMessages::modifiers`]), and headless runs hold none.
+fn get_keyboard_modifiers(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    if !a.is_empty() {
+        return Err(ApiError::new(format!("expected no arguments, got {}", a.len())));
+    }
+    let m = sim.messages.modifiers;
+    Ok(vec![Value::Map(vec![
+        (Value::Str("control".into()), Value::Bool(m.control)),
+        (Value::Str("shift".into()), Value::Bool(m.shift)),
+        (Value::Str("alt".into()), Value::Bool(m.alt)),
+    ])])
 }

@@ -1,9 +1,10 @@
-//! A snapshot of the scene's kinematic chains as pure data: forward kinematics, the
-//! analytic Jacobian and the tip-to-target error, with no reference to the [`World`].
+//! A snapshot of kinematic chains (in the scene or an environment's own tree) as pure
+//! data: forward kinematics, the analytic Jacobian and the tip-to-target error, with no
+//! reference to the trees they were read from.
 //!
 //! Building the snapshot folds every rigid part of a base→tip path (links, dummies, fixed
 //! joints) into one constant transform per movable joint, so a solver iteration costs a
-//! handful of isometry products instead of a walk over the object tree, and the scene is
+//! handful of isometry products instead of a walk over the object tree, and the trees are
 //! untouched until a solution is accepted.
 //!
 //! Frames: joint axes and origins come out in the world frame. Position errors and
@@ -15,15 +16,16 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::environment::{Constraints, IkElement, IkError};
+use super::environment::{Constraints, ElementTarget, IkElement, IkError};
+use super::trees::{JointView, Trees};
 use crate::math::{Pose, Vec3};
 use crate::scene::JointType;
-use crate::world::{Handle, ObjectKind, World};
+use crate::world::Handle;
 
 /// One movable joint of the problem (shared by every element whose path crosses it).
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointSlot {
-    /// The scene joint.
+    /// The joint (a scene handle, or one of the environment's own objects).
     pub handle: Handle,
     /// Revolute (rad) or prismatic (m); fixed joints never become slots.
     pub joint_type: JointType,
@@ -77,7 +79,7 @@ impl ElementChain {
     /// A chain from its parts: per movable joint, the constant transform from the previous
     /// joint's moving frame (the first: from the world) to the joint's fixed frame and the
     /// joint's slot; the transform from the last moving frame to the tip; the world pose of
-    /// the constraint frame. [`KinematicModel::from_world`] builds these from the scene.
+    /// the constraint frame. [`KinematicModel::build`] builds these from the trees.
     pub fn new(links: Vec<(Pose, usize)>, tip_offset: Pose, base_frame: Pose) -> Self {
         Self {
             links,
@@ -246,34 +248,34 @@ fn orientation_error(c: Constraints, rel: &crate::math::Quat) -> (Vec3, Vec<usiz
 pub struct KinematicModel {
     /// The movable joints, in order of first appearance (base to tip of each element).
     pub slots: Vec<JointSlot>,
-    /// Joint values read from the scene when the model was built.
+    /// Joint values read from the trees when the model was built.
     pub start: Vec<f64>,
     /// The elements.
     pub elements: Vec<ElementModel>,
 }
 
 impl KinematicModel {
-    /// Snapshots the chains and targets of `elements` from the scene, reading the current
-    /// joint values (gantry's IK is always resynchronised with the scene).
+    /// Snapshots the chains and targets of `elements` from their trees (the scene, or the
+    /// environment's own objects), reading the joints' current values: a scene solve
+    /// starts from the scene as it is now, an own-object solve from the environment's
+    /// joints.
     ///
     /// # Errors
-    /// Unknown base, tip or target, a tip not below its base, or a path without a movable
-    /// joint.
-    pub fn from_world(world: &World, elements: &[IkElement]) -> Result<Self, IkError> {
+    /// Unknown base, tip or target, a tip not below its base, a path without a movable
+    /// joint, or a tip whose target is its linked dummy and that has none.
+    pub fn build(trees: &Trees<'_>, elements: &[IkElement]) -> Result<Self, IkError> {
         let mut model = KinematicModel {
             slots: Vec::new(),
             start: Vec::new(),
             elements: Vec::with_capacity(elements.len()),
         };
         for e in elements {
-            let chain = model.add_chain(world, e.base, e.tip)?;
-            let target = world
-                .object(e.target)
-                .map_err(|_| IkError::NoSuchObject {
-                    role: "target",
-                    handle: e.target,
-                })?
-                .world;
+            let chain = model.add_chain(trees, e.base, e.tip)?;
+            let target = match e.target {
+                ElementTarget::Object(t) => t,
+                ElementTarget::LinkedDummy => trees.linked_dummy(e.tip)?.ok_or(IkError::NoTarget { tip: e.tip })?,
+            };
+            let target = trees.world(target, "target")?;
             model.elements.push(ElementModel {
                 chain,
                 target,
@@ -285,26 +287,26 @@ impl KinematicModel {
         Ok(model)
     }
 
-    fn add_chain(&mut self, world: &World, base: Handle, tip: Handle) -> Result<ElementChain, IkError> {
-        let path = chain_path(world, base, tip)?;
+    fn add_chain(&mut self, trees: &Trees<'_>, base: Handle, tip: Handle) -> Result<ElementChain, IkError> {
+        let path = chain_path(trees, base, tip)?;
         let top = path.first().copied().unwrap_or(tip);
-        let mut acc = world.parent_frame(top);
+        let mut acc = trees.parent_frame(top)?;
         let mut links = Vec::new();
         for &h in &path {
-            let Ok(o) = world.object(h) else {
-                // chain_path only returns live handles; treat a miss as a broken tree.
-                return Err(IkError::TipNotBelowBase { tip, base });
-            };
-            acc *= o.local;
+            let node = trees.node(h, "chain")?;
+            acc *= node.local;
             if h == tip {
                 break;
             }
-            if let ObjectKind::Joint(j) = &o.kind
-                && j.joint_type != JointType::Fixed
-            {
-                let slot = self.slot_of(h, j);
-                links.push((acc, slot));
-                acc = Pose::identity();
+            match node.joint {
+                Some(j) if j.movable => {
+                    let slot = self.slot_of(h, &j);
+                    links.push((acc, slot));
+                    acc = Pose::identity();
+                }
+                // A joint the solver may not move is a rigid link at its position.
+                Some(j) => acc *= j.motion(),
+                None => {}
             }
         }
         if links.is_empty() {
@@ -313,13 +315,7 @@ impl KinematicModel {
         let base_frame = if base == -1 {
             Pose::identity()
         } else {
-            world
-                .object(base)
-                .map_err(|_| IkError::NoSuchObject {
-                    role: "base",
-                    handle: base,
-                })?
-                .world
+            trees.world(base, "base")?
         };
         Ok(ElementChain {
             links,
@@ -328,7 +324,7 @@ impl KinematicModel {
         })
     }
 
-    fn slot_of(&mut self, handle: Handle, j: &crate::world::Joint) -> usize {
+    fn slot_of(&mut self, handle: Handle, j: &JointView) -> usize {
         if let Some(i) = self.slots.iter().position(|s| s.handle == handle) {
             return i;
         }
@@ -343,26 +339,21 @@ impl KinematicModel {
     }
 }
 
-/// The objects from just below `base` down to `tip` (inclusive), top first.
+/// The objects from just below `base` down to `tip` (inclusive), top first. Both live in
+/// the same tree: the scene's, or the environment's own.
 ///
 /// # Errors
 /// Unknown base or tip, `tip == base`, or a tip not below the base.
-pub fn chain_path(world: &World, base: Handle, tip: Handle) -> Result<Vec<Handle>, IkError> {
-    world.object(tip).map_err(|_| IkError::NoSuchObject {
-        role: "tip",
-        handle: tip,
-    })?;
+pub fn chain_path(trees: &Trees<'_>, base: Handle, tip: Handle) -> Result<Vec<Handle>, IkError> {
+    trees.node(tip, "tip")?;
     if base != -1 {
-        world.object(base).map_err(|_| IkError::NoSuchObject {
-            role: "base",
-            handle: base,
-        })?;
+        trees.node(base, "base")?;
     }
     let mut path = vec![tip];
     let mut cur = tip;
-    // The tree has at most `len` levels; the bound guards against a corrupt parent cycle.
-    for _ in 0..=world.len() {
-        match world.parent(cur).ok().flatten() {
+    // No tree has more levels than objects; the bound guards against a corrupt cycle.
+    for _ in 0..=trees.depth_bound() {
+        match trees.node(cur, "chain")?.parent {
             Some(p) if p == base => {
                 path.reverse();
                 return Ok(path);

@@ -1,8 +1,10 @@
 //! The bookkeeping of `simIK`: environments, their groups and elements, and the errors of
-//! looking them up. No kinematics here; see `chain` and `solver`.
+//! looking them up. No kinematics here; see `chain` and `solver`. An environment's own
+//! object tree is in `objects`.
 
 use std::collections::BTreeMap;
 
+use super::objects::IkObjects;
 use crate::handle::Handle;
 
 /// How a group turns the Jacobian into joint steps (`simIK.method_*`).
@@ -82,8 +84,18 @@ impl Constraints {
     }
 }
 
-/// One base/tip/target triple of a group, in scene handles (gantry's IK works on the scene
-/// itself, so there are no separate IK-world handles).
+/// Where an element's target is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ElementTarget {
+    /// This object (`addElementFromScene`).
+    Object(Handle),
+    /// Whatever dummy the tip is linked to when the group is solved (`addElement`, whose
+    /// target is set with `simIK.setLinkedDummy` or, for a scene tip, `sim.setLinkDummy`).
+    LinkedDummy,
+}
+
+/// One base/tip/target triple of a group. Its objects are either scene objects or the
+/// environment's own (see `objects`); a chain never crosses from one tree to the other.
 #[derive(Debug, Clone, PartialEq)]
 pub struct IkElement {
     /// The element's handle, unique within its environment.
@@ -93,7 +105,7 @@ pub struct IkElement {
     /// The object driven onto the target.
     pub tip: Handle,
     /// The object whose pose (read at the start of each solve) the tip must reach.
-    pub target: Handle,
+    pub target: ElementTarget,
     /// What is constrained.
     pub constraints: Constraints,
     /// Success thresholds: linear (m) and angular (rad). CoppeliaSim's defaults are
@@ -111,6 +123,40 @@ impl IkElement {
     pub const DEFAULT_ANGULAR_PRECISION: f64 = 0.1 * std::f64::consts::PI / 180.0;
 }
 
+/// A group's options (`simIK.group_*` bits, `simIK.setGroupFlags`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GroupFlags(pub u8);
+
+impl GroupFlags {
+    /// `simIK.group_enabled`: the group is solved; a disabled one is skipped.
+    pub const ENABLED: Self = Self(1);
+    /// `simIK.group_ignoremaxsteps`: accepted; gantry's joints have no maximum step.
+    pub const IGNORE_MAX_STEPS: Self = Self(2);
+    /// `simIK.group_restoreonbadlintol`: joints go back to where they were when a
+    /// position constraint ends outside its precision.
+    pub const RESTORE_ON_BAD_LINEAR: Self = Self(4);
+    /// `simIK.group_restoreonbadangtol`: the same for orientation constraints.
+    pub const RESTORE_ON_BAD_ANGULAR: Self = Self(8);
+    /// CoppeliaSim's default for a new group: enabled, ignoring maximum steps.
+    pub const DEFAULT: Self = Self(3);
+
+    /// The flags of a `simIK.group_*` combination; `None` when it has bits gantry does
+    /// not honour (stop on limit hit, avoid limits, ...), so a script relying on them
+    /// fails instead of solving something else.
+    pub fn from_code(code: i64) -> Option<Self> {
+        if (0..=15).contains(&code) {
+            u8::try_from(code).ok().map(Self)
+        } else {
+            None
+        }
+    }
+
+    /// Whether every bit of `other` is set.
+    pub fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+}
+
 /// A set of elements solved together, with its calculation settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct IkGroup {
@@ -124,6 +170,8 @@ pub struct IkGroup {
     pub damping: f64,
     /// Upper bound on solver iterations per call.
     pub max_iterations: u32,
+    /// Options.
+    pub flags: GroupFlags,
     /// The elements in insertion order.
     pub elements: Vec<IkElement>,
 }
@@ -137,6 +185,7 @@ impl IkGroup {
             method: IkMethod::PseudoInverse,
             damping: 0.1,
             max_iterations: 3,
+            flags: GroupFlags::DEFAULT,
             elements: Vec::new(),
         }
     }
@@ -154,13 +203,16 @@ impl IkGroup {
     }
 }
 
-/// One `simIK` environment: groups, plus the joint values of solutions computed without
-/// `syncWorlds` that were not yet written to the scene (the part of CoppeliaSim's separate
-/// IK world that gantry still needs; everything else is the scene itself).
+/// One `simIK` environment: groups; its own object tree (dummies and joints built one
+/// by one); and the joint values of solutions for scene joints computed without
+/// `syncWorlds` that were not yet written to the scene (for scene objects, the scene
+/// itself plays the part of CoppeliaSim's separate IK world).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct IkEnvironment {
     groups: BTreeMap<Handle, IkGroup>,
-    /// Joint handle → solved value (rad or m) awaiting `syncToSim`.
+    /// The environment's own dummies and joints.
+    pub objects: IkObjects,
+    /// Scene joint handle → solved value (rad or m) awaiting `syncToSim`.
     pub pending: BTreeMap<Handle, f64>,
     next_handle: Handle,
 }
@@ -204,8 +256,7 @@ impl IkEnvironment {
             .map(|g| g.handle)
     }
 
-    /// Adds an element (already validated against the scene) to a group and returns its
-    /// handle.
+    /// Adds an element (already validated) to a group and returns its handle.
     ///
     /// # Errors
     /// [`IkError::NoSuchGroup`].
@@ -214,7 +265,7 @@ impl IkEnvironment {
         group: Handle,
         base: Handle,
         tip: Handle,
-        target: Handle,
+        target: ElementTarget,
         constraints: Constraints,
     ) -> Result<Handle, IkError> {
         self.group(group)?;
@@ -232,6 +283,26 @@ impl IkEnvironment {
             weights: [1.0; 3],
         });
         Ok(handle)
+    }
+
+    /// Erases one of the environment's own objects (`simIK.eraseObject`) and what refers
+    /// to it, as CoppeliaSim does: elements whose tip or target it is go, elements based
+    /// on it are based on the world instead.
+    ///
+    /// # Errors
+    /// No such object.
+    pub fn erase_object(&mut self, h: Handle) -> Result<(), IkError> {
+        self.objects.erase(h)?;
+        for g in self.groups.values_mut() {
+            g.elements
+                .retain(|e| e.tip != h && e.target != ElementTarget::Object(h));
+            for e in &mut g.elements {
+                if e.base == h {
+                    e.base = -1;
+                }
+            }
+        }
+        Ok(())
     }
 }
 
@@ -306,6 +377,25 @@ pub enum IkError {
         /// The element asked for.
         element: Handle,
     },
+    /// An object handle of the environment's own range that names no object.
+    #[error(
+        "IK object {0} does not exist in this environment (create one with simIK.createDummy or simIK.createJoint)"
+    )]
+    NoSuchIkObject(Handle),
+    /// An object of the wrong kind (a joint where a dummy is expected, ...).
+    #[error("object {handle} is not a {expected}")]
+    WrongKind {
+        /// The object given.
+        handle: Handle,
+        /// "dummy" or "joint".
+        expected: &'static str,
+    },
+    /// An element whose target is the tip's linked dummy, and the tip has none.
+    #[error("tip dummy {tip} has no target: link one with simIK.setLinkedDummy (sim.setLinkDummy for a scene dummy)")]
+    NoTarget {
+        /// The tip.
+        tip: Handle,
+    },
     /// A scene handle that names no object.
     #[error("{role} object does not exist (handle {handle})")]
     NoSuchObject {
@@ -315,7 +405,9 @@ pub enum IkError {
         handle: Handle,
     },
     /// The tip does not hang below the base in the object tree.
-    #[error("tip (handle {tip}) is not below base (handle {base}) in the scene tree")]
+    #[error(
+        "tip (handle {tip}) is not below base (handle {base}) in its object tree (the scene's, or the IK environment's own)"
+    )]
     TipNotBelowBase {
         /// The tip.
         tip: Handle,

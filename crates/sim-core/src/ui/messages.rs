@@ -1,5 +1,6 @@
 //! CoppeliaSim's simulator messages (`sim.getSimulatorMessage`): events of the user
-//! interface, here the keys pressed in the viewer, that scripts poll for.
+//! interface, here the keys pressed in the viewer, that scripts poll for; and the
+//! keyboard modifiers held now (`simUI.getKeyboardModifiers`).
 //!
 //! As in CoppeliaSim each reader has its own queue, so two scripts that poll both see
 //! every key: one log of recent messages, and a position in it per reader (a script's
@@ -37,9 +38,23 @@ pub struct SimulatorMessage {
     pub aux: [i64; 4],
 }
 
+/// The modifier keys held down (`simUI.getKeyboardModifiers`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct KeyboardModifiers {
+    /// Ctrl (Cmd on macOS in CoppeliaSim's Qt).
+    pub control: bool,
+    /// Shift.
+    pub shift: bool,
+    /// Alt.
+    pub alt: bool,
+}
+
 /// The recent messages and where each reader is.
 #[derive(Debug, Clone, Default)]
 pub struct SimulatorMessages {
+    /// The modifiers held now, as the front end last reported them; none held when no
+    /// front end reports any (headless runs).
+    pub modifiers: KeyboardModifiers,
     log: VecDeque<SimulatorMessage>,
     /// Sequence number of the oldest message in `log`.
     first: u64,

@@ -25,7 +25,7 @@ mod widget;
 mod window;
 
 pub use error::UiError;
-pub use messages::{MESSAGE_CAPACITY, MESSAGE_KEYPRESS, SimulatorMessage, SimulatorMessages, keys};
+pub use messages::{KeyboardModifiers, MESSAGE_CAPACITY, MESSAGE_KEYPRESS, SimulatorMessage, SimulatorMessages, keys};
 pub use uis::{UiEvent, Uis};
 pub use views::{FloatingView, FloatingViews, MAX_LABEL_LEN, MAX_VIEWS, ViewError};
 pub use widget::{
