@@ -1,0 +1,251 @@
+//! Exact detection volumes of CoppeliaSim-style proximity sensors.
+//!
+//! This module is pure geometry: given a sensor volume and one parry shape posed in the
+//! sensor frame, it returns the point of the shape inside the volume that is nearest to the
+//! sensor origin. Broad-phase culling (which shapes to test) is the caller's job; see
+//! [`ProximityVolume::local_aabb`].
+//!
+//! # Frames and units
+//!
+//! Everything is expressed in the **sensor frame**: the origin is the sensor, it looks along
+//! its local **+Z** axis. Lengths are metres, angles radians.
+//!
+//! # Volumes
+//!
+//! * [`ProximityVolume::Ray`]: the segment from `(0, 0, offset)` to `(0, 0, offset + range)`.
+//! * [`ProximityVolume::Cone`]: the spherical-shell sector
+//!   `V = { p : angle(p, +Z) <= half_angle, offset <= |p| <= offset + range }`,
+//!   bounded by the lateral cone surface and two spherical caps of radii `offset` (near cap)
+//!   and `offset + range` (far cap). Scene files usually give the *full* opening angle
+//!   (e.g. 30°); pass half of it.
+//!
+//! # What is detected
+//!
+//! The detection is the point of `shape ∩ volume` nearest to the sensor origin, its distance
+//! `|p|` and a unit normal. Shapes are taken as what parry says they are:
+//!
+//! * Volumetric primitives (ball, cuboid, cylinder, capsule, cone, convex polyhedron, round
+//!   shapes, any other shape exposing a support map, half-spaces) are **solids**. When a solid
+//!   fills the near cap (an obstacle closer than `offset` that also extends beyond it), the
+//!   detection is at exactly `offset`, at a point inside the solid; there is no surface there,
+//!   so the normal is `-point / |point|`, pointing back at the sensor (`-Z` for the ray). A
+//!   solid entirely closer than `offset` is not detected. (CoppeliaSim only sees triangles and
+//!   would report the nearest triangle point beyond the near cap, or nothing; we deliberately
+//!   report the obstacle.)
+//! * Triangle meshes, height fields and polylines are **surfaces**: each triangle (segment) is
+//!   a thin solid, so a closed mesh is hollow, exactly as in CoppeliaSim.
+//! * Compounds are the union of their parts.
+//! * Shapes that are none of the above (voxels, custom shapes without a support map) are not
+//!   supported: `detect` returns `None`.
+//!
+//! Normals are unit vectors in the sensor frame, pointing out of the shape and towards the
+//! sensor side (`normal · point <= 0`). On a face it is the face normal; on an edge or a
+//! vertex (where the surface normal is undefined) it is a vector of the normal cone, namely
+//! the direction of the separating plane between the shape and the volume.
+//!
+//! # Method
+//!
+//! Each file holds one part of the method and documents why it is exact:
+//!
+//! * `convex.rs`: one convex shape; the nearest distance is `max(t*, offset)`, where `t*` is
+//!   the minimum of `|p|` over the shape inside the infinite cone (cases A and B: the origin
+//!   inside the shape, or its projection inside the cone).
+//! * `lateral.rs`: case C, the minimiser on the cone's lateral surface, by a certified Newton
+//!   iteration on the distance between the shape and the growing sector, with `gjk.rs` (an
+//!   f64 GJK against the sector) and `simplex.rs` (its simplex).
+//! * `near_cap.rs`: when `t* < offset`, whether the shape reaches past the near cap.
+//! * `normal.rs`: the normal at a lateral detection.
+//! * `shape_query.rs`: point projections and ray casts on one shape.
+//! * `composite.rs` (compounds, meshes, height fields) and `half_space.rs`.
+//! * `geom.rs`: the volume's precomputed geometry (cone membership, generators, AABB).
+//!
+//! # What parry does, and what it cannot
+//!
+//! parry answers every query it answers exactly: support points, point projections where they
+//! are analytic (ball, cuboid, capsule, cylinder, cone, triangle, segment), ray casts where
+//! they are analytic (ball, cuboid, capsule, triangle, half-space), the ray–ball crossing of
+//! the near cap, face normals of triangles and polyhedra, bounding volumes, and the BVH walk
+//! of composites. The rest is ours, for two reasons. parry has no cone or cone-shell (sector)
+//! shape, so the lateral search and the near-cap witnesses are cone geometry of our own. And
+//! parry 0.31 is built for f32 (its `Real`) with a GJK that stops at a relative gap of ~1e-3:
+//! its projections on convex polyhedra and round shapes and its GJK-based ray casts (cylinder,
+//! cone, convex polyhedron, round shapes; see dimforge/parry PR #414) miss by 0.1 to 1 mm, on
+//! thin shapes (triangles) its GJK can report an intersection across a 1e-4-relative gap, and
+//! it cannot resolve the lateral search's separating directions. Those are a small f64 GJK on nalgebra vectors
+//! (`gjk.rs`) and searches on its projections; `shape_query.rs` and `gjk.rs` name the tests
+//! that fail with parry's own queries in their place.
+//!
+//! # Numerics, accuracy and cost
+//!
+//! Distances are exact to about 1e-6 of the distance (a micrometre at 1 m; 2e-5 of it at
+//! worst when the search stalls on a curved–curved contact), points lie within a few
+//! micrometres of the surface, normals within ~1e-5 rad on flat faces and ~1e-3 rad on curved
+//! surfaces. The tests compare against an independent brute-force oracle; an ignored stress
+//! test (`cargo test --release -- --ignored stress`) does so on thousands of random cases.
+//! Cost (release build, one core): the fast path is one point projection, ~80 ns for
+//! primitives; the lateral path ~0.1 µs for balls and 2–7 µs for other shapes; a mesh costs
+//! that per triangle reaching the volume. Nothing allocates
+//! (`cargo bench -p gantry-sim-core --bench proximity` times each path).
+
+mod composite;
+mod convex;
+mod geom;
+mod gjk;
+mod half_space;
+mod lateral;
+mod near_cap;
+mod normal;
+mod shape_query;
+mod simplex;
+#[cfg(test)]
+mod tests;
+
+use core::f32::consts::FRAC_PI_2;
+
+use parry3d::bounding_volume::Aabb;
+use parry3d::math::{Pose, Vector};
+use parry3d::shape::{Shape, TypedShape};
+
+use composite::{detect_composite, detect_height_field};
+use convex::detect_convex;
+use geom::Geom;
+use half_space::detect_half_space;
+
+/// The detection volume of a CoppeliaSim-style proximity sensor, in the sensor frame (the
+/// sensor sits at the origin and looks along +Z). Lengths in metres, angles in radians.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ProximityVolume {
+    /// The segment from `(0, 0, offset)` to `(0, 0, offset + range)`.
+    Ray {
+        /// Distance (m) from the sensor origin to the start of the segment, `>= 0`.
+        offset: f32,
+        /// Length (m) of the segment, `> 0`.
+        range: f32,
+    },
+    /// The points `p` with `angle(p, +Z) <= half_angle` and
+    /// `offset <= |p| <= offset + range` (two spherical caps and the lateral cone surface).
+    Cone {
+        /// Radius (m) of the near spherical cap, `>= 0`; nothing closer is detected.
+        offset: f32,
+        /// Depth (m) of the volume, `> 0`; the far cap has radius `offset + range`.
+        range: f32,
+        /// Half of the full opening angle (rad), in `(0, π/2)`.
+        half_angle: f32,
+    },
+}
+
+/// The nearest detected point of a shape, in the sensor frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProximityHit {
+    /// Distance (m) from the sensor origin to [`point`](Self::point), i.e. `|point|`.
+    pub distance: f32,
+    /// The detected point (m), sensor frame.
+    pub point: Vector,
+    /// Unit normal at the point, sensor frame, pointing out of the shape towards the sensor
+    /// side (`normal · point <= 0`). For a detection clamped to the near cap (the point is
+    /// inside a solid) it is `-point / |point|` (`-Z` when the point is the origin).
+    pub normal: Vector,
+}
+
+impl ProximityVolume {
+    /// Whether the parameters are usable: finite, `offset >= 0`, `range > 0` and, for the
+    /// cone, `0 < half_angle < π/2` (radians). [`detect`](Self::detect) returns `None` for an
+    /// invalid volume.
+    pub fn is_valid(&self) -> bool {
+        let (offset, range, half_angle) = self.params();
+        offset.is_finite()
+            && range.is_finite()
+            && offset >= 0.0
+            && range > 0.0
+            && (matches!(self, Self::Ray { .. }) || (half_angle > 0.0 && half_angle < FRAC_PI_2))
+    }
+
+    /// Axis-aligned bounding box (m) of the volume in the sensor frame, for broad-phase culling
+    /// by the caller. It is tight: the ray's box is the segment itself (zero width in X and Y),
+    /// the cone's is `[-r, r]² × [offset·cos(half_angle), offset + range]` with
+    /// `r = (offset + range)·sin(half_angle)`.
+    pub fn local_aabb(&self) -> Aabb {
+        let (offset, range, half_angle) = self.params();
+        Geom::new(offset, offset + range, half_angle).aabb()
+    }
+
+    /// Nearest detection of one shape placed at `shape_pose` (the pose of the shape in the
+    /// **sensor** frame), or `None` when no point of the shape lies in the volume, when the
+    /// volume is invalid (see [`is_valid`](Self::is_valid)) or when the shape type is not
+    /// supported (voxels, custom shapes without a support map).
+    ///
+    /// See the module documentation for the exact semantics (solids versus surfaces, the
+    /// near cap) and the method.
+    pub fn detect(&self, shape: &dyn Shape, shape_pose: &Pose) -> Option<ProximityHit> {
+        if !self.is_valid() {
+            return None;
+        }
+        let (offset, range, half_angle) = self.params();
+        let geom = Geom::new(offset, offset + range, half_angle);
+        let mut best = None;
+        detect_shape(&geom, shape, shape_pose, &mut best);
+        best
+    }
+
+    /// `(offset, range, half_angle)`, the ray being the cone of half-angle 0.
+    fn params(&self) -> (f32, f32, f32) {
+        match *self {
+            Self::Ray { offset, range } => (offset, range, 0.0),
+            Self::Cone {
+                offset,
+                range,
+                half_angle,
+            } => (offset, range, half_angle),
+        }
+    }
+}
+
+/// Replaces `best` by `candidate` when the latter is strictly nearer.
+fn keep_nearest(best: &mut Option<ProximityHit>, candidate: Option<ProximityHit>) {
+    if let Some(c) = candidate
+        && best.is_none_or(|b| c.distance < b.distance)
+    {
+        *best = Some(c);
+    }
+}
+
+/// Largest distance (m) still worth finding: the far cap, or the best detection so far.
+fn limit(geom: &Geom, best: &Option<ProximityHit>) -> f32 {
+    best.map_or(geom.far, |b| b.distance.min(geom.far))
+}
+
+/// Dispatches on the shape type and merges its detection into `best`.
+fn detect_shape(geom: &Geom, shape: &dyn Shape, pose: &Pose, best: &mut Option<ProximityHit>) {
+    match shape.as_typed_shape() {
+        TypedShape::HalfSpace(hs) => keep_nearest(best, detect_half_space(geom, hs, pose)),
+        TypedShape::HeightField(hf) => detect_height_field(geom, hf, pose, best),
+        _ => {
+            if let Some(composite) = shape.as_composite_shape() {
+                detect_composite(geom, composite, pose, best);
+            } else if let Some(support_map) = shape.as_support_map() {
+                let lim = limit(geom, best);
+                keep_nearest(best, detect_convex(geom, shape, support_map, pose, lim));
+            }
+            // Anything else (voxels, custom shapes without a support map) is not supported.
+        }
+    }
+}
+
+/// Detection at the sensor origin (offset 0 and the origin inside a solid).
+fn origin_hit() -> ProximityHit {
+    ProximityHit {
+        distance: 0.0,
+        point: Vector::ZERO,
+        normal: -Vector::Z,
+    }
+}
+
+/// Detection clamped to the near cap at `point` (inside the solid): normal pointing back.
+fn cap_hit(point: Vector) -> ProximityHit {
+    let distance = point.length();
+    ProximityHit {
+        distance,
+        point,
+        normal: if distance > 0.0 { -point / distance } else { -Vector::Z },
+    }
+}
