@@ -1,5 +1,6 @@
 //! Drawing objects (`sim.addDrawingObject`): points, lines, line strips and triangles
-//! that scripts draw into the scene, kept in the world for the viewer and the API.
+//! that scripts draw into the scene, kept in the simulation ([`crate::sim::Sim::drawings`])
+//! for the viewer and the API.
 //!
 //! The model follows CoppeliaSim's `CDrawingObject`:
 //! - an object holds up to `max_items` items of one kind; a full object either refuses

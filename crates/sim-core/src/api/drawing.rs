@@ -274,10 +274,10 @@ fn get_graph_stream_values(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> 
 /// needed; files are replaced atomically.
 ///
 /// Scripts and remote clients both reach this function, so the directory must lie
-/// inside the world's [`ExportScope`] (in gantry: the scene's folder, against which a
+/// inside the simulation's [`ExportScope`] (in gantry: the scene's folder, against which a
 /// relative `dir` resolves); anything else is refused before touching the disk.
 ///
-/// [`ExportScope`]: crate::world::ExportScope
+/// [`ExportScope`]: crate::graph::ExportScope
 fn export_graph_streams(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let dir = a.str(0)?;
     if dir.is_empty() {
