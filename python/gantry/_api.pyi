@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 206 functions, 158 constants."""
+    """`sim`: 207 functions, 158 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -417,6 +417,7 @@ class Sim:
         """a per-script level for threads (returns the previous level); for a remote client it is the client's stepping level (the simulation waits for its `sim.step`)."""
     def setStringSignal(self, *args: Any) -> Any: ...
     def setUserParameter(self, *args: Any) -> Any: ...
+    def setVisionSensorCharImage(self, *args: Any) -> Any: ...
     def setVisionSensorImg(self, *args: Any) -> Any: ...
     def startSimulation(self, *args: Any) -> Any:
         """a request carried out when the calling hook returns (scripts only run while the simulation runs, so it matters only after a pause from a remote client)."""

@@ -202,3 +202,50 @@ fn legacy_image_getters_match_get_vision_sensor_img() {
         "{e}"
     );
 }
+
+/// CoppeliaSim's synchronous image transmission example: the image read with
+/// `getVisionSensorCharImage` from one sensor is written with `setVisionSensorCharImage`
+/// into another, whose readers then get exactly those bytes (grey too, with the flag).
+#[test]
+fn set_vision_sensor_char_image_writes_what_readers_get() {
+    let (mut w, _, _) = two_obstacles_ahead();
+    let cam = find(&w, "/bubbleRob/visionSensor", 0);
+    call(&mut w, "sim.handleVisionSensor", &[Value::Int(cam)]).expect("render");
+    let img = bytes(&call(&mut w, "sim.getVisionSensorCharImage", &[Value::Int(cam)]).expect("get")[0]);
+    assert!(img.iter().any(|&b| b != img[0]), "a rendered image, not a flat one");
+    // Write it back inverted, so the check cannot pass by reading the render again.
+    let inverted: Vec<u8> = img.iter().map(|b| 255 - b).collect();
+    let r = call(
+        &mut w,
+        "sim.setVisionSensorCharImage",
+        &[Value::Int(cam), Value::Bytes(inverted.clone())],
+    )
+    .expect("set");
+    assert_eq!(r, vec![Value::Int(1)]);
+    let back = bytes(&call(&mut w, "sim.getVisionSensorImg", &[Value::Int(cam)]).expect("img")[0]);
+    assert_eq!(back, inverted);
+
+    // Greyscale: one byte per pixel, copied to R, G and B.
+    let grey: Vec<u8> = (0..256 * 256).map(|i| (i % 251) as u8).collect();
+    let flagged = cam | 0x0040_0000;
+    call(
+        &mut w,
+        "sim.setVisionSensorCharImage",
+        &[Value::Int(flagged), Value::Bytes(grey.clone())],
+    )
+    .expect("grey");
+    let rgb = bytes(&call(&mut w, "sim.getVisionSensorImg", &[Value::Int(cam)]).expect("img")[0]);
+    assert!(rgb.chunks_exact(3).zip(&grey).all(|(px, &g)| px == [g, g, g]));
+
+    // A short buffer is refused with the expected size.
+    let e = call(
+        &mut w,
+        "sim.setVisionSensorCharImage",
+        &[Value::Int(cam), Value::Bytes(vec![0; 10])],
+    )
+    .expect_err("short");
+    assert!(
+        e.contains("196608 bytes") && e.contains("sim.setVisionSensorCharImage"),
+        "{e}"
+    );
+}

@@ -59,6 +59,11 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::Sim(read_vision_sensor),
     },
     ApiFunction {
+        // CoppeliaSim 4.0-4.5's byte image setter.
+        name: "setVisionSensorCharImage",
+        call: ApiFn::Sim(set_vision_sensor_char_image),
+    },
+    ApiFunction {
         name: "setVisionSensorImg",
         call: ApiFn::Sim(set_vision_sensor_img),
     },
@@ -513,6 +518,25 @@ fn get_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'
         Value::Int(i64::from(m.resolution[0])),
         Value::Int(i64::from(m.resolution[1])),
     ])
+}
+
+/// `sim.setVisionSensorCharImage(h, image)` → 1 (CoppeliaSim 4.0-4.5): writes a whole
+/// image of RGB bytes, or of 1 byte per pixel with `h | sim.handleflag_greyscale`, as
+/// `setVisionSensorImg` does (bottom row first; the length must match the resolution).
+/// The pairing of `getVisionSensorCharImage` on one sensor with this on another copies
+/// an image between sensors, as CoppeliaSim's synchronous image transmission example
+/// does.
+fn set_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let raw = a.handle(0)?;
+    let grey = raw >= 0 && raw & HANDLEFLAG_GREYSCALE != 0;
+    let h = if grey { raw & !HANDLEFLAG_GREYSCALE } else { raw };
+    let args = [
+        Value::Int(h),
+        Value::Bytes(a.bytes(1)?.to_vec()),
+        Value::Int(i64::from(grey)),
+    ];
+    set_vision_sensor_img(sim, ctx, &Args::new(&args))?;
+    Ok(vec![Value::Int(1)])
 }
 
 /// `sim.getVisionSensorImage(h, posX=0, posY=0, sizeX=0, sizeY=0, returnType=0)` → the
