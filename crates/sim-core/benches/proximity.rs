@@ -8,33 +8,17 @@
 //! repeated; figures are the median and minimum over 31 rounds of the mean per call. On a
 //! busy machine the minimum is the steadier figure for comparing two versions.
 
-use std::f32::consts::TAU;
 use std::hint::black_box;
 use std::time::Instant;
 
 use gantry_sim_core::sensor::ProximityVolume;
-use parry3d::math::{Pose, Rotation, Vector};
-use parry3d::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMesh};
+use parry3d::math::{Pose, Vector};
+use parry3d::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape};
 
-/// Tiny deterministic xorshift generator, so that both versions time the same poses.
-struct Rng(u64);
+#[path = "../src/sensor/proximity_volume/tests/fixtures.rs"]
+mod fixtures;
 
-impl Rng {
-    fn next_f32(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next_f32()
-    }
-    fn rotation(&mut self) -> Rotation {
-        let axis =
-            Vector::new(self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0)).normalize_or(Vector::X);
-        Rotation::from_axis_angle(axis, self.range(0.0, TAU))
-    }
-}
+use fixtures::{Rng, box_trimesh};
 
 /// Poses (sensor frame) whose translation is `centre` (m) plus a uniform offset of up to
 /// `spread` (m) on each axis, randomly rotated.
@@ -50,34 +34,6 @@ fn poses(seed: u64, centre: Vector, spread: f32) -> Vec<Pose> {
             Pose::from_parts(centre + jitter, rng.rotation())
         })
         .collect()
-}
-
-/// A closed box mesh of half-extents `h` (m): 12 triangles.
-fn box_trimesh(h: Vector) -> TriMesh {
-    let v: Vec<Vector> = (0..8)
-        .map(|i| {
-            Vector::new(
-                if i & 1 == 0 { -h.x } else { h.x },
-                if i & 2 == 0 { -h.y } else { h.y },
-                if i & 4 == 0 { -h.z } else { h.z },
-            )
-        })
-        .collect();
-    let idx = vec![
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    TriMesh::new(v, idx).expect("a closed box is a valid trimesh")
 }
 
 /// Median and minimum nanoseconds per `detect`, as "median (min)", and how many of the

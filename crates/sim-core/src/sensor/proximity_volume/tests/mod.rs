@@ -3,16 +3,17 @@
 
 mod composite;
 mod convex;
+mod fixtures;
 mod half_space;
 mod near_cap;
 mod oracle;
 mod stress;
 mod volume;
 
-use core::f32::consts::TAU;
+use parry3d::math::Vector;
+use parry3d::shape::ConvexPolyhedron;
 
-use parry3d::math::{Rotation, Vector};
-use parry3d::shape::{ConvexPolyhedron, TriMesh};
+pub(super) use fixtures::{Rng, box_trimesh};
 
 use super::ProximityVolume;
 
@@ -39,25 +40,6 @@ fn cone_params(vol: &ProximityVolume) -> (f32, f32, f32) {
     }
 }
 
-/// Tiny deterministic xorshift generator (no external dependency).
-struct Rng(u64);
-impl Rng {
-    fn next_f32(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next_f32()
-    }
-    fn rotation(&mut self) -> Rotation {
-        let axis =
-            Vector::new(self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0)).normalize_or(Vector::X);
-        Rotation::from_axis_angle(axis, self.range(0.0, TAU))
-    }
-}
-
 fn direction(theta: f32, phi: f32) -> Vector {
     let (st, ct) = theta.sin_cos();
     let (sp, cp) = phi.sin_cos();
@@ -76,32 +58,4 @@ fn fibonacci_hull() -> ConvexPolyhedron {
             .collect::<Vec<_>>(),
     )
     .expect("hull")
-}
-
-/// A closed box mesh of half-extents `h` (m): 12 triangles, outward-facing.
-fn box_trimesh(h: Vector) -> TriMesh {
-    let v: Vec<Vector> = (0..8)
-        .map(|i| {
-            Vector::new(
-                if i & 1 == 0 { -h.x } else { h.x },
-                if i & 2 == 0 { -h.y } else { h.y },
-                if i & 4 == 0 { -h.z } else { h.z },
-            )
-        })
-        .collect();
-    let idx = vec![
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    TriMesh::new(v, idx).expect("a closed box is a valid trimesh")
 }
