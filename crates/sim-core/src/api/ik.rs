@@ -550,6 +550,18 @@ fn find_config(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
     else {
         return Ok(vec![Value::Nil]);
     };
+    Ok(vec![config_values(&found, &joints)?])
+}
+
+/// A found configuration as the caller's joint order asks for it (`findConfig` and the
+/// 4.2 `getConfigForTipPose` answer the same way).
+///
+/// # Errors
+/// A joint the group's chains do not move.
+pub(super) fn config_values(
+    found: &std::collections::BTreeMap<Handle, f64>,
+    joints: &[Handle],
+) -> Result<Value, ApiError> {
     let values = joints
         .iter()
         .map(|h| {
@@ -559,5 +571,5 @@ fn find_config(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
                 .ok_or_else(|| ApiError::new(format!("argument 3: joint {h} is not in the group's chains")))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    Ok(vec![Value::Array(values)])
+    Ok(Value::Array(values))
 }

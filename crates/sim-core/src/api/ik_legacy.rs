@@ -140,14 +140,5 @@ fn get_config_for_tip_pose(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> 
     let Some(found) = ik::find_config(&sim.world, &sim.ik, env, group, &search)? else {
         return Ok(vec![Value::Nil]);
     };
-    let values = joints
-        .iter()
-        .map(|h| {
-            found
-                .get(h)
-                .map(|&q| Value::Float(q))
-                .ok_or_else(|| ApiError::new(format!("argument 3: joint {h} is not in the group's chains")))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(vec![Value::Array(values)])
+    Ok(vec![super::ik::config_values(&found, &joints)?])
 }
