@@ -13,12 +13,13 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
 use gantry_sim_core::api::MODULES;
-use gantry_sim_core::api::{HOST_FUNCTIONS, InScripts, Remote};
+use gantry_sim_core::api::{ApiFn, HOST_FUNCTIONS, InScripts, Remote, Touches};
 
 /// What one row says.
 struct Row {
     scripts: &'static str,
     remote: &'static str,
+    touches: &'static str,
     notes: Vec<String>,
 }
 
@@ -47,6 +48,10 @@ fn generate(notes_text: &str) -> (String, Vec<String>) {
             let mut row = Row {
                 scripts: "yes",
                 remote: "yes",
+                touches: match f.call {
+                    ApiFn::World(_) => "world",
+                    ApiFn::Sim(_) => "simulation",
+                },
                 notes: Vec::new(),
             };
             if f.name != name {
@@ -63,27 +68,35 @@ fn generate(notes_text: &str) -> (String, Vec<String>) {
                     InScripts::ThreadedOnly => "threaded scripts",
                 };
                 let remote = if h.remote == Remote::No { "no" } else { "yes" };
+                let touches = match h.touches {
+                    Touches::Loop => "loop",
+                    Touches::Scripts => "scripts",
+                    Touches::Scene => "scene",
+                    Touches::Motion => "motion",
+                };
                 rows.insert(
                     h.name.to_owned(),
                     Row {
                         scripts,
                         remote,
+                        touches,
                         notes: Vec::new(),
                     },
                 );
             }
         }
         let _ = writeln!(modules, "\n## {}\n", module.name);
-        let _ = writeln!(modules, "| Function | Scripts | Remote clients | Notes |");
-        let _ = writeln!(modules, "|---|---|---|---|");
+        let _ = writeln!(modules, "| Function | Scripts | Remote clients | Touches | Notes |");
+        let _ = writeln!(modules, "|---|---|---|---|---|");
         for (name, mut row) in rows {
             let qualified = format!("{}.{name}", module.name);
             row.notes.extend(notes.remove(&qualified).unwrap_or_default());
             let _ = writeln!(
                 modules,
-                "| `{qualified}` | {} | {} | {} |",
+                "| `{qualified}` | {} | {} | {} | {} |",
                 row.scripts,
                 row.remote,
+                row.touches,
                 row.notes.join(" ").replace('|', "\\|")
             );
             functions += 1;
@@ -107,8 +120,12 @@ fn generate(notes_text: &str) -> (String, Vec<String>) {
          (kept in `docs/api-notes.md`).\n\n\
          \"Scripts\" is where a Lua script may call it (\"threaded scripts\": only from \
          `sysCall_thread`, `sysCall_threadmain` or a coroutine, because it blocks). \"Remote \
-         clients\" is whether the ZMQ remote API serves it. Units are SI and angles radians, \
-         as in CoppeliaSim.",
+         clients\" is whether the ZMQ remote API serves it. \"Touches\" is what the \
+         function may act on: the world (objects and physics), the simulation (also its \
+         state, signals, drawings, graphs, UIs, IK and vision), the simulation loop \
+         (starting, stepping, locks), the scripts, the scene as a whole, or the world through \
+         a motion over several steps (see docs/architecture.md). Units are SI and angles \
+         radians, as in CoppeliaSim.",
         MODULES.len()
     );
     out.push_str(&modules);

@@ -87,11 +87,6 @@ impl ApiFunction {
             ApiFn::Sim(f) => f(sim, ctx, args),
         }
     }
-
-    /// Whether the function touches only the world.
-    pub fn world_only(&self) -> bool {
-        matches!(self.call, ApiFn::World(_))
-    }
 }
 
 /// Every `sim.*` function implemented in the core, in alphabetical order.
