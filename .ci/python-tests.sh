@@ -17,6 +17,9 @@ cd "$root"
 source "$root/tools/python-venv.sh"
 
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt
+# The legacy remote API's real client (V-REP's remoteApi.so and vrep.py), as pypot ships
+# it; without pypot's own dependencies (OpenCV, SciPy...), which the tests never import.
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps -r tests/python/requirements-nodeps.txt
 
 if [[ -z "${GANTRY_BIN:-}" ]]; then
     cargo build --release --bin gantry

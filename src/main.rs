@@ -109,6 +109,11 @@ struct RunArgs {
     /// Browser viewer port: open http://127.0.0.1:PORT/ (default 8080; 0 = any free port).
     #[arg(long)]
     http_port: Option<u16>,
+    /// Also serve CoppeliaSim's legacy remote API (`simx*` clients: remoteApi.so with
+    /// sim.py or vrep.py) on PORT, as CoppeliaSim's server on 19997 (0 = any free port).
+    /// Scripts can start more with simRemoteApi.start. See docs/legacy-remote-api.md.
+    #[arg(long, value_name = "PORT")]
+    legacy_port: Option<u16>,
     /// Open no network listener at all (headless batch runs).
     #[arg(long)]
     no_listen: bool,
@@ -241,6 +246,7 @@ fn run(args: &RunArgs) -> Result<()> {
         expose_zmq: args.expose_zmq,
         text_port: port(args.text_port, scene_server.text_port, 6000),
         zmq_port: port(args.zmq_port, scene_server.zmq_port, 23000),
+        legacy_port: args.legacy_port.filter(|_| !args.no_listen),
         http_port: port(args.http_port, scene_server.http_port, 8080),
         dap_port: args.debug,
         text: TextConfig {
@@ -260,6 +266,7 @@ fn run(args: &RunArgs) -> Result<()> {
         autostart: true,
         export_graphs: args.export_graphs.clone(),
         load_options: opts.clone(),
+        listeners: None,
     };
     let summary = gantry_server::run(model, sim, serve, Shutdown::default(), |bound| {
         // One machine-readable line per listener on stderr, for scripts that start
@@ -272,6 +279,9 @@ fn run(args: &RunArgs) -> Result<()> {
         }
         if let Some(a) = bound.dap {
             eprintln!("listening dap={a}");
+        }
+        if let Some(a) = bound.legacy {
+            eprintln!("listening legacy={a}");
         }
         if let Some(a) = bound.http {
             eprintln!("listening http={a}");

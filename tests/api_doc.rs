@@ -13,7 +13,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
 use gantry_sim_core::api::MODULES;
-use gantry_sim_core::api::{ApiFn, HOST_FUNCTIONS, InScripts, Remote, Touches};
+use gantry_sim_core::api::{ApiFn, HOST_FUNCTIONS, HOST_MODULES, InScripts, Remote, Touches};
 
 /// What one row says.
 struct Row {
@@ -68,12 +68,7 @@ fn generate(notes_text: &str) -> (String, Vec<String>) {
                     InScripts::ThreadedOnly => "threaded scripts",
                 };
                 let remote = if h.remote == Remote::No { "no" } else { "yes" };
-                let touches = match h.touches {
-                    Touches::Loop => "loop",
-                    Touches::Scripts => "scripts",
-                    Touches::Scene => "scene",
-                    Touches::Motion => "motion",
-                };
+                let touches = touches_name(h.touches);
                 rows.insert(
                     h.name.to_owned(),
                     Row {
@@ -110,6 +105,24 @@ fn generate(notes_text: &str) -> (String, Vec<String>) {
             constants += consts.len();
         }
     }
+    for module in HOST_MODULES {
+        let _ = writeln!(modules, "\n## {}\n", module.name);
+        let _ = writeln!(modules, "| Function | Scripts | Remote clients | Touches | Notes |");
+        let _ = writeln!(modules, "|---|---|---|---|---|");
+        for h in module.functions {
+            let qualified = format!("{}.{}", module.name, h.name);
+            let row_notes = notes.remove(&qualified).unwrap_or_default();
+            let scripts = if h.scripts == InScripts::No { "no" } else { "yes" };
+            let remote = if h.remote == Remote::No { "no" } else { "yes" };
+            let _ = writeln!(
+                modules,
+                "| `{qualified}` | {scripts} | {remote} | {} | {} |",
+                touches_name(h.touches),
+                row_notes.join(" ").replace('|', "\\|")
+            );
+            functions += 1;
+        }
+    }
     let _ = writeln!(
         out,
         "# The gantry API\n\n\
@@ -124,9 +137,9 @@ fn generate(notes_text: &str) -> (String, Vec<String>) {
          function may act on: the world (objects and physics), the simulation (also its \
          state, signals, drawings, graphs, UIs, IK and vision), the simulation loop \
          (starting, stepping, locks), the scripts, the scene as a whole, or the world through \
-         a motion over several steps (see docs/architecture.md). Units are SI and angles \
-         radians, as in CoppeliaSim.",
-        MODULES.len()
+         a motion over several steps, or the front end's listeners (see docs/architecture.md). \
+         Units are SI and angles radians, as in CoppeliaSim.",
+        MODULES.len() + HOST_MODULES.len()
     );
     out.push_str(&modules);
     let unknown = notes.into_keys().collect();
@@ -152,6 +165,17 @@ fn api_reference_matches_the_registry() {
         current == generated,
         "docs/api.md is out of date with the registry: run `GANTRY_BLESS=1 cargo test --test api_doc`"
     );
+}
+
+/// How docs/api.md names what a host function touches.
+fn touches_name(t: Touches) -> &'static str {
+    match t {
+        Touches::Loop => "loop",
+        Touches::Scripts => "scripts",
+        Touches::Scene => "scene",
+        Touches::Motion => "motion",
+        Touches::Listeners => "listeners",
+    }
 }
 
 /// The class name of a module's stub: `sim` → `Sim`, `simIK` → `SimIK`.

@@ -7,11 +7,14 @@
 //! * [`packet`]: parses and formats `<CODE#KEY=VALUE,...>` command packets.
 //! * [`cbor`]: CBOR (RFC 8949) to and from [`Value`].
 //! * [`remote_api`]: the CoppeliaSim ZMQ remote API v2 request and reply messages.
+//! * [`legacy_remote_api`]: CoppeliaSim's legacy remote API (`simx*`): packets, messages,
+//!   commands.
 //! * [`dap`]: the Debug Adapter Protocol: `Content-Length` frames, typed requests, and the
 //!   adapter's responses and events.
 
 pub mod cbor;
 pub mod dap;
+pub mod legacy_remote_api;
 pub mod line;
 pub mod packet;
 pub mod remote_api;

@@ -4,6 +4,7 @@
 mod convert;
 pub mod debugger;
 mod limits;
+pub mod listeners;
 mod messages;
 pub mod sandbox;
 mod simulation;
@@ -12,4 +13,5 @@ mod threads;
 pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
 
 pub use limits::ScriptLimits;
+pub use listeners::{ListenerStatus, Listeners};
 pub use simulation::{Hook, ScriptError, ScriptState, Simulation, StepBoundary, check_syntax};

@@ -217,7 +217,7 @@ fn copy_table(lua: &Lua, t: &Table, copies: &Table) -> mlua::Result<Table> {
 
 /// The modules `require` returns: the API's namespaces, as in CoppeliaSim 4.6+ where
 /// scripts begin with `sim = require 'sim'`.
-pub const REQUIRABLE: &[&str] = &["sim", "simIK", "simUI", "simVision"];
+pub const REQUIRABLE: &[&str] = &["sim", "simIK", "simRemoteApi", "simUI", "simVision"];
 
 /// Gives a script's environment a `require` that returns the script's own copy of an
 /// API namespace and refuses everything else by name: there is no file or C module to

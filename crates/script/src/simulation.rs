@@ -16,6 +16,7 @@ use std::borrow::Cow;
 use std::cell::{Cell, RefCell};
 use std::path::PathBuf;
 use std::rc::Rc;
+use std::sync::Arc;
 use std::time::{Duration, Instant, SystemTime};
 
 use gantry_sim_core::api::{self, ApiError, Args, CallContext, CallError, ErrorKind};
@@ -30,6 +31,7 @@ use smallvec::SmallVec;
 use crate::convert::{to_lua, to_multi, to_value};
 use crate::debugger::{DebugHost, DebugLink};
 use crate::limits::ScriptLimits;
+use crate::listeners::{self, ListenerState, Listeners};
 use crate::messages;
 use crate::sandbox::{self, SOURCE_MODE, new_debuggable_state, new_state};
 use crate::threads::{self, ThreadMode};
@@ -169,6 +171,8 @@ pub(crate) struct Shared {
     pub(crate) time_budget: Cell<Duration>,
     /// With `gantry run --debug`: the script debugger.
     pub(crate) debugger: Option<DebugHost>,
+    /// `simRemoteApi`: the front end's listeners and the servers started this run.
+    pub(crate) listeners: Rc<RefCell<ListenerState>>,
 }
 
 impl Shared {
@@ -282,6 +286,7 @@ impl Simulation {
             current_hook: RefCell::new(Cow::Borrowed("")),
             time_budget: Cell::new(limits.time_budget),
             debugger,
+            listeners: Rc::new(RefCell::new(ListenerState::default())),
         });
         install_api(&lua, &shared).map_err(|e| ScriptError(format!("cannot install the sim API: {e}")))?;
         install_budget(&lua, &shared, limits.time_budget)
@@ -363,6 +368,12 @@ impl Simulation {
                 self.fail(index, e);
             }
         }
+    }
+
+    /// Lets scripts start legacy remote API servers (`simRemoteApi.start`) through the
+    /// front end that runs this simulation with its transports.
+    pub fn set_listeners(&mut self, listeners: Arc<dyn Listeners>) {
+        self.shared.listeners.borrow_mut().front_end = Some(listeners);
     }
 
     /// Sets how model files are read (`sim.loadModel`); the host passes the options its
@@ -768,6 +779,8 @@ impl Simulation {
         }
         self.shared.sim.borrow_mut().advancing = Advancing::AboutToStop;
         self.cleanup();
+        // Legacy remote API servers started during the run end with it, as in CoppeliaSim.
+        self.shared.listeners.borrow_mut().simulation_ended();
         // What cleanup hooks asked for: a removal ends with the run (the scene comes back
         // as loaded), a model loaded joins the scene now being rebuilt.
         self.shared.removals.borrow_mut().clear();
@@ -1449,6 +1462,20 @@ fn install_api(lua: &Lua, shared: &Rc<Shared>) -> mlua::Result<()> {
         }
     }
     let sim = sim.ok_or_else(|| mlua::Error::runtime("the API has no sim module"))?;
+    let run_shared = shared.clone();
+    let remote_api = listeners::install(
+        lua,
+        &shared.listeners,
+        Rc::new(move || {
+            run_shared
+                .sim
+                .try_borrow()
+                .map(|s| s.state != SimulationState::Stopped)
+                .unwrap_or(true)
+        }),
+        &wrap,
+    )?;
+    lua.globals().set("simRemoteApi", remote_api)?;
     let cs_shared = shared.clone();
     sim.set(
         "callScriptFunction",

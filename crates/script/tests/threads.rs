@@ -358,7 +358,7 @@ fn require_returns_the_api_and_refuses_anything_else_by_name() {
         util::text(&r[1]),
         &[
             "module 'socket.core' is not available in gantry",
-            "sim, simIK, simUI, simVision",
+            "sim, simIK, simRemoteApi, simUI, simVision",
         ],
     );
 }

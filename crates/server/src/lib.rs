@@ -7,6 +7,8 @@ pub mod auth;
 pub mod dap;
 pub mod debug;
 pub mod http;
+pub mod legacy;
+pub mod legacy_commands;
 pub mod runner;
 pub mod sim_thread;
 pub mod stepping;

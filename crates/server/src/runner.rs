@@ -23,6 +23,9 @@ pub struct ServeConfig {
     pub text_port: Option<u16>,
     /// ZMQ remote API.
     pub zmq_port: Option<u16>,
+    /// A legacy remote API server (`simx*` clients) from the start, as CoppeliaSim's
+    /// continuous server on 19997; scripts may start more (`simRemoteApi.start`).
+    pub legacy_port: Option<u16>,
     /// Browser viewer (HTTP and WebSocket).
     pub http_port: Option<u16>,
     /// The script debugger's Debug Adapter Protocol listener (`--debug`); `None`: no
@@ -48,6 +51,7 @@ impl Default for ServeConfig {
             bind: IpAddr::V4(Ipv4Addr::LOCALHOST),
             text_port: None,
             zmq_port: None,
+            legacy_port: None,
             http_port: None,
             dap_port: None,
             text: crate::text::TextConfig::default(),
@@ -102,6 +106,8 @@ pub struct BoundAddrs {
     pub text: Option<SocketAddr>,
     /// ZMQ remote API.
     pub zmq: Option<SocketAddr>,
+    /// The legacy remote API server of `--legacy-port`.
+    pub legacy: Option<SocketAddr>,
     /// Browser viewer: open `http://ADDR/`.
     pub http: Option<SocketAddr>,
     /// The debugger's DAP listener.
@@ -197,7 +203,7 @@ impl Running {
 /// A listener could not bind, or the runtime or thread could not start.
 pub fn start(
     model: SceneModel,
-    sim: SimConfig,
+    mut sim: SimConfig,
     serve: ServeConfig,
     shutdown: Shutdown,
     signals: Signals,
@@ -217,6 +223,16 @@ pub fn start(
         }
         None => (None, None),
     };
+
+    // Legacy remote API servers, started by --legacy-port or by scripts; unauthenticated
+    // like the ZMQ remote API, so they follow its address.
+    let legacy = Arc::new(crate::legacy::LegacyServers::new(
+        rt.handle().clone(),
+        zmq_ip(&serve),
+        handle.clone(),
+        stop_rx.clone(),
+    ));
+    sim.listeners = Some(legacy.clone());
 
     // The viewer's pose stream: published by the simulation thread, only when a page
     // is connected.
@@ -255,6 +271,14 @@ pub fn start(
                 crate::zmq::ZmqConfig::default(),
                 stop_rx.clone(),
             ));
+        }
+        if let Some(port) = serve.legacy_port {
+            let addr = SocketAddr::new(zmq_ip(&serve), port);
+            let local = legacy.start(port).map_err(|e| ServerError::Bind {
+                addr,
+                source: std::io::Error::other(e),
+            })?;
+            bound.legacy = Some(local);
         }
         if let (Some(port), Some(hub)) = (serve.dap_port, &debug_hub) {
             // Always loopback: the debugger runs code in the scripts (evaluate), so it is

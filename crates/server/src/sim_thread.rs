@@ -209,6 +209,9 @@ pub struct SimConfig {
     pub export_graphs: Option<std::path::PathBuf>,
     /// How scenes loaded later by remote clients (`sim.loadScene`) are read.
     pub load_options: gantry_sim_core::scene::LoadOptions,
+    /// The front end's listeners, for scripts' `simRemoteApi.start` (none: scripts
+    /// cannot start servers).
+    pub listeners: Option<std::sync::Arc<dyn gantry_script::Listeners>>,
 }
 
 /// What a finished run reports.
@@ -313,6 +316,9 @@ pub fn run_sim_thread_debugged(
         None => Simulation::new(model, config.limits)?,
     };
     sim.set_load_options(config.load_options.clone());
+    if let Some(l) = &config.listeners {
+        sim.set_listeners(l.clone());
+    }
     let mut lp = SimLoop {
         sim,
         steps: 0,
@@ -320,6 +326,7 @@ pub fn run_sim_thread_debugged(
         deferred: VecDeque::new(),
         limits: config.limits,
         load_options: config.load_options.clone(),
+        listeners: config.listeners.clone(),
     };
     if config.autostart {
         lp.sim.start();
@@ -452,6 +459,7 @@ struct SimLoop {
     /// For scenes loaded later (`sim.loadScene`).
     limits: ScriptLimits,
     load_options: gantry_sim_core::scene::LoadOptions,
+    listeners: Option<std::sync::Arc<dyn gantry_script::Listeners>>,
 }
 
 impl SimLoop {
@@ -585,6 +593,9 @@ impl SimLoop {
         }
         .map_err(|e| refused(&e))?;
         sim.set_load_options(self.load_options.clone());
+        if let Some(l) = &self.listeners {
+            sim.set_listeners(l.clone());
+        }
         // Cleanup hooks of the old scene run; its log goes with it.
         self.stop();
         self.sim = sim;

@@ -42,6 +42,8 @@ pub enum Touches {
     Scene,
     /// The world, through a motion run by a threaded script over several steps.
     Motion,
+    /// The front end's listeners: servers scripts start for remote clients.
+    Listeners,
 }
 
 /// One host function.
@@ -107,6 +109,27 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("wait", ThreadedOnly, Remote::No, Loop),
     f("waitForSignal", ThreadedOnly, Remote::No, Loop),
 ];
+
+/// A module whose every function a host implements (no core function behind it).
+#[derive(Debug, Clone, Copy)]
+pub struct HostModule {
+    /// Its name, the Lua global and `require` name.
+    pub name: &'static str,
+    /// Its functions, sorted by name.
+    pub functions: &'static [HostFunction],
+}
+
+/// Modules besides `sim` that only the Lua host implements.
+pub const HOST_MODULES: &[HostModule] = &[HostModule {
+    // CoppeliaSim's legacy remote API plugin: scripts start servers for `simx*` clients.
+    name: "simRemoteApi",
+    functions: &[
+        f("reset", AnyHook, Remote::No, Touches::Listeners),
+        f("start", AnyHook, Remote::No, Touches::Listeners),
+        f("status", AnyHook, Remote::No, Touches::Listeners),
+        f("stop", AnyHook, Remote::No, Touches::Listeners),
+    ],
+}];
 
 /// The host function named `name` (without `sim.`).
 pub fn host_function(name: &str) -> Option<&'static HostFunction> {

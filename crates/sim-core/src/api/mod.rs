@@ -32,7 +32,7 @@ mod vision;
 
 pub use args::Args;
 pub use error::{ApiError, CallError, ErrorKind};
-pub use host::{HOST_FUNCTIONS, HostFunction, InScripts, Remote, Touches, host_function};
+pub use host::{HOST_FUNCTIONS, HOST_MODULES, HostFunction, HostModule, InScripts, Remote, Touches, host_function};
 
 use crate::Value;
 use crate::sim::Sim;
