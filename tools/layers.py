@@ -31,7 +31,7 @@ CRATES = {
         ({"api"}, False),
     ],
     "crates/script/src": [
-        ({"limits", "convert"}, False),
+        ({"limits", "convert", "listeners"}, False),
         ({"sandbox"}, False),
         ({"threads", "simulation", "messages", "debugger"}, True),
     ],
