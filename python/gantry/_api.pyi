@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 207 functions, 158 constants."""
+    """`sim`: 214 functions, 160 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -62,6 +62,7 @@ class Sim:
     handleflag_resetforce: int
     handleflag_resetforcetorque: int
     handleflag_resettorque: int
+    handleflag_silenterror: int
     intparam_dynamic_step_divider: int
     intparam_hierarchychangecounter: int
     intparam_objectcreationcounter: int
@@ -98,6 +99,7 @@ class Sim:
     object_forcesensor_type: int
     object_graph_type: int
     object_joint_type: int
+    object_pointcloud_type: int
     object_proximitysensor_type: int
     object_shape_type: int
     object_visionsensor_type: int
@@ -210,6 +212,8 @@ class Sim:
         """a copy goes to the root unless its parent was copied too; scripts are not copied."""
     def createCollection(self, *args: Any) -> Any: ...
     def createDummy(self, *args: Any) -> Any: ...
+    def createPointCloud(self, *args: Any) -> Any:
+        """the cloud is a scene object (`sim.object_pointcloud_type`, 16) at the world origin, alias `PointCloud`, with white points. As in CoppeliaSim, sizes are clamped (voxel 0.001-1 m, 1-100 points per voxel, 1-8 pixels; the point size is rounded); negative or non-finite ones are an error. `maxVoxelSize` and `maxPtCntPerVoxel` only shape the calculation structure: a full voxel splits (as the manual says), no point is ever dropped for them. Option bits 1 (show OC tree) and 4 (emissive) are kept and reported, not drawn; bit 0 makes the viewer show random colours; bit 3 (no calculation structure) turns the insertion duplicate check off, as in CoppeliaSim. Point clouds are not collidable, measurable or detectable, and vision sensors do not render them; the viewer draws them as points of their colour and size."""
     def createPrimitiveShape(self, *args: Any) -> Any:
         """the shape is static, non-respondable, white, 1000 kg/m^3, at the origin; option bits 0-2 are accepted and ignored; non-round spheroids, elliptic cylinders and cones are tessellated meshes (their density-based mass uses the bounding box)."""
     def destroyCollection(self, *args: Any) -> Any: ...
@@ -282,6 +286,9 @@ class Sim:
     def getObjectVelocity(self, *args: Any) -> Any: ...
     def getObjects(self, *args: Any) -> Any: ...
     def getObjectsInTree(self, *args: Any) -> Any: ...
+    def getPointCloudOptions(self, *args: Any) -> Any: ...
+    def getPointCloudPoints(self, *args: Any) -> Any:
+        """points in the cloud's frame, in insertion order (CoppeliaSim's order follows its OC tree)."""
     def getPoseInverse(self, *args: Any) -> Any: ...
     def getQuaternionFromMatrix(self, *args: Any) -> Any: ...
     def getRotationAxis(self, *args: Any) -> Any:
@@ -319,8 +326,12 @@ class Sim:
     def getVisionSensorResolution(self, *args: Any) -> Any: ...
     def handleProximitySensor(self, *args: Any) -> Any: ...
     def handleVisionSensor(self, *args: Any) -> Any: ...
+    def insertPointsIntoPointCloud(self, *args: Any) -> Any:
+        """at most 1,000,000 points per cloud: an insertion past it is refused as a whole. A point is a duplicate when strictly closer than `duplicateTolerance` (clamped to 1 m) to a point of the cloud or one inserted before it in the same call. Colours are numbers 0-255 (fractions are truncated) or a byte string; an empty points table inserts nothing (CoppeliaSim wants at least one point)."""
     def interpolateMatrices(self, *args: Any) -> Any: ...
     def interpolatePoses(self, *args: Any) -> Any: ...
+    def intersectPointsWithPointCloud(self, *args: Any) -> Any:
+        """keeps the points strictly closer than `tolerance` to one of `points`; nil removes every point."""
     def isDynamicallyEnabled(self, *args: Any) -> Any: ...
     def isHandle(self, *args: Any) -> Any: ...
     def loadModel(self, *args: Any) -> Any:
@@ -354,6 +365,8 @@ class Sim:
     def removeObject(self, *args: Any) -> Any: ...
     def removeObjects(self, *args: Any) -> Any:
         """children of a removed object move to its parent, keeping their world pose; scripts attached to removed objects keep running (their object calls then fail)."""
+    def removePointsFromPointCloud(self, *args: Any) -> Any:
+        """removes points strictly closer than `tolerance`; with `points` nil every point goes (the tolerance is then ignored). Unlike CoppeliaSim, removal also works on a cloud without calculation structure (option bit 3)."""
     def removeScript(self, *args: Any) -> Any:
         """the script's `sysCall_cleanup` runs once the calling hook has returned (a script that removes itself finishes its function); it then receives nothing and `sim.getScript` no longer finds it. A stop restores the scene as loaded, the script included."""
     def resetDynamicObject(self, *args: Any) -> Any: ...
@@ -394,7 +407,7 @@ class Sim:
     def setLinkDummy(self, *args: Any) -> Any:
         """every link is a dynamic loop closure (CoppeliaSim's default link type): a fixed joint between the bodies the two dummies ride on pulls their frames together (two dummies on the same body, or on none, are linked without effect). A link does not survive a physics rebuild of either body (re-parenting, a static/dynamic switch): link again after one."""
     def setObjectAlias(self, *args: Any) -> Any:
-        """characters other than letters, digits and `_` become `_`; an empty alias is an error."""
+        """characters other than letters, digits and `_` become `_`; an empty alias is an error. `sim.handleflag_silenterror` OR-ed onto the handle (4.0-4.2 scripts pass it to `sim.setObjectName`) ignores a missing object or a bad alias instead of raising."""
     def setObjectFloatParam(self, *args: Any) -> Any: ...
     def setObjectFloatParameter(self, *args: Any) -> Any: ...
     def setObjectInt32Param(self, *args: Any) -> Any: ...
@@ -409,6 +422,7 @@ class Sim:
     def setObjectQuaternion(self, *args: Any) -> Any: ...
     def setObjectSel(self, *args: Any) -> Any:
         """the viewer shows the first selected object; handles must exist; at most 1024."""
+    def setPointCloudOptions(self, *args: Any) -> Any: ...
     def setScriptSimulationParameter(self, *args: Any) -> Any: ...
     def setShapeColor(self, *args: Any) -> Any:
         """shapes have no named colour parts: a name other than nil, "" or "@compound" matches nothing; only ambient-diffuse is drawn, the other components are stored and read back."""

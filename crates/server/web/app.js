@@ -6,7 +6,7 @@
 //                          {"t":"tick"}    time, state, rates, joints, detections, picked object's Euler angles
 //                          {"t":"panels"}  scripts, log, custom UIs, graph samples
 //                          {"t":"reply"}   answer to a command (matched by id)
-//                   binary u32 type 1: pose and drawing deltas, 2: vision image, 3: mesh
+//                   binary u32 type 1: pose, drawing and point-cloud deltas, 2: vision image, 3: mesh
 //   page -> server  text   {"id","op":"control"|"packet"|"ui"|"reload"|"debug"|"key"|"select",...}
 // World frame: Z up, metres, radians; poses are [x, y, z, qx, qy, qz, qw].
 'use strict';
@@ -239,6 +239,19 @@ uniform vec4 uColor;
 out vec4 outColor;
 void main() { outColor = uColor; }`;
 
+// Point clouds: a colour per point (RGB bytes, normalised).
+const CLOUD_VS = `#version 300 es
+layout(location=0) in vec3 aPos;
+layout(location=1) in vec3 aCol;
+uniform mat4 uViewProj, uModel; uniform float uPointSize;
+out vec3 vCol;
+void main() { gl_Position = uViewProj * uModel * vec4(aPos, 1.0); gl_PointSize = uPointSize; vCol = aCol; }`;
+const CLOUD_FS = `#version 300 es
+precision highp float;
+in vec3 vCol;
+out vec4 outColor;
+void main() { outColor = vec4(vCol, 1.0); }`;
+
 function compile(vs, fs) {
   const prog = gl.createProgram();
   for (const [type, src] of [[gl.VERTEX_SHADER, vs], [gl.FRAGMENT_SHADER, fs]]) {
@@ -284,17 +297,36 @@ function makeDrawable(pos, nrm, idx, mode) {
   return { vao, buffers, count, indexed: !!idx, mode: mode ?? gl.TRIANGLES };
 }
 
+// A point cloud's drawable: positions (cloud frame) and RGB bytes, one per point.
+function makeCloudDrawable(pos, rgb) {
+  const vao = gl.createVertexArray();
+  gl.bindVertexArray(vao);
+  const pb = gl.createBuffer();
+  gl.bindBuffer(gl.ARRAY_BUFFER, pb);
+  gl.bufferData(gl.ARRAY_BUFFER, pos, gl.STATIC_DRAW);
+  gl.enableVertexAttribArray(0);
+  gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
+  const cb = gl.createBuffer();
+  gl.bindBuffer(gl.ARRAY_BUFFER, cb);
+  gl.bufferData(gl.ARRAY_BUFFER, rgb, gl.STATIC_DRAW);
+  gl.enableVertexAttribArray(1);
+  gl.vertexAttribPointer(1, 3, gl.UNSIGNED_BYTE, true, 0, 0);
+  gl.bindVertexArray(null);
+  return { vao, buffers: [pb, cb], count: pos.length / 3, indexed: false, mode: gl.POINTS };
+}
+
 function freeDrawable(d) {
   if (!d) return;
   gl.deleteVertexArray(d.vao);
   for (const b of d.buffers) gl.deleteBuffer(b);
 }
 
-let lit, flat;
+let lit, flat, cloud;
 const glError = gl ? null : 'WebGL2 is not available in this browser';
 if (gl) {
   lit = compile(LIT_VS, LIT_FS);
   flat = compile(FLAT_VS, FLAT_FS);
+  cloud = compile(CLOUD_VS, CLOUD_FS);
 }
 
 // The floor grid: 0.5 m lines over +-10 m, just above the floor's top face (z = 0).
@@ -323,6 +355,7 @@ const S = {
   jointVel: [],         // joint target velocities
   detections: [],
   drawings: new Map(),  // handle -> {kind, size, color, drawable}
+  clouds: new Map(),    // point cloud object handle -> {size, count, drawable} (points in its frame)
   selected: -1,
   selectedOrientation: null,  // {handle, euler: [a, b, g] rad}: the server's, for the pick panel
   tick: null,
@@ -337,6 +370,9 @@ function onScene(msg) {
   for (const o of S.objects) for (const v of o.visuals || []) freeDrawable(v.drawable);
   for (const d of S.drawings.values()) freeDrawable(d.drawable);
   S.drawings.clear();
+  // The server sends every point cloud again after a scene description.
+  for (const c of S.clouds.values()) freeDrawable(c.drawable);
+  S.clouds.clear();
   S.scene = msg;
   S.meshes = new Array(msg.meshes).fill(null);
   S.jointIndex = [];
@@ -404,7 +440,7 @@ function onMesh(dv, buf) {
 }
 
 function onFrame(dv) {
-  const nPoses = dv.getUint32(4, true), nDrawings = dv.getUint32(8, true);
+  const nPoses = dv.getUint32(4, true), nDrawings = dv.getUint32(8, true), nClouds = dv.getUint32(12, true);
   let off = 16;
   for (let i = 0; i < nPoses; i++) {
     const idx = dv.getUint32(off, true);
@@ -426,6 +462,17 @@ function onFrame(dv) {
     if (kind === 255) { S.drawings.delete(handle); continue; }
     const mode = { 1: gl.LINES, 2: gl.TRIANGLES, 8: gl.LINE_STRIP }[kind] ?? gl.POINTS;
     S.drawings.set(handle, { kind, size, color, drawable: n ? makeDrawable(verts, null, null, mode) : null });
+  }
+  for (let i = 0; i < nClouds; i++) {
+    const handle = dv.getUint32(off, true), flag = dv.getUint32(off + 4, true);
+    const size = dv.getFloat32(off + 8, true), n = dv.getUint32(off + 12, true);
+    const pos = new Float32Array(dv.buffer.slice(off + 16, off + 16 + n * 12));
+    const rgb = new Uint8Array(dv.buffer.slice(off + 16 + n * 12, off + 16 + n * 15));
+    off += 16 + n * 12 + Math.ceil((n * 3) / 4) * 4;
+    const old = S.clouds.get(handle);
+    if (old) freeDrawable(old.drawable);
+    if (flag === 255) { S.clouds.delete(handle); continue; }
+    S.clouds.set(handle, { size, count: n, drawable: n && gl ? makeCloudDrawable(pos, rgb) : null });
   }
   S.frameMessages++;
   if (S.needFit && nPoses) { S.needFit = false; fitCamera(); dirty = true; }
@@ -588,6 +635,16 @@ function render() {
       gl.drawArrays(gl.LINES, i, 2);
     }
     gl.enable(gl.DEPTH_TEST);
+  }
+
+  // Point clouds, placed by their object's pose.
+  gl.useProgram(cloud.prog);
+  gl.uniformMatrix4fv(cloud.u.uViewProj, false, vp);
+  for (const [handle, c] of S.clouds) {
+    const o = S.byHandle.get(handle);
+    if (!o || !c.drawable) continue;
+    gl.uniform1f(cloud.u.uPointSize, Math.max(1, Math.min(32, c.size)));
+    drawWith(cloud, c.drawable, o.world);
   }
 
   // Translucent sensor volumes last: red while detecting.

@@ -9,7 +9,10 @@
 //! joints moved by packets during a pause still show).
 //!
 //! Each session turns frames into deltas against what it sent last ([`FrameDelta`]):
-//! only the poses, joints and drawings that changed go over the wire.
+//! only the poses, joints, drawings and point clouds that changed go over the wire.
+//! Point clouds are sent in their own frame, once per change of their points or
+//! settings; the page places them with the cloud's pose, so a moving cloud costs only
+//! its pose.
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -18,7 +21,7 @@ use gantry_script::Simulation;
 use gantry_sim_core::Sim;
 use gantry_sim_core::drawing::DrawingKind;
 use gantry_sim_core::math::euler_from_quat;
-use gantry_sim_core::world::ObjectKind;
+use gantry_sim_core::world::{ObjectKind, PointCloud};
 use serde_json::json;
 use tokio::sync::watch;
 
@@ -34,6 +37,11 @@ pub const MAX_DRAWING_VERTICES: usize = 30_000;
 /// Most drawing vertices per frame, all drawing objects together; drawing objects past
 /// it are not drawn (they stay in the simulation).
 pub const MAX_FRAME_VERTICES: usize = 300_000;
+/// Most points sent per point cloud: larger clouds are sent as an even subsample.
+pub const MAX_CLOUD_POINTS: usize = 200_000;
+/// Most point-cloud points per frame, all clouds together; clouds past it are not
+/// drawn (they stay in the simulation).
+pub const MAX_FRAME_CLOUD_POINTS: usize = 1_000_000;
 /// How often steps/s and the real-time factor are measured.
 const RATE_WINDOW: Duration = Duration::from_millis(500);
 
@@ -55,6 +63,66 @@ pub struct DrawingFrame {
     pub color: [f32; 3],
     /// `x, y, z` per vertex, world frame, m.
     pub vertices: Vec<f32>,
+}
+
+/// One point cloud's points, in the cloud's own frame (the page places them with the
+/// cloud's pose from [`Frame::poses`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointCloudFrame {
+    /// The cloud's object handle.
+    pub handle: i64,
+    /// [`PointCloud::generation`]: the same number means the same points and settings.
+    pub generation: u64,
+    /// Point size, pixels.
+    pub size: f32,
+    /// `x, y, z` per point, cloud frame, m (at most [`MAX_CLOUD_POINTS`] points).
+    pub points: Vec<f32>,
+    /// `r, g, b` bytes per point.
+    pub colors: Vec<u8>,
+}
+
+impl PointCloudFrame {
+    /// The cloud as the page draws it: every point, or an even subsample of
+    /// [`MAX_CLOUD_POINTS`]; random colours (option bit 0) are made up here, the same
+    /// for each point from frame to frame.
+    pub fn capture(handle: i64, cloud: &PointCloud) -> PointCloudFrame {
+        let n = cloud.len();
+        let stride = n.div_ceil(MAX_CLOUD_POINTS).max(1);
+        let random = cloud.options().random_colors();
+        let mut points = Vec::with_capacity(3 * n / stride);
+        let mut colors = Vec::with_capacity(3 * n / stride);
+        for (i, (p, c)) in cloud.points().iter().zip(cloud.colors()).enumerate().step_by(stride) {
+            points.extend([p.x as f32, p.y as f32, p.z as f32]);
+            colors.extend(if random { random_color(i) } else { *c });
+        }
+        PointCloudFrame {
+            handle,
+            generation: cloud.generation(),
+            size: cloud.options().point_size as f32,
+            points,
+            colors,
+        }
+    }
+
+    /// Number of points sent.
+    pub fn len(&self) -> usize {
+        self.points.len() / 3
+    }
+
+    /// Whether no point is sent.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+}
+
+/// CoppeliaSim's random point colours: each channel in [0.2, 1], here from a hash of the
+/// point's index so that it keeps its colour.
+fn random_color(i: usize) -> [u8; 3] {
+    let mut x = (i as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^= x >> 31;
+    [0, 1, 2].map(|k| 51 + ((x >> (16 * k)) & 0xffff) as u8 % 205)
 }
 
 /// What the page shows that changes while the simulation runs.
@@ -81,6 +149,9 @@ pub struct Frame {
     pub detections: Vec<f32>,
     /// Every drawing object.
     pub drawings: Vec<DrawingFrame>,
+    /// Every point cloud, in scene order, until [`MAX_FRAME_CLOUD_POINTS`] (the rest are
+    /// not drawn); each shared with the previous frame while it does not change.
+    pub point_clouds: Vec<Arc<PointCloudFrame>>,
     /// The first selected object (`sim.getObjectSel`, the page's pick) and its
     /// orientation as `sim.getObjectOrientation(h, -1)` gives it: CoppeliaSim Euler
     /// angles, world frame, rad. One object only, so frames stay as cheap as before.
@@ -108,6 +179,12 @@ pub struct SelectedOrientation {
 impl Frame {
     /// Reads a frame from the simulation. `steps_per_s` and `rtf` are left at 0.
     pub fn capture(sim: &Sim) -> Frame {
+        Frame::capture_after(sim, None)
+    }
+
+    /// As [`Frame::capture`], taking the point clouds that did not change since
+    /// `previous` from it instead of copying their points again.
+    pub fn capture_after(sim: &Sim, previous: Option<&Frame>) -> Frame {
         let world = &sim.world;
         let mut f = Frame {
             time: world.time(),
@@ -119,6 +196,7 @@ impl Frame {
             ..Frame::default()
         };
         f.poses.reserve(world.handles().len());
+        let mut cloud_budget = MAX_FRAME_CLOUD_POINTS;
         for &h in world.handles() {
             let Ok(o) = world.object(h) else {
                 // Keeps the indices aligned with the scene description, which lists
@@ -137,6 +215,19 @@ impl Frame {
                         Some(Some(d)) => d.distance as f32,
                         _ => -1.0,
                     });
+                }
+                ObjectKind::PointCloud(c) => {
+                    let unchanged = previous
+                        .and_then(|p| p.point_clouds.iter().find(|x| x.handle == h))
+                        .filter(|x| x.generation == c.generation());
+                    let cloud = match unchanged {
+                        Some(x) => x.clone(),
+                        None => Arc::new(PointCloudFrame::capture(h, c)),
+                    };
+                    if cloud.len() <= cloud_budget {
+                        cloud_budget -= cloud.len();
+                        f.point_clouds.push(cloud);
+                    }
                 }
                 _ => {}
             }
@@ -257,7 +348,8 @@ impl Observer for FramePublisher {
             Some(_) => {}
             None => self.window = Some((now, run_steps, world.time())),
         }
-        let mut frame = Frame::capture(&core);
+        let previous = self.tx.borrow().clone();
+        let mut frame = Frame::capture_after(&core, Some(&previous));
         (frame.steps_per_s, frame.rtf) = self.rates;
         self.tx.send_replace(Arc::new(frame));
         self.last = Some(now);
@@ -273,6 +365,8 @@ pub struct FrameDelta {
     joint_target_velocities: Vec<f32>,
     detections: Vec<f32>,
     drawings: Vec<DrawingFrame>,
+    /// `(handle, generation)` of each point cloud sent.
+    clouds: Vec<(i64, u64)>,
     /// `None` until sent once (so a first or reset delta always says what is selected).
     selected: Option<Option<SelectedOrientation>>,
     scalars: Option<(f64, u64, i64, f64, f64)>,
@@ -299,9 +393,12 @@ impl FrameDelta {
     /// The messages that bring the page from the last frame sent to `frame`.
     ///
     /// Binary layout, little-endian: `u32` [`MSG_FRAME`], `u32` pose count, `u32`
-    /// drawing count, `u32` 0; per pose `u32` object index and 7 `f32`; per drawing
-    /// `u32` handle, `u32` kind ([`DRAWING_REMOVED`] when gone), `f32` size, 3 `f32`
-    /// colour, `u32` vertex count and 3 `f32` per vertex.
+    /// drawing count, `u32` point-cloud count; per pose `u32` object index and 7 `f32`;
+    /// per drawing `u32` handle, `u32` kind ([`DRAWING_REMOVED`] when gone), `f32` size,
+    /// 3 `f32` colour, `u32` vertex count and 3 `f32` per vertex; per point cloud `u32`
+    /// object handle, `u32` 0 ([`DRAWING_REMOVED`] when gone or not drawn), `f32` point
+    /// size (pixels), `u32` point count, 3 `f32` per point (cloud frame, m), then 3 `u8`
+    /// colour bytes per point, padded with zeros to a multiple of 4 bytes.
     pub fn update(&mut self, frame: &Frame) -> DeltaMessages {
         let mut out = DeltaMessages::default();
 
@@ -324,10 +421,24 @@ impl FrameDelta {
             .filter(|s| !frame.drawings.iter().any(|d| d.handle == s.handle))
             .map(|s| s.handle)
             .collect();
-        if !changed.is_empty() || !drawings.is_empty() || !removed.is_empty() {
+        let clouds: Vec<&PointCloudFrame> = frame
+            .point_clouds
+            .iter()
+            .filter(|c| !self.clouds.contains(&(c.handle, c.generation)))
+            .map(|c| &**c)
+            .collect();
+        let clouds_gone: Vec<i64> = self
+            .clouds
+            .iter()
+            .filter(|(h, _)| !frame.point_clouds.iter().any(|c| c.handle == *h))
+            .map(|(h, _)| *h)
+            .collect();
+        let any_cloud = !clouds.is_empty() || !clouds_gone.is_empty();
+        if !changed.is_empty() || !drawings.is_empty() || !removed.is_empty() || any_cloud {
             let count = drawings.len() + removed.len();
+            let cloud_count = clouds.len() + clouds_gone.len();
             let mut b = Vec::with_capacity(16 + 32 * changed.len());
-            for v in [MSG_FRAME, changed.len() as u32, count as u32, 0] {
+            for v in [MSG_FRAME, changed.len() as u32, count as u32, cloud_count as u32] {
                 b.extend(v.to_le_bytes());
             }
             for &i in &changed {
@@ -356,9 +467,29 @@ impl FrameDelta {
                 b.extend([0u8; 16]);
                 b.extend(0u32.to_le_bytes());
             }
+            for c in &clouds {
+                // Object handles are small non-negative integers.
+                b.extend((c.handle as u32).to_le_bytes());
+                b.extend(0u32.to_le_bytes());
+                b.extend(c.size.to_le_bytes());
+                b.extend((c.len() as u32).to_le_bytes());
+                for v in &c.points {
+                    b.extend(v.to_le_bytes());
+                }
+                b.extend(&c.colors);
+                b.resize(b.len().next_multiple_of(4), 0);
+            }
+            for &h in &clouds_gone {
+                b.extend((h as u32).to_le_bytes());
+                b.extend(DRAWING_REMOVED.to_le_bytes());
+                b.extend([0u8; 8]);
+            }
             out.binary = Some(b);
             if !drawings.is_empty() || !removed.is_empty() {
                 self.drawings.clone_from(&frame.drawings);
+            }
+            if any_cloud {
+                self.clouds = frame.point_clouds.iter().map(|c| (c.handle, c.generation)).collect();
             }
         }
 
@@ -497,6 +628,113 @@ mod tests {
         let b = d.update(&gone).binary.expect("removal");
         assert_eq!([u32_at(&b, 4), u32_at(&b, 8)], [0, 1]);
         assert_eq!([u32_at(&b, 16), u32_at(&b, 20)], [3, DRAWING_REMOVED]);
+        assert!(d.update(&gone).binary.is_none());
+    }
+
+    /// A simulation with one dummy, and a point cloud of two points (one red) below it
+    /// at (1, 0, 0) in its frame.
+    fn cloud_sim() -> (Sim, i64) {
+        use gantry_sim_core::api::{CallContext, call};
+        use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
+        let text = "[[object]]\nname = \"base\"\nkind = \"dummy\"\nposition = [0, 0, 1]\n";
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cloud.toml");
+        let mut sim = Sim::new(&load_scene_text(&DiskFiles, text, &path, &LoadOptions::default()).expect("scene"));
+        let mut api = |name: &str, args: &[gantry_sim_core::Value]| {
+            call(&mut sim, &CallContext::default(), name, args).unwrap_or_else(|e| panic!("{e}"))
+        };
+        use gantry_sim_core::Value::{Array, Bool, Float, Int};
+        let h = api("sim.createPointCloud", &[Float(0.01), Int(10), Int(0), Float(3.0)])[0]
+            .as_i64()
+            .expect("handle");
+        api("sim.setObjectParent", &[Int(h), Int(0), Bool(false)]);
+        api(
+            "sim.setObjectPosition",
+            &[Int(h), Int(0), gantry_sim_core::Value::floats(&[1.0, 0.0, 0.0])],
+        );
+        let points = gantry_sim_core::Value::floats(&[0.0, 0.0, 0.0, 0.5, 0.25, 0.0]);
+        let colors = Array([255, 0, 0, 9, 9, 9].map(Int).to_vec());
+        api("sim.insertPointsIntoPointCloud", &[Int(h), Int(3), points, colors]);
+        (sim, h)
+    }
+
+    #[test]
+    fn point_clouds_are_captured_in_their_frame_and_shared_while_unchanged() {
+        let (mut sim, h) = cloud_sim();
+        let f = Frame::capture(&sim);
+        let c = &f.point_clouds[0];
+        assert_eq!((c.handle, c.size, c.len()), (h, 3.0, 2));
+        assert_eq!(c.points, [0.0, 0.0, 0.0, 0.5, 0.25, 0.0], "cloud frame, not world");
+        assert_eq!(c.colors, [255, 0, 0, 9, 9, 9]);
+        // The cloud's pose travels with the other poses: (1, 0, 1) in the world.
+        let i = sim.world.handles().iter().position(|&x| x == h).expect("listed");
+        assert_eq!(f.poses[i][..3], [1.0, 0.0, 1.0]);
+        // The scene description lists it as a point cloud.
+        let desc = super::super::scene::describe(&sim.world);
+        assert_eq!(desc.json["objects"][i]["kind"], "point cloud");
+
+        let again = Frame::capture_after(&sim, Some(&f));
+        assert!(
+            Arc::ptr_eq(&f.point_clouds[0], &again.point_clouds[0]),
+            "not copied again"
+        );
+        let before = sim.world.point_cloud(h).expect("cloud").generation();
+        sim.world.point_cloud_mut(h).expect("cloud").clear();
+        let cleared = Frame::capture_after(&sim, Some(&again));
+        assert!(cleared.point_clouds[0].is_empty(), "captured again once changed");
+        assert_ne!(cleared.point_clouds[0].generation, before);
+    }
+
+    #[test]
+    fn random_colours_are_stable_and_coppeliasims_range() {
+        let a: Vec<[u8; 3]> = (0..100).map(random_color).collect();
+        let b: Vec<[u8; 3]> = (0..100).map(random_color).collect();
+        assert_eq!(a, b);
+        assert!(a.iter().flatten().all(|&c| c >= 51), "each channel at least 0.2");
+        assert!(a.windows(2).any(|w| w[0] != w[1]));
+    }
+
+    #[test]
+    fn point_clouds_are_sent_when_they_change_and_announced_when_gone() {
+        let (mut sim, h) = cloud_sim();
+        let mut d = FrameDelta::default();
+        let first = Frame::capture(&sim);
+        let b = d.update(&first).binary.expect("poses and the cloud");
+        let poses = u32_at(&b, 4) as usize;
+        assert_eq!([u32_at(&b, 8), u32_at(&b, 12)], [0, 1], "no drawing, one cloud");
+        let at = 16 + 32 * poses;
+        assert_eq!(
+            [u32_at(&b, at), u32_at(&b, at + 4), u32_at(&b, at + 12)],
+            [h as u32, 0, 2]
+        );
+        assert_eq!(f32::from_le_bytes(b[at + 8..at + 12].try_into().unwrap()), 3.0);
+        // Two points: 24 bytes of coordinates, 6 colour bytes padded to 8.
+        assert_eq!(&b[at + 16 + 24..], [255, 0, 0, 9, 9, 9, 0, 0]);
+
+        // Unchanged points are not sent again, even when the cloud moves.
+        sim.world
+            .set_world_pose(h, gantry_sim_core::math::Pose::translation(2.0, 0.0, 0.0))
+            .expect("move");
+        let moved = d
+            .update(&Frame::capture_after(&sim, Some(&first)))
+            .binary
+            .expect("the pose");
+        assert_eq!([u32_at(&moved, 4), u32_at(&moved, 12)], [1, 0]);
+
+        // New points are.
+        sim.world.point_cloud_mut(h).expect("cloud").clear();
+        let b = d.update(&Frame::capture(&sim)).binary.expect("the emptied cloud");
+        assert_eq!([u32_at(&b, 4), u32_at(&b, 12)], [0, 1]);
+        assert_eq!(u32_at(&b, 16 + 12), 0, "no points");
+
+        // A removed cloud is announced once.
+        let mut gone = Frame::capture(&sim);
+        gone.point_clouds.clear();
+        let b = d.update(&gone).binary.expect("removal");
+        assert_eq!(
+            [u32_at(&b, 12), u32_at(&b, 16), u32_at(&b, 20)],
+            [1, h as u32, DRAWING_REMOVED]
+        );
+        assert_eq!(b.len(), 16 + 16);
         assert!(d.update(&gone).binary.is_none());
     }
 

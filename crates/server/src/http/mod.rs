@@ -51,7 +51,8 @@ use tokio::sync::{Semaphore, watch};
 pub use command::{ClientMessage, Command, CommandError, ControlAction, DebugAction, MAX_MESSAGE, MAX_PACKET, parse};
 pub use frame::{
     DRAWING_REMOVED, DeltaMessages, DrawingFrame, Frame, FrameDelta, FramePublisher, FrameSender, IDLE_FRAME_RATE,
-    MAX_DRAWING_VERTICES, MAX_FRAME_RATE, MAX_FRAME_VERTICES, MSG_FRAME, SelectedOrientation,
+    MAX_CLOUD_POINTS, MAX_DRAWING_VERTICES, MAX_FRAME_CLOUD_POINTS, MAX_FRAME_RATE, MAX_FRAME_VERTICES, MSG_FRAME,
+    PointCloudFrame, SelectedOrientation,
 };
 pub use panels::{
     MAX_GRAPH_SAMPLES, MAX_LOG_LINES, MAX_LOG_MESSAGE, MAX_POLL_SAMPLES, MSG_IMAGE, PanelCursor, PanelUpdate, collect,

@@ -22,6 +22,7 @@ mod misc;
 mod objects;
 mod packing;
 mod params;
+mod point_cloud;
 pub(crate) mod ruckig;
 mod scene;
 mod sensing;
@@ -375,6 +376,7 @@ pub const MODULES: &[Module] = &[
             sensing_more::FUNCTIONS,
             custom_data::FUNCTIONS,
             views::FUNCTIONS,
+            point_cloud::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
@@ -461,6 +463,7 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("object_proximitysensor_type", 5),
     ("object_visionsensor_type", 9),
     ("object_forcesensor_type", 12),
+    ("object_pointcloud_type", 16),
     ("joint_revolute_subtype", 10),
     ("joint_prismatic_subtype", 11),
     ("joint_spherical_subtype", 12),
@@ -485,6 +488,7 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("drawing_cyclic", 4096),
     ("drawing_local", 0x80_0000),
     ("handleflag_addmultiple", 0x0100_0000),
+    ("handleflag_silenterror", scene::HANDLEFLAG_SILENT_ERROR),
     ("verbosity_none", 100),
     ("verbosity_errors", 200),
     ("verbosity_warnings", 300),

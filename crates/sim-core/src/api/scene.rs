@@ -21,6 +21,11 @@ const RESET_FORCE: i64 = 0x0040_0000;
 /// `sim.handleflag_resettorque`: OR-ed onto a handle, clears the accumulated torque.
 const RESET_TORQUE: i64 = 0x0080_0000;
 
+/// `sim.handleflag_silenterror` (CoppeliaSim's 32-bit value): OR-ed onto the handle
+/// given to `sim.setObjectAlias` (`sim.setObjectName`), a failure is ignored instead of
+/// raised.
+pub(super) const HANDLEFLAG_SILENT_ERROR: Handle = 0x0200_0000;
+
 /// The `sim.*` constants of this file, with CoppeliaSim 4.6's values.
 pub const CONSTANTS: &[(&str, i64)] = &[
     ("primitiveshape_none", 0),
@@ -370,11 +375,17 @@ fn get_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
     Ok(vec![Value::Int(found.unwrap_or(-1))])
 }
 
-/// `sim.setObjectAlias(objectHandle, alias)`.
+/// `sim.setObjectAlias(objectHandle, alias)`. With `sim.handleflag_silenterror` OR-ed onto
+/// the handle (4.0-4.2 scripts pass it to `sim.setObjectName`), a missing object or a bad
+/// alias is ignored instead of raised; argument types are still checked.
 fn set_object_alias(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let h = a.handle(0)?;
-    w.set_alias(h, a.str(1)?)?;
-    Ok(Vec::new())
+    let raw = a.handle(0)?;
+    let silent = raw >= 0 && raw & HANDLEFLAG_SILENT_ERROR != 0;
+    let h = if silent { raw & !HANDLEFLAG_SILENT_ERROR } else { raw };
+    match w.set_alias(h, a.str(1)?) {
+        Err(_) if silent => Ok(Vec::new()),
+        r => r.map(|()| Vec::new()).map_err(ApiError::from),
+    }
 }
 
 /// The colour name argument: `nil`, `""` and `"@compound"` mean every part; gantry's

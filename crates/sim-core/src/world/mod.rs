@@ -13,6 +13,7 @@ mod log;
 mod object;
 pub mod object_path;
 mod physics;
+mod point_cloud;
 mod query;
 mod selection;
 #[expect(
@@ -27,6 +28,11 @@ pub use edit::{ColorComponent, EditCounters, MIN_SHAPE_MASS};
 pub use log::{LOG_CAPACITY, Log, LogLine};
 pub use object::{Detection, ForceReading, Handle, Joint, KinematicMotion, Object, ObjectKind, ProximitySensor};
 pub(crate) use physics::Physics;
+pub use point_cloud::{
+    DEFAULT_POINT_COLOR, MAX_INSERTION_TOLERANCE, MAX_POINT_CLOUD_POINTS, POINT_SIZE_RANGE, POINTCLOUD_EMISSIVE,
+    POINTCLOUD_NO_STRUCTURE, POINTCLOUD_RANDOM_COLORS, POINTCLOUD_SHOW_OCTREE, POINTS_PER_VOXEL_RANGE, PointCloud,
+    PointCloudOptions, PointColors, VOXEL_SIZE_RANGE,
+};
 pub use query::DistanceResult;
 pub use selection::{MAX_SELECTION, Selection};
 pub use world::World;

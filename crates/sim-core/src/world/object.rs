@@ -1,5 +1,6 @@
 //! Objects of the scene tree and their per-kind state.
 
+use super::point_cloud::PointCloud;
 use crate::math::{Pose, Vec3};
 use crate::scene::{JointMode, JointType, ProximityModel, ShapeModel, VisionModel};
 
@@ -42,6 +43,8 @@ pub enum ObjectKind {
     ForceSensor(ForceReading),
     /// A graph.
     Graph,
+    /// A point cloud and its points (boxed: a cloud is much larger than the other kinds).
+    PointCloud(Box<PointCloud>),
 }
 
 impl ObjectKind {
@@ -55,6 +58,7 @@ impl ObjectKind {
             ObjectKind::ProximitySensor(_) => 5,
             ObjectKind::VisionSensor(_) => 9,
             ObjectKind::ForceSensor(_) => 12,
+            ObjectKind::PointCloud(_) => 16,
         }
     }
 
@@ -68,6 +72,7 @@ impl ObjectKind {
             ObjectKind::ProximitySensor(_) => "proximity sensor",
             ObjectKind::VisionSensor(_) => "vision sensor",
             ObjectKind::ForceSensor(_) => "force sensor",
+            ObjectKind::PointCloud(_) => "point cloud",
         }
     }
 }

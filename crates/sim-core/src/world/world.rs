@@ -9,6 +9,7 @@ use super::object::{
 };
 use super::object_path::{ObjectTree, PathError, PathQuery, resolve};
 use super::physics::{BodyRole, Physics, TreeView, configure_motor};
+use super::point_cloud::PointCloud;
 use crate::error::SimError;
 use crate::math::{self, Pose, Vec3};
 use crate::scene::{JointMode, ObjectModelKind, SceneModel, SimSettings};
@@ -273,6 +274,37 @@ impl World {
             other => Err(SimError::WrongKind {
                 handle: h,
                 expected: "joint",
+                actual: other.name(),
+            }),
+        }
+    }
+
+    /// The point cloud behind a handle.
+    ///
+    /// # Errors
+    /// No such object, or not a point cloud.
+    pub fn point_cloud(&self, h: Handle) -> Result<&PointCloud, SimError> {
+        match &self.object(h)?.kind {
+            ObjectKind::PointCloud(c) => Ok(c),
+            other => Err(SimError::WrongKind {
+                handle: h,
+                expected: "point cloud",
+                actual: other.name(),
+            }),
+        }
+    }
+
+    /// The point cloud behind a handle, to insert or remove points. Points are not part
+    /// of the scene description, so this does not change [`World::scene_revision`].
+    ///
+    /// # Errors
+    /// No such object, or not a point cloud.
+    pub fn point_cloud_mut(&mut self, h: Handle) -> Result<&mut PointCloud, SimError> {
+        match &mut self.object_mut(h)?.kind {
+            ObjectKind::PointCloud(c) => Ok(c),
+            other => Err(SimError::WrongKind {
+                handle: h,
+                expected: "point cloud",
                 actual: other.name(),
             }),
         }
