@@ -17,6 +17,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 source tools/python-venv.sh
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt -r tools/bench/requirements.txt
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps -r tests/python/requirements-nodeps.txt
 mkdir -p target/bench
 
 echo "== release build"
@@ -29,6 +30,8 @@ echo "== public robots: mesh-collision arms in gantry and PyBullet"
 "$venv/bin/python" tools/bench/public_robots.py --repeat 3 > target/bench/public.json
 echo "== ZMQ latency (real Python client)"
 "$venv/bin/python" tests/python/bench_zmq.py --runs 3 --json target/bench/zmq.json
+echo "== legacy remote API (V-REP's real remoteApi.so client): blocking call and synchronous stepping"
+GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/legacy_remote_api.py
 echo "== Python in-process: call latency and stepping against ZMQ and PyBullet; Ray batch speed-up"
 source tools/python-wheel.sh
 "$venv/bin/python" tools/bench/python_inproc.py --repeat 3 --json target/bench/python.json

@@ -33,6 +33,13 @@ BINDINGS = Path(sysconfig.get_paths()["purelib"]) / "pypot" / "vrep" / "remoteAp
 
 @pytest.fixture(scope="module")
 def vrep():
+    """vrep.py with its remoteApi.so (see ``load_bindings``)."""
+    module = load_bindings()
+    yield module
+    module.simxFinish(-1)
+
+
+def load_bindings():
     """vrep.py with its remoteApi.so, imported as a package of its own."""
     init = BINDINGS / "__init__.py"
     assert init.exists(), f"pypot's legacy client is not installed at {BINDINGS} (run .ci/python-tests.sh)"
@@ -40,9 +47,7 @@ def vrep():
     pkg = importlib.util.module_from_spec(spec)
     sys.modules["legacy_bindings"] = pkg
     spec.loader.exec_module(pkg)
-    module = importlib.import_module("legacy_bindings.vrep")
-    yield module
-    module.simxFinish(-1)
+    return importlib.import_module("legacy_bindings.vrep")
 
 
 def legacy_port(proc: GantryProcess) -> int:
