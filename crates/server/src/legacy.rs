@@ -21,7 +21,6 @@ use gantry_protocol::legacy_remote_api::{
     self as wire, Command, LegacyError, MessageHeader, PacketReader, SplitAssembler, opmode,
 };
 use gantry_script::{ListenerStatus, Listeners};
-use gantry_sim_core::Value;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::watch;
@@ -137,6 +136,11 @@ struct Stream {
     last_run: Option<Instant>,
 }
 
+/// Forgets the stream of `cmd` (same code and identifying data), if there is one.
+fn forget(streams: &mut Vec<Stream>, cmd: &Command) {
+    streams.retain(|s| (s.command.code, &s.command.id) != (cmd.code, &cmd.id));
+}
+
 async fn connection(
     mut sock: TcpStream,
     sim: &SimHandle,
@@ -173,13 +177,13 @@ async fn connection(
                 received.push((cmd.code, cmd.id.clone()));
                 match cmd.opmode {
                     opmode::DISCONTINUE => {
-                        streams.retain(|s| (s.command.code, &s.command.id) != (cmd.code, &cmd.id));
+                        forget(&mut streams, &cmd);
                         // Answered without running, as CoppeliaSim does; the client drops it.
                         replies.push(reply_to(&cmd, true, Vec::new(), 0));
                         continue;
                     }
                     opmode::STREAMING | opmode::STREAMING_SPLIT => {
-                        streams.retain(|s| (s.command.code, &s.command.id) != (cmd.code, &cmd.id));
+                        forget(&mut streams, &cmd);
                         if streams.len() >= MAX_STREAMING {
                             return Err(ConnectionError::TooManyStreams);
                         }
@@ -192,7 +196,7 @@ async fn connection(
                 }
                 let outcome = legacy_commands::execute(sim, &mut session, &cmd).await;
                 if outcome.ends_stream {
-                    streams.retain(|s| (s.command.code, &s.command.id) != (cmd.code, &cmd.id));
+                    forget(&mut streams, &cmd);
                 }
                 replies.push(reply_to(&cmd, outcome.ok, outcome.data, 0));
             }
@@ -357,10 +361,4 @@ impl Listeners for LegacyServers {
         let servers = self.servers.lock().ok()?;
         servers.get(&port).map(|r| status_of(&r.status))
     }
-}
-
-/// Values a command reads from the registry come back as [`Value`]s; this is the
-/// common case of "one integer".
-pub(crate) fn as_i32(v: Option<&Value>) -> Option<i32> {
-    v.and_then(Value::as_i64).and_then(|i| i32::try_from(i).ok())
 }

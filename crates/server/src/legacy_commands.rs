@@ -18,7 +18,6 @@ use gantry_sim_core::Value;
 use gantry_sim_core::sim::Control;
 use tokio::sync::oneshot;
 
-use crate::legacy::as_i32;
 use crate::sim_thread::{RemoteOp, Request, SendError, SimHandle};
 use crate::stepping::ClientId;
 
@@ -172,6 +171,11 @@ impl Session {
             ends_stream: false,
         }
     }
+}
+
+/// One integer result, as most commands read it from the registry's reply.
+fn as_i32(v: Option<&Value>) -> Option<i32> {
+    v.and_then(Value::as_i64).and_then(|i| i32::try_from(i).ok())
 }
 
 fn ok(data: Vec<u8>) -> Outcome {
