@@ -1012,69 +1012,91 @@ impl Simulation {
             .collect()
     }
 
-    /// Calls a `sim.*` function for a remote client (no emitting object).
+    /// Calls a `sim.*` function for a remote client (no emitting object), by name: the
+    /// name is resolved here, once (see [`api::Target`]).
     ///
     /// # Errors
     /// The CoppeliaSim-style error message.
     pub fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, CallError> {
-        if name == "getScriptAssociatedWithObject" {
-            return script_handle(
+        let target = api::Target::resolve_or_error(name)?;
+        self.call_target(&target, args)
+    }
+
+    /// Calls a resolved function for a remote client (no emitting object). Functions of
+    /// the simulation loop ([`api::Target::FrontEnd`]) are the engine's, not the
+    /// scene's: they are refused here.
+    ///
+    /// # Errors
+    /// The CoppeliaSim-style error message.
+    pub fn call_target(&mut self, target: &api::Target, args: &[Value]) -> Result<Vec<Value>, CallError> {
+        match *target {
+            api::Target::Core { function, .. } => self
+                .call_function(function, args)
+                .map_err(|e| CallError::failed(target.qualified(), e)),
+            api::Target::ScriptHost(f) => self.call_script_host(f, args),
+            api::Target::FrontEnd(_) => Err(CallError::NoSuchFunction(target.qualified())),
+        }
+    }
+
+    /// A function the Lua host serves for remote clients (it needs the scripts).
+    ///
+    /// # Errors
+    /// The CoppeliaSim-style error message.
+    pub fn call_script_host(&mut self, f: api::ScriptHostFn, args: &[Value]) -> Result<Vec<Value>, CallError> {
+        use api::ScriptHostFn;
+        let in_function = |e: ApiError| CallError::failed(format!("sim.{}", f.name()), e);
+        match f {
+            ScriptHostFn::GetScriptAssociatedWithObject => script_handle(
                 &self.shared,
                 &[Value::Int(1), args.first().cloned().unwrap_or_default()],
             )
             .map(|h| vec![Value::Int(h)])
-            .map_err(|e| CallError::failed("sim.getScriptAssociatedWithObject", ApiError::new(e)));
-        }
-        if name == "removeScript" {
-            let h = args.first().and_then(Value::as_i64);
-            return match h.map(|h| (h, script_index(&self.shared, h))) {
-                Some((_, Some(i))) => {
-                    self.remove_script(i);
-                    Ok(Vec::new())
+            .map_err(|e| in_function(ApiError::new(e))),
+            ScriptHostFn::RemoveScript => {
+                let h = args.first().and_then(Value::as_i64);
+                match h.map(|h| (h, script_index(&self.shared, h))) {
+                    Some((_, Some(i))) => {
+                        self.remove_script(i);
+                        Ok(Vec::new())
+                    }
+                    Some((HANDLE_SELF, None)) => Err(ApiError::bad_argument(
+                        "sim.handle_self names the calling script, and a remote client has none",
+                    )),
+                    Some((h, None)) => Err(ApiError::of(
+                        ErrorKind::NoSuchObject,
+                        format!("argument 1: no script has handle {h}"),
+                    )),
+                    None => Err(ApiError::bad_argument(format!(
+                        "argument 1: expected a script handle, got {}",
+                        args.first().map_or("nil", Value::type_name)
+                    ))),
                 }
-                Some((HANDLE_SELF, None)) => Err(ApiError::bad_argument(
-                    "sim.handle_self names the calling script, and a remote client has none",
-                )),
-                Some((h, None)) => Err(ApiError::of(
-                    ErrorKind::NoSuchObject,
-                    format!("argument 1: no script has handle {h}"),
-                )),
-                None => Err(ApiError::bad_argument(format!(
-                    "argument 1: expected a script handle, got {}",
-                    args.first().map_or("nil", Value::type_name)
+                .map_err(in_function)
+            }
+            ScriptHostFn::LoadModel => match args.first() {
+                Some(Value::Str(path)) => self
+                    .load_model(std::path::Path::new(path))
+                    .map_err(|e| in_function(ApiError::new(e))),
+                _ => Err(in_function(ApiError::bad_argument(
+                    "argument 1: expected the model file's path as a string",
                 ))),
             }
-            .map_err(|e| CallError::failed("sim.removeScript", e));
-        }
-        if name == "loadModel" {
-            return match args.first() {
-                Some(Value::Str(path)) => self.load_model(std::path::Path::new(path)),
-                _ => Err("argument 1: expected the model file's path as a string".to_owned()),
-            }
-            .map(|h| vec![Value::Int(h)])
-            .map_err(|e| CallError::failed("sim.loadModel", ApiError::new(e)));
-        }
-        if name == "getScript" {
-            return script_handle(&self.shared, args)
+            .map(|h| vec![Value::Int(h)]),
+            ScriptHostFn::GetScript => script_handle(&self.shared, args)
                 .map(|h| vec![Value::Int(h)])
-                .map_err(|e| CallError::failed("sim.getScript", ApiError::new(e)));
+                .map_err(|e| in_function(ApiError::new(e))),
+            ScriptHostFn::CallScriptFunction => {
+                // Script code running for a remote client is outside any hook, so it gets
+                // a hook's time budget here; otherwise a loop in the called function
+                // would hold the simulation thread until the idle deadline, an hour away.
+                self.shared.deadline.set(Instant::now() + self.limits.time_budget);
+                self.shared.interrupted.set(false);
+                let r = call_script_function(&self.lua, &self.shared, args);
+                self.leave();
+                self.apply_control();
+                r.map_err(|e| in_function(ApiError::new(error_text(&e))))
+            }
         }
-        if name == "callScriptFunction" {
-            // Script code running for a remote client is outside any hook, so it gets a
-            // hook's time budget here; otherwise a loop in the called function would
-            // hold the simulation thread until the idle deadline, an hour away.
-            self.shared.deadline.set(Instant::now() + self.limits.time_budget);
-            self.shared.interrupted.set(false);
-            let r = call_script_function(&self.lua, &self.shared, args);
-            self.leave();
-            self.apply_control();
-            return r.map_err(|e| CallError::failed("sim.callScriptFunction", ApiError::new(error_text(&e))));
-        }
-        let ctx = CallContext {
-            script_object: None,
-            source: "remote",
-        };
-        api::call(&mut self.shared.sim.borrow_mut(), &ctx, name, args)
     }
 
     /// Calls one registry function for a client outside the scene (no emitting object),

@@ -19,16 +19,57 @@ pub enum InScripts {
     ThreadedOnly,
 }
 
-/// Whether remote clients (ZMQ, the in-process Python client) may call a host
-/// function, and who serves it.
+/// Whether remote clients (ZMQ, the legacy remote API, the in-process Python client)
+/// may call a host function, and who serves it. The variants carry the typed function,
+/// so a front end that has resolved a name holds everything it needs and never
+/// compares the name again.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Remote {
     /// Not remotely.
     No,
-    /// The Lua host serves it for clients too (`Simulation::call`): it needs the scripts.
-    ByScriptHost,
-    /// The front end serves it: it concerns the client's session or the simulation loop.
-    ByFrontEnd,
+    /// The Lua host serves it for clients too: it needs the scripts.
+    ByScriptHost(ScriptHostFn),
+    /// The engine serves it: it concerns the client's session or the simulation loop.
+    ByFrontEnd(FrontEndFn),
+}
+
+/// The host functions the Lua host serves for remote clients (it needs the scripts).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ScriptHostFn {
+    /// `sim.callScriptFunction(name, scriptHandle, ...)`.
+    CallScriptFunction,
+    /// `sim.getScript(type, objectHandle|name)`.
+    GetScript,
+    /// `sim.getScriptAssociatedWithObject(objectHandle)` (4.0-4.5).
+    GetScriptAssociatedWithObject,
+    /// `sim.loadModel(path)`.
+    LoadModel,
+    /// `sim.removeScript(scriptHandle)`.
+    RemoveScript,
+}
+
+/// The host functions a remote client's session or the simulation loop serves: what
+/// the engine between the front ends and the simulation carries out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FrontEndFn {
+    /// `sim.acquireLock()`.
+    AcquireLock,
+    /// `sim.closeScene()`: an empty scene.
+    CloseScene,
+    /// `sim.loadScene(path)`.
+    LoadScene,
+    /// `sim.pauseSimulation()`.
+    PauseSimulation,
+    /// `sim.releaseLock()`.
+    ReleaseLock,
+    /// `sim.setStepping(enable)`.
+    SetStepping,
+    /// `sim.startSimulation()`.
+    StartSimulation,
+    /// `sim.step()`.
+    Step,
+    /// `sim.stopSimulation()`.
+    StopSimulation,
 }
 
 /// What a host function acts on.
@@ -74,18 +115,23 @@ use Touches::{Loop, Motion, Scene, Scripts};
 
 /// Every host function of module `sim`, sorted by name.
 pub const HOST_FUNCTIONS: &[HostFunction] = &[
-    f("acquireLock", AnyHook, ByFrontEnd, Loop),
+    f("acquireLock", AnyHook, ByFrontEnd(FrontEndFn::AcquireLock), Loop),
     f("broadcastMsg", AnyHook, Remote::No, Scripts),
-    f("callScriptFunction", AnyHook, ByScriptHost, Scripts),
-    f("closeScene", InScripts::No, ByFrontEnd, Scene),
+    f("callScriptFunction", AnyHook, ByScriptHost(ScriptHostFn::CallScriptFunction), Scripts),
+    f("closeScene", InScripts::No, ByFrontEnd(FrontEndFn::CloseScene), Scene),
     f("getAutoYieldDelay", AnyHook, Remote::No, Scripts),
-    f("getScript", AnyHook, ByScriptHost, Scripts),
-    f("getScriptAssociatedWithObject", AnyHook, ByScriptHost, Scripts),
+    f("getScript", AnyHook, ByScriptHost(ScriptHostFn::GetScript), Scripts),
+    f(
+        "getScriptAssociatedWithObject",
+        AnyHook,
+        ByScriptHost(ScriptHostFn::GetScriptAssociatedWithObject),
+        Scripts,
+    ),
     f("getStepping", AnyHook, Remote::No, Scripts),
     f("getThreadAutomaticSwitch", AnyHook, Remote::No, Scripts),
     f("isScriptRunningInThread", AnyHook, Remote::No, Scripts),
-    f("loadModel", AnyHook, ByScriptHost, Scene),
-    f("loadScene", InScripts::No, ByFrontEnd, Scene),
+    f("loadModel", AnyHook, ByScriptHost(ScriptHostFn::LoadModel), Scene),
+    f("loadScene", InScripts::No, ByFrontEnd(FrontEndFn::LoadScene), Scene),
     f("moveToConfig", ThreadedOnly, Remote::No, Motion),
     f("moveToConfig_cleanup", AnyHook, Remote::No, Motion),
     f("moveToConfig_init", AnyHook, Remote::No, Motion),
@@ -94,17 +140,17 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("moveToPose_cleanup", AnyHook, Remote::No, Motion),
     f("moveToPose_init", AnyHook, Remote::No, Motion),
     f("moveToPose_step", AnyHook, Remote::No, Motion),
-    f("pauseSimulation", AnyHook, ByFrontEnd, Loop),
-    f("releaseLock", AnyHook, ByFrontEnd, Loop),
-    f("removeScript", AnyHook, ByScriptHost, Scripts),
+    f("pauseSimulation", AnyHook, ByFrontEnd(FrontEndFn::PauseSimulation), Loop),
+    f("releaseLock", AnyHook, ByFrontEnd(FrontEndFn::ReleaseLock), Loop),
+    f("removeScript", AnyHook, ByScriptHost(ScriptHostFn::RemoveScript), Scripts),
     f("rmlMoveToJointPositions", ThreadedOnly, Remote::No, Motion),
     f("setAutoYieldDelay", AnyHook, Remote::No, Scripts),
-    f("setStepping", AnyHook, ByFrontEnd, Loop),
+    f("setStepping", AnyHook, ByFrontEnd(FrontEndFn::SetStepping), Loop),
     f("setThreadAutomaticSwitch", AnyHook, Remote::No, Scripts),
     f("setThreadSwitchTiming", AnyHook, Remote::No, Scripts),
-    f("startSimulation", AnyHook, ByFrontEnd, Loop),
-    f("step", ThreadedOnly, ByFrontEnd, Loop),
-    f("stopSimulation", AnyHook, ByFrontEnd, Loop),
+    f("startSimulation", AnyHook, ByFrontEnd(FrontEndFn::StartSimulation), Loop),
+    f("step", ThreadedOnly, ByFrontEnd(FrontEndFn::Step), Loop),
+    f("stopSimulation", AnyHook, ByFrontEnd(FrontEndFn::StopSimulation), Loop),
     f("switchThread", ThreadedOnly, Remote::No, Scripts),
     f("wait", ThreadedOnly, Remote::No, Loop),
     f("waitForSignal", ThreadedOnly, Remote::No, Loop),
@@ -144,9 +190,51 @@ pub fn script_host_names() -> impl Iterator<Item = &'static str> {
         .map(|h| h.name)
 }
 
-/// Names remote clients may call beyond the core registry, served by `by`.
-pub fn remote_names(by: Remote) -> impl Iterator<Item = &'static str> {
-    HOST_FUNCTIONS.iter().filter(move |h| h.remote == by).map(|h| h.name)
+/// Names remote clients may call beyond the core registry.
+pub fn remote_names() -> impl Iterator<Item = &'static str> {
+    HOST_FUNCTIONS
+        .iter()
+        .filter(|h| h.remote != Remote::No)
+        .map(|h| h.name)
+}
+
+/// The host functions the Lua host serves for remote clients, with their names.
+pub fn script_host_functions() -> impl Iterator<Item = (&'static str, ScriptHostFn)> {
+    HOST_FUNCTIONS.iter().filter_map(|h| match h.remote {
+        Remote::ByScriptHost(f) => Some((h.name, f)),
+        _ => None,
+    })
+}
+
+/// The host functions the engine serves for remote clients, with their names.
+pub fn front_end_functions() -> impl Iterator<Item = (&'static str, FrontEndFn)> {
+    HOST_FUNCTIONS.iter().filter_map(|h| match h.remote {
+        Remote::ByFrontEnd(f) => Some((h.name, f)),
+        _ => None,
+    })
+}
+
+impl ScriptHostFn {
+    /// The function's name without `sim.`.
+    pub fn name(self) -> &'static str {
+        name_of(Remote::ByScriptHost(self))
+    }
+}
+
+impl FrontEndFn {
+    /// The function's name without `sim.`.
+    pub fn name(self) -> &'static str {
+        name_of(Remote::ByFrontEnd(self))
+    }
+}
+
+/// The name of the one entry serving `remote` (each typed function has exactly one
+/// entry; a unit test checks it).
+fn name_of(remote: Remote) -> &'static str {
+    HOST_FUNCTIONS
+        .iter()
+        .find(|h| h.remote == remote)
+        .map_or("?", |h| h.name)
 }
 
 #[cfg(test)]
@@ -170,5 +258,21 @@ mod tests {
                 h.name
             );
         }
+    }
+
+    #[test]
+    fn each_typed_function_has_one_entry_and_its_name() {
+        let mut seen = std::collections::HashSet::new();
+        for h in HOST_FUNCTIONS.iter().filter(|h| h.remote != Remote::No) {
+            assert!(seen.insert(h.remote), "{} serves {:?} twice", h.name, h.remote);
+            let name = match h.remote {
+                Remote::ByScriptHost(f) => f.name(),
+                Remote::ByFrontEnd(f) => f.name(),
+                Remote::No => unreachable!("filtered"),
+            };
+            assert_eq!(name, h.name);
+        }
+        assert_eq!(script_host_functions().count(), 5);
+        assert_eq!(front_end_functions().count(), 9);
     }
 }

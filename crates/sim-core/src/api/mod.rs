@@ -27,13 +27,18 @@ pub(crate) mod ruckig;
 mod scene;
 mod sensing;
 mod sensing_more;
+mod target;
 mod ui;
 mod views;
 mod vision;
 
 pub use args::Args;
 pub use error::{ApiError, CallError, ErrorKind};
-pub use host::{HOST_FUNCTIONS, HOST_MODULES, HostFunction, HostModule, InScripts, Remote, Touches, host_function};
+pub use host::{
+    FrontEndFn, HOST_FUNCTIONS, HOST_MODULES, HostFunction, HostModule, InScripts, Remote, ScriptHostFn, Touches,
+    host_function,
+};
+pub use target::{StepSafety, Target};
 
 use crate::Value;
 use crate::sim::Sim;
