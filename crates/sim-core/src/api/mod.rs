@@ -38,7 +38,7 @@ pub use host::{
     FrontEndFn, HOST_FUNCTIONS, HOST_MODULES, HostFunction, HostModule, InScripts, Remote, ScriptHostFn, Touches,
     host_function,
 };
-pub use target::{StepSafety, Target};
+pub use target::{StepSafety, Target, accepted_names};
 
 use crate::Value;
 use crate::sim::Sim;

@@ -140,7 +140,7 @@ fn build_index() -> std::collections::HashMap<String, Target> {
 
 /// Every name a remote client may call, qualified (`sim.getObject`, `simIK.solve`),
 /// with the older aliases of each module: what the front ends accept.
-pub fn remote_names() -> Vec<String> {
+pub fn accepted_names() -> Vec<String> {
     let mut names = Vec::new();
     for m in MODULES {
         names.extend(m.iter().map(|f| format!("{}.{}", m.name, f.name)));
@@ -156,7 +156,7 @@ mod tests {
 
     #[test]
     fn every_accepted_name_resolves_to_exactly_one_target() {
-        let names = remote_names();
+        let names = accepted_names();
         assert!(names.len() > 300, "{} names", names.len());
         for name in &names {
             let t = Target::resolve(name).unwrap_or_else(|| panic!("{name} does not resolve"));
