@@ -1,17 +1,41 @@
 //! gantry's Lua host: per-object scripts with CoppeliaSim's hooks over the shared
 //! `sim` API, and the step order that ties scripts to the world.
+//!
+//! Files by role, lowest floor first (docs/architecture.md draws them; tools/layers.py
+//! checks that imports point down and never circle): errors and conversions; the state
+//! each role owns (`running`, `directory`, `threads`, `messages`, `control`, `models`,
+//! kept in the Lua state's app data); the debugger; the budget hook and the `sim.*`
+//! functions (`host_api`); hooks and scripts; the simulation's life, its step and its
+//! remote calls.
 
+mod app_state;
+mod budget;
+mod control;
 mod convert;
+mod core_cell;
 pub mod debugger;
+mod directory;
+mod hooks;
+mod host_api;
 mod limits;
 pub mod listeners;
+mod lua_error;
 mod messages;
+mod models;
+mod remote;
+mod running;
 pub mod sandbox;
+mod scripts;
 mod simulation;
+mod step;
 mod threads;
 
 pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
 
+pub use hooks::Hook;
 pub use limits::ScriptLimits;
 pub use listeners::{ListenerStatus, Listeners};
-pub use simulation::{Hook, ScriptError, ScriptState, Simulation, StepBoundary, check_syntax};
+pub use lua_error::ScriptError;
+pub use scripts::ScriptState;
+pub use simulation::{Simulation, check_syntax};
+pub use step::StepBoundary;

@@ -15,12 +15,70 @@
 //! the receiver marked errored once no script runs, and the broadcast goes on to the
 //! others; the sender does not see it.
 
-use std::rc::Rc;
+use std::cell::RefCell;
 
-use mlua::{Lua, MultiValue, Value as LuaValue};
+use mlua::{Function, Lua, MultiValue, Table, Value as LuaValue};
 
+use crate::app_state::state;
 use crate::convert::{to_lua, to_value};
-use crate::simulation::{REMOVED_SCRIPT, Shared, error_text};
+use crate::directory::{Directory, REMOVED_SCRIPT};
+use crate::lua_error::error_text;
+use crate::running::{Caller, Running};
+use crate::threads::Threads;
+
+/// Who receives messages, and whose receiver failed.
+#[derive(Default)]
+pub(crate) struct Mailboxes {
+    /// Each script's `sysCall_msg`, by script index, while it may receive messages
+    /// (initialised, running, not cleaned up).
+    receivers: RefCell<Vec<Option<Function>>>,
+    /// Scripts whose `sysCall_msg` raised an error, to be marked errored once no
+    /// script runs (the sender is still running when the receiver fails).
+    failures: RefCell<Vec<(usize, mlua::Error)>>,
+}
+
+impl Mailboxes {
+    /// Forgets every receiver and failure (the scene's scripts load again).
+    pub(crate) fn clear(&self) {
+        self.receivers.borrow_mut().clear();
+        self.failures.borrow_mut().clear();
+    }
+
+    /// One more script, receiving nothing yet.
+    pub(crate) fn push(&self) {
+        self.receivers.borrow_mut().push(None);
+    }
+
+    /// Sets (or, with `None`, withdraws) script `i`'s receiver.
+    pub(crate) fn set_receiver(&self, i: usize, f: Option<Function>) {
+        if let Some(slot) = self.receivers.borrow_mut().get_mut(i) {
+            *slot = f;
+        }
+    }
+
+    /// The receivers' failures since the last call.
+    pub(crate) fn take_failures(&self) -> Vec<(usize, mlua::Error)> {
+        std::mem::take(&mut *self.failures.borrow_mut())
+    }
+}
+
+/// Installs `sim.broadcastMsg` into `sim`, its failures raised through `wrap` (see
+/// [`crate::host_api`]).
+pub(crate) fn install(lua: &Lua, sim: &Table, wrap: &Function) -> mlua::Result<()> {
+    sim.set(
+        "broadcastMsg",
+        lua.create_function(move |lua, args: MultiValue| {
+            Ok(match broadcast(lua, &args) {
+                Ok(()) => (true, LuaValue::Nil),
+                Err(e) => (
+                    false,
+                    LuaValue::String(lua.create_string(format!("{e} (in function 'sim.broadcastMsg')"))?),
+                ),
+            })
+        })
+        .and_then(|f| wrap.call::<Function>(f))?,
+    )
+}
 
 /// `sim.broadcastMsg(message, options=0)`: delivers `message` to the other scripts'
 /// `sysCall_msg` (see the module documentation).
@@ -28,7 +86,7 @@ use crate::simulation::{REMOVED_SCRIPT, Shared, error_text};
 /// # Errors
 /// A message that is not a table of plain data, or options that are not a number. The
 /// receivers' own errors are not returned.
-pub(crate) fn broadcast(lua: &Lua, shared: &Rc<Shared>, args: &MultiValue) -> Result<(), String> {
+fn broadcast(lua: &Lua, args: &MultiValue) -> Result<(), String> {
     let message = match args.front() {
         Some(t @ LuaValue::Table(_)) => to_value(t).map_err(|e| format!("argument 1: {e}"))?,
         other => {
@@ -48,10 +106,14 @@ pub(crate) fn broadcast(lua: &Lua, shared: &Rc<Shared>, args: &MultiValue) -> Re
             ));
         }
     }
-    let sender = shared.current_script.get();
-    let origin = shared.current.get();
-    let receivers: Vec<usize> = shared
-        .msg_hooks
+    let running = state::<Running>(lua);
+    let mailboxes = state::<Mailboxes>(lua);
+    let directory = state::<Directory>(lua);
+    let threads = state::<Threads>(lua);
+    let sender = running.script.get();
+    let origin = running.object.get();
+    let receivers: Vec<usize> = mailboxes
+        .receivers
         .borrow()
         .iter()
         .enumerate()
@@ -60,43 +122,30 @@ pub(crate) fn broadcast(lua: &Lua, shared: &Rc<Shared>, args: &MultiValue) -> Re
         .collect();
     for i in receivers {
         // Looked up again: an earlier receiver may have removed or broken this one.
-        let Some(f) = shared.msg_hooks.borrow().get(i).cloned().flatten() else {
+        let Some(f) = mailboxes.receivers.borrow().get(i).cloned().flatten() else {
             continue;
         };
-        let Some((object, name)) = shared
-            .envs
-            .borrow()
-            .get(i)
-            .filter(|(o, _, _)| *o != REMOVED_SCRIPT)
-            .map(|(o, _, n)| (*o, n.clone()))
-        else {
+        let Some(receiver) = directory.entry(i).filter(|e| e.object != REMOVED_SCRIPT) else {
             continue;
         };
         let copy = to_lua(lua, &message).map_err(|e| e.to_string())?;
         let origin = origin.map_or(LuaValue::Nil, LuaValue::Integer);
-        let previous = (
-            shared.current.get(),
-            shared.current_script.get(),
-            shared.current_name.borrow().clone(),
-        );
-        shared.current.set(Some(object));
-        shared.current_script.set(Some(i));
-        *shared.current_name.borrow_mut() = name;
+        let previous = running.act_as(Caller {
+            object: Some(receiver.object),
+            script: Some(i),
+            name: receiver.name,
+        });
         // A receiver runs inside this call, where a coroutine cannot yield: a threaded
         // sender is not pre-empted until the delivery is over.
-        let slice_end = shared.slice_end.take();
+        let slice_end = threads.take_slice_end();
         let r = f.call::<()>((copy, origin));
-        shared.slice_end.set(slice_end);
-        shared.current.set(previous.0);
-        shared.current_script.set(previous.1);
-        *shared.current_name.borrow_mut() = previous.2;
+        threads.set_slice_end(slice_end);
+        running.act_as(previous);
         if let Err(e) = r {
-            if let Some(slot) = shared.msg_hooks.borrow_mut().get_mut(i) {
-                *slot = None;
-            }
+            mailboxes.set_receiver(i, None);
             // Said where it happened: the receiver's log shows no hook of its own failing.
             let e = mlua::Error::runtime(format!("in sysCall_msg: {}", error_text(&e)));
-            shared.msg_failures.borrow_mut().push((i, e));
+            mailboxes.failures.borrow_mut().push((i, e));
         }
     }
     Ok(())

@@ -20,12 +20,14 @@
 //! No OS thread is involved: "thread" is CoppeliaSim's word, and the world is only
 //! ever touched by the simulation thread.
 
-use std::rc::Rc;
-use std::time::Duration;
+use std::cell::{Cell, RefCell};
+use std::ffi::c_void;
+use std::time::{Duration, Instant};
 
-use mlua::{Lua, Table};
+use mlua::{Lua, Table, Thread};
 
-use crate::simulation::Shared;
+use crate::app_state::state;
+use crate::running::Running;
 
 /// CoppeliaSim's default auto-yield delay (`sim.getAutoYieldDelay`).
 pub const DEFAULT_AUTO_YIELD: Duration = Duration::from_millis(2);
@@ -59,6 +61,84 @@ impl ThreadMode {
     }
 }
 
+/// Every script's thread mode, and the thread being resumed now: what the time-budget
+/// hook needs to pre-empt it.
+pub(crate) struct Threads {
+    /// Each script's thread mode, by script index.
+    modes: RefCell<Vec<ThreadMode>>,
+    /// The script thread being resumed now (null when none): only it is pre-empted,
+    /// not a coroutine of the script's own running inside it.
+    running: Cell<*const c_void>,
+    /// When the thread being resumed is pre-empted, if its mode allows it.
+    slice_end: Cell<Option<Instant>>,
+}
+
+impl Threads {
+    /// No script, no thread running.
+    pub(crate) fn new() -> Self {
+        Self {
+            modes: RefCell::new(Vec::new()),
+            running: Cell::new(std::ptr::null()),
+            slice_end: Cell::new(None),
+        }
+    }
+
+    /// `scripts` scripts, each in the default mode (the scene's scripts load again).
+    pub(crate) fn reset(&self, scripts: usize) {
+        *self.modes.borrow_mut() = vec![ThreadMode::default(); scripts];
+    }
+
+    /// One more script, in the default mode (a model's script loaded during the run).
+    pub(crate) fn push(&self) {
+        self.modes.borrow_mut().push(ThreadMode::default());
+    }
+
+    /// Script `i` starts afresh in the default mode (it was reloaded).
+    pub(crate) fn reset_mode(&self, i: usize) {
+        if let Some(m) = self.modes.borrow_mut().get_mut(i) {
+            *m = ThreadMode::default();
+        }
+    }
+
+    /// Resumes `thread`, script `i`'s, for one time slice; returns once it yields,
+    /// returns or fails.
+    pub(crate) fn resume(&self, i: usize, thread: &Thread) -> mlua::Result<()> {
+        let mode = self.modes.borrow().get(i).copied().unwrap_or_default();
+        self.running.set(thread.to_pointer());
+        self.slice_end.set(Some(Instant::now() + mode.auto_yield));
+        let r = thread.resume::<()>(());
+        self.slice_end.set(None);
+        self.running.set(std::ptr::null());
+        r
+    }
+
+    /// Suspends the running slice's end (code that must not be pre-empted runs, or
+    /// the debugger holds the simulation); give it back with [`Threads::set_slice_end`].
+    pub(crate) fn take_slice_end(&self) -> Option<Instant> {
+        self.slice_end.take()
+    }
+
+    /// Restores what [`Threads::take_slice_end`] took.
+    pub(crate) fn set_slice_end(&self, end: Option<Instant>) {
+        self.slice_end.set(end);
+    }
+
+    /// Whether the running code is script `script`'s thread, its time slice is over and
+    /// its mode lets it be pre-empted.
+    pub(crate) fn preemption_due(&self, lua: &Lua, script: Option<usize>, now: Instant) -> bool {
+        let Some(end) = self.slice_end.get() else {
+            return false;
+        };
+        if now <= end {
+            return false;
+        }
+        let preemptive = script
+            .and_then(|i| self.modes.borrow().get(i).map(ThreadMode::preemptive))
+            .unwrap_or(false);
+        preemptive && lua.current_thread().to_pointer() == self.running.get()
+    }
+}
+
 /// The Lua side of the blocking calls.
 const THREADS_LUA: &str = include_str!("lua/threads.lua");
 
@@ -68,17 +148,18 @@ const MOTION_LUA: &str = include_str!("lua/motion.lua");
 
 /// Installs the thread functions into the global `sim` table: the blocking calls from
 /// `lua/threads.lua` and the mode setters below, which act on the calling script.
-pub(crate) fn install(lua: &Lua, shared: &Rc<Shared>, sim: &Table) -> mlua::Result<()> {
+pub(crate) fn install(lua: &Lua, sim: &Table) -> mlua::Result<()> {
     let host = lua.create_table()?;
     // Each setter reads or changes the mode of the script running now; outside any
     // script (never reached from Lua) there is no mode to change.
     let with_mode = |f: fn(&mut ThreadMode, Option<mlua::Value>) -> mlua::Result<mlua::Value>| {
-        let shared = shared.clone();
         // Failures come back as (false, message) and threads.lua raises the message
         // as a Lua string from the caller's line, like every other API error.
         lua.create_function(move |lua, arg: Option<mlua::Value>| {
-            let mut modes = shared.thread_modes.borrow_mut();
-            let result = match shared.current_script.get().and_then(|i| modes.get_mut(i)) {
+            let script = state::<Running>(lua).script.get();
+            let threads = state::<Threads>(lua);
+            let mut modes = threads.modes.borrow_mut();
+            let result = match script.and_then(|i| modes.get_mut(i)) {
                 Some(mode) => f(mode, arg),
                 None => Err(mlua::Error::runtime("no script is running")),
             };
@@ -149,12 +230,11 @@ pub(crate) fn install(lua: &Lua, shared: &Rc<Shared>, sim: &Table) -> mlua::Resu
             Ok(mlua::Value::Integer(1))
         })?,
     )?;
-    let running = shared.clone();
     host.set(
         "isScriptRunningInThread",
         lua.create_function(move |lua, ()| {
             let ptr = lua.current_thread().to_pointer();
-            Ok(i64::from(!ptr.is_null() && ptr == running.running_thread.get()))
+            Ok(i64::from(!ptr.is_null() && ptr == state::<Threads>(lua).running.get()))
         })?,
     )?;
     lua.load(MOTION_LUA)

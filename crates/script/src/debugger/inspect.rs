@@ -105,13 +105,13 @@ impl Inspector {
 
     /// Runs a compiled expression in a coroutine of its own (see debugger.lua).
     pub(super) fn run(&self, f: Function) -> Result<MultiValue, String> {
-        let out: MultiValue = self.run.call(f).map_err(|e| crate::simulation::error_text(&e))?;
+        let out: MultiValue = self.run.call(f).map_err(|e| crate::lua_error::error_text(&e))?;
         let mut it = out.into_iter();
         match it.next() {
             Some(LuaValue::Boolean(true)) => Ok(it.collect()),
             _ => Err(match it.next() {
                 Some(LuaValue::String(s)) => s.to_string_lossy(),
-                Some(LuaValue::Error(e)) => crate::simulation::error_text(&e),
+                Some(LuaValue::Error(e)) => crate::lua_error::error_text(&e),
                 Some(other) => format!("{other:?}"),
                 None => "error".into(),
             }),

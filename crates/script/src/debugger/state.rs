@@ -12,18 +12,41 @@ use std::sync::atomic::Ordering;
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
 
-use mlua::{Lua, Table, Thread, Value as LuaValue, VmState};
+use mlua::{AppDataRef, Lua, Table, Thread, Value as LuaValue, VmState};
 
 use super::inspect::{Inspector, RawFrame};
-use super::{
+use super::link::{
     BreakpointSpec, BreakpointStatus, DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, FrameInfo,
     ScopeInfo, StopReason, VariableInfo,
 };
+use crate::app_state::state;
+use crate::directory::Directory;
+use crate::lua_error::error_text;
+use crate::running::Running;
 use crate::sandbox::HostLibs;
-use crate::simulation::Shared;
+use crate::threads::Threads;
 
 /// How often a stopped script looks at the shutdown flag.
 const HOLD_POLL: Duration = Duration::from_millis(50);
+
+/// What the debugger reads and adjusts of the host while it holds a script: who runs
+/// (its budget is suspended while stopped), the script directory (globals of a frame)
+/// and the running thread's time slice.
+struct Host<'a> {
+    running: AppDataRef<'a, Running>,
+    directory: AppDataRef<'a, Directory>,
+    threads: AppDataRef<'a, Threads>,
+}
+
+impl<'a> Host<'a> {
+    fn of(lua: &'a Lua) -> Self {
+        Self {
+            running: state(lua),
+            directory: state(lua),
+            threads: state(lua),
+        }
+    }
+}
 
 /// The debugger of one simulation (see the module docs of `debugger`).
 pub(crate) struct DebugHost {
@@ -159,7 +182,7 @@ impl DebugHost {
     }
 
     /// A line event of the hook. `Continue` unless a stop ended in an error to raise.
-    pub(crate) fn on_line(&self, lua: &Lua, debug: &mlua::debug::Debug, shared: &Shared) -> mlua::Result<VmState> {
+    pub(crate) fn on_line(&self, lua: &Lua, debug: &mlua::debug::Debug) -> mlua::Result<VmState> {
         if !self.armed.get() || self.busy.get() {
             return Ok(VmState::Continue);
         }
@@ -184,25 +207,27 @@ impl DebugHost {
         };
         let depth = stack_depth(lua);
         let co = lua.current_thread();
-        if stepping && self.step_done(&co, depth, shared) {
+        let host = &Host::of(lua);
+        if stepping && self.step_done(&co, depth, host) {
             let reason = if self.state.borrow().pause {
                 StopReason::Pause
             } else {
                 StopReason::Step
             };
-            self.hold(lua, &co, depth, reason, None, shared);
+            self.hold(lua, &co, depth, reason, None, host);
             return Ok(VmState::Continue);
         }
-        if has_line && let Some(reason) = self.breakpoint_hit(&co, &file, line, shared) {
-            self.hold(lua, &co, depth, reason, None, shared);
+        if has_line && let Some(reason) = self.breakpoint_hit(&co, &file, line, host) {
+            self.hold(lua, &co, depth, reason, None, host);
         }
         Ok(VmState::Continue)
     }
 
     /// An error no script caught, seen from the message handler of the protected call
     /// that runs a hook (the failing frame is still on the stack).
-    pub(crate) fn on_error(&self, lua: &Lua, message: &LuaValue, shared: &Shared) {
-        if self.busy.get() || shared.interrupted.get() {
+    pub(crate) fn on_error(&self, lua: &Lua, message: &LuaValue) {
+        let host = &Host::of(lua);
+        if self.busy.get() || host.running.interrupted.get() {
             return;
         }
         {
@@ -213,15 +238,16 @@ impl DebugHost {
         }
         let text = match message {
             LuaValue::String(s) => s.to_string_lossy(),
-            LuaValue::Error(e) => crate::simulation::error_text(e),
+            LuaValue::Error(e) => error_text(e),
             other => self.inspect.describe(other).0,
         };
         let co = lua.current_thread();
-        self.hold(lua, &co, stack_depth(lua), StopReason::Exception, Some(text), shared);
+        self.hold(lua, &co, stack_depth(lua), StopReason::Exception, Some(text), host);
     }
 
     /// Serves the requests that arrived while no script is stopped.
-    pub(crate) fn poll(&self, lua: &Lua, shared: &Shared) {
+    pub(crate) fn poll(&self, lua: &Lua) {
+        let host = &Host::of(lua);
         loop {
             let cmd = {
                 let s = self.state.borrow();
@@ -231,19 +257,19 @@ impl DebugHost {
                     Err(_) => return,
                 }
             };
-            let (reply, _) = self.serve(lua, cmd.request, shared);
+            let (reply, _) = self.serve(lua, cmd.request, host);
             (cmd.reply)(reply);
         }
     }
 
     /// Whether a pending step (or pause) ends at this line.
-    fn step_done(&self, co: &Thread, depth: usize, shared: &Shared) -> bool {
+    fn step_done(&self, co: &Thread, depth: usize, host: &Host<'_>) -> bool {
         let s = self.state.borrow();
         if s.pause {
             return true;
         }
         let Some(step) = s.step else { return false };
-        let elsewhere = step.thread != co.to_pointer() || step.entry != shared.entries.get();
+        let elsewhere = step.thread != co.to_pointer() || step.entry != host.running.entries.get();
         match step.mode {
             StepMode::In => true,
             // From another thread or a later hook call: the stepped function is gone,
@@ -255,7 +281,7 @@ impl DebugHost {
 
     /// Counts a hit of the breakpoint at `line` of `file` and decides: stop, log, or
     /// go on.
-    fn breakpoint_hit(&self, co: &Thread, file: &ScriptFile, line: u32, shared: &Shared) -> Option<StopReason> {
+    fn breakpoint_hit(&self, co: &Thread, file: &ScriptFile, line: u32, host: &Host<'_>) -> Option<StopReason> {
         let spec = {
             let s = self.state.borrow();
             s.breakpoints
@@ -268,7 +294,7 @@ impl DebugHost {
         if let Some(cond) = &spec.condition
             && !cond.trim().is_empty()
         {
-            match self.evaluate_at(co, 1, cond, shared) {
+            match self.evaluate_at(co, 1, cond, host) {
                 Ok(v) => {
                     if matches!(v, LuaValue::Nil | LuaValue::Boolean(false)) {
                         return None;
@@ -298,7 +324,7 @@ impl DebugHost {
             return None;
         }
         if let Some(msg) = &spec.log_message {
-            let text = self.interpolate(co, msg, shared);
+            let text = self.interpolate(co, msg, host);
             self.emit(DebugEvent::Output {
                 text,
                 path: file.path.clone(),
@@ -310,7 +336,7 @@ impl DebugHost {
     }
 
     /// A logpoint's message with each `{expr}` replaced by its value.
-    fn interpolate(&self, co: &Thread, msg: &str, shared: &Shared) -> String {
+    fn interpolate(&self, co: &Thread, msg: &str, host: &Host<'_>) -> String {
         let mut out = String::new();
         let mut rest = msg;
         while let Some(open) = rest.find('{') {
@@ -321,7 +347,7 @@ impl DebugHost {
                 return out;
             };
             let expr = &after[..close];
-            match self.evaluate_at(co, 1, expr, shared) {
+            match self.evaluate_at(co, 1, expr, host) {
                 Ok(LuaValue::String(s)) => out.push_str(&s.to_string_lossy()),
                 Ok(v) => out.push_str(&self.inspect.describe(&v).0),
                 Err(e) => out.push_str(&format!("<{e}>")),
@@ -333,12 +359,12 @@ impl DebugHost {
     }
 
     /// Stops the simulation here until the client resumes it.
-    fn hold(&self, lua: &Lua, co: &Thread, depth: usize, reason: StopReason, text: Option<String>, shared: &Shared) {
+    fn hold(&self, lua: &Lua, co: &Thread, depth: usize, reason: StopReason, text: Option<String>, host: &Host<'_>) {
         let started = Instant::now();
         // The stopped time is not the script's: no budget, no pre-emption meanwhile.
-        let deadline = shared.deadline.replace(started + Duration::from_secs(3600 * 24));
-        let slice_end = shared.slice_end.take();
-        let interrupted = shared.interrupted.get();
+        let deadline = host.running.deadline.replace(started + Duration::from_secs(3600 * 24));
+        let slice_end = host.threads.take_slice_end();
+        let interrupted = host.running.interrupted.get();
         self.busy.set(true);
         let frames = self.inspect.frames(co).unwrap_or_default();
         let (path, line) = match frames.first() {
@@ -375,13 +401,13 @@ impl DebugHost {
                 Err(RecvTimeoutError::Timeout) => continue,
                 Err(RecvTimeoutError::Disconnected) => break Resume::Continue,
             };
-            let (reply, resume) = self.serve(lua, cmd.request, shared);
+            let (reply, resume) = self.serve(lua, cmd.request, host);
             (cmd.reply)(reply);
             if let Some(r) = resume {
                 break r;
             }
         };
-        let entry = shared.entries.get();
+        let entry = host.running.entries.get();
         {
             let mut s = self.state.borrow_mut();
             s.session = None;
@@ -405,13 +431,13 @@ impl DebugHost {
         self.update_armed();
         self.emit(DebugEvent::Continued);
         let paused = started.elapsed();
-        shared.deadline.set(deadline + paused);
-        shared.slice_end.set(slice_end.map(|t| t + paused));
-        shared.interrupted.set(interrupted);
+        host.running.deadline.set(deadline + paused);
+        host.threads.set_slice_end(slice_end.map(|t| t + paused));
+        host.running.interrupted.set(interrupted);
     }
 
     /// Answers one request; `Some` when it resumes a stopped script.
-    fn serve(&self, lua: &Lua, request: DebugRequest, shared: &Shared) -> (Result<DebugReply, String>, Option<Resume>) {
+    fn serve(&self, lua: &Lua, request: DebugRequest, host: &Host<'_>) -> (Result<DebugReply, String>, Option<Resume>) {
         let stopped = self.state.borrow().session.is_some();
         let resume = |r: Resume| {
             if stopped {
@@ -461,12 +487,12 @@ impl DebugHost {
                 }
                 (Ok(DebugReply::Done), None)
             }
-            DebugRequest::StackTrace => (Ok(DebugReply::Frames(self.stack(shared))), None),
-            DebugRequest::Scopes { frame } => (self.scopes(frame, shared), None),
+            DebugRequest::StackTrace => (Ok(DebugReply::Frames(self.stack(host))), None),
+            DebugRequest::Scopes { frame } => (self.scopes(frame, host), None),
             DebugRequest::Variables { reference } => (self.variables(lua, reference), None),
-            DebugRequest::Evaluate { frame, expression } => (self.evaluate(frame, &expression, shared), None),
+            DebugRequest::Evaluate { frame, expression } => (self.evaluate(frame, &expression, host), None),
             DebugRequest::SetVariable { reference, name, value } => {
-                (self.set_variable(reference, &name, &value, shared), None)
+                (self.set_variable(reference, &name, &value, host), None)
             }
             DebugRequest::Sources => {
                 let s = self.state.borrow();
@@ -535,7 +561,7 @@ impl DebugHost {
         self.state.borrow().files.get(chunk).cloned()
     }
 
-    fn stack(&self, shared: &Shared) -> Vec<FrameInfo> {
+    fn stack(&self, host: &Host<'_>) -> Vec<FrameInfo> {
         let s = self.state.borrow();
         let Some(session) = &s.session else {
             return Vec::new();
@@ -550,12 +576,12 @@ impl DebugHost {
                 // The bottom frame was called by the host: it is the hook running now.
                 let function = match &f.name {
                     Some(name) => name.clone(),
-                    None if i + 1 == n => shared.current_hook.borrow().to_string(),
+                    None if i + 1 == n => host.running.hook.borrow().to_string(),
                     None => "function".into(),
                 };
                 let object = file
                     .and_then(|file| {
-                        let current = shared.current_script.get();
+                        let current = host.running.script.get();
                         file.scripts
                             .iter()
                             .find(|(idx, _)| Some(*idx) == current)
@@ -573,7 +599,7 @@ impl DebugHost {
             .collect()
     }
 
-    fn scopes(&self, frame: usize, shared: &Shared) -> Result<DebugReply, String> {
+    fn scopes(&self, frame: usize, host: &Host<'_>) -> Result<DebugReply, String> {
         let mut s = self.state.borrow_mut();
         let State { session, files, .. } = &mut *s;
         let session = session.as_mut().ok_or(NOT_STOPPED)?;
@@ -581,7 +607,7 @@ impl DebugHost {
         let env = files
             .get(&f.source)
             .and_then(|file| file.scripts.first())
-            .and_then(|(idx, _)| shared.envs.borrow().get(*idx).map(|e| e.1.clone()));
+            .and_then(|(idx, _)| host.directory.entry(*idx).map(|e| e.env));
         let mut out = Vec::new();
         session.refs.push(VarRef::Locals(frame));
         out.push(ScopeInfo {
@@ -655,35 +681,33 @@ impl DebugHost {
         }
     }
 
-    fn evaluate(&self, frame: Option<usize>, expression: &str, shared: &Shared) -> Result<DebugReply, String> {
+    fn evaluate(&self, frame: Option<usize>, expression: &str, host: &Host<'_>) -> Result<DebugReply, String> {
         let co = {
             let s = self.state.borrow();
             s.session.as_ref().map(|x| x.co.clone()).ok_or(NOT_STOPPED)?
         };
-        let v = self.evaluate_at(&co, frame.unwrap_or(1), expression, shared)?;
+        let v = self.evaluate_at(&co, frame.unwrap_or(1), expression, host)?;
         Ok(DebugReply::Value(self.variable(expression.to_owned(), &v)))
     }
 
     /// Runs `code` in frame `k` of `co` under a fresh time budget; its first result.
-    fn evaluate_at(&self, co: &Thread, k: usize, code: &str, shared: &Shared) -> Result<LuaValue, String> {
-        let env = self
-            .env_of_frame(co, k, shared)
-            .ok_or("no script frame to evaluate in")?;
+    fn evaluate_at(&self, co: &Thread, k: usize, code: &str, host: &Host<'_>) -> Result<LuaValue, String> {
+        let env = self.env_of_frame(co, k, host).ok_or("no script frame to evaluate in")?;
         let was_busy = self.busy.replace(true);
-        let deadline = shared.deadline.replace(Instant::now() + shared.time_budget.get());
-        let interrupted = shared.interrupted.replace(false);
+        let deadline = host.running.deadline.replace(Instant::now() + host.running.budget);
+        let interrupted = host.running.interrupted.replace(false);
         let result = self
             .inspect
             .compile(Some((co, k)), &env, code)
             .and_then(|f| self.inspect.run(f));
-        shared.deadline.set(deadline);
-        shared.interrupted.set(interrupted);
+        host.running.deadline.set(deadline);
+        host.running.interrupted.set(interrupted);
         self.busy.set(was_busy);
         result.map(|values| values.into_iter().next().unwrap_or(LuaValue::Nil))
     }
 
     /// The globals of the script that frame `k` of `co` belongs to.
-    fn env_of_frame(&self, co: &Thread, k: usize, shared: &Shared) -> Option<Table> {
+    fn env_of_frame(&self, co: &Thread, k: usize, host: &Host<'_>) -> Option<Table> {
         let source = {
             let s = self.state.borrow();
             match &s.session {
@@ -694,16 +718,16 @@ impl DebugHost {
             }
         };
         let idx = self.file_of(&source)?.scripts.first()?.0;
-        shared.envs.borrow().get(idx).map(|e| e.1.clone())
+        host.directory.entry(idx).map(|e| e.env)
     }
 
-    fn set_variable(&self, reference: i64, name: &str, value: &str, shared: &Shared) -> Result<DebugReply, String> {
+    fn set_variable(&self, reference: i64, name: &str, value: &str, host: &Host<'_>) -> Result<DebugReply, String> {
         let (co, var) = self.lookup(reference)?;
         let frame = match &var {
             VarRef::Locals(k) | VarRef::Upvalues(k) => *k,
             _ => 1,
         };
-        let v = self.evaluate_at(&co, frame, value, shared)?;
+        let v = self.evaluate_at(&co, frame, value, host)?;
         self.busy.set(true);
         let done = match &var {
             VarRef::Locals(k) => self.inspect.set(&co, *k, name, v.clone(), false),

@@ -1,0 +1,132 @@
+//! `sim.loadModel`: a model file's objects join the world at once (the handle of its
+//! base is returned); its scripts load once the calling hook has returned, and the model
+//! joins the scene model so that a stop rebuilds it. Scripts read model files inside
+//! the scene's folder only, as they write exports there; a remote client may load any
+//! file gantry can read, as `sim.loadScene`.
+
+use std::cell::RefCell;
+use std::path::Path;
+
+use gantry_sim_core::Handle;
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, ObjectModelKind, SceneModel, ScriptModel, load_model};
+use mlua::{Function, Lua, Table, Value as LuaValue};
+
+use crate::app_state::state;
+use crate::core_cell::CoreCell;
+
+/// How model files are read, and the models loaded whose scripts wait to load.
+#[derive(Default)]
+pub(crate) struct Models {
+    /// How model files are read: package paths, free bases.
+    pub(crate) options: RefCell<LoadOptions>,
+    /// Models whose objects are in the world and whose scripts load once no script
+    /// is running.
+    loaded: RefCell<Vec<LoadedModel>>,
+}
+
+/// A model `sim.loadModel` put into the world, waiting for its scripts to load.
+pub(crate) struct LoadedModel {
+    /// The model file as loaded.
+    pub(crate) model: SceneModel,
+    /// The world handle of each of its objects.
+    pub(crate) handles: Vec<Handle>,
+}
+
+impl Models {
+    /// Whether models wait for their scripts to load.
+    pub(crate) fn pending(&self) -> bool {
+        !self.loaded.borrow().is_empty()
+    }
+
+    /// The models waiting, now to be attached.
+    pub(crate) fn take_loaded(&self) -> Vec<LoadedModel> {
+        std::mem::take(&mut *self.loaded.borrow_mut())
+    }
+
+    /// Reads the model file `path` and adds its objects to `core`'s world; returns the
+    /// model base's handle. `confined`: only inside the scene's folder (for scripts).
+    pub(crate) fn load(&self, core: &CoreCell, path: &Path, confined: bool) -> Result<Handle, String> {
+        let path = if confined {
+            core.borrow()
+                .graphs
+                .export_scope()
+                .resolve(path)
+                .map_err(|e| match e {
+                    gantry_sim_core::graph::ExportDenied::NoFolder => {
+                        "this scene has no folder on disk (it is embedded in gantry), so its scripts cannot load model files".to_owned()
+                    }
+                    _ => format!(
+                        "{}: scripts load model files only from inside the scene's folder (give a path relative to the scene)",
+                        path.display()
+                    ),
+                })?
+        } else {
+            path.to_owned()
+        };
+        let options = self.options.borrow().clone();
+        let model = load_model(&DiskFiles, &path, &options).map_err(|e| e.to_string())?;
+        let (handles, warnings) = core
+            .try_borrow_mut()
+            .map_err(|_| "the world is busy".to_owned())?
+            .world
+            .import_model(&model);
+        // The model's own warnings (unknown keys, URDF features) and the building's.
+        for w in warnings {
+            tracing::warn!("{w}");
+        }
+        let base = *handles
+            .first()
+            .ok_or_else(|| format!("{}: the model has no objects", path.display()))?;
+        self.loaded.borrow_mut().push(LoadedModel { model, handles });
+        Ok(base)
+    }
+}
+
+/// Appends a loaded model's objects and scripts to `scene` (indices moved past the
+/// scene's), so that a stop rebuilds them; returns the offset.
+pub(crate) fn merge_into(scene: &mut SceneModel, model: SceneModel) -> usize {
+    let offset = scene.objects.len();
+    for mut o in model.objects {
+        o.parent = o.parent.map(|p| p + offset);
+        if let ObjectModelKind::Joint(j) = &mut o.kind
+            && let Some(m) = &mut j.mimic
+        {
+            m.leader += offset;
+        }
+        scene.objects.push(o);
+    }
+    for s in model.scripts {
+        scene.scripts.push(ScriptModel {
+            object: s.object + offset,
+            ..s
+        });
+    }
+    offset
+}
+
+/// Installs `sim.loadModel` into `sim`, its failures raised through `wrap` (see
+/// [`crate::host_api`]).
+pub(crate) fn install(lua: &Lua, sim: &Table, wrap: &Function) -> mlua::Result<()> {
+    sim.set(
+        "loadModel",
+        lua.create_function(move |lua, path: LuaValue| {
+            let loaded = match &path {
+                LuaValue::String(p) => {
+                    state::<Models>(lua).load(&state::<CoreCell>(lua), Path::new(&*p.to_str()?), true)
+                }
+                other => Err(format!(
+                    "argument 1: expected the model file's path as a string, got {}",
+                    other.type_name()
+                )),
+            };
+            Ok(match loaded {
+                Ok(h) => (true, LuaValue::Integer(h)),
+                Err(e) => (
+                    false,
+                    LuaValue::String(lua.create_string(format!("{e} (in function 'sim.loadModel')"))?),
+                ),
+            })
+        })
+        .and_then(|f| wrap.call::<Function>(f))?,
+    )
+}

@@ -1,0 +1,161 @@
+//! What clients outside the scene call: `sim.*` functions by name or already resolved
+//! (the transports, the Python binding, the engine), the functions only the Lua host
+//! serves, and named script functions such as `sysCall_packet`. A remote client has no
+//! emitting object; script code it runs gets a hook's time budget.
+
+use std::borrow::Cow;
+
+use gantry_sim_core::Value;
+use gantry_sim_core::api::{self, ApiError, Args, CallContext, CallError, ErrorKind};
+use mlua::{Function, MultiValue};
+
+use crate::app_state::state;
+use crate::convert::{to_multi, to_value};
+use crate::directory::{Directory, HANDLE_SELF};
+use crate::host_api::{call_script_function, script_handle};
+use crate::lua_error::error_text;
+use crate::running::Running;
+use crate::scripts::ScriptState;
+use crate::simulation::Simulation;
+
+impl Simulation {
+    /// Calls a `sim.*` function for a remote client (no emitting object), by name: the
+    /// name is resolved here, once (see [`api::Target`]).
+    ///
+    /// # Errors
+    /// The CoppeliaSim-style error message.
+    pub fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, CallError> {
+        let target = api::Target::resolve_or_error(name)?;
+        self.call_target(&target, args)
+    }
+
+    /// Calls a resolved function for a remote client (no emitting object). Functions of
+    /// the simulation loop ([`api::Target::FrontEnd`]) are the engine's, not the
+    /// scene's: they are refused here.
+    ///
+    /// # Errors
+    /// The CoppeliaSim-style error message.
+    pub fn call_target(&mut self, target: &api::Target, args: &[Value]) -> Result<Vec<Value>, CallError> {
+        match *target {
+            api::Target::Core { function, .. } => self
+                .call_function(function, args)
+                .map_err(|e| CallError::failed(target.qualified(), e)),
+            api::Target::ScriptHost(f) => self.call_script_host(f, args),
+            api::Target::FrontEnd(_) => Err(CallError::NoSuchFunction(target.qualified())),
+        }
+    }
+
+    /// A function the Lua host serves for remote clients (it needs the scripts).
+    ///
+    /// # Errors
+    /// The CoppeliaSim-style error message.
+    pub fn call_script_host(&mut self, f: api::ScriptHostFn, args: &[Value]) -> Result<Vec<Value>, CallError> {
+        use api::ScriptHostFn;
+        let in_function = |e: ApiError| CallError::failed(format!("sim.{}", f.name()), e);
+        match f {
+            ScriptHostFn::GetScriptAssociatedWithObject => {
+                script_handle(&self.lua, &[Value::Int(1), args.first().cloned().unwrap_or_default()])
+                    .map(|h| vec![Value::Int(h)])
+                    .map_err(|e| in_function(ApiError::new(e)))
+            }
+            ScriptHostFn::RemoveScript => {
+                let h = args.first().and_then(Value::as_i64);
+                let index = h.map(|h| (h, state::<Directory>(&self.lua).index_of(h)));
+                match index {
+                    Some((_, Some(i))) => {
+                        self.scripts.remove(i);
+                        Ok(Vec::new())
+                    }
+                    Some((HANDLE_SELF, None)) => Err(ApiError::bad_argument(
+                        "sim.handle_self names the calling script, and a remote client has none",
+                    )),
+                    Some((h, None)) => Err(ApiError::of(
+                        ErrorKind::NoSuchObject,
+                        format!("argument 1: no script has handle {h}"),
+                    )),
+                    None => Err(ApiError::bad_argument(format!(
+                        "argument 1: expected a script handle, got {}",
+                        args.first().map_or("nil", Value::type_name)
+                    ))),
+                }
+                .map_err(in_function)
+            }
+            ScriptHostFn::LoadModel => match args.first() {
+                Some(Value::Str(path)) => self
+                    .load_model(std::path::Path::new(path))
+                    .map_err(|e| in_function(ApiError::new(e))),
+                _ => Err(in_function(ApiError::bad_argument(
+                    "argument 1: expected the model file's path as a string",
+                ))),
+            }
+            .map(|h| vec![Value::Int(h)]),
+            ScriptHostFn::GetScript => script_handle(&self.lua, args)
+                .map(|h| vec![Value::Int(h)])
+                .map_err(|e| in_function(ApiError::new(e))),
+            ScriptHostFn::CallScriptFunction => {
+                // Script code running for a remote client is outside any hook, so it gets
+                // a hook's time budget here; otherwise a loop in the called function
+                // would hold the simulation thread until the idle deadline, an hour away.
+                state::<Running>(&self.lua).restart_budget();
+                let r = call_script_function(&self.lua, args);
+                self.scripts.leave();
+                self.apply_control();
+                r.map_err(|e| in_function(ApiError::new(error_text(&e))))
+            }
+        }
+    }
+
+    /// Calls one registry function for a client outside the scene (no emitting object),
+    /// already looked up: what an in-process client does on every call, so that no
+    /// name is searched for per call. The error is the function's own, unqualified.
+    ///
+    /// # Errors
+    /// The function's error.
+    pub fn call_function(&mut self, f: &api::ApiFunction, args: &[Value]) -> Result<Vec<Value>, api::ApiError> {
+        let ctx = CallContext {
+            script_object: None,
+            source: "remote",
+        };
+        f.invoke(&mut self.core.borrow_mut(), &ctx, &Args::new(args))
+    }
+
+    /// Calls a named global function of the scripts attached to `object` (or of every
+    /// script, for `None`) with `args`; returns the first script's results. Used by the
+    /// transports for hooks such as `sysCall_packet`.
+    ///
+    /// Returns `Ok(None)` when no script defines the function.
+    ///
+    /// # Errors
+    /// The function raised an error (the script is then marked errored).
+    pub fn call_hook_function(&mut self, function: &str, args: &[Value]) -> Result<Option<Vec<Value>>, String> {
+        for k in 0..self.scripts.order.len() {
+            let i = self.scripts.order[k];
+            if self.scripts.list[i].state != ScriptState::Running {
+                continue;
+            }
+            let Ok(Some(f)) = self.scripts.list[i].env.raw_get::<Option<Function>>(function) else {
+                continue;
+            };
+            let lua_args = to_multi(&self.lua, args).map_err(|e| e.to_string())?;
+            self.scripts.enter(i, Cow::Owned(function.to_owned()));
+            let r = self.scripts.call_script::<MultiValue>(&f, lua_args);
+            self.scripts.leave();
+            let out = match r {
+                Ok(values) => values
+                    .iter()
+                    .map(to_value)
+                    .collect::<mlua::Result<Vec<_>>>()
+                    .map(Some)
+                    .map_err(|e| e.to_string()),
+                Err(e) => {
+                    let text = error_text(&e);
+                    self.scripts.fail(i, e);
+                    Err(text)
+                }
+            };
+            self.apply_control();
+            return out;
+        }
+        Ok(None)
+    }
+}
