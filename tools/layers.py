@@ -205,7 +205,9 @@ class Crate:
                 cur = cur + (seg,)
                 continue
             target = self.scope[cur].get(seg)
-            if target is not None and target != path and self.start(cur, target) is not None:
+            if target is not None and target != path:
+                if self.start(cur, target) is None:
+                    return set()  # a re-exported external item (`pub use other_crate::Value`)
                 found = self.resolve(cur, target + rest[i + 1 :], depth + 1)
                 if found:
                     return found

@@ -21,8 +21,8 @@
 //!   the collector;
 //! * files written through the API only inside the scene's folder ([`confine`]).
 //!
-//! Time and memory are bounded elsewhere (the time budget hook and the state's memory
-//! cap, see `simulation.rs`). Non-goal: protecting against a malicious Rust host or
+//! Time and memory are bounded elsewhere: the time budget by the hook in `budget.rs`,
+//! memory by the state's cap set in [`new_state`]. Non-goal: protecting against a malicious Rust host or
 //! against the scene's author, who chose the scripts.
 
 use gantry_sim_core::Sim;
