@@ -66,7 +66,23 @@ FLOORS = {
 # Circles found when this check went file-level, in files other engineers are editing
 # right now (issue 32); allowed only exactly as listed. The lead removes each entry when
 # the branch that breaks the circle is merged.
-KNOWN_CIRCLES: dict[str, set[str]] = {}
+KNOWN_CIRCLES: dict[str, set[str]] = {
+    # urdf.rs calls urdf_fixups::repair before parsing; urdf_fixups parses with
+    # urdf::xml_options. Fix: the XML options move to urdf_fixups.rs (or a file of
+    # their own). scene/* is being edited on another branch.
+    "urdf and its fix-ups": {
+        "crates/sim-core/src/scene/urdf.rs",
+        "crates/sim-core/src/scene/urdf_fixups.rs",
+    },
+    # target.rs resolves names against MODULES and Module, defined in api/mod.rs, which
+    # re-exports Target. Fix: the registry (FUNCTIONS, Module, MODULES, module,
+    # function, call) moves to api/registry.rs and mod.rs keeps only re-exports.
+    # api/target.rs is being edited on another branch (and FUNCTIONS grows on most).
+    "api registry and Target": {
+        "crates/sim-core/src/api/mod.rs",
+        "crates/sim-core/src/api/target.rs",
+    },
+}
 
 TOKENS = re.compile(
     r"""r(?P<hashes>\#*)".*?"(?P=hashes)   # raw string (Lua chunks)
@@ -79,7 +95,9 @@ TOKENS = re.compile(
 )
 USE = re.compile(r"\buse\s+([^;]+);")
 INLINE = re.compile(r"(?<![\w:])((?:crate|super|self|[a-z_][a-z0-9_]*)(?:::[A-Za-z_][A-Za-z0-9_]*)+)")
+ITEM = r"\b(?:struct|enum|union|trait|type|fn|const|static|mod|macro_rules!)\s+{}\b"
 TEST_MOD = re.compile(r"#\[cfg\(test\)\]\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+([a-z_][a-z0-9_]*)\s*;")
+TEST_USE = re.compile(r"#\[cfg\(test\)\]\s*(?:pub(?:\([^)]*\))?\s+)?use\s+[^;]+;")
 
 
 def strip(text: str) -> str:
@@ -88,9 +106,10 @@ def strip(text: str) -> str:
 
 
 def production(text: str) -> str:
-    """The code outside unit tests: `#[cfg(test)] mod x;` lines go, and the rest of the
-    file from the first other `#[cfg(test)]` (the tests module at the end)."""
-    text = TEST_MOD.sub(" ", strip(text))
+    """The code outside unit tests: `#[cfg(test)] mod x;` and `#[cfg(test)] use ..;` go,
+    and the rest of the file from the first other `#[cfg(test)]` (the tests module at
+    the end)."""
+    text = TEST_USE.sub(" ", TEST_MOD.sub(" ", strip(text)))
     cut = text.find("#[cfg(test)]")
     return text if cut < 0 else text[:cut]
 
@@ -165,6 +184,7 @@ class Crate:
                 del self.files[m]
                 del self.text[m]
         self.scope = {m: {} for m in self.files}
+        self.globs = {m: [] for m in self.files}
         self.uses = {m: [] for m in self.files}
         for m, text in self.text.items():
             for tree in USE.findall(text):
@@ -172,6 +192,8 @@ class Crate:
                     self.uses[m].append(path)
                     if name:
                         self.scope[m][name] = path
+                    else:
+                        self.globs[m].append(path)
 
     def rel(self, mod) -> str:
         return str(self.files[mod].relative_to(self.root))
@@ -205,6 +227,8 @@ class Crate:
                 cur = cur + (seg,)
                 continue
             target = self.scope[cur].get(seg)
+            if target is None:
+                target = self.glob_source(cur, seg)
             if target is not None and target != path:
                 if self.start(cur, target) is None:
                     return set()  # a re-exported external item (`pub use other_crate::Value`)
@@ -213,6 +237,20 @@ class Crate:
                     return found
             return {cur}
         return {cur}
+
+    def glob_source(self, mod, name):
+        """The path of `name` when module `mod` has it only through `pub use inner::*`."""
+        for g in self.globs[mod]:
+            begun = self.start(mod, g)
+            if begun is None:
+                continue
+            base, rest = begun
+            inner = base + tuple(rest)
+            if inner in self.files and (
+                name in self.scope[inner] or re.search(ITEM.format(re.escape(name)), self.text[inner])
+            ):
+                return g + (name,)
+        return None
 
     def imports(self) -> dict[tuple[str, ...], set[tuple[str, ...]]]:
         graph = {}
@@ -420,13 +458,21 @@ def self_test() -> int:
     }
     code, out = outcome(clean, floors={"crates/x/src": [({"a"}, False), ({"b"}, False), ({"c"}, False)]})
     expect("clean", code == 0, out)
+    # A facade re-exporting with a glob is followed to the file that defines the name.
+    code, out = outcome({
+        "crates/x/src/lib.rs": "mod d;\n",
+        "crates/x/src/d/mod.rs": "mod model;\nmod user;\npub use model::*;\npub use user::f;\n",
+        "crates/x/src/d/model.rs": "pub struct M;\n",
+        "crates/x/src/d/user.rs": "use super::M;\npub fn f() {}\n",
+    })
+    expect("glob facade", code == 0, out)
     code, out = outcome(clean, known={"old": {"crates/x/src/a.rs", "crates/x/src/b.rs"}})
     expect("stale known circle", code == 1 and "known circle 'old' is gone" in out, out)
     for f in failures:
         print(f"layers self-test failed: {f}", file=sys.stderr)
     if failures:
         return 1
-    print("layers self-test: circle, super, known circle, upward import, clean tree: ok")
+    print("layers self-test: circle, super, known circle, upward import, clean tree, glob facade: ok")
     return 0
 
 

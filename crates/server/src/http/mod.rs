@@ -29,8 +29,10 @@
 //! accounts, and editing the scene from the page.
 
 mod access;
+mod app_state;
 mod assets;
 mod command;
+mod config;
 mod frame;
 mod panels;
 mod scene;
@@ -48,7 +50,9 @@ use axum::routing::get;
 use tokio::net::TcpListener;
 use tokio::sync::{Semaphore, watch};
 
+use app_state::AppState;
 pub use command::{ClientMessage, Command, CommandError, ControlAction, DebugAction, MAX_MESSAGE, MAX_PACKET, parse};
+pub use config::HttpConfig;
 pub use frame::{
     DRAWING_REMOVED, DeltaMessages, DrawingFrame, Frame, FrameDelta, FramePublisher, FrameSender, IDLE_FRAME_RATE,
     MAX_CLOUD_POINTS, MAX_DRAWING_VERTICES, MAX_FRAME_CLOUD_POINTS, MAX_FRAME_RATE, MAX_FRAME_VERTICES, MSG_FRAME,
@@ -62,46 +66,6 @@ pub use scene::{MAX_MESH_TRIANGLES, MSG_MESH, SceneDescription, describe};
 use crate::auth::AccessToken;
 use crate::debug::DebugHub;
 use crate::sim_thread::SimHandle;
-
-/// Limits of the viewer server.
-#[derive(Debug, Clone)]
-pub struct HttpConfig {
-    /// Most viewer pages connected at once; the next gets HTTP 503.
-    pub max_viewers: usize,
-    /// How often each page's slower panels are refreshed.
-    pub panel_interval: Duration,
-    /// A page that does not take a message within this time is disconnected.
-    pub send_timeout: Duration,
-    /// When the port cannot be bound, warn and run without the viewer instead of
-    /// failing. For the default port: a second gantry (or a test run next to a
-    /// viewer) must still start, while a port the user asked for fails loudly.
-    pub optional: bool,
-}
-
-impl Default for HttpConfig {
-    fn default() -> Self {
-        Self {
-            max_viewers: 32,
-            panel_interval: Duration::from_millis(250),
-            send_timeout: Duration::from_secs(10),
-            optional: false,
-        }
-    }
-}
-
-/// What every request handler shares.
-#[derive(Clone)]
-struct AppState {
-    sim: SimHandle,
-    frames: FrameSender,
-    /// One permit per connected viewer page.
-    viewers: Arc<Semaphore>,
-    cfg: HttpConfig,
-    /// Turns true when gantry shuts down; sessions close their sockets then.
-    shutdown: watch::Receiver<bool>,
-    /// With `--debug`: the script debugger, for the "paused in SCRIPT:LINE" banner.
-    debug: Option<DebugHub>,
-}
 
 /// Serves the page, its assets, the WebSocket and the HTTP API until `shutdown`
 /// turns true. With `token`, every route requires it (see [`access`]).

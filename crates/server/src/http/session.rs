@@ -12,11 +12,12 @@ use gantry_sim_core::Value;
 use serde_json::{Value as Json, json};
 use tokio::sync::{OwnedSemaphorePermit, watch};
 
+use super::app_state::AppState;
 use super::command::{self, Command};
+use super::config::HttpConfig;
 use super::frame::FrameDelta;
 use super::panels::{self, PanelCursor};
 use super::scene;
-use super::{AppState, HttpConfig};
 use crate::debug::{DebugHub, PausedAt};
 use crate::sim_thread::SimHandle;
 

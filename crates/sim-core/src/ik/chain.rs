@@ -16,7 +16,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::environment::{Constraints, ElementTarget, IkElement, IkError};
+use super::environment::{Constraints, ElementTarget, IkElement};
+use super::error::IkError;
 use super::trees::{JointView, Trees};
 use crate::math::{Pose, Vec3};
 use crate::scene::JointType;

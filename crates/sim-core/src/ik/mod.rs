@@ -25,6 +25,7 @@
 
 mod chain;
 mod environment;
+mod error;
 mod objects;
 mod solver;
 mod trees;
@@ -35,8 +36,9 @@ pub use chain::{
     ChainPose, Distance, ElementChain, ElementModel, JointSlot, KinematicModel, Linearization, chain_path,
 };
 pub use environment::{
-    Constraints, ElementTarget, GroupFlags, IkElement, IkEnvironment, IkEnvironments, IkError, IkGroup, IkMethod,
+    Constraints, ElementTarget, GroupFlags, IkElement, IkEnvironment, IkEnvironments, IkGroup, IkMethod,
 };
+pub use error::IkError;
 pub use objects::{
     FIRST_OBJECT, HANDLE_PARENT, HANDLE_WORLD, IkJoint, IkJointMode, IkObject, IkObjectKind, IkObjects, is_own_object,
 };

@@ -17,7 +17,7 @@
 
 use std::collections::BTreeMap;
 
-use super::environment::IkError;
+use super::error::IkError;
 use crate::handle::Handle;
 use crate::math::{Pose, Vec3};
 use crate::scene::JointType;

@@ -17,6 +17,7 @@
 //! [`MAX_DEPTH`], [`MAX_TEXT_LEN`] and [`MAX_EVENTS`].
 
 mod error;
+mod limits;
 mod messages;
 mod parse;
 mod uis;
@@ -25,6 +26,7 @@ mod widget;
 mod window;
 
 pub use error::UiError;
+pub use limits::{FIRST_UI_HANDLE, MAX_DEPTH, MAX_EVENTS, MAX_TEXT_LEN, MAX_UIS, MAX_WIDGETS, MAX_XML_LEN};
 pub use messages::{KeyboardModifiers, MESSAGE_CAPACITY, MESSAGE_KEYPRESS, SimulatorMessage, SimulatorMessages, keys};
 pub use uis::{UiEvent, Uis};
 pub use views::{FloatingView, FloatingViews, MAX_LABEL_LEN, MAX_VIEWS, ViewError};
@@ -33,19 +35,3 @@ pub use widget::{
     TickPosition, Widget, WidgetKind,
 };
 pub use window::{Placement, Ui};
-
-/// The handle of the first UI; later ones count up and are never reused.
-pub const FIRST_UI_HANDLE: i64 = 1000;
-/// UIs that may exist at once.
-pub const MAX_UIS: usize = 64;
-/// Elements (widgets, groups, stretches) per UI.
-pub const MAX_WIDGETS: usize = 256;
-/// Bytes of XML `simUI.create` accepts.
-pub const MAX_XML_LEN: usize = 64 * 1024;
-/// Levels of nested groups, the window being level 1. Bounds the parser's recursion.
-pub const MAX_DEPTH: usize = 16;
-/// Bytes of a label's or an edit's text set after creation.
-pub const MAX_TEXT_LEN: usize = 64 * 1024;
-/// Callback events waiting for their scripts; past this the oldest is dropped (with a
-/// warning), so a UI driven while no script runs cannot grow memory.
-pub const MAX_EVENTS: usize = 1024;

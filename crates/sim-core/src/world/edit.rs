@@ -26,6 +26,7 @@ use std::collections::{HashMap, HashSet};
 use rapier3d::prelude::RigidBodyHandle;
 
 use super::collection::ItemKind;
+use super::edit_state::{ColorComponent, EditCounters, EditState, gone};
 use super::object::{Handle, Joint, Object, ObjectKind};
 use super::physics::{BodyRole, TreeView, configure_integration, geometry_volume, inertial_properties};
 use super::world::World;
@@ -35,109 +36,6 @@ use crate::scene::{Geometry, JointMode, MassModel, SceneModel, ShapeModel, Visio
 
 /// Smallest shape mass, kg (CoppeliaSim clamps `sim.setShapeMass` to the same).
 pub const MIN_SHAPE_MASS: f64 = 1e-7;
-
-/// A colour component of a shape (`sim.colorcomponent_*`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ColorComponent {
-    /// Ambient and diffuse (0): the colour the viewer and vision sensors draw.
-    AmbientDiffuse,
-    /// Diffuse (1); for shapes the same as ambient-diffuse.
-    Diffuse,
-    /// Specular (2).
-    Specular,
-    /// Emission (3).
-    Emission,
-    /// Transparency (4): one value, 0 opaque.
-    Transparency,
-    /// Auxiliary (5).
-    Auxiliary,
-}
-
-impl ColorComponent {
-    /// The component for CoppeliaSim's number, `None` when out of range.
-    pub fn from_code(code: i64) -> Option<Self> {
-        Some(match code {
-            0 => Self::AmbientDiffuse,
-            1 => Self::Diffuse,
-            2 => Self::Specular,
-            3 => Self::Emission,
-            4 => Self::Transparency,
-            5 => Self::Auxiliary,
-            _ => return None,
-        })
-    }
-
-    /// How many values the component has: 1 for transparency, else 3 (RGB).
-    pub fn value_count(self) -> usize {
-        if self == Self::Transparency { 1 } else { 3 }
-    }
-
-    /// CoppeliaSim's value for a component gantry does not render.
-    fn default_value(self) -> Vec<f64> {
-        match self {
-            Self::Specular => vec![0.25; 3],
-            Self::Transparency => vec![0.0],
-            Self::Auxiliary => vec![0.5, 0.0, 0.0],
-            _ => vec![0.0; 3],
-        }
-    }
-}
-
-/// Counters of structural edits (`sim.intparam_objectcreationcounter` and friends).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct EditCounters {
-    /// Objects created (including copies) since the world was built.
-    pub created: u64,
-    /// Objects removed.
-    pub destroyed: u64,
-    /// Hierarchy changes (re-parenting, removal).
-    pub hierarchy: u64,
-}
-
-/// The world's scene-editing state, beside the object table.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct EditState {
-    /// `removed[h]`: handle `h` belonged to an object that was removed.
-    removed: Vec<bool>,
-    /// See [`World::scene_revision`].
-    revision: u64,
-    counters: EditCounters,
-    /// Visibility layers that differ from the default (1).
-    layers: HashMap<Handle, i64>,
-    /// Shape colour components gantry does not render, as set by `sim.setShapeColor`.
-    colors: HashMap<(Handle, ColorComponent), Vec<f64>>,
-    /// Bodies given a force or torque for the coming step (`sim.addForce`).
-    forced: Vec<RigidBodyHandle>,
-    /// `sim.boolparam_realtime_simulation` as scripts set it.
-    realtime: bool,
-    /// State of `sim.floatparam_rand`'s generator (xorshift64*, deterministic per run).
-    rand: u64,
-}
-
-impl EditState {
-    /// The state of a world built with `n` objects.
-    pub(crate) fn new(n: usize) -> Self {
-        Self {
-            removed: vec![false; n],
-            rand: 0x9E37_79B9_7F4A_7C15,
-            ..Self::default()
-        }
-    }
-
-    /// Whether `h` names a removed object.
-    pub(crate) fn is_removed(&self, h: Handle) -> bool {
-        gone(&self.removed, h)
-    }
-}
-
-/// Whether `removed` marks `h`.
-fn gone(removed: &[bool], h: Handle) -> bool {
-    usize::try_from(h)
-        .ok()
-        .and_then(|i| removed.get(i))
-        .copied()
-        .unwrap_or(false)
-}
 
 fn invalid(msg: impl Into<String>) -> SimError {
     SimError::InvalidArgument(msg.into())

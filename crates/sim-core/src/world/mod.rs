@@ -9,6 +9,7 @@ mod collection;
 mod containment;
 mod custom_data;
 mod edit;
+mod edit_state;
 mod log;
 mod object;
 pub mod object_path;
@@ -24,7 +25,8 @@ mod world;
 
 pub use collection::{Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind};
 pub use custom_data::CustomData;
-pub use edit::{ColorComponent, EditCounters, MIN_SHAPE_MASS};
+pub use edit::MIN_SHAPE_MASS;
+pub use edit_state::{ColorComponent, EditCounters};
 pub use log::{LOG_CAPACITY, Log, LogLine};
 pub use object::{Detection, ForceReading, Handle, Joint, KinematicMotion, Object, ObjectKind, ProximitySensor};
 pub(crate) use physics::Physics;

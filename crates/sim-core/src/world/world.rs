@@ -46,7 +46,7 @@ pub struct World {
     /// Kinematic joints in motion (see [`KinematicMotion`]), moved at each step.
     pub(super) kinematic_moving: Vec<Handle>,
     /// Run-time scene editing: removed handles, the scene revision, pending forces.
-    pub(super) edit: super::edit::EditState,
+    pub(super) edit: super::edit_state::EditState,
 }
 
 impl World {
@@ -183,7 +183,7 @@ impl World {
             collections: Vec::new(),
             log: Log::default(),
             queries_stale: true,
-            edit: super::edit::EditState::new(objects_len),
+            edit: super::edit_state::EditState::new(objects_len),
             mimics: Vec::new(),
             profiled: Vec::new(),
             kinematic_moving: Vec::new(),

@@ -10,11 +10,30 @@ use parry3d::bounding_volume::BoundingVolume;
 use parry3d::math::{Pose, Vector};
 use parry3d::partitioning::TraversalAction;
 use parry3d::query::PointQuery;
-use parry3d::shape::{CompositeShape, HeightField, Triangle};
+use parry3d::shape::{CompositeShape, HeightField, Shape, Triangle, TypedShape};
 
 use super::convex::detect_convex;
 use super::geom::Geom;
-use super::{ProximityHit, detect_shape, keep_nearest, limit};
+use super::half_space::detect_half_space;
+use super::hit::{ProximityHit, keep_nearest, limit};
+
+/// Dispatches on the shape type and merges its detection into `best`. It lives with the
+/// composites because they recurse into it for each of their parts.
+pub(super) fn detect_shape(geom: &Geom, shape: &dyn Shape, pose: &Pose, best: &mut Option<ProximityHit>) {
+    match shape.as_typed_shape() {
+        TypedShape::HalfSpace(hs) => keep_nearest(best, detect_half_space(geom, hs, pose)),
+        TypedShape::HeightField(hf) => detect_height_field(geom, hf, pose, best),
+        _ => {
+            if let Some(composite) = shape.as_composite_shape() {
+                detect_composite(geom, composite, pose, best);
+            } else if let Some(support_map) = shape.as_support_map() {
+                let lim = limit(geom, best);
+                keep_nearest(best, detect_convex(geom, shape, support_map, pose, lim));
+            }
+            // Anything else (voxels, custom shapes without a support map) is not supported.
+        }
+    }
+}
 
 /// Walks the composite's BVH (in the composite's frame), pruning nodes that miss the volume
 /// AABB or cannot beat the best detection so far, and recurses into the parts.

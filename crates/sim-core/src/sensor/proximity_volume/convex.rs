@@ -25,11 +25,11 @@ use parry3d::query::Ray;
 use parry3d::shape::{Shape, SupportMap, TypedShape};
 
 use super::geom::Geom;
+use super::hit::{ProximityHit, cap_hit};
 use super::lateral::{ball_lateral, lateral_minimum};
 use super::near_cap::near_cap;
 use super::normal::facing_sensor;
 use super::shape_query::{has_analytic_ray_cast, projection};
-use super::{ProximityHit, cap_hit};
 
 /// The ray volume on a shape with an exact parry ray cast: the solid cast from the start of
 /// the segment gives the documented semantics directly (time 0 when it starts inside).

@@ -6,7 +6,7 @@ use parry3d::query::{Ray, RayCast};
 use parry3d::shape::HalfSpace;
 
 use super::geom::Geom;
-use super::{ProximityHit, cap_hit, origin_hit};
+use super::hit::{ProximityHit, cap_hit, origin_hit};
 
 /// Closed form for a half-space `{ p : n·p <= c }` (sensor frame, `n` the outward normal).
 pub(super) fn detect_half_space(geom: &Geom, hs: &HalfSpace, pose: &Pose) -> Option<ProximityHit> {

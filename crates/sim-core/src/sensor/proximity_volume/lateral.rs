@@ -35,9 +35,9 @@ use parry3d::query::Ray;
 use parry3d::query::details::ray_toi_with_ball;
 use parry3d::shape::{Shape, SupportMap};
 
-use super::ProximityHit;
 use super::geom::{Geom, unit_sector_support_value};
 use super::gjk::{Probe, gjk_closest_points, shape_support};
+use super::hit::ProximityHit;
 use super::normal::{facing_sensor, lateral_normal};
 use super::shape_query::{ON_SHAPE_TOL, has_analytic_ray_cast, point_distance};
 use super::simplex::Simplex;

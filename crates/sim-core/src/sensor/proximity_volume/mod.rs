@@ -92,6 +92,7 @@ mod convex;
 mod geom;
 mod gjk;
 mod half_space;
+mod hit;
 mod lateral;
 mod near_cap;
 mod normal;
@@ -103,13 +104,15 @@ mod tests;
 use core::f32::consts::FRAC_PI_2;
 
 use parry3d::bounding_volume::Aabb;
-use parry3d::math::{Pose, Vector};
-use parry3d::shape::{Shape, TypedShape};
+use parry3d::math::Pose;
+use parry3d::shape::Shape;
 
-use composite::{detect_composite, detect_height_field};
-use convex::detect_convex;
+use composite::detect_shape;
 use geom::Geom;
-use half_space::detect_half_space;
+pub use hit::ProximityHit;
+// The composite tests merge detections as the detectors do.
+#[cfg(test)]
+use hit::keep_nearest;
 
 /// The detection volume of a CoppeliaSim-style proximity sensor, in the sensor frame (the
 /// sensor sits at the origin and looks along +Z). Lengths in metres, angles in radians.
@@ -132,19 +135,6 @@ pub enum ProximityVolume {
         /// Half of the full opening angle (rad), in `(0, π/2)`.
         half_angle: f32,
     },
-}
-
-/// The nearest detected point of a shape, in the sensor frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ProximityHit {
-    /// Distance (m) from the sensor origin to [`point`](Self::point), i.e. `|point|`.
-    pub distance: f32,
-    /// The detected point (m), sensor frame.
-    pub point: Vector,
-    /// Unit normal at the point, sensor frame, pointing out of the shape towards the sensor
-    /// side (`normal · point <= 0`). For a detection clamped to the near cap (the point is
-    /// inside a solid) it is `-point / |point|` (`-Z` when the point is the origin).
-    pub normal: Vector,
 }
 
 impl ProximityVolume {
@@ -197,55 +187,5 @@ impl ProximityVolume {
                 half_angle,
             } => (offset, range, half_angle),
         }
-    }
-}
-
-/// Replaces `best` by `candidate` when the latter is strictly nearer.
-fn keep_nearest(best: &mut Option<ProximityHit>, candidate: Option<ProximityHit>) {
-    if let Some(c) = candidate
-        && best.is_none_or(|b| c.distance < b.distance)
-    {
-        *best = Some(c);
-    }
-}
-
-/// Largest distance (m) still worth finding: the far cap, or the best detection so far.
-fn limit(geom: &Geom, best: &Option<ProximityHit>) -> f32 {
-    best.map_or(geom.far, |b| b.distance.min(geom.far))
-}
-
-/// Dispatches on the shape type and merges its detection into `best`.
-fn detect_shape(geom: &Geom, shape: &dyn Shape, pose: &Pose, best: &mut Option<ProximityHit>) {
-    match shape.as_typed_shape() {
-        TypedShape::HalfSpace(hs) => keep_nearest(best, detect_half_space(geom, hs, pose)),
-        TypedShape::HeightField(hf) => detect_height_field(geom, hf, pose, best),
-        _ => {
-            if let Some(composite) = shape.as_composite_shape() {
-                detect_composite(geom, composite, pose, best);
-            } else if let Some(support_map) = shape.as_support_map() {
-                let lim = limit(geom, best);
-                keep_nearest(best, detect_convex(geom, shape, support_map, pose, lim));
-            }
-            // Anything else (voxels, custom shapes without a support map) is not supported.
-        }
-    }
-}
-
-/// Detection at the sensor origin (offset 0 and the origin inside a solid).
-fn origin_hit() -> ProximityHit {
-    ProximityHit {
-        distance: 0.0,
-        point: Vector::ZERO,
-        normal: -Vector::Z,
-    }
-}
-
-/// Detection clamped to the near cap at `point` (inside the solid): normal pointing back.
-fn cap_hit(point: Vector) -> ProximityHit {
-    let distance = point.length();
-    ProximityHit {
-        distance,
-        point,
-        normal: if distance > 0.0 { -point / distance } else { -Vector::Z },
     }
 }

@@ -35,8 +35,8 @@ use parry3d::query::details::ray_toi_with_ball;
 use parry3d::shape::{ConvexPolyhedron, Cuboid, Shape, SupportMap, Triangle, TypedShape};
 
 use super::geom::Geom;
+use super::hit::{ProximityHit, cap_hit, origin_hit};
 use super::shape_query::{ON_SHAPE_TOL, on_shape, projection};
-use super::{ProximityHit, cap_hit, origin_hit};
 
 /// Number of generators (azimuths) probed by the generic near-cap search.
 const CAP_PROBE_AZIMUTHS: usize = 16;

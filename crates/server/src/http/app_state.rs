@@ -1,0 +1,25 @@
+//! What every request handler and viewer session shares: the simulation's handle, the
+//! frame stream, the viewer permits, the limits, the shutdown signal and the debugger.
+
+use std::sync::Arc;
+
+use tokio::sync::{Semaphore, watch};
+
+use super::config::HttpConfig;
+use super::frame::FrameSender;
+use crate::debug::DebugHub;
+use crate::sim_thread::SimHandle;
+
+/// What every request handler shares.
+#[derive(Clone)]
+pub(super) struct AppState {
+    pub(super) sim: SimHandle,
+    pub(super) frames: FrameSender,
+    /// One permit per connected viewer page.
+    pub(super) viewers: Arc<Semaphore>,
+    pub(super) cfg: HttpConfig,
+    /// Turns true when gantry shuts down; sessions close their sockets then.
+    pub(super) shutdown: watch::Receiver<bool>,
+    /// With `--debug`: the script debugger, for the "paused in SCRIPT:LINE" banner.
+    pub(super) debug: Option<DebugHub>,
+}
