@@ -1,20 +1,56 @@
 #!/usr/bin/env bash
 # Every test suite of gantry, with what they need installed: the one command the README
-# gives and that CI runs (.ci/run). Safe to re-run; each stage says what it does.
+# gives and that CI runs (.ci/run). Safe to re-run; each stage says what it does, and a
+# table of each stage's time closes the run.
 #
 #   bash tools/test-all.sh
 #
-# Stages: formatting, lints, the dependency-direction rule, the Rust tests (unit,
-# crate contracts, end-to-end against the real binary), a short run of every fuzz
+# Stages: formatting, lints, the dependency direction (crates and files), the Rust tests
+# (unit, crate contracts, end-to-end against the real binary), a short run of every fuzz
 # target, the Python suite that drives a real gantry with CoppeliaSim's own ZMQ client
-# (and loads public robots from PyPI packages, checked against Pinocchio),
-# a 20 s soak under hundreds of clients, the browser test (headless Chromium from
-# Debian, driven by Playwright), and the script debugger's end-to-end tests with
-# Microsoft's DAP test client (node; installed from Debian when missing).
+# (and loads public robots from PyPI packages, checked against Pinocchio), a 20 s soak
+# under hundreds of clients, the browser test (headless Chromium from Debian, driven by
+# Playwright), and the script debugger's end-to-end tests with Microsoft's DAP test
+# client (node; installed from Debian when missing).
+#
+# Builds: the lints are a `cargo clippy` check; everything else that runs gantry comes
+# from one optimised build in the `ci` profile (Cargo.toml): the Rust tests, the binary
+# every end-to-end suite drives (target/ci/gantry, built once and passed on as
+# GANTRY_BIN) and the Python extension (maturin, same profile, so it reuses every
+# compiled dependency). The fuzz targets need their own nightly, instrumented build.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
-stage() { printf '\n== %s\n' "$*"; }
+# Stage timing: each stage's wall time, printed as a table at the end (and on failure).
+export GANTRY_PROFILE=ci
+stage_names=()
+stage_secs=()
+stage_name=""
+stage_start=$SECONDS
+run_start=$SECONDS
+end_stage() {
+    if [[ -n "$stage_name" ]]; then
+        stage_names+=("$stage_name")
+        stage_secs+=($((SECONDS - stage_start)))
+    fi
+}
+stage() {
+    end_stage
+    stage_name="$1"
+    stage_start=$SECONDS
+    printf '\n== %s\n' "$*"
+}
+report_times() {
+    end_stage
+    stage_name=""
+    echo
+    echo "stage times (s):"
+    for i in "${!stage_names[@]}"; do
+        printf "  %5d  %s\n" "${stage_secs[$i]}" "${stage_names[$i]:0:72}"
+    done
+    printf '  %5d  total\n' $((SECONDS - run_start))
+}
+trap report_times EXIT
 
 stage "toolchain"
 cargo --version
@@ -28,7 +64,7 @@ cargo fmt --all -- --check
 stage "lints (cargo clippy -D warnings)"
 cargo clippy --workspace --all-targets -- -D warnings
 
-stage "dependency direction: protocol stays pure (no tokio runtime, rapier or mlua); floors inside sim-core and the Lua host"
+stage "dependency direction: protocol stays pure (no tokio runtime, rapier or mlua); no circle among files; floors inside sim-core and the Lua host"
 if cargo tree -p gantry-protocol -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d) ' ; then
     echo "gantry-protocol must not depend on the crates listed above" >&2
     exit 1
@@ -37,13 +73,20 @@ if cargo tree -p gantry-sim-core -e normal --prefix none | grep -E '^(tokio|mlua
     echo "gantry-sim-core must not depend on tokio or mlua" >&2
     exit 1
 fi
+# The engine has no I/O: no sockets, no runtime, no transport crate.
+if cargo tree -p gantry-engine -e normal --prefix none | grep -E '^(axum|zeromq|mio|gantry-server) ' ; then
+    echo "gantry-engine must not depend on a transport, a runtime or the wire codecs" >&2
+    exit 1
+fi
 # Inside the crates: no circle among files in any crate, and sim-core's and the Lua
 # host's floors; the self-test first shows the checker still catches both.
 python3 tools/layers.py --self-test
 python3 tools/layers.py
 
-stage "Rust tests (cargo test --workspace)"
-cargo test --workspace
+stage "Rust tests (cargo test --workspace, ci profile; builds target/ci/gantry for the suites below)"
+cargo test --workspace --profile ci
+cargo build --profile ci --bin gantry
+export GANTRY_BIN="$root/target/ci/gantry"
 
 stage "fuzz smoke: every cargo-fuzz target for 15 s from its seeds (installs nightly and cargo-fuzz if missing)"
 bash tools/fuzz-smoke.sh --seconds 15
@@ -58,7 +101,7 @@ stage "browser test: the viewer page in headless chromium (Playwright) against a
 bash tools/browser-test.sh
 
 stage "debugger: Microsoft's DAP test client (@vscode/debugadapter-testsupport) against gantry --debug"
-GANTRY_BIN="$root/target/release/gantry" bash tools/dap-tests.sh
+bash tools/dap-tests.sh
 
 echo
 echo "all test suites passed"

@@ -14,12 +14,13 @@ mod served;
 use std::net::IpAddr;
 use std::path::PathBuf;
 
+use gantry_engine::HostCall;
 use gantry_script::ScriptLimits;
 use gantry_server::sim_thread::SimConfig;
-use gantry_server::zmq::{FRONT_END_FUNCTIONS, HostFn, no_module};
+use gantry_server::zmq::no_module;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, Signals};
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{self, ApiFunction};
+use gantry_sim_core::api::{self, Target};
 use gantry_sim_core::scene::{BUNDLED_SCENES, LoadOptions, load_bundled, load_client_scene, load_scene};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
@@ -30,30 +31,42 @@ use crate::convert::{results, to_value};
 use crate::direct::Direct;
 use crate::served::Served;
 
-/// How a function is carried out.
+/// A function resolved once, when its function object is made (or per call of
+/// `client.call(name, ...)`): the edge where a name becomes a typed target.
 #[derive(Clone, Copy)]
-enum Kind {
-    /// A registry function of sim-core, looked up once.
-    Api(&'static ApiFunction),
-    /// A function of the Lua host (`getScript`, `callScriptFunction`, ...).
-    Script(&'static str),
-    /// Simulation control or stepping.
-    Host(HostFn, &'static str),
+struct Resolved {
+    target: Target,
+    /// Whether an in-process call releases the GIL (see [`releases_gil`]).
+    release_gil: bool,
 }
 
 /// Looks a name up as the remote API does: `getObject` or `sim.getObject` in `sim`,
 /// `simIK.handleGroup` in another module.
-fn resolve(name: &str) -> Option<Kind> {
-    let (module, function) = name.split_once('.').unwrap_or(("sim", name));
-    if module == "sim" {
-        if let Some((n, h)) = FRONT_END_FUNCTIONS.iter().find(|(n, _)| *n == function) {
-            return Some(Kind::Host(*h, n));
-        }
-        if let Some(h) = api::host_function(function).filter(|h| h.remote == api::Remote::ByScriptHost) {
-            return Some(Kind::Script(h.name));
+fn resolve(name: &str) -> Option<Resolved> {
+    let target = Target::resolve(name)?;
+    Some(Resolved {
+        target,
+        release_gil: releases_gil(&target),
+    })
+}
+
+/// Whether a function may take long enough to be worth releasing the GIL for: script
+/// code, and the registry's functions that render, solve IK or query geometry. Decided
+/// here, once per function object, from the function's name as the registry spells
+/// it; the quick ones (a pose, a signal) keep the GIL, since releasing and retaking it
+/// costs more than they do.
+fn releases_gil(target: &Target) -> bool {
+    match target {
+        Target::ScriptHost(_) => true,
+        Target::FrontEnd(_) => false,
+        Target::Core { module, function, .. } => {
+            module.name == "simIK"
+                || module.name == "simVision"
+                || ["Vision", "handle", "check", "IK"]
+                    .iter()
+                    .any(|k| function.name.contains(k))
         }
     }
-    api::module(module)?.function(function).map(Kind::Api)
 }
 
 /// Where the simulation runs.
@@ -82,20 +95,18 @@ impl Engine {
     }
 
     /// Carries out one call.
-    fn invoke(&mut self, py: Python<'_>, kind: Kind, qualified: &str, args: &[Value]) -> PyResult<Vec<Value>> {
-        let remote = qualified.strip_prefix("sim.").unwrap_or(qualified);
-        let out = match self.backend()? {
-            Backend::Direct(d) => match kind {
-                Kind::Api(f) => d.call_function(py, f, qualified, args),
-                Kind::Script(name) => d.call_named(py, name, args),
-                Kind::Host(h, name) => d.host(py, h, name, args),
-            },
-            Backend::Served(s) => match kind {
-                Kind::Api(_) | Kind::Script(_) => s.call(py, remote, qualified, args),
-                Kind::Host(h, name) => s.host(py, h, name, args),
-            },
+    fn invoke(&mut self, py: Python<'_>, f: Resolved, args: &[Value]) -> PyResult<Vec<Value>> {
+        let host = match f.target {
+            Target::FrontEnd(h) => Some(HostCall::parse(h, args).map_err(|e| PyException::new_err(e.to_string()))?),
+            _ => None,
         };
-        // The remote client raises a plain Exception with the server's message.
+        let out = match (self.backend()?, host) {
+            (Backend::Direct(d), None) => d.call(py, &f.target, f.release_gil, args).map_err(|e| e.to_string()),
+            (Backend::Direct(d), Some(call)) => d.host(py, call).map_err(|e| e.to_string()),
+            (Backend::Served(s), None) => s.call(py, f.target, args),
+            (Backend::Served(s), Some(call)) => s.host(py, &f.target.qualified(), call),
+        };
+        // The edge: the remote client raises a plain Exception with the server's message.
         out.map_err(PyException::new_err)
     }
 }
@@ -211,8 +222,7 @@ impl Engine {
         let m = api::module(module).ok_or_else(|| PyException::new_err(no_module(Some(module))))?;
         let mut names: Vec<&'static str> = m.callable().map(|(n, _)| n).collect();
         if module == "sim" {
-            names.extend(api::host::remote_names(api::Remote::ByScriptHost));
-            names.extend(api::host::remote_names(api::Remote::ByFrontEnd));
+            names.extend(api::host::remote_names());
         }
         let owner = slf.borrow().owner;
         let engine = slf.clone().unbind();
@@ -220,14 +230,14 @@ impl Engine {
             .into_iter()
             .filter_map(|n| {
                 let qualified = format!("{module}.{n}");
-                resolve(&qualified).map(|kind| (n, qualified, kind))
+                resolve(&qualified).map(|f| (n, qualified, f))
             })
-            .map(|(n, qualified, kind)| {
+            .map(|(n, qualified, f)| {
                 Ok((
                     n.to_owned(),
                     Function {
                         engine: engine.clone_ref(slf.py()),
-                        kind,
+                        f,
                         qualified,
                         owner,
                     },
@@ -263,9 +273,9 @@ impl Engine {
         } else {
             format!("sim.{name}")
         };
-        let kind = resolve(&qualified).ok_or_else(|| PyException::new_err(format!("No such function: {qualified}")))?;
+        let f = resolve(&qualified).ok_or_else(|| PyException::new_err(format!("No such function: {qualified}")))?;
         let values = args.iter().map(to_value).collect::<PyResult<Vec<_>>>()?;
-        let out = self.invoke(py, kind, &qualified, &values)?;
+        let out = self.invoke(py, f, &values)?;
         results(py, &out)
     }
 
@@ -355,8 +365,8 @@ impl Engine {
     /// `bytes, {width, height}` of a vision sensor reply.
     fn sensor_bytes(&mut self, py: Python<'_>, name: &'static str, args: &[Value]) -> PyResult<(Vec<u8>, [usize; 2])> {
         let qualified = format!("sim.{name}");
-        let kind = resolve(&qualified).ok_or_else(|| PyRuntimeError::new_err(format!("{qualified} is missing")))?;
-        let out = self.invoke(py, kind, &qualified, args)?;
+        let f = resolve(&qualified).ok_or_else(|| PyRuntimeError::new_err(format!("{qualified} is missing")))?;
+        let out = self.invoke(py, f, args)?;
         let mut it = out.into_iter();
         match (it.next(), it.next()) {
             (Some(Value::Bytes(b)), Some(Value::Array(size))) => {
@@ -392,7 +402,7 @@ fn flip(array: Bound<'_, PyAny>, top_first: bool) -> PyResult<Bound<'_, PyAny>> 
 #[pyclass(frozen, module = "gantry._gantry")]
 pub struct Function {
     engine: Py<Engine>,
-    kind: Kind,
+    f: Resolved,
     qualified: String,
     /// The engine's thread. Checked here, before PyO3's own check of an `unsendable`
     /// class, which panics (a `BaseException` that `except Exception` misses).
@@ -416,7 +426,7 @@ impl Function {
                 self.qualified
             ))
         })?;
-        let out = engine.invoke(py, self.kind, &self.qualified, &values)?;
+        let out = engine.invoke(py, self.f, &values)?;
         results(py, &out)
     }
 

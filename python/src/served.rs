@@ -4,10 +4,11 @@
 //! its calls travel as the ZMQ transport's do ([`Request`]s), minus the bytes, and it
 //! has its own stepping level beside theirs.
 
+use gantry_engine::{ClientId, HostCall};
 use gantry_server::sim_thread::{Request, SimHandle};
-use gantry_server::zmq::{HostCall, HostFn};
-use gantry_server::{BoundAddrs, ClientId, Running};
+use gantry_server::{BoundAddrs, Running};
 use gantry_sim_core::Value;
+use gantry_sim_core::api::Target;
 use pyo3::Python;
 use std::time::{Duration, Instant};
 
@@ -78,35 +79,33 @@ impl Served {
         }
     }
 
-    /// Any function served by `Simulation::call` on the simulation thread; `remote` is
-    /// the name as the ZMQ transport sends it (`getObject`, `simIK.handleGroup`).
+    /// A core or script-host function, served on the simulation thread as the ZMQ
+    /// transport's calls are.
     ///
     /// # Errors
     /// The CoppeliaSim-style message.
-    pub fn call(&self, py: Python<'_>, remote: &str, qualified: &str, args: &[Value]) -> Result<Vec<Value>, String> {
+    pub fn call(&self, py: Python<'_>, target: Target, args: &[Value]) -> Result<Vec<Value>, String> {
         let args = args.to_vec();
-        let name = remote.to_owned();
-        self.ask(py, qualified, |reply| Request::Call { name, args, reply })?
+        self.ask(py, &target.qualified(), |reply| Request::Call { target, args, reply })?
             .map_err(|e| e.to_string())
     }
 
     /// Simulation control and stepping, as the ZMQ transport serves them.
     ///
     /// # Errors
-    /// Bad arguments, nesting too deep, a scene that does not load, or an ended run.
-    pub fn host(&self, py: Python<'_>, f: HostFn, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-        let qualified = format!("sim.{name}");
-        match HostCall::parse(f, args).map_err(|e| e.to_string())? {
+    /// Nesting too deep, a scene that does not load, or an ended run.
+    pub fn host(&self, py: Python<'_>, qualified: &str, call: HostCall) -> Result<Vec<Value>, String> {
+        match call {
             HostCall::Remote(op) => self
-                .ask(py, &qualified, |reply| Request::Remote { client: ME, op, reply })?
+                .ask(py, qualified, |reply| Request::Remote { client: ME, op, reply })?
                 .map_err(|e| e.to_string()),
             // The Python client always waits: its calls are synchronous.
             HostCall::Step { .. } => {
-                self.ask(py, &qualified, |done| Request::Step { client: ME, done })?;
+                self.ask(py, qualified, |done| Request::Step { client: ME, done })?;
                 Ok(Vec::new())
             }
             HostCall::LoadScene(path) => self
-                .ask(py, &qualified, |reply| Request::LoadScene { path, reply })?
+                .ask(py, qualified, |reply| Request::LoadScene { path, reply })?
                 .map_err(|e| e.to_string()),
         }
     }

@@ -17,6 +17,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use gantry_engine::ClientId;
 use gantry_protocol::legacy_remote_api::{
     self as wire, Command, LegacyError, MessageHeader, PacketReader, SplitAssembler, opmode,
 };
@@ -27,7 +28,6 @@ use tokio::sync::watch;
 
 use crate::legacy_commands::{self, Session};
 use crate::sim_thread::{Request, SimHandle};
-use crate::stepping::ClientId;
 
 /// Stepping client IDs of legacy connections, far from the ZMQ server's (which count
 /// from 1), so the two never share a stepping level.

@@ -13,13 +13,13 @@
 
 use std::path::PathBuf;
 
+use gantry_engine::{ClientId, RemoteOp};
 use gantry_protocol::legacy_remote_api::{Command, CommandId};
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::Control;
 use tokio::sync::oneshot;
 
-use crate::sim_thread::{RemoteOp, Request, SendError, SimHandle};
-use crate::stepping::ClientId;
+use crate::sim_thread::{Request, SendError, SimHandle};
 
 /// Most error messages kept for `simxGetLastErrors` between two calls.
 const MAX_ERRORS: usize = 64;

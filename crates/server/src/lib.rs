@@ -11,18 +11,17 @@ pub mod legacy;
 pub mod legacy_commands;
 pub mod runner;
 pub mod sim_thread;
-pub mod stepping;
 pub mod text;
 pub mod zmq;
 pub mod zmq_guard;
 
 pub use auth::{AccessToken, TokenError};
 pub use debug::{DebugHub, PausedAt};
+pub use gantry_engine::{ClientId, HostCall, stepping};
 pub use runner::{BoundAddrs, Running, ServeConfig, ServerError, Shutdown, Signals, run, start};
 pub use sim_thread::{
     LoopControl, Observer, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig,
     SimHandle, channel, run_sim_thread, run_sim_thread_debugged, run_sim_thread_observed,
 };
-pub use stepping::ClientId;
 pub use text::TextConfig;
 pub use zmq::ZmqConfig;

@@ -10,14 +10,15 @@ use std::collections::VecDeque;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::time::{Duration, Instant};
 
+use gantry_engine::{ClientId, Due, Engine, EngineConfig};
+pub use gantry_engine::{LoopControl, RemoteOp};
 use gantry_script::{ScriptLimits, Simulation, StepBoundary};
-use gantry_sim_core::api::{ApiError, CallError};
+use gantry_sim_core::Handle;
+use gantry_sim_core::Value;
+use gantry_sim_core::api::{CallError, StepSafety, Target};
 use gantry_sim_core::scene::SceneModel;
-use gantry_sim_core::sim::{Control, SimulationState};
-use gantry_sim_core::{Handle, Value, api};
+use gantry_sim_core::sim::SimulationState;
 use tokio::sync::oneshot;
-
-use crate::stepping::{ClientId, Stepping, SteppingError};
 
 /// Most requests queued for the simulation thread; beyond this, transports answer
 /// "busy" instead of growing memory.
@@ -30,10 +31,10 @@ const SPIN_AFTER_ACTIVITY: Duration = Duration::from_millis(20);
 
 /// A request to the simulation thread.
 pub enum Request {
-    /// Call `sim.<name>(args)` as a remote client (no emitting object).
+    /// Call a function as a remote client (no emitting object).
     Call {
-        /// Function name without `sim.`.
-        name: String,
+        /// The function, resolved by the front end.
+        target: Target,
         /// Arguments.
         args: Vec<Value>,
         /// The results or a CoppeliaSim-style error message.
@@ -85,30 +86,6 @@ pub enum Request {
     With(Box<dyn FnOnce(&mut Simulation) + Send>),
 }
 
-/// Remote-API functions that live in the transport layer rather than in the core,
-/// because they concern the client or the simulation loop, not the world.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RemoteOp {
-    /// `sim.setStepping(enable)`: returns the client's previous stepping level.
-    SetStepping(bool),
-    /// `sim.startSimulation()` (start, or resume from pause; `sysCall_init` runs on
-    /// start), `sim.pauseSimulation()`, `sim.stopSimulation()` (cleanup, initial scene
-    /// restored, stepping levels reset).
-    Control(Control),
-    /// `sim.acquireLock()` (`true`) or `sim.releaseLock()` (`false`).
-    Lock(bool),
-}
-
-/// What the viewer's buttons and the command line ask of the simulation loop.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LoopControl {
-    /// Start or resume, pause, or stop (cleanup hooks run and the scene returns to its
-    /// initial state).
-    Control(Control),
-    /// One step, whatever the state (a stopped simulation starts, then pauses).
-    Step,
-}
-
 /// What the scripts did with a packet.
 #[derive(Debug, Clone, PartialEq)]
 pub enum PacketOutcome {
@@ -151,18 +128,16 @@ impl SimHandle {
         })
     }
 
-    /// Calls `sim.<name>` and awaits the result.
+    /// Calls `sim.<name>` (or a qualified `module.name`) and awaits the result: the
+    /// name is resolved here, at the caller's edge.
     ///
     /// # Errors
     /// The call's error message, or why it could not be delivered.
     pub async fn call(&self, name: &str, args: Vec<Value>) -> Result<Vec<Value>, String> {
+        let target = Target::resolve_or_error(name).map_err(|e| e.to_string())?;
         let (reply, rx) = oneshot::channel();
-        self.send(Request::Call {
-            name: name.to_owned(),
-            args,
-            reply,
-        })
-        .map_err(|e| e.to_string())?;
+        self.send(Request::Call { target, args, reply })
+            .map_err(|e| e.to_string())?;
         rx.await
             .map_err(|_| SendError::Closed.to_string())?
             .map_err(|e| e.to_string())
@@ -310,66 +285,44 @@ pub fn run_sim_thread_debugged(
     observer: &mut impl Observer,
     debug: Option<gantry_script::DebugLink>,
 ) -> Result<RunSummary, gantry_script::ScriptError> {
-    let dt = model.settings.dt;
-    let mut sim = match debug {
-        Some(link) => Simulation::with_debugger(model, config.limits, link)?,
-        None => Simulation::new(model, config.limits)?,
-    };
-    sim.set_load_options(config.load_options.clone());
-    if let Some(l) = &config.listeners {
-        sim.set_listeners(l.clone());
-    }
+    let engine = Engine::new(
+        model,
+        EngineConfig {
+            limits: config.limits,
+            load_options: config.load_options.clone(),
+            listeners: config.listeners.clone(),
+            realtime: !config.fast,
+        },
+        debug,
+    )?;
     let mut lp = SimLoop {
-        sim,
-        steps: 0,
-        stepping: Stepping::default(),
+        engine,
         deferred: VecDeque::new(),
-        limits: config.limits,
-        load_options: config.load_options.clone(),
-        listeners: config.listeners.clone(),
     };
     if config.autostart {
-        lp.sim.start();
+        lp.engine.control(gantry_sim_core::sim::Control::Start);
     }
     let start = Instant::now();
-    // Real-time pacing from a fixed origin, re-anchored after pauses and while stepping.
-    let mut origin = Instant::now();
-    let mut paced_steps = 0u64;
-    let mut last_reload = Instant::now();
-    let mut last_idle = Instant::now();
     let mut last_served = start.checked_sub(SPIN_AFTER_ACTIVITY).unwrap_or(start);
-    'outer: loop {
-        observer.observe(&lp.sim, lp.steps);
-        if should_stop() || config.steps.is_some_and(|n| lp.steps >= n) {
+    loop {
+        observer.observe(lp.engine.sim(), lp.engine.steps());
+        if should_stop() || config.steps.is_some_and(|n| lp.engine.steps() >= n) {
             break;
         }
-        let running = lp.sim.state() == SimulationState::Running;
-        let may_advance = running && lp.stepping.may_advance(lp.steps);
-        let wait = if may_advance {
-            let on_demand = lp.stepping.any_stepping();
-            let due = origin + Duration::from_secs_f64(paced_steps as f64 * dt);
-            let now = Instant::now();
-            if config.fast || on_demand || now >= due {
+        let now = Instant::now();
+        let wait = match lp.engine.due(now) {
+            Due::Now => {
                 lp.step_serving(&rx);
-                if on_demand {
-                    origin = Instant::now();
-                    paced_steps = 0;
-                } else {
-                    paced_steps += 1;
-                }
                 // Serve what arrived during the step before the next one.
                 while let Ok(req) = rx.try_recv() {
                     lp.serve(req);
                 }
                 continue;
             }
-            due - now
-        } else {
-            // Paused, stopped, or held by a remote client: nothing is due. Requests
-            // (such as the `sim.step` that releases the hold) still wake the loop at once.
-            origin = Instant::now();
-            paced_steps = 0;
-            Duration::from_millis(50)
+            Due::At(t) => t.saturating_duration_since(now),
+            // Paused, stopped, or held by a remote client: nothing is due. Requests (such
+            // as the `sim.step` that releases the hold) still wake the loop at once.
+            Due::Held => Duration::from_millis(50),
         };
         // A remote client in a call loop sends its next request within microseconds of
         // the last reply; waking a parked thread costs tens of microseconds, which would
@@ -399,242 +352,116 @@ pub fn run_sim_thread_debugged(
             }
             Err(RecvTimeoutError::Timeout) => {}
             Err(RecvTimeoutError::Disconnected) => {
-                if !running {
-                    break 'outer;
+                if lp.engine.state() != SimulationState::Running {
+                    break;
                 }
                 // No transport is left, so no client can release a hold any more; and
                 // recv_timeout now returns at once, so sleep instead of spinning.
-                lp.stepping.clear();
+                lp.engine.release_all_clients();
                 std::thread::sleep(wait);
             }
         }
-        if last_reload.elapsed() > Duration::from_millis(500) {
-            last_reload = Instant::now();
-            lp.sim.reload_changed();
-        }
-        // Scripts' sysCall_nonSimulation, about 20 times a second while stopped (the
-        // loop wakes every 50 ms then, or on a request).
-        if lp.sim.state() == SimulationState::Stopped && last_idle.elapsed() >= Duration::from_millis(50) {
-            last_idle = Instant::now();
-            lp.sim.non_simulation();
-        }
+        lp.engine.tick(Instant::now());
     }
-    lp.sim.cleanup();
+    lp.engine.finish();
     if let Some(dir) = &config.export_graphs {
         // Cleanup hooks ran first: their last values are part of the export.
-        let core = lp.sim.core();
-        let w = &core.world;
-        let alias = |h: Handle| {
-            w.object(h)
-                .map(|o| o.alias.clone())
-                .unwrap_or_else(|_| format!("graph{h}"))
-        };
-        match core.graphs.export_csv(dir, alias) {
-            Ok(files) => {
-                for f in files {
-                    tracing::info!("graph streams written to {}", f.display());
-                }
-            }
-            Err(e) => tracing::error!("cannot export graph streams to {}: {e}", dir.display()),
-        }
+        export_graphs(lp.engine.sim(), dir);
     }
-    lp.stepping.stopped();
-    let sim_time = lp.sim.world().time();
     Ok(RunSummary {
-        steps: lp.steps,
-        sim_time,
+        steps: lp.engine.steps(),
+        sim_time: lp.engine.sim().world().time(),
         wall_s: start.elapsed().as_secs_f64(),
     })
 }
 
-/// What the loop owns besides its schedule.
+/// Every graph stream as CSV into `dir` (`--export-graphs`).
+fn export_graphs(sim: &Simulation, dir: &std::path::Path) {
+    let core = sim.core();
+    let w = &core.world;
+    let alias = |h: Handle| {
+        w.object(h)
+            .map(|o| o.alias.clone())
+            .unwrap_or_else(|_| format!("graph{h}"))
+    };
+    match core.graphs.export_csv(dir, alias) {
+        Ok(files) => {
+            for f in files {
+                tracing::info!("graph streams written to {}", f.display());
+            }
+        }
+        Err(e) => tracing::error!("cannot export graph streams to {}: {e}", dir.display()),
+    }
+}
+
+/// The engine and the requests waiting for the end of a step.
 struct SimLoop {
-    sim: Simulation,
-    /// Steps executed so far in this run; never reset (stop does not rewind it), so
-    /// remote clients' step targets stay comparable across a stop and start.
-    steps: u64,
-    stepping: Stepping,
+    engine: Engine,
     /// Requests that arrived during a step and wait for its end, in arrival order.
     deferred: VecDeque<Request>,
-    /// For scenes loaded later (`sim.loadScene`).
-    limits: ScriptLimits,
-    load_options: gantry_sim_core::scene::LoadOptions,
-    listeners: Option<std::sync::Arc<dyn gantry_script::Listeners>>,
 }
 
 impl SimLoop {
-    fn step(&mut self) {
-        self.sim.step();
-        self.steps += 1;
-        self.stepping.stepped(self.steps);
-        self.after_script_control();
-    }
-
-    /// A script may have paused or stopped the simulation during the step
-    /// (`sim.pauseSimulation()` ...): the remote clients' stepping follows, as when a
-    /// client asks.
-    fn after_script_control(&mut self) {
-        match self.sim.state() {
-            SimulationState::Stopped => self.stepping.stopped(),
-            SimulationState::Paused => self.stepping.release_waiters(),
-            SimulationState::Running => {}
-        }
-    }
-
     /// A step during which requests are served at the boundaries between its phases
     /// (see `Simulation::step_with`), so that a call arriving during a long step (a
     /// vision sensor rendering, physics with many substeps) is answered within one
-    /// phase rather than one step. Only world calls and text packets are served
-    /// there, and between a vision sensor's render and its `sysCall_vision` only world
-    /// calls that cannot see its unprocessed image; anything that controls the
-    /// simulation or the stepping clients (start, stop, `sim.step`, stepping levels,
-    /// viewer closures) waits for the end of the step, and so does every request
-    /// behind a waiting one, so replies keep arrival order.
+    /// phase rather than one step. Only calls and text packets are served there, each
+    /// where what it touches allows ([`may_serve_mid_step`]); anything that controls
+    /// the simulation or the stepping clients (start, stop, `sim.step`, stepping
+    /// levels, viewer closures) waits for the end of the step, and so does every
+    /// request behind a waiting one, so replies keep arrival order.
     fn step_serving(&mut self, rx: &Receiver<Request>) {
         let deferred = &mut self.deferred;
-        self.sim.step_with(&mut |sim: &mut Simulation, at: StepBoundary| {
+        self.engine.step_with(&mut |sim: &mut Simulation, at: StepBoundary| {
             while let Ok(req) = rx.try_recv() {
                 match req {
                     req if !deferred.is_empty() || !may_serve_mid_step(&req, at) => deferred.push_back(req),
-                    Request::Call { name, args, reply } => serve_call(sim, &name, &args, reply),
+                    Request::Call { target, args, reply } => {
+                        let _ = reply.send(sim.call_target(&target, &args));
+                    }
                     Request::Packet { packet, reply } => serve_packet(sim, packet, reply),
                     other => deferred.push_back(other),
                 }
             }
         });
-        self.steps += 1;
-        self.stepping.stepped(self.steps);
-        self.after_script_control();
         while let Some(req) = self.deferred.pop_front() {
             self.serve(req);
         }
     }
 
-    /// Stop: cleanup, the initial scene back, and every remote client's stepping level
-    /// reset (CoppeliaSim's add-on does the same, so a stopped client cannot hold the
-    /// next run).
-    fn stop(&mut self) {
-        self.sim.stop();
-        self.stepping.stopped();
-    }
-
-    fn pause(&mut self) {
-        self.sim.pause();
-        self.stepping.release_waiters();
-    }
-
-    /// Start, pause or stop, whoever asks (a remote client, the viewer, the command line).
-    fn control(&mut self, c: Control) {
-        match c {
-            Control::Start => self.sim.start(),
-            Control::Pause => self.pause(),
-            Control::Stop => self.stop(),
-        }
-    }
-
     fn serve(&mut self, req: Request) {
         match req {
-            Request::Call { name, args, reply } => {
-                let before = self.sim.state();
-                serve_call(&mut self.sim, &name, &args, reply);
-                // A called script function may have stopped or paused the simulation;
-                // the stepping clients follow such a change (and only a change: a call
-                // made while stopped must not reset their levels).
-                if self.sim.state() != before {
-                    self.after_script_control();
-                }
+            Request::Call { target, args, reply } => {
+                let _ = reply.send(self.engine.call(&target, &args));
             }
-            Request::Packet { packet, reply } => serve_packet(&mut self.sim, packet, reply),
+            Request::Packet { packet, reply } => serve_packet(self.engine.sim_mut(), packet, reply),
             Request::Control { action, reply } => {
-                match action {
-                    LoopControl::Control(c) => self.control(c),
-                    LoopControl::Step => {
-                        if self.sim.state() != SimulationState::Running {
-                            self.sim.start();
-                            self.step();
-                            self.pause();
-                        } else {
-                            self.step();
-                        }
-                    }
-                }
-                let _ = reply.send(self.sim.state());
+                let _ = reply.send(self.engine.loop_control(action));
             }
             Request::Remote { client, op, reply } => {
-                let _ = reply.send(self.remote(client, op));
+                let _ = reply.send(self.engine.remote(client, op));
             }
-            Request::Step { client, done } => {
-                let advancing = self.sim.state() == SimulationState::Running;
-                self.stepping.request_step(client, self.steps, advancing, done);
-            }
-            Request::DropClient(client) => self.stepping.drop_client(client),
+            Request::Step { client, done } => self.engine.request_step(client, done),
+            Request::DropClient(client) => self.engine.drop_client(client),
             Request::LoadScene { path, reply } => {
-                let _ = reply.send(self.load_scene(path.as_deref()));
+                let _ = reply.send(self.engine.load_scene(path.as_deref()).map(|()| Vec::new()));
             }
-            Request::With(f) => f(&mut self.sim),
+            Request::With(f) => f(self.engine.sim_mut()),
         }
-    }
-
-    /// Replaces the scene (see [`Request::LoadScene`]). A file that does not load
-    /// leaves the current scene as it was.
-    fn load_scene(&mut self, path: Option<&std::path::Path>) -> Result<Vec<Value>, CallError> {
-        let function = if path.is_some() {
-            "sim.loadScene"
-        } else {
-            "sim.closeScene"
-        };
-        let refused = |e: &dyn std::fmt::Display| CallError::failed(function, ApiError::new(e.to_string()));
-        let model = gantry_sim_core::scene::load_client_scene(path, &self.load_options).map_err(|e| refused(&e))?;
-        // The debugger's link moves to the new scene (its breakpoints stay with the
-        // client, which sets them again per file).
-        let mut sim = match self.sim.take_debug_link() {
-            Some(link) => Simulation::with_debugger(model, self.limits, link),
-            None => Simulation::new(model, self.limits),
-        }
-        .map_err(|e| refused(&e))?;
-        sim.set_load_options(self.load_options.clone());
-        if let Some(l) = &self.listeners {
-            sim.set_listeners(l.clone());
-        }
-        // Cleanup hooks of the old scene run; its log goes with it.
-        self.stop();
-        self.sim = sim;
-        Ok(Vec::new())
-    }
-
-    fn remote(&mut self, client: ClientId, op: RemoteOp) -> Result<Vec<Value>, CallError> {
-        let in_function =
-            |e: SteppingError, f: &str| CallError::failed(format!("sim.{f}"), ApiError::new(e.to_string()));
-        match op {
-            RemoteOp::SetStepping(enable) => {
-                let previous = self
-                    .stepping
-                    .set_stepping(client, enable, self.steps)
-                    .map_err(|e| in_function(e, "setStepping"))?;
-                return Ok(vec![Value::Int(i64::from(previous))]);
-            }
-            RemoteOp::Control(c) => self.control(c),
-            RemoteOp::Lock(acquire) => {
-                let name = if acquire { "acquireLock" } else { "releaseLock" };
-                self.stepping.lock(client, acquire).map_err(|e| in_function(e, name))?;
-            }
-        }
-        Ok(Vec::new())
     }
 }
 
 /// Whether `req` may be served at boundary `at` inside a step (see
-/// [`SimLoop::step_serving`]).
+/// [`SimLoop::step_serving`]), from what its target touches.
 fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
     match req {
-        // The Lua host's functions run script code, which may start, stop or pause the
-        // simulation, load a model or remove a script: never inside a step.
-        Request::Call { name, .. }
-            if api::host_function(name).is_some_and(|h| h.remote == api::Remote::ByScriptHost) =>
-        {
-            false
-        }
-        Request::Call { name, .. } => at == StepBoundary::Phase || !sees_vision(name),
+        Request::Call { target, .. } => match target.step_safety() {
+            StepSafety::AnyBoundary => true,
+            StepSafety::PhaseBoundary => at == StepBoundary::Phase,
+            // Script code may start, stop or pause the simulation, load a model or
+            // remove a script: never inside a step.
+            StepSafety::BetweenSteps => false,
+        },
         Request::Packet { .. } => at == StepBoundary::Phase,
         Request::Control { .. }
         | Request::Remote { .. }
@@ -643,17 +470,6 @@ fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
         | Request::LoadScene { .. }
         | Request::With(_) => false,
     }
-}
-
-/// Whether `sim.<name>` (or a qualified module function) may read a vision sensor's
-/// image, directly or through a script: such calls wait while an image is unprocessed.
-fn sees_vision(name: &str) -> bool {
-    name.contains("Vision") || name.contains("Script")
-}
-
-/// `sim.<name>(args)` for a remote client.
-fn serve_call(sim: &mut Simulation, name: &str, args: &[Value], reply: oneshot::Sender<Result<Vec<Value>, CallError>>) {
-    let _ = reply.send(sim.call(name, args));
 }
 
 /// A text packet to the scripts' `sysCall_packet`.
@@ -672,34 +488,25 @@ fn serve_packet(sim: &mut Simulation, packet: Value, reply: oneshot::Sender<Pack
 #[cfg(test)]
 mod tests {
     use super::*;
+    use gantry_sim_core::api;
+    use gantry_sim_core::sim::Control;
 
     #[test]
     fn every_function_that_reads_a_vision_image_waits_for_its_callback() {
-        for m in gantry_sim_core::api::MODULES {
-            for f in m.iter() {
-                let remote = if m.name == "sim" {
-                    f.name.to_owned()
-                } else {
-                    format!("{}.{}", m.name, f.name)
-                };
-                if m.name == "simVision" || f.name.contains("VisionSensor") || f.name.contains("Script") {
-                    assert!(sees_vision(&remote), "{remote}");
-                }
+        // Images live in the floors above the world, so only functions typed as
+        // touching them can read one; those wait while an image is unprocessed.
+        for name in api::accepted_names() {
+            let target = Target::resolve(&name).expect("resolves");
+            let world_only = target.step_safety() == StepSafety::AnyBoundary;
+            if name.starts_with("simVision.") || name.contains("getVisionSensorImg") {
+                assert!(!world_only, "{name}");
             }
-        }
-        for world_call in [
-            "getObjectPosition",
-            "setJointTargetVelocity",
-            "readProximitySensor",
-            "getSimulationTime",
-        ] {
-            assert!(!sees_vision(world_call), "{world_call}");
         }
     }
 
     fn call(name: &str) -> Request {
         Request::Call {
-            name: name.to_owned(),
+            target: Target::resolve(name).expect("resolves"),
             args: Vec::new(),
             reply: oneshot::channel().0,
         }
@@ -734,7 +541,7 @@ mod tests {
         assert!(!may_serve_mid_step(&step, Phase));
         assert!(!may_serve_mid_step(&Request::With(Box::new(|_| {})), Phase));
         // Script code (which may stop the simulation or load a model) waits for the end.
-        for script_host in api::host::remote_names(api::Remote::ByScriptHost) {
+        for (script_host, _) in api::host::script_host_functions() {
             assert!(!may_serve_mid_step(&call(script_host), Phase), "{script_host}");
         }
     }

@@ -43,14 +43,14 @@ use gantry_protocol::remote_api::{
     FUNC_END, FUNC_EXECUTED, decode_request, encode_empty_map, encode_err, encode_ret, encode_wait,
 };
 use gantry_protocol::{Value, cbor};
-use gantry_sim_core::api::{self, Args, CallError};
-use gantry_sim_core::sim::Control;
+use gantry_sim_core::api::{self, CallError, Target};
 use tokio::sync::{oneshot, watch};
 use tokio::task::JoinHandle;
 use zeromq::{RouterRecvHalf, RouterSendHalf, RouterSocket, Socket, SocketEvent, SocketRecv, SocketSend, ZmqMessage};
 
-use crate::sim_thread::{RemoteOp, Request, SimHandle};
-use crate::stepping::ClientId;
+use gantry_engine::{ClientId, HostCall};
+
+use crate::sim_thread::{Request, SimHandle};
 use crate::zmq_guard;
 
 // Polling instead of sleeping. Waking a sleeping thread costs 50-100 µs on a loaded
@@ -67,75 +67,6 @@ const POLL_ANSWER: Duration = Duration::from_millis(2);
 /// How long after a reply the next request is polled for. A client in a call or step
 /// loop sends it within 100-200 µs.
 const STAY_AWAKE: Duration = Duration::from_micros(300);
-
-/// How the front ends serve the registry's host functions marked
-/// [`api::Remote::ByFrontEnd`] (they act on the client's session or the simulation
-/// loop, not on the world); a test checks the two lists name the same functions.
-pub const FRONT_END_FUNCTIONS: &[(&str, HostFn)] = &[
-    ("acquireLock", HostFn::Remote(RemoteOp::Lock(true))),
-    ("closeScene", HostFn::CloseScene),
-    ("loadScene", HostFn::LoadScene),
-    ("pauseSimulation", HostFn::Remote(RemoteOp::Control(Control::Pause))),
-    ("releaseLock", HostFn::Remote(RemoteOp::Lock(false))),
-    ("setStepping", HostFn::SetStepping),
-    ("startSimulation", HostFn::Remote(RemoteOp::Control(Control::Start))),
-    ("step", HostFn::Step),
-    ("stopSimulation", HostFn::Remote(RemoteOp::Control(Control::Stop))),
-];
-
-/// How a [`FRONT_END_FUNCTIONS`] entry is served.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum HostFn {
-    /// A simulation-thread operation that needs no arguments.
-    Remote(RemoteOp),
-    /// `sim.setStepping(enable: bool)`.
-    SetStepping,
-    /// `sim.step()`: park the client until the next step is done.
-    Step,
-    /// `sim.loadScene(path)`: replace the scene.
-    LoadScene,
-    /// `sim.closeScene()`: an empty scene.
-    CloseScene,
-}
-
-/// A [`FRONT_END_FUNCTIONS`] call with its arguments read: what each front end (this
-/// transport, the Python package) then carries out in its own way.
-#[derive(Debug, Clone, PartialEq)]
-pub enum HostCall {
-    /// A simulation-thread operation, `sim.setStepping(enable)` included.
-    Remote(RemoteOp),
-    /// `sim.step(wait=true)`; `wait` false (`client.step(wait=False)`) lets the
-    /// simulation go on without waiting for the step.
-    Step {
-        /// Whether the caller waits for the step to be done.
-        wait: bool,
-    },
-    /// `sim.loadScene(path)` (`Some`) or `sim.closeScene()` (`None`).
-    LoadScene(Option<std::path::PathBuf>),
-}
-
-impl HostCall {
-    /// Reads the arguments of the host function `f`.
-    ///
-    /// # Errors
-    /// A bad argument, in CoppeliaSim's words with the function's name.
-    pub fn parse(f: HostFn, args: &[Value]) -> Result<Self, CallError> {
-        let a = Args::new(args);
-        Ok(match f {
-            HostFn::Remote(op) => HostCall::Remote(op),
-            HostFn::SetStepping => HostCall::Remote(RemoteOp::SetStepping(
-                a.bool(0).map_err(|e| CallError::failed("sim.setStepping", e))?,
-            )),
-            HostFn::Step => HostCall::Step {
-                wait: args.first() != Some(&Value::Bool(false)),
-            },
-            HostFn::LoadScene => HostCall::LoadScene(Some(
-                a.str(0).map_err(|e| CallError::failed("sim.loadScene", e))?.into(),
-            )),
-            HostFn::CloseScene => HostCall::LoadScene(None),
-        })
-    }
-}
 
 /// The text the real server sends to clients that do not send a `uuid` (protocol v1).
 const VERSION_MISMATCH: &str = "The client ZeroMQ remote API version does not match CoppeliaSim's version";
@@ -417,11 +348,10 @@ impl Server {
                 Some(info) => info.to_vec(),
                 None => encode_err(&no_module(module_name(&req.args))),
             }),
-            func => match func.split_once('.') {
-                Some(("sim", name)) => self.sim_function(client, &uuid, name, req.args),
-                // simIK, simUI, simVision: plain calls into the shared implementation.
-                Some((module, _)) if self.infos.contains_key(module) => self.module_function(func, req.args),
-                _ => Outcome::Reply(encode_err(&format!("No such function: {func}"))),
+            // The edge: the name becomes a typed target here, once.
+            func => match func.contains('.').then(|| Target::resolve(func)).flatten() {
+                Some(target) => self.function(client, &uuid, target, req.args),
+                None => Outcome::Reply(encode_err(&CallError::NoSuchFunction(func.to_owned()).to_string())),
             },
         }
     }
@@ -449,39 +379,19 @@ impl Server {
         self.sessions.get_mut(uuid)
     }
 
-    fn sim_function(&mut self, client: ClientId, uuid: &str, name: &str, args: Vec<Value>) -> Outcome {
-        let host = FRONT_END_FUNCTIONS.iter().find(|(n, _)| *n == name).map(|(_, f)| *f);
+    fn function(&mut self, client: ClientId, uuid: &str, target: Target, args: Vec<Value>) -> Outcome {
         let (reply, rx) = oneshot::channel();
-        let call = match host.map(|f| HostCall::parse(f, &args)) {
-            None => None,
-            Some(Ok(call)) => Some(call),
-            Some(Err(e)) => return Outcome::Reply(encode_err(&e.to_string())),
-        };
-        let request = match call {
-            None => Request::Call {
-                name: name.to_owned(),
-                args,
-                reply,
+        let request = match target {
+            Target::FrontEnd(f) => match HostCall::parse(f, &args) {
+                Ok(HostCall::Remote(op)) => Request::Remote { client, op, reply },
+                Ok(HostCall::Step { wait }) => return self.step(client, uuid, wait),
+                Ok(HostCall::LoadScene(path)) => Request::LoadScene { path, reply },
+                Err(e) => return Outcome::Reply(encode_err(&e.to_string())),
             },
-            Some(HostCall::Remote(op)) => Request::Remote { client, op, reply },
-            Some(HostCall::Step { wait }) => return self.step(client, uuid, wait),
-            Some(HostCall::LoadScene(path)) => Request::LoadScene { path, reply },
+            target => Request::Call { target, args, reply },
         };
         if let Err(e) = self.sim.send(request) {
-            return Outcome::Reply(encode_err(&format!("{e} (in function 'sim.{name}')")));
-        }
-        Outcome::Await(rx)
-    }
-
-    /// A call of a module other than `sim`, by its qualified name.
-    fn module_function(&mut self, qualified: &str, args: Vec<Value>) -> Outcome {
-        let (reply, rx) = oneshot::channel();
-        if let Err(e) = self.sim.send(Request::Call {
-            name: qualified.to_owned(),
-            args,
-            reply,
-        }) {
-            return Outcome::Reply(encode_err(&format!("{e} (in function '{qualified}')")));
+            return Outcome::Reply(encode_err(&format!("{e} (in function '{}')", target.qualified())));
         }
         Outcome::Await(rx)
     }
@@ -612,9 +522,7 @@ pub fn sim_info() -> Value {
 pub fn module_info(module: &api::Module) -> Value {
     let func = || Value::Map(vec![("func".into(), Value::Map(Vec::new()))]);
     let extra: Vec<&str> = if module.name == "sim" {
-        api::host::remote_names(api::Remote::ByScriptHost)
-            .chain(api::host::remote_names(api::Remote::ByFrontEnd))
-            .collect()
+        api::host::remote_names().collect()
     } else {
         Vec::new()
     };
@@ -691,9 +599,17 @@ mod tests {
     }
 
     #[test]
-    fn the_front_end_serves_exactly_the_registrys_front_end_functions() {
-        let served: Vec<&str> = FRONT_END_FUNCTIONS.iter().map(|(n, _)| *n).collect();
-        let assigned: Vec<&str> = api::host::remote_names(api::Remote::ByFrontEnd).collect();
-        assert_eq!(served, assigned);
+    fn info_lists_exactly_the_names_that_resolve() {
+        for m in api::MODULES {
+            let Value::Map(pairs) = module_info(m) else {
+                panic!("INFO is a map")
+            };
+            for (k, v) in &pairs {
+                let name = k.as_str().expect("string keys");
+                let is_function = v.get("func").is_some();
+                let resolves = Target::resolve(&format!("{}.{name}", m.name)).is_some();
+                assert_eq!(is_function, resolves, "{}.{name}", m.name);
+            }
+        }
     }
 }

@@ -10,7 +10,7 @@ use std::time::Duration;
 use gantry_script::ScriptLimits;
 use gantry_server::{ClientId, LoopControl, RemoteOp, Request, SimConfig, SimHandle, channel, run_sim_thread};
 use gantry_sim_core::Value;
-use gantry_sim_core::api::CallError;
+use gantry_sim_core::api::{CallError, Target};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::sim::Control;
 use tokio::sync::oneshot;
@@ -49,7 +49,7 @@ end
 fn call(sim: &SimHandle, name: &str, args: Vec<Value>) -> oneshot::Receiver<Result<Vec<Value>, CallError>> {
     let (reply, rx) = oneshot::channel();
     sim.send(Request::Call {
-        name: name.to_owned(),
+        target: Target::resolve(name).expect("a known function"),
         args,
         reply,
     })

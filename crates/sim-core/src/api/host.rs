@@ -23,7 +23,7 @@ pub enum InScripts {
 /// may call a host function, and who serves it. The variants carry the typed function,
 /// so a front end that has resolved a name holds everything it needs and never
 /// compares the name again.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Remote {
     /// Not remotely.
     No,
@@ -117,7 +117,12 @@ use Touches::{Loop, Motion, Scene, Scripts};
 pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("acquireLock", AnyHook, ByFrontEnd(FrontEndFn::AcquireLock), Loop),
     f("broadcastMsg", AnyHook, Remote::No, Scripts),
-    f("callScriptFunction", AnyHook, ByScriptHost(ScriptHostFn::CallScriptFunction), Scripts),
+    f(
+        "callScriptFunction",
+        AnyHook,
+        ByScriptHost(ScriptHostFn::CallScriptFunction),
+        Scripts,
+    ),
     f("closeScene", InScripts::No, ByFrontEnd(FrontEndFn::CloseScene), Scene),
     f("getAutoYieldDelay", AnyHook, Remote::No, Scripts),
     f("getScript", AnyHook, ByScriptHost(ScriptHostFn::GetScript), Scripts),
@@ -140,15 +145,30 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("moveToPose_cleanup", AnyHook, Remote::No, Motion),
     f("moveToPose_init", AnyHook, Remote::No, Motion),
     f("moveToPose_step", AnyHook, Remote::No, Motion),
-    f("pauseSimulation", AnyHook, ByFrontEnd(FrontEndFn::PauseSimulation), Loop),
+    f(
+        "pauseSimulation",
+        AnyHook,
+        ByFrontEnd(FrontEndFn::PauseSimulation),
+        Loop,
+    ),
     f("releaseLock", AnyHook, ByFrontEnd(FrontEndFn::ReleaseLock), Loop),
-    f("removeScript", AnyHook, ByScriptHost(ScriptHostFn::RemoveScript), Scripts),
+    f(
+        "removeScript",
+        AnyHook,
+        ByScriptHost(ScriptHostFn::RemoveScript),
+        Scripts,
+    ),
     f("rmlMoveToJointPositions", ThreadedOnly, Remote::No, Motion),
     f("setAutoYieldDelay", AnyHook, Remote::No, Scripts),
     f("setStepping", AnyHook, ByFrontEnd(FrontEndFn::SetStepping), Loop),
     f("setThreadAutomaticSwitch", AnyHook, Remote::No, Scripts),
     f("setThreadSwitchTiming", AnyHook, Remote::No, Scripts),
-    f("startSimulation", AnyHook, ByFrontEnd(FrontEndFn::StartSimulation), Loop),
+    f(
+        "startSimulation",
+        AnyHook,
+        ByFrontEnd(FrontEndFn::StartSimulation),
+        Loop,
+    ),
     f("step", ThreadedOnly, ByFrontEnd(FrontEndFn::Step), Loop),
     f("stopSimulation", AnyHook, ByFrontEnd(FrontEndFn::StopSimulation), Loop),
     f("switchThread", ThreadedOnly, Remote::No, Scripts),
@@ -192,10 +212,7 @@ pub fn script_host_names() -> impl Iterator<Item = &'static str> {
 
 /// Names remote clients may call beyond the core registry.
 pub fn remote_names() -> impl Iterator<Item = &'static str> {
-    HOST_FUNCTIONS
-        .iter()
-        .filter(|h| h.remote != Remote::No)
-        .map(|h| h.name)
+    HOST_FUNCTIONS.iter().filter(|h| h.remote != Remote::No).map(|h| h.name)
 }
 
 /// The host functions the Lua host serves for remote clients, with their names.

@@ -10,7 +10,6 @@
 use super::host::{FrontEndFn, HOST_FUNCTIONS, Remote, ScriptHostFn};
 use super::{ApiFn, ApiFunction, CallError, MODULES, Module};
 
-
 /// What serves a remote client's call.
 #[derive(Clone, Copy)]
 pub enum Target {
@@ -40,9 +39,14 @@ impl std::fmt::Debug for Target {
 impl PartialEq for Target {
     fn eq(&self, other: &Self) -> bool {
         match (self, other) {
-            (Self::Core { function: a, name: x, .. }, Self::Core { function: b, name: y, .. }) => {
-                std::ptr::eq(*a, *b) && x == y
-            }
+            (
+                Self::Core {
+                    function: a, name: x, ..
+                },
+                Self::Core {
+                    function: b, name: y, ..
+                },
+            ) => std::ptr::eq(*a, *b) && x == y,
             (Self::ScriptHost(a), Self::ScriptHost(b)) => a == b,
             (Self::FrontEnd(a), Self::FrontEnd(b)) => a == b,
             _ => false,
