@@ -6,8 +6,8 @@ A file imports another when its production code names a path that resolves into 
 `a/b/mod.rs`); `super::`, `self::` and a file's own child modules resolve the same way,
 and `use` groups (`use crate::{a::X, b::{self, Y}}`) are expanded. A name that a module
 re-exports (`pub use inner::Item;` in a `mod.rs` or `lib.rs`) is followed to the file
-that defines it, so a facade does not hide a circle. `mod x;` declarations are not
-imports.
+that defines it (through `pub use inner::*` too), so a facade does not hide a circle.
+`mod x;` declarations are not imports.
 
 Two rules, checked for every crate (`crates/*/src`, `python/src`, `src`):
 
@@ -30,6 +30,8 @@ they are not read.
 Run by tools/test-all.sh beside the crate-level rule (protocol stays pure, sim-core
 has no tokio or mlua). docs/architecture.md draws the same floors.
 """
+
+from __future__ import annotations
 
 import re
 import sys
@@ -386,12 +388,17 @@ def run(root: Path, floors_by_src, known, out=sys.stderr) -> int:
         notes += n
     for name in sorted(set(known) - {n.split("'")[1] for n in notes}):
         problems.append(f"known circle '{name}' is gone: remove it from KNOWN_CIRCLES")
-    for line in notes + problems:
+    # Problems go to stderr; notes and the verdict to stdout (the self-test reads both
+    # from one buffer).
+    info = sys.stdout if out is sys.stderr else out
+    for line in notes:
+        print(line, file=info)
+    for line in problems:
         print(line, file=out)
     if problems:
         print(f"layers: {len(problems)} problem(s): circles or imports up a floor", file=out)
         return 1
-    print("layers: no circle among files, every import points down", file=out if out is not sys.stderr else sys.stdout)
+    print("layers: no circle among files, every import points down", file=info)
     return 0
 
 
