@@ -60,8 +60,8 @@ fn releases_gil(target: &Target) -> bool {
         Target::ScriptHost(_) => true,
         Target::FrontEnd(_) => false,
         Target::Core { module, function, .. } => {
-            module.name == "simIK"
-                || module.name == "simVision"
+            *module == "simIK"
+                || *module == "simVision"
                 || ["Vision", "handle", "check", "IK"]
                     .iter()
                     .any(|k| function.name.contains(k))

@@ -495,7 +495,7 @@ mod tests {
     fn every_function_that_reads_a_vision_image_waits_for_its_callback() {
         // Images live in the floors above the world, so only functions typed as
         // touching them can read one; those wait while an image is unprocessed.
-        for name in api::accepted_names() {
+        for name in Target::accepted_names() {
             let target = Target::resolve(&name).expect("resolves");
             let world_only = target.step_safety() == StepSafety::AnyBoundary;
             if name.starts_with("simVision.") || name.contains("getVisionSensorImg") {

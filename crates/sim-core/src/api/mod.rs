@@ -24,6 +24,7 @@ mod objects;
 mod packing;
 mod params;
 mod point_cloud;
+mod resolve;
 pub(crate) mod ruckig;
 mod scene;
 mod sensing;
@@ -40,7 +41,7 @@ pub use host::{
     FrontEndFn, HOST_FUNCTIONS, HOST_MODULES, HostFunction, HostModule, InScripts, Remote, ScriptHostFn, Touches,
     host_function,
 };
-pub use target::{StepSafety, Target, accepted_names};
+pub use target::{StepSafety, Target};
 
 use crate::Value;
 use crate::sim::Sim;

@@ -526,7 +526,7 @@ fn resolve_mimics(
 /// One warning per kind of top-level element that gantry does not act on: transmissions,
 /// Gazebo extensions and anything else that is not a link, joint or material.
 fn top_level_warnings(path: &Path, text: &str, warnings: &mut Vec<String>) {
-    let Ok(doc) = roxmltree::Document::parse_with_options(text, xml_options()) else {
+    let Ok(doc) = roxmltree::Document::parse_with_options(text, super::urdf_fixups::xml_options()) else {
         return;
     };
     let mut counts: Vec<(String, usize)> = Vec::new();
@@ -556,7 +556,7 @@ fn top_level_warnings(path: &Path, text: &str, warnings: &mut Vec<String>) {
 /// so a well-formedness error is located with roxmltree (line and column); a well-formed
 /// file with a wrong structure (a missing attribute, a bad number) keeps urdf-rs's text.
 fn malformed(path: &Path, text: &str, reason: &str) -> LoadError {
-    match roxmltree::Document::parse_with_options(text, xml_options()) {
+    match roxmltree::Document::parse_with_options(text, super::urdf_fixups::xml_options()) {
         Err(e) => {
             let pos = e.pos();
             let message = e.to_string();
@@ -577,18 +577,11 @@ fn malformed(path: &Path, text: &str, reason: &str) -> LoadError {
 }
 
 /// URDFs may carry a DOCTYPE (roxmltree refuses one by default).
-pub(super) fn xml_options() -> roxmltree::ParsingOptions {
-    roxmltree::ParsingOptions {
-        allow_dtd: true,
-        ..roxmltree::ParsingOptions::default()
-    }
-}
-
 /// Line and column (1-based) of the `occurrence`-th (0-based) `<tag name="name">` element
 /// below `<robot>`, for errors about one link or joint. Only used on error paths, so the
 /// file is parsed again here rather than carrying positions through urdf-rs.
 fn element_position(text: &str, tag: &str, name: &str, occurrence: usize) -> Option<(usize, usize)> {
-    let doc = roxmltree::Document::parse_with_options(text, xml_options()).ok()?;
+    let doc = roxmltree::Document::parse_with_options(text, super::urdf_fixups::xml_options()).ok()?;
     let node = doc
         .root_element()
         .children()

@@ -66,7 +66,7 @@ fn expand_optenv(text: &str) -> (String, usize) {
 /// of each removed; text that is not well-formed XML is returned as it is, for the
 /// parser to report.
 fn drop_strays(text: &str) -> (String, usize, usize) {
-    let Ok(doc) = roxmltree::Document::parse_with_options(text, super::urdf::xml_options()) else {
+    let Ok(doc) = roxmltree::Document::parse_with_options(text, xml_options()) else {
         return (text.to_owned(), 0, 0);
     };
     let textures: Vec<_> = doc
@@ -94,6 +94,16 @@ fn drop_strays(text: &str) -> (String, usize, usize) {
         out.replace_range(r.clone(), &blank);
     }
     (out, textures.len(), strays.len())
+}
+
+/// How every URDF is parsed as XML: DTDs allowed (some exporters write one), which
+/// roxmltree refuses by default. The fix-ups read the text first, so the options live
+/// here and the importer uses them too.
+pub(super) fn xml_options() -> roxmltree::ParsingOptions {
+    roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..roxmltree::ParsingOptions::default()
+    }
 }
 
 #[cfg(test)]
