@@ -101,7 +101,7 @@ def mixed_batch(tmp_path_factory):
     return runs, missing, gantry.batch.run(bubble_rob, runs, scene="bubble_rob")
 
 
-def test_ray_batch_equals_serial_runs_and_is_faster():
+def test_ray_batch_equals_serial_runs():
     t0 = time.perf_counter()
     serial = gantry.batch.run_local(bubble_rob, speed_runs(), scene="bubble_rob")
     serial_s = time.perf_counter() - t0
@@ -131,8 +131,9 @@ def test_ray_batch_equals_serial_runs_and_is_faster():
     assert all(row["detections"] >= 1 for row in rows[3:]), [row["detections"] for row in rows]
     # Every pose stays inside the arena.
     assert all(abs(row["pose"][0]) < 2.5 and abs(row["pose"][1]) < 2.5 for row in rows)
-
-    assert speedup > 1.2, f"serial {serial_s:.2f} s, Ray {ray_s:.2f} s"
+    # The speed-up is printed, not asserted: a test's timing depends on what else the
+    # machine runs (the suites run beside builds). The target (1.7x on 2 CPUs) is a
+    # benchmark's: tools/bench/ray_batch.py, in tools/bench.sh.
 
 
 def test_failed_runs_are_reported_and_the_others_complete(mixed_batch):
