@@ -14,7 +14,8 @@ pub mod sim_thread;
 pub mod stepping;
 pub mod text;
 pub mod zmq;
-pub mod zmq_guard;
+pub mod zmtp_conn;
+pub mod zmtp_reply;
 
 pub use auth::{AccessToken, TokenError};
 pub use debug::{DebugHub, PausedAt};
