@@ -473,7 +473,8 @@ impl Server {
             .split_first()
             .and_then(|(id, echo)| Some((self.routes.get(id)?, echo)))
         else {
-            // The connection closed while its request was being dispatched.
+            // Cannot happen: a connection's route lives from its READY until its task
+            // ends, and that task is the one dispatching its requests.
             return Outcome::Deferred;
         };
         // Written by the simulation thread when it finishes the step.

@@ -29,8 +29,9 @@ pub fn encode_greeting(out: &mut Vec<u8>, as_server: bool) {
 }
 
 /// Checks the part of a peer's greeting received so far (`seen`, up to 64 bytes), so
-/// that a peer speaking something else is refused at its first wrong byte rather than
-/// after 64. `Ok(true)` once all 64 bytes are in and valid.
+/// that a peer speaking something else is refused at its first wrong signature or
+/// version byte, or once its mechanism field is in, rather than after 64 bytes.
+/// `Ok(true)` once all 64 bytes are in and valid.
 ///
 /// # Errors
 /// [`Violation::Greeting`] for a wrong signature or major version,
@@ -48,9 +49,11 @@ pub(super) fn check_greeting(seen: &[u8]) -> Result<bool, Violation> {
             });
         }
     }
-    let mechanism = seen.get(MECHANISM_AT..).unwrap_or_default();
-    let mechanism = &mechanism[..mechanism.len().min(NULL_MECHANISM.len())];
-    if !NULL_MECHANISM.starts_with(mechanism) {
+    // Judged once the whole field is in, so that the name reported does not depend on
+    // how the bytes were split.
+    if let Some(mechanism) = seen.get(MECHANISM_AT..MECHANISM_AT + NULL_MECHANISM.len())
+        && mechanism != NULL_MECHANISM
+    {
         let name: Vec<u8> = mechanism.iter().copied().take_while(|&b| b != 0).collect();
         return Err(Violation::Mechanism(String::from_utf8_lossy(&name).into_owned()));
     }
@@ -118,8 +121,9 @@ mod tests {
         let mut g = greeting();
         g[12..17].copy_from_slice(b"CURVE");
         assert_eq!(check_greeting(&g), Err(Violation::Mechanism("CURVE".into())));
-        // Seen at the first differing byte.
-        assert_eq!(check_greeting(&g[..13]), Err(Violation::Mechanism("C".into())));
+        // Judged when the whole field is in, whatever came before.
+        assert_eq!(check_greeting(&g[..31]), Ok(false));
+        assert_eq!(check_greeting(&g[..32]), Err(Violation::Mechanism("CURVE".into())));
         let mut g = greeting();
         g[16] = b'X';
         assert_eq!(check_greeting(&g), Err(Violation::Mechanism("NULLX".into())));
