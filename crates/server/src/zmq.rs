@@ -8,7 +8,7 @@
 //! [`gantry_protocol::remote_api`] and this module only moves bytes and keeps sessions.
 //! The socket is gantry's own ([`crate::zmtp_conn`], over the pure ZMTP codec in
 //! [`gantry_protocol::zmtp`]): one task per connection parses the framing once, within
-//! size limits, and hands each request to [`Server::dispatch`] under a short lock.
+//! size limits, and hands each request to `Server::dispatch` under a short lock.
 //! Answers from the simulation thread are written to the client's socket by the
 //! simulation thread itself, the moment it sends them ([`crate::zmtp_reply`]), so a
 //! call costs no thread wake-up on the way back and nothing polls.

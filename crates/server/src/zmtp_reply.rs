@@ -149,7 +149,7 @@ impl Outgoing {
     }
 
     /// Resolves when this side has something for the connection task to do (see
-    /// [`Outgoing::wake`]); may resolve spuriously.
+    /// the `wake` field); may resolve spuriously.
     pub async fn woken(&self) {
         self.wake.notified().await;
     }

@@ -1,9 +1,9 @@
 //! ZMTP 3.x, the framing under ZeroMQ sockets (RFC 23 and RFC 37), as much of it as a
 //! ROUTER socket serving REQ clients with the NULL security mechanism needs.
 //!
-//! A connection starts with a 64-byte greeting from each side ([`greeting`]), then a
+//! A connection starts with a 64-byte greeting from each side ([`encode_greeting`]), then a
 //! `READY` command from each side naming its socket type ([`Command`]), then traffic:
-//! commands (`PING`, `ERROR`...) and messages of one or more frames ([`frame`]). Each
+//! commands (`PING`, `ERROR`...) and messages of one or more frames ([`encode_frame`]). Each
 //! frame is a flags byte (MORE, LONG, COMMAND), a 1- or 8-byte big-endian length and
 //! a body.
 //!
