@@ -166,7 +166,10 @@ async fn run(
 ) -> End {
     let mut buf = BytesMut::new();
     loop {
-        while peer.out.ready_for_request() {
+        // An empty buffer has nothing to decode: the usual case right after a request,
+        // when asking whether the connection is free would only arrange a wake-up for
+        // when its reply is written, which nobody needs (the next bytes wake the task).
+        while !buf.is_empty() && peer.out.ready_for_request() {
             match decoder.decode(&mut buf) {
                 Ok(Some(Event::Message(frames))) => router.message(peer, frames),
                 Ok(Some(Event::Command(command))) => match command {

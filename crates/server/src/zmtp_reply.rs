@@ -135,7 +135,8 @@ impl Outgoing {
     }
 
     /// Whether the connection may take its next request: nothing in flight and
-    /// nothing left to flush. If not, the connection task is woken once it may.
+    /// nothing left to flush. If not, the connection task is woken once it may, so
+    /// ask only with a request (or part of one) in hand.
     pub fn ready_for_request(&self) -> bool {
         let mut st = lock(&self.state);
         let ready = !st.in_flight && st.pending.is_empty();
@@ -395,6 +396,34 @@ mod tests {
         assert!(handle.is_finished());
         let expected = reply_bytes(b"gone");
         assert_eq!(read_exactly(&mut peer, expected.len()).await, expected);
+    }
+
+    /// Whether `woken()` would resolve now.
+    fn is_woken(out: &Outgoing) -> bool {
+        let mut woken = std::pin::pin!(out.woken());
+        woken.as_mut().poll(&mut Context::from_waker(Waker::noop())).is_ready()
+    }
+
+    #[tokio::test]
+    async fn the_connection_task_is_woken_only_when_it_waits_for_the_reply() {
+        let (out, mut peer) = pair().await;
+        // The usual case: the task has nothing to serve until its peer sends more, so it
+        // does not ask; the reply, written from another thread, wakes nobody.
+        let (tx, rx) = oneshot::channel();
+        out.reply_when_ready(vec![Bytes::new()], rx, encode);
+        std::thread::spawn(move || tx.send(1).expect("receiver alive"))
+            .join()
+            .expect("thread");
+        assert!(!is_woken(&out));
+        read_exactly(&mut peer, reply_bytes(&1u32.to_be_bytes()).len()).await;
+        // A task holding its next request asks, and is woken once the reply is out.
+        let (tx, rx) = oneshot::channel();
+        out.reply_when_ready(vec![Bytes::new()], rx, encode);
+        assert!(!out.ready_for_request());
+        assert!(!is_woken(&out));
+        tx.send(2).expect("receiver alive");
+        assert!(is_woken(&out));
+        assert!(out.ready_for_request());
     }
 
     #[tokio::test]
