@@ -3,6 +3,7 @@
 # machine. Builds the release binary, runs `cargo bench --bench sim`, the PyBullet side,
 # the public robots (mesh-collision arms from pybullet_data and example-robot-data, in
 # gantry and PyBullet; issue 15), the ZMQ latency benchmark with the real Python client
+# (and against the client's floor, tools/bench/zmq_floor.py)
 # and the start-up probe, then prints the side-by-side report (also in
 # target/bench/report.md) and draws docs/rovers.png. Takes about ten minutes; run it on
 # a quiet machine.
@@ -30,6 +31,8 @@ echo "== public robots: mesh-collision arms in gantry and PyBullet"
 "$venv/bin/python" tools/bench/public_robots.py --repeat 3 > target/bench/public.json
 echo "== ZMQ latency (real Python client)"
 "$venv/bin/python" tests/python/bench_zmq.py --runs 3 --json target/bench/zmq.json
+echo "== ZMQ latency against the client's floor (a busy-polling pyzmq ROUTER echo server), interleaved"
+GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/zmq_floor.py --rounds 5 --json target/bench/zmq_floor.json
 echo "== legacy remote API (V-REP's real remoteApi.so client): blocking call and synchronous stepping"
 GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/legacy_remote_api.py
 echo "== Python in-process: call latency and stepping against ZMQ and PyBullet; Ray batch speed-up"

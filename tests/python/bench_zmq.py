@@ -12,7 +12,8 @@ Targets from the issue: median < 60 us, p99 < 500 us, > 2000 steps/s.
 Each run also prints what frames those figures on the machine at hand: the same call
 with the simulator idle between real-time steps, the client against a busy-polling
 pyzmq echo server that answers from memory (the client's own floor), and remote
-stepping of an empty scene (the protocol's own cost).
+stepping of an empty scene (the protocol's own cost). tools/bench/zmq_floor.py compares
+gantry with that floor more closely (interleaved rounds, several binaries).
 
 Usage (from the repository root, after `cargo build --release`):
     .venv/bin/python tests/python/bench_zmq.py [--calls 20000] [--steps 3000] [--runs 3]
@@ -31,6 +32,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from gantry_proc import GantryProcess  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools" / "bench"))
+from zmq_floor import measure_floor  # noqa: E402
 
 SCENE = "assets/scenes/bubble_rob.toml"
 # Nothing to simulate: remote stepping there is the protocol's own cost per step.
@@ -78,53 +82,12 @@ def stepping(steps: int, scene: str = SCENE) -> float:
     return steps / wall
 
 
-def _echo_server(port: int) -> None:
-    import cbor2
-    import zmq
-
-    sock = zmq.Context().socket(zmq.REP)
-    sock.bind(f"tcp://127.0.0.1:{port}")
-    ret = cbor2.dumps({"ret": [[0.5, -0.25, 1.0]]})
-    info = cbor2.dumps({"ret": [{"getObjectPosition": {"func": {}}, "handle_world": {"const": -1}}]})
-    while True:
-        # Busy-polling: the server never sleeps, so it adds no wake-up of its own and
-        # what is measured is the client, the loopback and libzmq.
-        try:
-            raw = sock.recv(zmq.NOBLOCK)
-        except zmq.Again:
-            continue
-        req = cbor2.loads(raw)
-        sock.send(info if req.get("func") == "zmqRemoteApi.info" else ret)
-
-
 def floor(calls: int) -> tuple[float, float]:
-    """The same call loop against a pyzmq REP server that answers from memory and polls
-    without ever sleeping: what the Python client and the machine cost on their own,
-    that is, the least any server can achieve with this client here."""
-    import multiprocessing
-    import socket
-
-    from coppeliasim_zmqremoteapi_client import RemoteAPIClient
-
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    proc = multiprocessing.Process(target=_echo_server, args=(port,), daemon=True)
-    proc.start()
-    try:
-        sim = RemoteAPIClient(host="127.0.0.1", port=port).require("sim")
-        for _ in range(500):
-            sim.getObjectPosition(1, -1)
-        samples = []
-        clock = time.perf_counter_ns
-        for _ in range(calls):
-            t0 = clock()
-            sim.getObjectPosition(1, -1)
-            samples.append((clock() - t0) / 1000.0)
-    finally:
-        proc.kill()
-        proc.join()
-    samples.sort()
+    """The same call loop against a pyzmq ROUTER server that answers from memory and polls
+    without ever sleeping (tools/bench/zmq_floor.py): what the Python client and the
+    machine cost on their own, that is, the least any server can achieve with this client
+    here."""
+    samples = sorted(measure_floor(calls))
     return statistics.median(samples), percentile(samples, 99)
 
 

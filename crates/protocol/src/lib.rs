@@ -9,6 +9,8 @@
 //! * [`remote_api`]: the CoppeliaSim ZMQ remote API v2 request and reply messages.
 //! * [`legacy_remote_api`]: CoppeliaSim's legacy remote API (`simx*`): packets, messages,
 //!   commands.
+//! * [`zmtp`]: ZMTP 3.x, the framing under ZeroMQ sockets (greeting, commands, frames), as
+//!   the ZMQ remote API's ROUTER socket speaks it.
 //! * [`dap`]: the Debug Adapter Protocol: `Content-Length` frames, typed requests, and the
 //!   adapter's responses and events.
 
@@ -19,6 +21,7 @@ pub mod line;
 pub mod packet;
 pub mod remote_api;
 pub mod value;
+pub mod zmtp;
 
 pub use cbor::CborError;
 pub use line::{LineDecoder, LineError};

@@ -13,7 +13,8 @@ pub mod runner;
 pub mod sim_thread;
 pub mod text;
 pub mod zmq;
-pub mod zmq_guard;
+pub mod zmtp_conn;
+pub mod zmtp_reply;
 
 pub use auth::{AccessToken, TokenError};
 pub use debug::{DebugHub, PausedAt};

@@ -259,7 +259,6 @@ pub fn start(
         }
         if let Some(port) = serve.zmq_port {
             let addr = SocketAddr::new(zmq_ip(&serve), port);
-            // `local` is the public port, watched by the guard (crate::zmq_guard).
             let (listener, local) = crate::zmq::bind(addr)
                 .await
                 .map_err(|source| ServerError::Bind { addr, source })?;

@@ -1,18 +1,20 @@
 //! The ZMQ remote API end to end: a real server (`gantry_server::run` on port 0) and
-//! minimal REQ clients built on the `zeromq` crate and our own codec.
+//! minimal REQ clients built on our own codecs (ZMTP and CBOR).
 //!
-//! These cover what the Python suite (tests/python) cannot reach cheaply: raw bytes that
-//! no real client sends, idle eviction with a short timeout, and exact replies.
+//! These cover what the Python suite (tests/python, libzmq's REQ socket) cannot reach
+//! cheaply: raw bytes that no real client sends, ZMTP that breaks the rules or the
+//! limits, idle eviction with a short timeout, and exact replies.
 
 use std::time::{Duration, Instant};
 
+use bytes::{Bytes, BytesMut};
 use gantry_protocol::remote_api::{FUNC_END, FUNC_EXECUTED, FUNC_WAIT, Reply, Request, decode_reply, encode_request};
+use gantry_protocol::zmtp::{self, Command, Decoder, Event, MAX_MESSAGE_FRAMES, Ready, SocketType};
 use gantry_protocol::{Value, cbor};
 use gantry_server::ServeConfig;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use util::InProcess;
-use zeromq::{ReqSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
 
 mod util;
 
@@ -39,6 +41,70 @@ impl Server {
     }
 }
 
+/// A REQ socket as libzmq's behaves on the wire: greeting and `READY`, then each
+/// request as `[empty delimiter, payload]`, and the reply's payload read back.
+struct ReqSocket {
+    stream: TcpStream,
+    decoder: Decoder,
+    buf: BytesMut,
+}
+
+impl ReqSocket {
+    async fn connect(port: u16) -> Self {
+        let mut stream = TcpStream::connect(("127.0.0.1", port)).await.expect("connect");
+        stream.write_all(&hello(SocketType::Req)).await.expect("handshake");
+        Self {
+            stream,
+            decoder: Decoder::new(SocketType::Req),
+            buf: BytesMut::new(),
+        }
+    }
+
+    async fn send(&mut self, payload: &[u8]) {
+        let mut out = Vec::new();
+        zmtp::encode_message(&mut out, &[b"", payload]);
+        self.stream.write_all(&out).await.expect("send");
+    }
+
+    /// The next event from the server (its `READY` first).
+    async fn event(&mut self) -> Event {
+        loop {
+            if let Some(e) = self.decoder.decode(&mut self.buf).expect("the server speaks ZMTP 3") {
+                return e;
+            }
+            let n = self.stream.read_buf(&mut self.buf).await.expect("read");
+            assert!(n > 0, "the server closed the connection");
+        }
+    }
+
+    /// The payload of the next reply, which must come behind an empty delimiter.
+    async fn recv(&mut self) -> Bytes {
+        loop {
+            match self.event().await {
+                Event::Message(mut frames) => {
+                    assert_eq!(frames.len(), 2, "delimiter and payload: {frames:?}");
+                    assert!(frames[0].is_empty(), "{frames:?}");
+                    return frames.pop().expect("two frames");
+                }
+                Event::Command(Command::Ready(r)) => assert_eq!(r.socket_type, SocketType::Router),
+                Event::Command(c) => panic!("unexpected command {c:?}"),
+            }
+        }
+    }
+}
+
+/// A greeting and a `READY` for a socket of type `t`.
+fn hello(t: SocketType) -> Vec<u8> {
+    let mut out = Vec::new();
+    zmtp::encode_greeting(&mut out, false);
+    Command::Ready(Ready {
+        socket_type: t,
+        identity: Bytes::new(),
+    })
+    .encode(&mut out);
+    out
+}
+
 /// A remote API client as the Python client 2.0.4 behaves on the wire.
 struct Client {
     sock: ReqSocket,
@@ -49,8 +115,7 @@ struct Client {
 
 impl Client {
     async fn connect(port: u16, uuid: &str) -> Self {
-        let mut sock = ReqSocket::new();
-        sock.connect(&format!("tcp://127.0.0.1:{port}")).await.expect("connect");
+        let sock = ReqSocket::connect(port).await;
         Self {
             sock,
             uuid: uuid.to_owned(),
@@ -61,12 +126,10 @@ impl Client {
 
     /// Sends raw bytes and returns the decoded reply.
     async fn raw(&mut self, bytes: Vec<u8>) -> Reply {
-        self.sock.send(ZmqMessage::from(bytes)).await.expect("send");
-        let msg = tokio::time::timeout(Duration::from_secs(20), self.sock.recv())
+        self.sock.send(&bytes).await;
+        let payload = tokio::time::timeout(Duration::from_secs(20), self.sock.recv())
             .await
-            .expect("reply within 20 s")
-            .expect("recv");
-        let payload = msg.into_vec().pop().expect("one frame");
+            .expect("reply within 20 s");
         decode_reply(&payload).expect("reply decodes")
     }
 
@@ -647,7 +710,7 @@ async fn wrong_peers_do_not_stop_the_listener() {
     // A client that sends a request and vanishes before its reply.
     {
         let mut gone = Client::connect(server.port, "gone").await;
-        gone.sock.send(ZmqMessage::from(vec![0xffu8])).await.unwrap();
+        gone.sock.send(&[0xff]).await;
     }
     // A raw TCP peer speaking garbage instead of ZMTP.
     {
@@ -733,6 +796,126 @@ async fn bad_frame_flags_close_only_that_connection() {
     assert!(matches!(h[..], [Value::Int(_)]), "{h:?}");
     let mut after = Client::connect(server.port, "connected-after").await;
     assert_running(&after.ok("sim.getSimulationState", vec![]).await);
+}
+
+/// What used to be the guard's unit tests, now on the socket itself: a greeting that
+/// is not ZMTP 3 (or names a mechanism other than NULL), a message before the
+/// handshake, a message of too many frames or of too many bytes over several frames.
+/// Each closes that connection alone, at once; nobody else notices.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn broken_greetings_and_oversize_messages_close_only_that_connection() {
+    let server = Server::start("fk_arm");
+    let mut before = Client::connect(server.port, "connected-before").await;
+    assert_running(&before.ok("sim.getSimulationState", vec![]).await);
+
+    let mut zmtp2 = zmtp_greeting();
+    zmtp2[10] = 2;
+    let mut curve = zmtp_greeting();
+    curve[12..17].copy_from_slice(b"CURVE");
+    let mut early = zmtp_greeting();
+    zmtp::encode_message(&mut early, &[b"", b"\xa0"]);
+    let frames = MAX_MESSAGE_FRAMES as usize;
+    let too_many = [hello(SocketType::Req), b"\x01\x00".repeat(frames), vec![0x00, 0]].concat();
+    // Two frames of 9 MiB: each under the frame limit, together over the message limit.
+    let nine = 9u64 << 20;
+    let too_long = [
+        hello(SocketType::Req),
+        [&[0x03][..], &nine.to_be_bytes()].concat(),
+        vec![0; 9 << 20],
+        [&[0x02][..], &nine.to_be_bytes()].concat(),
+    ]
+    .concat();
+    for (what, bytes) in [
+        ("ZMTP 2", zmtp2),
+        ("CURVE", curve),
+        ("a message before READY", early),
+        ("too many frames", too_many),
+        ("too many bytes", too_long),
+    ] {
+        let mut raw = TcpStream::connect(("127.0.0.1", server.port)).await.unwrap();
+        // The server may close before it has read everything: a failed write is fine.
+        let _ = raw.write_all(&bytes).await;
+        tokio::time::timeout(Duration::from_secs(10), closed_by_server(&mut raw))
+            .await
+            .unwrap_or_else(|_| panic!("{what}: the connection stays open"));
+    }
+
+    let h = before.ok("sim.getObject", vec!["/arm6/joint1".into()]).await;
+    assert!(matches!(h[..], [Value::Int(_)]), "{h:?}");
+    let mut after = Client::connect(server.port, "connected-after").await;
+    assert_running(&after.ok("sim.getSimulationState", vec![]).await);
+}
+
+/// The handshake and commands as ZMTP 3.1 has them: a socket type that cannot talk to a
+/// ROUTER gets an `ERROR` command saying so, then the connection closes; a `PING` gets
+/// its `PONG` with the same context.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_wrong_socket_type_gets_an_error_and_a_ping_its_pong() {
+    let server = Server::start("fk_arm");
+    let mut publisher = TcpStream::connect(("127.0.0.1", server.port)).await.unwrap();
+    publisher.write_all(&hello(SocketType::Pub)).await.unwrap();
+    let mut received = Vec::new();
+    tokio::time::timeout(Duration::from_secs(10), publisher.read_to_end(&mut received))
+        .await
+        .expect("closed")
+        .expect("read");
+    let mut decoder = Decoder::new(SocketType::Router);
+    let mut buf = BytesMut::from(&received[..]);
+    assert!(matches!(
+        decoder.decode(&mut buf),
+        Ok(Some(Event::Command(Command::Ready(_))))
+    ));
+    match decoder.decode(&mut buf) {
+        Ok(Some(Event::Command(Command::Error { reason }))) => {
+            let reason = String::from_utf8_lossy(&reason);
+            assert!(reason.contains("PUB"), "{reason}");
+        }
+        other => panic!("expected an ERROR command, got {other:?}"),
+    }
+
+    let mut c = ReqSocket::connect(server.port).await;
+    let mut ping = Vec::new();
+    Command::Ping {
+        ttl: 10,
+        context: Bytes::from_static(b"hello"),
+    }
+    .encode(&mut ping);
+    c.stream.write_all(&ping).await.unwrap();
+    assert!(matches!(c.event().await, Event::Command(Command::Ready(_))));
+    assert_eq!(
+        c.event().await,
+        Event::Command(Command::Pong {
+            context: Bytes::from_static(b"hello")
+        })
+    );
+}
+
+/// A peer that sends its next request before the reply to the last one (a DEALER may)
+/// is served one request at a time, in order: the second waits in the buffer.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn pipelined_requests_are_answered_one_at_a_time_in_order() {
+    let server = Server::start("fk_arm");
+    let mut c = ReqSocket::connect(server.port).await;
+    let request = |func: &str, args: Vec<Value>| {
+        encode_request(&Request {
+            func: func.into(),
+            args,
+            uuid: Some("pipelined".into()),
+            ..Request::default()
+        })
+    };
+    let mut both = Vec::new();
+    zmtp::encode_message(&mut both, &[b"", &request("sim.getSimulationState", vec![])]);
+    zmtp::encode_message(&mut both, &[b"", &request("sim.getObject", vec!["/arm6".into()])]);
+    c.stream.write_all(&both).await.unwrap();
+    match decode_reply(&c.recv().await).unwrap() {
+        Reply::Ret(state) => assert_running(&state),
+        other => panic!("{other:?}"),
+    }
+    match decode_reply(&c.recv().await).unwrap() {
+        Reply::Ret(h) => assert!(matches!(h[..], [Value::Int(_)]), "{h:?}"),
+        other => panic!("{other:?}"),
+    }
 }
 
 /// A running simulation's state: 16 (`simulation_advancing_firstafterstop`) while its
