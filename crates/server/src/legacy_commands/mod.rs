@@ -222,3 +222,6 @@ impl Ctx<'_> {
         Vec::new()
     }
 }
+
+#[cfg(test)]
+mod tests;
