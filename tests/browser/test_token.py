@@ -56,7 +56,7 @@ def test_printed_url_opens_the_viewer_and_the_cookie_carries_the_rest(gantry):
         browser.close()
 
 
-@pytest.mark.parametrize("path", ["", "app.js", "api/status", "ws"])
+@pytest.mark.parametrize("path", ["", "js/main.js", "api/status", "ws"])
 def test_routes_without_the_token_are_refused(gantry, path):
     with pytest.raises(urllib.error.HTTPError) as e:
         urllib.request.urlopen(gantry.url + path, timeout=10)

@@ -167,8 +167,8 @@ fn page_assets_and_api_are_served() {
     let (code, head, body) = get(server.addr, "/");
     assert_eq!(code, 200);
     assert!(head.contains("content-type: text/html"), "{head}");
-    assert!(String::from_utf8_lossy(&body).contains("app.js"));
-    let (code, head, body) = get(server.addr, "/app.js");
+    assert!(String::from_utf8_lossy(&body).contains("js/main.js"));
+    let (code, head, body) = get(server.addr, "/js/gl.js");
     assert_eq!(code, 200);
     assert!(head.contains("text/javascript"), "{head}");
     assert!(String::from_utf8_lossy(&body).contains("webgl2"));

@@ -224,7 +224,7 @@ fn every_viewer_route_requires_the_token() {
     let addr = run.bound.http.expect("http");
     for path in [
         "/",
-        "/app.js",
+        "/js/main.js",
         "/style.css",
         "/favicon.ico",
         "/api/status",
@@ -249,7 +249,7 @@ fn every_viewer_route_requires_the_token() {
     // Opening the page with ?token= sets the cookie that the rest then carries.
     let (code, head, body) = get(addr, &format!("/?token={TOKEN}"));
     assert_eq!(code, 200);
-    assert!(String::from_utf8_lossy(&body).contains("app.js"));
+    assert!(String::from_utf8_lossy(&body).contains("js/main.js"));
     let port = addr.port();
     let set_cookie = head
         .lines()
@@ -262,7 +262,7 @@ fn every_viewer_route_requires_the_token() {
     assert!(head.contains("referrer-policy: no-referrer"), "{head}");
 
     let cookie = format!("Cookie: other=1; gantry_token_{port}={TOKEN}");
-    for path in ["/app.js", "/style.css", "/api/status"] {
+    for path in ["/js/main.js", "/style.css", "/api/status"] {
         let (code, head, _) = request(addr, path, &[&cookie]);
         assert_eq!(code, 200, "{path} with the cookie");
         assert!(!head.contains("set-cookie"), "only ?token= sets the cookie");

@@ -3,55 +3,21 @@
 //! independently with nalgebra (axis-angle), round trips, CoppeliaSim's documented
 //! conventions, and the packing functions on good and malformed data.
 
-use std::f64::consts::{FRAC_PI_2, PI};
-use std::path::Path;
+mod util;
 
-use gantry_sim_core::api::{CallContext, call};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
+use std::f64::consts::{FRAC_PI_2, PI};
+
 use gantry_sim_core::{Sim, Value};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use util::{err, floats, num, ok};
 
 /// An empty scene: these functions never touch the world.
 fn world() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/empty.toml");
-    let model =
-        load_scene_text(&DiskFiles, "[simulation]\ndt = 0.05\n", &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
-}
-
-fn sim(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
-}
-
-/// Calls a function that must succeed.
-fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
-    sim(w, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
-}
-
-/// Calls a function that must fail, and returns its message.
-fn err(w: &mut Sim, name: &str, args: &[Value]) -> String {
-    match sim(w, name, args) {
-        Ok(r) => panic!("{name}({args:?}) should fail, returned {r:?}"),
-        Err(e) => e,
-    }
+    util::text_scene("../../assets/scenes/empty.toml", "[simulation]\ndt = 0.05\n")
 }
 
 fn v(x: &[f64]) -> Value {
     Value::floats(x)
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(items) => items
-            .iter()
-            .map(|x| x.as_f64().unwrap_or_else(|| panic!("not a number: {x:?}")))
-            .collect(),
-        other => panic!("not an array: {other:?}"),
-    }
-}
-
-fn num(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v:?}"))
 }
 
 fn bytes(v: &Value) -> Vec<u8> {
@@ -715,7 +681,7 @@ fn unpack_table_is_total_on_malformed_data() {
     }
     for data in cases {
         // Either a value or an error message; never a panic.
-        if let Err(e) = sim(&mut w, "unpackTable", &[Value::Bytes(data.clone())]) {
+        if let Err(e) = util::call(&mut w, "unpackTable", &[Value::Bytes(data.clone())]) {
             assert!(e.starts_with("argument 1: not a packed table"), "{data:?}: {e}");
         }
     }

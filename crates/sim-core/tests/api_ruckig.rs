@@ -2,11 +2,10 @@
 //! registry: moves reach their targets within the limits, result codes, CoppeliaSim's
 //! table layouts and flags, and bad handles and arguments.
 
-use std::path::Path;
+mod util;
 
-use gantry_sim_core::api::{CallContext, call};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Sim, Value};
+use util::{err, floats, ok};
 
 /// `sim.ruckig_nosync`, `sim.ruckig_minvel`, `sim.ruckig_minaccel`.
 const NOSYNC: i64 = 3;
@@ -18,36 +17,11 @@ const BASE: f64 = 1e-4;
 const DT: f64 = 0.01;
 
 fn world() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/empty.toml");
-    let model =
-        load_scene_text(&DiskFiles, "[simulation]\ndt = 0.05\n", &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
-}
-
-fn sim(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
-}
-
-fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
-    sim(w, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
-}
-
-fn err(w: &mut Sim, name: &str, args: &[Value]) -> String {
-    match sim(w, name, args) {
-        Ok(r) => panic!("{name}({args:?}) should fail, returned {r:?}"),
-        Err(e) => e,
-    }
+    util::text_scene("../../assets/scenes/empty.toml", "[simulation]\ndt = 0.05\n")
 }
 
 fn v(x: &[f64]) -> Value {
     Value::floats(x)
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(items) => items.iter().map(|x| x.as_f64().expect("number")).collect(),
-        other => panic!("not an array: {other:?}"),
-    }
 }
 
 /// One `sim.ruckigStep`: result code, positions/velocities/accelerations, sync time.

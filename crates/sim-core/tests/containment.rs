@@ -1,11 +1,11 @@
 //! A body that blows up (non-finite state, a runaway speed, an absurd place) is stopped
 //! and reported, and the rest of the world keeps stepping normally.
 
-use std::path::Path;
+mod util;
 
 use gantry_sim_core::api::{CallContext, call};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::{find, step};
 
 /// A floor, a box resting on it, a free ball, and an arm link on a velocity-servoed joint
 /// strong enough to spin it up without bound.
@@ -63,19 +63,7 @@ mass = 0.01
 "#;
 
 fn world() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/containment.toml");
-    let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
-}
-
-fn step(w: &mut Sim, n: usize) {
-    for _ in 0..n {
-        w.step();
-    }
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).expect(path)
+    util::text_scene("tests/containment.toml", SCENE)
 }
 
 fn z(w: &Sim, h: Handle) -> f64 {

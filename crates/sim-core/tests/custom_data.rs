@@ -1,27 +1,20 @@
 //! Custom data blocks (`sim.writeCustomDataBlock`, `sim.readCustomDataBlock`,
 //! `sim.readCustomDataBlockTags`) through the API.
 
-use std::path::{Path, PathBuf};
+mod util;
 
-use gantry_sim_core::api::{self, CallContext};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::call;
 
 /// `sim.handle_scene`.
 const SCENE: i64 = -12;
 
 fn world() -> Sim {
-    let path: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
-    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
+    util::asset_scene("scenes/bubble_rob.toml")
 }
 
 fn base(w: &Sim) -> Handle {
     w.world.find("/bubbleRob", None, 0).expect("/bubbleRob")
-}
-
-fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
 }
 
 fn write(w: &mut Sim, h: i64, tag: &str, data: Value) {

@@ -1,10 +1,10 @@
 //! Determinism: two runs of a scene with the same inputs give bit-identical poses of every
 //! object at every step (BubbleRob alone, and the showroom with the arm moving too).
 
-use std::path::Path;
+mod util;
 
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Handle, Sim};
+use util::find;
 
 /// Steps per run: 20 s of simulated time at the scenes' 50 ms step.
 const STEPS: usize = 400;
@@ -23,13 +23,7 @@ struct Run {
 }
 
 fn load(rel: &str) -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel);
-    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).unwrap_or_else(|e| panic!("{path}: {e}"))
+    util::asset_scene(rel)
 }
 
 fn snapshot(w: &Sim) -> Snapshot {

@@ -1,13 +1,14 @@
 //! Drawing objects and graph streams through the API, on the BubbleRob scene: the seed
 //! controller's exact calls, frames, limits, CSV export and bad arguments.
 
-use std::path::{Path, PathBuf};
+mod util;
 
-use gantry_sim_core::api::{CallContext, call};
+use std::path::PathBuf;
+
 use gantry_sim_core::drawing::{FIRST_DRAWING_HANDLE, HANDLEFLAG_ADD_MULTIPLE};
 use gantry_sim_core::graph::MAX_STREAM_SAMPLES;
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::{err, find, floats, int, ok};
 
 // sim.* constants the seed uses.
 const DRAWING_LINES: i64 = 1;
@@ -19,41 +20,7 @@ const HANDLE_ALL: i64 = -2;
 const HANDLE_TREE: i64 = -6;
 
 fn world() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
-    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
-}
-
-fn sim(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
-}
-
-/// Calls a function that must succeed.
-fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
-    sim(w, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
-}
-
-/// Calls a function that must fail, and returns its message.
-fn err(w: &mut Sim, name: &str, args: &[Value]) -> String {
-    match sim(w, name, args) {
-        Ok(r) => panic!("{name}({args:?}) should fail, returned {r:?}"),
-        Err(e) => e,
-    }
-}
-
-fn int(v: &Value) -> i64 {
-    v.as_i64().unwrap_or_else(|| panic!("not an integer: {v:?}"))
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(items) => items.iter().map(|x| x.as_f64().expect("number")).collect(),
-        other => panic!("not an array: {other:?}"),
-    }
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).expect(path)
+    util::asset_scene("scenes/bubble_rob.toml")
 }
 
 fn h(v: Handle) -> Value {

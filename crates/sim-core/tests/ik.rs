@@ -3,14 +3,14 @@
 //! cleanly, the scene is resynchronised on every solve, and bad arguments raise errors that
 //! name the function.
 
-use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+mod util;
 
-use gantry_sim_core::api::{CallContext, call};
+use std::f64::consts::PI;
+
 use gantry_sim_core::ik::{self, Apply, IkResult};
 use gantry_sim_core::math::Pose;
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::{Arm, arm, call, int, ints};
 
 const DEG: f64 = PI / 180.0;
 /// The acceptance bounds of issue 4.
@@ -19,50 +19,11 @@ const ANG_TOL: f64 = 0.5 * DEG;
 /// The paper's start pose: joint5 = -90 deg, tool pointing down.
 const START: [f64; 6] = [0.0, 0.0, 0.0, 0.0, -90.0 * DEG, 0.0];
 
-fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
-}
-
-struct Arm {
-    sim: Sim,
-    base: Handle,
-    joints: [Handle; 6],
-    tip: Handle,
-    target: Handle,
-}
-
-fn arm() -> Arm {
-    let model = load_scene(&DiskFiles, &asset("scenes/fk_arm.toml"), &LoadOptions::default()).expect("fk_arm loads");
-    let sim = Sim::new(&model);
-    let find = |p: &str| sim.world.find(p, None, 0).unwrap_or_else(|e| panic!("{p}: {e}"));
-    let joints = [1, 2, 3, 4, 5, 6].map(|i| find(&format!("/arm6/joint{i}")));
-    let (base, tip, target) = (find("/arm6"), find("/arm6/tip/tip"), find("/target"));
-    Arm {
-        sim,
-        base,
-        joints,
-        tip,
-        target,
-    }
-}
-
-fn api(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
-}
-
-fn int(v: &Value) -> i64 {
-    v.as_i64().unwrap_or_else(|| panic!("expected integer, got {v:?}"))
-}
-
-fn ints(v: &[i64]) -> Vec<Value> {
-    v.iter().map(|&i| Value::Int(i)).collect()
-}
-
 /// Environment and group set up as the paper's script: DLS, damping 0.3, 100 iterations.
 fn setup(a: &mut Arm, constraints: i64) -> (i64, i64, i64) {
-    let env = int(&api(&mut a.sim, "simIK.createEnvironment", &[]).expect("env")[0]);
-    let group = int(&api(&mut a.sim, "simIK.createGroup", &[Value::Int(env)]).expect("group")[0]);
-    api(
+    let env = int(&call(&mut a.sim, "simIK.createEnvironment", &[]).expect("env")[0]);
+    let group = int(&call(&mut a.sim, "simIK.createGroup", &[Value::Int(env)]).expect("group")[0]);
+    call(
         &mut a.sim,
         "simIK.setGroupCalculation",
         &[
@@ -74,7 +35,7 @@ fn setup(a: &mut Arm, constraints: i64) -> (i64, i64, i64) {
         ],
     )
     .expect("setGroupCalculation");
-    let r = api(
+    let r = call(
         &mut a.sim,
         "simIK.addElementFromScene",
         &ints(&[env, group, a.base, a.tip, a.target, constraints]),
@@ -201,7 +162,7 @@ fn campaign(seed: u64, start: impl Fn(&Sim, &[Handle; 6], &mut Rng) -> [f64; 6])
                 "a failed solve must leave the scene alone"
             );
             let joints = Value::Array(ints(&a.joints));
-            let r = api(
+            let r = call(
                 &mut a.sim,
                 "simIK.findConfig",
                 &[Value::Int(env), Value::Int(group), joints],
@@ -307,7 +268,7 @@ fn handle_group_through_the_api_moves_the_scene_joints() {
     let (env, group, _) = setup(&mut a, 31);
     let goal = reachable_target(&mut a, &[0.4, -0.3, 0.5, 0.2, -1.2, 0.3]);
     set_joints(&mut a.sim, &a.joints, &START);
-    let r = api(
+    let r = call(
         &mut a.sim,
         "simIK.handleGroup",
         &[
@@ -327,16 +288,16 @@ fn handle_group_through_the_api_moves_the_scene_joints() {
 
     // handleIkGroup (4.1) and applyIkEnvironmentToScene (4.2) solve and write back too.
     set_joints(&mut a.sim, &a.joints, &START);
-    let r = api(&mut a.sim, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
+    let r = call(&mut a.sim, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
     assert_eq!(int(&r[0]), 1);
     assert!(pose_error(&pose(&a.sim, a.tip), &goal).0 < POS_TOL);
     set_joints(&mut a.sim, &a.joints, &START);
-    let r = api(&mut a.sim, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
+    let r = call(&mut a.sim, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
     assert_eq!(int(&r[0]), 1);
     assert!(pose_error(&pose(&a.sim, a.tip), &goal).0 < POS_TOL);
 
-    api(&mut a.sim, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
-    let e = api(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect_err("erased");
+    call(&mut a.sim, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
+    let e = call(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect_err("erased");
     assert!(e.contains("simIK.handleGroup") && e.contains("environment"), "{e}");
 }
 
@@ -373,7 +334,7 @@ fn every_solve_starts_from_the_current_scene() {
 fn position_only_constraint_ignores_orientation() {
     let mut a = arm();
     let (env, group, element) = setup(&mut a, 7);
-    let r = api(&mut a.sim, "simIK.getElementConstraints", &ints(&[env, group, element])).expect("get");
+    let r = call(&mut a.sim, "simIK.getElementConstraints", &ints(&[env, group, element])).expect("get");
     assert_eq!(int(&r[0]), 7);
     let mut rng = Rng(7);
     for _ in 0..10 {
@@ -383,7 +344,7 @@ fn position_only_constraint_ignores_orientation() {
         goal.rotation = gantry_sim_core::math::quat_from_euler([rng.range(-PI, PI), 0.3, 1.0]);
         a.sim.world.set_world_pose(a.target, goal).expect("target");
         set_joints(&mut a.sim, &a.joints, &START);
-        let r = api(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
+        let r = call(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
         assert_eq!(int(&r[0]), 1, "{r:?}");
         let (dp, _) = pose_error(&pose(&a.sim, a.tip), &goal);
         assert!(dp < POS_TOL, "{dp}");
@@ -399,7 +360,7 @@ fn unreachable_target_fails_without_nan_and_leaves_the_scene() {
     a.sim.world.set_world_pose(a.target, far).expect("target");
     set_joints(&mut a.sim, &a.joints, &START);
     let before = joint_values(&a.sim, &a.joints);
-    let r = api(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
+    let r = call(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
     assert_eq!(int(&r[0]), 2, "result_fail: {r:?}");
     assert_ne!(int(&r[1]) & 4, 0, "calc_notwithintolerance");
     let Value::Array(prec) = &r[2] else { panic!("precision") };
@@ -408,7 +369,7 @@ fn unreachable_target_fails_without_nan_and_leaves_the_scene() {
 
     // allowError: the best effort is applied, finite, within limits, and closer.
     let d0 = pose_error(&pose(&a.sim, a.tip), &far).0;
-    let r = api(
+    let r = call(
         &mut a.sim,
         "simIK.handleGroup",
         &[
@@ -432,7 +393,7 @@ fn without_sync_the_solution_waits_for_sync_to_sim() {
     let goal = reachable_target(&mut a, &[-0.6, 0.1, 0.4, 0.0, -1.0, 0.2]);
     set_joints(&mut a.sim, &a.joints, &START);
     let opts = Value::Map(vec![("syncWorlds".into(), false.into())]);
-    let r = api(
+    let r = call(
         &mut a.sim,
         "simIK.handleGroup",
         &[Value::Int(env), Value::Int(group), opts],
@@ -440,12 +401,12 @@ fn without_sync_the_solution_waits_for_sync_to_sim() {
     .expect("solve");
     assert_eq!(int(&r[0]), 1);
     assert_eq!(joint_values(&a.sim, &a.joints), START);
-    let j1 = api(&mut a.sim, "simIK.getJointPosition", &ints(&[env, a.joints[0]])).expect("get");
+    let j1 = call(&mut a.sim, "simIK.getJointPosition", &ints(&[env, a.joints[0]])).expect("get");
     assert!(
         (j1[0].as_f64().expect("q") - START[0]).abs() > 0.1,
         "pending value differs from the scene"
     );
-    api(
+    call(
         &mut a.sim,
         "simIK.syncToSim",
         &[Value::Int(env), Value::Array(ints(&[group]))],
@@ -458,7 +419,7 @@ fn without_sync_the_solution_waits_for_sync_to_sim() {
 fn group_settings_round_trip() {
     let mut a = arm();
     let (env, group, element) = setup(&mut a, 31);
-    let r = api(&mut a.sim, "simIK.getGroupCalculation", &ints(&[env, group])).expect("get");
+    let r = call(&mut a.sim, "simIK.getGroupCalculation", &ints(&[env, group])).expect("get");
     assert_eq!((int(&r[0]), r[1].as_f64(), int(&r[2])), (1, Some(0.3), 100));
     let args = [
         Value::Int(env),
@@ -466,17 +427,17 @@ fn group_settings_round_trip() {
         Value::Int(element),
         Value::floats(&[1e-4, 0.01]),
     ];
-    api(&mut a.sim, "simIK.setElementPrecision", &args).expect("set");
-    let r = api(&mut a.sim, "simIK.getElementPrecision", &ints(&[env, group, element])).expect("get");
+    call(&mut a.sim, "simIK.setElementPrecision", &args).expect("set");
+    let r = call(&mut a.sim, "simIK.getElementPrecision", &ints(&[env, group, element])).expect("get");
     assert_eq!(r[0], Value::floats(&[1e-4, 0.01]));
-    let named = int(&api(&mut a.sim, "simIK.createGroup", &[Value::Int(env), "second".into()]).expect("g")[0]);
-    let r = api(&mut a.sim, "simIK.getGroupHandle", &[Value::Int(env), "second".into()]).expect("h");
+    let named = int(&call(&mut a.sim, "simIK.createGroup", &[Value::Int(env), "second".into()]).expect("g")[0]);
+    let r = call(&mut a.sim, "simIK.getGroupHandle", &[Value::Int(env), "second".into()]).expect("h");
     assert_eq!(int(&r[0]), named);
     // An empty group has nothing to do.
-    let r = api(&mut a.sim, "simIK.handleGroup", &ints(&[env, named])).expect("empty");
+    let r = call(&mut a.sim, "simIK.handleGroup", &ints(&[env, named])).expect("empty");
     assert_eq!(int(&r[0]), 0, "result_not_performed");
     // The element map is the identity over the chain.
-    let r = api(
+    let r = call(
         &mut a.sim,
         "simIK.addElementFromScene",
         &ints(&[env, named, a.base, a.tip, a.target, 31]),
@@ -580,13 +541,13 @@ fn bad_arguments_raise_errors_naming_the_function() {
         ("simIK.getJointPosition", ints(&[env, a.tip]), "not a joint"),
     ];
     for (name, args, needle) in cases {
-        let e = api(&mut a.sim, name, &args).expect_err(name);
+        let e = call(&mut a.sim, name, &args).expect_err(name);
         assert!(e.contains(&format!("'{name}'")), "{e}");
         assert!(e.contains(needle), "{name}: '{e}' lacks '{needle}'");
     }
     // A base partway up the arm is fine: the chain is then joint2..joint6.
     let mid = a.sim.world.parent(a.joints[1]).expect("joint2").expect("has parent");
-    let r = api(
+    let r = call(
         &mut a.sim,
         "simIK.addElementFromScene",
         &ints(&[env, group, mid, a.tip, a.target, 31]),

@@ -3,13 +3,13 @@
 //! argument order of simIK.setObjectMatrix) reaches the target as the 4.3 calls do, with
 //! the same joint values, and the adapters refuse what gantry cannot honour.
 
-use std::f64::consts::PI;
-use std::path::Path;
+mod util;
 
-use gantry_sim_core::api::{CallContext, call};
+use std::f64::consts::PI;
+
 use gantry_sim_core::math::Pose;
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::{Arm, arm, call, int, ints};
 
 const DEG: f64 = PI / 180.0;
 const POS_TOL: f64 = 1e-3;
@@ -18,42 +18,6 @@ const ANG_TOL: f64 = 0.5 * DEG;
 const START: [f64; 6] = [0.0, 0.0, 0.0, 0.0, -90.0 * DEG, 0.0];
 /// A reachable goal configuration (the one of `ik.rs`'s API test).
 const GOAL: [f64; 6] = [0.4, -0.3, 0.5, 0.2, -1.2, 0.3];
-
-struct Arm {
-    sim: Sim,
-    base: Handle,
-    joints: [Handle; 6],
-    tip: Handle,
-    target: Handle,
-}
-
-fn arm() -> Arm {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/fk_arm.toml");
-    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("fk_arm loads");
-    let sim = Sim::new(&model);
-    let find = |p: &str| sim.world.find(p, None, 0).unwrap_or_else(|e| panic!("{p}: {e}"));
-    let joints = [1, 2, 3, 4, 5, 6].map(|i| find(&format!("/arm6/joint{i}")));
-    let (base, tip, target) = (find("/arm6"), find("/arm6/tip/tip"), find("/target"));
-    Arm {
-        sim,
-        base,
-        joints,
-        tip,
-        target,
-    }
-}
-
-fn api(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
-}
-
-fn int(v: &Value) -> i64 {
-    v.as_i64().unwrap_or_else(|| panic!("expected integer, got {v:?}"))
-}
-
-fn ints(v: &[i64]) -> Vec<Value> {
-    v.iter().map(|&i| Value::Int(i)).collect()
-}
 
 fn set_joints(a: &mut Arm, q: &[f64; 6]) {
     for (&h, &qi) in a.joints.iter().zip(q) {
@@ -80,7 +44,7 @@ fn pose_error(a: &Pose, b: &Pose) -> (f64, f64) {
 /// arm is put back at `START`.
 fn goal_matrix(a: &mut Arm) -> (Value, Pose) {
     set_joints(a, &GOAL);
-    let m = api(&mut a.sim, "sim.getObjectMatrix", &ints(&[a.tip, a.base])).expect("matrix");
+    let m = call(&mut a.sim, "sim.getObjectMatrix", &ints(&[a.tip, a.base])).expect("matrix");
     let goal = pose(&a.sim, a.tip);
     set_joints(a, &START);
     (m[0].clone(), goal)
@@ -90,11 +54,11 @@ fn goal_matrix(a: &mut Arm) -> (Value, Pose) {
 /// scene, its precision, weights, constraints and base. Returns env, group and element.
 fn setup_42(a: &mut Arm) -> (i64, i64, i64) {
     let w = &mut a.sim;
-    let env = int(&api(w, "simIK.createEnvironment", &[]).expect("env")[0]);
-    let group = int(&api(w, "simIK.createIkGroup", &[Value::Int(env), "arm".into()]).expect("createIkGroup")[0]);
-    let found = api(w, "simIK.getIkGroupHandle", &[Value::Int(env), "arm".into()]).expect("getIkGroupHandle");
+    let env = int(&call(w, "simIK.createEnvironment", &[]).expect("env")[0]);
+    let group = int(&call(w, "simIK.createIkGroup", &[Value::Int(env), "arm".into()]).expect("createIkGroup")[0]);
+    let found = call(w, "simIK.getIkGroupHandle", &[Value::Int(env), "arm".into()]).expect("getIkGroupHandle");
     assert_eq!(int(&found[0]), group);
-    api(
+    call(
         w,
         "simIK.setIkGroupCalculation",
         &[
@@ -106,7 +70,7 @@ fn setup_42(a: &mut Arm) -> (i64, i64, i64) {
         ],
     )
     .expect("setIkGroupCalculation");
-    let r = api(
+    let r = call(
         w,
         "simIK.addIkElementFromScene",
         &ints(&[env, group, a.base, a.tip, a.target, 31]),
@@ -119,18 +83,18 @@ fn setup_42(a: &mut Arm) -> (i64, i64, i64) {
         v.push(extra);
         v
     };
-    api(
+    call(
         w,
         "simIK.setIkElementPrecision",
         &with(Value::floats(&[0.0005, 0.1 * DEG])),
     )
     .expect("setIkElementPrecision");
-    api(w, "simIK.setIkElementWeights", &with(Value::floats(&[1.0, 1.0]))).expect("setIkElementWeights");
-    api(w, "simIK.setIkElementConstraints", &with(Value::Int(31))).expect("setIkElementConstraints");
+    call(w, "simIK.setIkElementWeights", &with(Value::floats(&[1.0, 1.0]))).expect("setIkElementWeights");
+    call(w, "simIK.setIkElementConstraints", &with(Value::Int(31))).expect("setIkElementConstraints");
     let mut base_args = with(Value::Int(a.base));
     base_args.push(Value::Int(-1));
-    api(w, "simIK.setIkElementBase", &base_args).expect("setIkElementBase");
-    let r = api(w, "simIK.getElementBase", &ints(&ege)).expect("getElementBase");
+    call(w, "simIK.setIkElementBase", &base_args).expect("setIkElementBase");
+    let r = call(w, "simIK.getElementBase", &ints(&ege)).expect("getElementBase");
     assert_eq!((int(&r[0]), int(&r[1])), (a.base, -1));
     (env, group, element)
 }
@@ -142,7 +106,7 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
     let (env, group, _) = setup_42(&mut a);
 
     // 4.2 order: (env, object, relativeTo, matrix). The target is its own IK counterpart.
-    api(
+    call(
         &mut a.sim,
         "simIK.setObjectMatrix",
         &[
@@ -158,7 +122,7 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
         dp < 1e-12 && da < 1e-9,
         "target placed at {dp} m, {da} rad from the goal"
     );
-    let back = api(&mut a.sim, "simIK.getObjectMatrix", &ints(&[env, a.target, a.base])).expect("getObjectMatrix");
+    let back = call(&mut a.sim, "simIK.getObjectMatrix", &ints(&[env, a.target, a.base])).expect("getObjectMatrix");
     let (Value::Array(x), Value::Array(y)) = (&back[0], &goal_m) else {
         panic!("matrices: {back:?}")
     };
@@ -166,23 +130,23 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
         assert!((p.as_f64().expect("number") - q.as_f64().expect("number")).abs() < 1e-9);
     }
 
-    let r = api(&mut a.sim, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
+    let r = call(&mut a.sim, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
     assert_eq!(int(&r[0]), 1, "result_success: {r:?}");
     let (dp, da) = pose_error(&pose(&a.sim, a.tip), &goal);
     assert!(dp < POS_TOL && da < ANG_TOL, "tip {dp} m, {da} rad from the goal");
     let q42 = joint_values(&a);
     // A 4.2 script then copies the IK joints onto the scene; here they are the same.
     for &j in &a.joints {
-        let q = api(&mut a.sim, "simIK.getJointPosition", &ints(&[env, j])).expect("getJointPosition");
+        let q = call(&mut a.sim, "simIK.getJointPosition", &ints(&[env, j])).expect("getJointPosition");
         assert_eq!(q[0].as_f64(), Some(a.sim.world.joint(j).expect("joint").position));
     }
 
     // The 4.3 calls from the same start find the same joint values.
     set_joints(&mut a, &START);
     let w = &mut a.sim;
-    let env43 = int(&api(w, "simIK.createEnvironment", &[]).expect("env")[0]);
-    let g43 = int(&api(w, "simIK.createGroup", &[Value::Int(env43)]).expect("createGroup")[0]);
-    api(
+    let env43 = int(&call(w, "simIK.createEnvironment", &[]).expect("env")[0]);
+    let g43 = int(&call(w, "simIK.createGroup", &[Value::Int(env43)]).expect("createGroup")[0]);
+    call(
         w,
         "simIK.setGroupCalculation",
         &[
@@ -194,13 +158,13 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
         ],
     )
     .expect("setGroupCalculation");
-    api(
+    call(
         w,
         "simIK.addElementFromScene",
         &ints(&[env43, g43, a.base, a.tip, a.target, 31]),
     )
     .expect("addElementFromScene");
-    let r = api(w, "simIK.handleGroup", &ints(&[env43, g43])).expect("handleGroup");
+    let r = call(w, "simIK.handleGroup", &ints(&[env43, g43])).expect("handleGroup");
     assert_eq!(int(&r[0]), 1);
     let q43 = joint_values(&a);
     for (x, y) in q42.iter().zip(&q43) {
@@ -213,13 +177,13 @@ fn the_45_argument_order_of_set_object_matrix_works_too() {
     let mut a = arm();
     let (goal_m, goal) = goal_matrix(&mut a);
     let (env, group, _) = setup_42(&mut a);
-    api(
+    call(
         &mut a.sim,
         "simIK.setObjectMatrix",
         &[Value::Int(env), Value::Int(a.target), goal_m, Value::Int(a.base)],
     )
     .expect("setObjectMatrix");
-    let r = api(&mut a.sim, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
+    let r = call(&mut a.sim, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
     assert_eq!(int(&r[0]), 1);
     let (dp, da) = pose_error(&pose(&a.sim, a.tip), &goal);
     assert!(dp < POS_TOL && da < ANG_TOL);
@@ -230,14 +194,14 @@ fn set_joint_position_writes_the_scene_joint() {
     let mut a = arm();
     let (env, _, _) = setup_42(&mut a);
     let j = a.joints[1];
-    api(
+    call(
         &mut a.sim,
         "simIK.setJointPosition",
         &[Value::Int(env), Value::Int(j), Value::Float(0.25)],
     )
     .expect("setJointPosition");
     assert!((a.sim.world.joint(j).expect("joint").position - 0.25).abs() < 1e-12);
-    let q = api(&mut a.sim, "simIK.getJointPosition", &ints(&[env, j])).expect("get");
+    let q = call(&mut a.sim, "simIK.getJointPosition", &ints(&[env, j])).expect("get");
     assert!((q[0].as_f64().expect("number") - 0.25).abs() < 1e-12);
 }
 
@@ -250,20 +214,20 @@ fn unsupported_uses_fail_loudly_and_name_the_function() {
     // Constraints relative to another frame than the base.
     let mut args = ege.clone();
     args.extend(ints(&[a.base, a.target]));
-    let e = api(&mut a.sim, "simIK.setIkElementBase", &args).expect_err("other frame");
+    let e = call(&mut a.sim, "simIK.setIkElementBase", &args).expect_err("other frame");
     assert!(e.contains("simIK.setIkElementBase") && e.contains("argument 5"), "{e}");
 
     // A base the tip does not hang below leaves the element as it was.
     let mut args = ege.clone();
     args.push(Value::Int(a.target));
-    let e = api(&mut a.sim, "simIK.setElementBase", &args).expect_err("not a chain");
+    let e = call(&mut a.sim, "simIK.setElementBase", &args).expect_err("not a chain");
     assert!(e.contains("simIK.setElementBase"), "{e}");
-    let r = api(&mut a.sim, "simIK.getElementBase", &ege).expect("getElementBase");
+    let r = call(&mut a.sim, "simIK.getElementBase", &ege).expect("getElementBase");
     assert_eq!(int(&r[0]), a.base);
 
     // Moving a joint object would reshape the robot in the scene.
-    let m = api(&mut a.sim, "sim.getObjectMatrix", &ints(&[a.joints[0], -1])).expect("matrix");
-    let e = api(
+    let m = call(&mut a.sim, "sim.getObjectMatrix", &ints(&[a.joints[0], -1])).expect("matrix");
+    let e = call(
         &mut a.sim,
         "simIK.setObjectMatrix",
         &[Value::Int(env), Value::Int(a.joints[0]), Value::Int(-1), m[0].clone()],
@@ -272,21 +236,21 @@ fn unsupported_uses_fail_loudly_and_name_the_function() {
     assert!(e.contains("simIK.setObjectMatrix") && e.contains("joint"), "{e}");
 
     // A stale environment.
-    api(&mut a.sim, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
-    let e = api(&mut a.sim, "simIK.getObjectMatrix", &ints(&[env, a.target, -1])).expect_err("erased");
+    call(&mut a.sim, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
+    let e = call(&mut a.sim, "simIK.getObjectMatrix", &ints(&[env, a.target, -1])).expect_err("erased");
     assert!(e.contains("environment"), "{e}");
 
     // The 4.2 functions that build an IK world object by object (tests/ik_objects.rs)
     // work on the environment's own objects; on scene objects, those that would reshape
     // the scene's tree are refused, saying what to use instead.
-    let env = int(&api(&mut a.sim, "simIK.createEnvironment", &[]).expect("env")[0]);
+    let env = int(&call(&mut a.sim, "simIK.createEnvironment", &[]).expect("env")[0]);
     for (f, args) in [
         ("simIK.setObjectParent", ints(&[env, a.joints[1], -1])),
         ("simIK.setJointMode", ints(&[env, a.joints[1], 0])),
         ("simIK.setLinkedDummy", ints(&[env, a.tip, a.target])),
         ("simIK.eraseObject", ints(&[env, a.target])),
     ] {
-        let e = api(&mut a.sim, f, &args).expect_err(f);
+        let e = call(&mut a.sim, f, &args).expect_err(f);
         assert!(e.contains(f) && e.contains("scene object") && e.contains("use "), "{e}");
     }
 }

@@ -5,56 +5,35 @@
 //! joint intervals, joint modes and group flags are honoured; bad input fails with a
 //! message naming the function and what is wrong.
 
-use std::f64::consts::PI;
-use std::path::Path;
+mod util;
 
-use gantry_sim_core::api::{CallContext, call};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
+use std::f64::consts::PI;
+
 use gantry_sim_core::{Handle, Sim, Value};
 use nalgebra::{Rotation3, Vector3};
+use util::{call, floats, int, num};
 
 /// A scene with one dummy, so that mixing scene and IK objects can be tried.
 fn sim() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/ik_objects.toml");
     let text = "[simulation]\ndt = 0.05\n\n[[object]]\nname = \"ref\"\nkind = \"dummy\"\nposition = [1, 0, 0]\n";
-    let model = load_scene_text(&DiskFiles, text, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
-}
-
-fn api(s: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    call(s, &CallContext::default(), name, args).map_err(|e| e.to_string())
+    util::text_scene("../../assets/scenes/ik_objects.toml", text)
 }
 
 /// Calls a function that must succeed.
 #[track_caller]
 fn ok(s: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
-    api(s, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
+    call(s, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
 /// Calls a function that must fail, and returns its message.
 #[track_caller]
 fn err(s: &mut Sim, name: &str, args: &[Value]) -> String {
-    match api(s, name, args) {
+    match call(s, name, args) {
         Ok(v) => panic!("{name} succeeded with {v:?}"),
         Err(e) => {
             assert!(e.contains(name), "the message names the function: {e}");
             e
         }
-    }
-}
-
-fn int(v: &Value) -> i64 {
-    v.as_i64().unwrap_or_else(|| panic!("expected integer, got {v:?}"))
-}
-
-fn num(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("expected number, got {v:?}"))
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(items) => items.iter().map(num).collect(),
-        other => panic!("expected numbers, got {other:?}"),
     }
 }
 

@@ -8,10 +8,9 @@
 //! no friction) with the scene format's joint damping `c` (0.1 N·m·s/rad) obeys
 //! `I w' = tau - c w`, so from rest it turns at `w(t) = tau/c (1 - exp(-c t / I))`.
 
-use std::path::Path;
+mod util;
 
 use gantry_sim_core::api::{self, CallContext};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
 
 /// A 1 kg cylinder of radius 0.2 m on a hinge about world Z: I = m r² / 2 = 0.02 kg·m².
@@ -59,10 +58,8 @@ fn spin_up(tau: f64, t: f64) -> f64 {
 }
 
 fn world() -> (Sim, Handle) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("joint_force.toml");
-    let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    let w = Sim::new(&model);
-    let h = w.world.find("/hinge", None, 0).expect("hinge");
+    let w = util::text_scene("joint_force.toml", SCENE);
+    let h = util::find(&w, "/hinge");
     (w, h)
 }
 

@@ -4,12 +4,13 @@
 //! gantry's profile is speed-limited: the joint's `sim.jointfloatparam_maxvel` (URDF
 //! `velocity`), else 180 deg/s for revolute joints.
 
+mod util;
+
 use std::f64::consts::PI;
-use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::find;
 
 const SCENE: &str = r#"
 [simulation]
@@ -39,9 +40,7 @@ position = [1, 0, 0.5]
 const DT: f64 = 0.05;
 
 fn world() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("kinematic_motion.toml");
-    let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
+    util::text_scene("kinematic_motion.toml", SCENE)
 }
 
 fn call(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
@@ -58,10 +57,6 @@ fn get(w: &mut Sim, name: &str, h: Handle) -> f64 {
 
 fn step(w: &mut Sim) {
     w.step();
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).expect(path)
 }
 
 #[test]

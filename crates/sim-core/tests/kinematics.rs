@@ -1,12 +1,15 @@
 //! Forward kinematics of the arm6 robot against an independent hand-written model, joint
 //! clamping and wrapping, and that the scene-format documentation's example loads.
 
-use std::f64::consts::{FRAC_PI_2, PI};
-use std::path::{Path, PathBuf};
+mod util;
 
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene, load_scene_text};
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::path::Path;
+
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::world::ObjectKind;
 use gantry_sim_core::{Handle, Sim};
+use util::{asset, find};
 
 // ---------------------------------------------------------------------------------------
 // The independent model: plain f64 rotation matrices, no gantry or nalgebra math.
@@ -169,17 +172,8 @@ const LINKS: [&str; 7] = [
 const POSITION_TOL: f64 = 1e-6;
 const ANGLE_TOL: f64 = 1e-6;
 
-fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
-}
-
 fn fk_arm() -> Sim {
-    let model = load_scene(&DiskFiles, &asset("scenes/fk_arm.toml"), &LoadOptions::default()).expect("fk_arm loads");
-    Sim::new(&model)
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).unwrap_or_else(|e| panic!("{path}: {e}"))
+    util::asset_scene("scenes/fk_arm.toml")
 }
 
 /// The world frame of an object, converted to the model's plain arrays.

@@ -1,11 +1,11 @@
 //! CoppeliaSim 4.0-4.5 names in the registry: each behaves as the version that
 //! documented it, and renames run the current implementation.
 
-use std::path::Path;
+mod util;
 
 use gantry_sim_core::api::{self, CallContext};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::find;
 
 /// Three shapes named as CoppeliaSim names copies (`box`, `box#0`'s original name is
 /// `box` too), a dynamic one, and a joint.
@@ -42,9 +42,7 @@ position = [2, 0, 0.5]
 "#;
 
 fn world() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("legacy.toml");
-    let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
+    util::text_scene("legacy.toml", SCENE)
 }
 
 /// A call as the script attached to `object` makes it.
@@ -62,10 +60,6 @@ fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
 
 fn s(v: &str) -> Value {
     Value::Str(v.to_owned())
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).expect(path)
 }
 
 #[test]

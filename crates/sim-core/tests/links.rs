@@ -1,11 +1,10 @@
 //! Dummy links (`sim.setLinkDummy`): a suction pad's dummy linked to a dummy on a box
 //! holds the box against gravity; unlinking drops it.
 
-use std::path::Path;
+mod util;
 
-use gantry_sim_core::api::{self, CallContext};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::{call, find};
 
 /// A fixed holder at 1 m with a pad dummy under it, and a free 10 cm box below whose
 /// grip dummy sits 5 cm under the pad.
@@ -46,17 +45,7 @@ position = [0, 0, 0.05]
 "#;
 
 fn world() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("links.toml");
-    let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
-}
-
-fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).expect(path)
+    util::text_scene("links.toml", SCENE)
 }
 
 fn height(w: &mut Sim, h: Handle) -> f64 {

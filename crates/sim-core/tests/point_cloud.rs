@@ -3,13 +3,14 @@
 //! (world-frame points stored relative to a moved, rotated, re-parented cloud), removal,
 //! intersection, options, the object's life in the tree, and bad input.
 
+mod util;
+
 use std::f64::consts::FRAC_PI_2;
-use std::path::Path;
 
 use gantry_sim_core::api::{CallContext, ErrorKind, call};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::world::{MAX_POINT_CLOUD_POINTS, ObjectKind};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::{floats, int, num};
 
 /// `sim.insertPointsIntoPointCloud` option: points in the cloud's frame.
 const RELATIVE: i64 = 1;
@@ -26,8 +27,7 @@ position = [1.0, 2.0, 0.5]
 "#;
 
 fn sim() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("point_cloud.toml");
-    Sim::new(&load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene"))
+    util::text_scene("point_cloud.toml", SCENE)
 }
 
 fn try_call(s: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, (Option<ErrorKind>, String)> {
@@ -43,21 +43,6 @@ fn err(s: &mut Sim, name: &str, args: &[Value]) -> (Option<ErrorKind>, String) {
     match try_call(s, name, args) {
         Ok(r) => panic!("{name}({args:?}) should fail, returned {r:?}"),
         Err(e) => e,
-    }
-}
-
-fn int(v: &Value) -> i64 {
-    v.as_i64().unwrap_or_else(|| panic!("not an integer: {v:?}"))
-}
-
-fn num(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v:?}"))
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(items) => items.iter().map(num).collect(),
-        other => panic!("not an array: {other:?}"),
     }
 }
 

@@ -1,11 +1,12 @@
 //! The scene as data: objects created, copied, removed, re-parented and restyled at run
 //! time through the `sim.*` registry, with CoppeliaSim 4.6's argument forms and results.
 
-use std::path::Path;
+mod util;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::{find, floats, int, step};
 
 /// A floor, a rotated dummy, a box carrying a kinematic hinge with a dynamic link, and a
 /// vision sensor.
@@ -66,9 +67,7 @@ const AMBIENT_DIFFUSE: i64 = 0;
 const DT: f64 = 0.05;
 
 fn world() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scene_edit.toml");
-    let model = load_scene_text(&DiskFiles, SCENE, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
+    util::text_scene("tests/scene_edit.toml", SCENE)
 }
 
 fn call(w: &mut Sim, name: &str, args: Vec<Value>) -> Result<Vec<Value>, String> {
@@ -83,17 +82,6 @@ fn err(w: &mut Sim, name: &str, args: Vec<Value>) -> String {
     match call(w, name, args) {
         Ok(r) => panic!("{name} should fail, returned {r:?}"),
         Err(e) => e,
-    }
-}
-
-fn int(v: &Value) -> i64 {
-    v.as_i64().unwrap_or_else(|| panic!("not an integer: {v:?}"))
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(items) => items.iter().map(|x| x.as_f64().expect("number")).collect(),
-        other => panic!("not an array: {other:?}"),
     }
 }
 
@@ -113,22 +101,12 @@ fn handles(hs: &[Handle]) -> Value {
     Value::Array(hs.iter().map(|&h| Value::Int(h)).collect())
 }
 
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).expect(path)
-}
-
 fn position(w: &mut Sim, h: Handle) -> Vec<f64> {
     floats(&ok(w, "sim.getObjectPosition", vec![i(h), i(-1)])[0])
 }
 
 fn velocity(w: &mut Sim, h: Handle) -> Vec<f64> {
     floats(&ok(w, "sim.getObjectVelocity", vec![i(h)])[0])
-}
-
-fn step(w: &mut Sim, n: usize) {
-    for _ in 0..n {
-        w.step();
-    }
 }
 
 /// A 10 cm cube at `at`, made dynamic and respondable as CoppeliaSim scripts do.

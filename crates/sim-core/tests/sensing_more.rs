@@ -2,28 +2,17 @@
 //! image getters (`sim.getVisionSensorCharImage`, `sim.getVisionSensorImage`) against
 //! `sim.getVisionSensorImg`.
 
-use std::path::Path;
+mod util;
 
-use gantry_sim_core::api::{self, CallContext};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::{call, int};
 
 fn bubble_rob() -> Sim {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
-    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
+    util::asset_scene("scenes/bubble_rob.toml")
 }
 
 fn find(w: &Sim, path: &str, index: usize) -> Handle {
     w.world.find(path, None, index).expect(path)
-}
-
-fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
-}
-
-fn int(v: &Value) -> i64 {
-    v.as_i64().unwrap_or_else(|| panic!("expected integer, got {v:?}"))
 }
 
 /// Obstacle 0 with its front face 0.1 m ahead of the nose sensor, obstacle 1 behind it

@@ -1,17 +1,14 @@
 //! `simUI` through the API: the BubbleRob seed's UI, values, events, warnings, errors
 //! and limits.
 
-use std::path::{Path, PathBuf};
+mod util;
 
 use gantry_sim_core::api::{self, CallContext};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::ui::{Layout, MAX_UIS, MAX_WIDGETS, MAX_XML_LEN, Placement, UiEvent, WidgetKind};
 use gantry_sim_core::{Handle, Sim, Value};
 
 fn world() -> Sim {
-    let path: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
-    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
+    util::asset_scene("scenes/bubble_rob.toml")
 }
 
 fn base(w: &Sim) -> Handle {

@@ -6,10 +6,13 @@
 //! public robots (pybullet_data, example-robot-data) are checked against Pinocchio in
 //! tests/python/test_public_robots.py.
 
+mod util;
+
 use std::path::PathBuf;
 
+use gantry_sim_core::Sim;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use gantry_sim_core::{Handle, Sim};
+use util::{find, step};
 
 /// A scratch folder with a scene and its URDF, removed on drop.
 struct Scratch(PathBuf);
@@ -48,16 +51,6 @@ impl Drop for Scratch {
     fn drop(&mut self) {
         std::fs::remove_dir_all(&self.0).ok();
     }
-}
-
-fn step(w: &mut Sim, n: usize) {
-    for _ in 0..n {
-        w.step();
-    }
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).expect(path)
 }
 
 /// The pendulum's numbers: a 1 kg bob whose centre of mass is `L` from a joint about +Y.

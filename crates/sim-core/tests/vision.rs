@@ -2,21 +2,18 @@
 //! `sim.getVisionSensorDepth`, `sim.handleVisionSensor`, ...) and the `simVision`
 //! work-image flow of the BubbleRob tutorial's edge-detection script.
 
-use std::path::{Path, PathBuf};
+mod util;
+
+use std::path::Path;
 use std::time::Instant;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::math::Pose;
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene, load_scene_text};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value, vision};
 
-fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
-}
-
 fn bubble_rob() -> Sim {
-    let model = load_scene(&DiskFiles, &asset("scenes/bubble_rob.toml"), &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
+    util::asset_scene("scenes/bubble_rob.toml")
 }
 
 fn find(w: &Sim, path: &str, index: usize) -> Handle {

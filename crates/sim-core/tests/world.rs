@@ -1,22 +1,14 @@
 //! World-level contracts: scenes load and step, kinematics, dynamics, determinism.
 
-use std::path::{Path, PathBuf};
+mod util;
 
 use gantry_sim_core::scene::{DiskFiles, JointMode, JointType, LoadOptions, ObjectModelKind, load_scene};
 use gantry_sim_core::world::ObjectKind;
 use gantry_sim_core::{Handle, Sim};
-
-fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
-}
+use util::{asset, find};
 
 fn world(rel: &str) -> Sim {
-    let model = load_scene(&DiskFiles, &asset(rel), &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).expect(path)
+    util::asset_scene(rel)
 }
 
 /// Every bundled scene, left alone (no scripts, no commands), settles: after 10 s each

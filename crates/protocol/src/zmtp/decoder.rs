@@ -14,7 +14,8 @@ use bytes::{Buf, Bytes, BytesMut};
 use super::command::Command;
 use super::frame::Header;
 use super::greeting::{GREETING_LEN, check_greeting};
-use super::{FLAG_COMMAND, FLAGS_RESERVED, MAX_MESSAGE_FRAMES, MAX_MESSAGE_LEN, SocketType, Violation};
+use super::rules::{FLAG_COMMAND, FLAGS_RESERVED, MAX_MESSAGE_FRAMES, MAX_MESSAGE_LEN, Violation};
+use super::socket_type::SocketType;
 
 /// What the decoder produced.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -79,7 +80,7 @@ impl Decoder {
 
     /// Decodes the next event from the front of `buf`, removing the bytes it used.
     /// `Ok(None)` means more bytes are needed, and is only returned while `buf` holds
-    /// fewer than [`super::MAX_BUFFERED`] bytes.
+    /// fewer than [`super::rules::MAX_BUFFERED`] bytes.
     ///
     /// # Errors
     /// The first [`Violation`] in the stream; every later call returns it again.

@@ -3,7 +3,7 @@
 //! [`Header::parse`] reads and checks one header from the front of a byte slice;
 //! [`encode_frame`] and [`encode_message`] write frames.
 
-use super::{FLAG_COMMAND, FLAG_LONG, FLAG_MORE, FLAGS_RESERVED, MAX_FRAME_LEN, SHORT_MAX, Violation};
+use super::rules::{FLAG_COMMAND, FLAG_LONG, FLAG_MORE, FLAGS_RESERVED, MAX_FRAME_LEN, SHORT_MAX, Violation};
 
 /// One frame header, checked against the flag rules and [`MAX_FRAME_LEN`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -5,7 +5,7 @@
 //! the filler carry nothing gantry uses; the as-server flag only matters for mechanisms
 //! with roles, which NULL is not.
 
-use super::Violation;
+use super::rules::Violation;
 
 /// Length of the ZMTP 3 greeting.
 pub const GREETING_LEN: usize = 64;

@@ -85,10 +85,7 @@ pub async fn serve(
         shutdown: shutdown.clone(),
         debug,
     };
-    let app = Router::new()
-        .route("/", get(assets::index))
-        .route("/app.js", get(assets::app_js))
-        .route("/style.css", get(assets::style_css))
+    let app = assets::routes(Router::new())
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .route("/ws", get(websocket))
         .route("/api/status", get(status))

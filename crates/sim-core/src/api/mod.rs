@@ -18,17 +18,20 @@ mod ik_objects;
 mod joints;
 pub mod legacy;
 mod links;
+mod log;
 mod matrix;
-mod misc;
 mod objects;
 mod packing;
 mod params;
 mod point_cloud;
+mod proximity_check;
 mod resolve;
 pub(crate) mod ruckig;
 mod scene;
 mod sensing;
-mod sensing_more;
+mod signals;
+mod simulation;
+mod simulator_messages;
 mod target;
 mod ui;
 mod views;
@@ -54,7 +57,7 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
     ApiFunction {
         name: "addLog",
-        call: ApiFn::World(misc::add_log),
+        call: ApiFn::World(log::add_log),
     },
     ApiFunction {
         name: "checkCollision",
@@ -66,15 +69,15 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
     ApiFunction {
         name: "clearFloatSignal",
-        call: ApiFn::Sim(misc::clear_float_signal),
+        call: ApiFn::Sim(signals::clear_float_signal),
     },
     ApiFunction {
         name: "clearInt32Signal",
-        call: ApiFn::Sim(misc::clear_int32_signal),
+        call: ApiFn::Sim(signals::clear_int32_signal),
     },
     ApiFunction {
         name: "clearStringSignal",
-        call: ApiFn::Sim(misc::clear_string_signal),
+        call: ApiFn::Sim(signals::clear_string_signal),
     },
     ApiFunction {
         name: "createCollection",
@@ -86,11 +89,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
     ApiFunction {
         name: "getFloatSignal",
-        call: ApiFn::Sim(misc::get_float_signal),
+        call: ApiFn::Sim(signals::get_float_signal),
     },
     ApiFunction {
         name: "getInt32Signal",
-        call: ApiFn::Sim(misc::get_int32_signal),
+        call: ApiFn::Sim(signals::get_int32_signal),
     },
     ApiFunction {
         name: "getJointForce",
@@ -166,27 +169,27 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
     ApiFunction {
         name: "getSimulationState",
-        call: ApiFn::Sim(misc::get_simulation_state),
+        call: ApiFn::Sim(simulation::get_simulation_state),
     },
     ApiFunction {
         name: "getSimulationTime",
-        call: ApiFn::World(misc::get_simulation_time),
+        call: ApiFn::World(simulation::get_simulation_time),
     },
     ApiFunction {
         name: "getSimulationTimeStep",
-        call: ApiFn::World(misc::get_simulation_time_step),
+        call: ApiFn::World(simulation::get_simulation_time_step),
     },
     ApiFunction {
         name: "getSimulatorMessage",
-        call: ApiFn::Sim(misc::get_simulator_message),
+        call: ApiFn::Sim(simulator_messages::get_simulator_message),
     },
     ApiFunction {
         name: "getStringSignal",
-        call: ApiFn::Sim(misc::get_string_signal),
+        call: ApiFn::Sim(signals::get_string_signal),
     },
     ApiFunction {
         name: "getSystemTime",
-        call: ApiFn::World(misc::get_system_time),
+        call: ApiFn::World(simulation::get_system_time),
     },
     ApiFunction {
         name: "handleProximitySensor",
@@ -202,11 +205,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
     ApiFunction {
         name: "setFloatSignal",
-        call: ApiFn::Sim(misc::set_float_signal),
+        call: ApiFn::Sim(signals::set_float_signal),
     },
     ApiFunction {
         name: "setInt32Signal",
-        call: ApiFn::Sim(misc::set_int32_signal),
+        call: ApiFn::Sim(signals::set_int32_signal),
     },
     ApiFunction {
         name: "setJointPosition",
@@ -246,7 +249,7 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
     ApiFunction {
         name: "setStringSignal",
-        call: ApiFn::Sim(misc::set_string_signal),
+        call: ApiFn::Sim(signals::set_string_signal),
     },
 ];
 
@@ -329,7 +332,7 @@ pub const MODULES: &[Module] = &[
             params::FUNCTIONS,
             legacy::FUNCTIONS,
             links::FUNCTIONS,
-            sensing_more::FUNCTIONS,
+            proximity_check::FUNCTIONS,
             custom_data::FUNCTIONS,
             views::FUNCTIONS,
             point_cloud::FUNCTIONS,
