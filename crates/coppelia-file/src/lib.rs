@@ -94,44 +94,100 @@ impl CoppeliaFile {
     /// [`Joint::intrinsic_pose`] between a joint and its children. `None` for an object
     /// whose parent chain is broken (a missing parent or a cycle).
     pub fn world_poses(&self) -> Vec<Option<Pose>> {
+        #[derive(Clone, Copy)]
+        enum State {
+            Unknown,
+            Placed(Pose),
+            Broken,
+        }
         let index: std::collections::HashMap<i32, usize> =
             self.objects.iter().enumerate().map(|(i, o)| (o.handle, i)).collect();
-        let mut out: Vec<Option<Pose>> = vec![None; self.objects.len()];
+        let mut state = vec![State::Unknown; self.objects.len()];
+        let mut chain = Vec::new();
         for start in 0..self.objects.len() {
-            // Walk up to the first placed ancestor (or the root), then place the chain
-            // downwards. The walk is capped by the object count, so a cycle ends it.
-            let mut chain = vec![start];
-            let mut base = Pose::IDENTITY;
-            let mut broken = false;
+            // Walk up to the first settled ancestor (or the root), then settle the chain
+            // downwards, so each object is walked once. A chain longer than the object
+            // count is a cycle.
+            chain.clear();
+            chain.push(start);
+            let mut base = Some(Pose::IDENTITY);
             while let Some(&i) = chain.last() {
+                if !matches!(state[i], State::Unknown) {
+                    chain.pop();
+                    base = match state[i] {
+                        State::Placed(_) if chain.is_empty() => None,
+                        State::Placed(p) => Some(p.compose(&self.joint_motion(i))),
+                        _ => None,
+                    };
+                    break;
+                }
                 if chain.len() > self.objects.len() {
-                    broken = true;
+                    base = None;
                     break;
                 }
                 let Some(parent) = self.objects[i].parent else { break };
-                let Some(&p) = index.get(&parent) else {
-                    broken = true;
-                    break;
-                };
-                if let Some(placed) = out[p] {
-                    base = placed.compose(&self.joint_motion(p));
-                    break;
+                match index.get(&parent) {
+                    Some(&p) => chain.push(p),
+                    None => {
+                        base = None;
+                        break;
+                    }
                 }
-                chain.push(p);
             }
-            if broken {
+            let Some(mut pose) = base else {
+                for &i in &chain {
+                    if matches!(state[i], State::Unknown) {
+                        state[i] = State::Broken;
+                    }
+                }
                 continue;
-            }
-            let mut pose = base;
-            for (k, &i) in chain.iter().rev().enumerate() {
-                if k > 0 {
-                    pose = pose.compose(&self.joint_motion(chain[chain.len() - k]));
+            };
+            for k in (0..chain.len()).rev() {
+                let i = chain[k];
+                if k + 1 < chain.len() {
+                    pose = pose.compose(&self.joint_motion(chain[k + 1]));
                 }
                 pose = pose.compose(&self.objects[i].local_pose);
-                out[i] = Some(pose);
+                state[i] = State::Placed(pose);
             }
         }
-        out
+        state
+            .into_iter()
+            .map(|s| match s {
+                State::Placed(p) => Some(p),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Checks the guarantees [`read`] gives about what it returns: every mesh's indices
+    /// form whole triangles within its vertices, normals (when present) number one per
+    /// index, and the caps hold. The fuzz target asserts this on every file that reads.
+    ///
+    /// # Errors
+    /// A description of the first broken guarantee.
+    pub fn check_guarantees(&self) -> Result<(), String> {
+        if self.objects.len() > MAX_OBJECTS || self.scripts.len() > MAX_SCRIPTS {
+            return Err("object or script cap exceeded".into());
+        }
+        for o in &self.objects {
+            let ObjectKind::Shape(s) = &o.kind else { continue };
+            for leaf in &s.leaves {
+                if !leaf.indices.len().is_multiple_of(3) {
+                    return Err(format!("{}: {} indices", o.name, leaf.indices.len()));
+                }
+                if let Some(&i) = leaf.indices.iter().find(|&&i| i as usize >= leaf.vertices.len()) {
+                    return Err(format!("{}: index {i} of {} vertices", o.name, leaf.vertices.len()));
+                }
+                if leaf.normals.as_ref().is_some_and(|n| n.len() != leaf.indices.len()) {
+                    return Err(format!("{}: normals do not match indices", o.name));
+                }
+            }
+        }
+        if self.world_poses().len() != self.objects.len() {
+            return Err("world_poses length".into());
+        }
+        Ok(())
     }
 
     /// The intrinsic motion of object `i` when it is a joint, else the identity.

@@ -481,7 +481,9 @@ fn mutated_files_never_panic() {
             let mut b = coded.clone();
             let i = header::HEADER_LEN + (next() as usize) % (b.len() - header::HEADER_LEN);
             b[i] ^= 1 << (next() % 8);
-            let _ = read(&b);
+            if let Ok(f) = read(&b) {
+                f.check_guarantees().unwrap();
+            }
 
             let mut d = body.clone();
             for _ in 0..1 + next() % 4 {
@@ -495,7 +497,51 @@ fn mutated_files_never_panic() {
             if next() % 4 == 0 {
                 d.truncate((next() as usize) % d.len());
             }
-            let _ = read(&file(25, 40700, 1, &d));
+            if let Ok(f) = read(&file(25, 40700, 1, &d)) {
+                f.check_guarantees().unwrap();
+            }
         }
+    }
+}
+
+#[test]
+fn world_poses_survive_broken_and_cyclic_trees() {
+    let mut f = read(&sample_file(Precision::Double)).unwrap();
+    f.check_guarantees().unwrap();
+    // Children listed before parents still compose.
+    f.objects.reverse();
+    let world = f.world_poses();
+    assert!(world.iter().all(Option::is_some));
+    // A cycle and a missing parent leave only the affected objects unplaced.
+    let n = f.objects.len();
+    let (a, b) = (f.objects[0].handle, f.objects[1].handle);
+    f.objects[0].parent = Some(b);
+    f.objects[1].parent = Some(a);
+    f.objects[2].parent = Some(9999);
+    let world = f.world_poses();
+    assert_eq!(world.len(), n);
+    assert!(world[0].is_none() && world[1].is_none() && world[2].is_none());
+}
+
+/// Writes the fuzz seeds (`fuzz/seeds/coppelia_file/`) from this file's samples:
+/// `cargo test -p gantry-coppelia-file -- --ignored write_fuzz_seeds`.
+#[test]
+#[ignore = "writes files into the repository; run by hand when the samples change"]
+fn write_fuzz_seeds() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/coppelia_file");
+    std::fs::create_dir_all(&dir).unwrap();
+    let seeds = [
+        ("scene_f32.ttt", sample_file(Precision::Single)),
+        ("scene_f64.ttt", sample_file(Precision::Double)),
+        (
+            "index_out_of_range.ttt",
+            file(25, 40700, 1, &bad_mesh(0, 0, pack_indices(&[0, 1, 3]))),
+        ),
+        ("deep_compound.ttt", file(25, 40700, 2, &deep_compound(6))),
+        ("old_version.ttt", file(17, 30005, 1, b"EOF")),
+    ];
+    for (name, bytes) in seeds {
+        assert!(bytes.len() < 4096, "{name} is {} bytes", bytes.len());
+        std::fs::write(dir.join(name), bytes).unwrap();
     }
 }
