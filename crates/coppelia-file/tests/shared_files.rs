@@ -9,7 +9,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use gantry_coppelia_file::{FileType, ObjectKind, Pose, read};
+use gantry_coppelia_file::{FileType, ObjectKind, Pose, PrimitiveKind, read};
 
 fn folder() -> PathBuf {
     match std::env::var_os("GANTRY_COPPELIA_FILES") {
@@ -61,6 +61,7 @@ fn every_shared_file_reads_and_makes_sense() {
     );
     let mut slowest = (String::new(), 0.0f64);
     let mut tip_target_pairs = 0;
+    let mut primitives = 0;
     for name in &names {
         let bytes = std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
         let t0 = Instant::now();
@@ -119,7 +120,40 @@ fn every_shared_file_reads_and_makes_sense() {
                         vertices += leaf.vertices.len();
                         assert_eq!(leaf.indices.len() % 3, 0);
                         assert!(leaf.indices.iter().all(|&i| (i as usize) < leaf.vertices.len()));
+                        // A box, sphere or cylinder's triangles span its stored sizes,
+                        // centred on the vertex frame: checks the mesh buffers, the
+                        // primitive chunk and the frame convention against each other.
+                        if matches!(
+                            leaf.primitive,
+                            PrimitiveKind::Cuboid | PrimitiveKind::Spheroid | PrimitiveKind::Cylinder
+                        ) {
+                            let mut lo = [f64::MAX; 3];
+                            let mut hi = [f64::MIN; 3];
+                            for v in leaf.vertices.iter() {
+                                for k in 0..3 {
+                                    lo[k] = lo[k].min(f64::from(v[k]));
+                                    hi[k] = hi[k].max(f64::from(v[k]));
+                                }
+                            }
+                            for k in 0..3 {
+                                let tol = 1e-3 * (1.0 + leaf.size[k]);
+                                assert!(
+                                    (hi[k] - lo[k] - leaf.size[k]).abs() < tol && (hi[k] + lo[k]).abs() < tol,
+                                    "{name}: {} {:?} of size {:?} spans {lo:?}..{hi:?}",
+                                    o.name,
+                                    leaf.primitive,
+                                    leaf.size
+                                );
+                            }
+                            primitives += 1;
+                        }
                     }
+                    let i = s.inertia_per_kg;
+                    assert!(
+                        (0..3).all(|a| i[a][a] >= 0.0 && (0..3).all(|b| (i[a][b] - i[b][a]).abs() < 1e-6)),
+                        "{name}: {} inertia {i:?}",
+                        o.name
+                    );
                 }
                 ObjectKind::Joint(j) => {
                     joints += 1;
@@ -213,8 +247,10 @@ fn every_shared_file_reads_and_makes_sense() {
         tip_target_pairs >= 5,
         "only {tip_target_pairs} IK tip/target pairs checked"
     );
+    assert!(primitives >= 100, "only {primitives} primitive meshes checked");
     println!(
-        "slowest: {} in {:.1} ms; {tip_target_pairs} IK tip/target pairs coincide",
+        "slowest: {} in {:.1} ms; {tip_target_pairs} IK tip/target pairs coincide; \
+         {primitives} primitive meshes span their sizes",
         slowest.0, slowest.1
     );
 }
