@@ -81,7 +81,7 @@ pub fn decode(compressed: &[u8], out_len: usize, file_offset: usize) -> Result<V
         return Ok(Vec::new());
     }
     let nodes = read_tree(&mut bits).map_err(|why| huffman(bits.pos, why))?;
-    let data_bits = compressed.len() * 8 - bits.pos;
+    let data_bits = compressed.len().saturating_mul(8) - bits.pos;
     if out_len > data_bits {
         return Err(ReadError::BodyLength {
             len: out_len as i64,

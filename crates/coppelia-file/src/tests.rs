@@ -176,7 +176,13 @@ pub(crate) fn sample_body(p: Precision) -> Vec<u8> {
     };
     let dynamics = Stream::new().chunk("Ver", &0i32.to_le_bytes());
     let dynamics = reals(dynamics, p, "En3", "_n3", &1i32.to_le_bytes(), &[0.0, 0.0, -9.81]);
-    let dynamics = reals(dynamics, p, "Stp", "_tp", &[], &[0.005]);
+    // The f32 sample has no step chunk: the step is the first Bullet/ODE parameter.
+    let dynamics = match p {
+        Precision::Single => dynamics
+            .chunk("BuN", &Payload::new().i32(1).i32(0).f32s(&[0.002]).done())
+            .chunk("OdN", &Payload::new().i32(1).i32(0).f32s(&[0.005]).done()),
+        Precision::Double => reals(dynamics, p, "Stp", "_tp", &[], &[0.005]),
+    };
 
     Stream::new()
         .nested("MTC", Stream::new().chunk("Tm2", &[0; 16]))

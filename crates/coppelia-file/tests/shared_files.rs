@@ -228,7 +228,25 @@ fn every_shared_file_reads_and_makes_sense() {
                 "{name}: the TCP server script (socket, port 6000) is missing"
             );
         }
-        assert!(file.settings.time_step.is_some_and(|dt| dt > 0.0 && dt < 1.0) || expected_type == FileType::Model);
+        // Scenes carry their settings; the engine step divides the time step.
+        if expected_type == FileType::Scene {
+            let st = file.settings;
+            let dt = st.time_step.expect("scene time step");
+            let step = st.engine_step.expect("scene engine step");
+            assert!(
+                dt > 0.0 && dt < 1.0 && step > 0.0 && step <= dt,
+                "{name}: dt {dt}, step {step}"
+            );
+            assert!(
+                ((dt / step) - (dt / step).round()).abs() < 1e-3,
+                "{name}: dt {dt}, step {step}"
+            );
+            assert!(
+                st.gravity.is_some_and(|g| (g[2] + 9.81).abs() < 1e-3),
+                "{name}: gravity {:?}",
+                st.gravity
+            );
+        }
 
         println!(
             "{:<42} {:>7} {:>4} {:>7} {:>6} {:>6} {:>7} {:>9} {:>8.1}",
