@@ -66,8 +66,8 @@ pub struct ImportReport {
 ///
 /// # Errors
 /// [`LoadError::Coppelia`] when the file cannot be decoded (see
-/// [`gantry_coppelia_file::ReadError`]), and [`LoadError::Invalid`] when its object tree
-/// has a cycle.
+/// [`gantry_coppelia_file::ReadError`]), and [`LoadError::Invalid`] when two objects
+/// share a handle or the object tree has a cycle.
 pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportReport), LoadError> {
     let file = cf::read(bytes).map_err(|source| LoadError::Coppelia {
         path: path.to_owned(),
@@ -502,6 +502,68 @@ mod tests {
             convert_settings(&cf::Settings::default(), &mut w),
             SimSettings::default()
         );
+    }
+
+    fn dummy(handle: i32, parent: Option<i32>) -> cf::SceneObject {
+        cf::SceneObject {
+            handle,
+            parent,
+            name: format!("d{handle}"),
+            alias: None,
+            local_pose: cf::Pose::IDENTITY,
+            collidable: false,
+            measurable: false,
+            detectable: false,
+            model_base: false,
+            kind: cf::ObjectKind::Dummy(cf::Dummy {
+                linked: None,
+                link: cf::DummyLink::Other(0),
+            }),
+            offset: 0,
+        }
+    }
+
+    fn file_of(objects: Vec<cf::SceneObject>) -> cf::CoppeliaFile {
+        cf::CoppeliaFile {
+            header: cf::Header {
+                serialization_version: 25,
+                oldest_reader_version: 24,
+                compression: 1,
+                body_len: 0,
+                program_version: 40700,
+                revision: 0,
+                file_type: cf::FileType::Scene,
+            },
+            objects,
+            scripts: Vec::new(),
+            settings: cf::Settings::default(),
+        }
+    }
+
+    #[test]
+    fn tree_order_puts_parents_first_and_refuses_cycles() {
+        let p = Path::new("x.ttt");
+        let mut w = Vec::new();
+        // Children listed before their parents, and one orphan.
+        let f = file_of(vec![
+            dummy(3, Some(2)),
+            dummy(2, Some(1)),
+            dummy(1, None),
+            dummy(4, Some(99)),
+        ]);
+        let order = hierarchy_order(&f, p, &mut w).unwrap();
+        let handles: Vec<i32> = order.iter().map(|&i| f.objects[i].handle).collect();
+        assert_eq!(handles, [1, 2, 3, 4]);
+        assert!(w[0].contains("d4: parent 99 does not exist"), "{w:?}");
+        let cycle = file_of(vec![dummy(1, None), dummy(2, Some(3)), dummy(3, Some(2))]);
+        assert!(
+            hierarchy_order(&cycle, p, &mut w)
+                .unwrap_err()
+                .to_string()
+                .contains("cycle")
+        );
+        let twice = file_of(vec![dummy(1, None), dummy(1, None)]);
+        assert!(hierarchy_order(&twice, p, &mut w).is_err());
     }
 
     #[test]
