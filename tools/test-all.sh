@@ -64,9 +64,13 @@ cargo fmt --all -- --check
 stage "lints (cargo clippy -D warnings)"
 cargo clippy --workspace --all-targets -- -D warnings
 
-stage "dependency direction: protocol stays pure (no tokio runtime, rapier or mlua); no circle among files; floors inside sim-core and the Lua host"
+stage "dependency direction: protocol and coppelia-file stay pure (no tokio runtime, rapier or mlua); no circle among files; floors inside sim-core and the Lua host"
 if cargo tree -p gantry-protocol -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d) ' ; then
     echo "gantry-protocol must not depend on the crates listed above" >&2
+    exit 1
+fi
+if cargo tree -p gantry-coppelia-file -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d|nalgebra) ' ; then
+    echo "gantry-coppelia-file must not depend on the crates listed above" >&2
     exit 1
 fi
 if cargo tree -p gantry-sim-core -e normal --prefix none | grep -E '^(tokio|mlua) ' ; then

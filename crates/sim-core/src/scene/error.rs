@@ -47,6 +47,14 @@ pub enum LoadError {
         /// What is wrong and how to fix it.
         message: String,
     },
+    /// A CoppeliaSim scene or model file could not be decoded.
+    #[error("{path}: {source}")]
+    Coppelia {
+        /// The file.
+        path: PathBuf,
+        /// What the reader found wrong, and where.
+        source: gantry_coppelia_file::ReadError,
+    },
     /// A mesh file could not be found or decoded.
     #[error("{path}: {message}")]
     Mesh {

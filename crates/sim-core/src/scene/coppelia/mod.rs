@@ -1,0 +1,565 @@
+//! Imports CoppeliaSim scenes (`.ttt`) and models (`.ttm`) into a [`SceneModel`].
+//!
+//! [`gantry_coppelia_file`] decodes the file; this module maps its objects onto gantry's
+//! kinds, keeping the whole tree (an object gantry has no kind for becomes a dummy, so
+//! its children stay where they are) and reporting everything it approximates or drops.
+//!
+//! | CoppeliaSim | gantry |
+//! |---|---|
+//! | tree, local poses, aliases, model bases | [`ObjectModel`] as is (4.3+ aliases, else names) |
+//! | shapes | [`ShapeModel`] (see `shape.rs`): primitives where exact, else triangles |
+//! | revolute/prismatic joints | [`JointModel`]; passive, IK and motion modes kinematic |
+//! | dynamic joints: free, force, velocity, position | the same modes; spring and callback as position |
+//! | dependent joints | kinematic with a [`MimicModel`] |
+//! | spherical joints | fixed (warned) |
+//! | ray and cone proximity sensors | [`ProximityModel`] |
+//! | perspective vision sensors up to 512 px | [`VisionModel`] |
+//! | force sensors, graphs, dummies | the same kinds |
+//! | other proximity and vision sensors, cameras, lights, paths, point cloud, script objects, others | dummies (warned) |
+//! | Lua child and customization scripts | [`ScriptModel`] on their object |
+//! | main scripts | dropped (gantry runs its own loop; a custom one is warned) |
+//! | Python, disabled scripts | dropped (warned) |
+//! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
+//!
+//! Joint motors keep CoppeliaSim's targets and limits but use gantry's PD gains
+//! ([`DEFAULT_KP`], [`DEFAULT_KD`]); CoppeliaSim's engine-specific PID arrays are not
+//! decoded. No floor is added: a scene file has its own, and a model joins a scene.
+
+mod pose;
+mod shape;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use gantry_coppelia_file as cf;
+
+use super::load::stem;
+use super::model::*;
+use super::urdf::{DEFAULT_KD, DEFAULT_KP};
+use super::{LoadError, ServerSettings};
+use pose::to_pose;
+
+/// What an import kept, changed and dropped, beyond the model itself.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ImportReport {
+    /// The CoppeliaSim version that wrote the file, e.g. `4.1.0`.
+    pub program_version: String,
+    /// Whether the file is a model (`.ttm`) rather than a scene.
+    pub is_model: bool,
+    /// Objects imported, all kinds.
+    pub objects: usize,
+    /// The file's handle of each imported object, by model index (object `k` of the
+    /// model was CoppeliaSim's handle `file_handles[k]`).
+    pub file_handles: Vec<i32>,
+    /// Objects imported as dummies, with why: `(name, reason)`.
+    pub as_dummies: Vec<(String, String)>,
+    /// Scripts attached to objects.
+    pub scripts_attached: usize,
+    /// Scripts not imported, with why: `(where, reason)`.
+    pub scripts_dropped: Vec<(String, String)>,
+    /// Everything approximated, in file order (also in [`SceneModel::warnings`]).
+    pub warnings: Vec<String>,
+}
+
+/// Imports a CoppeliaSim scene or model from its bytes. `path` names the file in
+/// messages and gives the model its name and base folder; nothing is read from it.
+///
+/// # Errors
+/// [`LoadError::Coppelia`] when the file cannot be decoded (see
+/// [`gantry_coppelia_file::ReadError`]), and [`LoadError::Invalid`] when two objects
+/// share a handle or the object tree has a cycle.
+pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportReport), LoadError> {
+    let file = cf::read(bytes).map_err(|source| LoadError::Coppelia {
+        path: path.to_owned(),
+        source,
+    })?;
+    let mut report = ImportReport {
+        program_version: file.header.program_version_text(),
+        is_model: file.header.file_type == cf::FileType::Model,
+        ..ImportReport::default()
+    };
+    let mut warnings = Vec::new();
+
+    // Hierarchy order with parents first (CoppeliaSim writes it so; checked, not assumed).
+    let order = hierarchy_order(&file, path, &mut warnings)?;
+    let index: HashMap<i32, usize> = order
+        .iter()
+        .enumerate()
+        .map(|(k, &i)| (file.objects[i].handle, k))
+        .collect();
+    let mut objects = Vec::with_capacity(order.len());
+    for &i in &order {
+        let o = &file.objects[i];
+        let label = o.alias.clone().unwrap_or_else(|| o.name.clone());
+        let kind = convert_kind(o, &label, path, &index, &mut report, &mut warnings);
+        objects.push(ObjectModel {
+            alias: label,
+            parent: o.parent.and_then(|p| index.get(&p).copied()),
+            local: to_pose(&o.local_pose),
+            model_base: o.model_base,
+            kind,
+        });
+    }
+    report.objects = objects.len();
+    report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
+
+    let scripts = convert_scripts(&file, path, &index, &mut report, &mut warnings);
+    let settings = convert_settings(&file.settings, &mut warnings);
+    report.warnings = warnings.clone();
+    let model = SceneModel {
+        name: stem(path),
+        base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
+        settings,
+        server: ServerSettings::default(),
+        objects,
+        scripts,
+        warnings,
+    };
+    Ok((model, report))
+}
+
+/// Indices of the file's objects, parents before children. An object whose parent is
+/// missing becomes a root (warned); a cycle is an error.
+fn hierarchy_order(file: &cf::CoppeliaFile, path: &Path, warnings: &mut Vec<String>) -> Result<Vec<usize>, LoadError> {
+    let by_handle: HashMap<i32, usize> = file.objects.iter().enumerate().map(|(i, o)| (o.handle, i)).collect();
+    if by_handle.len() != file.objects.len() {
+        return Err(invalid(path, "two objects share a handle".into()));
+    }
+    let mut children: HashMap<Option<usize>, Vec<usize>> = HashMap::new();
+    for (i, o) in file.objects.iter().enumerate() {
+        let parent = match o.parent {
+            None => None,
+            Some(p) => match by_handle.get(&p) {
+                Some(&pi) => Some(pi),
+                None => {
+                    warnings.push(format!("{}: parent {p} does not exist; imported at the root", o.name));
+                    None
+                }
+            },
+        };
+        children.entry(parent).or_default().push(i);
+    }
+    // Depth-first from the roots, children in file order.
+    let mut order = Vec::with_capacity(file.objects.len());
+    let mut stack: Vec<usize> = children.get(&None).cloned().unwrap_or_default();
+    stack.reverse();
+    while let Some(i) = stack.pop() {
+        order.push(i);
+        if let Some(c) = children.get(&Some(i)) {
+            stack.extend(c.iter().rev());
+        }
+    }
+    if order.len() != file.objects.len() {
+        return Err(invalid(path, "the object tree has a cycle".into()));
+    }
+    Ok(order)
+}
+
+fn invalid(path: &Path, message: String) -> LoadError {
+    LoadError::Invalid {
+        path: path.to_owned(),
+        line: 1,
+        column: 1,
+        message,
+    }
+}
+
+/// The gantry kind of one object.
+fn convert_kind(
+    o: &cf::SceneObject,
+    label: &str,
+    path: &Path,
+    index: &HashMap<i32, usize>,
+    report: &mut ImportReport,
+    warnings: &mut Vec<String>,
+) -> ObjectModelKind {
+    let mut as_dummy = |why: String| {
+        warnings.push(format!("{label}: {why}; imported as a dummy"));
+        report.as_dummies.push((label.to_owned(), why));
+        ObjectModelKind::Dummy
+    };
+    match &o.kind {
+        cf::ObjectKind::Shape(s) => {
+            ObjectModelKind::Shape(shape::convert(s, label, path, o.detectable, o.measurable, warnings))
+        }
+        cf::ObjectKind::Joint(j) => ObjectModelKind::Joint(convert_joint(j, label, index, warnings)),
+        cf::ObjectKind::Dummy(_) => ObjectModelKind::Dummy,
+        cf::ObjectKind::ProximitySensor(p) => match p.volume {
+            cf::ProximityVolume::Ray { offset, range } => {
+                ObjectModelKind::ProximitySensor(ProximityModel::Ray { offset, range })
+            }
+            cf::ProximityVolume::Cone {
+                offset, range, angle, ..
+            } => ObjectModelKind::ProximitySensor(ProximityModel::Cone {
+                offset,
+                range,
+                half_angle: angle / 2.0,
+            }),
+            other => as_dummy(format!(
+                "proximity sensor volume {} has no gantry equivalent",
+                volume_name(&other)
+            )),
+        },
+        cf::ObjectKind::VisionSensor(v) => {
+            let side = |n: i32| {
+                u32::try_from(n)
+                    .ok()
+                    .filter(|&n| (1..=MAX_VISION_RESOLUTION).contains(&n))
+            };
+            match (v.perspective, side(v.resolution[0]), side(v.resolution[1])) {
+                (true, Some(w), Some(h)) => ObjectModelKind::VisionSensor(VisionModel {
+                    resolution: [w, h],
+                    fov: v.view_angle,
+                    near: v.near,
+                    far: v.far,
+                }),
+                (false, ..) => as_dummy("orthographic vision sensors are not supported".into()),
+                _ => as_dummy(format!(
+                    "vision sensor resolution {}x{} is outside 1..{MAX_VISION_RESOLUTION}",
+                    v.resolution[0], v.resolution[1]
+                )),
+            }
+        }
+        cf::ObjectKind::ForceSensor(_) => ObjectModelKind::ForceSensor,
+        cf::ObjectKind::Graph => ObjectModelKind::Graph,
+        cf::ObjectKind::Camera => as_dummy("cameras are not imported".into()),
+        cf::ObjectKind::Light => as_dummy("lights are not imported".into()),
+        cf::ObjectKind::Script => ObjectModelKind::Dummy,
+        cf::ObjectKind::Path => as_dummy("old path objects are not supported".into()),
+        cf::ObjectKind::PointCloud => as_dummy("point clouds are not imported".into()),
+        cf::ObjectKind::Other(tag) => {
+            as_dummy(format!("object type {} is not supported", String::from_utf8_lossy(tag)))
+        }
+    }
+}
+
+fn volume_name(v: &cf::ProximityVolume) -> &'static str {
+    match v {
+        cf::ProximityVolume::Ray { .. } => "ray",
+        cf::ProximityVolume::Pyramid { .. } => "pyramid",
+        cf::ProximityVolume::Cylinder { .. } => "cylinder",
+        cf::ProximityVolume::Disc { .. } => "disc",
+        cf::ProximityVolume::Cone { .. } => "cone",
+        cf::ProximityVolume::Other(_) => "(unknown)",
+    }
+}
+
+/// A joint, its mode mapped as the module table says.
+fn convert_joint(j: &cf::Joint, label: &str, index: &HashMap<i32, usize>, warnings: &mut Vec<String>) -> JointModel {
+    let joint_type = match j.joint_type {
+        cf::JointType::Revolute => JointType::Revolute,
+        cf::JointType::Prismatic => JointType::Prismatic,
+        cf::JointType::Spherical | cf::JointType::Other(_) => {
+            warnings.push(format!(
+                "{label}: spherical joints have no gantry equivalent; imported as fixed"
+            ));
+            JointType::Fixed
+        }
+    };
+    let mut mimic = None;
+    let mode = match j.mode {
+        _ if joint_type == JointType::Fixed => JointMode::Kinematic,
+        cf::JointMode::Passive => JointMode::Kinematic,
+        cf::JointMode::Motion | cf::JointMode::InverseKinematics => {
+            warnings.push(format!(
+                "{label}: deprecated motion/IK joint mode imported as kinematic"
+            ));
+            JointMode::Kinematic
+        }
+        cf::JointMode::Dependent => {
+            match j
+                .dependency
+                .and_then(|d| index.get(&d.master).map(|&leader| (d, leader)))
+            {
+                Some((d, leader)) => {
+                    mimic = Some(MimicModel {
+                        leader,
+                        multiplier: d.multiplier,
+                        offset: d.offset,
+                    });
+                }
+                None => warnings.push(format!(
+                    "{label}: dependent joint without a master; imported as kinematic"
+                )),
+            }
+            JointMode::Kinematic
+        }
+        cf::JointMode::Dynamic | cf::JointMode::Hybrid => match j.dynamic_control {
+            cf::DynamicControl::Free => JointMode::Free,
+            cf::DynamicControl::Force => JointMode::Force,
+            cf::DynamicControl::Velocity => JointMode::Velocity,
+            cf::DynamicControl::Position => JointMode::Position,
+            other => {
+                warnings.push(format!(
+                    "{label}: dynamic control {other:?} imported as position control"
+                ));
+                JointMode::Position
+            }
+        },
+        cf::JointMode::Other(m) => {
+            warnings.push(format!("{label}: joint mode {m} unknown; imported as kinematic"));
+            JointMode::Kinematic
+        }
+    };
+    let limits = (!j.cyclic && joint_type != JointType::Fixed).then_some((j.min, j.min + j.range));
+    JointModel {
+        joint_type,
+        mode,
+        limits,
+        cyclic: j.cyclic && joint_type == JointType::Revolute,
+        initial: j.position,
+        target_position: j.target_position,
+        target_velocity: j.target_velocity,
+        max_force: j.max_force.abs(),
+        kp: DEFAULT_KP,
+        kd: DEFAULT_KD,
+        damping: 0.0,
+        friction: 0.0,
+        max_velocity: j.max_velocity.filter(|v| v.is_finite() && *v > 0.0),
+        mimic,
+    }
+}
+
+/// Lua child and customization scripts, on their objects.
+fn convert_scripts(
+    file: &cf::CoppeliaFile,
+    path: &Path,
+    index: &HashMap<i32, usize>,
+    report: &mut ImportReport,
+    warnings: &mut Vec<String>,
+) -> Vec<ScriptModel> {
+    let mut out = Vec::new();
+    for s in &file.scripts {
+        let owner = s.object.and_then(|h| file.object(h));
+        let place = owner.map_or_else(|| "main script".to_owned(), |o| format!("script of {}", o.name));
+        let mut drop = |why: &str, warn: bool| {
+            if warn {
+                warnings.push(format!("{place}: {why}; not imported"));
+            }
+            report.scripts_dropped.push((place.clone(), why.to_owned()));
+        };
+        if s.script_type == cf::ScriptType::Main {
+            // gantry runs its own loop; the default main script is what it does anyway.
+            if s.default_main || s.text.contains("defaultMainScript") {
+                drop("default main script (gantry runs its own loop)", false);
+            } else {
+                drop("custom main script (gantry runs its own loop)", true);
+            }
+            continue;
+        }
+        if s.language != cf::ScriptLanguage::Lua {
+            drop("only Lua scripts run in gantry", true);
+            continue;
+        }
+        if s.disabled {
+            drop("the script is disabled", true);
+            continue;
+        }
+        let Some(object) = s.object.and_then(|h| index.get(&h).copied()) else {
+            drop("its object does not exist", true);
+            continue;
+        };
+        if s.threaded {
+            warnings.push(format!("{place}: old-style threaded script imported as a plain script"));
+        }
+        report.scripts_attached += 1;
+        out.push(ScriptModel {
+            object,
+            path: PathBuf::from(format!("{}#{}", path.display(), owner.map_or("", |o| o.name.as_str()))),
+            source: s.text.clone(),
+        });
+    }
+    out
+}
+
+/// `dt`, gravity and substeps; CoppeliaSim's defaults where the file says nothing.
+fn convert_settings(s: &cf::Settings, warnings: &mut Vec<String>) -> SimSettings {
+    let mut out = SimSettings::default();
+    if let Some(dt) = s.time_step.filter(|dt| dt.is_finite() && *dt > 0.0) {
+        out.dt = dt;
+    }
+    if let Some(g) = s.gravity.filter(|g| g.iter().all(|v| v.is_finite())) {
+        out.gravity = g;
+    }
+    if let Some(step) = s.engine_step.filter(|st| st.is_finite() && *st > 0.0) {
+        out.substeps = (out.dt / step).round().clamp(1.0, 1000.0) as u32;
+    }
+    if let Some(engine) = s.engine.filter(|e| *e != cf::Engine::Bullet) {
+        warnings.push(format!(
+            "the scene was set up for {engine:?}; gantry simulates with rapier"
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn joint(mode: cf::JointMode, control: cf::DynamicControl) -> cf::Joint {
+        cf::Joint {
+            joint_type: cf::JointType::Revolute,
+            min: -1.0,
+            range: 2.5,
+            position: 0.3,
+            cyclic: false,
+            mode,
+            dynamic_control: control,
+            target_velocity: 0.1,
+            max_force: -5.0,
+            target_position: 0.2,
+            dependency: Some(cf::JointDependency {
+                master: 7,
+                multiplier: 2.0,
+                offset: 0.5,
+            }),
+            max_velocity: Some(3.0),
+            spherical_rotation: [1.0, 0.0, 0.0, 0.0],
+        }
+    }
+
+    #[test]
+    fn joints_keep_limits_targets_and_map_their_modes() {
+        let index = HashMap::from([(7, 4usize)]);
+        let mut w = Vec::new();
+        let j = convert_joint(
+            &joint(cf::JointMode::Dynamic, cf::DynamicControl::Position),
+            "j",
+            &index,
+            &mut w,
+        );
+        assert_eq!(
+            (j.mode, j.limits, j.initial, j.target_position),
+            (JointMode::Position, Some((-1.0, 1.5)), 0.3, 0.2)
+        );
+        assert_eq!((j.max_force, j.max_velocity, j.mimic), (5.0, Some(3.0), None));
+        let cases = [
+            (
+                cf::JointMode::Dynamic,
+                cf::DynamicControl::Velocity,
+                JointMode::Velocity,
+            ),
+            (cf::JointMode::Dynamic, cf::DynamicControl::Free, JointMode::Free),
+            (cf::JointMode::Dynamic, cf::DynamicControl::Force, JointMode::Force),
+            (cf::JointMode::Dynamic, cf::DynamicControl::Spring, JointMode::Position),
+            (
+                cf::JointMode::Passive,
+                cf::DynamicControl::Position,
+                JointMode::Kinematic,
+            ),
+            (
+                cf::JointMode::InverseKinematics,
+                cf::DynamicControl::Free,
+                JointMode::Kinematic,
+            ),
+        ];
+        for (mode, control, want) in cases {
+            assert_eq!(convert_joint(&joint(mode, control), "j", &index, &mut w).mode, want);
+        }
+        let d = convert_joint(
+            &joint(cf::JointMode::Dependent, cf::DynamicControl::Free),
+            "j",
+            &index,
+            &mut w,
+        );
+        assert_eq!(
+            d.mimic,
+            Some(MimicModel {
+                leader: 4,
+                multiplier: 2.0,
+                offset: 0.5
+            })
+        );
+        let mut s = joint(cf::JointMode::Passive, cf::DynamicControl::Free);
+        s.joint_type = cf::JointType::Spherical;
+        assert_eq!(convert_joint(&s, "ball", &index, &mut w).joint_type, JointType::Fixed);
+        assert!(w.iter().any(|m| m.contains("ball: spherical")), "{w:?}");
+    }
+
+    #[test]
+    fn settings_give_dt_gravity_and_substeps() {
+        let mut w = Vec::new();
+        let s = cf::Settings {
+            time_step: Some(0.05),
+            engine: Some(cf::Engine::Ode),
+            gravity: Some([0.0, 0.0, -9.81]),
+            engine_step: Some(0.005),
+        };
+        let out = convert_settings(&s, &mut w);
+        assert_eq!((out.dt, out.substeps, out.gravity), (0.05, 10, [0.0, 0.0, -9.81]));
+        assert_eq!(w.len(), 1);
+        assert_eq!(
+            convert_settings(&cf::Settings::default(), &mut w),
+            SimSettings::default()
+        );
+    }
+
+    fn dummy(handle: i32, parent: Option<i32>) -> cf::SceneObject {
+        cf::SceneObject {
+            handle,
+            parent,
+            name: format!("d{handle}"),
+            alias: None,
+            local_pose: cf::Pose::IDENTITY,
+            collidable: false,
+            measurable: false,
+            detectable: false,
+            model_base: false,
+            kind: cf::ObjectKind::Dummy(cf::Dummy {
+                linked: None,
+                link: cf::DummyLink::Other(0),
+            }),
+            offset: 0,
+        }
+    }
+
+    fn file_of(objects: Vec<cf::SceneObject>) -> cf::CoppeliaFile {
+        cf::CoppeliaFile {
+            header: cf::Header {
+                serialization_version: 25,
+                oldest_reader_version: 24,
+                compression: 1,
+                body_len: 0,
+                program_version: 40700,
+                revision: 0,
+                file_type: cf::FileType::Scene,
+            },
+            objects,
+            scripts: Vec::new(),
+            settings: cf::Settings::default(),
+        }
+    }
+
+    #[test]
+    fn tree_order_puts_parents_first_and_refuses_cycles() {
+        let p = Path::new("x.ttt");
+        let mut w = Vec::new();
+        // Children listed before their parents, and one orphan.
+        let f = file_of(vec![
+            dummy(3, Some(2)),
+            dummy(2, Some(1)),
+            dummy(1, None),
+            dummy(4, Some(99)),
+        ]);
+        let order = hierarchy_order(&f, p, &mut w).unwrap();
+        let handles: Vec<i32> = order.iter().map(|&i| f.objects[i].handle).collect();
+        assert_eq!(handles, [1, 2, 3, 4]);
+        assert!(w[0].contains("d4: parent 99 does not exist"), "{w:?}");
+        let cycle = file_of(vec![dummy(1, None), dummy(2, Some(3)), dummy(3, Some(2))]);
+        assert!(
+            hierarchy_order(&cycle, p, &mut w)
+                .unwrap_err()
+                .to_string()
+                .contains("cycle")
+        );
+        let twice = file_of(vec![dummy(1, None), dummy(1, None)]);
+        assert!(hierarchy_order(&twice, p, &mut w).is_err());
+    }
+
+    #[test]
+    fn undecodable_files_name_the_file_and_the_problem() {
+        let err = load_coppelia(b"not a scene", Path::new("dir/x.ttt")).unwrap_err();
+        assert!(matches!(err, LoadError::Coppelia { .. }));
+        assert!(err.to_string().starts_with("dir/x.ttt: not a CoppeliaSim"), "{err}");
+    }
+}
