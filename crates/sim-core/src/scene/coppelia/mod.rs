@@ -301,16 +301,37 @@ fn convert_joint(j: &cf::Joint, label: &str, index: &HashMap<i32, usize>, warnin
             JointMode::Kinematic
         }
     };
-    let limits = (!j.cyclic && joint_type != JointType::Fixed).then_some((j.min, j.min + j.range));
+    // Values a file leaves unset can be any bit pattern, NaN and infinities included:
+    // rapier would carry them into its solver (a NaN motor bound aborts the step), so
+    // each is checked here and replaced by a neutral value, with a warning.
+    let mut finite = |v: f64, fallback: f64, what: &str| {
+        if v.is_finite() {
+            v
+        } else {
+            warnings.push(format!("{label}: {what} is not a finite number; {fallback} used"));
+            fallback
+        }
+    };
+    let min = finite(j.min, 0.0, "the lower limit");
+    let range = finite(j.range, 0.0, "the range").max(0.0);
+    let initial = finite(j.position, 0.0, "the position");
+    let target_position = finite(j.target_position, initial, "the target position");
+    let target_velocity = finite(j.target_velocity, 0.0, "the target velocity");
+    let max_force = finite(j.max_force, 0.0, "the maximum force or torque").abs();
+    if let Some(m) = &mut mimic {
+        m.multiplier = finite(m.multiplier, 1.0, "the dependency multiplier");
+        m.offset = finite(m.offset, 0.0, "the dependency offset");
+    }
+    let limits = (!j.cyclic && joint_type != JointType::Fixed).then_some((min, min + range));
     JointModel {
         joint_type,
         mode,
         limits,
         cyclic: j.cyclic && joint_type == JointType::Revolute,
-        initial: j.position,
-        target_position: j.target_position,
-        target_velocity: j.target_velocity,
-        max_force: j.max_force.abs(),
+        initial,
+        target_position,
+        target_velocity,
+        max_force,
         kp: DEFAULT_KP,
         kd: DEFAULT_KD,
         damping: 0.0,
