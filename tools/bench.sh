@@ -32,7 +32,7 @@ echo "== public robots: mesh-collision arms in gantry and PyBullet"
 echo "== ZMQ latency (real Python client)"
 "$venv/bin/python" tests/python/bench_zmq.py --runs 3 --json target/bench/zmq.json
 echo "== ZMQ latency against the client's floor (a busy-polling pyzmq ROUTER echo server), interleaved"
-GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/zmq_floor.py --rounds 5 --json target/bench/zmq_floor.json
+GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/zmq_floor.py --rounds 5 --steps 2000 --json target/bench/zmq_floor.json
 echo "== legacy remote API (V-REP's real remoteApi.so client): blocking call and synchronous stepping"
 GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/legacy_remote_api.py
 echo "== Python in-process: call latency and stepping against ZMQ and PyBullet; Ray batch speed-up"

@@ -19,6 +19,10 @@ rounds (median and p99) and gives the spread of the per-round medians.
 
 Target: gantry's median at most 15 us above the floor's.
 
+With --steps N, each round also times N `client.step()` calls per binary on an empty
+scene in stepping mode (two round trips per step, `sim.step` and `_*executed*_`, and
+nothing to simulate: the protocol's own cost).
+
 Usage (from the repository root):
     .venv/bin/python tools/bench/zmq_floor.py [--calls 5000] [--rounds 5] \\
         [--bin after=target/release/gantry --bin before=/tmp/gantry-before] [--json out.json]
@@ -43,6 +47,7 @@ sys.path.insert(0, str(REPO / "tests" / "python"))
 from gantry_proc import GantryProcess, gantry_bin  # noqa: E402
 
 SCENE = "assets/scenes/bubble_rob.toml"
+EMPTY_SCENE = "assets/scenes/bench/empty.toml"
 TARGET_ABOVE_FLOOR_US = 15.0
 POSITION = [0.5, -0.25, 1.0]
 
@@ -120,6 +125,21 @@ def measure_gantry(binary: Path, fast: bool, calls: int) -> list[float]:
             os.environ["GANTRY_BIN"] = old
 
 
+def measure_steps(binary: Path, steps: int) -> float:
+    """client.step() calls per second on the empty scene, after 100 untimed ones."""
+    os.environ["GANTRY_BIN"] = str(binary)
+    with GantryProcess(EMPTY_SCENE, fast=True) as g:
+        client = g.client()
+        client.require("sim")
+        client.setStepping(True)
+        for _ in range(100):
+            client.step()
+        t0 = time.perf_counter()
+        for _ in range(steps):
+            client.step()
+        return steps / (time.perf_counter() - t0)
+
+
 def percentile(sorted_values: list[float], p: float) -> float:
     k = min(len(sorted_values) - 1, max(0, round(p / 100 * (len(sorted_values) - 1))))
     return sorted_values[k]
@@ -131,6 +151,8 @@ def main() -> int:
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--bin", action="append", default=[], metavar="NAME=PATH",
                     help="a gantry binary to measure (repeatable); default $GANTRY_BIN or target/release/gantry")
+    ap.add_argument("--steps", type=int, default=0,
+                    help="also time this many client.step() calls per binary and round (empty scene)")
     ap.add_argument("--json", type=Path, help="also write the figures to this file")
     args = ap.parse_args()
 
@@ -150,6 +172,7 @@ def main() -> int:
         targets.append((f"{name}, real time (idle between steps)", path, False))
     samples: dict[str, list[float]] = {t[0]: [] for t in targets}
     medians: dict[str, list[float]] = {t[0]: [] for t in targets}
+    rates: dict[str, list[float]] = {name: [] for name, _ in binaries}
 
     for r in range(args.rounds):
         order = targets[r % len(targets):] + targets[:r % len(targets)]
@@ -160,6 +183,10 @@ def main() -> int:
             medians[label].append(statistics.median(s))
             line.append(f"{label.split(',')[0].split(' ')[0]}{'' if path is None else ('/fast' if fast else '/rt')} "
                         f"{medians[label][-1]:.1f}")
+        if args.steps:
+            for name, path in binaries[r % len(binaries):] + binaries[:r % len(binaries)]:
+                rates[name].append(measure_steps(path, args.steps))
+            line.append("steps/s " + ", ".join(f"{name} {rates[name][-1]:.0f}" for name, _ in binaries))
         print(f"round {r + 1}: medians (us): " + ", ".join(line), flush=True)
 
     floor_label = targets[0][0]
@@ -182,6 +209,11 @@ def main() -> int:
                                     "above_floor_us": above, "binary": str(path) if path else None}
         if path is not None and path == binaries[-1][1]:
             ok &= above <= TARGET_ABOVE_FLOOR_US
+    for name, _ in binaries:
+        if rates[name]:
+            print(f"{name}: client.step() on an empty scene, median of rounds "
+                  f"{statistics.median(rates[name]):.0f} steps/s ({', '.join(f'{x:.0f}' for x in rates[name])})")
+            report.setdefault("empty_steps_per_s", {})[name] = rates[name]
     print(f"target: {binaries[-1][0]} at most {TARGET_ABOVE_FLOOR_US:.0f} us above the floor (both modes):",
           "met" if ok else "NOT met")
     if args.json:
