@@ -49,6 +49,14 @@ report_times() {
         printf "  %5d  %s\n" "${stage_secs[$i]}" "${stage_names[$i]:0:72}"
     done
     printf '  %5d  total\n' $((SECONDS - run_start))
+    # The CoppeliaSim file tests read the public files from the shared folder; without
+    # it they test the reader on the synthetic files they build, and say so here.
+    local coppelia="${GANTRY_COPPELIA_FILES:-$root/../shared/coppelia-files}"
+    if [[ -d "$coppelia" ]]; then
+        echo "coppelia-files: $(find "$coppelia" -maxdepth 1 -name '*.tt[tm]' | wc -l) public .ttt/.ttm files read from $coppelia"
+    else
+        echo "coppelia-files: ABSENT ($coppelia): the .ttt/.ttm tests ran on synthetic files only"
+    fi
 }
 trap report_times EXIT
 
