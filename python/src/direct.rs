@@ -208,14 +208,7 @@ impl Direct {
         let mut taken = 0;
         while taken < n && self.engine.state() == SimulationState::Running {
             let batch = (n - taken).min(BATCH);
-            taken += self.detached(py, |d| {
-                let mut k = 0;
-                while k < batch && d.engine.state() == SimulationState::Running {
-                    d.engine.step();
-                    k += 1;
-                }
-                k
-            });
+            taken += self.run_steps(py, batch);
             py.check_signals()?;
         }
         // Steps taken outside the real-time schedule: it starts afresh from now.
