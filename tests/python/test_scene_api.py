@@ -71,7 +71,7 @@ def test_math_packing_and_old_names(gantry):
     assert sim.getInt32Signal("n") == 4
 
 
-def test_load_scene_and_close_scene(gantry):
+def test_load_scene_and_close_scene(gantry, tmp_path):
     from gantry_proc import REPO
 
     g = gantry("assets/scenes/bubble_rob.toml")
@@ -88,10 +88,12 @@ def test_load_scene_and_close_scene(gantry):
     # 16 until the first step is done, 17 after (CoppeliaSim's advancing passes).
     assert sim.getSimulationState() in (sim.simulation_advancing_firstafterstop, sim.simulation_advancing_running)
 
-    # A CoppeliaSim scene file is refused by name; a missing file names the file; the
-    # scene stays as it was.
-    with pytest.raises(Exception, match=r"CoppeliaSim file, which gantry cannot read.*\.toml"):
-        sim.loadScene("/tmp/scene.ttt")
+    # A file that is not what its name says is refused with the reader's reason; a
+    # missing file names the file; the scene stays as it was.
+    bad = tmp_path / "scene.ttt"
+    bad.write_bytes(b"not a scene")
+    with pytest.raises(Exception, match=r"scene\.ttt: not a CoppeliaSim scene or model file"):
+        sim.loadScene(str(bad))
     with pytest.raises(Exception, match="no-such-scene.toml"):
         sim.loadScene(str(REPO / "no-such-scene.toml"))
     assert sim.getObject("/arm6") >= 0
@@ -140,7 +142,7 @@ def test_load_model_adds_a_public_robot_to_the_running_scene(gantry):
         pb.disconnect(cid)
 
     # Bad files are refused by name, and the scene is unchanged.
-    with pytest.raises(Exception, match=r"CoppeliaSim model.*\(in function 'sim.loadModel'\)"):
-        sim.loadModel("/tmp/robot.ttm")
+    with pytest.raises(Exception, match=r"robot\.ttm: cannot read.*\(in function 'sim.loadModel'\)"):
+        sim.loadModel("/tmp/no-such-dir/robot.ttm")
     sim.stopSimulation()
     assert sim.getObject("/lbr_iiwa") == base  # a loaded model stays in the scene

@@ -168,7 +168,7 @@ fn files_that_are_not_models_are_refused_and_change_nothing() {
     let before = scene.sim.world().len();
     for (path, expected) in [
         (whole, "no [floor] section"),
-        (ttm, "CoppeliaSim model"),
+        (ttm, "not a CoppeliaSim scene or model file"),
         (empty, "no objects"),
         (missing, "missing.urdf"),
     ] {

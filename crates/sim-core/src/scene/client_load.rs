@@ -1,5 +1,5 @@
 //! The scene a remote or in-process client asks for with `sim.loadScene(path)` or
-//! `sim.closeScene()`: a gantry scene or robot file, never a CoppeliaSim one.
+//! `sim.closeScene()`: a gantry scene, a robot, or a CoppeliaSim scene or model.
 
 use std::path::Path;
 
@@ -10,15 +10,15 @@ use super::{DiskFiles, LoadOptions, SceneModel, load_scene, load_scene_text};
 /// `(in function ...)` suffix, which the caller adds.
 ///
 /// # Errors
-/// A CoppeliaSim file (`.ttt`, `.ttm`, ...) is refused by name; any load error of the
-/// file is returned as text.
+/// CoppeliaSim 4.8+'s XML files (`.simscene`, `.simmodel`) are refused by name; any
+/// load error of the file is returned as text.
 pub fn load_client_scene(path: Option<&Path>, opts: &LoadOptions) -> Result<SceneModel, String> {
     match path {
         Some(path) => {
             let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-            if matches!(ext.as_deref(), Some("ttt" | "ttm" | "simscene" | "simmodel")) {
+            if matches!(ext.as_deref(), Some("simscene" | "simmodel")) {
                 return Err(format!(
-                    "'{}' is a CoppeliaSim file, which gantry cannot read: load a gantry scene (.toml, see docs/scene-format.md) or a robot (.urdf)",
+                    "'{}' is a CoppeliaSim 4.8+ XML file, which gantry cannot read: save it as .ttt/.ttm in CoppeliaSim, or load a gantry scene (.toml, see docs/scene-format.md) or a robot (.urdf)",
                     path.display()
                 ));
             }

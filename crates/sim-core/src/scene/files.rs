@@ -73,6 +73,11 @@ impl Files for EmbeddedFiles {
     }
 }
 
+/// A file's name without folder and extension: the name of the scene it holds.
+pub(super) fn stem(path: &Path) -> String {
+    path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_owned()
+}
+
 /// `path` with `.` removed and each `..` cancelling the component before it, without
 /// touching the disk (embedded paths have no symlinks). A `..` at the root stays at the
 /// root, as the OS treats it.

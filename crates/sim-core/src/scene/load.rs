@@ -9,12 +9,13 @@ use std::path::{Path, PathBuf};
 
 use toml::Spanned;
 
+use super::coppelia::load_coppelia_file;
 use super::error::{LoadError, line_col};
-use super::files::{Files, normalize};
+use super::files::{Files, normalize, stem};
+use super::floor::{floor_object, on_floor};
 use super::model::{
-    GeomModel, Geometry, JointMode, JointModel, JointType, MAX_VISION_RESOLUTION, MassModel, ObjectModel,
-    ObjectModelKind, ProximityModel, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
-    VisualModel,
+    Geometry, JointMode, JointModel, JointType, MAX_VISION_RESOLUTION, MassModel, ObjectModel, ObjectModelKind,
+    ProximityModel, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
 };
 use super::raw::{RawObject, RawRobot, RawScene, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
@@ -47,6 +48,7 @@ pub fn load_scene(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("urdf") => load_bare_urdf(files, path, opts),
+        Some("ttt" | "ttm") => load_coppelia_file(files, path),
         Some("toml") => {
             let bytes = files.read(path).map_err(|e| LoadError::Io {
                 path: path.to_owned(),
@@ -65,32 +67,24 @@ pub fn load_scene(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
             path: path.to_owned(),
             line: 1,
             column: 1,
-            message: "unknown scene type: give a .toml scene file or a .urdf robot".into(),
+            message:
+                "unknown scene type: give a .toml scene file, a .urdf robot or a CoppeliaSim .ttt scene or .ttm model"
+                    .into(),
         }),
     }
 }
 
 /// A URDF on a 5 x 5 m floor, base fixed unless `opts.free_base` (PyBullet's `useFixedBase`).
 fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
-    let mut objects = vec![floor_object([5.0, 5.0], 1.0, [0.55, 0.55, 0.5])];
     let (robot, warnings) = load_urdf_objects(files, path, opts)?;
-    // The floor is object 0: the robot's parent indices move up by one.
-    objects.extend(robot.into_iter().map(|mut o| {
-        o.parent = o.parent.map(|p| p + 1);
-        if let ObjectModelKind::Joint(j) = &mut o.kind
-            && let Some(m) = &mut j.mimic
-        {
-            m.leader += 1;
-        }
-        o
-    }));
+    let mut scripts = Vec::new();
     Ok(SceneModel {
         name: stem(path),
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
         settings: SimSettings::default(),
         server: ServerSettings::default(),
-        objects,
-        scripts: Vec::new(),
+        objects: on_floor(robot, &mut scripts),
+        scripts,
         warnings: dedup(warnings),
     })
 }
@@ -193,42 +187,6 @@ pub fn load_scene_text(
 pub(crate) fn dedup(warnings: Vec<String>) -> Vec<String> {
     let mut seen = std::collections::HashSet::new();
     warnings.into_iter().filter(|w| seen.insert(w.clone())).collect()
-}
-
-pub(super) fn stem(path: &Path) -> String {
-    path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_owned()
-}
-
-/// The floor: a static box whose top face is the plane z = 0. It is neither detectable
-/// nor measurable, like CoppeliaSim's default floor, so sensors and distance queries see
-/// obstacles rather than the ground.
-fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> ObjectModel {
-    let half = [size[0] / 2.0, size[1] / 2.0, 0.05];
-    let geometry = Geometry::Box { half_extents: half };
-    let local = Pose::translation(0.0, 0.0, -0.05);
-    ObjectModel {
-        alias: "Floor".into(),
-        parent: None,
-        local: Pose::identity(),
-        model_base: true,
-        kind: ObjectModelKind::Shape(ShapeModel {
-            geoms: vec![GeomModel {
-                geometry: geometry.clone(),
-                local,
-            }],
-            visuals: vec![VisualModel { geometry, local, color }],
-            dynamic: false,
-            mass: MassModel::Density(1000.0),
-            friction,
-            restitution: 0.0,
-            collision_group: u32::MAX,
-            collision_mask: u32::MAX,
-            respondable: true,
-            detectable: false,
-            measurable: false,
-            self_collision: true,
-        }),
-    }
 }
 
 /// What a name in the file refers to, once emitted.

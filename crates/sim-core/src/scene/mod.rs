@@ -5,14 +5,15 @@
 //!    files read, defaults applied. No rapier types, so it is unit-testable.
 //! 3. The world (`crate::world`) inserts the model into rapier.
 //!
-//! Bare URDFs load as a floor plus the robot. CoppeliaSim scenes and models import
-//! through [`load_coppelia`] (module `coppelia`). `docs/scene-format.md` documents the file.
+//! Bare URDFs and CoppeliaSim models (`.ttm`) load as a floor plus the robot; CoppeliaSim
+//! scenes (`.ttt`) and models import through [`load_coppelia`] (module `coppelia`). `docs/scene-format.md` documents the file.
 
 mod bundled;
 mod client_load;
 mod coppelia;
 mod error;
 mod files;
+mod floor;
 mod load;
 mod mesh;
 pub mod model;
@@ -24,7 +25,7 @@ mod urdf_fixups;
 
 pub use bundled::{BUNDLED_SCENES, bundled_files, load_bundled};
 pub use client_load::load_client_scene;
-pub use coppelia::{ImportReport, load_coppelia};
+pub use coppelia::{ImportReport, load_coppelia, load_coppelia_file};
 pub use error::LoadError;
 pub use files::{DiskFiles, EmbeddedFiles, Files, normalize as normalize_path};
 pub(crate) use load::dedup as dedup_warnings;

@@ -1,10 +1,13 @@
-//! The files `sim.loadModel` reads: a robot (`.urdf`) or a gantry model, a scene file
+//! The files `sim.loadModel` reads: a robot (`.urdf`), a CoppeliaSim model (`.ttm`) or a
+//! gantry model, a scene file
 //! with objects, robots and scripts only (a model joins a scene that already has its
 //! floor, time step and listeners).
 
 use std::path::Path;
 
-use super::load::{load_urdf_objects, stem};
+use super::coppelia::load_coppelia;
+use super::files::stem;
+use super::load::load_urdf_objects;
 use super::{Files, LoadError, LoadOptions, SceneModel, ServerSettings, SimSettings, load_scene_text};
 
 /// Sections a model file may not have, because they belong to a whole scene.
@@ -14,7 +17,7 @@ const SCENE_ONLY: &[&str] = &["simulation", "floor", "server"];
 /// the model base.
 ///
 /// # Errors
-/// A CoppeliaSim model (`.ttm`) or another extension, an unreadable or invalid file,
+/// Another extension, a CoppeliaSim scene (not a model) named `.ttm`, an unreadable or invalid file,
 /// or a `.toml` with a `[simulation]`, `[floor]` or `[server]` section.
 pub fn load_model(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
@@ -59,11 +62,28 @@ pub fn load_model(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
             }
             Ok(model)
         }
-        Some("ttm" | "simmodel") => Err(invalid(
-            "a CoppeliaSim model, which gantry cannot read: load a robot (.urdf) or a gantry model (.toml, docs/scene-format.md)".into(),
+        Some("ttm") => {
+            let bytes = files.read(path).map_err(|e| LoadError::Io {
+                path: path.to_owned(),
+                source: e,
+                hint: String::new(),
+            })?;
+            let (model, report) = load_coppelia(&bytes, path)?;
+            if !report.is_model {
+                return Err(invalid(
+                    "this is a CoppeliaSim scene saved with a .ttm name: load it with sim.loadScene".into(),
+                ));
+            }
+            if model.objects.is_empty() {
+                return Err(invalid("the model has no objects".into()));
+            }
+            Ok(model)
+        }
+        Some("simmodel") => Err(invalid(
+            "a CoppeliaSim 4.8+ XML model, which gantry cannot read: save it as .ttm, or load a robot (.urdf) or a gantry model (.toml, docs/scene-format.md)".into(),
         )),
         _ => Err(invalid(
-            "sim.loadModel reads a robot (.urdf) or a gantry model (.toml)".into(),
+            "sim.loadModel reads a robot (.urdf), a gantry model (.toml) or a CoppeliaSim model (.ttm)".into(),
         )),
     }
 }

@@ -33,7 +33,8 @@ use std::path::{Path, PathBuf};
 
 use gantry_coppelia_file as cf;
 
-use super::load::stem;
+use super::files::{Files, stem};
+use super::floor::on_floor;
 use super::model::*;
 use super::urdf::{DEFAULT_KD, DEFAULT_KP};
 use super::{LoadError, ServerSettings};
@@ -59,6 +60,26 @@ pub struct ImportReport {
     pub scripts_dropped: Vec<(String, String)>,
     /// Everything approximated, in file order (also in [`SceneModel::warnings`]).
     pub warnings: Vec<String>,
+}
+
+/// Reads and imports a CoppeliaSim scene (`.ttt`, as saved) or model (`.ttm`, placed
+/// on a 5 x 5 m floor, as a bare URDF is), for `gantry run`, `sim.loadScene` and the
+/// clients. The import's warnings are the model's.
+///
+/// # Errors
+/// [`LoadError::Io`] when the file cannot be read, else as [`load_coppelia`].
+pub fn load_coppelia_file(files: &dyn Files, path: &Path) -> Result<SceneModel, LoadError> {
+    let bytes = files.read(path).map_err(|source| LoadError::Io {
+        path: path.to_owned(),
+        source,
+        hint: String::new(),
+    })?;
+    let (mut model, report) = load_coppelia(&bytes, path)?;
+    if report.is_model {
+        let objects = std::mem::take(&mut model.objects);
+        model.objects = on_floor(objects, &mut model.scripts);
+    }
+    Ok(model)
 }
 
 /// Imports a CoppeliaSim scene or model from its bytes. `path` names the file in
