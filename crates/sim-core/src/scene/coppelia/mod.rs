@@ -77,7 +77,7 @@ pub fn load_coppelia_file(files: &dyn Files, path: &Path) -> Result<SceneModel, 
     let (mut model, report) = load_coppelia(&bytes, path)?;
     if report.is_model {
         let objects = std::mem::take(&mut model.objects);
-        model.objects = on_floor(objects, &mut model.scripts);
+        model.objects = on_floor(objects, &mut model.scripts, &mut model.dummy_links);
     }
     Ok(model)
 }
@@ -124,6 +124,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
     report.objects = objects.len();
     report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
 
+    let dummy_links = loop_closures(&file, &index);
     let scripts = convert_scripts(&file, path, &index, &mut report, &mut warnings);
     let settings = convert_settings(&file.settings, &mut warnings);
     report.warnings = warnings.clone();
@@ -134,6 +135,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         server: ServerSettings::default(),
         objects,
         scripts,
+        dummy_links,
         warnings,
     };
     Ok((model, report))
@@ -360,6 +362,25 @@ fn convert_joint(j: &cf::Joint, label: &str, index: &HashMap<i32, usize>, warnin
         max_velocity: j.max_velocity.filter(|v| v.is_finite() && *v > 0.0),
         mimic,
     }
+}
+
+/// The dynamic loop closures: each linked pair of dummies once, by model index. IK
+/// tip/target links are kinematics only and stay out of the physics.
+fn loop_closures(file: &cf::CoppeliaFile, index: &HashMap<i32, usize>) -> Vec<[usize; 2]> {
+    let mut links: Vec<[usize; 2]> = file
+        .objects
+        .iter()
+        .filter_map(|o| match &o.kind {
+            cf::ObjectKind::Dummy(d) if d.link == cf::DummyLink::DynamicLoopClosure => {
+                let (a, b) = (*index.get(&o.handle)?, *index.get(&d.linked?)?);
+                (a != b).then_some([a.min(b), a.max(b)])
+            }
+            _ => None,
+        })
+        .collect();
+    links.sort_unstable();
+    links.dedup();
+    links
 }
 
 /// Lua child and customization scripts, on their objects.
