@@ -418,7 +418,13 @@ fn convert_scripts(
             drop("the script is disabled", true);
             continue;
         }
-        let Some(object) = s.object.and_then(|h| index.get(&h).copied()) else {
+        // A 4.7+ script object runs as itself: `.` is the script, `..` the object it
+        // sits on (what its paths say), so it is attached to its own (dummy) object.
+        let attached = match s.origin {
+            cf::ScriptOrigin::Object(h) => Some(h),
+            cf::ScriptOrigin::List => s.object,
+        };
+        let Some(object) = attached.and_then(|h| index.get(&h).copied()) else {
             drop("its object does not exist", true);
             continue;
         };
