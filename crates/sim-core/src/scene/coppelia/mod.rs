@@ -21,9 +21,10 @@
 //! | Python, disabled scripts | dropped (warned) |
 //! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
 //!
-//! Joint motors keep CoppeliaSim's targets and limits but use gantry's PD gains
-//! ([`DEFAULT_KP`], [`DEFAULT_KD`]); CoppeliaSim's engine-specific PID arrays are not
-//! decoded. No floor is added: a scene file has its own, and a model joins a scene.
+//! Joint motors keep CoppeliaSim's targets, limits and maximum forces. Position
+//! control is made as stiff as CoppeliaSim's (gains scaled by the maximum force, see
+//! `convert_joint`); other modes use gantry's PD gains ([`DEFAULT_KP`], [`DEFAULT_KD`]).
+//! CoppeliaSim's engine-specific PID arrays are not decoded. No floor is added: a scene file has its own, and a model joins a scene.
 
 mod pose;
 mod shape;
@@ -39,6 +40,15 @@ use super::model::*;
 use super::urdf::{DEFAULT_KD, DEFAULT_KP};
 use super::{LoadError, ServerSettings};
 use pose::to_pose;
+
+/// Position error at which an imported position-controlled joint's motor reaches its
+/// maximum force, rad (m for prismatic joints); see `convert_joint`.
+const POSITION_ERROR_AT_FULL_FORCE: f64 = 1e-4;
+/// Speed at which the same motor's damping reaches the maximum force, rad/s (m/s).
+/// Measured on seven library arms: 0.02 keeps a 0.2 rad step free of overshoot (the
+/// UR10's shoulder rings for seconds at 0.1 and above), stiffer position gains do not
+/// hold the Panda better (its floor is its 1 kg fingers' motors).
+const SPEED_AT_FULL_DAMPING: f64 = 0.02;
 
 /// What an import kept, changed and dropped, beyond the model itself.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -346,6 +356,20 @@ fn convert_joint(j: &cf::Joint, label: &str, index: &HashMap<i32, usize>, warnin
         m.offset = finite(m.offset, 0.0, "the dependency offset");
     }
     let limits = (!j.cyclic && joint_type != JointType::Fixed).then_some((min, min + range));
+    // CoppeliaSim's position controller commands a velocity proportional to the error
+    // and lets the joint's maximum force reach it: stiff up to that force, so a library
+    // arm holds its pose under gravity. A spring-damper with gantry's URDF gains sags
+    // instead (16 mm at the Panda's tip in 10 s). Gains scaled by the maximum force give
+    // the full force at an error of 0.1 mrad (0.1 mm) or 0.02 rad/s (m/s); the
+    // saturation stays CoppeliaSim's.
+    let (kp, kd) = if mode == JointMode::Position && max_force > 0.0 {
+        (
+            max_force / POSITION_ERROR_AT_FULL_FORCE,
+            max_force / SPEED_AT_FULL_DAMPING,
+        )
+    } else {
+        (DEFAULT_KP, DEFAULT_KD)
+    };
     JointModel {
         joint_type,
         mode,
@@ -355,8 +379,8 @@ fn convert_joint(j: &cf::Joint, label: &str, index: &HashMap<i32, usize>, warnin
         target_position,
         target_velocity,
         max_force,
-        kp: DEFAULT_KP,
-        kd: DEFAULT_KD,
+        kp,
+        kd,
         damping: 0.0,
         friction: 0.0,
         max_velocity: j.max_velocity.filter(|v| v.is_finite() && *v > 0.0),
