@@ -217,3 +217,109 @@ fn library_arms_hold_their_pose_and_follow_targets() {
         assert!((q - target).abs() < 2e-3, "{file}: joint at {q}, target {target}");
     }
 }
+
+/// A course's pendulum (a 5 kg cuboid on a free revolute joint), without its control
+/// script and its floor: released 0.05 rad from hanging, it swings with the period of a physical
+/// pendulum computed from the imported mass, inertia and geometry, within 1 %.
+#[test]
+fn a_pendulum_swings_with_the_period_its_geometry_gives() {
+    let dir = folder();
+    let name = "modulabs_c__pendulumn_1d_control.ttt";
+    let Ok(bytes) = std::fs::read(dir.join(name)) else {
+        println!("{name} not found in {}; skipped", dir.display());
+        return;
+    };
+    let (mut model, _) = load_coppelia(&bytes, Path::new(name)).expect("imports");
+    // Its script is Python, which gantry does not run; hanging, the cuboid rests on
+    // the floor, which is taken out of its way.
+    model.scripts.clear();
+    for o in &mut model.objects {
+        if let ObjectModelKind::Shape(floor) = &mut o.kind
+            && o.alias == "Floor"
+        {
+            floor.respondable = false;
+        }
+    }
+    let joint_index = model.objects.iter().position(|o| o.alias == "Joint").expect("Joint");
+    let body_index = model.objects.iter().position(|o| o.alias == "Cuboid").expect("Cuboid");
+    let ObjectModelKind::Shape(shape) = &model.objects[body_index].kind else {
+        panic!("the cuboid is a shape")
+    };
+    let gantry_sim_core::scene::MassModel::Inertial { mass, com, inertia, .. } = shape.mass else {
+        panic!("the file gives the cuboid's inertia")
+    };
+    assert_eq!(com, [0.0, 0.0, 0.0], "centre of mass at the shape's frame");
+    let mut sim = Sim::new(&model);
+    let (joint, body) = (joint_index as i64, body_index as i64);
+    let g = model.settings.gravity[2].abs();
+    let set = |sim: &mut Sim, q: f64| {
+        api::call(
+            sim,
+            &CallContext::default(),
+            "sim.setJointPosition",
+            &[Value::Int(joint), Value::Float(q)],
+        )
+        .expect("joint placed");
+    };
+    // Hanging: the angle that puts the cuboid lowest (scanned, then refined).
+    let z_at = |sim: &mut Sim, q: f64| {
+        set(sim, q);
+        sim.world.object(body).expect("body").world.translation.z
+    };
+    let mut hang = (0..360)
+        .map(|k| -std::f64::consts::PI + k as f64 * std::f64::consts::PI / 180.0)
+        .min_by(|&a, &b| z_at(&mut sim, a).total_cmp(&z_at(&mut sim, b)))
+        .expect("angles");
+    let mut step = 0.5_f64.to_radians();
+    while step > 1e-9 {
+        for cand in [hang - step, hang + step] {
+            if z_at(&mut sim, cand) < z_at(&mut sim, hang) {
+                hang = cand;
+            }
+        }
+        step /= 2.0;
+    }
+    // The physical pendulum: I about the axis through the pivot, d from pivot to centre.
+    set(&mut sim, hang);
+    let jw = sim.world.object(joint).expect("joint").world;
+    let bw = sim.world.object(body).expect("body").world;
+    let axis = jw.rotation * nalgebra::Vector3::z();
+    let r = bw.translation.vector - jw.translation.vector;
+    let d = (r - axis * axis.dot(&r)).norm();
+    let tensor = nalgebra::Matrix3::new(
+        inertia[0], inertia[1], inertia[2], inertia[1], inertia[3], inertia[4], inertia[2], inertia[4], inertia[5],
+    );
+    let local_axis = bw.rotation.inverse() * axis;
+    let i_pivot = local_axis.dot(&(tensor * local_axis)) + mass * d * d;
+    let expected = 2.0 * std::f64::consts::PI * (i_pivot / (mass * g * d)).sqrt();
+
+    let mut sim = Sim::new(&model);
+    set(&mut sim, hang + 0.05);
+    let dt = model.settings.dt;
+    let mut crossings = Vec::new();
+    let mut prev = 0.05;
+    for k in 1..=(20.0 / dt) as usize {
+        sim.step();
+        let q = wrap(sim.world.joint(joint).expect("joint").position - hang);
+        if prev > 0.0 && q <= 0.0 {
+            // Linear interpolation of the downward zero crossing.
+            crossings.push((k as f64 - 1.0 + prev / (prev - q)) * dt);
+        }
+        prev = q;
+    }
+    assert!(crossings.len() >= 3, "it swings: {crossings:?}");
+    let periods = crossings.len() - 1;
+    let measured = (crossings[periods] - crossings[0]) / periods as f64;
+    println!("pendulum: period {measured:.4} s, expected {expected:.4} s (d = {d:.4} m)");
+    assert!(
+        (measured - expected).abs() / expected < 0.01,
+        "period {measured} s, the geometry gives {expected} s"
+    );
+}
+
+/// An angle in (-π, π].
+fn wrap(a: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let w = a.rem_euclid(tau);
+    if w > std::f64::consts::PI { w - tau } else { w }
+}
