@@ -5,6 +5,9 @@
 #   bash tools/fuzz-smoke.sh                  # every target, 15 s each
 #   bash tools/fuzz-smoke.sh --seconds 300    # longer (the fuzz/README.md figures)
 #   bash tools/fuzz-smoke.sh scene urdf       # only these targets
+#   bash tools/fuzz-smoke.sh --no-sanitizer   # without AddressSanitizer (the test
+#                                             # command's smoke run: the targets are safe
+#                                             # Rust, and ASan doubles the build and run)
 #
 # Installs what it needs when missing, and nothing when it is there: a nightly
 # toolchain (rustup, minimal profile) and cargo-fuzz (cargo install --locked). Each
@@ -16,12 +19,14 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 seconds=15
+sanitizer=address
 targets=()
 while (($#)); do
     case "$1" in
         --seconds) seconds="$2"; shift 2 ;;
         --seconds=*) seconds="${1#*=}"; shift ;;
-        -h|--help) sed -n '2,15p' "${BASH_SOURCE[0]}"; exit 0 ;;
+        --no-sanitizer) sanitizer=none; shift ;;
+        -h|--help) sed -n '2,19p' "${BASH_SOURCE[0]}"; exit 0 ;;
         *) targets+=("$1"); shift ;;
     esac
 done
@@ -40,11 +45,11 @@ if ((${#targets[@]} == 0)); then
     mapfile -t targets < <(cargo +nightly fuzz list)
 fi
 echo "fuzz-smoke: building ${targets[*]} ($(rustup run nightly rustc --version))"
-# One build for every target; `fuzz run` below reuses it (same default flags: release,
-# debug assertions and overflow checks on, AddressSanitizer).
+# One build for every target; `fuzz run` below reuses it (same flags: release, debug
+# assertions and overflow checks on, the sanitizer chosen above).
 logs="$root/fuzz/target/smoke-logs"
 mkdir -p "$logs"
-cargo +nightly fuzz build >"$logs/build.log" 2>&1 || { tail -60 "$logs/build.log" >&2; exit 1; }
+cargo +nightly fuzz build --sanitizer "$sanitizer" >"$logs/build.log" 2>&1 || { tail -60 "$logs/build.log" >&2; exit 1; }
 failed=()
 printf '%-12s %12s %8s %8s  %s\n' target executions exec/s corpus result
 for t in "${targets[@]}"; do
@@ -54,7 +59,7 @@ for t in "${targets[@]}"; do
     opts=("-max_total_time=$seconds" -timeout=20 -rss_limit_mb=2048 -print_final_stats=1)
     [[ -f "$t.dict" ]] && opts+=("-dict=$t.dict")
     log="$logs/$t.log"
-    if nice cargo +nightly fuzz run "$t" "${dirs[@]}" -- "${opts[@]}" >"$log" 2>&1; then
+    if nice cargo +nightly fuzz run --sanitizer "$sanitizer" "$t" "${dirs[@]}" -- "${opts[@]}" >"$log" 2>&1; then
         result=ok
     else
         result=FAILED
@@ -75,4 +80,4 @@ if ((${#failed[@]})); then
     echo "fuzz-smoke: FAILED: ${failed[*]}" >&2
     exit 1
 fi
-echo "fuzz-smoke: ${#targets[@]} targets, ${seconds} s each, no crash"
+echo "fuzz-smoke: ${#targets[@]} targets, ${seconds} s each, sanitizer $sanitizer, no crash"

@@ -138,3 +138,81 @@ fn remote_clients_see_the_old_names_too() {
         .unwrap_err();
     assert_contains(&e, &["remote client"]);
 }
+
+/// A V-REP 3.2 non-threaded child script for the rover, as old course scenes carry it:
+/// flat names and one chunk switching on `sim_call_type`. The import's rewrite (what
+/// CoppeliaSim does when it loads the old file) makes it run on the 4.x hooks.
+const SCRIPT_3_2: &str = r#"
+if (sim_call_type==sim_childscriptcall_initialization) then
+    left=simGetObjectHandle('leftMotor')
+    right=simGetObjectHandle('rightMotor')
+    passes=0
+    simAddStatusbarMessage('init '..simGetObjectName(simGetObjectParent(left)))
+end
+if (sim_call_type==sim_childscriptcall_actuation) then
+    simSetJointTargetVelocity(left,2)
+    simSetJointTargetVelocity(right,2)
+    passes=passes+1
+    simSetIntegerSignal('passes',passes)
+end
+if (sim_call_type==sim_childscriptcall_sensing) then
+    local p=simGetObjectPosition(left,sim_handle_world)
+    simSetFloatSignal('x',p[1])
+end
+"#;
+
+/// A V-REP 3 threaded script: top-level code in its own thread.
+const THREAD_3_X: &str = r#"
+simSetThreadAutomaticSwitch(false)
+local n=0
+while simGetSimulationTime()<0.5 do
+    n=n+1
+    simSetIntegerSignal('loops',n)
+    simSwitchThread()
+end
+"#;
+
+#[test]
+fn v_rep_3_scripts_run_after_the_import_rewrite() {
+    let (pass_script, r) = gantry_sim_core::scene::modernize_old_script(SCRIPT_3_2, false);
+    assert!(r.call_types && r.renamed >= 9, "{r:?}");
+    let mut sc = Scene::new(
+        "legacy-3-2",
+        &util::bubble_rob_toml(Some("probe.lua")),
+        &[("probe.lua", &pass_script)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    let x0 = sc.remote("sim.getFloatSignal", &[Value::Str("x".into())]);
+    for _ in 0..20 {
+        sc.sim.step();
+    }
+    assert_eq!(script_state(&sc.sim, "probe.lua"), ScriptState::Running);
+    let passes = sc.remote("sim.getInt32Signal", &[Value::Str("passes".into())]);
+    assert_eq!(passes, [Value::Int(20)]);
+    let x = sc.remote("sim.getFloatSignal", &[Value::Str("x".into())]);
+    assert!(
+        x0 == [Value::Nil] || x0.is_empty(),
+        "sensing ran only after a step: {x0:?}"
+    );
+    assert!(util::num(&x[0]) > 0.05, "the rover drove forward: {x:?}");
+    let lines = log_lines(&sc.sim);
+    assert!(lines.iter().any(|(_, _, m)| m == "init bubbleRob"), "{lines:?}");
+
+    let (thread_script, r) = gantry_sim_core::scene::modernize_old_script(THREAD_3_X, true);
+    assert!(r.thread_body, "{r:?}");
+    let mut sc = Scene::new(
+        "legacy-3-thread",
+        &util::bubble_rob_toml(Some("probe.lua")),
+        &[("probe.lua", &thread_script)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    for _ in 0..20 {
+        sc.sim.step();
+    }
+    assert_eq!(script_state(&sc.sim, "probe.lua"), ScriptState::Running);
+    // 0.5 s at dt = 0.05 s: one loop per step until the time is reached.
+    let loops = sc.remote("sim.getInt32Signal", &[Value::Str("loops".into())]);
+    assert_eq!(loops, [Value::Int(10)]);
+}

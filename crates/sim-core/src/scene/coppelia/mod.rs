@@ -16,7 +16,7 @@
 //! | perspective vision sensors up to 512 px | [`VisionModel`] |
 //! | force sensors, graphs, dummies | the same kinds |
 //! | other proximity and vision sensors, cameras, lights, paths, point cloud, script objects, others | dummies (warned) |
-//! | Lua child and customization scripts | [`ScriptModel`] on their object |
+//! | Lua child and customization scripts | [`ScriptModel`] on their object, old ones updated (`old_scripts.rs`) |
 //! | main scripts | dropped (gantry runs its own loop; a custom one is warned) |
 //! | Python, disabled scripts | dropped (warned) |
 //! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
@@ -26,6 +26,7 @@
 //! `convert_joint`); other modes use gantry's PD gains ([`DEFAULT_KP`], [`DEFAULT_KD`]).
 //! CoppeliaSim's engine-specific PID arrays are not decoded. No floor is added: a scene file has its own, and a model joins a scene.
 
+pub(super) mod old_scripts;
 mod pose;
 mod shape;
 
@@ -452,14 +453,28 @@ fn convert_scripts(
             drop("its object does not exist", true);
             continue;
         };
-        if s.threaded {
-            warnings.push(format!("{place}: old-style threaded script imported as a plain script"));
+        let (source, rewrites) = old_scripts::modernize(&s.text, s.threaded);
+        if rewrites.any() {
+            let mut what = Vec::new();
+            if rewrites.renamed > 0 {
+                what.push(format!("{} V-REP 3 flat names renamed", rewrites.renamed));
+            }
+            if rewrites.call_types {
+                what.push("its sim_call_type passes run from the sysCall hooks".to_owned());
+            }
+            if rewrites.thread_body {
+                what.push("its threaded code runs as sysCall_thread".to_owned());
+            }
+            warnings.push(format!(
+                "{place}: old script updated as CoppeliaSim does on load: {}",
+                what.join(", ")
+            ));
         }
         report.scripts_attached += 1;
         out.push(ScriptModel {
             object,
             path: PathBuf::from(format!("{}#{}", path.display(), owner.map_or("", |o| o.name.as_str()))),
-            source: s.text.clone(),
+            source,
         });
     }
     out
