@@ -97,8 +97,8 @@ impl Engine {
         debug: Option<DebugLink>,
     ) -> Result<Simulation, ScriptError> {
         let mut sim = match debug {
-            Some(link) => Simulation::with_debugger(model, config.limits, link)?,
-            None => Simulation::new(model, config.limits)?,
+            Some(link) => Simulation::with_debugger(model, config.limits.clone(), link)?,
+            None => Simulation::new(model, config.limits.clone())?,
         };
         sim.set_load_options(config.load_options.clone());
         if let Some(l) = &config.listeners {

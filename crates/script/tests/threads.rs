@@ -188,7 +188,7 @@ fn non_stepping_threads_are_preempted_and_stepping_ones_hit_the_budget() {
         time_budget: Duration::from_millis(300),
         ..ScriptLimits::default()
     };
-    let mut sc = Scene::new("preempt", ONE, &[("a.lua", a)], limits);
+    let mut sc = Scene::new("preempt", ONE, &[("a.lua", a)], limits.clone());
     steps(&mut sc.sim, 3);
     let after3 = util::int(&sc.call("count", &[])[0]);
     steps(&mut sc.sim, 3);
