@@ -371,6 +371,20 @@ pub fn start(
             std::process::exit(130);
         });
     }
+    // Scripts' LuaSocket calls: a blocked `accept` gives up when the run is asked to
+    // stop, and a `bind` that finds one of these ports taken says it is gantry's.
+    sim.limits.network.stop = Some(shutdown.0.clone());
+    for (addr, what) in [
+        (bound.text, "text channel (--text-port)"),
+        (bound.zmq, "ZMQ remote API (--zmq-port)"),
+        (bound.legacy, "legacy remote API (--legacy-port)"),
+        (bound.http, "viewer (--http-port)"),
+        (bound.dap, "debugger (--debug=PORT)"),
+    ] {
+        if let Some(a) = addr {
+            sim.limits.network.gantry_ports.push((a.port(), what.to_owned()));
+        }
+    }
     let sim_shutdown = shutdown.clone();
     let sim_thread = std::thread::Builder::new()
         .name("gantry-sim".into())
