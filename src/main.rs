@@ -317,13 +317,12 @@ fn run(args: &RunArgs) -> Result<()> {
 /// The text channel's port, `default` unless the scene's scripts serve TCP themselves:
 /// the paper's `Blue Robot.ttt` binds port 6000 with LuaSocket, the text channel's
 /// default. Then the text channel stays off unless its port was asked for (`--text-port`
-/// or the scene's `[server]`), or the scripts' 6000 is mapped elsewhere
-/// (`--script-port 6000=P`). LuaSocket use is read from the scripts' text (see
-/// [`uses_luasocket`]).
+/// or the scene's `[server]`; `--text-port 6000` after `--script-port 6000=P` gets it
+/// back on 6000). LuaSocket use is read from the scripts' text (see
+/// [`uses_luasocket`]), not from the ports they bind, which only running them tells.
 fn text_port(args: &RunArgs, model: &SceneModel, default: Option<u16>) -> Option<u16> {
     let asked = args.text_port.is_some() || model.server.text_port.is_some();
-    let moved = args.script_ports.iter().any(|&(from, to)| from == 6000 && to != 6000);
-    if default != Some(6000) || asked || moved || !model.scripts.iter().any(|s| uses_luasocket(&s.source)) {
+    if default != Some(6000) || asked || !model.scripts.iter().any(|s| uses_luasocket(&s.source)) {
         return default;
     }
     tracing::info!(

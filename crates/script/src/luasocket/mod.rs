@@ -34,6 +34,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use mlua::{IntoLuaMulti, Lua, ObjectLike, MultiValue, Value as LuaValue};
 
 pub(crate) use sockets::Sockets;
+use sockets::OpenSocket;
 use tcp::{Kind, TcpObject};
 use wait::{Waited, wait_for};
 

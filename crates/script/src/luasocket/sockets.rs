@@ -13,8 +13,15 @@ use std::io;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, ToSocketAddrs};
 use std::rc::{Rc, Weak};
 
-use super::tcp::Tcp;
 use crate::limits::NetworkParams;
+
+/// What the registry needs of a socket (the TCP objects implement it).
+pub(crate) trait OpenSocket {
+    /// Closes it now: its port is free when this returns.
+    fn close(&mut self);
+    /// The address it listens on, if it is a server.
+    fn listening_on(&self) -> Option<SocketAddr>;
+}
 
 /// The open sockets and the rules (installed in the Lua state's app data).
 pub(crate) struct Sockets {
@@ -22,7 +29,7 @@ pub(crate) struct Sockets {
     pub(crate) params: NetworkParams,
     /// Each socket with the index of the script that opened it (`None`: code run for a
     /// remote client). Weak: a socket the script dropped is closed by the collector.
-    open: RefCell<Vec<(Option<usize>, Weak<RefCell<Tcp>>)>>,
+    open: RefCell<Vec<(Option<usize>, Weak<RefCell<dyn OpenSocket>>)>>,
 }
 
 impl Sockets {
@@ -35,7 +42,7 @@ impl Sockets {
     }
 
     /// Records a socket opened by script `owner`.
-    pub(crate) fn register(&self, owner: Option<usize>, socket: &Rc<RefCell<Tcp>>) {
+    pub(crate) fn register(&self, owner: Option<usize>, socket: &Rc<RefCell<dyn OpenSocket>>) {
         let mut open = self.open.borrow_mut();
         open.retain(|(_, s)| s.strong_count() > 0);
         open.push((owner, Rc::downgrade(socket)));

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use mlua::{Lua, MultiValue, UserData, UserDataMethods, Value as LuaValue};
 
-use super::sockets::{Sockets, error_text};
+use super::sockets::{OpenSocket, Sockets, error_text};
 use super::wait::{Waited, not_yet, wait_for};
 use crate::app_state::state;
 use crate::running::Running;
@@ -44,20 +44,20 @@ pub(crate) struct Tcp {
     timeout: Option<Duration>,
 }
 
-impl Tcp {
-    /// Closes the socket now (the OS port is free when this returns).
-    pub(crate) fn close(&mut self) {
+impl OpenSocket for Tcp {
+    fn close(&mut self) {
         self.kind = Kind::Closed;
     }
 
-    /// The address a server (or bound master) listens on.
-    pub(crate) fn listening_on(&self) -> Option<SocketAddr> {
+    fn listening_on(&self) -> Option<SocketAddr> {
         match &self.kind {
             Kind::Master(Some(l)) | Kind::Server(l) => l.local_addr().ok(),
             _ => None,
         }
     }
+}
 
+impl Tcp {
     fn kind_name(&self) -> &'static str {
         match self.kind {
             Kind::Master(_) => "master",
@@ -77,7 +77,8 @@ impl TcpObject {
     pub(crate) fn open(lua: &Lua, kind: Kind) -> Self {
         let tcp = Rc::new(RefCell::new(Tcp { kind, timeout: None }));
         let owner = state::<Running>(lua).script.get();
-        state::<Sockets>(lua).register(owner, &tcp);
+        let registered: Rc<RefCell<dyn OpenSocket>> = tcp.clone();
+        state::<Sockets>(lua).register(owner, &registered);
         Self(tcp)
     }
 }
