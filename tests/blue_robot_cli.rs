@@ -25,7 +25,10 @@ fn scene() -> Option<PathBuf> {
     if path.is_file() {
         Some(path)
     } else {
-        println!("paper__Blue_Robot.ttt not found in {}; skipped (set GANTRY_COPPELIA_FILES)", dir.display());
+        println!(
+            "paper__Blue_Robot.ttt not found in {}; skipped (set GANTRY_COPPELIA_FILES)",
+            dir.display()
+        );
         None
     }
 }
@@ -110,7 +113,10 @@ fn exchange(port: u16, packet: &str) -> String {
         match TcpStream::connect(("127.0.0.1", port)) {
             Ok(s) => break s,
             Err(e) => {
-                assert!(started.elapsed() < Duration::from_secs(60), "the script never listened: {e}");
+                assert!(
+                    started.elapsed() < Duration::from_secs(60),
+                    "the script never listened: {e}"
+                );
                 std::thread::sleep(Duration::from_millis(50));
             }
         }
@@ -130,7 +136,9 @@ fn the_scene_serves_the_paper_and_stops_on_ctrl_c_while_blocked_in_accept() {
     let mut run = Run::start(&scene, &["--script-port", &mapping]);
     let before = run.lines_until("listening http=");
     assert!(
-        before.iter().any(|l| l.contains("text channel not started") && l.contains("--text-port")),
+        before
+            .iter()
+            .any(|l| l.contains("text channel not started") && l.contains("--text-port")),
         "{before:#?}"
     );
     assert!(!before.iter().any(|l| l.starts_with("listening text=")), "{before:#?}");
@@ -160,7 +168,9 @@ fn the_scene_serves_the_paper_and_stops_on_ctrl_c_while_blocked_in_accept() {
     // The process has exited: the reader thread ends at EOF, so this ends too.
     let after: Vec<String> = run.lines.iter().collect();
     assert!(
-        after.iter().any(|l| l.contains("accept: abandoned because gantry is stopping")),
+        after
+            .iter()
+            .any(|l| l.contains("accept: abandoned because gantry is stopping")),
         "{after:#?}"
     );
 }

@@ -35,9 +35,9 @@ pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest
 
 pub use hooks::Hook;
 pub use limits::{NetworkParams, ScriptLimits};
-pub use luasocket::uses_luasocket;
 pub use listeners::{ListenerStatus, Listeners};
 pub use lua_error::ScriptError;
+pub use luasocket::uses_luasocket;
 pub use scripts::ScriptState;
 pub use simulation::{Simulation, check_syntax};
 pub use step::StepBoundary;

@@ -33,7 +33,8 @@ fn send_packet(addr: SocketAddr, packet: &'static str) -> std::thread::JoinHandl
     std::thread::spawn(move || {
         let mut s = TcpStream::connect(addr).expect("connect to the scene's server");
         // A script that fails mid-exchange never closes: fail, do not hang.
-        s.set_read_timeout(Some(std::time::Duration::from_secs(10))).expect("read timeout");
+        s.set_read_timeout(Some(std::time::Duration::from_secs(10)))
+            .expect("read timeout");
         for b in packet.as_bytes() {
             s.write_all(std::slice::from_ref(b)).expect("write");
         }
@@ -61,7 +62,9 @@ fn joints(sim: &mut Simulation) -> Vec<f64> {
     (1..=6)
         .map(|i| {
             let h = handle(sim, &format!("RobotB_joint{i}"));
-            num(&sim.call("getJointPosition", &[Value::Int(h)]).expect("getJointPosition")[0])
+            num(&sim
+                .call("getJointPosition", &[Value::Int(h)])
+                .expect("getJointPosition")[0])
         })
         .collect()
 }
@@ -95,7 +98,11 @@ fn blue_robot_serves_the_papers_packets_and_moves_its_joints() {
     // The script binds when it loads, as CoppeliaSim runs its top-level code.
     let mut sim = Simulation::new(load(&path), limits).expect("the scene's simulation");
     let addr = SocketAddr::from(([127, 0, 0, 1], port));
-    assert_eq!(sim.script_listeners(), [addr], "the server script binds '*' = 127.0.0.1");
+    assert_eq!(
+        sim.script_listeners(),
+        [addr],
+        "the server script binds '*' = 127.0.0.1"
+    );
 
     // §1.8 of the API reference: limits in degrees, J1, J4, J6 cyclic. J3's -90° is
     // below its -50° limit and is clamped; J4 and J6 beyond ±180° wrap.
@@ -125,7 +132,10 @@ fn blue_robot_serves_the_papers_packets_and_moves_its_joints() {
     let packet = "<IK#TX=0.45,TY=1.05,TZ=0.6,RX=0,RY=0,RZ=0>\r\n";
     assert_eq!(exchange(&mut sim, addr, packet), format!("{}\n", packet.trim_end()));
     let tip = handle(&mut sim, "RobotB_tip");
-    let at = floats(&sim.call("getObjectPosition", &[Value::Int(tip), Value::Int(-1)]).expect("tip")[0]);
+    let at = floats(
+        &sim.call("getObjectPosition", &[Value::Int(tip), Value::Int(-1)])
+            .expect("tip")[0],
+    );
     assert_close(&at, &target, 1e-3);
 
     for (file, _, state) in sim.scripts() {

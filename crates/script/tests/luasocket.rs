@@ -80,7 +80,11 @@ fn a_client_arriving_after_the_budget_does_not_interrupt_the_script() {
     });
     sc.sim.step();
     assert_eq!(client.join().expect("client"), "late\n");
-    assert_eq!(sc.sim.scripts()[0].2, ScriptState::Running, "the wait was not counted as running Lua");
+    assert_eq!(
+        sc.sim.scripts()[0].2,
+        ScriptState::Running,
+        "the wait was not counted as running Lua"
+    );
 }
 
 #[test]

@@ -31,10 +31,10 @@ mod wait;
 
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-use mlua::{IntoLuaMulti, Lua, ObjectLike, MultiValue, Value as LuaValue};
+use mlua::{IntoLuaMulti, Lua, MultiValue, ObjectLike, Value as LuaValue};
 
-pub(crate) use sockets::Sockets;
 use sockets::OpenSocket;
+pub(crate) use sockets::Sockets;
 use tcp::{Kind, TcpObject};
 use wait::{Waited, wait_for};
 
@@ -54,7 +54,10 @@ pub(crate) fn install(lua: &Lua) -> mlua::Result<()> {
         "bind",
         lua.create_function(|lua, (host, port, _backlog): (String, u16, Option<i64>)| {
             let server = lua.create_userdata(TcpObject::open(lua, Kind::Master(None)))?;
-            for (method, args) in [("bind", (host.clone(), port).into_lua_multi(lua)?), ("listen", MultiValue::new())] {
+            for (method, args) in [
+                ("bind", (host.clone(), port).into_lua_multi(lua)?),
+                ("listen", MultiValue::new()),
+            ] {
                 let r: MultiValue = server.call_method(method, args)?;
                 if matches!(r.front(), None | Some(LuaValue::Nil)) {
                     server.borrow::<TcpObject>()?.0.borrow_mut().close();

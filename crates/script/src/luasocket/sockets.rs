@@ -23,13 +23,16 @@ pub(crate) trait OpenSocket {
     fn listening_on(&self) -> Option<SocketAddr>;
 }
 
+/// A socket and the index of the script that opened it.
+type Opened = (Option<usize>, Weak<RefCell<dyn OpenSocket>>);
+
 /// The open sockets and the rules (installed in the Lua state's app data).
 pub(crate) struct Sockets {
     /// What scripts may do.
     pub(crate) params: NetworkParams,
     /// Each socket with the index of the script that opened it (`None`: code run for a
     /// remote client). Weak: a socket the script dropped is closed by the collector.
-    open: RefCell<Vec<(Option<usize>, Weak<RefCell<dyn OpenSocket>>)>>,
+    open: RefCell<Vec<Opened>>,
 }
 
 impl Sockets {

@@ -85,7 +85,10 @@ impl TcpObject {
 
 /// `nil, message`.
 fn fail(lua: &Lua, msg: &str) -> mlua::Result<MultiValue> {
-    Ok(MultiValue::from_iter([LuaValue::Nil, LuaValue::String(lua.create_string(msg)?)]))
+    Ok(MultiValue::from_iter([
+        LuaValue::Nil,
+        LuaValue::String(lua.create_string(msg)?),
+    ]))
 }
 
 /// `1`, LuaSocket's success for calls that return nothing else.
@@ -198,7 +201,11 @@ fn offset(i: i64, len: usize) -> usize {
 impl UserData for TcpObject {
     fn add_methods<M: UserDataMethods<Self>>(methods: &mut M) {
         methods.add_meta_method("__tostring", |_, this, ()| {
-            Ok(format!("tcp{{{}}}: {:p}", this.0.borrow().kind_name(), Rc::as_ptr(&this.0)))
+            Ok(format!(
+                "tcp{{{}}}: {:p}",
+                this.0.borrow().kind_name(),
+                Rc::as_ptr(&this.0)
+            ))
         });
 
         // settimeout(value[, mode]): nil or negative blocks; both modes ('b', 't')
@@ -270,7 +277,10 @@ impl UserData for TcpObject {
             match listener {
                 Ok(l) => {
                     let local = l.local_addr().unwrap_or(addr);
-                    tracing::info!("script {} listens on {local} (LuaSocket)", state::<Running>(lua).name.borrow());
+                    tracing::info!(
+                        "script {} listens on {local} (LuaSocket)",
+                        state::<Running>(lua).name.borrow()
+                    );
                     this.0.borrow_mut().kind = Kind::Master(Some(l));
                     one()
                 }
@@ -331,7 +341,9 @@ impl UserData for TcpObject {
                 Ok(Waited::Ready((stream, _peer))) => {
                     stream.set_nonblocking(true).map_err(mlua::Error::external)?;
                     let client = TcpObject::open(lua, Kind::Client(stream, Vec::new()));
-                    Ok(MultiValue::from_iter([LuaValue::UserData(lua.create_userdata(client)?)]))
+                    Ok(MultiValue::from_iter([LuaValue::UserData(
+                        lua.create_userdata(client)?,
+                    )]))
                 }
                 Ok(Waited::TimedOut) => fail(lua, "timeout"),
                 Ok(Waited::Stopping) => Err(stopping("accept")),
@@ -340,93 +352,103 @@ impl UserData for TcpObject {
         });
 
         // receive([pattern[, prefix]]): see `Pattern`; on failure `nil, err, partial`.
-        methods.add_method("receive", |lua, this, (pattern, prefix): (LuaValue, Option<mlua::LuaString>)| {
-            let pattern = Pattern::from_lua(&pattern)?;
-            let mut tcp = this.0.borrow_mut();
-            let timeout = tcp.timeout;
-            let (stream, buf) = match &mut tcp.kind {
-                Kind::Client(s, b) => (s, b),
-                Kind::Closed => return fail(lua, "closed"),
-                _ => return Err(wrong_kind("receive", "client", &tcp)),
-            };
-            let mut closed = false;
-            let got = wait_for(lua, timeout, || {
-                if let Some(out) = pattern.take(buf, closed) {
-                    return Ok(Some(out));
-                }
-                closed = fill(stream, buf)?;
-                match pattern.take(buf, closed) {
-                    Some(out) => Ok(Some(out)),
-                    // Closed before the pattern was complete: `nil, "closed", partial`.
-                    None if closed => Err(io::ErrorKind::UnexpectedEof.into()),
-                    None => Ok(None),
-                }
-            });
-            let with_prefix = |data: &[u8]| -> mlua::Result<LuaValue> {
-                let mut out = prefix.as_ref().map(|p| p.as_bytes().to_vec()).unwrap_or_default();
-                out.extend_from_slice(data);
-                Ok(LuaValue::String(lua.create_string(&out)?))
-            };
-            let failed = |msg: &str, partial: Vec<u8>| -> mlua::Result<MultiValue> {
-                Ok(MultiValue::from_iter([
-                    LuaValue::Nil,
-                    LuaValue::String(lua.create_string(msg)?),
-                    with_prefix(&partial)?,
-                ]))
-            };
-            match got {
-                Ok(Waited::Ready(data)) => Ok(MultiValue::from_iter([with_prefix(&data)?])),
-                Ok(Waited::TimedOut) => failed("timeout", pattern.partial(buf)),
-                Ok(Waited::Stopping) => Err(stopping("receive")),
-                Err(e) => {
-                    let partial = pattern.partial(buf);
-                    // The peer is gone: the object is closed, as LuaSocket leaves it.
-                    let msg = error_text(&e);
-                    if msg == "closed" {
-                        tcp.close();
+        methods.add_method(
+            "receive",
+            |lua, this, (pattern, prefix): (LuaValue, Option<mlua::LuaString>)| {
+                let pattern = Pattern::from_lua(&pattern)?;
+                let mut tcp = this.0.borrow_mut();
+                let timeout = tcp.timeout;
+                let (stream, buf) = match &mut tcp.kind {
+                    Kind::Client(s, b) => (s, b),
+                    Kind::Closed => return fail(lua, "closed"),
+                    _ => return Err(wrong_kind("receive", "client", &tcp)),
+                };
+                let mut closed = false;
+                let got = wait_for(lua, timeout, || {
+                    if let Some(out) = pattern.take(buf, closed) {
+                        return Ok(Some(out));
                     }
-                    failed(&msg, partial)
+                    closed = fill(stream, buf)?;
+                    match pattern.take(buf, closed) {
+                        Some(out) => Ok(Some(out)),
+                        // Closed before the pattern was complete: `nil, "closed", partial`.
+                        None if closed => Err(io::ErrorKind::UnexpectedEof.into()),
+                        None => Ok(None),
+                    }
+                });
+                let with_prefix = |data: &[u8]| -> mlua::Result<LuaValue> {
+                    let mut out = prefix.as_ref().map(|p| p.as_bytes().to_vec()).unwrap_or_default();
+                    out.extend_from_slice(data);
+                    Ok(LuaValue::String(lua.create_string(&out)?))
+                };
+                let failed = |msg: &str, partial: Vec<u8>| -> mlua::Result<MultiValue> {
+                    Ok(MultiValue::from_iter([
+                        LuaValue::Nil,
+                        LuaValue::String(lua.create_string(msg)?),
+                        with_prefix(&partial)?,
+                    ]))
+                };
+                match got {
+                    Ok(Waited::Ready(data)) => Ok(MultiValue::from_iter([with_prefix(&data)?])),
+                    Ok(Waited::TimedOut) => failed("timeout", pattern.partial(buf)),
+                    Ok(Waited::Stopping) => Err(stopping("receive")),
+                    Err(e) => {
+                        let partial = pattern.partial(buf);
+                        // The peer is gone: the object is closed, as LuaSocket leaves it.
+                        let msg = error_text(&e);
+                        if msg == "closed" {
+                            tcp.close();
+                        }
+                        failed(&msg, partial)
+                    }
                 }
-            }
-        });
+            },
+        );
 
         // send(data[, i[, j]]): the index of the last byte sent, or `nil, err, last`.
-        methods.add_method("send", |lua, this, (data, i, j): (mlua::LuaString, Option<i64>, Option<i64>)| {
-            let bytes = data.as_bytes();
-            let len = bytes.len();
-            let from = offset(i.unwrap_or(1), len);
-            let to = j.map_or(len, |j| offset(j, len) + 1).max(from).min(len);
-            let mut tcp = this.0.borrow_mut();
-            let timeout = tcp.timeout;
-            let stream = match &mut tcp.kind {
-                Kind::Client(s, _) => s,
-                Kind::Closed => return fail(lua, "closed"),
-                _ => return Err(wrong_kind("send", "client", &tcp)),
-            };
-            let mut sent = from;
-            let result = wait_for(lua, timeout, || {
-                while sent < to {
-                    match stream.write(&bytes[sent..to]) {
-                        Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
-                        Ok(n) => sent += n,
-                        Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                        Err(e) if e.kind() == io::ErrorKind::WouldBlock => return Ok(None),
-                        Err(e) => return Err(e),
+        methods.add_method(
+            "send",
+            |lua, this, (data, i, j): (mlua::LuaString, Option<i64>, Option<i64>)| {
+                let bytes = data.as_bytes();
+                let len = bytes.len();
+                let from = offset(i.unwrap_or(1), len);
+                let to = j.map_or(len, |j| offset(j, len) + 1).max(from).min(len);
+                let mut tcp = this.0.borrow_mut();
+                let timeout = tcp.timeout;
+                let stream = match &mut tcp.kind {
+                    Kind::Client(s, _) => s,
+                    Kind::Closed => return fail(lua, "closed"),
+                    _ => return Err(wrong_kind("send", "client", &tcp)),
+                };
+                let mut sent = from;
+                let result = wait_for(lua, timeout, || {
+                    while sent < to {
+                        match stream.write(&bytes[sent..to]) {
+                            Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
+                            Ok(n) => sent += n,
+                            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                            Err(e) if e.kind() == io::ErrorKind::WouldBlock => return Ok(None),
+                            Err(e) => return Err(e),
+                        }
                     }
+                    Ok(Some(()))
+                });
+                let last = LuaValue::Integer(sent as i64);
+                let failed = |msg: &str| -> mlua::Result<MultiValue> {
+                    Ok(MultiValue::from_iter([
+                        LuaValue::Nil,
+                        LuaValue::String(lua.create_string(msg)?),
+                        last.clone(),
+                    ]))
+                };
+                match result {
+                    Ok(Waited::Ready(())) => Ok(MultiValue::from_iter([last.clone()])),
+                    Ok(Waited::TimedOut) => failed("timeout"),
+                    Ok(Waited::Stopping) => Err(stopping("send")),
+                    Err(e) => failed(&error_text(&e)),
                 }
-                Ok(Some(()))
-            });
-            let last = LuaValue::Integer(sent as i64);
-            let failed = |msg: &str| -> mlua::Result<MultiValue> {
-                Ok(MultiValue::from_iter([LuaValue::Nil, LuaValue::String(lua.create_string(msg)?), last.clone()]))
-            };
-            match result {
-                Ok(Waited::Ready(())) => Ok(MultiValue::from_iter([last.clone()])),
-                Ok(Waited::TimedOut) => failed("timeout"),
-                Ok(Waited::Stopping) => Err(stopping("send")),
-                Err(e) => failed(&error_text(&e)),
-            }
-        });
+            },
+        );
 
         methods.add_method("shutdown", |_, this, _how: Option<String>| {
             if let Kind::Client(s, _) = &this.0.borrow().kind {

@@ -189,15 +189,27 @@ fn outgoing_connections_are_refused_unless_allowed() {
 fn scripts_listen_only_where_gantry_listens() {
     let r = run(&lua(), "return socket.bind('192.0.2.7', 0)", ());
     assert_eq!(r[0], "nil");
-    assert!(r[1].starts_with("permission denied") && r[1].contains("127.0.0.1"), "{}", r[1]);
+    assert!(
+        r[1].starts_with("permission denied") && r[1].contains("127.0.0.1"),
+        "{}",
+        r[1]
+    );
     // Loopback by name is fine.
-    assert_eq!(run(&lua(), "return tostring(socket.bind('localhost', 0))", ())[0].split(':').next(), Some("tcp{server}"));
+    assert_eq!(
+        run(&lua(), "return tostring(socket.bind('localhost', 0))", ())[0]
+            .split(':')
+            .next(),
+        Some("tcp{server}")
+    );
     // With --bind 0.0.0.0, '*' is every interface.
     let wide = lua_with(NetworkParams {
         listen: Some("0.0.0.0".parse().expect("an IP")),
         ..NetworkParams::default()
     });
-    assert_eq!(run(&wide, "return assert(socket.bind('*', 0)):getsockname()", ())[0], "0.0.0.0");
+    assert_eq!(
+        run(&wide, "return assert(socket.bind('*', 0)):getsockname()", ())[0],
+        "0.0.0.0"
+    );
     // With --no-listen, nowhere.
     let none = lua_with(NetworkParams {
         listen: None,
@@ -230,10 +242,17 @@ fn mapped_ports_and_close_all_free_the_port() {
         port_map: vec![(6000, 0)],
         ..NetworkParams::default()
     });
-    let r = run(&lua, "server = assert(socket.bind('*', 6000)); return select(2, server:getsockname())", ());
+    let r = run(
+        &lua,
+        "server = assert(socket.bind('*', 6000)); return select(2, server:getsockname())",
+        (),
+    );
     let port: u16 = r[0].parse().expect("a port");
     assert_ne!(port, 6000, "6000 is mapped to a free port");
-    assert_eq!(state::<Sockets>(&lua).listening(), [SocketAddr::from(([127, 0, 0, 1], port))]);
+    assert_eq!(
+        state::<Sockets>(&lua).listening(),
+        [SocketAddr::from(([127, 0, 0, 1], port))]
+    );
     // The script still holds `server`; a stop closes it anyway.
     state::<Sockets>(&lua).close_all();
     TcpListener::bind(("127.0.0.1", port)).expect("the port is free after close_all");
@@ -247,7 +266,10 @@ fn a_blocked_accept_gives_up_when_gantry_stops() {
         ..NetworkParams::default()
     });
     serve(&lua);
-    let e = lua.load("server:accept()").exec().expect_err("no client, and gantry is stopping");
+    let e = lua
+        .load("server:accept()")
+        .exec()
+        .expect_err("no client, and gantry is stopping");
     assert!(e.to_string().contains("gantry is stopping"), "{e}");
 }
 
@@ -260,16 +282,25 @@ fn time_spent_waiting_is_given_back_to_the_budget() {
     let before = running.deadline.get();
     drop(running);
     let started = Instant::now();
-    assert_eq!(run(&lua, "server:settimeout(0.2); return server:accept()", ()), ["nil", "timeout"]);
+    assert_eq!(
+        run(&lua, "server:settimeout(0.2); return server:accept()", ()),
+        ["nil", "timeout"]
+    );
     let waited = started.elapsed();
     let moved = state::<Running>(&lua).deadline.get() - before;
-    assert!(moved >= Duration::from_millis(200), "deadline moved by {moved:?} after waiting {waited:?}");
+    assert!(
+        moved >= Duration::from_millis(200),
+        "deadline moved by {moved:?} after waiting {waited:?}"
+    );
 }
 
 #[test]
 fn wrong_objects_and_missing_parts_raise_clear_errors() {
     let lua = lua();
-    let e = lua.load("socket.tcp():accept()").exec().expect_err("a master cannot accept");
+    let e = lua
+        .load("socket.tcp():accept()")
+        .exec()
+        .expect_err("a master cannot accept");
     assert!(e.to_string().contains("tcp{server} expected, got tcp{master}"), "{e}");
     let e = lua.load("socket.udp()").exec().expect_err("no UDP");
     assert!(e.to_string().contains("TCP subset"), "{e}");
