@@ -53,6 +53,11 @@ pub struct NetworkParams {
     /// socket call gives up, so the simulation thread can run the cleanup hooks and
     /// exit. `None`: nothing stops a blocked call but its own timeout.
     pub stop: Option<Arc<AtomicBool>>,
+    /// Set by the front end when a client asks to stop the simulation or load another
+    /// scene: a script blocked in a socket call gives up, so the request is served
+    /// (CoppeliaSim's GUI cannot even be clicked then). The host clears it when the
+    /// simulation stops, starts or is built.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 impl Default for NetworkParams {
@@ -63,6 +68,7 @@ impl Default for NetworkParams {
             port_map: Vec::new(),
             gantry_ports: Vec::new(),
             stop: None,
+            interrupt: None,
         }
     }
 }

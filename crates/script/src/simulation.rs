@@ -98,7 +98,9 @@ impl Simulation {
         app_state::install(&lua, Mailboxes::default());
         app_state::install(&lua, PendingControl::default());
         app_state::install(&lua, Models::default());
-        app_state::install(&lua, Sockets::new(limits.network.clone()));
+        let sockets = Sockets::new(limits.network.clone());
+        sockets.clear_interrupt();
+        app_state::install(&lua, sockets);
         let debugging = debugger.is_some();
         if let Some(host) = debugger {
             app_state::install(&lua, host);
@@ -205,6 +207,9 @@ impl Simulation {
 
     /// Starts (or resumes) the simulation; runs `sysCall_init` of scripts not yet initialised.
     pub fn start(&mut self) {
+        // An interrupt left by a request that did not stop (a scene that failed to
+        // load) must not cut the new run's first wait short.
+        state::<Sockets>(&self.lua).clear_interrupt();
         match self.state() {
             SimulationState::Stopped => {
                 self.scripts.call_hook_everywhere(Hook::BeforeSimulation);
@@ -257,6 +262,8 @@ impl Simulation {
     /// Stops: runs every script's `sysCall_cleanup`, then restores the scene's initial
     /// state (world and scripts are rebuilt from the scene model).
     pub fn stop(&mut self) {
+        // The stop asked for is being served (even when already stopped).
+        state::<Sockets>(&self.lua).clear_interrupt();
         if self.state() == SimulationState::Stopped {
             return;
         }

@@ -214,6 +214,11 @@ pub fn start(
         .build()
         .map_err(ServerError::Runtime)?;
     let (handle, rx) = channel();
+    // A stop or a new scene asked for while a script waits in a LuaSocket call ends
+    // the wait, so the request is served.
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let handle = handle.interrupting(interrupt.clone());
+    sim.limits.network.interrupt = Some(interrupt);
     let (stop_tx, stop_rx) = watch::channel(false);
     let (debug_hub, debug_link) = match serve.dap_port {
         Some(_) => {

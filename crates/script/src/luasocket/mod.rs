@@ -100,7 +100,7 @@ pub(crate) fn install(lua: &Lua) -> mlua::Result<()> {
             if s > 0.0 && s.is_finite() {
                 let d = Duration::from_secs_f64(s.min(1e6));
                 match wait_for(lua, Some(d), || Ok(None::<()>)) {
-                    Ok(Waited::Ready(()) | Waited::TimedOut | Waited::Stopping) | Err(_) => {}
+                    Ok(Waited::Ready(()) | Waited::TimedOut | Waited::Stopping(_)) | Err(_) => {}
                 }
             }
             Ok(())

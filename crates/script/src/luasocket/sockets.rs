@@ -73,6 +73,13 @@ impl Sockets {
         });
     }
 
+    /// A stop, start or new scene has come: a pending interrupt is served.
+    pub(crate) fn clear_interrupt(&self) {
+        if let Some(i) = &self.params.interrupt {
+            i.store(false, std::sync::atomic::Ordering::SeqCst);
+        }
+    }
+
     /// The addresses scripts listen on now.
     pub(crate) fn listening(&self) -> Vec<SocketAddr> {
         self.open

@@ -113,8 +113,8 @@ fn wrong_kind(method: &str, expected: &str, tcp: &Tcp) -> mlua::Error {
     ))
 }
 
-fn stopping(method: &str) -> mlua::Error {
-    mlua::Error::runtime(format!("{method}: abandoned because gantry is stopping"))
+fn stopping(method: &str, why: &str) -> mlua::Error {
+    mlua::Error::runtime(format!("{method}: abandoned because {why}"))
 }
 
 /// What `receive` reads.
@@ -346,7 +346,7 @@ impl UserData for TcpObject {
                     )]))
                 }
                 Ok(Waited::TimedOut) => fail(lua, "timeout"),
-                Ok(Waited::Stopping) => Err(stopping("accept")),
+                Ok(Waited::Stopping(why)) => Err(stopping("accept", why)),
                 Err(e) => fail(lua, &error_text(&e)),
             }
         });
@@ -391,7 +391,7 @@ impl UserData for TcpObject {
                 match got {
                     Ok(Waited::Ready(data)) => Ok(MultiValue::from_iter([with_prefix(&data)?])),
                     Ok(Waited::TimedOut) => failed("timeout", pattern.partial(buf)),
-                    Ok(Waited::Stopping) => Err(stopping("receive")),
+                    Ok(Waited::Stopping(why)) => Err(stopping("receive", why)),
                     Err(e) => {
                         let partial = pattern.partial(buf);
                         // The peer is gone: the object is closed, as LuaSocket leaves it.
@@ -444,7 +444,7 @@ impl UserData for TcpObject {
                 match result {
                     Ok(Waited::Ready(())) => Ok(MultiValue::from_iter([last.clone()])),
                     Ok(Waited::TimedOut) => failed("timeout"),
-                    Ok(Waited::Stopping) => Err(stopping("send")),
+                    Ok(Waited::Stopping(why)) => Err(stopping("send", why)),
                     Err(e) => failed(&error_text(&e)),
                 }
             },

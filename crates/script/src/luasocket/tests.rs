@@ -274,6 +274,23 @@ fn a_blocked_accept_gives_up_when_gantry_stops() {
 }
 
 #[test]
+fn a_blocked_accept_gives_up_for_a_stop_request_until_it_is_served() {
+    let lua = lua_with(NetworkParams {
+        interrupt: Some(Arc::new(AtomicBool::new(true))),
+        ..NetworkParams::default()
+    });
+    serve(&lua);
+    let e = lua.load("server:accept()").exec().expect_err("a stop is pending");
+    assert!(e.to_string().contains("the simulation is stopping"), "{e}");
+    // The stop was served: waits wait again.
+    state::<Sockets>(&lua).clear_interrupt();
+    assert_eq!(
+        run(&lua, "server:settimeout(0); return server:accept()", ()),
+        ["nil", "timeout"]
+    );
+}
+
+#[test]
 fn time_spent_waiting_is_given_back_to_the_budget() {
     let lua = lua();
     serve(&lua);

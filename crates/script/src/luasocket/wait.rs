@@ -33,8 +33,8 @@ pub(crate) enum Waited<T> {
     Ready(T),
     /// The timeout passed first.
     TimedOut,
-    /// The process is stopping; the call gives up.
-    Stopping,
+    /// The process or the simulation is stopping (which one); the call gives up.
+    Stopping(&'static str),
 }
 
 /// Calls `attempt` until it returns `Some`, an error, `timeout` passes (`None`: never)
@@ -50,7 +50,10 @@ pub(crate) fn wait_for<T>(
 ) -> io::Result<Waited<T>> {
     let start = Instant::now();
     let until = timeout.map(|t| start + t);
-    let stop = state::<Sockets>(lua).params.stop.clone();
+    let (stop, interrupt) = {
+        let params = &state::<Sockets>(lua).params;
+        (params.stop.clone(), params.interrupt.clone())
+    };
     let mut slept = false;
     let result = loop {
         match attempt() {
@@ -63,7 +66,10 @@ pub(crate) fn wait_for<T>(
             break Ok(Waited::TimedOut);
         }
         if stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)) {
-            break Ok(Waited::Stopping);
+            break Ok(Waited::Stopping("gantry is stopping"));
+        }
+        if interrupt.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)) {
+            break Ok(Waited::Stopping("the simulation is stopping"));
         }
         let slice = until.map_or(SLICE, |u| u.saturating_duration_since(now).min(SLICE));
         std::thread::sleep(slice);
