@@ -22,8 +22,8 @@
 //! Blocking calls wait as CoppeliaSim's do, the whole simulation with them (a
 //! non-threaded script blocked in `accept` holds the step, as in CoppeliaSim; threaded
 //! scripts are coroutines here, as in CoppeliaSim 4.2+, and hold it too), but give up
-//! when the process is stopping and do not count against the time budget (see
-//! [`wait`]).
+//! when the process is stopping or a client asked to stop the simulation, and do not
+//! count against the time budget (see [`wait`]).
 
 mod sockets;
 mod tcp;

@@ -2,9 +2,10 @@
 //!
 //! Every socket is non-blocking; a call that must wait (an `accept` with no client
 //! yet, a `receive` whose line has not arrived) retries in short slices until it
-//! succeeds, its timeout passes, or the process is stopping. A non-threaded script
-//! then waits as it does in CoppeliaSim (the simulation stops there until a client
-//! comes), while Ctrl-C still ends the run within one slice.
+//! succeeds, its timeout passes, or the process or the simulation is stopping (the
+//! flags of [`crate::limits::NetworkParams`]). A non-threaded script then waits as it
+//! does in CoppeliaSim (the simulation stops there until a client comes), while Ctrl-C
+//! or a stop request still ends the wait within one slice.
 //!
 //! Time spent waiting is given back to the running hook's time budget (see
 //! [`crate::budget`]): the budget is there to catch runaway Lua code, and a script
