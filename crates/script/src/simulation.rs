@@ -312,6 +312,13 @@ impl Simulation {
         state::<Sockets>(&self.lua).listening()
     }
 
+    /// Closes every socket the scripts opened (LuaSocket), for a simulation about to be
+    /// replaced by another scene's: its ports are free when this returns. A script that
+    /// uses one afterwards gets LuaSocket's `"closed"`.
+    pub fn close_sockets(&self) {
+        state::<Sockets>(&self.lua).close_all();
+    }
+
     /// The simulation state.
     pub fn state(&self) -> SimulationState {
         self.core.borrow().state

@@ -1,6 +1,7 @@
 //! A stop asked for while a script waits in a blocking LuaSocket `accept` (the paper's
 //! server style: one blocking accept per actuation) is served: the wait gives up, the
-//! simulation stops, and at the next start the rebuilt script binds the same port.
+//! simulation stops, and at the next start the rebuilt script binds the same port; the
+//! same for the scene loaded again (`sim.loadScene`).
 //! Without the interrupt the stop request would wait for a client that never comes.
 
 use std::io::{Read, Write};
@@ -115,6 +116,27 @@ fn a_stop_ends_a_blocking_accept_and_the_next_run_binds_the_port_again() {
         SimulationState::Running
     );
     assert_eq!(exchange(port, "second\r\n"), "second\n");
+
+    // The same scene loaded again while the script waits: the wait ends, the old
+    // scene's socket closes before the new scene's script binds the same port.
+    std::thread::sleep(Duration::from_millis(300));
+    let (reply, rx) = oneshot::channel();
+    sim.send(Request::LoadScene {
+        path: Some(dir.join("scene.toml")),
+        reply,
+    })
+    .expect("queued");
+    let (tx, done) = mpsc::channel();
+    std::thread::spawn(move || tx.send(rx.blocking_recv()));
+    done.recv_timeout(Duration::from_secs(30))
+        .expect("the scene load is served while the script waits in accept")
+        .expect("a reply")
+        .expect("the scene loads");
+    assert_eq!(
+        control(&sim, LoopControl::Control(Control::Start)),
+        SimulationState::Running
+    );
+    assert_eq!(exchange(port, "third\r\n"), "third\n");
 
     running.stop();
     // The simulation thread notices the shutdown in its blocked accept too.

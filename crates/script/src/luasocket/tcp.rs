@@ -176,10 +176,21 @@ impl Pattern {
     }
 }
 
+/// Most bytes a connection buffers for one `receive`: a peer that sends a line without
+/// end (or `"*a"` without closing) must not exhaust the memory the Lua cap does not
+/// see. LuaSocket has no such limit; no script this exists for comes near it.
+const MAX_BUFFERED: usize = 64 << 20;
+
 /// Reads what is available now into `buf`: `Ok(true)` when the peer has closed.
 fn fill(stream: &mut TcpStream, buf: &mut Vec<u8>) -> io::Result<bool> {
     let mut chunk = [0u8; 4096];
     loop {
+        if buf.len() >= MAX_BUFFERED {
+            return Err(io::Error::other(format!(
+                "receive buffer full ({} MiB without the end of what was asked for)",
+                MAX_BUFFERED >> 20
+            )));
+        }
         match stream.read(&mut chunk) {
             Ok(0) => return Ok(true),
             Ok(n) => buf.extend_from_slice(&chunk[..n]),
