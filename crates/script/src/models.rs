@@ -95,6 +95,9 @@ pub(crate) fn merge_into(scene: &mut SceneModel, model: SceneModel) -> usize {
         }
         scene.objects.push(o);
     }
+    scene
+        .dummy_links
+        .extend(model.dummy_links.iter().map(|[a, b]| [a + offset, b + offset]));
     for s in model.scripts {
         scene.scripts.push(ScriptModel {
             object: s.object + offset,

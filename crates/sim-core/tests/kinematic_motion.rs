@@ -189,3 +189,59 @@ fn placing_the_joint_ends_its_motion() {
     step(&mut w);
     assert_eq!(get(&mut w, "sim.getJointPosition", hinge), -0.5);
 }
+
+/// `sim.handleflag_reljointbaseframe` on the object's handle: a joint given as the
+/// reference frame counts with its base frame, without its own rotation, for reading
+/// and for setting (CoppeliaSim's omni-wheel scripts keep their rollers at 45 degrees
+/// to the wheel's base this way while the wheel turns).
+#[test]
+fn a_joint_reference_frame_without_its_motion() {
+    let mut w = world();
+    let hinge = find(&w, "/hinge");
+    let tip = find(&w, "/hinge/tip");
+    let base_flag = api::CONSTANTS
+        .iter()
+        .find(|(n, _)| *n == "handleflag_reljointbaseframe")
+        .map(|(_, v)| *v)
+        .expect("sim.handleflag_reljointbaseframe");
+    call(
+        &mut w,
+        "sim.setJointPosition",
+        &[Value::Int(hinge), Value::Float(PI / 4.0)],
+    );
+    let moving = util::floats(&call(&mut w, "sim.getObjectPosition", &[Value::Int(tip), Value::Int(hinge)])[0]);
+    let base = util::floats(
+        &call(
+            &mut w,
+            "sim.getObjectPosition",
+            &[Value::Int(tip | base_flag), Value::Int(hinge)],
+        )[0],
+    );
+    // In the moving frame the tip is where the scene put it; in the base frame it has
+    // turned 45 degrees about the joint's z axis.
+    close(&moving, &[0.5, 0.0, 0.0]);
+    let c = 0.5 * (PI / 4.0).cos();
+    close(&base, &[c, c, 0.0]);
+    // Setting in the base frame: the tip lands at 0 degrees in the base frame, so -45
+    // degrees in the moving one.
+    call(
+        &mut w,
+        "sim.setObjectPosition",
+        &[
+            Value::Int(tip | base_flag),
+            Value::Int(hinge),
+            Value::floats(&[0.5, 0.0, 0.0]),
+        ],
+    );
+    let moving = util::floats(&call(&mut w, "sim.getObjectPosition", &[Value::Int(tip), Value::Int(hinge)])[0]);
+    close(&moving, &[c, -c, 0.0]);
+}
+
+fn close(actual: &[f64], expected: &[f64]) {
+    let d = actual
+        .iter()
+        .zip(expected)
+        .map(|(a, e)| (a - e).abs())
+        .fold(0.0, f64::max);
+    assert!(d < 1e-9, "{actual:?} vs {expected:?}");
+}

@@ -53,3 +53,16 @@ fn the_selection_is_set_read_and_forgets_removed_objects() {
     let e = call(&mut w, "sim.setObjectSel", &[Value::Int(a)]).unwrap_err();
     assert!(e.contains("argument 1"), "{e}");
 }
+
+/// 4.1's `sim.getObjectSelection`, which old customization scripts still call: the same
+/// selection, but `nil` when it is empty.
+#[test]
+fn the_old_selection_function_returns_nil_when_nothing_is_selected() {
+    let text = "[[object]]\nname = \"a\"\nkind = \"dummy\"\n";
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("sel.toml");
+    let mut w = Sim::new(&load_scene_text(&DiskFiles, text, &path, &LoadOptions::default()).expect("scene"));
+    let a = w.world.find("/a", None, 0).unwrap();
+    assert_eq!(call(&mut w, "sim.getObjectSelection", &[]).unwrap(), [Value::Nil]);
+    call(&mut w, "sim.setObjectSel", &[ints(&[a])]).unwrap();
+    assert_eq!(call(&mut w, "sim.getObjectSelection", &[]).unwrap(), [ints(&[a])]);
+}

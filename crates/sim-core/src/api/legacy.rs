@@ -100,6 +100,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(get_object_int32_parameter),
     },
     ApiFunction {
+        name: "getObjectSelection",
+        call: ApiFn::World(get_object_selection),
+    },
+    ApiFunction {
         name: "getObjectSizeFactor",
         call: ApiFn::World(get_object_size_factor),
     },
@@ -240,6 +244,17 @@ fn is_dynamically_enabled(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
         _ => false,
     };
     Ok(vec![Value::Bool(enabled)])
+}
+
+/// `sim.getObjectSelection()` (4.1, now `sim.getObjectSel`): the selected objects'
+/// handles in selection order, or `nil` when nothing is selected, as 4.1 returned.
+fn get_object_selection(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+    let handles = w.selection.handles();
+    Ok(vec![if handles.is_empty() {
+        Value::Nil
+    } else {
+        Value::Array(handles.iter().map(|&h| Value::Int(h)).collect())
+    }])
 }
 
 /// `sim.addStatusbarMessage(text)`: a line in the log (the viewer shows it); `nil`

@@ -100,47 +100,88 @@ fn value_and_rel(a: &Args<'_>) -> Result<(usize, Handle), ApiError> {
     }
 }
 
-fn set_relative(w: &mut World, h: Handle, rel: Handle, local: Pose) -> Result<Ret, ApiError> {
-    let frame = w.frame(h, rel)?;
-    w.set_world_pose(h, frame * local)?;
+/// `sim.handleflag_reljointbaseframe`, OR-ed onto the object's handle of a pose
+/// function: a joint given as the reference frame counts with its base frame, without
+/// its own motion (CoppeliaSim's omni-wheel scripts reset their rollers this way).
+pub(super) const HANDLEFLAG_REL_JOINT_BASE_FRAME: i64 = 0x0040_0000;
+
+/// The object of a pose function (argument 1) and whether a joint reference frame
+/// counts without its motion.
+#[derive(Clone, Copy)]
+struct Posed {
+    object: Handle,
+    joint_base: bool,
+}
+
+fn posed(a: &Args<'_>) -> Result<Posed, ApiError> {
+    let raw = a.handle(0)?;
+    let joint_base = raw > 0 && raw & HANDLEFLAG_REL_JOINT_BASE_FRAME != 0;
+    Ok(Posed {
+        object: if joint_base {
+            raw & !HANDLEFLAG_REL_JOINT_BASE_FRAME
+        } else {
+            raw
+        },
+        joint_base,
+    })
+}
+
+/// The world pose of the frame `rel` the object's pose is given in.
+fn frame_of(w: &World, o: Posed, rel: Handle) -> Result<Pose, ApiError> {
+    if o.joint_base && rel >= 0 {
+        w.object(o.object)?;
+        // An object's own world pose is a joint's base frame (its children hang from
+        // the moved frame).
+        return Ok(w.object(rel)?.world);
+    }
+    Ok(w.frame(o.object, rel)?)
+}
+
+fn pose_in(w: &World, o: Posed, rel: Handle) -> Result<Pose, ApiError> {
+    Ok(frame_of(w, o, rel)?.inverse() * w.object(o.object)?.world)
+}
+
+fn set_relative(w: &mut World, o: Posed, rel: Handle, local: Pose) -> Result<Ret, ApiError> {
+    let frame = frame_of(w, o, rel)?;
+    w.set_world_pose(o.object, frame * local)?;
     Ok(Vec::new())
 }
 
 /// `sim.getObjectPosition(h, rel=-1)` → `[x, y, z]` in metres.
 pub(super) fn get_object_position(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
+    let p = pose_in(w, posed(a)?, rel(a, 1)?)?;
     Ok(vec![Value::floats(p.translation.vector.as_slice())])
 }
 
 /// `sim.setObjectPosition(h, [x, y, z], rel=-1)` (either argument order).
 pub(super) fn set_object_position(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let h = a.handle(0)?;
+    let h = posed(a)?;
     let (vi, r) = value_and_rel(a)?;
     let v = a.vec3(vi)?;
-    let mut p = w.pose_relative(h, r)?;
+    let mut p = pose_in(w, h, r)?;
     p.translation.vector = v;
     set_relative(w, h, r, p)
 }
 
 /// `sim.getObjectOrientation(h, rel=-1)` → CoppeliaSim Euler angles `[a, b, g]`, rad.
 pub(super) fn get_object_orientation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
+    let p = pose_in(w, posed(a)?, rel(a, 1)?)?;
     Ok(vec![Value::floats(&math::euler_from_quat(&p.rotation))])
 }
 
 /// `sim.setObjectOrientation(h, [a, b, g], rel=-1)` (either argument order).
 pub(super) fn set_object_orientation(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let h = a.handle(0)?;
+    let h = posed(a)?;
     let (vi, r) = value_and_rel(a)?;
     let e = a.floats::<3>(vi)?;
-    let mut p = w.pose_relative(h, r)?;
+    let mut p = pose_in(w, h, r)?;
     p.rotation = math::quat_from_euler(e);
     set_relative(w, h, r, p)
 }
 
 /// `sim.getObjectQuaternion(h, rel=-1)` → `[qx, qy, qz, qw]`.
 pub(super) fn get_object_quaternion(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
+    let p = pose_in(w, posed(a)?, rel(a, 1)?)?;
     Ok(vec![Value::floats(&math::quat_to_array(&p.rotation))])
 }
 
@@ -151,17 +192,17 @@ fn quat(a: &Args<'_>, i: usize) -> Result<Quat, ApiError> {
 
 /// `sim.setObjectQuaternion(h, [qx, qy, qz, qw], rel=-1)` (either argument order).
 pub(super) fn set_object_quaternion(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let h = a.handle(0)?;
+    let h = posed(a)?;
     let (vi, r) = value_and_rel(a)?;
     let q = quat(a, vi)?;
-    let mut p = w.pose_relative(h, r)?;
+    let mut p = pose_in(w, h, r)?;
     p.rotation = q;
     set_relative(w, h, r, p)
 }
 
 /// `sim.getObjectPose(h, rel=-1)` → `[x, y, z, qx, qy, qz, qw]`.
 pub(super) fn get_object_pose(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
+    let p = pose_in(w, posed(a)?, rel(a, 1)?)?;
     let t = p.translation.vector;
     let q = math::quat_to_array(&p.rotation);
     Ok(vec![Value::floats(&[t.x, t.y, t.z, q[0], q[1], q[2], q[3]])])
@@ -169,7 +210,7 @@ pub(super) fn get_object_pose(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) 
 
 /// `sim.setObjectPose(h, [x, y, z, qx, qy, qz, qw], rel=-1)` (either argument order).
 pub(super) fn set_object_pose(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let h = a.handle(0)?;
+    let h = posed(a)?;
     let (vi, r) = value_and_rel(a)?;
     let v = a.floats::<7>(vi)?;
     let q = math::quat_from_array([v[3], v[4], v[5], v[6]]).ok_or_else(|| ApiError::new("zero quaternion in pose"))?;
@@ -179,13 +220,13 @@ pub(super) fn set_object_pose(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) 
 
 /// `sim.getObjectMatrix(h, rel=-1)` → 12 numbers, row-major 3x4 (translation at 4, 8, 12).
 pub(super) fn get_object_matrix(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let p = w.pose_relative(a.handle(0)?, rel(a, 1)?)?;
+    let p = pose_in(w, posed(a)?, rel(a, 1)?)?;
     Ok(vec![Value::floats(&math::pose_to_matrix12(&p))])
 }
 
 /// `sim.setObjectMatrix(h, m[12], rel=-1)` (either argument order).
 pub(super) fn set_object_matrix(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
-    let h = a.handle(0)?;
+    let h = posed(a)?;
     let (vi, r) = value_and_rel(a)?;
     let m = a.floats::<12>(vi)?;
     let local = math::pose_from_matrix12(&m).ok_or_else(|| ApiError::new("matrix must be finite"))?;

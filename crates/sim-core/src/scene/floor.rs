@@ -43,8 +43,12 @@ pub(super) fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> Ob
 
 /// `objects` (a robot or model, in hierarchy order) on a 5 x 5 m floor. The floor
 /// becomes object 0, so every index into `objects` moves up by one: parents, mimic
-/// leaders and the objects `scripts` are attached to.
-pub(super) fn on_floor(objects: Vec<ObjectModel>, scripts: &mut [ScriptModel]) -> Vec<ObjectModel> {
+/// leaders, the objects `scripts` are attached to and the dummies of `links`.
+pub(super) fn on_floor(
+    objects: Vec<ObjectModel>,
+    scripts: &mut [ScriptModel],
+    links: &mut [[usize; 2]],
+) -> Vec<ObjectModel> {
     let mut out = Vec::with_capacity(objects.len() + 1);
     out.push(floor_object([DEFAULT_SIDE, DEFAULT_SIDE], 1.0, [0.55, 0.55, 0.5]));
     out.extend(objects.into_iter().map(|mut o| {
@@ -58,6 +62,9 @@ pub(super) fn on_floor(objects: Vec<ObjectModel>, scripts: &mut [ScriptModel]) -
     }));
     for s in scripts {
         s.object += 1;
+    }
+    for pair in links.iter_mut().flatten() {
+        *pair += 1;
     }
     out
 }

@@ -83,8 +83,9 @@ fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
         settings: SimSettings::default(),
         server: ServerSettings::default(),
-        objects: on_floor(robot, &mut scripts),
+        objects: on_floor(robot, &mut scripts, &mut []),
         scripts,
+        dummy_links: Vec::new(),
         warnings: dedup(warnings),
     })
 }
@@ -178,6 +179,7 @@ pub fn load_scene_text(
         server,
         objects: r.objects,
         scripts: r.scripts,
+        dummy_links: Vec::new(),
         warnings: dedup(r.warnings),
     })
 }

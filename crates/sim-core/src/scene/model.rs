@@ -25,6 +25,10 @@ pub struct SceneModel {
     pub objects: Vec<ObjectModel>,
     /// Scripts attached to objects.
     pub scripts: Vec<ScriptModel>,
+    /// Dynamic loop closures: pairs of dummies (object indices) the physics holds
+    /// together, as `sim.setLinkDummy` does; CoppeliaSim's grippers close their linkages
+    /// this way.
+    pub dummy_links: Vec<[usize; 2]>,
     /// Soft problems found while loading (unknown keys, unsupported URDF elements).
     pub warnings: Vec<String>,
 }

@@ -37,6 +37,7 @@ pub fn load_model(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
                 server: ServerSettings::default(),
                 objects,
                 scripts: Vec::new(),
+                dummy_links: Vec::new(),
                 warnings,
             })
         }

@@ -312,6 +312,7 @@ impl World {
             self.refresh_subtree(t);
         }
         self.rebuild_physics(&tops);
+        self.link_loop_closures(model.dummy_links.iter().map(|&[a, b]| [map[a], map[b]]));
         self.edit.counters.created += map.len() as u64;
         self.bump();
         (map, other.warnings().to_vec())

@@ -189,7 +189,18 @@ impl World {
             kinematic_moving: Vec::new(),
         };
         world.refresh_caches();
+        world.link_loop_closures(model.dummy_links.iter().map(|&[a, b]| [a as Handle, b as Handle]));
         world
+    }
+
+    /// Holds each pair of dummies together in the physics (the scene's dynamic loop
+    /// closures). A pair that is not two dummies is skipped with a warning.
+    pub(super) fn link_loop_closures(&mut self, pairs: impl Iterator<Item = [Handle; 2]>) {
+        for [a, b] in pairs {
+            if let Err(e) = self.set_link_dummy(a, Some(b)) {
+                self.warnings.push(format!("loop closure {a}-{b} not made: {e}"));
+            }
+        }
     }
 
     /// Warnings from loading and building (unsupported features, ignored keys).
@@ -659,8 +670,7 @@ impl World {
             }
         }
         for _ in 0..self.physics.rapier_steps {
-            self.physics.world.step();
-            self.contain_blow_ups();
+            self.step_rapier_contained();
         }
         // `sim.addForce` acts during one step only; rapier would keep applying it.
         self.clear_step_forces();

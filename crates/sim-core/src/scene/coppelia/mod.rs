@@ -21,9 +21,10 @@
 //! | Python, disabled scripts | dropped (warned) |
 //! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
 //!
-//! Joint motors keep CoppeliaSim's targets and limits but use gantry's PD gains
-//! ([`DEFAULT_KP`], [`DEFAULT_KD`]); CoppeliaSim's engine-specific PID arrays are not
-//! decoded. No floor is added: a scene file has its own, and a model joins a scene.
+//! Joint motors keep CoppeliaSim's targets, limits and maximum forces. Position
+//! control is made as stiff as CoppeliaSim's (gains scaled by the maximum force, see
+//! `convert_joint`); other modes use gantry's PD gains ([`DEFAULT_KP`], [`DEFAULT_KD`]).
+//! CoppeliaSim's engine-specific PID arrays are not decoded. No floor is added: a scene file has its own, and a model joins a scene.
 
 mod pose;
 mod shape;
@@ -39,6 +40,15 @@ use super::model::*;
 use super::urdf::{DEFAULT_KD, DEFAULT_KP};
 use super::{LoadError, ServerSettings};
 use pose::to_pose;
+
+/// Position error at which an imported position-controlled joint's motor reaches its
+/// maximum force, rad (m for prismatic joints); see `convert_joint`.
+const POSITION_ERROR_AT_FULL_FORCE: f64 = 1e-4;
+/// Speed at which the same motor's damping reaches the maximum force, rad/s (m/s).
+/// Measured on seven library arms: 0.02 keeps a 0.2 rad step free of overshoot (the
+/// UR10's shoulder rings for seconds at 0.1 and above), stiffer position gains do not
+/// hold the Panda better (its floor is its 1 kg fingers' motors).
+const SPEED_AT_FULL_DAMPING: f64 = 0.02;
 
 /// What an import kept, changed and dropped, beyond the model itself.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -77,7 +87,7 @@ pub fn load_coppelia_file(files: &dyn Files, path: &Path) -> Result<SceneModel, 
     let (mut model, report) = load_coppelia(&bytes, path)?;
     if report.is_model {
         let objects = std::mem::take(&mut model.objects);
-        model.objects = on_floor(objects, &mut model.scripts);
+        model.objects = on_floor(objects, &mut model.scripts, &mut model.dummy_links);
     }
     Ok(model)
 }
@@ -124,6 +134,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
     report.objects = objects.len();
     report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
 
+    let dummy_links = loop_closures(&file, &index);
     let scripts = convert_scripts(&file, path, &index, &mut report, &mut warnings);
     let settings = convert_settings(&file.settings, &mut warnings);
     report.warnings = warnings.clone();
@@ -134,6 +145,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         server: ServerSettings::default(),
         objects,
         scripts,
+        dummy_links,
         warnings,
     };
     Ok((model, report))
@@ -344,6 +356,20 @@ fn convert_joint(j: &cf::Joint, label: &str, index: &HashMap<i32, usize>, warnin
         m.offset = finite(m.offset, 0.0, "the dependency offset");
     }
     let limits = (!j.cyclic && joint_type != JointType::Fixed).then_some((min, min + range));
+    // CoppeliaSim's position controller commands a velocity proportional to the error
+    // and lets the joint's maximum force reach it: stiff up to that force, so a library
+    // arm holds its pose under gravity. A spring-damper with gantry's URDF gains sags
+    // instead (16 mm at the Panda's tip in 10 s). Gains scaled by the maximum force give
+    // the full force at an error of 0.1 mrad (0.1 mm) or 0.02 rad/s (m/s); the
+    // saturation stays CoppeliaSim's.
+    let (kp, kd) = if mode == JointMode::Position && max_force > 0.0 {
+        (
+            max_force / POSITION_ERROR_AT_FULL_FORCE,
+            max_force / SPEED_AT_FULL_DAMPING,
+        )
+    } else {
+        (DEFAULT_KP, DEFAULT_KD)
+    };
     JointModel {
         joint_type,
         mode,
@@ -353,13 +379,32 @@ fn convert_joint(j: &cf::Joint, label: &str, index: &HashMap<i32, usize>, warnin
         target_position,
         target_velocity,
         max_force,
-        kp: DEFAULT_KP,
-        kd: DEFAULT_KD,
+        kp,
+        kd,
         damping: 0.0,
         friction: 0.0,
         max_velocity: j.max_velocity.filter(|v| v.is_finite() && *v > 0.0),
         mimic,
     }
+}
+
+/// The dynamic loop closures: each linked pair of dummies once, by model index. IK
+/// tip/target links are kinematics only and stay out of the physics.
+fn loop_closures(file: &cf::CoppeliaFile, index: &HashMap<i32, usize>) -> Vec<[usize; 2]> {
+    let mut links: Vec<[usize; 2]> = file
+        .objects
+        .iter()
+        .filter_map(|o| match &o.kind {
+            cf::ObjectKind::Dummy(d) if d.link == cf::DummyLink::DynamicLoopClosure => {
+                let (a, b) = (*index.get(&o.handle)?, *index.get(&d.linked?)?);
+                (a != b).then_some([a.min(b), a.max(b)])
+            }
+            _ => None,
+        })
+        .collect();
+    links.sort_unstable();
+    links.dedup();
+    links
 }
 
 /// Lua child and customization scripts, on their objects.
@@ -397,7 +442,13 @@ fn convert_scripts(
             drop("the script is disabled", true);
             continue;
         }
-        let Some(object) = s.object.and_then(|h| index.get(&h).copied()) else {
+        // A 4.7+ script object runs as itself: `.` is the script, `..` the object it
+        // sits on (what its paths say), so it is attached to its own (dummy) object.
+        let attached = match s.origin {
+            cf::ScriptOrigin::Object(h) => Some(h),
+            cf::ScriptOrigin::List => s.object,
+        };
+        let Some(object) = attached.and_then(|h| index.get(&h).copied()) else {
             drop("its object does not exist", true);
             continue;
         };
