@@ -11,7 +11,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
-use gantry_script::{ScriptLimits, check_syntax};
+use gantry_script::{NetworkParams, ScriptLimits, check_syntax, uses_luasocket};
 use gantry_server::http::HttpConfig;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, SimConfig, TextConfig};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_bundled, load_scene};
@@ -114,9 +114,19 @@ struct RunArgs {
     /// Scripts can start more with simRemoteApi.start. See docs/legacy-remote-api.md.
     #[arg(long, value_name = "PORT")]
     legacy_port: Option<u16>,
-    /// Open no network listener at all (headless batch runs).
+    /// Open no network listener at all (headless batch runs); scripts may not listen
+    /// either.
     #[arg(long)]
     no_listen: bool,
+    /// Let scripts open outgoing TCP connections (LuaSocket's `socket.connect`); by
+    /// default they may only listen, on --bind's address or loopback.
+    #[arg(long)]
+    allow_script_connect: bool,
+    /// A script that binds or connects to port ASKED gets port USED instead, e.g.
+    /// `--script-port 6000=6001` to run two scenes that both hard-code 6000 (USED 0 = any
+    /// free port; repeatable).
+    #[arg(long = "script-port", value_name = "ASKED=USED", value_parser = parse_port_pair)]
+    script_ports: Vec<(u16, u16)>,
     /// Debug the scene's scripts from an editor: serve the Debug Adapter Protocol on
     /// 127.0.0.1:PORT (default 4711; 0 = any free port). See docs/debugging.md.
     #[arg(long, value_name = "PORT", num_args = 0..=1, default_missing_value = "4711", require_equals = true)]
@@ -240,11 +250,12 @@ fn run(args: &RunArgs) -> Result<()> {
         }
     };
     let token = access_token(args.token.as_deref())?;
+    let text_port = text_port(args, &model, port(args.text_port, scene_server.text_port, 6000));
     let serve = ServeConfig {
         bind,
         token: token.clone(),
         expose_zmq: args.expose_zmq,
-        text_port: port(args.text_port, scene_server.text_port, 6000),
+        text_port,
         zmq_port: port(args.zmq_port, scene_server.zmq_port, 23000),
         legacy_port: args.legacy_port.filter(|_| !args.no_listen),
         http_port: port(args.http_port, scene_server.http_port, 8080),
@@ -262,7 +273,15 @@ fn run(args: &RunArgs) -> Result<()> {
     let sim = SimConfig {
         steps: args.steps,
         fast: args.fast,
-        limits: ScriptLimits::default(),
+        limits: ScriptLimits {
+            network: NetworkParams {
+                listen: (!args.no_listen).then_some(bind),
+                allow_connect: args.allow_script_connect,
+                port_map: args.script_ports.clone(),
+                ..NetworkParams::default()
+            },
+            ..ScriptLimits::default()
+        },
         autostart: true,
         export_graphs: args.export_graphs.clone(),
         load_options: opts.clone(),
@@ -293,6 +312,33 @@ fn run(args: &RunArgs) -> Result<()> {
     })?;
     println!("{}", summary.line());
     Ok(())
+}
+
+/// The text channel's port, `default` unless the scene's scripts serve TCP themselves:
+/// the paper's `Blue Robot.ttt` binds port 6000 with LuaSocket, the text channel's
+/// default. Then the text channel stays off unless its port was asked for (`--text-port`
+/// or the scene's `[server]`; `--text-port 6000` after `--script-port 6000=P` gets it
+/// back on 6000). LuaSocket use is read from the scripts' text (see
+/// [`uses_luasocket`]), not from the ports they bind, which only running them tells.
+fn text_port(args: &RunArgs, model: &SceneModel, default: Option<u16>) -> Option<u16> {
+    let asked = args.text_port.is_some() || model.server.text_port.is_some();
+    if default != Some(6000) || asked || !model.scripts.iter().any(|s| uses_luasocket(&s.source)) {
+        return default;
+    }
+    tracing::info!(
+        "text channel not started: this scene's scripts run their own TCP server (LuaSocket), \
+         like the paper's on port 6000, the text channel's default; pass --text-port P to have it on port P"
+    );
+    None
+}
+
+/// `ASKED=USED` of `--script-port`.
+fn parse_port_pair(s: &str) -> Result<(u16, u16), String> {
+    let (a, u) = s
+        .split_once('=')
+        .ok_or_else(|| format!("'{s}': expected ASKED=USED, e.g. 6000=6001"))?;
+    let port = |p: &str| p.trim().parse::<u16>().map_err(|e| format!("'{p}' in '{s}': {e}"));
+    Ok((port(a)?, port(u)?))
 }
 
 /// The access token from `--token` or, without it, a non-empty `GANTRY_TOKEN`.

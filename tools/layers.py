@@ -55,7 +55,7 @@ FLOORS = {
     "crates/script/src": [
         ({"limits", "convert", "listeners", "lua_error", "app_state"}, False),
         ({"sandbox", "running", "directory", "core_cell", "hooks"}, False),
-        ({"threads", "control", "models"}, False),
+        ({"threads", "control", "models", "luasocket"}, False),
         ({"messages"}, False),
         ({"debugger"}, False),
         ({"budget", "host_api"}, False),

@@ -97,8 +97,8 @@ impl Engine {
         debug: Option<DebugLink>,
     ) -> Result<Simulation, ScriptError> {
         let mut sim = match debug {
-            Some(link) => Simulation::with_debugger(model, config.limits, link)?,
-            None => Simulation::new(model, config.limits)?,
+            Some(link) => Simulation::with_debugger(model, config.limits.clone(), link)?,
+            None => Simulation::new(model, config.limits.clone())?,
         };
         sim.set_load_options(config.load_options.clone());
         if let Some(l) = &config.listeners {
@@ -326,7 +326,8 @@ impl Engine {
     /// simulation stops (its cleanup hooks run) and the new scene waits, stopped, for a
     /// start. The debugger's link and the listeners move to the new scene (the debug
     /// client sets its breakpoints again per file). A file that does not load leaves
-    /// the current scene as it was.
+    /// the current scene as it was (a Lua state that cannot be created leaves it
+    /// stopped).
     ///
     /// # Errors
     /// The scene does not load, in CoppeliaSim's words with the function's name.
@@ -339,8 +340,11 @@ impl Engine {
         let refused = |e: &dyn std::fmt::Display| CallError::failed(function, ApiError::new(e.to_string()));
         let model = load_client_scene(path, &self.config.load_options).map_err(|e| refused(&e))?;
         let debug = self.sim.take_debug_link();
-        let sim = Self::simulation(model, &self.config, debug).map_err(|e| refused(&e))?;
+        // The old scene stops and its scripts release their ports before the new
+        // scene's scripts bind theirs: a scene loaded again binds the same ones.
         self.control(Control::Stop);
+        self.sim.close_sockets();
+        let sim = Self::simulation(model, &self.config, debug).map_err(|e| refused(&e))?;
         self.sim = sim;
         Ok(())
     }

@@ -4,7 +4,7 @@
 //! Files by role, lowest floor first (docs/architecture.md draws them; tools/layers.py
 //! checks that imports point down and never circle): errors and conversions; the state
 //! each role owns (`running`, `directory`, `threads`, `messages`, `control`, `models`,
-//! kept in the Lua state's app data); the debugger; the budget hook and the `sim.*`
+//! kept in the Lua state's app data, and the LuaSocket subset's sockets); the debugger; the budget hook and the `sim.*`
 //! functions (`host_api`); hooks and scripts; the simulation's life, its step and its
 //! remote calls.
 
@@ -20,6 +20,7 @@ mod host_api;
 mod limits;
 pub mod listeners;
 mod lua_error;
+mod luasocket;
 mod messages;
 mod models;
 mod remote;
@@ -33,9 +34,10 @@ mod threads;
 pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
 
 pub use hooks::Hook;
-pub use limits::ScriptLimits;
+pub use limits::{NetworkParams, ScriptLimits};
 pub use listeners::{ListenerStatus, Listeners};
 pub use lua_error::ScriptError;
+pub use luasocket::uses_luasocket;
 pub use scripts::ScriptState;
 pub use simulation::{Simulation, check_syntax};
 pub use step::StepBoundary;

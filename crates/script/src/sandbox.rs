@@ -19,7 +19,9 @@
 //!   (they would run at the collector's convenience, inside whichever script happens
 //!   to allocate, or outside any time budget) and `collectgarbage` cannot stop or retune
 //!   the collector;
-//! * files written through the API only inside the scene's folder ([`confine`]).
+//! * files written through the API only inside the scene's folder ([`confine`]);
+//! * the network only through LuaSocket's TCP subset, listening where gantry listens
+//!   and connecting out only when the user allows it ([`crate::luasocket`]).
 //!
 //! Time and memory are bounded elsewhere: the time budget by the hook in `budget.rs`,
 //! memory by the state's cap set in [`new_state`]. Non-goal: protecting against a malicious Rust host or
@@ -82,7 +84,7 @@ end
 ///
 /// # Errors
 /// Lua could not allocate the state.
-pub(crate) fn new_state(limits: ScriptLimits) -> mlua::Result<Lua> {
+pub(crate) fn new_state(limits: &ScriptLimits) -> mlua::Result<Lua> {
     // `new_with` refuses the unsafe libraries (debug, ffi) and, in this "safe" mode,
     // C modules; `package` is simply not loaded.
     let lua = Lua::new_with(safe_libs(), LuaOptions::default())?;
@@ -102,7 +104,7 @@ fn safe_libs() -> StdLib {
 ///
 /// # Errors
 /// Lua could not allocate the state.
-pub(crate) fn new_debuggable_state(limits: ScriptLimits) -> mlua::Result<(Lua, HostLibs)> {
+pub(crate) fn new_debuggable_state(limits: &ScriptLimits) -> mlua::Result<(Lua, HostLibs)> {
     // SAFETY: mlua calls the debug library unsafe because Lua code holding it can break
     // mlua's invariants (registry, userdata metatables). Only the host's debugger chunk
     // (lua/debugger.lua) receives it, and it only reads and writes frames' locals and
@@ -126,7 +128,7 @@ pub(crate) struct HostLibs {
 }
 
 /// Trims the fresh state's globals to the sandbox (see the module docs).
-fn harden(lua: &Lua, limits: ScriptLimits) -> mlua::Result<()> {
+fn harden(lua: &Lua, limits: &ScriptLimits) -> mlua::Result<()> {
     let g = lua.globals();
     for name in REMOVED_GLOBALS {
         g.raw_set(*name, LuaValue::Nil)?;
@@ -217,21 +219,25 @@ fn copy_table(lua: &Lua, t: &Table, copies: &Table) -> mlua::Result<Table> {
 
 /// The modules `require` returns: the API's namespaces, as in CoppeliaSim 4.6+ where
 /// scripts begin with `sim = require 'sim'`.
-pub const REQUIRABLE: &[&str] = &["sim", "simIK", "simRemoteApi", "simUI", "simVision"];
+pub const REQUIRABLE: &[&str] = &["sim", "simIK", "simRemoteApi", "simUI", "simVision", "socket"];
+
+/// Other names `require` accepts, and the global each one returns: LuaSocket's C core,
+/// which a few scripts require directly (see [`crate::luasocket`]).
+pub const REQUIRE_ALIASES: &[(&str, &str)] = &[("socket.core", "socket")];
 
 /// Gives a script's environment a `require` that returns the script's own copy of an
-/// API namespace and refuses everything else by name: there is no file or C module to
+/// API namespace (or of the LuaSocket subset) and refuses everything else by name: there is no file or C module to
 /// load in the sandbox. Written in Lua and compiled with the script's environment so
 /// that it closes over that environment only through Lua (collectable with it).
 pub(crate) fn add_require(lua: &Lua, env: &Table) -> mlua::Result<()> {
     const REQUIRE: &str = r#"
-local allowed, error, type, tostring, concat = ...
+local allowed, aliases, error, type, tostring, concat = ...
 function require(name)
     if type(name) ~= 'string' then
         error("bad argument #1 to 'require' (string expected, got " .. type(name) .. ")", 2)
     end
     -- CoppeliaSim 4.6 also accepts versioned names such as 'sim-2'.
-    local base = name:match('^([%w_]+)%-%d+$') or name
+    local base = aliases[name] or name:match('^([%w_]+)%-%d+$') or name
     if allowed[base] then return _ENV[base] end
     error("module '" .. tostring(name) .. "' is not available in gantry: scripts may require "
         .. concat(allowed, ', ') .. " (loading files and C modules is not allowed in the sandbox)", 2)
@@ -242,6 +248,10 @@ end
         allowed.raw_set(i + 1, *name)?;
         allowed.raw_set(*name, true)?;
     }
+    let aliases = lua.create_table()?;
+    for (name, global) in REQUIRE_ALIASES {
+        aliases.raw_set(*name, *global)?;
+    }
     let g = lua.globals();
     let concat = g.get::<Table>("table")?.get::<mlua::Function>("concat")?;
     lua.load(REQUIRE)
@@ -249,6 +259,7 @@ end
         .set_environment(env.clone())
         .call::<()>((
             allowed,
+            aliases,
             g.get::<mlua::Function>("error")?,
             g.get::<mlua::Function>("type")?,
             g.get::<mlua::Function>("tostring")?,

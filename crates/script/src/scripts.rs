@@ -21,6 +21,7 @@ use crate::debugger::DebugHost;
 use crate::directory::{Directory, Entry};
 use crate::hooks::{Hook, HookCaller, SUPPORTED_HOOKS, hook_order};
 use crate::lua_error::error_text;
+use crate::luasocket::Sockets;
 use crate::messages::Mailboxes;
 use crate::running::Running;
 use crate::sandbox::{self, SOURCE_MODE};
@@ -341,6 +342,7 @@ impl ScriptSet {
         s.thread = None;
         state::<Mailboxes>(&self.lua).set_receiver(i, None);
         state::<Directory>(&self.lua).mark_removed(i);
+        state::<Sockets>(&self.lua).close_owned_by(i);
         let name = self.list[i].name.clone();
         self.core.log(400, &name, "script removed (sim.removeScript)");
     }
@@ -443,6 +445,8 @@ impl ScriptSet {
             self.call_hook(i, Hook::Cleanup);
         }
         state::<Mailboxes>(&self.lua).set_receiver(i, None);
+        // The new version binds its ports again.
+        state::<Sockets>(&self.lua).close_owned_by(i);
         let env = match self.make_env(&name) {
             Ok(e) => e,
             Err(e) => {

@@ -33,6 +33,7 @@ use crate::host_api;
 use crate::limits::ScriptLimits;
 use crate::listeners::{ListenerState, Listeners};
 use crate::lua_error::{ScriptError, error_text};
+use crate::luasocket::{self, Sockets};
 use crate::messages::Mailboxes;
 use crate::models::{self, LoadedModel, Models};
 use crate::running::Running;
@@ -60,7 +61,7 @@ impl Simulation {
     /// # Errors
     /// The Lua state could not be created.
     pub fn new(model: SceneModel, limits: ScriptLimits) -> Result<Self, ScriptError> {
-        let lua = new_state(limits).map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
+        let lua = new_state(&limits).map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
         Self::build(lua, model, limits, None)
     }
 
@@ -71,7 +72,7 @@ impl Simulation {
     /// The Lua state could not be created.
     pub fn with_debugger(model: SceneModel, limits: ScriptLimits, link: DebugLink) -> Result<Self, ScriptError> {
         let (lua, libs) =
-            new_debuggable_state(limits).map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
+            new_debuggable_state(&limits).map_err(|e| ScriptError(format!("cannot create the Lua state: {e}")))?;
         let host =
             DebugHost::new(&lua, libs, link).map_err(|e| ScriptError(format!("cannot start the debugger: {e}")))?;
         Self::build(lua, model, limits, Some(host))
@@ -97,12 +98,16 @@ impl Simulation {
         app_state::install(&lua, Mailboxes::default());
         app_state::install(&lua, PendingControl::default());
         app_state::install(&lua, Models::default());
+        let sockets = Sockets::new(limits.network.clone());
+        sockets.clear_interrupt();
+        app_state::install(&lua, sockets);
         let debugging = debugger.is_some();
         if let Some(host) = debugger {
             app_state::install(&lua, host);
         }
         let listeners = Rc::new(RefCell::new(ListenerState::default()));
         host_api::install(&lua, &listeners).map_err(|e| ScriptError(format!("cannot install the sim API: {e}")))?;
+        luasocket::install(&lua).map_err(|e| ScriptError(format!("cannot install LuaSocket: {e}")))?;
         budget::install(&lua, debugging).map_err(|e| ScriptError(format!("cannot install the time budget: {e}")))?;
         let debug_call = if debugging {
             Some(
@@ -202,6 +207,9 @@ impl Simulation {
 
     /// Starts (or resumes) the simulation; runs `sysCall_init` of scripts not yet initialised.
     pub fn start(&mut self) {
+        // An interrupt left by a request that did not stop (a scene that failed to
+        // load) must not cut the new run's first wait short.
+        state::<Sockets>(&self.lua).clear_interrupt();
         match self.state() {
             SimulationState::Stopped => {
                 self.scripts.call_hook_everywhere(Hook::BeforeSimulation);
@@ -254,11 +262,16 @@ impl Simulation {
     /// Stops: runs every script's `sysCall_cleanup`, then restores the scene's initial
     /// state (world and scripts are rebuilt from the scene model).
     pub fn stop(&mut self) {
+        // The stop asked for is being served (even when already stopped).
+        state::<Sockets>(&self.lua).clear_interrupt();
         if self.state() == SimulationState::Stopped {
             return;
         }
         self.core.borrow_mut().advancing = Advancing::AboutToStop;
         self.cleanup();
+        // The run's scripts are gone, and so are their sockets: the scripts about to
+        // load bind the same ports again, as CoppeliaSim's fresh Lua states do.
+        state::<Sockets>(&self.lua).close_all();
         // Legacy remote API servers started during the run end with it, as in CoppeliaSim.
         self.listeners.borrow_mut().simulation_ended();
         // What cleanup hooks asked for: a removal ends with the run (the scene comes back
@@ -291,6 +304,19 @@ impl Simulation {
         if ended {
             self.scripts.call_hook_everywhere(Hook::AfterSimulation);
         }
+    }
+
+    /// The addresses scripts listen on now through LuaSocket (`socket.bind`), e.g. to
+    /// find the port a script got when its port is mapped to 0.
+    pub fn script_listeners(&self) -> Vec<std::net::SocketAddr> {
+        state::<Sockets>(&self.lua).listening()
+    }
+
+    /// Closes every socket the scripts opened (LuaSocket), for a simulation about to be
+    /// replaced by another scene's: its ports are free when this returns. A script that
+    /// uses one afterwards gets LuaSocket's `"closed"`.
+    pub fn close_sockets(&self) {
+        state::<Sockets>(&self.lua).close_all();
     }
 
     /// The simulation state.
@@ -349,7 +375,7 @@ impl Simulation {
 /// Compiles every script of a scene without running it, for `gantry check`.
 /// Returns one message per script that does not compile, with file and line.
 pub fn check_syntax(model: &SceneModel) -> Vec<String> {
-    let Ok(lua) = new_state(ScriptLimits::default()) else {
+    let Ok(lua) = new_state(&ScriptLimits::default()) else {
         return vec!["cannot create a Lua state".into()];
     };
     model

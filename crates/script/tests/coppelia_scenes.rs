@@ -10,7 +10,7 @@ mod util;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_script::{ScriptLimits, ScriptState, Simulation, uses_luasocket};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 
 /// Simulated time each scene runs, s (the measure).
@@ -36,7 +36,7 @@ fn generated(source: &str) -> bool {
 /// Scripts that wait for a network client in their hooks (LuaSocket servers), which a
 /// run with no client would wait on for ever; `blue_robot.rs` runs them with one.
 fn serves_sockets(source: &str) -> bool {
-    source.contains("socket.bind") || source.contains("require(\"socket\")") || source.contains("require('socket')")
+    uses_luasocket(source)
 }
 
 /// What happened to one script: `None` when it ran clean, else its first error.

@@ -96,8 +96,9 @@ refused! {
     os_exit_is_absent: "os.exit(0)" => ["attempt to call a nil value", "exit"];
     os_getenv_is_absent: "return os.getenv('HOME')" => ["attempt to call a nil value", "getenv"];
     os_tmpname_is_absent: "return os.tmpname()" => ["attempt to call a nil value", "tmpname"];
-    require_of_a_c_module_is_refused: "return require('socket.core')"
-        => ["module 'socket.core' is not available in gantry", "loading files and C modules is not allowed"];
+    // LuaFileSystem, a C module (`socket.core` is served now: gantry's LuaSocket subset).
+    require_of_a_c_module_is_refused: "return require('lfs')"
+        => ["module 'lfs' is not available in gantry", "loading files and C modules is not allowed"];
     require_of_a_file_is_refused: "return require('../../etc/passwd')" => ["is not available in gantry"];
     package_loadlib_is_absent: "return package.loadlib('libc.so.6', 'system')" => ["global 'package'"];
     package_cpath_is_absent: "package.cpath = '/tmp/?.so'" => ["global 'package'"];

@@ -214,6 +214,11 @@ pub fn start(
         .build()
         .map_err(ServerError::Runtime)?;
     let (handle, rx) = channel();
+    // A stop or a new scene asked for while a script waits in a LuaSocket call ends
+    // the wait, so the request is served.
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let handle = handle.interrupting(interrupt.clone());
+    sim.limits.network.interrupt = Some(interrupt);
     let (stop_tx, stop_rx) = watch::channel(false);
     let (debug_hub, debug_link) = match serve.dap_port {
         Some(_) => {
@@ -370,6 +375,20 @@ pub fn start(
             tracing::warn!("second signal: exiting without cleanup");
             std::process::exit(130);
         });
+    }
+    // Scripts' LuaSocket calls: a blocked `accept` gives up when the run is asked to
+    // stop, and a `bind` that finds one of these ports taken says it is gantry's.
+    sim.limits.network.stop = Some(shutdown.0.clone());
+    for (addr, what) in [
+        (bound.text, "text channel (--text-port)"),
+        (bound.zmq, "ZMQ remote API (--zmq-port)"),
+        (bound.legacy, "legacy remote API (--legacy-port)"),
+        (bound.http, "viewer (--http-port)"),
+        (bound.dap, "debugger (--debug=PORT)"),
+    ] {
+        if let Some(a) = addr {
+            sim.limits.network.gantry_ports.push((a.port(), what.to_owned()));
+        }
     }
     let sim_shutdown = shutdown.clone();
     let sim_thread = std::thread::Builder::new()

@@ -7,6 +7,8 @@
 //! next 50 ms step.
 
 use std::collections::VecDeque;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::time::{Duration, Instant};
 
@@ -114,14 +116,47 @@ pub enum SendError {
 #[derive(Clone)]
 pub struct SimHandle {
     tx: SyncSender<Request>,
+    /// Set when a request that stops the simulation is queued, so that a script blocked
+    /// in a LuaSocket call gives up and the request is served (see
+    /// [`gantry_script::NetworkParams::interrupt`]); the Lua host clears it.
+    interrupt: Option<Arc<AtomicBool>>,
+}
+
+/// Whether `req` stops the running simulation (a stop, or another scene).
+fn stops_the_simulation(req: &Request) -> bool {
+    use gantry_sim_core::sim::Control;
+    matches!(
+        req,
+        Request::Control {
+            action: LoopControl::Control(Control::Stop),
+            ..
+        } | Request::Remote {
+            op: RemoteOp::Control(Control::Stop),
+            ..
+        } | Request::LoadScene { .. }
+    )
 }
 
 impl SimHandle {
+    /// This handle, and its clones, set `flag` when they queue a request that stops the
+    /// simulation (see [`SimHandle::send`]); the runner passes the same flag to the Lua
+    /// host as [`gantry_script::NetworkParams::interrupt`].
+    #[must_use]
+    pub fn interrupting(mut self, flag: Arc<AtomicBool>) -> Self {
+        self.interrupt = Some(flag);
+        self
+    }
+
     /// Queues a request without blocking.
     ///
     /// # Errors
     /// [`SendError::Busy`] when the queue is full, [`SendError::Closed`] after shutdown.
     pub fn send(&self, req: Request) -> Result<(), SendError> {
+        if let Some(flag) = &self.interrupt
+            && stops_the_simulation(&req)
+        {
+            flag.store(true, Ordering::SeqCst);
+        }
         self.tx.try_send(req).map_err(|e| match e {
             TrySendError::Full(_) => SendError::Busy,
             TrySendError::Disconnected(_) => SendError::Closed,
@@ -235,7 +270,7 @@ impl Observer for () {
 /// [`run_sim_thread`].
 pub fn channel() -> (SimHandle, Receiver<Request>) {
     let (tx, rx) = mpsc::sync_channel(QUEUE_CAPACITY);
-    (SimHandle { tx }, rx)
+    (SimHandle { tx, interrupt: None }, rx)
 }
 
 /// The simulation loop. Runs until `config.steps` is reached, `should_stop` returns
