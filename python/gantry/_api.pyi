@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 214 functions, 160 constants."""
+    """`sim`: 215 functions, 161 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -59,6 +59,7 @@ class Sim:
     handle_tree: int
     handle_world: int
     handleflag_addmultiple: int
+    handleflag_reljointbaseframe: int
     handleflag_resetforce: int
     handleflag_resetforcetorque: int
     handleflag_resettorque: int
@@ -280,6 +281,8 @@ class Sim:
     def getObjectQuaternion(self, *args: Any) -> Any: ...
     def getObjectSel(self, *args: Any) -> Any:
         """the selection is the viewer's: a click on an object selects it (a click on nothing clears it)."""
+    def getObjectSelection(self, *args: Any) -> Any:
+        """4.1's name for `sim.getObjectSel`, kept with its 4.1 result: `nil` when nothing is selected."""
     def getObjectSizeFactor(self, *args: Any) -> Any:
         """always 1 (objects are never scaled)."""
     def getObjectType(self, *args: Any) -> Any: ...

@@ -115,7 +115,9 @@ struct Posed {
 
 fn posed(a: &Args<'_>) -> Result<Posed, ApiError> {
     let raw = a.handle(0)?;
-    let joint_base = raw > 0 && raw & HANDLEFLAG_REL_JOINT_BASE_FRAME != 0;
+    // Only a handle below the flag's bit with the flag added: any other number is a
+    // handle, reported as it was given when it names nothing.
+    let joint_base = (HANDLEFLAG_REL_JOINT_BASE_FRAME..2 * HANDLEFLAG_REL_JOINT_BASE_FRAME).contains(&raw);
     Ok(Posed {
         object: if joint_base {
             raw & !HANDLEFLAG_REL_JOINT_BASE_FRAME
