@@ -8,7 +8,7 @@ use std::cell::RefCell;
 use std::path::Path;
 
 use gantry_sim_core::Handle;
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, ObjectModelKind, SceneModel, ScriptModel, load_model};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_model};
 use mlua::{Function, Lua, Table, Value as LuaValue};
 
 use crate::app_state::state;
@@ -84,26 +84,12 @@ impl Models {
 
 /// Appends a loaded model's objects and scripts to `scene` (indices moved past the
 /// scene's), so that a stop rebuilds them; returns the offset.
-pub(crate) fn merge_into(scene: &mut SceneModel, model: SceneModel) -> usize {
+pub(crate) fn merge_into(scene: &mut SceneModel, mut model: SceneModel) -> usize {
     let offset = scene.objects.len();
-    for mut o in model.objects {
-        o.parent = o.parent.map(|p| p + offset);
-        if let ObjectModelKind::Joint(j) = &mut o.kind
-            && let Some(m) = &mut j.mimic
-        {
-            m.leader += offset;
-        }
-        scene.objects.push(o);
-    }
-    scene
-        .dummy_links
-        .extend(model.dummy_links.iter().map(|[a, b]| [a + offset, b + offset]));
-    for s in model.scripts {
-        scene.scripts.push(ScriptModel {
-            object: s.object + offset,
-            ..s
-        });
-    }
+    model.offset_indices(offset);
+    scene.objects.extend(model.objects);
+    scene.scripts.extend(model.scripts);
+    scene.dummy_links.extend(model.dummy_links);
     offset
 }
 

@@ -1,9 +1,7 @@
 //! The floor gantry adds under what has none of its own: a bare URDF robot, a
 //! CoppeliaSim model (`.ttm`), and a scene file's `[floor]` section.
 
-use super::model::{
-    GeomModel, Geometry, MassModel, ObjectModel, ObjectModelKind, ScriptModel, ShapeModel, VisualModel,
-};
+use super::model::{GeomModel, Geometry, MassModel, ObjectModel, ObjectModelKind, SceneModel, ShapeModel, VisualModel};
 use crate::math::Pose;
 
 /// Side of the floor under a bare robot or model, m.
@@ -41,30 +39,11 @@ pub(super) fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> Ob
     }
 }
 
-/// `objects` (a robot or model, in hierarchy order) on a 5 x 5 m floor. The floor
-/// becomes object 0, so every index into `objects` moves up by one: parents, mimic
-/// leaders, the objects `scripts` are attached to and the dummies of `links`.
-pub(super) fn on_floor(
-    objects: Vec<ObjectModel>,
-    scripts: &mut [ScriptModel],
-    links: &mut [[usize; 2]],
-) -> Vec<ObjectModel> {
-    let mut out = Vec::with_capacity(objects.len() + 1);
-    out.push(floor_object([DEFAULT_SIDE, DEFAULT_SIDE], 1.0, [0.55, 0.55, 0.5]));
-    out.extend(objects.into_iter().map(|mut o| {
-        o.parent = o.parent.map(|p| p + 1);
-        if let ObjectModelKind::Joint(j) = &mut o.kind
-            && let Some(m) = &mut j.mimic
-        {
-            m.leader += 1;
-        }
-        o
-    }));
-    for s in scripts {
-        s.object += 1;
-    }
-    for pair in links.iter_mut().flatten() {
-        *pair += 1;
-    }
-    out
+/// Puts a robot or model on a 5 x 5 m floor, which becomes object 0 (every index of
+/// the model moves up by one).
+pub(super) fn put_on_floor(model: &mut SceneModel) {
+    model.offset_indices(1);
+    model
+        .objects
+        .insert(0, floor_object([DEFAULT_SIDE, DEFAULT_SIDE], 1.0, [0.55, 0.55, 0.5]));
 }

@@ -12,7 +12,7 @@ use toml::Spanned;
 use super::coppelia::load_coppelia_file;
 use super::error::{LoadError, line_col};
 use super::files::{Files, normalize, stem};
-use super::floor::{floor_object, on_floor};
+use super::floor::{floor_object, put_on_floor};
 use super::model::{
     Geometry, JointMode, JointModel, JointType, MAX_VISION_RESOLUTION, MassModel, ObjectModel, ObjectModelKind,
     ProximityModel, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
@@ -76,18 +76,19 @@ pub fn load_scene(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
 
 /// A URDF on a 5 x 5 m floor, base fixed unless `opts.free_base` (PyBullet's `useFixedBase`).
 fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
-    let (robot, warnings) = load_urdf_objects(files, path, opts)?;
-    let mut scripts = Vec::new();
-    Ok(SceneModel {
+    let (objects, warnings) = load_urdf_objects(files, path, opts)?;
+    let mut model = SceneModel {
         name: stem(path),
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
         settings: SimSettings::default(),
         server: ServerSettings::default(),
-        objects: on_floor(robot, &mut scripts, &mut []),
-        scripts,
+        objects,
+        scripts: Vec::new(),
         dummy_links: Vec::new(),
         warnings: dedup(warnings),
-    })
+    };
+    put_on_floor(&mut model);
+    Ok(model)
 }
 
 /// A URDF robot's objects on their own (no floor), its base fixed unless

@@ -33,6 +33,28 @@ pub struct SceneModel {
     pub warnings: Vec<String>,
 }
 
+impl SceneModel {
+    /// Moves every object index by `by`, as when `by` objects are put in front of this
+    /// model's: parents, mimic leaders, the objects scripts are attached to and the
+    /// dummies of the loop closures.
+    pub fn offset_indices(&mut self, by: usize) {
+        for o in &mut self.objects {
+            o.parent = o.parent.map(|p| p + by);
+            if let ObjectModelKind::Joint(j) = &mut o.kind
+                && let Some(m) = &mut j.mimic
+            {
+                m.leader += by;
+            }
+        }
+        for s in &mut self.scripts {
+            s.object += by;
+        }
+        for i in self.dummy_links.iter_mut().flatten() {
+            *i += by;
+        }
+    }
+}
+
 /// Simulation settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimSettings {

@@ -49,6 +49,13 @@ impl Fault {
     }
 }
 
+/// Stops a body where it is: no velocity, out of the simulation until re-enabled.
+fn halt(rb: &mut RigidBody) {
+    rb.set_linvel(Vector::ZERO, false);
+    rb.set_angvel(Vector::ZERO, false);
+    rb.set_enabled(false);
+}
+
 fn check(rb: &RigidBody) -> Option<Fault> {
     let (p, v, w) = (rb.translation(), rb.linvel(), rb.angvel());
     if !(p.is_finite() && v.is_finite() && w.is_finite() && rb.rotation().is_finite()) {
@@ -111,9 +118,7 @@ impl World {
         }
         for &b in &stopped {
             if let Some(rb) = physics.bodies.get_mut(b) {
-                rb.set_linvel(Vector::ZERO, false);
-                rb.set_angvel(Vector::ZERO, false);
-                rb.set_enabled(false);
+                halt(rb);
             }
         }
         let t = self.time();
@@ -170,9 +175,7 @@ impl World {
                 if let Some(rb) = physics.bodies.get_mut(b) {
                     // Quarantined bodies are already disabled (and rolled back) by rapier.
                     newly_stopped |= rb.is_enabled() || b == h;
-                    rb.set_linvel(Vector::ZERO, false);
-                    rb.set_angvel(Vector::ZERO, false);
-                    rb.set_enabled(false);
+                    halt(rb);
                 }
             }
             if newly_stopped {

@@ -36,7 +36,7 @@ use std::path::{Path, PathBuf};
 use gantry_coppelia_file as cf;
 
 use super::files::{Files, stem};
-use super::floor::on_floor;
+use super::floor::put_on_floor;
 use super::model::*;
 use super::urdf::{DEFAULT_KD, DEFAULT_KP};
 use super::{LoadError, ServerSettings};
@@ -87,8 +87,7 @@ pub fn load_coppelia_file(files: &dyn Files, path: &Path) -> Result<SceneModel, 
     })?;
     let (mut model, report) = load_coppelia(&bytes, path)?;
     if report.is_model {
-        let objects = std::mem::take(&mut model.objects);
-        model.objects = on_floor(objects, &mut model.scripts, &mut model.dummy_links);
+        put_on_floor(&mut model);
     }
     Ok(model)
 }
