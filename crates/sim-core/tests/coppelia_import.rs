@@ -436,3 +436,97 @@ fn blue_robot_and_the_fk_arm_put_the_tip_in_the_same_place() {
         assert!(d < 1e-3, "q = {q:?}: the tips are {d} m apart");
     }
 }
+
+/// Thymio's ground sensors are pyramid volumes looking down: on the floor `gantry run`
+/// gives a model, each sees the floor straight below it, at its own height.
+#[test]
+fn thymio_ground_sensors_see_the_floor_below_them() {
+    let file = folder().join("coppeliasi__thymio.ttm");
+    if !file.is_file() {
+        println!("{} not found; skipped", file.display());
+        return;
+    }
+    let mut model = load_scene(&DiskFiles, &file, &LoadOptions::default()).expect("loads");
+    // gantry's floor is not detectable (as CoppeliaSim's default floor); make it a mat the
+    // ground sensors can see, as a line-following course would be.
+    let ObjectModelKind::Shape(floor) = &mut model.objects[0].kind else {
+        panic!("the floor comes first");
+    };
+    floor.detectable = true;
+    let pyramids: Vec<usize> = (0..model.objects.len())
+        .filter(|&k| {
+            matches!(
+                model.objects[k].kind,
+                ObjectModelKind::ProximitySensor(gantry_sim_core::scene::ProximityModel::Pyramid { .. })
+            )
+        })
+        .collect();
+    assert!(pyramids.len() >= 7, "{} pyramid sensors", pyramids.len());
+    let mut sim = Sim::new(&model);
+    for _ in 0..20 {
+        sim.step();
+    }
+    let mut ground = 0;
+    for &k in &pyramids {
+        let alias = model.objects[k].alias.clone();
+        let h = k as i64;
+        let ctx = CallContext::default();
+        api::call(&mut sim, &ctx, "sim.handleProximitySensor", &[Value::Int(h)]).expect("handled");
+        let read = api::call(&mut sim, &ctx, "sim.readProximitySensor", &[Value::Int(h)]).expect("read");
+        let world = sim.world.object(h as _).expect("sensor").world;
+        let look = world.rotation * nalgebra::Vector3::z();
+        println!("{alias}: looks {look:.3?}: {:?}", read.get(..2));
+        if alias.starts_with("Ground") {
+            ground += 1;
+            assert!(look.z < -0.99, "{alias} looks down");
+            let height = world.translation.vector.z;
+            let Some(Value::Float(distance)) = read.get(1) else {
+                panic!("{alias} sees nothing {height} m above the floor: {read:?}");
+            };
+            // The floor's top face is at z = 0; the nearest floor point in the volume is
+            // straight below (or 1 mm off it while the robot settles).
+            assert!(
+                (distance - height / -look.z).abs() < 1.0e-3,
+                "{alias}: {distance} m at {height} m"
+            );
+        }
+    }
+    assert_eq!(ground, 2, "GroundLeft and GroundRight");
+
+    // A wall 3 cm ahead of the centre sensor, facing it: seen at 3 cm.
+    let centre = sim.world.find("/ProximityCenter", None, 0).expect("centre sensor");
+    let pose = sim.world.object(centre).expect("sensor").world;
+    let ahead = pose.rotation * nalgebra::Vector3::z();
+    let ctx = CallContext::default();
+    let wall = api::call(
+        &mut sim,
+        &ctx,
+        "sim.createPrimitiveShape",
+        &[
+            Value::Int(3),
+            Value::Array(vec![Value::Float(0.2), Value::Float(0.2), Value::Float(0.01)]),
+        ],
+    )
+    .expect("wall");
+    let centre_of_wall = pose.translation.vector + ahead * 0.035;
+    let tilt = nalgebra::UnitQuaternion::rotation_between(&nalgebra::Vector3::z(), &ahead).expect("rotation");
+    let matrix = gantry_sim_core::math::pose_to_matrix12(&nalgebra::Isometry3::from_parts(centre_of_wall.into(), tilt));
+    api::call(
+        &mut sim,
+        &ctx,
+        "sim.setObjectMatrix",
+        &[
+            wall[0].clone(),
+            Value::Int(-1),
+            Value::Array(matrix.map(Value::Float).to_vec()),
+        ],
+    )
+    .expect("placed");
+    let h = Value::Int(centre as i64);
+    api::call(&mut sim, &ctx, "sim.handleProximitySensor", std::slice::from_ref(&h)).expect("handled");
+    let read = api::call(&mut sim, &ctx, "sim.readProximitySensor", &[h]).expect("read");
+    let Some(Value::Float(distance)) = read.get(1) else {
+        panic!("the centre sensor misses the wall: {read:?}");
+    };
+    assert!((distance - 0.03).abs() < 1.0e-5, "wall at {distance} m");
+}

@@ -238,3 +238,67 @@ fn set_vision_sensor_char_image_writes_what_readers_get() {
         "{e}"
     );
 }
+
+/// The pyramid, cylinder and disc volumes from a TOML scene: each sees a wall ahead
+/// (behind, for the ring) at its distance, and `sim.proxintparam_volume_type` names it.
+#[test]
+fn pyramid_cylinder_and_disc_sensors_from_toml() {
+    let text = r#"
+[[object]]
+name = "wall"
+kind = "shape"
+shape = "box"
+size = [1.0, 1.0, 0.02]
+position = [0.0, 0.0, 0.31]
+
+[[object]]
+name = "pyramid"
+kind = "proximity_sensor"
+sensor = "pyramid"
+range = 0.5
+size_near = [0.01, 0.01]
+size_far = [0.2, 0.1]
+
+[[object]]
+name = "cylinder"
+kind = "proximity_sensor"
+sensor = "cylinder"
+offset = 0.05
+range = 0.5
+radius = 0.02
+
+[[object]]
+name = "ring"
+kind = "proximity_sensor"
+sensor = "disc"
+offset = 0.1
+range = 0.4
+thickness = 0.02
+orientation_deg = [0.0, 180.0, 0.0]
+"#;
+    let path = std::path::Path::new("volumes.toml");
+    let opts = gantry_sim_core::scene::LoadOptions::default();
+    let mut w = util::text_scene("volumes.toml", text);
+    for (name, volume_type) in [("/pyramid", 0), ("/cylinder", 1), ("/ring", 2)] {
+        let h = find(&w, name, 0);
+        let r = util::ok(&mut w, "sim.handleProximitySensor", &[Value::Int(h)]);
+        assert_eq!(r[0], Value::Int(1), "{name} sees the wall: {r:?}");
+        assert!((distance(&r) - 0.3).abs() < 1.0e-6, "{name}: {r:?}");
+        let t = util::ok(&mut w, "sim.getObjectInt32Param", &[Value::Int(h), Value::Int(4001)]);
+        assert_eq!(t, vec![Value::Int(volume_type)], "{name}");
+    }
+
+    // Each volume's own parameters are checked, with the object named.
+    for (bad, says) in [
+        ("sensor = \"pyramid\"", "needs size_far"),
+        ("sensor = \"cylinder\"\nradius = 0.0", "radius and radius_far"),
+        ("sensor = \"disc\"\nangle_deg = 400.0", "angle_deg in (0, 360]"),
+        ("sensor = \"prism\"", "use ray, cone, pyramid, cylinder or disc"),
+    ] {
+        let text = format!("[[object]]\nname = \"s\"\nkind = \"proximity_sensor\"\n{bad}\n");
+        let e = gantry_sim_core::scene::load_scene_text(&gantry_sim_core::scene::DiskFiles, &text, path, &opts)
+            .expect_err(bad)
+            .to_string();
+        assert!(e.contains(says), "{bad}: {e}");
+    }
+}

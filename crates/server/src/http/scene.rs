@@ -97,6 +97,27 @@ pub fn describe(world: &World) -> SceneDescription {
                         range,
                         half_angle,
                     } => json!({"shape": "cone", "offset": offset, "range": range, "half_angle": half_angle}),
+                    ProximityModel::Pyramid {
+                        offset,
+                        range,
+                        near_size,
+                        far_size,
+                    } => json!({"shape": "pyramid", "offset": offset, "range": range,
+                                "near_size": near_size, "far_size": far_size}),
+                    ProximityModel::Cylinder {
+                        offset,
+                        range,
+                        radius,
+                        radius_far,
+                    } => json!({"shape": "cylinder", "offset": offset, "range": range,
+                                "radius": radius, "radius_far": radius_far}),
+                    ProximityModel::Disc {
+                        offset,
+                        range,
+                        half_angle,
+                        thickness,
+                    } => json!({"shape": "disc", "offset": offset, "range": range,
+                                "half_angle": half_angle, "thickness": thickness}),
                 };
             }
             ObjectKind::VisionSensor(v) => {

@@ -79,6 +79,37 @@ export function coneVolume(offset, range, halfAngle) {
   return lathe([[z0 * t, z0, n[0], n[1]], [z1 * t, z1, n[0], n[1]], [z1 * t, z1, 0, 1], [0, z1, 0, 1]], 24);
 }
 
+// Edges (pairs of points, for gl.LINES) of a pyramid, cylinder or disc proximity volume,
+// the sensor frame's +Z ahead: the shapes `sensor/proximity_volume/polytope.rs` detects in.
+export function volumeEdges(p) {
+  const out = [];
+  const seg = (a, b) => out.push(...a, ...b);
+  const ring = (pt, n, closed) => {
+    for (let i = 0; i < n - (closed ? 0 : 1); i++) seg(pt(i), pt((i + 1) % n));
+  };
+  if (p.shape === 'pyramid') {
+    const z0 = p.offset, z1 = p.offset + p.range;
+    const c = [[-1, -1], [1, -1], [1, 1], [-1, 1]];
+    const near = (i) => [c[i][0] * p.near_size[0] / 2, c[i][1] * p.near_size[1] / 2, z0];
+    const far = (i) => [c[i][0] * p.far_size[0] / 2, c[i][1] * p.far_size[1] / 2, z1];
+    ring(near, 4, true); ring(far, 4, true);
+    for (let i = 0; i < 4; i++) seg(near(i), far(i));
+  } else if (p.shape === 'cylinder') {
+    const n = 32, z0 = p.offset, z1 = p.offset + p.range;
+    const at = (r, z) => (i) => [r * Math.cos(2 * Math.PI * i / n), r * Math.sin(2 * Math.PI * i / n), z];
+    ring(at(p.radius, z0), n, true); ring(at(p.radius_far, z1), n, true);
+    for (let i = 0; i < n; i += 8) seg(at(p.radius, z0)(i), at(p.radius_far, z1)(i));
+  } else if (p.shape === 'disc') {
+    const n = 33, a = p.half_angle, r0 = p.offset, r1 = p.offset + p.range;
+    for (const y of [-p.thickness / 2, p.thickness / 2]) {
+      const at = (r) => (i) => { const t = -a + 2 * a * i / (n - 1); return [r * Math.sin(t), y, r * Math.cos(t)]; };
+      ring(at(r0), n, false); ring(at(r1), n, false);
+      seg(at(r0)(0), at(r1)(0)); seg(at(r0)(n - 1), at(r1)(n - 1));
+    }
+  }
+  return out;
+}
+
 // Smooth normals for an indexed mesh (vertex normals averaged over faces).
 export function meshNormals(pos, idx) {
   const nrm = new Float32Array(pos.length);

@@ -5,7 +5,7 @@
 import { S, changed } from './state.js';
 import { M4 } from './math.js';
 import { gl, makeDrawable, makeCloudDrawable, freeDrawable } from './gl.js';
-import { boxGeometry, sphereGeometry, cylinderGeometry, capsuleGeometry, coneVolume, meshNormals } from './geometry.js';
+import { boxGeometry, sphereGeometry, cylinderGeometry, capsuleGeometry, coneVolume, volumeEdges, meshNormals } from './geometry.js';
 import { fitCamera } from './camera.js';
 import { buildTree } from './panels/selection.js';
 import { buildJointPanels } from './panels/joints.js';
@@ -34,9 +34,14 @@ export function onScene(msg) {
     }
     if (o.proximity && gl) {
       const p = o.proximity;
-      obj.volume = p.shape === 'cone'
-        ? (() => { const g = coneVolume(p.offset, p.range, p.half_angle); return makeDrawable(g.pos, g.nrm); })()
-        : makeDrawable([0, 0, p.offset, 0, 0, p.offset + p.range], null, null, gl.LINES);
+      if (p.shape === 'cone') {
+        const g = coneVolume(p.offset, p.range, p.half_angle);
+        obj.volume = makeDrawable(g.pos, g.nrm);
+      } else if (p.shape === 'ray') {
+        obj.volume = makeDrawable([0, 0, p.offset, 0, 0, p.offset + p.range], null, null, gl.LINES);
+      } else {
+        obj.volume = makeDrawable(volumeEdges(p), null, null, gl.LINES);
+      }
     }
     return obj;
   });

@@ -203,8 +203,11 @@ pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (VISION_RES_X, ObjectKind::VisionSensor(v)) => Some(i64::from(v.resolution[0])),
         (VISION_RES_Y, ObjectKind::VisionSensor(v)) => Some(i64::from(v.resolution[1])),
         (PROX_VOLUME_TYPE, ObjectKind::ProximitySensor(p)) => Some(match p.volume {
-            ProximityModel::Ray { .. } => 4,
+            ProximityModel::Pyramid { .. } => 0,
+            ProximityModel::Cylinder { .. } => 1,
+            ProximityModel::Disc { .. } => 2,
             ProximityModel::Cone { .. } => 3,
+            ProximityModel::Ray { .. } => 4,
         }),
         (JOINT_MOTOR_ENABLED, ObjectKind::Joint(j)) => {
             Some(i64::from(j.mode.is_dynamic() && j.mode != JointMode::Free))

@@ -437,7 +437,7 @@ impl Resolver<'_> {
 
     fn object(&mut self, o: &RawObject, parent: Option<usize>) -> Result<usize, LoadError> {
         let here = o.name.span();
-        let nums: [(&str, Option<f64>); 12] = [
+        let nums: [(&str, Option<f64>); 14] = [
             ("radius", o.radius),
             ("length", o.length),
             ("mass", o.mass),
@@ -450,6 +450,8 @@ impl Resolver<'_> {
             ("range", o.range),
             ("offset", o.offset),
             ("near", o.near),
+            ("radius_far", o.radius_far),
+            ("thickness", o.thickness),
         ];
         for (key, v) in nums {
             if let Some(v) = v
@@ -702,9 +704,75 @@ impl Resolver<'_> {
                     half_angle: (angle / 2.0).to_radians(),
                 })
             }
+            Some((_, "pyramid")) => {
+                let near_size = o.size_near.unwrap_or([0.0, 0.0]);
+                let Some(far_size) = o.size_far else {
+                    return self.err_at(
+                        o.name.span(),
+                        format!(
+                            "pyramid proximity sensor '{}' needs size_far = [x, y] (m)",
+                            o.name.get_ref()
+                        ),
+                    );
+                };
+                let sizes = near_size.iter().chain(&far_size);
+                if !sizes.clone().all(|&w| w >= 0.0) || sizes.sum::<f64>() <= 0.0 {
+                    return self.err_at(
+                        o.name.span(),
+                        format!(
+                            "proximity sensor '{}': size_near and size_far must be >= 0 and not all 0",
+                            o.name.get_ref()
+                        ),
+                    );
+                }
+                Ok(ProximityModel::Pyramid {
+                    offset,
+                    range,
+                    near_size,
+                    far_size,
+                })
+            }
+            Some((_, "cylinder")) => {
+                let radius = o.radius.unwrap_or(0.05);
+                let radius_far = o.radius_far.unwrap_or(radius);
+                if !(radius >= 0.0 && radius_far >= 0.0 && radius + radius_far > 0.0) {
+                    return self.err_at(
+                        o.name.span(),
+                        format!(
+                            "proximity sensor '{}': radius and radius_far must be >= 0 and not both 0",
+                            o.name.get_ref()
+                        ),
+                    );
+                }
+                Ok(ProximityModel::Cylinder {
+                    offset,
+                    range,
+                    radius,
+                    radius_far,
+                })
+            }
+            Some((_, "disc")) => {
+                let angle = o.angle_deg.unwrap_or(360.0);
+                let thickness = o.thickness.unwrap_or(0.01);
+                if !(angle > 0.0 && angle <= 360.0 && thickness > 0.0) {
+                    return self.err_at(
+                        o.name.span(),
+                        format!(
+                            "proximity sensor '{}': a disc needs angle_deg in (0, 360] and thickness > 0",
+                            o.name.get_ref()
+                        ),
+                    );
+                }
+                Ok(ProximityModel::Disc {
+                    offset,
+                    range,
+                    half_angle: (angle / 2.0).to_radians(),
+                    thickness,
+                })
+            }
             Some((s, other)) => self.err_at(
                 s.span(),
-                format!("unknown proximity sensor type '{other}'; use ray or cone"),
+                format!("unknown proximity sensor type '{other}'; use ray, cone, pyramid, cylinder or disc"),
             ),
         }
     }

@@ -388,6 +388,39 @@ pub enum ProximityModel {
         /// Half of the full cone angle, rad.
         half_angle: f64,
     },
+    /// A rectangular pyramid frustum between `z = offset` and `z = offset + range`.
+    Pyramid {
+        /// Distance of the near face, m.
+        offset: f64,
+        /// Depth, m.
+        range: f64,
+        /// Full widths along X and Y of the near face, m.
+        near_size: [f64; 2],
+        /// Full widths along X and Y of the far face, m.
+        far_size: [f64; 2],
+    },
+    /// A cone frustum around +Z between `z = offset` and `z = offset + range`.
+    Cylinder {
+        /// Distance of the near face, m.
+        offset: f64,
+        /// Depth, m.
+        range: f64,
+        /// Radius of the near face, m.
+        radius: f64,
+        /// Radius of the far face, m.
+        radius_far: f64,
+    },
+    /// A fan in the XZ plane around +Z, between the radii `offset` and `offset + range`.
+    Disc {
+        /// Inner radius, m.
+        offset: f64,
+        /// Radial depth, m.
+        range: f64,
+        /// Half of the full opening angle, rad (up to π, a whole ring).
+        half_angle: f64,
+        /// Thickness along Y, m.
+        thickness: f64,
+    },
 }
 
 /// Largest vision-sensor image side, in pixels: the loader, `sim.setObjectInt32Param`

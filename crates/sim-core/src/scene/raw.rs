@@ -142,14 +142,23 @@ pub struct RawObject {
     /// Joint: position/velocity-control damping (N·m·s/rad or N·s/m).
     pub kd: Option<f64>,
 
-    /// Proximity sensor: `ray` or `cone`. It looks along its local +Z axis.
+    /// Proximity sensor: `ray`, `cone`, `pyramid`, `cylinder` or `disc`. It looks along its
+    /// local +Z axis.
     pub sensor: Option<Spanned<String>>,
     /// Proximity sensor: detection range in metres.
     pub range: Option<f64>,
-    /// Proximity sensor: full cone angle in degrees.
+    /// Proximity sensor: full cone or disc angle in degrees.
     pub angle_deg: Option<f64>,
     /// Proximity sensor: distance from the origin where the volume starts, metres.
     pub offset: Option<f64>,
+    /// Pyramid proximity sensor: full widths `[x, y]` of the near face, metres.
+    pub size_near: Option<[f64; 2]>,
+    /// Pyramid proximity sensor: full widths `[x, y]` of the far face, metres.
+    pub size_far: Option<[f64; 2]>,
+    /// Cylinder proximity sensor: radius of the far face, metres (default `radius`).
+    pub radius_far: Option<f64>,
+    /// Disc proximity sensor: thickness along local Y, metres.
+    pub thickness: Option<f64>,
     /// Vision sensor: resolution `[width, height]` in pixels.
     pub resolution: Option<[u32; 2]>,
     /// Vision sensor: perspective field of view in degrees.
@@ -246,6 +255,10 @@ const OBJECT_KEYS: &[&str] = &[
     "range",
     "angle_deg",
     "offset",
+    "size_near",
+    "size_far",
+    "radius_far",
+    "thickness",
     "resolution",
     "fov_deg",
     "near",

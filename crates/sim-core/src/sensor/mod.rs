@@ -1,5 +1,5 @@
-//! Sensors evaluated against the collision world: proximity sensors (exact nearest point
-//! within a ray or cone volume).
+//! Sensors evaluated against the collision world: proximity sensors (the nearest point
+//! within a ray, cone, pyramid, cylinder or disc volume).
 
 mod proximity_volume;
 
@@ -27,6 +27,39 @@ impl From<&ProximityModel> for ProximityVolume {
                 offset: offset as f32,
                 range: range as f32,
                 half_angle: half_angle as f32,
+            },
+            ProximityModel::Pyramid {
+                offset,
+                range,
+                near_size,
+                far_size,
+            } => ProximityVolume::Pyramid {
+                offset: offset as f32,
+                range: range as f32,
+                near_size: near_size.map(|w| w as f32),
+                far_size: far_size.map(|w| w as f32),
+            },
+            ProximityModel::Cylinder {
+                offset,
+                range,
+                radius,
+                radius_far,
+            } => ProximityVolume::Cylinder {
+                offset: offset as f32,
+                range: range as f32,
+                radius: radius as f32,
+                radius_far: radius_far as f32,
+            },
+            ProximityModel::Disc {
+                offset,
+                range,
+                half_angle,
+                thickness,
+            } => ProximityVolume::Disc {
+                offset: offset as f32,
+                range: range as f32,
+                half_angle: half_angle as f32,
+                thickness: thickness as f32,
             },
         }
     }

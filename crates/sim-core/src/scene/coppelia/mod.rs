@@ -12,10 +12,10 @@
 //! | dynamic joints: free, force, velocity, position | the same modes; spring and callback as position |
 //! | dependent joints | kinematic with a [`MimicModel`] |
 //! | spherical joints | fixed (warned) |
-//! | ray and cone proximity sensors | [`ProximityModel`] |
+//! | proximity sensors: ray, cone, pyramid, cylinder, disc | [`ProximityModel`] |
 //! | perspective vision sensors up to 512 px | [`VisionModel`] |
 //! | force sensors, graphs, dummies | the same kinds |
-//! | other proximity and vision sensors, cameras, lights, paths, point cloud, script objects, others | dummies (warned) |
+//! | other vision sensors, cameras, lights, paths, point cloud, script objects, others | dummies (warned) |
 //! | Lua child and customization scripts | [`ScriptModel`] on their object, old ones updated (`old_scripts.rs`) |
 //! | main scripts | dropped (gantry runs its own loop; a custom one is warned) |
 //! | Python, disabled scripts | dropped (warned) |
@@ -228,10 +228,41 @@ fn convert_kind(
                 range,
                 half_angle: angle / 2.0,
             }),
-            other => as_dummy(format!(
-                "proximity sensor volume {} has no gantry equivalent",
-                volume_name(&other)
-            )),
+            cf::ProximityVolume::Pyramid {
+                offset,
+                range,
+                near_size,
+                far_size,
+            } => ObjectModelKind::ProximitySensor(ProximityModel::Pyramid {
+                offset,
+                range,
+                near_size,
+                far_size,
+            }),
+            cf::ProximityVolume::Cylinder {
+                offset,
+                range,
+                radius,
+                radius_far,
+            } => ObjectModelKind::ProximitySensor(ProximityModel::Cylinder {
+                offset,
+                range,
+                radius,
+                radius_far,
+            }),
+            cf::ProximityVolume::Disc {
+                offset,
+                range,
+                angle,
+                thickness,
+                ..
+            } => ObjectModelKind::ProximitySensor(ProximityModel::Disc {
+                offset,
+                range,
+                half_angle: (angle / 2.0).min(std::f64::consts::PI),
+                thickness,
+            }),
+            cf::ProximityVolume::Other(kind) => as_dummy(format!("proximity sensor volume type {kind} is not known")),
         },
         cf::ObjectKind::VisionSensor(v) => {
             let side = |n: i32| {
@@ -263,17 +294,6 @@ fn convert_kind(
         cf::ObjectKind::Other(tag) => {
             as_dummy(format!("object type {} is not supported", String::from_utf8_lossy(tag)))
         }
-    }
-}
-
-fn volume_name(v: &cf::ProximityVolume) -> &'static str {
-    match v {
-        cf::ProximityVolume::Ray { .. } => "ray",
-        cf::ProximityVolume::Pyramid { .. } => "pyramid",
-        cf::ProximityVolume::Cylinder { .. } => "cylinder",
-        cf::ProximityVolume::Disc { .. } => "disc",
-        cf::ProximityVolume::Cone { .. } => "cone",
-        cf::ProximityVolume::Other(_) => "(unknown)",
     }
 }
 

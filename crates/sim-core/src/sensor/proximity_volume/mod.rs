@@ -18,6 +18,9 @@
 //!   bounded by the lateral cone surface and two spherical caps of radii `offset` (near cap)
 //!   and `offset + range` (far cap). Scene files usually give the *full* opening angle
 //!   (e.g. 30°); pass half of it.
+//! * [`ProximityVolume::Pyramid`], [`ProximityVolume::Cylinder`] and [`ProximityVolume::Disc`]:
+//!   CoppeliaSim's flat-faced volumes, detected on triangles as CoppeliaSim detects them
+//!   (`polytope.rs` says how; the rest of this page is about the ray and the cone).
 //!
 //! # What is detected
 //!
@@ -96,6 +99,7 @@ mod hit;
 mod lateral;
 mod near_cap;
 mod normal;
+mod polytope;
 mod shape_query;
 mod simplex;
 #[cfg(test)]
@@ -110,6 +114,7 @@ use parry3d::shape::Shape;
 use composite::detect_shape;
 use geom::Geom;
 pub use hit::ProximityHit;
+use polytope::Polytope;
 // The composite tests merge detections as the detectors do.
 #[cfg(test)]
 use hit::keep_nearest;
@@ -135,6 +140,41 @@ pub enum ProximityVolume {
         /// Half of the full opening angle (rad), in `(0, π/2)`.
         half_angle: f32,
     },
+    /// Frustum of a rectangular pyramid between `z = offset` and `z = offset + range`, its
+    /// faces `near_size` and `far_size` wide (full widths along X and Y, m). See `polytope.rs`.
+    Pyramid {
+        /// Distance (m) of the near face from the origin, `>= 0`.
+        offset: f32,
+        /// Depth (m), `> 0`.
+        range: f32,
+        /// Full widths (m) along X and Y at `z = offset`.
+        near_size: [f32; 2],
+        /// Full widths (m) along X and Y at `z = offset + range`.
+        far_size: [f32; 2],
+    },
+    /// Frustum of a cone around +Z, faceted, between `z = offset` and `z = offset + range`.
+    Cylinder {
+        /// Distance (m) of the near face from the origin, `>= 0`.
+        offset: f32,
+        /// Depth (m), `> 0`.
+        range: f32,
+        /// Radius (m) at `z = offset`.
+        radius: f32,
+        /// Radius (m) at `z = offset + range`.
+        radius_far: f32,
+    },
+    /// A fan in the XZ plane around +Z, faceted: radii `offset..offset + range` (in that
+    /// plane), within `half_angle` of +Z (up to π, a ring), `thickness` thick along Y.
+    Disc {
+        /// Inner radius (m), `>= 0`.
+        offset: f32,
+        /// Radial depth (m), `> 0`.
+        range: f32,
+        /// Half of the opening angle (rad), in `(0, π]`.
+        half_angle: f32,
+        /// Full thickness (m) along Y, `> 0`.
+        thickness: f32,
+    },
 }
 
 impl ProximityVolume {
@@ -142,6 +182,9 @@ impl ProximityVolume {
     /// cone, `0 < half_angle < π/2` (radians). [`detect`](Self::detect) returns `None` for an
     /// invalid volume.
     pub fn is_valid(&self) -> bool {
+        if let Some(p) = self.polytope() {
+            return p.is_valid();
+        }
         let (offset, range, half_angle) = self.params();
         offset.is_finite()
             && range.is_finite()
@@ -155,6 +198,9 @@ impl ProximityVolume {
     /// the cone's is `[-r, r]² × [offset·cos(half_angle), offset + range]` with
     /// `r = (offset + range)·sin(half_angle)`.
     pub fn local_aabb(&self) -> Aabb {
+        if let Some(p) = self.polytope() {
+            return p.local_aabb();
+        }
         let (offset, range, half_angle) = self.params();
         Geom::new(offset, offset + range, half_angle).aabb()
     }
@@ -167,6 +213,9 @@ impl ProximityVolume {
     /// See the module documentation for the exact semantics (solids versus surfaces, the
     /// near cap) and the method.
     pub fn detect(&self, shape: &dyn Shape, shape_pose: &Pose) -> Option<ProximityHit> {
+        if let Some(p) = self.polytope() {
+            return p.detect(shape, shape_pose);
+        }
         if !self.is_valid() {
             return None;
         }
@@ -177,7 +226,8 @@ impl ProximityVolume {
         best
     }
 
-    /// `(offset, range, half_angle)`, the ray being the cone of half-angle 0.
+    /// `(offset, range, half_angle)` of the ray and the cone, the ray being the cone of
+    /// half-angle 0 (the polytope volumes never get here).
     fn params(&self) -> (f32, f32, f32) {
         match *self {
             Self::Ray { offset, range } => (offset, range, 0.0),
@@ -186,6 +236,48 @@ impl ProximityVolume {
                 range,
                 half_angle,
             } => (offset, range, half_angle),
+            Self::Pyramid { .. } | Self::Cylinder { .. } | Self::Disc { .. } => (0.0, 0.0, 0.0),
+        }
+    }
+
+    /// The pyramid, cylinder and disc as convex pieces, in f64; `None` for the ray and cone.
+    fn polytope(&self) -> Option<Polytope> {
+        let f = f64::from;
+        match *self {
+            Self::Ray { .. } | Self::Cone { .. } => None,
+            Self::Pyramid {
+                offset,
+                range,
+                near_size,
+                far_size,
+            } => Some(Polytope::Pyramid {
+                near: f(offset),
+                far: f(offset) + f(range),
+                near_half: near_size.map(|w| f(w) / 2.0),
+                far_half: far_size.map(|w| f(w) / 2.0),
+            }),
+            Self::Cylinder {
+                offset,
+                range,
+                radius,
+                radius_far,
+            } => Some(Polytope::Cylinder {
+                near: f(offset),
+                far: f(offset) + f(range),
+                radius: f(radius),
+                radius_far: f(radius_far),
+            }),
+            Self::Disc {
+                offset,
+                range,
+                half_angle,
+                thickness,
+            } => Some(Polytope::Disc {
+                inner: f(offset),
+                outer: f(offset) + f(range),
+                half_angle: f(half_angle),
+                half_thickness: f(thickness) / 2.0,
+            }),
         }
     }
 }

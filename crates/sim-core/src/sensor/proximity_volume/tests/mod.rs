@@ -7,6 +7,7 @@ mod fixtures;
 mod half_space;
 mod near_cap;
 mod oracle;
+mod polytope;
 mod stress;
 mod volume;
 
@@ -36,7 +37,7 @@ fn cone_params(vol: &ProximityVolume) -> (f32, f32, f32) {
             range,
             half_angle,
         } => (offset, offset + range, half_angle),
-        ProximityVolume::Ray { .. } => panic!("the oracle handles cones only"),
+        _ => panic!("the oracle handles cones only"),
     }
 }
 

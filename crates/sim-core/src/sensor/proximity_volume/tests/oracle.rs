@@ -265,6 +265,9 @@ pub(super) fn check_hit(vol: &ProximityVolume, shape: &dyn Shape, pose: &Pose, h
             assert!(hit.distance >= offset - 1.0e-6);
             assert!(hit.distance <= offset + range + 1.0e-6);
         }
+        ProximityVolume::Pyramid { .. } | ProximityVolume::Cylinder { .. } | ProximityVolume::Disc { .. } => {
+            panic!("polytope volumes have their own tests (polytope.rs)")
+        }
     }
     let dist = exact_distance(shape, pose, hit.point);
     assert!(
