@@ -354,3 +354,16 @@ fn malformed_urdf_xml_is_an_error_with_file_line_and_column() {
     assert_contains(&load_err(&robot), &["r.urdf", "no <link>"]);
     good_scene_still_loads();
 }
+
+#[test]
+fn solver_iterations_are_read_and_bounded() {
+    let dir = TempDir::new("solver");
+    let scene = dir.write("scene.toml", "[simulation]\nsolver_iterations = 4\n");
+    assert_eq!(load(&scene).expect("loads").settings.solver_iterations, 4);
+    let scene = dir.write("zero.toml", "[simulation]\nsolver_iterations = 0\n");
+    assert_contains(
+        &load_err(&scene),
+        &["zero.toml:2:1:", "solver_iterations = 0: use 1 to 100"],
+    );
+    good_scene_still_loads();
+}

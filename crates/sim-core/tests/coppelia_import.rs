@@ -180,15 +180,10 @@ fn library_arms_hold_their_pose_and_follow_targets() {
             drift = drift.max((p - start).norm());
         }
         println!("{file}: tip drift over 10 s {:.3} mm", drift * 1e3);
-        // Measured: 0.004 mm or less for five arms; the Panda 1.9 mm and the XArm7
-        // 1.5 mm, whose heavy gripper fingers' velocity motors shake the wrist (0.8 mm
-        // with them locked). The issue asks for 1 mm: those two are open.
-        let bound = if matches!(robot, "Panda" | "xarm") {
-            2.5e-3
-        } else {
-            1e-3
-        };
-        assert!(drift < bound, "{file}: the tip moved {drift} m holding its pose");
+        // The issue asks for 1 mm. With one solver pass per substep the Panda and the
+        // XArm7 sagged 1.3 mm (their coupled motors converge slowly); imports use
+        // COPPELIA_SOLVER_ITERATIONS passes.
+        assert!(drift < 1e-3, "{file}: the tip moved {drift} m holding its pose");
 
         // The second joint of the chain (a shoulder or elbow) follows a new target.
         let joint = sim.world.find(&format!("/{robot}/joint{{1}}"), None, 0).or_else(|_| {

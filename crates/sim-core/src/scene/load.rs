@@ -256,6 +256,15 @@ impl Resolver<'_> {
             if let Some(every) = sim.collisions_every_substep {
                 s.collisions_every_substep = every;
             }
+            if let Some(n) = sim.solver_iterations {
+                if !(1..=100).contains(&n) {
+                    return self.err_at(
+                        self.find_key("solver_iterations"),
+                        format!("solver_iterations = {n}: use 1 to 100 solver iterations per substep"),
+                    );
+                }
+                s.solver_iterations = n;
+            }
             if let Some(g) = sim.gravity {
                 if g.iter().any(|v| !v.is_finite()) {
                     return self.err_at(self.find_key("gravity"), "gravity must be finite");

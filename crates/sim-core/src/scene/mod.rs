@@ -26,7 +26,7 @@ mod urdf_fixups;
 pub use bundled::{BUNDLED_SCENES, bundled_files, load_bundled};
 pub use client_load::load_client_scene;
 pub use coppelia::old_scripts::{Rewrites as OldScriptRewrites, modernize as modernize_old_script};
-pub use coppelia::{ImportReport, load_coppelia, load_coppelia_file};
+pub use coppelia::{COPPELIA_SOLVER_ITERATIONS, ImportReport, load_coppelia, load_coppelia_file};
 pub use error::LoadError;
 pub use files::{DiskFiles, EmbeddedFiles, Files, normalize as normalize_path};
 pub(crate) use load::dedup as dedup_warnings;

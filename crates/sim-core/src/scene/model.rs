@@ -65,6 +65,11 @@ pub struct SimSettings {
     /// Run collision detection at every substep (separate rapier steps) rather than once
     /// per step with the substeps inside rapier's solver. See docs/performance.md.
     pub collisions_every_substep: bool,
+    /// Velocity iterations of rapier's solver in each substep (its
+    /// `num_internal_pgs_iterations`, 1 by default). An arm's motors are coupled through
+    /// its mass matrix, and one pass leaves a sag under gravity that more passes remove:
+    /// CoppeliaSim imports use [`COPPELIA_SOLVER_ITERATIONS`](crate::scene::COPPELIA_SOLVER_ITERATIONS).
+    pub solver_iterations: u32,
     /// Gravity in the world frame, m/s².
     pub gravity: [f64; 3],
 }
@@ -76,6 +81,7 @@ impl Default for SimSettings {
             dt: 0.05,
             substeps: 10,
             collisions_every_substep: false,
+            solver_iterations: 1,
             gravity: [0.0, 0.0, -9.81],
         }
     }

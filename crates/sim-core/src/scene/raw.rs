@@ -37,6 +37,8 @@ pub struct RawSimulation {
     pub substeps: Option<u32>,
     /// Collision detection at every substep instead of once per step (default false).
     pub collisions_every_substep: Option<bool>,
+    /// Solver velocity iterations per substep (default 1).
+    pub solver_iterations: Option<u32>,
     /// Gravity in m/s², world frame (default `[0, 0, -9.81]`, Z up).
     pub gravity: Option<[f64; 3]>,
 }
@@ -212,7 +214,13 @@ pub struct RawScript {
 }
 
 const SCENE_KEYS: &[&str] = &["simulation", "floor", "server", "object", "robot", "script"];
-const SIMULATION_KEYS: &[&str] = &["dt", "substeps", "collisions_every_substep", "gravity"];
+const SIMULATION_KEYS: &[&str] = &[
+    "dt",
+    "substeps",
+    "collisions_every_substep",
+    "solver_iterations",
+    "gravity",
+];
 const FLOOR_KEYS: &[&str] = &["size", "friction", "color"];
 const SERVER_KEYS: &[&str] = &["bind", "text_port", "zmq_port", "http_port"];
 const OBJECT_KEYS: &[&str] = &[

@@ -720,6 +720,7 @@ pub(crate) fn inertial_properties(model: &MassModel) -> Option<MassProperties> {
 /// one solver iteration, for scenes with fast impacts.
 pub(crate) fn configure_integration(p: &mut IntegrationParameters, s: &SimSettings) -> u32 {
     let n = s.substeps.max(1);
+    p.num_internal_pgs_iterations = s.solver_iterations.max(1) as usize;
     if s.collisions_every_substep {
         p.dt = (s.dt / f64::from(n)) as f32;
         p.num_solver_iterations = 1;
