@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 215 functions, 161 constants."""
+    """`sim`: 217 functions, 161 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -284,7 +284,7 @@ class Sim:
     def getObjectSelection(self, *args: Any) -> Any:
         """4.1's name for `sim.getObjectSel`, kept with its 4.1 result: `nil` when nothing is selected."""
     def getObjectSizeFactor(self, *args: Any) -> Any:
-        """always 1 (objects are never scaled)."""
+        """always 1: scaling a shape (`sim.setShapeBB`, `sim.scaleObject`) changes its geometry rather than a factor."""
     def getObjectType(self, *args: Any) -> Any: ...
     def getObjectVelocity(self, *args: Any) -> Any: ...
     def getObjects(self, *args: Any) -> Any: ...
@@ -380,6 +380,8 @@ class Sim:
     def ruckigStep(self, *args: Any) -> Any:
         """`cycleTime` must be a whole number of base cycles (within 0.1 %); after a Ruckig failure the state is returned unchanged."""
     def ruckigVel(self, *args: Any) -> Any: ...
+    def scaleObject(self, *args: Any) -> Any:
+        """shapes only (as `sim.setShapeBB`, by factors); other objects are refused; `options` is ignored."""
     def setArrayParam(self, *args: Any) -> Any: ...
     def setArrayParameter(self, *args: Any) -> Any: ...
     def setBoolParam(self, *args: Any) -> Any:
@@ -427,6 +429,8 @@ class Sim:
         """the viewer shows the first selected object; handles must exist; at most 1024."""
     def setPointCloudOptions(self, *args: Any) -> Any: ...
     def setScriptSimulationParameter(self, *args: Any) -> Any: ...
+    def setShapeBB(self, *args: Any) -> Any:
+        """scales the shape along its own axes to the size asked (its bounding box as `sim.getShapeBB` gives it); the mass follows the volume (the density stays); spheres and capsules scale only uniformly, cylinders only equally across their axis, which is refused with a message."""
     def setShapeColor(self, *args: Any) -> Any:
         """shapes have no named colour parts: a name other than nil, "" or "@compound" matches nothing; only ambient-diffuse is drawn, the other components are stored and read back."""
     def setShapeMass(self, *args: Any) -> Any: ...

@@ -928,3 +928,65 @@ fn a_shape_made_dynamic_before_a_scene_query_still_falls() {
     // Free fall for 0.2 s: 0.196 m.
     assert!((1.0 - z - 0.5 * 9.81 * 0.2 * 0.2).abs() < 0.02, "z = {z}");
 }
+
+/// `sim.setShapeBB` (the youBot scene's table customization script sizes its table top
+/// and legs this way) and `sim.scaleObject`: the box becomes the size asked for, keeps
+/// its density, and lands on the floor at its new half height.
+#[test]
+fn set_shape_bb_and_scale_object_resize_a_shape() {
+    let mut w = world();
+    let h = dynamic_cube(&mut w, [0.0, 0.0, 1.0]);
+    ok(&mut w, "sim.setShapeBB", vec![i(h), v3(0.4, 0.2, 0.06)]);
+    let bb = floats(&ok(&mut w, "sim.getShapeBB", vec![i(h)])[0]);
+    for (got, want) in bb.iter().zip([0.4, 0.2, 0.06]) {
+        assert!((got - want).abs() < 1e-9, "{bb:?}");
+    }
+    let mass = ok(&mut w, "sim.getShapeMass", vec![i(h)])[0].as_f64().expect("mass");
+    assert!(
+        (mass - 1000.0 * 0.4 * 0.2 * 0.06).abs() < 1e-6,
+        "the density stays: {mass} kg"
+    );
+    step(&mut w, 40);
+    let z = position(&mut w, h)[2];
+    assert!((z - 0.03).abs() < 2e-3, "rests on its new half height: {z}");
+
+    ok(&mut w, "sim.scaleObject", vec![i(h), f(0.5), f(1.0), f(2.0)]);
+    let bb = floats(&ok(&mut w, "sim.getShapeBB", vec![i(h)])[0]);
+    for (got, want) in bb.iter().zip([0.2, 0.2, 0.12]) {
+        assert!((got - want).abs() < 1e-9, "{bb:?}");
+    }
+
+    // What cannot be scaled is refused, and the shape stays as it was.
+    let e = err(&mut w, "sim.setShapeBB", vec![i(h), v3(0.4, 0.0, 0.06)]);
+    assert!(e.contains("finite and > 0"), "{e}");
+    let ball = int(&ok(&mut w, "sim.createPrimitiveShape", vec![i(4), v3(0.1, 0.1, 0.1)])[0]);
+    let e = err(&mut w, "sim.scaleObject", vec![i(ball), f(1.0), f(2.0), f(1.0)]);
+    assert!(e.contains("only be scaled uniformly"), "{e}");
+    ok(&mut w, "sim.scaleObject", vec![i(ball), f(2.0), f(2.0), f(2.0)]);
+    let bb = floats(&ok(&mut w, "sim.getShapeBB", vec![i(ball)])[0]);
+    assert!((bb[0] - 0.2).abs() < 1e-9, "{bb:?}");
+    let base = find(&w, "/base");
+    let e = err(&mut w, "sim.scaleObject", vec![i(base), f(2.0), f(2.0), f(2.0)]);
+    assert!(e.contains("shape"), "{e}");
+}
+
+/// A vision sensor sees a scaled shape at its new size (its tessellation is redone).
+#[test]
+fn vision_sensors_see_a_scaled_shape_at_its_new_size() {
+    let mut w = world();
+    let cam = find(&w, "/camera");
+    // The camera at (0, -2, 1) looks up (+Z); a 10 cm cube 0.5 m above it.
+    let cube = int(&ok(&mut w, "sim.createPrimitiveShape", vec![i(CUBOID), v3(0.1, 0.1, 0.1)])[0]);
+    ok(&mut w, "sim.setObjectPosition", vec![i(cube), v3(0.0, -2.0, 1.5)]);
+    let covered = |w: &mut Sim| {
+        ok(w, "sim.handleVisionSensor", vec![i(cam)]);
+        let img = ok(w, "sim.getVisionSensorImg", vec![i(cam)]);
+        let Value::Bytes(px) = &img[0] else { panic!("{img:?}") };
+        let background = [px[0], px[1], px[2]];
+        px.chunks(3).filter(|p| *p != background).count()
+    };
+    let small = covered(&mut w);
+    ok(&mut w, "sim.setShapeBB", vec![i(cube), v3(0.3, 0.3, 0.1)]);
+    let large = covered(&mut w);
+    assert!(small > 0 && large > 5 * small, "{small} then {large} pixels");
+}

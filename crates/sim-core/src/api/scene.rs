@@ -135,6 +135,14 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         name: "setShapeMass",
         call: ApiFn::World(set_shape_mass),
     },
+    ApiFunction {
+        name: "setShapeBB",
+        call: ApiFn::World(set_shape_bb),
+    },
+    ApiFunction {
+        name: "scaleObject",
+        call: ApiFn::World(scale_object),
+    },
 ];
 
 /// A required table of handles.
@@ -451,6 +459,42 @@ fn get_shape_mass(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 fn set_shape_mass(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     w.set_shape_mass(h, a.finite(1)?)?;
+    Ok(Vec::new())
+}
+
+/// `sim.setShapeBB(shapeHandle, size)`: scales the shape along its own axes so that its
+/// bounding box (as `sim.getShapeBB` gives it) becomes `size`, m.
+fn set_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let size = a.vec3(1)?;
+    w.shape(h)?;
+    let (lo, hi) = w.bounding_box(h)?;
+    let mut factors = [1.0; 3];
+    for k in 0..3 {
+        let now = hi[k] - lo[k];
+        if !(size[k].is_finite() && size[k] > 0.0) {
+            return Err(ApiError::new(format!(
+                "sizes must be finite and > 0, got {:?}",
+                size.as_slice()
+            )));
+        }
+        if now <= 0.0 {
+            return Err(ApiError::new(
+                "the shape is flat along an axis and cannot be stretched along it",
+            ));
+        }
+        factors[k] = size[k] / now;
+    }
+    w.scale_shape(h, factors)?;
+    Ok(Vec::new())
+}
+
+/// `sim.scaleObject(objectHandle, xScale, yScale, zScale, options=0)`: scales a shape along
+/// its own axes (its mass at the same density). gantry scales shapes only.
+fn scale_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let h = a.handle(0)?;
+    let factors = [a.finite(1)?, a.finite(2)?, a.finite(3)?];
+    w.scale_shape(h, factors)?;
     Ok(Vec::new())
 }
 

@@ -107,16 +107,23 @@ pub(crate) struct CachedVisual {
     color: [f32; 3],
 }
 
-/// Tessellations of every shape's visuals by shape handle. Geometry never changes
-/// after loading, so each shape is tessellated the first time a sensor renders it.
+/// Tessellations of every shape's visuals by shape handle. Each shape is tessellated the
+/// first time a sensor renders it, and again after its geometry changes (rarely: a shape
+/// scaled at run time), which [`World::geometry_revision`] tells.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ShapeCache {
     shapes: BTreeMap<Handle, Vec<CachedVisual>>,
+    /// The world's geometry revision the tessellations were made at.
+    revision: u64,
 }
 
 impl ShapeCache {
-    /// Tessellates the shapes not seen before.
+    /// Tessellates the shapes not seen before, and all of them after a geometry change.
     pub fn refresh(&mut self, world: &World) {
+        if world.geometry_revision() != self.revision {
+            self.shapes.clear();
+            self.revision = world.geometry_revision();
+        }
         for &h in world.handles() {
             if self.shapes.contains_key(&h) {
                 continue;

@@ -55,6 +55,20 @@ impl World {
         self.edit.revision
     }
 
+    /// A number that changes whenever a shape's geometry does after loading (a shape
+    /// scaled by `sim.setShapeBB` or `sim.scaleObject`): caches of tessellated shapes
+    /// (the vision sensors') rebuild when it changes.
+    pub fn geometry_revision(&self) -> u64 {
+        self.edit.geometry_revision
+    }
+
+    /// Records that shape `h`'s geometry changed: the scene description and the caches
+    /// of tessellated shapes are out of date.
+    pub(super) fn geometry_changed(&mut self, _h: Handle) {
+        self.edit.geometry_revision += 1;
+        self.bump();
+    }
+
     /// A number that changes whenever objects are created, copied, removed or
     /// re-parented: when the list and order of [`World::handles`] may have changed (a
     /// subset of the changes [`World::scene_revision`] counts).
@@ -68,7 +82,7 @@ impl World {
         self.edit.counters
     }
 
-    fn bump(&mut self) {
+    pub(super) fn bump(&mut self) {
         self.edit.revision += 1;
     }
 
@@ -486,7 +500,7 @@ impl World {
         }
     }
 
-    fn shape_mut(&mut self, h: Handle) -> Result<&mut ShapeModel, SimError> {
+    pub(super) fn shape_mut(&mut self, h: Handle) -> Result<&mut ShapeModel, SimError> {
         match &mut self.object_mut(h)?.kind {
             ObjectKind::Shape(s) => Ok(s),
             other => Err(SimError::WrongKind {

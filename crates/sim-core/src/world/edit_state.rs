@@ -74,6 +74,8 @@ pub(crate) struct EditState {
     pub(super) removed: Vec<bool>,
     /// See [`World::scene_revision`].
     pub(super) revision: u64,
+    /// See [`World::geometry_revision`].
+    pub(super) geometry_revision: u64,
     pub(super) counters: EditCounters,
     /// Visibility layers that differ from the default (1).
     pub(super) layers: HashMap<Handle, i64>,

@@ -16,6 +16,7 @@ pub mod object_path;
 mod physics;
 mod point_cloud;
 mod query;
+mod scale;
 mod selection;
 #[expect(
     clippy::module_inception,
