@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 217 functions, 161 constants."""
+    """`sim`: 221 functions, 161 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -294,6 +294,10 @@ class Sim:
         """points in the cloud's frame, in insertion order (CoppeliaSim's order follows its OC tree)."""
     def getPoseInverse(self, *args: Any) -> Any: ...
     def getQuaternionFromMatrix(self, *args: Any) -> Any: ...
+    def getReferencedHandle(self, *args: Any) -> Any: ...
+    def getReferencedHandles(self, *args: Any) -> Any:
+        """a removed object's handle reads -1, as in CoppeliaSim; handles copied with `sim.copyPasteObjects` are not renumbered into the copy."""
+    def getReferencedHandlesTags(self, *args: Any) -> Any: ...
     def getRotationAxis(self, *args: Any) -> Any:
         """with no rotation, returns axis [0,0,1] and angle 0."""
     def getScript(self, *args: Any) -> Any:
@@ -428,6 +432,7 @@ class Sim:
     def setObjectSel(self, *args: Any) -> Any:
         """the viewer shows the first selected object; handles must exist; at most 1024."""
     def setPointCloudOptions(self, *args: Any) -> Any: ...
+    def setReferencedHandles(self, *args: Any) -> Any: ...
     def setScriptSimulationParameter(self, *args: Any) -> Any: ...
     def setShapeBB(self, *args: Any) -> Any:
         """scales the shape along its own axes to the size asked (its bounding box as `sim.getShapeBB` gives it); the mass follows the volume (the density stays); spheres and capsules scale only uniformly, cylinders only equally across their axis, which is refused with a message."""

@@ -3,7 +3,9 @@
 //! An object chunk (`SHP`, `JNT`, ...) holds the common part, `NXT`, the type-specific
 //! part and `EOO`. The common part carries the pose relative to the parent (`Cfq` f32 or
 //! `_fq` f64: qw qx qy qz x y z), `Ids` (handle, parent handle), `Nme`, `Ali` (alias,
-//! 4.3+), `Omp` (object special properties) and the model-base bit in `Var`/`Va2`/`Va3`.
+//! 4.3+), `Omp` (object special properties), the model-base bit in `Var`/`Va2`/`Va3` and,
+//! from 4.7, `Cr2`: one per tag of the object's referenced handles
+//! (`sim.setReferencedHandles`), a string then an i32 count and that many handles.
 
 use crate::chunk::{At, Chunk, Chunks, Item, show};
 use crate::dummy::{self, Dummy};
@@ -22,6 +24,8 @@ const COLLIDABLE: i32 = 0x001;
 const MEASURABLE: i32 = 0x002;
 /// `Omp` bits: detectable by the various proximity-sensor kinds.
 const DETECTABLE: i32 = 0x1f0;
+/// Most referenced handles under one tag (a model's IK helper references three).
+const MAX_REFERENCED: usize = 1 << 16;
 
 /// One scene object, in file order (parents come before their children).
 #[derive(Debug, Clone, PartialEq)]
@@ -44,6 +48,9 @@ pub struct SceneObject {
     pub detectable: bool,
     /// Base of a model (the object a model file or a model in a scene hangs from).
     pub model_base: bool,
+    /// Referenced handles (4.7+, `Cr2`) by tag, in file order: the objects a model's
+    /// scripts find with `sim.getReferencedHandle(s)`.
+    pub referenced: Vec<(String, Vec<i32>)>,
     /// The type and its own part.
     pub kind: ObjectKind,
     /// Offset of the object's chunk payload in the decoded body.
@@ -129,6 +136,7 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
         measurable: false,
         detectable: false,
         model_base: false,
+        referenced: Vec::new(),
         kind: ObjectKind::Other(c.tag),
         offset: c.offset,
     };
@@ -151,6 +159,20 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
                 o.detectable = p & DETECTABLE != 0;
             }
             b"Var" | b"Va2" | b"Va3" => o.model_base = f.u8()? & 0x01 != 0,
+            b"Cr2" => {
+                let tag = f.string()?;
+                let n = f.i32()?;
+                let Some(n) = usize::try_from(n).ok().filter(|&n| n <= MAX_REFERENCED) else {
+                    return Err(at.value_error(format!("{n} referenced handles under '{tag}'")));
+                };
+                // Each handle is read (and bounds-checked) before it is kept, so a huge
+                // count in a short chunk fails without a large allocation.
+                let mut handles = Vec::new();
+                for _ in 0..n {
+                    handles.push(f.i32()?);
+                }
+                o.referenced.push((tag, handles));
+            }
             _ => {}
         }
     }

@@ -31,6 +31,10 @@ fn common(p: Precision, handle: i32, parent: i32, name: &str, pose: [f64; 7], om
         .chunk("Nme", &Payload::new().str(name).done())
         .chunk("Omp", &Payload::new().i32(omp).done())
         .chunk("Va3", &[var])
+        .chunk(
+            "Cr2",
+            &Payload::new().str("self.parent").i32(2).i32(handle).i32(parent).done(),
+        )
         .chunk("Zzz", b"an unknown chunk is skipped")
         .marker("NXT")
 }
@@ -230,6 +234,7 @@ fn reads_every_kind_in_both_precisions() {
         let base = by_name("base");
         assert_eq!((base.handle, base.parent), (10, None));
         assert_eq!(base.alias.as_deref(), Some("baseAlias"));
+        assert_eq!(base.referenced, [("self.parent".to_owned(), vec![10, -1])]);
         assert!(base.collidable && base.measurable && base.detectable && base.model_base);
         assert_eq!(base.local_pose.position, [0.5, 0.0, 0.0]);
         let ObjectKind::Shape(s) = &base.kind else {
@@ -398,6 +403,29 @@ fn truncated_and_corrupt_bodies_are_errors() {
         (
             Stream::new().nested("DMY", Stream::new().marker("NXT")).bytes(),
             "no Ids",
+        ),
+        // Referenced handles: a count beyond the chunk, and a negative one.
+        (
+            Stream::new()
+                .nested(
+                    "DMY",
+                    Stream::new()
+                        .chunk("Cr2", &Payload::new().str("t").i32(1_000_000).i32(1).done())
+                        .marker("NXT"),
+                )
+                .bytes(),
+            "referenced handles",
+        ),
+        (
+            Stream::new()
+                .nested(
+                    "DMY",
+                    Stream::new()
+                        .chunk("Cr2", &Payload::new().str("t").i32(-3).done())
+                        .marker("NXT"),
+                )
+                .bytes(),
+            "-3 referenced handles",
         ),
         // A short pose.
         (

@@ -526,3 +526,46 @@ fn thymio_ground_sensors_see_the_floor_below_them() {
     };
     assert!((distance - 0.03).abs() < 1.0e-5, "wall at {distance} m");
 }
+
+/// 4.7+ files keep referenced handles (`sim.setReferencedHandles`): the UR3 course scene's
+/// IK script finds its base, tip and target through them.
+#[test]
+fn referenced_handles_are_imported() {
+    let file = folder().join("Libro-Copp__cap20_abrir_cerrar_pinza.ttt");
+    if !file.is_file() {
+        println!("{} not found; skipped", file.display());
+        return;
+    }
+    let model = load_scene(&DiskFiles, &file, &LoadOptions::default()).expect("loads");
+    let mut sim = Sim::new(&model);
+    let r = model
+        .referenced_handles
+        .iter()
+        .map(|r| {
+            let targets: Vec<&str> = r.targets.iter().map(|&t| model.objects[t].alias.as_str()).collect();
+            (model.objects[r.object].alias.as_str(), r.tag.as_str(), targets)
+        })
+        .collect::<Vec<_>>();
+    // The script object `IK` (4.7+) names the arm's base and its IK tip and target dummies.
+    assert_eq!(
+        r,
+        [
+            ("IK", "ik.base", vec!["UR3"]),
+            ("IK", "ik.target", vec!["UR3_target"]),
+            ("IK", "ik.tip", vec!["UR3_tip"]),
+        ]
+    );
+    let holder = model.referenced_handles[0].object as i64;
+    let ctx = CallContext::default();
+    for tag in ["ik.base", "ik.tip", "ik.target"] {
+        let got = api::call(
+            &mut sim,
+            &ctx,
+            "sim.getReferencedHandle",
+            &[Value::Int(holder), Value::Str(tag.into())],
+        )
+        .expect("a handle");
+        let Value::Int(h) = got[0] else { panic!("{got:?}") };
+        assert!(h >= 0, "{tag}: {got:?}");
+    }
+}

@@ -213,3 +213,51 @@ fn buffer_properties_are_custom_data_blocks() {
     .unwrap_err();
     assert!(e.contains("customData.<tag>") && e.contains("argument 2"), "{e}");
 }
+
+/// Referenced handles (4.7+): set, read by tag, listed, and a removed object reads -1.
+#[test]
+fn referenced_handles_round_trip() {
+    let mut w = world();
+    let b = base(&w);
+    let nose = w.world.find("/bubbleRob/sensingNose", None, 0).expect("nose");
+    let obstacle = w.world.find("/obstacle", None, 0).expect("obstacle");
+    let ints = |v: &[i64]| Value::Array(v.iter().map(|&h| Value::Int(h)).collect());
+    call(
+        &mut w,
+        "sim.setReferencedHandles",
+        &[Value::Int(b), ints(&[nose, obstacle]), Value::from("seen")],
+    )
+    .expect("set");
+    call(&mut w, "sim.setReferencedHandles", &[Value::Int(b), ints(&[nose])]).expect("set the default tag");
+    let get = |w: &mut Sim, f: &str, tag: &str| call(w, f, &[Value::Int(b), Value::from(tag)]).expect(f);
+    assert_eq!(
+        get(&mut w, "sim.getReferencedHandles", "seen"),
+        [ints(&[nose, obstacle])]
+    );
+    assert_eq!(get(&mut w, "sim.getReferencedHandle", "seen"), [Value::Int(nose)]);
+    assert_eq!(get(&mut w, "sim.getReferencedHandle", "none"), [Value::Int(-1)]);
+    assert_eq!(get(&mut w, "sim.getReferencedHandles", "none"), [ints(&[])]);
+    let tags = call(&mut w, "sim.getReferencedHandlesTags", &[Value::Int(b)]).expect("tags");
+    assert_eq!(tags, [Value::Array(vec![Value::from(""), Value::from("seen")])]);
+
+    call(&mut w, "sim.removeObjects", &[ints(&[obstacle])]).expect("removed");
+    assert_eq!(get(&mut w, "sim.getReferencedHandles", "seen"), [ints(&[nose, -1])]);
+    // A handle that names no object is refused, and the list stays.
+    let e = call(
+        &mut w,
+        "sim.setReferencedHandles",
+        &[Value::Int(b), ints(&[obstacle]), Value::from("seen")],
+    )
+    .expect_err("a removed object");
+    assert!(!e.is_empty());
+    assert_eq!(get(&mut w, "sim.getReferencedHandles", "seen"), [ints(&[nose, -1])]);
+    // An empty list removes the tag.
+    call(
+        &mut w,
+        "sim.setReferencedHandles",
+        &[Value::Int(b), ints(&[]), Value::from("seen")],
+    )
+    .expect("cleared");
+    let tags = call(&mut w, "sim.getReferencedHandlesTags", &[Value::Int(b)]).expect("tags");
+    assert_eq!(tags, [Value::Array(vec![Value::from("")])]);
+}

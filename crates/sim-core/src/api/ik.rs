@@ -83,6 +83,10 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::Sim(get_group_handle),
     },
     ApiFunction {
+        name: "getGroupJoints",
+        call: ApiFn::Sim(get_group_joints),
+    },
+    ApiFunction {
         name: "handleGroup",
         call: ApiFn::Sim(handle_group),
     },
@@ -247,6 +251,12 @@ fn set_group_flags(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 fn get_group_flags(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let g = sim.ik.get(a.handle(0)?)?.group(a.handle(1)?)?;
     Ok(vec![Value::Int(i64::from(g.flags.0))])
+}
+
+/// `simIK.getGroupJoints(env, group)` → the joints of the group's chains, base to tip.
+fn get_group_joints(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+    let joints = ik::chain_joints(&sim.world, &sim.ik, a.handle(0)?, a.handle(1)?)?;
+    Ok(vec![Value::Array(joints.into_iter().map(Value::Int).collect())])
 }
 
 /// `simIK.getGroupCalculation(env, group)` → method, damping, maxIterations.

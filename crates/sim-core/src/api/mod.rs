@@ -25,6 +25,7 @@ mod packing;
 mod params;
 mod point_cloud;
 mod proximity_check;
+mod referenced;
 mod resolve;
 pub(crate) mod ruckig;
 mod scene;
@@ -334,6 +335,7 @@ pub const MODULES: &[Module] = &[
             links::FUNCTIONS,
             proximity_check::FUNCTIONS,
             custom_data::FUNCTIONS,
+            referenced::FUNCTIONS,
             views::FUNCTIONS,
             point_cloud::FUNCTIONS,
         ],

@@ -167,6 +167,27 @@ pub fn add_element(
         .add_element(group, -1, tip, ElementTarget::LinkedDummy, Constraints::POSE)
 }
 
+/// The joints of a group's chains (`simIK.getGroupJoints`): every joint between each
+/// element's base and tip, top first, element by element, each once. They are scene
+/// handles for elements built from the scene, the environment's own otherwise.
+///
+/// # Errors
+/// Unknown environment or group, or an element whose objects no longer form a chain.
+pub fn chain_joints(world: &World, envs: &IkEnvironments, env: Handle, group: Handle) -> Result<Vec<Handle>, IkError> {
+    let environment = envs.get(env)?;
+    let g = environment.group(group)?;
+    let trees = Trees::new(world, &environment.objects);
+    let mut joints = Vec::new();
+    for e in &g.elements {
+        for h in chain_path(&trees, e.base, e.tip)? {
+            if trees.node(h, "chain")?.joint.is_some() && !joints.contains(&h) {
+                joints.push(h);
+            }
+        }
+    }
+    Ok(joints)
+}
+
 /// Checks that `base` (`-1`: the world) can be the base of an element tipped at `tip`:
 /// both exist in the same tree, the tip hangs below the base, and a joint the solver may
 /// move lies between.

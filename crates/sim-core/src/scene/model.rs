@@ -29,6 +29,10 @@ pub struct SceneModel {
     /// together, as `sim.setLinkDummy` does; CoppeliaSim's grippers close their linkages
     /// this way.
     pub dummy_links: Vec<[usize; 2]>,
+    /// Referenced handles (CoppeliaSim 4.7+'s `sim.setReferencedHandles`): for an object,
+    /// a tag and the objects it names, all as object indices. A model's scripts find their
+    /// parts this way (`sim.getReferencedHandle(self, 'ik.tip')`).
+    pub referenced_handles: Vec<ReferencedHandles>,
     /// Soft problems found while loading (unknown keys, unsupported URDF elements).
     pub warnings: Vec<String>,
 }
@@ -52,7 +56,24 @@ impl SceneModel {
         for i in self.dummy_links.iter_mut().flatten() {
             *i += by;
         }
+        for r in &mut self.referenced_handles {
+            r.object += by;
+            for t in &mut r.targets {
+                *t += by;
+            }
+        }
     }
+}
+
+/// One tag of an object's referenced handles.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ReferencedHandles {
+    /// Index of the object that holds them.
+    pub object: usize,
+    /// The tag, e.g. `ik.tip`.
+    pub tag: String,
+    /// Indices of the objects referenced, in order.
+    pub targets: Vec<usize>,
 }
 
 /// Simulation settings.

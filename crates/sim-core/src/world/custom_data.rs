@@ -1,7 +1,8 @@
 //! Named values attached to objects, kept with the world: a model's user parameters
-//! (CoppeliaSim 4.0-4.2's `sim.getScriptSimulationParameter`) and custom data blocks
-//! (`sim.writeCustomDataBlock`). The two are separate namespaces, as in CoppeliaSim,
-//! where a user parameter and a data block of the same name never meet.
+//! (CoppeliaSim 4.0-4.2's `sim.getScriptSimulationParameter`), custom data blocks
+//! (`sim.writeCustomDataBlock`) and referenced handles (4.7+'s
+//! `sim.setReferencedHandles`). They are separate namespaces, as in CoppeliaSim, where a
+//! user parameter and a data block of the same name never meet.
 
 use std::collections::BTreeMap;
 
@@ -15,6 +16,8 @@ pub struct CustomData {
     /// Data blocks, as [`Value::Str`] or [`Value::Bytes`]: a block reads back with the
     /// type it was written with, so Lua text stays a string and a buffer a buffer.
     blocks: BTreeMap<(Handle, String), Value>,
+    /// Referenced handles by object and tag.
+    referenced: BTreeMap<(Handle, String), Vec<Handle>>,
 }
 
 impl CustomData {
@@ -66,9 +69,34 @@ impl CustomData {
             .collect()
     }
 
-    /// Forgets everything attached to a removed object.
+    /// The handles `owner` references under `tag` (empty when none).
+    pub fn referenced(&self, owner: Handle, tag: &str) -> &[Handle] {
+        self.referenced.get(&(owner, tag.to_owned())).map_or(&[], Vec::as_slice)
+    }
+
+    /// Sets the handles `owner` references under `tag`; an empty list removes the tag.
+    pub fn set_referenced(&mut self, owner: Handle, tag: &str, handles: Vec<Handle>) {
+        if handles.is_empty() {
+            self.referenced.remove(&(owner, tag.to_owned()));
+        } else {
+            self.referenced.insert((owner, tag.to_owned()), handles);
+        }
+    }
+
+    /// The tags under which `owner` references handles, in byte order.
+    pub fn referenced_tags(&self, owner: Handle) -> Vec<&str> {
+        self.referenced
+            .range((owner, String::new())..)
+            .take_while(|((o, _), _)| *o == owner)
+            .map(|((_, tag), _)| tag.as_str())
+            .collect()
+    }
+
+    /// Forgets everything attached to a removed object. Other objects' references to it
+    /// stay, and read as -1 (what CoppeliaSim gives for a removed object).
     pub fn remove_object(&mut self, h: Handle) {
         self.values.retain(|(owner, _), _| *owner != h);
         self.clear_blocks(h);
+        self.referenced.retain(|(owner, _), _| *owner != h);
     }
 }

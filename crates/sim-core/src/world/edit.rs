@@ -327,6 +327,10 @@ impl World {
         }
         self.rebuild_physics(&tops);
         self.link_loop_closures(model.dummy_links.iter().map(|&[a, b]| [map[a], map[b]]));
+        for r in &model.referenced_handles {
+            let targets = r.targets.iter().map(|&t| map[t]).collect();
+            self.custom.set_referenced(map[r.object], &r.tag, targets);
+        }
         self.edit.counters.created += map.len() as u64;
         self.bump();
         (map, other.warnings().to_vec())

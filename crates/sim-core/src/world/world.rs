@@ -190,6 +190,10 @@ impl World {
         };
         world.refresh_caches();
         world.link_loop_closures(model.dummy_links.iter().map(|&[a, b]| [a as Handle, b as Handle]));
+        for r in &model.referenced_handles {
+            let targets = r.targets.iter().map(|&t| t as Handle).collect();
+            world.custom.set_referenced(r.object as Handle, &r.tag, targets);
+        }
         world
     }
 

@@ -146,6 +146,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
     report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
 
     let dummy_links = loop_closures(&file, &index);
+    let referenced_handles = referenced_handles(&file, &index, &mut warnings);
     let scripts = convert_scripts(&file, path, &index, &mut report, &mut warnings);
     let settings = convert_settings(&file.settings, &mut warnings);
     report.warnings = warnings.clone();
@@ -157,6 +158,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         objects,
         scripts,
         dummy_links,
+        referenced_handles,
         warnings,
     };
     Ok((model, report))
@@ -438,6 +440,37 @@ fn loop_closures(file: &cf::CoppeliaFile, index: &HashMap<i32, usize>) -> Vec<[u
     links
 }
 
+/// The objects' referenced handles (4.7+), as object indices. A handle the file does not
+/// hold an object for (CoppeliaSim keeps -1 for a removed one) is dropped, with a warning.
+fn referenced_handles(
+    file: &cf::CoppeliaFile,
+    index: &HashMap<i32, usize>,
+    warnings: &mut Vec<String>,
+) -> Vec<ReferencedHandles> {
+    let mut out = Vec::new();
+    for o in &file.objects {
+        let Some(&object) = index.get(&o.handle) else {
+            continue;
+        };
+        for (tag, handles) in &o.referenced {
+            let targets = handles.iter().filter_map(|h| index.get(h).copied()).collect::<Vec<_>>();
+            if targets.len() < handles.len() {
+                warnings.push(format!(
+                    "{}: {} of the handles referenced as '{tag}' name no object in the file",
+                    o.name,
+                    handles.len() - targets.len()
+                ));
+            }
+            out.push(ReferencedHandles {
+                object,
+                tag: tag.clone(),
+                targets,
+            });
+        }
+    }
+    out
+}
+
 /// Lua child and customization scripts, on their objects.
 fn convert_scripts(
     file: &cf::CoppeliaFile,
@@ -637,6 +670,7 @@ mod tests {
 
     fn dummy(handle: i32, parent: Option<i32>) -> cf::SceneObject {
         cf::SceneObject {
+            referenced: Vec::new(),
             handle,
             parent,
             name: format!("d{handle}"),
