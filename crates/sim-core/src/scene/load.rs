@@ -85,6 +85,7 @@ fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
         objects,
         scripts: Vec::new(),
         dummy_links: Vec::new(),
+        ball_links: Vec::new(),
         referenced_handles: Vec::new(),
         warnings: dedup(warnings),
     };
@@ -182,6 +183,7 @@ pub fn load_scene_text(
         objects: r.objects,
         scripts: r.scripts,
         dummy_links: Vec::new(),
+        ball_links: Vec::new(),
         referenced_handles: Vec::new(),
         warnings: dedup(r.warnings),
     })

@@ -29,6 +29,10 @@ pub struct SceneModel {
     /// together, as `sim.setLinkDummy` does; CoppeliaSim's grippers close their linkages
     /// this way.
     pub dummy_links: Vec<[usize; 2]>,
+    /// Loop closures that hold only the two dummies' origins together, leaving their
+    /// rotation free: a CoppeliaSim loop closed through a free spherical joint, which
+    /// gantry imports as fixed (its 1-DoF joints have no ball joint) and frees here.
+    pub ball_links: Vec<[usize; 2]>,
     /// Referenced handles (CoppeliaSim 4.7+'s `sim.setReferencedHandles`): for an object,
     /// a tag and the objects it names, all as object indices. A model's scripts find their
     /// parts this way (`sim.getReferencedHandle(self, 'ik.tip')`).
@@ -53,7 +57,7 @@ impl SceneModel {
         for s in &mut self.scripts {
             s.object += by;
         }
-        for i in self.dummy_links.iter_mut().flatten() {
+        for i in self.dummy_links.iter_mut().chain(&mut self.ball_links).flatten() {
             *i += by;
         }
         for r in &mut self.referenced_handles {

@@ -38,6 +38,7 @@ pub fn load_model(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
                 objects,
                 scripts: Vec::new(),
                 dummy_links: Vec::new(),
+                ball_links: Vec::new(),
                 referenced_handles: Vec::new(),
                 warnings,
             })

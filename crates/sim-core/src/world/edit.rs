@@ -326,7 +326,8 @@ impl World {
             self.refresh_subtree(t);
         }
         self.rebuild_physics(&tops);
-        self.link_loop_closures(model.dummy_links.iter().map(|&[a, b]| [map[a], map[b]]));
+        self.link_loop_closures(model.dummy_links.iter().map(|&[a, b]| [map[a], map[b]]), false);
+        self.link_loop_closures(model.ball_links.iter().map(|&[a, b]| [map[a], map[b]]), true);
         for r in &model.referenced_handles {
             let targets = r.targets.iter().map(|&t| map[t]).collect();
             self.custom.set_referenced(map[r.object], &r.tag, targets);

@@ -390,11 +390,16 @@ impl Physics {
     }
 
     /// Ties dummy `a` to dummy `b`: a fixed impulse joint between the bodies they ride
-    /// on pulls their frames together. Each side is a body index and the dummy's frame
-    /// in that body, or `None` and the dummy's world pose for a dummy on no body (the
-    /// world anchor holds it). Returns false, with no joint, when both ride on the
-    /// same body.
-    pub fn link_dummies(&mut self, a: (Handle, Option<usize>, Pose), b: (Handle, Option<usize>, Pose)) -> bool {
+    /// on pulls their frames together (a ball joint, their origins only, with
+    /// `free_rotation`). Each side is a body index and the dummy's frame in that body, or
+    /// `None` and the dummy's world pose for a dummy on no body (the world anchor holds
+    /// it). Returns false, with no joint, when both ride on the same body.
+    pub fn link_dummies(
+        &mut self,
+        a: (Handle, Option<usize>, Pose),
+        b: (Handle, Option<usize>, Pose),
+        free_rotation: bool,
+    ) -> bool {
         self.unlink_dummy(a.0);
         self.unlink_dummy(b.0);
         let (ba, fa) = (a.1.unwrap_or_else(|| self.anchor()), a.2);
@@ -403,7 +408,12 @@ impl Physics {
         if ba == bb {
             return false;
         }
-        let data = GenericJointBuilder::new(JointAxesMask::LOCKED_FIXED_AXES)
+        let axes = if free_rotation {
+            JointAxesMask::LOCKED_SPHERICAL_AXES
+        } else {
+            JointAxesMask::LOCKED_FIXED_AXES
+        };
+        let data = GenericJointBuilder::new(axes)
             .local_frame1(math::to_physics(&fa))
             .local_frame2(math::to_physics(&fb))
             .contacts_enabled(false)

@@ -58,6 +58,12 @@ impl World {
     /// # Errors
     /// An object that does not exist or is not a dummy.
     pub fn set_link_dummy(&mut self, a: Handle, b: Option<Handle>) -> Result<(), SimError> {
+        self.link_dummy(a, b, false)
+    }
+
+    /// [`World::set_link_dummy`], holding only the dummies' origins together when
+    /// `free_rotation` (a loop closed through a ball joint).
+    fn link_dummy(&mut self, a: Handle, b: Option<Handle>, free_rotation: bool) -> Result<(), SimError> {
         for h in std::iter::once(a).chain(b) {
             if !matches!(self.object(h)?.kind, ObjectKind::Dummy) {
                 return Err(SimError::InvalidArgument(format!("object {h} is not a dummy")));
@@ -71,7 +77,7 @@ impl World {
                 let world = |h: Handle| objects[h as usize].world;
                 let (ba, fa) = self.physics.body_frame(a, parent, world);
                 let (bb, fb) = self.physics.body_frame(b, parent, world);
-                self.physics.link_dummies((a, ba, fa), (b, bb, fb));
+                self.physics.link_dummies((a, ba, fa), (b, bb, fb), free_rotation);
             }
         }
         Ok(())
@@ -189,7 +195,11 @@ impl World {
             kinematic_moving: Vec::new(),
         };
         world.refresh_caches();
-        world.link_loop_closures(model.dummy_links.iter().map(|&[a, b]| [a as Handle, b as Handle]));
+        world.link_loop_closures(
+            model.dummy_links.iter().map(|&[a, b]| [a as Handle, b as Handle]),
+            false,
+        );
+        world.link_loop_closures(model.ball_links.iter().map(|&[a, b]| [a as Handle, b as Handle]), true);
         for r in &model.referenced_handles {
             let targets = r.targets.iter().map(|&t| t as Handle).collect();
             world.custom.set_referenced(r.object as Handle, &r.tag, targets);
@@ -198,10 +208,11 @@ impl World {
     }
 
     /// Holds each pair of dummies together in the physics (the scene's dynamic loop
-    /// closures). A pair that is not two dummies is skipped with a warning.
-    pub(super) fn link_loop_closures(&mut self, pairs: impl Iterator<Item = [Handle; 2]>) {
+    /// closures): their frames, or only their origins with `free_rotation`. A pair that is
+    /// not two dummies is skipped with a warning.
+    pub(super) fn link_loop_closures(&mut self, pairs: impl Iterator<Item = [Handle; 2]>, free_rotation: bool) {
         for [a, b] in pairs {
-            if let Err(e) = self.set_link_dummy(a, Some(b)) {
+            if let Err(e) = self.link_dummy(a, Some(b), free_rotation) {
                 self.warnings.push(format!("loop closure {a}-{b} not made: {e}"));
             }
         }

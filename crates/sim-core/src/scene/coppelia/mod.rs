@@ -55,12 +55,10 @@ const SPEED_AT_FULL_DAMPING: f64 = 0.02;
 /// ([`SimSettings::solver_iterations`]). CoppeliaSim's Bullet runs 100 constraint
 /// iterations per engine step by default; rapier's single pass per substep left the
 /// library Panda and XArm7 sagging 1.3 mm at the tip under gravity (their motors are
-/// coupled through the arm's mass matrix); 3 passes hold them within 0.67 and 0.55 mm
-/// for at most 5 % more time per step (Panda, XArm7, UR10, the Panda reach scene; the
-/// differences are within the timing noise). Not more: with 4, the RG2 gripper's loop
-/// closures in the UR3 course scene blow up when its script closes the gripper (the
-/// step guard stops them); with 2, they spread 15 mm apart.
-pub const COPPELIA_SOLVER_ITERATIONS: u32 = 3;
+/// coupled through the arm's mass matrix); 4 passes hold them within 0.47 and 0.41 mm
+/// for at most 10 % more time per step (Panda, XArm7, UR10, the Panda reach scene; the
+/// differences are within the timing noise).
+pub const COPPELIA_SOLVER_ITERATIONS: u32 = 4;
 
 /// What an import kept, changed and dropped, beyond the model itself.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -145,7 +143,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
     report.objects = objects.len();
     report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
 
-    let dummy_links = loop_closures(&file, &index);
+    let (dummy_links, ball_links) = loop_closures(&file, &index);
     let referenced_handles = referenced_handles(&file, &index, &mut warnings);
     let scripts = convert_scripts(&file, path, &index, &mut report, &mut warnings);
     let settings = convert_settings(&file.settings, &mut warnings);
@@ -158,6 +156,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         objects,
         scripts,
         dummy_links,
+        ball_links,
         referenced_handles,
         warnings,
     };
@@ -317,7 +316,7 @@ fn convert_joint(j: &cf::Joint, label: &str, index: &HashMap<i32, usize>, warnin
         cf::JointType::Prismatic => JointType::Prismatic,
         cf::JointType::Spherical | cf::JointType::Other(_) => {
             warnings.push(format!(
-                "{label}: spherical joints have no gantry equivalent; imported as fixed"
+                "{label}: spherical joints have no gantry equivalent; imported as fixed (a loop closure below a free one turns freely)"
             ));
             JointType::Fixed
         }
@@ -421,23 +420,55 @@ fn convert_joint(j: &cf::Joint, label: &str, index: &HashMap<i32, usize>, warnin
     }
 }
 
-/// The dynamic loop closures: each linked pair of dummies once, by model index. IK
-/// tip/target links are kinematics only and stay out of the physics.
-fn loop_closures(file: &cf::CoppeliaFile, index: &HashMap<i32, usize>) -> Vec<[usize; 2]> {
-    let mut links: Vec<[usize; 2]> = file
+/// The dynamic loop closures: each linked pair of dummies once, by model index, split
+/// into those that hold the dummies' frames together and those that hold only their
+/// origins (see [`SceneModel::ball_links`]). IK tip/target links are kinematics only and
+/// stay out of the physics.
+fn loop_closures(file: &cf::CoppeliaFile, index: &HashMap<i32, usize>) -> (Vec<[usize; 2]>, Vec<[usize; 2]>) {
+    let mut links: Vec<([usize; 2], bool)> = file
         .objects
         .iter()
         .filter_map(|o| match &o.kind {
             cf::ObjectKind::Dummy(d) if d.link == cf::DummyLink::DynamicLoopClosure => {
-                let (a, b) = (*index.get(&o.handle)?, *index.get(&d.linked?)?);
-                (a != b).then_some([a.min(b), a.max(b)])
+                let linked = d.linked?;
+                let (a, b) = (*index.get(&o.handle)?, *index.get(&linked)?);
+                let ball = below_free_spherical_joint(file, o.handle) || below_free_spherical_joint(file, linked);
+                (a != b).then_some(([a.min(b), a.max(b)], ball))
             }
             _ => None,
         })
         .collect();
     links.sort_unstable();
     links.dedup();
-    links
+    let (ball, fixed): (Vec<_>, Vec<_>) = links.into_iter().partition(|&(_, ball)| ball);
+    (
+        fixed.into_iter().map(|(l, _)| l).collect(),
+        ball.into_iter().map(|(l, _)| l).collect(),
+    )
+}
+
+/// Whether a dynamic (free) spherical joint lies between `dummy` and the nearest shape
+/// above it: the loop that dummy closes turns freely about the joint. gantry imports the
+/// joint as fixed and frees the rotation at the closure instead, which is the same
+/// mechanism when nothing but dummies hangs below the joint (the RG2 gripper's case).
+fn below_free_spherical_joint(file: &cf::CoppeliaFile, dummy: i32) -> bool {
+    let mut cur = file.object(dummy).and_then(|o| o.parent);
+    // The file's tree may be broken or cyclic: never walk more steps than objects.
+    for _ in 0..file.objects.len() {
+        let Some(o) = cur.and_then(|h| file.object(h)) else {
+            return false;
+        };
+        match &o.kind {
+            cf::ObjectKind::Shape(_) => return false,
+            cf::ObjectKind::Joint(j)
+                if j.joint_type == cf::JointType::Spherical && j.mode == cf::JointMode::Dynamic =>
+            {
+                return true;
+            }
+            _ => cur = o.parent,
+        }
+    }
+    false
 }
 
 /// The objects' referenced handles (4.7+), as object indices. A handle the file does not
