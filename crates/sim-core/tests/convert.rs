@@ -560,3 +560,183 @@ fn non_finite_values_are_refused_naming_the_object() {
     let err = write_scene(&model, "x", "x.ttt").unwrap_err().to_string();
     assert_eq!(err, "object 'joint': max_force is not a finite number");
 }
+
+fn load_text(text: &str) -> Result<SceneModel, String> {
+    gantry_sim_core::scene::load_scene_text(&DiskFiles, text, Path::new("keys.toml"), &LoadOptions::default())
+        .map_err(|e| e.to_string())
+}
+
+/// The scene-format keys the writer needs, read by hand-written scenes too.
+#[test]
+fn the_keys_added_for_conversion_load_into_the_model() {
+    let model = load_text(
+        r#"
+[[object]]
+name = "body"
+kind = "shape"
+dynamic = true
+mass = 2.0
+center_of_mass = [0, 0, 0.1]
+inertia = [1, 0, 0, 2, 0, 3]
+inertia_frame = [0, 0, 0.6, 0.8]
+self_collision = false
+quaternion = [0, 0, 1, 0]
+
+[[object.part]]
+shape = "box"
+size = [0.2, 0.2, 0.2]
+color = [1, 0, 0]
+
+[[object.part]]
+role = "collision"
+shape = "sphere"
+radius = 0.1
+position = [0, 0, 0.5]
+
+[[object.part]]
+role = "visual"
+shape = "cylinder"
+radius = 0.1
+length = 0.3
+orientation_deg = [90, 0, 0]
+
+[[object]]
+name = "leader"
+kind = "joint"
+joint = "revolute"
+parent = "body"
+damping = 0.5
+friction = 0.25
+max_velocity = 90
+
+[[object]]
+name = "follower"
+kind = "joint"
+joint = "revolute"
+parent = "leader"
+mimic = { leader = "leader", multiplier = -2, offset = 45 }
+
+[[object]]
+name = "a"
+kind = "dummy"
+parent = "follower"
+
+[[object]]
+name = "b"
+kind = "dummy"
+
+[[dummy_link]]
+dummies = ["b", "a"]
+"#,
+    )
+    .expect("loads");
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    let ObjectModelKind::Shape(s) = &model.objects[0].kind else {
+        panic!("a shape")
+    };
+    assert_eq!(
+        s.mass,
+        MassModel::Inertial {
+            mass: 2.0,
+            com: [0.0, 0.0, 0.1],
+            frame: [0.0, 0.0, 0.6, 0.8],
+            inertia: [1.0, 0.0, 0.0, 2.0, 0.0, 3.0],
+        }
+    );
+    assert!(!s.self_collision);
+    // Box (both), sphere (collision only), cylinder (visual only).
+    assert_eq!((s.geoms.len(), s.visuals.len()), (2, 2));
+    assert!(matches!(s.geoms[1].geometry, Geometry::Sphere { .. }));
+    assert_eq!(s.geoms[1].local.translation.vector.z, 0.5);
+    assert!(matches!(s.visuals[1].geometry, Geometry::Cylinder { .. }));
+    assert_eq!(
+        (s.visuals[0].color, s.visuals[1].color),
+        ([1.0, 0.0, 0.0], [0.8, 0.8, 0.8])
+    );
+    assert!((s.visuals[1].local.rotation.angle() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    // The quaternion [0, 0, 1, 0] is a half turn about Z.
+    assert!((model.objects[0].local.rotation.angle() - std::f64::consts::PI).abs() < 1e-12);
+    let joint = |k: usize| match &model.objects[k].kind {
+        ObjectModelKind::Joint(j) => j.clone(),
+        other => panic!("{other:?}"),
+    };
+    let leader = joint(1);
+    assert_eq!((leader.damping, leader.friction), (0.5, 0.25));
+    assert!((leader.max_velocity.expect("set") - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    let m = joint(2).mimic.expect("a mimic joint");
+    assert_eq!((m.leader, m.multiplier), (1, -2.0));
+    assert!(
+        (m.offset - std::f64::consts::FRAC_PI_4).abs() < 1e-15,
+        "offset in degrees"
+    );
+    // Without the keys, a joint keeps the scene format's defaults.
+    assert_eq!(
+        (joint(2).damping, joint(2).friction, joint(2).max_velocity),
+        (0.1, 0.0, None)
+    );
+    assert_eq!(model.dummy_links, vec![[4, 3]]);
+}
+
+#[test]
+fn the_keys_added_for_conversion_are_checked() {
+    let dummy = "[[object]]\nname = \"d\"\nkind = \"dummy\"\n";
+    let joint = "[[object]]\nname = \"j\"\nkind = \"joint\"\njoint = \"revolute\"\n";
+    for (text, want) in [
+        (
+            format!("{dummy}orientation_deg = [0, 0, 0]\nquaternion = [0, 0, 0, 1]\n"),
+            "object 'd': give orientation_deg or quaternion, not both",
+        ),
+        (
+            format!("{dummy}quaternion = [0, 0, 0, 0]\n"),
+            "quaternion [0.0, 0.0, 0.0, 0.0] must be finite and not zero",
+        ),
+        (
+            "[[object]]\nname = \"s\"\nkind = \"shape\"\nshape = \"sphere\"\nradius = 1.0\n[[object.part]]\nshape = \"sphere\"\nradius = 1.0\n".into(),
+            "shape 's': give `shape` or `[[object.part]]` tables, not both",
+        ),
+        (
+            "[[object]]\nname = \"s\"\nkind = \"shape\"\n[[object.part]]\nrole = \"ghost\"\nshape = \"sphere\"\nradius = 1.0\n".into(),
+            "shape 's' part 1: unknown role 'ghost'; use both, collision or visual",
+        ),
+        (
+            "[[object]]\nname = \"s\"\nkind = \"shape\"\nshape = \"sphere\"\nradius = 1.0\ninertia = [1, 0, 0, 1, 0, 1]\n".into(),
+            "shape 's': `inertia` needs `mass` (and no `density`)",
+        ),
+        (
+            format!("{joint}mimic = {{ leader = \"d\" }}\n{dummy}"),
+            "mimic leader 'd' must be another joint",
+        ),
+        (
+            format!("{joint}mimic = {{ leader = \"nobody\" }}\n"),
+            "'nobody' is not defined in this scene",
+        ),
+        (
+            format!("{joint}max_velocity = 0\n"),
+            "joint 'j': max_velocity must be > 0",
+        ),
+        (
+            format!("{joint}{dummy}[[dummy_link]]\ndummies = [\"d\", \"j\"]\n"),
+            "dummy_link: 'j' is not a dummy",
+        ),
+        (
+            format!("{dummy}[[dummy_link]]\ndummies = [\"d\", \"d\"]\n"),
+            "dummy_link: a dummy cannot be linked to itself",
+        ),
+    ] {
+        let err = load_text(&text).expect_err(&text);
+        assert!(err.starts_with("keys.toml:") && err.contains(want), "{err}\n---\n{text}");
+    }
+    // Unknown keys inside parts and mimic tables are warned about, with a hint.
+    let model = load_text(&format!(
+        "{joint}[[object]]\nname = \"k\"\nkind = \"joint\"\njoint = \"revolute\"\nmimic = {{ leader = \"j\", multiplyer = 2 }}\n\
+         [[object]]\nname = \"s\"\nkind = \"shape\"\n[[object.part]]\nshape = \"sphere\"\nradius = 1.0\ncolour = [1, 0, 0]\n"
+    ))
+    .expect("loads");
+    assert_eq!(
+        model.warnings,
+        [
+            "unknown key 'object[1] ('k').mimic.multiplyer' (did you mean 'multiplier'?)",
+            "unknown key 'object[2] ('s').part[0].colour' (did you mean 'color'?)",
+        ]
+    );
+}
