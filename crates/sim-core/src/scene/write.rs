@@ -535,3 +535,74 @@ fn f32_text(v: f32) -> String {
         format!("{:?}", f64::from(v))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::model::ShapeModel;
+
+    fn dummy(alias: &str) -> ObjectModel {
+        ObjectModel {
+            alias: alias.into(),
+            parent: None,
+            local: Pose::identity(),
+            model_base: false,
+            kind: ObjectModelKind::Dummy,
+        }
+    }
+
+    #[test]
+    fn names_are_unique_and_hold_no_slash() {
+        let objects = [dummy("a"), dummy("a"), dummy("a_2"), dummy("x/y"), dummy("")];
+        assert_eq!(unique_names(&objects), ["a", "a_2", "a_2_2", "x_y", "dummy"]);
+    }
+
+    #[test]
+    fn colours_read_back_as_the_same_f32() {
+        for v in [0.8f32, 1.0 / 3.0, 0.55, 1e-7, 0.0, 1.0] {
+            let text = f32_text(v);
+            assert_eq!(text.parse::<f64>().expect("a number") as f32, v, "{text}");
+        }
+        assert_eq!(f32_text(0.8), "0.8");
+    }
+
+    #[test]
+    fn a_one_part_shape_is_written_with_the_object_keys() {
+        let model = SceneModel {
+            name: "s".into(),
+            base_dir: PathBuf::new(),
+            settings: crate::scene::model::SimSettings::default(),
+            server: crate::scene::model::ServerSettings::default(),
+            objects: vec![ObjectModel {
+                kind: ObjectModelKind::Shape(ShapeModel::single(
+                    Geometry::Box {
+                        half_extents: [0.5, 0.25, 0.125],
+                    },
+                    [1.0, 0.0, 0.0],
+                )),
+                local: Pose::translation(0.0, 0.0, 0.5),
+                ..dummy("box")
+            }],
+            scripts: Vec::new(),
+            dummy_links: Vec::new(),
+            warnings: Vec::new(),
+        };
+        let files = write_scene(&model, "s", "s.ttt").expect("writes");
+        assert_eq!(files.files.len(), 1);
+        let text = String::from_utf8(files.files[0].1.clone()).expect("utf-8");
+        assert!(
+            text.contains(
+                "name = \"box\"\nkind = \"shape\"\nposition = [0.0, 0.0, 0.5]\ndynamic = false\ndensity = 1000.0\n"
+            ),
+            "{text}"
+        );
+        assert!(
+            text.contains("shape = \"box\"\nsize = [1.0, 0.5, 0.25]\ncolor = [1.0, 0.0, 0.0]\n"),
+            "{text}"
+        );
+        assert!(
+            !text.contains("[[object.part]]") && !text.contains("orientation"),
+            "{text}"
+        );
+    }
+}
