@@ -278,36 +278,48 @@ impl Writer {
         let _ = writeln!(self.out, "measurable = {}", s.measurable);
         let _ = writeln!(self.out, "self_collision = {}", s.self_collision);
 
+        // A mesh without triangles is refused by the mesh loader (a file with nothing
+        // to draw or collide with is almost always a mistake), so it is left out, said.
+        let empty = |g: &Geometry| matches!(g, Geometry::Mesh(m) if m.indices.is_empty());
+        let geoms: Vec<_> = s.geoms.iter().filter(|g| !empty(&g.geometry)).collect();
+        let visuals: Vec<_> = s.visuals.iter().filter(|v| !empty(&v.geometry)).collect();
+        let dropped = s.geoms.len() + s.visuals.len() - geoms.len() - visuals.len();
+        if dropped > 0 {
+            self.notes.push(format!(
+                "{}: {dropped} mesh part(s) without triangles left out",
+                self.object
+            ));
+        }
         // Parts drawn as they collide are written once ("both"); otherwise the
         // collision parts, then the visual ones, as the loader reads them back.
-        let paired = s.geoms.len() == s.visuals.len()
-            && s.geoms
+        let paired = geoms.len() == visuals.len()
+            && geoms
                 .iter()
-                .zip(&s.visuals)
+                .zip(&visuals)
                 .all(|(g, v)| g.local == v.local && same_geometry(&g.geometry, &v.geometry));
-        if paired && s.geoms.len() == 1 && s.geoms[0].local == Pose::identity() {
-            self.geometry(&s.geoms[0].geometry)?;
-            self.color(s.visuals[0].color)?;
+        if paired && geoms.len() == 1 && geoms[0].local == Pose::identity() {
+            self.geometry(&geoms[0].geometry)?;
+            self.color(visuals[0].color)?;
             return Ok(());
         }
-        if s.geoms.is_empty() && s.visuals.is_empty() {
+        if geoms.is_empty() && visuals.is_empty() {
             self.out.push_str("part = []\n");
             return Ok(());
         }
         if paired {
-            for (g, v) in s.geoms.iter().zip(&s.visuals) {
+            for (g, v) in geoms.iter().zip(&visuals) {
                 self.out.push_str("\n[[object.part]]\n");
                 self.geometry(&g.geometry)?;
                 self.pose(&g.local)?;
                 self.color(v.color)?;
             }
         } else {
-            for g in &s.geoms {
+            for g in &geoms {
                 self.out.push_str("\n[[object.part]]\nrole = \"collision\"\n");
                 self.geometry(&g.geometry)?;
                 self.pose(&g.local)?;
             }
-            for v in &s.visuals {
+            for v in &visuals {
                 self.out.push_str("\n[[object.part]]\nrole = \"visual\"\n");
                 self.geometry(&v.geometry)?;
                 self.pose(&v.local)?;
@@ -564,6 +576,41 @@ mod tests {
             assert_eq!(text.parse::<f64>().expect("a number") as f32, v, "{text}");
         }
         assert_eq!(f32_text(0.8), "0.8");
+    }
+
+    fn scene(objects: Vec<ObjectModel>) -> SceneModel {
+        SceneModel {
+            name: "s".into(),
+            base_dir: PathBuf::new(),
+            settings: crate::scene::model::SimSettings::default(),
+            server: crate::scene::model::ServerSettings::default(),
+            objects,
+            scripts: Vec::new(),
+            dummy_links: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn what_cannot_be_written_is_said_at_the_top() {
+        let empty = Geometry::Mesh(Arc::new(MeshData {
+            source: "e".into(),
+            vertices: vec![[0.0; 3]],
+            indices: Vec::new(),
+            parts: Vec::new(),
+        }));
+        let shape = ObjectModel {
+            kind: ObjectModelKind::Shape(ShapeModel::single(empty, [1.0; 3])),
+            ..dummy("hollow")
+        };
+        let files = write_scene(&scene(vec![shape]), "s", "s.ttt").expect("writes");
+        assert_eq!(files.notes, ["hollow: 2 mesh part(s) without triangles left out"]);
+        let text = String::from_utf8(files.files[0].1.clone()).expect("utf-8");
+        assert!(
+            text.contains("\n# gantry convert: hollow: 2 mesh part(s) without triangles left out\n"),
+            "{text}"
+        );
+        assert!(text.contains("part = []"), "{text}");
     }
 
     #[test]
