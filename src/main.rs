@@ -2,7 +2,9 @@
 //!
 //! `gantry` (or `gantry run`) runs the embedded `showroom` scene in real time until
 //! Ctrl-C; `gantry run SCENE` runs a `.toml` scene or a bare `.urdf`; `gantry check SCENE`
-//! validates a scene without running it. On exit `run` prints one machine-readable line:
+//! validates a scene without running it; `gantry convert SCENE DIR` writes any scene it
+//! loads (a CoppeliaSim `.ttt`/`.ttm`, a URDF) as a TOML scene with its meshes and
+//! scripts as files. On exit `run` prints one machine-readable line:
 //! `steps=N sim_time=S wall_s=W steps_per_s=R rtf=X`.
 
 use std::net::{IpAddr, Ipv4Addr};
@@ -14,7 +16,7 @@ use clap::{Args, Parser, Subcommand};
 use gantry_script::{NetworkParams, ScriptLimits, check_syntax, uses_luasocket};
 use gantry_server::http::HttpConfig;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, SimConfig, TextConfig};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_bundled, load_scene};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_bundled, load_scene, write_scene};
 
 #[derive(Parser)]
 #[command(
@@ -43,6 +45,20 @@ enum Command {
     Check {
         /// Scene file (.toml) or robot (.urdf).
         scene: PathBuf,
+        /// Extra folder for package:// mesh references (repeatable).
+        #[arg(long = "package-path")]
+        package_paths: Vec<PathBuf>,
+    },
+    /// Write a scene (.ttt, .ttm, .urdf, .toml) as a TOML scene in DIR: DIR/<stem>.toml,
+    /// its meshes as OBJ files in DIR/meshes and its scripts as Lua files in DIR/scripts.
+    Convert {
+        /// The scene to convert.
+        scene: PathBuf,
+        /// Output folder (created if missing).
+        dir: PathBuf,
+        /// Overwrite files that already exist.
+        #[arg(long)]
+        force: bool,
         /// Extra folder for package:// mesh references (repeatable).
         #[arg(long = "package-path")]
         package_paths: Vec<PathBuf>,
@@ -154,6 +170,12 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Some(Command::Run(args)) => run(&args),
         Some(Command::Check { scene, package_paths }) => check(&scene, package_paths),
+        Some(Command::Convert {
+            scene,
+            dir,
+            force,
+            package_paths,
+        }) => convert(&scene, &dir, force, package_paths),
         Some(Command::Send {
             addr,
             timeout,
@@ -204,6 +226,56 @@ fn check(scene: &PathBuf, package_paths: Vec<PathBuf>) -> Result<()> {
         model.objects.len(),
         model.scripts.len(),
         model.warnings.len()
+    );
+    Ok(())
+}
+
+fn convert(scene: &PathBuf, dir: &std::path::Path, force: bool, package_paths: Vec<PathBuf>) -> Result<()> {
+    let model = load(
+        Some(scene),
+        &LoadOptions {
+            package_paths,
+            free_base: false,
+        },
+    )?;
+    let stem = scene.file_stem().and_then(|s| s.to_str()).unwrap_or("scene");
+    let source = scene.file_name().and_then(|s| s.to_str()).unwrap_or(stem);
+    let written = write_scene(&model, stem, source).with_context(|| format!("cannot convert {}", scene.display()))?;
+    // Check every file before writing any, so that a refusal leaves DIR as it was.
+    if !force {
+        let existing: Vec<String> = written
+            .files
+            .iter()
+            .map(|(rel, _)| dir.join(rel))
+            .filter(|p| p.exists())
+            .map(|p| p.display().to_string())
+            .collect();
+        anyhow::ensure!(
+            existing.is_empty(),
+            "{} already exist(s); pass --force to overwrite",
+            existing.join(", ")
+        );
+    }
+    for (rel, bytes) in &written.files {
+        let path = dir.join(rel);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
+        }
+        std::fs::write(&path, bytes).with_context(|| format!("cannot write {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    for w in &model.warnings {
+        eprintln!("warning: {w}");
+    }
+    for n in &written.notes {
+        eprintln!("warning: not converted: {n}");
+    }
+    println!(
+        "{}: converted to {} ({} objects, {} files)",
+        scene.display(),
+        dir.join(&written.files[0].0).display(),
+        model.objects.len(),
+        written.files.len()
     );
     Ok(())
 }

@@ -241,3 +241,100 @@ fn send_exits_non_zero_on_errors_and_failed_connections() {
         .expect("runs");
     assert!(!refused.status.success());
 }
+
+/// The shared CoppeliaSim files (`$GANTRY_COPPELIA_FILES`, else `shared/coppelia-files`
+/// beside the checkout or one of its ancestors, so a worktree finds them too).
+fn coppelia_files() -> Option<std::path::PathBuf> {
+    if let Some(dir) = std::env::var_os("GANTRY_COPPELIA_FILES") {
+        return Some(dir.into());
+    }
+    root()
+        .ancestors()
+        .map(|a| a.join("shared/coppelia-files"))
+        .find(|d| d.join("SOURCES.md").is_file())
+}
+
+/// `gantry convert SCENE DIR`, then `gantry check` on what it wrote.
+fn convert_and_check(scene: &std::path::Path, dir: &std::path::Path, stem: &str) -> String {
+    let out = gantry().arg("convert").arg(scene).arg(dir).output().expect("runs");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let toml = dir.join(format!("{stem}.toml"));
+    assert!(stdout.contains(&format!("wrote {}", toml.display())), "{stdout}");
+    let check = gantry().arg("check").arg(&toml).output().expect("runs");
+    assert!(
+        check.status.success(),
+        "{}: {}",
+        toml.display(),
+        String::from_utf8_lossy(&check.stderr)
+    );
+    stdout
+}
+
+#[test]
+fn convert_writes_a_scene_that_checks_and_refuses_to_overwrite_without_force() {
+    let dir = std::env::temp_dir().join(format!("gantry-cli-convert-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    // Any scene gantry loads converts: a URDF robot, on any clone.
+    let urdf = root().join("assets/robots/arm6/arm6.urdf");
+    let stdout = convert_and_check(&urdf, &dir.join("arm6"), "arm6");
+    assert!(
+        stdout.contains("converted to") && stdout.contains("(17 objects"),
+        "{stdout}"
+    );
+
+    // Again into the same folder: refused, naming the files, and nothing is touched.
+    let toml = dir.join("arm6/arm6.toml");
+    std::fs::write(&toml, "# edited by hand\n").expect("write");
+    let again = gantry()
+        .arg("convert")
+        .arg(&urdf)
+        .arg(dir.join("arm6"))
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert!(!again.status.success());
+    assert!(
+        stderr.contains(&toml.display().to_string()) && stderr.contains("--force"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read_to_string(&toml).expect("read"), "# edited by hand\n");
+    let forced = gantry()
+        .arg("convert")
+        .arg("--force")
+        .arg(&urdf)
+        .arg(dir.join("arm6"))
+        .output()
+        .expect("runs");
+    assert!(forced.status.success(), "{}", String::from_utf8_lossy(&forced.stderr));
+    assert!(std::fs::read_to_string(&toml).expect("read").contains("[[object]]"));
+
+    // A missing scene is an error naming it.
+    let missing = gantry()
+        .arg("convert")
+        .arg(dir.join("nothing.ttt"))
+        .arg(dir.join("x"))
+        .output()
+        .expect("runs");
+    assert!(!missing.status.success());
+    assert!(String::from_utf8_lossy(&missing.stderr).contains("nothing.ttt"));
+
+    // The paper's CoppeliaSim scene: its scripts become Lua files the TOML attaches.
+    match coppelia_files() {
+        Some(files) => {
+            let stdout = convert_and_check(
+                &files.join("paper__Blue_Robot.ttt"),
+                &dir.join("blue"),
+                "paper__Blue_Robot",
+            );
+            assert!(stdout.contains("scripts/") && stdout.contains(".lua"), "{stdout}");
+            let toml = std::fs::read_to_string(dir.join("blue/paper__Blue_Robot.toml")).expect("read");
+            assert!(
+                toml.contains("[[script]]") && toml.contains("mesh = \"meshes/"),
+                "{toml}"
+            );
+        }
+        None => println!("coppelia-files not found; the .ttt part skipped (set GANTRY_COPPELIA_FILES)"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -14,12 +14,13 @@ use super::error::{LoadError, line_col};
 use super::files::{Files, normalize, stem};
 use super::floor::{floor_object, put_on_floor};
 use super::model::{
-    Geometry, JointMode, JointModel, JointType, MAX_VISION_RESOLUTION, MassModel, ObjectModel, ObjectModelKind,
-    ProximityModel, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
+    GeomModel, Geometry, JointMode, JointModel, JointType, MAX_VISION_RESOLUTION, MassModel, MimicModel, ObjectModel,
+    ObjectModelKind, ProximityModel, ReferencedHandles, SceneModel, ScriptModel, ServerSettings, ShapeModel,
+    SimSettings, VisionModel, VisualModel,
 };
-use super::raw::{RawObject, RawRobot, RawScene, unknown_keys};
+use super::raw::{RawObject, RawPart, RawRobot, RawScene, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
-use crate::math::{Pose, pose_from_euler};
+use crate::math::{Pose, pose_from_euler, quat_from_array};
 
 /// Default damping of velocity-mode joints, N·m·s/rad: the gain of the velocity servo.
 pub const DEFAULT_VELOCITY_KD: f64 = 10.0;
@@ -30,6 +31,9 @@ pub const DEFAULT_VELOCITY_KD: f64 = 10.0;
 /// they were tuned, and a free-wheeling rover at rest on its frictionless caster from
 /// creeping away on contact noise.
 const TOML_JOINT_DAMPING: f64 = 0.1;
+
+/// Colour of a shape or visual part that gives none.
+const DEFAULT_COLOR: [f32; 3] = [0.8, 0.8, 0.8];
 
 /// Options that come from the command line rather than the scene.
 #[derive(Debug, Clone, Default)]
@@ -143,6 +147,7 @@ pub fn load_scene_text(
         scripts: Vec::new(),
         warnings: unknown_keys(&doc),
         names: Names::new(),
+        mimics: Vec::new(),
     };
     let settings = r.settings(&raw)?;
     let server = raw
@@ -175,6 +180,9 @@ pub fn load_scene_text(
         let object = r.reference(&s.object)?;
         r.attach_script(object, &s.file)?;
     }
+    r.resolve_mimics()?;
+    let (dummy_links, ball_links) = r.dummy_links(&raw)?;
+    let referenced_handles = r.references(&raw)?;
     Ok(SceneModel {
         name: stem(path),
         base_dir: base_dir.clone(),
@@ -182,9 +190,9 @@ pub fn load_scene_text(
         server,
         objects: r.objects,
         scripts: r.scripts,
-        dummy_links: Vec::new(),
-        ball_links: Vec::new(),
-        referenced_handles: Vec::new(),
+        dummy_links,
+        ball_links,
+        referenced_handles,
         warnings: dedup(r.warnings),
     })
 }
@@ -220,6 +228,18 @@ struct Resolver<'a> {
     scripts: Vec<ScriptModel>,
     warnings: Vec<String>,
     names: Names,
+    /// Joints that follow another, resolved once every object exists: the follower's
+    /// index, the leader's name, and the multiplier and offset in model units.
+    mimics: Vec<(usize, Spanned<String>, f64, f64)>,
+}
+
+/// The geometry keys of an `[[object]]` or an `[[object.part]]`.
+struct GeometryKeys<'a> {
+    size: Option<[f64; 3]>,
+    radius: Option<f64>,
+    length: Option<f64>,
+    mesh: Option<&'a Spanned<String>>,
+    scale: Option<[f64; 3]>,
 }
 
 /// Names of emitted entries, for `parent` and `[[script]] object` references.
@@ -448,9 +468,35 @@ impl Resolver<'_> {
         pose_from_euler(position.unwrap_or([0.0; 3]), e)
     }
 
+    /// A pose from `position` and either `orientation_deg` or `quaternion` (not both);
+    /// `what` names the entry in messages.
+    fn pose_with_quaternion(
+        &self,
+        span: std::ops::Range<usize>,
+        what: &str,
+        position: Option<[f64; 3]>,
+        orientation_deg: Option<[f64; 3]>,
+        quaternion: Option<[f64; 4]>,
+    ) -> Result<Pose, LoadError> {
+        let Some(q) = quaternion else {
+            return Ok(Self::pose(position, orientation_deg));
+        };
+        if orientation_deg.is_some() {
+            return self.err_at(span, format!("{what}: give orientation_deg or quaternion, not both"));
+        }
+        let Some(rotation) = quat_from_array(q) else {
+            return self.err_at(
+                span,
+                format!("{what}: quaternion {q:?} must be finite and not zero ([x, y, z, w])"),
+            );
+        };
+        let [x, y, z] = position.unwrap_or([0.0; 3]);
+        Ok(Pose::from_parts(nalgebra::Translation3::new(x, y, z), rotation))
+    }
+
     fn object(&mut self, o: &RawObject, parent: Option<usize>) -> Result<usize, LoadError> {
         let here = o.name.span();
-        let nums: [(&str, Option<f64>); 14] = [
+        let nums: [(&str, Option<f64>); 16] = [
             ("radius", o.radius),
             ("length", o.length),
             ("mass", o.mass),
@@ -465,6 +511,8 @@ impl Resolver<'_> {
             ("near", o.near),
             ("radius_far", o.radius_far),
             ("thickness", o.thickness),
+            ("damping", o.damping),
+            ("max_velocity", o.max_velocity),
         ];
         for (key, v) in nums {
             if let Some(v) = v
@@ -480,11 +528,17 @@ impl Resolver<'_> {
             }
         }
         let finite3 = |v: Option<[f64; 3]>| v.is_none_or(|a| a.iter().all(|x| x.is_finite()));
-        if !finite3(o.position) || !finite3(o.orientation_deg) || !finite3(o.size) || !finite3(o.scale) {
+        if !finite3(o.position)
+            || !finite3(o.orientation_deg)
+            || !finite3(o.size)
+            || !finite3(o.scale)
+            || !finite3(o.center_of_mass)
+            || o.inertia.is_some_and(|i| i.iter().any(|x| !x.is_finite()))
+        {
             return self.err_at(
                 here,
                 format!(
-                    "object '{}': position, orientation, size and scale must be finite",
+                    "object '{}': position, orientation, size, scale, center_of_mass and inertia must be finite",
                     o.name.get_ref()
                 ),
             );
@@ -508,7 +562,13 @@ impl Resolver<'_> {
         self.objects.push(ObjectModel {
             alias: o.alias.clone().unwrap_or_else(|| o.name.get_ref().clone()),
             parent,
-            local: Self::pose(o.position, o.orientation_deg),
+            local: self.pose_with_quaternion(
+                here.clone(),
+                &format!("object '{}'", o.name.get_ref()),
+                o.position,
+                o.orientation_deg,
+                o.quaternion,
+            )?,
             model_base: o.model_base.unwrap_or(false),
             kind,
         });
@@ -520,12 +580,165 @@ impl Resolver<'_> {
 
     fn shape(&mut self, o: &RawObject) -> Result<ShapeModel, LoadError> {
         let name = o.name.get_ref();
-        let Some(kind) = &o.shape else {
+        let color = o.color.unwrap_or(DEFAULT_COLOR);
+        let (geoms, visuals) = match (&o.part, &o.shape) {
+            (Some(_), Some(kind)) => {
+                return self.err_at(
+                    kind.span(),
+                    format!("shape '{name}': give `shape` or `[[object.part]]` tables, not both"),
+                );
+            }
+            (Some(parts), None) => self.parts(name, parts)?,
+            (None, Some(kind)) => {
+                let keys = GeometryKeys {
+                    size: o.size,
+                    radius: o.radius,
+                    length: o.length,
+                    mesh: o.mesh.as_ref(),
+                    scale: o.scale,
+                };
+                let geometry = self.geometry(name, kind, &keys)?;
+                let local = Pose::identity();
+                (
+                    vec![GeomModel {
+                        geometry: geometry.clone(),
+                        local,
+                    }],
+                    vec![VisualModel { geometry, local, color }],
+                )
+            }
+            (None, None) => {
+                return self.err_at(
+                    o.name.span(),
+                    format!("shape '{name}' needs `shape = \"box\" | \"sphere\" | \"cylinder\" | \"capsule\" | \"mesh\"` or `[[object.part]]` tables"),
+                );
+            }
+        };
+        let mass = match (o.mass, o.density, o.inertia) {
+            (Some(_), Some(_), _) => {
+                return self.err_at(o.name.span(), format!("shape '{name}': give mass or density, not both"));
+            }
+            (Some(mass), None, Some(inertia)) => MassModel::Inertial {
+                mass,
+                com: o.center_of_mass.unwrap_or([0.0; 3]),
+                frame: match o.inertia_frame {
+                    None => [0.0, 0.0, 0.0, 1.0],
+                    Some(q) => match quat_from_array(q) {
+                        // Kept as written (normalised), so that a converted scene
+                        // reads back the frame it was written with.
+                        Some(_) => q,
+                        None => {
+                            return self.err_at(
+                                o.name.span(),
+                                format!("shape '{name}': inertia_frame {q:?} must be a finite, non-zero quaternion [x, y, z, w]"),
+                            );
+                        }
+                    },
+                },
+                inertia,
+            },
+            (_, _, Some(_)) => {
+                return self.err_at(
+                    o.name.span(),
+                    format!("shape '{name}': `inertia` needs `mass` (and no `density`)"),
+                );
+            }
+            (Some(m), None, None) => MassModel::Mass(m),
+            (None, Some(d), None) => MassModel::Density(d),
+            (None, None, None) => MassModel::Density(1000.0),
+        };
+        if o.inertia.is_none() && (o.center_of_mass.is_some() || o.inertia_frame.is_some()) {
             return self.err_at(
                 o.name.span(),
-                format!("shape '{name}' needs `shape = \"box\" | \"sphere\" | \"cylinder\" | \"capsule\" | \"mesh\"`"),
+                format!("shape '{name}': center_of_mass and inertia_frame need `inertia` (and `mass`)"),
             );
-        };
+        }
+        Ok(ShapeModel {
+            geoms,
+            visuals,
+            dynamic: o.dynamic.unwrap_or(false),
+            mass,
+            friction: o.friction.unwrap_or(0.5),
+            restitution: match o.restitution {
+                Some(e) if e > 1.0 => {
+                    return self.err_at(
+                        o.name.span(),
+                        format!("shape '{name}': restitution {e} must be between 0 and 1"),
+                    );
+                }
+                e => e.unwrap_or(0.0),
+            },
+            collision_group: o.collision_group.unwrap_or(u32::MAX),
+            collision_mask: o.collision_mask.unwrap_or(u32::MAX),
+            respondable: o.respondable.unwrap_or(true),
+            detectable: o.detectable.unwrap_or(true),
+            measurable: o.measurable.unwrap_or(true),
+            // Scene-file mechanisms keep CoppeliaSim's rule: their parts collide unless
+            // collision groups or a joint between them say otherwise.
+            self_collision: o.self_collision.unwrap_or(true),
+        })
+    }
+
+    /// The collision and visual parts of a shape given as `[[object.part]]` tables, in
+    /// file order.
+    fn parts(&mut self, name: &str, parts: &[RawPart]) -> Result<(Vec<GeomModel>, Vec<VisualModel>), LoadError> {
+        let mut geoms = Vec::new();
+        let mut visuals = Vec::new();
+        for (k, p) in parts.iter().enumerate() {
+            let label = format!("shape '{name}' part {}", k + 1);
+            let Some(kind) = &p.shape else {
+                let here = p.role.as_ref().map_or_else(|| self.find_key("part"), Spanned::span);
+                return self.err_at(
+                    here,
+                    format!("{label} needs `shape = \"box\" | \"sphere\" | \"cylinder\" | \"capsule\" | \"mesh\"`"),
+                );
+            };
+            let finite3 = |v: Option<[f64; 3]>| v.is_none_or(|a| a.iter().all(|x| x.is_finite()));
+            if !finite3(p.position) || !finite3(p.orientation_deg) || !finite3(p.size) || !finite3(p.scale) {
+                return self.err_at(
+                    kind.span(),
+                    format!("{label}: position, orientation, size and scale must be finite"),
+                );
+            }
+            let keys = GeometryKeys {
+                size: p.size,
+                radius: p.radius,
+                length: p.length,
+                mesh: p.mesh.as_ref(),
+                scale: p.scale,
+            };
+            let geometry = self.geometry(name, kind, &keys)?;
+            let local = self.pose_with_quaternion(kind.span(), &label, p.position, p.orientation_deg, p.quaternion)?;
+            let (collide, draw) = match p.role.as_ref().map(|r| (r, r.get_ref().as_str())) {
+                None | Some((_, "both")) => (true, true),
+                Some((_, "collision")) => (true, false),
+                Some((_, "visual")) => (false, true),
+                Some((r, other)) => {
+                    return self.err_at(
+                        r.span(),
+                        format!("{label}: unknown role '{other}'; use both, collision or visual"),
+                    );
+                }
+            };
+            if collide {
+                geoms.push(GeomModel {
+                    geometry: geometry.clone(),
+                    local,
+                });
+            }
+            if draw {
+                visuals.push(VisualModel {
+                    geometry,
+                    local,
+                    color: p.color.unwrap_or(DEFAULT_COLOR),
+                });
+            }
+        }
+        Ok((geoms, visuals))
+    }
+
+    /// One primitive or mesh from its keys; `kind` is the `shape` value.
+    fn geometry(&self, name: &str, kind: &Spanned<String>, o: &GeometryKeys<'_>) -> Result<Geometry, LoadError> {
         let need = |v: Option<f64>, key: &str| -> Result<f64, LoadError> {
             match v {
                 Some(v) if v > 0.0 => Ok(v),
@@ -535,7 +748,7 @@ impl Resolver<'_> {
                 ),
             }
         };
-        let geometry = match kind.get_ref().as_str() {
+        Ok(match kind.get_ref().as_str() {
             "box" => match o.size {
                 Some(s) if s.iter().all(|v| *v > 0.0) => Geometry::Box {
                     half_extents: s.map(|v| v / 2.0),
@@ -559,12 +772,11 @@ impl Resolver<'_> {
                 length: need(o.length, "length")?,
             },
             "mesh" => {
-                let Some(file) = &o.mesh else {
+                let Some(file) = o.mesh else {
                     return self.err_at(kind.span(), format!("mesh '{name}' needs `mesh = \"file.stl\"`"));
                 };
                 let path = self.relative(file.get_ref());
-                let mesh = super::mesh::load_mesh(self.files, &path, o.scale.unwrap_or([1.0; 3]));
-                match mesh {
+                match super::mesh::load_mesh(self.files, &path, o.scale.unwrap_or([1.0; 3])) {
                     Ok(m) => Geometry::Mesh(m),
                     Err(e) => return self.err_at(file.span(), e.to_string()),
                 }
@@ -575,38 +787,6 @@ impl Resolver<'_> {
                     format!("unknown shape '{other}'; use box, sphere, cylinder, capsule or mesh"),
                 );
             }
-        };
-        let mass = match (o.mass, o.density) {
-            (Some(_), Some(_)) => {
-                return self.err_at(o.name.span(), format!("shape '{name}': give mass or density, not both"));
-            }
-            (Some(m), None) => MassModel::Mass(m),
-            (None, Some(d)) => MassModel::Density(d),
-            (None, None) => MassModel::Density(1000.0),
-        };
-        let color = o.color.unwrap_or([0.8, 0.8, 0.8]);
-        Ok(ShapeModel {
-            dynamic: o.dynamic.unwrap_or(false),
-            mass,
-            friction: o.friction.unwrap_or(0.5),
-            restitution: match o.restitution {
-                Some(e) if e > 1.0 => {
-                    return self.err_at(
-                        o.name.span(),
-                        format!("shape '{name}': restitution {e} must be between 0 and 1"),
-                    );
-                }
-                e => e.unwrap_or(0.0),
-            },
-            collision_group: o.collision_group.unwrap_or(u32::MAX),
-            collision_mask: o.collision_mask.unwrap_or(u32::MAX),
-            respondable: o.respondable.unwrap_or(true),
-            detectable: o.detectable.unwrap_or(true),
-            measurable: o.measurable.unwrap_or(true),
-            // Scene-file mechanisms keep CoppeliaSim's rule: their parts collide unless
-            // collision groups or a joint between them say otherwise.
-            self_collision: true,
-            ..ShapeModel::single(geometry, color)
         })
     }
 
@@ -670,6 +850,19 @@ impl Resolver<'_> {
         };
         let mode = self.joint_mode(o.mode.as_ref())?;
         let initial = unit(o.initial.unwrap_or(0.0));
+        if let Some(m) = &o.mimic {
+            let multiplier = m.multiplier.unwrap_or(1.0);
+            let offset = m.offset.unwrap_or(0.0);
+            if !(multiplier.is_finite() && offset.is_finite()) {
+                return self.err_at(
+                    m.leader.span(),
+                    format!("joint '{name}': mimic multiplier and offset must be finite"),
+                );
+            }
+            // The follower's index is the next one: the object is pushed right after.
+            self.mimics
+                .push((self.objects.len(), m.leader.clone(), multiplier, unit(offset)));
+        }
         Ok(JointModel {
             joint_type,
             mode,
@@ -685,9 +878,19 @@ impl Resolver<'_> {
                 JointMode::Velocity => DEFAULT_VELOCITY_KD,
                 _ => DEFAULT_KD,
             }),
-            damping: TOML_JOINT_DAMPING,
-            friction: 0.0,
-            max_velocity: None,
+            damping: o.damping.unwrap_or(TOML_JOINT_DAMPING),
+            friction: o.friction.unwrap_or(0.0),
+            max_velocity: match o.max_velocity {
+                Some(v) if v > 0.0 => Some(unit(v)),
+                Some(_) => {
+                    return self.err_at(
+                        o.name.span(),
+                        format!("joint '{name}': max_velocity must be > 0 (leave it out for no limit)"),
+                    );
+                }
+                None => None,
+            },
+            // Set by `resolve_mimics` once the leader exists.
             mimic: None,
         })
     }
@@ -819,6 +1022,67 @@ impl Resolver<'_> {
             near,
             far,
         })
+    }
+
+    /// Points each `mimic` follower at its leader, which must be a joint.
+    fn resolve_mimics(&mut self) -> Result<(), LoadError> {
+        for (follower, leader_ref, multiplier, offset) in std::mem::take(&mut self.mimics) {
+            let leader = self.reference(&leader_ref)?;
+            if leader == follower || !matches!(self.objects[leader].kind, ObjectModelKind::Joint(_)) {
+                return self.err_at(
+                    leader_ref.span(),
+                    format!("mimic leader '{}' must be another joint", leader_ref.get_ref()),
+                );
+            }
+            if let ObjectModelKind::Joint(j) = &mut self.objects[follower].kind {
+                j.mimic = Some(MimicModel {
+                    leader,
+                    multiplier,
+                    offset,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The `[[reference]]` entries: each names an object, a tag and the objects it holds.
+    fn references(&self, raw: &RawScene) -> Result<Vec<ReferencedHandles>, LoadError> {
+        let mut out = Vec::with_capacity(raw.reference.len());
+        for r in &raw.reference {
+            let object = self.reference(&r.object)?;
+            let targets = r.objects.iter().map(|t| self.reference(t)).collect::<Result<_, _>>()?;
+            out.push(ReferencedHandles {
+                object,
+                tag: r.tag.clone().unwrap_or_default(),
+                targets,
+            });
+        }
+        Ok(out)
+    }
+
+    /// The `[[dummy_link]]` pairs, each two distinct dummies, in file order: those that
+    /// hold whole frames, then those with `free_rotation`.
+    fn dummy_links(&self, raw: &RawScene) -> Result<(Vec<[usize; 2]>, Vec<[usize; 2]>), LoadError> {
+        let mut out = Vec::with_capacity(raw.dummy_link.len());
+        let mut balls = Vec::new();
+        for link in &raw.dummy_link {
+            let [a, b] = &link.dummies;
+            let pair = [self.reference(a)?, self.reference(b)?];
+            for (i, r) in pair.iter().zip([a, b]) {
+                if !matches!(self.objects[*i].kind, ObjectModelKind::Dummy) {
+                    return self.err_at(r.span(), format!("dummy_link: '{}' is not a dummy", r.get_ref()));
+                }
+            }
+            if pair[0] == pair[1] {
+                return self.err_at(a.span(), "dummy_link: a dummy cannot be linked to itself");
+            }
+            if link.free_rotation == Some(true) {
+                balls.push(pair);
+            } else {
+                out.push(pair);
+            }
+        }
+        Ok((out, balls))
     }
 
     fn robot(&mut self, r: &RawRobot, parent: Option<usize>, name: &str) -> Result<UrdfIndex, LoadError> {

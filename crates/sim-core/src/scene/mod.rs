@@ -6,7 +6,8 @@
 //! 3. The world (`crate::world`) inserts the model into rapier.
 //!
 //! Bare URDFs and CoppeliaSim models (`.ttm`) load as a floor plus the robot; CoppeliaSim
-//! scenes (`.ttt`) and models import through [`load_coppelia`] (module `coppelia`). `docs/scene-format.md` documents the file.
+//! scenes (`.ttt`) and models import through [`load_coppelia`] (module `coppelia`). `docs/scene-format.md` documents the file; [`write_scene`] writes a
+//! model back as one (`gantry convert`).
 
 mod bundled;
 mod client_load;
@@ -19,9 +20,11 @@ mod mesh;
 pub mod model;
 mod model_file;
 mod obj_parts;
+mod obj_write;
 pub mod raw;
 mod urdf;
 mod urdf_fixups;
+mod write;
 
 pub use bundled::{BUNDLED_SCENES, bundled_files, load_bundled};
 pub use client_load::load_client_scene;
@@ -35,4 +38,6 @@ pub use mesh::{load_mesh, resolve_mesh_path};
 pub use model::*;
 pub use model_file::load_model;
 pub use obj_parts::obj_parts;
+pub use obj_write::write_obj;
 pub use urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
+pub use write::{SceneFiles, WriteError, write_scene};

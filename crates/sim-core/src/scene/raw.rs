@@ -26,6 +26,12 @@ pub struct RawScene {
     /// `[[script]]`: scripts attached to objects by path (e.g. inside a URDF robot).
     #[serde(default)]
     pub script: Vec<RawScript>,
+    /// `[[dummy_link]]`: pairs of dummies the physics holds together (loop closures).
+    #[serde(default)]
+    pub dummy_link: Vec<RawDummyLink>,
+    /// `[[reference]]`: referenced handles (`sim.getReferencedHandles`) an object holds.
+    #[serde(default)]
+    pub reference: Vec<RawReference>,
 }
 
 /// `[simulation]`.
@@ -83,6 +89,9 @@ pub struct RawObject {
     pub position: Option<[f64; 3]>,
     /// Orientation relative to the parent, CoppeliaSim Euler angles in **degrees**.
     pub orientation_deg: Option<[f64; 3]>,
+    /// Orientation relative to the parent as a unit quaternion `[x, y, z, w]`, instead
+    /// of `orientation_deg` (exact where Euler angles are not, as at gimbal lock).
+    pub quaternion: Option<[f64; 4]>,
     /// Marks the object as a model base (for `:` in paths).
     pub model_base: Option<bool>,
     /// Lua script file attached to this object, relative to the scene file.
@@ -106,7 +115,8 @@ pub struct RawObject {
     pub mass: Option<f64>,
     /// Shape: density in kg/m³ (default 1000 when neither mass nor density is given).
     pub density: Option<f64>,
-    /// Shape: Coulomb friction coefficient (default 0.5).
+    /// Shape: Coulomb friction coefficient (default 0.5). Joint: Coulomb joint friction,
+    /// the largest torque (N·m) or force (N) it opposes motion with (default 0).
     pub friction: Option<f64>,
     /// Shape: restitution 0..1 (default 0).
     pub restitution: Option<f64>,
@@ -122,6 +132,16 @@ pub struct RawObject {
     pub detectable: Option<bool>,
     /// Shape: seen by `sim.checkDistance` (default true).
     pub measurable: Option<bool>,
+    /// Shape: collides with the other links of its own mechanism (default true).
+    pub self_collision: Option<bool>,
+    /// Shape: centre of mass in the shape frame, metres (with `mass` and `inertia`).
+    pub center_of_mass: Option<[f64; 3]>,
+    /// Shape: inertia tensor `[ixx, ixy, ixz, iyy, iyz, izz]`, kg·m² (with `mass`).
+    pub inertia: Option<[f64; 6]>,
+    /// Shape: frame of `inertia` in the shape frame, quaternion `[x, y, z, w]`.
+    pub inertia_frame: Option<[f64; 4]>,
+    /// Shape: several collision and visual parts instead of one `shape`.
+    pub part: Option<Vec<RawPart>>,
 
     /// Joint: `revolute`, `prismatic` or `fixed`. The joint moves about/along its local Z axis.
     pub joint: Option<Spanned<String>>,
@@ -143,6 +163,12 @@ pub struct RawObject {
     pub kp: Option<f64>,
     /// Joint: position/velocity-control damping (N·m·s/rad or N·s/m).
     pub kd: Option<f64>,
+    /// Joint: viscous damping in the joint itself (N·m·s/rad or N·s/m).
+    pub damping: Option<f64>,
+    /// Joint: largest speed of the controllers, deg/s or m/s.
+    pub max_velocity: Option<f64>,
+    /// Joint: the joint this one follows.
+    pub mimic: Option<RawMimic>,
 
     /// Proximity sensor: `ray`, `cone`, `pyramid`, `cylinder` or `disc`. It looks along its
     /// local +Z axis.
@@ -169,6 +195,65 @@ pub struct RawObject {
     pub near: Option<f64>,
     /// Vision sensor: far clipping distance in metres.
     pub far: Option<f64>,
+}
+
+/// One `[[object.part]]` of a shape: a primitive or mesh placed in the shape frame.
+#[derive(Debug, Deserialize)]
+pub struct RawPart {
+    /// `both` (default), `collision` or `visual`.
+    pub role: Option<Spanned<String>>,
+    /// `box`, `sphere`, `cylinder`, `capsule` or `mesh`.
+    pub shape: Option<Spanned<String>>,
+    /// Box: full extents in metres.
+    pub size: Option<[f64; 3]>,
+    /// Sphere, cylinder, capsule: radius in metres.
+    pub radius: Option<f64>,
+    /// Cylinder, capsule: length along the local Z axis in metres.
+    pub length: Option<f64>,
+    /// Mesh: file (STL, OBJ or DAE) relative to the scene file.
+    pub mesh: Option<Spanned<String>>,
+    /// Mesh: scale per axis.
+    pub scale: Option<[f64; 3]>,
+    /// Position in the shape frame, metres.
+    pub position: Option<[f64; 3]>,
+    /// Orientation in the shape frame, CoppeliaSim Euler angles in degrees.
+    pub orientation_deg: Option<[f64; 3]>,
+    /// Orientation in the shape frame as a quaternion `[x, y, z, w]`.
+    pub quaternion: Option<[f64; 4]>,
+    /// RGB colour, each 0..1 (visual parts).
+    pub color: Option<[f32; 3]>,
+}
+
+/// A joint's `mimic = { leader = "...", multiplier = 1, offset = 0 }`.
+#[derive(Debug, Deserialize)]
+pub struct RawMimic {
+    /// Name of the leading joint.
+    pub leader: Spanned<String>,
+    /// `q = multiplier · q_leader + offset`, in rad and m (default 1).
+    pub multiplier: Option<f64>,
+    /// Follower position when the leader is at zero, degrees or metres (default 0).
+    pub offset: Option<f64>,
+}
+
+/// One `[[dummy_link]]`.
+#[derive(Debug, Deserialize)]
+pub struct RawDummyLink {
+    /// The two dummies, by name.
+    pub dummies: [Spanned<String>; 2],
+    /// Hold only the dummies' origins together, their rotation free (a loop closed
+    /// through a ball joint); default false: their whole frames.
+    pub free_rotation: Option<bool>,
+}
+
+/// One `[[reference]]`.
+#[derive(Debug, Deserialize)]
+pub struct RawReference {
+    /// The object holding the references, by name.
+    pub object: Spanned<String>,
+    /// The tag (default empty, as in CoppeliaSim).
+    pub tag: Option<String>,
+    /// The objects referenced, by name, in order.
+    pub objects: Vec<Spanned<String>>,
 }
 
 /// One `[[robot]]`: a URDF include.
@@ -213,7 +298,16 @@ pub struct RawScript {
     pub file: Spanned<String>,
 }
 
-const SCENE_KEYS: &[&str] = &["simulation", "floor", "server", "object", "robot", "script"];
+const SCENE_KEYS: &[&str] = &[
+    "simulation",
+    "floor",
+    "server",
+    "object",
+    "robot",
+    "script",
+    "dummy_link",
+    "reference",
+];
 const SIMULATION_KEYS: &[&str] = &[
     "dt",
     "substeps",
@@ -230,6 +324,7 @@ const OBJECT_KEYS: &[&str] = &[
     "parent",
     "position",
     "orientation_deg",
+    "quaternion",
     "model_base",
     "script",
     "shape",
@@ -249,6 +344,11 @@ const OBJECT_KEYS: &[&str] = &[
     "respondable",
     "detectable",
     "measurable",
+    "self_collision",
+    "center_of_mass",
+    "inertia",
+    "inertia_frame",
+    "part",
     "joint",
     "mode",
     "limits",
@@ -259,6 +359,9 @@ const OBJECT_KEYS: &[&str] = &[
     "max_force",
     "kp",
     "kd",
+    "damping",
+    "max_velocity",
+    "mimic",
     "sensor",
     "range",
     "angle_deg",
@@ -289,6 +392,22 @@ const ROBOT_KEYS: &[&str] = &[
     "initial",
 ];
 const SCRIPT_KEYS: &[&str] = &["object", "file"];
+const PART_KEYS: &[&str] = &[
+    "role",
+    "shape",
+    "size",
+    "radius",
+    "length",
+    "mesh",
+    "scale",
+    "position",
+    "orientation_deg",
+    "quaternion",
+    "color",
+];
+const MIMIC_KEYS: &[&str] = &["leader", "multiplier", "offset"];
+const DUMMY_LINK_KEYS: &[&str] = &["dummies", "free_rotation"];
+const REFERENCE_KEYS: &[&str] = &["object", "tag", "objects"];
 
 /// Lists keys of the document that the scene format does not define, as
 /// `"table.key"` paths with a suggestion when a known key is close.
@@ -305,7 +424,13 @@ pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
             check_table(t, name, keys, &mut out);
         }
     }
-    let arrays: [(&str, &[&str]); 3] = [("object", OBJECT_KEYS), ("robot", ROBOT_KEYS), ("script", SCRIPT_KEYS)];
+    let arrays: [(&str, &[&str]); 5] = [
+        ("object", OBJECT_KEYS),
+        ("robot", ROBOT_KEYS),
+        ("script", SCRIPT_KEYS),
+        ("dummy_link", DUMMY_LINK_KEYS),
+        ("reference", REFERENCE_KEYS),
+    ];
     for (name, keys) in arrays {
         if let Some(toml::Value::Array(items)) = doc.get(name) {
             for (i, item) in items.iter().enumerate() {
@@ -315,6 +440,16 @@ pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
                         None => format!("{name}[{i}]"),
                     };
                     check_table(t, &label, keys, &mut out);
+                    if let Some(toml::Value::Table(m)) = t.get("mimic") {
+                        check_table(m, &format!("{label}.mimic"), MIMIC_KEYS, &mut out);
+                    }
+                    if let Some(toml::Value::Array(parts)) = t.get("part") {
+                        for (j, p) in parts.iter().enumerate() {
+                            if let toml::Value::Table(p) = p {
+                                check_table(p, &format!("{label}.part[{j}]"), PART_KEYS, &mut out);
+                            }
+                        }
+                    }
                 }
             }
         }
