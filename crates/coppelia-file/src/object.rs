@@ -5,6 +5,7 @@
 //! `_fq` f64: qw qx qy qz x y z), `Ids` (handle, parent handle), `Nme`, `Ali` (alias,
 //! 4.3+), `Omp` (object special properties) and the model-base bit in `Var`/`Va2`/`Va3`.
 
+use crate::camera::{self, Camera};
 use crate::chunk::{At, Chunk, Chunks, Item, show};
 use crate::dummy::{self, Dummy};
 use crate::error::ReadError;
@@ -68,7 +69,7 @@ pub enum ObjectKind {
     /// A graph (`GRH`).
     Graph,
     /// A camera (`CMA`).
-    Camera,
+    Camera(Camera),
     /// A light (`LGT`).
     Light,
     /// A script object (`SCT`, 4.7+); its script is in
@@ -165,7 +166,7 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
         b"RSN" => ObjectKind::VisionSensor(sensor::read_vision(&own, &at)?),
         b"FSE" => ObjectKind::ForceSensor(sensor::read_force(&own, &at)?),
         b"GRH" => ObjectKind::Graph,
-        b"CMA" => ObjectKind::Camera,
+        b"CMA" => ObjectKind::Camera(camera::read(&own, &at)?),
         b"LGT" => ObjectKind::Light,
         b"PAT" => ObjectKind::Path,
         b"PTC" => ObjectKind::PointCloud,

@@ -875,22 +875,47 @@ impl World {
         Ok(())
     }
 
-    /// Replaces a vision sensor's resolution, view angle and clipping planes.
+    /// Replaces a vision sensor's resolution, projection, view angle, ortho size and
+    /// clipping planes.
     ///
     /// # Errors
     /// No such object, not a vision sensor, or a setting out of range (resolution
-    /// 1..=[`crate::scene::MAX_VISION_RESOLUTION`] per side, 0 < view angle < π, 0 < near < far).
+    /// 1..=[`crate::scene::MAX_VISION_RESOLUTION`] per side, 0 < view angle < π, ortho
+    /// size > 0, 0 < near < far), or a resolution that would bring the images of all
+    /// vision sensors over [`crate::scene::MAX_VISION_IMAGE_BYTES`].
     pub fn set_vision_model(&mut self, h: Handle, model: VisionModel) -> Result<(), SimError> {
-        let max = crate::scene::MAX_VISION_RESOLUTION;
+        use crate::scene::{MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION, vision_image_bytes};
+        let max = MAX_VISION_RESOLUTION;
         let ok = model.resolution.iter().all(|r| (1..=max).contains(r))
             && model.fov > 0.0
             && model.fov < std::f64::consts::PI
+            && model.ortho_size > 0.0
+            && model.ortho_size.is_finite()
             && model.near > 0.0
             && model.near < model.far
             && model.far.is_finite();
         if !ok {
             return Err(invalid(format!(
-                "vision sensor settings out of range: resolution 1..={max} per side, 0 < view angle < pi, 0 < near < far"
+                "vision sensor settings out of range: resolution 1..={max} per side, 0 < view angle < pi, ortho size > 0, 0 < near < far"
+            )));
+        }
+        // Every other sensor's images plus this one's at its new resolution.
+        let others: u64 = self
+            .handles()
+            .iter()
+            .filter(|&&o| o != h)
+            .filter_map(|&o| match &self.object(o).ok()?.kind {
+                ObjectKind::VisionSensor(v) => Some(vision_image_bytes(v.resolution)),
+                _ => None,
+            })
+            .sum();
+        let total = others + vision_image_bytes(model.resolution);
+        if total > MAX_VISION_IMAGE_BYTES {
+            let [w, hgt] = model.resolution;
+            return Err(invalid(format!(
+                "vision sensor {h}: {w}x{hgt} would bring the vision images of the scene (RGB and depth) to {} MiB, over the {} MiB cap",
+                total.div_ceil(1 << 20),
+                MAX_VISION_IMAGE_BYTES >> 20
             )));
         }
         match &mut self.object_mut(h)?.kind {
