@@ -336,3 +336,30 @@ fn sensor_images_are_held_to_2048_a_side_and_1_gib_in_all() {
     let got = call(&mut w, "sim.getVisionSensorRes", &[Value::Int(small)]).unwrap();
     assert_eq!(got, vec![Value::Array(vec![Value::Int(2048), Value::Int(64)])]);
 }
+
+#[test]
+fn a_loaded_model_keeps_to_the_same_cap() {
+    use gantry_sim_core::world::ObjectKind;
+    let mut w = load(&sensors(36, 2048));
+    // sim.loadModel's path: the model's large sensor would be the 37th; a small one fits.
+    let model = load_scene_text(
+        &DiskFiles,
+        "[[object]]\nname = \"big\"\nkind = \"vision_sensor\"\nresolution = [2048, 2048]\n\n[[object]]\nname = \"small\"\nkind = \"vision_sensor\"\nresolution = [64, 64]\n",
+        Path::new("model.toml"),
+        &LoadOptions::default(),
+    )
+    .expect("model");
+    let (handles, warnings) = w.world.import_model(&model);
+    let kind = |w: &Sim, h: Handle| w.world.object(h).expect("object").kind.name();
+    assert_eq!(kind(&w, handles[0]), "dummy");
+    assert!(matches!(
+        w.world.object(handles[1]).unwrap().kind,
+        ObjectKind::VisionSensor(_)
+    ));
+    assert!(
+        warnings
+            .iter()
+            .any(|m| m.contains("big") && m.contains("over 1024 MiB")),
+        "{warnings:?}"
+    );
+}

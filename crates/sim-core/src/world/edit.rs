@@ -289,13 +289,34 @@ impl World {
         // Built as a world of its own first, so that every object is made exactly as at
         // load (initial joint positions, sensors, world poses), then moved in.
         let other = World::new(model);
+        let mut warnings = other.warnings().to_vec();
         let mut map: Vec<Handle> = Vec::with_capacity(other.objects.len());
         let mut tops = Vec::new();
+        // The model's vision sensors join the scene's within the image memory cap; those
+        // past it come in as dummies, so the rest of the model still loads.
+        let mut vision_bytes = self.vision_image_bytes(None);
         for src in &other.objects {
             let parent = src.parent.map(|p| map[p as usize]);
+            let mut kind = src.kind.clone();
+            if let ObjectKind::VisionSensor(v) = &kind {
+                let bytes = crate::scene::vision_image_bytes(v.resolution);
+                if vision_bytes + bytes > crate::scene::MAX_VISION_IMAGE_BYTES {
+                    warnings.push(format!(
+                        "{}: a {}x{} vision sensor would bring the scene's vision images over {} MiB; loaded as a dummy",
+                        src.alias,
+                        v.resolution[0],
+                        v.resolution[1],
+                        crate::scene::MAX_VISION_IMAGE_BYTES >> 20
+                    ));
+                    kind = ObjectKind::Dummy;
+                } else {
+                    vision_bytes += bytes;
+                }
+            }
             let h = self.push_object(Object {
                 parent,
                 children: Vec::new(),
+                kind,
                 ..src.clone()
             });
             if parent.is_none() {
@@ -315,7 +336,20 @@ impl World {
         self.link_loop_closures(model.dummy_links.iter().map(|&[a, b]| [map[a], map[b]]));
         self.edit.counters.created += map.len() as u64;
         self.bump();
-        (map, other.warnings().to_vec())
+        (map, warnings)
+    }
+
+    /// Bytes of RGB and depth images all vision sensors hold (see
+    /// [`crate::scene::MAX_VISION_IMAGE_BYTES`]), leaving out `except`.
+    pub fn vision_image_bytes(&self, except: Option<Handle>) -> u64 {
+        self.handles()
+            .iter()
+            .filter(|&&o| Some(o) != except)
+            .filter_map(|&o| match &self.object(o).ok()?.kind {
+                ObjectKind::VisionSensor(v) => Some(crate::scene::vision_image_bytes(v.resolution)),
+                _ => None,
+            })
+            .sum()
     }
 
     /// Moves `h` below `parent` (the root for `None`), last among its new siblings
@@ -900,16 +934,7 @@ impl World {
             )));
         }
         // Every other sensor's images plus this one's at its new resolution.
-        let others: u64 = self
-            .handles()
-            .iter()
-            .filter(|&&o| o != h)
-            .filter_map(|&o| match &self.object(o).ok()?.kind {
-                ObjectKind::VisionSensor(v) => Some(vision_image_bytes(v.resolution)),
-                _ => None,
-            })
-            .sum();
-        let total = others + vision_image_bytes(model.resolution);
+        let total = self.vision_image_bytes(Some(h)) + vision_image_bytes(model.resolution);
         if total > MAX_VISION_IMAGE_BYTES {
             let [w, hgt] = model.resolution;
             return Err(invalid(format!(
