@@ -358,6 +358,78 @@ fn cap_vision_memory(objects: &mut [ObjectModel], report: &mut ImportReport, war
     }
 }
 
+/// The vision and camera mapping on values built here, so it is covered where the
+/// shared files are absent.
+#[cfg(test)]
+mod vision_tests {
+    use super::*;
+
+    fn sensor(perspective: bool, resolution: [i32; 2], ortho_size: f64) -> cf::VisionSensor {
+        cf::VisionSensor {
+            resolution,
+            perspective,
+            view_angle: 0.5,
+            ortho_size,
+            near: 0.01,
+            far: 2.0,
+        }
+    }
+
+    #[test]
+    fn orthographic_and_large_sensors_are_kept_and_bad_ones_explained() {
+        let m = convert_vision(&sensor(false, [2048, 16], 0.3)).expect("kept");
+        assert_eq!(m.projection, Projection::Orthographic);
+        assert_eq!((m.resolution, m.ortho_size, m.fov), ([2048, 16], 0.3, 0.5));
+        // A perspective sensor without an ortho size gets CoppeliaSim's default for a switch.
+        let m = convert_vision(&sensor(true, [640, 480], 0.0)).expect("kept");
+        assert_eq!((m.projection, m.ortho_size), (Projection::Perspective, 0.01));
+        let why = convert_vision(&sensor(false, [16, 16], 0.0)).expect_err("no size");
+        assert!(why.contains("ortho size 0 m"), "{why}");
+        let why = convert_vision(&sensor(true, [2049, 16], 0.1)).expect_err("too large");
+        assert!(why.contains("2049x16"), "{why}");
+    }
+
+    #[test]
+    fn sensors_past_the_memory_cap_become_dummies() {
+        let big = |alias: &str| ObjectModel {
+            alias: alias.into(),
+            parent: None,
+            local: crate::math::Pose::identity(),
+            model_base: false,
+            kind: ObjectModelKind::VisionSensor(convert_vision(&sensor(true, [2048, 2048], 0.1)).expect("kept")),
+        };
+        // 36 fit in 1 GiB (28 MiB each); the 37th does not.
+        let mut objects: Vec<ObjectModel> = (0..37).map(|k| big(&format!("cam{k}"))).collect();
+        let (mut report, mut warnings) = (ImportReport::default(), Vec::new());
+        cap_vision_memory(&mut objects, &mut report, &mut warnings);
+        assert!(
+            objects[..36]
+                .iter()
+                .all(|o| matches!(o.kind, ObjectModelKind::VisionSensor(_)))
+        );
+        assert!(matches!(objects[36].kind, ObjectModelKind::Dummy));
+        assert_eq!(report.as_dummies.len(), 1);
+        assert!(
+            warnings[0].starts_with("cam36: vision sensor 2048x2048"),
+            "{warnings:?}"
+        );
+    }
+
+    #[test]
+    fn cameras_keep_their_view_angle_or_get_60_degrees() {
+        let mut warnings = Vec::new();
+        let c = cf::Camera {
+            view_angle: 0.7,
+            ..cf::Camera::default()
+        };
+        assert_eq!(convert_camera(&c, "cam", &mut warnings).fov, 0.7);
+        assert!(warnings.is_empty());
+        let c = convert_camera(&cf::Camera::default(), "cam", &mut warnings);
+        assert!((c.fov - 60f64.to_radians()).abs() < 1e-12);
+        assert_eq!(warnings.len(), 1);
+    }
+}
+
 fn volume_name(v: &cf::ProximityVolume) -> &'static str {
     match v {
         cf::ProximityVolume::Ray { .. } => "ray",
