@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 221 functions, 161 constants."""
+    """`sim`: 221 functions, 164 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -96,6 +96,7 @@ class Sim:
     jointmode_kinematic: int
     jointmode_passive: int
     message_keypress: int
+    object_camera_type: int
     object_dummy_type: int
     object_forcesensor_type: int
     object_graph_type: int
@@ -161,7 +162,9 @@ class Sim:
     verbosity_warnings: int
     visionfloatparam_far_clipping: int
     visionfloatparam_near_clipping: int
+    visionfloatparam_ortho_size: int
     visionfloatparam_perspective_angle: int
+    visionintparam_perspective_operation: int
     visionintparam_resolution_x: int
     visionintparam_resolution_y: int
     volume_cone: int
@@ -183,7 +186,7 @@ class Sim:
     def addStatusbarMessage(self, *args: Any) -> Any:
         """writes an information line to the log, which the viewer shows; `nil` does nothing."""
     def adjustView(self, *args: Any) -> Any:
-        """the associated object must be a vision sensor (gantry has no camera objects) or -1; the view shows its image, captioned with the label or the sensor's alias; `options` are ignored."""
+        """the associated object must be a vision sensor or -1 (a camera object is refused: the viewer's viewpoint menu looks through cameras instead); the view shows its image, captioned with the label or the sensor's alias; `options` are ignored."""
     def alphaBetaGammaToYawPitchRoll(self, *args: Any) -> Any: ...
     def announceSceneContentChange(self, *args: Any) -> Any:
         """does nothing (gantry has no scene editor and no undo) and returns 1."""
@@ -464,7 +467,7 @@ class Sim:
     def yawPitchRollToAlphaBetaGamma(self, *args: Any) -> Any: ...
 
 class SimIK:
-    """`simIK`: 61 functions, 36 constants."""
+    """`simIK`: 62 functions, 36 constants."""
 
     calc_cannotinvert: int
     calc_limithit: int
@@ -531,6 +534,7 @@ class SimIK:
     def getGroupCalculation(self, *args: Any) -> Any: ...
     def getGroupFlags(self, *args: Any) -> Any: ...
     def getGroupHandle(self, *args: Any) -> Any: ...
+    def getGroupJoints(self, *args: Any) -> Any: ...
     def getIkGroupFlags(self, *args: Any) -> Any: ...
     def getIkGroupHandle(self, *args: Any) -> Any: ...
     def getJointInterval(self, *args: Any) -> Any: ...

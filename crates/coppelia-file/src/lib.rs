@@ -28,6 +28,7 @@
 //!
 //! Files older than serialization version 18 are refused, as CoppeliaSim refuses them.
 
+pub mod camera;
 pub mod chunk;
 pub mod dummy;
 mod error;
@@ -47,6 +48,7 @@ mod tests;
 #[cfg(test)]
 mod testutil;
 
+pub use camera::Camera;
 pub use dummy::{Dummy, DummyLink};
 pub use error::ReadError;
 pub use header::{FileType, Header};

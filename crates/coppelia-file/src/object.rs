@@ -7,6 +7,7 @@
 //! from 4.7, `Cr2`: one per tag of the object's referenced handles
 //! (`sim.setReferencedHandles`), a string then an i32 count and that many handles.
 
+use crate::camera::{self, Camera};
 use crate::chunk::{At, Chunk, Chunks, Item, show};
 use crate::dummy::{self, Dummy};
 use crate::error::ReadError;
@@ -75,7 +76,7 @@ pub enum ObjectKind {
     /// A graph (`GRH`).
     Graph,
     /// A camera (`CMA`).
-    Camera,
+    Camera(Camera),
     /// A light (`LGT`).
     Light,
     /// A script object (`SCT`, 4.7+); its script is in
@@ -187,7 +188,7 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
         b"RSN" => ObjectKind::VisionSensor(sensor::read_vision(&own, &at)?),
         b"FSE" => ObjectKind::ForceSensor(sensor::read_force(&own, &at)?),
         b"GRH" => ObjectKind::Graph,
-        b"CMA" => ObjectKind::Camera,
+        b"CMA" => ObjectKind::Camera(camera::read(&own, &at)?),
         b"LGT" => ObjectKind::Light,
         b"PAT" => ObjectKind::Path,
         b"PTC" => ObjectKind::PointCloud,

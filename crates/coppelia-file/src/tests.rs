@@ -151,6 +151,10 @@ pub(crate) fn sample_body(p: Precision) -> Vec<u8> {
         .chunk("Res", &Payload::new().i32(64).i32(48).done())
         .chunk("Va3", &[0x01]);
     let vision = reals(vision, p, "Ccp", "_cp", &[], &[0.1, 1.0, 0.01, 10.0]);
+    let camera = common(p, 20, -1, "view", [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 3.0], 0, 0)
+        .chunk("Cp4", &Payload::new().i32(-1).f32s(&[0.1]).done());
+    let camera = reals(camera, p, "Cp3", "_p3", &[], &[2.5, 0.75]);
+    let camera = reals(camera, p, "Ccp", "_cp", &[], &[0.05, 30.0]);
     let force = common(p, 17, 10, "force", [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], 0, 0)
         .chunk("Fil", &Payload::new().i32(5).i32(1).done());
     let force = match p {
@@ -200,6 +204,7 @@ pub(crate) fn sample_body(p: Precision) -> Vec<u8> {
         .nested("RSN", vision)
         .nested("FSE", force)
         .nested("SCT", script_object)
+        .nested("CMA", camera)
         .nested(
             "LGT",
             common(p, 19, -1, "light", [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0], 0, 0),
@@ -228,7 +233,7 @@ fn reads_every_kind_in_both_precisions() {
     for p in [Precision::Single, Precision::Double] {
         let f = read(&sample_file(p)).unwrap();
         assert_eq!(f.header.file_type, FileType::Scene);
-        assert_eq!(f.objects.len(), 10);
+        assert_eq!(f.objects.len(), 11);
         let by_name = |n: &str| f.objects.iter().find(|o| o.name == n).unwrap();
 
         let base = by_name("base");
@@ -310,12 +315,18 @@ fn reads_every_kind_in_both_precisions() {
             panic!("vision")
         };
         assert!(vs.perspective && vs.resolution == [64, 48] && close(vs.view_angle, 1.0) && close(vs.far, 10.0));
+        assert!(close(vs.ortho_size, 0.1) && close(vs.near, 0.01));
         let ObjectKind::ForceSensor(fs) = &by_name("force").kind else {
             panic!("force")
         };
         assert!(close(fs.force_threshold, 100.0) && fs.consecutive_violations == 3);
         assert!(fs.filter_samples == 5 && fs.filter_type == 1);
         assert_eq!(by_name("light").kind, ObjectKind::Light);
+        let ObjectKind::Camera(cam) = &by_name("view").kind else {
+            panic!("camera")
+        };
+        assert!(close(cam.ortho_size, 2.5) && close(cam.view_angle, 0.75));
+        assert!(close(cam.near, 0.05) && close(cam.far, 30.0));
 
         assert_eq!(f.scripts.len(), 2);
         let main = &f.scripts[0];

@@ -184,8 +184,11 @@ impl Simulation {
             )?;
             t.set("clippingPlanes", vec![v.near, v.far])?;
             t.set("viewAngle", v.fov)?;
-            t.set("orthoSize", 0.0)?;
-            t.set("perspectiveOperation", true)?;
+            t.set("orthoSize", v.ortho_size)?;
+            t.set(
+                "perspectiveOperation",
+                v.projection == gantry_sim_core::scene::Projection::Perspective,
+            )?;
         }
         Ok(t)
     }

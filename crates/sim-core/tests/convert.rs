@@ -11,9 +11,9 @@ use std::sync::Arc;
 
 use gantry_sim_core::math::{Pose, pose_from_euler};
 use gantry_sim_core::scene::{
-    DiskFiles, GeomModel, Geometry, JointMode, JointModel, JointType, LoadOptions, MassModel, MeshData, MimicModel,
-    ObjectModel, ObjectModelKind, ProximityModel, ReferencedHandles, SceneModel, ScriptModel, ServerSettings,
-    ShapeModel, SimSettings, VisionModel, VisualModel, load_coppelia, load_scene, write_scene,
+    CameraModel, DiskFiles, GeomModel, Geometry, JointMode, JointModel, JointType, LoadOptions, MassModel, MeshData,
+    MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, SceneModel, ScriptModel,
+    ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel, load_coppelia, load_scene, write_scene,
 };
 
 /// The shared CoppeliaSim files, or `None` (with a note) where they are absent.
@@ -455,7 +455,9 @@ fn everything() -> SceneModel {
             tilted,
             ObjectModelKind::VisionSensor(VisionModel {
                 resolution: [64, 48],
+                projection: Projection::Orthographic,
                 fov: 1.0,
+                ortho_size: 0.25,
                 near: 0.01,
                 far: 10.0,
             }),
@@ -467,6 +469,23 @@ fn everything() -> SceneModel {
             None,
             Pose::translation(0.0, 0.0, 1.0),
             ObjectModelKind::Shape(ShapeModel::single(Geometry::Sphere { radius: 0.1 }, [0.9, 0.1, 0.1])),
+        ),
+        object(
+            "pyramid",
+            Some(0),
+            Pose::identity(),
+            ObjectModelKind::ProximitySensor(ProximityModel::Pyramid {
+                offset: 0.01,
+                range: 0.2,
+                near_size: [0.01, 0.02],
+                far_size: [0.1, 0.2],
+            }),
+        ),
+        object(
+            "viewpoint",
+            None,
+            Pose::translation(1.0, 2.0, 3.0),
+            ObjectModelKind::Camera(CameraModel { fov: 0.9 }),
         ),
     ];
     SceneModel {

@@ -1,6 +1,7 @@
 //! The scene description a viewer gets once when it connects: the object tree (handles,
 //! aliases, parents, paths), every shape's visual geometry and colour, joints with their
-//! limits, sensor volumes, and the triangle meshes as binary messages.
+//! limits, sensor volumes, cameras (viewpoints the page can look through), and the
+//! triangle meshes as binary messages.
 //!
 //! Each object's `path` is `sim.getObjectAlias(h, 2)` (the full path, `[n]` where
 //! siblings share an alias), from sim-core's one implementation, so the page never
@@ -14,7 +15,7 @@
 
 use std::sync::Arc;
 
-use gantry_sim_core::scene::{Geometry, JointType, MeshData, ProximityModel};
+use gantry_sim_core::scene::{Geometry, JointType, MeshData, Projection, ProximityModel};
 use gantry_sim_core::world::object_path::full_paths;
 use gantry_sim_core::world::{ObjectKind, World};
 use serde_json::{Value as Json, json};
@@ -123,9 +124,24 @@ pub fn describe(world: &World) -> SceneDescription {
             ObjectKind::VisionSensor(v) => {
                 obj["vision"] = json!({
                     "resolution": v.resolution,
+                    "projection": match v.projection {
+                        Projection::Perspective => "perspective",
+                        Projection::Orthographic => "orthographic",
+                    },
                     "fov": v.fov,
+                    "ortho_size": v.ortho_size,
                     "near": v.near,
                     "far": v.far,
+                });
+            }
+            ObjectKind::Camera(c) => {
+                // The view angle spans the larger side of the view (CoppeliaSim's rule),
+                // rad; `pose` is the world pose when described, `[x, y, z, qx, qy, qz,
+                // qw]` as in frames, which keep it current. The camera looks along its
+                // +Z with +Y up.
+                obj["camera"] = json!({
+                    "fov": c.fov,
+                    "pose": pose_f32(&o.world),
                 });
             }
             _ => {}
@@ -224,5 +240,66 @@ mod tests {
         assert_eq!(geometry(&a, &mut meshes)["mesh"], 0);
         assert_eq!(geometry(&b, &mut meshes)["mesh"], 0);
         assert_eq!(meshes.len(), 1);
+    }
+
+    #[test]
+    fn cameras_are_listed_with_their_pose_and_view_angle() {
+        use gantry_sim_core::Sim;
+        use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
+        // A camera 2 m up on a mount at x = 1, pitched to look down (Euler 180°
+        // about X: its +Z along the world's -Z), and an orthographic vision sensor.
+        let text = r#"
+[[object]]
+name = "mount"
+kind = "dummy"
+position = [1, 0, 0]
+
+[[object]]
+name = "overhead"
+kind = "camera"
+parent = "mount"
+position = [0, 0, 2]
+orientation_deg = [180, 0, 0]
+fov_deg = 50
+
+[[object]]
+name = "eye"
+kind = "vision_sensor"
+projection = "orthographic"
+ortho_size = 0.25
+"#;
+        let model = load_scene_text(
+            &DiskFiles,
+            text,
+            std::path::Path::new("s.toml"),
+            &LoadOptions::default(),
+        )
+        .expect("scene");
+        let sim = Sim::new(&model);
+        let d = describe(&sim.world);
+        let objects = d.json["objects"].as_array().expect("objects");
+        let cameras: Vec<&Json> = objects.iter().filter(|o| o["kind"] == "camera").collect();
+        assert_eq!(cameras.len(), 1);
+        let c = cameras[0];
+        assert_eq!(c["alias"], "overhead");
+        assert_eq!(c["path"], "/mount/overhead");
+        let fov = c["camera"]["fov"].as_f64().expect("fov");
+        assert!((fov - 50f64.to_radians()).abs() < 1e-12, "{fov}");
+        // World pose [x, y, z, qx, qy, qz, qw]: (1, 0, 2), a half turn about X.
+        let pose: Vec<f64> = c["camera"]["pose"]
+            .as_array()
+            .expect("pose")
+            .iter()
+            .map(|v| v.as_f64().expect("number"))
+            .collect();
+        let want = [1.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0];
+        let sign = pose[3].signum();
+        for (k, (g, w)) in pose.iter().zip(want).enumerate() {
+            let w = if k >= 3 { w * sign } else { w };
+            assert!((g - w).abs() < 1e-6, "pose {pose:?}");
+        }
+        let eye = objects.iter().find(|o| o["alias"] == "eye").expect("sensor");
+        assert_eq!(eye["vision"]["projection"], "orthographic");
+        assert_eq!(eye["vision"]["ortho_size"], 0.25);
     }
 }

@@ -2,7 +2,7 @@
 
 import { S, changed } from './state.js';
 import { canvas } from './gl.js';
-import { cam, eye } from './camera.js';
+import { cam, eye, leaveCamera } from './camera.js';
 import { add, cross, norm, rad, scale3, sub } from './math.js';
 import { send } from './net.js';
 import { pickAt } from './picking.js';
@@ -38,6 +38,8 @@ canvas.addEventListener('pointermove', (e) => {
   const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
   drag.x = e.clientX; drag.y = e.clientY;
   drag.moved += Math.abs(dx) + Math.abs(dy);
+  // Orbiting or panning leaves a scene camera's view (a click still picks).
+  if (drag.moved >= 4) leaveCamera();
   if (drag.pan) {
     // Move the target in the view plane, scaled so the point under the cursor follows.
     const f = norm(sub(cam.target, eye()));
@@ -57,9 +59,10 @@ canvas.addEventListener('pointerup', (e) => {
 });
 canvas.addEventListener('wheel', (e) => {
   e.preventDefault();
+  leaveCamera();
   cam.dist = Math.max(0.05, Math.min(500, cam.dist * Math.exp(e.deltaY * 0.0012)));
   changed.view = true;
 }, { passive: false });
 canvas.addEventListener('dblclick', () => {
-  if (S.selected >= 0) { cam.target = S.objects[S.selected].pose.slice(0, 3); changed.view = true; }
+  if (S.selected >= 0) { leaveCamera(); cam.target = S.objects[S.selected].pose.slice(0, 3); changed.view = true; }
 });

@@ -6,7 +6,7 @@ import { S, changed } from './state.js';
 import { M4 } from './math.js';
 import { gl, makeDrawable, makeCloudDrawable, freeDrawable } from './gl.js';
 import { boxGeometry, sphereGeometry, cylinderGeometry, capsuleGeometry, coneVolume, volumeEdges, meshNormals } from './geometry.js';
-import { fitCamera } from './camera.js';
+import { buildViewpoints, fitCamera } from './camera.js';
 import { buildTree } from './panels/selection.js';
 import { buildJointPanels } from './panels/joints.js';
 import { buildVisionPanels, onImage } from './panels/vision.js';
@@ -50,6 +50,7 @@ export function onScene(msg) {
   buildTree();
   buildJointPanels();
   buildVisionPanels();
+  buildViewpoints();
   const target = S.objects.find((o) => o.alias === 'target' && o.kind === 'dummy');
   S.ikTarget = target ? target.index : -1;
   S.ikPrefilled = false;

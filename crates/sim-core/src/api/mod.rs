@@ -420,6 +420,7 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("object_shape_type", 0),
     ("object_joint_type", 1),
     ("object_graph_type", 2),
+    ("object_camera_type", 3),
     ("object_dummy_type", 4),
     ("object_proximitysensor_type", 5),
     ("object_visionsensor_type", 9),

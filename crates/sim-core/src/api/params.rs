@@ -9,7 +9,7 @@
 
 use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
-use crate::scene::{JointMode, ProximityModel};
+use crate::scene::{JointMode, Projection, ProximityModel};
 use crate::sim::Sim;
 use crate::world::{ObjectKind, World};
 
@@ -28,6 +28,8 @@ const VISION_FAR: i64 = 1001;
 const VISION_RES_X: i64 = 1002;
 const VISION_RES_Y: i64 = 1003;
 const VISION_ANGLE: i64 = 1004;
+const VISION_ORTHO_SIZE: i64 = 1005;
+const VISION_PERSPECTIVE: i64 = 1018;
 const JOINT_MOTOR_ENABLED: i64 = 2000;
 const JOINT_CTRL_ENABLED: i64 = 2001;
 const JOINT_PID_P: i64 = 2002;
@@ -107,6 +109,8 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("visionintparam_resolution_x", VISION_RES_X),
     ("visionintparam_resolution_y", VISION_RES_Y),
     ("visionfloatparam_perspective_angle", VISION_ANGLE),
+    ("visionfloatparam_ortho_size", VISION_ORTHO_SIZE),
+    ("visionintparam_perspective_operation", VISION_PERSPECTIVE),
     ("jointintparam_motor_enabled", JOINT_MOTOR_ENABLED),
     ("jointintparam_ctrl_enabled", JOINT_CTRL_ENABLED),
     ("jointfloatparam_pid_p", JOINT_PID_P),
@@ -202,6 +206,7 @@ pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (SHAPE_RESPONDABLE, ObjectKind::Shape(s)) => Some(i64::from(s.respondable)),
         (VISION_RES_X, ObjectKind::VisionSensor(v)) => Some(i64::from(v.resolution[0])),
         (VISION_RES_Y, ObjectKind::VisionSensor(v)) => Some(i64::from(v.resolution[1])),
+        (VISION_PERSPECTIVE, ObjectKind::VisionSensor(v)) => Some(i64::from(v.projection == Projection::Perspective)),
         (PROX_VOLUME_TYPE, ObjectKind::ProximitySensor(p)) => Some(match p.volume {
             ProximityModel::Pyramid { .. } => 0,
             ProximityModel::Cylinder { .. } => 1,
@@ -226,7 +231,10 @@ pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Arg
 
 /// `sim.setObjectInt32Param(objectHandle, parameterID, value)`; a parameter that does
 /// not apply is ignored. Setting `sim.jointintparam_dynctrlmode` makes the joint
-/// dynamic with that controller (free, velocity or position).
+/// dynamic with that controller (free, velocity or position). A vision sensor's
+/// resolution is 1..=2048 a side, within 1 GiB of RGB and depth images for all
+/// sensors together; `sim.visionintparam_perspective_operation` is 1 for perspective,
+/// 0 for orthographic.
 fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
@@ -240,6 +248,15 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
             let mut m = *m;
             let side = u32::try_from(v).map_err(|_| ApiError::new(format!("argument 3: invalid resolution {v}")))?;
             m.resolution[usize::from(id == VISION_RES_Y)] = side;
+            w.set_vision_model(h, m)?;
+        }
+        (VISION_PERSPECTIVE, ObjectKind::VisionSensor(m)) => {
+            let mut m = *m;
+            m.projection = if v != 0 {
+                Projection::Perspective
+            } else {
+                Projection::Orthographic
+            };
             w.set_vision_model(h, m)?;
         }
         (JOINT_DYNCTRLMODE, ObjectKind::Joint(_)) => {
@@ -263,7 +280,8 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 
 /// `sim.getObjectFloatParam(objectHandle, parameterID)` → value, or nothing (`nil`) when
 /// the parameter does not apply. Velocities are m/s and rad/s in the world frame, the
-/// bounding box in m in the object's frame, angles in rad.
+/// bounding box in m in the object's frame, angles in rad, a vision sensor's clipping
+/// planes and ortho size (its view's extent along the larger image side) in m.
 pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
@@ -285,6 +303,7 @@ pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (VISION_NEAR, ObjectKind::VisionSensor(v)) => Some(v.near),
         (VISION_FAR, ObjectKind::VisionSensor(v)) => Some(v.far),
         (VISION_ANGLE, ObjectKind::VisionSensor(v)) => Some(v.fov),
+        (VISION_ORTHO_SIZE, ObjectKind::VisionSensor(v)) => Some(v.ortho_size),
         (JOINT_PID_P, ObjectKind::Joint(j)) => Some(j.kp),
         (JOINT_PID_I, ObjectKind::Joint(_)) => Some(0.0),
         (JOINT_PID_D, ObjectKind::Joint(j)) => Some(j.kd),
@@ -305,11 +324,12 @@ fn set_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
     let kind = &w.object(h)?.kind;
     match (id, kind) {
         (SHAPE_MASS, ObjectKind::Shape(_)) => w.set_shape_mass(h, v)?,
-        (VISION_NEAR | VISION_FAR | VISION_ANGLE, ObjectKind::VisionSensor(m)) => {
+        (VISION_NEAR | VISION_FAR | VISION_ANGLE | VISION_ORTHO_SIZE, ObjectKind::VisionSensor(m)) => {
             let mut m = *m;
             match id {
                 VISION_NEAR => m.near = v,
                 VISION_FAR => m.far = v,
+                VISION_ORTHO_SIZE => m.ortho_size = v,
                 _ => m.fov = v,
             }
             w.set_vision_model(h, m)?;

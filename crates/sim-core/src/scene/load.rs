@@ -14,13 +14,17 @@ use super::error::{LoadError, line_col};
 use super::files::{Files, normalize, stem};
 use super::floor::{floor_object, put_on_floor};
 use super::model::{
-    GeomModel, Geometry, JointMode, JointModel, JointType, MAX_VISION_RESOLUTION, MassModel, MimicModel, ObjectModel,
-    ObjectModelKind, ProximityModel, ReferencedHandles, SceneModel, ScriptModel, ServerSettings, ShapeModel,
-    SimSettings, VisionModel, VisualModel,
+    CameraModel, GeomModel, Geometry, JointMode, JointModel, JointType, MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION,
+    MassModel, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, SceneModel,
+    ScriptModel, ServerSettings, ShapeModel, SimSettings, VISION_BYTES_PER_PIXEL, VisionModel, VisualModel,
+    vision_image_bytes,
 };
 use super::raw::{RawObject, RawPart, RawRobot, RawScene, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
 use crate::math::{Pose, pose_from_euler, quat_from_array};
+
+/// Two dummies (object indices) held together by a loop closure.
+type DummyPair = [usize; 2];
 
 /// Default damping of velocity-mode joints, N·m·s/rad: the gain of the velocity servo.
 pub const DEFAULT_VELOCITY_KD: f64 = 10.0;
@@ -551,10 +555,11 @@ impl Resolver<'_> {
             "vision_sensor" => ObjectModelKind::VisionSensor(self.vision(o)?),
             "force_sensor" => ObjectModelKind::ForceSensor,
             "graph" => ObjectModelKind::Graph,
+            "camera" => ObjectModelKind::Camera(self.camera(o)?),
             other => {
                 return self.err_at(
                     o.kind.span(),
-                    format!("unknown kind '{other}'; use shape, joint, dummy, proximity_sensor, vision_sensor, force_sensor or graph"),
+                    format!("unknown kind '{other}'; use shape, joint, dummy, proximity_sensor, vision_sensor, force_sensor, graph or camera"),
                 );
             }
         };
@@ -1004,21 +1009,65 @@ impl Resolver<'_> {
                 ),
             );
         }
-        let fov = o.fov_deg.unwrap_or(60.0);
-        let near = o.near.unwrap_or(0.01);
-        let far = o.far.unwrap_or(1.0);
-        if !(fov > 0.0 && fov < 180.0 && near > 0.0 && far > near) {
+        // The images of every sensor so far, this one included, within the cap.
+        let before: u64 = self
+            .objects
+            .iter()
+            .filter_map(|o| match &o.kind {
+                ObjectModelKind::VisionSensor(v) => Some(vision_image_bytes(v.resolution)),
+                _ => None,
+            })
+            .sum();
+        let total = before + vision_image_bytes([w, h]);
+        if total > MAX_VISION_IMAGE_BYTES {
             return self.err_at(
                 o.name.span(),
                 format!(
-                    "vision sensor '{}': need 0 < fov_deg < 180 and 0 < near < far",
+                    "vision sensor '{}': {w}x{h} brings the scene's vision images (RGB and depth, {VISION_BYTES_PER_PIXEL} bytes a pixel) to {} MiB, over the {} MiB cap",
+                    o.name.get_ref(),
+                    total.div_ceil(1 << 20),
+                    MAX_VISION_IMAGE_BYTES >> 20
+                ),
+            );
+        }
+        let projection = match &o.projection {
+            None => Projection::Perspective,
+            Some(p) => match p.get_ref().as_str() {
+                "perspective" => Projection::Perspective,
+                "orthographic" => Projection::Orthographic,
+                other => {
+                    return self.err_at(
+                        p.span(),
+                        format!("unknown projection '{other}'; use perspective or orthographic"),
+                    );
+                }
+            },
+        };
+        let fov = o.fov_deg.unwrap_or(60.0);
+        let ortho_size = o.ortho_size.unwrap_or(1.0);
+        let near = o.near.unwrap_or(0.01);
+        let far = o.far.unwrap_or(1.0);
+        if !(fov > 0.0
+            && fov < 180.0
+            && ortho_size > 0.0
+            && ortho_size.is_finite()
+            && near > 0.0
+            && far > near
+            && far.is_finite())
+        {
+            return self.err_at(
+                o.name.span(),
+                format!(
+                    "vision sensor '{}': need 0 < fov_deg < 180, ortho_size > 0 and 0 < near < far",
                     o.name.get_ref()
                 ),
             );
         }
         Ok(VisionModel {
             resolution: [w, h],
+            projection,
             fov: fov.to_radians(),
+            ortho_size,
             near,
             far,
         })
@@ -1062,7 +1111,7 @@ impl Resolver<'_> {
 
     /// The `[[dummy_link]]` pairs, each two distinct dummies, in file order: those that
     /// hold whole frames, then those with `free_rotation`.
-    fn dummy_links(&self, raw: &RawScene) -> Result<(Vec<[usize; 2]>, Vec<[usize; 2]>), LoadError> {
+    fn dummy_links(&self, raw: &RawScene) -> Result<(Vec<DummyPair>, Vec<DummyPair>), LoadError> {
         let mut out = Vec::with_capacity(raw.dummy_link.len());
         let mut balls = Vec::new();
         for link in &raw.dummy_link {
@@ -1083,6 +1132,17 @@ impl Resolver<'_> {
             }
         }
         Ok((out, balls))
+    }
+
+    fn camera(&self, o: &RawObject) -> Result<CameraModel, LoadError> {
+        let fov = o.fov_deg.unwrap_or(60.0);
+        if !(fov > 0.0 && fov < 180.0) {
+            return self.err_at(
+                o.name.span(),
+                format!("camera '{}': need 0 < fov_deg < 180", o.name.get_ref()),
+            );
+        }
+        Ok(CameraModel { fov: fov.to_radians() })
     }
 
     fn robot(&mut self, r: &RawRobot, parent: Option<usize>, name: &str) -> Result<UrdfIndex, LoadError> {

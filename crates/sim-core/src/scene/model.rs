@@ -151,12 +151,14 @@ pub enum ObjectModelKind {
     Dummy,
     /// A ray or cone proximity sensor.
     ProximitySensor(ProximityModel),
-    /// A perspective camera.
+    /// A perspective or orthographic camera that renders RGB and depth images.
     VisionSensor(VisionModel),
     /// A rigid link that measures the force and torque it transmits.
     ForceSensor,
     /// A graph (time series owner).
     Graph,
+    /// A viewpoint for the viewer (CoppeliaSim's camera object).
+    Camera(CameraModel),
 }
 
 /// A shape: collision geometry, visual geometry and physical properties.
@@ -455,20 +457,67 @@ pub enum ProximityModel {
 }
 
 /// Largest vision-sensor image side, in pixels: the loader, `sim.setObjectInt32Param`
-/// and the renderer all hold images to it.
-pub const MAX_VISION_RESOLUTION: u32 = 512;
+/// and the renderer all hold images to it. 2048 covers every camera a robot carries
+/// (and CoppeliaSim's own sensors, which its GUI limits to 2048 by default too).
+pub const MAX_VISION_RESOLUTION: u32 = 2048;
 
-/// A perspective vision sensor. It looks along its local +Z axis, image X along local X.
+/// Bytes a vision sensor keeps per pixel: its RGB image (3) and its depth image (one
+/// `f32`, 4).
+pub const VISION_BYTES_PER_PIXEL: u64 = 7;
+
+/// Most memory all the vision sensors of a scene may hold in RGB and depth images
+/// together, bytes (1 GiB: 36 sensors of 2048 x 2048, or 500 of 640 x 480). A scene
+/// or a run-time resolution change beyond it is refused with the total, rather than
+/// left to fail on allocation, or to swap, at the first render. The renderer's own
+/// scratch buffers (two words per pixel of the largest sensor) and simVision work
+/// images come on top.
+pub const MAX_VISION_IMAGE_BYTES: u64 = 1 << 30;
+
+/// Image memory of one sensor of `resolution`, bytes (RGB and depth).
+pub fn vision_image_bytes(resolution: [u32; 2]) -> u64 {
+    u64::from(resolution[0]) * u64::from(resolution[1]) * VISION_BYTES_PER_PIXEL
+}
+
+/// How a vision sensor projects the scene onto its image (CoppeliaSim's
+/// `sim.visionintparam_perspective_operation`: 1 perspective, 0 orthographic).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Projection {
+    /// A pinhole camera: the view angle spans the larger image side.
+    #[default]
+    Perspective,
+    /// Parallel rays along +Z: the ortho size spans the larger image side, and
+    /// objects keep their size whatever their distance.
+    Orthographic,
+}
+
+/// A vision sensor. It looks along its local +Z axis, image X along local -X, image
+/// up along local +Y. As in CoppeliaSim, it holds both a view angle and an ortho size
+/// whatever its projection, so switching the projection at run time keeps both.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VisionModel {
     /// Width and height in pixels.
     pub resolution: [u32; 2],
-    /// Field of view, rad (of the larger image side, as in CoppeliaSim).
+    /// Perspective or orthographic.
+    pub projection: Projection,
+    /// Field of view of a perspective sensor, rad (of the larger image side, as in
+    /// CoppeliaSim).
     pub fov: f64,
-    /// Near clipping distance, m.
+    /// Extent of an orthographic sensor's view along the larger image side, m
+    /// (CoppeliaSim's `sim.visionfloatparam_ortho_size`); the other side follows from
+    /// the aspect ratio.
+    pub ortho_size: f64,
+    /// Near clipping distance along +Z, m.
     pub near: f64,
-    /// Far clipping distance, m.
+    /// Far clipping distance along +Z, m.
     pub far: f64,
+}
+
+/// A CoppeliaSim camera: a viewpoint the viewer can look through. It looks along its
+/// local +Z axis with local +Y up, as a vision sensor does; it renders nothing itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraModel {
+    /// Perspective view angle, rad (CoppeliaSim's, of the larger side of the view).
+    pub fov: f64,
 }
 
 /// A script attached to an object.

@@ -189,8 +189,12 @@ pub struct RawObject {
     pub thickness: Option<f64>,
     /// Vision sensor: resolution `[width, height]` in pixels.
     pub resolution: Option<[u32; 2]>,
-    /// Vision sensor: perspective field of view in degrees.
+    /// Vision sensor, camera: perspective field of view in degrees.
     pub fov_deg: Option<f64>,
+    /// Vision sensor: `perspective` (default) or `orthographic`.
+    pub projection: Option<Spanned<String>>,
+    /// Vision sensor: extent of an orthographic view along the larger image side, m.
+    pub ortho_size: Option<f64>,
     /// Vision sensor: near clipping distance in metres.
     pub near: Option<f64>,
     /// Vision sensor: far clipping distance in metres.
@@ -372,6 +376,8 @@ const OBJECT_KEYS: &[&str] = &[
     "thickness",
     "resolution",
     "fov_deg",
+    "projection",
+    "ortho_size",
     "near",
     "far",
 ];

@@ -19,8 +19,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::model::{
-    Geometry, JointMode, JointType, MassModel, MeshData, ObjectModel, ObjectModelKind, ProximityModel, SceneModel,
-    ShapeModel, VisionModel,
+    Geometry, JointMode, JointType, MassModel, MeshData, ObjectModel, ObjectModelKind, Projection, ProximityModel,
+    SceneModel, ShapeModel, VisionModel,
 };
 use super::obj_write::write_obj;
 use crate::math::{Pose, Quat, euler_from_quat, quat_from_euler, quat_to_array};
@@ -226,6 +226,7 @@ impl Writer {
             }
             ObjectModelKind::ProximitySensor(p) => self.proximity(p),
             ObjectModelKind::VisionSensor(v) => self.vision(v),
+            ObjectModelKind::Camera(c) => self.key("fov_deg", c.fov.to_degrees()),
             ObjectModelKind::Dummy | ObjectModelKind::ForceSensor | ObjectModelKind::Graph => Ok(()),
         }
     }
@@ -290,7 +291,13 @@ impl Writer {
     /// The vision sensor's keys.
     fn vision(&mut self, v: &VisionModel) -> Result<(), WriteError> {
         let _ = writeln!(self.out, "resolution = [{}, {}]", v.resolution[0], v.resolution[1]);
+        let projection = match v.projection {
+            Projection::Perspective => "perspective",
+            Projection::Orthographic => "orthographic",
+        };
+        let _ = writeln!(self.out, "projection = \"{projection}\"");
         self.key("fov_deg", v.fov.to_degrees())?;
+        self.key("ortho_size", v.ortho_size)?;
         self.key("near", v.near)?;
         self.key("far", v.far)
     }
@@ -537,6 +544,7 @@ fn kind_name(kind: &ObjectModelKind) -> &'static str {
         ObjectModelKind::VisionSensor(_) => "vision_sensor",
         ObjectModelKind::ForceSensor => "force_sensor",
         ObjectModelKind::Graph => "graph",
+        ObjectModelKind::Camera(_) => "camera",
     }
 }
 
@@ -636,6 +644,8 @@ mod tests {
             objects,
             scripts: Vec::new(),
             dummy_links: Vec::new(),
+            ball_links: Vec::new(),
+            referenced_handles: Vec::new(),
             warnings: Vec::new(),
         }
     }
@@ -681,6 +691,8 @@ mod tests {
             }],
             scripts: Vec::new(),
             dummy_links: Vec::new(),
+            ball_links: Vec::new(),
+            referenced_handles: Vec::new(),
             warnings: Vec::new(),
         };
         let files = write_scene(&model, "s", "s.ttt").expect("writes");

@@ -1,11 +1,13 @@
-//! The CPU rasteriser: shapes' visuals → RGB and planar depth of one perspective sensor.
+//! The CPU rasteriser: shapes' visuals → RGB and planar depth of one perspective or
+//! orthographic sensor.
 //!
 //! Per visual, vertices go to the camera frame once (with their Gouraud intensity);
 //! per triangle: back-face culling for closed primitives, a trivial reject/accept on
-//! the six frustum planes, Sutherland–Hodgman clipping only for triangles that cross
-//! one, then a half-space scan of the bounding box with perspective-correct depth and
-//! intensity and a z-buffer. Nothing is allocated per frame once the buffers have grown
-//! to the scene's size.
+//! the six frustum planes (a box for an orthographic sensor), Sutherland–Hodgman
+//! clipping only for triangles that cross one, then a half-space scan of the bounding
+//! box with depth and intensity interpolated (perspective-correct, or affine in an
+//! orthographic image, where they are affine) and a z-buffer. Nothing is allocated per
+//! frame once the buffers have grown to the scene's size.
 
 use std::collections::BTreeMap;
 
@@ -14,7 +16,7 @@ use super::resolve::{self, Packet1};
 use super::simd::multiversion;
 use super::tessellate::{TriMesh, cross, dot, sub};
 use crate::math::Pose;
-use crate::scene::VisionModel;
+use crate::scene::{Projection, VisionModel};
 use crate::world::{Handle, ObjectKind, World};
 
 /// Share of an object's colour it shows with no light on it.
@@ -28,17 +30,20 @@ pub(crate) const TOPLIGHT: f32 = 0.35;
 /// Colour of pixels that see nothing between the clipping planes (RGB, 0..1).
 pub(crate) const BACKGROUND: [f32; 3] = [0.0, 0.0, 0.0];
 
-/// A perspective camera derived from a [`VisionModel`], in the sensor frame: looking
-/// along +Z, image up = +Y, image right = -X (CoppeliaSim's convention).
+/// A camera derived from a [`VisionModel`], in the sensor frame: looking along +Z,
+/// image up = +Y, image right = -X (CoppeliaSim's convention).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Camera {
     /// Image width in pixels.
     pub width: usize,
     /// Image height in pixels.
     pub height: usize,
-    /// Tangent of the horizontal half angle of view.
+    /// Orthographic (parallel rays along +Z) rather than perspective.
+    pub ortho: bool,
+    /// Horizontal half extent of the view: perspective, the tangent of the half angle
+    /// (the half width at 1 m); orthographic, the half width in metres.
     pub tan_x: f32,
-    /// Tangent of the vertical half angle of view.
+    /// Vertical half extent of the view, as `tan_x`.
     pub tan_y: f32,
     /// Near clipping distance along +Z, metres.
     pub near: f32,
@@ -48,14 +53,19 @@ pub(crate) struct Camera {
 
 impl Camera {
     /// The camera of a sensor model, or `None` when the model is out of range
-    /// (resolution 1..=`max_side`, 0 < fov < pi, 0 < near < far, all finite).
+    /// (resolution 1..=`max_side`, 0 < fov < pi for a perspective sensor, ortho size
+    /// > 0 for an orthographic one, 0 < near < far, all finite).
     pub fn new(m: &VisionModel, max_side: u32) -> Option<Camera> {
         let [w, h] = m.resolution;
+        let ortho = m.projection == Projection::Orthographic;
+        let extent_ok = if ortho {
+            m.ortho_size.is_finite() && m.ortho_size > 0.0
+        } else {
+            m.fov.is_finite() && m.fov > 0.0 && m.fov < std::f64::consts::PI
+        };
         let valid = (1..=max_side).contains(&w)
             && (1..=max_side).contains(&h)
-            && m.fov.is_finite()
-            && m.fov > 0.0
-            && m.fov < std::f64::consts::PI
+            && extent_ok
             && m.near.is_finite()
             && m.far.is_finite()
             && m.near > 0.0
@@ -63,8 +73,9 @@ impl Camera {
         if !valid {
             return None;
         }
-        // The field of view spans the larger side; the other follows from the aspect.
-        let t = (m.fov / 2.0).tan();
+        // The field of view (or ortho size) spans the larger side; the other follows
+        // from the aspect.
+        let t = if ortho { m.ortho_size / 2.0 } else { (m.fov / 2.0).tan() };
         let (tx, ty) = if w >= h {
             (t, t * f64::from(h) / f64::from(w))
         } else {
@@ -73,6 +84,7 @@ impl Camera {
         Some(Camera {
             width: w as usize,
             height: h as usize,
+            ortho,
             tan_x: tx as f32,
             tan_y: ty as f32,
             near: m.near as f32,
@@ -81,16 +93,19 @@ impl Camera {
     }
 
     /// Signed distance-like value of `p` to frustum plane `k` (>= 0 inside):
-    /// near, far, right (-X), left (+X), top (+Y), bottom (-Y).
+    /// near, far, right (-X), left (+X), top (+Y), bottom (-Y). An orthographic
+    /// view's side planes are parallel to +Z, at the half extents.
     fn plane(&self, k: usize, p: [f32; 3]) -> f32 {
         let [x, y, z] = p;
+        // Where the side planes are at this depth.
+        let depth = if self.ortho { 1.0 } else { z };
         match k {
             0 => z - self.near,
             1 => self.far - z,
-            2 => self.tan_x * z + x,
-            3 => self.tan_x * z - x,
-            4 => self.tan_y * z - y,
-            _ => self.tan_y * z + y,
+            2 => self.tan_x * depth + x,
+            3 => self.tan_x * depth - x,
+            4 => self.tan_y * depth - y,
+            _ => self.tan_y * depth + y,
         }
     }
 
@@ -292,9 +307,11 @@ fn draw_visual(
             continue;
         };
         if v.mesh.closed {
-            // Outward normal pointing away from the camera (at the origin): a back face.
+            // Outward normal pointing away from the camera: a back face. The view ray
+            // runs from the eye at the origin, or along +Z in an orthographic view.
             let n = cross(sub(b.p, a.p), sub(c.p, a.p));
-            if dot(n, a.p) >= 0.0 {
+            let ray = if cam.ortho { [0.0, 0.0, 1.0] } else { a.p };
+            if dot(n, ray) >= 0.0 {
                 continue;
             }
         }
@@ -319,6 +336,7 @@ fn draw_visual(
 /// [`Camera::plane`]'s unnormalised value.
 fn plane_scale(cam: &Camera, k: usize) -> f32 {
     match k {
+        _ if cam.ortho => 1.0,
         0 | 1 => 1.0,
         2 | 3 => (1.0 + cam.tan_x * cam.tan_x).sqrt(),
         _ => (1.0 + cam.tan_y * cam.tan_y).sqrt(),
@@ -362,7 +380,9 @@ fn clip(cam: &Camera, poly: &mut [CamVertex; MAX_POLY], mut n: usize, mask: u8) 
 }
 
 /// A vertex projected to pixel coordinates (x to the right, y up, pixel centres at
-/// half-integers), with 1/z and light/z for perspective-correct interpolation.
+/// half-integers), with the two values interpolated over the triangle: perspective,
+/// 1/z and light/z (affine on screen, which z and light are not); orthographic, z and
+/// light themselves (affine on screen already).
 #[derive(Clone, Copy)]
 struct ScreenVertex {
     x: f32,
@@ -374,6 +394,14 @@ struct ScreenVertex {
 #[inline]
 fn project(cam: &Camera, v: CamVertex) -> ScreenVertex {
     let [x, y, z] = v.p;
+    if cam.ortho {
+        return ScreenVertex {
+            x: 0.5 * cam.width as f32 * (1.0 - x / cam.tan_x),
+            y: 0.5 * cam.height as f32 * (1.0 + y / cam.tan_y),
+            inv_z: z,
+            light_z: v.light,
+        };
+    }
     let inv_z = 1.0 / z;
     ScreenVertex {
         // Image right is the sensor's -X.
@@ -472,17 +500,27 @@ multiversion! {
                 lz0: (e[0] * lz[0] + e[1] * lz[1] + e[2] * lz[2]) * inv_area,
                 dlz,
             };
-            write_span(target.zbuf, target.color, &span, color);
+            // Chosen per row rather than per pixel: each copy keeps its loop branch-free.
+            if cam.ortho {
+                write_span::<true>(target.zbuf, target.color, &span, color);
+            } else {
+                write_span::<false>(target.zbuf, target.color, &span, color);
+            }
         }
     }
 }
 
-/// Depth (metres) and packed colour of column `col` of `span` in colour `rgb`.
+/// Depth (metres) and packed colour of column `col` of `span` in colour `rgb`; `ORTHO`:
+/// the span interpolates z and light themselves, not 1/z and light/z.
 #[inline(always)]
-fn shade(span: &Span, col: i32, [cr, cg, cb]: [f32; 3]) -> (f32, u32) {
+fn shade<const ORTHO: bool>(span: &Span, col: i32, [cr, cg, cb]: [f32; 3]) -> (f32, u32) {
     let x = col as f32;
-    let z = 1.0 / (span.iz0 + span.diz * x);
-    let light = (span.lz0 + span.dlz * x) * z;
+    let (z, light) = if ORTHO {
+        (span.iz0 + span.diz * x, span.lz0 + span.dlz * x)
+    } else {
+        let z = 1.0 / (span.iz0 + span.diz * x);
+        (z, (span.lz0 + span.dlz * x) * z)
+    };
     let byte = |c: f32| u32::from(round_byte(c * light));
     (z, byte(cr) | byte(cg) << 8 | byte(cb) << 16)
 }
@@ -490,7 +528,8 @@ fn shade(span: &Span, col: i32, [cr, cg, cb]: [f32; 3]) -> (f32, u32) {
 /// Pixels per chunk in [`write_span`]: one AVX2 vector of `f32`.
 const CHUNK: usize = 8;
 
-/// The pixels of one row that a triangle covers, with 1/z and light/z along the row.
+/// The pixels of one row that a triangle covers, with 1/z and light/z along the row
+/// (z and light in an orthographic view).
 struct Span {
     /// Index of the row's first pixel in the buffers.
     start: usize,
@@ -516,8 +555,10 @@ struct Span {
 /// reach past the row's end into the next row, whose pixels it writes back unchanged,
 /// or into the buffers' padding of `CHUNK - 1` pixels (without it, the last pixels are
 /// drawn one by one).
+///
+/// `ORTHO`: see [`shade`].
 #[inline(always)]
-fn write_span(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
+fn write_span<const ORTHO: bool>(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
     // Columns fit in i32 (images are at most MAX_RESOLUTION wide) and convert to f32
     // exactly (below 2^24).
     let (first, end) = (span.first as i32, span.end as i32);
@@ -531,7 +572,7 @@ fn write_span(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
             // Buffers without the padding: the rest pixel by pixel.
             for col in col0.max(span.first)..span.end {
                 let i = span.start + col;
-                let (z, packed) = shade(span, col as i32, rgb);
+                let (z, packed) = shade::<ORTHO>(span, col as i32, rgb);
                 if let (Some(zp), Some(cp)) = (zbuf.get_mut(i), color.get_mut(i))
                     && z < *zp
                 {
@@ -546,7 +587,7 @@ fn write_span(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
         let (mut z_new, mut c_new) = ([0.0f32; CHUNK], [0u32; CHUNK]);
         for k in 0..CHUNK {
             let col = (col0 + k) as i32;
-            let (z, packed) = shade(span, col, rgb);
+            let (z, packed) = shade::<ORTHO>(span, col, rgb);
             let inside = (first <= col) & (col < end);
             let keep_new = u32::from(inside & (z < z_old[k])).wrapping_neg();
             z_new[k] = f32::from_bits(z.to_bits() & keep_new | z_old[k].to_bits() & !keep_new);
@@ -565,16 +606,26 @@ mod tests {
     fn model(resolution: [u32; 2], fov: f64, near: f64, far: f64) -> VisionModel {
         VisionModel {
             resolution,
+            projection: Projection::Perspective,
             fov,
+            ortho_size: 1.0,
             near,
             far,
         }
     }
 
+    fn ortho(resolution: [u32; 2], ortho_size: f64, near: f64, far: f64) -> VisionModel {
+        VisionModel {
+            projection: Projection::Orthographic,
+            ortho_size,
+            ..model(resolution, 1.0, near, far)
+        }
+    }
+
     /// [`write_span`] the obvious way: each covered pixel, one after the other.
-    fn write_span_by_pixel(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
+    fn write_span_by_pixel<const ORTHO: bool>(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
         for col in span.first..span.end {
-            let (z, packed) = shade(span, col as i32, rgb);
+            let (z, packed) = shade::<ORTHO>(span, col as i32, rgb);
             let i = span.start + col;
             if z < zbuf[i] {
                 zbuf[i] = z;
@@ -585,6 +636,13 @@ mod tests {
 
     #[test]
     fn spans_in_chunks_draw_exactly_the_covered_pixels() {
+        spans_in_chunks::<false>();
+        spans_in_chunks::<true>();
+    }
+
+    /// `ORTHO`: the span's values are z and light themselves; 1/z of 0.6..2 read as z
+    /// covers the same kind of overlap with what is drawn.
+    fn spans_in_chunks<const ORTHO: bool>() {
         let mut x = 0x9e37_79b9_7f4a_7c15u64;
         let mut next = move |n: u64| {
             x ^= x << 13;
@@ -626,12 +684,12 @@ mod tests {
                 };
                 let rgb = [200.0, 100.0, 50.0];
                 let (mut z_want, mut c_want) = (zbuf.clone(), color.clone());
-                write_span_by_pixel(&mut z_want, &mut c_want, &span, rgb);
+                write_span_by_pixel::<ORTHO>(&mut z_want, &mut c_want, &span, rgb);
                 let bits = |z: &[f32]| z.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
                 // With the padding, and without (the buffers cut to the image).
                 for len in [n + CHUNK - 1, n] {
                     let (mut z_fast, mut c_fast) = (zbuf[..len].to_vec(), color[..len].to_vec());
-                    write_span(&mut z_fast, &mut c_fast, &span, rgb);
+                    write_span::<ORTHO>(&mut z_fast, &mut c_fast, &span, rgb);
                     let at = format!("w {w}, row {row}, {first}..{end}, {len} pixels");
                     assert_eq!(bits(&z_fast), bits(&z_want[..len]), "{at}");
                     assert_eq!(c_fast, c_want[..len], "{at}");
@@ -650,6 +708,11 @@ mod tests {
         assert!((wide.tan_x - 1.0).abs() < 1e-6 && (wide.tan_y - 0.5).abs() < 1e-6);
         let tall = Camera::new(&model([64, 128], right, 0.01, 1.0), 512).expect("valid");
         assert!((tall.tan_x - 0.5).abs() < 1e-6 && (tall.tan_y - 1.0).abs() < 1e-6);
+        // An orthographic sensor's size spans the larger side in the same way.
+        let wide = Camera::new(&ortho([128, 64], 0.2, 0.01, 1.0), 512).expect("valid");
+        assert!(wide.ortho && (wide.tan_x - 0.1).abs() < 1e-7 && (wide.tan_y - 0.05).abs() < 1e-7);
+        let tall = Camera::new(&ortho([64, 128], 0.2, 0.01, 1.0), 512).expect("valid");
+        assert!((tall.tan_x - 0.05).abs() < 1e-7 && (tall.tan_y - 0.1).abs() < 1e-7);
     }
 
     #[test]
@@ -662,8 +725,34 @@ mod tests {
             model([10, 10], 1.0, 0.0, 1.0),
             model([10, 10], 1.0, 0.5, 0.5),
             model([10, 10], 1.0, 0.01, f64::INFINITY),
+            ortho([10, 10], 0.0, 0.01, 1.0),
+            ortho([10, 10], f64::INFINITY, 0.01, 1.0),
+            ortho([10, 10], -1.0, 0.01, 1.0),
         ] {
             assert!(Camera::new(&m, 512).is_none(), "{m:?}");
         }
+        // The view angle does not matter to an orthographic sensor, nor the ortho size
+        // to a perspective one.
+        assert!(Camera::new(&ortho([10, 10], 0.1, 0.01, 1.0), 512).is_some());
+        assert!(
+            Camera::new(
+                &VisionModel {
+                    fov: f64::NAN,
+                    ..ortho([10, 10], 0.1, 0.01, 1.0)
+                },
+                512
+            )
+            .is_some()
+        );
+        assert!(
+            Camera::new(
+                &VisionModel {
+                    ortho_size: 0.0,
+                    ..model([10, 10], 1.0, 0.01, 1.0)
+                },
+                512
+            )
+            .is_some()
+        );
     }
 }

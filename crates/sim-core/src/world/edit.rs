@@ -303,13 +303,34 @@ impl World {
         // Built as a world of its own first, so that every object is made exactly as at
         // load (initial joint positions, sensors, world poses), then moved in.
         let other = World::new(model);
+        let mut warnings = other.warnings().to_vec();
         let mut map: Vec<Handle> = Vec::with_capacity(other.objects.len());
         let mut tops = Vec::new();
+        // The model's vision sensors join the scene's within the image memory cap; those
+        // past it come in as dummies, so the rest of the model still loads.
+        let mut vision_bytes = self.vision_image_bytes(None);
         for src in &other.objects {
             let parent = src.parent.map(|p| map[p as usize]);
+            let mut kind = src.kind.clone();
+            if let ObjectKind::VisionSensor(v) = &kind {
+                let bytes = crate::scene::vision_image_bytes(v.resolution);
+                if vision_bytes + bytes > crate::scene::MAX_VISION_IMAGE_BYTES {
+                    warnings.push(format!(
+                        "{}: a {}x{} vision sensor would bring the scene's vision images over {} MiB; loaded as a dummy",
+                        src.alias,
+                        v.resolution[0],
+                        v.resolution[1],
+                        crate::scene::MAX_VISION_IMAGE_BYTES >> 20
+                    ));
+                    kind = ObjectKind::Dummy;
+                } else {
+                    vision_bytes += bytes;
+                }
+            }
             let h = self.push_object(Object {
                 parent,
                 children: Vec::new(),
+                kind,
                 ..src.clone()
             });
             if parent.is_none() {
@@ -334,7 +355,20 @@ impl World {
         }
         self.edit.counters.created += map.len() as u64;
         self.bump();
-        (map, other.warnings().to_vec())
+        (map, warnings)
+    }
+
+    /// Bytes of RGB and depth images all vision sensors hold (see
+    /// [`crate::scene::MAX_VISION_IMAGE_BYTES`]), leaving out `except`.
+    pub fn vision_image_bytes(&self, except: Option<Handle>) -> u64 {
+        self.handles()
+            .iter()
+            .filter(|&&o| Some(o) != except)
+            .filter_map(|&o| match &self.object(o).ok()?.kind {
+                ObjectKind::VisionSensor(v) => Some(crate::scene::vision_image_bytes(v.resolution)),
+                _ => None,
+            })
+            .sum()
     }
 
     /// Moves `h` below `parent` (the root for `None`), last among its new siblings
@@ -894,22 +928,38 @@ impl World {
         Ok(())
     }
 
-    /// Replaces a vision sensor's resolution, view angle and clipping planes.
+    /// Replaces a vision sensor's resolution, projection, view angle, ortho size and
+    /// clipping planes.
     ///
     /// # Errors
     /// No such object, not a vision sensor, or a setting out of range (resolution
-    /// 1..=[`crate::scene::MAX_VISION_RESOLUTION`] per side, 0 < view angle < π, 0 < near < far).
+    /// 1..=[`crate::scene::MAX_VISION_RESOLUTION`] per side, 0 < view angle < π, ortho
+    /// size > 0, 0 < near < far), or a resolution that would bring the images of all
+    /// vision sensors over [`crate::scene::MAX_VISION_IMAGE_BYTES`].
     pub fn set_vision_model(&mut self, h: Handle, model: VisionModel) -> Result<(), SimError> {
-        let max = crate::scene::MAX_VISION_RESOLUTION;
+        use crate::scene::{MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION, vision_image_bytes};
+        let max = MAX_VISION_RESOLUTION;
         let ok = model.resolution.iter().all(|r| (1..=max).contains(r))
             && model.fov > 0.0
             && model.fov < std::f64::consts::PI
+            && model.ortho_size > 0.0
+            && model.ortho_size.is_finite()
             && model.near > 0.0
             && model.near < model.far
             && model.far.is_finite();
         if !ok {
             return Err(invalid(format!(
-                "vision sensor settings out of range: resolution 1..={max} per side, 0 < view angle < pi, 0 < near < far"
+                "vision sensor settings out of range: resolution 1..={max} per side, 0 < view angle < pi, ortho size > 0, 0 < near < far"
+            )));
+        }
+        // Every other sensor's images plus this one's at its new resolution.
+        let total = self.vision_image_bytes(Some(h)) + vision_image_bytes(model.resolution);
+        if total > MAX_VISION_IMAGE_BYTES {
+            let [w, hgt] = model.resolution;
+            return Err(invalid(format!(
+                "vision sensor {h}: {w}x{hgt} would bring the vision images of the scene (RGB and depth) to {} MiB, over the {} MiB cap",
+                total.div_ceil(1 << 20),
+                MAX_VISION_IMAGE_BYTES >> 20
             )));
         }
         match &mut self.object_mut(h)?.kind {

@@ -2,7 +2,7 @@
 
 use super::point_cloud::PointCloud;
 use crate::math::{Pose, Vec3};
-use crate::scene::{JointMode, JointType, ProximityModel, ShapeModel, VisionModel};
+use crate::scene::{CameraModel, JointMode, JointType, ProximityModel, ShapeModel, VisionModel};
 
 pub use crate::handle::Handle;
 
@@ -45,6 +45,8 @@ pub enum ObjectKind {
     Graph,
     /// A point cloud and its points (boxed: a cloud is much larger than the other kinds).
     PointCloud(Box<PointCloud>),
+    /// A camera: a viewpoint for the viewer.
+    Camera(CameraModel),
 }
 
 impl ObjectKind {
@@ -54,6 +56,7 @@ impl ObjectKind {
             ObjectKind::Shape(_) => 0,
             ObjectKind::Joint(_) => 1,
             ObjectKind::Graph => 2,
+            ObjectKind::Camera(_) => 3,
             ObjectKind::Dummy => 4,
             ObjectKind::ProximitySensor(_) => 5,
             ObjectKind::VisionSensor(_) => 9,
@@ -68,6 +71,7 @@ impl ObjectKind {
             ObjectKind::Shape(_) => "shape",
             ObjectKind::Joint(_) => "joint",
             ObjectKind::Graph => "graph",
+            ObjectKind::Camera(_) => "camera",
             ObjectKind::Dummy => "dummy",
             ObjectKind::ProximitySensor(_) => "proximity sensor",
             ObjectKind::VisionSensor(_) => "vision sensor",

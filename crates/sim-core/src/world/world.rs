@@ -146,6 +146,7 @@ impl World {
                     ObjectModelKind::VisionSensor(v) => ObjectKind::VisionSensor(*v),
                     ObjectModelKind::ForceSensor => ObjectKind::ForceSensor(ForceReading::default()),
                     ObjectModelKind::Graph => ObjectKind::Graph,
+                    ObjectModelKind::Camera(c) => ObjectKind::Camera(*c),
                 },
             })
             .collect();

@@ -13,9 +13,11 @@
 //! | dependent joints | kinematic with a [`MimicModel`] |
 //! | spherical joints | fixed (warned) |
 //! | proximity sensors: ray, cone, pyramid, cylinder, disc | [`ProximityModel`] |
-//! | perspective vision sensors up to 512 px | [`VisionModel`] |
+//! | perspective and orthographic vision sensors up to 2048 px a side | [`VisionModel`] |
+//! | cameras | [`CameraModel`] (a viewpoint for the viewer, with its view angle) |
 //! | force sensors, graphs, dummies | the same kinds |
-//! | other vision sensors, cameras, lights, paths, point cloud, script objects, others | dummies (warned) |
+//! | lights | dummies (warned once: gantry's renderers light scenes their own way) |
+//! | paths, point cloud, script objects, others | dummies (warned) |
 //! | Lua child and customization scripts | [`ScriptModel`] on their object, old ones updated (`old_scripts.rs`) |
 //! | main scripts | dropped (gantry runs its own loop; a custom one is warned) |
 //! | Python, disabled scripts | dropped (warned) |
@@ -139,6 +141,15 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
             model_base: o.model_base,
             kind,
         });
+    }
+    cap_vision_memory(&mut objects, &mut report, &mut warnings);
+    let lights = report
+        .as_dummies
+        .iter()
+        .filter(|(_, why)| why == LIGHTS_IGNORED)
+        .count();
+    if lights > 0 {
+        warnings.push(format!("{lights} light(s): {LIGHTS_IGNORED}; imported as dummies"));
     }
     report.objects = objects.len();
     report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
@@ -276,36 +287,189 @@ fn convert_kind(
             }),
             cf::ProximityVolume::Other(kind) => as_dummy(format!("proximity sensor volume type {kind} is not known")),
         },
-        cf::ObjectKind::VisionSensor(v) => {
-            let side = |n: i32| {
-                u32::try_from(n)
-                    .ok()
-                    .filter(|&n| (1..=MAX_VISION_RESOLUTION).contains(&n))
-            };
-            match (v.perspective, side(v.resolution[0]), side(v.resolution[1])) {
-                (true, Some(w), Some(h)) => ObjectModelKind::VisionSensor(VisionModel {
-                    resolution: [w, h],
-                    fov: v.view_angle,
-                    near: v.near,
-                    far: v.far,
-                }),
-                (false, ..) => as_dummy("orthographic vision sensors are not supported".into()),
-                _ => as_dummy(format!(
-                    "vision sensor resolution {}x{} is outside 1..{MAX_VISION_RESOLUTION}",
-                    v.resolution[0], v.resolution[1]
-                )),
-            }
-        }
+        cf::ObjectKind::VisionSensor(v) => match convert_vision(v) {
+            Ok(m) => ObjectModelKind::VisionSensor(m),
+            Err(why) => as_dummy(why),
+        },
         cf::ObjectKind::ForceSensor(_) => ObjectModelKind::ForceSensor,
         cf::ObjectKind::Graph => ObjectModelKind::Graph,
-        cf::ObjectKind::Camera => as_dummy("cameras are not imported".into()),
-        cf::ObjectKind::Light => as_dummy("lights are not imported".into()),
+        cf::ObjectKind::Camera(c) => ObjectModelKind::Camera(convert_camera(c, label, warnings)),
+        // Warned once for the file, in `load_coppelia`.
+        cf::ObjectKind::Light => {
+            report.as_dummies.push((label.to_owned(), LIGHTS_IGNORED.into()));
+            ObjectModelKind::Dummy
+        }
         cf::ObjectKind::Script => ObjectModelKind::Dummy,
         cf::ObjectKind::Path => as_dummy("old path objects are not supported".into()),
         cf::ObjectKind::PointCloud => as_dummy("point clouds are not imported".into()),
         cf::ObjectKind::Other(tag) => {
             as_dummy(format!("object type {} is not supported", String::from_utf8_lossy(tag)))
         }
+    }
+}
+
+/// Why lights become dummies (their light is not used: gantry's renderers have fixed
+/// lighting, see the `vision` module).
+const LIGHTS_IGNORED: &str = "lights are not imported (gantry lights scenes its own way)";
+
+/// A vision sensor as CoppeliaSim has it, or why it cannot be one. Both the view
+/// angle and the ortho size are kept, as CoppeliaSim keeps them, so that
+/// `sim.visionintparam_perspective_operation` can switch the projection; the unused
+/// one is replaced by a valid default when the file holds none.
+fn convert_vision(v: &cf::VisionSensor) -> Result<VisionModel, String> {
+    let side = |n: i32| {
+        u32::try_from(n)
+            .ok()
+            .filter(|&n| (1..=MAX_VISION_RESOLUTION).contains(&n))
+    };
+    let (Some(w), Some(h)) = (side(v.resolution[0]), side(v.resolution[1])) else {
+        return Err(format!(
+            "vision sensor resolution {}x{} is outside 1..{MAX_VISION_RESOLUTION}",
+            v.resolution[0], v.resolution[1]
+        ));
+    };
+    let projection = if v.perspective {
+        Projection::Perspective
+    } else {
+        Projection::Orthographic
+    };
+    let fov_ok = v.view_angle > 0.0 && v.view_angle < std::f64::consts::PI;
+    let size_ok = v.ortho_size > 0.0 && v.ortho_size.is_finite();
+    match projection {
+        Projection::Perspective if !fov_ok => {
+            return Err(format!("vision sensor view angle {} rad is out of range", v.view_angle));
+        }
+        Projection::Orthographic if !size_ok => {
+            return Err(format!("vision sensor ortho size {} m is out of range", v.ortho_size));
+        }
+        _ => {}
+    }
+    if !(v.near > 0.0 && v.far > v.near && v.far.is_finite()) {
+        return Err(format!(
+            "vision sensor clipping planes {}..{} m are out of range",
+            v.near, v.far
+        ));
+    }
+    Ok(VisionModel {
+        resolution: [w, h],
+        projection,
+        // CoppeliaSim's defaults for a new sensor.
+        fov: if fov_ok { v.view_angle } else { 60f64.to_radians() },
+        ortho_size: if size_ok { v.ortho_size } else { 0.01 },
+        near: v.near,
+        far: v.far,
+    })
+}
+
+/// A camera: its view angle, or 60 degrees (warned) when the file's is out of range.
+fn convert_camera(c: &cf::Camera, label: &str, warnings: &mut Vec<String>) -> CameraModel {
+    if c.view_angle > 0.0 && c.view_angle < std::f64::consts::PI {
+        return CameraModel { fov: c.view_angle };
+    }
+    warnings.push(format!(
+        "{label}: camera view angle {} rad is out of range; 60 degrees used",
+        c.view_angle
+    ));
+    CameraModel {
+        fov: 60f64.to_radians(),
+    }
+}
+
+/// Keeps the vision sensors' images within [`MAX_VISION_IMAGE_BYTES`] together: the
+/// sensors past the cap, in tree order, become dummies (warned), so that the rest of
+/// the file still loads.
+fn cap_vision_memory(objects: &mut [ObjectModel], report: &mut ImportReport, warnings: &mut Vec<String>) {
+    let mut total = 0u64;
+    for o in objects {
+        let ObjectModelKind::VisionSensor(v) = &o.kind else {
+            continue;
+        };
+        let bytes = vision_image_bytes(v.resolution);
+        if total + bytes <= MAX_VISION_IMAGE_BYTES {
+            total += bytes;
+            continue;
+        }
+        let why = format!(
+            "vision sensor {}x{} would bring the images of the file's vision sensors over {} MiB",
+            v.resolution[0],
+            v.resolution[1],
+            MAX_VISION_IMAGE_BYTES >> 20
+        );
+        warnings.push(format!("{}: {why}; imported as a dummy", o.alias));
+        report.as_dummies.push((o.alias.clone(), why));
+        o.kind = ObjectModelKind::Dummy;
+    }
+}
+
+/// The vision and camera mapping on values built here, so it is covered where the
+/// shared files are absent.
+#[cfg(test)]
+mod vision_tests {
+    use super::*;
+
+    fn sensor(perspective: bool, resolution: [i32; 2], ortho_size: f64) -> cf::VisionSensor {
+        cf::VisionSensor {
+            resolution,
+            perspective,
+            view_angle: 0.5,
+            ortho_size,
+            near: 0.01,
+            far: 2.0,
+        }
+    }
+
+    #[test]
+    fn orthographic_and_large_sensors_are_kept_and_bad_ones_explained() {
+        let m = convert_vision(&sensor(false, [2048, 16], 0.3)).expect("kept");
+        assert_eq!(m.projection, Projection::Orthographic);
+        assert_eq!((m.resolution, m.ortho_size, m.fov), ([2048, 16], 0.3, 0.5));
+        // A perspective sensor without an ortho size gets CoppeliaSim's default for a switch.
+        let m = convert_vision(&sensor(true, [640, 480], 0.0)).expect("kept");
+        assert_eq!((m.projection, m.ortho_size), (Projection::Perspective, 0.01));
+        let why = convert_vision(&sensor(false, [16, 16], 0.0)).expect_err("no size");
+        assert!(why.contains("ortho size 0 m"), "{why}");
+        let why = convert_vision(&sensor(true, [2049, 16], 0.1)).expect_err("too large");
+        assert!(why.contains("2049x16"), "{why}");
+    }
+
+    #[test]
+    fn sensors_past_the_memory_cap_become_dummies() {
+        let big = |alias: &str| ObjectModel {
+            alias: alias.into(),
+            parent: None,
+            local: crate::math::Pose::identity(),
+            model_base: false,
+            kind: ObjectModelKind::VisionSensor(convert_vision(&sensor(true, [2048, 2048], 0.1)).expect("kept")),
+        };
+        // 36 fit in 1 GiB (28 MiB each); the 37th does not.
+        let mut objects: Vec<ObjectModel> = (0..37).map(|k| big(&format!("cam{k}"))).collect();
+        let (mut report, mut warnings) = (ImportReport::default(), Vec::new());
+        cap_vision_memory(&mut objects, &mut report, &mut warnings);
+        assert!(
+            objects[..36]
+                .iter()
+                .all(|o| matches!(o.kind, ObjectModelKind::VisionSensor(_)))
+        );
+        assert!(matches!(objects[36].kind, ObjectModelKind::Dummy));
+        assert_eq!(report.as_dummies.len(), 1);
+        assert!(
+            warnings[0].starts_with("cam36: vision sensor 2048x2048"),
+            "{warnings:?}"
+        );
+    }
+
+    #[test]
+    fn cameras_keep_their_view_angle_or_get_60_degrees() {
+        let mut warnings = Vec::new();
+        let c = cf::Camera {
+            view_angle: 0.7,
+            ..cf::Camera::default()
+        };
+        assert_eq!(convert_camera(&c, "cam", &mut warnings).fov, 0.7);
+        assert!(warnings.is_empty());
+        let c = convert_camera(&cf::Camera::default(), "cam", &mut warnings);
+        assert!((c.fov - 60f64.to_radians()).abs() < 1e-12);
+        assert_eq!(warnings.len(), 1);
     }
 }
 
