@@ -112,6 +112,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(reset_dynamic_object),
     },
     ApiFunction {
+        name: "scaleObject",
+        call: ApiFn::World(scale_object),
+    },
+    ApiFunction {
         name: "setJointMaxForce",
         call: ApiFn::World(set_joint_max_force),
     },
@@ -128,20 +132,16 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(set_object_parent),
     },
     ApiFunction {
+        name: "setShapeBB",
+        call: ApiFn::World(set_shape_bb),
+    },
+    ApiFunction {
         name: "setShapeColor",
         call: ApiFn::World(set_shape_color),
     },
     ApiFunction {
         name: "setShapeMass",
         call: ApiFn::World(set_shape_mass),
-    },
-    ApiFunction {
-        name: "setShapeBB",
-        call: ApiFn::World(set_shape_bb),
-    },
-    ApiFunction {
-        name: "scaleObject",
-        call: ApiFn::World(scale_object),
     },
 ];
 

@@ -859,7 +859,10 @@ mod tests {
         assert_eq!(w.len(), 1);
         assert_eq!(
             convert_settings(&cf::Settings::default(), &mut w),
-            SimSettings::default()
+            SimSettings {
+                solver_iterations: COPPELIA_SOLVER_ITERATIONS,
+                ..SimSettings::default()
+            }
         );
     }
 
