@@ -37,7 +37,7 @@ use crate::scene::{Geometry, JointMode, MassModel, SceneModel, ShapeModel, Visio
 /// Smallest shape mass, kg (CoppeliaSim clamps `sim.setShapeMass` to the same).
 pub const MIN_SHAPE_MASS: f64 = 1e-7;
 
-fn invalid(msg: impl Into<String>) -> SimError {
+pub(super) fn invalid(msg: impl Into<String>) -> SimError {
     SimError::InvalidArgument(msg.into())
 }
 

@@ -3,6 +3,7 @@
 
 use nalgebra::Matrix3;
 
+use super::edit::invalid;
 use super::object::Handle;
 use super::world::World;
 use crate::error::SimError;
@@ -36,10 +37,6 @@ impl World {
         self.geometry_changed(h);
         Ok(())
     }
-}
-
-fn invalid(message: String) -> SimError {
-    SimError::InvalidArgument(message)
 }
 
 /// The shape scaled by `f` along its axes; an error names the part that cannot be.
