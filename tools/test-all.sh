@@ -74,7 +74,7 @@ stage "lints (cargo clippy -D warnings)"
 # and proc-macros it builds are the ones the test build below reuses.
 cargo clippy --workspace --all-targets --profile ci -- -D warnings
 
-stage "dependency direction: protocol and coppelia-file stay pure (no tokio runtime, rapier or mlua); no circle among files; floors inside sim-core and the Lua host"
+stage "dependency direction: protocol, coppelia-file and the scene model stay pure (no tokio runtime, rapier or mlua); no circle among files; floors inside the simulation crates and the Lua host"
 if cargo tree -p gantry-protocol -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d) ' ; then
     echo "gantry-protocol must not depend on the crates listed above" >&2
     exit 1
@@ -83,10 +83,17 @@ if cargo tree -p gantry-coppelia-file -e normal --prefix none | grep -E '^(tokio
     echo "gantry-coppelia-file must not depend on the crates listed above" >&2
     exit 1
 fi
-if cargo tree -p gantry-sim-core -e normal --prefix none | grep -E '^(tokio|mlua) ' ; then
-    echo "gantry-sim-core must not depend on tokio or mlua" >&2
+# The scene model knows no physics engine; the world and the registry no runtime or Lua.
+if cargo tree -p gantry-scene -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d) ' ; then
+    echo "gantry-scene must not depend on the crates listed above" >&2
     exit 1
 fi
+for crate in gantry-world gantry-sim-core; do
+    if cargo tree -p "$crate" -e normal --prefix none | grep -E '^(tokio|mlua) ' ; then
+        echo "$crate must not depend on tokio or mlua" >&2
+        exit 1
+    fi
+done
 # The engine has no I/O: no sockets, no runtime, no transport crate.
 if cargo tree -p gantry-engine -e normal --prefix none | grep -E '^(axum|zeromq|mio|gantry-server) ' ; then
     echo "gantry-engine must not depend on a transport, a runtime or the wire codecs" >&2

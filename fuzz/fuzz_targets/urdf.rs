@@ -7,7 +7,7 @@ mod common;
 
 use std::path::Path;
 
-use gantry_sim_core::scene::{EmbeddedFiles, LoadOptions, load_scene};
+use gantry_scene::scene::{EmbeddedFiles, LoadOptions, load_scene};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

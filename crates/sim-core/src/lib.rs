@@ -1,12 +1,14 @@
-//! gantry's simulation core: the scene model and loader, the rapier world, the object
-//! tree with names and handles, sensors, kinematics, and the one implementation of each
-//! `sim.*` function over [`Value`]. Lua scripts and remote clients both call that same
-//! code; nothing is written twice.
+//! gantry's simulation core: the one implementation of each `sim.*` function over
+//! [`Value`] (`api`), on top of the scene model (`gantry-scene`) and the world with its
+//! subsystems (`gantry-world`), which it re-exports. Lua scripts and remote clients
+//! both call that same code; nothing is written twice.
 //!
 //! The modules are floors; each imports only from the floors below it (see
 //! [`sim`] for the picture, and docs/architecture.md):
 //! leaves (`handle`, `math`, `error`, `signals`) → `scene` → `world` → subsystems
 //! (`sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`) → [`Sim`] → `api`.
+//! The first two are the crate `gantry-scene`, the next three `gantry-world`; cargo
+//! enforces the direction between crates and `tools/layers.py` within them.
 //!
 //! Units are SI and angles radians throughout the API; poses are in the world frame
 //! unless a function says otherwise.
@@ -15,25 +17,10 @@ pub use gantry_protocol::Value;
 /// The physics engine, for benchmarks and tools that compare against bare rapier.
 pub use rapier3d;
 
-// Floor 1: leaves.
-pub mod error;
-pub mod handle;
-pub mod math;
-pub mod signals;
-// Floor 2: the scene model.
-pub mod scene;
-// Floor 3: objects and physics.
-pub mod world;
-// Floor 4: subsystems on the world.
-pub mod drawing;
-pub mod graph;
-pub mod ik;
-pub mod motion;
-pub mod sensor;
-pub mod ui;
-pub mod vision;
-// Floor 5: the aggregate and its step.
-pub mod sim;
+// Floors 1 and 2: leaves and the scene model (crate gantry-scene).
+pub use gantry_scene::{error, handle, scene};
+// Floors 3 to 5: objects and physics, the subsystems, the aggregate (crate gantry-world).
+pub use gantry_world::{drawing, graph, ik, math, motion, sensor, signals, sim, ui, vision, world};
 // Floor 6: the `sim.*` registry.
 pub mod api;
 

@@ -7,7 +7,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use gantry_sim_core::scene::{EmbeddedFiles, Files, Geometry, ObjectModelKind, SceneModel, normalize_path};
+use gantry_scene::scene::{EmbeddedFiles, Files, Geometry, ObjectModelKind, SceneModel, normalize_path};
 
 /// A unit cube as OBJ text: the mesh fuzzed scenes can reference as
 /// `../meshes/cube.obj` (from `assets/scenes/`).

@@ -2,9 +2,8 @@
 
 use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
-use crate::math::{self, Vec3};
-use crate::sensor::ProximityVolume;
-use crate::world::{Detection, FIRST_COLLECTION_HANDLE, Handle, ObjectKind, World};
+use crate::sensor;
+use crate::world::{FIRST_COLLECTION_HANDLE, Handle, ObjectKind, World};
 
 /// The functions this file implements, in alphabetical order.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[ApiFunction {
@@ -29,20 +28,8 @@ const HANDLE_ALL: Handle = -2;
 pub(super) fn check_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
     let sensor = a.handle(0)?;
     let entity = a.handle(1)?;
-    let volume = match &w.object(sensor)?.kind {
-        ObjectKind::ProximitySensor(s) => ProximityVolume::from(&s.volume),
-        other => {
-            return Err(ApiError::new(format!(
-                "object {sensor} is a {}, not a proximity sensor",
-                other.name()
-            )));
-        }
-    };
     let shapes = entity_shapes(w, entity)?;
-    // Collider poses are only current after the query structures were refreshed (rapier
-    // updates them when stepping, and scripts may have moved objects since).
-    w.refresh_queries();
-    Ok(match nearest(w, sensor, &volume, &shapes) {
+    Ok(match sensor::check_proximity_sensor(w, sensor, &shapes)? {
         Some(d) => vec![
             Value::Int(1),
             Value::Float(d.distance),
@@ -74,48 +61,4 @@ fn entity_shapes(w: &World, entity: Handle) -> Result<Vec<Handle>, ApiError> {
         w.object(entity)?;
         vec![entity]
     })
-}
-
-/// The nearest point of `shapes` inside the sensor's volume. Each collider is tested
-/// directly (no broad phase): the set is small, unlike a handled sensor's whole scene.
-fn nearest(w: &World, sensor: Handle, volume: &ProximityVolume, shapes: &[Handle]) -> Option<Detection> {
-    let physics = w.physics();
-    let own_body = mount_body(w, sensor);
-    let to_sensor = math::to_physics(&w.object(sensor).ok()?.world.inverse());
-    let mut best: Option<(crate::sensor::ProximityHit, Handle)> = None;
-    for &h in shapes {
-        for &ch in w.colliders_of(h) {
-            let Some(collider) = physics.world.colliders.get(ch) else {
-                continue;
-            };
-            if own_body.is_some() && collider.parent() == own_body {
-                continue;
-            }
-            let pose = to_sensor * *collider.position();
-            if let Some(hit) = volume.detect(collider.shape(), &pose)
-                && best.as_ref().is_none_or(|(b, _)| hit.distance < b.distance)
-            {
-                best = Some((hit, h));
-            }
-        }
-    }
-    best.map(|(hit, object)| Detection {
-        distance: f64::from(hit.distance),
-        point: math::vec_from_physics(hit.point),
-        object,
-        normal: Vec3::from(math::vec_from_physics(hit.normal)),
-    })
-}
-
-/// The rapier body the sensor rides on: its own, or the nearest ancestor's.
-fn mount_body(w: &World, h: Handle) -> Option<crate::rapier3d::prelude::RigidBodyHandle> {
-    let physics = w.physics();
-    let mut cur = Some(h);
-    while let Some(c) = cur {
-        if let Some(&(bi, _)) = physics.body_of.get(&c) {
-            return physics.bodies.get(bi).map(|b| b.handle);
-        }
-        cur = w.object(c).ok().and_then(|o| o.parent);
-    }
-    None
 }

@@ -11,13 +11,13 @@ use crate::error::SimError;
 
 /// Most generators alive at once, so a script that never removes them
 /// (`sim.ruckigRemove`) fails clearly instead of growing memory without end.
-pub(crate) const MAX_OBJECTS: usize = 10_000;
+pub const MAX_OBJECTS: usize = 10_000;
 
 /// Ruckig's error policy here: an invalid input stops the calculation with its reason
 /// (reported as `ErrorInvalidInput`, -100, and logged), a failed calculation returns its
 /// own result code (-101 to -111), as the C++ library does.
 #[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct ResultCodes;
+pub struct ResultCodes;
 
 impl RuckigErrorHandler for ResultCodes {
     fn handle_validation_error(message: &str) -> Result<(), RuckigError> {
@@ -31,31 +31,36 @@ impl RuckigErrorHandler for ResultCodes {
 
 /// One generator.
 #[derive(Debug)]
-pub(crate) struct RuckigObject {
-    pub(crate) otg: Ruckig<0, ResultCodes>,
+pub struct RuckigObject {
+    /// The generator (its state is in `input`/`output`).
+    pub otg: Ruckig<0, ResultCodes>,
     /// The current state (fed back from each step's output) and the fixed target and limits.
-    pub(crate) input: InputParameter<0>,
-    pub(crate) output: OutputParameter<0>,
-    pub(crate) dofs: usize,
+    pub input: InputParameter<0>,
+    /// The last step's output.
+    pub output: OutputParameter<0>,
+    /// Degrees of freedom, the length of every vector in `input` and `output`.
+    pub dofs: usize,
     /// The smallest cycle time the caller declared, s; every step is a multiple of it.
-    pub(crate) base_cycle: f64,
+    pub base_cycle: f64,
     /// Time stepped so far, s.
-    pub(crate) elapsed: f64,
+    pub elapsed: f64,
     /// The trajectory's duration, s, known after the first successful step.
-    pub(crate) duration: Option<f64>,
+    pub duration: Option<f64>,
     /// Whether the reason for an invalid input was logged already (once per generator).
-    pub(crate) warned: bool,
+    pub warned: bool,
 }
 
 /// The Ruckig generators of a world, by handle (handles count up from 0 and are not reused).
 #[derive(Debug, Default)]
 pub struct RuckigObjects {
-    pub(crate) objects: BTreeMap<i64, RuckigObject>,
+    /// The live generators, by handle.
+    pub objects: BTreeMap<i64, RuckigObject>,
     next_handle: i64,
 }
 
 impl RuckigObjects {
-    pub(crate) fn insert(&mut self, object: RuckigObject) -> Result<i64, SimError> {
+    /// Adds a generator and returns its new handle; refused past [`MAX_OBJECTS`].
+    pub fn insert(&mut self, object: RuckigObject) -> Result<i64, SimError> {
         if self.objects.len() >= MAX_OBJECTS {
             return Err(SimError::InvalidArgument(format!(
                 "too many Ruckig objects ({MAX_OBJECTS}): remove finished ones with sim.ruckigRemove"
@@ -67,7 +72,8 @@ impl RuckigObjects {
         Ok(h)
     }
 
-    pub(crate) fn get_mut(&mut self, h: i64) -> Option<&mut RuckigObject> {
+    /// The generator of handle `h`, if alive.
+    pub fn get_mut(&mut self, h: i64) -> Option<&mut RuckigObject> {
         self.objects.get_mut(&h)
     }
 }

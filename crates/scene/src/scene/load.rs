@@ -203,7 +203,7 @@ pub fn load_scene_text(
 
 /// Drops repeated warnings, keeping the first of each in order: a URDF included twice
 /// has the same problems twice, and they are worth saying once.
-pub(crate) fn dedup(warnings: Vec<String>) -> Vec<String> {
+pub fn dedup(warnings: Vec<String>) -> Vec<String> {
     let mut seen = std::collections::HashSet::new();
     warnings.into_iter().filter(|w| seen.insert(w.clone())).collect()
 }

@@ -1,6 +1,6 @@
-//! `cargo bench -p gantry-sim-core --bench proximity`: nanoseconds per
+//! `cargo bench -p gantry-world --bench proximity`: nanoseconds per
 //! `ProximityVolume::detect` call (the exact ray and cone volumes of
-//! `gantry_sim_core::sensor`) on the paths the module documentation prices: the fast path
+//! `gantry_world::sensor`) on the paths the module documentation prices: the fast path
 //! (one point projection), the lateral search on the cone's surface, the near cap, a mesh and
 //! the ray.
 //!
@@ -11,7 +11,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use gantry_sim_core::sensor::ProximityVolume;
+use gantry_world::sensor::ProximityVolume;
 use parry3d::math::{Pose, Vector};
 use parry3d::shape::{Ball, ConvexPolyhedron, Cuboid, Cylinder, Shape};
 

@@ -88,7 +88,7 @@
 //! Cost (release build, one core): the fast path is one point projection, ~80 ns for
 //! primitives; the lateral path ~0.1 µs for balls and 2–7 µs for other shapes; a mesh costs
 //! that per triangle reaching the volume. Nothing allocates
-//! (`cargo bench -p gantry-sim-core --bench proximity` times each path).
+//! (`cargo bench -p gantry-world --bench proximity` times each path).
 
 mod composite;
 mod convex;

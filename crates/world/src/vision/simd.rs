@@ -70,10 +70,10 @@ pub(crate) mod tests {
     use std::cell::Cell;
     use std::path::Path;
 
-    use crate::api::{self, CallContext};
     use crate::math::Pose;
     use crate::scene::{DiskFiles, LoadOptions, load_scene};
-    use crate::{Handle, Sim, Value};
+    use crate::vision;
+    use crate::{Handle, Sim};
 
     thread_local! {
         /// Set by [`portable_only`] to run the baseline copies on this thread.
@@ -100,27 +100,27 @@ pub(crate) mod tests {
         let mut w = Sim::new(&model);
         let sensor: Handle = w.world.find("/bubbleRob/visionSensor", None, 0).expect("sensor");
         let obstacle = w.world.find("/obstacle", None, 0).expect("obstacle");
-        let ctx = CallContext {
-            script_object: Some(sensor),
-            source: "test",
-        };
-        let h = [Value::Int(sensor)];
         let mut out = Vec::new();
         for x in [3.0, 0.9, 0.35, 0.2] {
             w.world
                 .set_world_pose(obstacle, Pose::translation(x, 0.03, 0.1))
                 .expect("pose");
-            crate::vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render");
+            vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render");
             let img = w.vision.image(sensor).expect("image");
             let packet1 = img.result().expect("result").packets[0]
                 .iter()
                 .map(|v| v.to_bits())
                 .collect();
             let (rgb, depth) = (img.rgb().to_vec(), img.depth().iter().map(|d| d.to_bits()).collect());
-            api::call(&mut w, &ctx, "simVision.sensorImgToWorkImg", &h).expect("to work");
-            let edge = [Value::Int(sensor), Value::Float(0.2)];
-            api::call(&mut w, &ctx, "simVision.edgeDetectionOnWorkImg", &edge).expect("edges");
-            api::call(&mut w, &ctx, "simVision.workImgToSensorImg", &h).expect("to sensor");
+            // What simVision.sensorImgToWorkImg, edgeDetectionOnWorkImg(0.2) and
+            // workImgToSensorImg do.
+            vision::read(&w.world, &mut w.vision, sensor)
+                .expect("to work")
+                .rgb_to_work();
+            vision::work(&w.world, &mut w.vision, sensor)
+                .expect("edges")
+                .edge_detection(0.2);
+            vision::work_to_sensor(&w.world, &mut w.vision, sensor, true).expect("to sensor");
             let edges = w.vision.image(sensor).expect("image").rgb().to_vec();
             out.push((rgb, depth, packet1, edges));
         }

@@ -239,7 +239,7 @@ impl VisionStates {
 }
 
 /// The vision model and world pose of sensor `h`.
-pub(crate) fn sensor_model(world: &World, h: Handle) -> Result<(&VisionModel, crate::math::Pose), SimError> {
+pub fn sensor_model(world: &World, h: Handle) -> Result<(&VisionModel, crate::math::Pose), SimError> {
     let o = world.object(h)?;
     match &o.kind {
         ObjectKind::VisionSensor(m) => {
@@ -320,11 +320,7 @@ pub fn handle_all_vision_sensors(
 ///
 /// # Errors
 /// As [`handle_vision_sensor`].
-pub(crate) fn read<'a>(
-    world: &World,
-    states: &'a mut VisionStates,
-    h: Handle,
-) -> Result<&'a mut SensorImage, SimError> {
+pub fn read<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Result<&'a mut SensorImage, SimError> {
     let (model, _) = sensor_model(world, h)?;
     let step = world.steps();
     let stale = match states.sensors.get(&h) {
@@ -342,11 +338,7 @@ pub(crate) fn read<'a>(
 ///
 /// # Errors
 /// No such object or not a vision sensor.
-pub(crate) fn state<'a>(
-    world: &World,
-    states: &'a mut VisionStates,
-    h: Handle,
-) -> Result<&'a mut SensorImage, SimError> {
+pub fn state<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Result<&'a mut SensorImage, SimError> {
     let (&model, _) = sensor_model(world, h)?;
     Ok(states.state_mut(h, &model))
 }
@@ -356,11 +348,7 @@ pub(crate) fn state<'a>(
 ///
 /// # Errors
 /// No such object or not a vision sensor.
-pub(crate) fn write<'a>(
-    world: &World,
-    states: &'a mut VisionStates,
-    h: Handle,
-) -> Result<&'a mut SensorImage, SimError> {
+pub fn write<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Result<&'a mut SensorImage, SimError> {
     let step = world.steps();
     let s = state(world, states, h)?;
     s.image_step = Some(step);
@@ -373,12 +361,7 @@ pub(crate) fn write<'a>(
 ///
 /// # Errors
 /// No such object, not a vision sensor, or no work image.
-pub(crate) fn work_to_sensor(
-    world: &World,
-    states: &mut VisionStates,
-    h: Handle,
-    remove: bool,
-) -> Result<(), SimError> {
+pub fn work_to_sensor(world: &World, states: &mut VisionStates, h: Handle, remove: bool) -> Result<(), SimError> {
     let step = world.steps();
     let s = state(world, states, h)?;
     let Some(work) = &s.work else {
@@ -402,7 +385,7 @@ fn no_work_image(h: Handle) -> SimError {
 ///
 /// # Errors
 /// No such object, not a vision sensor, or no work image.
-pub(crate) fn work<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Result<WorkImage<'a>, SimError> {
+pub fn work<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Result<WorkImage<'a>, SimError> {
     let (&model, _) = sensor_model(world, h)?;
     let s = states.state_mut(h, &model);
     let (width, height) = s.size();
@@ -517,7 +500,7 @@ simd::multiversion! {
 }
 
 /// A sensor's work image lent to a `simVision` operation.
-pub(crate) struct WorkImage<'a> {
+pub struct WorkImage<'a> {
     width: usize,
     height: usize,
     work: &'a mut Work,
@@ -586,7 +569,7 @@ impl WorkImage<'_> {
 impl SensorImage {
     /// `simVision.sensorImgToWorkImg`: the sensor image as floats 0..1 (kept as its
     /// bytes, see [`Work`]).
-    pub(crate) fn rgb_to_work(&mut self) {
+    pub fn rgb_to_work(&mut self) {
         // The buffer of a byte or edge image is reused: no allocation per frame.
         let mut bytes = match self.work.take() {
             Some(Work::Bytes(b) | Work::Binary(b)) => b,
@@ -598,19 +581,19 @@ impl SensorImage {
     }
 
     /// `simVision.sensorDepthMapToWorkImg`: normalised depth as grey levels.
-    pub(crate) fn depth_to_work(&mut self) {
+    pub fn depth_to_work(&mut self) {
         let floats = self.depth.iter().flat_map(|&d| [d; 3]).collect();
         self.work = Some(Work::Float(floats));
     }
 
     /// `simVision.uniformImgToWorkImg`: a work image of one colour.
-    pub(crate) fn uniform_work(&mut self, color: [f32; 3]) {
+    pub fn uniform_work(&mut self, color: [f32; 3]) {
         let n = self.depth.len();
         self.work = Some(Work::Float((0..n).flat_map(|_| color).collect()));
     }
 
     /// Mutable RGB bytes, for `sim.setVisionSensorImg`.
-    pub(crate) fn rgb_mut(&mut self) -> &mut [u8] {
+    pub fn rgb_mut(&mut self) -> &mut [u8] {
         &mut self.rgb
     }
 }

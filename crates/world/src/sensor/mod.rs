@@ -71,23 +71,49 @@ impl From<&ProximityModel> for ProximityVolume {
 /// # Errors
 /// No such object, or not a proximity sensor.
 pub fn handle_proximity_sensor(world: &mut World, h: Handle) -> Result<Option<Detection>, SimError> {
-    let (volume, sensor_world) = match world.object(h)? {
-        o @ crate::world::Object {
-            kind: ObjectKind::ProximitySensor(s),
-            ..
-        } => (s.volume, o.world),
-        other => {
-            return Err(SimError::WrongKind {
-                handle: h,
-                expected: "proximity sensor",
-                actual: other.kind.name(),
-            });
-        }
-    };
+    let (volume, sensor_world) = sensor_volume(world, h)?;
     world.refresh_queries();
     let result = detect(world, world.physics(), h, &sensor_world, &volume);
     world.store_detection(h, result);
     Ok(result)
+}
+
+/// `sim.checkProximitySensor`: the nearest point of `shapes` inside sensor `h`'s volume,
+/// without storing it (the sensor's last reading stays as it was). Each collider is
+/// tested on its own, with no broad phase and no occlusion by other objects: the set is
+/// small, unlike a handled sensor's whole scene. Detectability is the caller's choice
+/// (an explicitly named shape is detected whatever its flag); the body the sensor is
+/// mounted on is never detected, as in [`handle_proximity_sensor`].
+///
+/// # Errors
+/// No such object, or not a proximity sensor.
+pub fn check_proximity_sensor(world: &mut World, h: Handle, shapes: &[Handle]) -> Result<Option<Detection>, SimError> {
+    let (volume, sensor_world) = sensor_volume(world, h)?;
+    // Collider poses are only current after the query structures were refreshed (rapier
+    // updates them when stepping, and scripts may have moved objects since).
+    world.refresh_queries();
+    let physics = world.physics();
+    let volume = ProximityVolume::from(&volume);
+    let own_body = mount_body(world, physics, h);
+    let to_sensor = math::to_physics(&sensor_world.inverse());
+    let mut best: Option<(ProximityHit, Handle)> = None;
+    for &shape in shapes {
+        for &ch in world.colliders_of(shape) {
+            let Some(collider) = physics.world.colliders.get(ch) else {
+                continue;
+            };
+            if own_body.is_some() && collider.parent() == own_body {
+                continue;
+            }
+            let pose = to_sensor * *collider.position();
+            if let Some(hit) = volume.detect(collider.shape(), &pose)
+                && best.as_ref().is_none_or(|(b, _)| hit.distance < b.distance)
+            {
+                best = Some((hit, shape));
+            }
+        }
+    }
+    Ok(best.map(|(hit, object)| detection(hit, object)))
 }
 
 /// Handles every proximity sensor (the sensing phase of a step).
@@ -135,12 +161,32 @@ fn detect(
             best = Some((hit, owner));
         }
     }
-    best.map(|(hit, object)| Detection {
+    best.map(|(hit, object)| detection(hit, object))
+}
+
+/// A hit in the sensor's frame as the world stores it.
+fn detection(hit: ProximityHit, object: Handle) -> Detection {
+    Detection {
         distance: f64::from(hit.distance),
         point: math::vec_from_physics(hit.point),
         object,
         normal: Vec3::from(math::vec_from_physics(hit.normal)),
-    })
+    }
+}
+
+/// Proximity sensor `h`'s volume and world pose.
+fn sensor_volume(world: &World, h: Handle) -> Result<(ProximityModel, Pose), SimError> {
+    match world.object(h)? {
+        o @ crate::world::Object {
+            kind: ObjectKind::ProximitySensor(s),
+            ..
+        } => Ok((s.volume, o.world)),
+        other => Err(SimError::WrongKind {
+            handle: h,
+            expected: "proximity sensor",
+            actual: other.kind.name(),
+        }),
+    }
 }
 
 /// The rapier body an object rides on: its own, or the nearest ancestor's.

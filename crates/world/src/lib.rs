@@ -1,0 +1,40 @@
+//! gantry's simulated world: the object tree on rapier (`world`), the subsystems that
+//! read and drive it (`sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`) and
+//! [`Sim`], which owns them all and steps them in CoppeliaSim's order.
+//!
+//! These floors share one crate because they share the world's private parts: which
+//! collider belongs to which object, where a sensor's detection is stored, and the two
+//! phases of a step that only [`Sim::step`] may assemble. Above it, `gantry-sim-core`
+//! holds the `sim.*` registry and re-exports these modules (docs/architecture.md,
+//! "Crates").
+//!
+//! The modules are floors; each imports only from the floors below it:
+//! `gantry-scene` → `world` → subsystems → [`Sim`].
+//!
+//! Units are SI and angles radians throughout; poses are in the world frame unless a
+//! function says otherwise.
+
+pub use gantry_protocol::Value;
+// The floors below, under the names the modules here use (`crate::scene::...`).
+pub use gantry_scene::{error, handle, scene};
+
+// Leaves of this crate.
+pub mod math;
+pub mod signals;
+// Objects and physics.
+pub mod world;
+// Subsystems on the world.
+pub mod drawing;
+pub mod graph;
+pub mod ik;
+pub mod motion;
+pub mod sensor;
+pub mod ui;
+pub mod vision;
+// The aggregate and its step.
+pub mod sim;
+
+pub use error::SimError;
+pub use handle::Handle;
+pub use sim::Sim;
+pub use world::World;
