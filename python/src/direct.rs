@@ -10,6 +10,7 @@
 
 #![allow(unsafe_code, reason = "one Send assertion, for Python::detach; see OnThisThread")]
 
+use gantry_sim_core::SimError;
 use std::path::Path;
 use std::time::Instant;
 
@@ -120,9 +121,7 @@ impl Direct {
                     // The remote API would wait for ever: the lock holds the simulation.
                     return Err(CallError::failed(
                         "sim.step",
-                        gantry_sim_core::api::ApiError::new(
-                            "this client holds sim.acquireLock: release it before stepping",
-                        ),
+                        SimError::refused("this client holds sim.acquireLock: release it before stepping"),
                     ));
                 }
                 self.step(py);

@@ -9,13 +9,14 @@
 //! socket, channel or thread and reads the clock only where a caller asks it to: the
 //! front end decides how to wait and how to answer.
 
+use gantry_sim_core::SimError;
 use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use gantry_script::{DebugLink, Listeners, ScriptError, ScriptLimits, Simulation, StepBoundary};
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{ApiError, CallError, Target};
+use gantry_sim_core::api::{CallError, Target};
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
 use gantry_sim_core::sim::{Control, SimulationState};
 use tokio::sync::oneshot;
@@ -275,7 +276,7 @@ impl Engine {
     /// Nesting too deep, in CoppeliaSim's words with the function's name.
     pub fn remote(&mut self, client: ClientId, op: RemoteOp) -> Result<Vec<Value>, CallError> {
         let in_function =
-            |e: SteppingError, f: &str| CallError::failed(format!("sim.{f}"), ApiError::new(e.to_string()));
+            |e: SteppingError, f: &str| CallError::failed(format!("sim.{f}"), SimError::refused(e.to_string()));
         match op {
             RemoteOp::SetStepping(enable) => {
                 let previous = self
@@ -337,7 +338,7 @@ impl Engine {
         } else {
             "sim.closeScene"
         };
-        let refused = |e: &dyn std::fmt::Display| CallError::failed(function, ApiError::new(e.to_string()));
+        let refused = |e: &dyn std::fmt::Display| CallError::failed(function, SimError::refused(e.to_string()));
         let model = load_client_scene(path, &self.config.load_options).map_err(|e| refused(&e))?;
         let debug = self.sim.take_debug_link();
         // The old scene stops and its scripts release their ports before the new

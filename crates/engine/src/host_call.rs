@@ -1,10 +1,11 @@
 //! The loop's functions as requests: what a front end hands the engine once it has
 //! resolved a name to an [`api::FrontEndFn`] and read its arguments.
 
+use gantry_sim_core::SimError;
 use std::path::PathBuf;
 
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{self, Args, CallError, FrontEndFn};
+use gantry_sim_core::api::{Args, CallError, FrontEndFn};
 use gantry_sim_core::sim::Control;
 
 /// A remote client's simulation control or stepping call, carried out by
@@ -55,7 +56,7 @@ impl HostCall {
     /// A bad argument, in CoppeliaSim's words with the function's name.
     pub fn parse(f: FrontEndFn, args: &[Value]) -> Result<Self, CallError> {
         let a = Args::new(args);
-        let in_function = |e: api::ApiError| CallError::failed(format!("sim.{}", f.name()), e);
+        let in_function = |e: SimError| CallError::failed(format!("sim.{}", f.name()), e);
         Ok(match f {
             FrontEndFn::AcquireLock => HostCall::Remote(RemoteOp::Lock(true)),
             FrontEndFn::ReleaseLock => HostCall::Remote(RemoteOp::Lock(false)),
@@ -78,7 +79,7 @@ mod tests {
 
     #[test]
     fn every_loop_function_parses() {
-        for (name, f) in api::host::front_end_functions() {
+        for (name, f) in gantry_sim_core::api::host::front_end_functions() {
             let args = match f {
                 FrontEndFn::SetStepping => vec![Value::Bool(true)],
                 FrontEndFn::LoadScene => vec![Value::from("scene.toml")],

@@ -232,7 +232,7 @@ pub(crate) fn script_handle(lua: &Lua, args: &[Value]) -> Result<Handle, String>
             let core = state::<CoreCell>(lua);
             let mut world = core.try_borrow_mut().map_err(|_| "the world is busy".to_owned())?;
             let found = api::call(&mut world, &ctx, "getObject", &[Value::Str(path.clone())]).map_err(|e| match e {
-                CallError::Failed { error, .. } => error.message,
+                CallError::Failed { error, .. } => error.to_string(),
                 other => other.to_string(),
             })?;
             found.first().and_then(Value::as_i64).unwrap_or(-1)

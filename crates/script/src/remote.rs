@@ -3,10 +3,11 @@
 //! serves, and named script functions such as `sysCall_packet`. A remote client has no
 //! emitting object; script code it runs gets a hook's time budget.
 
+use gantry_sim_core::SimError;
 use std::borrow::Cow;
 
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{self, ApiError, Args, CallContext, CallError, ErrorKind};
+use gantry_sim_core::api::{self, Args, CallContext, CallError};
 use mlua::{Function, MultiValue};
 
 use crate::app_state::state;
@@ -51,12 +52,12 @@ impl Simulation {
     /// The CoppeliaSim-style error message.
     pub fn call_script_host(&mut self, f: api::ScriptHostFn, args: &[Value]) -> Result<Vec<Value>, CallError> {
         use api::ScriptHostFn;
-        let in_function = |e: ApiError| CallError::failed(format!("sim.{}", f.name()), e);
+        let in_function = |e: SimError| CallError::failed(format!("sim.{}", f.name()), e);
         match f {
             ScriptHostFn::GetScriptAssociatedWithObject => {
                 script_handle(&self.lua, &[Value::Int(1), args.first().cloned().unwrap_or_default()])
                     .map(|h| vec![Value::Int(h)])
-                    .map_err(|e| in_function(ApiError::new(e)))
+                    .map_err(|e| in_function(SimError::refused(e)))
             }
             ScriptHostFn::RemoveScript => {
                 let h = args.first().and_then(Value::as_i64);
@@ -66,14 +67,11 @@ impl Simulation {
                         self.scripts.remove(i);
                         Ok(Vec::new())
                     }
-                    Some((HANDLE_SELF, None)) => Err(ApiError::bad_argument(
+                    Some((HANDLE_SELF, None)) => Err(SimError::bad_argument(
                         "sim.handle_self names the calling script, and a remote client has none",
                     )),
-                    Some((h, None)) => Err(ApiError::of(
-                        ErrorKind::NoSuchObject,
-                        format!("argument 1: no script has handle {h}"),
-                    )),
-                    None => Err(ApiError::bad_argument(format!(
+                    Some((h, None)) => Err(SimError::NoSuchItem(format!("argument 1: no script has handle {h}"))),
+                    None => Err(SimError::bad_argument(format!(
                         "argument 1: expected a script handle, got {}",
                         args.first().map_or("nil", Value::type_name)
                     ))),
@@ -83,15 +81,15 @@ impl Simulation {
             ScriptHostFn::LoadModel => match args.first() {
                 Some(Value::Str(path)) => self
                     .load_model(std::path::Path::new(path))
-                    .map_err(|e| in_function(ApiError::new(e))),
-                _ => Err(in_function(ApiError::bad_argument(
+                    .map_err(|e| in_function(SimError::bad_argument(e))),
+                _ => Err(in_function(SimError::bad_argument(
                     "argument 1: expected the model file's path as a string",
                 ))),
             }
             .map(|h| vec![Value::Int(h)]),
             ScriptHostFn::GetScript => script_handle(&self.lua, args)
                 .map(|h| vec![Value::Int(h)])
-                .map_err(|e| in_function(ApiError::new(e))),
+                .map_err(|e| in_function(SimError::refused(e))),
             ScriptHostFn::CallScriptFunction => {
                 // Script code running for a remote client is outside any hook, so it gets
                 // a hook's time budget here; otherwise a loop in the called function
@@ -100,7 +98,7 @@ impl Simulation {
                 let r = call_script_function(&self.lua, args);
                 self.scripts.leave();
                 self.apply_control();
-                r.map_err(|e| in_function(ApiError::new(error_text(&e))))
+                r.map_err(|e| in_function(SimError::refused(error_text(&e))))
             }
         }
     }
@@ -111,7 +109,7 @@ impl Simulation {
     ///
     /// # Errors
     /// The function's error.
-    pub fn call_function(&mut self, f: &api::ApiFunction, args: &[Value]) -> Result<Vec<Value>, api::ApiError> {
+    pub fn call_function(&mut self, f: &api::ApiFunction, args: &[Value]) -> Result<Vec<Value>, SimError> {
         let ctx = CallContext {
             script_object: None,
             source: "remote",

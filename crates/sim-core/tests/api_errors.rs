@@ -3,10 +3,10 @@
 
 use std::path::Path;
 
-use gantry_sim_core::api::{self, CallContext, CallError, ErrorKind};
+use gantry_sim_core::api::{self, CallContext, CallError};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::sim::SimulationState;
-use gantry_sim_core::{Sim, Value};
+use gantry_sim_core::{Sim, SimError, Value};
 
 fn sim() -> Sim {
     let text = "[[object]]\nname = \"box\"\nkind = \"dummy\"\n";
@@ -22,27 +22,35 @@ fn fail(s: &mut Sim, name: &str, args: &[Value]) -> CallError {
 fn each_failure_has_its_kind_and_coppeliasims_text() {
     let mut s = sim();
     let e = fail(&mut s, "sim.getObject", &[Value::Str("/nothing".into())]);
-    assert_eq!(e.kind(), Some(ErrorKind::NoSuchObject));
+    // The path stays with the error for the caller; the text is CoppeliaSim's.
+    assert!(
+        matches!(e.error(), Some(SimError::PathNotFound(p)) if p == "/nothing"),
+        "{e:?}"
+    );
     assert_eq!(
         e.to_string(),
         "object does not exist, or alias/path is ill formatted. (in function 'sim.getObject')"
     );
 
     let e = fail(&mut s, "sim.getJointPosition", &[Value::Int(0)]);
-    assert_eq!(e.kind(), Some(ErrorKind::WrongKind), "{e}");
+    assert!(matches!(e.error(), Some(SimError::WrongKind { handle: 0, .. })), "{e}");
     assert!(e.to_string().ends_with("(in function 'sim.getJointPosition')"), "{e}");
 
     let e = fail(&mut s, "sim.getObjectPosition", &[Value::Str("box".into())]);
-    assert_eq!(e.kind(), Some(ErrorKind::BadArgument), "{e}");
+    assert!(matches!(e.error(), Some(SimError::BadArgument(_))), "{e}");
     assert!(e.to_string().starts_with("argument 1: "), "{e}");
 
     let e = fail(&mut s, "sim.getObjectPosition", &[Value::Int(99)]);
-    assert_eq!(e.kind(), Some(ErrorKind::NoSuchObject), "{e}");
+    assert_eq!(e.error(), Some(&SimError::NoSuchObject(99)), "{e}");
+    assert_eq!(
+        e.to_string(),
+        "object does not exist. (handle 99) (in function 'sim.getObjectPosition')"
+    );
 
     // A well-formed call refused in this state: the time step while running.
     s.state = SimulationState::Running;
     let e = fail(&mut s, "sim.setFloatParam", &[Value::Int(1), Value::Float(0.01)]);
-    assert_eq!(e.kind(), Some(ErrorKind::Refused), "{e}");
+    assert!(matches!(e.error(), Some(SimError::Refused(_))), "{e}");
     assert!(
         e.to_string()
             .contains("only be changed while the simulation is stopped"),
@@ -51,6 +59,6 @@ fn each_failure_has_its_kind_and_coppeliasims_text() {
 
     let e = fail(&mut s, "sim.noSuchThing", &[]);
     assert_eq!(e, CallError::NoSuchFunction("sim.noSuchThing".into()));
-    assert_eq!(e.kind(), None);
+    assert_eq!(e.error(), None);
     assert_eq!(e.to_string(), "No such function: sim.noSuchThing");
 }

@@ -7,7 +7,8 @@ mod util;
 
 use std::f64::consts::FRAC_PI_2;
 
-use gantry_sim_core::api::{CallContext, ErrorKind, call};
+use gantry_sim_core::SimError;
+use gantry_sim_core::api::{CallContext, call};
 use gantry_sim_core::world::{MAX_POINT_CLOUD_POINTS, ObjectKind};
 use gantry_sim_core::{Handle, Sim, Value};
 use util::{floats, int, num};
@@ -30,8 +31,8 @@ fn sim() -> Sim {
     util::text_scene("point_cloud.toml", SCENE)
 }
 
-fn try_call(s: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, (Option<ErrorKind>, String)> {
-    call(s, &CallContext::default(), name, args).map_err(|e| (e.kind(), e.to_string()))
+fn try_call(s: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, (Option<SimError>, String)> {
+    call(s, &CallContext::default(), name, args).map_err(|e| (e.error().cloned(), e.to_string()))
 }
 
 fn ok(s: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
@@ -39,7 +40,7 @@ fn ok(s: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
 }
 
 /// Calls a function that must fail; its error kind and message.
-fn err(s: &mut Sim, name: &str, args: &[Value]) -> (Option<ErrorKind>, String) {
+fn err(s: &mut Sim, name: &str, args: &[Value]) -> (Option<SimError>, String) {
     match try_call(s, name, args) {
         Ok(r) => panic!("{name}({args:?}) should fail, returned {r:?}"),
         Err(e) => e,
@@ -105,10 +106,10 @@ fn created_cloud_is_an_object_of_the_tree() {
     assert_eq!(s.world.find("/cloud", None, 0), Ok(c));
     // The flag silences a missing object, but only with it.
     ok(&mut s, "setObjectName", &[h(999 + 0x0200_0000), Value::Str("x".into())]);
-    assert_eq!(
+    assert!(matches!(
         err(&mut s, "setObjectName", &[h(999), Value::Str("x".into())]).0,
-        Some(ErrorKind::NoSuchObject)
-    );
+        Some(SimError::NoSuchObject(_))
+    ));
     assert!(s.world.handles().contains(&c));
     // An empty cloud has no points.
     assert!(points(&mut s, c).is_empty());
@@ -307,7 +308,7 @@ fn clouds_are_removed_and_copied_like_other_objects() {
     assert_eq!(points(&mut s, c).len(), 3);
     ok(&mut s, "removeObject", &[h(c)]);
     let (kind, _) = err(&mut s, "getPointCloudPoints", &[h(c)]);
-    assert_eq!(kind, Some(ErrorKind::NoSuchObject));
+    assert!(matches!(kind, Some(SimError::NoSuchObject(_))));
     assert_eq!(points(&mut s, copy).len(), 6);
 }
 
@@ -319,19 +320,22 @@ fn bad_input_is_a_clear_error() {
 
     // Wrong kind of object, and no object.
     let (kind, msg) = err(&mut s, "insertPointsIntoPointCloud", &[h(base), i(0), list(&[0.0; 3])]);
-    assert_eq!(kind, Some(ErrorKind::WrongKind));
+    assert!(matches!(kind, Some(SimError::WrongKind { .. })));
     assert!(msg.contains("not a point cloud"), "{msg}");
-    assert_eq!(
+    assert!(matches!(
         err(&mut s, "getPointCloudOptions", &[h(9999)]).0,
-        Some(ErrorKind::NoSuchObject)
-    );
+        Some(SimError::NoSuchObject(_))
+    ));
     for name in ["getPointCloudPoints", "getPointCloudOptions"] {
-        assert_eq!(err(&mut s, name, &[h(base)]).0, Some(ErrorKind::WrongKind), "{name}");
+        assert!(
+            matches!(err(&mut s, name, &[h(base)]).0, Some(SimError::WrongKind { .. })),
+            "{name}"
+        );
     }
 
     // An odd number of coordinates, non-numbers, non-finite values.
     let (kind, msg) = err(&mut s, "insertPointsIntoPointCloud", &[h(c), i(0), list(&[0.0; 4])]);
-    assert_eq!(kind, Some(ErrorKind::BadArgument));
+    assert!(matches!(kind, Some(SimError::BadArgument(_))));
     assert!(msg.contains("3 numbers per point") && msg.contains("got 4"), "{msg}");
     let mixed = Value::Array(vec![f(0.0), Value::Str("x".into()), f(0.0)]);
     assert!(
@@ -364,7 +368,7 @@ fn bad_input_is_a_clear_error() {
         "insertPointsIntoPointCloud",
         &[h(c), i(PER_POINT_COLORS), two.clone(), bytes(&[1, 2, 3, 4, 5])],
     );
-    assert_eq!(kind, Some(ErrorKind::BadArgument));
+    assert!(matches!(kind, Some(SimError::BadArgument(_))));
     assert!(msg.contains("at least 6 colour values"), "{msg}");
     let (_, msg) = err(
         &mut s,
@@ -386,7 +390,7 @@ fn bad_input_is_a_clear_error() {
         ([f(0.01), i(10), i(0), f(-2.0)], "point size"),
     ] {
         let (kind, msg) = err(&mut s, "createPointCloud", &args);
-        assert_eq!(kind, Some(ErrorKind::BadArgument), "{msg}");
+        assert!(matches!(kind, Some(SimError::BadArgument(_))), "{msg}");
         assert!(msg.contains(what), "{msg}");
     }
     assert!(err(&mut s, "createPointCloud", &[f(0.01)]).1.contains("argument 2"));
@@ -424,7 +428,7 @@ fn a_cloud_has_a_bounded_number_of_points() {
         "insertPointsIntoPointCloud",
         &[h(c), i(RELATIVE), list(&[0.0; 6])],
     );
-    assert_eq!(kind, Some(ErrorKind::Refused));
+    assert!(matches!(kind, Some(SimError::Refused(_))));
     assert!(msg.contains(&MAX_POINT_CLOUD_POINTS.to_string()), "{msg}");
     // Refused as a whole: the cloud is as it was, and removal makes room again.
     let ObjectKind::PointCloud(cloud) = &s.world.object(c).expect("cloud").kind else {

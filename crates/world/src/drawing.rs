@@ -279,14 +279,14 @@ impl DrawingObject {
     pub fn add_item(&mut self, data: &[f64], parent_frame: &Pose) -> Result<bool, SimError> {
         let vpi = self.kind.vertices_per_item();
         let Some(coords) = data.get(..3 * vpi) else {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "item data needs at least {} numbers ({vpi} vertices), got {}",
                 3 * vpi,
                 data.len()
             )));
         };
         if let Some(i) = coords.iter().position(|v| !v.is_finite()) {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "item data element {} must be a finite number, got {}",
                 i + 1,
                 coords[i]
@@ -331,7 +331,7 @@ impl DrawingObject {
     pub fn add_items(&mut self, data: &[f64], parent_frame: &Pose) -> Result<usize, SimError> {
         let stride = self.floats_per_item;
         if data.len() < stride {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "item data needs at least {stride} numbers per item, got {}",
                 data.len()
             )));
@@ -391,25 +391,25 @@ impl Drawings {
     /// handle space exhausted (about 13.7 million creations since the last clear).
     pub fn create(&mut self, params: DrawingParams) -> Result<Handle, SimError> {
         if !params.size.is_finite() {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "size must be a finite number, got {}",
                 params.size
             )));
         }
         if !params.duplicate_tolerance.is_finite() {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "duplicate tolerance must be a finite number, got {}",
                 params.duplicate_tolerance
             )));
         }
         if self.objects.len() >= MAX_DRAWING_OBJECTS {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "too many drawing objects ({MAX_DRAWING_OBJECTS}); remove some with sim.removeDrawingObject"
             )));
         }
         // Handles must stay below the add-multiple flag bit, which callers OR onto them.
         if self.next_handle >= HANDLEFLAG_ADD_MULTIPLE {
-            return Err(SimError::InvalidArgument(
+            return Err(SimError::BadArgument(
                 "drawing object handles exhausted; remove all drawing objects to start over".into(),
             ));
         }
@@ -499,7 +499,7 @@ impl Drawings {
 }
 
 fn no_such(handle: Handle) -> SimError {
-    SimError::InvalidArgument(format!("drawing object does not exist (handle {handle})"))
+    SimError::NoSuchItem(format!("drawing object does not exist (handle {handle})"))
 }
 
 #[cfg(test)]

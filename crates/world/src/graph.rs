@@ -232,10 +232,10 @@ impl Graphs {
     /// An empty name, a non-finite colour or cyclic range, or [`MAX_STREAMS`] streams.
     pub fn add_stream(&mut self, graph: Handle, params: StreamParams) -> Result<i64, SimError> {
         if params.name.is_empty() {
-            return Err(SimError::InvalidArgument("stream name must not be empty".into()));
+            return Err(SimError::BadArgument("stream name must not be empty".into()));
         }
         if !params.color.iter().all(|c| c.is_finite()) || !params.cyclic_range.is_finite() {
-            return Err(SimError::InvalidArgument(
+            return Err(SimError::BadArgument(
                 "stream colour and cyclic range must be finite".into(),
             ));
         }
@@ -252,9 +252,7 @@ impl Graphs {
             return Ok(s.id);
         }
         if self.streams.len() >= MAX_STREAMS {
-            return Err(SimError::InvalidArgument(format!(
-                "too many graph streams ({MAX_STREAMS})"
-            )));
+            return Err(SimError::BadArgument(format!("too many graph streams ({MAX_STREAMS})")));
         }
         let id = self.next_id;
         self.next_id += 1;
@@ -285,7 +283,7 @@ impl Graphs {
     /// No such stream on that graph, or a non-finite time or value.
     pub fn record(&mut self, graph: Handle, id: i64, time: f64, value: f64) -> Result<(), SimError> {
         if !value.is_finite() || !time.is_finite() {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "stream value must be a finite number, got {value}"
             )));
         }
@@ -392,7 +390,7 @@ impl Graphs {
 }
 
 fn no_such(graph: Handle, id: i64) -> SimError {
-    SimError::InvalidArgument(format!("graph {graph} has no stream with id {id}"))
+    SimError::BadArgument(format!("graph {graph} has no stream with id {id}"))
 }
 
 /// A key with the order of `f64::total_cmp`, for grouping rows by time.

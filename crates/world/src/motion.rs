@@ -62,7 +62,7 @@ impl RuckigObjects {
     /// Adds a generator and returns its new handle; refused past [`MAX_OBJECTS`].
     pub fn insert(&mut self, object: RuckigObject) -> Result<i64, SimError> {
         if self.objects.len() >= MAX_OBJECTS {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "too many Ruckig objects ({MAX_OBJECTS}): remove finished ones with sim.ruckigRemove"
             )));
         }

@@ -5,10 +5,9 @@
 //! 'sim.setJointPosition')" — the front end appends the function name.
 
 use crate::Value;
+use crate::error::SimError;
 use crate::math::Vec3;
 use crate::world::Handle;
-
-use super::ApiError;
 
 /// A cursor over a call's arguments.
 pub struct Args<'a> {
@@ -37,26 +36,26 @@ impl<'a> Args<'a> {
         self.values.get(i).unwrap_or(NIL)
     }
 
-    fn bad(&self, i: usize, expected: &str) -> ApiError {
+    fn bad(&self, i: usize, expected: &str) -> SimError {
         let got = match self.values.get(i) {
             None => "no value",
             Some(v) => v.type_name(),
         };
-        ApiError::bad_argument(format!("argument {}: expected {expected}, got {got}", i + 1))
+        SimError::bad_argument(format!("argument {}: expected {expected}, got {got}", i + 1))
     }
 
     /// A required number.
-    pub fn f64(&self, i: usize) -> Result<f64, ApiError> {
+    pub fn f64(&self, i: usize) -> Result<f64, SimError> {
         self.get(i).as_f64().ok_or_else(|| self.bad(i, "number"))
     }
 
     /// A required finite number.
-    pub fn finite(&self, i: usize) -> Result<f64, ApiError> {
+    pub fn finite(&self, i: usize) -> Result<f64, SimError> {
         let v = self.f64(i)?;
         if v.is_finite() {
             Ok(v)
         } else {
-            Err(ApiError::bad_argument(format!(
+            Err(SimError::bad_argument(format!(
                 "argument {}: expected a finite number, got {v}",
                 i + 1
             )))
@@ -64,7 +63,7 @@ impl<'a> Args<'a> {
     }
 
     /// An optional number.
-    pub fn opt_f64(&self, i: usize, default: f64) -> Result<f64, ApiError> {
+    pub fn opt_f64(&self, i: usize, default: f64) -> Result<f64, SimError> {
         match self.get(i) {
             Value::Nil => Ok(default),
             _ => self.f64(i),
@@ -72,12 +71,12 @@ impl<'a> Args<'a> {
     }
 
     /// A required integer (a float with no fraction is accepted).
-    pub fn int(&self, i: usize) -> Result<i64, ApiError> {
+    pub fn int(&self, i: usize) -> Result<i64, SimError> {
         self.get(i).as_i64().ok_or_else(|| self.bad(i, "integer"))
     }
 
     /// An optional integer.
-    pub fn opt_int(&self, i: usize, default: i64) -> Result<i64, ApiError> {
+    pub fn opt_int(&self, i: usize, default: i64) -> Result<i64, SimError> {
         match self.get(i) {
             Value::Nil => Ok(default),
             _ => self.int(i),
@@ -85,13 +84,13 @@ impl<'a> Args<'a> {
     }
 
     /// A required handle.
-    pub fn handle(&self, i: usize) -> Result<Handle, ApiError> {
+    pub fn handle(&self, i: usize) -> Result<Handle, SimError> {
         self.int(i)
     }
 
     /// A required boolean (numbers are accepted, non-zero meaning true, as Lua clients
     /// of the 4.1 API pass 0/1).
-    pub fn bool(&self, i: usize) -> Result<bool, ApiError> {
+    pub fn bool(&self, i: usize) -> Result<bool, SimError> {
         match self.get(i) {
             Value::Bool(b) => Ok(*b),
             Value::Int(n) => Ok(*n != 0),
@@ -100,7 +99,7 @@ impl<'a> Args<'a> {
     }
 
     /// An optional boolean.
-    pub fn opt_bool(&self, i: usize, default: bool) -> Result<bool, ApiError> {
+    pub fn opt_bool(&self, i: usize, default: bool) -> Result<bool, SimError> {
         match self.get(i) {
             Value::Nil => Ok(default),
             _ => self.bool(i),
@@ -108,7 +107,7 @@ impl<'a> Args<'a> {
     }
 
     /// A required string.
-    pub fn str(&self, i: usize) -> Result<&'a str, ApiError> {
+    pub fn str(&self, i: usize) -> Result<&'a str, SimError> {
         match self.get(i) {
             Value::Str(s) => Ok(s),
             _ => Err(self.bad(i, "string")),
@@ -116,7 +115,7 @@ impl<'a> Args<'a> {
     }
 
     /// A required string or byte string, as bytes.
-    pub fn bytes(&self, i: usize) -> Result<Vec<u8>, ApiError> {
+    pub fn bytes(&self, i: usize) -> Result<Vec<u8>, SimError> {
         match self.get(i) {
             Value::Str(s) => Ok(s.as_bytes().to_vec()),
             Value::Bytes(b) => Ok(b.clone()),
@@ -125,13 +124,13 @@ impl<'a> Args<'a> {
     }
 
     /// A required array of exactly `N` finite numbers.
-    pub fn floats<const N: usize>(&self, i: usize) -> Result<[f64; N], ApiError> {
+    pub fn floats<const N: usize>(&self, i: usize) -> Result<[f64; N], SimError> {
         let expected = || format!("table of {N} numbers");
         let Value::Array(items) = self.get(i) else {
             return Err(self.bad(i, &expected()));
         };
         if items.len() < N {
-            return Err(ApiError::bad_argument(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument {}: expected {}, got {} values",
                 i + 1,
                 expected(),
@@ -143,7 +142,7 @@ impl<'a> Args<'a> {
             match v.as_f64() {
                 Some(f) if f.is_finite() => out[k] = f,
                 _ => {
-                    return Err(ApiError::bad_argument(format!(
+                    return Err(SimError::bad_argument(format!(
                         "argument {}: element {} must be a finite number",
                         i + 1,
                         k + 1
@@ -155,7 +154,7 @@ impl<'a> Args<'a> {
     }
 
     /// A required 3-vector.
-    pub fn vec3(&self, i: usize) -> Result<Vec3, ApiError> {
+    pub fn vec3(&self, i: usize) -> Result<Vec3, SimError> {
         self.floats::<3>(i).map(Vec3::from)
     }
 

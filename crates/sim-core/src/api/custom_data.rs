@@ -7,8 +7,9 @@
 //! parameters. Data are text or bytes and read back as written. Blocks of a removed
 //! object go with it.
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::world::{Handle, World};
 
 /// `sim.handle_scene`: the scene's own blocks.
@@ -39,11 +40,11 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
 ];
 
 /// The custom-data tag a property name designates: `customData.<tag>`.
-fn custom_data_tag<'a>(a: &Args<'a>, i: usize) -> Result<&'a str, ApiError> {
+fn custom_data_tag<'a>(a: &Args<'a>, i: usize) -> Result<&'a str, SimError> {
     let name = a.str(i)?;
     match name.strip_prefix("customData.") {
         Some(tag) if !tag.is_empty() => Ok(tag),
-        _ => Err(ApiError::new(format!(
+        _ => Err(SimError::bad_argument(format!(
             "argument {}: gantry's buffer properties are the custom data blocks, 'customData.<tag>', not '{name}'",
             i + 1
         ))),
@@ -53,13 +54,13 @@ fn custom_data_tag<'a>(a: &Args<'a>, i: usize) -> Result<&'a str, ApiError> {
 /// `sim.setBufferProperty(target, 'customData.<tag>', data, options={})`: the block
 /// `tag` of the object (or `sim.handle_scene`), as `sim.writeCustomDataBlock`; empty
 /// data removes it.
-fn set_buffer_property(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_buffer_property(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = owner(w, a, 0)?;
     let tag = custom_data_tag(a, 1)?;
     let data = match a.get(2) {
         v @ (Value::Str(_) | Value::Bytes(_)) => v.clone(),
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 3: expected a buffer, got {}",
                 other.type_name()
             )));
@@ -71,19 +72,21 @@ fn set_buffer_property(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Resu
 
 /// `sim.getBufferProperty(target, 'customData.<tag>', options={})` → the data; a
 /// missing block is an error, or nil with `options.noError`.
-fn get_buffer_property(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_buffer_property(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = owner(w, a, 0)?;
     let tag = custom_data_tag(a, 1)?;
     let no_error = matches!(a.get(2).get("noError"), Some(Value::Bool(true)));
     match w.custom.block(h, tag) {
         Some(v) => Ok(vec![v.clone()]),
         None if no_error => Ok(vec![Value::Nil]),
-        None => Err(ApiError::new(format!("property 'customData.{tag}' does not exist"))),
+        None => Err(SimError::no_such_item(format!(
+            "property 'customData.{tag}' does not exist"
+        ))),
     }
 }
 
 /// Argument `i` as the owner of blocks: an existing object or `sim.handle_scene`.
-fn owner(w: &World, a: &Args<'_>, i: usize) -> Result<Handle, ApiError> {
+fn owner(w: &World, a: &Args<'_>, i: usize) -> Result<Handle, SimError> {
     let h = a.handle(i)?;
     if h != HANDLE_SCENE {
         w.object(h)?;
@@ -94,13 +97,13 @@ fn owner(w: &World, a: &Args<'_>, i: usize) -> Result<Handle, ApiError> {
 /// `sim.writeCustomDataBlock(objectHandle, tagName, data)`: stores `data` (text or
 /// bytes) under `tagName`. Empty or nil data deletes the block; an empty `tagName`
 /// deletes every block of the object.
-fn write_custom_data_block(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn write_custom_data_block(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = owner(w, a, 0)?;
     let tag = a.str(1)?;
     let data = match a.get(2) {
         v @ (Value::Str(_) | Value::Bytes(_) | Value::Nil) => v.clone(),
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 3: expected string or buffer, got {}",
                 other.type_name()
             )));
@@ -115,7 +118,7 @@ fn write_custom_data_block(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> 
 }
 
 /// `sim.readCustomDataBlock(objectHandle, tagName)` → the data as written, or nil.
-fn read_custom_data_block(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn read_custom_data_block(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = owner(w, a, 0)?;
     let tag = a.str(1)?;
     Ok(vec![w.custom.block(h, tag).cloned().unwrap_or(Value::Nil)])
@@ -123,7 +126,7 @@ fn read_custom_data_block(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 
 /// `sim.readCustomDataBlockTags(objectHandle)` → the tags as a table of strings (empty
 /// when the object has no block), in byte order.
-fn read_custom_data_block_tags(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn read_custom_data_block_tags(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = owner(w, a, 0)?;
     let tags = w.custom.block_tags(h).into_iter().map(Value::from).collect();
     Ok(vec![Value::Array(tags)])

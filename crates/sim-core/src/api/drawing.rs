@@ -3,10 +3,11 @@
 //! and export extensions (`getDrawingObjectItems`, `getGraphStreamValues`,
 //! `exportGraphStreams`). The models live in `world::drawing` and `world::graph`.
 
+use crate::error::SimError;
 use crate::sim::Sim;
 use std::path::Path;
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::drawing::{DrawingKind, DrawingParams, HANDLEFLAG_ADD_MULTIPLE, MAX_DRAWING_ITEMS};
 use crate::graph::StreamParams;
@@ -59,7 +60,7 @@ const DEFAULT_DRAWING_COLOR: [f64; 3] = [0.5, 0.5, 0.5];
 
 /// An optional RGB argument: `default` when nil, else 3 finite numbers (extra ones are
 /// ignored), clamped to [0, 1].
-fn opt_color(a: &Args<'_>, i: usize, default: [f64; 3]) -> Result<[f64; 3], ApiError> {
+fn opt_color(a: &Args<'_>, i: usize, default: [f64; 3]) -> Result<[f64; 3], SimError> {
     match a.get(i) {
         Value::Nil => Ok(default),
         _ => Ok(a.floats::<3>(i)?.map(|c| c.clamp(0.0, 1.0))),
@@ -75,7 +76,7 @@ fn opt_color(a: &Args<'_>, i: usize, default: [f64; 3]) -> Result<[f64; 3], ApiE
 /// `parentHandle` -1 draws in the world frame. `maxItemCount` 0 means 1000; above
 /// 100,000 it is capped with a warning in the log. Unknown type codes are drawn as
 /// points, with a warning.
-fn add_drawing_object(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_drawing_object(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let object_type = a.int(0)?;
     let size = a.finite(1)?;
     let duplicate_tolerance = a.finite(2)?;
@@ -87,8 +88,9 @@ fn add_drawing_object(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
         }
     };
     let max_items = a.int(4)?;
-    let max_items = usize::try_from(max_items)
-        .map_err(|_| ApiError::new(format!("argument 5: max item count must be 0 or more, got {max_items}")))?;
+    let max_items = usize::try_from(max_items).map_err(|_| {
+        SimError::bad_argument(format!("argument 5: max item count must be 0 or more, got {max_items}"))
+    })?;
     let color = opt_color(a, 5, DEFAULT_DRAWING_COLOR)?;
     // 4.1 form (1-based): argument 7 is a reserved nil, 8 specular (not rendered),
     // 9 emission.
@@ -132,7 +134,7 @@ fn add_drawing_object(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
 }
 
 /// The item data argument: `None` for nil, else every number of the table.
-fn item_data(a: &Args<'_>, i: usize) -> Result<Option<Vec<f64>>, ApiError> {
+fn item_data(a: &Args<'_>, i: usize) -> Result<Option<Vec<f64>>, SimError> {
     match a.get(i) {
         Value::Nil => Ok(None),
         Value::Array(items) => items
@@ -140,7 +142,7 @@ fn item_data(a: &Args<'_>, i: usize) -> Result<Option<Vec<f64>>, ApiError> {
             .enumerate()
             .map(|(k, v)| {
                 v.as_f64().filter(|f| f.is_finite()).ok_or_else(|| {
-                    ApiError::new(format!(
+                    SimError::bad_argument(format!(
                         "argument {}: element {} must be a finite number, got {}",
                         i + 1,
                         k + 1,
@@ -151,9 +153,9 @@ fn item_data(a: &Args<'_>, i: usize) -> Result<Option<Vec<f64>>, ApiError> {
                     ))
                 })
             })
-            .collect::<Result<Vec<f64>, ApiError>>()
+            .collect::<Result<Vec<f64>, SimError>>()
             .map(Some),
-        other => Err(ApiError::new(format!(
+        other => Err(SimError::bad_argument(format!(
             "argument {}: expected table of numbers or nil, got {}",
             i + 1,
             other.type_name()
@@ -169,7 +171,7 @@ fn item_data(a: &Args<'_>, i: usize) -> Result<Option<Vec<f64>>, ApiError> {
 /// Coordinates are world-frame, or parent-frame with `sim.drawing_local`. `nil` clears
 /// the object and returns 0. With `sim.handleflag_addmultiple` OR-ed on the handle the
 /// data is packed items; the result is 1 if any was added.
-fn add_drawing_object_item(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_drawing_object_item(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let raw = a.handle(0)?;
     let multiple = raw > 0 && raw & HANDLEFLAG_ADD_MULTIPLE != 0;
     let h = if multiple { raw & !HANDLEFLAG_ADD_MULTIPLE } else { raw };
@@ -188,7 +190,7 @@ fn add_drawing_object_item(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> 
 }
 
 /// `sim.removeDrawingObject(handle)`; `sim.handle_all` removes every drawing object.
-fn remove_drawing_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn remove_drawing_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     match a.handle(0)? {
         HANDLE_ALL => sim.drawings.clear(),
         h => sim.drawings.remove(h)?,
@@ -200,7 +202,7 @@ fn remove_drawing_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Re
 /// vertices`: the type as created (kind in the low 5 bits, flags above), the size
 /// (pixels, or m for spheres), `{r, g, b}`, and every stored vertex oldest first as a
 /// flat list `{x1, y1, z1, x2, ...}` in the world frame (m).
-fn get_drawing_object_items(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_drawing_object_items(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let object = sim.drawings.object(a.handle(0)?)?;
     let frame = object.frame(&sim.world);
     let flat: Vec<f64> = object.world_vertices(&frame).flat_map(|v| [v.x, v.y, v.z]).collect();
@@ -213,21 +215,25 @@ fn get_drawing_object_items(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) ->
 }
 
 /// Checks that `h` is a graph object.
-fn graph(w: &World, h: Handle) -> Result<Handle, ApiError> {
+fn graph(w: &World, h: Handle) -> Result<Handle, SimError> {
     match &w.object(h)?.kind {
         ObjectKind::Graph => Ok(h),
-        other => Err(ApiError::new(format!("object {h} is a {}, not a graph", other.name()))),
+        other => Err(SimError::WrongKind {
+            handle: h,
+            expected: "graph",
+            actual: other.name(),
+        }),
     }
 }
 
 /// `sim.addGraphStream(graphHandle, name, unit='', options=0, color={1,0,0},
 /// cyclicRange=0)` → stream id. A stream of the same name on the same graph is updated
 /// (unit, options, colour) and keeps its id and values.
-fn add_graph_stream(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_graph_stream(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let g = graph(&sim.world, a.handle(0)?)?;
     let name = a.str(1)?;
     if name.is_empty() {
-        return Err(ApiError::new("argument 2: stream name must not be empty"));
+        return Err(SimError::bad_argument("argument 2: stream name must not be empty"));
     }
     let unit = match a.get(2) {
         Value::Nil => "",
@@ -250,7 +256,7 @@ fn add_graph_stream(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 /// the current step's end time `sim.getSimulationTime() + dt`, the time CoppeliaSim's
 /// `sim.handleGraph` records it with; a second value in the same step replaces the
 /// first.
-fn set_graph_stream_value(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_graph_stream_value(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let g = graph(&sim.world, a.handle(0)?)?;
     let id = a.int(1)?;
     let value = a.finite(2)?;
@@ -261,7 +267,7 @@ fn set_graph_stream_value(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> R
 
 /// gantry extension: `sim.getGraphStreamValues(graphHandle, streamId)` → `times,
 /// values`: the kept samples, oldest first, times in s.
-fn get_graph_stream_values(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_graph_stream_values(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let g = graph(&sim.world, a.handle(0)?)?;
     let s = sim.graphs.stream(g, a.int(1)?)?;
     let (times, values): (Vec<f64>, Vec<f64>) = s.samples().unzip();
@@ -278,16 +284,16 @@ fn get_graph_stream_values(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> 
 /// relative `dir` resolves); anything else is refused before touching the disk.
 ///
 /// [`ExportScope`]: crate::graph::ExportScope
-fn export_graph_streams(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn export_graph_streams(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let dir = a.str(0)?;
     if dir.is_empty() {
-        return Err(ApiError::new("argument 1: directory must not be empty"));
+        return Err(SimError::bad_argument("argument 1: directory must not be empty"));
     }
     let target = sim
         .graphs
         .export_scope()
         .resolve(Path::new(dir))
-        .map_err(|e| ApiError::new(format!("cannot export graph streams to '{dir}': {e}")))?;
+        .map_err(|e| SimError::refused(format!("cannot export graph streams to '{dir}': {e}")))?;
     let names = |h: Handle| {
         sim.world
             .object(h)
@@ -296,7 +302,7 @@ fn export_graph_streams(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Res
     let paths = sim
         .graphs
         .export_csv(&target, names)
-        .map_err(|e| ApiError::new(format!("cannot export graph streams to '{dir}': {e}")))?;
+        .map_err(|e| SimError::refused(format!("cannot export graph streams to '{dir}': {e}")))?;
     Ok(vec![Value::Array(
         paths
             .into_iter()

@@ -3,8 +3,8 @@
 //! and the registry build on it.
 
 use super::args::Args;
-use super::error::ApiError;
 use crate::Value;
+use crate::error::SimError;
 use crate::sim::Sim;
 use crate::world::Handle;
 use crate::world::World;
@@ -23,11 +23,11 @@ pub struct CallContext<'a> {
 pub type Ret = Vec<Value>;
 
 /// A `sim.*` function that touches only the world: objects and physics.
-pub type WorldFn = fn(&mut World, &CallContext<'_>, &Args<'_>) -> Result<Ret, ApiError>;
+pub type WorldFn = fn(&mut World, &CallContext<'_>, &Args<'_>) -> Result<Ret, SimError>;
 
 /// A `sim.*` function that touches the floors above the world too: the simulation
 /// state, signals, drawings, graphs, UIs, IK environments, vision images, generators.
-pub type SimFn = fn(&mut Sim, &CallContext<'_>, &Args<'_>) -> Result<Ret, ApiError>;
+pub type SimFn = fn(&mut Sim, &CallContext<'_>, &Args<'_>) -> Result<Ret, SimError>;
 
 /// An implementation, typed by what it may touch.
 #[derive(Clone, Copy)]
@@ -51,8 +51,8 @@ impl ApiFunction {
     /// Runs the function on `sim`.
     ///
     /// # Errors
-    /// The function's own error, without its name (see [`ApiError::in_function`]).
-    pub fn invoke(&self, sim: &mut Sim, ctx: &CallContext<'_>, args: &Args<'_>) -> Result<Ret, ApiError> {
+    /// The function's own error, without its name (see [`SimError::in_function`]).
+    pub fn invoke(&self, sim: &mut Sim, ctx: &CallContext<'_>, args: &Args<'_>) -> Result<Ret, SimError> {
         match self.call {
             ApiFn::World(f) => f(&mut sim.world, ctx, args),
             ApiFn::Sim(f) => f(sim, ctx, args),

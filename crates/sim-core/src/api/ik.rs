@@ -8,17 +8,12 @@
 //! so `addElementFromScene`'s `simToIkMap`/`ikToSimMap` are identity maps over the
 //! chain's objects.
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
-use crate::ik::{self, Apply, Constraints, GroupFlags, GroupsOutcome, IkError, IkMethod};
+use crate::error::SimError;
+use crate::ik::{self, Apply, Constraints, GroupFlags, GroupsOutcome, IkMethod};
 use crate::sim::Sim;
 use crate::world::Handle;
-
-impl From<IkError> for ApiError {
-    fn from(e: IkError) -> Self {
-        ApiError::new(e.to_string())
-    }
-}
 
 /// The functions this file implements, in alphabetical order.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
@@ -162,20 +157,20 @@ pub(super) const CONSTANTS: &[(&str, i64)] = &[
 ];
 
 /// `simIK.createEnvironment(flags=0)` → environment handle. Flags are accepted and ignored.
-fn create_environment(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create_environment(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     a.opt_int(0, 0)?;
     Ok(vec![Value::Int(sim.ik.create())])
 }
 
 /// `simIK.eraseEnvironment(env)`: drops its groups and elements; the scene is untouched.
-fn erase_environment(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn erase_environment(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     sim.ik.erase(a.handle(0)?)?;
     Ok(Vec::new())
 }
 
 /// `simIK.createGroup(env, name='')` → group handle. New groups use CoppeliaSim's
 /// defaults: pseudo-inverse, damping 0.1, 3 iterations.
-fn create_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let env = a.handle(0)?;
     let name = match a.get(1) {
         Value::Nil => "",
@@ -183,37 +178,37 @@ fn create_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
     };
     let environment = sim.ik.get_mut(env)?;
     if environment.group_by_name(name).is_some() {
-        return Err(ApiError::new(format!("an IK group named '{name}' already exists")));
+        return Err(SimError::refused(format!("an IK group named '{name}' already exists")));
     }
     Ok(vec![Value::Int(environment.create_group(name))])
 }
 
 /// `simIK.getGroupHandle(env, name)` → group handle.
-fn get_group_handle(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_group_handle(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let env = a.handle(0)?;
     let name = a.str(1)?;
     sim.ik
         .get(env)?
         .group_by_name(name)
         .map(|h| vec![Value::Int(h)])
-        .ok_or_else(|| ApiError::new(format!("no IK group named '{name}'")))
+        .ok_or_else(|| SimError::no_such_item(format!("no IK group named '{name}'")))
 }
 
 /// `simIK.setGroupCalculation(env, group, method, damping, maxIterations)`.
 /// Damping must be finite and >= 0; iterations between 1 and 100000 (a bound on the time
 /// one call may take on the sim thread).
-fn set_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let code = a.int(2)?;
     let method = IkMethod::from_code(code).ok_or_else(|| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument 3: unknown method {code} (use simIK.method_pseudo_inverse, \
              method_damped_least_squares, method_jacobian_transpose or method_undamped_pseudo_inverse)"
         ))
     })?;
     let damping = a.finite(3)?;
     if damping < 0.0 {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 4: damping must be >= 0, got {damping}"
         )));
     }
@@ -221,7 +216,9 @@ fn set_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Re
     let max_iterations = u32::try_from(iterations)
         .ok()
         .filter(|n| (1..=100_000).contains(n))
-        .ok_or_else(|| ApiError::new(format!("argument 5: maxIterations must be 1..100000, got {iterations}")))?;
+        .ok_or_else(|| {
+            SimError::bad_argument(format!("argument 5: maxIterations must be 1..100000, got {iterations}"))
+        })?;
     let g = sim.ik.get_mut(env)?.group_mut(group)?;
     g.method = method;
     g.damping = damping;
@@ -234,11 +231,11 @@ fn set_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Re
 /// maximum steps), `group_restoreonbadlintol` (4) and `group_restoreonbadangtol` (8; the
 /// joints keep their values when the position or orientation ends outside its precision).
 /// Other bits (stop on limit hit, avoid limits, ...) are refused.
-fn set_group_flags(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_group_flags(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let code = a.int(2)?;
     let flags = GroupFlags::from_code(code).ok_or_else(|| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument 3: unsupported group flags {code} (combine simIK.group_enabled, group_ignoremaxsteps, \
              group_restoreonbadlintol and group_restoreonbadangtol, 0..15)"
         ))
@@ -248,19 +245,19 @@ fn set_group_flags(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 }
 
 /// `simIK.getGroupFlags(env, group)` → flags (default 3: enabled, ignoring maximum steps).
-fn get_group_flags(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_group_flags(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let g = sim.ik.get(a.handle(0)?)?.group(a.handle(1)?)?;
     Ok(vec![Value::Int(i64::from(g.flags.0))])
 }
 
 /// `simIK.getGroupJoints(env, group)` → the joints of the group's chains, base to tip.
-fn get_group_joints(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_group_joints(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let joints = ik::chain_joints(&sim.world, &sim.ik, a.handle(0)?, a.handle(1)?)?;
     Ok(vec![Value::Array(joints.into_iter().map(Value::Int).collect())])
 }
 
 /// `simIK.getGroupCalculation(env, group)` → method, damping, maxIterations.
-fn get_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let g = sim.ik.get(a.handle(0)?)?.group(a.handle(1)?)?;
     Ok(vec![
         Value::Int(g.method.code()),
@@ -270,10 +267,10 @@ fn get_group_calculation(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Re
 }
 
 /// Argument `i` as a constraint combination.
-fn constraints_arg(a: &Args<'_>, i: usize) -> Result<Constraints, ApiError> {
+fn constraints_arg(a: &Args<'_>, i: usize) -> Result<Constraints, SimError> {
     let code = a.int(i)?;
     Constraints::from_code(code).ok_or_else(|| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument {}: invalid constraints {code} (combine simIK.constraint_x/y/z/alpha_beta/gamma, 1..31)",
             i + 1
         ))
@@ -282,7 +279,7 @@ fn constraints_arg(a: &Args<'_>, i: usize) -> Result<Constraints, ApiError> {
 
 /// The shared part of the two `addElementFromScene` spellings: element handle and the
 /// identity map over the chain's objects.
-fn add_element(sim: &mut Sim, a: &Args<'_>) -> Result<(Value, Value), ApiError> {
+fn add_element(sim: &mut Sim, a: &Args<'_>) -> Result<(Value, Value), SimError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let ends = [a.handle(2)?, a.handle(3)?, a.handle(4)?];
     let constraints = constraints_arg(a, 5)?;
@@ -296,13 +293,13 @@ fn add_element(sim: &mut Sim, a: &Args<'_>) -> Result<(Value, Value), ApiError> 
 /// prismatic joint on the tree path from `tip` up to `base`. Both maps are identity maps
 /// (scene handle → the same handle) over base, the path objects and the target, because
 /// gantry's IK objects are the scene objects.
-fn add_element_from_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_element_from_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (element, map) = add_element(sim, a)?;
     Ok(vec![element, map.clone(), map])
 }
 
 /// `simIK.addIkElementFromScene(...)`: the 4.2 name; returns element, simToIkMap.
-fn add_ik_element_from_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_ik_element_from_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (element, map) = add_element(sim, a)?;
     Ok(vec![element, map])
 }
@@ -312,7 +309,7 @@ fn add_ik_element_from_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -
 /// to when the group is solved (`simIK.setLinkedDummy`; `sim.setLinkDummy` for a scene
 /// dummy). The element's base is the world until `setElementBase`, and it constrains the
 /// full pose until `setElementConstraints`, as in CoppeliaSim.
-fn add_element_to_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_element_to_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group, tip) = (a.handle(0)?, a.handle(1)?, a.handle(2)?);
     Ok(vec![Value::Int(ik::add_element(
         &sim.world,
@@ -324,56 +321,63 @@ fn add_element_to_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Res
 }
 
 /// Resolves (env, group, element) from arguments 0..3 and runs `f` on the element.
-fn with_element<T>(sim: &mut Sim, a: &Args<'_>, f: impl FnOnce(&mut ik::IkElement) -> T) -> Result<T, ApiError> {
+fn with_element<T>(sim: &mut Sim, a: &Args<'_>, f: impl FnOnce(&mut ik::IkElement) -> T) -> Result<T, SimError> {
     let (env, group, element) = (a.handle(0)?, a.handle(1)?, a.handle(2)?);
     let e = sim.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?;
     Ok(f(e))
 }
 
 /// `simIK.setElementConstraints(env, group, element, constraints)`.
-fn set_element_constraints(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_element_constraints(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let c = constraints_arg(a, 3)?;
     with_element(sim, a, |e| e.constraints = c)?;
     Ok(Vec::new())
 }
 
 /// `simIK.getElementConstraints(env, group, element)` → constraints.
-fn get_element_constraints(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_element_constraints(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let c = with_element(sim, a, |e| e.constraints)?;
     Ok(vec![Value::Int(i64::from(c.0))])
 }
 
 /// Argument `i` as two non-negative finite numbers.
-fn pair_arg(a: &Args<'_>, i: usize, what: &str) -> Result<[f64; 2], ApiError> {
+fn pair_arg(a: &Args<'_>, i: usize, what: &str) -> Result<[f64; 2], SimError> {
     let v = a.floats::<2>(i)?;
     if v.iter().any(|x| *x < 0.0) {
-        return Err(ApiError::new(format!("argument {}: {what} must be >= 0", i + 1)));
+        return Err(SimError::bad_argument(format!(
+            "argument {}: {what} must be >= 0",
+            i + 1
+        )));
     }
     Ok(v)
 }
 
 /// `simIK.setElementPrecision(env, group, element, {linear (m), angular (rad)})`: the
 /// distances below which the element counts as solved.
-fn set_element_precision(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_element_precision(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let p = pair_arg(a, 3, "precisions")?;
     with_element(sim, a, |e| e.precision = p)?;
     Ok(Vec::new())
 }
 
 /// `simIK.getElementPrecision(env, group, element)` → {linear (m), angular (rad)}.
-fn get_element_precision(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_element_precision(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let p = with_element(sim, a, |e| e.precision)?;
     Ok(vec![Value::floats(&p)])
 }
 
 /// `simIK.setElementWeights(env, group, element, {linear, angular[, element]})`: factors on
 /// the error rows (CoppeliaSim weights the error, not the Jacobian).
-fn set_element_weights(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_element_weights(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let [lin, ang] = pair_arg(a, 3, "weights")?;
     let whole = match a.get(3) {
         Value::Array(v) if v.len() >= 3 => match v[2].as_f64() {
             Some(x) if x.is_finite() && x >= 0.0 => x,
-            _ => return Err(ApiError::new("argument 4: element 3 must be a finite number >= 0")),
+            _ => {
+                return Err(SimError::bad_argument(
+                    "argument 4: element 3 must be a finite number >= 0",
+                ));
+            }
         },
         _ => 1.0,
     };
@@ -382,7 +386,7 @@ fn set_element_weights(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Resu
 }
 
 /// `simIK.getElementWeights(env, group, element)` → {linear, angular, element}.
-fn get_element_weights(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_element_weights(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let wts = with_element(sim, a, |e| e.weights)?;
     Ok(vec![Value::floats(&wts)])
 }
@@ -391,12 +395,12 @@ fn get_element_weights(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Resu
 /// no separate IK world a script could read the result from otherwise, short of
 /// `simIK.getJointPosition`) and `allowError` (default false). Unknown keys are ignored,
 /// as CoppeliaSim ignores `debug`, `callback` and the like that gantry does not support.
-fn apply_policy(a: &Args<'_>, i: usize) -> Result<Apply, ApiError> {
+fn apply_policy(a: &Args<'_>, i: usize) -> Result<Apply, SimError> {
     let opts = a.get(i);
     let flag = |key: &str, default: bool| match opts.get(key) {
         None | Some(Value::Nil) => Ok(default),
         Some(Value::Bool(b)) => Ok(*b),
-        Some(other) => Err(ApiError::new(format!(
+        Some(other) => Err(SimError::bad_argument(format!(
             "argument {}: options.{key} must be a boolean, got {}",
             i + 1,
             other.type_name()
@@ -407,7 +411,7 @@ fn apply_policy(a: &Args<'_>, i: usize) -> Result<Apply, ApiError> {
         Value::Nil | Value::Map(_) => {}
         Value::Array(v) if v.is_empty() => {}
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument {}: expected options table, got {}",
                 i + 1,
                 other.type_name()
@@ -438,7 +442,7 @@ fn outcome_values(o: &GroupsOutcome) -> Ret {
 /// element ended within its precision (or `allowError=true`), as CoppeliaSim's
 /// `handleGroup`; otherwise the scene is unchanged and the solution waits for
 /// `simIK.syncToSim`.
-fn handle_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn handle_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let apply = apply_policy(a, 2)?;
     Ok(outcome_values(&ik::handle_groups(
@@ -451,9 +455,9 @@ fn handle_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 }
 
 /// Argument `i` as a non-empty array of group handles.
-fn groups_arg(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, ApiError> {
+fn groups_arg(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, SimError> {
     let Value::Array(items) = a.get(i) else {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument {}: expected array of group handles, got {}",
             i + 1,
             a.get(i).type_name()
@@ -463,7 +467,7 @@ fn groups_arg(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, ApiError> {
         .iter()
         .map(|v| {
             v.as_i64()
-                .ok_or_else(|| ApiError::new(format!("argument {}: group handles must be integers", i + 1)))
+                .ok_or_else(|| SimError::bad_argument(format!("argument {}: group handles must be integers", i + 1)))
         })
         .collect()
 }
@@ -471,7 +475,7 @@ fn groups_arg(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, ApiError> {
 /// `simIK.handleGroups(env, {groups}, options={})`: as `handleGroup`, solving the groups in
 /// order, each starting from the previous ones' solution. Result is the worst result,
 /// flags are or-ed, precision is the largest remaining distance.
-fn handle_groups(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn handle_groups(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let env = a.handle(0)?;
     let groups = groups_arg(a, 1)?;
     let apply = apply_policy(a, 2)?;
@@ -490,7 +494,7 @@ fn handle_groups(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret
 /// followed it by copying the IK joints onto the scene whatever the result, so gantry
 /// writes the solution to the scene always (finite values within limits). Either way the
 /// group's flags may keep the previous values (`group_restoreonbadlintol`, ...).
-fn handle_ik_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn handle_ik_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let o = ik::handle_groups(&mut sim.world, &mut sim.ik, env, &[group], Apply::Always)?;
     Ok(vec![Value::Int(o.result.code())])
@@ -498,7 +502,7 @@ fn handle_ik_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 
 /// `simIK.applyIkEnvironmentToScene(env, group, applyOnlyWhenSuccessful=false)` → result:
 /// solve from the scene and write back (4.2-4.3 convenience function).
-fn apply_ik_environment_to_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn apply_ik_environment_to_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let apply = if a.opt_bool(2, false)? {
         Apply::OnSuccess
@@ -511,14 +515,14 @@ fn apply_ik_environment_to_scene(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_
 
 /// `simIK.applySceneToIkEnvironment(env, group)`: gantry always solves from the scene, so
 /// this only forgets the group's pending solution (and checks its arguments).
-fn apply_scene_to_ik_environment(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn apply_scene_to_ik_environment(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     ik::sync_from_scene(&sim.world, &mut sim.ik, env, &[group])?;
     Ok(Vec::new())
 }
 
 /// `simIK.syncFromSim(env, {groups})`: forget pending solutions of those groups.
-fn sync_from_sim(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sync_from_sim(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let env = a.handle(0)?;
     let groups = groups_arg(a, 1)?;
     ik::sync_from_scene(&sim.world, &mut sim.ik, env, &groups)?;
@@ -527,7 +531,7 @@ fn sync_from_sim(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret
 
 /// `simIK.syncToSim(env, {groups})`: write pending solutions (from `syncWorlds=false`
 /// solves) of those groups' joints into the scene.
-fn sync_to_sim(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sync_to_sim(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let env = a.handle(0)?;
     let groups = groups_arg(a, 1)?;
     ik::sync_to_scene(&mut sim.world, &mut sim.ik, env, &groups)?;
@@ -545,9 +549,9 @@ const FIND_CONFIG_ATTEMPTS: u32 = 100;
 /// `sim.setJointPosition`. gantry searches up to a fixed number of starts instead of for
 /// `maxTime` seconds, so the result does not depend on the machine's speed; `thresholdDist`,
 /// `metric` and the validation callback are accepted and ignored.
-fn find_config(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn find_config(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
-    let joints = groups_arg(a, 2).map_err(|_| ApiError::new("argument 3: expected array of joint handles"))?;
+    let joints = groups_arg(a, 2).map_err(|_| SimError::bad_argument("argument 3: expected array of joint handles"))?;
     a.opt_f64(3, 0.1)?;
     a.opt_f64(4, 0.5)?;
     let Some(found) = ik::find_config(
@@ -571,14 +575,14 @@ fn find_config(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
 pub(super) fn config_values(
     found: &std::collections::BTreeMap<Handle, f64>,
     joints: &[Handle],
-) -> Result<Value, ApiError> {
+) -> Result<Value, SimError> {
     let values = joints
         .iter()
         .map(|h| {
             found
                 .get(h)
                 .map(|&q| Value::Float(q))
-                .ok_or_else(|| ApiError::new(format!("argument 3: joint {h} is not in the group's chains")))
+                .ok_or_else(|| SimError::bad_argument(format!("argument 3: joint {h} is not in the group's chains")))
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok(Value::Array(values))

@@ -6,8 +6,9 @@
 //! functions on objects, the environment's own (`createDummy`, `createJoint`, ...) and
 //! the scene's, are in [`super::ik_objects`].
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::ik::{self, Trees};
 use crate::sim::Sim;
 use crate::world::Handle;
@@ -52,12 +53,12 @@ const HANDLE_WORLD: Handle = -1;
 /// expressed in the base's frame, so `constraintsBase` may only be -1 or `base`; another
 /// frame is refused rather than ignored, because partial constraints (`constraint_x`, ...)
 /// would silently mean other axes.
-fn set_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group, element) = (a.handle(0)?, a.handle(1)?, a.handle(2)?);
     let base = a.handle(3)?;
     let constraints_base = a.opt_int(4, HANDLE_WORLD)?;
     if constraints_base != HANDLE_WORLD && constraints_base != base {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 5: constraints relative to object {constraints_base} are not supported \
              (gantry expresses them in the base's frame: pass -1)"
         )));
@@ -72,7 +73,7 @@ fn set_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 
 /// `simIK.getElementBase(env, group, element)` → base, constraintsBase. The constraint
 /// frame is always the base, reported as -1 as CoppeliaSim does for "same as base".
-fn get_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group, element) = (a.handle(0)?, a.handle(1)?, a.handle(2)?);
     let base = sim.ik.get_mut(env)?.group_mut(group)?.element_mut(element)?.base;
     Ok(vec![Value::Int(base), Value::Int(HANDLE_WORLD)])
@@ -100,10 +101,10 @@ const CONFIG_MIN_ITERATIONS: u32 = 100;
 /// `maxTimeInMs`, so the result does not depend on the machine's speed. The validation
 /// callback must be a function name (or empty) and is not called; `auxData`, the joint
 /// options and custom limits are ignored.
-fn get_config_for_tip_pose(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_config_for_tip_pose(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, group) = (a.handle(0)?, a.handle(1)?);
     let Value::Array(items) = a.get(2) else {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 3: expected array of joint handles, got {}",
             a.get(2).type_name()
         )));
@@ -112,7 +113,7 @@ fn get_config_for_tip_pose(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> 
         .iter()
         .map(|v| {
             v.as_i64()
-                .ok_or_else(|| ApiError::new("argument 3: joint handles must be integers"))
+                .ok_or_else(|| SimError::bad_argument("argument 3: joint handles must be integers"))
         })
         .collect::<Result<Vec<Handle>, _>>()?;
     let threshold = a.opt_f64(3, 0.1)?;
@@ -124,7 +125,7 @@ fn get_config_for_tip_pose(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> 
     match a.get(6) {
         Value::Nil | Value::Str(_) => {}
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 7: expected the validation callback's name (a string), got {}",
                 other.type_name()
             )));

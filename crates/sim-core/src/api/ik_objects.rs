@@ -10,8 +10,9 @@
 //! erasing, joint modes and intervals) is refused with the `sim.*` function to use
 //! instead. A reference frame (`relativeTo`) must belong to the same tree as the object.
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret, joints, objects};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret, joints, objects};
 use crate::Value;
+use crate::error::SimError;
 use crate::ik::{HANDLE_PARENT, HANDLE_WORLD, IkJointMode, IkObjects, is_own_object};
 use crate::math::{self, Pose};
 use crate::scene::JointType;
@@ -119,16 +120,16 @@ pub(super) const CONSTANTS: &[(&str, i64)] = &[
 ];
 
 /// The environment named by argument 0, its own objects.
-fn own<'s>(sim: &'s mut Sim, a: &Args<'_>) -> Result<&'s mut IkObjects, ApiError> {
+fn own<'s>(sim: &'s mut Sim, a: &Args<'_>) -> Result<&'s mut IkObjects, SimError> {
     Ok(&mut sim.ik.get_mut(a.handle(0)?)?.objects)
 }
 
 /// Refuses a scene object where only the environment's own objects make sense.
-fn own_only(h: Handle, instead: &str) -> Result<(), ApiError> {
+fn own_only(h: Handle, instead: &str) -> Result<(), SimError> {
     if is_own_object(h) {
         Ok(())
     } else {
-        Err(ApiError::new(format!(
+        Err(SimError::bad_argument(format!(
             "object {h} is a scene object, not one of the IK environment's (create those with \
              simIK.createDummy or simIK.createJoint); for the scene, use {instead}"
         )))
@@ -136,7 +137,7 @@ fn own_only(h: Handle, instead: &str) -> Result<(), ApiError> {
 }
 
 /// An optional name argument (`nil` or absent: none).
-fn name_arg<'a>(a: &Args<'a>, i: usize) -> Result<&'a str, ApiError> {
+fn name_arg<'a>(a: &Args<'a>, i: usize) -> Result<&'a str, SimError> {
     match a.get(i) {
         Value::Nil => Ok(""),
         _ => a.str(i),
@@ -145,7 +146,7 @@ fn name_arg<'a>(a: &Args<'a>, i: usize) -> Result<&'a str, ApiError> {
 
 /// `simIK.createDummy(env, name='')` → handle: a dummy of the environment at the world
 /// origin, with no parent.
-fn create_dummy(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create_dummy(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let name = name_arg(a, 1)?;
     Ok(vec![Value::Int(own(sim, a)?.create_dummy(name)?)])
 }
@@ -153,18 +154,18 @@ fn create_dummy(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 /// `simIK.createJoint(env, jointType, name='')` → handle: a revolute (10) or prismatic
 /// (11) joint of the environment at the world origin, in IK mode at position 0; a
 /// revolute joint is cyclic, a prismatic one limited to [-0.5, 0.5] m, as in CoppeliaSim.
-fn create_joint(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create_joint(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let code = a.int(1)?;
     let joint_type = match code {
         10 => JointType::Revolute,
         11 => JointType::Prismatic,
         12 => {
-            return Err(ApiError::new(
+            return Err(SimError::bad_argument(
                 "argument 2: spherical joints are not supported by gantry's IK (use three revolute joints)",
             ));
         }
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 2: unknown joint type {other} (use simIK.jointtype_revolute or simIK.jointtype_prismatic)"
             )));
         }
@@ -174,17 +175,17 @@ fn create_joint(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 }
 
 /// `simIK.getObjectHandle(env, name)` → the handle of the environment's object named so.
-fn get_object_handle(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_handle(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let name = a.str(1)?;
     own(sim, a)?
         .by_name(name)
         .filter(|_| !name.is_empty())
         .map(|h| vec![Value::Int(h)])
-        .ok_or_else(|| ApiError::new(format!("no IK object named '{name}' in this environment")))
+        .ok_or_else(|| SimError::no_such_item(format!("no IK object named '{name}' in this environment")))
 }
 
 /// `simIK.doesObjectExist(env, name)` → whether the environment has an object named so.
-fn does_object_exist(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn does_object_exist(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let name = a.str(1)?;
     let found = !name.is_empty() && own(sim, a)?.by_name(name).is_some();
     Ok(vec![Value::Bool(found)])
@@ -193,7 +194,7 @@ fn does_object_exist(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result
 /// `simIK.eraseObject(env, object)`: removes one of the environment's objects. Its
 /// children keep their world pose and hang from its parent; elements tipped at it (or
 /// targeting it) are removed, elements based on it are based on the world.
-fn erase_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn erase_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     own_only(h, "sim.removeObjects")?;
     sim.ik.get_mut(a.handle(0)?)?.erase_object(h)?;
@@ -201,7 +202,7 @@ fn erase_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 }
 
 /// `simIK.getObjectParent(env, object)` → parent handle, -1 at the root.
-fn get_object_parent(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_parent(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     let parent = if is_own_object(h) {
         own(sim, a)?.parent(h)?
@@ -215,7 +216,7 @@ fn get_object_parent(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result
 /// `simIK.setObjectParent(env, object, parent, keepInPlace=true)`: hangs one of the
 /// environment's objects below another (`parent` -1: at the root). With `keepInPlace`
 /// it keeps its world pose, otherwise its pose relative to the parent.
-fn set_object_parent(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_object_parent(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     own_only(h, "sim.setObjectParent")?;
     let parent = a.handle(2)?;
@@ -223,7 +224,7 @@ fn set_object_parent(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result
         HANDLE_WORLD => None,
         p if is_own_object(p) => Some(p),
         p => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 3: object {p} is a scene object; an IK environment's object can only hang \
                  below another of its objects (or -1)"
             )));
@@ -236,7 +237,7 @@ fn set_object_parent(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result
 
 /// `simIK.getObjectType(env, object)` → `simIK.objecttype_joint` (1) or
 /// `objecttype_dummy` (4); for a scene object, its `sim.object_*_type`.
-fn get_object_type(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_type(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     if is_own_object(h) {
         return Ok(vec![Value::Int(own(sim, a)?.get(h)?.type_code())]);
@@ -248,13 +249,13 @@ fn get_object_type(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result
 /// `simIK.setTargetDummy(env, tip, target)` (4.2: `setLinkedDummy(env, dummy,
 /// linkedDummy)`): links two of the environment's dummies (-1 unlinks); an element
 /// added with `simIK.addElement` drives its tip onto the dummy linked to it.
-fn set_target_dummy(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_target_dummy(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let d = a.handle(1)?;
     own_only(d, "sim.setLinkDummy")?;
     let to = match a.handle(2)? {
         HANDLE_WORLD => None,
         t => {
-            own_only(t, "sim.setLinkDummy").map_err(|e| ApiError::of(e.kind, format!("argument 3: {}", e.message)))?;
+            own_only(t, "sim.setLinkDummy").map_err(|e| e.prefixed("argument 3: "))?;
             Some(t)
         }
     };
@@ -264,7 +265,7 @@ fn set_target_dummy(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 
 /// `simIK.getTargetDummy(env, dummy)` (4.2: `getLinkedDummy`) → the linked dummy, -1
 /// when none; for a scene dummy, its `sim.setLinkDummy` partner.
-fn get_target_dummy(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_target_dummy(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let d = a.handle(1)?;
     let linked = if is_own_object(d) {
         own(sim, a)?.linked(d)?
@@ -279,7 +280,7 @@ fn get_target_dummy(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 /// `simIK.getJointPosition(env, joint)` → rad or m: an own joint's value; for a scene
 /// joint, a pending solution (`handleGroup{syncWorlds=false}`) if there is one, else the
 /// scene's value.
-fn get_joint_position(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_joint_position(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, joint) = (a.handle(0)?, a.handle(1)?);
     if is_own_object(joint) {
         return Ok(vec![Value::Float(own(sim, a)?.joint(joint)?.position)]);
@@ -295,7 +296,7 @@ fn get_joint_position(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Resul
 /// `simIK.setJointPosition(env, joint, position)`: rad or m, wrapped (cyclic) or clamped
 /// to the joint's interval. A scene joint is set in the scene (as `sim.setJointPosition`)
 /// and any solution pending for it is forgotten.
-fn set_joint_position(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_joint_position(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (env, joint) = (a.handle(0)?, a.handle(1)?);
     if is_own_object(joint) {
         let q = a.finite(2)?;
@@ -312,7 +313,7 @@ fn set_joint_position(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
 /// `simIK.getJointMode(env, joint)` → `simIK.jointmode_passive` (0) or `jointmode_ik`
 /// (2). Every revolute or prismatic scene joint of a scene chain is solved for, so scene
 /// joints report IK mode (fixed ones passive).
-fn get_joint_mode(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_joint_mode(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     let mode = if is_own_object(h) {
         own(sim, a)?.joint(h)?.mode
@@ -328,7 +329,7 @@ fn get_joint_mode(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 
 /// `simIK.setJointMode(env, joint, mode)`: `simIK.jointmode_ik` (the solver moves the
 /// joint) or `jointmode_passive` (it stays at its position, a rigid part of the chain).
-fn set_joint_mode(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_joint_mode(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     own_only(
         h,
@@ -336,7 +337,7 @@ fn set_joint_mode(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
     )?;
     let code = a.int(2)?;
     let mode = IkJointMode::from_code(code).ok_or_else(|| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument 3: unsupported joint mode {code} (use simIK.jointmode_ik or simIK.jointmode_passive; \
              gantry has no dependent joints in IK)"
         ))
@@ -346,7 +347,7 @@ fn set_joint_mode(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 }
 
 /// `simIK.getJointInterval(env, joint)` → cyclic, {min, range} (rad or m).
-fn get_joint_interval(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_joint_interval(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     if is_own_object(h) {
         let j = own(sim, a)?.joint(h)?;
@@ -360,7 +361,7 @@ fn get_joint_interval(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
 /// joint wraps into (-pi, pi] (the interval is then ignored, as in CoppeliaSim); otherwise
 /// the joint is limited to [min, min + range]. The range may not be negative. The
 /// position is brought into the new interval.
-fn set_joint_interval(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_joint_interval(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     own_only(h, "the limits in the scene file")?;
     let cyclic = a.bool(2)?;
@@ -376,7 +377,7 @@ fn set_joint_interval(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Resul
 
 /// `simIK.getJointType(env, joint)` → `simIK.jointtype_revolute` (10) or
 /// `jointtype_prismatic` (11) (a fixed scene joint: `sim.joint_fixed_subtype`).
-fn get_joint_type(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_joint_type(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     if is_own_object(h) {
         let code = match own(sim, a)?.joint(h)?.joint_type {
@@ -395,7 +396,7 @@ fn without_environment(a: &Args<'_>) -> Vec<Value> {
 }
 
 /// Checks that frame `rel` belongs to the same tree as object `h`.
-fn same_tree(h: Handle, rel: Handle, arg: usize) -> Result<(), ApiError> {
+fn same_tree(h: Handle, rel: Handle, arg: usize) -> Result<(), SimError> {
     if rel == HANDLE_WORLD || rel == HANDLE_PARENT || is_own_object(rel) == is_own_object(h) {
         return Ok(());
     }
@@ -404,7 +405,7 @@ fn same_tree(h: Handle, rel: Handle, arg: usize) -> Result<(), ApiError> {
     } else {
         ("a scene", "an IK environment's object")
     };
-    Err(ApiError::new(format!(
+    Err(SimError::bad_argument(format!(
         "argument {arg}: object {h} is {what} object and frame {rel} is {other}: \
          poses are relative to -1, sim.handle_parent or an object of the same tree"
     )))
@@ -412,7 +413,7 @@ fn same_tree(h: Handle, rel: Handle, arg: usize) -> Result<(), ApiError> {
 
 /// For setters taking `(env, object, relativeTo, value)` (4.2-4.4) or `(env, object,
 /// value, relativeTo=-1)` (4.5+): the index of the value and the reference frame.
-fn value_and_rel(a: &Args<'_>) -> Result<(usize, Handle), ApiError> {
+fn value_and_rel(a: &Args<'_>) -> Result<(usize, Handle), SimError> {
     if a.is_array(2) {
         Ok((2, a.opt_int(3, HANDLE_WORLD)?))
     } else {
@@ -421,7 +422,7 @@ fn value_and_rel(a: &Args<'_>) -> Result<(usize, Handle), ApiError> {
 }
 
 /// The pose of own object `h` in frame `rel`.
-fn own_pose(sim: &mut Sim, a: &Args<'_>, h: Handle, rel: Handle) -> Result<Pose, ApiError> {
+fn own_pose(sim: &mut Sim, a: &Args<'_>, h: Handle, rel: Handle) -> Result<Pose, SimError> {
     Ok(own(sim, a)?.pose_relative(h, rel)?)
 }
 
@@ -429,7 +430,7 @@ fn own_pose(sim: &mut Sim, a: &Args<'_>, h: Handle, rel: Handle) -> Result<Pose,
 /// as `sim.getObjectMatrix` (a joint's frame without its motion; relative to a joint:
 /// its moving frame). For a scene object, the scene object's pose; a solution held back
 /// by `handleGroup{syncWorlds=false}` is not reflected.
-fn get_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     let rel = a.opt_int(2, HANDLE_WORLD)?;
     same_tree(h, rel, 3)?;
@@ -447,14 +448,14 @@ fn get_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Resu
 /// the IK world. A scene object is moved in the scene (elements made from the scene use
 /// it as their IK world); scene joints are refused, since moving one would reshape the
 /// robot in the scene, not just in an IK copy.
-fn set_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     let (vi, rel) = value_and_rel(a)?;
     same_tree(h, rel, if vi == 2 { 4 } else { 3 })?;
     let m = a.floats::<12>(vi)?;
     if is_own_object(h) {
         let pose = math::pose_from_matrix12(&m)
-            .ok_or_else(|| ApiError::new(format!("argument {}: matrix must be finite", vi + 1)))?;
+            .ok_or_else(|| SimError::bad_argument(format!("argument {}: matrix must be finite", vi + 1)))?;
         own(sim, a)?.set_pose_relative(h, rel, pose)?;
         return Ok(Vec::new());
     }
@@ -465,7 +466,7 @@ fn set_object_matrix(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Resu
 
 /// `simIK.getObjectPose(env, object, relativeTo=-1)` → {x, y, z, qx, qy, qz, qw}, as
 /// [`get_object_matrix`] in pose form.
-fn get_object_pose(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_pose(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     let rel = a.opt_int(2, HANDLE_WORLD)?;
     same_tree(h, rel, 3)?;
@@ -481,14 +482,14 @@ fn get_object_pose(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result
 
 /// `simIK.setObjectPose(env, object, relativeTo, pose)` (4.3-4.4 order) or `(env, object,
 /// pose, relativeTo=-1)`: as [`set_object_matrix`] with a pose {x, y, z, qx, qy, qz, qw}.
-fn set_object_pose(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_object_pose(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(1)?;
     let (vi, rel) = value_and_rel(a)?;
     same_tree(h, rel, if vi == 2 { 4 } else { 3 })?;
     let v = a.floats::<7>(vi)?;
     if is_own_object(h) {
         let q = math::quat_from_array([v[3], v[4], v[5], v[6]])
-            .ok_or_else(|| ApiError::new(format!("argument {}: zero quaternion in pose", vi + 1)))?;
+            .ok_or_else(|| SimError::bad_argument(format!("argument {}: zero quaternion in pose", vi + 1)))?;
         let pose = Pose::from_parts(nalgebra::Translation3::new(v[0], v[1], v[2]), q);
         own(sim, a)?.set_pose_relative(h, rel, pose)?;
         return Ok(Vec::new());
@@ -499,9 +500,9 @@ fn set_object_pose(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result
 }
 
 /// Refuses to move a scene joint through `simIK`.
-fn refuse_scene_joint(sim: &Sim, h: Handle) -> Result<(), ApiError> {
+fn refuse_scene_joint(sim: &Sim, h: Handle) -> Result<(), SimError> {
     if matches!(sim.world.object(h)?.kind, ObjectKind::Joint(_)) {
-        return Err(ApiError::new(format!(
+        return Err(SimError::refused(format!(
             "object {h} is a scene joint: moving it would reshape the robot in the scene. Set its value \
              with simIK.setJointPosition, or build the chain from the IK environment's own objects \
              (simIK.createJoint)"

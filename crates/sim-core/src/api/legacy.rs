@@ -6,10 +6,11 @@
 //! behaves differently (lookup by name with `#` suffixes, the status bar, auxiliary
 //! consoles, dialogs, millisecond time) is implemented here.
 
+use crate::error::SimError;
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::world::{Handle, World};
 
@@ -161,7 +162,7 @@ const INFO: i64 = 450;
 /// `#k` names the (k+1)-th object of that name (CoppeliaSim names copies `name#0`,
 /// `name#1`, ...), a bare `#` the original; `name@silentError` returns -1 instead of
 /// failing when there is none. A path (`/a/b`, `./c`) is resolved as `sim.getObject` does.
-fn get_object_handle(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_handle(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     if let Some(h) = a.get(0).as_i64() {
         // `sim.getObjectHandle(sim.handle_self)` was accepted by old versions.
         if h == HANDLE_SELF {
@@ -176,7 +177,7 @@ fn get_object_handle(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Resu
     match find_by_name(w, ctx, name) {
         Some(h) => Ok(vec![Value::Int(h)]),
         None if silent => Ok(vec![Value::Int(-1)]),
-        None => Err(ApiError::new(format!("object does not exist: '{name}'"))),
+        None => Err(SimError::no_such_item(format!("object does not exist: '{name}'"))),
     }
 }
 
@@ -199,36 +200,38 @@ fn find_by_name(w: &World, ctx: &CallContext<'_>, name: &str) -> Option<Handle> 
         .nth(index)
 }
 
-fn calling_object(ctx: &CallContext<'_>) -> Result<Handle, ApiError> {
+fn calling_object(ctx: &CallContext<'_>) -> Result<Handle, SimError> {
     ctx.script_object
-        .ok_or_else(|| ApiError::new("sim.handle_self names the calling script, and a remote client has none"))
+        .ok_or_else(|| SimError::refused("sim.handle_self names the calling script, and a remote client has none"))
 }
 
 /// `sim.getObjectAssociatedWithScript(scriptHandle)`: the object a script is attached
 /// to. In gantry a script's handle is its object's handle.
-fn get_object_associated_with_script(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_associated_with_script(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::Int(script_object(w, ctx, a)?)])
 }
 
 /// `sim.getScriptHandle(name = sim.handle_self)`: the calling script's handle, or the
 /// handle of the script attached to the object named `name`.
-fn get_script_handle(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_script_handle(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     match a.get(0) {
         Value::Nil => Ok(vec![Value::Int(calling_object(ctx)?)]),
         Value::Str(_) => get_object_handle(w, ctx, a),
         v if v.as_i64() == Some(HANDLE_SELF) => Ok(vec![Value::Int(calling_object(ctx)?)]),
-        _ => Err(ApiError::new("argument 1: expected a script name or sim.handle_self")),
+        _ => Err(SimError::bad_argument(
+            "argument 1: expected a script name or sim.handle_self",
+        )),
     }
 }
 
 /// `sim.getObjectSizeFactor(h)`: 1, as objects are never scaled in gantry.
-fn get_object_size_factor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_size_factor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     w.object(a.handle(0)?)?;
     Ok(vec![Value::Float(1.0)])
 }
 
 /// `sim.isHandle(h)`: whether an object with that handle exists.
-fn is_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn is_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.int(0)?;
     Ok(vec![Value::Bool(w.object(h).is_ok())])
 }
@@ -236,7 +239,7 @@ fn is_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, Ap
 /// `sim.isDynamicallyEnabled(h)`: whether the physics engine simulates the object: a
 /// dynamic shape, or a joint in a dynamic mode. `sim.moveToConfig` uses it to choose
 /// between driving a joint's target and setting its position.
-fn is_dynamically_enabled(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn is_dynamically_enabled(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     use crate::world::ObjectKind;
     let enabled = match &w.object(a.handle(0)?)?.kind {
         ObjectKind::Shape(s) => s.dynamic,
@@ -248,7 +251,7 @@ fn is_dynamically_enabled(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 
 /// `sim.getObjectSelection()` (4.1, now `sim.getObjectSel`): the selected objects'
 /// handles in selection order, or `nil` when nothing is selected, as 4.1 returned.
-fn get_object_selection(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_selection(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, SimError> {
     let handles = w.selection.handles();
     Ok(vec![if handles.is_empty() {
         Value::Nil
@@ -259,7 +262,7 @@ fn get_object_selection(w: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Res
 
 /// `sim.addStatusbarMessage(text)`: a line in the log (the viewer shows it); `nil`
 /// clears CoppeliaSim's status bar and does nothing here.
-fn add_statusbar_message(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_statusbar_message(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     if let Value::Nil = a.get(0) {
         return Ok(Vec::new());
     }
@@ -271,14 +274,14 @@ fn add_statusbar_message(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> 
 
 /// `sim.auxiliaryConsoleOpen(title, maxLines, mode, ...)` → handle. The console is a
 /// source in the log, named after its title; position, size and colours are ignored.
-fn auxiliary_console_open(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn auxiliary_console_open(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let title = a.str(0)?;
     Ok(vec![Value::Int(w.log.open_console(title))])
 }
 
 /// `sim.auxiliaryConsolePrint(handle, text)` → 1, or 0 for a closed console; one log
 /// line per line of `text` (`nil` clears the console and logs nothing).
-fn auxiliary_console_print(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn auxiliary_console_print(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.int(0)?;
     let Some(title) = w.log.console(h).map(|t| format!("console: {t}")) else {
         return Ok(vec![Value::Int(0)]);
@@ -295,19 +298,19 @@ fn auxiliary_console_print(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> 
 }
 
 /// `sim.auxiliaryConsoleClose(handle)` → 1, or 0 when it was not open.
-fn auxiliary_console_close(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn auxiliary_console_close(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::Int(i64::from(w.log.close_console(a.int(0)?)))])
 }
 
 /// `sim.auxiliaryConsoleShow(handle, show)` → 1, or 0 for a closed console.
-fn auxiliary_console_show(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn auxiliary_console_show(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::Int(i64::from(w.log.console(a.int(0)?).is_some()))])
 }
 
 /// `sim.displayDialog(title, text, style, modal, ...)` → dialog handle. gantry has no
 /// modal windows: the dialog is a log line and is answered "OK" at once
 /// (`sim.getDialogResult` returns `sim.dlgret_ok`).
-fn display_dialog(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn display_dialog(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let title = a.str(0)?;
     let text = a.str(1)?;
     let t = w.time();
@@ -316,20 +319,20 @@ fn display_dialog(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<
 }
 
 /// `sim.getDialogResult(handle)` → `sim.dlgret_ok` (1), or -1 for an unknown dialog.
-fn get_dialog_result(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_dialog_result(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let known = w.log.console(a.int(0)?).is_some();
     Ok(vec![Value::Int(if known { 1 } else { -1 })])
 }
 
 /// `sim.endDialog(handle)` → 1, or -1 for an unknown dialog.
-fn end_dialog(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn end_dialog(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::Int(if w.log.close_console(a.int(0)?) { 1 } else { -1 })])
 }
 
 /// `sim.getSystemTimeInMs(previous)`: with -1, milliseconds since an arbitrary start
 /// (here the first call in the process); otherwise the milliseconds elapsed since
 /// `previous`, a value it returned before.
-fn get_system_time_in_ms(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_system_time_in_ms(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     static START: OnceLock<Instant> = OnceLock::new();
     let now = i64::try_from(START.get_or_init(Instant::now).elapsed().as_millis()).unwrap_or(i64::MAX);
     let previous = a.opt_int(0, -1)?;
@@ -339,18 +342,18 @@ fn get_system_time_in_ms(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Re
 /// `sim.getObjectInt32Parameter(h, id)` (4.0-4.2) → result, value: the current
 /// `sim.getObjectInt32Param` with the old leading result (1, or 0 when the parameter
 /// does not apply to the object).
-fn get_object_int32_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_int32_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     with_result(super::params::get_object_int32_param(w, ctx, a)?)
 }
 
 /// `sim.getObjectFloatParameter(h, id)` (4.0-4.2) → result, value (see
 /// [`get_object_int32_parameter`]).
-fn get_object_float_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_float_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     with_result(super::params::get_object_float_param(w, ctx, a)?)
 }
 
 /// The current getter's result with the old leading result code.
-fn with_result(current: Ret) -> Result<Ret, ApiError> {
+fn with_result(current: Ret) -> Result<Ret, SimError> {
     let value = current.into_iter().next().unwrap_or(Value::Nil);
     let found = i64::from(value != Value::Nil);
     Ok(vec![Value::Int(found), value])
@@ -358,13 +361,13 @@ fn with_result(current: Ret) -> Result<Ret, ApiError> {
 
 /// `sim.getNamedInt32Param(name)` → nil: gantry has no named parameters (CoppeliaSim
 /// sets them from its command line), so every name is unset, which scripts check for.
-fn get_named_int32_param(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_named_int32_param(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     a.str(0)?;
     Ok(vec![Value::Nil])
 }
 
 /// The object a script handle or `sim.handle_self` names.
-fn script_object(w: &World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Handle, ApiError> {
+fn script_object(w: &World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Handle, SimError> {
     let h = a.int(0)?;
     let object = if h == HANDLE_SELF { calling_object(ctx)? } else { h };
     w.object(object)?;
@@ -374,14 +377,14 @@ fn script_object(w: &World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Handl
 /// `sim.getScriptSimulationParameter(scriptHandle, name)` → the value of a model's user
 /// parameter, or nil when unset. gantry scenes define none; scripts set them with
 /// `sim.setScriptSimulationParameter`.
-fn get_script_simulation_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_script_simulation_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let object = script_object(w, ctx, a)?;
     let name = a.str(1)?;
     Ok(vec![w.custom.get(object, name).cloned().unwrap_or(Value::Nil)])
 }
 
 /// `sim.setScriptSimulationParameter(scriptHandle, name, value)` → 1.
-fn set_script_simulation_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_script_simulation_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let object = script_object(w, ctx, a)?;
     let name = a.str(1)?.to_owned();
     w.custom.set(object, &name, a.get(2).clone());
@@ -390,10 +393,10 @@ fn set_script_simulation_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Arg
 
 /// `sim.getShapeBB(shapeHandle)` → the size of the shape's bounding box in its own
 /// frame (x, y, z extents, m).
-fn get_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     if !matches!(w.object(h)?.kind, crate::world::ObjectKind::Shape(_)) {
-        return Err(ApiError::new("object is not a shape."));
+        return Err(SimError::bad_argument("object is not a shape."));
     }
     let (lo, hi) = w.bounding_box(h)?;
     Ok(vec![Value::Array(
@@ -403,14 +406,14 @@ fn get_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 
 /// `sim.announceSceneContentChange()` → 1: in CoppeliaSim it records an undo point for
 /// the editor; gantry has no scene editor, so there is nothing to record.
-fn announce_scene_content_change(_: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+fn announce_scene_content_change(_: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::Int(1)])
 }
 
 /// `sim.getNameSuffix(nameWithSuffix)` (4.0-4.2) → suffix, name: `"arm#2"` gives 2 and
 /// "arm", a name without `#` -1 and itself. With nil, the suffix of the calling script's
 /// copy: gantry never numbers copies that way, so -1.
-fn get_name_suffix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_name_suffix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     if let Value::Nil = a.get(0) {
         return Ok(vec![Value::Int(-1), Value::Str(String::new())]);
     }

@@ -2,8 +2,9 @@
 //! together, CoppeliaSim's dynamic loop closure (suction pads, attachments, closed
 //! chains).
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::world::World;
 
 /// The functions of this file, in alphabetical order.
@@ -20,7 +21,7 @@ pub const FUNCTIONS: &[ApiFunction] = &[
 
 /// `sim.setLinkDummy(dummyHandle, linkedDummyHandle)`: links the two dummies (-1
 /// unlinks); a dummy has at most one link, so linking replaces any earlier one.
-fn set_link_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_link_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let dummy = a.handle(0)?;
     let linked = a.int(1)?;
     w.set_link_dummy(dummy, (linked >= 0).then_some(linked))?;
@@ -28,7 +29,7 @@ fn set_link_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 }
 
 /// `sim.getLinkDummy(dummyHandle)` → the linked dummy, or -1.
-fn get_link_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_link_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let dummy = a.handle(0)?;
     w.object(dummy)?;
     Ok(vec![Value::Int(w.linked_dummy(dummy).unwrap_or(-1))])

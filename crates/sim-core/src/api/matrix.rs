@@ -15,9 +15,10 @@
 //! busy. Malformed arguments (wrong length, non-numbers, NaN or infinities, a zero
 //! quaternion or axis) are errors that name the argument.
 
+use crate::error::SimError;
 use nalgebra::{Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::math::{self, Pose, Quat, Vec3};
 use crate::world::World;
@@ -113,9 +114,9 @@ type Matrix12 = [f64; 12];
 // Argument parsing
 
 /// Argument `i` as a table of finite numbers of any length; `what` names it in errors.
-fn numbers(a: &Args<'_>, i: usize, what: &str) -> Result<Vec<f64>, ApiError> {
+fn numbers(a: &Args<'_>, i: usize, what: &str) -> Result<Vec<f64>, SimError> {
     let Value::Array(items) = a.get(i) else {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument {} ({what}): expected a table of numbers, got {}",
             i + 1,
             describe(a.get(i))
@@ -126,12 +127,12 @@ fn numbers(a: &Args<'_>, i: usize, what: &str) -> Result<Vec<f64>, ApiError> {
         .enumerate()
         .map(|(k, v)| match v.as_f64() {
             Some(f) if f.is_finite() => Ok(f),
-            Some(f) => Err(ApiError::new(format!(
+            Some(f) => Err(SimError::bad_argument(format!(
                 "argument {} ({what}): element {} must be a finite number, got {f}",
                 i + 1,
                 k + 1
             ))),
-            None => Err(ApiError::new(format!(
+            None => Err(SimError::bad_argument(format!(
                 "argument {} ({what}): element {} must be a number, got {}",
                 i + 1,
                 k + 1,
@@ -142,10 +143,10 @@ fn numbers(a: &Args<'_>, i: usize, what: &str) -> Result<Vec<f64>, ApiError> {
 }
 
 /// Argument `i` as exactly `N` finite numbers.
-fn exact<const N: usize>(a: &Args<'_>, i: usize, what: &str) -> Result<[f64; N], ApiError> {
+fn exact<const N: usize>(a: &Args<'_>, i: usize, what: &str) -> Result<[f64; N], SimError> {
     let v = numbers(a, i, what)?;
     v.try_into().map_err(|v: Vec<f64>| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument {} ({what}): expected {N} numbers, got {}",
             i + 1,
             v.len()
@@ -162,14 +163,14 @@ fn describe(v: &Value) -> &'static str {
 }
 
 /// A required finite scalar, named in errors.
-fn scalar(a: &Args<'_>, i: usize, what: &str) -> Result<f64, ApiError> {
+fn scalar(a: &Args<'_>, i: usize, what: &str) -> Result<f64, SimError> {
     match a.get(i).as_f64() {
         Some(f) if f.is_finite() => Ok(f),
-        Some(f) => Err(ApiError::new(format!(
+        Some(f) => Err(SimError::bad_argument(format!(
             "argument {} ({what}): expected a finite number, got {f}",
             i + 1
         ))),
-        None => Err(ApiError::new(format!(
+        None => Err(SimError::bad_argument(format!(
             "argument {} ({what}): expected a number, got {}",
             i + 1,
             describe(a.get(i))
@@ -178,11 +179,11 @@ fn scalar(a: &Args<'_>, i: usize, what: &str) -> Result<f64, ApiError> {
 }
 
 /// A non-zero 3-vector, normalised.
-fn unit_axis(a: &Args<'_>, i: usize, what: &str) -> Result<Vec3, ApiError> {
+fn unit_axis(a: &Args<'_>, i: usize, what: &str) -> Result<Vec3, SimError> {
     let v = Vec3::from(exact::<3>(a, i, what)?);
     let n = v.norm();
     if n < 1e-12 {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument {} ({what}): the axis must not be zero",
             i + 1
         )));
@@ -192,9 +193,9 @@ fn unit_axis(a: &Args<'_>, i: usize, what: &str) -> Result<Vec3, ApiError> {
 
 /// A pose from its 7 numbers; the quaternion is normalised (as CoppeliaSim does), and a
 /// zero one is refused.
-fn pose_from_array(v: &[f64; 7], arg: usize, what: &str) -> Result<Pose, ApiError> {
+fn pose_from_array(v: &[f64; 7], arg: usize, what: &str) -> Result<Pose, SimError> {
     let q = math::quat_from_array([v[3], v[4], v[5], v[6]]).ok_or_else(|| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument {} ({what}): the quaternion (elements 4 to 7) must not be zero",
             arg + 1
         ))
@@ -203,7 +204,7 @@ fn pose_from_array(v: &[f64; 7], arg: usize, what: &str) -> Result<Pose, ApiErro
 }
 
 /// A pose argument.
-fn pose_arg(a: &Args<'_>, i: usize, what: &str) -> Result<Pose, ApiError> {
+fn pose_arg(a: &Args<'_>, i: usize, what: &str) -> Result<Pose, SimError> {
     pose_from_array(&exact::<7>(a, i, what)?, i, what)
 }
 
@@ -211,11 +212,11 @@ fn pose_arg(a: &Args<'_>, i: usize, what: &str) -> Result<Pose, ApiError> {
 /// whatever the numbers (an iterative orthonormalisation need not end on a reflection).
 /// A rotation block gives its quaternion; any other block some rotation, as in
 /// CoppeliaSim; only a block whose quaternion cannot be normalised is an error.
-fn matrix_rotation(m: &Matrix12, arg: usize, what: &str) -> Result<Quat, ApiError> {
+fn matrix_rotation(m: &Matrix12, arg: usize, what: &str) -> Result<Quat, SimError> {
     let block = Matrix3::new(m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]);
     let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(block)).into_inner();
     math::quat_from_array([q.i, q.j, q.k, q.w]).ok_or_else(|| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument {} ({what}): the 3x3 block is not a rotation",
             arg + 1
         ))
@@ -223,7 +224,7 @@ fn matrix_rotation(m: &Matrix12, arg: usize, what: &str) -> Result<Quat, ApiErro
 }
 
 /// A matrix as a pose (its rotation taken as in [`matrix_rotation`]).
-fn matrix_pose(m: &Matrix12, arg: usize, what: &str) -> Result<Pose, ApiError> {
+fn matrix_pose(m: &Matrix12, arg: usize, what: &str) -> Result<Pose, SimError> {
     Ok(Pose::from_parts(
         Translation3::new(m[3], m[7], m[11]),
         matrix_rotation(m, arg, what)?,
@@ -240,7 +241,7 @@ enum Transform {
 
 impl Transform {
     /// Reads argument `i`, deciding by its length.
-    fn arg(a: &Args<'_>, i: usize, what: &str) -> Result<Self, ApiError> {
+    fn arg(a: &Args<'_>, i: usize, what: &str) -> Result<Self, SimError> {
         let v = numbers(a, i, what)?;
         match v.len() {
             12 => {
@@ -253,7 +254,7 @@ impl Transform {
                 p.copy_from_slice(&v);
                 Ok(Transform::Pose(pose_from_array(&p, i, what)?))
             }
-            n => Err(ApiError::new(format!(
+            n => Err(SimError::bad_argument(format!(
                 "argument {} ({what}): expected a matrix (12 numbers) or a pose (7 numbers), got {n} numbers",
                 i + 1
             ))),
@@ -261,7 +262,7 @@ impl Transform {
     }
 
     /// The transform as a pose (a matrix's rotation re-derived from its 3x3 block).
-    fn pose(&self, arg: usize, what: &str) -> Result<Pose, ApiError> {
+    fn pose(&self, arg: usize, what: &str) -> Result<Pose, SimError> {
         match self {
             Transform::Matrix(m) => matrix_pose(m, arg, what),
             Transform::Pose(p) => Ok(*p),
@@ -340,12 +341,12 @@ fn interpolate(a: &Pose, b: &Pose, t: f64) -> Pose {
 // The functions
 
 /// `sim.buildIdentityMatrix()` → the 12-number identity matrix.
-fn build_identity_matrix(_: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+fn build_identity_matrix(_: &mut World, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::floats(&math::pose_to_matrix12(&Pose::identity()))])
 }
 
 /// `sim.buildMatrix(position[3], eulerAngles[3])` → matrix[12].
-fn build_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn build_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let p = exact::<3>(a, 0, "position")?;
     let e = exact::<3>(a, 1, "eulerAngles")?;
     Ok(vec![Value::floats(&math::pose_to_matrix12(&math::pose_from_euler(
@@ -355,10 +356,10 @@ fn build_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 
 /// `sim.buildMatrixQ(position[3], quaternion[4])` → matrix[12]; the quaternion
 /// `[qx, qy, qz, qw]` is normalised.
-fn build_matrix_q(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn build_matrix_q(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let p = exact::<3>(a, 0, "position")?;
     let q = math::quat_from_array(exact::<4>(a, 1, "quaternion")?)
-        .ok_or_else(|| ApiError::new("argument 2 (quaternion): the quaternion must not be zero"))?;
+        .ok_or_else(|| SimError::bad_argument("argument 2 (quaternion): the quaternion must not be zero"))?;
     let pose = Pose::from_parts(Translation3::new(p[0], p[1], p[2]), q);
     Ok(vec![Value::floats(&math::pose_to_matrix12(&pose))])
 }
@@ -369,7 +370,7 @@ fn build_matrix_q(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 /// frame is the smallest rotation that takes the reference axis onto it). Modes 4-9: two
 /// axes, the first exact and the second made orthogonal to it: (x, y), (y, z), (z, x),
 /// (x, z), (y, x), (z, y).
-fn build_pose(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn build_pose(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let p = exact::<3>(a, 0, "position")?;
     let mode = a.opt_int(2, 0)?;
     let q = match mode {
@@ -392,7 +393,7 @@ fn build_pose(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
             let e2 = v2 - e1 * e1.dot(&v2);
             let n2 = e2.norm();
             if n2 < 1e-9 * v2.norm().max(1.0) {
-                return Err(ApiError::new(
+                return Err(SimError::bad_argument(
                     "argument 4 (axis2): must not be zero or parallel to the first axis",
                 ));
             }
@@ -406,7 +407,7 @@ fn build_pose(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
             UnitQuaternion::from_rotation_matrix(&r)
         }
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 3 (mode): expected 0 to 9, got {other}"
             )));
         }
@@ -416,14 +417,14 @@ fn build_pose(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
 }
 
 /// `sim.getEulerAnglesFromMatrix(matrix[12])` → `[alpha, beta, gamma]`, rad.
-fn get_euler_angles_from_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_euler_angles_from_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let m = exact::<12>(a, 0, "matrix")?;
     let q = matrix_rotation(&m, 0, "matrix")?;
     Ok(vec![Value::floats(&math::euler_from_quat(&q))])
 }
 
 /// `sim.getQuaternionFromMatrix(matrix[12])` → `[qx, qy, qz, qw]`.
-fn get_quaternion_from_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_quaternion_from_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let m = exact::<12>(a, 0, "matrix")?;
     let q = matrix_rotation(&m, 0, "matrix")?;
     Ok(vec![Value::floats(&math::quat_to_array(&q))])
@@ -431,49 +432,49 @@ fn get_quaternion_from_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) 
 
 /// `sim.getMatrixInverse(matrix[12])` → matrix[12]: the rigid inverse (transposed
 /// rotation block), as CoppeliaSim.
-fn get_matrix_inverse(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_matrix_inverse(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let m = exact::<12>(a, 0, "matrix")?;
     Ok(vec![Value::floats(&mat_rigid_inverse(&m))])
 }
 
 /// `sim.getPoseInverse(pose[7])` → pose[7].
-fn get_pose_inverse(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_pose_inverse(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let p = pose_arg(a, 0, "pose")?;
     Ok(vec![Value::floats(&pose_to_array(&p.inverse()))])
 }
 
 /// `sim.matrixToPose(matrix[12])` → pose[7].
-fn matrix_to_pose(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn matrix_to_pose(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let m = exact::<12>(a, 0, "matrix")?;
     Ok(vec![Value::floats(&pose_to_array(&matrix_pose(&m, 0, "matrix")?))])
 }
 
 /// `sim.poseToMatrix(pose[7])` → matrix[12].
-fn pose_to_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn pose_to_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let p = pose_arg(a, 0, "pose")?;
     Ok(vec![Value::floats(&math::pose_to_matrix12(&p))])
 }
 
 /// `sim.multiplyMatrices(matrixIn1[12], matrixIn2[12])` → `matrixIn1 * matrixIn2`.
-fn multiply_matrices(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn multiply_matrices(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let m1 = exact::<12>(a, 0, "matrixIn1")?;
     let m2 = exact::<12>(a, 1, "matrixIn2")?;
     Ok(vec![Value::floats(&mat_mul(&m1, &m2))])
 }
 
 /// `sim.multiplyPoses(poseIn1[7], poseIn2[7])` → `poseIn1 * poseIn2`.
-fn multiply_poses(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn multiply_poses(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let p1 = pose_arg(a, 0, "poseIn1")?;
     let p2 = pose_arg(a, 1, "poseIn2")?;
     Ok(vec![Value::floats(&pose_to_array(&(p1 * p2)))])
 }
 
 /// `sim.multiplyVector(matrix[12] | pose[7], inVectors[3*n])` → the n points transformed.
-fn multiply_vector(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn multiply_vector(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let t = Transform::arg(a, 0, "matrix or pose")?;
     let v = numbers(a, 1, "inVectors")?;
     if v.len() % 3 != 0 {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 2 (inVectors): expected 3 numbers per vector, got {} numbers",
             v.len()
         )));
@@ -491,7 +492,7 @@ fn multiply_vector(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 
 /// `sim.interpolateMatrices(matrixIn1[12], matrixIn2[12], interpolFactor)` → matrix[12]:
 /// position linear, rotation along the shortest arc; factors outside [0, 1] extrapolate.
-fn interpolate_matrices(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn interpolate_matrices(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let m1 = matrix_pose(&exact::<12>(a, 0, "matrixIn1")?, 0, "matrixIn1")?;
     let m2 = matrix_pose(&exact::<12>(a, 1, "matrixIn2")?, 1, "matrixIn2")?;
     let t = scalar(a, 2, "interpolFactor")?;
@@ -499,7 +500,7 @@ fn interpolate_matrices(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Res
 }
 
 /// `sim.interpolatePoses(poseIn1[7], poseIn2[7], interpolFactor)` → pose[7].
-fn interpolate_poses(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn interpolate_poses(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let p1 = pose_arg(a, 0, "poseIn1")?;
     let p2 = pose_arg(a, 1, "poseIn2")?;
     let t = scalar(a, 2, "interpolFactor")?;
@@ -510,7 +511,7 @@ fn interpolate_poses(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result
 /// the unit axis, in the absolute frame, and the angle in [0, pi] of the shortest
 /// rotation that takes the start orientation onto the goal's (positions are ignored).
 /// With no rotation the axis is `[0, 0, 1]` and the angle 0.
-fn get_rotation_axis(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_rotation_axis(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let start = Transform::arg(a, 0, "start")?.pose(0, "start")?.rotation;
     let goal = Transform::arg(a, 1, "goal")?.pose(1, "goal")?.rotation;
     // The relative rotation in the start frame, its axis then expressed in the absolute frame.
@@ -524,7 +525,7 @@ fn get_rotation_axis(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result
 /// `sim.rotateAroundAxis(matrixIn[12] | poseIn[7], axis[3], axisPos[3], angle)` → the
 /// transform, in the same form, rotated by `angle` (rad, right-handed) about the
 /// absolute-frame axis through `axisPos`.
-fn rotate_around_axis(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn rotate_around_axis(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let t = Transform::arg(a, 0, "matrix or pose")?;
     let axis = unit_axis(a, 1, "axis")?;
     let pivot = Vec3::from(exact::<3>(a, 2, "axisPos")?);
@@ -545,7 +546,7 @@ fn rotate_around_axis(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Resul
 
 /// `sim.yawPitchRollToAlphaBetaGamma(yaw, pitch, roll)` → `alpha, beta, gamma`, with
 /// CoppeliaSim's yaw-pitch-roll convention `R = Rz(yaw) Ry(pitch) Rx(roll)`.
-fn yaw_pitch_roll_to_alpha_beta_gamma(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn yaw_pitch_roll_to_alpha_beta_gamma(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let yaw = scalar(a, 0, "yawAngle")?;
     let pitch = scalar(a, 1, "pitchAngle")?;
     let roll = scalar(a, 2, "rollAngle")?;
@@ -558,7 +559,7 @@ fn yaw_pitch_roll_to_alpha_beta_gamma(_: &mut World, _: &CallContext<'_>, a: &Ar
 /// `sim.alphaBetaGammaToYawPitchRoll(alpha, beta, gamma)` → `yaw, pitch, roll` (see
 /// [`yaw_pitch_roll_to_alpha_beta_gamma`]), with pitch in [-pi/2, pi/2] and, in gimbal
 /// lock, yaw 0.
-fn alpha_beta_gamma_to_yaw_pitch_roll(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn alpha_beta_gamma_to_yaw_pitch_roll(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let e = [
         scalar(a, 0, "alphaAngle")?,
         scalar(a, 1, "betaAngle")?,

@@ -39,7 +39,7 @@ mod views;
 mod vision;
 
 pub use args::Args;
-pub use error::{ApiError, CallError, ErrorKind};
+pub use error::CallError;
 pub use function::{ApiFn, ApiFunction, CallContext, Ret, SimFn, WorldFn};
 pub use host::{
     FrontEndFn, HOST_FUNCTIONS, HOST_MODULES, HostFunction, HostModule, InScripts, Remote, ScriptHostFn, Touches,

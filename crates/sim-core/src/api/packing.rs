@@ -9,9 +9,10 @@
 //! for, and `sim.unpackTable` accepts any CBOR item: it is total and bounded like every
 //! decoder of peer data in gantry (a clear error, never a panic, on arbitrary bytes).
 
+use crate::error::SimError;
 use gantry_protocol::cbor;
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::world::World;
 
@@ -80,17 +81,18 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
 const SCHEMES: std::ops::RangeInclusive<i64> = 0..=1;
 
 /// An optional non-negative integer argument (start index, count, byte offset).
-fn opt_index(a: &Args<'_>, i: usize, what: &str) -> Result<usize, ApiError> {
+fn opt_index(a: &Args<'_>, i: usize, what: &str) -> Result<usize, SimError> {
     let v = a.opt_int(i, 0)?;
-    usize::try_from(v).map_err(|_| ApiError::new(format!("argument {} ({what}): must be 0 or more, got {v}", i + 1)))
+    usize::try_from(v)
+        .map_err(|_| SimError::bad_argument(format!("argument {} ({what}): must be 0 or more, got {v}", i + 1)))
 }
 
 /// The start index and the elements of argument 0 from it, at most `count` of them (0:
 /// all the rest), as CoppeliaSim's pack functions select them; a start past the end
 /// selects none.
-fn selected<'v>(a: &'v Args<'_>) -> Result<(usize, &'v [Value]), ApiError> {
+fn selected<'v>(a: &'v Args<'_>) -> Result<(usize, &'v [Value]), SimError> {
     let Value::Array(items) = a.get(0) else {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 1: expected a table of numbers, got {}",
             a.get(0).type_name()
         )));
@@ -110,7 +112,7 @@ fn selected<'v>(a: &'v Args<'_>) -> Result<(usize, &'v [Value]), ApiError> {
 
 /// Packs the selected numbers with `put`, which gets each number and its 1-based index
 /// in the table (for error messages).
-fn pack_with(a: &Args<'_>, put: impl Fn(&Value, usize, &mut Vec<u8>) -> Result<(), ApiError>) -> Result<Ret, ApiError> {
+fn pack_with(a: &Args<'_>, put: impl Fn(&Value, usize, &mut Vec<u8>) -> Result<(), SimError>) -> Result<Ret, SimError> {
     let (start, items) = selected(a)?;
     let mut out = Vec::new();
     for (k, v) in items.iter().enumerate() {
@@ -120,9 +122,9 @@ fn pack_with(a: &Args<'_>, put: impl Fn(&Value, usize, &mut Vec<u8>) -> Result<(
 }
 
 /// Element `index` as a number (any float, NaN and infinities included: they pack).
-fn float_item(v: &Value, index: usize) -> Result<f64, ApiError> {
+fn float_item(v: &Value, index: usize) -> Result<f64, SimError> {
     v.as_f64().ok_or_else(|| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument 1: element {index} must be a number, got {}",
             v.type_name()
         ))
@@ -130,9 +132,9 @@ fn float_item(v: &Value, index: usize) -> Result<f64, ApiError> {
 }
 
 /// Element `index` as an integer in `T`'s range (an integral float is accepted).
-fn int_item<T: TryFrom<i64>>(v: &Value, index: usize, type_name: &str) -> Result<T, ApiError> {
+fn int_item<T: TryFrom<i64>>(v: &Value, index: usize, type_name: &str) -> Result<T, SimError> {
     let i = v.as_i64().ok_or_else(|| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument 1: element {index} must be an integer, got {}",
             match v {
                 Value::Float(f) => format!("{f}"),
@@ -141,14 +143,14 @@ fn int_item<T: TryFrom<i64>>(v: &Value, index: usize, type_name: &str) -> Result
         ))
     })?;
     T::try_from(i).map_err(|_| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument 1: element {index} ({i}) does not fit in a {type_name}"
         ))
     })
 }
 
 /// `sim.packFloatTable(numbers, startIndex=0, count=0)` → bytes: little-endian `f32`s.
-fn pack_float_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn pack_float_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     // Narrowing to single precision is the point of this function.
     pack_with(a, |v, k, out| {
         out.extend_from_slice(&(float_item(v, k)? as f32).to_le_bytes());
@@ -157,7 +159,7 @@ fn pack_float_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 }
 
 /// `sim.packDoubleTable(numbers, startIndex=0, count=0)` → bytes: little-endian `f64`s.
-fn pack_double_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn pack_double_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     pack_with(a, |v, k, out| {
         out.extend_from_slice(&float_item(v, k)?.to_le_bytes());
         Ok(())
@@ -165,7 +167,7 @@ fn pack_double_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result
 }
 
 /// `sim.packInt32Table(numbers, startIndex=0, count=0)` → bytes: little-endian `i32`s.
-fn pack_int32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn pack_int32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     pack_with(a, |v, k, out| {
         out.extend_from_slice(&int_item::<i32>(v, k, "int32")?.to_le_bytes());
         Ok(())
@@ -173,7 +175,7 @@ fn pack_int32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 }
 
 /// `sim.packUInt32Table(numbers, startIndex=0, count=0)` → bytes: little-endian `u32`s.
-fn pack_uint32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn pack_uint32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     pack_with(a, |v, k, out| {
         out.extend_from_slice(&int_item::<u32>(v, k, "uint32")?.to_le_bytes());
         Ok(())
@@ -181,7 +183,7 @@ fn pack_uint32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result
 }
 
 /// `sim.packUInt16Table(numbers, startIndex=0, count=0)` → bytes: little-endian `u16`s.
-fn pack_uint16_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn pack_uint16_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     pack_with(a, |v, k, out| {
         out.extend_from_slice(&int_item::<u16>(v, k, "uint16")?.to_le_bytes());
         Ok(())
@@ -189,7 +191,7 @@ fn pack_uint16_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result
 }
 
 /// `sim.packUInt8Table(numbers, startIndex=0, count=0)` → bytes.
-fn pack_uint8_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn pack_uint8_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     pack_with(a, |v, k, out| {
         out.push(int_item::<u8>(v, k, "uint8")?);
         Ok(())
@@ -200,7 +202,7 @@ fn pack_uint8_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 /// `additionalByteOffset + startIndex * size`, at most `count` values (0: as many whole
 /// values as remain). Trailing bytes that do not make a whole value are ignored; a start
 /// past the end gives no values.
-fn unpack_range(a: &Args<'_>, size: usize, with_byte_offset: bool) -> Result<Vec<u8>, ApiError> {
+fn unpack_range(a: &Args<'_>, size: usize, with_byte_offset: bool) -> Result<Vec<u8>, SimError> {
     let data = a.bytes(0)?;
     let start = opt_index(a, 1, "start index")?;
     let count = opt_index(a, 2, "count")?;
@@ -224,7 +226,7 @@ fn unpack_with<const N: usize>(
     a: &Args<'_>,
     with_byte_offset: bool,
     read: impl Fn([u8; N]) -> Value,
-) -> Result<Ret, ApiError> {
+) -> Result<Ret, SimError> {
     let bytes = unpack_range(a, N, with_byte_offset)?;
     let values = bytes
         .chunks_exact(N)
@@ -238,7 +240,7 @@ fn unpack_with<const N: usize>(
 }
 
 /// `sim.unpackFloatTable(data, startIndex=0, count=0, additionalByteOffset=0)` → numbers.
-fn unpack_float_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn unpack_float_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     // One decoder of packed floats in gantry: the vision sensors' (their packets are
     // packed float tables).
     let bytes = unpack_range(a, 4, true)?;
@@ -246,45 +248,45 @@ fn unpack_float_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Resul
 }
 
 /// `sim.unpackDoubleTable(data, startIndex=0, count=0, additionalByteOffset=0)` → numbers.
-fn unpack_double_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn unpack_double_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     unpack_with::<8>(a, true, |b| Value::Float(f64::from_le_bytes(b)))
 }
 
 /// `sim.unpackInt32Table(data, startIndex=0, count=0, additionalByteOffset=0)` → integers.
-fn unpack_int32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn unpack_int32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     unpack_with::<4>(a, true, |b| Value::Int(i64::from(i32::from_le_bytes(b))))
 }
 
 /// `sim.unpackUInt32Table(data, startIndex=0, count=0, additionalByteOffset=0)` → integers.
-fn unpack_uint32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn unpack_uint32_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     unpack_with::<4>(a, true, |b| Value::Int(i64::from(u32::from_le_bytes(b))))
 }
 
 /// `sim.unpackUInt16Table(data, startIndex=0, count=0, additionalByteOffset=0)` → integers.
-fn unpack_uint16_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn unpack_uint16_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     unpack_with::<2>(a, true, |b| Value::Int(i64::from(u16::from_le_bytes(b))))
 }
 
 /// `sim.unpackUInt8Table(data, startIndex=0, count=0)` → integers (CoppeliaSim has no
 /// byte offset here: the start index already is one).
-fn unpack_uint8_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn unpack_uint8_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     unpack_with::<1>(a, false, |b| Value::Int(i64::from(b[0])))
 }
 
 /// Checks that `v` nests no deeper than the CBOR decoder accepts and holds no more
 /// items, so that whatever `sim.packTable` writes `sim.unpackTable` reads back. Stops
 /// as soon as a limit is passed, so the recursion is bounded too.
-fn check_packable(v: &Value, depth: usize, items: &mut usize) -> Result<(), ApiError> {
+fn check_packable(v: &Value, depth: usize, items: &mut usize) -> Result<(), SimError> {
     *items += 1;
     if *items > cbor::MAX_ITEMS {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 1: the table holds more than {} values",
             cbor::MAX_ITEMS
         )));
     }
     let nested = matches!(v, Value::Array(_) | Value::Map(_));
     if nested && depth >= cbor::MAX_DEPTH {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 1: tables nested deeper than {} levels",
             cbor::MAX_DEPTH
         )));
@@ -301,17 +303,17 @@ fn check_packable(v: &Value, depth: usize, items: &mut usize) -> Result<(), ApiE
 
 /// `sim.packTable(table, scheme=0)` → bytes: the table (nested tables, nil, booleans,
 /// numbers, strings) as CBOR, for either scheme.
-fn pack_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn pack_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let v = a.get(0);
     if !matches!(v, Value::Array(_) | Value::Map(_)) {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 1: expected a table, got {}",
             v.type_name()
         )));
     }
     let scheme = a.opt_int(1, 0)?;
     if !SCHEMES.contains(&scheme) {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 2 (scheme): expected 0 (CoppeliaSim) or 1 (CBOR), got {scheme}"
         )));
     }
@@ -320,9 +322,9 @@ fn pack_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
 }
 
 /// `sim.unpackTable(data)` → the table packed by `sim.packTable` (or any CBOR item).
-fn unpack_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn unpack_table(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let data = a.bytes(0)?;
-    let v = cbor::decode(&data).map_err(|e| ApiError::new(format!("argument 1: not a packed table: {e}")))?;
+    let v = cbor::decode(&data).map_err(|e| SimError::bad_argument(format!("argument 1: not a packed table: {e}")))?;
     Ok(vec![v])
 }
 

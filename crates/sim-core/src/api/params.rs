@@ -7,8 +7,9 @@
 //! gantry does not have, or cannot set, is an error. A handle that names no object is
 //! always an error.
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::scene::{JointMode, Projection, ProximityModel};
 use crate::sim::Sim;
 use crate::world::{ObjectKind, World};
@@ -196,7 +197,7 @@ fn found(v: Option<Value>) -> Ret {
 
 /// `sim.getObjectInt32Param(objectHandle, parameterID)` → value, or nothing (`nil`) when
 /// the parameter does not apply to the object.
-pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
     let kind = &w.object(h)?.kind;
@@ -235,7 +236,7 @@ pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Arg
 /// resolution is 1..=2048 a side, within 1 GiB of RGB and depth images for all
 /// sensors together; `sim.visionintparam_perspective_operation` is 1 for perspective,
 /// 0 for orthographic.
-fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
     let v = a.int(2)?;
@@ -246,7 +247,8 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
         (SHAPE_RESPONDABLE, ObjectKind::Shape(_)) => w.set_shape_respondable(h, v != 0)?,
         (VISION_RES_X | VISION_RES_Y, ObjectKind::VisionSensor(m)) => {
             let mut m = *m;
-            let side = u32::try_from(v).map_err(|_| ApiError::new(format!("argument 3: invalid resolution {v}")))?;
+            let side =
+                u32::try_from(v).map_err(|_| SimError::bad_argument(format!("argument 3: invalid resolution {v}")))?;
             m.resolution[usize::from(id == VISION_RES_Y)] = side;
             w.set_vision_model(h, m)?;
         }
@@ -266,7 +268,7 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
                 DYNCTRL_VELOCITY => JointMode::Velocity,
                 DYNCTRL_POSITION => JointMode::Position,
                 _ => {
-                    return Err(ApiError::new(format!(
+                    return Err(SimError::bad_argument(format!(
                         "argument 3: gantry's dynamic joints have the free (0), force (1), velocity (4) and position (8) controllers, not {v}"
                     )));
                 }
@@ -282,7 +284,7 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 /// the parameter does not apply. Velocities are m/s and rad/s in the world frame, the
 /// bounding box in m in the object's frame, angles in rad, a vision sensor's clipping
 /// planes and ortho size (its view's extent along the larger image side) in m.
-pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
     let kind = &w.object(h)?.kind;
@@ -317,7 +319,7 @@ pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Arg
 
 /// `sim.setObjectFloatParam(objectHandle, parameterID, value)`; a parameter that does
 /// not apply, or is read-only, is ignored.
-fn set_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
     let v = a.f64(2)?;
@@ -344,14 +346,14 @@ fn set_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
     Ok(Vec::new())
 }
 
-fn unknown(what: &str, id: i64) -> ApiError {
-    ApiError::new(format!("could not {what} parameter {id}: gantry does not have it"))
+fn unknown(what: &str, id: i64) -> SimError {
+    SimError::bad_argument(format!("could not {what} parameter {id}: gantry does not have it"))
 }
 
 /// `sim.getInt32Param(parameter)`: the program version (40600, the CoppeliaSim API
 /// gantry follows), revision, full version, platform (0 Windows, 1 macOS, 2 Linux),
 /// physics substeps per step, and the object creation/destruction/hierarchy counters.
-fn get_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let id = a.int(0)?;
     let c = w.edit_counters();
     let v = match id {
@@ -373,7 +375,7 @@ fn get_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 }
 
 /// `sim.setInt32Param(parameter, value)`: gantry's integer parameters are all read-only.
-fn set_int32_param(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_int32_param(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let id = a.int(0)?;
     a.int(1)?;
     Err(unknown("set", id))
@@ -381,7 +383,7 @@ fn set_int32_param(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 
 /// `sim.getFloatParam(parameter)`: a random number in [0, 1), the simulation time step
 /// (s), or the physics time step (s, the step over the substeps).
-fn get_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let id = a.int(0)?;
     let s = *w.settings();
     let v = match id {
@@ -394,7 +396,7 @@ fn get_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 }
 
 /// `sim.setFloatParam(parameter, value)`: the simulation time step (s), while stopped.
-fn set_float_param(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_float_param(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let id = a.int(0)?;
     let v = a.f64(1)?;
     match id {
@@ -407,7 +409,7 @@ fn set_float_param(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 /// `sim.getBoolParam(parameter)`: whether dynamics, proximity and vision sensors are
 /// handled (always), headless (always: the viewer is a separate page), and the
 /// real-time flag as last set.
-fn get_bool_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_bool_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let id = a.int(0)?;
     let v = match id {
         BOOL_DYNAMICS_HANDLING | BOOL_PROXIMITY_SENSOR_HANDLING | BOOL_VISION_SENSOR_HANDLING | BOOL_HEADLESS => true,
@@ -419,7 +421,7 @@ fn get_bool_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 
 /// `sim.setBoolParam(parameter, value)`: only the real-time flag, which is stored and
 /// reported back (gantry's pacing is chosen on the command line, `--fast`).
-fn set_bool_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_bool_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let id = a.int(0)?;
     let v = a.bool(1)?;
     match id {
@@ -430,7 +432,7 @@ fn set_bool_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 }
 
 /// `sim.getArrayParam(parameter)`: gravity, `[x, y, z]` in m/s².
-fn get_array_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_array_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let id = a.int(0)?;
     match id {
         ARRAY_GRAVITY => Ok(vec![Value::floats(w.gravity().as_slice())]),
@@ -440,7 +442,7 @@ fn get_array_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 
 /// `sim.setArrayParam(parameter, values)`: gravity, `[x, y, z]` in m/s², from the next
 /// step on.
-fn set_array_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_array_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let id = a.int(0)?;
     match id {
         ARRAY_GRAVITY => w.set_gravity(a.vec3(1)?)?,

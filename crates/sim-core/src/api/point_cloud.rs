@@ -3,8 +3,9 @@
 //! and `get/setPointCloudOptions`, with CoppeliaSim 4.x's arguments and results. The
 //! model (voxels, tolerances, limits) lives in `world::point_cloud`.
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::math::{Pose, Vec3};
 use crate::world::{Handle, ObjectKind, PointCloud, PointCloudOptions, PointColors, World};
 
@@ -47,12 +48,12 @@ const POINTS_RELATIVE: i64 = 1;
 const COLORS_PER_POINT: i64 = 2;
 
 /// Arguments `i..i+4`: max voxel size, max point count per voxel, options, point size.
-fn options_args(a: &Args<'_>, i: usize) -> Result<PointCloudOptions, ApiError> {
+fn options_args(a: &Args<'_>, i: usize) -> Result<PointCloudOptions, SimError> {
     let voxel = a.finite(i)?;
     let count = a.int(i + 1)?;
     let options = a.int(i + 2)?;
     let size = a.finite(i + 3)?;
-    Ok(PointCloudOptions::new(voxel, count, options, size)?)
+    PointCloudOptions::new(voxel, count, options, size)
 }
 
 /// `sim.createPointCloud(maxVoxelSize, maxPtCntPerVoxel, options, pointSize)` → handle.
@@ -62,7 +63,7 @@ fn options_args(a: &Args<'_>, i: usize) -> Result<PointCloudOptions, ApiError> {
 /// 1-100 points per voxel, 1-8 pixels); negative ones are an error. Options: bit 0
 /// random colours, bit 1 show the OC tree, bit 3 no calculation structure, bit 4
 /// emissive colour.
-fn create_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let options = options_args(a, 0)?;
     let cloud = ObjectKind::PointCloud(Box::new(PointCloud::new(options)));
     let h = w.add_object("PointCloud", cloud, None, Pose::identity())?;
@@ -71,7 +72,7 @@ fn create_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Resul
 
 /// `sim.getPointCloudOptions(pointCloudHandle)` → `maxVoxelSize, maxPtCntPerVoxel,
 /// options, pointSize`, after clamping.
-fn get_point_cloud_options(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_point_cloud_options(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let o = w.point_cloud(a.handle(0)?)?.options();
     Ok(vec![
         Value::Float(o.max_voxel_size),
@@ -83,7 +84,7 @@ fn get_point_cloud_options(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> 
 
 /// `sim.setPointCloudOptions(pointCloudHandle, maxVoxelSize, maxPtCntPerVoxel, options,
 /// pointSize)`, as `sim.createPointCloud` takes them; the points stay.
-fn set_point_cloud_options(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_point_cloud_options(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     w.point_cloud(h)?;
     let options = options_args(a, 1)?;
@@ -93,7 +94,7 @@ fn set_point_cloud_options(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> 
 
 /// `sim.getPointCloudPoints(pointCloudHandle)` → `{x1, y1, z1, x2, ...}` in the cloud's
 /// frame (m), in insertion order.
-fn get_point_cloud_points(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_point_cloud_points(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let cloud = w.point_cloud(a.handle(0)?)?;
     let flat: Vec<f64> = cloud.points().iter().flat_map(|p| [p.x, p.y, p.z]).collect();
     Ok(vec![Value::floats(&flat)])
@@ -101,14 +102,14 @@ fn get_point_cloud_points(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 
 /// Argument `i`: a flat list of coordinates, 3 per point; `None` for nil. An empty
 /// table is no point.
-fn points_arg(a: &Args<'_>, i: usize) -> Result<Option<Vec<Vec3>>, ApiError> {
+fn points_arg(a: &Args<'_>, i: usize) -> Result<Option<Vec<Vec3>>, SimError> {
     let items = match a.get(i) {
         Value::Nil => return Ok(None),
         Value::Array(items) => items.as_slice(),
         // An empty Lua table arrives as an empty map.
         Value::Map(pairs) if pairs.is_empty() => &[],
         other => {
-            return Err(ApiError::bad_argument(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument {}: expected table of numbers (x, y, z per point), got {}",
                 i + 1,
                 other.type_name()
@@ -116,7 +117,7 @@ fn points_arg(a: &Args<'_>, i: usize) -> Result<Option<Vec<Vec3>>, ApiError> {
         }
     };
     if items.len() % 3 != 0 {
-        return Err(ApiError::bad_argument(format!(
+        return Err(SimError::bad_argument(format!(
             "argument {}: expected 3 numbers per point (x, y, z), got {} numbers",
             i + 1,
             items.len()
@@ -127,7 +128,7 @@ fn points_arg(a: &Args<'_>, i: usize) -> Result<Option<Vec<Vec3>>, ApiError> {
         match v.as_f64() {
             Some(f) if f.is_finite() => coords.push(f),
             _ => {
-                return Err(ApiError::bad_argument(format!(
+                return Err(SimError::bad_argument(format!(
                     "argument {}: element {} must be a finite number",
                     i + 1,
                     k + 1
@@ -142,7 +143,7 @@ fn points_arg(a: &Args<'_>, i: usize) -> Result<Option<Vec<Vec3>>, ApiError> {
 
 /// Points as the cloud stores them: in its frame. `relative` points already are;
 /// others are world-frame and go through the inverse of the cloud's pose.
-fn to_cloud_frame(w: &World, h: Handle, points: Vec<Vec3>, relative: bool) -> Result<Vec<Vec3>, ApiError> {
+fn to_cloud_frame(w: &World, h: Handle, points: Vec<Vec3>, relative: bool) -> Result<Vec<Vec3>, SimError> {
     if relative {
         return Ok(points);
     }
@@ -155,7 +156,7 @@ fn to_cloud_frame(w: &World, h: Handle, points: Vec<Vec3>, relative: bool) -> Re
 
 /// Argument `i`: colour bytes (0-255), as a table of numbers or a byte string; at least
 /// `needed` of them (extra ones are ignored, as in CoppeliaSim).
-fn color_bytes(a: &Args<'_>, i: usize, needed: usize) -> Result<Vec<u8>, ApiError> {
+fn color_bytes(a: &Args<'_>, i: usize, needed: usize) -> Result<Vec<u8>, SimError> {
     let bytes: Vec<u8> = match a.get(i) {
         Value::Array(items) => items
             .iter()
@@ -167,7 +168,7 @@ fn color_bytes(a: &Args<'_>, i: usize, needed: usize) -> Result<Vec<u8>, ApiErro
                     // Truncated like CoppeliaSim's conversion to unsigned char.
                     .map(|c| c as u8)
                     .ok_or_else(|| {
-                        ApiError::bad_argument(format!(
+                        SimError::bad_argument(format!(
                             "argument {}: colour element {} must be a number from 0 to 255",
                             i + 1,
                             k + 1
@@ -179,7 +180,7 @@ fn color_bytes(a: &Args<'_>, i: usize, needed: usize) -> Result<Vec<u8>, ApiErro
         Value::Str(s) => s.as_bytes().to_vec(),
         Value::Map(pairs) if pairs.is_empty() => Vec::new(),
         other => {
-            return Err(ApiError::bad_argument(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument {}: expected table of colour bytes (0-255) or nil, got {}",
                 i + 1,
                 other.type_name()
@@ -187,7 +188,7 @@ fn color_bytes(a: &Args<'_>, i: usize, needed: usize) -> Result<Vec<u8>, ApiErro
         }
     };
     if bytes.len() < needed {
-        return Err(ApiError::bad_argument(format!(
+        return Err(SimError::bad_argument(format!(
             "argument {}: expected at least {needed} colour values (3 per {}), got {}",
             i + 1,
             if needed == 3 { "cloud" } else { "point" },
@@ -204,12 +205,12 @@ fn color_bytes(a: &Args<'_>, i: usize, needed: usize) -> Result<Vec<u8>, ApiErro
 /// RGB 0-255, one triple for all points, or one per point with option bit 1; without
 /// it points are white. A point closer than `duplicateTolerance` (m, clamped to 1) to
 /// one already in the cloud, or inserted before it, is skipped.
-fn insert_points_into_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn insert_points_into_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     w.point_cloud(h)?;
     let options = a.int(1)?;
     let points = points_arg(a, 2)?
-        .ok_or_else(|| ApiError::bad_argument("argument 3: expected table of numbers (x, y, z per point), got nil"))?;
+        .ok_or_else(|| SimError::bad_argument("argument 3: expected table of numbers (x, y, z per point), got nil"))?;
     let per_point = options & COLORS_PER_POINT != 0;
     let colors: Option<Vec<[u8; 3]>> = match a.get(3) {
         Value::Nil => None,
@@ -236,7 +237,7 @@ fn insert_points_into_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'
 /// `sim.removePointsFromPointCloud(pointCloudHandle, options, points, tolerance)` →
 /// total point count. Removes every point closer than `tolerance` (m) to one of
 /// `points` (world frame unless option bit 0); `points` nil removes them all.
-fn remove_points_from_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn remove_points_from_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     w.point_cloud(h)?;
     let options = a.int(1)?;
@@ -255,7 +256,7 @@ fn remove_points_from_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'
 /// `sim.intersectPointsWithPointCloud(pointCloudHandle, options, points, tolerance)` →
 /// total point count. Keeps only the points closer than `tolerance` (m) to one of
 /// `points` (world frame unless option bit 0); `points` nil removes them all.
-fn intersect_points_with_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn intersect_points_with_point_cloud(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     w.point_cloud(h)?;
     let options = a.int(1)?;

@@ -1,7 +1,8 @@
 //! `sim.checkProximitySensor`: a proximity sensor's detection restricted to one entity.
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::sensor;
 use crate::world::{FIRST_COLLECTION_HANDLE, Handle, ObjectKind, World};
 
@@ -25,7 +26,7 @@ const HANDLE_ALL: Handle = -2;
 /// `detectable` flag; the members of a collection or of `sim.handle_all` only when
 /// detectable, as in `sim.handleProximitySensor`. The shapes of the body the sensor is
 /// mounted on are never detected, as for handled sensors.
-pub(super) fn check_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn check_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let sensor = a.handle(0)?;
     let entity = a.handle(1)?;
     let shapes = entity_shapes(w, entity)?;
@@ -51,7 +52,7 @@ pub(super) fn check_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Arg
 
 /// The shapes an entity stands for: the object itself, or the detectable shapes of a
 /// collection or of the whole scene.
-fn entity_shapes(w: &World, entity: Handle) -> Result<Vec<Handle>, ApiError> {
+fn entity_shapes(w: &World, entity: Handle) -> Result<Vec<Handle>, SimError> {
     let detectable = |h: &Handle| matches!(w.object(*h).map(|o| &o.kind), Ok(ObjectKind::Shape(s)) if s.detectable);
     Ok(if entity == HANDLE_ALL {
         w.handles().iter().copied().filter(detectable).collect()

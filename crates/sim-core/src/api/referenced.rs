@@ -5,8 +5,9 @@
 //! imported model's scripts find what they were saved with. Stored with the world's
 //! other per-object data ([`CustomData`](crate::world::CustomData)).
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::world::{Handle, World};
 
 /// The functions this file implements, in alphabetical order.
@@ -30,7 +31,7 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
 ];
 
 /// The optional tag argument at `i`: CoppeliaSim's default is the empty tag.
-fn tag<'a>(a: &Args<'a>, i: usize) -> Result<&'a str, ApiError> {
+fn tag<'a>(a: &Args<'a>, i: usize) -> Result<&'a str, SimError> {
     match a.get(i) {
         Value::Nil => Ok(""),
         _ => a.str(i),
@@ -49,17 +50,17 @@ fn live(w: &World, owner: Handle, tag: &str) -> Vec<Handle> {
 
 /// `sim.setReferencedHandles(objectHandle, handles, tag='')`: replaces the list under the
 /// tag; an empty list removes it. Every handle must name an object.
-fn set_referenced_handles(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_referenced_handles(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let owner = a.handle(0)?;
     w.object(owner)?;
     let Value::Array(items) = a.get(1) else {
-        return Err(ApiError::new("argument 2: a table of object handles"));
+        return Err(SimError::bad_argument("argument 2: a table of object handles"));
     };
     let mut handles = Vec::with_capacity(items.len());
     for (k, v) in items.iter().enumerate() {
         let h = v
             .as_i64()
-            .ok_or_else(|| ApiError::new(format!("argument 2: item {} is not a handle", k + 1)))?;
+            .ok_or_else(|| SimError::bad_argument(format!("argument 2: item {} is not a handle", k + 1)))?;
         w.object(h)?;
         handles.push(h);
     }
@@ -70,7 +71,7 @@ fn set_referenced_handles(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 
 /// `sim.getReferencedHandles(objectHandle, tag='')` → the handles (an empty table when the
 /// tag holds none).
-fn get_referenced_handles(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_referenced_handles(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let owner = a.handle(0)?;
     w.object(owner)?;
     let handles = live(w, owner, tag(a, 1)?);
@@ -79,7 +80,7 @@ fn get_referenced_handles(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 
 /// `sim.getReferencedHandle(objectHandle, tag='')` → the first handle under the tag, or
 /// -1 when there is none.
-fn get_referenced_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_referenced_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let owner = a.handle(0)?;
     w.object(owner)?;
     let first = live(w, owner, tag(a, 1)?).first().copied().unwrap_or(-1);
@@ -87,7 +88,7 @@ fn get_referenced_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Re
 }
 
 /// `sim.getReferencedHandlesTags(objectHandle)` → the tags that hold handles, sorted.
-fn get_referenced_handles_tags(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_referenced_handles_tags(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let owner = a.handle(0)?;
     w.object(owner)?;
     let tags = w.custom.referenced_tags(owner);

@@ -16,11 +16,12 @@
 //! minimum velocity / acceleration tables after the maximum ones. Units are the caller's (rad or m, per
 //! second, per second squared, per second cubed).
 
+use crate::error::SimError;
 use rsruckig::prelude::{
     ControlInterface, DataArrayOrVec, InputParameter, OutputParameter, Ruckig, RuckigError, Synchronization,
 };
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::motion::RuckigObject;
 use crate::sim::Sim;
@@ -67,24 +68,24 @@ const CYCLE_TOLERANCE: f64 = 1e-3;
 /// `sim.verbosity_scriptwarnings`, for Ruckig's reason when it rejects an input.
 const WARNING: i64 = 420;
 
-fn no_object(h: i64) -> ApiError {
-    ApiError::new(format!(
+fn no_object(h: i64) -> SimError {
+    SimError::no_such_item(format!(
         "Ruckig object does not exist (handle {h}): it was removed, or not created with sim.ruckigPos/ruckigVel"
     ))
 }
 
 /// Argument `i`: at least `n` numbers (extra ones are ignored, as CoppeliaSim does);
 /// infinities are allowed only where `allow_infinite` (limits), NaN never.
-fn numbers(a: &Args<'_>, i: usize, what: &str, n: usize, allow_infinite: bool) -> Result<Vec<f64>, ApiError> {
+fn numbers(a: &Args<'_>, i: usize, what: &str, n: usize, allow_infinite: bool) -> Result<Vec<f64>, SimError> {
     let Value::Array(items) = a.get(i) else {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument {} ({what}): expected a table of {n} numbers, got {}",
             i + 1,
             a.get(i).type_name()
         )));
     };
     if items.len() < n {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument {} ({what}): expected {n} numbers, got {}",
             i + 1,
             items.len()
@@ -95,7 +96,7 @@ fn numbers(a: &Args<'_>, i: usize, what: &str, n: usize, allow_infinite: bool) -
         .enumerate()
         .map(|(k, v)| match v.as_f64() {
             Some(f) if f.is_finite() || (allow_infinite && !f.is_nan()) => Ok(f),
-            _ => Err(ApiError::new(format!(
+            _ => Err(SimError::bad_argument(format!(
                 "argument {} ({what}): element {} must be a {}number, got {}",
                 i + 1,
                 k + 1,
@@ -110,15 +111,15 @@ fn numbers(a: &Args<'_>, i: usize, what: &str, n: usize, allow_infinite: bool) -
 }
 
 /// The arguments both constructors share: DoF count, base cycle time and flags.
-fn header(a: &Args<'_>) -> Result<(usize, f64, i64), ApiError> {
+fn header(a: &Args<'_>) -> Result<(usize, f64, i64), SimError> {
     let dofs = a.int(0)?;
     let dofs = usize::try_from(dofs)
         .ok()
         .filter(|d| (1..=MAX_DOFS).contains(d))
-        .ok_or_else(|| ApiError::new(format!("argument 1 (dofs): expected 1 to {MAX_DOFS}, got {dofs}")))?;
+        .ok_or_else(|| SimError::bad_argument(format!("argument 1 (dofs): expected 1 to {MAX_DOFS}, got {dofs}")))?;
     let base = a.f64(1)?;
     if !(base.is_finite() && base > 0.0) {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 2 (baseCycleTime): expected a positive number of seconds, got {base}"
         )));
     }
@@ -134,7 +135,7 @@ fn generator(
     flags: i64,
     cur: &[f64],
     sel_arg: usize,
-) -> Result<RuckigObject, ApiError> {
+) -> Result<RuckigObject, SimError> {
     let selection = match a.get(sel_arg) {
         Value::Array(items) if items.len() >= dofs => items[..dofs]
             .iter()
@@ -142,7 +143,7 @@ fn generator(
             .map(|(k, v)| match v {
                 Value::Bool(b) => Ok(*b),
                 v => v.as_f64().map(|x| x != 0.0).ok_or_else(|| {
-                    ApiError::new(format!(
+                    SimError::bad_argument(format!(
                         "argument {} (selection): element {} must be a number or a boolean",
                         sel_arg + 1,
                         k + 1
@@ -151,7 +152,7 @@ fn generator(
             })
             .collect::<Result<Vec<bool>, _>>()?,
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument {} (selection): expected a table of {dofs} values, got {}",
                 sel_arg + 1,
                 match other {
@@ -198,7 +199,7 @@ fn min_flags(flags: i64) -> (bool, bool) {
 
 /// `sim.ruckigPos(dofs, baseCycleTime, flags, currentPosVelAccel[3n],
 /// maxVelAccelJerk[3n (+n minVel) (+n minAccel)], selection[n], targetPosVel[2n])` → handle.
-fn ruckig_pos(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn ruckig_pos(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (n, base, flags) = header(a)?;
     let cur = numbers(a, 3, "currentPosVelAccel", 3 * n, false)?;
     let (min_vel, min_accel) = min_flags(flags);
@@ -228,7 +229,7 @@ fn ruckig_pos(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
 
 /// `sim.ruckigVel(dofs, baseCycleTime, flags, currentPosVelAccel[3n],
 /// maxAccelJerk[2n (+n minAccel)], selection[n], targetVel[n])` → handle.
-fn ruckig_vel(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn ruckig_vel(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (n, base, flags) = header(a)?;
     let cur = numbers(a, 3, "currentPosVelAccel", 3 * n, false)?;
     let (_, min_accel) = min_flags(flags);
@@ -257,14 +258,14 @@ fn ruckig_vel(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, A
 /// the state is returned unchanged. `synchronizationTime` is the time still needed to
 /// reach the target after this step: the trajectory's duration minus the time stepped,
 /// negative by the unused part of the last cycle once finished.
-fn ruckig_step(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn ruckig_step(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let cycle = a.f64(1)?;
     let now = sim.world.time();
     let obj = sim.ruckig.get_mut(h).ok_or_else(|| no_object(h))?;
     let cycles = (cycle / obj.base_cycle).round();
     if !(cycle.is_finite() && cycles >= 1.0 && (1.0 - cycles * obj.base_cycle / cycle).abs() < CYCLE_TOLERANCE) {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 2 (cycleTime): expected a positive multiple of the base cycle time {} s, got {cycle}",
             obj.base_cycle
         )));
@@ -306,7 +307,7 @@ fn ruckig_step(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret
 }
 
 /// `sim.ruckigRemove(handle)`.
-fn ruckig_remove(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn ruckig_remove(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     sim.ruckig.objects.remove(&h).ok_or_else(|| no_object(h))?;
     Ok(Vec::new())

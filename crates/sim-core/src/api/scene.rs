@@ -4,12 +4,13 @@
 //! The world does the editing (`world::edit`); this file reads CoppeliaSim 4.6's argument
 //! forms and defaults and gives its return shapes.
 
+use crate::error::SimError;
 use crate::sim::Sim;
 use std::f64::consts::PI;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::math::{Pose, Vec3};
 use crate::scene::{Geometry, JointMode, MeshData, ShapeModel};
@@ -146,19 +147,20 @@ pub const FUNCTIONS: &[ApiFunction] = &[
 ];
 
 /// A required table of handles.
-fn handle_list(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, ApiError> {
+fn handle_list(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, SimError> {
     match a.get(i) {
         Value::Array(items) => items
             .iter()
             .enumerate()
             .map(|(k, v)| {
-                v.as_i64()
-                    .ok_or_else(|| ApiError::new(format!("argument {}: element {} must be a handle", i + 1, k + 1)))
+                v.as_i64().ok_or_else(|| {
+                    SimError::bad_argument(format!("argument {}: element {} must be a handle", i + 1, k + 1))
+                })
             })
             .collect(),
         // An empty Lua table arrives as an empty map.
         Value::Map(pairs) if pairs.is_empty() => Ok(Vec::new()),
-        other => Err(ApiError::new(format!(
+        other => Err(SimError::bad_argument(format!(
             "argument {}: expected table of handles, got {}",
             i + 1,
             other.type_name()
@@ -174,12 +176,14 @@ fn handle_list(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, ApiError> {
 /// fall with `sim.setObjectInt32Param(h, sim.shapeintparam_static, 0)` and
 /// `sim.shapeintparam_respondable, 1`. Options bit 0 (culling), 1 (edges) and 2 (open
 /// ends) only change how CoppeliaSim draws it and are accepted and ignored.
-fn create_primitive_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create_primitive_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let kind = a.int(0)?;
     let sizes = a.floats::<3>(1)?;
     a.opt_int(2, 0)?;
     if let Some(s) = sizes.iter().find(|s| **s <= 0.0) {
-        return Err(ApiError::new(format!("argument 2: sizes must be positive, got {s}")));
+        return Err(SimError::bad_argument(format!(
+            "argument 2: sizes must be positive, got {s}"
+        )));
     }
     let [x, y, z] = sizes;
     let thin = 1e-4; // CoppeliaSim's thickness of planes and discs, m
@@ -235,7 +239,7 @@ fn create_primitive_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
             )
         }
         _ => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 1: invalid primitive type {kind} (sim.primitiveshape_plane, _disc, _cuboid, _spheroid, _cylinder, _cone or _capsule)"
             )));
         }
@@ -316,7 +320,7 @@ fn revolved_mesh(name: &str, profile: &[(f64, f64)], size: [f64; 3]) -> Geometry
 
 /// `sim.createDummy(size)` → handle, at the world origin. The size (m) only sets how
 /// big CoppeliaSim draws it.
-fn create_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn create_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     a.finite(0)?;
     let h = w.add_object("Dummy", ObjectKind::Dummy, None, Pose::identity())?;
     Ok(vec![Value::Int(h)])
@@ -324,20 +328,20 @@ fn create_dummy(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 
 /// `sim.removeObjects(objectHandles)`: all or nothing; children of a removed object move
 /// up to its parent.
-fn remove_objects(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn remove_objects(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     sim.remove_objects(&handle_list(a, 0)?)?;
     Ok(Vec::new())
 }
 
 /// `sim.removeObject(objectHandle)`: the pre-4.3 name for one object.
-fn remove_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn remove_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     sim.remove_objects(&[a.handle(0)?])?;
     Ok(Vec::new())
 }
 
 /// `sim.copyPasteObjects(objectHandles, options=0)` → copies' handles, in the given order.
 /// Options bit 0: copy whole models for model bases.
-fn copy_paste_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn copy_paste_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let handles = handle_list(a, 0)?;
     let options = a.opt_int(1, 0)?;
     let copies = w.copy_objects(&handles, options & 1 != 0)?;
@@ -346,7 +350,7 @@ fn copy_paste_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Resul
 
 /// `sim.setObjectParent(objectHandle, parentHandle, keepInPlace=true)`; a parent of -1
 /// makes the object a root.
-fn set_object_parent(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_object_parent(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let parent = match a.handle(1)? {
         -1 => None,
@@ -359,7 +363,7 @@ fn set_object_parent(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result
 
 /// `sim.getObjectChild(objectHandle, index)` → the index-th child (0-based, hierarchy
 /// order), or -1 past the last.
-fn get_object_child(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_child(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let index = a.int(1)?;
     w.object(h)?;
@@ -372,7 +376,7 @@ fn get_object_child(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 
 /// `sim.getObjects(index, objectType)` → the index-th object (0-based, creation order)
 /// of a type (`sim.handle_all` for any), or -1 past the last.
-fn get_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let index = a.int(0)?;
     let kind = a.int(1)?;
     let found = usize::try_from(index).ok().and_then(|i| {
@@ -386,29 +390,29 @@ fn get_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
 /// `sim.setObjectAlias(objectHandle, alias)`. With `sim.handleflag_silenterror` OR-ed onto
 /// the handle (4.0-4.2 scripts pass it to `sim.setObjectName`), a missing object or a bad
 /// alias is ignored instead of raised; argument types are still checked.
-fn set_object_alias(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_object_alias(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let raw = a.handle(0)?;
     let silent = raw >= 0 && raw & HANDLEFLAG_SILENT_ERROR != 0;
     let h = if silent { raw & !HANDLEFLAG_SILENT_ERROR } else { raw };
     match w.set_alias(h, a.str(1)?) {
         Err(_) if silent => Ok(Vec::new()),
-        r => r.map(|()| Vec::new()).map_err(ApiError::from),
+        r => r.map(|()| Vec::new()),
     }
 }
 
 /// The colour name argument: `nil`, `""` and `"@compound"` mean every part; gantry's
 /// parts have no names, so any other name matches nothing.
-fn all_parts(a: &Args<'_>, i: usize) -> Result<bool, ApiError> {
+fn all_parts(a: &Args<'_>, i: usize) -> Result<bool, SimError> {
     match a.get(i) {
         Value::Nil => Ok(true),
         _ => Ok(matches!(a.str(i)?, "" | "@compound")),
     }
 }
 
-fn color_component(a: &Args<'_>, i: usize) -> Result<ColorComponent, ApiError> {
+fn color_component(a: &Args<'_>, i: usize) -> Result<ColorComponent, SimError> {
     let c = a.int(i)?;
     ColorComponent::from_code(c).ok_or_else(|| {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument {}: invalid color component {c} (sim.colorcomponent_ambient_diffuse .. _auxiliary)",
             i + 1
         ))
@@ -417,7 +421,7 @@ fn color_component(a: &Args<'_>, i: usize) -> Result<ColorComponent, ApiError> {
 
 /// `sim.getShapeColor(shapeHandle, colorName, colorComponent)` → `result, rgbData`:
 /// result 1 and the colour when found, 0 and zeros when the name matches no part.
-fn get_shape_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_shape_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let all = all_parts(a, 1)?;
     let component = color_component(a, 2)?;
@@ -430,14 +434,14 @@ fn get_shape_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 
 /// `sim.setShapeColor(shapeHandle, colorName, colorComponent, rgbData)`: 3 values in
 /// 0..1 (1 for transparency).
-fn set_shape_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_shape_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let all = all_parts(a, 1)?;
     let component = color_component(a, 2)?;
     let values: Vec<f64> = match a.get(3) {
         Value::Array(items) => items.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect(),
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 4: expected table of numbers, got {}",
                 other.type_name()
             )));
@@ -451,12 +455,12 @@ fn set_shape_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 }
 
 /// `sim.getShapeMass(shapeHandle)` → kg.
-fn get_shape_mass(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_shape_mass(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::Float(w.shape_mass(a.handle(0)?)?)])
 }
 
 /// `sim.setShapeMass(shapeHandle, mass)`, kg.
-fn set_shape_mass(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_shape_mass(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     w.set_shape_mass(h, a.finite(1)?)?;
     Ok(Vec::new())
@@ -464,7 +468,7 @@ fn set_shape_mass(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 
 /// `sim.setShapeBB(shapeHandle, size)`: scales the shape along its own axes so that its
 /// bounding box (as `sim.getShapeBB` gives it) becomes `size`, m.
-fn set_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let size = a.vec3(1)?;
     w.shape(h)?;
@@ -473,13 +477,13 @@ fn set_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
     for k in 0..3 {
         let now = hi[k] - lo[k];
         if !(size[k].is_finite() && size[k] > 0.0) {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "sizes must be finite and > 0, got {:?}",
                 size.as_slice()
             )));
         }
         if now <= 0.0 {
-            return Err(ApiError::new(
+            return Err(SimError::refused(
                 "the shape is flat along an axis and cannot be stretched along it",
             ));
         }
@@ -491,7 +495,7 @@ fn set_shape_bb(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 
 /// `sim.scaleObject(objectHandle, xScale, yScale, zScale, options=0)`: scales a shape along
 /// its own axes (its mass at the same density). gantry scales shapes only.
-fn scale_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn scale_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let factors = [a.finite(1)?, a.finite(2)?, a.finite(3)?];
     w.scale_shape(h, factors)?;
@@ -499,7 +503,7 @@ fn scale_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 }
 
 /// Splits `sim.handleflag_resetforce` / `_resettorque` off a handle and applies them.
-fn flagged_handle(w: &mut World, raw: i64) -> Result<Handle, ApiError> {
+fn flagged_handle(w: &mut World, raw: i64) -> Result<Handle, SimError> {
     let h = raw & !(RESET_FORCE | RESET_TORQUE);
     let (force, torque) = (raw & RESET_FORCE != 0, raw & RESET_TORQUE != 0);
     if force || torque {
@@ -510,7 +514,7 @@ fn flagged_handle(w: &mut World, raw: i64) -> Result<Handle, ApiError> {
 
 /// `sim.addForce(shapeHandle, position, force)`: a force (N) at a point (m), both in
 /// absolute coordinates, on a dynamic shape for the next simulation step only.
-fn add_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = flagged_handle(w, a.handle(0)?)?;
     let at = a.vec3(1)?;
     let force = a.vec3(2)?;
@@ -520,7 +524,7 @@ fn add_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, Ap
 
 /// `sim.addForceAndTorque(shapeHandle, force=nil, torque=nil)`: a force (N) at the centre
 /// of mass and a torque (N·m), absolute coordinates, for the next simulation step only.
-fn add_force_and_torque(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn add_force_and_torque(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = flagged_handle(w, a.handle(0)?)?;
     let opt = |i: usize| match a.get(i) {
         Value::Nil => Ok(Vec3::zeros()),
@@ -534,7 +538,7 @@ fn add_force_and_torque(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Res
 /// `sim.resetDynamicObject(objectHandle)`: the object and everything below it leave the
 /// physics engine and come back at rest where they are; `sim.handle_all` resets the
 /// whole scene.
-fn reset_dynamic_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn reset_dynamic_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     match a.handle(0)? {
         -2 => {
             for h in w.roots().to_vec() {
@@ -550,7 +554,7 @@ fn reset_dynamic_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Res
 /// or `sim.jointmode_dynamic` (5; a joint that was kinematic becomes position-controlled
 /// and holds where it is). `sim.jointmode_dependent` (4) exists only for URDF `<mimic>`
 /// followers, which already are.
-fn set_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let mode = a.int(1)?;
     a.opt_int(2, 0)?;
@@ -561,12 +565,12 @@ fn set_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
         5 => JointMode::Position,
         4 if joint.mimic.is_some() => joint.mode,
         4 => {
-            return Err(ApiError::new(
+            return Err(SimError::bad_argument(
                 "argument 2: gantry has dependent joints only as URDF <mimic> followers",
             ));
         }
         _ => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 2: invalid joint mode {mode} (sim.jointmode_kinematic or sim.jointmode_dynamic)"
             )));
         }
@@ -577,7 +581,7 @@ fn set_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 
 /// `sim.getJointMode(jointHandle)` → `jointMode, options`: 0 kinematic, 4 a `<mimic>`
 /// follower, 5 dynamic; options are always 0.
-fn get_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let j = w.joint(a.handle(0)?)?;
     let mode = match j.mode {
         _ if j.mimic.is_some() => 4,
@@ -588,18 +592,18 @@ fn get_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 }
 
 /// `sim.getJointMaxForce(jointHandle)` → the motor's largest torque (N·m) or force (N).
-fn get_joint_max_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_joint_max_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::Float(w.joint(a.handle(0)?)?.max_force)])
 }
 
 /// `sim.getJointTargetForce(jointHandle)` → `sim.setJointTargetForce`'s value, signed.
-fn get_joint_target_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_joint_target_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::Float(w.joint(a.handle(0)?)?.target_force)])
 }
 
 /// `sim.setJointMaxForce(jointHandle, forceOrTorque)`: the pre-4.3 name of
 /// `sim.setJointTargetForce`.
-fn set_joint_max_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_joint_max_force(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     w.set_joint_max_force(h, a.finite(1)?)?;
     Ok(Vec::new())

@@ -1,7 +1,8 @@
 //! Proximity and force sensors, collections, distance and collision checks.
 
-use super::{ApiError, Args, CallContext, Ret};
+use super::{Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::world::{Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind, ObjectKind, World};
 
 fn detection_values(last: Option<Option<crate::world::Detection>>) -> Ret {
@@ -27,20 +28,21 @@ fn detection_values(last: Option<Option<crate::world::Detection>>) -> Ret {
 
 /// `sim.readProximitySensor(h)` → `res, dist, point, obj, normal` from the last handling.
 /// Point and normal are in the sensor frame.
-pub(super) fn read_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn read_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     match &w.object(h)?.kind {
         ObjectKind::ProximitySensor(s) => Ok(detection_values(s.last)),
-        other => Err(ApiError::new(format!(
-            "object {h} is a {}, not a proximity sensor",
-            other.name()
-        ))),
+        other => Err(SimError::WrongKind {
+            handle: h,
+            expected: "proximity sensor",
+            actual: other.name(),
+        }),
     }
 }
 
 /// `sim.handleProximitySensor(h)` → same as read, after sensing now. `sim.handle_all`
 /// handles every sensor and returns the first one's result shape with zeros.
-pub(super) fn handle_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn handle_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     if h == -2 || h == -3 {
         crate::sensor::handle_all_proximity_sensors(w);
@@ -52,7 +54,7 @@ pub(super) fn handle_proximity_sensor(w: &mut World, _: &CallContext<'_>, a: &Ar
 
 /// `sim.readForceSensor(h)` → `result, [fx, fy, fz], [tx, ty, tz]` (N, N·m, sensor frame).
 /// `result` bit 0 is set once a reading exists.
-pub(super) fn read_force_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn read_force_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     match &w.object(h)?.kind {
         ObjectKind::ForceSensor(r) => Ok(vec![
@@ -60,15 +62,16 @@ pub(super) fn read_force_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>
             Value::floats(r.force.as_slice()),
             Value::floats(r.torque.as_slice()),
         ]),
-        other => Err(ApiError::new(format!(
-            "object {h} is a {}, not a force sensor",
-            other.name()
-        ))),
+        other => Err(SimError::WrongKind {
+            handle: h,
+            expected: "force sensor",
+            actual: other.name(),
+        }),
     }
 }
 
 /// `sim.createCollection(options=0)` → collection handle.
-pub(super) fn create_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn create_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let _options = a.opt_int(0, 0)?;
     w.collections.push(Some(Collection::default()));
     Ok(vec![Value::Int(
@@ -77,7 +80,7 @@ pub(super) fn create_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>
 }
 
 /// `sim.destroyCollection(h)`.
-pub(super) fn destroy_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn destroy_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let slot = usize::try_from(h - FIRST_COLLECTION_HANDLE)
         .ok()
@@ -87,14 +90,14 @@ pub(super) fn destroy_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_
             *c = None;
             Ok(Vec::new())
         }
-        _ => Err(ApiError::new(format!("collection {h} does not exist"))),
+        _ => Err(SimError::no_such_item(format!("collection {h} does not exist"))),
     }
 }
 
 /// `sim.addItemToCollection(coll, what, obj, options)`: `what` is `sim.handle_single`,
 /// `handle_all`, `handle_tree` or `handle_chain`; options bit 0 removes instead of adds,
 /// bit 1 leaves out the tree base / chain tip.
-pub(super) fn add_item_to_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn add_item_to_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let c = a.handle(0)?;
     let kind = match a.int(1)? {
         -8 => ItemKind::Single,
@@ -102,7 +105,7 @@ pub(super) fn add_item_to_collection(w: &mut World, _: &CallContext<'_>, a: &Arg
         -6 => ItemKind::Tree,
         -7 => ItemKind::Chain,
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 2: {other} is not sim.handle_single, handle_all, handle_tree or handle_chain"
             )));
         }
@@ -116,7 +119,7 @@ pub(super) fn add_item_to_collection(w: &mut World, _: &CallContext<'_>, a: &Arg
         .ok()
         .and_then(|i| w.collections.get_mut(i));
     let Some(Some(coll)) = slot else {
-        return Err(ApiError::new(format!("collection {c} does not exist")));
+        return Err(SimError::no_such_item(format!("collection {c} does not exist")));
     };
     coll.items.push(CollectionItem {
         kind,
@@ -131,10 +134,12 @@ pub(super) fn add_item_to_collection(w: &mut World, _: &CallContext<'_>, a: &Arg
 /// with world-frame points. `e2 = sim.handle_all` means every measurable shape not in e1.
 /// A threshold (metres) of 0 or less, or infinite, means none; NaN is refused rather
 /// than silently read as "none".
-pub(super) fn check_distance(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn check_distance(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let threshold = a.opt_f64(2, 0.0)?;
     if threshold.is_nan() {
-        return Err(ApiError::new("argument 3: the threshold must be a number, got NaN"));
+        return Err(SimError::bad_argument(
+            "argument 3: the threshold must be a number, got NaN",
+        ));
     }
     w.refresh_queries();
     let set1 = w.entity_shapes(a.handle(0)?, &[])?;
@@ -154,7 +159,7 @@ pub(super) fn check_distance(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -
 }
 
 /// `sim.checkCollision(e1, e2)` → `result, [obj1, obj2]`.
-pub(super) fn check_collision(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn check_collision(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     w.refresh_queries();
     let set1 = w.entity_shapes(a.handle(0)?, &[])?;
     let set2 = w.entity_shapes(a.handle(1)?, &set1)?;

@@ -1,21 +1,22 @@
 //! Signals: named integer, float and string values that scripts and clients share,
 //! set, read and cleared by name.
 
-use super::{ApiError, Args, CallContext, Ret};
+use super::{Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::sim::Sim;
 
 /// `sim.setInt32Signal(name, value)`.
-pub(super) fn set_int32_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn set_int32_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let name = a.str(0)?.to_owned();
     let v = a.int(1)?;
-    let v = i32::try_from(v).map_err(|_| ApiError::new(format!("argument 2: {v} does not fit in 32 bits")))?;
+    let v = i32::try_from(v).map_err(|_| SimError::bad_argument(format!("argument 2: {v} does not fit in 32 bits")))?;
     sim.signals.int32.insert(name, v);
     Ok(Vec::new())
 }
 
 /// `sim.getInt32Signal(name)` → value, or nil when not set.
-pub(super) fn get_int32_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_int32_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![
         sim.signals
             .int32
@@ -25,7 +26,7 @@ pub(super) fn get_int32_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>)
 }
 
 /// `sim.clearInt32Signal(name)`; with no name, clears them all.
-pub(super) fn clear_int32_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn clear_int32_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     match a.get(0) {
         Value::Nil => sim.signals.int32.clear(),
         _ => {
@@ -36,14 +37,14 @@ pub(super) fn clear_int32_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_
 }
 
 /// `sim.setFloatSignal(name, value)`.
-pub(super) fn set_float_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn set_float_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let name = a.str(0)?.to_owned();
     sim.signals.float.insert(name, a.f64(1)?);
     Ok(Vec::new())
 }
 
 /// `sim.getFloatSignal(name)` → value, or nil when not set.
-pub(super) fn get_float_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_float_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![
         sim.signals
             .float
@@ -53,7 +54,7 @@ pub(super) fn get_float_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>)
 }
 
 /// `sim.clearFloatSignal(name)`; with no name, clears them all.
-pub(super) fn clear_float_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn clear_float_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     match a.get(0) {
         Value::Nil => sim.signals.float.clear(),
         _ => {
@@ -64,14 +65,14 @@ pub(super) fn clear_float_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_
 }
 
 /// `sim.setStringSignal(name, value)`: text or bytes.
-pub(super) fn set_string_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn set_string_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let name = a.str(0)?.to_owned();
     sim.signals.string.insert(name, a.bytes(1)?);
     Ok(Vec::new())
 }
 
 /// `sim.getStringSignal(name)` → the value as bytes, or nil.
-pub(super) fn get_string_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_string_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     // Always a byte buffer, as in CoppeliaSim 4.6+ (Python clients get `bytes`);
     // Lua sees a string either way.
     Ok(vec![match sim.signals.string.get(a.str(0)?) {
@@ -81,7 +82,7 @@ pub(super) fn get_string_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>
 }
 
 /// `sim.clearStringSignal(name)`; with no name, clears them all.
-pub(super) fn clear_string_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn clear_string_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     match a.get(0) {
         Value::Nil => sim.signals.string.clear(),
         _ => {

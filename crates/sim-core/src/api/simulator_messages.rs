@@ -1,15 +1,16 @@
 //! `sim.getSimulatorMessage`: user-interface events (the viewer's key presses) queued
 //! for each script and for the remote clients.
 
-use super::{ApiError, Args, CallContext, Ret};
+use super::{Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::sim::Sim;
 
 /// `sim.getSimulatorMessage()` → `message, auxiliaryData, auxiliaryData2`: the caller's
 /// next user-interface event (each script, and the remote clients together, read their
 /// own queue), `-1, {0, 0, 0, 0}, {}` when there is none. gantry posts key presses in
 /// the viewer: `sim.message_keypress`, `{code, modifiers, 0, 0}`.
-pub(super) fn get_simulator_message(sim: &mut Sim, ctx: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_simulator_message(sim: &mut Sim, ctx: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, SimError> {
     let (kind, aux) = sim
         .messages
         .next(ctx.script_object)

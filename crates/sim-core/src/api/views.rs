@@ -3,8 +3,9 @@
 //! [`crate::ui::FloatingViews`]) and the object selection (`sim.getObjectSel`,
 //! `sim.setObjectSel`; see [`crate::world::Selection`]).
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::sim::Sim;
 use crate::world::ObjectKind;
 
@@ -34,7 +35,7 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
 
 /// `sim.getObjectSel()` → the selected objects' handles, in selection order (the
 /// viewer's click selects one).
-fn get_object_sel(sim: &mut Sim, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_object_sel(sim: &mut Sim, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, SimError> {
     Ok(vec![Value::Array(
         sim.world.selection.handles().iter().map(|&h| Value::Int(h)).collect(),
     )])
@@ -42,26 +43,27 @@ fn get_object_sel(sim: &mut Sim, _: &CallContext<'_>, _: &Args<'_>) -> Result<Re
 
 /// `sim.setObjectSel(handles)`: replaces the selection (the viewer shows its first
 /// object); every handle must name an object; an empty table clears it.
-fn set_object_sel(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_object_sel(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let handles = match a.get(0) {
         Value::Array(items) => items
             .iter()
             .map(|v| {
-                v.as_i64()
-                    .ok_or_else(|| ApiError::new(format!("argument 1: expected object handles, got {}", v.type_name())))
+                v.as_i64().ok_or_else(|| {
+                    SimError::bad_argument(format!("argument 1: expected object handles, got {}", v.type_name()))
+                })
             })
             .collect::<Result<Vec<_>, _>>()?,
         // An empty Lua table converts to an empty map.
         Value::Map(pairs) if pairs.is_empty() => Vec::new(),
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 1: expected a table of object handles, got {}",
                 other.type_name()
             )));
         }
     };
     if handles.len() > crate::world::MAX_SELECTION {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 1: at most {} objects can be selected",
             crate::world::MAX_SELECTION
         )));
@@ -76,14 +78,14 @@ fn set_object_sel(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 /// `sim.floatingViewAdd(posX, posY, sizeX, sizeY, options)` → the view's handle. The
 /// position is the view's centre and the size its extent, both relative to the main
 /// view (0..1, from the bottom left).
-fn floating_view_add(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn floating_view_add(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let centre = [a.finite(0)?, a.finite(1)?];
     let size = [a.finite(2)?, a.finite(3)?];
     let options = a.opt_int(4, 0)?;
     let h = sim
         .views
         .add(centre, size, options)
-        .map_err(|e| ApiError::new(e.to_string()))?;
+        .map_err(|e| SimError::refused(e.to_string()))?;
     Ok(vec![Value::Int(h)])
 }
 
@@ -91,14 +93,14 @@ fn floating_view_add(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result
 /// shows what `objectHandle` sees (a vision sensor's image in gantry's viewer; -1 for
 /// nothing), captioned `viewLabel` or the object's alias. `options` are accepted and
 /// ignored.
-fn adjust_view(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn adjust_view(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let view = a.int(0)?;
     let object = match a.int(1)? {
         -1 => None,
         h => {
             let o = sim.world.object(h)?;
             if !matches!(o.kind, ObjectKind::VisionSensor(_)) {
-                return Err(ApiError::new(format!(
+                return Err(SimError::bad_argument(format!(
                     "argument 2: object {h} is not a vision sensor: gantry's floating views show vision sensors"
                 )));
             }
@@ -115,13 +117,13 @@ fn adjust_view(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
     };
     sim.views
         .adjust(view, object, &label)
-        .map_err(|e| ApiError::new(format!("argument 1: {e}")))?;
+        .map_err(|e| SimError::bad_argument(format!("argument 1: {e}")))?;
     Ok(vec![Value::Int(1)])
 }
 
 /// `sim.floatingViewRemove(viewHandle)` → 1 when removed, 0 when there was no such
 /// view (CoppeliaSim's result, not an error).
-fn floating_view_remove(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn floating_view_remove(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let view = a.int(0)?;
     Ok(vec![Value::Int(i64::from(sim.views.remove(view)))])
 }

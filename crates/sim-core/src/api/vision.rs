@@ -8,8 +8,9 @@
 //! the defaults `{0, 0}`, `{0, 0}` mean the whole image. Functions returning an image
 //! also return the portion's `{width, height}`.
 
-use super::{ApiError, ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::error::SimError;
 use crate::sim::Sim;
 use crate::vision::{self, SensorImage, VisionResult};
 use crate::world::Handle;
@@ -137,9 +138,9 @@ impl Portion {
 }
 
 /// Argument `i` as `{a, b}` of non-negative integers; `{0, 0}` when absent.
-fn int_pair(a: &Args<'_>, i: usize) -> Result<[usize; 2], ApiError> {
+fn int_pair(a: &Args<'_>, i: usize) -> Result<[usize; 2], SimError> {
     let bad = || {
-        ApiError::new(format!(
+        SimError::bad_argument(format!(
             "argument {}: expected a table of 2 non-negative integers",
             i + 1
         ))
@@ -155,7 +156,7 @@ fn int_pair(a: &Args<'_>, i: usize) -> Result<[usize; 2], ApiError> {
 }
 
 /// The portion named by arguments `pos_i` and `pos_i + 1` of an image of `res`.
-fn portion(a: &Args<'_>, pos_i: usize, res: [u32; 2]) -> Result<Portion, ApiError> {
+fn portion(a: &Args<'_>, pos_i: usize, res: [u32; 2]) -> Result<Portion, SimError> {
     let pos = int_pair(a, pos_i)?;
     let size = int_pair(a, pos_i + 1)?;
     let res = res.map(|v| v as usize);
@@ -167,7 +168,7 @@ fn portion(a: &Args<'_>, pos_i: usize, res: [u32; 2]) -> Result<Portion, ApiErro
             size[k]
         };
         if pos[k] >= res[k] || extent > res[k] - pos[k] {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "arguments {} and {}: portion at {{{}, {}}} of size {{{}, {}}} exceeds the {}x{} image",
                 pos_i + 1,
                 pos_i + 2,
@@ -190,11 +191,11 @@ fn portion(a: &Args<'_>, pos_i: usize, res: [u32; 2]) -> Result<Portion, ApiErro
 }
 
 /// Argument `i` as a sensor handle, `sim.handle_self` meaning the calling script's object.
-fn sensor_handle(ctx: &CallContext<'_>, a: &Args<'_>, i: usize) -> Result<Handle, ApiError> {
+fn sensor_handle(ctx: &CallContext<'_>, a: &Args<'_>, i: usize) -> Result<Handle, SimError> {
     match a.handle(i)? {
         HANDLE_SELF => ctx
             .script_object
-            .ok_or_else(|| ApiError::new("sim.handle_self: the caller is not a script attached to an object")),
+            .ok_or_else(|| SimError::bad_argument("sim.handle_self: the caller is not a script attached to an object")),
         h => Ok(h),
     }
 }
@@ -215,7 +216,7 @@ fn result_values(result: Option<&VisionResult>) -> Ret {
 /// depth); `detectionCount` is 0 until a `sysCall_vision` callback triggers.
 /// `sim.handle_all` / `sim.handle_all_except_explicit` render every (non-explicit)
 /// sensor and return only the count of triggered sensors, 0.
-pub(super) fn handle_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn handle_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     if h == HANDLE_ALL || h == HANDLE_ALL_EXCEPT_EXPLICIT {
         vision::handle_all_vision_sensors(&sim.world, &mut sim.vision, h == HANDLE_ALL_EXCEPT_EXPLICIT)?;
@@ -227,14 +228,14 @@ pub(super) fn handle_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<
 
 /// `sim.readVisionSensor(h)` → `result, packet1, packet2, ...` of the last handling;
 /// `result` is -1 (and alone) if the sensor was never handled.
-pub(super) fn read_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn read_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let s = vision::read(&sim.world, &mut sim.vision, h)?;
     Ok(result_values(s.result()))
 }
 
 /// `sim.getVisionSensorRes(h)` → `{width, height}` in pixels.
-pub(super) fn get_vision_sensor_res(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_vision_sensor_res(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let (m, _) = vision::sensor_model(&sim.world, h)?;
     Ok(vec![Value::Array(vec![
@@ -250,12 +251,12 @@ pub(super) fn get_vision_sensor_res(sim: &mut Sim, _: &CallContext<'_>, a: &Args
 /// with a cut-off, 255 where the normalised depth is below `rgbaCutOff` and 0
 /// elsewhere; without one, 255 (the sensor's image is opaque). Other option bits are
 /// ignored.
-pub(super) fn get_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let options = a.opt_int(1, 0)?;
     let cutoff = a.opt_f64(2, 0.0)?;
     if !cutoff.is_finite() {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 3: rgbaCutOff must be finite, got {cutoff}"
         )));
     }
@@ -296,7 +297,7 @@ pub(super) fn get_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args
 /// height}`: one little-endian `f32` per pixel, the planar depth normalised to 0..1
 /// between the clipping planes (1 where nothing is seen); options bit 0: in metres
 /// instead (`near + d * (far - near)`).
-pub(super) fn get_vision_sensor_depth(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn get_vision_sensor_depth(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let options = a.opt_int(1, 0)?;
     let (&model, _) = vision::sensor_model(&sim.world, h)?;
@@ -323,7 +324,7 @@ pub(super) fn get_vision_sensor_depth(sim: &mut Sim, _: &CallContext<'_>, a: &Ar
 /// more byte per pixel, alpha, which the sensor's opaque image drops) into the sensor
 /// image, bottom row first. The length must match the portion exactly. The
 /// written image is what readers get until the sensor renders again.
-pub(super) fn set_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+pub(super) fn set_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let data = a.bytes(1)?;
     let options = a.opt_int(2, 0)?;
@@ -333,7 +334,7 @@ pub(super) fn set_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args
     let bpp = colour + usize::from(options & 2 != 0);
     let expected = p.w * p.h * bpp;
     if data.len() != expected {
-        return Err(ApiError::new(format!(
+        return Err(SimError::bad_argument(format!(
             "argument 2: expected {expected} bytes ({}x{} pixels, {bpp} per pixel), got {}",
             p.w,
             p.h,
@@ -359,7 +360,7 @@ pub(super) fn set_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args
 
 /// `simVision.sensorImgToWorkImg(h)`: the sensor image (rendered first if stale, as
 /// any reader) becomes the work image, as floats 0..1.
-fn sensor_img_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sensor_img_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     vision::read(&sim.world, &mut sim.vision, h)?.rgb_to_work();
     Ok(Vec::new())
@@ -367,14 +368,14 @@ fn sensor_img_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) ->
 
 /// `simVision.sensorDepthMapToWorkImg(h)`: the normalised depth map becomes the work
 /// image, as grey levels (near = black, far = white).
-fn sensor_depth_map_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sensor_depth_map_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     vision::read(&sim.world, &mut sim.vision, h)?.depth_to_work();
     Ok(Vec::new())
 }
 
 /// `simVision.uniformImgToWorkImg(h, {r, g, b})`: a work image of one colour (0..1).
-fn uniform_img_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn uniform_img_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     let color = a.floats::<3>(1)?.map(|c| c as f32);
     vision::state(&sim.world, &mut sim.vision, h)?.uniform_work(color);
@@ -384,7 +385,7 @@ fn uniform_img_to_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -
 /// `simVision.workImgToSensorImg(h, removeBuffer=true)`: the work image, clamped to
 /// 0..1, becomes the sensor image (what `sim.getVisionSensorImg` then returns); the
 /// work image is dropped unless `removeBuffer` is false.
-fn work_img_to_sensor_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn work_img_to_sensor_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     let remove = a.opt_bool(1, true)?;
     vision::work_to_sensor(&sim.world, &mut sim.vision, h, remove)?;
@@ -394,7 +395,7 @@ fn work_img_to_sensor_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) ->
 /// `simVision.edgeDetectionOnWorkImg(h, threshold)`: CoppeliaSim's edge filter (a 3x3
 /// Laplacian, -3 around and 24 in the centre, per channel), then white where the mean
 /// of R, G, B exceeds `threshold` and black elsewhere.
-fn edge_detection_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn edge_detection_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     let threshold = a.finite(1)? as f32;
     vision::work(&sim.world, &mut sim.vision, h)?.edge_detection(threshold);
@@ -402,21 +403,21 @@ fn edge_detection_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>
 }
 
 /// `simVision.sharpenWorkImg(h)`.
-fn sharpen_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn sharpen_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     vision::work(&sim.world, &mut sim.vision, h)?.sharpen();
     Ok(Vec::new())
 }
 
 /// `simVision.horizontalFlipWorkImg(h)`: mirrors the work image left to right.
-fn horizontal_flip_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn horizontal_flip_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     vision::work(&sim.world, &mut sim.vision, h)?.flip_horizontal();
     Ok(Vec::new())
 }
 
 /// `simVision.verticalFlipWorkImg(h)`: mirrors the work image top to bottom.
-fn vertical_flip_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn vertical_flip_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     vision::work(&sim.world, &mut sim.vision, h)?.flip_vertical();
     Ok(Vec::new())
@@ -427,13 +428,13 @@ fn vertical_flip_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) ->
 /// `colorTolerance` of `color` (per component, in RGB when `rgb` is true, else in HSL
 /// with the hue wrapping around) turn black; without `keep`, those within do.
 /// gantry has no buffer 1, so `removedPartToBuffer1` must be false.
-fn selective_color_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn selective_color_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     let color = a.floats::<3>(1)?.map(|c| c as f32);
     let tolerance = a.floats::<3>(2)?.map(|c| c as f32);
     let (rgb, keep, to_buffer1) = (a.bool(3)?, a.bool(4)?, a.bool(5)?);
     if to_buffer1 {
-        return Err(ApiError::new(
+        return Err(SimError::bad_argument(
             "argument 6: removedPartToBuffer1 is not supported (gantry has no buffer 1); pass false",
         ));
     }
@@ -450,7 +451,7 @@ fn selective_color_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_
 /// false. The packet is packed floats: blob count, 6, then per blob its size (fraction
 /// of the pixels), orientation (radians), centre x and y, width and height (fractions
 /// of the image's width and height; y from the bottom).
-fn blob_detection_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn blob_detection_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     let threshold = a.finite(1)? as f32;
     let min_size = a.finite(2)?;
@@ -470,7 +471,7 @@ const HANDLEFLAG_GREYSCALE: Handle = 0x0040_0000;
 /// The 4.x getters' `(handle [| handleflag_greyscale], posX, posY, sizeX, sizeY)` as
 /// `getVisionSensorImg`'s arguments `(handle, options, rgbaCutOff, pos, size)`, and the
 /// plain sensor handle.
-fn legacy_img_args(a: &Args<'_>, cutoff: f64) -> Result<(Handle, Vec<Value>), ApiError> {
+fn legacy_img_args(a: &Args<'_>, cutoff: f64) -> Result<(Handle, Vec<Value>), SimError> {
     let raw = a.handle(0)?;
     let grey = raw >= 0 && raw & HANDLEFLAG_GREYSCALE != 0;
     let h = if grey { raw & !HANDLEFLAG_GREYSCALE } else { raw };
@@ -478,7 +479,7 @@ fn legacy_img_args(a: &Args<'_>, cutoff: f64) -> Result<(Handle, Vec<Value>), Ap
     for (k, v) in xy.iter_mut().enumerate() {
         *v = a.opt_int(k + 1, 0)?;
         if *v < 0 {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument {}: expected a non-negative integer, got {v}",
                 k + 2
             )));
@@ -508,7 +509,7 @@ fn reply_bytes(mut reply: Ret) -> Vec<u8> {
 /// four integers. `h | sim.handleflag_greyscale` gives 1 byte per pixel; a non-zero
 /// `rgbaCutOff` gives RGBA. `resX, resY` are the sensor's full resolution, not the
 /// portion's, as CoppeliaSim returns them.
-fn get_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let cutoff = a.opt_f64(5, 0.0)?;
     let (h, args) = legacy_img_args(a, cutoff)?;
     let bytes = reply_bytes(get_vision_sensor_img(sim, ctx, &Args::new(&args))?);
@@ -526,7 +527,7 @@ fn get_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'
 /// The pairing of `getVisionSensorCharImage` on one sensor with this on another copies
 /// an image between sensors, as CoppeliaSim's synchronous image transmission example
 /// does.
-fn set_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn set_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let raw = a.handle(0)?;
     let grey = raw >= 0 && raw & HANDLEFLAG_GREYSCALE != 0;
     let h = if grey { raw & !HANDLEFLAG_GREYSCALE } else { raw };
@@ -544,12 +545,12 @@ fn set_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'
 /// `h | sim.handleflag_greyscale`), bottom row first. `returnType` 1 packs them as
 /// little-endian `f32` bytes instead of a table. Values are the byte image divided by
 /// 255, so they take the 256 levels of `getVisionSensorImg`.
-fn get_vision_sensor_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, ApiError> {
+fn get_vision_sensor_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let packed = match a.opt_int(5, 0)? {
         0 => false,
         1 => true,
         other => {
-            return Err(ApiError::new(format!(
+            return Err(SimError::bad_argument(format!(
                 "argument 6: returnType must be 0 (table) or 1 (packed floats), got {other}"
             )));
         }

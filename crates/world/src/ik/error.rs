@@ -1,6 +1,7 @@
 //! Why an IK call was refused: the one error of the IK subsystem, shared by the
 //! environments, their objects and the tree views.
 
+use crate::error::SimError;
 use crate::handle::Handle;
 
 /// Why an IK call was refused. Messages name the offending handle and say what is expected.
@@ -67,5 +68,25 @@ pub enum IkError {
     },
     /// An argument out of range (a method or constraint code, a negative damping, ...).
     #[error("{0}")]
-    InvalidArgument(String),
+    BadArgument(String),
+}
+
+/// An IK failure as the registry returns it: missing things are missing items, wrong
+/// kinds and bad values argument errors, and a chain that cannot be built a refusal.
+/// The text is the IK error's own.
+impl From<IkError> for SimError {
+    fn from(e: IkError) -> Self {
+        let message = e.to_string();
+        match e {
+            IkError::NoSuchEnvironment(_)
+            | IkError::NoSuchGroup(_)
+            | IkError::NoSuchElement { .. }
+            | IkError::NoSuchIkObject(_)
+            | IkError::NoSuchObject { .. } => SimError::NoSuchItem(message),
+            IkError::WrongKind { .. } | IkError::BadArgument(_) => SimError::BadArgument(message),
+            IkError::NoTarget { .. } | IkError::TipNotBelowBase { .. } | IkError::NoJoints { .. } => {
+                SimError::Refused(message)
+            }
+        }
+    }
 }

@@ -101,7 +101,7 @@ pub fn add_element_from_scene(
     // Scene objects only: the environment's own objects are added with `add_element`.
     for (role, h) in [("base", base), ("tip", tip), ("target", target)] {
         if is_own_object(h) {
-            return Err(IkError::InvalidArgument(format!(
+            return Err(IkError::BadArgument(format!(
                 "{role} {h} is an object of the IK environment, not of the scene (use simIK.addElement for those)"
             )));
         }

@@ -185,7 +185,7 @@ impl IkObjects {
     /// Adds a root object at the world origin and returns its handle.
     fn insert(&mut self, name: &str, kind: IkObjectKind) -> Result<Handle, IkError> {
         if !name.is_empty() && self.by_name(name).is_some() {
-            return Err(IkError::InvalidArgument(format!(
+            return Err(IkError::BadArgument(format!(
                 "an IK object named '{name}' already exists in this environment"
             )));
         }
@@ -218,7 +218,7 @@ impl IkObjects {
     /// A fixed joint type, or `name` already taken.
     pub fn create_joint(&mut self, joint_type: JointType, name: &str) -> Result<Handle, IkError> {
         if joint_type == JointType::Fixed {
-            return Err(IkError::InvalidArgument(
+            return Err(IkError::BadArgument(
                 "an IK joint is revolute or prismatic (simIK.jointtype_revolute or jointtype_prismatic)".into(),
             ));
         }
@@ -307,7 +307,7 @@ impl IkObjects {
         let mut cur = self.get(h)?.parent;
         while let Some(p) = cur {
             if chain.len() > self.objects.len() {
-                return Err(IkError::InvalidArgument("the IK object tree has a loop".into()));
+                return Err(IkError::BadArgument("the IK object tree has a loop".into()));
             }
             let o = self.get(p)?;
             chain.push(o);
@@ -372,7 +372,7 @@ impl IkObjects {
             let mut cur = Some(p);
             while let Some(c) = cur {
                 if c == h {
-                    return Err(IkError::InvalidArgument(format!(
+                    return Err(IkError::BadArgument(format!(
                         "IK object {p} cannot become the parent of {h}: it is {h} itself or hangs below it"
                     )));
                 }
@@ -396,9 +396,7 @@ impl IkObjects {
         let old = self.linked(a)?;
         if let Some(b) = b {
             if a == b {
-                return Err(IkError::InvalidArgument(format!(
-                    "IK dummy {a} cannot be linked to itself"
-                )));
+                return Err(IkError::BadArgument(format!("IK dummy {a} cannot be linked to itself")));
             }
             self.linked(b)?;
         }
@@ -449,9 +447,7 @@ impl IkObjects {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_position(&mut self, h: Handle, q: f64) -> Result<(), IkError> {
         if !q.is_finite() {
-            return Err(IkError::InvalidArgument(format!(
-                "joint position must be finite, got {q}"
-            )));
+            return Err(IkError::BadArgument(format!("joint position must be finite, got {q}")));
         }
         let j = self.joint_mut(h)?;
         j.position = j.constrain(q);
@@ -478,7 +474,7 @@ impl IkObjects {
         let j = self.joint_mut(h)?;
         if cyclic {
             if j.joint_type != JointType::Revolute {
-                return Err(IkError::InvalidArgument(format!(
+                return Err(IkError::BadArgument(format!(
                     "IK joint {h} is prismatic: only a revolute joint can be cyclic"
                 )));
             }
@@ -487,12 +483,12 @@ impl IkObjects {
             j.range = 2.0 * std::f64::consts::PI;
         } else {
             if !(min.is_finite() && range.is_finite()) {
-                return Err(IkError::InvalidArgument(format!(
+                return Err(IkError::BadArgument(format!(
                     "joint interval must be finite, got min {min}, range {range}"
                 )));
             }
             if range < 0.0 {
-                return Err(IkError::InvalidArgument(format!(
+                return Err(IkError::BadArgument(format!(
                     "joint interval {{min, range}} has a negative range {range} (min {min} above max {})",
                     min + range
                 )));

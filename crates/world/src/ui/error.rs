@@ -1,6 +1,7 @@
 //! Why a `simUI` operation was refused.
 
 use super::{MAX_UIS, MAX_XML_LEN};
+use crate::error::SimError;
 
 /// A refused `simUI` operation. Messages follow simUI's wording where it has one
 /// ("invalid ui handle", "invalid widget id: 3"), so ported scripts see familiar errors;
@@ -59,4 +60,22 @@ pub enum UiError {
     /// a hidden window, a label without links).
     #[error("{0}")]
     NotInteractive(String),
+}
+
+/// A `simUI` failure as the registry returns it, with the same text: missing UIs and
+/// widgets are missing items, bad XML and values argument errors, limits and actions a
+/// user could not take refusals.
+impl From<UiError> for SimError {
+    fn from(e: UiError) -> Self {
+        let message = e.to_string();
+        match e {
+            UiError::NoSuchUi(_) | UiError::NoSuchWidget(_) => SimError::NoSuchItem(message),
+            UiError::Syntax { .. }
+            | UiError::Element { .. }
+            | UiError::TooLong(_)
+            | UiError::WrongWidgetType { .. }
+            | UiError::InvalidValue(_) => SimError::BadArgument(message),
+            UiError::TooManyUis | UiError::NotInteractive(_) => SimError::Refused(message),
+        }
+    }
 }

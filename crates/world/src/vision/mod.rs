@@ -180,13 +180,13 @@ impl VisionStates {
     /// packet 1 in `sim.readVisionSensor` and `sim.handleVisionSensor`.
     ///
     /// # Errors
-    /// [`SimError::InvalidArgument`] if the sensor was never handled.
+    /// [`SimError::BadArgument`] if the sensor was never handled.
     pub fn set_callback_result(&mut self, h: Handle, trigger: bool, packets: Vec<Vec<f64>>) -> Result<(), SimError> {
         let result = self
             .sensors
             .get_mut(&h)
             .and_then(|s| s.result.as_mut())
-            .ok_or_else(|| SimError::InvalidArgument(format!("vision sensor {h} was not handled yet")))?;
+            .ok_or_else(|| SimError::BadArgument(format!("vision sensor {h} was not handled yet")))?;
         result.trigger = trigger;
         result.packets.truncate(1);
         result.packets.extend(packets);
@@ -258,11 +258,11 @@ pub fn sensor_model(world: &World, h: Handle) -> Result<(&VisionModel, crate::ma
 /// The renderer's camera for a sensor model.
 ///
 /// # Errors
-/// [`SimError::InvalidArgument`] for a model out of range (resolution, view angle or
+/// [`SimError::BadArgument`] for a model out of range (resolution, view angle or
 /// clipping planes).
 fn camera(h: Handle, m: &VisionModel) -> Result<raster::Camera, SimError> {
     raster::Camera::new(m, MAX_RESOLUTION).ok_or_else(|| {
-        SimError::InvalidArgument(format!(
+        SimError::BadArgument(format!(
             "vision sensor {h}: resolution {}x{} must be 1..={MAX_RESOLUTION} per side, with 0 < view angle < pi \
              and 0 < near < far",
             m.resolution[0], m.resolution[1]
@@ -376,7 +376,7 @@ pub fn work_to_sensor(world: &World, states: &mut VisionStates, h: Handle, remov
 }
 
 fn no_work_image(h: Handle) -> SimError {
-    SimError::InvalidArgument(format!(
+    SimError::BadArgument(format!(
         "vision sensor {h} has no work image: call simVision.sensorImgToWorkImg first"
     ))
 }

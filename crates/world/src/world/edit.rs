@@ -38,7 +38,7 @@ use crate::scene::{Geometry, JointMode, MassModel, SceneModel, ShapeModel, Visio
 pub const MIN_SHAPE_MASS: f64 = 1e-7;
 
 pub(super) fn invalid(msg: impl Into<String>) -> SimError {
-    SimError::InvalidArgument(msg.into())
+    SimError::BadArgument(msg.into())
 }
 
 impl World {

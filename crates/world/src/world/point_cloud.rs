@@ -93,17 +93,17 @@ impl PointCloudOptions {
         point_size: f64,
     ) -> Result<Self, SimError> {
         if !max_voxel_size.is_finite() || max_voxel_size < 0.0 {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "max voxel size must be a finite number >= 0 (m), got {max_voxel_size}"
             )));
         }
         if max_points_per_voxel < 0 {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "max point count per voxel must be >= 0, got {max_points_per_voxel}"
             )));
         }
         if !point_size.is_finite() || point_size < 0.0 {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "point size must be a finite number >= 0 (pixels), got {point_size}"
             )));
         }
@@ -241,21 +241,21 @@ impl PointCloud {
     /// afterwards; then nothing is inserted.
     pub fn insert(&mut self, points: &[Vec3], colors: PointColors<'_>, tolerance: f64) -> Result<usize, SimError> {
         if !tolerance.is_finite() || tolerance < 0.0 {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "duplicate tolerance must be a finite number >= 0 (m), got {tolerance}"
             )));
         }
         if let PointColors::PerPoint(c) = colors
             && c.len() != points.len()
         {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "{} colours for {} points: give one colour per point",
                 c.len(),
                 points.len()
             )));
         }
         if let Some(i) = points.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "point {} has a non-finite coordinate",
                 i + 1
             )));
@@ -327,12 +327,12 @@ impl PointCloud {
     /// Which stored points lie closer than `tolerance` to one of `near`.
     fn hits(&self, near: &[Vec3], tolerance: f64) -> Result<Vec<bool>, SimError> {
         if !tolerance.is_finite() || tolerance < 0.0 {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "tolerance must be a finite number >= 0 (m), got {tolerance}"
             )));
         }
         if let Some(i) = near.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "point {} has a non-finite coordinate",
                 i + 1
             )));

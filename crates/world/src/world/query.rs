@@ -65,7 +65,7 @@ impl World {
             .ok()
             .and_then(|i| self.collections.get(i))
             .and_then(|c| c.as_ref())
-            .ok_or_else(|| SimError::InvalidArgument(format!("collection {c} does not exist")))?;
+            .ok_or_else(|| SimError::NoSuchItem(format!("collection {c} does not exist")))?;
         let mut set: Vec<Handle> = Vec::new();
         for item in &coll.items {
             let mut objs: Vec<Handle> = match item.kind {

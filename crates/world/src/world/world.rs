@@ -66,7 +66,7 @@ impl World {
     fn link_dummy(&mut self, a: Handle, b: Option<Handle>, free_rotation: bool) -> Result<(), SimError> {
         for h in std::iter::once(a).chain(b) {
             if !matches!(self.object(h)?.kind, ObjectKind::Dummy) {
-                return Err(SimError::InvalidArgument(format!("object {h} is not a dummy")));
+                return Err(SimError::BadArgument(format!("object {h} is not a dummy")));
             }
         }
         match b {
@@ -379,7 +379,7 @@ impl World {
     /// No such object, or a non-finite pose.
     pub fn set_world_pose(&mut self, h: Handle, pose: Pose) -> Result<(), SimError> {
         if !pose.translation.vector.iter().all(|v| v.is_finite()) {
-            return Err(SimError::InvalidArgument("pose must be finite".into()));
+            return Err(SimError::BadArgument("pose must be finite".into()));
         }
         self.object(h)?;
         let local = self.parent_frame(h).inverse() * pose;
@@ -455,9 +455,7 @@ impl World {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_position(&mut self, h: Handle, q: f64) -> Result<(), SimError> {
         if !q.is_finite() {
-            return Err(SimError::InvalidArgument(format!(
-                "joint position must be finite, got {q}"
-            )));
+            return Err(SimError::BadArgument(format!("joint position must be finite, got {q}")));
         }
         let j = self.joint_mut(h)?;
         // Placing a joint ends its kinematic motion (a later target starts a new one).
@@ -526,7 +524,7 @@ impl World {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_target_position(&mut self, h: Handle, q: f64) -> Result<(), SimError> {
         if !q.is_finite() {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "target position must be finite, got {q}"
             )));
         }
@@ -552,7 +550,7 @@ impl World {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_target_velocity(&mut self, h: Handle, v: f64) -> Result<(), SimError> {
         if !v.is_finite() {
-            return Err(SimError::InvalidArgument(format!(
+            return Err(SimError::BadArgument(format!(
                 "target velocity must be finite, got {v}"
             )));
         }
@@ -629,7 +627,7 @@ impl World {
     /// No such object, not a joint, or a non-finite value.
     pub fn set_joint_target_force(&mut self, h: Handle, f: f64, signed: bool) -> Result<(), SimError> {
         if !f.is_finite() {
-            return Err(SimError::InvalidArgument(format!("force must be finite, got {f}")));
+            return Err(SimError::BadArgument(format!("force must be finite, got {f}")));
         }
         let j = self.joint_mut(h)?;
         j.max_force = f.abs();
