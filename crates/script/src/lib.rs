@@ -31,7 +31,7 @@ mod simulation;
 mod step;
 mod threads;
 
-pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
+pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, DebuggerError};
 
 pub use hooks::Hook;
 pub use limits::{NetworkParams, ScriptLimits};
