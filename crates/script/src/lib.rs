@@ -35,7 +35,7 @@ pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest
 
 pub use hooks::Hook;
 pub use limits::{NetworkParams, ScriptLimits};
-pub use listeners::{ListenerStatus, Listeners};
+pub use listeners::{ListenerError, ListenerStatus, Listeners};
 pub use lua_error::ScriptError;
 pub use luasocket::uses_luasocket;
 pub use scripts::ScriptState;
