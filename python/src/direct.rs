@@ -15,7 +15,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use gantry_engine::{ClientId, Due, Engine, EngineConfig, HostCall, RemoteOp};
-use gantry_script::ScriptLimits;
+use gantry_script::{ScriptError, ScriptLimits};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, Target};
 use gantry_sim_core::scene::{LoadOptions, SceneModel};
@@ -64,14 +64,14 @@ impl Direct {
         load_options: LoadOptions,
         autostart: bool,
         realtime: bool,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, ScriptError> {
         let config = EngineConfig {
             limits,
             load_options,
             listeners: None,
             realtime,
         };
-        let engine = Engine::new(model, config, None).map_err(|e| e.to_string())?;
+        let engine = Engine::new(model, config, None)?;
         let mut d = Self { engine };
         if autostart {
             d.detached(py, |d| d.engine.control(Control::Start));

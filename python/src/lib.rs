@@ -103,8 +103,8 @@ impl Engine {
         let out = match (self.backend()?, host) {
             (Backend::Direct(d), None) => d.call(py, &f.target, f.release_gil, args).map_err(|e| e.to_string()),
             (Backend::Direct(d), Some(call)) => d.host(py, call).map_err(|e| e.to_string()),
-            (Backend::Served(s), None) => s.call(py, f.target, args),
-            (Backend::Served(s), Some(call)) => s.host(py, &f.target.qualified(), call),
+            (Backend::Served(s), None) => s.call(py, f.target, args).map_err(|e| e.to_string()),
+            (Backend::Served(s), Some(call)) => s.host(py, &f.target.qualified(), call).map_err(|e| e.to_string()),
         };
         // The edge: the remote client raises a plain Exception with the server's message.
         out.map_err(PyException::new_err)
@@ -207,7 +207,8 @@ impl Engine {
                 .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             Backend::Served(Box::new(Served::new(running)))
         } else {
-            let d = Direct::new(py, model, limits, options, autostart, realtime).map_err(PyRuntimeError::new_err)?;
+            let d = Direct::new(py, model, limits, options, autostart, realtime)
+                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             Backend::Direct(Box::new(d))
         };
         Ok(Self {

@@ -5,17 +5,45 @@
 //! has its own stepping level beside theirs.
 
 use gantry_engine::{ClientId, HostCall};
-use gantry_server::sim_thread::{Request, SimHandle};
+use gantry_server::sim_thread::{Request, SendError, SimHandle};
 use gantry_server::{BoundAddrs, Running};
 use gantry_sim_core::Value;
-use gantry_sim_core::api::Target;
-use pyo3::Python;
+use gantry_sim_core::api::{CallError, Target};
+use pyo3::{PyErr, Python};
 use std::time::{Duration, Instant};
 
 use tokio::sync::oneshot;
 
 /// The Python client's id among the remote clients; the ZMQ transport counts from 1.
 const ME: ClientId = ClientId(u64::MAX);
+
+/// Why a call from Python to the served simulation failed; the text is the Python
+/// exception's message.
+#[derive(Debug, thiserror::Error)]
+pub enum ServedError {
+    /// The simulation thread did not take the request.
+    #[error("{source} (in function '{function}')")]
+    Send {
+        /// The function called, e.g. `sim.step`.
+        function: String,
+        /// Why the request was not taken.
+        source: SendError,
+    },
+    /// The simulation thread ended before answering.
+    #[error("the simulation has ended (in function '{0}')")]
+    Ended(String),
+    /// A Python signal (Ctrl-C) arrived while waiting: the handler's exception.
+    #[error("{error} (in function '{function}')")]
+    Interrupted {
+        /// The function called.
+        function: String,
+        /// The exception the signal handler raised.
+        error: PyErr,
+    },
+    /// The function itself failed: its CoppeliaSim-style message.
+    #[error(transparent)]
+    Call(#[from] CallError),
+}
 
 /// A simulation thread with listeners, driven from Python.
 pub struct Served {
@@ -46,17 +74,18 @@ impl Served {
         py: Python<'_>,
         name: &str,
         make: impl FnOnce(oneshot::Sender<T>) -> Request,
-    ) -> Result<T, String> {
+    ) -> Result<T, ServedError> {
         use tokio::sync::oneshot::error::TryRecvError;
         let (reply, mut rx) = oneshot::channel();
-        self.handle
-            .send(make(reply))
-            .map_err(|e| format!("{e} (in function '{name}')"))?;
+        self.handle.send(make(reply)).map_err(|source| ServedError::Send {
+            function: name.to_owned(),
+            source,
+        })?;
         let started = Instant::now();
         loop {
             match rx.try_recv() {
                 Ok(v) => return Ok(v),
-                Err(TryRecvError::Closed) => return Err(format!("the simulation has ended (in function '{name}')")),
+                Err(TryRecvError::Closed) => return Err(ServedError::Ended(name.to_owned())),
                 Err(TryRecvError::Empty) => {}
             }
             // Most answers come within tens of microseconds: yield at first, then sleep
@@ -74,7 +103,10 @@ impl Served {
                 }
             });
             if started.elapsed() > Duration::from_millis(50) {
-                py.check_signals().map_err(|e| format!("{e} (in function '{name}')"))?;
+                py.check_signals().map_err(|error| ServedError::Interrupted {
+                    function: name.to_owned(),
+                    error,
+                })?;
             }
         }
     }
@@ -84,29 +116,26 @@ impl Served {
     ///
     /// # Errors
     /// The CoppeliaSim-style message.
-    pub fn call(&self, py: Python<'_>, target: Target, args: &[Value]) -> Result<Vec<Value>, String> {
+    pub fn call(&self, py: Python<'_>, target: Target, args: &[Value]) -> Result<Vec<Value>, ServedError> {
         let args = args.to_vec();
-        self.ask(py, &target.qualified(), |reply| Request::Call { target, args, reply })?
-            .map_err(|e| e.to_string())
+        Ok(self.ask(py, &target.qualified(), |reply| Request::Call { target, args, reply })??)
     }
 
     /// Simulation control and stepping, as the ZMQ transport serves them.
     ///
     /// # Errors
     /// Nesting too deep, a scene that does not load, or an ended run.
-    pub fn host(&self, py: Python<'_>, qualified: &str, call: HostCall) -> Result<Vec<Value>, String> {
+    pub fn host(&self, py: Python<'_>, qualified: &str, call: HostCall) -> Result<Vec<Value>, ServedError> {
         match call {
-            HostCall::Remote(op) => self
-                .ask(py, qualified, |reply| Request::Remote { client: ME, op, reply })?
-                .map_err(|e| e.to_string()),
+            HostCall::Remote(op) => {
+                Ok(self.ask(py, qualified, |reply| Request::Remote { client: ME, op, reply })??)
+            }
             // The Python client always waits: its calls are synchronous.
             HostCall::Step { .. } => {
                 self.ask(py, qualified, |done| Request::Step { client: ME, done })?;
                 Ok(Vec::new())
             }
-            HostCall::LoadScene(path) => self
-                .ask(py, qualified, |reply| Request::LoadScene { path, reply })?
-                .map_err(|e| e.to_string()),
+            HostCall::LoadScene(path) => Ok(self.ask(py, qualified, |reply| Request::LoadScene { path, reply })??),
         }
     }
 

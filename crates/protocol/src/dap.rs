@@ -423,6 +423,39 @@ pub enum MessageError {
     },
 }
 
+/// Which argument of a known command is wrong, by its full path in the message
+/// (`arguments.breakpoints[2].line`), so a client learns exactly what to fix.
+/// [`MessageError::BadArguments`] carries its text.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum ArgumentError {
+    /// A field that must hold an object (`arguments`, a breakpoint) holds something else.
+    #[error("{path} must be an object, got {got}")]
+    NotAnObject {
+        /// Where the value is (`arguments`, `arguments.breakpoints[0]`).
+        path: String,
+        /// A short description of the value sent.
+        got: String,
+    },
+    /// A required field is absent or null.
+    #[error("{path} is required ({expected})")]
+    Missing {
+        /// The field's path.
+        path: String,
+        /// What it must hold (`an integer`, `a string`).
+        expected: &'static str,
+    },
+    /// A field holds a value of the wrong type.
+    #[error("{path} must be {expected}, got {got}")]
+    Wrong {
+        /// The field's path.
+        path: String,
+        /// What it must hold (`an integer`, `true or false`).
+        expected: &'static str,
+        /// A short description of the value sent.
+        got: String,
+    },
+}
+
 /// Parses one body into a request. Total: any bytes give Ok or Err, never a panic. Missing
 /// optional arguments take DAP's defaults; unknown extra fields are ignored (clients send
 /// many).
@@ -484,12 +517,16 @@ pub fn parse_request(body: &[u8]) -> Result<Request, MessageError> {
     };
     match parse_command(&command, msg.remove("arguments")) {
         Ok(command) => Ok(Request { seq, command }),
-        Err(why) => Err(MessageError::BadArguments { seq, command, why }),
+        Err(why) => Err(MessageError::BadArguments {
+            seq,
+            command,
+            why: why.to_string(),
+        }),
     }
 }
 
 /// Builds the command from its name and `arguments`, or says which argument is wrong.
-fn parse_command(name: &str, arguments: Option<Value>) -> Result<Command, String> {
+fn parse_command(name: &str, arguments: Option<Value>) -> Result<Command, ArgumentError> {
     // Only the arms that read arguments look at them: commands whose arguments are unused
     // (attach, launch, threads, ...) or unknown accept whatever the client sent.
     let args = move || Fields::new(arguments, "arguments".to_owned());
@@ -620,7 +657,7 @@ fn parse_command(name: &str, arguments: Option<Value>) -> Result<Command, String
     })
 }
 
-fn source(mut s: Fields) -> Result<Source, String> {
+fn source(mut s: Fields) -> Result<Source, ArgumentError> {
     Ok(Source {
         name: s.opt_string("name")?,
         path: s.opt_string("path")?,
@@ -628,7 +665,7 @@ fn source(mut s: Fields) -> Result<Source, String> {
     })
 }
 
-fn source_breakpoint(mut b: Fields) -> Result<SourceBreakpoint, String> {
+fn source_breakpoint(mut b: Fields) -> Result<SourceBreakpoint, ArgumentError> {
     Ok(SourceBreakpoint {
         line: b.i64("line")?,
         condition: b.opt_string("condition")?,
@@ -651,11 +688,14 @@ struct Fields {
 impl Fields {
     /// `value` as an object; absent or null reads as empty, since DAP lets clients omit
     /// `arguments` when all of them are optional.
-    fn new(value: Option<Value>, path: String) -> Result<Self, String> {
+    fn new(value: Option<Value>, path: String) -> Result<Self, ArgumentError> {
         match value {
             None | Some(Value::Null) => Ok(Fields { map: Map::new(), path }),
             Some(Value::Object(map)) => Ok(Fields { map, path }),
-            Some(other) => Err(format!("{path} must be an object, got {}", describe(&other))),
+            Some(other) => Err(ArgumentError::NotAnObject {
+                got: describe(&other),
+                path,
+            }),
         }
     }
 
@@ -663,8 +703,11 @@ impl Fields {
         format!("{}.{key}", self.path)
     }
 
-    fn missing(&self, key: &str, expected: &str) -> String {
-        format!("{} is required ({expected})", self.path(key))
+    fn missing(&self, key: &str, expected: &'static str) -> ArgumentError {
+        ArgumentError::Missing {
+            path: self.path(key),
+            expected,
+        }
     }
 
     /// The field `key` converted by `read`, which hands back the value it refuses; `None`
@@ -672,45 +715,45 @@ impl Fields {
     fn opt<T>(
         &mut self,
         key: &str,
-        expected: &str,
+        expected: &'static str,
         read: impl FnOnce(Value) -> Result<T, Value>,
-    ) -> Result<Option<T>, String> {
+    ) -> Result<Option<T>, ArgumentError> {
         match self.map.remove(key) {
             None | Some(Value::Null) => Ok(None),
             Some(v) => read(v).map(Some).map_err(|v| wrong(&self.path(key), expected, &v)),
         }
     }
 
-    fn opt_i64(&mut self, key: &str) -> Result<Option<i64>, String> {
+    fn opt_i64(&mut self, key: &str) -> Result<Option<i64>, ArgumentError> {
         // `as_i64` is None for floats and for integers beyond i64, so no lossy cast.
         self.opt(key, "an integer", |v| v.as_i64().ok_or(v))
     }
 
-    fn opt_usize(&mut self, key: &str) -> Result<Option<usize>, String> {
+    fn opt_usize(&mut self, key: &str) -> Result<Option<usize>, ArgumentError> {
         self.opt(key, "a non-negative integer", |v| {
             v.as_u64().and_then(|n| usize::try_from(n).ok()).ok_or(v)
         })
     }
 
-    fn opt_bool(&mut self, key: &str) -> Result<Option<bool>, String> {
+    fn opt_bool(&mut self, key: &str) -> Result<Option<bool>, ArgumentError> {
         self.opt(key, "true or false", |v| v.as_bool().ok_or(v))
     }
 
-    fn opt_string(&mut self, key: &str) -> Result<Option<String>, String> {
+    fn opt_string(&mut self, key: &str) -> Result<Option<String>, ArgumentError> {
         self.opt(key, "a string", |v| match v {
             Value::String(s) => Ok(s),
             other => Err(other),
         })
     }
 
-    fn opt_array(&mut self, key: &str) -> Result<Option<Vec<Value>>, String> {
+    fn opt_array(&mut self, key: &str) -> Result<Option<Vec<Value>>, ArgumentError> {
         self.opt(key, "an array", |v| match v {
             Value::Array(items) => Ok(items),
             other => Err(other),
         })
     }
 
-    fn opt_object(&mut self, key: &str) -> Result<Option<Fields>, String> {
+    fn opt_object(&mut self, key: &str) -> Result<Option<Fields>, ArgumentError> {
         let path = self.path(key);
         self.opt(key, "an object", |v| match v {
             Value::Object(map) => Ok(Fields { map, path }),
@@ -718,21 +761,21 @@ impl Fields {
         })
     }
 
-    fn i64(&mut self, key: &str) -> Result<i64, String> {
+    fn i64(&mut self, key: &str) -> Result<i64, ArgumentError> {
         self.opt_i64(key)?.ok_or_else(|| self.missing(key, "an integer"))
     }
 
-    fn string(&mut self, key: &str) -> Result<String, String> {
+    fn string(&mut self, key: &str) -> Result<String, ArgumentError> {
         self.opt_string(key)?.ok_or_else(|| self.missing(key, "a string"))
     }
 
-    fn object(&mut self, key: &str) -> Result<Fields, String> {
+    fn object(&mut self, key: &str) -> Result<Fields, ArgumentError> {
         self.opt_object(key)?.ok_or_else(|| self.missing(key, "an object"))
     }
 
     /// `threadId`, or 1 when absent: the simulation runs its scripts on one thread, so
     /// there is no other the client could mean.
-    fn thread_id(&mut self) -> Result<i64, String> {
+    fn thread_id(&mut self) -> Result<i64, ArgumentError> {
         Ok(self.opt_i64("threadId")?.unwrap_or(1))
     }
 
@@ -742,8 +785,8 @@ impl Fields {
         &self,
         key: &str,
         items: Vec<Value>,
-        mut read: impl FnMut(Value, String) -> Result<T, String>,
-    ) -> Result<Vec<T>, String> {
+        mut read: impl FnMut(Value, String) -> Result<T, ArgumentError>,
+    ) -> Result<Vec<T>, ArgumentError> {
         let path = self.path(key);
         items
             .into_iter()
@@ -753,8 +796,12 @@ impl Fields {
     }
 }
 
-fn wrong(path: &str, expected: &str, got: &Value) -> String {
-    format!("{path} must be {expected}, got {}", describe(got))
+fn wrong(path: &str, expected: &'static str, got: &Value) -> ArgumentError {
+    ArgumentError::Wrong {
+        path: path.to_owned(),
+        expected,
+        got: describe(got),
+    }
 }
 
 /// A short description of a JSON value for error messages: numbers and booleans in full

@@ -31,11 +31,11 @@ mod simulation;
 mod step;
 mod threads;
 
-pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
+pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, DebuggerError};
 
 pub use hooks::Hook;
 pub use limits::{NetworkParams, ScriptLimits};
-pub use listeners::{ListenerStatus, Listeners};
+pub use listeners::{ListenerError, ListenerStatus, Listeners};
 pub use lua_error::ScriptError;
 pub use luasocket::uses_luasocket;
 pub use scripts::ScriptState;

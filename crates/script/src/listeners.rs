@@ -27,18 +27,56 @@ pub struct ListenerStatus {
     pub server_version: u8,
 }
 
+/// Why a legacy remote API server could not be started or stopped. `simRemoteApi`
+/// logs the text and returns 0, as CoppeliaSim prints the reason.
+#[derive(Debug, thiserror::Error)]
+pub enum ListenerError {
+    /// A server of this front end already runs on the port.
+    #[error("a legacy remote API server already runs on port {0}")]
+    AlreadyRunning(u16),
+    /// No server runs on the port.
+    #[error("no legacy remote API server runs on port {0}")]
+    NotRunning(u16),
+    /// A script asked for port 0 (any free port), which no client could find.
+    #[error("port 0: scripts name the port their clients connect to")]
+    PortZero,
+    /// The operating system refused the listening socket (the port is in use, ...).
+    #[error("cannot listen on {address}: {source}")]
+    Listen {
+        /// The address, as `IP:PORT`.
+        address: String,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A thread panicked while holding the table of servers.
+    #[error("the server table is poisoned")]
+    Poisoned,
+}
+
+/// Why a `simRemoteApi` port argument is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+enum PortArgError {
+    /// An integer outside 1..=65535.
+    #[error("argument 1: port {0} is not between 1 and 65535")]
+    OutOfRange(i64),
+    /// Not an integer: the Lua type name of what was passed.
+    #[error("argument 1: expected a port number, got {0}")]
+    NotAPort(&'static str),
+}
+
 /// The front end's side of `simRemoteApi`: it opens and closes listeners.
 pub trait Listeners: Send + Sync + std::fmt::Debug {
     /// Starts a legacy remote API server on `port` (on the front end's bind address).
     ///
     /// # Errors
     /// Why it cannot (the port is in use, a server already runs there).
-    fn start_legacy(&self, port: u16) -> Result<(), String>;
+    fn start_legacy(&self, port: u16) -> Result<(), ListenerError>;
     /// Stops the server on `port` and drops its client.
     ///
     /// # Errors
     /// No server runs on `port`.
-    fn stop_legacy(&self, port: u16) -> Result<(), String>;
+    fn stop_legacy(&self, port: u16) -> Result<(), ListenerError>;
     /// The server on `port`, if one runs.
     fn legacy_status(&self, port: u16) -> Option<ListenerStatus>;
 }
@@ -73,7 +111,7 @@ impl ListenerState {
 const NO_FRONT_END: &str = "no legacy remote API in this embedding: run the scene with `gantry run` \
      (or pass --legacy-port to start a server without a script)";
 
-fn port_arg(v: Option<&LuaValue>) -> Result<u16, String> {
+fn port_arg(v: Option<&LuaValue>) -> Result<u16, PortArgError> {
     let n = match v {
         Some(LuaValue::Integer(i)) => Some(*i),
         Some(LuaValue::Number(n)) if n.fract() == 0.0 => Some(*n as i64),
@@ -81,11 +119,8 @@ fn port_arg(v: Option<&LuaValue>) -> Result<u16, String> {
     };
     match n {
         Some(p) if (1..=65535).contains(&p) => Ok(p as u16),
-        Some(p) => Err(format!("argument 1: port {p} is not between 1 and 65535")),
-        None => Err(format!(
-            "argument 1: expected a port number, got {}",
-            v.map_or("no value", LuaValue::type_name)
-        )),
+        Some(p) => Err(PortArgError::OutOfRange(p)),
+        None => Err(PortArgError::NotAPort(v.map_or("no value", LuaValue::type_name))),
     }
 }
 
@@ -99,7 +134,7 @@ pub(crate) fn install(
     wrap: &Function,
 ) -> mlua::Result<Table> {
     let table = lua.create_table()?;
-    let fail = |lua: &Lua, name: &str, e: String| -> mlua::Result<MultiValue> {
+    let fail = |lua: &Lua, name: &str, e: &dyn std::fmt::Display| -> mlua::Result<MultiValue> {
         Ok(MultiValue::from_iter([
             LuaValue::Boolean(false),
             LuaValue::String(lua.create_string(format!("{e} (in function 'simRemoteApi.{name}')"))?),
@@ -121,10 +156,10 @@ pub(crate) fn install(
         wrap.call::<Function>(lua.create_function(move |lua, args: MultiValue| {
             let port = match port_arg(args.front()) {
                 Ok(p) => p,
-                Err(e) => return fail(lua, "start", e),
+                Err(e) => return fail(lua, "start", &e),
             };
             let Some(front) = st.borrow().front_end.clone() else {
-                return fail(lua, "start", NO_FRONT_END.to_owned());
+                return fail(lua, "start", &NO_FRONT_END);
             };
             match front.start_legacy(port) {
                 Ok(()) => {
@@ -146,10 +181,10 @@ pub(crate) fn install(
         wrap.call::<Function>(lua.create_function(move |lua, args: MultiValue| {
             let port = match port_arg(args.front()) {
                 Ok(p) => p,
-                Err(e) => return fail(lua, "stop", e),
+                Err(e) => return fail(lua, "stop", &e),
             };
             let Some(front) = st.borrow().front_end.clone() else {
-                return fail(lua, "stop", NO_FRONT_END.to_owned());
+                return fail(lua, "stop", &NO_FRONT_END);
             };
             st.borrow_mut().for_this_run.retain(|&p| p != port);
             match front.stop_legacy(port) {
@@ -169,10 +204,10 @@ pub(crate) fn install(
         wrap.call::<Function>(lua.create_function(move |lua, args: MultiValue| {
             let port = match port_arg(args.front()) {
                 Ok(p) => p,
-                Err(e) => return fail(lua, "reset", e),
+                Err(e) => return fail(lua, "reset", &e),
             };
             let Some(front) = st.borrow().front_end.clone() else {
-                return fail(lua, "reset", NO_FRONT_END.to_owned());
+                return fail(lua, "reset", &NO_FRONT_END);
             };
             let restarted = front.stop_legacy(port).and_then(|()| front.start_legacy(port));
             match restarted {
@@ -192,7 +227,7 @@ pub(crate) fn install(
         wrap.call::<Function>(lua.create_function(move |lua, args: MultiValue| {
             let port = match port_arg(args.front()) {
                 Ok(p) => p,
-                Err(e) => return fail(lua, "status", e),
+                Err(e) => return fail(lua, "status", &e),
             };
             let status = st.borrow().front_end.as_ref().and_then(|f| f.legacy_status(port));
             match status {

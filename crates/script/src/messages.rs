@@ -80,31 +80,42 @@ pub(crate) fn install(lua: &Lua, sim: &Table, wrap: &Function) -> mlua::Result<(
     )
 }
 
+/// Why `sim.broadcastMsg` refused a message; the API wrapper adds the function's name.
+#[derive(Debug, thiserror::Error)]
+enum BroadcastError {
+    /// The message table holds something that is not plain data (a function, a cycle).
+    #[error("argument 1: {0}")]
+    NotPlainData(mlua::Error),
+    /// The message is not a table (the Lua type found).
+    #[error("argument 1: expected the message, a table such as {{id = 'name', data = {{...}}}}, got {0}")]
+    NotAMessage(&'static str),
+    /// The options are not an integer (the Lua type found).
+    #[error("argument 2: expected options, an integer (keep 0), got {0}")]
+    BadOptions(&'static str),
+    /// The message could not be copied into a receiver's Lua values.
+    #[error("{0}")]
+    Copy(mlua::Error),
+}
+
 /// `sim.broadcastMsg(message, options=0)`: delivers `message` to the other scripts'
 /// `sysCall_msg` (see the module documentation).
 ///
 /// # Errors
 /// A message that is not a table of plain data, or options that are not a number. The
 /// receivers' own errors are not returned.
-fn broadcast(lua: &Lua, args: &MultiValue) -> Result<(), String> {
+fn broadcast(lua: &Lua, args: &MultiValue) -> Result<(), BroadcastError> {
     let message = match args.front() {
-        Some(t @ LuaValue::Table(_)) => to_value(t).map_err(|e| format!("argument 1: {e}"))?,
+        Some(t @ LuaValue::Table(_)) => to_value(t).map_err(BroadcastError::NotPlainData)?,
         other => {
-            return Err(format!(
-                "argument 1: expected the message, a table such as {{id = 'name', data = {{...}}}}, got {}",
-                other.map_or("nothing", LuaValue::type_name)
+            return Err(BroadcastError::NotAMessage(
+                other.map_or("nothing", LuaValue::type_name),
             ));
         }
     };
     match args.get(1) {
         None | Some(LuaValue::Nil | LuaValue::Integer(_)) => {}
         Some(LuaValue::Number(n)) if n.fract() == 0.0 => {}
-        Some(other) => {
-            return Err(format!(
-                "argument 2: expected options, an integer (keep 0), got {}",
-                other.type_name()
-            ));
-        }
+        Some(other) => return Err(BroadcastError::BadOptions(other.type_name())),
     }
     let running = state::<Running>(lua);
     let mailboxes = state::<Mailboxes>(lua);
@@ -128,7 +139,7 @@ fn broadcast(lua: &Lua, args: &MultiValue) -> Result<(), String> {
         let Some(receiver) = directory.entry(i).filter(|e| e.object != REMOVED_SCRIPT) else {
             continue;
         };
-        let copy = to_lua(lua, &message).map_err(|e| e.to_string())?;
+        let copy = to_lua(lua, &message).map_err(BroadcastError::Copy)?;
         let origin = origin.map_or(LuaValue::Nil, LuaValue::Integer);
         let previous = running.act_as(Caller {
             object: Some(receiver.object),

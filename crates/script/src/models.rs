@@ -5,10 +5,10 @@
 //! file gantry can read, as `sim.loadScene`.
 
 use std::cell::RefCell;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use gantry_sim_core::Handle;
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_model};
+use gantry_sim_core::scene::{DiskFiles, LoadError, LoadOptions, SceneModel, load_model};
 use mlua::{Function, Lua, Table, Value as LuaValue};
 
 use crate::app_state::state;
@@ -45,41 +45,56 @@ impl Models {
 
     /// Reads the model file `path` and adds its objects to `core`'s world; returns the
     /// model base's handle. `confined`: only inside the scene's folder (for scripts).
-    pub(crate) fn load(&self, core: &CoreCell, path: &Path, confined: bool) -> Result<Handle, String> {
+    pub(crate) fn load(&self, core: &CoreCell, path: &Path, confined: bool) -> Result<Handle, ModelLoadError> {
         let path = if confined {
-            core.borrow()
-                .graphs
-                .export_scope()
-                .resolve(path)
-                .map_err(|e| match e {
-                    gantry_sim_core::graph::ExportDenied::NoFolder => {
-                        "this scene has no folder on disk (it is embedded in gantry), so its scripts cannot load model files".to_owned()
-                    }
-                    _ => format!(
-                        "{}: scripts load model files only from inside the scene's folder (give a path relative to the scene)",
-                        path.display()
-                    ),
-                })?
+            core.borrow().graphs.export_scope().resolve(path).map_err(|e| match e {
+                gantry_sim_core::graph::ExportDenied::NoFolder => ModelLoadError::NoFolder,
+                _ => ModelLoadError::OutsideFolder(path.to_owned()),
+            })?
         } else {
             path.to_owned()
         };
         let options = self.options.borrow().clone();
-        let model = load_model(&DiskFiles, &path, &options).map_err(|e| e.to_string())?;
+        let model = load_model(&DiskFiles, &path, &options)?;
         let (handles, warnings) = core
             .try_borrow_mut()
-            .map_err(|_| "the world is busy".to_owned())?
+            .map_err(|_| ModelLoadError::WorldBusy)?
             .world
             .import_model(&model);
         // The model's own warnings (unknown keys, URDF features) and the building's.
         for w in warnings {
             tracing::warn!("{w}");
         }
-        let base = *handles
-            .first()
-            .ok_or_else(|| format!("{}: the model has no objects", path.display()))?;
+        let base = *handles.first().ok_or(ModelLoadError::Empty(path))?;
         self.loaded.borrow_mut().push(LoadedModel { model, handles });
         Ok(base)
     }
+}
+
+/// Why `sim.loadModel` (or a remote client's loadModel) loaded nothing.
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum ModelLoadError {
+    /// The scene is embedded in gantry, so there is no folder to load from.
+    #[error("this scene has no folder on disk (it is embedded in gantry), so its scripts cannot load model files")]
+    NoFolder,
+    /// A script named a file outside the scene's folder.
+    #[error(
+        "{}: scripts load model files only from inside the scene's folder (give a path relative to the scene)",
+        .0.display()
+    )]
+    OutsideFolder(PathBuf),
+    /// The file is not a model, or does not load.
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    /// The world is borrowed (a re-entrant call).
+    #[error("the world is busy")]
+    WorldBusy,
+    /// The model file has no objects.
+    #[error("{}: the model has no objects", .0.display())]
+    Empty(PathBuf),
+    /// `sim.loadModel`'s argument is not a string (the Lua type found).
+    #[error("argument 1: expected the model file's path as a string, got {0}")]
+    NotAPath(&'static str),
 }
 
 /// Appends a loaded model's objects and scripts to `scene` (indices moved past the
@@ -103,10 +118,7 @@ pub(crate) fn install(lua: &Lua, sim: &Table, wrap: &Function) -> mlua::Result<(
                 LuaValue::String(p) => {
                     state::<Models>(lua).load(&state::<CoreCell>(lua), Path::new(&*p.to_str()?), true)
                 }
-                other => Err(format!(
-                    "argument 1: expected the model file's path as a string, got {}",
-                    other.type_name()
-                )),
+                other => Err(ModelLoadError::NotAPath(other.type_name())),
             };
             Ok(match loaded {
                 Ok(h) => (true, LuaValue::Integer(h)),

@@ -148,7 +148,10 @@ impl Simulation {
     /// # Errors
     /// The file is not a model or does not load.
     pub fn load_model(&mut self, path: &Path) -> Result<Handle, String> {
-        let h = state::<Models>(&self.lua).load(&self.core, path, false)?;
+        // The text, as the remote API (remote.rs) reports it with its function name.
+        let h = state::<Models>(&self.lua)
+            .load(&self.core, path, false)
+            .map_err(|e| e.to_string())?;
         self.attach_loaded_models();
         Ok(h)
     }

@@ -58,7 +58,9 @@ impl Client {
                 }),
             })
             .expect("the simulation listens");
-        rx.recv_timeout(Duration::from_secs(20)).expect("an answer")
+        rx.recv_timeout(Duration::from_secs(20))
+            .expect("an answer")
+            .map_err(|e| e.to_string())
     }
 
     fn ok(&self, request: DebugRequest) -> DebugReply {

@@ -8,7 +8,7 @@ mod util;
 
 use std::sync::{Arc, Mutex};
 
-use gantry_script::{ListenerStatus, Listeners, ScriptLimits, ScriptState};
+use gantry_script::{ListenerError, ListenerStatus, Listeners, ScriptLimits, ScriptState};
 use util::{Scene, assert_contains, int32_signal, script_error, script_state};
 
 #[derive(Debug, Default)]
@@ -18,22 +18,22 @@ struct Recorder {
 }
 
 impl Listeners for Recorder {
-    fn start_legacy(&self, port: u16) -> Result<(), String> {
+    fn start_legacy(&self, port: u16) -> Result<(), ListenerError> {
         self.calls.lock().unwrap().push(format!("start {port}"));
         let mut r = self.running.lock().unwrap();
         if r.contains(&port) {
-            return Err(format!("port {port} is in use"));
+            return Err(ListenerError::AlreadyRunning(port));
         }
         r.push(port);
         Ok(())
     }
-    fn stop_legacy(&self, port: u16) -> Result<(), String> {
+    fn stop_legacy(&self, port: u16) -> Result<(), ListenerError> {
         self.calls.lock().unwrap().push(format!("stop {port}"));
         let mut r = self.running.lock().unwrap();
         let before = r.len();
         r.retain(|&p| p != port);
         if r.len() == before {
-            return Err(format!("nothing on {port}"));
+            return Err(ListenerError::NotRunning(port));
         }
         Ok(())
     }

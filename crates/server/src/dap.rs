@@ -21,7 +21,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{broadcast, watch};
 
-use crate::debug::{DebugHub, display_name};
+use crate::debug::{DebugError, DebugHub, display_name};
 
 /// The one DAP thread.
 const THREAD_ID: i64 = 1;
@@ -235,7 +235,7 @@ impl Session {
         let (result, next) = self.answer(request.command).await;
         let msg = match result {
             Ok(body) => Outgoing::ok(seq, &name, body),
-            Err(message) => Outgoing::error(seq, &name, message),
+            Err(e) => Outgoing::error(seq, &name, e.to_string()),
         };
         if self.send(msg).await.is_err() {
             return Next::Close;
@@ -247,12 +247,12 @@ impl Session {
         next
     }
 
-    async fn ask(&self, request: DebugRequest) -> Result<DebugReply, String> {
+    async fn ask(&self, request: DebugRequest) -> Result<DebugReply, DebugError> {
         self.hub.request(request).await
     }
 
-    async fn answer(&mut self, command: Command) -> (Result<Json, String>, Next) {
-        let done = |r: Result<DebugReply, String>| r.map(|_| Json::Null);
+    async fn answer(&mut self, command: Command) -> (Result<Json, DapError>, Next) {
+        let done = |r: Result<DebugReply, DebugError>| r.map(|_| Json::Null).map_err(DapError::from);
         let result = match command {
             Command::Initialize { lines_start_at1, .. } => {
                 self.zero_based = !lines_start_at1;
@@ -262,10 +262,7 @@ impl Session {
             Command::ConfigurationDone => Ok(Json::Null),
             Command::SetBreakpoints { source, breakpoints } => {
                 let Some(path) = source.path.clone() else {
-                    return (
-                        Err("setBreakpoints needs source.path (the script file)".into()),
-                        Next::Go,
-                    );
+                    return (Err(DapError::NoSourcePath), Next::Go);
                 };
                 let specs: Vec<BreakpointSpec> = breakpoints
                     .iter()
@@ -411,7 +408,8 @@ impl Session {
             Command::Continue { .. } => self
                 .ask(DebugRequest::Continue)
                 .await
-                .map(|_| json!({"allThreadsContinued": true})),
+                .map(|_| json!({"allThreadsContinued": true}))
+                .map_err(DapError::from),
             Command::Next { .. } => done(self.ask(DebugRequest::StepOver).await),
             Command::StepIn { .. } => done(self.ask(DebugRequest::StepIn).await),
             Command::StepOut { .. } => done(self.ask(DebugRequest::StepOut).await),
@@ -428,20 +426,38 @@ impl Session {
                 }
                 other => unexpected(other),
             },
-            Command::Source { .. } => Err("gantry's scripts are files: open the source by its path".into()),
-            Command::Unknown(name) => Err(format!(
-                "unknown command '{name}': gantry's debug adapter does not implement it"
-            )),
+            Command::Source { .. } => Err(DapError::SourceByReference),
+            Command::Unknown(name) => Err(DapError::UnknownCommand(name)),
         };
         (result, Next::Go)
     }
 }
 
-fn unexpected(r: Result<DebugReply, String>) -> Result<Json, String> {
+fn unexpected(r: Result<DebugReply, DebugError>) -> Result<Json, DapError> {
     match r {
-        Ok(other) => Err(format!("unexpected answer from the debugger: {other:?}")),
-        Err(e) => Err(e),
+        Ok(other) => Err(DapError::UnexpectedReply(other)),
+        Err(e) => Err(e.into()),
     }
+}
+
+/// Why a DAP request is answered with an error response; the text is its message.
+#[derive(Debug, thiserror::Error)]
+enum DapError {
+    /// The debugger refused, or the simulation has ended.
+    #[error(transparent)]
+    Debug(#[from] DebugError),
+    /// setBreakpoints for a source given without a path.
+    #[error("setBreakpoints needs source.path (the script file)")]
+    NoSourcePath,
+    /// A `source` request: the editor opens scripts by path.
+    #[error("gantry's scripts are files: open the source by its path")]
+    SourceByReference,
+    /// A command the adapter does not implement.
+    #[error("unknown command '{0}': gantry's debug adapter does not implement it")]
+    UnknownCommand(String),
+    /// The debugger answered with a reply of another request's kind (a bug).
+    #[error("unexpected answer from the debugger: {0:?}")]
+    UnexpectedReply(DebugReply),
 }
 
 /// What the adapter supports, as DAP's `Capabilities`.

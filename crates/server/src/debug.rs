@@ -11,7 +11,7 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use gantry_script::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest};
+use gantry_script::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, DebuggerError};
 use tokio::sync::{broadcast, oneshot, watch};
 
 use crate::sim_thread::{Request, SimHandle};
@@ -83,8 +83,8 @@ impl DebugHub {
     /// Sends a request and awaits the answer.
     ///
     /// # Errors
-    /// The debugger's error message, or that the simulation has ended.
-    pub async fn request(&self, request: DebugRequest) -> Result<DebugReply, String> {
+    /// The debugger's refusal, or [`DebugError::Ended`].
+    pub async fn request(&self, request: DebugRequest) -> Result<DebugReply, DebugError> {
         let (tx, rx) = oneshot::channel();
         self.commands
             .send(DebugCommand {
@@ -93,10 +93,10 @@ impl DebugHub {
                     let _ = tx.send(r);
                 }),
             })
-            .map_err(|_| ENDED.to_owned())?;
+            .map_err(|_| DebugError::Ended)?;
         // Wakes the loop if no script is stopped; a full queue means it is awake anyway.
         let _ = self.sim.send(Request::With(Box::new(|sim| sim.debug_poll())));
-        rx.await.map_err(|_| ENDED.to_owned())?
+        Ok(rx.await.map_err(|_| DebugError::Ended)??)
     }
 
     /// Where a script is stopped (`None`: running), updated as it changes.
@@ -120,7 +120,16 @@ impl DebugHub {
     }
 }
 
-const ENDED: &str = "the simulation has ended";
+/// Why a debugger request got no answer.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DebugError {
+    /// The simulation thread is gone, and the debugger with it.
+    #[error("the simulation has ended")]
+    Ended,
+    /// The debugger refused the request.
+    #[error(transparent)]
+    Debugger(#[from] DebuggerError),
+}
 
 /// A script's file name, as the viewer's banner and the editor's stop message show it.
 pub(crate) fn display_name(path: &std::path::Path) -> String {

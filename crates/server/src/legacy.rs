@@ -21,7 +21,7 @@ use gantry_engine::ClientId;
 use gantry_protocol::legacy_remote_api::{
     self as wire, Command, LegacyError, MessageHeader, PacketReader, SplitAssembler, opmode,
 };
-use gantry_script::{ListenerStatus, Listeners};
+use gantry_script::{ListenerError, ListenerStatus, Listeners};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::watch;
@@ -297,31 +297,30 @@ impl LegacyServers {
     ///
     /// # Errors
     /// The port is in use, or a server of ours already runs there.
-    pub fn start(&self, port: u16) -> Result<SocketAddr, String> {
-        let mut servers = self
-            .servers
-            .lock()
-            .map_err(|_| "the server table is poisoned".to_owned())?;
+    pub fn start(&self, port: u16) -> Result<SocketAddr, ListenerError> {
+        let mut servers = self.servers.lock().map_err(|_| ListenerError::Poisoned)?;
         servers.retain(|_, r| !r.stop.is_closed());
         if port != 0 && servers.contains_key(&port) {
-            return Err(format!("a legacy remote API server already runs on port {port}"));
+            return Err(ListenerError::AlreadyRunning(port));
         }
         // Bound here, synchronously, so the script learns at once whether it worked.
-        let std_listener = std::net::TcpListener::bind(SocketAddr::new(self.bind, port))
-            .map_err(|e| format!("cannot listen on {}:{port}: {e}", self.bind))?;
-        std_listener
-            .set_nonblocking(true)
-            .map_err(|e| format!("cannot listen on {}:{port}: {e}", self.bind))?;
-        let local = std_listener
-            .local_addr()
-            .map_err(|e| format!("cannot listen on {}:{port}: {e}", self.bind))?;
+        let refused = |source| ListenerError::Listen {
+            address: format!("{}:{port}", self.bind),
+            source,
+        };
+        let std_listener = std::net::TcpListener::bind(SocketAddr::new(self.bind, port)).map_err(refused)?;
+        std_listener.set_nonblocking(true).map_err(refused)?;
+        let local = std_listener.local_addr().map_err(refused)?;
         let (stop_tx, stop_rx) = watch::channel(false);
         let status = new_status();
         let sim = self.sim.clone();
         let mut shutdown = self.shutdown.clone();
         let task_status = status.clone();
         let _guard = self.rt.enter();
-        let listener = TcpListener::from_std(std_listener).map_err(|e| format!("cannot listen on {local}: {e}"))?;
+        let listener = TcpListener::from_std(std_listener).map_err(|source| ListenerError::Listen {
+            address: local.to_string(),
+            source,
+        })?;
         self.rt.spawn(async move {
             tokio::select! {
                 _ = serve_with_status(listener, sim, stop_rx, task_status) => {}
@@ -335,25 +334,22 @@ impl LegacyServers {
 }
 
 impl Listeners for LegacyServers {
-    fn start_legacy(&self, port: u16) -> Result<(), String> {
+    fn start_legacy(&self, port: u16) -> Result<(), ListenerError> {
         if port == 0 {
-            return Err("port 0: scripts name the port their clients connect to".to_owned());
+            return Err(ListenerError::PortZero);
         }
         self.start(port).map(|_| ())
     }
 
-    fn stop_legacy(&self, port: u16) -> Result<(), String> {
-        let mut servers = self
-            .servers
-            .lock()
-            .map_err(|_| "the server table is poisoned".to_owned())?;
+    fn stop_legacy(&self, port: u16) -> Result<(), ListenerError> {
+        let mut servers = self.servers.lock().map_err(|_| ListenerError::Poisoned)?;
         match servers.remove(&port) {
             Some(r) => {
                 let _ = r.stop.send(true);
                 tracing::info!("legacy remote API on port {port} stopped");
                 Ok(())
             }
-            None => Err(format!("no legacy remote API server runs on port {port}")),
+            None => Err(ListenerError::NotRunning(port)),
         }
     }
 

@@ -3,6 +3,7 @@
 
 use mlua::{Function, Lua, MultiValue, Table, Thread, Value as LuaValue};
 
+use super::link::DebuggerError;
 use crate::sandbox::HostLibs;
 
 /// Most entries listed for one table: a script's table may be huge; an editor pages.
@@ -93,28 +94,38 @@ impl Inspector {
     }
 
     /// Compiles `code` for frame `k` of `co`, or for the script's globals `env` alone.
-    pub(super) fn compile(&self, frame: Option<(&Thread, usize)>, env: &Table, code: &str) -> Result<Function, String> {
+    pub(super) fn compile(
+        &self,
+        frame: Option<(&Thread, usize)>,
+        env: &Table,
+        code: &str,
+    ) -> Result<Function, DebuggerError> {
         let (co, k) = match frame {
             Some((co, k)) => (LuaValue::Thread(co.clone()), LuaValue::Integer(k as i64)),
             None => (LuaValue::Nil, LuaValue::Nil),
         };
-        let (f, err): (Option<Function>, Option<String>) =
-            self.compile.call((co, k, env, code)).map_err(|e| e.to_string())?;
-        f.ok_or_else(|| err.unwrap_or_else(|| "cannot compile the expression".into()))
+        let (f, err): (Option<Function>, Option<String>) = self
+            .compile
+            .call((co, k, env, code))
+            .map_err(|e| DebuggerError::Lua(e.to_string()))?;
+        f.ok_or_else(|| DebuggerError::Lua(err.unwrap_or_else(|| "cannot compile the expression".into())))
     }
 
     /// Runs a compiled expression in a coroutine of its own (see debugger.lua).
-    pub(super) fn run(&self, f: Function) -> Result<MultiValue, String> {
-        let out: MultiValue = self.run.call(f).map_err(|e| crate::lua_error::error_text(&e))?;
+    pub(super) fn run(&self, f: Function) -> Result<MultiValue, DebuggerError> {
+        let out: MultiValue = self
+            .run
+            .call(f)
+            .map_err(|e| DebuggerError::Lua(crate::lua_error::error_text(&e)))?;
         let mut it = out.into_iter();
         match it.next() {
             Some(LuaValue::Boolean(true)) => Ok(it.collect()),
-            _ => Err(match it.next() {
+            _ => Err(DebuggerError::Lua(match it.next() {
                 Some(LuaValue::String(s)) => s.to_string_lossy(),
                 Some(LuaValue::Error(e)) => crate::lua_error::error_text(&e),
                 Some(other) => format!("{other:?}"),
                 None => "error".into(),
-            }),
+            })),
         }
     }
 

@@ -22,7 +22,33 @@ pub struct DebugCommand {
     /// What to do.
     pub request: DebugRequest,
     /// Called once with the answer (on the simulation thread; must not block).
-    pub reply: Box<dyn FnOnce(Result<DebugReply, String>) + Send>,
+    pub reply: Box<dyn FnOnce(Result<DebugReply, DebuggerError>) + Send>,
+}
+
+/// Why the debugger refused a request. The text is what an editor shows the user.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DebuggerError {
+    /// The request needs a stopped script (scopes, variables, evaluate), and none is.
+    #[error("no script is stopped (set a breakpoint or pause first)")]
+    NotStopped,
+    /// A step request while no script is stopped.
+    #[error("no script is stopped: nothing to step")]
+    NothingToStep,
+    /// A frame id beyond the stopped script's stack.
+    #[error("no such frame")]
+    NoSuchFrame,
+    /// A variables reference this stop never handed out.
+    #[error("unknown variables reference {0}")]
+    UnknownReference(i64),
+    /// An expression for a frame that belongs to no script of the scene.
+    #[error("no script frame to evaluate in")]
+    NoScriptFrame,
+    /// setVariable on a name the scope does not have.
+    #[error("no variable '{0}' in this scope")]
+    NoSuchVariable(String),
+    /// The Lua code run for the request (an expression, a new value) failed: Lua's message.
+    #[error("{0}")]
+    Lua(String),
 }
 
 /// What a debugger client can ask.

@@ -25,8 +25,8 @@ mod protected_call;
 mod state;
 
 pub use link::{
-    BreakpointSpec, BreakpointStatus, DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, FrameInfo,
-    ScopeInfo, StopReason, VariableInfo,
+    BreakpointSpec, BreakpointStatus, DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, DebuggerError,
+    FrameInfo, ScopeInfo, StopReason, VariableInfo,
 };
 pub(crate) use protected_call::install as install_protected_call;
 pub(crate) use state::DebugHost;

@@ -16,8 +16,8 @@ use mlua::{AppDataRef, Lua, Table, Thread, Value as LuaValue, VmState};
 
 use super::inspect::{Inspector, RawFrame};
 use super::link::{
-    BreakpointSpec, BreakpointStatus, DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, FrameInfo,
-    ScopeInfo, StopReason, VariableInfo,
+    BreakpointSpec, BreakpointStatus, DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, DebuggerError,
+    FrameInfo, ScopeInfo, StopReason, VariableInfo,
 };
 use crate::app_state::state;
 use crate::directory::Directory;
@@ -437,7 +437,12 @@ impl DebugHost {
     }
 
     /// Answers one request; `Some` when it resumes a stopped script.
-    fn serve(&self, lua: &Lua, request: DebugRequest, host: &Host<'_>) -> (Result<DebugReply, String>, Option<Resume>) {
+    fn serve(
+        &self,
+        lua: &Lua,
+        request: DebugRequest,
+        host: &Host<'_>,
+    ) -> (Result<DebugReply, DebuggerError>, Option<Resume>) {
         let stopped = self.state.borrow().session.is_some();
         let resume = |r: Resume| {
             if stopped {
@@ -504,11 +509,11 @@ impl DebugHost {
         }
     }
 
-    fn step_or_refuse(&self, stopped: bool, mode: StepMode) -> (Result<DebugReply, String>, Option<Resume>) {
+    fn step_or_refuse(&self, stopped: bool, mode: StepMode) -> (Result<DebugReply, DebuggerError>, Option<Resume>) {
         if stopped {
             (Ok(DebugReply::Done), Some(Resume::Step(mode)))
         } else {
-            (Err("no script is stopped: nothing to step".into()), None)
+            (Err(DebuggerError::NothingToStep), None)
         }
     }
 
@@ -599,11 +604,14 @@ impl DebugHost {
             .collect()
     }
 
-    fn scopes(&self, frame: usize, host: &Host<'_>) -> Result<DebugReply, String> {
+    fn scopes(&self, frame: usize, host: &Host<'_>) -> Result<DebugReply, DebuggerError> {
         let mut s = self.state.borrow_mut();
         let State { session, files, .. } = &mut *s;
-        let session = session.as_mut().ok_or(NOT_STOPPED)?;
-        let f = session.frames.get(frame.wrapping_sub(1)).ok_or("no such frame")?;
+        let session = session.as_mut().ok_or(DebuggerError::NotStopped)?;
+        let f = session
+            .frames
+            .get(frame.wrapping_sub(1))
+            .ok_or(DebuggerError::NoSuchFrame)?;
         let env = files
             .get(&f.source)
             .and_then(|file| file.scripts.first())
@@ -629,31 +637,31 @@ impl DebugHost {
         Ok(DebugReply::Scopes(out))
     }
 
-    fn variables(&self, lua: &Lua, reference: i64) -> Result<DebugReply, String> {
+    fn variables(&self, lua: &Lua, reference: i64) -> Result<DebugReply, DebuggerError> {
         let (co, var) = self.lookup(reference)?;
         self.busy.set(true);
-        let pairs: Result<Vec<(String, LuaValue)>, String> = match &var {
-            VarRef::Locals(k) => self.inspect.scope(&co, *k, false).map_err(|e| e.to_string()),
-            VarRef::Upvalues(k) => self.inspect.scope(&co, *k, true).map_err(|e| e.to_string()),
+        let pairs: Result<Vec<(String, LuaValue)>, DebuggerError> = match &var {
+            VarRef::Locals(k) => self.inspect.scope(&co, *k, false).map_err(lua_failed),
+            VarRef::Upvalues(k) => self.inspect.scope(&co, *k, true).map_err(lua_failed),
             VarRef::Globals(env) => Ok(script_globals(lua, env)),
             VarRef::Table(t) => self
                 .inspect
                 .entries(t)
                 .map(|v| v.into_iter().map(|(n, v, _)| (n, v)).collect())
-                .map_err(|e| e.to_string()),
+                .map_err(lua_failed),
         };
         let out = pairs.map(|pairs| pairs.into_iter().map(|(n, v)| self.variable(n, &v)).collect());
         self.busy.set(false);
         out.map(DebugReply::Variables)
     }
 
-    fn lookup(&self, reference: i64) -> Result<(Thread, VarRef), String> {
+    fn lookup(&self, reference: i64) -> Result<(Thread, VarRef), DebuggerError> {
         let s = self.state.borrow();
-        let session = s.session.as_ref().ok_or(NOT_STOPPED)?;
+        let session = s.session.as_ref().ok_or(DebuggerError::NotStopped)?;
         let var = usize::try_from(reference - 1)
             .ok()
             .and_then(|i| session.refs.get(i))
-            .ok_or_else(|| format!("unknown variables reference {reference}"))?;
+            .ok_or(DebuggerError::UnknownReference(reference))?;
         Ok((session.co.clone(), var.clone()))
     }
 
@@ -681,18 +689,21 @@ impl DebugHost {
         }
     }
 
-    fn evaluate(&self, frame: Option<usize>, expression: &str, host: &Host<'_>) -> Result<DebugReply, String> {
+    fn evaluate(&self, frame: Option<usize>, expression: &str, host: &Host<'_>) -> Result<DebugReply, DebuggerError> {
         let co = {
             let s = self.state.borrow();
-            s.session.as_ref().map(|x| x.co.clone()).ok_or(NOT_STOPPED)?
+            s.session
+                .as_ref()
+                .map(|x| x.co.clone())
+                .ok_or(DebuggerError::NotStopped)?
         };
         let v = self.evaluate_at(&co, frame.unwrap_or(1), expression, host)?;
         Ok(DebugReply::Value(self.variable(expression.to_owned(), &v)))
     }
 
     /// Runs `code` in frame `k` of `co` under a fresh time budget; its first result.
-    fn evaluate_at(&self, co: &Thread, k: usize, code: &str, host: &Host<'_>) -> Result<LuaValue, String> {
-        let env = self.env_of_frame(co, k, host).ok_or("no script frame to evaluate in")?;
+    fn evaluate_at(&self, co: &Thread, k: usize, code: &str, host: &Host<'_>) -> Result<LuaValue, DebuggerError> {
+        let env = self.env_of_frame(co, k, host).ok_or(DebuggerError::NoScriptFrame)?;
         let was_busy = self.busy.replace(true);
         let deadline = host.running.deadline.replace(Instant::now() + host.running.budget);
         let interrupted = host.running.interrupted.replace(false);
@@ -721,7 +732,13 @@ impl DebugHost {
         host.directory.entry(idx).map(|e| e.env)
     }
 
-    fn set_variable(&self, reference: i64, name: &str, value: &str, host: &Host<'_>) -> Result<DebugReply, String> {
+    fn set_variable(
+        &self,
+        reference: i64,
+        name: &str,
+        value: &str,
+        host: &Host<'_>,
+    ) -> Result<DebugReply, DebuggerError> {
         let (co, var) = self.lookup(reference)?;
         let frame = match &var {
             VarRef::Locals(k) | VarRef::Upvalues(k) => *k,
@@ -750,8 +767,8 @@ impl DebugHost {
         self.busy.set(false);
         match done {
             Ok(true) => Ok(DebugReply::Value(self.variable(name.to_owned(), &v))),
-            Ok(false) => Err(format!("no variable '{name}' in this scope")),
-            Err(e) => Err(e.to_string()),
+            Ok(false) => Err(DebuggerError::NoSuchVariable(name.to_owned())),
+            Err(e) => Err(lua_failed(e)),
         }
     }
 
@@ -763,7 +780,10 @@ impl DebugHost {
     }
 }
 
-const NOT_STOPPED: &str = "no script is stopped (set a breakpoint or pause first)";
+/// A Lua error met while inspecting, as the editor shows it (mlua's full text).
+fn lua_failed(e: mlua::Error) -> DebuggerError {
+    DebuggerError::Lua(e.to_string())
+}
 
 /// The script's own globals: its environment without what every script gets (the
 /// API and library tables, `print`, `require`).

@@ -18,8 +18,8 @@ use super::config::HttpConfig;
 use super::frame::FrameDelta;
 use super::panels::{self, PanelCursor};
 use super::scene;
-use crate::debug::{DebugHub, PausedAt};
-use crate::sim_thread::SimHandle;
+use crate::debug::{DebugError, DebugHub, PausedAt};
+use crate::sim_thread::{SendError, SimHandle};
 
 /// `packet.client` ids of viewer pages, far above the text channel's connection
 /// counter so scripts can tell them apart.
@@ -70,9 +70,9 @@ pub(super) async fn run(mut socket: WebSocket, st: AppState, _permit: OwnedSemap
                     let reply = match command::parse(text.as_str()) {
                         Ok(m) => match m.command {
                             Command::Debug { action } => reply(m.id, debug(st.debug.as_ref(), action).await),
-                            _ => reply(m.id, Err("paused in debugger: continue or step first".into())),
+                            _ => reply(m.id, Err(ViewerCommandError::Paused)),
                         },
-                        Err(e) => reply(None, Err(e.to_string())),
+                        Err(e) => reply(None, Err(e.into())),
                     };
                     send(&mut socket, &st.cfg, Message::Text(reply.to_string().into())).await
                 }
@@ -147,13 +147,13 @@ pub(super) async fn run(mut socket: WebSocket, st: AppState, _permit: OwnedSemap
                         cmd => match work_tx.try_send((m.id, cmd)) {
                             Ok(()) => Ok(()),
                             Err(_) => {
-                                let r = reply(m.id, Err("too many commands waiting; retry".into()));
+                                let r = reply(m.id, Err(ViewerCommandError::Queued));
                                 send(&mut socket, &st.cfg, Message::Text(r.to_string().into())).await
                             }
                         },
                     },
                     Err(e) => {
-                        let r = reply(None, Err(e.to_string()));
+                        let r = reply(None, Err(e.into()));
                         send(&mut socket, &st.cfg, Message::Text(r.to_string().into())).await
                     }
                 },
@@ -207,9 +207,9 @@ fn debug_message(paused: Option<&PausedAt>) -> Message {
 }
 
 /// A banner button: to the debugger directly.
-async fn debug(hub: Option<&DebugHub>, action: command::DebugAction) -> Result<String, String> {
-    let hub = hub.ok_or("the debugger is off: start gantry with --debug")?;
-    hub.request(action.into()).await.map(|_| String::new())
+async fn debug(hub: Option<&DebugHub>, action: command::DebugAction) -> Result<String, ViewerCommandError> {
+    let hub = hub.ok_or(ViewerCommandError::DebuggerOff)?;
+    Ok(hub.request(action.into()).await.map(|_| String::new())?)
 }
 
 async fn send(socket: &mut WebSocket, cfg: &HttpConfig, msg: Message) -> Result<(), Gone> {
@@ -291,34 +291,75 @@ async fn send_panels(socket: &mut WebSocket, st: &AppState, cursor: &mut PanelCu
 }
 
 /// The reply `{"t":"reply","id","ok","text"}` to a command.
-fn reply(id: Option<u64>, result: Result<String, String>) -> Json {
+fn reply(id: Option<u64>, result: Result<String, ViewerCommandError>) -> Json {
     match result {
         Ok(text) => json!({"t": "reply", "id": id, "ok": true, "text": text}),
-        Err(text) => json!({"t": "reply", "id": id, "ok": false, "text": text}),
+        Err(e) => json!({"t": "reply", "id": id, "ok": false, "text": e.to_string()}),
     }
 }
 
-async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, String> {
+/// Why a viewer command failed; the text is the reply's `text`.
+#[derive(Debug, thiserror::Error)]
+enum ViewerCommandError {
+    /// The message is not a command the page sends.
+    #[error(transparent)]
+    Parse(#[from] command::CommandError),
+    /// A script is stopped in the debugger: only the debugger's buttons are served.
+    #[error("paused in debugger: continue or step first")]
+    Paused,
+    /// The session's queue of commands for the simulation is full.
+    #[error("too many commands waiting; retry")]
+    Queued,
+    /// A debugger button while gantry runs without `--debug`.
+    #[error("the debugger is off: start gantry with --debug")]
+    DebuggerOff,
+    /// The debugger refused, or the simulation has ended.
+    #[error(transparent)]
+    Debug(#[from] DebugError),
+    /// The simulation could not take the request.
+    #[error(transparent)]
+    Send(#[from] SendError),
+    /// A registry call failed: its message.
+    #[error("{0}")]
+    Call(String),
+    /// A debugger action reached the worker (a bug: the session answers those).
+    #[error("{0:?} is answered by the session, not the worker")]
+    DebugInWorker(command::DebugAction),
+    /// A reload of a script index the scene does not have.
+    #[error("no script {0}")]
+    NoScript(usize),
+    /// The text channel's `<ERR#...>` reply to a packet.
+    #[error("{0}")]
+    Packet(String),
+}
+
+async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, ViewerCommandError> {
     match cmd {
         Command::Control { action } => {
-            let state = sim.control(action.into()).await.map_err(|e| e.to_string())?;
+            let state = sim.control(action.into()).await?;
             Ok(format!("{state:?}").to_lowercase())
         }
         Command::Packet { text } => packet(&text, client, sim).await,
         Command::Ui { ui, widget, value } => {
             let args = vec![Value::Int(ui), Value::Int(widget), command::ui_value(&value)];
-            sim.call("simUI.interact", args).await.map(|_| String::new())
+            sim.call("simUI.interact", args)
+                .await
+                .map(|_| String::new())
+                .map_err(ViewerCommandError::Call)
         }
-        Command::Debug { action } => Err(format!("{action:?} is answered by the session, not the worker")),
+        Command::Debug { action } => Err(ViewerCommandError::DebugInWorker(action)),
         Command::Select { handles } => {
             let handles = Value::Array(handles.into_iter().map(Value::Int).collect());
-            sim.call("setObjectSel", vec![handles]).await.map(|_| String::new())
+            sim.call("setObjectSel", vec![handles])
+                .await
+                .map(|_| String::new())
+                .map_err(ViewerCommandError::Call)
         }
         Command::Key { key, mods } => sim
             .with(move |s| s.core_mut().messages.post_key(key, mods))
             .await
             .map(|()| String::new())
-            .map_err(|e| e.to_string()),
+            .map_err(ViewerCommandError::from),
         Command::Reload { script } => {
             let found = sim
                 .with(move |s| {
@@ -328,12 +369,11 @@ async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, S
                     }
                     script < n
                 })
-                .await
-                .map_err(|e| e.to_string())?;
+                .await?;
             if found {
                 Ok(String::new())
             } else {
-                Err(format!("no script {script}"))
+                Err(ViewerCommandError::NoScript(script))
             }
         }
     }
@@ -341,10 +381,10 @@ async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, S
 
 /// A text packet, through the same `sysCall_packet` path and with the same reply as the
 /// TCP text channel (`<ERR#...>` replies count as failures here).
-async fn packet(text: &str, client: i64, sim: &SimHandle) -> Result<String, String> {
+async fn packet(text: &str, client: i64, sim: &SimHandle) -> Result<String, ViewerCommandError> {
     let reply = crate::text::deliver(text.trim(), client, sim).await;
     if reply.starts_with("<ERR#") {
-        Err(reply)
+        Err(ViewerCommandError::Packet(reply))
     } else {
         Ok(reply)
     }

@@ -5,6 +5,101 @@
 
 use gantry_protocol::legacy_remote_api::{Command, CommandId};
 use gantry_sim_core::Value;
+use gantry_sim_core::api::CallError;
+
+use crate::sim_thread::SendError;
+
+/// Why a legacy remote API command failed. The text is what `simxGetLastErrors`
+/// returns to the client, so it stays as CoppeliaSim users have read it.
+#[derive(Debug, thiserror::Error)]
+pub(super) enum CommandError {
+    /// The arguments end before the integer at this byte offset.
+    #[error("arguments too short: no integer at byte {0}")]
+    NoInteger(usize),
+    /// The arguments end before the float at this byte offset.
+    #[error("arguments too short: no float at byte {0}")]
+    NoFloat(usize),
+    /// No NUL-terminated string at this byte offset.
+    #[error("arguments too short: no string at byte {0}")]
+    NoString(usize),
+    /// A registry result that should be a table of numbers (the type found).
+    #[error("expected a table of numbers, got {0}")]
+    NotNumbers(&'static str),
+    /// A table element that should be a number (the type found).
+    #[error("expected a number, got {0}")]
+    NotANumber(&'static str),
+    /// A registry result that should be a 32-bit integer.
+    #[error("expected an integer result")]
+    NoIntegerResult,
+    /// A registry result that should be a number.
+    #[error("expected a number result")]
+    NoNumberResult,
+    /// The registry function failed: its message.
+    #[error("{0}")]
+    Call(String),
+    /// The simulation did not take the request.
+    #[error(transparent)]
+    Send(#[from] SendError),
+    /// The simulation thread refused a client request (stepping, control, a scene).
+    #[error(transparent)]
+    Remote(#[from] CallError),
+    /// The simulation ended before the triggered step.
+    #[error("the simulation stopped before the step")]
+    StoppedBeforeStep,
+    /// `simxLoadScene`/`simxLoadModel` with a file on the client's side (the function).
+    #[error("{0}: client-side files cannot be sent; name a file the server can read")]
+    ClientFile(&'static str),
+    /// `simxGetObjectHandle` of a name no object has.
+    #[error("object '{0}' does not exist")]
+    NoObject(String),
+    /// The vision sensor has no image.
+    #[error("no image")]
+    NoImage,
+    /// The vision sensor has no depth buffer.
+    #[error("no depth buffer")]
+    NoDepthBuffer,
+    /// The vision sensor has not been handled yet.
+    #[error("the vision sensor has no result yet")]
+    NoVisionResult,
+    /// A signal that is not set.
+    #[error("no {kind} signal '{name}'")]
+    NoSignal {
+        /// `integer`, `float` or `string`.
+        kind: &'static str,
+        /// The signal's name.
+        name: String,
+    },
+    /// `simxCallScriptFunction` whose identity is not (int, string, string).
+    #[error("malformed simxCallScriptFunction")]
+    MalformedScriptCall,
+    /// `simxCallScriptFunction` naming no object (the function).
+    #[error("simxCallScriptFunction('{0}'): name the object whose script to call (gantry has no main script)")]
+    NoScriptObject(String),
+    /// `simxCallScriptFunction` naming an object that does not exist.
+    #[error("no object '{0}' for simxCallScriptFunction")]
+    NoScriptCallObject(String),
+    /// `simxCallScriptFunction` with negative or impossible array sizes.
+    #[error("simxCallScriptFunction: bad array sizes")]
+    BadArraySizes,
+    /// `simxCallScriptFunction` whose buffer argument is cut short.
+    #[error("simxCallScriptFunction: buffer too short")]
+    ShortBuffer,
+    /// The called function returned a non-number among its integers.
+    #[error("returned integers must be numbers")]
+    ReturnedIntegers,
+    /// The called function returned a non-string among its strings (the type found).
+    #[error("returned strings must be strings, got {0}")]
+    ReturnedStrings(&'static str),
+    /// `simxSynchronousTrigger` from a client not in synchronous mode.
+    #[error("simxSynchronousTrigger: the client is not in synchronous mode")]
+    NotSynchronous,
+    /// `simxSynchronousTrigger` while the simulation is stopped or paused.
+    #[error("simxSynchronousTrigger: the simulation is not running")]
+    NotRunning,
+    /// A simulation control code other than 0, 1, 2.
+    #[error("unknown simulation command {0}")]
+    UnknownControl(i32),
+}
 
 /// Where one argument of a registry call comes from in a command.
 #[derive(Clone, Copy, Debug)]
@@ -30,7 +125,7 @@ pub(super) enum Arg {
 
 impl Arg {
     /// The registry value this argument reads from `cmd`.
-    pub(super) fn read(self, cmd: &Command) -> Result<Value, String> {
+    pub(super) fn read(self, cmd: &Command) -> Result<Value, CommandError> {
         let d = Data(&cmd.data);
         Ok(match self {
             Arg::Id => Value::Int(i64::from(id_int(cmd))),
@@ -63,7 +158,7 @@ pub(super) enum Reply {
 
 impl Reply {
     /// The reply data for a registry call's results.
-    pub(super) fn encode(self, results: &[Value]) -> Result<Vec<u8>, String> {
+    pub(super) fn encode(self, results: &[Value]) -> Result<Vec<u8>, CommandError> {
         let first = results.first();
         match self {
             Reply::Empty => Ok(Vec::new()),
@@ -82,28 +177,25 @@ impl Reply {
 pub(super) struct Data<'a>(pub(super) &'a [u8]);
 
 impl Data<'_> {
-    pub(super) fn i32(&self, at: usize) -> Result<i32, String> {
+    pub(super) fn i32(&self, at: usize) -> Result<i32, CommandError> {
         self.0
             .get(at..at + 4)
             .map(|b| i32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .ok_or_else(|| format!("arguments too short: no integer at byte {at}"))
+            .ok_or(CommandError::NoInteger(at))
     }
-    pub(super) fn f32(&self, at: usize) -> Result<f64, String> {
+    pub(super) fn f32(&self, at: usize) -> Result<f64, CommandError> {
         self.0
             .get(at..at + 4)
             .map(|b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])))
-            .ok_or_else(|| format!("arguments too short: no float at byte {at}"))
+            .ok_or(CommandError::NoFloat(at))
     }
-    pub(super) fn f32s(&self, at: usize, n: usize) -> Result<Vec<Value>, String> {
+    pub(super) fn f32s(&self, at: usize, n: usize) -> Result<Vec<Value>, CommandError> {
         (0..n).map(|i| self.f32(at + 4 * i).map(Value::Float)).collect()
     }
     /// The NUL-terminated string at `at` and the offset after its NUL.
-    pub(super) fn string(&self, at: usize) -> Result<(String, usize), String> {
+    pub(super) fn string(&self, at: usize) -> Result<(String, usize), CommandError> {
         let rest = self.0.get(at..).unwrap_or_default();
-        let end = rest
-            .iter()
-            .position(|&c| c == 0)
-            .ok_or_else(|| format!("arguments too short: no string at byte {at}"))?;
+        let end = rest.iter().position(|&c| c == 0).ok_or(CommandError::NoString(at))?;
         Ok((String::from_utf8_lossy(&rest[..end]).into_owned(), at + end + 1))
     }
 }
@@ -114,13 +206,10 @@ pub(super) fn as_i32(v: Option<&Value>) -> Option<i32> {
 }
 
 /// A table result's elements.
-pub(super) fn numbers(v: Option<&Value>) -> Result<Vec<Value>, String> {
+pub(super) fn numbers(v: Option<&Value>) -> Result<Vec<Value>, CommandError> {
     match v {
         Some(Value::Array(a)) => Ok(a.clone()),
-        other => Err(format!(
-            "expected a table of numbers, got {}",
-            other.map_or("nothing", Value::type_name)
-        )),
+        other => Err(CommandError::NotNumbers(other.map_or("nothing", Value::type_name))),
     }
 }
 
@@ -130,11 +219,9 @@ pub(super) fn pad3(mut v: Vec<Value>) -> Vec<Value> {
     v
 }
 
-pub(super) fn put_f32s(out: &mut Vec<u8>, values: &[Value]) -> Result<(), String> {
+pub(super) fn put_f32s(out: &mut Vec<u8>, values: &[Value]) -> Result<(), CommandError> {
     for v in values {
-        let f = v
-            .as_f64()
-            .ok_or_else(|| format!("expected a number, got {}", v.type_name()))?;
+        let f = v.as_f64().ok_or(CommandError::NotANumber(v.type_name()))?;
         out.extend_from_slice(&(f as f32).to_le_bytes());
     }
     Ok(())
@@ -151,19 +238,19 @@ pub(super) fn put_string(out: &mut Vec<u8>, s: &str) {
     out.push(0);
 }
 
-pub(super) fn floats_reply(values: &[Value]) -> Result<Vec<u8>, String> {
+pub(super) fn floats_reply(values: &[Value]) -> Result<Vec<u8>, CommandError> {
     let mut out = Vec::with_capacity(values.len() * 4);
     put_f32s(&mut out, values)?;
     Ok(out)
 }
 
-pub(super) fn int_reply(v: Option<&Value>) -> Result<Vec<u8>, String> {
-    let i = as_i32(v).ok_or("expected an integer result")?;
+pub(super) fn int_reply(v: Option<&Value>) -> Result<Vec<u8>, CommandError> {
+    let i = as_i32(v).ok_or(CommandError::NoIntegerResult)?;
     Ok(i.to_le_bytes().to_vec())
 }
 
-pub(super) fn float_reply(v: Option<&Value>) -> Result<Vec<u8>, String> {
-    let f = v.and_then(Value::as_f64).ok_or("expected a number result")?;
+pub(super) fn float_reply(v: Option<&Value>) -> Result<Vec<u8>, CommandError> {
+    let f = v.and_then(Value::as_f64).ok_or(CommandError::NoNumberResult)?;
     Ok((f as f32).to_le_bytes().to_vec())
 }
 

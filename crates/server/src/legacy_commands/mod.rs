@@ -45,7 +45,7 @@ pub async fn execute(sim: &SimHandle, session: &mut Session, cmd: &Command) -> O
     let result = entry.command.run(&mut cx).await;
     match result {
         Ok(o) => o,
-        Err(why) => session.fail(cmd, why),
+        Err(why) => session.fail(cmd, why.to_string()),
     }
 }
 

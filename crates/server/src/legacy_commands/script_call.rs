@@ -4,16 +4,16 @@
 use gantry_protocol::legacy_remote_api::CommandId;
 use gantry_sim_core::Value;
 
-use super::layout::{Data, as_i32, put_count, put_f32s, put_string};
+use super::layout::{CommandError, Data, as_i32, put_count, put_f32s, put_string};
 use super::session::Ctx;
 
 /// `simxCallScriptFunction`: identified by the script type and the script's object
 /// name (or `function@object`), with four arrays in and four out, each array's length
 /// first: integers, floats, NUL-terminated strings, one buffer.
-pub(super) async fn call_script_function(cx: &mut Ctx<'_>) -> Result<Vec<u8>, String> {
+pub(super) async fn call_script_function(cx: &mut Ctx<'_>) -> Result<Vec<u8>, CommandError> {
     let cmd = cx.cmd;
     let CommandId::IntStrStr(_, description, function) = &cmd.id else {
-        return Err("malformed simxCallScriptFunction".into());
+        return Err(CommandError::MalformedScriptCall);
     };
     let description = String::from_utf8_lossy(description).into_owned();
     let function = String::from_utf8_lossy(function).into_owned();
@@ -22,18 +22,16 @@ pub(super) async fn call_script_function(cx: &mut Ctx<'_>) -> Result<Vec<u8>, St
         None => (function, description),
     };
     if object.is_empty() {
-        return Err(format!(
-            "simxCallScriptFunction('{function}'): name the object whose script to call (gantry has no main script)"
-        ));
+        return Err(CommandError::NoScriptObject(function));
     }
     let handle = cx.call("getObjectHandle", vec![Value::Str(object.clone())]).await?;
     let handle = as_i32(handle.first())
         .filter(|&x| x >= 0)
-        .ok_or_else(|| format!("no object '{object}' for simxCallScriptFunction"))?;
+        .ok_or(CommandError::NoScriptCallObject(object))?;
     let d = Data(&cmd.data);
     let counts = [d.i32(0)?, d.i32(4)?, d.i32(8)?, d.i32(12)?];
     if counts.iter().any(|&c| c < 0 || c as usize > cmd.data.len()) {
-        return Err("simxCallScriptFunction: bad array sizes".into());
+        return Err(CommandError::BadArraySizes);
     }
     let [ni, nf, ns, nb] = counts.map(|c| c as usize);
     let mut at = 16;
@@ -49,11 +47,7 @@ pub(super) async fn call_script_function(cx: &mut Ctx<'_>) -> Result<Vec<u8>, St
         strings.push(Value::Str(s));
         at = next;
     }
-    let buffer = cmd
-        .data
-        .get(at..at + nb)
-        .ok_or("simxCallScriptFunction: buffer too short")?
-        .to_vec();
+    let buffer = cmd.data.get(at..at + nb).ok_or(CommandError::ShortBuffer)?.to_vec();
     let out = cx
         .call(
             "callScriptFunction",
@@ -83,14 +77,14 @@ pub(super) async fn call_script_function(cx: &mut Ctx<'_>) -> Result<Vec<u8>, St
         put_count(&mut reply, n);
     }
     for v in &ri {
-        let x = v.as_f64().ok_or("returned integers must be numbers")?;
+        let x = v.as_f64().ok_or(CommandError::ReturnedIntegers)?;
         reply.extend_from_slice(&(x as i32).to_le_bytes());
     }
     put_f32s(&mut reply, &rf)?;
     for v in &rs {
         let s = match v {
             Value::Str(s) => s.clone(),
-            other => return Err(format!("returned strings must be strings, got {}", other.type_name())),
+            other => return Err(CommandError::ReturnedStrings(other.type_name())),
         };
         put_string(&mut reply, &s);
     }

@@ -3,15 +3,16 @@
 
 use gantry_sim_core::Value;
 
+use super::layout::CommandError;
 use super::layout::{Arg, as_i32, numbers, pad3, put_count, put_f32s};
 use super::session::Ctx;
 
 /// `simxGetVisionSensorImage`: the resolution (two integers), then the pixels, RGB or
 /// grey as CoppeliaSim computes it (the mean of the three channels).
-pub(super) async fn image(cx: &mut Ctx<'_>, rgb: bool) -> Result<Vec<u8>, String> {
+pub(super) async fn image(cx: &mut Ctx<'_>, rgb: bool) -> Result<Vec<u8>, CommandError> {
     let r = cx.call("getVisionSensorImg", vec![Arg::Id.read(cx.cmd)?]).await?;
     let (Some(Value::Bytes(img)), Some(res)) = (r.first(), r.get(1)) else {
-        return Err("no image".into());
+        return Err(CommandError::NoImage);
     };
     let mut out = resolution(res)?;
     if rgb {
@@ -27,7 +28,7 @@ pub(super) async fn image(cx: &mut Ctx<'_>, rgb: bool) -> Result<Vec<u8>, String
 
 /// `simxSetVisionSensorImage`: the pixels are the whole argument; a grey one is spread
 /// to the three channels.
-pub(super) async fn set_image(cx: &mut Ctx<'_>, rgb: bool) -> Result<Vec<u8>, String> {
+pub(super) async fn set_image(cx: &mut Ctx<'_>, rgb: bool) -> Result<Vec<u8>, CommandError> {
     let img = if rgb {
         cx.cmd.data.clone()
     } else {
@@ -39,10 +40,10 @@ pub(super) async fn set_image(cx: &mut Ctx<'_>, rgb: bool) -> Result<Vec<u8>, St
 }
 
 /// `simxGetVisionSensorDepthBuffer`: the resolution, then the depth buffer's bytes.
-pub(super) async fn depth_buffer(cx: &mut Ctx<'_>) -> Result<Vec<u8>, String> {
+pub(super) async fn depth_buffer(cx: &mut Ctx<'_>) -> Result<Vec<u8>, CommandError> {
     let r = cx.call("getVisionSensorDepth", vec![Arg::Id.read(cx.cmd)?]).await?;
     let (Some(Value::Bytes(depth)), Some(res)) = (r.first(), r.get(1)) else {
-        return Err("no depth buffer".into());
+        return Err(CommandError::NoDepthBuffer);
     };
     let mut out = resolution(res)?;
     out.extend_from_slice(depth);
@@ -50,7 +51,7 @@ pub(super) async fn depth_buffer(cx: &mut Ctx<'_>) -> Result<Vec<u8>, String> {
 }
 
 /// A resolution result as two integers (0 for a missing one).
-fn resolution(res: &Value) -> Result<Vec<u8>, String> {
+fn resolution(res: &Value) -> Result<Vec<u8>, CommandError> {
     let res = numbers(Some(res))?;
     let mut out = as_i32(res.first()).unwrap_or(0).to_le_bytes().to_vec();
     out.extend_from_slice(&as_i32(res.get(1)).unwrap_or(0).to_le_bytes());
@@ -59,11 +60,11 @@ fn resolution(res: &Value) -> Result<Vec<u8>, String> {
 
 /// `simxReadVisionSensor`: a detection byte, the packet count, each packet's length,
 /// then the packets' floats. A sensor that has not run yet is an error.
-pub(super) async fn read_vision(cx: &mut Ctx<'_>) -> Result<Vec<u8>, String> {
+pub(super) async fn read_vision(cx: &mut Ctx<'_>) -> Result<Vec<u8>, CommandError> {
     let r = cx.call("readVisionSensor", vec![Arg::Id.read(cx.cmd)?]).await?;
     let detected = as_i32(r.first()).unwrap_or(-1);
     if detected < 0 {
-        return Err("the vision sensor has no result yet".into());
+        return Err(CommandError::NoVisionResult);
     }
     let packets: Vec<Vec<Value>> = r
         .get(1..)
@@ -84,7 +85,7 @@ pub(super) async fn read_vision(cx: &mut Ctx<'_>) -> Result<Vec<u8>, String> {
 
 /// `simxReadProximitySensor`: a detection byte, the detected point (three floats), the
 /// detected object's handle (-1 for none) and the surface normal (three floats).
-pub(super) async fn read_proximity(cx: &mut Ctx<'_>) -> Result<Vec<u8>, String> {
+pub(super) async fn read_proximity(cx: &mut Ctx<'_>) -> Result<Vec<u8>, CommandError> {
     let r = cx.call("readProximitySensor", vec![Arg::Id.read(cx.cmd)?]).await?;
     let detected = as_i32(r.first()).unwrap_or(0);
     let point = r.get(2).map(|p| numbers(Some(p))).transpose()?.unwrap_or_default();
@@ -97,7 +98,7 @@ pub(super) async fn read_proximity(cx: &mut Ctx<'_>) -> Result<Vec<u8>, String> 
 }
 
 /// `simxReadForceSensor`: the state byte, then force and torque (three floats each).
-pub(super) async fn read_force(cx: &mut Ctx<'_>) -> Result<Vec<u8>, String> {
+pub(super) async fn read_force(cx: &mut Ctx<'_>) -> Result<Vec<u8>, CommandError> {
     let r = cx.call("readForceSensor", vec![Arg::Id.read(cx.cmd)?]).await?;
     let mut out = vec![as_i32(r.first()).unwrap_or(0).clamp(0, 255) as u8];
     put_f32s(&mut out, &pad3(numbers(r.get(1)).unwrap_or_default()))?;

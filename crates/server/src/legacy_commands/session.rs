@@ -7,7 +7,7 @@ use gantry_sim_core::Value;
 use gantry_sim_core::sim::Control;
 use tokio::sync::oneshot;
 
-use super::layout::{as_i32, id_int, put_count, put_string};
+use super::layout::{CommandError, as_i32, id_int, put_count, put_string};
 use crate::sim_thread::{Request, SendError, SimHandle};
 
 /// Most error messages kept for `simxGetLastErrors` between two calls.
@@ -100,28 +100,24 @@ pub(super) struct Ctx<'a> {
 
 impl Ctx<'_> {
     /// One registry function's results.
-    pub(super) async fn call(&self, name: &str, args: Vec<Value>) -> Result<Vec<Value>, String> {
-        self.sim.call(name, args).await
+    pub(super) async fn call(&self, name: &str, args: Vec<Value>) -> Result<Vec<Value>, CommandError> {
+        self.sim.call(name, args).await.map_err(CommandError::Call)
     }
 
     /// A request that the registry does not serve because it concerns the client
     /// (stepping, simulation control), answered by the simulation thread.
-    pub(super) async fn remote(&self, op: RemoteOp) -> Result<Vec<Value>, String> {
+    pub(super) async fn remote(&self, op: RemoteOp) -> Result<Vec<Value>, CommandError> {
         let (reply, rx) = oneshot::channel();
-        self.sim
-            .send(Request::Remote {
-                client: self.session.client,
-                op,
-                reply,
-            })
-            .map_err(|e| e.to_string())?;
-        rx.await
-            .map_err(|_| SendError::Closed.to_string())?
-            .map_err(|e| e.to_string())
+        self.sim.send(Request::Remote {
+            client: self.session.client,
+            op,
+            reply,
+        })?;
+        Ok(rx.await.map_err(|_| SendError::Closed)??)
     }
 
     /// `simxSynchronous`: one stepping level per client, however often it asks.
-    pub(super) async fn set_synchronous(&mut self, enable: bool) -> Result<Vec<u8>, String> {
+    pub(super) async fn set_synchronous(&mut self, enable: bool) -> Result<Vec<u8>, CommandError> {
         if enable != self.session.synchronous {
             self.remote(RemoteOp::SetStepping(enable)).await?;
             self.session.synchronous = enable;
@@ -131,34 +127,31 @@ impl Ctx<'_> {
 
     /// `simxSynchronousTrigger`: answered once the step is done, so the client's next
     /// command sees it.
-    pub(super) async fn synchronous_trigger(&self) -> Result<Vec<u8>, String> {
+    pub(super) async fn synchronous_trigger(&self) -> Result<Vec<u8>, CommandError> {
         if !self.session.synchronous {
-            return Err("simxSynchronousTrigger: the client is not in synchronous mode".into());
+            return Err(CommandError::NotSynchronous);
         }
         let running = self.call("getSimulationState", vec![]).await?;
         if as_i32(running.first()).is_none_or(|s| s == 0 || s == 8) {
-            return Err("simxSynchronousTrigger: the simulation is not running".into());
+            return Err(CommandError::NotRunning);
         }
         let (done, rx) = oneshot::channel();
-        self.sim
-            .send(Request::Step {
-                client: self.session.client,
-                done,
-            })
-            .map_err(|e| e.to_string())?;
-        rx.await
-            .map_err(|_| "the simulation stopped before the step".to_owned())?;
+        self.sim.send(Request::Step {
+            client: self.session.client,
+            done,
+        })?;
+        rx.await.map_err(|_| CommandError::StoppedBeforeStep)?;
         Ok(Vec::new())
     }
 
     /// `simxStartSimulation`, `simxPauseSimulation`, `simxStopSimulation`: one code, the
     /// identity saying which (0, 1, 2).
-    pub(super) async fn control_simulation(&self) -> Result<Vec<u8>, String> {
+    pub(super) async fn control_simulation(&self) -> Result<Vec<u8>, CommandError> {
         let control = match id_int(self.cmd) {
             0 => Control::Start,
             1 => Control::Pause,
             2 => Control::Stop,
-            other => return Err(format!("unknown simulation command {other}")),
+            other => return Err(CommandError::UnknownControl(other)),
         };
         self.remote(RemoteOp::Control(control)).await?;
         Ok(Vec::new())

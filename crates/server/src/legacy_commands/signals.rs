@@ -4,16 +4,21 @@
 
 use gantry_sim_core::Value;
 
-use super::layout::{Reply, id_str};
+use super::layout::{CommandError, Reply, id_str};
 use super::session::{Ctx, Outcome};
 
 /// `simxGetFloatSignal`, `simxGetIntegerSignal`: `function`'s value encoded by `reply`;
 /// an unset signal is an error naming the `kind` of signal.
-pub(super) async fn number(cx: &mut Ctx<'_>, function: &str, kind: &str, reply: Reply) -> Result<Vec<u8>, String> {
+pub(super) async fn number(
+    cx: &mut Ctx<'_>,
+    function: &str,
+    kind: &'static str,
+    reply: Reply,
+) -> Result<Vec<u8>, CommandError> {
     let name = id_str(cx.cmd);
     let r = cx.call(function, vec![Value::Str(name.clone())]).await?;
     match r.first() {
-        Some(Value::Nil) | None => Err(format!("no {kind} signal '{name}'")),
+        Some(Value::Nil) | None => Err(CommandError::NoSignal { kind, name }),
         _ => reply.encode(&r),
     }
 }
@@ -31,7 +36,7 @@ pub(super) enum Read {
 }
 
 /// A string signal's bytes, read as `read` says.
-pub(super) async fn string(cx: &mut Ctx<'_>, read: Read) -> Result<Outcome, String> {
+pub(super) async fn string(cx: &mut Ctx<'_>, read: Read) -> Result<Outcome, CommandError> {
     let name = id_str(cx.cmd);
     match (string_value(cx, &name).await?, read) {
         (Some(bytes), _) => {
@@ -45,13 +50,13 @@ pub(super) async fn string(cx: &mut Ctx<'_>, read: Read) -> Result<Outcome, Stri
             })
         }
         (None, Read::Stream) => Ok(super::session::ok(Vec::new())),
-        (None, _) => Err(format!("no string signal '{name}'")),
+        (None, _) => Err(CommandError::NoSignal { kind: "string", name }),
     }
 }
 
 /// `simxSetStringSignal`, `simxAppendStringSignal`: the arguments are the bytes, set as
 /// the value or appended to it.
-pub(super) async fn set_string(cx: &mut Ctx<'_>, append: bool) -> Result<Vec<u8>, String> {
+pub(super) async fn set_string(cx: &mut Ctx<'_>, append: bool) -> Result<Vec<u8>, CommandError> {
     let name = id_str(cx.cmd);
     let mut value = match append {
         true => string_value(cx, &name).await?.unwrap_or_default(),
@@ -64,7 +69,7 @@ pub(super) async fn set_string(cx: &mut Ctx<'_>, append: bool) -> Result<Vec<u8>
 }
 
 /// A string signal's bytes, `None` when unset (a string or a buffer, as Lua set it).
-async fn string_value(cx: &Ctx<'_>, name: &str) -> Result<Option<Vec<u8>>, String> {
+async fn string_value(cx: &Ctx<'_>, name: &str) -> Result<Option<Vec<u8>>, CommandError> {
     Ok(
         match cx
             .call("getStringSignal", vec![Value::Str(name.to_owned())])

@@ -4,7 +4,7 @@
 //! encoded); a command that needs more (several calls, a layout of its own, session
 //! state) is a [`Simx`] variant whose function is named on its doc line.
 
-use super::layout::{Arg, Reply};
+use super::layout::{Arg, CommandError, Reply};
 use super::session::{Ctx, Outcome, ok};
 use super::{objects, script_call, sensors, signals};
 
@@ -73,7 +73,7 @@ pub(super) enum Simx {
 
 impl Simx {
     /// Runs the command for `cx`'s client.
-    pub(super) async fn run(self, cx: &mut Ctx<'_>) -> Result<Outcome, String> {
+    pub(super) async fn run(self, cx: &mut Ctx<'_>) -> Result<Outcome, CommandError> {
         let data = match self {
             Simx::Call { function, args, reply } => {
                 let args = args.iter().map(|a| a.read(cx.cmd)).collect::<Result<_, _>>()?;

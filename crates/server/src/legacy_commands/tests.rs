@@ -152,3 +152,21 @@ fn a_grey_image_is_the_mean_of_the_channels() {
     expected.extend_from_slice(&[60, 255]);
     assert_eq!(out.data, expected);
 }
+
+/// A command cut short fails with the offset where its data ended, in the words
+/// `simxGetLastErrors` has always returned.
+#[test]
+fn short_arguments_name_the_byte_where_they_end() {
+    use super::layout::{CommandError, Data};
+    let d = Data(&[1, 2, 3]);
+    assert!(matches!(d.i32(0), Err(CommandError::NoInteger(0))));
+    assert!(matches!(d.f32s(0, 2), Err(CommandError::NoFloat(0))));
+    assert_eq!(
+        d.f32(4).unwrap_err().to_string(),
+        "arguments too short: no float at byte 4"
+    );
+    assert_eq!(
+        d.string(1).unwrap_err().to_string(),
+        "arguments too short: no string at byte 1"
+    );
+}

@@ -35,6 +35,95 @@ use crate::handle::Handle;
 /// whitespace and comments between them.
 const MAX_XML_NODES: u32 = 8 * MAX_WIDGETS as u32 + 64;
 
+/// What is wrong with one element of simUI's XML: the message of [`UiError::Element`],
+/// which adds the element and its position. Wording follows simUI's where it has one.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub(super) enum UiParseError {
+    /// The document element is neither `<ui>` nor `<window>`.
+    #[error("root element must be <ui>")]
+    Root,
+    /// `geometry` on a widget whose parent's layout is not `none`.
+    #[error("cannot set geometry with current layout")]
+    GeometryInLayout,
+    /// A form layout with an odd number of children.
+    #[error("extra elements in layout (a form layout needs pairs of widgets)")]
+    OddForm,
+    /// More than [`MAX_WIDGETS`] elements in one UI.
+    #[error("too many widgets (at most {MAX_WIDGETS} per UI)")]
+    TooManyWidgets,
+    /// An `id` that is not a positive 32-bit integer.
+    #[error("id must be a positive integer")]
+    BadId,
+    /// Two widgets of one UI with the same id.
+    #[error("id must be unique (within ui scope). duplicate id: {0}")]
+    DuplicateId(i64),
+    /// `<stretch>` outside a vbox or hbox.
+    #[error("stretch must be placed in a widget with vbox/hbox layout")]
+    StretchOutsideBox,
+    /// Groups nested deeper than [`MAX_DEPTH`].
+    #[error("groups nested too deeply (at most {MAX_DEPTH} levels)")]
+    TooDeep,
+    /// A simUI element gantry does not implement (the tag).
+    #[error(
+        "<{0}> is not supported by gantry (supported: hslider, vslider, button, label, edit, checkbox, \
+         radiobutton, spinbox, group, stretch)"
+    )]
+    Unsupported(String),
+    /// A tag simUI does not know either.
+    #[error("invalid element <{0}>")]
+    UnknownElement(String),
+    /// A boolean attribute other than `true` or `false`.
+    #[error("invalid value '{value}' for attribute '{name}': must be true or false")]
+    NotBool {
+        /// The value as written.
+        value: String,
+        /// The attribute.
+        name: &'static str,
+    },
+    /// An integer attribute that is not a 32-bit integer.
+    #[error("invalid value '{value}' for attribute '{name}': must be a 32-bit integer")]
+    NotI32 {
+        /// The value as written.
+        value: String,
+        /// The attribute.
+        name: &'static str,
+    },
+    /// A number attribute that is not a finite number.
+    #[error("invalid value '{value}' for attribute '{name}': must be a finite number")]
+    NotFinite {
+        /// The value as written.
+        value: String,
+        /// The attribute.
+        name: &'static str,
+    },
+    /// A list attribute (`position`, `geometry`) with the wrong number of elements.
+    #[error("attribute '{name}' must have exactly {count} elements")]
+    WrongCount {
+        /// The attribute.
+        name: &'static str,
+        /// How many it needs.
+        count: usize,
+    },
+    /// A list attribute with an element that is not a 32-bit integer.
+    #[error("invalid value '{value}' for attribute '{name}': must be integers")]
+    NotIntegers {
+        /// The value as written.
+        value: String,
+        /// The attribute.
+        name: &'static str,
+    },
+    /// An attribute that must be one of a few words.
+    #[error("invalid value for attribute '{name}': '{value}' (must be one of: {valid})")]
+    NotAChoice {
+        /// The attribute.
+        name: &'static str,
+        /// The value as written.
+        value: String,
+        /// The accepted words, quoted and comma-separated.
+        valid: String,
+    },
+}
+
 /// Warnings gathered while parsing, and the deprecated names already reported (simUI
 /// reports each once per session; gantry once per world).
 #[derive(Debug, Clone, Default)]
@@ -90,7 +179,7 @@ struct Parser<'d, 'input> {
 
 impl<'d, 'input> Parser<'d, 'input> {
     /// An error located at `node`, named as simUI names elements (`hslider[id=1]`).
-    fn error(&self, node: Node<'_, '_>, id: Option<i64>, message: impl Into<String>) -> UiError {
+    fn error(&self, node: Node<'_, '_>, id: Option<i64>, why: UiParseError) -> UiError {
         let pos = self.doc.text_pos_at(node.range().start);
         let tag = node.tag_name().name();
         let element = match id {
@@ -101,17 +190,17 @@ impl<'d, 'input> Parser<'d, 'input> {
             element,
             line: pos.row,
             column: pos.col,
-            message: message.into(),
+            message: why.to_string(),
         }
     }
 
     fn window(&mut self, node: Node<'d, 'input>, handle: i64, owner: Option<Handle>) -> Result<Ui, UiError> {
         let tag = node.tag_name().name();
         if tag != "ui" && tag != "window" {
-            return Err(self.error(node, None, "root element must be <ui>"));
+            return Err(self.error(node, None, UiParseError::Root));
         }
         let mut a = Attrs::new(node);
-        let ui = (|| -> Result<Ui, String> {
+        let ui = (|| -> Result<Ui, UiParseError> {
             let (layout, margins) = layout_attrs(&mut a)?;
             Ok(Ui {
                 handle,
@@ -166,7 +255,7 @@ impl<'d, 'input> Parser<'d, 'input> {
             }
             let w = self.widget(child, layout, depth)?;
             if w.geometry.is_some() && layout != Layout::None {
-                return Err(self.error(child, Some(w.id), "cannot set geometry with current layout"));
+                return Err(self.error(child, Some(w.id), UiParseError::GeometryInLayout));
             }
             row.push(w);
             let row_full = match layout {
@@ -183,11 +272,7 @@ impl<'d, 'input> Parser<'d, 'input> {
                 rows.push(row);
             } else {
                 // Only a form's odd last child gets here.
-                return Err(self.error(
-                    node,
-                    id,
-                    "extra elements in layout (a form layout needs pairs of widgets)",
-                ));
+                return Err(self.error(node, id, UiParseError::OddForm));
             }
         }
         Ok(Container { layout, margins, rows })
@@ -196,7 +281,7 @@ impl<'d, 'input> Parser<'d, 'input> {
     fn widget(&mut self, node: Node<'d, 'input>, parent_layout: Layout, depth: usize) -> Result<Widget, UiError> {
         self.widget_count += 1;
         if self.widget_count > MAX_WIDGETS {
-            return Err(self.error(node, None, format!("too many widgets (at most {MAX_WIDGETS} per UI)")));
+            return Err(self.error(node, None, UiParseError::TooManyWidgets));
         }
         let tag = node.tag_name().name();
         let mut a = Attrs::new(node);
@@ -205,7 +290,7 @@ impl<'d, 'input> Parser<'d, 'input> {
         let id = match a.get("id") {
             Some(v) => match parse_i32(v) {
                 Some(id) if id > 0 => id,
-                _ => return Err(self.error(node, None, "id must be a positive integer")),
+                _ => return Err(self.error(node, None, UiParseError::BadId)),
             },
             None => {
                 let id = self.next_auto_id;
@@ -213,8 +298,8 @@ impl<'d, 'input> Parser<'d, 'input> {
                 id
             }
         };
-        let at = |p: &Self, m: String| p.error(node, Some(id), m);
-        let common = (|| -> Result<_, String> {
+        let at = |p: &Self, m: UiParseError| p.error(node, Some(id), m);
+        let common = (|| -> Result<_, UiParseError> {
             let geometry = match a.get("geometry") {
                 Some(_) => Some(a.ints::<4>("geometry", [-1; 4])?),
                 None => None,
@@ -238,19 +323,13 @@ impl<'d, 'input> Parser<'d, 'input> {
             "spinbox" => spinbox(&mut a),
             "stretch" => {
                 if !matches!(parent_layout, Layout::VBox | Layout::HBox) {
-                    return Err(at(
-                        self,
-                        "stretch must be placed in a widget with vbox/hbox layout".into(),
-                    ));
+                    return Err(at(self, UiParseError::StretchOutsideBox));
                 }
                 a.int("factor", 0).map(|factor| WidgetKind::Stretch(Stretch { factor }))
             }
             "group" => {
                 if depth >= MAX_DEPTH {
-                    return Err(at(
-                        self,
-                        format!("groups nested too deeply (at most {MAX_DEPTH} levels)"),
-                    ));
+                    return Err(at(self, UiParseError::TooDeep));
                 }
                 let text = a.string("text", "");
                 let flat = a.bool("flat", false).map_err(|m| at(self, m))?;
@@ -262,11 +341,8 @@ impl<'d, 'input> Parser<'d, 'input> {
                 Ok(WidgetKind::Group(Group { text, flat, content }))
             }
             "combobox" | "tabs" | "tab" | "image" | "plot" | "table" | "tree" | "progressbar" | "text-browser"
-            | "scene3d" | "svg" | "properties" | "dataflow" => Err(format!(
-                "<{tag}> is not supported by gantry (supported: hslider, vslider, button, label, edit, checkbox, \
-                 radiobutton, spinbox, group, stretch)"
-            )),
-            _ => Err(format!("invalid element <{tag}>")),
+            | "scene3d" | "svg" | "properties" | "dataflow" => Err(UiParseError::Unsupported(tag.to_owned())),
+            _ => Err(UiParseError::UnknownElement(tag.to_owned())),
         }
         .map_err(|m| at(self, m))?;
 
@@ -274,10 +350,7 @@ impl<'d, 'input> Parser<'d, 'input> {
             a.finish(tag, self.diag);
         }
         if !self.ids.insert(id) {
-            return Err(at(
-                self,
-                format!("id must be unique (within ui scope). duplicate id: {id}"),
-            ));
+            return Err(at(self, UiParseError::DuplicateId(id)));
         }
         Ok(Widget {
             id,
@@ -292,7 +365,7 @@ impl<'d, 'input> Parser<'d, 'input> {
 }
 
 /// `layout` and `content-margins`, shared by the window and groups.
-fn layout_attrs(a: &mut Attrs<'_, '_>) -> Result<(Layout, [i64; 4]), String> {
+fn layout_attrs(a: &mut Attrs<'_, '_>) -> Result<(Layout, [i64; 4]), UiParseError> {
     let layout = match a.choice("layout", "vbox", &["vbox", "hbox", "grid", "form", "none"])? {
         "hbox" => Layout::HBox,
         "grid" => Layout::Grid,
@@ -304,7 +377,7 @@ fn layout_attrs(a: &mut Attrs<'_, '_>) -> Result<(Layout, [i64; 4]), String> {
     Ok((layout, margins))
 }
 
-fn slider(a: &mut Attrs<'_, '_>, orientation: Orientation) -> Result<WidgetKind, String> {
+fn slider(a: &mut Attrs<'_, '_>, orientation: Orientation) -> Result<WidgetKind, UiParseError> {
     let value = a.int("value", 0)?;
     let minimum = a.int("minimum", 0)?;
     let maximum = a.int("maximum", 100)?;
@@ -337,7 +410,7 @@ fn slider(a: &mut Attrs<'_, '_>, orientation: Orientation) -> Result<WidgetKind,
     }))
 }
 
-fn button(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
+fn button(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, UiParseError> {
     let text = a.string("text", "???");
     let default = a.bool("default", false)?;
     // Accepted for compatibility; the viewer does not auto-repeat or draw icons.
@@ -358,7 +431,7 @@ fn button(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
     }))
 }
 
-fn label(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
+fn label(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, UiParseError> {
     let text = a.string("text", "");
     let word_wrap = a.bool("word-wrap", false)?;
     let on_link_activated = a.callback("on-link-activated");
@@ -369,7 +442,7 @@ fn label(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
     }))
 }
 
-fn edit(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
+fn edit(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, UiParseError> {
     let value = a.string("value", "");
     let on_change = a.callback("on-change");
     let on_editing_finished = a.callback("on-editing-finished");
@@ -380,7 +453,7 @@ fn edit(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
     }))
 }
 
-fn checkbox(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
+fn checkbox(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, UiParseError> {
     let text = a.string("text", "???");
     let checked = a.bool("checked", false)?;
     // Accepted for compatibility; a checkbox that cannot be checked is not modelled.
@@ -394,7 +467,7 @@ fn checkbox(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
     }))
 }
 
-fn radiobutton(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
+fn radiobutton(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, UiParseError> {
     let text = a.string("text", "???");
     let checked = a.bool("checked", false)?;
     a.bool("auto-exclusive", true)?;
@@ -406,7 +479,7 @@ fn radiobutton(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
     }))
 }
 
-fn spinbox(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, String> {
+fn spinbox(a: &mut Attrs<'_, '_>) -> Result<WidgetKind, UiParseError> {
     let value = a.float("value", 0.0)?;
     let minimum = a.float("minimum", 0.0)?;
     let maximum = a.float("maximum", 100.0)?;
@@ -496,50 +569,56 @@ impl<'a, 'input> Attrs<'a, 'input> {
         self.get(name).filter(|s| !s.is_empty()).map(str::to_owned)
     }
 
-    fn bool(&mut self, name: &'static str, default: bool) -> Result<bool, String> {
+    fn bool(&mut self, name: &'static str, default: bool) -> Result<bool, UiParseError> {
         match self.get(name) {
             None => Ok(default),
             Some("true") => Ok(true),
             Some("false") => Ok(false),
-            Some(v) => Err(format!(
-                "invalid value '{v}' for attribute '{name}': must be true or false"
-            )),
+            Some(v) => Err(UiParseError::NotBool {
+                value: v.to_owned(),
+                name,
+            }),
         }
     }
 
-    fn int(&mut self, name: &'static str, default: i64) -> Result<i64, String> {
+    fn int(&mut self, name: &'static str, default: i64) -> Result<i64, UiParseError> {
         match self.get(name) {
             None => Ok(default),
-            Some(v) => parse_i32(v)
-                .ok_or_else(|| format!("invalid value '{v}' for attribute '{name}': must be a 32-bit integer")),
+            Some(v) => parse_i32(v).ok_or_else(|| UiParseError::NotI32 {
+                value: v.to_owned(),
+                name,
+            }),
         }
     }
 
-    fn float(&mut self, name: &'static str, default: f64) -> Result<f64, String> {
+    fn float(&mut self, name: &'static str, default: f64) -> Result<f64, UiParseError> {
         match self.get(name) {
             None => Ok(default),
             Some(v) => match v.parse::<f64>() {
                 Ok(f) if f.is_finite() => Ok(f),
-                _ => Err(format!(
-                    "invalid value '{v}' for attribute '{name}': must be a finite number"
-                )),
+                _ => Err(UiParseError::NotFinite {
+                    value: v.to_owned(),
+                    name,
+                }),
             },
         }
     }
 
     /// `N` comma-separated integers, e.g. `position="10,20"`.
-    fn ints<const N: usize>(&mut self, name: &'static str, default: [i64; N]) -> Result<[i64; N], String> {
+    fn ints<const N: usize>(&mut self, name: &'static str, default: [i64; N]) -> Result<[i64; N], UiParseError> {
         let Some(v) = self.get(name) else {
             return Ok(default);
         };
         let parts: Vec<&str> = v.split(',').filter(|p| !p.is_empty()).collect();
         if parts.len() != N {
-            return Err(format!("attribute '{name}' must have exactly {N} elements"));
+            return Err(UiParseError::WrongCount { name, count: N });
         }
         let mut out = [0; N];
         for (slot, p) in out.iter_mut().zip(parts) {
-            *slot = parse_i32(p.trim())
-                .ok_or_else(|| format!("invalid value '{v}' for attribute '{name}': must be integers"))?;
+            *slot = parse_i32(p.trim()).ok_or_else(|| UiParseError::NotIntegers {
+                value: v.to_owned(),
+                name,
+            })?;
         }
         Ok(out)
     }
@@ -550,14 +629,15 @@ impl<'a, 'input> Attrs<'a, 'input> {
         name: &'static str,
         default: &'static str,
         valid: &[&'static str],
-    ) -> Result<&'static str, String> {
+    ) -> Result<&'static str, UiParseError> {
         let v = self.get(name).unwrap_or(default);
         valid.iter().copied().find(|c| *c == v).ok_or_else(|| {
             let list: Vec<String> = valid.iter().map(|c| format!("'{c}'")).collect();
-            format!(
-                "invalid value for attribute '{name}': '{v}' (must be one of: {})",
-                list.join(", ")
-            )
+            UiParseError::NotAChoice {
+                name,
+                value: v.to_owned(),
+                valid: list.join(", "),
+            }
         })
     }
 
