@@ -151,7 +151,7 @@ impl Engine {
                     // The load error names the file.
                     None => load_scene(&gantry_sim_core::scene::DiskFiles, path, &options).map_err(|e| e.to_string()),
                 },
-                None => load_client_scene(None, &options),
+                None => load_client_scene(None, &options).map_err(|e| e.to_string()),
             })
             .map_err(PyValueError::new_err)?;
         if !scripts {

@@ -12,7 +12,7 @@ use std::rc::Rc;
 
 use gantry_sim_core::api::{self, Args, CallContext, CallError};
 use gantry_sim_core::sim::SimulationState;
-use gantry_sim_core::{Handle, Value};
+use gantry_sim_core::{Handle, SimError, Value};
 use mlua::{Function, Lua, MultiValue, Table, Value as LuaValue};
 use smallvec::SmallVec;
 
@@ -212,15 +212,16 @@ fn install_script_functions(lua: &Lua, sim: &Table, wrap: &Function) -> mlua::Re
 /// `sim.getScript(scriptType, object = -1)`: the handle of the script attached to
 /// `object` (a handle or a path), which in gantry is the object's handle, or -1 when
 /// it has no script; `sim.getScript(sim.handle_self)` is the calling script's.
-pub(crate) fn script_handle(lua: &Lua, args: &[Value]) -> Result<Handle, String> {
+pub(crate) fn script_handle(lua: &Lua, args: &[Value]) -> Result<Handle, SimError> {
     let kind = args
         .first()
         .and_then(Value::as_i64)
-        .ok_or("argument 1: expected integer (a script type or sim.handle_self)")?;
+        .ok_or_else(|| SimError::bad_argument("argument 1: expected integer (a script type or sim.handle_self)"))?;
     let caller = state::<Running>(lua).object.get();
     if kind == HANDLE_SELF {
-        return caller
-            .ok_or_else(|| "sim.handle_self names the calling script, and a remote client has none".to_owned());
+        return caller.ok_or_else(|| {
+            SimError::bad_argument("sim.handle_self names the calling script, and a remote client has none")
+        });
     }
     let object = match args.get(1) {
         None | Some(Value::Nil) => return Ok(-1),
@@ -230,14 +231,18 @@ pub(crate) fn script_handle(lua: &Lua, args: &[Value]) -> Result<Handle, String>
                 source: "getScript",
             };
             let core = state::<CoreCell>(lua);
-            let mut world = core.try_borrow_mut().map_err(|_| "the world is busy".to_owned())?;
+            let mut world = core
+                .try_borrow_mut()
+                .map_err(|_| SimError::refused("the world is busy"))?;
             let found = api::call(&mut world, &ctx, "getObject", &[Value::Str(path.clone())]).map_err(|e| match e {
-                CallError::Failed { error, .. } => error.to_string(),
-                other => other.to_string(),
+                CallError::Failed { error, .. } => error,
+                other => SimError::refused(other.to_string()),
             })?;
             found.first().and_then(Value::as_i64).unwrap_or(-1)
         }
-        Some(v) => v.as_i64().ok_or("argument 2: expected an object handle or path")?,
+        Some(v) => v
+            .as_i64()
+            .ok_or_else(|| SimError::bad_argument("argument 2: expected an object handle or path"))?,
     };
     Ok(if state::<Directory>(lua).attached(object) {
         object

@@ -38,6 +38,8 @@ pub use limits::{NetworkParams, ScriptLimits};
 pub use listeners::{ListenerError, ListenerStatus, Listeners};
 pub use lua_error::ScriptError;
 pub use luasocket::uses_luasocket;
+pub use models::ModelLoadError;
+pub use remote::HookError;
 pub use scripts::ScriptState;
 pub use simulation::{Simulation, check_syntax};
 pub use step::StepBoundary;

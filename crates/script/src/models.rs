@@ -7,8 +7,8 @@
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
-use gantry_sim_core::Handle;
 use gantry_sim_core::scene::{DiskFiles, LoadError, LoadOptions, SceneModel, load_model};
+use gantry_sim_core::{Handle, SimError};
 use mlua::{Function, Lua, Table, Value as LuaValue};
 
 use crate::app_state::state;
@@ -73,7 +73,7 @@ impl Models {
 
 /// Why `sim.loadModel` (or a remote client's loadModel) loaded nothing.
 #[derive(Debug, thiserror::Error)]
-pub(crate) enum ModelLoadError {
+pub enum ModelLoadError {
     /// The scene is embedded in gantry, so there is no folder to load from.
     #[error("this scene has no folder on disk (it is embedded in gantry), so its scripts cannot load model files")]
     NoFolder,
@@ -95,6 +95,21 @@ pub(crate) enum ModelLoadError {
     /// `sim.loadModel`'s argument is not a string (the Lua type found).
     #[error("argument 1: expected the model file's path as a string, got {0}")]
     NotAPath(&'static str),
+}
+
+/// A model that did not load, as a remote client's `sim.loadModel` reports it: the
+/// argument and the file's content are the caller's to fix, the rest is refused.
+impl From<ModelLoadError> for SimError {
+    fn from(e: ModelLoadError) -> Self {
+        match e {
+            ModelLoadError::NotAPath(_) | ModelLoadError::Load(_) | ModelLoadError::Empty(_) => {
+                SimError::bad_argument(e.to_string())
+            }
+            ModelLoadError::NoFolder | ModelLoadError::OutsideFolder(_) | ModelLoadError::WorldBusy => {
+                SimError::refused(e.to_string())
+            }
+        }
+    }
 }
 
 /// Appends a loaded model's objects and scripts to `scene` (indices moved past the

@@ -57,7 +57,7 @@ impl Simulation {
             ScriptHostFn::GetScriptAssociatedWithObject => {
                 script_handle(&self.lua, &[Value::Int(1), args.first().cloned().unwrap_or_default()])
                     .map(|h| vec![Value::Int(h)])
-                    .map_err(|e| in_function(SimError::refused(e)))
+                    .map_err(in_function)
             }
             ScriptHostFn::RemoveScript => {
                 let h = args.first().and_then(Value::as_i64);
@@ -81,7 +81,7 @@ impl Simulation {
             ScriptHostFn::LoadModel => match args.first() {
                 Some(Value::Str(path)) => self
                     .load_model(std::path::Path::new(path))
-                    .map_err(|e| in_function(SimError::bad_argument(e))),
+                    .map_err(|e| in_function(e.into())),
                 _ => Err(in_function(SimError::bad_argument(
                     "argument 1: expected the model file's path as a string",
                 ))),
@@ -89,7 +89,7 @@ impl Simulation {
             .map(|h| vec![Value::Int(h)]),
             ScriptHostFn::GetScript => script_handle(&self.lua, args)
                 .map(|h| vec![Value::Int(h)])
-                .map_err(|e| in_function(SimError::refused(e))),
+                .map_err(in_function),
             ScriptHostFn::CallScriptFunction => {
                 // Script code running for a remote client is outside any hook, so it gets
                 // a hook's time budget here; otherwise a loop in the called function
@@ -125,7 +125,7 @@ impl Simulation {
     ///
     /// # Errors
     /// The function raised an error (the script is then marked errored).
-    pub fn call_hook_function(&mut self, function: &str, args: &[Value]) -> Result<Option<Vec<Value>>, String> {
+    pub fn call_hook_function(&mut self, function: &str, args: &[Value]) -> Result<Option<Vec<Value>>, HookError> {
         for k in 0..self.scripts.order.len() {
             let i = self.scripts.order[k];
             if self.scripts.list[i].state != ScriptState::Running {
@@ -134,7 +134,7 @@ impl Simulation {
             let Ok(Some(f)) = self.scripts.list[i].env.raw_get::<Option<Function>>(function) else {
                 continue;
             };
-            let lua_args = to_multi(&self.lua, args).map_err(|e| e.to_string())?;
+            let lua_args = to_multi(&self.lua, args).map_err(|e| HookError::Conversion(e.to_string()))?;
             self.scripts.enter(i, Cow::Owned(function.to_owned()));
             let r = self.scripts.call_script::<MultiValue>(&f, lua_args);
             self.scripts.leave();
@@ -144,11 +144,11 @@ impl Simulation {
                     .map(to_value)
                     .collect::<mlua::Result<Vec<_>>>()
                     .map(Some)
-                    .map_err(|e| e.to_string()),
+                    .map_err(|e| HookError::Conversion(e.to_string())),
                 Err(e) => {
                     let text = error_text(&e);
                     self.scripts.fail(i, e);
-                    Err(text)
+                    Err(HookError::Raised(text))
                 }
             };
             self.apply_control();
@@ -156,4 +156,16 @@ impl Simulation {
         }
         Ok(None)
     }
+}
+
+/// Why a script function called by a transport ([`Simulation::call_hook_function`],
+/// e.g. `sysCall_packet`) failed. The text is what the transport sends back.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HookError {
+    /// The arguments or the results do not convert between Lua and [`Value`].
+    #[error("{0}")]
+    Conversion(String),
+    /// The function raised this error (with file and line); its script is marked errored.
+    #[error("{0}")]
+    Raised(String),
 }

@@ -35,7 +35,7 @@ use crate::listeners::{ListenerState, Listeners};
 use crate::lua_error::{ScriptError, error_text};
 use crate::luasocket::{self, Sockets};
 use crate::messages::Mailboxes;
-use crate::models::{self, LoadedModel, Models};
+use crate::models::{self, LoadedModel, ModelLoadError, Models};
 use crate::running::Running;
 use crate::sandbox::{self, SOURCE_MODE, new_debuggable_state, new_state};
 use crate::scripts::{ScriptSet, ScriptState};
@@ -147,11 +147,8 @@ impl Simulation {
     ///
     /// # Errors
     /// The file is not a model or does not load.
-    pub fn load_model(&mut self, path: &Path) -> Result<Handle, String> {
-        // The text, as the remote API (remote.rs) reports it with its function name.
-        let h = state::<Models>(&self.lua)
-            .load(&self.core, path, false)
-            .map_err(|e| e.to_string())?;
+    pub fn load_model(&mut self, path: &Path) -> Result<Handle, ModelLoadError> {
+        let h = state::<Models>(&self.lua).load(&self.core, path, false)?;
         self.attach_loaded_models();
         Ok(h)
     }

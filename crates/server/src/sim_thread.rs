@@ -101,6 +101,18 @@ pub enum PacketOutcome {
     Error(String),
 }
 
+/// Why [`SimHandle::call`] has no result; the text is the call's error or the
+/// delivery's.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HandleCallError {
+    /// The function is unknown or failed.
+    #[error(transparent)]
+    Failed(#[from] CallError),
+    /// The simulation thread did not take the request.
+    #[error(transparent)]
+    NotDelivered(#[from] SendError),
+}
+
 /// Why a request could not be delivered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum SendError {
@@ -167,15 +179,12 @@ impl SimHandle {
     /// name is resolved here, at the caller's edge.
     ///
     /// # Errors
-    /// The call's error message, or why it could not be delivered.
-    pub async fn call(&self, name: &str, args: Vec<Value>) -> Result<Vec<Value>, String> {
-        let target = Target::resolve_or_error(name).map_err(|e| e.to_string())?;
+    /// The call's error, or why it could not be delivered.
+    pub async fn call(&self, name: &str, args: Vec<Value>) -> Result<Vec<Value>, HandleCallError> {
+        let target = Target::resolve_or_error(name)?;
         let (reply, rx) = oneshot::channel();
-        self.send(Request::Call { target, args, reply })
-            .map_err(|e| e.to_string())?;
-        rx.await
-            .map_err(|_| SendError::Closed.to_string())?
-            .map_err(|e| e.to_string())
+        self.send(Request::Call { target, args, reply })?;
+        Ok(rx.await.map_err(|_| SendError::Closed)??)
     }
 
     /// Sends a control action and awaits the resulting state.
@@ -515,7 +524,7 @@ fn serve_packet(sim: &mut Simulation, packet: Value, reply: oneshot::Sender<Pack
             Some(Value::Str(s)) => PacketOutcome::Reply(s),
             _ => PacketOutcome::Handled,
         },
-        Err(e) => PacketOutcome::Error(e),
+        Err(e) => PacketOutcome::Error(e.to_string()),
     };
     let _ = reply.send(outcome);
 }

@@ -3,31 +3,28 @@
 
 use std::path::Path;
 
-use super::{DiskFiles, LoadOptions, SceneModel, load_scene, load_scene_text};
+use super::{DiskFiles, LoadError, LoadOptions, SceneModel, load_scene, load_scene_text};
 
 /// Loads the scene a client named (`Some(path)`), or an empty scene (`None`, what
-/// `sim.closeScene()` leaves). The error is the message a client sees, without the
-/// `(in function ...)` suffix, which the caller adds.
+/// `sim.closeScene()` leaves). The error's text is the message a client sees, without
+/// the `(in function ...)` suffix, which the caller adds.
 ///
 /// # Errors
-/// CoppeliaSim 4.8+'s XML files (`.simscene`, `.simmodel`) are refused by name; any
-/// load error of the file is returned as text.
-pub fn load_client_scene(path: Option<&Path>, opts: &LoadOptions) -> Result<SceneModel, String> {
+/// CoppeliaSim 4.8+'s XML files (`.simscene`, `.simmodel`) are refused by name
+/// ([`LoadError::CoppeliaXml`]); otherwise the file's load error.
+pub fn load_client_scene(path: Option<&Path>, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
     match path {
         Some(path) => {
             let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
             if matches!(ext.as_deref(), Some("simscene" | "simmodel")) {
-                return Err(format!(
-                    "'{}' is a CoppeliaSim 4.8+ XML file, which gantry cannot read: save it as .ttt/.ttm in CoppeliaSim, or load a gantry scene (.toml, see docs/scene-format.md) or a robot (.urdf)",
-                    path.display()
-                ));
+                return Err(LoadError::CoppeliaXml(path.to_owned()));
             }
-            load_scene(&DiskFiles, path, opts).map_err(|e| e.to_string())
+            load_scene(&DiskFiles, path, opts)
         }
         None => {
             // An empty scene still needs a folder for relative paths: the working one.
             let here = std::env::current_dir().unwrap_or_default().join("empty.toml");
-            load_scene_text(&DiskFiles, "", &here, opts).map_err(|e| e.to_string())
+            load_scene_text(&DiskFiles, "", &here, opts)
         }
     }
 }

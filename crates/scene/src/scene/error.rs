@@ -47,6 +47,13 @@ pub enum LoadError {
         /// What is wrong and how to fix it.
         message: String,
     },
+    /// A CoppeliaSim 4.8+ XML scene or model (`.simscene`, `.simmodel`), which gantry
+    /// cannot read.
+    #[error(
+        "'{}' is a CoppeliaSim 4.8+ XML file, which gantry cannot read: save it as .ttt/.ttm in CoppeliaSim, or load a gantry scene (.toml, see docs/scene-format.md) or a robot (.urdf)",
+        .0.display()
+    )]
+    CoppeliaXml(PathBuf),
     /// A CoppeliaSim scene or model file could not be decoded.
     #[error("{path}: {source}")]
     Coppelia {

@@ -19,7 +19,7 @@ use super::frame::FrameDelta;
 use super::panels::{self, PanelCursor};
 use super::scene;
 use crate::debug::{DebugError, DebugHub, PausedAt};
-use crate::sim_thread::{SendError, SimHandle};
+use crate::sim_thread::{HandleCallError, SendError, SimHandle};
 
 /// `packet.client` ids of viewer pages, far above the text channel's connection
 /// counter so scripts can tell them apart.
@@ -320,8 +320,8 @@ enum ViewerCommandError {
     #[error(transparent)]
     Send(#[from] SendError),
     /// A registry call failed: its message.
-    #[error("{0}")]
-    Call(String),
+    #[error(transparent)]
+    Call(#[from] HandleCallError),
     /// A debugger action reached the worker (a bug: the session answers those).
     #[error("{0:?} is answered by the session, not the worker")]
     DebugInWorker(command::DebugAction),

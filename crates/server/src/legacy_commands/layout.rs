@@ -7,7 +7,7 @@ use gantry_protocol::legacy_remote_api::{Command, CommandId};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::CallError;
 
-use crate::sim_thread::SendError;
+use crate::sim_thread::{HandleCallError, SendError};
 
 /// Why a legacy remote API command failed. The text is what `simxGetLastErrors`
 /// returns to the client, so it stays as CoppeliaSim users have read it.
@@ -35,8 +35,8 @@ pub(super) enum CommandError {
     #[error("expected a number result")]
     NoNumberResult,
     /// The registry function failed: its message.
-    #[error("{0}")]
-    Call(String),
+    #[error(transparent)]
+    Call(#[from] HandleCallError),
     /// The simulation did not take the request.
     #[error(transparent)]
     Send(#[from] SendError),
