@@ -43,7 +43,7 @@ pub struct RecordParams {
 #[derive(Debug, thiserror::Error)]
 pub enum RecordError {
     /// The file could not be created.
-    #[error("cannot record to {path}: {source} (check that the folder exists and is writable)")]
+    #[error("cannot record to {path} (check that the folder exists and is writable)")]
     Create {
         /// The file.
         path: PathBuf,
@@ -52,7 +52,7 @@ pub enum RecordError {
         source: std::io::Error,
     },
     /// The MCAP header could not be written.
-    #[error("cannot record to {path}: {source}")]
+    #[error("cannot record to {path}: the MCAP header could not be written")]
     Start {
         /// The file.
         path: PathBuf,
