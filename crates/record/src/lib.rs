@@ -24,5 +24,5 @@ pub mod schema;
 pub mod snapshot;
 pub mod writer;
 
-pub use recorder::{DEFAULT_QUEUE, RecordError, RecordParams, RecordReport, Recorder};
+pub use recorder::{BATCH, DEFAULT_QUEUE, RecordError, RecordParams, RecordReport, Recorder};
 pub use writer::AttachedFile;

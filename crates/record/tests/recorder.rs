@@ -44,7 +44,7 @@ fn a_recording_reads_back_indexed_with_every_channel_and_message() {
     let report = rec.finish(Some(&sim));
     assert_eq!(report.error, None);
     assert_eq!(report.snapshots, 21);
-    assert_eq!(report.dropped, 0, "a queue of 256 holds 21 snapshots");
+    assert_eq!(report.dropped, 0, "a queue of 64 batches holds 21 snapshots");
     let bytes = std::fs::read(&path).expect("file");
     let _ = std::fs::remove_file(&path);
     let summary = mcap::Summary::read(&bytes).expect("reads").expect("has a summary");
