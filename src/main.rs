@@ -4,7 +4,8 @@
 //! Ctrl-C; `gantry run SCENE` runs a `.toml` scene or a bare `.urdf`; `gantry check SCENE`
 //! validates a scene without running it; `gantry convert SCENE DIR` writes any scene it
 //! loads (a CoppeliaSim `.ttt`/`.ttm`, a URDF) as a TOML scene with its meshes and
-//! scripts as files. On exit `run` prints one machine-readable line:
+//! scripts as files. `gantry run --record run.mcap` records the run (docs/recording.md).
+//! On exit `run` prints one machine-readable line:
 //! `steps=N sim_time=S wall_s=W steps_per_s=R rtf=X`.
 
 use std::net::{IpAddr, Ipv4Addr};
@@ -13,10 +14,13 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
+use gantry_record::{AttachedFile, RecordParams};
 use gantry_script::{NetworkParams, ScriptLimits, check_syntax, uses_luasocket};
 use gantry_server::http::HttpConfig;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, SimConfig, TextConfig};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_bundled, load_scene, write_scene};
+use gantry_sim_core::scene::{
+    DiskFiles, EmbeddedFiles, Files, LoadOptions, SceneModel, bundled_files, load_bundled, load_scene, write_scene,
+};
 
 #[derive(Parser)]
 #[command(
@@ -153,6 +157,13 @@ struct RunArgs {
     /// When the run ends, write every graph stream as CSV into DIR (one file per graph).
     #[arg(long, value_name = "DIR")]
     export_graphs: Option<PathBuf>,
+    /// Record the run into an MCAP file (ROS 2 messages: /tf, /joint_states, /rosout,
+    /// graph streams, proximity sensors; the scene attached). See docs/recording.md.
+    #[arg(long, value_name = "FILE.mcap")]
+    record: Option<PathBuf>,
+    /// With --record: snapshots per simulated second (default: every step).
+    #[arg(long, value_name = "HZ", requires = "record")]
+    record_rate: Option<f64>,
 }
 
 fn main() -> ExitCode {
@@ -358,6 +369,11 @@ fn run(args: &RunArgs) -> Result<()> {
         export_graphs: args.export_graphs.clone(),
         load_options: opts.clone(),
         listeners: None,
+        record: args
+            .record
+            .as_ref()
+            .map(|path| record_params(path, args, &model))
+            .transpose()?,
     };
     let summary = gantry_server::run(model, sim, serve, Shutdown::default(), |bound| {
         // One machine-readable line per listener on stderr, for scripts that start
@@ -402,6 +418,92 @@ fn text_port(args: &RunArgs, model: &SceneModel, default: Option<u16>) -> Option
          like the paper's on port 6000, the text channel's default; pass --text-port P to have it on port P"
     );
     None
+}
+
+/// What `--record` writes: the metadata record and the scene's files as attachments
+/// (the scene file and its scripts as loaded).
+fn record_params(path: &std::path::Path, args: &RunArgs, model: &SceneModel) -> Result<RecordParams> {
+    if let Some(r) = args.record_rate {
+        anyhow::ensure!(
+            r.is_finite() && r > 0.0,
+            "--record-rate {r}: snapshots per simulated second must be a positive number"
+        );
+    }
+    let scene_path = args.scene.clone();
+    let metadata = [
+        ("gantry_version", env!("CARGO_PKG_VERSION").to_owned()),
+        ("command_line", std::env::args().collect::<Vec<_>>().join(" ")),
+        ("scene", model.name.clone()),
+        (
+            "scene_file",
+            scene_path
+                .as_ref()
+                .map_or_else(|| "(bundled showroom)".to_owned(), |p| p.display().to_string()),
+        ),
+        ("dt", model.settings.dt.to_string()),
+        ("substeps", model.settings.substeps.to_string()),
+        (
+            "record_rate_hz",
+            args.record_rate
+                .map_or_else(|| "every step".to_owned(), |r| r.to_string()),
+        ),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_owned(), v))
+    .collect();
+    let media_type = |p: &std::path::Path| match p.extension().and_then(|e| e.to_str()) {
+        Some("toml") => "application/toml",
+        Some("urdf" | "xml") => "application/xml",
+        Some("lua") => "text/x-lua",
+        _ => "application/octet-stream",
+    };
+    let mut attachments = Vec::new();
+    let (scene_name, scene_bytes, scene_dir) = match &scene_path {
+        Some(p) => (
+            p.file_name()
+                .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into_owned()),
+            std::fs::read(p).with_context(|| format!("cannot read {} to attach it to the recording", p.display()))?,
+            p.parent().map(std::path::Path::to_path_buf),
+        ),
+        None => {
+            let showroom = EmbeddedFiles::path("assets/scenes/showroom.toml");
+            let bytes = bundled_files()
+                .read(&showroom)
+                .context("the bundled showroom is readable")?;
+            (
+                "showroom.toml".to_owned(),
+                bytes,
+                showroom.parent().map(std::path::Path::to_path_buf),
+            )
+        }
+    };
+    attachments.push(AttachedFile {
+        media_type: media_type(std::path::Path::new(&scene_name)).to_owned(),
+        name: scene_name,
+        data: scene_bytes,
+    });
+    for script in &model.scripts {
+        let rel = scene_dir
+            .as_deref()
+            .and_then(|d| script.path.strip_prefix(d).ok())
+            .unwrap_or(&script.path);
+        let name = rel.display().to_string();
+        if name.is_empty() || attachments.iter().any(|a| a.name == name) {
+            continue;
+        }
+        attachments.push(AttachedFile {
+            media_type: media_type(rel).to_owned(),
+            name,
+            data: script.source.clone().into_bytes(),
+        });
+    }
+    Ok(RecordParams {
+        path: path.to_path_buf(),
+        rate_hz: args.record_rate,
+        metadata,
+        attachments,
+        ..RecordParams::default()
+    })
 }
 
 /// `ASKED=USED` of `--script-port`.

@@ -99,6 +99,12 @@ if cargo tree -p gantry-engine -e normal --prefix none | grep -E '^(axum|zeromq|
     echo "gantry-engine must not depend on a transport, a runtime or the wire codecs" >&2
     exit 1
 fi
+# The recorder (issue 31) reads the world through sim-core and writes on a thread of its
+# own: no Lua host, no runtime, no transport.
+if cargo tree -p gantry-record -e normal --prefix none | grep -E '^(tokio|mlua|gantry-script|gantry-engine|gantry-server|axum) ' ; then
+    echo "gantry-record must not depend on the Lua host, a runtime or a transport" >&2
+    exit 1
+fi
 # Inside the crates: no circle among files in any crate, and sim-core's and the Lua
 # host's floors; the self-test first shows the checker still catches both.
 python3 tools/layers.py --self-test

@@ -82,6 +82,9 @@ pub enum ServerError {
     /// The simulation thread panicked.
     #[error("the simulation thread panicked: {0}")]
     Panic(String),
+    /// The recording (`--record`) could not start.
+    #[error(transparent)]
+    Record(#[from] gantry_record::RecordError),
 }
 
 /// Shared shutdown flag: set by signals or by the caller.
@@ -208,6 +211,13 @@ pub fn start(
     shutdown: Shutdown,
     signals: Signals,
 ) -> Result<Running, ServerError> {
+    // First, so that a file that cannot be written fails the run before it starts.
+    let recorder = sim
+        .record
+        .take()
+        .map(gantry_record::Recorder::create)
+        .transpose()?
+        .map(crate::record::RecordObserver::new);
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -395,10 +405,8 @@ pub fn start(
         .name("gantry-sim".into())
         .spawn(move || {
             let should_stop = || sim_shutdown.is_triggered();
-            match publisher {
-                Some(mut p) => run_sim_thread_debugged(model, sim, rx, should_stop, &mut p, debug_link),
-                None => run_sim_thread_debugged(model, sim, rx, should_stop, &mut (), debug_link),
-            }
+            let mut observers = (publisher, recorder);
+            run_sim_thread_debugged(model, sim, rx, should_stop, &mut observers, debug_link)
         })
         .map_err(ServerError::Runtime)?;
     Ok(Running {

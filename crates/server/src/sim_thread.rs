@@ -231,6 +231,9 @@ pub struct SimConfig {
     /// The front end's listeners, for scripts' `simRemoteApi.start` (none: scripts
     /// cannot start servers).
     pub listeners: Option<std::sync::Arc<dyn gantry_script::Listeners>>,
+    /// Record the run into an MCAP file (`gantry run --record`); [`crate::start`]
+    /// creates the file before anything runs.
+    pub record: Option<gantry_record::RecordParams>,
 }
 
 /// What a finished run reports.
@@ -268,11 +271,41 @@ impl RunSummary {
 pub trait Observer {
     /// Looks at the simulation. `run_steps` counts the steps of this run (never reset).
     fn observe(&mut self, sim: &Simulation, run_steps: u64);
+
+    /// The run is over: its cleanup hooks ran (the recorder takes their log lines
+    /// and ends its file). Nothing by default.
+    fn finish(&mut self, _sim: &Simulation) {}
 }
 
 /// No observer: what [`run_sim_thread`] uses.
 impl Observer for () {
     fn observe(&mut self, _: &Simulation, _: u64) {}
+}
+
+/// An observer that may be absent (no viewer, no recording).
+impl<T: Observer> Observer for Option<T> {
+    fn observe(&mut self, sim: &Simulation, run_steps: u64) {
+        if let Some(o) = self {
+            o.observe(sim, run_steps);
+        }
+    }
+    fn finish(&mut self, sim: &Simulation) {
+        if let Some(o) = self {
+            o.finish(sim);
+        }
+    }
+}
+
+/// Two observers, in order (the viewer's publisher and the recorder).
+impl<A: Observer, B: Observer> Observer for (A, B) {
+    fn observe(&mut self, sim: &Simulation, run_steps: u64) {
+        self.0.observe(sim, run_steps);
+        self.1.observe(sim, run_steps);
+    }
+    fn finish(&mut self, sim: &Simulation) {
+        self.0.finish(sim);
+        self.1.finish(sim);
+    }
 }
 
 /// Creates the request channel: the handle for transports and the receiver for
@@ -408,6 +441,7 @@ pub fn run_sim_thread_debugged(
         lp.engine.tick(Instant::now());
     }
     lp.engine.finish();
+    observer.finish(lp.engine.sim());
     if let Some(dir) = &config.export_graphs {
         // Cleanup hooks ran first: their last values are part of the export.
         export_graphs(lp.engine.sim(), dir);

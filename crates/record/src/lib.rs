@@ -1,0 +1,28 @@
+//! gantry's run recorder: one MCAP file per run, with ROS 2 messages, readable by
+//! Foxglove, Rerun, `ros2 bag` and the `mcap` and `rosbags` Python packages.
+//!
+//! - [`cdr`] and [`msg`]: the CDR encoding of the messages (pure, byte-exact tests);
+//! - [`schema`]: their `ros2msg` schema text, with every type they use;
+//! - [`snapshot`]: what the simulation thread takes from the world after a step;
+//! - [`writer`]: snapshots to MCAP messages (zstd chunks, indexed summary);
+//! - [`recorder`]: the writer thread and the bounded queue to it, which drops (and
+//!   counts) rather than ever making the simulation wait.
+//!
+//! Topics: `/tf` (`tf2_msgs/msg/TFMessage`: every object's pose in its parent's frame,
+//! frame ids the object paths without the leading `/`, roots in `world`),
+//! `/joint_states` (`sensor_msgs/msg/JointState`, every joint of the scene),
+//! `/rosout` (`rcl_interfaces/msg/Log`, script log lines and errors),
+//! `/graph/<graph>/<stream>` (`std_msgs/msg/Float64`) and `/proximity/<sensor>`
+//! (`sensor_msgs/msg/Range`). Stamps are simulation time. Not recorded yet: vision
+//! images, signals, `/tf_static`, and the inputs a re-run would need (issue 31).
+//! See docs/recording.md.
+
+pub mod cdr;
+pub mod msg;
+pub mod recorder;
+pub mod schema;
+pub mod snapshot;
+pub mod writer;
+
+pub use recorder::{BATCH, DEFAULT_QUEUE, RecordError, RecordParams, RecordReport, Recorder};
+pub use writer::AttachedFile;

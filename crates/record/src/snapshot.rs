@@ -1,0 +1,394 @@
+//! What the simulation thread takes from the world for the recording: a [`Snapshot`]
+//! of plain numbers, made by a [`Sampler`] after a step and handed to the writer
+//! thread. Reading the world is all it does; encoding and I/O happen on the writer.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use gantry_sim_core::Handle;
+use gantry_sim_core::Sim;
+use gantry_sim_core::math::quat_to_array;
+use gantry_sim_core::scene::ProximityModel;
+use gantry_sim_core::world::object_path::full_paths;
+use gantry_sim_core::world::{ObjectKind, World};
+
+use crate::msg::nanos_from_secs;
+
+/// The frame of the world, parent of every root object.
+pub const WORLD_FRAME: &str = "world";
+
+/// Frame ids by handle: an object's path without its leading `/`
+/// (`bubbleRob/leftMotor`, `wheel[1]` when siblings share an alias). Empty for gaps.
+pub type FrameNames = Arc<Vec<String>>;
+
+/// One object's pose relative to its parent (or the world for a root).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObjectPose {
+    /// The object.
+    pub handle: Handle,
+    /// Its parent, `None` for a root (the `world` frame).
+    pub parent: Option<Handle>,
+    /// Translation (m) then rotation quaternion `x, y, z, w`, in the parent's frame.
+    pub pose: [f64; 7],
+}
+
+/// One joint's state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointSample {
+    /// The joint.
+    pub handle: Handle,
+    /// Position, rad or m.
+    pub position: f64,
+    /// Velocity, rad/s or m/s.
+    pub velocity: f64,
+    /// Torque or force the motor applied in the last step, N·m or N.
+    pub effort: f64,
+}
+
+/// One proximity sensor's last reading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RangeSample {
+    /// The sensor.
+    pub handle: Handle,
+    /// Distance to the detected point, m; `+inf` when nothing is detected.
+    pub range: f64,
+    /// Near end of the detection volume, m.
+    pub min_range: f64,
+    /// Far end of the detection volume, m.
+    pub max_range: f64,
+    /// Full opening angle of a cone volume, rad (0 for the other shapes).
+    pub field_of_view: f64,
+}
+
+/// A new sample of a graph stream.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GraphSample {
+    /// `/graph/<graph path>/<stream name>`.
+    pub topic: Arc<str>,
+    /// Recording time of the sample (run time, see [`Snapshot::log_time_ns`]).
+    pub log_time_ns: u64,
+    /// The value.
+    pub value: f64,
+}
+
+/// A script log line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogSample {
+    /// Simulation time of the line, ns.
+    pub stamp_ns: u64,
+    /// Recording time of the line (run time).
+    pub log_time_ns: u64,
+    /// CoppeliaSim verbosity.
+    pub verbosity: i64,
+    /// Who logged it (a script's name).
+    pub source: String,
+    /// The text.
+    pub message: String,
+}
+
+/// Everything recorded for one step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// Simulation time after the step, ns: the stamp of every message.
+    pub stamp_ns: u64,
+    /// Recording time: simulation time plus the length of earlier runs, when a stop
+    /// restarted the simulation clock, so that a file's times never go back.
+    pub log_time_ns: u64,
+    /// Frame ids of the objects (shared until the tree changes).
+    pub frames: FrameNames,
+    /// Every object's pose, parents before children.
+    pub poses: Vec<ObjectPose>,
+    /// Every joint's state, in tree order.
+    pub joints: Vec<JointSample>,
+    /// Every handled proximity sensor's reading.
+    pub ranges: Vec<RangeSample>,
+    /// Graph samples added since the previous snapshot.
+    pub graphs: Vec<GraphSample>,
+    /// Log lines added since the previous snapshot.
+    pub logs: Vec<LogSample>,
+}
+
+/// Takes [`Snapshot`]s from a simulation, at most one per `period`.
+#[derive(Debug)]
+pub struct Sampler {
+    /// Simulation time between snapshots, ns (0: every step).
+    period_ns: u64,
+    /// The recording time of the last snapshot.
+    last_log_ns: Option<u64>,
+    /// The simulation time of the last snapshot.
+    last_stamp_ns: Option<u64>,
+    /// The world's step count at the last snapshot.
+    last_steps: u64,
+    /// Added to simulation time: the recording time at which the current run started.
+    offset_ns: u64,
+    /// `(handle, parent, alias)` of every object at the last snapshot, to notice a
+    /// change of the tree without rebuilding the frame names each step.
+    tree: Vec<(Handle, Option<Handle>, String)>,
+    /// Frame ids for `tree`.
+    frames: FrameNames,
+    /// The first log sequence number not yet recorded.
+    next_log: u64,
+    /// Topic and last recorded sample time of each graph stream, by (graph, stream id).
+    streams: HashMap<(Handle, i64), (Arc<str>, f64)>,
+}
+
+impl Sampler {
+    /// A sampler taking at most `rate_hz` snapshots per simulated second (`None`: one
+    /// per step).
+    pub fn new(rate_hz: Option<f64>) -> Self {
+        let period_ns = rate_hz
+            .filter(|r| r.is_finite() && *r > 0.0)
+            .map_or(0, |r| nanos_from_secs(1.0 / r));
+        Self {
+            period_ns,
+            last_log_ns: None,
+            last_stamp_ns: None,
+            offset_ns: 0,
+            last_steps: 0,
+            tree: Vec::new(),
+            frames: Arc::new(Vec::new()),
+            next_log: 0,
+            streams: HashMap::new(),
+        }
+    }
+
+    /// A snapshot of `sim` if one is due at its current time: the first call, and then
+    /// once `period` of simulated time has passed (or the clock restarted). `None`
+    /// when the simulation has not advanced since the last one.
+    pub fn sample(&mut self, sim: &Sim) -> Option<Snapshot> {
+        let world = &sim.world;
+        let stamp_ns = nanos_from_secs(world.time());
+        if let (Some(last_stamp), Some(last_log)) = (self.last_stamp_ns, self.last_log_ns) {
+            if stamp_ns < last_stamp {
+                // The simulation was stopped and started again: its clock restarted.
+                // Carry on from the recording time reached, one nanosecond later.
+                self.offset_ns = last_log + 1;
+                for (_, last) in self.streams.values_mut() {
+                    *last = f64::NEG_INFINITY;
+                }
+            } else if stamp_ns == last_stamp || stamp_ns - last_stamp < self.period_ns {
+                return None;
+            }
+        }
+        let log_time_ns = self.offset_ns + stamp_ns;
+        self.last_stamp_ns = Some(stamp_ns);
+        self.last_log_ns = Some(log_time_ns);
+        let look_back = usize::try_from(world.steps().saturating_sub(self.last_steps))
+            .unwrap_or(usize::MAX)
+            .saturating_add(2);
+        self.last_steps = world.steps();
+        self.refresh_frames(world);
+        Some(Snapshot {
+            stamp_ns,
+            log_time_ns,
+            frames: self.frames.clone(),
+            poses: poses(world),
+            joints: joints(world),
+            ranges: ranges(world),
+            graphs: self.graph_samples(sim, look_back),
+            logs: self.log_lines(world),
+        })
+    }
+
+    /// Log lines only (the run's cleanup hooks log after its last step).
+    pub fn sample_logs(&mut self, sim: &Sim) -> Vec<LogSample> {
+        self.log_lines(&sim.world)
+    }
+
+    /// Rebuilds the frame names when an object was added, removed, moved to another
+    /// parent or renamed since the last snapshot.
+    fn refresh_frames(&mut self, world: &World) {
+        let handles = world.handles();
+        let same = handles.len() == self.tree.len()
+            && handles
+                .iter()
+                .zip(&self.tree)
+                .all(|(&h, (th, tp, ta))| h == *th && world.object(h).is_ok_and(|o| o.parent == *tp && o.alias == *ta));
+        if same {
+            return;
+        }
+        self.tree = handles
+            .iter()
+            .filter_map(|&h| world.object(h).ok().map(|o| (h, o.parent, o.alias.clone())))
+            .collect();
+        let paths = full_paths(world);
+        let mut names = vec![String::new(); world.len()];
+        for (h, path) in paths {
+            if let Some(slot) = usize::try_from(h).ok().and_then(|i| names.get_mut(i)) {
+                *slot = path.trim_start_matches('/').to_owned();
+            }
+        }
+        self.frames = Arc::new(names);
+    }
+
+    /// Samples recorded since the last snapshot, for every graph stream. Scripts add
+    /// at most one sample per stream and step, so only the `look_back` newest samples
+    /// of each can be new (a stream is a ring of up to thousands).
+    fn graph_samples(&mut self, sim: &Sim, look_back: usize) -> Vec<GraphSample> {
+        let now = sim.world.time();
+        let mut out = Vec::new();
+        for s in sim.graphs.streams() {
+            let key = (s.graph(), s.id());
+            let (topic, last) = self.streams.entry(key).or_insert_with(|| {
+                let graph = self
+                    .frames
+                    .get(usize::try_from(s.graph()).unwrap_or(usize::MAX))
+                    .filter(|n| !n.is_empty())
+                    .cloned()
+                    .unwrap_or_else(|| format!("graph{}", s.graph()));
+                (
+                    topic_name(&["graph", &graph, &s.params().name]).into(),
+                    f64::NEG_INFINITY,
+                )
+            });
+            // After a restart, samples of the earlier run (later than now) are not new.
+            let n = s.len();
+            let mut newest = *last;
+            let fresh: Vec<(f64, f64)> = s
+                .samples()
+                .skip(n.saturating_sub(look_back))
+                .filter(|&(t, _)| t > *last && t <= now)
+                .collect();
+            for (t, value) in fresh {
+                newest = t;
+                out.push(GraphSample {
+                    topic: topic.clone(),
+                    log_time_ns: self.offset_ns + nanos_from_secs(t),
+                    value,
+                });
+            }
+            *last = newest;
+        }
+        out
+    }
+
+    /// Log lines logged since the last call.
+    fn log_lines(&mut self, world: &World) -> Vec<LogSample> {
+        let out: Vec<LogSample> = world
+            .log
+            .since(self.next_log)
+            .map(|l| {
+                let stamp_ns = nanos_from_secs(l.sim_time);
+                LogSample {
+                    stamp_ns,
+                    log_time_ns: self.offset_ns + stamp_ns,
+                    verbosity: l.verbosity,
+                    source: l.source.clone(),
+                    message: l.message.clone(),
+                }
+            })
+            .collect();
+        if let Some(last) = world.log.lines().last() {
+            self.next_log = last.seq + 1;
+        }
+        out
+    }
+}
+
+/// A ROS topic name from parts: `/a/b/c`, with every character other than ASCII
+/// letters, digits and `_` replaced by `_` inside a part.
+pub fn topic_name(parts: &[&str]) -> String {
+    let mut out = String::new();
+    for p in parts {
+        out.push('/');
+        if p.is_empty() {
+            out.push('_');
+        }
+        out.extend(
+            p.chars()
+                .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }),
+        );
+    }
+    out
+}
+
+/// Every object's pose relative to its parent, parents first.
+fn poses(world: &World) -> Vec<ObjectPose> {
+    let mut out = Vec::with_capacity(world.handles().len());
+    for &h in world.handles() {
+        let Ok(o) = world.object(h) else { continue };
+        // The parent's own frame (for a joint, its fixed side): composing the frames
+        // from the world down gives back each object's world pose.
+        let rel = match o.parent.and_then(|p| world.object(p).ok()) {
+            Some(p) => p.world.inverse() * o.world,
+            None => o.world,
+        };
+        let t = rel.translation.vector;
+        let [qx, qy, qz, qw] = quat_to_array(&rel.rotation);
+        out.push(ObjectPose {
+            handle: h,
+            parent: o.parent,
+            pose: [t.x, t.y, t.z, qx, qy, qz, qw],
+        });
+    }
+    out
+}
+
+/// Every joint's state.
+fn joints(world: &World) -> Vec<JointSample> {
+    world
+        .handles()
+        .iter()
+        .filter_map(|&h| match &world.object(h).ok()?.kind {
+            ObjectKind::Joint(j) => Some(JointSample {
+                handle: h,
+                position: j.position,
+                velocity: j.velocity,
+                effort: j.force,
+            }),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Every proximity sensor that was handled at least once.
+fn ranges(world: &World) -> Vec<RangeSample> {
+    world
+        .handles()
+        .iter()
+        .filter_map(|&h| match &world.object(h).ok()?.kind {
+            ObjectKind::ProximitySensor(p) => {
+                let last = p.last?;
+                let (offset, depth, fov) = match p.volume {
+                    ProximityModel::Ray { offset, range } => (offset, range, 0.0),
+                    ProximityModel::Cone {
+                        offset,
+                        range,
+                        half_angle,
+                    }
+                    | ProximityModel::Disc {
+                        offset,
+                        range,
+                        half_angle,
+                        ..
+                    } => (offset, range, 2.0 * half_angle),
+                    ProximityModel::Pyramid { offset, range, .. } | ProximityModel::Cylinder { offset, range, .. } => {
+                        (offset, range, 0.0)
+                    }
+                };
+                Some(RangeSample {
+                    handle: h,
+                    range: last.map_or(f64::INFINITY, |d| d.distance),
+                    min_range: offset,
+                    max_range: offset + depth,
+                    field_of_view: fov,
+                })
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn topic_names_keep_to_ros_characters() {
+        assert_eq!(
+            topic_name(&["graph", "robot/graph[1]", "speed (m/s)"]),
+            "/graph/robot_graph_1_/speed__m_s_"
+        );
+        assert_eq!(topic_name(&["proximity", ""]), "/proximity/_");
+    }
+}

@@ -1,0 +1,192 @@
+"""Issue 31: `gantry run --record run.mcap` read back with independent readers from PyPI.
+
+bubble_rob is driven step by step by the ZMQ client (`sim.step()` with stepping on);
+after a few steps the client reads every object's world pose, every joint's position
+and the simulation time, then gantry stops (SIGTERM: a clean stop, so the file gets
+its summary). The recording is then read with
+
+- `mcap` + `mcap-ros2-support`: an indexed summary, every message decodes, log times
+  never go back, `/tf` holds every object's frame, and composing `/tf` from `world`
+  down gives, at the step the client read, the poses `sim.getObjectPose` returned
+  (and `/joint_states` the positions `sim.getJointPosition` returned);
+- `rosbags` (`AnyReader`): the file opens as a ROS 2 bag and every message deserializes.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+
+SCENE = "assets/scenes/bubble_rob.toml"
+STEPS = 12
+
+
+def quat_mul(a, b):
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+        aw * bw - ax * bx - ay * by - az * bz,
+    )
+
+
+def rotate(q, v):
+    x, y, z, _ = quat_mul(quat_mul(q, (*v, 0.0)), (-q[0], -q[1], -q[2], q[3]))
+    return (x, y, z)
+
+
+def compose(parent, child):
+    """parent * child, poses as ((x, y, z), (qx, qy, qz, qw))."""
+    (pt, pq), (ct, cq) = parent, child
+    rt = rotate(pq, ct)
+    return (tuple(p + r for p, r in zip(pt, rt)), quat_mul(pq, cq))
+
+
+def world_poses(tf_msg):
+    """Every frame's world pose, composing the message's transforms from `world` down."""
+    local = {}
+    for t in tf_msg.transforms:
+        tr, rq = t.transform.translation, t.transform.rotation
+        local[t.child_frame_id] = (t.header.frame_id, ((tr.x, tr.y, tr.z), (rq.x, rq.y, rq.z, rq.w)))
+    out = {}
+
+    def resolve(frame, depth=0):
+        assert depth < 100, f"a cycle through {frame}"
+        if frame == "world":
+            return ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+        if frame not in out:
+            parent, pose = local[frame]
+            out[frame] = compose(resolve(parent, depth + 1), pose)
+        return out[frame]
+
+    for f in local:
+        resolve(f)
+    return out
+
+
+def same_rotation(a, b, tol):
+    dot = abs(sum(x * y for x, y in zip(a, b)))
+    return dot > 1.0 - tol
+
+
+@pytest.mark.zmq_only
+def test_recording_reads_back_and_matches_the_poses_the_client_read(gantry, tmp_path):
+    path = tmp_path / "run.mcap"
+    g = gantry(SCENE, extra=["--record", str(path), "--http-port", "0"])
+    client = g.client()
+    sim = client.require("sim")
+    client.setStepping(True)
+    for _ in range(STEPS):
+        client.step()
+    t_read = sim.getSimulationTime()
+    handles = sim.getObjectsInTree(sim.handle_scene)
+    expected = {}
+    joints = {}
+    for h in handles:
+        frame = sim.getObjectAlias(h, 2).lstrip("/")
+        expected[frame] = sim.getObjectPose(h, sim.handle_world)
+        if sim.getObjectType(h) == sim.object_joint_type:
+            joints[frame] = sim.getJointPosition(h)
+    # A few more steps, so the step read is not the file's last.
+    for _ in range(3):
+        client.step()
+    g.close()
+    assert g.proc.returncode == 0, g.stderr()
+    assert path.stat().st_size > 0
+
+    stamp_ns = round(t_read * 1e9)
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        summary = reader.get_summary()
+        assert summary is not None and summary.chunk_indexes, "indexed, chunked"
+        assert all(c.compression == "zstd" for c in summary.chunk_indexes)
+        topics = {c.topic: summary.schemas[c.schema_id].name for c in summary.channels.values()}
+        assert topics["/tf"] == "tf2_msgs/msg/TFMessage"
+        assert topics["/joint_states"] == "sensor_msgs/msg/JointState"
+        assert topics["/rosout"] == "rcl_interfaces/msg/Log"
+        assert any(t.startswith("/graph/") for t in topics), topics
+        assert any(t.startswith("/proximity/") for t in topics), topics
+        assert all(s.encoding == "ros2msg" for s in summary.schemas.values())
+        metadata = {m.name: m.metadata for m in reader.iter_metadata()}
+        assert metadata["gantry"]["dt"] == "0.05"
+        assert "--record" in metadata["gantry"]["command_line"]
+        attachments = {a.name: a.data for a in reader.iter_attachments()}
+        assert attachments["bubble_rob.toml"] == (Path(__file__).resolve().parents[2] / SCENE).read_bytes()
+
+        count = 0
+        last = -1
+        at_read = {}
+        stamps = []
+        for schema, channel, message, decoded in reader.iter_decoded_messages(log_time_order=False):
+            count += 1
+            assert message.log_time >= last, "log times never go back"
+            last = message.log_time
+            if channel.topic == "/tf":
+                ts = {t.header.stamp.sec * 10**9 + t.header.stamp.nanosec for t in decoded.transforms}
+                assert len(ts) == 1
+                stamps.append(ts.pop())
+                if stamps[-1] == stamp_ns:
+                    at_read["tf"] = decoded
+            elif channel.topic == "/joint_states":
+                s = decoded.header.stamp
+                if s.sec * 10**9 + s.nanosec == stamp_ns:
+                    at_read["joints"] = decoded
+                for v in list(decoded.position) + list(decoded.velocity) + list(decoded.effort):
+                    assert math.isfinite(v)
+        assert count == summary.statistics.message_count
+        assert stamps == sorted(stamps) and len(set(stamps)) == len(stamps)
+
+    assert "tf" in at_read, f"no /tf at {t_read} s among {stamps[:3]}...{stamps[-3:]}"
+    recorded = world_poses(at_read["tf"])
+    assert set(expected) <= set(recorded), set(expected) - set(recorded)
+    for frame, pose in expected.items():
+        (x, y, z), q = recorded[frame]
+        assert math.dist((x, y, z), pose[:3]) < 1e-9, (frame, (x, y, z), pose[:3])
+        assert same_rotation(q, pose[3:], 1e-9), (frame, q, pose[3:])
+    js = at_read["joints"]
+    by_name = dict(zip(js.name, js.position))
+    assert joints and set(joints) <= set(by_name)
+    for name, q in joints.items():
+        assert abs(by_name[name] - q) < 1e-12, (name, by_name[name], q)
+    # bubbleRob drives: its pose at the step read is not where it started.
+    first = world_poses(next(iter_tf(path)))
+    assert math.dist(first["bubbleRob"][0], recorded["bubbleRob"][0]) > 1e-4
+
+
+def iter_tf(path):
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        for _, _, _, decoded in reader.iter_decoded_messages(topics=["/tf"]):
+            yield decoded
+
+
+@pytest.mark.zmq_only
+def test_recording_opens_as_a_ros2_bag_with_rosbags(gantry, tmp_path):
+    from rosbags.highlevel import AnyReader
+
+    path = tmp_path / "run.mcap"
+    g = gantry(SCENE, extra=["--record", str(path), "--steps", "40", "--http-port", "0"])
+    g.proc.wait(60)
+    assert g.proc.returncode == 0, g.stderr()
+    with AnyReader([path]) as reader:
+        types = {c.topic: c.msgtype for c in reader.connections}
+        assert types["/tf"] == "tf2_msgs/msg/TFMessage"
+        assert types["/joint_states"] == "sensor_msgs/msg/JointState"
+        n = 0
+        tf = 0
+        for connection, timestamp, raw in reader.messages():
+            msg = reader.deserialize(raw, connection.msgtype)
+            n += 1
+            if connection.topic == "/tf":
+                tf += 1
+                frames = {t.child_frame_id for t in msg.transforms}
+                assert {"bubbleRob", "bubbleRob/leftMotor"} <= frames, frames
+        assert n == reader.message_count
+        assert tf == 41, "the state at the start and after each of the 40 steps"
