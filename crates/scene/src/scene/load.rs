@@ -84,8 +84,17 @@ pub fn load_scene(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
 
 /// A URDF on a 5 x 5 m floor, base fixed unless `opts.free_base` (PyBullet's `useFixedBase`).
 fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
+    let mut model = load_urdf_model(files, path, opts)?;
+    model.warnings = dedup(std::mem::take(&mut model.warnings));
+    put_on_floor(&mut model);
+    Ok(model)
+}
+
+/// A URDF robot as a scene of its own objects (no floor, default settings), named after
+/// the file, with the import's warnings; the model `sim.loadModel` inserts.
+pub(super) fn load_urdf_model(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
     let (objects, warnings) = load_urdf_objects(files, path, opts)?;
-    let mut model = SceneModel {
+    Ok(SceneModel {
         name: stem(path),
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
         settings: SimSettings::default(),
@@ -95,10 +104,8 @@ fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
         dummy_links: Vec::new(),
         ball_links: Vec::new(),
         referenced_handles: Vec::new(),
-        warnings: dedup(warnings),
-    };
-    put_on_floor(&mut model);
-    Ok(model)
+        warnings,
+    })
 }
 
 /// A URDF robot's objects on their own (no floor), its base fixed unless

@@ -6,9 +6,8 @@
 use std::path::Path;
 
 use super::coppelia::load_coppelia;
-use super::files::stem;
-use super::load::load_urdf_objects;
-use super::{Files, LoadError, LoadOptions, SceneModel, ServerSettings, SimSettings, load_scene_text};
+use super::load::load_urdf_model;
+use super::{Files, LoadError, LoadOptions, SceneModel, load_scene_text};
 
 /// Sections a model file may not have, because they belong to a whole scene.
 const SCENE_ONLY: &[&str] = &["simulation", "floor", "server"];
@@ -28,21 +27,7 @@ pub fn load_model(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
         message,
     };
     match ext.as_deref() {
-        Some("urdf") => {
-            let (objects, warnings) = load_urdf_objects(files, path, opts)?;
-            Ok(SceneModel {
-                name: stem(path),
-                base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
-                settings: SimSettings::default(),
-                server: ServerSettings::default(),
-                objects,
-                scripts: Vec::new(),
-                dummy_links: Vec::new(),
-                ball_links: Vec::new(),
-                referenced_handles: Vec::new(),
-                warnings,
-            })
-        }
+        Some("urdf") => load_urdf_model(files, path, opts),
         Some("toml") => {
             let bytes = files.read(path).map_err(|e| LoadError::Io {
                 path: path.to_owned(),
