@@ -6,7 +6,9 @@
 //! - [`snapshot`]: what the simulation thread takes from the world after a step;
 //! - [`writer`]: snapshots to MCAP messages (zstd chunks, indexed summary);
 //! - [`recorder`]: the writer thread and the bounded queue to it, which drops (and
-//!   counts) rather than ever making the simulation wait.
+//!   counts) rather than ever making the simulation wait;
+//! - [`decode`] and [`reader`]: reading a recording back (`gantry replay`), damaged
+//!   and cut-short files included.
 //!
 //! Topics: `/tf` (`tf2_msgs/msg/TFMessage`: every object's pose in its parent's frame,
 //! frame ids the object paths without the leading `/`, roots in `world`),
@@ -18,11 +20,14 @@
 //! See docs/recording.md.
 
 pub mod cdr;
+pub mod decode;
 pub mod msg;
+pub mod reader;
 pub mod recorder;
 pub mod schema;
 pub mod snapshot;
 pub mod writer;
 
+pub use reader::{ReadError, Recording};
 pub use recorder::{BATCH, DEFAULT_QUEUE, RecordError, RecordParams, RecordReport, Recorder};
 pub use writer::AttachedFile;
