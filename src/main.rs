@@ -4,9 +4,12 @@
 //! Ctrl-C; `gantry run SCENE` runs a `.toml` scene or a bare `.urdf`; `gantry check SCENE`
 //! validates a scene without running it; `gantry convert SCENE DIR` writes any scene it
 //! loads (a CoppeliaSim `.ttt`/`.ttm`, a URDF) as a TOML scene with its meshes and
-//! scripts as files. `gantry run --record run.mcap` records the run (docs/recording.md).
+//! scripts as files. `gantry run --record run.mcap` records the run and `gantry replay
+//! run.mcap` plays it back in the viewer (docs/recording.md).
 //! On exit `run` prints one machine-readable line:
 //! `steps=N sim_time=S wall_s=W steps_per_s=R rtf=X`.
+
+mod replay_cmd;
 
 use std::net::{IpAddr, Ipv4Addr};
 use std::path::PathBuf;
@@ -67,6 +70,10 @@ enum Command {
         #[arg(long = "package-path")]
         package_paths: Vec<PathBuf>,
     },
+    /// Play a recording (`gantry run --record FILE`) in the browser viewer, without
+    /// simulating: a timeline to play, pause, scrub and step, the recorded graphs, log and
+    /// images.
+    Replay(replay_cmd::ReplayArgs),
     /// Send text packets to a running gantry and print the replies; exits non-zero on
     /// an <ERR#...> reply or a failed connection.
     Send {
@@ -193,6 +200,7 @@ fn main() -> ExitCode {
             token,
             packets,
         }) => access_token(token.as_deref()).and_then(|t| send(&addr, timeout, t.as_ref(), &packets)),
+        Some(Command::Replay(args)) => access_token(args.token.as_deref()).and_then(|t| replay_cmd::run(&args, t)),
         None => run(&cli.run),
     };
     match result {

@@ -6,6 +6,7 @@
 * ``launch_chromium``: Debian's ``/usr/bin/chromium`` driven headless by Playwright,
   never a downloaded browser. ``--disable-gpu`` makes WebGL2 run on SwiftShader.
 * ``text_packet``: one packet over the text channel, as the paper's client sends it.
+* ``Replay``: ``gantry replay FILE`` with its viewer on a free port.
 """
 
 from __future__ import annotations
@@ -132,3 +133,41 @@ def wait_for(predicate, timeout: float = 10.0, interval: float = 0.05, what: str
             return last
         time.sleep(interval)
     raise AssertionError(f"timed out after {timeout} s waiting for {what} (last: {last!r})")
+
+
+class Replay(ManagedProcess):
+    """``gantry replay FILE --http-port 0``: the viewer over a recording; ``url`` is its page."""
+
+    def __init__(self, recording: Path, ready_timeout: float = 60.0):
+        self.cmd = [str(gantry_bin()), "replay", str(recording), "--http-port", "0"]
+        self.log: deque[str] = deque(maxlen=2000)
+        self.addr: dict[str, tuple[str, int]] = {}
+        self.proc = subprocess.Popen(self.cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                     stderr=subprocess.PIPE, text=True, errors="replace")
+        ready = threading.Event()
+
+        def drain():
+            assert self.proc.stderr is not None
+            for line in self.proc.stderr:
+                self.log.append(line.rstrip("\n"))
+                m = LISTENING.search(line)
+                if m:
+                    self.addr[m.group(1)] = (m.group(2).strip("[]"), int(m.group(3)))
+                    ready.set()
+            ready.set()  # stderr closed: the process ended
+
+        threading.Thread(target=drain, daemon=True).start()
+        ready.wait(ready_timeout)
+        if "http" not in self.addr:
+            self.close()
+            raise RuntimeError(f"gantry replay did not report its viewer: {' '.join(self.cmd)}\n{self.stderr()}")
+
+    @property
+    def url(self) -> str:
+        host, port = self.addr["http"]
+        return f"http://{host}:{port}/"
+
+    def status(self) -> dict:
+        """``GET /api/status``: the replay clock (time, start, end, playing, speed, frame)."""
+        with urllib.request.urlopen(self.url + "api/status", timeout=10) as r:
+            return json.load(r)

@@ -10,6 +10,7 @@ pub mod http;
 pub mod legacy;
 pub mod legacy_commands;
 pub mod record;
+pub mod replay;
 pub mod runner;
 pub mod sim_thread;
 pub mod text;

@@ -1,5 +1,6 @@
 //! What every request handler and viewer session shares: the simulation's handle, the
-//! frame stream, the viewer permits, the limits, the shutdown signal and the debugger.
+//! frame stream, the viewer permits, the limits, the shutdown signal, the debugger and,
+//! in a replay, the recording's clock.
 
 use std::sync::Arc;
 
@@ -7,6 +8,7 @@ use tokio::sync::{Semaphore, watch};
 
 use super::config::HttpConfig;
 use super::frame::FrameSender;
+use super::replay::ReplayHub;
 use crate::debug::DebugHub;
 use crate::sim_thread::SimHandle;
 
@@ -22,4 +24,6 @@ pub(super) struct AppState {
     pub(super) shutdown: watch::Receiver<bool>,
     /// With `--debug`: the script debugger, for the "paused in SCRIPT:LINE" banner.
     pub(super) debug: Option<DebugHub>,
+    /// With `gantry replay`: the recording and its clock; the page is in replay mode.
+    pub(super) replay: Option<ReplayHub>,
 }

@@ -67,6 +67,7 @@ pub(super) const ASSETS: &[Asset] = &[
     module!("panels/custom_ui.js"),
     module!("panels/graphs.js"),
     module!("panels/vision.js"),
+    module!("panels/replay.js"),
 ];
 
 impl Asset {

@@ -9,6 +9,8 @@
 //! {"id": 11, "op": "debug", "action": "continue"}      // with --debug: continue, step_over, step_in, step_out, pause
 //! {"op": "key", "key": 2007, "mods": 0}                // a key pressed in the 3D view, for sim.getSimulatorMessage
 //! {"op": "select", "handles": [12]}                    // the user picked an object: sim.getObjectSel
+//! {"op": "replay", "action": "seek", "time": 12.5}      // gantry replay only: play, pause, seek (s),
+//!                                                      // step (frames: +-N snapshots), speed (0.25-4)
 //! ```
 //!
 //! `id` is optional and echoed in the reply. Anything else gets an error reply; the
@@ -87,7 +89,44 @@ pub enum Command {
         #[serde(default)]
         mods: i64,
     },
+    /// The replay's timeline (`gantry replay` only; a live run refuses it).
+    Replay {
+        /// What to do.
+        action: ReplayAction,
+        /// For `seek`: the time to show, s (log time of the recording).
+        #[serde(default)]
+        time: Option<f64>,
+        /// For `speed`: replay seconds per wall-clock second, 0.25 to 4.
+        #[serde(default)]
+        speed: Option<f64>,
+        /// For `step`: snapshots to move, negative back (default 1).
+        #[serde(default)]
+        frames: Option<i64>,
+    },
 }
+
+/// The timeline controls of a replay.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReplayAction {
+    /// Play from the current time at the current speed.
+    Play,
+    /// Stop the clock where it is.
+    Pause,
+    /// Show the state at `time`.
+    Seek,
+    /// Move `frames` snapshots forward (or back), pausing.
+    Step,
+    /// Change the speed.
+    Speed,
+}
+
+/// Slowest replay speed, replay seconds per wall-clock second.
+pub const MIN_REPLAY_SPEED: f64 = 0.25;
+/// Fastest replay speed.
+pub const MAX_REPLAY_SPEED: f64 = 4.0;
+/// Most snapshots one `step` moves.
+pub const MAX_REPLAY_STEP: i64 = 100_000;
 
 /// Largest key code accepted: the Unicode range (CoppeliaSim's special keys are below).
 pub const MAX_KEY_CODE: i64 = 0x10_FFFF;
@@ -153,7 +192,7 @@ pub enum CommandError {
     TooLong,
     /// Not JSON, or not one of the commands.
     #[error(
-        "bad message: {0} (expected {{\"op\": \"control\"|\"packet\"|\"ui\"|\"reload\"|\"debug\"|\"key\"|\"select\", ...}})"
+        "bad message: {0} (expected {{\"op\": \"control\"|\"packet\"|\"ui\"|\"reload\"|\"debug\"|\"key\"|\"select\"|\"replay\", ...}})"
     )]
     Json(#[from] serde_json::Error),
     /// A packet over [`MAX_PACKET`] bytes.
@@ -165,6 +204,11 @@ pub enum CommandError {
     /// A key code or modifier outside the ranges.
     #[error("a key code is 1..=1114111 and its modifiers 0..=3")]
     BadKey,
+    /// A replay command without its argument, or with one out of range.
+    #[error(
+        "a replay seek needs a finite \"time\" (s), a speed a \"speed\" from 0.25 to 4, a step a non-zero \"frames\" of at most 100000"
+    )]
+    BadReplay,
 }
 
 /// Parses and checks one text message.
@@ -181,6 +225,20 @@ pub fn parse(text: &str) -> Result<ClientMessage, CommandError> {
         Command::Ui { value, .. } if value.is_array() || value.is_object() => Err(CommandError::BadValue),
         Command::Key { key, mods } if !(1..=MAX_KEY_CODE).contains(key) || !(0..=3).contains(mods) => {
             Err(CommandError::BadKey)
+        }
+        Command::Replay {
+            action,
+            time,
+            speed,
+            frames,
+        } => {
+            let ok = match action {
+                ReplayAction::Play | ReplayAction::Pause => true,
+                ReplayAction::Seek => time.is_some_and(f64::is_finite),
+                ReplayAction::Speed => speed.is_some_and(|s| (MIN_REPLAY_SPEED..=MAX_REPLAY_SPEED).contains(&s)),
+                ReplayAction::Step => frames.is_none_or(|n| n != 0 && n.abs() <= MAX_REPLAY_STEP),
+            };
+            if ok { Ok(msg) } else { Err(CommandError::BadReplay) }
         }
         _ => Ok(msg),
     }
@@ -282,6 +340,43 @@ mod tests {
         assert!(matches!(
             parse(&" ".repeat(MAX_MESSAGE + 1)),
             Err(CommandError::TooLong)
+        ));
+    }
+
+    #[test]
+    fn replay_commands_parse_with_their_arguments_in_range() {
+        let m = parse(r#"{"id":1,"op":"replay","action":"seek","time":12.5}"#).unwrap();
+        assert_eq!(
+            m.command,
+            Command::Replay {
+                action: ReplayAction::Seek,
+                time: Some(12.5),
+                speed: None,
+                frames: None
+            }
+        );
+        for ok in [
+            r#"{"op":"replay","action":"play"}"#,
+            r#"{"op":"replay","action":"pause"}"#,
+            r#"{"op":"replay","action":"step"}"#,
+            r#"{"op":"replay","action":"step","frames":-1}"#,
+            r#"{"op":"replay","action":"speed","speed":0.25}"#,
+            r#"{"op":"replay","action":"speed","speed":4}"#,
+        ] {
+            assert!(parse(ok).is_ok(), "{ok}");
+        }
+        for bad in [
+            r#"{"op":"replay","action":"seek"}"#,
+            r#"{"op":"replay","action":"speed","speed":8}"#,
+            r#"{"op":"replay","action":"speed"}"#,
+            r#"{"op":"replay","action":"step","frames":0}"#,
+            r#"{"op":"replay","action":"step","frames":1000000}"#,
+        ] {
+            assert!(matches!(parse(bad), Err(CommandError::BadReplay)), "{bad}");
+        }
+        assert!(matches!(
+            parse(r#"{"op":"replay","action":"rewind"}"#),
+            Err(CommandError::Json(_))
         ));
     }
 

@@ -25,6 +25,10 @@
 //! downloads and the API, requires it ([`access`]: `?token=` then a cookie, or a bearer
 //! header). In every mode a WebSocket handshake from another site's page is refused.
 //!
+//! Replay mode ([`serve_replay`], `gantry replay FILE`): the same page and pose stream
+//! over a recording instead of a simulation ([`replay`]): a timeline instead of the
+//! simulation controls, the recorded graphs, log and images in the panels.
+//!
 //! Non-goals: TLS (put gantry behind an SSH tunnel or a reverse proxy for that), user
 //! accounts, and editing the scene from the page.
 
@@ -35,6 +39,7 @@ mod command;
 mod config;
 mod frame;
 mod panels;
+pub mod replay;
 mod scene;
 mod session;
 
@@ -50,7 +55,9 @@ use tokio::net::TcpListener;
 use tokio::sync::{Semaphore, watch};
 
 use app_state::AppState;
-pub use command::{ClientMessage, Command, CommandError, ControlAction, DebugAction, MAX_MESSAGE, MAX_PACKET, parse};
+pub use command::{
+    ClientMessage, Command, CommandError, ControlAction, DebugAction, MAX_MESSAGE, MAX_PACKET, ReplayAction, parse,
+};
 pub use config::HttpConfig;
 pub use frame::{
     DRAWING_REMOVED, DeltaMessages, DrawingFrame, Frame, FrameDelta, FramePublisher, FrameSender, IDLE_FRAME_RATE,
@@ -84,7 +91,40 @@ pub async fn serve(
         cfg,
         shutdown: shutdown.clone(),
         debug,
+        replay: None,
     };
+    serve_state(listener, state, token, shutdown).await;
+}
+
+/// [`serve`] for `gantry replay`: the page shows `replay`'s recording (see [`replay`]);
+/// the simulation behind `sim` is never stepped.
+pub async fn serve_replay(
+    listener: TcpListener,
+    sim: SimHandle,
+    frames: FrameSender,
+    replay: replay::ReplayHub,
+    cfg: HttpConfig,
+    token: Option<AccessToken>,
+    shutdown: watch::Receiver<bool>,
+) {
+    let state = AppState {
+        sim,
+        frames,
+        viewers: Arc::new(Semaphore::new(cfg.max_viewers)),
+        cfg,
+        shutdown: shutdown.clone(),
+        debug: None,
+        replay: Some(replay),
+    };
+    serve_state(listener, state, token, shutdown).await;
+}
+
+async fn serve_state(
+    listener: TcpListener,
+    state: AppState,
+    token: Option<AccessToken>,
+    shutdown: watch::Receiver<bool>,
+) {
     let app = assets::routes(Router::new())
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .route("/ws", get(websocket))
@@ -144,6 +184,12 @@ async fn websocket(ws: WebSocketUpgrade, headers: HeaderMap, State(st): State<Ap
 }
 
 async fn status(State(st): State<AppState>) -> Response {
+    if let Some(r) = &st.replay {
+        // A replay: the clock's state (time, start, end, playing, speed, frame).
+        let mut j = replay::status_json(&r.status().borrow());
+        j["viewers"] = serde_json::json!(st.cfg.max_viewers - st.viewers.available_permits());
+        return json_response(&j);
+    }
     // A script stopped in the debugger holds the simulation thread: say so at once
     // rather than leave the request waiting.
     if let Some(p) = st.debug.as_ref().and_then(|d| d.paused().borrow().clone()) {

@@ -17,6 +17,7 @@ use super::command::{self, Command};
 use super::config::HttpConfig;
 use super::frame::FrameDelta;
 use super::panels::{self, PanelCursor};
+use super::replay::{self, ReplayError, ReplayHub, ReplayPanels, ReplayStatus};
 use super::scene;
 use crate::debug::{DebugError, DebugHub, PausedAt};
 use crate::sim_thread::{HandleCallError, SendError, SimHandle};
@@ -86,15 +87,26 @@ pub(super) async fn run(mut socket: WebSocket, st: AppState, _permit: OwnedSemap
     let Ok(mut described) = send_scene(&mut socket, &st.sim, &st.cfg).await else {
         return;
     };
+    // A replay: the page learns it is one (and where the clock is) before any frame.
+    let mut replay_status = st.replay.as_ref().map(ReplayHub::status);
+    let mut replay_panels = ReplayPanels::default();
+    if let Some(hub) = &st.replay
+        && send(&mut socket, &st.cfg, Message::Text(hub.hello().to_string().into()))
+            .await
+            .is_err()
+    {
+        return;
+    }
     // Commands that go to the simulation run one after another, in the order sent,
     // in a worker, whose replies come back here.
     let (work_tx, mut work_rx) = tokio::sync::mpsc::channel::<(Option<u64>, Command)>(64);
     let (reply_tx, mut replies) = tokio::sync::mpsc::channel::<Json>(64);
     let worker = {
         let sim = st.sim.clone();
+        let hub = st.replay.clone();
         tokio::spawn(async move {
             while let Some((id, cmd)) = work_rx.recv().await {
-                let r = reply(id, execute(cmd, client, &sim).await);
+                let r = reply(id, execute(cmd, client, &sim, hub.as_ref()).await);
                 if reply_tx.send(r).await.is_err() {
                     break;
                 }
@@ -132,7 +144,24 @@ pub(super) async fn run(mut socket: WebSocket, st: AppState, _permit: OwnedSemap
                     }
                 }
             },
-            _ = poll.tick() => send_panels(&mut socket, &st, &mut cursor).await,
+            _ = poll.tick() => match &st.replay {
+                Some(hub) => {
+                    let now = hub.status().borrow().clone();
+                    send_replay_panels(&mut socket, &st.cfg, hub, &mut replay_panels, &now).await
+                }
+                None => send_panels(&mut socket, &st, &mut cursor).await,
+            },
+            now = replay_change(&mut replay_status) => {
+                let text = replay::status_json(&now).to_string();
+                match send(&mut socket, &st.cfg, Message::Text(text.into())).await {
+                    Ok(()) => match &st.replay {
+                        // The log and images follow the clock at once, not at the next poll.
+                        Some(hub) => send_replay_panels(&mut socket, &st.cfg, hub, &mut replay_panels, &now).await,
+                        None => Ok(()),
+                    },
+                    Err(g) => Err(g),
+                }
+            }
             now = pause_change(&mut paused) => send(&mut socket, &st.cfg, debug_message(now.as_ref())).await,
             Some(r) = replies.recv() => send(&mut socket, &st.cfg, Message::Text(r.to_string().into())).await,
             msg = socket.recv() => match msg {
@@ -185,6 +214,37 @@ async fn pause_change(paused: &mut Option<watch::Receiver<Option<PausedAt>>>) ->
         }
         None => std::future::pending().await,
     }
+}
+
+/// The next move of a replay's clock; never, in a live run.
+async fn replay_change(status: &mut Option<watch::Receiver<ReplayStatus>>) -> ReplayStatus {
+    match status {
+        Some(s) => {
+            if s.changed().await.is_err() {
+                std::future::pending::<()>().await;
+            }
+            s.borrow_and_update().clone()
+        }
+        None => std::future::pending().await,
+    }
+}
+
+/// A replay's panels at the clock's time `now`.
+async fn send_replay_panels(
+    socket: &mut WebSocket,
+    cfg: &HttpConfig,
+    hub: &ReplayHub,
+    panels: &mut ReplayPanels,
+    now: &ReplayStatus,
+) -> Result<(), Gone> {
+    let (json, images) = panels.update(hub, now);
+    if let Some(j) = json {
+        send(socket, cfg, Message::Text(j.to_string().into())).await?;
+    }
+    for img in images {
+        send(socket, cfg, Message::Binary(img.into())).await?;
+    }
+    Ok(())
 }
 
 /// Resolves once a script is stopped in the debugger; never, without it.
@@ -331,10 +391,43 @@ enum ViewerCommandError {
     /// The text channel's `<ERR#...>` reply to a packet.
     #[error("{0}")]
     Packet(String),
+    /// A timeline command to a live run.
+    #[error("no recording is being replayed: replay commands work in the viewer of `gantry replay FILE`")]
+    NotReplaying,
+    /// A command that drives the simulation, sent to a replay.
+    #[error(
+        "this is a replay of a recording: simulation controls, packets, custom UIs, script reloads and keys are off (use the timeline)"
+    )]
+    Replaying,
+    /// The replay could not carry out a timeline command.
+    #[error(transparent)]
+    Replay(#[from] ReplayError),
 }
 
-async fn execute(cmd: Command, client: i64, sim: &SimHandle) -> Result<String, ViewerCommandError> {
+async fn execute(
+    cmd: Command,
+    client: i64,
+    sim: &SimHandle,
+    replay: Option<&ReplayHub>,
+) -> Result<String, ViewerCommandError> {
+    if let Some(hub) = replay {
+        return match cmd {
+            Command::Replay {
+                action,
+                time,
+                speed,
+                frames,
+            } => {
+                let s = hub.command(action, time, speed, frames).await?;
+                Ok(replay::status_json(&s).to_string())
+            }
+            // Picking an object only looks at the scene.
+            Command::Select { .. } => Box::pin(execute(cmd, client, sim, None)).await,
+            _ => Err(ViewerCommandError::Replaying),
+        };
+    }
     match cmd {
+        Command::Replay { .. } => Err(ViewerCommandError::NotReplaying),
         Command::Control { action } => {
             let state = sim.control(action.into()).await?;
             Ok(format!("{state:?}").to_lowercase())

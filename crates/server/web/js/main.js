@@ -6,9 +6,10 @@
 //   server -> page  text   {"t":"scene"}   object tree (paths included), visuals, joints, sensors (once)
 //                          {"t":"tick"}    time, state, rates, joints, detections, picked object's Euler angles
 //                          {"t":"panels"}  scripts, log, custom UIs, graph samples
+//                          {"t":"replay"}  gantry replay only: the timeline's time, end, playing, speed
 //                          {"t":"reply"}   answer to a command (matched by id)
 //                   binary u32 type 1: pose, drawing and point-cloud deltas, 2: vision image, 3: mesh
-//   page -> server  text   {"id","op":"control"|"packet"|"ui"|"reload"|"debug"|"key"|"select",...}
+//   page -> server  text   {"id","op":"control"|"packet"|"ui"|"reload"|"debug"|"key"|"select"|"replay",...}
 // World frame: Z up, metres, radians; poses are [x, y, z, qx, qy, qz, qw].
 
 import { S, changed } from './state.js';
@@ -21,14 +22,17 @@ import './input.js';
 import { onTick, PANEL_FPS, lastPanels, updatePanels } from './panels/simulation.js';
 import { onDebug } from './panels/debug.js';
 import { select } from './panels/selection.js';
-import { showScripts, appendLog } from './panels/scripts.js';
+import { showScripts, appendLog, clearLog } from './panels/scripts.js';
 import { showUis } from './panels/custom_ui.js';
 import { showViews } from './panels/vision.js';
 import { addGraphSamples } from './panels/graphs.js';
+import { onReplay } from './panels/replay.js';
 
 // Slower panels: scripts, log, custom UIs, floating views, the selection, graphs.
 function onPanels(p) {
   if (p.scripts) showScripts(p.scripts);
+  // A replay that went back in time starts its log over.
+  if (p.log_reset) clearLog();
   if (p.log) appendLog(p.log);
   if (p.uis) showUis(p.uis);
   if (p.views) showViews(p.views);
@@ -60,5 +64,5 @@ function loop(now) {
 
 if (glError) showError(glError);
 window.addEventListener('resize', () => { changed.view = true; });
-connect({ scene: onScene, tick: onTick, panels: onPanels, debug: onDebug, binary: onBinary });
+connect({ scene: onScene, tick: onTick, panels: onPanels, debug: onDebug, replay: onReplay, binary: onBinary });
 requestAnimationFrame(loop);

@@ -14,7 +14,7 @@ export function send(cmd, onReply) {
   ws.send(JSON.stringify({ id, ...cmd }));
 }
 
-// `on` handles the server's messages: scene, tick, panels and debug (text, by `t`) and
+// `on` handles the server's messages: scene, tick, panels, debug and replay (text, by `t`) and
 // binary (an ArrayBuffer).
 export function connect(on) {
   ws = new WebSocket(`${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`);
@@ -41,6 +41,7 @@ export function connect(on) {
       }
       case 'error': showError(msg.text); break;
       case 'debug': on.debug(msg.paused); break;
+      case 'replay': on.replay(msg); break;
     }
   };
 }

@@ -19,6 +19,8 @@ export const S = {
   framesRendered: 0,
   frameMessages: 0,
   images: 0,
+  replay: null,         // gantry replay: the timeline's last state (time, start, end, playing, speed, frame, frames)
+  graphCursor: {},      // gantry replay: per graph handle, the cursor {time, x (canvas px), values {label: value}}
 };
 // For tests and the curious: `window.gantry` shows the page's live state.
 window.gantry = S;

@@ -1,6 +1,7 @@
 // Graphs: one plot per graph object, every stream a coloured line; samples are kept up
 // to MAX_POINTS per stream (the CSV link has all the server keeps).
 
+import { S } from '../state.js';
 import { $, el, fmt } from '../dom.js';
 
 const MAX_POINTS = 20000;
@@ -29,6 +30,18 @@ export function addGraphSamples(updates) {
   for (const [h, g] of graphs) if (g.stale) { g.stale = false; drawGraph(h, g); }
 }
 
+// A replay's cursor moved: draw every plot again with the cursor at the new time.
+export function redrawGraphs() {
+  for (const [h, g] of graphs) drawGraph(h, g);
+}
+
+// The value of a stream at time t: its last sample at or before t (binary search).
+function valueAt(s, t) {
+  let lo = 0, hi = s.t.length;
+  while (lo < hi) { const mid = (lo + hi) >> 1; if (s.t[mid] <= t) lo = mid + 1; else hi = mid; }
+  return lo > 0 ? s.v[lo - 1] : NaN;
+}
+
 function drawGraph(handle, g) {
   const ctx = g.canvas.getContext('2d');
   const W = g.canvas.width, H = g.canvas.height, pad = 28;
@@ -40,11 +53,15 @@ function drawGraph(handle, g) {
     for (const v of s.v) { if (v < v0) v0 = v; if (v > v1) v1 = v; }
   }
   const css = (c) => `rgb(${c.map((x) => Math.round(x * 255)).join(',')})`;
+  // In a replay the legend gives each stream's value at the cursor, and there is no
+  // CSV of the simulation to download.
+  const cursor = S.replay ? S.replay.time : null;
+  const shown = (s) => (cursor === null ? s.v[s.v.length - 1] : valueAt(s, cursor));
   g.legend.replaceChildren(
     el('b', { text: g.alias || `graph ${handle}` }),
     ...[...g.streams.values()].map((s) => el('span', {}, el('span', { class: 'swatch', style: `background:${css(s.color)}` }),
-      `${s.label}: ${fmt(s.v[s.v.length - 1])}`)),
-    el('a', { href: `/api/graph/${handle}.csv`, download: `${g.alias || 'graph'}.csv`, text: 'CSV' }));
+      `${s.label}: ${fmt(shown(s))}`)),
+    cursor === null ? el('a', { href: `/api/graph/${handle}.csv`, download: `${g.alias || 'graph'}.csv`, text: 'CSV' }) : null);
   if (!Number.isFinite(t0)) return;
   if (t1 - t0 < 1e-9) t1 = t0 + 1;
   if (v1 - v0 < 1e-9) { v0 -= 0.5; v1 += 0.5; }
@@ -63,5 +80,14 @@ function drawGraph(handle, g) {
       if (i === 0) ctx.moveTo(X(s.t[i]), Y(s.v[i])); else ctx.lineTo(X(s.t[i]), Y(s.v[i]));
     }
     ctx.stroke();
+  }
+  if (cursor !== null) {
+    // The replay's cursor: a vertical line at the time shown.
+    const x = X(Math.min(Math.max(cursor, t0), t1));
+    ctx.strokeStyle = '#e8e8e8';
+    ctx.beginPath(); ctx.moveTo(x, 8); ctx.lineTo(x, H - 14); ctx.stroke();
+    const values = {};
+    for (const s of g.streams.values()) values[s.label] = valueAt(s, cursor);
+    S.graphCursor[handle] = { time: cursor, x, left: pad, width: W - pad - 6, t0, t1, values };
   }
 }

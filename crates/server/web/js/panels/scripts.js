@@ -17,6 +17,8 @@ export function showScripts(list) {
 }
 
 const MAX_LOG = 500;
+export function clearLog() { $('log').replaceChildren(); }
+
 export function appendLog(lines) {
   const log = $('log');
   const atBottom = log.scrollTop + log.clientHeight >= log.scrollHeight - 4;
