@@ -44,6 +44,8 @@ echo "== script debugger: step rate with and without --debug"
 "$venv/bin/python" tools/bench/debugger.py --steps 10000 --repeat 3 --json target/bench/debugger.json
 echo "== recording: the showroom's step rate with and without --record (issue 31)"
 GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/record.py --json target/bench/record.json
+echo "== replay: scrubbing a 10-minute showroom recording (issue 31)"
+GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/replay.py --steps 12000 --seeks 200 --json target/bench/replay.json
 echo "== start-up and memory"
 "$venv/bin/python" tools/bench/startup.py > target/bench/startup.json
 echo

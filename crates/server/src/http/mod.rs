@@ -51,6 +51,7 @@ use axum::extract::{Path, State};
 use axum::http::{HeaderMap, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
+use axum::serve::ListenerExt;
 use tokio::net::TcpListener;
 use tokio::sync::{Semaphore, watch};
 
@@ -125,6 +126,7 @@ async fn serve_state(
     token: Option<AccessToken>,
     shutdown: watch::Receiver<bool>,
 ) {
+    let replaying = state.replay.is_some();
     let app = assets::routes(Router::new())
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .route("/ws", get(websocket))
@@ -147,15 +149,23 @@ async fn serve_state(
         (None, _) => app,
     };
     let mut stop = shutdown;
-    let result = axum::serve(listener, app)
-        .with_graceful_shutdown(async move {
-            while !*stop.borrow_and_update() {
-                if stop.changed().await.is_err() {
-                    break;
-                }
+    let until_stopped = async move {
+        while !*stop.borrow_and_update() {
+            if stop.changed().await.is_err() {
+                break;
             }
-        })
-        .await;
+        }
+    };
+    let result = if replaying {
+        // A scrub's answer is a few small messages (poses, tick, status); without
+        // TCP_NODELAY the later ones wait for the browser's delayed ACK, 40 ms on Linux.
+        let listener = listener.tap_io(|s| {
+            let _ = s.set_nodelay(true);
+        });
+        axum::serve(listener, app).with_graceful_shutdown(until_stopped).await
+    } else {
+        axum::serve(listener, app).with_graceful_shutdown(until_stopped).await
+    };
     if let Err(e) = result {
         tracing::error!("viewer server failed: {e}");
     }
