@@ -123,9 +123,9 @@ pub enum ReadError {
         path: PathBuf,
         /// The scene's path in the recording.
         scene: String,
-        /// The loader's error.
+        /// The loader's error (boxed: it is large, and this is not a hot path).
         #[source]
-        source: LoadError,
+        source: Box<LoadError>,
     },
 }
 
@@ -888,7 +888,7 @@ impl Recording {
                     .map_err(|source| ReadError::Scene {
                         path: self.path.clone(),
                         scene: "showroom".into(),
-                        source,
+                        source: Box::new(source),
                     })?;
                 return Ok(self.with_settings(model));
             }
@@ -915,7 +915,7 @@ impl Recording {
         let model = load_scene(&files, &scene, &opts).map_err(|source| ReadError::Scene {
             path: self.path.clone(),
             scene: scene.display().to_string(),
-            source,
+            source: Box::new(source),
         })?;
         Ok(self.with_settings(model))
     }

@@ -498,6 +498,8 @@ pub struct ReplayPanels {
     log_until: Option<u64>,
     /// Per image topic: the time of the image on show.
     images: BTreeMap<String, u64>,
+    /// The clock's time at the last update, ns: nothing changes while it stays.
+    shown: Option<u64>,
 }
 
 impl ReplayPanels {
@@ -507,6 +509,10 @@ impl ReplayPanels {
     pub fn update(&mut self, hub: &ReplayHub, status: &ReplayStatus) -> (Option<Json>, Vec<Vec<u8>>) {
         let rec = &hub.rec;
         let t_ns = nanos(status.time);
+        if self.shown == Some(t_ns) {
+            return (None, Vec::new());
+        }
+        self.shown = Some(t_ns);
         let mut msg = serde_json::Map::new();
         if !self.graphs_sent {
             self.graphs_sent = true;
