@@ -93,6 +93,21 @@ pub static FLOAT64: MessageType = MessageType {
     uses: &[],
 };
 
+/// `gantry_msgs/msg/Input`: `/gantry/input`, what reached the simulation from outside
+/// (see [`crate::input`]). Not a ROS type: readers that do not know it decode it from
+/// this definition or skip it.
+pub static INPUT: MessageType = MessageType {
+    name: "gantry_msgs/msg/Input",
+    definition: "uint64 step
+uint32 boundary
+string kind
+string name
+int64 client
+uint8[] args
+",
+    uses: &[],
+};
+
 /// `sensor_msgs/msg/Range`: proximity sensors.
 pub static RANGE: MessageType = MessageType {
     name: "sensor_msgs/msg/Range",

@@ -190,6 +190,12 @@ impl Sampler {
         })
     }
 
+    /// The recording time of `sim`'s current simulation time (for inputs between
+    /// snapshots; the writer keeps the file's times from going back).
+    pub fn log_time_now(&self, sim: &Sim) -> u64 {
+        self.offset_ns + nanos_from_secs(sim.world.time())
+    }
+
     /// Log lines only (the run's cleanup hooks log after its last step).
     pub fn sample_logs(&mut self, sim: &Sim) -> Vec<LogSample> {
         self.log_lines(&sim.world)
