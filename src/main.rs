@@ -14,7 +14,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
-use gantry_record::{RecordParams, RecordedRun, RunDescription, Verdict};
+use gantry_record::{ImageStream, RecordParams, RecordedRun, RunDescription, Verdict};
 use gantry_script::{NetworkParams, ScriptLimits, check_syntax, uses_luasocket};
 use gantry_server::http::HttpConfig;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, SimConfig, TextConfig};
@@ -166,13 +166,42 @@ struct RunArgs {
     /// When the run ends, write every graph stream as CSV into DIR (one file per graph).
     #[arg(long, value_name = "DIR")]
     export_graphs: Option<PathBuf>,
-    /// Record the run into an MCAP file (ROS 2 messages: /tf, /joint_states, /rosout,
-    /// graph streams, proximity sensors; the scene attached). See docs/recording.md.
+    /// Record the run into an MCAP file (ROS 2 messages: /tf, /tf_static,
+    /// /joint_states, /rosout, graph streams, proximity sensors, signals; the inputs
+    /// `gantry verify` needs; the scene's files attached). See docs/recording.md.
     #[arg(long, value_name = "FILE.mcap")]
     record: Option<PathBuf>,
     /// With --record: snapshots per simulated second (default: every step).
     #[arg(long, value_name = "HZ", requires = "record")]
     record_rate: Option<f64>,
+    /// With --record: also record this vision sensor's RGB images (its path, e.g.
+    /// /showroom/camera, or alias), at most HZ per simulated second (default 10).
+    /// Repeatable.
+    #[arg(long = "record-image", value_name = "SENSOR[=HZ]", requires = "record", value_parser = parse_image_stream)]
+    record_images: Vec<ImageStream>,
+}
+
+/// `SENSOR[=HZ]` of `--record-image`.
+fn parse_image_stream(s: &str) -> Result<ImageStream, String> {
+    let (sensor, rate_hz) = match s.rsplit_once('=') {
+        Some((sensor, hz)) => {
+            let hz: f64 = hz.parse().map_err(|_| format!("{hz:?} is not a rate in Hz"))?;
+            (sensor, hz)
+        }
+        None => (s, 10.0),
+    };
+    if sensor.is_empty() {
+        return Err("name the vision sensor: --record-image /path/to/sensor[=HZ]".to_owned());
+    }
+    if !(rate_hz.is_finite() && rate_hz > 0.0) {
+        return Err(format!(
+            "{rate_hz}: images per simulated second must be a positive number"
+        ));
+    }
+    Ok(ImageStream {
+        sensor: sensor.to_owned(),
+        rate_hz,
+    })
 }
 
 fn main() -> ExitCode {
@@ -493,7 +522,7 @@ fn record_params(
         substeps: model.settings.substeps,
         command_line: std::env::args().collect::<Vec<_>>().join(" "),
     };
-    Ok(RecordParams::for_run(path.to_path_buf(), args.record_rate, run))
+    Ok(RecordParams::for_run(path.to_path_buf(), args.record_rate, run).with_images(args.record_images.clone()))
 }
 
 /// `ASKED=USED` of `--script-port`.

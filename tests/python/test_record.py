@@ -209,3 +209,44 @@ def test_recording_opens_as_a_ros2_bag_with_rosbags(gantry, tmp_path):
                     assert {"bubbleRob", "bubbleRob/leftMotor/leftWheel"} <= frames, frames
         assert n == reader.message_count
         assert tf == 41, "the state at the start and after each of the 40 steps"
+
+
+@pytest.mark.zmq_only
+def test_images_and_signals_are_recorded_as_the_client_read_them(gantry, tmp_path):
+    """`--record-image SENSOR=HZ` records the sensor's RGB image as sensor_msgs/Image
+    (rgb8, top row first, as ROS has it); signals go to /signal/<type>/<name>."""
+    path = tmp_path / "images.mcap"
+    # 20 Hz at dt 0.05: an image after every step.
+    g = gantry("assets/scenes/showroom.toml",
+               extra=["--record", str(path), "--record-image", "visionSensor=20", "--http-port", "0"])
+    client = g.client()
+    sim = client.require("sim")
+    client.setStepping(True)
+    sim.setInt32Signal("gear", 3)
+    sim.setFloatSignal("speed", 0.25)
+    sim.setStringSignal("mode", "explore")
+    for _ in range(6):
+        client.step()
+    sensor = next(h for h in sim.getObjectsInTree(sim.handle_scene) if sim.getObjectAlias(h) == "visionSensor")
+    img, (width, height) = sim.getVisionSensorImg(sensor)
+    t_read = round(sim.getSimulationTime() * 1e9)
+    client.step()
+    g.close()
+    assert g.proc.returncode == 0, g.stderr()
+
+    images = {}
+    signals = {}
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        for schema, channel, message, msg in reader.iter_decoded_messages():
+            if channel.topic.startswith("/vision/"):
+                assert schema.name == "sensor_msgs/msg/Image"
+                images[msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec] = msg
+            elif channel.topic.startswith("/signal/"):
+                signals[channel.topic] = msg.data
+    assert signals == {"/signal/int32/gear": 3, "/signal/float/speed": 0.25, "/signal/string/mode": "explore"}
+    msg = images[t_read]
+    assert (msg.width, msg.height, msg.encoding, msg.step) == (width, height, "rgb8", 3 * width)
+    row = 3 * width
+    top_first = b"".join(bytes(img[r * row:(r + 1) * row]) for r in reversed(range(height)))
+    assert bytes(msg.data) == top_first, "the image the client read at that step, rows top first"

@@ -77,6 +77,12 @@ impl CdrWriter {
     /// A `uint8[]`: element count, then the bytes (no alignment inside).
     pub fn bytes(&mut self, v: &[u8]) {
         self.sequence_len(v.len());
+        self.raw(v);
+    }
+
+    /// Bytes of a `uint8[]` whose count was written with [`CdrWriter::sequence_len`],
+    /// in parts.
+    pub fn raw(&mut self, v: &[u8]) {
         self.buf.extend_from_slice(v);
     }
 

@@ -31,6 +31,7 @@ pub use input::{INPUT_TOPIC, Input, InputDecodeError};
 pub use recorder::{
     BATCH, DEFAULT_QUEUE, FORMAT_VERSION, RecordError, RecordParams, RecordReport, Recorder, RunDescription,
 };
+pub use snapshot::ImageStream;
 pub use tap::RecordTap;
 pub use verify::{RecordedRun, Verdict, VerifyError};
 pub use writer::AttachedFile;

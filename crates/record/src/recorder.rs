@@ -19,7 +19,7 @@ use std::thread::JoinHandle;
 use gantry_sim_core::Sim;
 
 use crate::input::Input;
-use crate::snapshot::{LogSample, Sampler, Snapshot};
+use crate::snapshot::{ImageStream, LogSample, Sampler, Snapshot};
 use crate::writer::{AttachedFile, McapSink};
 
 /// Batches waiting for the writer by default: a few seconds of a busy scene.
@@ -44,6 +44,8 @@ pub struct RecordParams {
     pub metadata: BTreeMap<String, String>,
     /// Files attached at the start (the scene, its scripts).
     pub attachments: Vec<AttachedFile>,
+    /// Vision sensors whose images are recorded, each at its rate.
+    pub images: Vec<ImageStream>,
 }
 
 /// The version of what gantry writes into a recording (channels, metadata, inputs),
@@ -116,7 +118,20 @@ impl RecordParams {
             queue: 0,
             metadata,
             attachments,
+            images: Vec::new(),
         }
+    }
+}
+
+impl RecordParams {
+    /// Also records the images of `streams` (noted in the metadata as `images`, one
+    /// `sensor=rate` per line, so that `gantry verify` records the same).
+    #[must_use]
+    pub fn with_images(mut self, streams: Vec<ImageStream>) -> Self {
+        let text: Vec<String> = streams.iter().map(|s| format!("{}={}", s.sensor, s.rate_hz)).collect();
+        self.metadata.insert("images".to_owned(), text.join("\n"));
+        self.images = streams;
+        self
     }
 }
 
@@ -243,13 +258,14 @@ impl Recorder {
         let (tx, rx) = mpsc::sync_channel(queue);
         let thread_path = path.clone();
         let rate_hz = params.rate_hz;
+        let sampler = Sampler::new(rate_hz).with_images(&params.images);
         let thread = std::thread::Builder::new()
             .name("gantry-record".into())
             .spawn(move || write_loop(sink, rx, &params, &thread_path))
             .map_err(RecordError::Thread)?;
         Ok(Self {
             path,
-            sampler: Sampler::new(rate_hz),
+            sampler,
             tx: Some(tx),
             thread: Some(thread),
             pending: Vec::with_capacity(BATCH),
@@ -387,11 +403,16 @@ fn write_loop<W: Write + Seek>(
         while let Ok(item) = rx.recv() {
             match item {
                 Item::Batch(batch, inputs) => {
-                    // Inputs first: each arrived before the step that follows it.
-                    sink.inputs(&inputs)?;
+                    // In time order: an input at a snapshot's time arrived after that
+                    // snapshot (between its step and the next).
+                    let mut rest = inputs.as_slice();
                     for s in &batch {
+                        let n = rest.partition_point(|(t, _)| *t < s.log_time_ns);
+                        sink.inputs(&rest[..n])?;
+                        rest = &rest[n..];
                         sink.snapshot(s)?;
                     }
+                    sink.inputs(rest)?;
                 }
                 Item::Logs(l) => sink.logs(&l)?,
                 Item::End(end) => sink.metadata_named("gantry_end", &end)?,

@@ -8,7 +8,7 @@
 //! fresh [`Engine`] at the same points, for as many steps as the run took, and the new
 //! run is recorded into memory at the recording's rate. Then every message of the
 //! state topics (`/tf`, `/tf_static`, `/joint_states`, `/proximity/...`,
-//! `/graph/...`) is compared, byte for byte, with the recording's: the encoding is
+//! `/graph/...`, `/signal/...`, `/vision/...`) is compared, byte for byte, with the recording's: the encoding is
 //! deterministic, so equal bytes mean equal numbers, bit for bit.
 //!
 //! What a re-run cannot reproduce, and so reports as a difference: what scripts read
@@ -29,14 +29,16 @@ use gantry_sim_core::sim::Control;
 
 use crate::input::{INPUT_TOPIC, Input};
 use crate::recorder::{FORMAT_VERSION, RecordParams, Recorder};
+use crate::snapshot::ImageStream;
 use crate::tap::RecordTap;
 
 /// The topics compared: the simulation's state. `/rosout` is not (log lines may hold
 /// wall-clock times), nor `/gantry/input` (the inputs are what is fed in).
 pub fn is_state_topic(topic: &str) -> bool {
     matches!(topic, "/tf" | "/tf_static" | "/joint_states")
-        || topic.starts_with("/proximity/")
-        || topic.starts_with("/graph/")
+        || ["/proximity/", "/graph/", "/signal/", "/vision/"]
+            .iter()
+            .any(|p| topic.starts_with(p))
 }
 
 /// Why a recording cannot be verified.
@@ -262,6 +264,21 @@ impl RecordedRun {
         self.metadata.get("record_rate_hz").and_then(|r| r.parse().ok())
     }
 
+    /// The image streams the run recorded (metadata `images`: `sensor=rate` lines).
+    fn image_streams(&self) -> Vec<ImageStream> {
+        let lines = self.metadata.get("images").map(String::as_str).unwrap_or_default();
+        lines
+            .lines()
+            .filter_map(|l| {
+                let (sensor, rate) = l.rsplit_once('=')?;
+                Some(ImageStream {
+                    sensor: sensor.to_owned(),
+                    rate_hz: rate.parse().ok()?,
+                })
+            })
+            .collect()
+    }
+
     /// Simulates the run again with the recorded inputs and compares the state.
     ///
     /// # Errors
@@ -278,7 +295,8 @@ impl RecordedRun {
             path: PathBuf::from("(re-run)"),
             rate_hz: self.rate_hz(),
             ..RecordParams::default()
-        };
+        }
+        .with_images(self.image_streams());
         let recorder =
             Recorder::with_writer(buf.clone(), params).map_err(|e| VerifyError::Incomplete(e.to_string()))?;
         let snapshot_steps = Arc::new(Mutex::new(Vec::new()));

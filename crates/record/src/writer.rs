@@ -15,7 +15,7 @@ use mcap::{Attachment, Compression, McapError, WriteOptions, Writer};
 use crate::input::{INPUT_TOPIC, Input};
 use crate::msg::{self, LogLevel, Time, TransformStamped};
 use crate::schema::{self, MessageType};
-use crate::snapshot::{LogSample, Snapshot, WORLD_FRAME, topic_name};
+use crate::snapshot::{LogSample, SignalSample, Snapshot, WORLD_FRAME, topic_name};
 
 /// `/tf`.
 pub const TF_TOPIC: &str = "/tf";
@@ -246,6 +246,31 @@ impl<W: Write + Seek> McapSink<W> {
                 s.log_time_ns,
                 &msg::joint_state(stamp, &names, &position, &velocity, &effort),
             )?;
+        }
+        for sig in &s.signals {
+            let (topic, ty, data) = match sig {
+                SignalSample::Int32(name, v) => {
+                    (topic_name(&["signal", "int32", name]), &schema::INT32, msg::int32(*v))
+                }
+                SignalSample::Float(name, v) => (
+                    topic_name(&["signal", "float", name]),
+                    &schema::FLOAT64,
+                    msg::float64(*v),
+                ),
+                SignalSample::String(name, v) => (
+                    topic_name(&["signal", "string", name]),
+                    &schema::STRING,
+                    msg::string(&String::from_utf8_lossy(v)),
+                ),
+            };
+            let ch = self.channel(&topic, ty)?;
+            self.message(ch, s.log_time_ns, &data)?;
+        }
+        for img in &s.images {
+            let name = frame(img.handle);
+            let ch = self.channel(&topic_name(&["vision", name, "image"]), &schema::IMAGE)?;
+            let [w, h] = img.resolution;
+            self.message(ch, s.log_time_ns, &msg::image(stamp, name, w, h, &img.rgb))?;
         }
         for r in &s.ranges {
             let name = frame(r.handle);
