@@ -45,7 +45,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scene (default: the embedded showroom).
-    Run(RunArgs),
+    Run(Box<RunArgs>),
     /// Load and validate a scene (files, URDFs, meshes, scripts' syntax) without running it.
     Check {
         /// Scene file (.toml) or robot (.urdf).
