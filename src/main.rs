@@ -17,12 +17,13 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
-use gantry_record::{AttachedFile, RecordParams};
+use gantry_record::{ImageStream, RecordParams, RecordedRun, RunDescription, Verdict};
 use gantry_script::{NetworkParams, ScriptLimits, check_syntax, uses_luasocket};
 use gantry_server::http::HttpConfig;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, SimConfig, TextConfig};
 use gantry_sim_core::scene::{
-    DiskFiles, EmbeddedFiles, Files, LoadOptions, SceneModel, bundled_files, load_bundled, load_scene, write_scene,
+    DiskFiles, EmbeddedFiles, Files, LoadOptions, LoggedFiles, SceneModel, bundled_files, load_bundled, load_scene,
+    normalize_path, write_scene,
 };
 
 #[derive(Parser)]
@@ -47,7 +48,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scene (default: the embedded showroom).
-    Run(RunArgs),
+    Run(Box<RunArgs>),
     /// Load and validate a scene (files, URDFs, meshes, scripts' syntax) without running it.
     Check {
         /// Scene file (.toml) or robot (.urdf).
@@ -74,6 +75,14 @@ enum Command {
     /// simulating: a timeline to play, pause, scrub and step, the recorded graphs, log and
     /// images.
     Replay(replay_cmd::ReplayArgs),
+    /// Simulate a recorded run (`run --record`) again, with its recorded inputs, and
+    /// say whether every pose, joint state and sensor reading comes out identical:
+    /// exit 0 when identical, 2 when the runs part (the step is printed), 1 when the
+    /// file cannot be re-run.
+    Verify {
+        /// The recording (.mcap).
+        recording: PathBuf,
+    },
     /// Send text packets to a running gantry and print the replies; exits non-zero on
     /// an <ERR#...> reply or a failed connection.
     Send {
@@ -164,13 +173,42 @@ struct RunArgs {
     /// When the run ends, write every graph stream as CSV into DIR (one file per graph).
     #[arg(long, value_name = "DIR")]
     export_graphs: Option<PathBuf>,
-    /// Record the run into an MCAP file (ROS 2 messages: /tf, /joint_states, /rosout,
-    /// graph streams, proximity sensors; the scene attached). See docs/recording.md.
+    /// Record the run into an MCAP file (ROS 2 messages: /tf, /tf_static,
+    /// /joint_states, /rosout, graph streams, proximity sensors, signals; the inputs
+    /// `gantry verify` needs; the scene's files attached). See docs/recording.md.
     #[arg(long, value_name = "FILE.mcap")]
     record: Option<PathBuf>,
     /// With --record: snapshots per simulated second (default: every step).
     #[arg(long, value_name = "HZ", requires = "record")]
     record_rate: Option<f64>,
+    /// With --record: also record this vision sensor's RGB images (its path, e.g.
+    /// /showroom/camera, or alias), at most HZ per simulated second (default 10).
+    /// Repeatable.
+    #[arg(long = "record-image", value_name = "SENSOR[=HZ]", requires = "record", value_parser = parse_image_stream)]
+    record_images: Vec<ImageStream>,
+}
+
+/// `SENSOR[=HZ]` of `--record-image`.
+fn parse_image_stream(s: &str) -> Result<ImageStream, String> {
+    let (sensor, rate_hz) = match s.rsplit_once('=') {
+        Some((sensor, hz)) => {
+            let hz: f64 = hz.parse().map_err(|_| format!("{hz:?} is not a rate in Hz"))?;
+            (sensor, hz)
+        }
+        None => (s, 10.0),
+    };
+    if sensor.is_empty() {
+        return Err("name the vision sensor: --record-image /path/to/sensor[=HZ]".to_owned());
+    }
+    if !(rate_hz.is_finite() && rate_hz > 0.0) {
+        return Err(format!(
+            "{rate_hz}: images per simulated second must be a positive number"
+        ));
+    }
+    Ok(ImageStream {
+        sensor: sensor.to_owned(),
+        rate_hz,
+    })
 }
 
 fn main() -> ExitCode {
@@ -201,6 +239,11 @@ fn main() -> ExitCode {
             packets,
         }) => access_token(token.as_deref()).and_then(|t| send(&addr, timeout, t.as_ref(), &packets)),
         Some(Command::Replay(args)) => access_token(args.token.as_deref()).and_then(|t| replay_cmd::run(&args, t)),
+        Some(Command::Verify { recording }) => match verify(&recording) {
+            Ok(true) => Ok(()),
+            Ok(false) => return ExitCode::from(2),
+            Err(e) => Err(e),
+        },
         None => run(&cli.run),
     };
     match result {
@@ -219,6 +262,32 @@ fn load(scene: Option<&PathBuf>, opts: &LoadOptions) -> Result<SceneModel> {
             .context("the showroom is bundled")?
             .context("the embedded showroom scene does not load (a build problem)"),
     }
+}
+
+/// The path a scene was read at, and every file read for it (path, bytes).
+type LoadedFiles = (PathBuf, Vec<(PathBuf, Vec<u8>)>);
+
+/// [`load`], keeping a copy of every file read: the scene's path as read and the
+/// files, for a recording's attachments.
+fn load_logged(scene: Option<&PathBuf>, opts: &LoadOptions) -> Result<(SceneModel, LoadedFiles)> {
+    let bundled = bundled_files();
+    let (source, path): (&dyn Files, PathBuf) = match scene {
+        Some(p) => (&DiskFiles, p.clone()),
+        None => (&bundled, EmbeddedFiles::path("assets/scenes/showroom.toml")),
+    };
+    let logged = LoggedFiles::new(source);
+    let model = load_scene(&logged, &path, opts).with_context(|| format!("cannot load {}", path.display()))?;
+    Ok((model, (normalize_path(&path), logged.into_read())))
+}
+
+/// `gantry verify`: prints the verdict; true when identical.
+fn verify(recording: &std::path::Path) -> Result<bool> {
+    let run = RecordedRun::open(recording)?;
+    let verdict = run
+        .verify()
+        .with_context(|| format!("cannot re-run {}", recording.display()))?;
+    println!("{}: {verdict}", recording.display());
+    Ok(matches!(verdict, Verdict::Identical { .. }))
 }
 
 fn check(scene: &PathBuf, package_paths: Vec<PathBuf>) -> Result<()> {
@@ -304,7 +373,14 @@ fn run(args: &RunArgs) -> Result<()> {
         package_paths: args.package_paths.clone(),
         free_base: args.free_base,
     };
-    let mut model = load(args.scene.as_ref(), &opts)?;
+    // A recording attaches every file the scene was read from, so it is read through
+    // a log of those files.
+    let (mut model, loaded) = if args.record.is_some() {
+        let (model, loaded) = load_logged(args.scene.as_ref(), &opts)?;
+        (model, Some(loaded))
+    } else {
+        (load(args.scene.as_ref(), &opts)?, None)
+    };
     if let Some(dt) = args.dt {
         anyhow::ensure!(
             dt.is_finite() && dt > 0.0 && dt <= 1.0,
@@ -377,11 +453,10 @@ fn run(args: &RunArgs) -> Result<()> {
         export_graphs: args.export_graphs.clone(),
         load_options: opts.clone(),
         listeners: None,
-        record: args
-            .record
-            .as_ref()
-            .map(|path| record_params(path, args, &model))
-            .transpose()?,
+        record: match (&args.record, loaded) {
+            (Some(path), Some(loaded)) => Some(record_params(path, args, &model, &opts, loaded)?),
+            _ => None,
+        },
     };
     let summary = gantry_server::run(model, sim, serve, Shutdown::default(), |bound| {
         // One machine-readable line per listener on stderr, for scripts that start
@@ -428,90 +503,34 @@ fn text_port(args: &RunArgs, model: &SceneModel, default: Option<u16>) -> Option
     None
 }
 
-/// What `--record` writes: the metadata record and the scene's files as attachments
-/// (the scene file and its scripts as loaded).
-fn record_params(path: &std::path::Path, args: &RunArgs, model: &SceneModel) -> Result<RecordParams> {
+/// What `--record` writes: the metadata record and, as attachments, every file the
+/// scene was read from (`loaded`: the scene's path and the files, see [`load_logged`]).
+fn record_params(
+    path: &std::path::Path,
+    args: &RunArgs,
+    model: &SceneModel,
+    opts: &LoadOptions,
+    loaded: LoadedFiles,
+) -> Result<RecordParams> {
     if let Some(r) = args.record_rate {
         anyhow::ensure!(
             r.is_finite() && r > 0.0,
             "--record-rate {r}: snapshots per simulated second must be a positive number"
         );
     }
-    let scene_path = args.scene.clone();
-    let metadata = [
-        ("gantry_version", env!("CARGO_PKG_VERSION").to_owned()),
-        ("command_line", std::env::args().collect::<Vec<_>>().join(" ")),
-        ("scene", model.name.clone()),
-        (
-            "scene_file",
-            scene_path
-                .as_ref()
-                .map_or_else(|| "(bundled showroom)".to_owned(), |p| p.display().to_string()),
-        ),
-        ("dt", model.settings.dt.to_string()),
-        ("substeps", model.settings.substeps.to_string()),
-        (
-            "record_rate_hz",
-            args.record_rate
-                .map_or_else(|| "every step".to_owned(), |r| r.to_string()),
-        ),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_owned(), v))
-    .collect();
-    let media_type = |p: &std::path::Path| match p.extension().and_then(|e| e.to_str()) {
-        Some("toml") => "application/toml",
-        Some("urdf" | "xml") => "application/xml",
-        Some("lua") => "text/x-lua",
-        _ => "application/octet-stream",
+    let (scene_path, files) = loaded;
+    let run = RunDescription {
+        scene_name: model.name.clone(),
+        scene_path,
+        files,
+        package_paths: opts.package_paths.clone(),
+        free_base: opts.free_base,
+        scripts: true,
+        dt: model.settings.dt,
+        substeps: model.settings.substeps,
+        command_line: std::env::args().collect::<Vec<_>>().join(" "),
     };
-    let mut attachments = Vec::new();
-    let (scene_name, scene_bytes, scene_dir) = match &scene_path {
-        Some(p) => (
-            p.file_name()
-                .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into_owned()),
-            std::fs::read(p).with_context(|| format!("cannot read {} to attach it to the recording", p.display()))?,
-            p.parent().map(std::path::Path::to_path_buf),
-        ),
-        None => {
-            let showroom = EmbeddedFiles::path("assets/scenes/showroom.toml");
-            let bytes = bundled_files()
-                .read(&showroom)
-                .context("the bundled showroom is readable")?;
-            (
-                "showroom.toml".to_owned(),
-                bytes,
-                showroom.parent().map(std::path::Path::to_path_buf),
-            )
-        }
-    };
-    attachments.push(AttachedFile {
-        media_type: media_type(std::path::Path::new(&scene_name)).to_owned(),
-        name: scene_name,
-        data: scene_bytes,
-    });
-    for script in &model.scripts {
-        let rel = scene_dir
-            .as_deref()
-            .and_then(|d| script.path.strip_prefix(d).ok())
-            .unwrap_or(&script.path);
-        let name = rel.display().to_string();
-        if name.is_empty() || attachments.iter().any(|a| a.name == name) {
-            continue;
-        }
-        attachments.push(AttachedFile {
-            media_type: media_type(rel).to_owned(),
-            name,
-            data: script.source.clone().into_bytes(),
-        });
-    }
-    Ok(RecordParams {
-        path: path.to_path_buf(),
-        rate_hz: args.record_rate,
-        metadata,
-        attachments,
-        ..RecordParams::default()
-    })
+    Ok(RecordParams::for_run(path.to_path_buf(), args.record_rate, run).with_images(args.record_images.clone()))
 }
 
 /// `ASKED=USED` of `--script-port`.

@@ -79,6 +79,11 @@ class Client:
     Listeners bind 127.0.0.1 unless ``bind`` says otherwise; ``token`` requires an
     access token on the text channel and the viewer, as ``gantry run --token`` does.
 
+    ``record="run.mcap"`` records the run as ``gantry run --record`` does (poses, joint
+    states, graphs, log lines, the scene's files and every call this client makes, at
+    most ``record_rate`` snapshots per simulated second); the file is complete once the
+    client is closed, and ``gantry verify run.mcap`` re-runs it (docs/recording.md).
+
     The client belongs to the thread that made it. Several clients in several threads
     are independent simulations that step in parallel (steps release the GIL).
     """
@@ -99,6 +104,8 @@ class Client:
         zmq_port: Optional[int] = None,
         text_port: Optional[int] = None,
         token: Optional[str] = None,
+        record: Optional[str | _os.PathLike] = None,
+        record_rate: Optional[float] = None,
     ):
         self._engine = _Engine(
             None if scene is None else _os.fspath(scene),
@@ -114,6 +121,8 @@ class Client:
             zmq_port=zmq_port,
             text_port=text_port,
             token=token,
+            record=None if record is None else _os.fspath(record),
+            record_rate=record_rate,
         )
         self._required: dict[str, _Module] = {}
         self._owner = _threading.get_ident()

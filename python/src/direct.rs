@@ -15,6 +15,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use gantry_engine::{ClientId, Due, Engine, EngineConfig, HostCall, RemoteOp};
+use gantry_record::{RecordTap, Recorder};
 use gantry_script::{ScriptError, ScriptLimits};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, Target};
@@ -53,7 +54,7 @@ impl OnThisThread<'_> {
 
 impl Direct {
     /// Creates the simulation of `model`; started at once when `autostart` (as
-    /// `gantry run` does).
+    /// `gantry run` does); recorded by `recorder` when given.
     ///
     /// # Errors
     /// The Lua state could not be created.
@@ -64,6 +65,7 @@ impl Direct {
         load_options: LoadOptions,
         autostart: bool,
         realtime: bool,
+        recorder: Option<Recorder>,
     ) -> Result<Self, ScriptError> {
         let config = EngineConfig {
             limits,
@@ -71,7 +73,12 @@ impl Direct {
             listeners: None,
             realtime,
         };
-        let engine = Engine::new(model, config, None)?;
+        let mut engine = Engine::new(model, config, None)?;
+        if let Some(r) = recorder {
+            // Before the start, so that the start is the recording's first input.
+            let tap = RecordTap::new(r, engine.sim());
+            engine.set_tap(Box::new(tap));
+        }
         let mut d = Self { engine };
         if autostart {
             d.detached(py, |d| d.engine.control(Control::Start));

@@ -12,16 +12,20 @@ mod direct;
 mod served;
 
 use std::net::IpAddr;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use gantry_engine::HostCall;
+use gantry_record::{RecordParams, Recorder, RunDescription};
 use gantry_script::ScriptLimits;
 use gantry_server::sim_thread::SimConfig;
 use gantry_server::zmq::no_module;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, Signals};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{self, Target};
-use gantry_sim_core::scene::{BUNDLED_SCENES, LoadOptions, load_bundled, load_client_scene, load_scene};
+use gantry_sim_core::scene::{
+    BUNDLED_SCENES, DiskFiles, EmbeddedFiles, Files, LoadOptions, LoggedFiles, bundled_files, load_client_scene,
+    load_scene, normalize_path,
+};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -120,7 +124,7 @@ impl Engine {
     #[new]
     #[pyo3(signature = (scene=None, *, dt=None, substeps=None, autostart=true, realtime=true,
                         package_paths=Vec::new(), free_base=false, scripts=true, bind=None, http_port=None,
-                        zmq_port=None, text_port=None, token=None))]
+                        zmq_port=None, text_port=None, token=None, record=None, record_rate=None))]
     #[expect(clippy::too_many_arguments, reason = "Python keyword arguments")]
     fn new(
         py: Python<'_>,
@@ -137,21 +141,38 @@ impl Engine {
         zmq_port: Option<u16>,
         text_port: Option<u16>,
         token: Option<String>,
+        record: Option<PathBuf>,
+        record_rate: Option<f64>,
     ) -> PyResult<Self> {
         let options = LoadOptions {
             package_paths,
             free_base,
         };
-        let mut model = py
-            .detach(|| match &scene {
-                Some(path) => match path.to_str().and_then(|name| load_bundled(name, &options)) {
-                    Some(bundled) => {
-                        bundled.map_err(|e| format!("the bundled scene {} does not load: {e}", path.display()))
+        if let Some(r) = record_rate
+            && !(r.is_finite() && r > 0.0)
+        {
+            return Err(PyValueError::new_err(format!(
+                "record_rate={r}: snapshots per simulated second must be a positive number"
+            )));
+        }
+        // Every file read is kept for a recording's attachments.
+        let (mut model, scene_path, files_read) = py
+            .detach(|| -> Result<_, String> {
+                let bundled = bundled_files();
+                let (files, path): (&dyn Files, PathBuf) = match &scene {
+                    Some(path) => match path.to_str().and_then(|n| BUNDLED_SCENES.iter().find(|(b, _)| *b == n)) {
+                        Some((_, rel)) => (&bundled, EmbeddedFiles::path(rel)),
+                        None => (&DiskFiles, path.clone()),
+                    },
+                    None => {
+                        let model = load_client_scene(None, &options).map_err(|e| e.to_string())?;
+                        return Ok((model, PathBuf::new(), Vec::new()));
                     }
-                    // The load error names the file.
-                    None => load_scene(&gantry_sim_core::scene::DiskFiles, path, &options).map_err(|e| e.to_string()),
-                },
-                None => load_client_scene(None, &options).map_err(|e| e.to_string()),
+                };
+                let logged = LoggedFiles::new(files);
+                // The load error names the file.
+                let model = load_scene(&logged, &path, &options).map_err(|e| e.to_string())?;
+                Ok((model, normalize_path(&path), logged.into_read()))
             })
             .map_err(PyValueError::new_err)?;
         if !scripts {
@@ -177,6 +198,20 @@ impl Engine {
         for w in &model.warnings {
             tracing::warn!("{w}");
         }
+        let record = record.map(|path| {
+            let run = RunDescription {
+                scene_name: model.name.clone(),
+                scene_path,
+                files: files_read,
+                package_paths: options.package_paths.clone(),
+                free_base: options.free_base,
+                scripts,
+                dt: model.settings.dt,
+                substeps: model.settings.substeps,
+                command_line: format!("gantry.Client({:?})", scene.as_deref().unwrap_or(Path::new(""))),
+            };
+            RecordParams::for_run(path, record_rate, run)
+        });
         let limits = ScriptLimits::default();
         let backend = if http_port.is_some() || zmq_port.is_some() || text_port.is_some() {
             let bind: IpAddr = match bind.as_deref() {
@@ -201,13 +236,19 @@ impl Engine {
                 limits,
                 autostart,
                 load_options: options,
+                record,
                 ..SimConfig::default()
             };
             let running = gantry_server::start(model, config, serve, Shutdown::default(), Signals::Leave)
                 .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             Backend::Served(Box::new(Served::new(running)))
         } else {
-            let d = Direct::new(py, model, limits, options, autostart, realtime)
+            // First, so that a file that cannot be written fails before anything runs.
+            let recorder = record
+                .map(Recorder::create)
+                .transpose()
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            let d = Direct::new(py, model, limits, options, autostart, realtime, recorder)
                 .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             Backend::Direct(Box::new(d))
         };

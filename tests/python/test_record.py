@@ -49,10 +49,11 @@ def compose(parent, child):
     return (tuple(p + r for p, r in zip(pt, rt)), quat_mul(pq, cq))
 
 
-def world_poses(tf_msg):
-    """Every frame's world pose, composing the message's transforms from `world` down."""
+def world_poses(*tf_msgs):
+    """Every frame's world pose, composing the messages' transforms (a `/tf_static` and
+    a `/tf` message: later ones win) from `world` down."""
     local = {}
-    for t in tf_msg.transforms:
+    for t in (t for m in tf_msgs for t in m.transforms):
         tr, rq = t.transform.translation, t.transform.rotation
         local[t.child_frame_id] = (t.header.frame_id, ((tr.x, tr.y, tr.z), (rq.x, rq.y, rq.z, rq.w)))
     out = {}
@@ -118,7 +119,11 @@ def test_recording_reads_back_and_matches_the_poses_the_client_read(gantry, tmp_
         assert metadata["gantry"]["dt"] == "0.05"
         assert "--record" in metadata["gantry"]["command_line"]
         attachments = {a.name: a.data for a in reader.iter_attachments()}
-        assert attachments["bubble_rob.toml"] == (Path(__file__).resolve().parents[2] / SCENE).read_bytes()
+        scene_path = metadata["gantry"]["scene_path"]
+        assert attachments[scene_path] == (Path(__file__).resolve().parents[2] / SCENE).read_bytes()
+        assert any(name.endswith("bubble_rob.lua") for name in attachments), list(attachments)
+
+        static = None
 
         count = 0
         last = -1
@@ -128,12 +133,15 @@ def test_recording_reads_back_and_matches_the_poses_the_client_read(gantry, tmp_
             count += 1
             assert message.log_time >= last, "log times never go back"
             last = message.log_time
-            if channel.topic == "/tf":
+            if channel.topic == "/tf_static":
+                static = decoded
+            elif channel.topic == "/tf":
+                assert static is not None, "/tf_static comes first, with the frames that have not moved"
                 ts = {t.header.stamp.sec * 10**9 + t.header.stamp.nanosec for t in decoded.transforms}
-                assert len(ts) == 1
-                stamps.append(ts.pop())
-                if stamps[-1] == stamp_ns:
-                    at_read["tf"] = decoded
+                assert len(ts) <= 1
+                stamps.append(message.log_time)
+                if message.log_time == stamp_ns:
+                    at_read["tf"] = (static, decoded)
             elif channel.topic == "/joint_states":
                 s = decoded.header.stamp
                 if s.sec * 10**9 + s.nanosec == stamp_ns:
@@ -144,7 +152,7 @@ def test_recording_reads_back_and_matches_the_poses_the_client_read(gantry, tmp_
         assert stamps == sorted(stamps) and len(set(stamps)) == len(stamps)
 
     assert "tf" in at_read, f"no /tf at {t_read} s among {stamps[:3]}...{stamps[-3:]}"
-    recorded = world_poses(at_read["tf"])
+    recorded = world_poses(*at_read["tf"])
     assert set(expected) <= set(recorded), set(expected) - set(recorded)
     for frame, pose in expected.items():
         (x, y, z), q = recorded[frame]
@@ -156,15 +164,24 @@ def test_recording_reads_back_and_matches_the_poses_the_client_read(gantry, tmp_
     for name, q in joints.items():
         assert abs(by_name[name] - q) < 1e-12, (name, by_name[name], q)
     # bubbleRob drives: its pose at the step read is not where it started.
-    first = world_poses(next(iter_tf(path)))
+    first = world_poses(*first_tree(path))
     assert math.dist(first["bubbleRob"][0], recorded["bubbleRob"][0]) > 1e-4
+    # What never moved is on /tf_static only; what moves is on /tf.
+    moving = {t.child_frame_id for t in at_read["tf"][1].transforms}
+    fixed = {t.child_frame_id for t in at_read["tf"][0].transforms}
+    assert "bubbleRob" in moving and not moving & fixed, (moving, fixed)
 
 
-def iter_tf(path):
+def first_tree(path):
+    """The first `/tf_static` and `/tf` messages: the tree at the start."""
+    first = {}
     with open(path, "rb") as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
-        for _, _, _, decoded in reader.iter_decoded_messages(topics=["/tf"]):
-            yield decoded
+        for _, channel, _, decoded in reader.iter_decoded_messages(topics=["/tf_static", "/tf"]):
+            first.setdefault(channel.topic, decoded)
+            if len(first) == 2:
+                return first["/tf_static"], first["/tf"]
+    raise AssertionError("no /tf_static or /tf")
 
 
 @pytest.mark.zmq_only
@@ -187,6 +204,49 @@ def test_recording_opens_as_a_ros2_bag_with_rosbags(gantry, tmp_path):
             if connection.topic == "/tf":
                 tf += 1
                 frames = {t.child_frame_id for t in msg.transforms}
-                assert {"bubbleRob", "bubbleRob/leftMotor"} <= frames, frames
+                if tf > 1:
+                    # The rover drives from the first step on; its wheels turn.
+                    assert {"bubbleRob", "bubbleRob/leftMotor/leftWheel"} <= frames, frames
         assert n == reader.message_count
         assert tf == 41, "the state at the start and after each of the 40 steps"
+
+
+@pytest.mark.zmq_only
+def test_images_and_signals_are_recorded_as_the_client_read_them(gantry, tmp_path):
+    """`--record-image SENSOR=HZ` records the sensor's RGB image as sensor_msgs/Image
+    (rgb8, top row first, as ROS has it); signals go to /signal/<type>/<name>."""
+    path = tmp_path / "images.mcap"
+    # 20 Hz at dt 0.05: an image after every step.
+    g = gantry("assets/scenes/showroom.toml",
+               extra=["--record", str(path), "--record-image", "visionSensor=20", "--http-port", "0"])
+    client = g.client()
+    sim = client.require("sim")
+    client.setStepping(True)
+    sim.setInt32Signal("gear", 3)
+    sim.setFloatSignal("speed", 0.25)
+    sim.setStringSignal("mode", "explore")
+    for _ in range(6):
+        client.step()
+    sensor = next(h for h in sim.getObjectsInTree(sim.handle_scene) if sim.getObjectAlias(h) == "visionSensor")
+    img, (width, height) = sim.getVisionSensorImg(sensor)
+    t_read = round(sim.getSimulationTime() * 1e9)
+    client.step()
+    g.close()
+    assert g.proc.returncode == 0, g.stderr()
+
+    images = {}
+    signals = {}
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        for schema, channel, message, msg in reader.iter_decoded_messages():
+            if channel.topic.startswith("/vision/"):
+                assert schema.name == "sensor_msgs/msg/Image"
+                images[msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec] = msg
+            elif channel.topic.startswith("/signal/"):
+                signals[channel.topic] = msg.data
+    assert signals == {"/signal/int32/gear": 3, "/signal/float/speed": 0.25, "/signal/string/mode": "explore"}
+    msg = images[t_read]
+    assert (msg.width, msg.height, msg.encoding, msg.step) == (width, height, "rgb8", 3 * width)
+    row = 3 * width
+    top_first = b"".join(bytes(img[r * row:(r + 1) * row]) for r in reversed(range(height)))
+    assert bytes(msg.data) == top_first, "the image the client read at that step, rows top first"

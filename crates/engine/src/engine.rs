@@ -14,7 +14,7 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use gantry_script::{DebugLink, Listeners, ScriptError, ScriptLimits, Simulation, StepBoundary};
+use gantry_script::{DebugLink, HookError, Listeners, ScriptError, ScriptLimits, Simulation, StepBoundary};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, Target};
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
@@ -24,6 +24,7 @@ use tokio::sync::oneshot;
 use crate::host_call::{LoopControl, RemoteOp};
 use crate::pacing::Pacing;
 use crate::stepping::{ClientId, Stepping, SteppingError};
+use crate::tap::{EngineInput, InputAt, MidStep, Tap};
 
 /// How often scripts' `sysCall_nonSimulation` runs while the simulation is stopped:
 /// about 20 times a second, as in CoppeliaSim.
@@ -69,6 +70,8 @@ pub struct Engine {
     config: EngineConfig,
     last_reload: Instant,
     last_idle: Instant,
+    /// Looks at every input and step (the recorder), when set.
+    tap: Option<Box<dyn Tap>>,
 }
 
 impl Engine {
@@ -87,7 +90,30 @@ impl Engine {
             config,
             last_reload: now,
             last_idle: now,
+            tap: None,
         })
+    }
+
+    /// Has `tap` look at every input and step from now on (see [`Tap`]); the tap
+    /// already set, if any, is returned.
+    pub fn set_tap(&mut self, tap: Box<dyn Tap>) -> Option<Box<dyn Tap>> {
+        self.tap.replace(tap)
+    }
+
+    /// Stops tapping: the tap is returned, not finished.
+    pub fn take_tap(&mut self) -> Option<Box<dyn Tap>> {
+        self.tap.take()
+    }
+
+    /// Tells the tap about an input served between steps.
+    fn tap_input(&mut self, input: EngineInput<'_>) {
+        if let Some(t) = &mut self.tap {
+            let at = InputAt {
+                step: self.steps,
+                boundary: 0,
+            };
+            t.input(&self.sim, at, input);
+        }
     }
 
     /// A scene's simulation with the engine's options, listeners and debugger: one
@@ -196,14 +222,30 @@ impl Engine {
     }
 
     /// [`Engine::step`], letting `between` serve requests at the step's phase
-    /// boundaries (see [`Simulation::step_with`]).
-    pub fn step_with(&mut self, between: &mut dyn FnMut(&mut Simulation, StepBoundary)) {
-        self.sim.step_with(between);
+    /// boundaries (see [`Simulation::step_with`]) through a [`MidStep`], which the tap
+    /// sees too.
+    pub fn step_with(&mut self, between: &mut dyn FnMut(&mut MidStep<'_>)) {
+        let step = self.steps;
+        let mut boundary = 0u32;
+        let tap = &mut self.tap;
+        self.sim.step_with(&mut |sim: &mut Simulation, at: StepBoundary| {
+            boundary += 1;
+            let mut mid = MidStep {
+                sim,
+                tap: tap.as_deref_mut(),
+                at: InputAt { step, boundary },
+                boundary: at,
+            };
+            between(&mut mid);
+        });
         self.after_step();
     }
 
     fn after_step(&mut self) {
         self.steps += 1;
+        if let Some(t) = &mut self.tap {
+            t.stepped(&self.sim, self.steps);
+        }
         let now = Instant::now();
         if self.on_demand() || !self.config.realtime {
             // Stepping on demand: real time resumes from the last step taken.
@@ -236,6 +278,12 @@ impl Engine {
     /// resets every client's stepping level (as CoppeliaSim's add-on does, so a stopped
     /// client cannot hold the next run), even when the simulation was stopped already.
     pub fn control(&mut self, c: Control) {
+        self.tap_input(EngineInput::Control(LoopControl::Control(c)));
+        self.control_untapped(c);
+    }
+
+    /// [`Engine::control`] without telling the tap (part of an input it was told of).
+    fn control_untapped(&mut self, c: Control) {
         let before = self.sim.state();
         match c {
             Control::Start => self.sim.start(),
@@ -255,15 +303,16 @@ impl Engine {
     /// step whatever the state: a stopped or paused simulation starts, steps once and
     /// pauses). Returns the state afterwards.
     pub fn loop_control(&mut self, action: LoopControl) -> SimulationState {
+        self.tap_input(EngineInput::Control(action));
         match action {
-            LoopControl::Control(c) => self.control(c),
+            LoopControl::Control(c) => self.control_untapped(c),
             LoopControl::Step => {
                 if self.sim.state() == SimulationState::Running {
                     self.step();
                 } else {
-                    self.control(Control::Start);
+                    self.control_untapped(Control::Start);
                     self.step();
-                    self.control(Control::Pause);
+                    self.control_untapped(Control::Pause);
                 }
             }
         }
@@ -317,6 +366,7 @@ impl Engine {
     /// # Errors
     /// The function's error, with its qualified name.
     pub fn call(&mut self, target: &Target, args: &[Value]) -> Result<Vec<Value>, CallError> {
+        self.tap_input(EngineInput::Call { target, args });
         let before = self.sim.state();
         let out = self.sim.call_target(target, args);
         self.follow_state(before);
@@ -333,6 +383,7 @@ impl Engine {
     /// # Errors
     /// The scene does not load, in CoppeliaSim's words with the function's name.
     pub fn load_scene(&mut self, path: Option<&Path>) -> Result<(), CallError> {
+        self.tap_input(EngineInput::LoadScene(path));
         let function = if path.is_some() {
             "sim.loadScene"
         } else {
@@ -343,11 +394,27 @@ impl Engine {
         let debug = self.sim.take_debug_link();
         // The old scene stops and its scripts release their ports before the new
         // scene's scripts bind theirs: a scene loaded again binds the same ones.
-        self.control(Control::Stop);
+        self.control_untapped(Control::Stop);
         self.sim.close_sockets();
         let sim = Self::simulation(model, &self.config, debug).map_err(|e| refused(&e))?;
         self.sim = sim;
         Ok(())
+    }
+
+    /// A text packet to the scripts' `sysCall_packet(packet)`, between steps: the first
+    /// running script that defines it answers (`None`: none does). Script code it runs
+    /// may start, pause or stop the simulation; the stepping clients follow.
+    ///
+    /// # Errors
+    /// The handling script raised an error, or the values did not convert.
+    pub fn packet(&mut self, packet: &Value) -> Result<Option<Vec<Value>>, HookError> {
+        self.tap_input(EngineInput::Packet(packet));
+        let before = self.sim.state();
+        let out = self
+            .sim
+            .call_hook_function("sysCall_packet", std::slice::from_ref(packet));
+        self.follow_state(before);
+        out
     }
 
     /// What happens between steps with time: edited scripts reload (every
@@ -371,6 +438,9 @@ impl Engine {
     pub fn finish(&mut self) {
         self.sim.cleanup();
         self.stepping.stopped();
+        if let Some(mut t) = self.tap.take() {
+            t.finish(&self.sim, self.steps);
+        }
     }
 }
 

@@ -7,7 +7,8 @@
 //! function and its arguments into a [`HostCall`]) and hands them to one [`Engine`],
 //! which owns the rules of the loop: when a step may be taken ([`stepping`]: levels and
 //! locks; [`pacing`]: real time), start, pause and stop with what follows for the
-//! stepping clients, scene loading, and the stopped simulation's periodic hooks.
+//! stepping clients, scene loading, and the stopped simulation's periodic hooks. A
+//! [`Tap`] (the recorder) sees every input and step it carries out.
 //!
 //! The engine has no I/O: no socket, no channel to a transport, no thread of its own.
 //! The server's simulation thread and the Python client each drive one in their own
@@ -18,7 +19,9 @@ mod engine;
 mod host_call;
 pub mod pacing;
 pub mod stepping;
+pub mod tap;
 
 pub use engine::{Due, Engine, EngineConfig, NON_SIMULATION_PERIOD, RELOAD_PERIOD};
 pub use host_call::{HostCall, LoopControl, RemoteOp};
 pub use stepping::{ClientId, Stepping, SteppingError};
+pub use tap::{EngineInput, InputAt, MidStep, Tap};

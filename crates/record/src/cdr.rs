@@ -62,6 +62,30 @@ impl CdrWriter {
         self.buf.extend_from_slice(&v.to_le_bytes());
     }
 
+    /// A `uint64`.
+    pub fn u64(&mut self, v: u64) {
+        self.align(8);
+        self.buf.extend_from_slice(&v.to_le_bytes());
+    }
+
+    /// An `int64`.
+    pub fn i64(&mut self, v: i64) {
+        self.align(8);
+        self.buf.extend_from_slice(&v.to_le_bytes());
+    }
+
+    /// A `uint8[]`: element count, then the bytes (no alignment inside).
+    pub fn bytes(&mut self, v: &[u8]) {
+        self.sequence_len(v.len());
+        self.raw(v);
+    }
+
+    /// Bytes of a `uint8[]` whose count was written with [`CdrWriter::sequence_len`],
+    /// in parts.
+    pub fn raw(&mut self, v: &[u8]) {
+        self.buf.extend_from_slice(v);
+    }
+
     /// A `float32`.
     pub fn f32(&mut self, v: f32) {
         self.align(4);

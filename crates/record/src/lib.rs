@@ -15,19 +15,28 @@
 //! `/joint_states` (`sensor_msgs/msg/JointState`, every joint of the scene),
 //! `/rosout` (`rcl_interfaces/msg/Log`, script log lines and errors),
 //! `/graph/<graph>/<stream>` (`std_msgs/msg/Float64`) and `/proximity/<sensor>`
-//! (`sensor_msgs/msg/Range`). Stamps are simulation time. Not recorded yet: vision
-//! images, signals, `/tf_static`, and the inputs a re-run would need (issue 31).
-//! See docs/recording.md.
+//! (`sensor_msgs/msg/Range`), `/tf_static` (the frames that have not moved) and
+//! `/gantry/input` (what reached the simulation from outside, for `gantry verify`, see
+//! [`input`]). Stamps are simulation time. See docs/recording.md.
 
 pub mod cdr;
 pub mod decode;
+pub mod input;
 pub mod msg;
 pub mod reader;
 pub mod recorder;
 pub mod schema;
 pub mod snapshot;
+pub mod tap;
+pub mod verify;
 pub mod writer;
 
+pub use input::{INPUT_TOPIC, Input, InputDecodeError};
 pub use reader::{ReadError, Recording};
-pub use recorder::{BATCH, DEFAULT_QUEUE, RecordError, RecordParams, RecordReport, Recorder};
+pub use recorder::{
+    BATCH, DEFAULT_QUEUE, FORMAT_VERSION, RecordError, RecordParams, RecordReport, Recorder, RunDescription,
+};
+pub use snapshot::ImageStream;
+pub use tap::RecordTap;
+pub use verify::{RecordedRun, Verdict, VerifyError};
 pub use writer::AttachedFile;

@@ -141,6 +141,41 @@ pub fn float64(v: f64) -> Vec<u8> {
     w.into_bytes()
 }
 
+/// `std_msgs/msg/Int32`.
+pub fn int32(v: i32) -> Vec<u8> {
+    let mut w = CdrWriter::with_capacity(8);
+    w.i32(v);
+    w.into_bytes()
+}
+
+/// `std_msgs/msg/String`.
+pub fn string(v: &str) -> Vec<u8> {
+    let mut w = CdrWriter::with_capacity(16 + v.len());
+    w.string(v);
+    w.into_bytes()
+}
+
+/// `sensor_msgs/msg/Image` of an RGB image `width` x `height` in frame `frame_id`,
+/// from gantry's bottom-row-first pixels `rgb` (3 bytes each): ROS images are top row
+/// first, so the rows are written in reverse order.
+pub fn image(stamp: Time, frame_id: &str, width: u32, height: u32, rgb: &[u8]) -> Vec<u8> {
+    let row = 3 * width as usize;
+    let mut w = CdrWriter::with_capacity(64 + frame_id.len() + rgb.len());
+    header(&mut w, stamp, frame_id);
+    w.u32(height);
+    w.u32(width);
+    w.string("rgb8");
+    w.u8(0);
+    w.u32(3 * width);
+    w.sequence_len(rgb.len());
+    if row > 0 {
+        for r in rgb.chunks_exact(row).rev() {
+            w.raw(r);
+        }
+    }
+    w.into_bytes()
+}
+
 /// `sensor_msgs/msg/Range` of a proximity sensor in frame `frame_id`: `range` in m,
 /// `+inf` when nothing is detected (REP 117), between `min_range` and `max_range`.
 pub fn range(stamp: Time, frame_id: &str, field_of_view: f32, min_range: f32, max_range: f32, range: f32) -> Vec<u8> {

@@ -14,7 +14,7 @@
 //!   where the next record starts, the summary's chunk index (if the end of the file is
 //!   intact) says where the next chunk is;
 //! - foreign bytes, an MCAP file that is not a gantry recording, and a recording from
-//!   a newer gantry ([`FORMAT_VERSION`]) are refused with a [`ReadError`] saying so.
+//!   a newer gantry (a `format_version` above [`FORMAT_VERSION`]) are refused with a [`ReadError`] saying so.
 //!
 //! Every length read from the file is checked against the bytes that hold it, and a
 //! chunk may not decompress to more than [`MAX_CHUNK_BYTES`]: a hostile file costs at
@@ -35,16 +35,13 @@ use std::collections::{BTreeMap, HashMap};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use gantry_sim_core::scene::{Files, LoadError, LoadOptions, SceneModel, load_bundled, load_scene, normalize_path};
+use gantry_sim_core::scene::{Files, LoadError, LoadOptions, MapFiles, SceneModel, load_bundled, load_scene};
 use mcap::records::op;
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use crate::decode;
+use crate::recorder::FORMAT_VERSION;
 use crate::writer::AttachedFile;
-
-/// The recording format this gantry writes and reads (the `format_version` entry of
-/// the `gantry` metadata record; a file without it is version 1).
-pub const FORMAT_VERSION: u32 = 1;
 
 /// The name of gantry's metadata record.
 pub const METADATA_NAME: &str = "gantry";
@@ -872,7 +869,7 @@ impl Recording {
         };
         let (files, scene) = match meta.get("scene_path") {
             Some(scene) => (
-                AttachedFiles::new(
+                MapFiles::new(
                     self.attachments
                         .iter()
                         .map(|a| (PathBuf::from(&a.name), a.data.clone())),
@@ -901,7 +898,7 @@ impl Recording {
                     reason: "it has no attachments (the scene file is missing)".into(),
                 })?;
                 (
-                    AttachedFiles::new(self.attachments.iter().map(|a| (root.join(&a.name), a.data.clone()))),
+                    MapFiles::new(self.attachments.iter().map(|a| (root.join(&a.name), a.data.clone()))),
                     root.join(&first.name),
                 )
             }
@@ -949,34 +946,6 @@ enum ImageSource {
     Chunk(u32),
     /// Outside chunks: the record body starts at this byte of the file.
     File(usize),
-}
-
-/// The attachments as a file source for the scene loader, by the path each was read
-/// at.
-struct AttachedFiles {
-    files: HashMap<PathBuf, Vec<u8>>,
-}
-
-impl AttachedFiles {
-    fn new(entries: impl IntoIterator<Item = (PathBuf, Vec<u8>)>) -> Self {
-        Self {
-            files: entries.into_iter().map(|(p, b)| (normalize_path(&p), b)).collect(),
-        }
-    }
-}
-
-impl Files for AttachedFiles {
-    fn read(&self, path: &Path) -> std::io::Result<Vec<u8>> {
-        self.files.get(&normalize_path(path)).cloned().ok_or_else(|| {
-            std::io::Error::new(
-                std::io::ErrorKind::NotFound,
-                format!("{} is not attached to the recording", path.display()),
-            )
-        })
-    }
-    fn is_file(&self, path: &Path) -> bool {
-        self.files.contains_key(&normalize_path(path))
-    }
 }
 
 /// Refuses a `gantry` metadata record of a newer format.

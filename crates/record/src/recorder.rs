@@ -18,7 +18,8 @@ use std::thread::JoinHandle;
 
 use gantry_sim_core::Sim;
 
-use crate::snapshot::{LogSample, Sampler, Snapshot};
+use crate::input::Input;
+use crate::snapshot::{ImageStream, LogSample, Sampler, Snapshot};
 use crate::writer::{AttachedFile, McapSink};
 
 /// Batches waiting for the writer by default: a few seconds of a busy scene.
@@ -43,6 +44,114 @@ pub struct RecordParams {
     pub metadata: BTreeMap<String, String>,
     /// Files attached at the start (the scene, its scripts).
     pub attachments: Vec<AttachedFile>,
+    /// Vision sensors whose images are recorded, each at its rate.
+    pub images: Vec<ImageStream>,
+}
+
+/// The version of what gantry writes into a recording (channels, metadata, inputs),
+/// in the `gantry` metadata record as `format_version`: a reader refuses files of a
+/// later version rather than misreading them.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// The run a recording holds, for its metadata and attachments.
+#[derive(Debug, Clone, Default)]
+pub struct RunDescription {
+    /// The scene's name.
+    pub scene_name: String,
+    /// The path the scene was loaded from, as the loader read it (`/embedded/...`
+    /// for a bundled scene): an attachment's name.
+    pub scene_path: PathBuf,
+    /// Every file the loader read (see `gantry_sim_core::scene::LoggedFiles`), by
+    /// the path it was read at.
+    pub files: Vec<(PathBuf, Vec<u8>)>,
+    /// Where `package://` URIs were looked for.
+    pub package_paths: Vec<PathBuf>,
+    /// Whether URDF bases were left free.
+    pub free_base: bool,
+    /// Whether the scene's scripts ran (the Python client's `scripts=False` leaves
+    /// them out).
+    pub scripts: bool,
+    /// The time step, s, and physics substeps per step (after command-line overrides).
+    pub dt: f64,
+    /// Physics substeps per step.
+    pub substeps: u32,
+    /// The command line (or the Python call) that started the run.
+    pub command_line: String,
+}
+
+impl RecordParams {
+    /// What to record for `run` into `path`, at most `rate_hz` snapshots per simulated
+    /// second: the `gantry` metadata record and every file the scene was loaded from.
+    pub fn for_run(path: PathBuf, rate_hz: Option<f64>, run: RunDescription) -> Self {
+        let package_paths: Vec<String> = run.package_paths.iter().map(|p| p.display().to_string()).collect();
+        let metadata = [
+            ("format_version", FORMAT_VERSION.to_string()),
+            ("gantry_version", env!("CARGO_PKG_VERSION").to_owned()),
+            ("command_line", run.command_line),
+            ("scene", run.scene_name),
+            ("scene_path", run.scene_path.display().to_string()),
+            ("package_paths", package_paths.join("\n")),
+            ("free_base", run.free_base.to_string()),
+            ("scripts", run.scripts.to_string()),
+            ("dt", run.dt.to_string()),
+            ("substeps", run.substeps.to_string()),
+            (
+                "record_rate_hz",
+                rate_hz.map_or_else(|| "every step".to_owned(), |r| r.to_string()),
+            ),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), v))
+        .collect();
+        let attachments = run
+            .files
+            .into_iter()
+            .map(|(p, data)| AttachedFile {
+                media_type: media_type(&p).to_owned(),
+                name: p.display().to_string(),
+                data,
+            })
+            .collect();
+        Self {
+            path,
+            rate_hz,
+            queue: 0,
+            metadata,
+            attachments,
+            images: Vec::new(),
+        }
+    }
+}
+
+impl RecordParams {
+    /// Also records the images of `streams` (noted in the metadata as `images`, one
+    /// `sensor=rate` per line, so that `gantry verify` records the same).
+    #[must_use]
+    pub fn with_images(mut self, streams: Vec<ImageStream>) -> Self {
+        let text: Vec<String> = streams.iter().map(|s| format!("{}={}", s.sensor, s.rate_hz)).collect();
+        self.metadata.insert("images".to_owned(), text.join("\n"));
+        self.images = streams;
+        self
+    }
+}
+
+/// The media type of an attached file, from its extension.
+fn media_type(p: &Path) -> &'static str {
+    match p
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("toml") => "application/toml",
+        Some("urdf" | "xml" | "sdf") => "application/xml",
+        Some("lua") => "text/x-lua",
+        Some("stl") => "model/stl",
+        Some("obj") => "model/obj",
+        Some("dae") => "model/vnd.collada+xml",
+        Some("ttt" | "ttm") => "application/x-coppeliasim",
+        _ => "application/octet-stream",
+    }
 }
 
 /// Why recording could not start.
@@ -88,10 +197,13 @@ pub struct RecordReport {
 
 /// What goes through the queue.
 enum Item {
-    /// Snapshots of consecutive steps.
-    Snapshots(Vec<Snapshot>),
+    /// Snapshots of consecutive steps, and the inputs that arrived since the last
+    /// batch, each with its recording time.
+    Batch(Vec<Snapshot>, Vec<(u64, Input)>),
     /// Log lines after the last step (cleanup hooks).
     Logs(Vec<LogSample>),
+    /// The `gantry_end` metadata record (steps taken, snapshots dropped).
+    End(BTreeMap<String, String>),
 }
 
 /// What the writer thread ends with.
@@ -111,6 +223,9 @@ pub struct Recorder {
     thread: Option<JoinHandle<WriterOutcome>>,
     /// Snapshots not sent yet: the batch being filled.
     pending: Vec<Snapshot>,
+    /// Inputs not sent yet. Unlike snapshots they are never dropped (a re-run needs
+    /// every one): a batch that does not fit leaves its inputs for the next.
+    inputs: Vec<(u64, Input)>,
     snapshots: u64,
     dropped: u64,
 }
@@ -143,44 +258,61 @@ impl Recorder {
         let (tx, rx) = mpsc::sync_channel(queue);
         let thread_path = path.clone();
         let rate_hz = params.rate_hz;
+        let sampler = Sampler::new(rate_hz).with_images(&params.images);
         let thread = std::thread::Builder::new()
             .name("gantry-record".into())
             .spawn(move || write_loop(sink, rx, &params, &thread_path))
             .map_err(RecordError::Thread)?;
         Ok(Self {
             path,
-            sampler: Sampler::new(rate_hz),
+            sampler,
             tx: Some(tx),
             thread: Some(thread),
             pending: Vec::with_capacity(BATCH),
+            inputs: Vec::new(),
             snapshots: 0,
             dropped: 0,
         })
     }
 
     /// Records `sim` as it is now, if a snapshot is due (after a step; see
-    /// [`Sampler::sample`]). Never blocks.
-    pub fn record(&mut self, sim: &Sim) {
+    /// [`Sampler::sample`]); returns whether one was taken. Never blocks.
+    pub fn record(&mut self, sim: &Sim) -> bool {
         if self.tx.is_none() {
-            return;
+            return false;
         }
-        if let Some(s) = self.sampler.sample(sim) {
-            self.snapshots += 1;
-            self.pending.push(s);
-            if self.pending.len() >= BATCH {
-                let batch = std::mem::replace(&mut self.pending, Vec::with_capacity(BATCH));
-                self.offer(batch);
-            }
+        let Some(s) = self.sampler.sample(sim) else {
+            return false;
+        };
+        self.snapshots += 1;
+        self.pending.push(s);
+        if self.pending.len() >= BATCH {
+            let batch = std::mem::replace(&mut self.pending, Vec::with_capacity(BATCH));
+            self.offer(batch);
+        }
+        true
+    }
+
+    /// Records an input that reached the simulation now (see [`crate::input`]). It
+    /// is written with the next batch of snapshots.
+    pub fn input(&mut self, sim: &Sim, input: Input) {
+        if self.tx.is_some() {
+            self.inputs.push((self.sampler.log_time_now(sim), input));
         }
     }
 
-    /// Queues a batch, or counts its snapshots dropped.
+    /// Queues a batch with the pending inputs, or counts its snapshots dropped (the
+    /// inputs wait for the next batch).
     fn offer(&mut self, batch: Vec<Snapshot>) {
         let Some(tx) = &self.tx else { return };
-        match tx.try_send(Item::Snapshots(batch)) {
+        let inputs = std::mem::take(&mut self.inputs);
+        match tx.try_send(Item::Batch(batch, inputs)) {
             Ok(()) => {}
-            Err(TrySendError::Full(Item::Snapshots(b))) => self.dropped += b.len() as u64,
-            Err(TrySendError::Full(Item::Logs(_))) => {}
+            Err(TrySendError::Full(Item::Batch(b, inputs))) => {
+                self.dropped += b.len() as u64;
+                self.inputs = inputs;
+            }
+            Err(TrySendError::Full(_)) => {}
             // The writer stopped on an error (it said so): stop sampling.
             Err(TrySendError::Disconnected(_)) => self.tx = None,
         }
@@ -192,13 +324,15 @@ impl Recorder {
     }
 
     /// Records the log lines `sim` added since the last snapshot (the cleanup hooks'),
-    /// ends the file and waits for the writer thread.
-    pub fn finish(mut self, sim: Option<&Sim>) -> RecordReport {
+    /// then the `gantry_end` metadata record with `end` and the count of dropped
+    /// snapshots, ends the file and waits for the writer thread.
+    pub fn finish(mut self, sim: Option<&Sim>, mut end: BTreeMap<String, String>) -> RecordReport {
         // The end of the run may wait for the writer: nothing is simulated now.
         let pending = std::mem::take(&mut self.pending);
-        if !pending.is_empty()
+        let inputs = std::mem::take(&mut self.inputs);
+        if (!pending.is_empty() || !inputs.is_empty())
             && let Some(tx) = &self.tx
-            && tx.send(Item::Snapshots(pending)).is_err()
+            && tx.send(Item::Batch(pending, inputs)).is_err()
         {
             self.tx = None;
         }
@@ -209,6 +343,13 @@ impl Recorder {
             if !logs.is_empty() && tx.send(Item::Logs(logs)).is_err() {
                 self.tx = None;
             }
+        }
+        end.insert("snapshots".to_owned(), self.snapshots.to_string());
+        end.insert("dropped_snapshots".to_owned(), self.dropped.to_string());
+        if let Some(tx) = &self.tx
+            && tx.send(Item::End(end)).is_err()
+        {
+            self.tx = None;
         }
         self.tx = None;
         let outcome = self.thread.take().map(|t| {
@@ -232,10 +373,11 @@ impl Drop for Recorder {
     /// A recorder dropped without [`Recorder::finish`] still ends its file.
     fn drop(&mut self) {
         let pending = std::mem::take(&mut self.pending);
-        if !pending.is_empty()
+        let inputs = std::mem::take(&mut self.inputs);
+        if (!pending.is_empty() || !inputs.is_empty())
             && let Some(tx) = &self.tx
         {
-            let _ = tx.try_send(Item::Snapshots(pending));
+            let _ = tx.try_send(Item::Batch(pending, inputs));
         }
         self.tx = None;
         if let Some(t) = self.thread.take() {
@@ -260,12 +402,20 @@ fn write_loop<W: Write + Seek>(
         }
         while let Ok(item) = rx.recv() {
             match item {
-                Item::Snapshots(batch) => {
+                Item::Batch(batch, inputs) => {
+                    // In time order: an input at a snapshot's time arrived after that
+                    // snapshot (between its step and the next).
+                    let mut rest = inputs.as_slice();
                     for s in &batch {
+                        let n = rest.partition_point(|(t, _)| *t < s.log_time_ns);
+                        sink.inputs(&rest[..n])?;
+                        rest = &rest[n..];
                         sink.snapshot(s)?;
                     }
+                    sink.inputs(rest)?;
                 }
                 Item::Logs(l) => sink.logs(&l)?,
+                Item::End(end) => sink.metadata_named("gantry_end", &end)?,
             }
         }
         sink.finish()

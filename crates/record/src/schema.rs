@@ -93,6 +93,43 @@ pub static FLOAT64: MessageType = MessageType {
     uses: &[],
 };
 
+/// `std_msgs/msg/Int32`: int32 signals.
+pub static INT32: MessageType = MessageType {
+    name: "std_msgs/msg/Int32",
+    definition: "int32 data\n",
+    uses: &[],
+};
+
+/// `std_msgs/msg/String`: string signals.
+pub static STRING: MessageType = MessageType {
+    name: "std_msgs/msg/String",
+    definition: "string data\n",
+    uses: &[],
+};
+
+/// `sensor_msgs/msg/Image`: vision sensor images.
+pub static IMAGE: MessageType = MessageType {
+    name: "sensor_msgs/msg/Image",
+    definition: "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\n\
+                 uint32 step\nuint8[] data\n",
+    uses: &[&HEADER],
+};
+
+/// `gantry_msgs/msg/Input`: `/gantry/input`, what reached the simulation from outside
+/// (see [`crate::input`]). Not a ROS type: readers that do not know it decode it from
+/// this definition or skip it.
+pub static INPUT: MessageType = MessageType {
+    name: "gantry_msgs/msg/Input",
+    definition: "uint64 step
+uint32 boundary
+string kind
+string name
+int64 client
+uint8[] args
+",
+    uses: &[],
+};
+
 /// `sensor_msgs/msg/Range`: proximity sensors.
 pub static RANGE: MessageType = MessageType {
     name: "sensor_msgs/msg/Range",

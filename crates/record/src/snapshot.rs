@@ -9,6 +9,7 @@ use gantry_sim_core::Handle;
 use gantry_sim_core::Sim;
 use gantry_sim_core::math::quat_to_array;
 use gantry_sim_core::scene::ProximityModel;
+use gantry_sim_core::signals::Signals;
 use gantry_sim_core::world::object_path::full_paths;
 use gantry_sim_core::world::{ObjectKind, World};
 
@@ -86,6 +87,38 @@ pub struct LogSample {
     pub message: String,
 }
 
+/// A signal's new value (set or changed since the previous snapshot).
+#[derive(Debug, Clone, PartialEq)]
+pub enum SignalSample {
+    /// An int32 signal.
+    Int32(String, i32),
+    /// A float signal.
+    Float(String, f64),
+    /// A string signal (its bytes, shown as text where they are UTF-8).
+    String(String, Vec<u8>),
+}
+
+/// A vision sensor's image, recorded at its stream's rate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImageSample {
+    /// The sensor.
+    pub handle: Handle,
+    /// `[width, height]`, pixels.
+    pub resolution: [u32; 2],
+    /// RGB, 3 bytes per pixel, bottom row first (as the sensor holds it).
+    pub rgb: Vec<u8>,
+}
+
+/// A vision sensor whose images are recorded (opt-in: images are large).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImageStream {
+    /// The sensor's path (`/showroom/camera`), as `sim.getObject` takes it, or its
+    /// alias.
+    pub sensor: String,
+    /// Images per simulated second, at most.
+    pub rate_hz: f64,
+}
+
 /// Everything recorded for one step.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Snapshot {
@@ -106,6 +139,25 @@ pub struct Snapshot {
     pub graphs: Vec<GraphSample>,
     /// Log lines added since the previous snapshot.
     pub logs: Vec<LogSample>,
+    /// Signals set or changed since the previous snapshot.
+    pub signals: Vec<SignalSample>,
+    /// Images due at this snapshot.
+    pub images: Vec<ImageSample>,
+}
+
+/// An image stream's sampling state.
+#[derive(Debug)]
+struct ImageState {
+    stream: ImageStream,
+    period_ns: u64,
+    /// The sensor, found by its path when the tree changes.
+    handle: Option<Handle>,
+    /// Recording time of the last image recorded.
+    last_ns: Option<u64>,
+    /// The sensor's render count at that image.
+    last_renders: u64,
+    /// Whether a missing sensor was reported.
+    warned: bool,
 }
 
 /// Takes [`Snapshot`]s from a simulation, at most one per `period`.
@@ -130,6 +182,10 @@ pub struct Sampler {
     next_log: u64,
     /// Topic and last recorded sample time of each graph stream, by (graph, stream id).
     streams: HashMap<(Handle, i64), (Arc<str>, f64)>,
+    /// The signals at the last snapshot.
+    signals: Signals,
+    /// The image streams.
+    images: Vec<ImageState>,
 }
 
 impl Sampler {
@@ -149,7 +205,26 @@ impl Sampler {
             frames: Arc::new(Vec::new()),
             next_log: 0,
             streams: HashMap::new(),
+            signals: Signals::default(),
+            images: Vec::new(),
         }
+    }
+
+    /// Also records the images of `streams`.
+    #[must_use]
+    pub fn with_images(mut self, streams: &[ImageStream]) -> Self {
+        self.images = streams
+            .iter()
+            .map(|s| ImageState {
+                period_ns: nanos_from_secs(1.0 / s.rate_hz.max(1e-6)),
+                stream: s.clone(),
+                handle: None,
+                last_ns: None,
+                last_renders: 0,
+                warned: false,
+            })
+            .collect();
+        self
     }
 
     /// A snapshot of `sim` if one is due at its current time: the first call, and then
@@ -187,7 +262,66 @@ impl Sampler {
             ranges: ranges(world),
             graphs: self.graph_samples(sim, look_back),
             logs: self.log_lines(world),
+            signals: self.signal_samples(&sim.signals),
+            images: self.image_samples(sim, log_time_ns),
         })
+    }
+
+    /// Signals set or changed since the last snapshot (removed ones are not
+    /// recorded: a later value is).
+    fn signal_samples(&mut self, now: &Signals) -> Vec<SignalSample> {
+        if *now == self.signals {
+            return Vec::new();
+        }
+        let mut out = Vec::new();
+        for (k, v) in &now.int32 {
+            if self.signals.int32.get(k) != Some(v) {
+                out.push(SignalSample::Int32(k.clone(), *v));
+            }
+        }
+        for (k, v) in &now.float {
+            // Bit for bit, so that a NaN signal set once is recorded once.
+            if self.signals.float.get(k).map(|x| x.to_bits()) != Some(v.to_bits()) {
+                out.push(SignalSample::Float(k.clone(), *v));
+            }
+        }
+        for (k, v) in &now.string {
+            if self.signals.string.get(k) != Some(v) {
+                out.push(SignalSample::String(k.clone(), v.clone()));
+            }
+        }
+        self.signals.clone_from(now);
+        out
+    }
+
+    /// The images due at recording time `log_time_ns`: a sensor rendered since its
+    /// last image, and its period has passed.
+    fn image_samples(&mut self, sim: &Sim, log_time_ns: u64) -> Vec<ImageSample> {
+        let mut out = Vec::new();
+        for st in &mut self.images {
+            let Some(h) = st.handle else { continue };
+            let Some(img) = sim.vision.image(h) else { continue };
+            let due = st
+                .last_ns
+                .is_none_or(|t| log_time_ns < t || log_time_ns - t >= st.period_ns);
+            if !due || img.renders() == st.last_renders {
+                continue;
+            }
+            st.last_ns = Some(log_time_ns);
+            st.last_renders = img.renders();
+            out.push(ImageSample {
+                handle: h,
+                resolution: img.resolution(),
+                rgb: img.rgb().to_vec(),
+            });
+        }
+        out
+    }
+
+    /// The recording time of `sim`'s current simulation time (for inputs between
+    /// snapshots; the writer keeps the file's times from going back).
+    pub fn log_time_now(&self, sim: &Sim) -> u64 {
+        self.offset_ns + nanos_from_secs(sim.world.time())
     }
 
     /// Log lines only (the run's cleanup hooks log after its last step).
@@ -219,6 +353,28 @@ impl Sampler {
             }
         }
         self.frames = Arc::new(names);
+        for st in &mut self.images {
+            let wanted = st.stream.sensor.trim_start_matches('/');
+            st.handle = self
+                .frames
+                .iter()
+                .position(|n| n == wanted)
+                .or_else(|| {
+                    self.tree
+                        .iter()
+                        .find(|(_, _, a)| a == wanted)
+                        .and_then(|(h, _, _)| usize::try_from(*h).ok())
+                })
+                .and_then(|i| Handle::try_from(i).ok());
+            if st.handle.is_none() && !st.warned {
+                st.warned = true;
+                tracing::warn!(
+                    "recording: no object {:?} in the scene, so none of its images are recorded \
+                     (name a vision sensor by its path, as /parent/sensor, or its alias)",
+                    st.stream.sensor
+                );
+            }
+        }
     }
 
     /// Samples recorded since the last snapshot, for every graph stream. Scripts add

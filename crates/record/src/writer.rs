@@ -12,9 +12,10 @@ use std::sync::Arc;
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, Compression, McapError, WriteOptions, Writer};
 
+use crate::input::{INPUT_TOPIC, Input};
 use crate::msg::{self, LogLevel, Time, TransformStamped};
 use crate::schema::{self, MessageType};
-use crate::snapshot::{LogSample, Snapshot, WORLD_FRAME, topic_name};
+use crate::snapshot::{LogSample, SignalSample, Snapshot, WORLD_FRAME, topic_name};
 
 /// `/tf`.
 pub const TF_TOPIC: &str = "/tf";
@@ -22,6 +23,8 @@ pub const TF_TOPIC: &str = "/tf";
 pub const JOINT_STATES_TOPIC: &str = "/joint_states";
 /// `/rosout`.
 pub const ROSOUT_TOPIC: &str = "/rosout";
+/// `/tf_static`.
+pub const TF_STATIC_TOPIC: &str = "/tf_static";
 
 /// A file attached to the recording (the scene, its scripts).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -32,6 +35,17 @@ pub struct AttachedFile {
     pub media_type: String,
     /// Its bytes.
     pub data: Vec<u8>,
+}
+
+/// One `geometry_msgs/TransformStamped` of a frame.
+fn transform<'a>(stamp: Time, parent: &'a str, child: &'a str, pose: &[f64; 7]) -> TransformStamped<'a> {
+    TransformStamped {
+        stamp,
+        frame_id: parent,
+        child_frame_id: child,
+        translation: [pose[0], pose[1], pose[2]],
+        rotation: [pose[3], pose[4], pose[5], pose[6]],
+    }
 }
 
 /// An MCAP file being written: the channels so far and their message counts.
@@ -47,6 +61,11 @@ pub struct McapSink<W: Write + Seek> {
     messages: u64,
     /// The last log time written, so that times never go back in the file.
     last_log_ns: u64,
+    /// The frames on `/tf_static`, by child frame id: parent frame id and pose of
+    /// each frame that has not moved relative to its parent since the recording began.
+    statics: BTreeMap<String, (String, [f64; 7])>,
+    /// Frames that have moved at least once: they are on `/tf` from then on.
+    moved: std::collections::HashSet<String>,
 }
 
 impl<W: Write + Seek> McapSink<W> {
@@ -74,9 +93,12 @@ impl<W: Write + Seek> McapSink<W> {
             sequence: HashMap::new(),
             messages: 0,
             last_log_ns: 0,
+            statics: BTreeMap::new(),
+            moved: std::collections::HashSet::new(),
         };
         for (topic, ty) in [
             (TF_TOPIC, &schema::TF_MESSAGE),
+            (TF_STATIC_TOPIC, &schema::TF_MESSAGE),
             (JOINT_STATES_TOPIC, &schema::JOINT_STATE),
             (ROSOUT_TOPIC, &schema::LOG),
         ] {
@@ -90,10 +112,33 @@ impl<W: Write + Seek> McapSink<W> {
     /// # Errors
     /// The record could not be written.
     pub fn metadata(&mut self, entries: &BTreeMap<String, String>) -> Result<(), McapError> {
+        self.metadata_named("gantry", entries)
+    }
+
+    /// A metadata record named `name` (`gantry_end`: what is known at the end).
+    ///
+    /// # Errors
+    /// The record could not be written.
+    pub fn metadata_named(&mut self, name: &str, entries: &BTreeMap<String, String>) -> Result<(), McapError> {
         self.mcap.write_metadata(&Metadata {
-            name: "gantry".to_owned(),
+            name: name.to_owned(),
             metadata: entries.clone(),
         })
+    }
+
+    /// Writes inputs on `/gantry/input`, each at its recording time.
+    ///
+    /// # Errors
+    /// A write failed.
+    pub fn inputs(&mut self, inputs: &[(u64, Input)]) -> Result<(), McapError> {
+        if inputs.is_empty() {
+            return Ok(());
+        }
+        let ch = self.channel(INPUT_TOPIC, &schema::INPUT)?;
+        for (log_time_ns, input) in inputs {
+            self.message(ch, *log_time_ns, &input.encode())?;
+        }
+        Ok(())
     }
 
     /// Attaches `file`.
@@ -167,19 +212,29 @@ impl<W: Write + Seek> McapSink<W> {
                 .and_then(|i| s.frames.get(i))
                 .map_or("", String::as_str)
         };
-        let transforms: Vec<TransformStamped<'_>> = s
+        let frames_now: Vec<(&str, &str, &[f64; 7])> = s
             .poses
             .iter()
-            .map(|p| TransformStamped {
-                stamp,
-                frame_id: p.parent.map_or(WORLD_FRAME, frame),
-                child_frame_id: frame(p.handle),
-                translation: [p.pose[0], p.pose[1], p.pose[2]],
-                rotation: [p.pose[3], p.pose[4], p.pose[5], p.pose[6]],
-            })
+            .map(|p| (frame(p.handle), p.parent.map_or(WORLD_FRAME, frame), &p.pose))
             .collect();
+        if self.update_statics(&frames_now) {
+            let transforms: Vec<TransformStamped<'_>> = self
+                .statics
+                .iter()
+                .map(|(child, (parent, pose))| transform(stamp, parent, child, pose))
+                .collect();
+            let data = msg::tf_message(&transforms);
+            let ch = self.channel(TF_STATIC_TOPIC, &schema::TF_MESSAGE)?;
+            self.message(ch, s.log_time_ns, &data)?;
+        }
+        let transforms: Vec<TransformStamped<'_>> = frames_now
+            .iter()
+            .filter(|(child, _, _)| self.moved.contains(*child))
+            .map(|&(child, parent, pose)| transform(stamp, parent, child, pose))
+            .collect();
+        let data = msg::tf_message(&transforms);
         let tf = self.channel(TF_TOPIC, &schema::TF_MESSAGE)?;
-        self.message(tf, s.log_time_ns, &msg::tf_message(&transforms))?;
+        self.message(tf, s.log_time_ns, &data)?;
         if !s.joints.is_empty() {
             let names: Vec<&str> = s.joints.iter().map(|j| frame(j.handle)).collect();
             let position: Vec<f64> = s.joints.iter().map(|j| j.position).collect();
@@ -191,6 +246,31 @@ impl<W: Write + Seek> McapSink<W> {
                 s.log_time_ns,
                 &msg::joint_state(stamp, &names, &position, &velocity, &effort),
             )?;
+        }
+        for sig in &s.signals {
+            let (topic, ty, data) = match sig {
+                SignalSample::Int32(name, v) => {
+                    (topic_name(&["signal", "int32", name]), &schema::INT32, msg::int32(*v))
+                }
+                SignalSample::Float(name, v) => (
+                    topic_name(&["signal", "float", name]),
+                    &schema::FLOAT64,
+                    msg::float64(*v),
+                ),
+                SignalSample::String(name, v) => (
+                    topic_name(&["signal", "string", name]),
+                    &schema::STRING,
+                    msg::string(&String::from_utf8_lossy(v)),
+                ),
+            };
+            let ch = self.channel(&topic, ty)?;
+            self.message(ch, s.log_time_ns, &data)?;
+        }
+        for img in &s.images {
+            let name = frame(img.handle);
+            let ch = self.channel(&topic_name(&["vision", name, "image"]), &schema::IMAGE)?;
+            let [w, h] = img.resolution;
+            self.message(ch, s.log_time_ns, &msg::image(stamp, name, w, h, &img.rgb))?;
         }
         for r in &s.ranges {
             let name = frame(r.handle);
@@ -207,6 +287,40 @@ impl<W: Write + Seek> McapSink<W> {
             self.message(ch, s.log_time_ns, &data)?;
         }
         Ok(())
+    }
+
+    /// Sorts this snapshot's frames `(child, parent, pose)` into static and moving
+    /// ones: a frame is static until its pose or parent differs from the value it had
+    /// on `/tf_static` (bit for bit), and moving from then on. Returns whether the
+    /// static set changed (a frame added, removed or moved), so that `/tf_static` is
+    /// published again, whole, as ROS's latched topic is.
+    fn update_statics(&mut self, frames: &[(&str, &str, &[f64; 7])]) -> bool {
+        let mut changed = false;
+        for &(child, parent, pose) in frames {
+            if self.moved.contains(child) {
+                continue;
+            }
+            match self.statics.get(child) {
+                Some((p, q)) if p == parent && q.iter().zip(pose).all(|(a, b)| a.to_bits() == b.to_bits()) => {}
+                Some(_) => {
+                    self.statics.remove(child);
+                    self.moved.insert(child.to_owned());
+                    changed = true;
+                }
+                None => {
+                    self.statics.insert(child.to_owned(), (parent.to_owned(), *pose));
+                    changed = true;
+                }
+            }
+        }
+        // Frames gone from the tree (objects removed, renamed or moved elsewhere).
+        if self.statics.len() + frames.iter().filter(|(c, _, _)| self.moved.contains(*c)).count() != frames.len() {
+            let present: std::collections::HashSet<&str> = frames.iter().map(|(c, _, _)| *c).collect();
+            let before = self.statics.len();
+            self.statics.retain(|c, _| present.contains(c.as_str()));
+            changed |= self.statics.len() != before;
+        }
+        changed
     }
 
     /// Writes log lines on `/rosout`.

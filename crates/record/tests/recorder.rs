@@ -41,7 +41,7 @@ fn a_recording_reads_back_indexed_with_every_channel_and_message() {
         sim.step();
         rec.record(&sim);
     }
-    let report = rec.finish(Some(&sim));
+    let report = rec.finish(Some(&sim), std::collections::BTreeMap::new());
     assert_eq!(report.error, None);
     assert_eq!(report.snapshots, 21);
     assert_eq!(report.dropped, 0, "a queue of 64 batches holds 21 snapshots");
@@ -52,7 +52,10 @@ fn a_recording_reads_back_indexed_with_every_channel_and_message() {
     let stats = summary.stats.expect("statistics");
     assert_eq!(stats.message_count, report.messages);
     assert_eq!(stats.attachment_count, 1);
-    assert_eq!(stats.metadata_count, 1);
+    assert_eq!(
+        stats.metadata_count, 2,
+        "`gantry` at the start, `gantry_end` at the end"
+    );
     let topics: Vec<&str> = summary.channels.values().map(|c| c.topic.as_str()).collect();
     for t in ["/tf", "/joint_states", "/rosout"] {
         assert!(topics.contains(&t), "{t} in {topics:?}");
@@ -139,7 +142,7 @@ fn a_full_disk_stops_the_recording_and_the_simulation_goes_on() {
         rec.record(&sim);
     }
     assert_eq!(sim.world.steps(), steps, "every step was taken");
-    let report = rec.finish(Some(&sim));
+    let report = rec.finish(Some(&sim), std::collections::BTreeMap::new());
     let error = report.error.expect("the write error is reported");
     assert!(error.contains("No space left on device"), "{error}");
     assert!(report.snapshots > 0);

@@ -9,7 +9,6 @@ pub mod debug;
 pub mod http;
 pub mod legacy;
 pub mod legacy_commands;
-pub mod record;
 pub mod replay;
 pub mod runner;
 pub mod sim_thread;

@@ -212,12 +212,7 @@ pub fn start(
     signals: Signals,
 ) -> Result<Running, ServerError> {
     // First, so that a file that cannot be written fails the run before it starts.
-    let recorder = sim
-        .record
-        .take()
-        .map(gantry_record::Recorder::create)
-        .transpose()?
-        .map(crate::record::RecordObserver::new);
+    let recorder = sim.record.take().map(gantry_record::Recorder::create).transpose()?;
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -405,8 +400,8 @@ pub fn start(
         .name("gantry-sim".into())
         .spawn(move || {
             let should_stop = || sim_shutdown.is_triggered();
-            let mut observers = (publisher, recorder);
-            run_sim_thread_debugged(model, sim, rx, should_stop, &mut observers, debug_link)
+            let mut publisher = publisher;
+            run_sim_thread_debugged(model, sim, rx, should_stop, &mut publisher, debug_link, recorder)
         })
         .map_err(ServerError::Runtime)?;
     Ok(Running {

@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::time::{Duration, Instant};
 
-use gantry_engine::{ClientId, Due, Engine, EngineConfig};
+use gantry_engine::{ClientId, Due, Engine, EngineConfig, MidStep};
 pub use gantry_engine::{LoopControl, RemoteOp};
 use gantry_script::{ScriptLimits, Simulation, StepBoundary};
 use gantry_sim_core::Handle;
@@ -272,8 +272,7 @@ pub trait Observer {
     /// Looks at the simulation. `run_steps` counts the steps of this run (never reset).
     fn observe(&mut self, sim: &Simulation, run_steps: u64);
 
-    /// The run is over: its cleanup hooks ran (the recorder takes their log lines
-    /// and ends its file). Nothing by default.
+    /// The run is over: its cleanup hooks ran. Nothing by default.
     fn finish(&mut self, _sim: &Simulation) {}
 }
 
@@ -346,11 +345,12 @@ pub fn run_sim_thread_observed(
     should_stop: impl Fn() -> bool,
     observer: &mut impl Observer,
 ) -> Result<RunSummary, gantry_script::ScriptError> {
-    run_sim_thread_debugged(model, config, rx, should_stop, observer, None)
+    run_sim_thread_debugged(model, config, rx, should_stop, observer, None, None)
 }
 
 /// [`run_sim_thread_observed`], with the script debugger on `debug` when given
-/// (`gantry run --debug`; see [`crate::debug`]).
+/// (`gantry run --debug`; see [`crate::debug`]) and the run recorded by `recorder`
+/// (`gantry run --record`): every step and every request that reaches the engine.
 ///
 /// # Errors
 /// The simulation could not be created (Lua state).
@@ -361,8 +361,9 @@ pub fn run_sim_thread_debugged(
     should_stop: impl Fn() -> bool,
     observer: &mut impl Observer,
     debug: Option<gantry_script::DebugLink>,
+    recorder: Option<gantry_record::Recorder>,
 ) -> Result<RunSummary, gantry_script::ScriptError> {
-    let engine = Engine::new(
+    let mut engine = Engine::new(
         model,
         EngineConfig {
             limits: config.limits,
@@ -372,6 +373,10 @@ pub fn run_sim_thread_debugged(
         },
         debug,
     )?;
+    if let Some(r) = recorder {
+        let tap = gantry_record::RecordTap::new(r, engine.sim());
+        engine.set_tap(Box::new(tap));
+    }
     let mut lp = SimLoop {
         engine,
         deferred: VecDeque::new(),
@@ -490,14 +495,17 @@ impl SimLoop {
     /// request behind a waiting one, so replies keep arrival order.
     fn step_serving(&mut self, rx: &Receiver<Request>) {
         let deferred = &mut self.deferred;
-        self.engine.step_with(&mut |sim: &mut Simulation, at: StepBoundary| {
+        self.engine.step_with(&mut |mid: &mut MidStep<'_>| {
+            let at = mid.boundary();
             while let Ok(req) = rx.try_recv() {
                 match req {
                     req if !deferred.is_empty() || !may_serve_mid_step(&req, at) => deferred.push_back(req),
                     Request::Call { target, args, reply } => {
-                        let _ = reply.send(sim.call_target(&target, &args));
+                        let _ = reply.send(mid.call(&target, &args));
                     }
-                    Request::Packet { packet, reply } => serve_packet(sim, packet, reply),
+                    Request::Packet { packet, reply } => {
+                        let _ = reply.send(packet_outcome(mid.packet(&packet)));
+                    }
                     other => deferred.push_back(other),
                 }
             }
@@ -512,7 +520,9 @@ impl SimLoop {
             Request::Call { target, args, reply } => {
                 let _ = reply.send(self.engine.call(&target, &args));
             }
-            Request::Packet { packet, reply } => serve_packet(self.engine.sim_mut(), packet, reply),
+            Request::Packet { packet, reply } => {
+                let _ = reply.send(packet_outcome(self.engine.packet(&packet)));
+            }
             Request::Control { action, reply } => {
                 let _ = reply.send(self.engine.loop_control(action));
             }
@@ -550,17 +560,16 @@ fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
     }
 }
 
-/// A text packet to the scripts' `sysCall_packet`.
-fn serve_packet(sim: &mut Simulation, packet: Value, reply: oneshot::Sender<PacketOutcome>) {
-    let outcome = match sim.call_hook_function("sysCall_packet", &[packet]) {
+/// What the scripts' `sysCall_packet` did with a packet, for the transport.
+fn packet_outcome(result: Result<Option<Vec<Value>>, gantry_script::HookError>) -> PacketOutcome {
+    match result {
         Ok(None) => PacketOutcome::NoHandler,
         Ok(Some(values)) => match values.into_iter().next() {
             Some(Value::Str(s)) => PacketOutcome::Reply(s),
             _ => PacketOutcome::Handled,
         },
         Err(e) => PacketOutcome::Error(e.to_string()),
-    };
-    let _ = reply.send(outcome);
+    }
 }
 
 #[cfg(test)]

@@ -86,17 +86,23 @@ fn record_showroom(steps: usize, metadata: &BTreeMap<String, String>) -> (Vec<u8
     (buf.bytes(), written)
 }
 
-/// What the snapshot says every frame's parent-relative pose is, by frame id.
+/// What the snapshot says every frame's parent-relative pose is, sorted by frame id (the
+/// writer splits them between `/tf_static` and `/tf`).
 fn expected_tree(s: &Snapshot) -> Vec<(String, String, [f64; 7])> {
     let name = |h: i64| s.frames[usize::try_from(h).expect("handle")].clone();
-    s.poses
+    let mut out: Vec<_> = s
+        .poses
         .iter()
         .map(|p| (name(p.handle), p.parent.map_or(WORLD_FRAME.to_owned(), name), p.pose))
-        .collect()
+        .collect();
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out
 }
 
+/// The reader's tree at `t`, sorted by frame id.
 fn tree_names(rec: &Recording, t: u64) -> Vec<(String, String, [f64; 7])> {
-    rec.tree_at(t)
+    let mut out: Vec<_> = rec
+        .tree_at(t)
         .iter()
         .map(|f| {
             (
@@ -105,17 +111,19 @@ fn tree_names(rec: &Recording, t: u64) -> Vec<(String, String, [f64; 7])> {
                 f.pose,
             )
         })
-        .collect()
+        .collect();
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out
 }
 
 fn open(bytes: &[u8]) -> Result<Recording, ReadError> {
     Recording::from_bytes(bytes.to_vec(), Path::new("test.mcap"))
 }
 
-/// One showroom recording shared by the tests (900 steps: four zstd chunks of snapshots).
+/// One showroom recording shared by the tests (1800 steps: four zstd chunks of snapshots).
 fn showroom_file() -> &'static (Vec<u8>, Vec<Snapshot>) {
     static FILE: std::sync::OnceLock<(Vec<u8>, Vec<Snapshot>)> = std::sync::OnceLock::new();
-    FILE.get_or_init(|| record_showroom(900, &gantry_metadata(&[("format_version", "1")])))
+    FILE.get_or_init(|| record_showroom(1800, &gantry_metadata(&[("format_version", "1")])))
 }
 
 #[test]

@@ -73,6 +73,75 @@ impl Files for EmbeddedFiles {
     }
 }
 
+/// A file source that keeps a copy of every file it reads through `inner`: what a
+/// recording attaches, so that the scene can be loaded again from the recording alone
+/// (the scene file, its URDFs, meshes and scripts, as they were when the run began).
+pub struct LoggedFiles<'a> {
+    inner: &'a dyn Files,
+    /// Files read so far, by the path they were read at, first read first.
+    read: std::cell::RefCell<Vec<(PathBuf, Vec<u8>)>>,
+}
+
+impl<'a> LoggedFiles<'a> {
+    /// Reads through `inner`.
+    pub fn new(inner: &'a dyn Files) -> Self {
+        Self {
+            inner,
+            read: std::cell::RefCell::new(Vec::new()),
+        }
+    }
+
+    /// Every file read, once each, by the (normalised) path it was read at.
+    pub fn into_read(self) -> Vec<(PathBuf, Vec<u8>)> {
+        self.read.into_inner()
+    }
+}
+
+impl Files for LoggedFiles<'_> {
+    fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
+        let bytes = self.inner.read(path)?;
+        let key = normalize(path);
+        let mut read = self.read.borrow_mut();
+        if !read.iter().any(|(p, _)| *p == key) {
+            read.push((key, bytes.clone()));
+        }
+        Ok(bytes)
+    }
+    fn is_file(&self, path: &Path) -> bool {
+        self.inner.is_file(path)
+    }
+}
+
+/// Files held in memory, by path: a recording's attachments, from which its scene
+/// loads again at the paths it was first read at.
+#[derive(Debug, Clone, Default)]
+pub struct MapFiles {
+    files: HashMap<PathBuf, Vec<u8>>,
+}
+
+impl MapFiles {
+    /// The files `(path, bytes)`; paths are normalised as [`normalize`] does.
+    pub fn new(files: impl IntoIterator<Item = (PathBuf, Vec<u8>)>) -> Self {
+        Self {
+            files: files.into_iter().map(|(p, b)| (normalize(&p), b)).collect(),
+        }
+    }
+}
+
+impl Files for MapFiles {
+    fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
+        self.files.get(&normalize(path)).cloned().ok_or_else(|| {
+            io::Error::new(
+                io::ErrorKind::NotFound,
+                format!("{} is not among the recorded files", path.display()),
+            )
+        })
+    }
+    fn is_file(&self, path: &Path) -> bool {
+        self.files.contains_key(&normalize(path))
+    }
+}
+
 /// A file's name without folder and extension: the name of the scene it holds.
 pub(super) fn stem(path: &Path) -> String {
     path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_owned()

@@ -31,7 +31,7 @@ pub use client_load::load_client_scene;
 pub use coppelia::old_scripts::{Rewrites as OldScriptRewrites, modernize as modernize_old_script};
 pub use coppelia::{COPPELIA_SOLVER_ITERATIONS, ImportReport, load_coppelia, load_coppelia_file};
 pub use error::LoadError;
-pub use files::{DiskFiles, EmbeddedFiles, Files, normalize as normalize_path};
+pub use files::{DiskFiles, EmbeddedFiles, Files, LoggedFiles, MapFiles, normalize as normalize_path};
 pub use load::dedup as dedup_warnings;
 pub use load::{LoadOptions, load_scene, load_scene_text};
 pub use mesh::{load_mesh, resolve_mesh_path};
