@@ -31,13 +31,16 @@ MOVING = "bubbleRob"
 CHILD = "bubbleRob/leftMotor/leftWheel"
 GRAPH = "bubbleRob/graph"
 GRAPH_TOPIC = "/graph/bubbleRob_graph/bubbleRob_clearance"
+# bubbleRob's camera, recorded at 10 Hz (`--record-image`).
+CAMERA = "bubbleRob/sensingNose/visionSensor"
 
 
 @pytest.fixture(scope="module")
 def recording(tmp_path_factory) -> Path:
     path = tmp_path_factory.mktemp("replay") / "showroom.mcap"
-    subprocess.run([str(gantry_bin()), "run", "--record", str(path), "--steps", str(STEPS), "--fast",
-                    "--no-listen"], check=True, timeout=300, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    subprocess.run([str(gantry_bin()), "run", "--record", str(path), "--record-image", "/" + CAMERA, "--steps",
+                    str(STEPS), "--fast", "--no-listen"], check=True, timeout=300, stdout=subprocess.DEVNULL,
+                   stderr=subprocess.PIPE)
     return path
 
 
@@ -48,6 +51,7 @@ class Recorded:
         self.tf: list[tuple[int, dict]] = []
         self.tf_static: list[tuple[int, dict]] = []
         self.graphs: dict[str, list[tuple[int, float]]] = {}
+        self.images: list[tuple[int, object]] = []
         self.metadata: dict[str, str] = {}
         with open(path, "rb") as f:
             reader = make_reader(f, decoder_factories=[DecoderFactory()])
@@ -63,6 +67,8 @@ class Recorded:
                     (self.tf if channel.topic == "/tf" else self.tf_static).append((message.log_time, frames))
                 elif channel.topic.startswith("/graph/"):
                     self.graphs.setdefault(channel.topic, []).append((message.log_time, msg.data))
+                elif channel.topic.startswith("/vision/"):
+                    self.images.append((message.log_time, msg))
 
     @staticmethod
     def _latest(entries, t_ns):
@@ -191,6 +197,22 @@ def test_scrubbing_shows_that_times_poses_and_graph_cursor(page, recorded):
     assert cursor["values"][label] == recorded.graph_value(GRAPH_TOPIC, t_ns)
     # The server shows the same time.
     assert math.isclose(page.evaluate("gantry.replay.time"), SCRUB_TO, abs_tol=1e-9)
+    # The camera's panel shows the recorded image at or before that time (top row first
+    # in the file and on the canvas).
+    image = Recorded._latest(recorded.images, t_ns)
+    assert image is not None and image.encoding == "rgb8"
+    w, h, step = image.width, image.height, image.step
+    expected = [list(image.data[y * step + 3 * x: y * step + 3 * x + 3]) for x, y in ((0, 0), (w // 2, h // 2),
+                                                                                    (w - 1, h - 1))]
+    assert len({tuple(p) for p in expected}) > 1 or any(expected[0]), "a blank image proves nothing"
+    cam = page.evaluate("(p) => gantry.objects.find(o => o.path === p).handle", "/" + CAMERA)
+    js = """([h, pts]) => {
+        const cv = document.querySelector(`figure.vision[data-sensor="${h}"] canvas`);
+        const ctx = cv.getContext('2d');
+        return pts.map(([x, y]) => Array.from(ctx.getImageData(x, y, 1, 1).data.slice(0, 3)));
+    }"""
+    points = [[0, 0], [w // 2, h // 2], [w - 1, h - 1]]
+    wait_for(lambda: page.evaluate(js, [cam, points]) == expected, what="the recorded image on the page")
 
 
 def test_stepping_moves_one_snapshot(page, recorded):
