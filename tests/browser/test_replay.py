@@ -20,7 +20,7 @@ from mcap.writer import Writer
 from mcap_ros2.decoder import DecoderFactory
 from playwright.sync_api import sync_playwright
 
-from viewer_util import Replay, gantry_bin, launch_chromium, wait_for
+from viewer_util import Gantry, Replay, gantry_bin, launch_chromium, wait_for
 
 # 10 simulated seconds of the showroom (dt 50 ms): bubbleRob drives, its script plots
 # its clearance in the graph `bubbleRob/graph`.
@@ -237,17 +237,37 @@ def test_playing_advances_the_time_and_pause_stops_it(page, replay):
     assert replay.status()["time"] == pytest.approx(stopped, abs=1e-9)
 
 
-def test_simulation_commands_are_refused_in_a_replay(page):
-    reply = page.evaluate("""() => new Promise((ok) => {
+def ws_reply(page, command: dict) -> dict:
+    """The reply to ``command`` sent on a WebSocket of its own from ``page``."""
+    return page.evaluate("""(cmd) => new Promise((ok) => {
         const ws = new WebSocket(`ws://${location.host}/ws`);
         ws.onmessage = (ev) => {
             if (typeof ev.data !== 'string') return;
             const m = JSON.parse(ev.data);
-            if (m.t === 'scene') ws.send(JSON.stringify({id: 1, op: 'control', action: 'start'}));
+            if (m.t === 'scene') ws.send(JSON.stringify({id: 1, ...cmd}));
             if (m.t === 'reply' && m.id === 1) { ok(m); ws.close(); }
         };
-    })""")
-    assert reply["ok"] is False and "replay of a recording" in reply["text"], reply
+    })""", command)
+
+
+def test_simulation_commands_are_refused_in_a_replay(page):
+    for command in ({"op": "control", "action": "start"}, {"op": "packet", "text": "<JOINTS#>"},
+                    {"op": "ui", "ui": 1, "widget": 1, "value": 1}):
+        reply = ws_reply(page, command)
+        assert reply["ok"] is False and "replay of a recording" in reply["text"], (command, reply)
+
+
+def test_a_live_run_refuses_replay_commands(page):
+    live = Gantry(fast=True)
+    try:
+        # A second tab of the same browser, on a live run's viewer.
+        pg = page.context.browser.new_page()
+        pg.goto(live.url)
+        reply = ws_reply(pg, {"op": "replay", "action": "seek", "time": 1.0})
+        pg.close()
+    finally:
+        live.close()
+    assert reply["ok"] is False and "no recording is being replayed" in reply["text"], reply
 
 
 def replay_fails(path: Path) -> str:
