@@ -17,8 +17,9 @@
 //!   a newer gantry (a `format_version` above [`FORMAT_VERSION`]) are refused with a [`ReadError`] saying so.
 //!
 //! Every length read from the file is checked against the bytes that hold it, and a
-//! chunk may not decompress to more than [`MAX_CHUNK_BYTES`]: a hostile file costs at
-//! most its own size plus one chunk. The record framing is parsed here rather than with
+//! chunk may not decompress to more than [`MAX_CHUNK_BYTES`], nor to more than
+//! [`MAX_CHUNK_RATIO`] times its compressed size: what a hostile file costs is bounded
+//! by its own size. The record framing is parsed here rather than with
 //! the `mcap` crate's whole-record parsers, which trust some lengths; the crate's
 //! sans-io reader does the decompression and CRC checks.
 //!
@@ -49,6 +50,11 @@ pub const METADATA_NAME: &str = "gantry";
 /// Most bytes one chunk may decompress to. gantry writes 1 MiB chunks; other writers'
 /// defaults are a few MiB. A chunk claiming more is treated as damaged.
 pub const MAX_CHUNK_BYTES: usize = 256 << 20;
+
+/// Most a chunk may claim to decompress to, per compressed byte. zstd exceeds this only
+/// on degenerate data (gantry's chunks compress about 10:1); the cap keeps a small
+/// hostile file from unpacking into gigabytes.
+pub const MAX_CHUNK_RATIO: usize = 1000;
 
 /// Why a recording cannot be read. The texts are for the user: they say what the file
 /// is and what to do.
@@ -542,7 +548,7 @@ impl Recording {
     fn chunk(&mut self, bytes: &[u8], record: Range<usize>, body: Range<usize>) {
         let mut f = Fields::new(&bytes[body]);
         let header = (|| Some((f.u64()?, f.u64()?, f.u64()?, f.u32()?, f.string()?, f.bytes64()?)))();
-        let Some((start, end, uncompressed, _crc, compression, _data)) = header else {
+        let Some((start, end, uncompressed, _crc, compression, data)) = header else {
             self.warnings.push(format!(
                 "the chunk at byte {} is damaged (bad header); its messages are lost",
                 record.start
@@ -558,8 +564,12 @@ impl Recording {
                 end as f64 * 1e-9
             ));
         };
-        if usize::try_from(uncompressed).map_or(true, |u| u > MAX_CHUNK_BYTES) {
-            lost(format!("it claims {uncompressed} bytes uncompressed"), self);
+        let most = MAX_CHUNK_BYTES.min(data.len().saturating_mul(MAX_CHUNK_RATIO).saturating_add(4096));
+        if usize::try_from(uncompressed).map_or(true, |u| u > most) {
+            lost(
+                format!("it claims {uncompressed} bytes uncompressed from {} bytes", data.len()),
+                self,
+            );
             return;
         }
         if !matches!(compression, "" | "zstd") {

@@ -317,9 +317,13 @@ fn a_damaged_chunk_loses_its_time_range_and_the_rest_reads() {
     let full = open(bytes).expect("reads");
     // A chunk in the middle: neither the first snapshot's nor the last one's.
     let chunk = full.chunks[full.chunks.len() - 2].clone();
+    // The chunk record: opcode, length, then its header: start and end times, then the
+    // uncompressed size, whose top byte set claims petabytes.
+    let size_top_byte = chunk.start + 9 + 16 + 7;
     for (what, at) in [
         ("data", chunk.start + (chunk.end - chunk.start) / 2),
         ("header", chunk.start + 3),
+        ("size", size_top_byte),
     ] {
         let mut damaged = bytes.clone();
         damaged[at] ^= 0x5a;
@@ -335,7 +339,14 @@ fn a_damaged_chunk_loses_its_time_range_and_the_rest_reads() {
         assert_eq!(tree_names(&rec, first.log_time_ns), expected_tree(first), "{what}");
         assert_eq!(tree_names(&rec, last.log_time_ns), expected_tree(last), "{what}");
         assert!(rec.snapshot_times().len() < written.len(), "{what}");
-        if what == "data" {
+        if what == "size" {
+            assert!(
+                rec.warnings().iter().any(|w| w.contains("claims")),
+                "{:?}",
+                rec.warnings()
+            );
+        }
+        if what != "header" {
             assert_eq!(rec.lost().len(), 1, "{what}");
             let (from, to) = rec.lost()[0];
             let text = rec.warnings().join("\n");
