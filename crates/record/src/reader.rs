@@ -29,8 +29,8 @@
 //! The pose of a frame at time t is the latest `/tf_static` message at or before t,
 //! overlaid with the latest `/tf` message at or before t (recordings made before
 //! `/tf_static` existed carry every frame in `/tf`). A 10-minute showroom recording at
-//! 20 Hz (12,000 snapshots of 43 frames, a 5 MB file) takes about 40 MB of memory
-//! this way.
+//! 20 Hz (12,000 snapshots, a 4 MB file) takes about 17 MB of memory this way
+//! (`gantry replay` on it: 34 MB, against 17 MB for a 10-second recording).
 
 use std::collections::{BTreeMap, HashMap};
 use std::ops::Range;
