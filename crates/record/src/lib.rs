@@ -32,6 +32,6 @@ pub use recorder::{
     BATCH, DEFAULT_QUEUE, FORMAT_VERSION, RecordError, RecordParams, RecordReport, Recorder, RunDescription,
 };
 pub use snapshot::ImageStream;
-pub use tap::RecordTap;
+pub use tap::{RecordTap, RunRecorder};
 pub use verify::{RecordedRun, Verdict, VerifyError};
 pub use writer::AttachedFile;

@@ -92,6 +92,8 @@ impl RecordParams {
             ("scene_path", run.scene_path.display().to_string()),
             ("package_paths", package_paths.join("\n")),
             ("free_base", run.free_base.to_string()),
+            // A recording a script starts later says at which step (see RunRecorder).
+            ("started_at_step", "0".to_owned()),
             ("scripts", run.scripts.to_string()),
             ("dt", run.dt.to_string()),
             ("substeps", run.substeps.to_string()),

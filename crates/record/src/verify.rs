@@ -75,6 +75,9 @@ pub enum VerifyError {
     /// The scene does not load from the attachments.
     #[error("the recorded scene does not load: {0}")]
     Scene(String),
+    /// The recording began after the run's start.
+    #[error("this recording began at step {0} (sim.startRecording); a re-run needs the run from its first step")]
+    StartedMidRun(u64),
     /// The run loaded another scene.
     #[error(
         "the run loaded another scene at step {0} (sim.loadScene/closeScene); only the first scene's files are recorded, so it cannot be re-run"
@@ -284,6 +287,14 @@ impl RecordedRun {
     /// # Errors
     /// The scene does not load, or the run did something a re-run cannot repeat.
     pub fn verify(&self) -> Result<Verdict, VerifyError> {
+        let started = self
+            .metadata
+            .get("started_at_step")
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(0);
+        if started > 0 {
+            return Err(VerifyError::StartedMidRun(started));
+        }
         let model = self.scene_model()?;
         let config = EngineConfig {
             realtime: false,
