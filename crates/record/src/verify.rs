@@ -92,6 +92,8 @@ pub struct RecordedRun {
     pub metadata: BTreeMap<String, String>,
     /// Steps the run took (`gantry_end`).
     pub steps: u64,
+    /// Snapshots the recorder dropped because its writer fell behind (`gantry_end`).
+    pub dropped: u64,
     /// Every attached file, by the path it was read at.
     pub files: Vec<(PathBuf, Vec<u8>)>,
     /// The inputs, in the order they arrived.
@@ -194,6 +196,11 @@ impl RecordedRun {
             .and_then(|m| m.get("steps"))
             .and_then(|s| s.parse().ok())
             .ok_or_else(|| VerifyError::Incomplete("the end of the run is not recorded (`gantry_end`)".to_owned()))?;
+        let dropped = records
+            .get("gantry_end")
+            .and_then(|m| m.get("dropped_snapshots"))
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(0);
         let mut files = Vec::new();
         for index in &summary.attachment_indexes {
             let a = mcap::read::attachment(bytes, index).map_err(unreadable)?;
@@ -217,6 +224,7 @@ impl RecordedRun {
         Ok(Self {
             metadata,
             steps,
+            dropped,
             files,
             inputs,
             state,
@@ -294,6 +302,13 @@ impl RecordedRun {
             .unwrap_or(0);
         if started > 0 {
             return Err(VerifyError::StartedMidRun(started));
+        }
+        if self.dropped > 0 {
+            return Err(VerifyError::Incomplete(format!(
+                "{} snapshots were dropped while recording (the writer fell behind), so the recorded states \
+                 cannot be matched step for step; record with a lower --record-rate",
+                self.dropped
+            )));
         }
         let model = self.scene_model()?;
         let config = EngineConfig {
