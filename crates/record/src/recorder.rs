@@ -446,7 +446,7 @@ fn write_loop<W: Write + Seek>(
 
 /// `e` followed by its causes: the MCAP writer's errors name the operation, their
 /// source the OS error ("No space left on device").
-fn with_causes(e: &dyn std::error::Error) -> String {
+pub(crate) fn with_causes(e: &dyn std::error::Error) -> String {
     let mut out = e.to_string();
     let mut cause = e.source();
     while let Some(c) = cause {

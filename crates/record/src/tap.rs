@@ -13,7 +13,7 @@ use gantry_sim_core::Value;
 use gantry_sim_core::sim::Control;
 
 use crate::input::Input;
-use crate::recorder::{RecordParams, RecordReport, Recorder, RunDescription};
+use crate::recorder::{RecordParams, RecordReport, Recorder, RunDescription, with_causes};
 use crate::snapshot::ImageStream;
 
 /// Records a run through the engine (see the module docs).
@@ -123,22 +123,10 @@ impl RecorderFactory for RunRecorder {
             .collect();
         let mut params = RecordParams::for_run(path.to_path_buf(), rate_hz, self.run.clone()).with_images(images);
         params.metadata.insert("started_at_step".to_owned(), steps.to_string());
-        let recorder = Recorder::create(params).map_err(|e| error_chain(&e))?;
+        let recorder = Recorder::create(params).map_err(|e| with_causes(&e))?;
         tracing::info!("recording to {} (sim.startRecording at step {steps})", path.display());
         Ok(Box::new(RecordTap::new(recorder, sim)))
     }
-}
-
-/// `e` and its sources, for a one-line message.
-fn error_chain(e: &dyn std::error::Error) -> String {
-    let mut out = e.to_string();
-    let mut cause = e.source();
-    while let Some(c) = cause {
-        out.push_str(": ");
-        out.push_str(&c.to_string());
-        cause = c.source();
-    }
-    out
 }
 
 /// The name of a start, pause, stop or single step on `/gantry/input`.
