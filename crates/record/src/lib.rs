@@ -29,7 +29,8 @@ pub mod writer;
 
 pub use input::{INPUT_TOPIC, Input, InputDecodeError};
 pub use recorder::{
-    BATCH, DEFAULT_QUEUE, FORMAT_VERSION, RecordError, RecordParams, RecordReport, Recorder, RunDescription,
+    BATCH, DEFAULT_QUEUE, FLUSH_EVERY, FORMAT_VERSION, RecordError, RecordParams, RecordReport, Recorder,
+    RunDescription,
 };
 pub use snapshot::ImageStream;
 pub use tap::{RecordTap, RunRecorder};

@@ -30,6 +30,12 @@ pub const DEFAULT_QUEUE: usize = 64;
 /// woken once per batch; a batch is at most a second of a 16 Hz recording.
 pub const BATCH: usize = 16;
 
+/// Longest wall-clock time a snapshot waits on the simulation thread for its batch
+/// to fill, and a written message waits in the writer's open chunk: what a process
+/// killed mid-run (power cut, SIGKILL) loses at most, since the chunks before it are
+/// complete on disk and readable without the summary.
+pub const FLUSH_EVERY: std::time::Duration = std::time::Duration::from_secs(1);
+
 /// What to record and where.
 #[derive(Debug, Clone, Default)]
 pub struct RecordParams {
@@ -225,6 +231,8 @@ pub struct Recorder {
     thread: Option<JoinHandle<WriterOutcome>>,
     /// Snapshots not sent yet: the batch being filled.
     pending: Vec<Snapshot>,
+    /// When the last batch was offered.
+    last_offer: std::time::Instant,
     /// Inputs not sent yet. Unlike snapshots they are never dropped (a re-run needs
     /// every one): a batch that does not fit leaves its inputs for the next.
     inputs: Vec<(u64, Input)>,
@@ -271,6 +279,7 @@ impl Recorder {
             tx: Some(tx),
             thread: Some(thread),
             pending: Vec::with_capacity(BATCH),
+            last_offer: std::time::Instant::now(),
             inputs: Vec::new(),
             snapshots: 0,
             dropped: 0,
@@ -288,7 +297,7 @@ impl Recorder {
         };
         self.snapshots += 1;
         self.pending.push(s);
-        if self.pending.len() >= BATCH {
+        if self.pending.len() >= BATCH || self.last_offer.elapsed() >= FLUSH_EVERY {
             let batch = std::mem::replace(&mut self.pending, Vec::with_capacity(BATCH));
             self.offer(batch);
         }
@@ -306,6 +315,7 @@ impl Recorder {
     /// Queues a batch with the pending inputs, or counts its snapshots dropped (the
     /// inputs wait for the next batch).
     fn offer(&mut self, batch: Vec<Snapshot>) {
+        self.last_offer = std::time::Instant::now();
         let Some(tx) = &self.tx else { return };
         let inputs = std::mem::take(&mut self.inputs);
         match tx.try_send(Item::Batch(batch, inputs)) {
@@ -402,7 +412,13 @@ fn write_loop<W: Write + Seek>(
         for a in &params.attachments {
             sink.attach(a)?;
         }
+        let mut last_flush = std::time::Instant::now();
         while let Ok(item) = rx.recv() {
+            if last_flush.elapsed() >= FLUSH_EVERY {
+                // Ends the open chunk: what was recorded so far survives a kill.
+                sink.flush()?;
+                last_flush = std::time::Instant::now();
+            }
             match item {
                 Item::Batch(batch, inputs) => {
                     // In time order: an input at a snapshot's time arrived after that
