@@ -18,9 +18,10 @@ use std::thread::JoinHandle;
 
 use gantry_sim_core::Sim;
 
-use crate::input::Input;
 use crate::snapshot::{ImageStream, LogSample, Sampler, Snapshot};
-use crate::writer::{AttachedFile, McapSink};
+use crate::writer::McapSink;
+use gantry_mcap::format::{AttachedFile, FORMAT_VERSION};
+use gantry_mcap::input::Input;
 
 /// Batches waiting for the writer by default: a few seconds of a busy scene.
 pub const DEFAULT_QUEUE: usize = 64;
@@ -53,11 +54,6 @@ pub struct RecordParams {
     /// Vision sensors whose images are recorded, each at its rate.
     pub images: Vec<ImageStream>,
 }
-
-/// The version of what gantry writes into a recording (channels, metadata, inputs),
-/// in the `gantry` metadata record as `format_version`: a reader refuses files of a
-/// later version rather than misreading them.
-pub const FORMAT_VERSION: u32 = 1;
 
 /// The run a recording holds, for its metadata and attachments.
 #[derive(Debug, Clone, Default)]

@@ -12,9 +12,9 @@ use gantry_script::Simulation;
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::Control;
 
-use crate::input::Input;
 use crate::recorder::{RecordParams, RecordReport, Recorder, RunDescription, with_causes};
 use crate::snapshot::ImageStream;
+use gantry_mcap::input::Input;
 
 /// Records a run through the engine (see the module docs).
 pub struct RecordTap {

@@ -27,10 +27,11 @@ use gantry_sim_core::api::Target;
 use gantry_sim_core::scene::{LoadOptions, MapFiles, SceneModel, load_client_scene, load_scene};
 use gantry_sim_core::sim::Control;
 
-use crate::input::{INPUT_TOPIC, Input};
-use crate::recorder::{FORMAT_VERSION, RecordParams, Recorder};
+use crate::recorder::{RecordParams, Recorder};
 use crate::snapshot::ImageStream;
 use crate::tap::RecordTap;
+use gantry_mcap::format::FORMAT_VERSION;
+use gantry_mcap::input::{INPUT_TOPIC, Input};
 
 /// The topics compared: the simulation's state. `/rosout` is not (log lines may hold
 /// wall-clock times), nor `/gantry/input` (the inputs are what is fed in).
