@@ -14,10 +14,11 @@ mod replay_cmd;
 use std::net::{IpAddr, Ipv4Addr};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
-use gantry_record::{ImageStream, RecordParams, RecordedRun, RunDescription, Verdict};
+use gantry_record::{ImageStream, RecordParams, RecordedRun, RunDescription, RunRecorder, Verdict};
 use gantry_script::{NetworkParams, ScriptLimits, check_syntax, uses_luasocket};
 use gantry_server::http::HttpConfig;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, SimConfig, TextConfig};
@@ -373,14 +374,9 @@ fn run(args: &RunArgs) -> Result<()> {
         package_paths: args.package_paths.clone(),
         free_base: args.free_base,
     };
-    // A recording attaches every file the scene was read from, so it is read through
-    // a log of those files.
-    let (mut model, loaded) = if args.record.is_some() {
-        let (model, loaded) = load_logged(args.scene.as_ref(), &opts)?;
-        (model, Some(loaded))
-    } else {
-        (load(args.scene.as_ref(), &opts)?, None)
-    };
+    // A recording (--record, or a script's sim.startRecording) attaches every file
+    // the scene was read from, so it is read through a log of those files.
+    let (mut model, (scene_path, files)) = load_logged(args.scene.as_ref(), &opts)?;
     if let Some(dt) = args.dt {
         anyhow::ensure!(
             dt.is_finite() && dt > 0.0 && dt <= 1.0,
@@ -437,6 +433,17 @@ fn run(args: &RunArgs) -> Result<()> {
             ..HttpConfig::default()
         },
     };
+    let run = RunDescription {
+        scene_name: model.name.clone(),
+        scene_path,
+        files,
+        package_paths: opts.package_paths.clone(),
+        free_base: opts.free_base,
+        scripts: true,
+        dt: model.settings.dt,
+        substeps: model.settings.substeps,
+        command_line: std::env::args().collect::<Vec<_>>().join(" "),
+    };
     let sim = SimConfig {
         steps: args.steps,
         fast: args.fast,
@@ -453,10 +460,12 @@ fn run(args: &RunArgs) -> Result<()> {
         export_graphs: args.export_graphs.clone(),
         load_options: opts.clone(),
         listeners: None,
-        record: match (&args.record, loaded) {
-            (Some(path), Some(loaded)) => Some(record_params(path, args, &model, &opts, loaded)?),
-            _ => None,
-        },
+        record: args
+            .record
+            .as_ref()
+            .map(|path| record_params(path, args, run.clone()))
+            .transpose()?,
+        recorder_factory: Some(Arc::new(RunRecorder::new(run))),
     };
     let summary = gantry_server::run(model, sim, serve, Shutdown::default(), |bound| {
         // One machine-readable line per listener on stderr, for scripts that start
@@ -504,32 +513,14 @@ fn text_port(args: &RunArgs, model: &SceneModel, default: Option<u16>) -> Option
 }
 
 /// What `--record` writes: the metadata record and, as attachments, every file the
-/// scene was read from (`loaded`: the scene's path and the files, see [`load_logged`]).
-fn record_params(
-    path: &std::path::Path,
-    args: &RunArgs,
-    model: &SceneModel,
-    opts: &LoadOptions,
-    loaded: LoadedFiles,
-) -> Result<RecordParams> {
+/// scene was read from (see [`load_logged`]).
+fn record_params(path: &std::path::Path, args: &RunArgs, run: RunDescription) -> Result<RecordParams> {
     if let Some(r) = args.record_rate {
         anyhow::ensure!(
             r.is_finite() && r > 0.0,
             "--record-rate {r}: snapshots per simulated second must be a positive number"
         );
     }
-    let (scene_path, files) = loaded;
-    let run = RunDescription {
-        scene_name: model.name.clone(),
-        scene_path,
-        files,
-        package_paths: opts.package_paths.clone(),
-        free_base: opts.free_base,
-        scripts: true,
-        dt: model.settings.dt,
-        substeps: model.settings.substeps,
-        command_line: std::env::args().collect::<Vec<_>>().join(" "),
-    };
     Ok(RecordParams::for_run(path.to_path_buf(), args.record_rate, run).with_images(args.record_images.clone()))
 }
 

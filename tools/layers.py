@@ -59,7 +59,7 @@ FLOORS = {
     "crates/script/src": [
         ({"limits", "convert", "listeners", "lua_error", "app_state"}, False),
         ({"sandbox", "running", "directory", "core_cell", "hooks"}, False),
-        ({"threads", "control", "models", "luasocket"}, False),
+        ({"threads", "control", "recording", "models", "luasocket"}, False),
         ({"messages"}, False),
         ({"debugger"}, False),
         ({"budget", "host_api"}, False),

@@ -16,10 +16,10 @@ use std::time::Instant;
 
 use gantry_engine::{ClientId, Due, Engine, EngineConfig, HostCall, RemoteOp};
 use gantry_record::{RecordTap, Recorder};
-use gantry_script::{ScriptError, ScriptLimits};
+use gantry_script::ScriptError;
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, Target};
-use gantry_sim_core::scene::{LoadOptions, SceneModel};
+use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::{Control, SimulationState};
 use pyo3::Python;
 
@@ -61,18 +61,10 @@ impl Direct {
     pub fn new(
         py: Python<'_>,
         model: SceneModel,
-        limits: ScriptLimits,
-        load_options: LoadOptions,
+        config: EngineConfig,
         autostart: bool,
-        realtime: bool,
         recorder: Option<Recorder>,
     ) -> Result<Self, ScriptError> {
-        let config = EngineConfig {
-            limits,
-            load_options,
-            listeners: None,
-            realtime,
-        };
         let mut engine = Engine::new(model, config, None)?;
         if let Some(r) = recorder {
             // Before the start, so that the start is the recording's first input.

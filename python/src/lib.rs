@@ -13,9 +13,11 @@ mod served;
 
 use std::net::IpAddr;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use gantry_engine::HostCall;
-use gantry_record::{RecordParams, Recorder, RunDescription};
+use gantry_engine::{EngineConfig, RecorderFactory};
+use gantry_record::{RecordParams, Recorder, RunDescription, RunRecorder};
 use gantry_script::ScriptLimits;
 use gantry_server::sim_thread::SimConfig;
 use gantry_server::zmq::no_module;
@@ -198,20 +200,19 @@ impl Engine {
         for w in &model.warnings {
             tracing::warn!("{w}");
         }
-        let record = record.map(|path| {
-            let run = RunDescription {
-                scene_name: model.name.clone(),
-                scene_path,
-                files: files_read,
-                package_paths: options.package_paths.clone(),
-                free_base: options.free_base,
-                scripts,
-                dt: model.settings.dt,
-                substeps: model.settings.substeps,
-                command_line: format!("gantry.Client({:?})", scene.as_deref().unwrap_or(Path::new(""))),
-            };
-            RecordParams::for_run(path, record_rate, run)
-        });
+        let run = RunDescription {
+            scene_name: model.name.clone(),
+            scene_path,
+            files: files_read,
+            package_paths: options.package_paths.clone(),
+            free_base: options.free_base,
+            scripts,
+            dt: model.settings.dt,
+            substeps: model.settings.substeps,
+            command_line: format!("gantry.Client({:?})", scene.as_deref().unwrap_or(Path::new(""))),
+        };
+        let record = record.map(|path| RecordParams::for_run(path, record_rate, run.clone()));
+        let recorder_factory: Arc<dyn RecorderFactory> = Arc::new(RunRecorder::new(run));
         let limits = ScriptLimits::default();
         let backend = if http_port.is_some() || zmq_port.is_some() || text_port.is_some() {
             let bind: IpAddr = match bind.as_deref() {
@@ -237,6 +238,7 @@ impl Engine {
                 autostart,
                 load_options: options,
                 record,
+                recorder_factory: Some(recorder_factory),
                 ..SimConfig::default()
             };
             let running = gantry_server::start(model, config, serve, Shutdown::default(), Signals::Leave)
@@ -248,7 +250,14 @@ impl Engine {
                 .map(Recorder::create)
                 .transpose()
                 .map_err(|e| PyValueError::new_err(e.to_string()))?;
-            let d = Direct::new(py, model, limits, options, autostart, realtime, recorder)
+            let config = EngineConfig {
+                limits,
+                load_options: options,
+                listeners: None,
+                realtime,
+                recorder: Some(recorder_factory),
+            };
+            let d = Direct::new(py, model, config, autostart, recorder)
                 .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             Backend::Direct(Box::new(d))
         };

@@ -14,7 +14,9 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use gantry_script::{DebugLink, HookError, Listeners, ScriptError, ScriptLimits, Simulation, StepBoundary};
+use gantry_script::{
+    DebugLink, HookError, Listeners, RecordingRequest, ScriptError, ScriptLimits, Simulation, StepBoundary,
+};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, Target};
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
@@ -24,11 +26,14 @@ use tokio::sync::oneshot;
 use crate::host_call::{LoopControl, RemoteOp};
 use crate::pacing::Pacing;
 use crate::stepping::{ClientId, Stepping, SteppingError};
-use crate::tap::{EngineInput, InputAt, MidStep, Tap};
+use crate::tap::{EngineInput, InputAt, MidStep, RecorderFactory, Tap};
 
 /// How often scripts' `sysCall_nonSimulation` runs while the simulation is stopped:
 /// about 20 times a second, as in CoppeliaSim.
 pub const NON_SIMULATION_PERIOD: Duration = Duration::from_millis(50);
+
+/// CoppeliaSim's `sim.verbosity_errors`: the level of the recorder's error lines.
+const VERBOSITY_ERRORS: i64 = 200;
 
 /// How often script files are checked for changes (hot reload).
 pub const RELOAD_PERIOD: Duration = Duration::from_millis(500);
@@ -45,6 +50,9 @@ pub struct EngineConfig {
     pub listeners: Option<Arc<dyn Listeners>>,
     /// Without stepping clients: advance in real time (true) or as fast as asked.
     pub realtime: bool,
+    /// Starts the recordings scripts ask for (`sim.startRecording`); without it,
+    /// they are refused with a logged error.
+    pub recorder: Option<Arc<dyn RecorderFactory>>,
 }
 
 /// When the next step may be taken (see [`Engine::due`]).
@@ -246,6 +254,7 @@ impl Engine {
         if let Some(t) = &mut self.tap {
             t.stepped(&self.sim, self.steps);
         }
+        self.serve_recording_request();
         let now = Instant::now();
         if self.on_demand() || !self.config.realtime {
             // Stepping on demand: real time resumes from the last step taken.
@@ -370,6 +379,7 @@ impl Engine {
         let before = self.sim.state();
         let out = self.sim.call_target(target, args);
         self.follow_state(before);
+        self.serve_recording_request();
         out
     }
 
@@ -414,13 +424,50 @@ impl Engine {
             .sim
             .call_hook_function("sysCall_packet", std::slice::from_ref(packet));
         self.follow_state(before);
+        self.serve_recording_request();
         out
+    }
+
+    /// Starts or stops the recording a script asked for, if one did. A recording
+    /// that cannot start is an error line in the log (the script's call has returned).
+    fn serve_recording_request(&mut self) {
+        let Some(req) = self.sim.take_recording_request() else {
+            return;
+        };
+        match req {
+            RecordingRequest::Stop => {
+                if let Some(mut t) = self.tap.take() {
+                    t.finish(&self.sim, self.steps);
+                }
+            }
+            RecordingRequest::Start { path, rate_hz, images } => {
+                let started = match &self.config.recorder {
+                    Some(f) => f.start(&self.sim, self.steps, &path, rate_hz, &images),
+                    None => Err("this front end cannot record".to_owned()),
+                };
+                match started {
+                    Ok(tap) => {
+                        if let Some(mut old) = self.tap.replace(tap) {
+                            old.finish(&self.sim, self.steps);
+                        }
+                    }
+                    Err(e) => {
+                        let msg = format!("sim.startRecording: cannot record to {}: {e}", path.display());
+                        tracing::error!("{msg}");
+                        let mut core = self.sim.core_mut();
+                        let t = core.world.time();
+                        core.world.log.push(t, VERBOSITY_ERRORS, "recorder", &msg);
+                    }
+                }
+            }
+        }
     }
 
     /// What happens between steps with time: edited scripts reload (every
     /// [`RELOAD_PERIOD`]) and, while stopped, scripts' `sysCall_nonSimulation` runs
     /// (every [`NON_SIMULATION_PERIOD`]).
     pub fn tick(&mut self, now: Instant) {
+        self.serve_recording_request();
         if now.saturating_duration_since(self.last_reload) >= RELOAD_PERIOD {
             self.last_reload = now;
             self.sim.reload_changed();

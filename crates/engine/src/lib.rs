@@ -24,4 +24,4 @@ pub mod tap;
 pub use engine::{Due, Engine, EngineConfig, NON_SIMULATION_PERIOD, RELOAD_PERIOD};
 pub use host_call::{HostCall, LoopControl, RemoteOp};
 pub use stepping::{ClientId, Stepping, SteppingError};
-pub use tap::{EngineInput, InputAt, MidStep, Tap};
+pub use tap::{EngineInput, InputAt, MidStep, RecorderFactory, Tap};

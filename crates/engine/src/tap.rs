@@ -49,6 +49,23 @@ pub trait Tap: Send {
     fn finish(&mut self, sim: &Simulation, steps: u64);
 }
 
+/// Starts the recordings scripts ask for (`sim.startRecording`): the front end's,
+/// which knows the scene's files and where recordings may go.
+pub trait RecorderFactory: Send + Sync + std::fmt::Debug {
+    /// A tap recording into `path` from now on (the engine has taken `steps` steps).
+    ///
+    /// # Errors
+    /// Why the recording cannot start (the file cannot be created...).
+    fn start(
+        &self,
+        sim: &Simulation,
+        steps: u64,
+        path: &Path,
+        rate_hz: Option<f64>,
+        images: &[(String, f64)],
+    ) -> Result<Box<dyn Tap>, String>;
+}
+
 /// The simulation between two phases of a step, as [`crate::Engine::step_with`] hands
 /// it to the front end: calls and packets served here go through the tap too.
 pub struct MidStep<'a> {

@@ -1,42 +1,34 @@
 //! gantry's run recorder: one MCAP file per run, with ROS 2 messages, readable by
-//! Foxglove, Rerun, `ros2 bag` and the `mcap` and `rosbags` Python packages.
+//! Foxglove, Rerun, `ros2 bag` and the `mcap` and `rosbags` Python packages. What the
+//! file holds and how it is encoded is gantry-mcap (re-exported here); this crate
+//! samples the running simulation and writes.
 //!
-//! - [`cdr`] and [`msg`]: the CDR encoding of the messages (pure, byte-exact tests);
-//! - [`schema`]: their `ros2msg` schema text, with every type they use;
 //! - [`snapshot`]: what the simulation thread takes from the world after a step;
-//! - [`writer`]: snapshots to MCAP messages (zstd chunks, indexed summary);
+//! - [`writer`]: snapshots to MCAP messages (zstd chunks, indexed summary, `/tf_static`);
 //! - [`recorder`]: the writer thread and the bounded queue to it, which drops (and
 //!   counts) rather than ever making the simulation wait;
-//! - [`decode`] and [`reader`]: reading a recording back (`gantry replay`), damaged
-//!   and cut-short files included.
+//! - [`tap`]: the recorder on the engine (every input and step), and the factory that
+//!   starts recordings scripts ask for;
+//! - [`verify`]: `gantry verify`, a recorded run simulated again and compared;
+//! - [`reader`]: reading a recording back (`gantry replay`), damaged and cut-short
+//!   files included, on gantry-mcap's [`decode`], and its scene rebuilt.
 //!
-//! Topics: `/tf` (`tf2_msgs/msg/TFMessage`: every object's pose in its parent's frame,
-//! frame ids the object paths without the leading `/`, roots in `world`),
-//! `/joint_states` (`sensor_msgs/msg/JointState`, every joint of the scene),
-//! `/rosout` (`rcl_interfaces/msg/Log`, script log lines and errors),
-//! `/graph/<graph>/<stream>` (`std_msgs/msg/Float64`) and `/proximity/<sensor>`
-//! (`sensor_msgs/msg/Range`), `/tf_static` (the frames that have not moved) and
-//! `/gantry/input` (what reached the simulation from outside, for `gantry verify`, see
-//! [`input`]). Stamps are simulation time. See docs/recording.md.
+//! See docs/recording.md.
 
-pub mod cdr;
-pub mod decode;
-pub mod input;
-pub mod msg;
 pub mod reader;
 pub mod recorder;
-pub mod schema;
 pub mod snapshot;
 pub mod tap;
 pub mod verify;
 pub mod writer;
 
-pub use input::{INPUT_TOPIC, Input, InputDecodeError};
+pub use gantry_mcap::{
+    AttachedFile, FORMAT_VERSION, INPUT_TOPIC, Input, InputDecodeError, cdr, decode, format, input, msg, schema,
+};
 pub use reader::{ReadError, Recording};
 pub use recorder::{
-    BATCH, DEFAULT_QUEUE, FORMAT_VERSION, RecordError, RecordParams, RecordReport, Recorder, RunDescription,
+    BATCH, DEFAULT_QUEUE, FLUSH_EVERY, RecordError, RecordParams, RecordReport, Recorder, RunDescription,
 };
 pub use snapshot::ImageStream;
-pub use tap::RecordTap;
+pub use tap::{RecordTap, RunRecorder};
 pub use verify::{RecordedRun, Verdict, VerifyError};
-pub use writer::AttachedFile;

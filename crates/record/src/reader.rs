@@ -40,9 +40,8 @@ use gantry_sim_core::scene::{Files, LoadError, LoadOptions, MapFiles, SceneModel
 use mcap::records::op;
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
-use crate::decode;
-use crate::recorder::FORMAT_VERSION;
-use crate::writer::AttachedFile;
+use gantry_mcap::decode;
+use gantry_mcap::{AttachedFile, FORMAT_VERSION};
 
 /// The name of gantry's metadata record.
 pub const METADATA_NAME: &str = "gantry";

@@ -18,9 +18,10 @@ use std::thread::JoinHandle;
 
 use gantry_sim_core::Sim;
 
-use crate::input::Input;
 use crate::snapshot::{ImageStream, LogSample, Sampler, Snapshot};
-use crate::writer::{AttachedFile, McapSink};
+use crate::writer::McapSink;
+use gantry_mcap::format::{AttachedFile, FORMAT_VERSION};
+use gantry_mcap::input::Input;
 
 /// Batches waiting for the writer by default: a few seconds of a busy scene.
 pub const DEFAULT_QUEUE: usize = 64;
@@ -29,6 +30,12 @@ pub const DEFAULT_QUEUE: usize = 64;
 /// encoding a snapshot (tens of microseconds on a loaded virtual machine), so it is
 /// woken once per batch; a batch is at most a second of a 16 Hz recording.
 pub const BATCH: usize = 16;
+
+/// Longest wall-clock time a snapshot waits on the simulation thread for its batch
+/// to fill, and a written message waits in the writer's open chunk: what a process
+/// killed mid-run (power cut, SIGKILL) loses at most, since the chunks before it are
+/// complete on disk and readable without the summary.
+pub const FLUSH_EVERY: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// What to record and where.
 #[derive(Debug, Clone, Default)]
@@ -47,11 +54,6 @@ pub struct RecordParams {
     /// Vision sensors whose images are recorded, each at its rate.
     pub images: Vec<ImageStream>,
 }
-
-/// The version of what gantry writes into a recording (channels, metadata, inputs),
-/// in the `gantry` metadata record as `format_version`: a reader refuses files of a
-/// later version rather than misreading them.
-pub const FORMAT_VERSION: u32 = 1;
 
 /// The run a recording holds, for its metadata and attachments.
 #[derive(Debug, Clone, Default)]
@@ -92,6 +94,8 @@ impl RecordParams {
             ("scene_path", run.scene_path.display().to_string()),
             ("package_paths", package_paths.join("\n")),
             ("free_base", run.free_base.to_string()),
+            // A recording a script starts later says at which step (see RunRecorder).
+            ("started_at_step", "0".to_owned()),
             ("scripts", run.scripts.to_string()),
             ("dt", run.dt.to_string()),
             ("substeps", run.substeps.to_string()),
@@ -223,6 +227,8 @@ pub struct Recorder {
     thread: Option<JoinHandle<WriterOutcome>>,
     /// Snapshots not sent yet: the batch being filled.
     pending: Vec<Snapshot>,
+    /// When the last batch was offered.
+    last_offer: std::time::Instant,
     /// Inputs not sent yet. Unlike snapshots they are never dropped (a re-run needs
     /// every one): a batch that does not fit leaves its inputs for the next.
     inputs: Vec<(u64, Input)>,
@@ -269,6 +275,7 @@ impl Recorder {
             tx: Some(tx),
             thread: Some(thread),
             pending: Vec::with_capacity(BATCH),
+            last_offer: std::time::Instant::now(),
             inputs: Vec::new(),
             snapshots: 0,
             dropped: 0,
@@ -286,7 +293,7 @@ impl Recorder {
         };
         self.snapshots += 1;
         self.pending.push(s);
-        if self.pending.len() >= BATCH {
+        if self.pending.len() >= BATCH || self.last_offer.elapsed() >= FLUSH_EVERY {
             let batch = std::mem::replace(&mut self.pending, Vec::with_capacity(BATCH));
             self.offer(batch);
         }
@@ -304,6 +311,7 @@ impl Recorder {
     /// Queues a batch with the pending inputs, or counts its snapshots dropped (the
     /// inputs wait for the next batch).
     fn offer(&mut self, batch: Vec<Snapshot>) {
+        self.last_offer = std::time::Instant::now();
         let Some(tx) = &self.tx else { return };
         let inputs = std::mem::take(&mut self.inputs);
         match tx.try_send(Item::Batch(batch, inputs)) {
@@ -400,7 +408,13 @@ fn write_loop<W: Write + Seek>(
         for a in &params.attachments {
             sink.attach(a)?;
         }
+        let mut last_flush = std::time::Instant::now();
         while let Ok(item) = rx.recv() {
+            if last_flush.elapsed() >= FLUSH_EVERY {
+                // Ends the open chunk: what was recorded so far survives a kill.
+                sink.flush()?;
+                last_flush = std::time::Instant::now();
+            }
             match item {
                 Item::Batch(batch, inputs) => {
                     // In time order: an input at a snapshot's time arrived after that
@@ -444,7 +458,7 @@ fn write_loop<W: Write + Seek>(
 
 /// `e` followed by its causes: the MCAP writer's errors name the operation, their
 /// source the OS error ("No space left on device").
-fn with_causes(e: &dyn std::error::Error) -> String {
+pub(crate) fn with_causes(e: &dyn std::error::Error) -> String {
     let mut out = e.to_string();
     let mut cause = e.source();
     while let Some(c) = cause {

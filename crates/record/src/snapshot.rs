@@ -13,10 +13,8 @@ use gantry_sim_core::signals::Signals;
 use gantry_sim_core::world::object_path::full_paths;
 use gantry_sim_core::world::{ObjectKind, World};
 
-use crate::msg::nanos_from_secs;
-
-/// The frame of the world, parent of every root object.
-pub const WORLD_FRAME: &str = "world";
+use gantry_mcap::format::topic_name;
+use gantry_mcap::msg::nanos_from_secs;
 
 /// Frame ids by handle: an object's path without its leading `/`
 /// (`bubbleRob/leftMotor`, `wheel[1]` when siblings share an alias). Empty for gaps.
@@ -441,23 +439,6 @@ impl Sampler {
     }
 }
 
-/// A ROS topic name from parts: `/a/b/c`, with every character other than ASCII
-/// letters, digits and `_` replaced by `_` inside a part.
-pub fn topic_name(parts: &[&str]) -> String {
-    let mut out = String::new();
-    for p in parts {
-        out.push('/');
-        if p.is_empty() {
-            out.push('_');
-        }
-        out.extend(
-            p.chars()
-                .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }),
-        );
-    }
-    out
-}
-
 /// Every object's pose relative to its parent, parents first.
 fn poses(world: &World) -> Vec<ObjectPose> {
     let mut out = Vec::with_capacity(world.handles().len());
@@ -533,18 +514,4 @@ fn ranges(world: &World) -> Vec<RangeSample> {
             _ => None,
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn topic_names_keep_to_ros_characters() {
-        assert_eq!(
-            topic_name(&["graph", "robot/graph[1]", "speed (m/s)"]),
-            "/graph/robot_graph_1_/speed__m_s_"
-        );
-        assert_eq!(topic_name(&["proximity", ""]), "/proximity/_");
-    }
 }

@@ -5,13 +5,16 @@
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, PoisonError};
 
-use gantry_engine::{EngineInput, InputAt, LoopControl, Tap};
+use std::path::Path;
+
+use gantry_engine::{EngineInput, InputAt, LoopControl, RecorderFactory, Tap};
 use gantry_script::Simulation;
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::Control;
 
-use crate::input::Input;
-use crate::recorder::{RecordReport, Recorder};
+use crate::recorder::{RecordParams, RecordReport, Recorder, RunDescription, with_causes};
+use crate::snapshot::ImageStream;
+use gantry_mcap::input::Input;
 
 /// Records a run through the engine (see the module docs).
 pub struct RecordTap {
@@ -75,6 +78,54 @@ impl Tap for RecordTap {
                 report(&r);
             }
         }
+    }
+}
+
+/// Starts the recordings scripts ask for (`sim.startRecording`), of the run `run`
+/// describes (its scene's files are attached to each).
+#[derive(Clone)]
+pub struct RunRecorder {
+    run: RunDescription,
+}
+
+impl std::fmt::Debug for RunRecorder {
+    /// The scene and the count of its files, not their bytes.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RunRecorder")
+            .field("scene", &self.run.scene_name)
+            .field("files", &self.run.files.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl RunRecorder {
+    /// Recordings of `run`.
+    pub fn new(run: RunDescription) -> Self {
+        Self { run }
+    }
+}
+
+impl RecorderFactory for RunRecorder {
+    fn start(
+        &self,
+        sim: &Simulation,
+        steps: u64,
+        path: &Path,
+        rate_hz: Option<f64>,
+        images: &[(String, f64)],
+    ) -> Result<Box<dyn Tap>, String> {
+        let images = images
+            .iter()
+            .map(|(sensor, rate_hz)| ImageStream {
+                sensor: sensor.clone(),
+                rate_hz: *rate_hz,
+            })
+            .collect();
+        let mut params = RecordParams::for_run(path.to_path_buf(), rate_hz, self.run.clone()).with_images(images);
+        params.metadata.insert("started_at_step".to_owned(), steps.to_string());
+        let recorder = Recorder::create(params).map_err(|e| with_causes(&e))?;
+        tracing::info!("recording to {} (sim.startRecording at step {steps})", path.display());
+        Ok(Box::new(RecordTap::new(recorder, sim)))
     }
 }
 

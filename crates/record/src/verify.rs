@@ -27,10 +27,11 @@ use gantry_sim_core::api::Target;
 use gantry_sim_core::scene::{LoadOptions, MapFiles, SceneModel, load_client_scene, load_scene};
 use gantry_sim_core::sim::Control;
 
-use crate::input::{INPUT_TOPIC, Input};
-use crate::recorder::{FORMAT_VERSION, RecordParams, Recorder};
+use crate::recorder::{RecordParams, Recorder};
 use crate::snapshot::ImageStream;
 use crate::tap::RecordTap;
+use gantry_mcap::format::FORMAT_VERSION;
+use gantry_mcap::input::{INPUT_TOPIC, Input};
 
 /// The topics compared: the simulation's state. `/rosout` is not (log lines may hold
 /// wall-clock times), nor `/gantry/input` (the inputs are what is fed in).
@@ -75,6 +76,9 @@ pub enum VerifyError {
     /// The scene does not load from the attachments.
     #[error("the recorded scene does not load: {0}")]
     Scene(String),
+    /// The recording began after the run's start.
+    #[error("this recording began at step {0} (sim.startRecording); a re-run needs the run from its first step")]
+    StartedMidRun(u64),
     /// The run loaded another scene.
     #[error(
         "the run loaded another scene at step {0} (sim.loadScene/closeScene); only the first scene's files are recorded, so it cannot be re-run"
@@ -89,6 +93,8 @@ pub struct RecordedRun {
     pub metadata: BTreeMap<String, String>,
     /// Steps the run took (`gantry_end`).
     pub steps: u64,
+    /// Snapshots the recorder dropped because its writer fell behind (`gantry_end`).
+    pub dropped: u64,
     /// Every attached file, by the path it was read at.
     pub files: Vec<(PathBuf, Vec<u8>)>,
     /// The inputs, in the order they arrived.
@@ -191,6 +197,11 @@ impl RecordedRun {
             .and_then(|m| m.get("steps"))
             .and_then(|s| s.parse().ok())
             .ok_or_else(|| VerifyError::Incomplete("the end of the run is not recorded (`gantry_end`)".to_owned()))?;
+        let dropped = records
+            .get("gantry_end")
+            .and_then(|m| m.get("dropped_snapshots"))
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(0);
         let mut files = Vec::new();
         for index in &summary.attachment_indexes {
             let a = mcap::read::attachment(bytes, index).map_err(unreadable)?;
@@ -214,6 +225,7 @@ impl RecordedRun {
         Ok(Self {
             metadata,
             steps,
+            dropped,
             files,
             inputs,
             state,
@@ -284,6 +296,21 @@ impl RecordedRun {
     /// # Errors
     /// The scene does not load, or the run did something a re-run cannot repeat.
     pub fn verify(&self) -> Result<Verdict, VerifyError> {
+        let started = self
+            .metadata
+            .get("started_at_step")
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(0);
+        if started > 0 {
+            return Err(VerifyError::StartedMidRun(started));
+        }
+        if self.dropped > 0 {
+            return Err(VerifyError::Incomplete(format!(
+                "{} snapshots were dropped while recording (the writer fell behind), so the recorded states \
+                 cannot be matched step for step; record with a lower --record-rate",
+                self.dropped
+            )));
+        }
         let model = self.scene_model()?;
         let config = EngineConfig {
             realtime: false,

@@ -12,30 +12,13 @@ use std::sync::Arc;
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, Compression, McapError, WriteOptions, Writer};
 
-use crate::input::{INPUT_TOPIC, Input};
-use crate::msg::{self, LogLevel, Time, TransformStamped};
-use crate::schema::{self, MessageType};
-use crate::snapshot::{LogSample, SignalSample, Snapshot, WORLD_FRAME, topic_name};
-
-/// `/tf`.
-pub const TF_TOPIC: &str = "/tf";
-/// `/joint_states`.
-pub const JOINT_STATES_TOPIC: &str = "/joint_states";
-/// `/rosout`.
-pub const ROSOUT_TOPIC: &str = "/rosout";
-/// `/tf_static`.
-pub const TF_STATIC_TOPIC: &str = "/tf_static";
-
-/// A file attached to the recording (the scene, its scripts).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct AttachedFile {
-    /// Its name in the recording, e.g. `scene.toml` or `scripts/robot.lua`.
-    pub name: String,
-    /// Its media type, e.g. `application/toml`.
-    pub media_type: String,
-    /// Its bytes.
-    pub data: Vec<u8>,
-}
+use crate::snapshot::{LogSample, SignalSample, Snapshot};
+use gantry_mcap::format::{
+    AttachedFile, JOINT_STATES_TOPIC, ROSOUT_TOPIC, TF_STATIC_TOPIC, TF_TOPIC, WORLD_FRAME, topic_name,
+};
+use gantry_mcap::input::{INPUT_TOPIC, Input};
+use gantry_mcap::msg::{self, LogLevel, Time, TransformStamped};
+use gantry_mcap::schema::{self, MessageType};
 
 /// One `geometry_msgs/TransformStamped` of a frame.
 fn transform<'a>(stamp: Time, parent: &'a str, child: &'a str, pose: &[f64; 7]) -> TransformStamped<'a> {

@@ -25,6 +25,7 @@ use crate::listeners::{self, ListenerState};
 use crate::lua_error::error_text;
 use crate::messages;
 use crate::models;
+use crate::recording;
 use crate::running::{Caller, Running};
 use crate::threads;
 
@@ -121,6 +122,7 @@ pub(crate) fn install(lua: &Lua, listeners: &Rc<RefCell<ListenerState>>) -> mlua
     install_script_functions(lua, &sim, &wrap)?;
     messages::install(lua, &sim, &wrap)?;
     models::install(lua, &sim, &wrap)?;
+    recording::install(lua, &sim, &wrap)?;
     control::install(lua, &sim)?;
     threads::install(lua, &sim)
 }

@@ -36,6 +36,7 @@ use crate::lua_error::{ScriptError, error_text};
 use crate::luasocket::{self, Sockets};
 use crate::messages::Mailboxes;
 use crate::models::{self, LoadedModel, ModelLoadError, Models};
+use crate::recording::{PendingRecording, RecordingRequest};
 use crate::running::Running;
 use crate::sandbox::{self, SOURCE_MODE, new_debuggable_state, new_state};
 use crate::scripts::{ScriptSet, ScriptState};
@@ -97,6 +98,7 @@ impl Simulation {
         app_state::install(&lua, Threads::new());
         app_state::install(&lua, Mailboxes::default());
         app_state::install(&lua, PendingControl::default());
+        app_state::install(&lua, PendingRecording::default());
         app_state::install(&lua, Models::default());
         let sockets = Sockets::new(limits.network.clone());
         sockets.clear_interrupt();
@@ -249,6 +251,12 @@ impl Simulation {
             Some(Control::Stop) => self.stop(),
             _ => {}
         }
+    }
+
+    /// What a script last asked of the recorder (`sim.startRecording`,
+    /// `sim.stopRecording`), once: the engine carries it out.
+    pub fn take_recording_request(&self) -> Option<RecordingRequest> {
+        state::<PendingRecording>(&self.lua).take()
     }
 
     /// Pauses: steps are refused until [`Simulation::start`].

@@ -234,6 +234,9 @@ pub struct SimConfig {
     /// Record the run into an MCAP file (`gantry run --record`); [`crate::start`]
     /// creates the file before anything runs.
     pub record: Option<gantry_record::RecordParams>,
+    /// Starts the recordings scripts ask for (`sim.startRecording`); without it they
+    /// are refused.
+    pub recorder_factory: Option<std::sync::Arc<dyn gantry_engine::RecorderFactory>>,
 }
 
 /// What a finished run reports.
@@ -370,6 +373,7 @@ pub fn run_sim_thread_debugged(
             load_options: config.load_options.clone(),
             listeners: config.listeners.clone(),
             realtime: !config.fast,
+            recorder: config.recorder_factory.clone(),
         },
         debug,
     )?;

@@ -9,8 +9,9 @@ use gantry_sim_core::Sim;
 use gantry_sim_core::scene::{LoadOptions, load_bundled};
 
 use super::*;
+use crate::format::WORLD_FRAME;
 use crate::msg::{self, Time, TransformStamped};
-use crate::snapshot::{Sampler, Snapshot, WORLD_FRAME};
+use crate::snapshot::{Sampler, Snapshot};
 use crate::writer::McapSink;
 
 /// A `Write + Seek` whose bytes the test keeps after the writer is dropped.

@@ -21,8 +21,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use gantry_record::Recording;
+use gantry_record::format::{WORLD_FRAME, topic_name};
 use gantry_record::reader::FrameId;
-use gantry_record::snapshot::topic_name;
 use gantry_script::Simulation;
 use gantry_sim_core::Handle;
 use gantry_sim_core::math::{Pose, Vec3, quat_from_array};
@@ -443,7 +443,7 @@ pub fn apply_at(rec: &Recording, map: &[Option<Handle>], t_ns: u64, sim: &mut Si
     }
     let tree = rec.tree_at(t_ns);
     let mut poses: Vec<Option<Pose>> = vec![None; rec.frames().len()];
-    let root = rec.frame_id(gantry_record::snapshot::WORLD_FRAME);
+    let root = rec.frame_id(WORLD_FRAME);
     // Parents usually come first, so one pass places nearly everything; a static frame
     // under a moving one may need another. A frame whose parent never resolves (a
     // cycle, a missing parent) stays unplaced.

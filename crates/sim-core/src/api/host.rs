@@ -163,6 +163,7 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("setStepping", AnyHook, ByFrontEnd(FrontEndFn::SetStepping), Loop),
     f("setThreadAutomaticSwitch", AnyHook, Remote::No, Scripts),
     f("setThreadSwitchTiming", AnyHook, Remote::No, Scripts),
+    f("startRecording", AnyHook, Remote::No, Loop),
     f(
         "startSimulation",
         AnyHook,
@@ -170,6 +171,7 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
         Loop,
     ),
     f("step", ThreadedOnly, ByFrontEnd(FrontEndFn::Step), Loop),
+    f("stopRecording", AnyHook, Remote::No, Loop),
     f("stopSimulation", AnyHook, ByFrontEnd(FrontEndFn::StopSimulation), Loop),
     f("switchThread", ThreadedOnly, Remote::No, Scripts),
     f("wait", ThreadedOnly, Remote::No, Loop),

@@ -13,8 +13,8 @@
 //!
 //! [`schema::INPUT`]: crate::schema::INPUT
 
+use gantry_protocol::Value;
 use gantry_protocol::cbor;
-use gantry_sim_core::Value;
 
 use crate::cdr::{CdrWriter, ENCAPSULATION_LE};
 
