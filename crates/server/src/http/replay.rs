@@ -127,10 +127,7 @@ impl ReplayHub {
             .with(move |s| {
                 let core = s.core();
                 let world = &core.world;
-                let mut by_name: BTreeMap<String, Handle> = BTreeMap::new();
-                for (h, path) in full_paths(world) {
-                    by_name.insert(path.trim_start_matches('/').to_owned(), h);
-                }
+                let by_name = object_names(world);
                 let map: Vec<Option<Handle>> = names.iter().map(|n| by_name.get(n).copied()).collect();
                 let graph_objects: Vec<(String, Handle, String)> = by_name
                     .iter()
@@ -219,6 +216,22 @@ impl ReplayHub {
         j["warnings"] = json!(self.rec.warnings());
         j
     }
+}
+
+/// Every object of `world` by its frame id in recordings (its path without the leading
+/// `/`, as the recorder names it).
+pub fn object_names(world: &gantry_sim_core::World) -> BTreeMap<String, Handle> {
+    full_paths(world)
+        .into_iter()
+        .map(|(h, path)| (path.trim_start_matches('/').to_owned(), h))
+        .collect()
+}
+
+/// The object of each of `rec`'s frames in `world` ([`apply_at`]'s map), by
+/// [`FrameId`]; `None` for frames the scene does not have.
+pub fn frame_handles(rec: &Recording, world: &gantry_sim_core::World) -> Vec<Option<Handle>> {
+    let by_name = object_names(world);
+    rec.frames().iter().map(|n| by_name.get(n).copied()).collect()
 }
 
 /// `{"t":"replay", ...status}`.
