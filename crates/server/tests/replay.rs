@@ -1,7 +1,7 @@
 //! `gantry replay`'s pose setting against the run it replays (issue 31): the showroom
 //! is stepped and recorded, its scene built again with no scripts, and at every
 //! snapshot time (and between two) `apply_at` must put every object at the world pose it
-//! had in the run, the joints at their positions, and the frame it builds must say so.
+//! had in the run and every joint at its recorded position, and build a frame of them.
 
 use std::collections::BTreeMap;
 
@@ -11,6 +11,7 @@ use gantry_server::http::replay::{apply_at, frame_handles};
 use gantry_sim_core::Sim;
 use gantry_sim_core::math::Pose;
 use gantry_sim_core::scene::{LoadOptions, load_bundled};
+use gantry_sim_core::world::ObjectKind;
 
 fn showroom() -> gantry_sim_core::scene::SceneModel {
     load_bundled("showroom", &LoadOptions::default())
@@ -83,6 +84,16 @@ fn every_object_is_where_the_run_had_it() {
                 assert!(close(&got[name], pose), "{name} at {at} ns: {} vs {}", got[name], pose);
             }
             assert_eq!(frame.poses.len(), replay.core().world.handles().len());
+            // The joints are where /joint_states had them (rad or m).
+            let js = recording.joints_at(at).expect("joint states");
+            let core = replay.core();
+            for (&name, &q) in js.names.iter().zip(&js.position) {
+                let h = map[name.0 as usize].expect("a joint of the scene");
+                match &core.world.object(h).expect("object").kind {
+                    ObjectKind::Joint(j) => assert_eq!(j.position, q, "{}", recording.frame_name(name)),
+                    other => panic!("{} is a {}", recording.frame_name(name), other.name()),
+                }
+            }
         }
     }
 }
