@@ -6,7 +6,9 @@
 //!   and [`decode`]: their decoding (total, bounded), for reading recordings back;
 //! - [`schema`]: their `ros2msg` schema text, with every type they use;
 //! - [`input`]: what reached the simulation from outside (`/gantry/input`);
-//! - [`format`]: the format's version, fixed topics, topic naming, attachments.
+//! - [`format`]: the format's version, fixed topics, topic naming, attachments;
+//! - [`decode`] and [`reader`]: reading a recording back (`gantry replay`, `gantry
+//!   verify`), damaged and cut-short files included.
 //!
 //! Topics: `/tf` (`tf2_msgs/msg/TFMessage`: every moving object's pose in its parent's
 //! frame, frame ids the object paths without the leading `/`, roots in `world`),
@@ -22,7 +24,9 @@ pub mod decode;
 pub mod format;
 pub mod input;
 pub mod msg;
+pub mod reader;
 pub mod schema;
 
 pub use format::{AttachedFile, FORMAT_VERSION};
 pub use input::{INPUT_TOPIC, Input, InputDecodeError};
+pub use reader::{ReadError, Recording};

@@ -15,7 +15,6 @@
 //!
 //! See docs/recording.md.
 
-pub mod reader;
 pub mod recorder;
 pub mod snapshot;
 pub mod tap;
@@ -23,9 +22,9 @@ pub mod verify;
 pub mod writer;
 
 pub use gantry_mcap::{
-    AttachedFile, FORMAT_VERSION, INPUT_TOPIC, Input, InputDecodeError, cdr, decode, format, input, msg, schema,
+    AttachedFile, FORMAT_VERSION, INPUT_TOPIC, Input, InputDecodeError, ReadError, Recording, cdr, decode, format,
+    input, msg, reader, schema,
 };
-pub use reader::{ReadError, Recording};
 pub use recorder::{
     BATCH, DEFAULT_QUEUE, FLUSH_EVERY, RecordError, RecordParams, RecordReport, Recorder, RunDescription,
 };

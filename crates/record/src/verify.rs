@@ -22,12 +22,14 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
 
 use gantry_engine::{Engine, EngineConfig, LoopControl, MidStep};
+use gantry_mcap::AttachedFile;
+use gantry_mcap::reader::scene_from_files;
 use gantry_sim_core::Value;
 use gantry_sim_core::api::Target;
-use gantry_sim_core::scene::{LoadOptions, MapFiles, SceneModel, load_client_scene, load_scene};
+use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::Control;
 
-use crate::recorder::{RecordParams, Recorder};
+use crate::recorder::{RecordParams, Recorder, with_causes};
 use crate::snapshot::ImageStream;
 use crate::tap::RecordTap;
 use gantry_mcap::format::FORMAT_VERSION;
@@ -95,8 +97,8 @@ pub struct RecordedRun {
     pub steps: u64,
     /// Snapshots the recorder dropped because its writer fell behind (`gantry_end`).
     pub dropped: u64,
-    /// Every attached file, by the path it was read at.
-    pub files: Vec<(PathBuf, Vec<u8>)>,
+    /// Every attached file, named by the path it was read at.
+    pub files: Vec<AttachedFile>,
     /// The inputs, in the order they arrived.
     pub inputs: Vec<Input>,
     /// The state topics' messages `(log time ns, CDR bytes)`, by topic.
@@ -205,7 +207,11 @@ impl RecordedRun {
         let mut files = Vec::new();
         for index in &summary.attachment_indexes {
             let a = mcap::read::attachment(bytes, index).map_err(unreadable)?;
-            files.push((PathBuf::from(a.name), a.data.into_owned()));
+            files.push(AttachedFile {
+                name: a.name,
+                media_type: a.media_type,
+                data: a.data.into_owned(),
+            });
         }
         let mut inputs = Vec::new();
         let mut state: BTreeMap<String, Vec<(u64, Vec<u8>)>> = BTreeMap::new();
@@ -232,43 +238,14 @@ impl RecordedRun {
         })
     }
 
-    /// The recorded scene, loaded from the attachments as the run loaded it.
+    /// The recorded scene, loaded from the attachments as the run loaded it (the
+    /// reader's [`scene_from_files`], which `gantry replay` uses too).
     ///
     /// # Errors
-    /// The scene's path is not recorded, or it does not load from the attachments.
+    /// The scene file is not attached, or does not load.
     pub fn scene_model(&self) -> Result<SceneModel, VerifyError> {
-        let scene_path = self.metadata.get("scene_path").ok_or_else(|| {
-            VerifyError::Incomplete(
-                "the scene's path is not recorded (a recording from before gantry verify)".to_owned(),
-            )
-        })?;
-        let opts = LoadOptions {
-            package_paths: self
-                .metadata
-                .get("package_paths")
-                .map(|p| p.lines().filter(|l| !l.is_empty()).map(PathBuf::from).collect())
-                .unwrap_or_default(),
-            free_base: self.metadata.get("free_base").is_some_and(|b| b == "true"),
-        };
-        let files = MapFiles::new(self.files.iter().cloned());
-        // An empty path: the run began with an empty scene (`gantry.Client()`).
-        let loaded = if scene_path.is_empty() {
-            load_client_scene(None, &opts)
-        } else {
-            load_scene(&files, Path::new(scene_path), &opts)
-        };
-        let mut model = loaded.map_err(|e| VerifyError::Scene(e.to_string()))?;
-        if self.metadata.get("scripts").is_some_and(|s| s == "false") {
-            model.scripts.clear();
-        }
-        let number = |key: &str| self.metadata.get(key).and_then(|v| v.parse::<f64>().ok());
-        if let Some(dt) = number("dt") {
-            model.settings.dt = dt;
-        }
-        if let Some(n) = self.metadata.get("substeps").and_then(|v| v.parse().ok()) {
-            model.settings.substeps = n;
-        }
-        Ok(model)
+        scene_from_files(Path::new("(recording)"), &self.metadata, &self.files)
+            .map_err(|e| VerifyError::Scene(with_causes(&e)))
     }
 
     /// Snapshots per simulated second the run was recorded at (`None`: every step).

@@ -36,12 +36,14 @@ use std::collections::{BTreeMap, HashMap};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use gantry_sim_core::scene::{Files, LoadError, LoadOptions, MapFiles, SceneModel, load_bundled, load_scene};
+use gantry_scene::scene::{
+    Files, LoadError, LoadOptions, MapFiles, SceneModel, load_bundled, load_client_scene, load_scene,
+};
 use mcap::records::op;
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
-use gantry_mcap::decode;
-use gantry_mcap::{AttachedFile, FORMAT_VERSION};
+use crate::decode;
+use crate::format::{AttachedFile, FORMAT_VERSION};
 
 /// The name of gantry's metadata record.
 pub const METADATA_NAME: &str = "gantry";
@@ -733,6 +735,12 @@ impl Recording {
         self.complete
     }
 
+    /// The byte ranges of the file's chunk records, in file order (to locate damage,
+    /// or cut a file between chunks).
+    pub fn chunk_ranges(&self) -> &[Range<usize>] {
+        &self.chunks
+    }
+
     /// Time ranges (ns, inclusive) of damaged chunks whose messages are lost.
     pub fn lost(&self) -> &[(u64, u64)] {
         &self.lost
@@ -858,94 +866,106 @@ impl Recording {
         }
     }
 
-    /// The scene of the recording, rebuilt from its attachments alone: the files the
-    /// loader read at the start (named by the path they were read at), loaded as they
-    /// were, with the recorded `dt` and `substeps`. Recordings made before the whole
-    /// scene was attached (the scene file and scripts only, named relative to the
-    /// scene) load when those files are enough (a TOML scene whose meshes are
-    /// primitives, or the bundled showroom).
+    /// The recorded scene, loaded from the attachments as the run loaded it, with the
+    /// recorded time step and substeps (see [`scene_from_files`]).
     ///
     /// # Errors
-    /// The scene is not in the recording, or does not load from what is.
+    /// The scene file is not attached, or does not load.
     pub fn scene_model(&self) -> Result<SceneModel, ReadError> {
-        let meta = &self.metadata;
-        let opts = LoadOptions {
-            package_paths: meta
-                .get("package_paths")
-                .map(|p| p.lines().filter(|l| !l.is_empty()).map(PathBuf::from).collect())
-                .unwrap_or_default(),
-            free_base: meta.get("free_base").is_some_and(|v| v == "true"),
-        };
-        let (files, scene) = match meta.get("scene_path") {
-            Some(scene) => (
-                MapFiles::new(
-                    self.attachments
-                        .iter()
-                        .map(|a| (PathBuf::from(&a.name), a.data.clone())),
-                ),
-                PathBuf::from(scene),
-            ),
-            None if meta.get("scene_file").is_some_and(|f| f == "(bundled showroom)") => {
-                let model = load_bundled("showroom", &opts)
-                    .ok_or_else(|| ReadError::SceneMissing {
-                        path: self.path.clone(),
-                        reason: "it was recorded on the bundled showroom, which this gantry does not have".into(),
-                    })?
-                    .map_err(|source| ReadError::Scene {
-                        path: self.path.clone(),
-                        scene: "showroom".into(),
-                        source: Box::new(source),
-                    })?;
-                return Ok(self.with_settings(model));
-            }
-            None => {
-                // Older recordings: the scene file first, then its scripts named
-                // relative to it; put them under one made-up folder.
-                let root = Path::new("/recording");
-                let first = self.attachments.first().ok_or_else(|| ReadError::SceneMissing {
-                    path: self.path.clone(),
-                    reason: "it has no attachments (the scene file is missing)".into(),
-                })?;
-                (
-                    MapFiles::new(self.attachments.iter().map(|a| (root.join(&a.name), a.data.clone()))),
-                    root.join(&first.name),
-                )
-            }
-        };
-        if !files.is_file(&scene) {
-            return Err(ReadError::SceneMissing {
-                path: self.path.clone(),
-                reason: format!("the scene file {} is not attached", scene.display()),
-            });
-        }
-        let model = load_scene(&files, &scene, &opts).map_err(|source| ReadError::Scene {
-            path: self.path.clone(),
-            scene: scene.display().to_string(),
-            source: Box::new(source),
-        })?;
-        Ok(self.with_settings(model))
+        scene_from_files(&self.path, &self.metadata, &self.attachments)
     }
+}
 
-    /// `model` with the recorded time step and substeps (command-line overrides of the
-    /// run included).
-    fn with_settings(&self, mut model: SceneModel) -> SceneModel {
-        let meta = &self.metadata;
-        if let Some(dt) = meta
-            .get("dt")
-            .and_then(|v| v.parse::<f64>().ok())
-            .filter(|d| d.is_finite() && *d > 0.0)
-        {
-            model.settings.dt = dt;
+/// The scene of a recording from its `gantry` metadata record and its attachments:
+/// every file the loader read, at the path it read it (`scene_path` names the scene;
+/// an empty one is the empty scene of `gantry.Client()`), with the recorded package
+/// paths, `free_base`, time step and substeps, and without its scripts when the run had
+/// none (`scripts = false`). Older recordings name no `scene_path`: the bundled
+/// showroom, or the first attachment with the scripts named relative to it. `path`
+/// names the recording in errors.
+///
+/// # Errors
+/// The scene file is not attached, or does not load.
+pub fn scene_from_files(
+    path: &Path,
+    meta: &BTreeMap<String, String>,
+    attachments: &[AttachedFile],
+) -> Result<SceneModel, ReadError> {
+    let opts = LoadOptions {
+        package_paths: meta
+            .get("package_paths")
+            .map(|p| p.lines().filter(|l| !l.is_empty()).map(PathBuf::from).collect())
+            .unwrap_or_default(),
+        free_base: meta.get("free_base").is_some_and(|v| v == "true"),
+    };
+    let scene_error = |scene: String, source: LoadError| ReadError::Scene {
+        path: path.to_path_buf(),
+        scene,
+        source: Box::new(source),
+    };
+    let (files, scene) = match meta.get("scene_path") {
+        Some(scene) if scene.is_empty() => {
+            let model = load_client_scene(None, &opts).map_err(|e| scene_error("(empty scene)".into(), e))?;
+            return Ok(with_settings(meta, model));
         }
-        if let Some(n) = meta
-            .get("substeps")
-            .and_then(|v| v.parse::<u32>().ok())
-            .filter(|n| *n > 0)
-        {
-            model.settings.substeps = n;
+        Some(scene) => (
+            MapFiles::new(attachments.iter().map(|a| (PathBuf::from(&a.name), a.data.clone()))),
+            PathBuf::from(scene),
+        ),
+        None if meta.get("scene_file").is_some_and(|f| f == "(bundled showroom)") => {
+            let model = load_bundled("showroom", &opts)
+                .ok_or_else(|| ReadError::SceneMissing {
+                    path: path.to_path_buf(),
+                    reason: "it was recorded on the bundled showroom, which this gantry does not have".into(),
+                })?
+                .map_err(|e| scene_error("showroom".into(), e))?;
+            return Ok(with_settings(meta, model));
         }
-        model
+        None => {
+            // Older recordings: the scene file first, then its scripts named
+            // relative to it; put them under one made-up folder.
+            let root = Path::new("/recording");
+            let first = attachments.first().ok_or_else(|| ReadError::SceneMissing {
+                path: path.to_path_buf(),
+                reason: "it has no attachments (the scene file is missing)".into(),
+            })?;
+            (
+                MapFiles::new(attachments.iter().map(|a| (root.join(&a.name), a.data.clone()))),
+                root.join(&first.name),
+            )
+        }
+    };
+    if !files.is_file(&scene) {
+        return Err(ReadError::SceneMissing {
+            path: path.to_path_buf(),
+            reason: format!("the scene file {} is not attached", scene.display()),
+        });
     }
+    let model = load_scene(&files, &scene, &opts).map_err(|e| scene_error(scene.display().to_string(), e))?;
+    Ok(with_settings(meta, model))
+}
+
+/// `model` with the recorded time step and substeps (command-line overrides of the
+/// run included), and without scripts when the run had none.
+fn with_settings(meta: &BTreeMap<String, String>, mut model: SceneModel) -> SceneModel {
+    if let Some(dt) = meta
+        .get("dt")
+        .and_then(|v| v.parse::<f64>().ok())
+        .filter(|d| d.is_finite() && *d > 0.0)
+    {
+        model.settings.dt = dt;
+    }
+    if let Some(n) = meta
+        .get("substeps")
+        .and_then(|v| v.parse::<u32>().ok())
+        .filter(|n| *n > 0)
+    {
+        model.settings.substeps = n;
+    }
+    if meta.get("scripts").is_some_and(|v| v == "false") {
+        model.scripts.clear();
+    }
+    model
 }
 
 /// Where the messages being read come from, for [`ImageAt`].
@@ -1080,6 +1100,3 @@ fn latest<T>(list: &[T], t: u64, time: impl Fn(&T) -> u64) -> Option<&T> {
 fn stamp_ns(t: crate::msg::Time) -> u64 {
     u64::try_from(t.sec).unwrap_or(0) * 1_000_000_000 + u64::from(t.nanosec)
 }
-
-#[cfg(test)]
-mod tests;

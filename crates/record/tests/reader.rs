@@ -1,18 +1,19 @@
-//! The reader against files the writer produced: read back exactly, cut short, damaged,
-//! foreign, and from a newer gantry.
+//! The reader (gantry-mcap) against files the recorder's writer produced: read back
+//! exactly, cut short, damaged, foreign, and from a newer gantry.
 
 use std::collections::BTreeMap;
 use std::io::{Cursor, Seek, SeekFrom, Write};
+use std::path::Path;
 use std::sync::{Arc, Mutex};
 
+use gantry_record::format::WORLD_FRAME;
+use gantry_record::msg::{self, Time, TransformStamped};
+use gantry_record::reader::{METADATA_NAME, scene_from_files};
+use gantry_record::snapshot::{Sampler, Snapshot};
+use gantry_record::writer::McapSink;
+use gantry_record::{AttachedFile, ReadError, Recording};
 use gantry_sim_core::Sim;
 use gantry_sim_core::scene::{LoadOptions, load_bundled};
-
-use super::*;
-use crate::format::WORLD_FRAME;
-use crate::msg::{self, Time, TransformStamped};
-use crate::snapshot::{Sampler, Snapshot};
-use crate::writer::McapSink;
 
 /// A `Write + Seek` whose bytes the test keeps after the writer is dropped.
 #[derive(Clone, Default)]
@@ -133,7 +134,11 @@ fn a_recording_reads_back_exactly() {
     let rec = open(bytes).expect("reads");
     assert!(rec.is_complete());
     assert!(rec.warnings().is_empty(), "{:?}", rec.warnings());
-    assert!(rec.chunks.len() >= 2, "several chunks: {}", rec.chunks.len());
+    assert!(
+        rec.chunk_ranges().len() >= 2,
+        "several chunks: {}",
+        rec.chunk_ranges().len()
+    );
     assert_eq!(rec.metadata()["dt"], "0.05");
     assert_eq!(rec.attachments().len(), 1);
     assert_eq!(rec.attachments()[0].data, b"# the scene");
@@ -174,13 +179,13 @@ fn graphs_logs_and_tf_static_are_read_and_overlaid() {
         metadata: gantry_metadata(&[]),
     })
     .expect("metadata");
-    let schema = |w: &mut mcap::Writer<SharedBuf>, ty: &crate::schema::MessageType| {
+    let schema = |w: &mut mcap::Writer<SharedBuf>, ty: &gantry_record::schema::MessageType| {
         w.add_schema(ty.name, "ros2msg", ty.schema_text().as_bytes())
             .expect("schema")
     };
-    let tf_schema = schema(&mut w, &crate::schema::TF_MESSAGE);
-    let f64_schema = schema(&mut w, &crate::schema::FLOAT64);
-    let log_schema = schema(&mut w, &crate::schema::LOG);
+    let tf_schema = schema(&mut w, &gantry_record::schema::TF_MESSAGE);
+    let f64_schema = schema(&mut w, &gantry_record::schema::FLOAT64);
+    let log_schema = schema(&mut w, &gantry_record::schema::LOG);
     let none = BTreeMap::new();
     let tf = w.add_channel(tf_schema, "/tf", "cdr", &none).expect("channel");
     let tf_static = w.add_channel(tf_schema, "/tf_static", "cdr", &none).expect("channel");
@@ -264,20 +269,20 @@ fn a_file_cut_anywhere_reads_its_complete_chunks_or_says_it_cannot() {
     // write the metadata outside chunks); the first cut that reads is the end of the
     // first chunk with a snapshot.
     let first_chunk_end = full
-        .chunks
+        .chunk_ranges()
         .iter()
         .map(|c| c.end)
         .find(|&e| open(&bytes[..e]).is_ok())
         .expect("a chunk with a snapshot");
-    assert!(full.chunks.len() >= 4, "chunks: {}", full.chunks.len());
+    assert!(full.chunk_ranges().len() >= 4, "chunks: {}", full.chunk_ranges().len());
     let mut cuts = vec![
         bytes.len() - 1,
         bytes.len() - 40,
-        full.chunks[1].start + 100,
-        full.chunks[1].start,
+        full.chunk_ranges()[1].start + 100,
+        full.chunk_ranges()[1].start,
         first_chunk_end,
         first_chunk_end - 1,
-        full.chunks[0].start,
+        full.chunk_ranges()[0].start,
         200,
         8,
     ];
@@ -286,7 +291,7 @@ fn a_file_cut_anywhere_reads_its_complete_chunks_or_says_it_cannot() {
         match open(&bytes[..cut]) {
             Ok(rec) => {
                 assert!(cut >= first_chunk_end, "cut at {cut}: nothing complete to read");
-                if cut < full.bytes.len() - 30 {
+                if cut < bytes.len() - 30 {
                     assert!(!rec.is_complete(), "cut at {cut}");
                     assert!(
                         rec.warnings().iter().any(|w| w.contains("cut short")),
@@ -317,7 +322,7 @@ fn a_damaged_chunk_loses_its_time_range_and_the_rest_reads() {
     let (bytes, written) = showroom_file();
     let full = open(bytes).expect("reads");
     // A chunk in the middle: neither the first snapshot's nor the last one's.
-    let chunk = full.chunks[full.chunks.len() - 2].clone();
+    let chunk = full.chunk_ranges()[full.chunk_ranges().len() - 2].clone();
     // The chunk record: opcode, length, then its header: start and end times, then the
     // uncompressed size, whose top byte set claims petabytes.
     let size_top_byte = chunk.start + 9 + 16 + 7;
@@ -426,15 +431,11 @@ fn a_recording_from_a_newer_gantry_is_refused_naming_both_versions() {
 
 #[test]
 fn the_scene_is_rebuilt_from_the_attachments() {
-    let rec = |metadata: BTreeMap<String, String>, attachments: Vec<AttachedFile>| Recording {
-        metadata,
-        attachments,
-        ..open(&showroom_file().0).expect("reads")
+    let scene_of = |metadata: BTreeMap<String, String>, attachments: Vec<AttachedFile>| {
+        scene_from_files(Path::new("test.mcap"), &metadata, &attachments)
     };
     // The bundled showroom of an older recording.
-    let model = rec(gantry_metadata(&[("dt", "0.02")]), Vec::new())
-        .scene_model()
-        .expect("loads");
+    let model = scene_of(gantry_metadata(&[("dt", "0.02")]), Vec::new()).expect("loads");
     assert_eq!(model.settings.dt, 0.02);
     assert!(model.objects.len() > 20);
     // A scene named by the path it was read at, with its files.
@@ -444,16 +445,14 @@ fn the_scene_is_rebuilt_from_the_attachments() {
         media_type: "application/toml".into(),
         data: scene.as_bytes().to_vec(),
     }];
-    let r = rec(gantry_metadata(&[("scene_path", "/home/u/sim/s.toml")]), files.clone());
-    let model = r.scene_model().expect("loads");
+    let model = scene_of(gantry_metadata(&[("scene_path", "/home/u/sim/s.toml")]), files.clone()).expect("loads");
     assert!(
         model.objects.iter().any(|o| o.alias == "crate"),
         "{:?}",
         model.objects.len()
     );
     // A scene file that is not attached.
-    let r = rec(gantry_metadata(&[("scene_path", "/elsewhere.toml")]), files);
-    let e = r.scene_model().expect_err("missing");
+    let e = scene_of(gantry_metadata(&[("scene_path", "/elsewhere.toml")]), files).expect_err("missing");
     assert!(e.to_string().contains("is not attached"), "{e}");
 }
 
