@@ -426,21 +426,18 @@ fn draw_visual(
                 continue;
             };
             let (oa, ob, oc) = (a.code, b.code, c.code);
-            if oa & ob & oc != 0 {
+            // Skipped: wholly outside one plane, or wholly inside and covering no
+            // pixel centre (most triangles of a vendor mesh in a small image), where
+            // `fill` would draw nothing (the same test as its bounding box, on the same
+            // values). One branch for all of it: separate ones were mispredicted often
+            // enough to be a third of a frame.
+            let [xa, ya, _] = a.screen;
+            let [xb, yb, _] = b.screen;
+            let [xc, yc, _] = c.screen;
+            let covers = may_cover(xa.min(xb).min(xc), xa.max(xb).max(xc), target.width)
+                & may_cover(ya.min(yb).min(yc), ya.max(yb).max(yc), target.height);
+            if (oa & ob & oc != 0) | ((oa | ob | oc == 0) & !covers) {
                 continue;
-            }
-            // Wholly inside and covering no pixel centre (most triangles of a vendor
-            // mesh in a small image): `fill` would draw nothing, so skip the light and
-            // the call. The same test as `fill`'s bounding box, on the same values.
-            if oa | ob | oc == 0 {
-                let [xa, ya, _] = a.screen;
-                let [xb, yb, _] = b.screen;
-                let [xc, yc, _] = c.screen;
-                if !may_cover(xa.min(xb).min(xc), xa.max(xb).max(xc), target.width)
-                    || !may_cover(ya.min(yb).min(yc), ya.max(yb).max(yc), target.height)
-                {
-                    continue;
-                }
             }
             // Flat shading: the face's light at all three corners.
             if let Some(&n) = faces.and_then(|f| f.get(k)) {
@@ -477,23 +474,16 @@ fn draw_visual(
 }
 
 /// Whether `fill`'s span of pixel centres `k + 0.5` (`0 <= k < n`) between `lo` and
-/// `hi` (pixels) is not empty: `ceil(lo - 0.5) <= floor(hi - 0.5)` within the image,
-/// computed with casts (`ceil` and `floor` are library calls on baseline x86-64). Any
-/// answer is right for a triangle with a NaN coordinate: its area is NaN, and `fill`
-/// draws nothing.
-#[inline]
+/// `hi` (pixels) is not empty: `ceil(max(lo - 0.5, 0)) <= floor(min(hi - 0.5, n - 1))`
+/// with `hi - 0.5 >= 0`, computed without branches and with casts (`ceil` and `floor`
+/// are library calls on baseline x86-64; the truncation of a non-negative number is
+/// its floor, and an integer at least `a` is at least `ceil(a)`). Any answer is right
+/// for a triangle with a NaN coordinate: its area is NaN, and `fill` draws nothing.
+#[inline(always)]
 fn may_cover(lo: f32, hi: f32, n: usize) -> bool {
-    let (a, b) = (lo - 0.5, hi - 0.5);
-    if b < 0.0 || a > (n - 1) as f32 {
-        return false;
-    }
-    if a <= 0.0 {
-        // Centre 0: b >= 0 here.
-        return true;
-    }
-    // 0 < a <= b: an integer in [a, b] exists iff floor(b) >= a, and floor(b) is the
-    // truncation of a positive b (saturating far beyond any image).
-    !((b as u32 as f32) < a)
+    let a = (lo - 0.5).max(0.0);
+    let b = (hi - 0.5).min((n - 1) as f32);
+    (hi - 0.5 >= 0.0) & (b as i32 as f32 >= a)
 }
 
 /// A chunk vertex's screen vertex, exactly as [`project`] computes it from the camera
