@@ -324,9 +324,8 @@ pub(crate) fn render(
         draw_visual(
             cam,
             sampled.as_ref(),
-            &(cam_from_world * item.pose),
-            &item.pose,
-            item.visual,
+            &cam_from_world,
+            item,
             &mut scratch.vertices,
             &mut target,
             &mut scratch.stats,
@@ -368,14 +367,14 @@ fn rows(p: &Pose) -> ([[f32; 3]; 3], [f32; 3]) {
 fn draw_visual(
     cam: &Camera,
     sampled: Option<&Camera>,
-    cam_pose: &Pose,
-    world_pose: &Pose,
-    v: &CachedVisual,
+    cam_from_world: &Pose,
+    item: &DrawItem<'_>,
     vertices: &mut Vec<ChunkVertex>,
     target: &mut Target<'_>,
     stats: &mut RenderStats,
 ) {
-    let (r, t) = rows(cam_pose);
+    let (world_pose, v) = (&item.pose, item.visual);
+    let (r, t) = rows(&(cam_from_world * world_pose));
     let xf = |p: [f32; 3]| [dot(r[0], p) + t[0], dot(r[1], p) + t[1], dot(r[2], p) + t[2]];
     let mesh = &v.mesh;
     if let Some(s) = sampled

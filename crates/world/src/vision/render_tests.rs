@@ -56,10 +56,14 @@ fn bumpy_sphere_obj() -> String {
     s
 }
 
+/// A test sensor: name, `[width, height]` (px), projection, view angle (degrees) or
+/// ortho size (m), near and far (m).
+type SensorSpec = (&'static str, [u32; 2], &'static str, f64, f64, f64);
+
 /// Sensors of the scene below: name, resolution, projection, view angle (degrees) or
 /// ortho size (m), near and far (m). Sizes 1 x 1 (the sampled frustum is one ray) to
 /// 97 x 61; near planes far enough out that shapes straddle them.
-const SENSORS: [(&str, [u32; 2], &str, f64, f64, f64); 6] = [
+const SENSORS: [SensorSpec; 6] = [
     ("one", [1, 1], "perspective", 60.0, 0.01, 6.0),
     ("tiny", [3, 2], "perspective", 90.0, 0.2, 5.0),
     ("wide", [97, 61], "perspective", 120.0, 0.05, 8.0),
@@ -139,7 +143,7 @@ fn image(states: &VisionStates, h: Handle) -> (Vec<u8>, Vec<u32>) {
 /// random shape so that views are full of geometry, partly in view and partly not.
 fn random_pose(rng: &mut Rng, targets: &[Pose]) -> Pose {
     let eye = Vector3::new(rng.range(-3.5, 3.5), rng.range(-3.5, 3.5), rng.range(-0.3, 2.5));
-    let rotation = if rng.next() % 3 == 0 {
+    let rotation = if rng.next().is_multiple_of(3) {
         let t = targets[(rng.next() % targets.len() as u64) as usize].translation.vector;
         // +Z (the viewing axis) onto the direction to the target, rolled at random.
         let dir = t - eye;
