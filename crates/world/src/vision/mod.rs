@@ -214,6 +214,7 @@ impl VisionStates {
     }
 
     fn render(&mut self, world: &World, h: Handle) -> Result<(), SimError> {
+        // One handle in, one outcome out.
         self.render_many(world, &[h], 1).pop().unwrap_or(Ok(()))
     }
 
@@ -244,7 +245,6 @@ impl VisionStates {
                         s = SensorImage::new(model.resolution);
                     }
                     jobs.push(Job {
-                        at: outcomes.len(),
                         handle: h,
                         cam,
                         pose,
@@ -297,7 +297,6 @@ impl VisionStates {
                 packets: vec![job.packet1.to_vec()],
             });
             sensors.insert(job.handle, s);
-            debug_assert!(outcomes[job.at].is_ok());
         }
         outcomes
     }
@@ -305,8 +304,6 @@ impl VisionStates {
 
 /// One sensor to render in [`VisionStates::render_many`].
 struct Job {
-    /// Index of the sensor in the caller's list.
-    at: usize,
     handle: Handle,
     cam: raster::Camera,
     /// The sensor's world pose.
