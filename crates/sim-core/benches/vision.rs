@@ -5,12 +5,12 @@
 //! Prints one Markdown table. Figures are medians over a few hundred frames on this
 //! machine, after a warm-up frame that fills the tessellation cache.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::math::Pose;
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value, vision};
 
 fn bubble_rob() -> (Sim, Handle) {
@@ -77,4 +77,214 @@ fn main() {
         api::call(&mut w, &ctx, "sim.getVisionSensorImg", &h).expect("image");
     });
     println!("| sim.getVisionSensorImg (no render) | {ms} |");
+
+    scenes();
+}
+
+/// FNV-1a over an image's RGB bytes and depth bits: the bench prints it so two builds
+/// (before and after a renderer change) can be compared for bit-identical output.
+fn image_hash(img: &vision::SensorImage) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    let mut eat = |b: u8| {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x100_0000_01b3);
+    };
+    img.rgb().iter().for_each(|&b| eat(b));
+    img.depth()
+        .iter()
+        .flat_map(|d| d.to_bits().to_le_bytes())
+        .for_each(&mut eat);
+    h
+}
+
+/// The UR5 of the PyPI package `example-robot-data`: `$GANTRY_ROBOT_DATA` (its
+/// `robots` folder), else the one installed in the workspace's `.venv`. `Err` says why
+/// it is missing, for the skip message.
+fn ur5_urdf() -> Result<PathBuf, String> {
+    let rel = "ur_description/urdf/ur5_robot.urdf";
+    if let Ok(dir) = std::env::var("GANTRY_ROBOT_DATA") {
+        let p = Path::new(&dir).join(rel);
+        return if p.is_file() {
+            Ok(p)
+        } else {
+            Err(format!("{} not found (GANTRY_ROBOT_DATA)", p.display()))
+        };
+    }
+    let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../.venv/lib");
+    let found = std::fs::read_dir(&lib).ok().and_then(|dirs| {
+        dirs.flatten()
+            .map(|d| {
+                d.path()
+                    .join("site-packages/cmeel.prefix/share/example-robot-data/robots")
+                    .join(rel)
+            })
+            .find(|p| p.is_file())
+    });
+    found.ok_or_else(|| {
+        format!(
+            "no UR5 URDF: `pip install example-robot-data` into {}/.. or set GANTRY_ROBOT_DATA to its robots folder",
+            lib.display()
+        )
+    })
+}
+
+/// A scene text: a 4 x 4 m floor, three boxes, a sphere, a cylinder and a capsule around
+/// the origin, the robot `urdf` (if
+/// any) at the origin, and vision sensors `(name, [width, height], position)`, each
+/// looking along world -X with world +Z up in its image (far plane 3 m, 60 degrees).
+fn scene_text(urdf: Option<&Path>, sensors: &[(&str, [u32; 2], [f64; 3])]) -> String {
+    let mut s = String::from("[simulation]\ndt = 0.05\n\n[floor]\nsize = [4, 4]\n\n");
+    for (k, (x, y)) in [(0.5, 0.5), (-0.4, 0.6), (0.3, -0.7)].iter().enumerate() {
+        s += &format!(
+            "[[object]]\nname = \"box{k}\"\nkind = \"shape\"\nshape = \"box\"\nsize = [0.2, 0.2, 0.2]\n\
+             position = [{x}, {y}, 0.1]\nstatic = true\n\n"
+        );
+    }
+    // Round primitives of more than one chunk (a sphere is 960 triangles), in every
+    // view, so the bench's hashes cover their chunking too.
+    for (k, (shape, size)) in [
+        ("sphere", "radius = 0.12"),
+        ("cylinder", "radius = 0.08\nlength = 0.3"),
+        ("capsule", "radius = 0.06\nlength = 0.2"),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let y = -0.6 + 0.3 * k as f64;
+        s += &format!(
+            "[[object]]\nname = \"{shape}\"\nkind = \"shape\"\nshape = \"{shape}\"\n{size}\n\
+             position = [0.6, {y}, 0.2]\nstatic = true\ncolor = [0.2, 0.5, 0.9]\n\n"
+        );
+    }
+    for (name, [w, h], [x, y, z]) in sensors {
+        // Rx(0) Ry(-90) Rz(-90): local +Z onto world -X, local +Y onto world +Z.
+        s += &format!(
+            "[[object]]\nname = \"{name}\"\nkind = \"vision_sensor\"\nresolution = [{w}, {h}]\n\
+             position = [{x}, {y}, {z}]\norientation_deg = [0, -90, -90]\nfov_deg = 60\nfar = 3.0\n\n"
+        );
+    }
+    if let Some(urdf) = urdf {
+        // The upper arm raised (shoulder lift -90 degrees): the arm stands at the
+        // origin, in the middle of every view, its upper arm on the 1 x 1 sensor's ray.
+        s += &format!(
+            "[[robot]]\nname = \"ur5\"\nurdf = {:?}\njoint_mode = \"kinematic\"\ninitial = {{ shoulder_lift_joint = -90 }}\n",
+            urdf.display().to_string()
+        );
+    }
+    s
+}
+
+fn load_text(text: &str) -> Sim {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bench_vision.toml");
+    let model = load_scene_text(&DiskFiles, text, &path, &LoadOptions::default()).expect("bench scene loads");
+    Sim::new(&model)
+}
+
+/// One sensor of `w` rendered `n` times: median (min) ms, the image's hash and the
+/// normalised depth at its centre pixel (below 1: the arm or a box is seen there).
+fn time_sensor(w: &mut Sim, name: &str, n: usize) -> (String, u64, f32) {
+    let h = w.world.find(&format!("/{name}"), None, 0).expect("sensor");
+    vision::handle_vision_sensor(&w.world, &mut w.vision, h).expect("render");
+    let ms = median_ms(n, || {
+        vision::handle_vision_sensor(&w.world, &mut w.vision, h).expect("render")
+    });
+    let img = w.vision.image(h).expect("image");
+    let [width, height] = img.resolution().map(|v| v as usize);
+    // To look at what a case renders: GANTRY_BENCH_DUMP=folder writes NAME.ppm there.
+    if let Ok(dir) = std::env::var("GANTRY_BENCH_DUMP") {
+        let mut ppm = format!("P6 {width} {height} 255\n").into_bytes();
+        for row in (0..height).rev() {
+            ppm.extend_from_slice(&img.rgb()[3 * row * width..3 * (row + 1) * width]);
+        }
+        std::fs::write(format!("{dir}/{name}.ppm"), ppm).expect("GANTRY_BENCH_DUMP is a writable folder");
+    }
+    (ms, image_hash(img), img.depth()[height / 2 * width + width / 2])
+}
+
+/// Turns each sensor `names` (keeping its position) to look at the UR5's upper arm,
+/// world +Z up in its image: so the arm is in the middle of every view, and the 1 x 1
+/// sensor's one ray hits it.
+fn aim_at_arm(w: &mut Sim, names: &[&str]) {
+    let elbow = w
+        .world
+        .handles()
+        .iter()
+        .copied()
+        .find(|&h| w.world.object(h).is_ok_and(|o| o.alias == "forearm_link"))
+        .expect("UR5 forearm link");
+    // 0.2 m above the elbow joint: the middle of the upper arm's mesh as this URDF
+    // places it (the joint itself is between two meshes).
+    let target = w.world.object(elbow).expect("link").world.translation.vector + nalgebra::Vector3::new(0.0, 0.0, 0.2);
+    for name in names {
+        let h = w.world.find(&format!("/{name}"), None, 0).expect("sensor");
+        let eye = w.world.object(h).expect("sensor").world.translation.vector;
+        // Sensor +Z towards the target, +Y as near world +Z as that allows; +X = Y x Z.
+        let z = (target - eye).normalize();
+        let x = nalgebra::Vector3::z().cross(&z).normalize();
+        let y = z.cross(&x);
+        let r = nalgebra::Rotation3::from_basis_unchecked(&[x, y, z]);
+        let pose = Pose::from_parts(eye.into(), nalgebra::UnitQuaternion::from_rotation_matrix(&r));
+        w.world.set_world_pose(h, pose).expect("pose");
+    }
+}
+
+/// Five 128 x 128 cameras on an arc 1.4 m from the origin, 0.5 m up.
+fn five_cameras() -> Vec<(String, [u32; 2], [f64; 3])> {
+    (0..5)
+        .map(|k| (format!("cam{k}"), [128, 128], [1.4, -0.4 + 0.2 * f64::from(k), 0.5]))
+        .collect()
+}
+
+/// The scenes of issue 30: floor and boxes, and the same with a public UR5 in view.
+fn scenes() {
+    println!();
+    println!("| vision, scenes of issue 30 | ms per frame, median (min) | image hash | centre depth |");
+    println!("|---|---|---|---|");
+    let mut w = load_text(&scene_text(None, &[("s512", [512, 384], [1.5, 0.0, 0.5])]));
+    let (ms, hash, centre) = time_sensor(&mut w, "s512", 200);
+    println!("| floor and primitives, 512 x 384 | {ms} | {hash:016x} | {centre:.3} |");
+
+    let urdf = match ur5_urdf() {
+        Ok(p) => p,
+        Err(why) => {
+            println!("| UR5 cases skipped: {why} | | | |");
+            return;
+        }
+    };
+    let sensors = [
+        ("s1", [1, 1], [1.5, 0.0, 0.5]),
+        ("s512", [512, 384], [1.5, 0.0, 0.5]),
+        ("s640", [640, 480], [1.5, 0.0, 0.5]),
+    ];
+    let mut w = load_text(&scene_text(Some(&urdf), &sensors));
+    aim_at_arm(&mut w, &sensors.map(|s| s.0));
+    for (name, [x, y], _) in sensors {
+        let (ms, hash, centre) = time_sensor(&mut w, name, 100);
+        println!("| UR5 in view, {x} x {y} | {ms} | {hash:016x} | {centre:.3} |");
+    }
+    let cams = five_cameras();
+    let refs: Vec<_> = cams.iter().map(|(n, r, p)| (n.as_str(), *r, *p)).collect();
+    let mut w = load_text(&scene_text(Some(&urdf), &refs));
+    aim_at_arm(&mut w, &refs.iter().map(|s| s.0).collect::<Vec<_>>());
+    vision::handle_all_vision_sensors(&w.world, &mut w.vision, false).expect("render");
+    let ms = median_ms(100, || {
+        vision::handle_all_vision_sensors(&w.world, &mut w.vision, false).expect("render");
+    });
+    // The same five one after the other on this thread, for the single-core figure.
+    let handles: Vec<Handle> = cams
+        .iter()
+        .map(|(name, _, _)| w.world.find(&format!("/{name}"), None, 0).expect("camera"))
+        .collect();
+    let one_core = median_ms(100, || {
+        for &h in &handles {
+            vision::handle_vision_sensor(&w.world, &mut w.vision, h).expect("render");
+        }
+    });
+    let mut hash = 0u64;
+    for (name, _, _) in &cams {
+        let h = w.world.find(&format!("/{name}"), None, 0).expect("camera");
+        hash = hash.rotate_left(7) ^ image_hash(w.vision.image(h).expect("image"));
+    }
+    println!("| UR5 in view, 5 cameras 128 x 128 (sim.handle_all, all cores) | {ms} | {hash:016x} | |");
+    println!("| UR5 in view, 5 cameras 128 x 128 (one after the other, one core) | {one_core} | | |");
 }

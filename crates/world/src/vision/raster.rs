@@ -1,20 +1,34 @@
 //! The CPU rasteriser: shapes' visuals → RGB and planar depth of one perspective or
 //! orthographic sensor.
 //!
-//! Per visual, vertices go to the camera frame once (with their Gouraud intensity);
-//! per triangle: back-face culling for closed primitives, a trivial reject/accept on
-//! the six frustum planes (a box for an orthographic sensor), Sutherland–Hodgman
-//! clipping only for triangles that cross one, then a half-space scan of the bounding
-//! box with depth and intensity interpolated (perspective-correct, or affine in an
-//! orthographic image, where they are affine) and a z-buffer. Nothing is allocated per
-//! frame once the buffers have grown to the scene's size.
+//! Per visual, then per chunk of a few hundred triangles (see [`super::tessellate`]), a
+//! bounding-sphere test against the *sampled* frustum (below) skips what no pixel can
+//! show before any vertex is transformed. The vertices of a chunk that stays go to the
+//! camera frame once each, with their outcode and screen position; per triangle:
+//! back-face culling for closed primitives, a trivial reject/accept on the six frustum
+//! planes (a box for an orthographic sensor), Sutherland–Hodgman clipping only for
+//! triangles that cross one, then a half-space scan of the bounding box with depth and
+//! intensity interpolated (perspective-correct, or affine in an orthographic image,
+//! where they are affine) and a z-buffer. Nothing is allocated per frame once the
+//! buffers have grown to the scene's size.
+//!
+//! # Culling never changes an image
+//! A pixel is written only when its centre lies inside a triangle's projected bounding
+//! box, so what lies outside the pyramid through the outermost pixel *centres* (the
+//! sampled frustum, narrower than the view by half a pixel on each side; at 1 x 1
+//! pixel, one ray) writes nothing. A chunk whose bounding sphere is beyond one plane of
+//! that pyramid, or beyond the near or far plane, by a margin (0.05 px sideways, and a
+//! relative 1e-4 for rounding) draws nothing, and skipping it leaves every byte as
+//! drawing it would. The chunks that stay are drawn in the mesh's order, which the
+//! z-buffer's "first of two equal depths wins" needs. A test renders random views with
+//! and without culling and compares the bits.
 
 use std::collections::BTreeMap;
 
 use super::bytes::round_byte;
 use super::resolve::{self, Packet1};
 use super::simd::multiversion;
-use super::tessellate::{TriMesh, cross, dot, sub};
+use super::tessellate::{Normals, TriMesh, cross, dot, sub};
 use crate::math::Pose;
 use crate::scene::{Projection, VisionModel};
 use crate::world::{Handle, ObjectKind, World};
@@ -112,9 +126,35 @@ impl Camera {
     fn outcode(&self, p: [f32; 3]) -> u8 {
         (0..6).fold(0, |acc, k| acc | (u8::from(self.plane(k, p) < 0.0) << k))
     }
+
+    /// The pyramid (a box, orthographic) through the outermost pixel centres, widened
+    /// by [`CULL_MARGIN_PX`]: nothing outside it can be drawn (see the module docs).
+    fn sampled(&self) -> Camera {
+        // A pixel centre at screen x (pixels from the left) sees x/z = tan_x (1 - 2x/W)
+        // in the sensor frame; the outermost centres are at 0.5 and W - 0.5.
+        let shrink = |n: usize| 1.0 - (1.0 - 2.0 * CULL_MARGIN_PX) / n as f32;
+        Camera {
+            tan_x: self.tan_x * shrink(self.width),
+            tan_y: self.tan_y * shrink(self.height),
+            ..*self
+        }
+    }
+
+    /// Whether a sphere (centre in the sensor frame, radius, metres) lies wholly
+    /// outside one of this camera's planes, with a margin for the rounding of the
+    /// centre's transform and of the vertices' own.
+    fn sphere_outside(&self, c: [f32; 3], radius: f32) -> bool {
+        let slack = radius * (1.0 + 1e-4) + 1e-4 * (c[0].abs() + c[1].abs() + c[2].abs()) + 1e-6;
+        (0..6).any(|k| self.plane(k, c) < -slack * plane_scale(self, k))
+    }
 }
 
-/// One visual of one shape, tessellated, with its placement in the shape frame.
+/// How far beyond the outermost pixel centres culling keeps geometry, in pixels:
+/// covers the fill's 1e-4 px edge tolerance and the rounding of projection.
+const CULL_MARGIN_PX: f32 = 0.05;
+
+/// One visual of one shape, tessellated, with its placement in the shape frame and its
+/// colour (RGB, 0..1).
 #[derive(Debug, Clone)]
 pub(crate) struct CachedVisual {
     mesh: TriMesh,
@@ -181,16 +221,38 @@ impl CamVertex {
     }
 }
 
+/// A chunk's vertex, ready for its triangles: in the camera frame (with its light for
+/// Gouraud-shaded meshes), its outcode, and its screen position when it is in front
+/// of the near plane.
+#[derive(Debug, Clone, Copy, Default)]
+struct ChunkVertex {
+    cam: CamVertex,
+    code: u8,
+    /// Screen x, y (pixels) and 1/z (z, orthographic), as [`project`] gives them.
+    screen: [f32; 3],
+}
+
 /// Buffers reused from frame to frame.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Scratch {
-    vertices: Vec<CamVertex>,
+    vertices: Vec<ChunkVertex>,
     /// Planar depth in metres per pixel, `INFINITY` where nothing was drawn.
     zbuf: Vec<f32>,
     /// Colour per pixel as `0x00BBGGRR`: one word per pixel lets the fill loop blend
     /// whole words, which the compiler vectorises; packed to RGB bytes at the end.
     /// Both buffers carry `CHUNK - 1` pixels of padding after the image.
     color: Vec<u32>,
+    /// What the last frame culled and drew.
+    pub stats: RenderStats,
+}
+
+/// Counts of one frame, for tests (that culling is exercised) and profiling.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct RenderStats {
+    /// Chunks skipped by the sphere test, with those of whole visuals skipped.
+    pub culled_chunks: usize,
+    /// Chunks whose vertices were transformed.
+    pub drawn_chunks: usize,
 }
 
 /// Where a frame goes: `rgb` (3 bytes per pixel) and `depth` (normalised), both bottom
@@ -203,16 +265,45 @@ pub(crate) struct Frame<'a> {
 /// A polygon after clipping a triangle against up to six planes has at most 9 corners.
 const MAX_POLY: usize = 12;
 
-/// Renders every shape of `world` as seen from `sensor` (the sensor's world pose) and
-/// returns packet 1 of the image. `frame` must hold exactly `width * height` pixels of
-/// `cam`.
+/// One visual to draw: where it is in the world, and its tessellation.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct DrawItem<'a> {
+    /// The visual's world pose.
+    pub pose: Pose,
+    pub visual: &'a CachedVisual,
+}
+
+/// What every sensor of a step sees: the visuals of every shape with their world
+/// poses, in the world's handle order (the drawing order). Borrowing neither the world
+/// nor anything but the shape cache, it can be shared by threads rendering sensors.
+pub(crate) fn draw_list<'a>(world: &World, shapes: &'a ShapeCache) -> Vec<DrawItem<'a>> {
+    let mut items = Vec::new();
+    for &h in world.handles() {
+        let (Some(visuals), Ok(object)) = (shapes.shapes.get(&h), world.object(h)) else {
+            continue;
+        };
+        for v in visuals {
+            if !v.mesh.triangles.is_empty() {
+                items.push(DrawItem {
+                    pose: object.world * v.local,
+                    visual: v,
+                });
+            }
+        }
+    }
+    items
+}
+
+/// Renders `items` as seen from `sensor` (the sensor's world pose) and returns packet
+/// 1 of the image. `frame` must hold exactly `width * height` pixels of `cam`. `cull`
+/// false draws every chunk (for the test that culling changes nothing).
 pub(crate) fn render(
-    world: &World,
+    items: &[DrawItem<'_>],
     cam: &Camera,
     sensor: &Pose,
-    shapes: &ShapeCache,
     scratch: &mut Scratch,
     frame: Frame<'_>,
+    cull: bool,
 ) -> Packet1 {
     let n = cam.width * cam.height;
     // CHUNK - 1 pixels of padding, which the last chunk of the last row may cover.
@@ -227,24 +318,18 @@ pub(crate) fn render(
         zbuf: &mut scratch.zbuf,
         color: &mut scratch.color,
     };
-    for &h in world.handles() {
-        let (Some(visuals), Ok(object)) = (shapes.shapes.get(&h), world.object(h)) else {
-            continue;
-        };
-        for v in visuals {
-            if v.mesh.triangles.is_empty() {
-                continue;
-            }
-            let world_pose = object.world * v.local;
-            draw_visual(
-                cam,
-                &(cam_from_world * world_pose),
-                &world_pose,
-                v,
-                &mut scratch.vertices,
-                &mut target,
-            );
-        }
+    let sampled = cull.then(|| cam.sampled());
+    scratch.stats = RenderStats::default();
+    for item in items {
+        draw_visual(
+            cam,
+            sampled.as_ref(),
+            &cam_from_world,
+            item,
+            &mut scratch.vertices,
+            &mut target,
+            &mut scratch.stats,
+        );
     }
     resolve::resolve(
         &scratch.color[..n],
@@ -277,58 +362,140 @@ fn rows(p: &Pose) -> ([[f32; 3]; 3], [f32; 3]) {
     ([row(0), row(1), row(2)], [t.x as f32, t.y as f32, t.z as f32])
 }
 
+/// Draws one visual. `sampled`: the frustum to cull chunks against (`None`: cull
+/// nothing, beyond what the per-triangle outcodes reject).
 fn draw_visual(
     cam: &Camera,
-    cam_pose: &Pose,
-    world_pose: &Pose,
-    v: &CachedVisual,
-    vertices: &mut Vec<CamVertex>,
+    sampled: Option<&Camera>,
+    cam_from_world: &Pose,
+    item: &DrawItem<'_>,
+    vertices: &mut Vec<ChunkVertex>,
     target: &mut Target<'_>,
+    stats: &mut RenderStats,
 ) {
-    let (r, t) = rows(cam_pose);
+    let (world_pose, v) = (&item.pose, item.visual);
+    let (r, t) = rows(&(cam_from_world * world_pose));
     let xf = |p: [f32; 3]| [dot(r[0], p) + t[0], dot(r[1], p) + t[1], dot(r[2], p) + t[2]];
-    // Whole visual outside one frustum plane: nothing to draw.
-    let c = xf(v.mesh.center);
-    if (0..6).any(|k| cam.plane(k, c) < -v.mesh.radius * plane_scale(cam, k)) {
+    let mesh = &v.mesh;
+    if let Some(s) = sampled
+        && s.sphere_outside(xf(mesh.center), mesh.radius)
+    {
+        stats.culled_chunks += mesh.chunks.len();
         return;
     }
     // Light directions in the visual's frame: the camera's Z axis (row 2 of the
     // camera-from-visual rotation) and the world's Z axis.
     let head = r[2];
     let up = rows(world_pose).0[2];
-    vertices.clear();
-    vertices.extend(v.mesh.positions.iter().zip(&v.mesh.normals).map(|(&p, &n)| CamVertex {
-        p: xf(p),
-        light: (AMBIENT + HEADLIGHT * dot(head, n).abs() + TOPLIGHT * dot(up, n).max(0.0)).min(1.0),
-    }));
+    let light = |n: [f32; 3]| (AMBIENT + HEADLIGHT * dot(head, n).abs() + TOPLIGHT * dot(up, n).max(0.0)).min(1.0);
     let color = v.color.map(|c| c * 255.0);
-    for tri in &v.mesh.triangles {
-        let Some([a, b, c]) = fetch(vertices, *tri) else {
+    let (vertex_normals, face_normals) = match &mesh.normals {
+        Normals::Vertex(n) => (Some(n.as_slice()), None),
+        Normals::Face(n) => (None, Some(n.as_slice())),
+    };
+    for chunk in &mesh.chunks {
+        if let Some(s) = sampled
+            && s.sphere_outside(xf(chunk.center), chunk.radius)
+        {
+            stats.culled_chunks += 1;
             continue;
-        };
-        if v.mesh.closed {
-            // Outward normal pointing away from the camera: a back face. The view ray
-            // runs from the eye at the origin, or along +Z in an orthographic view.
-            let n = cross(sub(b.p, a.p), sub(c.p, a.p));
-            let ray = if cam.ortho { [0.0, 0.0, 1.0] } else { a.p };
-            if dot(n, ray) >= 0.0 {
+        }
+        stats.drawn_chunks += 1;
+        // Each vertex once: camera frame, light (Gouraud), outcode, screen position.
+        let first = chunk.first_vertex as usize;
+        vertices.clear();
+        vertices.extend(mesh.chunk_positions(chunk).iter().enumerate().map(|(k, &p)| {
+            let cam_v = CamVertex {
+                p: xf(p),
+                // Face-shaded meshes set the light per triangle below.
+                light: vertex_normals.and_then(|n| n.get(first + k)).map_or(0.0, |&n| light(n)),
+            };
+            let code = cam.outcode(cam_v.p);
+            // Only read for triangles wholly inside, whose z >= near > 0.
+            let s = project(cam, cam_v);
+            ChunkVertex {
+                cam: cam_v,
+                code,
+                screen: [s.x, s.y, s.inv_z],
+            }
+        }));
+        let faces = face_normals.and_then(|n| n.get(chunk.first_triangle as usize..chunk.end_triangle as usize));
+        for (k, tri) in mesh.chunk_triangles(chunk).iter().enumerate() {
+            let Some([mut a, mut b, mut c]) = fetch(vertices, *tri) else {
+                continue;
+            };
+            let (oa, ob, oc) = (a.code, b.code, c.code);
+            // Skipped: wholly outside one plane, or wholly inside and covering no
+            // pixel centre (most triangles of a vendor mesh in a small image), where
+            // `fill` would draw nothing (the same test as its bounding box, on the same
+            // values). One branch for all of it: separate ones were mispredicted often
+            // enough to be a third of a frame.
+            let [xa, ya, _] = a.screen;
+            let [xb, yb, _] = b.screen;
+            let [xc, yc, _] = c.screen;
+            let covers = may_cover(xa.min(xb).min(xc), xa.max(xb).max(xc), target.width)
+                & may_cover(ya.min(yb).min(yc), ya.max(yb).max(yc), target.height);
+            if (oa & ob & oc != 0) | ((oa | ob | oc == 0) & !covers) {
                 continue;
             }
+            // Flat shading: the face's light at all three corners.
+            if let Some(&n) = faces.and_then(|f| f.get(k)) {
+                let l = light(n);
+                (a.cam.light, b.cam.light, c.cam.light) = (l, l, l);
+            }
+            if mesh.closed {
+                // Outward normal pointing away from the camera: a back face. The view
+                // ray runs from the eye at the origin, or along +Z in an orthographic
+                // view.
+                let n = cross(sub(b.cam.p, a.cam.p), sub(c.cam.p, a.cam.p));
+                let ray = if cam.ortho { [0.0, 0.0, 1.0] } else { a.cam.p };
+                if dot(n, ray) >= 0.0 {
+                    continue;
+                }
+            }
+            if oa | ob | oc == 0 {
+                fill(cam, target, [a, b, c].map(|v| screen(cam, v)), color);
+                continue;
+            }
+            let mut poly = [CamVertex::default(); MAX_POLY];
+            poly[..3].copy_from_slice(&[a.cam, b.cam, c.cam]);
+            let n = clip(cam, &mut poly, 3, oa | ob | oc);
+            for k in 1..n.saturating_sub(1) {
+                fill(
+                    cam,
+                    target,
+                    [poly[0], poly[k], poly[k + 1]].map(|v| project(cam, v)),
+                    color,
+                );
+            }
         }
-        let (oa, ob, oc) = (cam.outcode(a.p), cam.outcode(b.p), cam.outcode(c.p));
-        if oa & ob & oc != 0 {
-            continue;
-        }
-        if oa | ob | oc == 0 {
-            fill(cam, target, [a, b, c], color);
-            continue;
-        }
-        let mut poly = [CamVertex::default(); MAX_POLY];
-        poly[..3].copy_from_slice(&[a, b, c]);
-        let n = clip(cam, &mut poly, 3, oa | ob | oc);
-        for k in 1..n.saturating_sub(1) {
-            fill(cam, target, [poly[0], poly[k], poly[k + 1]], color);
-        }
+    }
+}
+
+/// Whether `fill`'s span of pixel centres `k + 0.5` (`0 <= k < n`) between `lo` and
+/// `hi` (pixels) is not empty: `ceil(max(lo - 0.5, 0)) <= floor(min(hi - 0.5, n - 1))`
+/// with `hi - 0.5 >= 0`, computed without branches and with casts (`ceil` and `floor`
+/// are library calls on baseline x86-64; the truncation of a non-negative number is
+/// its floor, and an integer at least `a` is at least `ceil(a)`). Any answer is right
+/// for a triangle with a NaN coordinate: its area is NaN, and `fill` draws nothing.
+#[inline(always)]
+fn may_cover(lo: f32, hi: f32, n: usize) -> bool {
+    let a = (lo - 0.5).max(0.0);
+    let b = (hi - 0.5).min((n - 1) as f32);
+    (hi - 0.5 >= 0.0) & (b as i32 as f32 >= a)
+}
+
+/// A chunk vertex's screen vertex, exactly as [`project`] computes it from the camera
+/// vertex (the position part was computed once per vertex; light/z is the light times
+/// the stored 1/z).
+#[inline]
+fn screen(cam: &Camera, v: ChunkVertex) -> ScreenVertex {
+    let [x, y, inv_z] = v.screen;
+    ScreenVertex {
+        x,
+        y,
+        inv_z,
+        light_z: if cam.ortho { v.cam.light } else { v.cam.light * inv_z },
     }
 }
 
@@ -343,7 +510,7 @@ fn plane_scale(cam: &Camera, k: usize) -> f32 {
     }
 }
 
-fn fetch(v: &[CamVertex], [a, b, c]: [u32; 3]) -> Option<[CamVertex; 3]> {
+fn fetch(v: &[ChunkVertex], [a, b, c]: [u32; 3]) -> Option<[ChunkVertex; 3]> {
     Some([*v.get(a as usize)?, *v.get(b as usize)?, *v.get(c as usize)?])
 }
 
@@ -428,8 +595,8 @@ multiversion! {
     /// found from the edge functions directly; 1/z and light/z are affine in screen
     /// space, and [`write_span`] draws the interval in vector code (eight lanes with
     /// AVX2, see [`super::simd`]).
-    fn fill(cam: &Camera, target: &mut Target<'_>, tri: [CamVertex; 3], color: [f32; 3]) {
-        let [mut a, mut b, c] = tri.map(|v| project(cam, v));
+    fn fill(cam: &Camera, target: &mut Target<'_>, tri: [ScreenVertex; 3], color: [f32; 3]) {
+        let [mut a, mut b, c] = tri;
         let mut area = edge(a, b, c.x, c.y);
         if !area.is_finite() || area.abs() < 1e-12 {
             return;

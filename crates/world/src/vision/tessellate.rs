@@ -1,9 +1,22 @@
-//! Triangle meshes for the renderer, built once per visual from [`Geometry`].
+//! Triangle meshes for the renderer, built once per visual from [`Geometry`] and laid
+//! out for the rasteriser at that time, so a frame does no per-mesh preparation.
 //!
 //! Curved primitives carry smooth per-vertex normals, so shading varies continuously
 //! across a cylinder or sphere (a faceted look would put false edges into
-//! `simVision.edgeDetectionOnWorkImg`). Flat faces (box sides, cylinder caps) and
-//! imported meshes get one normal per face, with their vertices duplicated per face.
+//! `simVision.edgeDetectionOnWorkImg`). Flat faces (box sides, cylinder caps) have their
+//! vertices duplicated per face. Imported meshes are shaded flat: one normal per
+//! triangle ([`Normals::Face`]), so their vertices can be shared between triangles.
+//!
+//! # Chunks
+//! The triangles are cut into [`Chunk`]s of at most [`CHUNK_TRIANGLES`] consecutive
+//! triangles, in the file's order (the z-buffer keeps the first of two equally deep
+//! fragments, so the drawing order is part of the image). Each chunk has its own
+//! vertices, each position stored once within it (a vendor mesh has about half as many
+//! distinct positions as triangles, against three vertices per triangle as read), and
+//! a bounding sphere: the renderer skips a chunk outside the view before transforming
+//! any of its vertices.
+
+use std::collections::HashMap;
 
 use crate::scene::{Geometry, MeshData};
 
@@ -12,16 +25,53 @@ use crate::scene::{Geometry, MeshData};
 const AROUND: usize = 32;
 /// Latitude bands of spheres and capsule caps (from pole to pole).
 const BANDS: usize = 16;
+/// Triangles per chunk. Small enough that a chunk of a vendor mesh covers a few
+/// centimetres (so most of an arm is culled when the view holds a part of it), large
+/// enough that the per-chunk sphere test (about 10 ns) is noise next to drawing it.
+pub(crate) const CHUNK_TRIANGLES: usize = 256;
 
-/// One visual as triangles, in the visual's own frame (metres).
+/// How a mesh is shaded.
+#[derive(Debug, Clone)]
+pub(crate) enum Normals {
+    /// Unit normal per vertex, parallel to [`TriMesh::positions`] (Gouraud shading).
+    Vertex(Vec<[f32; 3]>),
+    /// Unit normal per triangle, parallel to [`TriMesh::triangles`] (flat shading).
+    Face(Vec<[f32; 3]>),
+}
+
+impl Default for Normals {
+    fn default() -> Self {
+        Normals::Vertex(Vec::new())
+    }
+}
+
+/// A run of consecutive triangles of a [`TriMesh`] with its own vertices.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Chunk {
+    /// The chunk's vertices: `positions[first_vertex..end_vertex]`.
+    pub first_vertex: u32,
+    pub end_vertex: u32,
+    /// The chunk's triangles: `triangles[first_triangle..end_triangle]`, whose indices
+    /// count from `first_vertex`.
+    pub first_triangle: u32,
+    pub end_triangle: u32,
+    /// Bounding sphere of the chunk's vertices, in the visual's frame (metres).
+    pub center: [f32; 3],
+    pub radius: f32,
+}
+
+/// One visual as triangles, in the visual's own frame (metres), in chunks.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct TriMesh {
-    /// Vertex positions.
+    /// Vertex positions, chunk after chunk.
     pub positions: Vec<[f32; 3]>,
-    /// Unit vertex normals, parallel to `positions`.
-    pub normals: Vec<[f32; 3]>,
-    /// Triangles as indices into `positions`, counter-clockwise seen from outside.
+    /// Normals, per vertex or per triangle.
+    pub normals: Normals,
+    /// Triangles as indices from their chunk's first vertex, counter-clockwise seen
+    /// from outside.
     pub triangles: Vec<[u32; 3]>,
+    /// The chunks, in drawing order, covering every triangle once.
+    pub chunks: Vec<Chunk>,
     /// Whether the surface is closed with outward winding, so back faces may be culled.
     /// Imported meshes are not trusted to be and are drawn two-sided.
     pub closed: bool,
@@ -31,11 +81,19 @@ pub(crate) struct TriMesh {
     pub radius: f32,
 }
 
+/// A mesh as the builders below make it: per-vertex normals, global indices.
+#[derive(Debug, Default)]
+struct Soup {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    triangles: Vec<[u32; 3]>,
+}
+
 impl TriMesh {
     /// Tessellates a geometry. Invalid sizes (non-finite, or not positive) give an
     /// empty mesh rather than an error: the object is then simply not seen.
     pub fn from_geometry(geometry: &Geometry) -> TriMesh {
-        let mut m = TriMesh::default();
+        let mut m = Soup::default();
         match geometry {
             Geometry::Box { half_extents } => {
                 if let Some(h) = positive3(*half_extents) {
@@ -59,9 +117,83 @@ impl TriMesh {
             }
             Geometry::Mesh(data) => m.add_mesh(data),
         }
-        m.closed = !matches!(geometry, Geometry::Mesh(_));
-        m.bound();
-        m
+        let flat = matches!(geometry, Geometry::Mesh(_));
+        let mut out = m.into_chunks(flat);
+        out.closed = !flat;
+        let (center, radius) = bound(&out.positions);
+        (out.center, out.radius) = (center, radius);
+        out
+    }
+
+    /// The triangles of `chunk`, with indices from its first vertex.
+    pub fn chunk_triangles(&self, chunk: &Chunk) -> &[[u32; 3]] {
+        self.triangles
+            .get(chunk.first_triangle as usize..chunk.end_triangle as usize)
+            .unwrap_or(&[])
+    }
+
+    /// The vertex positions of `chunk`.
+    pub fn chunk_positions(&self, chunk: &Chunk) -> &[[f32; 3]] {
+        self.positions
+            .get(chunk.first_vertex as usize..chunk.end_vertex as usize)
+            .unwrap_or(&[])
+    }
+}
+
+impl Soup {
+    /// Cuts the triangles into chunks of consecutive triangles. Within a chunk each
+    /// vertex used is stored once: with `flat`, vertices with the same position (bit
+    /// for bit) are one, and each triangle keeps its face normal (its first vertex's:
+    /// [`Soup::add_mesh`] gives all three the face's); otherwise the builders' vertices
+    /// are kept as they are, with their normals.
+    fn into_chunks(self, flat: bool) -> TriMesh {
+        let mut out = TriMesh::default();
+        let mut vertex_normals = Vec::new();
+        let mut face_normals = Vec::new();
+        let mut local: HashMap<[u32; 3], u32> = HashMap::new();
+        for tris in self.triangles.chunks(CHUNK_TRIANGLES) {
+            local.clear();
+            let first_vertex = out.positions.len();
+            let first_triangle = out.triangles.len();
+            for tri in tris {
+                let mut t = [0u32; 3];
+                for (k, &i) in tri.iter().enumerate() {
+                    let p = self.positions[i as usize];
+                    // Flat meshes share positions; the builders' smooth vertices are
+                    // shared by index already (the key is then the index).
+                    let key = if flat { p.map(f32::to_bits) } else { [i, 0, 0] };
+                    let next = (out.positions.len() - first_vertex) as u32;
+                    t[k] = *local.entry(key).or_insert_with(|| {
+                        out.positions.push(p);
+                        if !flat {
+                            vertex_normals.push(self.normals[i as usize]);
+                        }
+                        next
+                    });
+                }
+                if flat {
+                    face_normals.push(self.normals[tri[0] as usize]);
+                }
+                out.triangles.push(t);
+            }
+            let (center, radius) = bound(&out.positions[first_vertex..]);
+            // Counts fit in u32: a mesh with more than 4 billion vertices cannot be
+            // loaded in the first place.
+            out.chunks.push(Chunk {
+                first_vertex: first_vertex as u32,
+                end_vertex: out.positions.len() as u32,
+                first_triangle: first_triangle as u32,
+                end_triangle: out.triangles.len() as u32,
+                center,
+                radius,
+            });
+        }
+        out.normals = if flat {
+            Normals::Face(face_normals)
+        } else {
+            Normals::Vertex(vertex_normals)
+        };
+        out
     }
 
     fn vertex(&mut self, p: [f32; 3], n: [f32; 3]) -> u32 {
@@ -191,28 +323,28 @@ impl TriMesh {
             self.triangles.push([a, b, c]);
         }
     }
+}
 
-    fn bound(&mut self) {
-        if self.positions.is_empty() {
-            return;
-        }
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        for p in &self.positions {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let c = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0];
-        let r2 = self
-            .positions
-            .iter()
-            .map(|p| dot(sub(*p, c), sub(*p, c)))
-            .fold(0.0f32, f32::max);
-        self.center = c;
-        self.radius = r2.sqrt();
+/// Bounding sphere of `points`: the centre of their box and the largest distance from
+/// it; radius 0 for no points.
+fn bound(points: &[[f32; 3]]) -> ([f32; 3], f32) {
+    if points.is_empty() {
+        return ([0.0; 3], 0.0);
     }
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let c = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0];
+    let r2 = points
+        .iter()
+        .map(|p| dot(sub(*p, c), sub(*p, c)))
+        .fold(0.0f32, f32::max);
+    (c, r2.sqrt())
 }
 
 fn positive(v: f64) -> Option<f32> {
@@ -291,8 +423,12 @@ mod tests {
         for (name, m) in convex_cases() {
             assert!(m.closed, "{name}");
             assert!(!m.triangles.is_empty(), "{name}");
-            for t in &m.triangles {
-                let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            for (chunk, t) in m
+                .chunks
+                .iter()
+                .flat_map(|c| m.chunk_triangles(c).iter().map(move |t| (c, t)))
+            {
+                let [a, b, c] = t.map(|i| m.chunk_positions(chunk)[i as usize]);
                 let n = cross(sub(b, a), sub(c, a));
                 let centroid = [
                     (a[0] + b[0] + c[0]) / 3.0,
@@ -302,7 +438,11 @@ mod tests {
                 // Convex and centred on the origin: outward means away from the origin.
                 assert!(dot(n, centroid) > 0.0, "{name}: triangle {t:?} faces inwards");
             }
-            for n in &m.normals {
+            let Normals::Vertex(normals) = &m.normals else {
+                panic!("{name}: primitives have vertex normals");
+            };
+            assert_eq!(normals.len(), m.positions.len(), "{name}");
+            for n in normals {
                 assert!((dot(*n, *n) - 1.0).abs() < 1e-5, "{name}: normal {n:?} is not unit");
             }
         }
@@ -353,6 +493,9 @@ mod tests {
         let m = TriMesh::from_geometry(&Geometry::Mesh(Arc::new(data)));
         assert_eq!(m.triangles.len(), 1);
         assert!(!m.closed);
-        assert_eq!(m.normals[0], [0.0, 0.0, 1.0]);
+        let Normals::Face(normals) = &m.normals else {
+            panic!("meshes are shaded flat");
+        };
+        assert_eq!(normals, &[[0.0, 0.0, 1.0]]);
     }
 }

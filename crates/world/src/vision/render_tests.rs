@@ -1,0 +1,228 @@
+//! The renderer's contracts that span its files: culling (per visual and per mesh
+//! chunk, against the sampled frustum) never changes a bit of an image, and sensors
+//! drawn on several threads give the bits they give one after the other.
+
+use std::path::PathBuf;
+
+use nalgebra::{Translation3, UnitQuaternion, Vector3};
+
+use super::{VisionStates, handle_vision_sensor};
+use crate::math::Pose;
+use crate::scene::{LoadOptions, MapFiles, load_scene};
+use crate::{Handle, Sim};
+
+/// xorshift64: repeatable pseudo-random numbers without a dependency.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+
+    /// Uniform in `lo..hi`.
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// An OBJ of a bumpy UV sphere of radius about 0.3 m: 2,400 triangles, so about ten
+/// chunks of 256, with vertices shared between triangles as in a vendor's mesh.
+fn bumpy_sphere_obj() -> String {
+    let (rings, around) = (30, 40);
+    let mut s = String::new();
+    for i in 0..=rings {
+        let phi = std::f64::consts::PI * f64::from(i) / f64::from(rings);
+        for j in 0..around {
+            let th = std::f64::consts::TAU * f64::from(j) / f64::from(around);
+            let r = 0.3 + 0.03 * (5.0 * th).sin() * (3.0 * phi).sin();
+            s += &format!(
+                "v {} {} {}\n",
+                r * phi.sin() * th.cos(),
+                r * phi.sin() * th.sin(),
+                r * phi.cos()
+            );
+        }
+    }
+    let at = |i: u32, j: u32| i * around + j % around + 1;
+    for i in 0..rings {
+        for j in 0..around {
+            s += &format!("f {} {} {}\n", at(i, j), at(i + 1, j), at(i + 1, j + 1));
+            s += &format!("f {} {} {}\n", at(i, j), at(i + 1, j + 1), at(i, j + 1));
+        }
+    }
+    s
+}
+
+/// A test sensor: name, `[width, height]` (px), projection, view angle (degrees) or
+/// ortho size (m), near and far (m).
+type SensorSpec = (&'static str, [u32; 2], &'static str, f64, f64, f64);
+
+/// Sensors of the scene below: name, resolution, projection, view angle (degrees) or
+/// ortho size (m), near and far (m). Sizes 1 x 1 (the sampled frustum is one ray) to
+/// 97 x 61; near planes far enough out that shapes straddle them.
+const SENSORS: [SensorSpec; 6] = [
+    ("one", [1, 1], "perspective", 60.0, 0.01, 6.0),
+    ("tiny", [3, 2], "perspective", 90.0, 0.2, 5.0),
+    ("wide", [97, 61], "perspective", 120.0, 0.05, 8.0),
+    ("narrow", [64, 48], "perspective", 20.0, 0.5, 8.0),
+    ("tall", [33, 80], "perspective", 60.0, 0.4, 2.5),
+    ("ortho", [48, 40], "orthographic", 1.5, 0.3, 6.0),
+];
+
+/// Many shapes of every kind around the origin (boxes, spheres, cylinders, capsules,
+/// meshes, some rotated, some huge: a 60 m slab whose corners are all outside any
+/// view it covers, and a 3 m bumpy sphere around everything, nearer than some far planes), and the sensors of [`SENSORS`].
+fn scene() -> Sim {
+    let mut rng = Rng(0x5eed_cafe);
+    let mut text = String::from("[simulation]\ndt = 0.05\n\n");
+    let kinds = ["box", "sphere", "cylinder", "capsule", "mesh"];
+    for k in 0..40 {
+        let kind = kinds[k % kinds.len()];
+        let (x, y, z) = (rng.range(-2.5, 2.5), rng.range(-2.5, 2.5), rng.range(0.0, 1.5));
+        let (a, b, c) = (
+            rng.range(-180.0, 180.0),
+            rng.range(-90.0, 90.0),
+            rng.range(-180.0, 180.0),
+        );
+        let colour = [rng.range(0.1, 1.0), rng.range(0.1, 1.0), rng.range(0.1, 1.0)];
+        let geometry = match kind {
+            "box" => format!(
+                "size = [{}, {}, {}]",
+                rng.range(0.05, 0.8),
+                rng.range(0.05, 0.8),
+                rng.range(0.05, 0.8)
+            ),
+            "sphere" => format!("radius = {}", rng.range(0.05, 0.4)),
+            "mesh" => format!("mesh = \"bumpy.obj\"\nscale = [{0}, {0}, {0}]", rng.range(0.5, 2.0)),
+            _ => format!("radius = {}\nlength = {}", rng.range(0.03, 0.3), rng.range(0.1, 1.0)),
+        };
+        text += &format!(
+            "[[object]]\nname = \"s{k}\"\nkind = \"shape\"\nshape = \"{kind}\"\n{geometry}\n\
+             position = [{x}, {y}, {z}]\norientation_deg = [{a}, {b}, {c}]\ncolor = {colour:?}\n\n"
+        );
+    }
+    text += "[[object]]\nname = \"slab\"\nkind = \"shape\"\nshape = \"box\"\nsize = [60, 60, 0.02]\n\
+             position = [0, 0, -0.01]\ncolor = [0.5, 0.6, 0.7]\n\n";
+    text += "[[object]]\nname = \"dome\"\nkind = \"shape\"\nshape = \"mesh\"\nmesh = \"bumpy.obj\"\n\
+             scale = [10, 10, 10]\nposition = [0, 0, 0]\ncolor = [0.9, 0.8, 0.2]\n\n";
+    for (name, [w, h], projection, angle, near, far) in SENSORS {
+        let extent = if projection == "orthographic" {
+            format!("ortho_size = {angle}")
+        } else {
+            format!("fov_deg = {angle}")
+        };
+        text += &format!(
+            "[[object]]\nname = \"{name}\"\nkind = \"vision_sensor\"\nresolution = [{w}, {h}]\n\
+             projection = \"{projection}\"\n{extent}\nnear = {near}\nfar = {far}\n\n"
+        );
+    }
+    let dir = PathBuf::from("/cull-test");
+    let files = MapFiles::new([
+        (dir.join("scene.toml"), text.into_bytes()),
+        (dir.join("bumpy.obj"), bumpy_sphere_obj().into_bytes()),
+    ]);
+    let model = load_scene(&files, &dir.join("scene.toml"), &LoadOptions::default()).expect("test scene loads");
+    Sim::new(&model)
+}
+
+fn sensor(w: &Sim, name: &str) -> Handle {
+    w.world.find(&format!("/{name}"), None, 0).expect(name)
+}
+
+/// RGB bytes and depth bits of sensor `h`'s last image.
+fn image(states: &VisionStates, h: Handle) -> (Vec<u8>, Vec<u32>) {
+    let img = states.image(h).expect("rendered");
+    (img.rgb().to_vec(), img.depth().iter().map(|d| d.to_bits()).collect())
+}
+
+/// A random sensor pose: anywhere over the scene (some inside the big shapes, most
+/// outside them, some below the slab), looking anywhere; a third of them aimed at a
+/// random shape so that views are full of geometry, partly in view and partly not.
+fn random_pose(rng: &mut Rng, targets: &[Pose]) -> Pose {
+    let eye = Vector3::new(rng.range(-3.5, 3.5), rng.range(-3.5, 3.5), rng.range(-0.3, 2.5));
+    let rotation = if rng.next().is_multiple_of(3) {
+        let t = targets[(rng.next() % targets.len() as u64) as usize].translation.vector;
+        // +Z (the viewing axis) onto the direction to the target, rolled at random.
+        let dir = t - eye;
+        let aim = UnitQuaternion::rotation_between(&Vector3::z(), &dir).unwrap_or_else(UnitQuaternion::identity);
+        aim * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), rng.range(-3.2, 3.2))
+    } else {
+        UnitQuaternion::from_euler_angles(rng.range(-3.2, 3.2), rng.range(-1.6, 1.6), rng.range(-3.2, 3.2))
+    };
+    Pose::from_parts(Translation3::from(eye), rotation)
+}
+
+#[test]
+fn culling_drops_nothing_visible() {
+    let mut w = scene();
+    let shapes: Vec<Pose> = (0..40)
+        .map(|k| w.world.object(sensor(&w, &format!("s{k}"))).expect("shape").world)
+        .collect();
+    let mut rng = Rng(0x0dd_ba11);
+    let (mut culled, mut drawn, mut nonempty) = (0, 0, 0);
+    for round in 0..60 {
+        for (name, ..) in SENSORS {
+            let h = sensor(&w, name);
+            let pose = random_pose(&mut rng, &shapes);
+            w.world.set_world_pose(h, pose).expect("pose");
+            let mut culling = VisionStates::default();
+            let mut everything = VisionStates {
+                no_cull: true,
+                ..VisionStates::default()
+            };
+            handle_vision_sensor(&w.world, &mut culling, h).expect("render");
+            handle_vision_sensor(&w.world, &mut everything, h).expect("render");
+            let (a, b) = (image(&culling, h), image(&everything, h));
+            assert!(
+                a.0 == b.0,
+                "round {round}, sensor {name} at {pose:?}: RGB differs with culling"
+            );
+            assert!(
+                a.1 == b.1,
+                "round {round}, sensor {name} at {pose:?}: depth differs with culling"
+            );
+            culled += culling.scratch.stats.culled_chunks;
+            drawn += culling.scratch.stats.drawn_chunks;
+            assert_eq!(everything.scratch.stats.culled_chunks, 0);
+            nonempty += usize::from(a.0.iter().any(|&c| c != 0));
+        }
+    }
+    // The comparison covered both: views with something drawn, and chunks culled.
+    assert!(nonempty > 200, "{nonempty} of 360 images show something");
+    assert!(culled > 10 * drawn / 100, "culled {culled} chunks, drew {drawn}");
+    assert!(drawn > 1000, "drew {drawn} chunks");
+}
+
+#[test]
+fn sensors_drawn_in_parallel_give_the_same_images() {
+    let mut w = scene();
+    let shapes: Vec<Pose> = (0..40)
+        .map(|k| w.world.object(sensor(&w, &format!("s{k}"))).expect("shape").world)
+        .collect();
+    let mut rng = Rng(0xfee1_900d);
+    let handles: Vec<Handle> = SENSORS.iter().map(|s| sensor(&w, s.0)).collect();
+    for &h in &handles {
+        w.world.set_world_pose(h, random_pose(&mut rng, &shapes)).expect("pose");
+    }
+    let run = |threads: usize| {
+        let mut states = VisionStates::default();
+        let outcomes = states.render_many(&w.world, &handles, threads);
+        assert!(outcomes.iter().all(Result::is_ok));
+        handles.iter().map(|&h| image(&states, h)).collect::<Vec<_>>()
+    };
+    let one_by_one = run(1);
+    // Two runs of each thread count: the images are the same bits every time.
+    for threads in [2, 2, 3, 6, 6] {
+        assert!(run(threads) == one_by_one, "{threads} threads");
+    }
+    // The public entry point takes the parallel path on a multi-core machine.
+    let mut states = VisionStates::default();
+    let rendered = super::handle_all_vision_sensors(&w.world, &mut states, false).expect("render");
+    assert_eq!(rendered, handles.len());
+    let all: Vec<_> = handles.iter().map(|&h| image(&states, h)).collect();
+    assert!(all == one_by_one);
+    assert!(one_by_one.iter().filter(|(rgb, _)| rgb.iter().any(|&c| c != 0)).count() >= 3);
+}
