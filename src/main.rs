@@ -119,6 +119,10 @@ struct RunArgs {
     /// Override the scene's physics substeps per step.
     #[arg(long)]
     substeps: Option<u32>,
+    /// Override the scene's random seed (scripts' math.random, sim.floatparam_rand;
+    /// default the scene's `[simulation] seed`, else 0): runs with one seed repeat.
+    #[arg(long)]
+    seed: Option<i64>,
     /// Extra folder for package:// mesh references (repeatable).
     #[arg(long = "package-path")]
     package_paths: Vec<PathBuf>,
@@ -388,6 +392,9 @@ fn run(args: &RunArgs) -> Result<()> {
         anyhow::ensure!((1..=1000).contains(&n), "--substeps {n}: use 1 to 1000");
         model.settings.substeps = n;
     }
+    if let Some(seed) = args.seed {
+        model.settings.seed = seed;
+    }
     for w in &model.warnings {
         tracing::warn!("{w}");
     }
@@ -442,6 +449,7 @@ fn run(args: &RunArgs) -> Result<()> {
         scripts: true,
         dt: model.settings.dt,
         substeps: model.settings.substeps,
+        seed: model.settings.seed,
         command_line: std::env::args().collect::<Vec<_>>().join(" "),
     };
     let sim = SimConfig {

@@ -84,6 +84,9 @@ class Client:
     most ``record_rate`` snapshots per simulated second); the file is complete once the
     client is closed, and ``gantry verify run.mcap`` re-runs it (docs/recording.md).
 
+    ``seed`` overrides the scene's random seed (the scripts' ``math.random`` and
+    ``sim.floatparam_rand``; default the scene's, else 0): one seed, one sequence.
+
     The client belongs to the thread that made it. Several clients in several threads
     are independent simulations that step in parallel (steps release the GIL).
     """
@@ -106,6 +109,7 @@ class Client:
         token: Optional[str] = None,
         record: Optional[str | _os.PathLike] = None,
         record_rate: Optional[float] = None,
+        seed: Optional[int] = None,
     ):
         self._engine = _Engine(
             None if scene is None else _os.fspath(scene),
@@ -123,6 +127,7 @@ class Client:
             token=token,
             record=None if record is None else _os.fspath(record),
             record_rate=record_rate,
+            seed=seed,
         )
         self._required: dict[str, _Module] = {}
         self._owner = _threading.get_ident()

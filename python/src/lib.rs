@@ -126,7 +126,7 @@ impl Engine {
     #[new]
     #[pyo3(signature = (scene=None, *, dt=None, substeps=None, autostart=true, realtime=true,
                         package_paths=Vec::new(), free_base=false, scripts=true, bind=None, http_port=None,
-                        zmq_port=None, text_port=None, token=None, record=None, record_rate=None))]
+                        zmq_port=None, text_port=None, token=None, record=None, record_rate=None, seed=None))]
     #[expect(clippy::too_many_arguments, reason = "Python keyword arguments")]
     fn new(
         py: Python<'_>,
@@ -145,6 +145,7 @@ impl Engine {
         token: Option<String>,
         record: Option<PathBuf>,
         record_rate: Option<f64>,
+        seed: Option<i64>,
     ) -> PyResult<Self> {
         let options = LoadOptions {
             package_paths,
@@ -197,6 +198,9 @@ impl Engine {
             }
             model.settings.substeps = n;
         }
+        if let Some(seed) = seed {
+            model.settings.seed = seed;
+        }
         for w in &model.warnings {
             tracing::warn!("{w}");
         }
@@ -209,6 +213,7 @@ impl Engine {
             scripts,
             dt: model.settings.dt,
             substeps: model.settings.substeps,
+            seed: model.settings.seed,
             command_line: format!("gantry.Client({:?})", scene.as_deref().unwrap_or(Path::new(""))),
         };
         let record = record.map(|path| RecordParams::for_run(path, record_rate, run.clone()));

@@ -945,8 +945,8 @@ pub fn scene_from_files(
     Ok(with_settings(meta, model))
 }
 
-/// `model` with the recorded time step and substeps (command-line overrides of the
-/// run included), and without scripts when the run had none.
+/// `model` with the recorded time step, substeps and seed (command-line overrides of
+/// the run included), and without scripts when the run had none.
 fn with_settings(meta: &BTreeMap<String, String>, mut model: SceneModel) -> SceneModel {
     if let Some(dt) = meta
         .get("dt")
@@ -961,6 +961,9 @@ fn with_settings(meta: &BTreeMap<String, String>, mut model: SceneModel) -> Scen
         .filter(|n| *n > 0)
     {
         model.settings.substeps = n;
+    }
+    if let Some(seed) = meta.get("seed").and_then(|v| v.parse::<i64>().ok()) {
+        model.settings.seed = seed;
     }
     if meta.get("scripts").is_some_and(|v| v == "false") {
         model.scripts.clear();

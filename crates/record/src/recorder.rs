@@ -77,6 +77,8 @@ pub struct RunDescription {
     pub dt: f64,
     /// Physics substeps per step.
     pub substeps: u32,
+    /// The seed of the run's pseudo-random numbers (scripts' `math.random`).
+    pub seed: i64,
     /// The command line (or the Python call) that started the run.
     pub command_line: String,
 }
@@ -99,6 +101,7 @@ impl RecordParams {
             ("scripts", run.scripts.to_string()),
             ("dt", run.dt.to_string()),
             ("substeps", run.substeps.to_string()),
+            ("seed", run.seed.to_string()),
             (
                 "record_rate_hz",
                 rate_hz.map_or_else(|| "every step".to_owned(), |r| r.to_string()),

@@ -85,6 +85,13 @@ impl Simulation {
         limits: ScriptLimits,
         debugger: Option<DebugHost>,
     ) -> Result<Self, ScriptError> {
+        // Lua seeds `math.random` from the clock and an address; the scene's seed
+        // makes every run draw the same numbers (a re-run must, see gantry verify).
+        let seed = model.settings.seed;
+        lua.load(format!("math.randomseed({seed})"))
+            .set_name("@gantry/seed.lua")
+            .exec()
+            .map_err(|e| ScriptError(format!("cannot seed the scripts' random numbers: {e}")))?;
         let mut sim = Sim::new(&model);
         sandbox::confine(&mut sim, &model);
         for w in sim.world.warnings() {

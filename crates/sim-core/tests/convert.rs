@@ -497,6 +497,7 @@ fn everything() -> SceneModel {
             collisions_every_substep: true,
             solver_iterations: 3,
             gravity: [0.1, 0.0, -1.62],
+            seed: -7,
         },
         server: ServerSettings {
             bind: Some("127.0.0.1".into()),

@@ -291,6 +291,9 @@ impl Resolver<'_> {
             if let Some(every) = sim.collisions_every_substep {
                 s.collisions_every_substep = every;
             }
+            if let Some(seed) = sim.seed {
+                s.seed = seed;
+            }
             if let Some(n) = sim.solver_iterations {
                 if !(1..=100).contains(&n) {
                     return self.err_at(

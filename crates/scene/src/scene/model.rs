@@ -97,6 +97,10 @@ pub struct SimSettings {
     pub solver_iterations: u32,
     /// Gravity in the world frame, m/s².
     pub gravity: [f64; 3],
+    /// The seed of the run's pseudo-random numbers: Lua's `math.random` in every
+    /// script and `sim.getFloatParam(sim.floatparam_rand)`. One seed gives one
+    /// sequence, so that runs repeat (Lua would otherwise seed from the clock).
+    pub seed: i64,
 }
 
 impl Default for SimSettings {
@@ -108,6 +112,7 @@ impl Default for SimSettings {
             collisions_every_substep: false,
             solver_iterations: 1,
             gravity: [0.0, 0.0, -9.81],
+            seed: 0,
         }
     }
 }

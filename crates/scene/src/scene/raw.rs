@@ -47,6 +47,8 @@ pub struct RawSimulation {
     pub solver_iterations: Option<u32>,
     /// Gravity in m/s², world frame (default `[0, 0, -9.81]`, Z up).
     pub gravity: Option<[f64; 3]>,
+    /// The seed of the scripts' and the simulator's pseudo-random numbers (default 0).
+    pub seed: Option<i64>,
 }
 
 /// `[floor]`.
@@ -318,6 +320,7 @@ const SIMULATION_KEYS: &[&str] = &[
     "collisions_every_substep",
     "solver_iterations",
     "gravity",
+    "seed",
 ];
 const FLOOR_KEYS: &[&str] = &["size", "friction", "color"];
 const SERVER_KEYS: &[&str] = &["bind", "text_port", "zmq_port", "http_port"];

@@ -146,6 +146,9 @@ impl Writer {
         let _ = writeln!(self.out, "collisions_every_substep = {}", s.collisions_every_substep);
         let _ = writeln!(self.out, "solver_iterations = {}", s.solver_iterations);
         self.key3("gravity", s.gravity)?;
+        if s.seed != 0 {
+            let _ = writeln!(self.out, "seed = {}", s.seed);
+        }
         let srv = &model.server;
         if srv.bind.is_some() || srv.text_port.is_some() || srv.zmq_port.is_some() || srv.http_port.is_some() {
             self.out.push_str("\n[server]\n");

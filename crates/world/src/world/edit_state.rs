@@ -90,11 +90,15 @@ pub(crate) struct EditState {
 }
 
 impl EditState {
-    /// The state of a world built with `n` objects.
-    pub(crate) fn new(n: usize) -> Self {
+    /// The state of a world built with `n` objects, its random numbers from `seed`.
+    pub(crate) fn new(n: usize, seed: i64) -> Self {
+        // Seed 0 keeps the sequence gantry always had. xorshift must not start at 0,
+        // which the odd multiplier's product with a seed never gives but for seed 0.
+        let seed = u64::from_ne_bytes(seed.to_ne_bytes());
+        let rand = 0x9E37_79B9_7F4A_7C15 ^ seed.wrapping_mul(0xBF58_476D_1CE4_E5B9);
         Self {
             removed: vec![false; n],
-            rand: 0x9E37_79B9_7F4A_7C15,
+            rand: if rand == 0 { 0x9E37_79B9_7F4A_7C15 } else { rand },
             ..Self::default()
         }
     }

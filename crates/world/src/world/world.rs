@@ -190,7 +190,7 @@ impl World {
             collections: Vec::new(),
             log: Log::default(),
             queries_stale: true,
-            edit: super::edit_state::EditState::new(objects_len),
+            edit: super::edit_state::EditState::new(objects_len, model.settings.seed),
             mimics: Vec::new(),
             profiled: Vec::new(),
             kinematic_moving: Vec::new(),
