@@ -18,9 +18,8 @@ import pytest
 from mcap.reader import make_reader
 from mcap.writer import Writer
 from mcap_ros2.decoder import DecoderFactory
-from playwright.sync_api import sync_playwright
 
-from viewer_util import Gantry, Replay, gantry_bin, launch_chromium, wait_for
+from viewer_util import Gantry, Replay, gantry_bin, viewer_page, wait_for
 
 # 10 simulated seconds of the showroom (dt 50 ms): bubbleRob drives, its script plots
 # its clearance in the graph `bubbleRob/graph`.
@@ -143,18 +142,10 @@ def replay(recording):
 
 @pytest.fixture(scope="module")
 def page(replay):
-    with sync_playwright() as p:
-        browser = launch_chromium(p)
-        pg = browser.new_page(viewport={"width": 1400, "height": 900})
-        errors: list[str] = []
-        pg.on("pageerror", lambda e: errors.append(str(e)))
-        pg.goto(replay.url)
-        pg.wait_for_function("window.gantry && gantry.objects.length > 0 && gantry.replay !== null "
-                             "&& gantry.frameMessages > 0 && gantry.tick !== null", timeout=30_000)
-        pg.errors = errors
+    ready = ("window.gantry && gantry.objects.length > 0 && gantry.replay !== null "
+             "&& gantry.frameMessages > 0 && gantry.tick !== null")
+    with viewer_page(replay.url, ready) as pg:
         yield pg
-        assert not errors, f"JavaScript errors on the page: {errors}"
-        browser.close()
 
 
 def page_pose(page, frame: str) -> list[float]:

@@ -19,9 +19,8 @@ import urllib.request
 import zlib
 
 import pytest
-from playwright.sync_api import sync_playwright
 
-from viewer_util import REPO, Gantry, joints, launch_chromium, text_packet, wait_for
+from viewer_util import REPO, Gantry, joints, text_packet, viewer_page, wait_for
 
 ARTIFACTS = REPO / "test-artifacts"
 
@@ -36,18 +35,10 @@ def gantry():
 
 @pytest.fixture(scope="module")
 def page(gantry):
-    with sync_playwright() as p:
-        browser = launch_chromium(p)
-        pg = browser.new_page(viewport={"width": 1400, "height": 900})
-        errors: list[str] = []
-        pg.on("pageerror", lambda e: errors.append(str(e)))
-        pg.goto(gantry.url)
-        pg.wait_for_function("window.gantry && gantry.objects.length > 0 && gantry.frameMessages > 2 "
-                             "&& gantry.framesRendered > 0 && gantry.tick !== null", timeout=20_000)
-        pg.errors = errors
+    ready = ("window.gantry && gantry.objects.length > 0 && gantry.frameMessages > 2 "
+             "&& gantry.framesRendered > 0 && gantry.tick !== null")
+    with viewer_page(gantry.url, ready, timeout_ms=20_000) as pg:
         yield pg
-        assert not errors, f"JavaScript errors on the page: {errors}"
-        browser.close()
 
 
 def test_scene_description_and_canvas_rendered(page):

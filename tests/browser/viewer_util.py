@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
@@ -41,21 +42,15 @@ CHROMIUM_ARGS = [
 ]
 
 
-class Gantry(ManagedProcess):
-    """A running gantry serving the showroom; ``addr[kind]`` is ``(host, port)``."""
+class Listening(ManagedProcess):
+    """A gantry process that announces its listeners on stderr (``listening KIND=ADDR``):
+    ``addr[kind]`` is ``(host, port)``, ``url`` its viewer page."""
 
-    def __init__(self, *, fast: bool = False, extra: list[str] | None = None, prefix: list[str] | None = None,
-                 ready_timeout: float = 60.0):
-        # `prefix` wraps the command, e.g. ["taskset", "-c", "0"] in the benchmark.
-        cmd = [*(prefix or []), str(gantry_bin()), "run", "--http-port", "0", "--text-port", "0", "--zmq-port", "0"]
-        if fast:
-            cmd.append("--fast")
-        cmd += extra or []
+    def _start(self, cmd: list[str], listeners: int, ready_timeout: float) -> None:
+        """Starts ``cmd`` and waits until it announced ``listeners`` listeners."""
         self.cmd = cmd
         self.log: deque[str] = deque(maxlen=2000)
         self.addr: dict[str, tuple[str, int]] = {}
-        # With --debug, the debugger's DAP listener is a fourth.
-        listeners = 3 + any(a.startswith("--debug") for a in cmd)
         self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                      stderr=subprocess.PIPE, text=True, errors="replace")
         ready = threading.Event()
@@ -83,9 +78,24 @@ class Gantry(ManagedProcess):
         return f"http://{host}:{port}/"
 
     def status(self) -> dict:
-        """``GET /api/status``: time, steps, state, viewers."""
+        """``GET /api/status``: time, steps, state and viewers of a run; the replay
+        clock (time, start, end, playing, speed, frame) of a replay."""
         with urllib.request.urlopen(self.url + "api/status", timeout=10) as r:
             return json.load(r)
+
+
+class Gantry(Listening):
+    """A running gantry serving the showroom; ``addr[kind]`` is ``(host, port)``."""
+
+    def __init__(self, *, fast: bool = False, extra: list[str] | None = None, prefix: list[str] | None = None,
+                 ready_timeout: float = 60.0):
+        # `prefix` wraps the command, e.g. ["taskset", "-c", "0"] in the benchmark.
+        cmd = [*(prefix or []), str(gantry_bin()), "run", "--http-port", "0", "--text-port", "0", "--zmq-port", "0"]
+        if fast:
+            cmd.append("--fast")
+        cmd += extra or []
+        # With --debug, the debugger's DAP listener is a fourth.
+        self._start(cmd, 3 + any(a.startswith("--debug") for a in cmd), ready_timeout)
 
     def zmq_client(self):
         from coppeliasim_zmqremoteapi_client import RemoteAPIClient
@@ -100,6 +110,25 @@ def launch_chromium(playwright):
     if not Path(CHROMIUM).exists():
         raise FileNotFoundError(f"{CHROMIUM} is missing: run tools/browser-test.sh (it installs chromium)")
     return playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+
+
+@contextlib.contextmanager
+def viewer_page(url: str, ready: str, timeout_ms: int = 30_000):
+    """A headless Chromium page on ``url``, once the JavaScript condition ``ready``
+    holds; on leaving, no JavaScript error may have happened on the page."""
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        browser = launch_chromium(p)
+        pg = browser.new_page(viewport={"width": 1400, "height": 900})
+        errors: list[str] = []
+        pg.on("pageerror", lambda e: errors.append(str(e)))
+        pg.goto(url)
+        pg.wait_for_function(ready, timeout=timeout_ms)
+        pg.errors = errors
+        yield pg
+        assert not errors, f"JavaScript errors on the page: {errors}"
+        browser.close()
 
 
 def text_packet(addr: tuple[str, int], packet: str, timeout: float = 5.0) -> str:
@@ -135,39 +164,8 @@ def wait_for(predicate, timeout: float = 10.0, interval: float = 0.05, what: str
     raise AssertionError(f"timed out after {timeout} s waiting for {what} (last: {last!r})")
 
 
-class Replay(ManagedProcess):
+class Replay(Listening):
     """``gantry replay FILE --http-port 0``: the viewer over a recording; ``url`` is its page."""
 
     def __init__(self, recording: Path, ready_timeout: float = 60.0):
-        self.cmd = [str(gantry_bin()), "replay", str(recording), "--http-port", "0"]
-        self.log: deque[str] = deque(maxlen=2000)
-        self.addr: dict[str, tuple[str, int]] = {}
-        self.proc = subprocess.Popen(self.cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                     stderr=subprocess.PIPE, text=True, errors="replace")
-        ready = threading.Event()
-
-        def drain():
-            assert self.proc.stderr is not None
-            for line in self.proc.stderr:
-                self.log.append(line.rstrip("\n"))
-                m = LISTENING.search(line)
-                if m:
-                    self.addr[m.group(1)] = (m.group(2).strip("[]"), int(m.group(3)))
-                    ready.set()
-            ready.set()  # stderr closed: the process ended
-
-        threading.Thread(target=drain, daemon=True).start()
-        ready.wait(ready_timeout)
-        if "http" not in self.addr:
-            self.close()
-            raise RuntimeError(f"gantry replay did not report its viewer: {' '.join(self.cmd)}\n{self.stderr()}")
-
-    @property
-    def url(self) -> str:
-        host, port = self.addr["http"]
-        return f"http://{host}:{port}/"
-
-    def status(self) -> dict:
-        """``GET /api/status``: the replay clock (time, start, end, playing, speed, frame)."""
-        with urllib.request.urlopen(self.url + "api/status", timeout=10) as r:
-            return json.load(r)
+        self._start([str(gantry_bin()), "replay", str(recording), "--http-port", "0"], 1, ready_timeout)
