@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 221 functions, 164 constants."""
+    """`sim`: 226 functions, 164 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -195,6 +195,10 @@ class Sim:
         """the console is a source in the log named "console: TITLE"; position, size and colours are ignored."""
     def auxiliaryConsolePrint(self, *args: Any) -> Any: ...
     def auxiliaryConsoleShow(self, *args: Any) -> Any: ...
+    def boolAnd32(self, *args: Any) -> Any:
+        """V-REP 3's (Lua 5.1 had no bit operators): the low 32 bits of each value, the result unsigned; `sim.boolOr32` and `sim.boolXor32` likewise."""
+    def boolOr32(self, *args: Any) -> Any: ...
+    def boolXor32(self, *args: Any) -> Any: ...
     def buildIdentityMatrix(self, *args: Any) -> Any: ...
     def buildMatrix(self, *args: Any) -> Any:
         """matrix, pose, vector and quaternion arguments must have exactly 12/7/3/4 numbers; NaN and infinities are errors naming the argument."""
@@ -212,6 +216,7 @@ class Sim:
     def clearStringSignal(self, *args: Any) -> Any: ...
     def closeScene(self, *args: Any) -> Any:
         """replaces the scene with an empty one (no floor, no objects). Remote clients only."""
+    def copyMatrix(self, *args: Any) -> Any: ...
     def copyPasteObjects(self, *args: Any) -> Any:
         """a copy goes to the root unless its parent was copied too; scripts are not copied."""
     def createCollection(self, *args: Any) -> Any: ...
@@ -344,6 +349,8 @@ class Sim:
         """keeps the points strictly closer than `tolerance` to one of `points`; nil removes every point."""
     def isDynamicallyEnabled(self, *args: Any) -> Any: ...
     def isHandle(self, *args: Any) -> Any: ...
+    def isHandleValid(self, *args: Any) -> Any:
+        """V-REP 3's: 1 when the handle names a scene object and the type is -1 or 109 (`sim_appobj_object_type`), else 0; gantry's handles name scene objects only."""
     def loadModel(self, *args: Any) -> Any:
         """reads a robot (`.urdf`, base fixed unless `--free-base`) or a gantry model (a `.toml` scene file with `[[object]]`, `[[robot]]` and `[[script]]` only); CoppeliaSim's `.ttm` is refused. The model joins the scene for good (a stop restores it as loaded); its scripts initialise at once during a run. Scripts load model files only from inside the scene's folder; remote clients from any path gantry can read. The returned handle is the model base's; the handles of a model loaded after objects were created at run time change at the next stop, when the scene is rebuilt from the files."""
     def loadScene(self, *args: Any) -> Any:

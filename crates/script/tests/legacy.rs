@@ -216,3 +216,36 @@ fn v_rep_3_scripts_run_after_the_import_rewrite() {
     let loops = sc.remote("sim.getInt32Signal", &[Value::Str("loops".into())]);
     assert_eq!(loops, [Value::Int(10)]);
 }
+
+/// V-REP 3's bit operations, handle check and matrix copy, as its course scripts use them.
+const SCRIPT_3X: &str = r#"
+function sysCall_init()
+    local body = sim.getObjectHandle('bubbleRob')
+    local m = sim.getObjectMatrix(body, -1)
+    local c = sim.copyMatrix(m)
+    c[4] = c[4] + 1
+    results = {
+        sim.boolAnd32(0xF0F0, 0x0FF0), sim.boolOr32(0xF000, 0x000F), sim.boolXor32(0xFF, 0x0F),
+        sim.boolAnd32(-1, 0xFFFF), sim.boolOr32(0x1FFFFFFFF, 0),
+        sim.isHandleValid(body), sim.isHandleValid(body, 109), sim.isHandleValid(body, 102),
+        sim.isHandleValid(123456), m[4] + 1 == c[4] and 1 or 0, #c,
+    }
+    ok, err = pcall(sim.copyMatrix, {1, 2, 3})
+end
+function report() return table.concat(results, ','), err end
+"#;
+
+#[test]
+fn v_rep_3_bit_operations_handle_checks_and_matrix_copies() {
+    let mut s = Scene::rover("legacy-3x", SCRIPT_3X);
+    let out = s.call("report", &[]);
+    assert_eq!(
+        out[0],
+        Value::from("240,61455,240,65535,4294967295,1,1,0,0,1,12"),
+        "and, or, xor on 32 bits; valid handles; a copy, not the same table"
+    );
+    let Value::Str(err) = &out[1] else {
+        panic!("an error message: {out:?}")
+    };
+    assert_contains(err, &["copyMatrix"]);
+}

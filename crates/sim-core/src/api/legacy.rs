@@ -65,6 +65,22 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(auxiliary_console_show),
     },
     ApiFunction {
+        name: "boolAnd32",
+        call: ApiFn::World(|_, _, a| bool32(a, |x, y| x & y)),
+    },
+    ApiFunction {
+        name: "boolOr32",
+        call: ApiFn::World(|_, _, a| bool32(a, |x, y| x | y)),
+    },
+    ApiFunction {
+        name: "boolXor32",
+        call: ApiFn::World(|_, _, a| bool32(a, |x, y| x ^ y)),
+    },
+    ApiFunction {
+        name: "copyMatrix",
+        call: ApiFn::World(copy_matrix),
+    },
+    ApiFunction {
         name: "displayDialog",
         call: ApiFn::World(display_dialog),
     },
@@ -131,6 +147,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "isHandle",
         call: ApiFn::World(is_handle),
+    },
+    ApiFunction {
+        name: "isHandleValid",
+        call: ApiFn::World(is_handle_valid),
     },
     ApiFunction {
         name: "setScriptSimulationParameter",
@@ -234,6 +254,39 @@ fn get_object_size_factor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 fn is_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.int(0)?;
     Ok(vec![Value::Bool(w.object(h).is_ok())])
+}
+
+/// `sim.isHandleValid(handle [, type])` (V-REP 3): 1 when `handle` names an object,
+/// else 0. The type is V-REP's general object type; -1 (any) and 109
+/// (`sim_appobj_object_type`) ask about scene objects, the only ones gantry's handles
+/// name, so other types are never valid here.
+fn is_handle_valid(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    /// V-REP's `sim_appobj_object_type`.
+    const OBJECT_TYPE: i64 = 109;
+    let h = a.int(0)?;
+    let ty = a.opt_int(1, -1)?;
+    let valid = (ty == -1 || ty == OBJECT_TYPE) && w.object(h).is_ok();
+    Ok(vec![Value::Int(i64::from(valid))])
+}
+
+/// `sim.boolAnd32`, `sim.boolOr32`, `sim.boolXor32` (V-REP 3): `op` on the two values'
+/// low 32 bits, the result as an unsigned 32-bit number (Lua 5.1 had no bit operators).
+fn bool32(a: &Args<'_>, op: fn(u32, u32) -> u32) -> Result<Ret, SimError> {
+    // Truncation to the low 32 bits is the documented behaviour.
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "the low 32 bits, as V-REP"
+    )]
+    let low = |v: i64| v as u32;
+    Ok(vec![Value::Int(i64::from(op(low(a.int(0)?), low(a.int(1)?))))])
+}
+
+/// `sim.copyMatrix(matrix)` (V-REP 3): a copy of a 12-number transformation matrix (a
+/// new table, so that changing one does not change the other).
+fn copy_matrix(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let m: [f64; 12] = a.floats(0)?;
+    Ok(vec![Value::Array(m.iter().map(|&x| Value::Float(x)).collect())])
 }
 
 /// `sim.isDynamicallyEnabled(h)`: whether the physics engine simulates the object: a
