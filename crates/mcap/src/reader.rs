@@ -1040,6 +1040,20 @@ fn crc32fast_hash(bytes: &[u8]) -> u32 {
 /// whole record, opcode and length included). The chunk is decompressed and its CRC
 /// checked before any record is handed out, so a damaged chunk yields nothing.
 fn for_each_chunk_record(record: &[u8], mut f: impl FnMut(u8, &[u8])) -> Result<(), mcap::McapError> {
+    // An uncompressed chunk is read here: the `mcap` crate's linear reader trusts the
+    // lengths of the records inside one (an overlong record made it subtract past zero,
+    // found by the `recording` fuzz target), and there is nothing to decompress.
+    if let Some(records) = uncompressed_chunk_records(record) {
+        let records = records?;
+        let mut r = Fields::new(records);
+        while r.pos < records.len() {
+            let (Some(op), Some(body)) = (r.take(1), r.bytes64()) else {
+                return Err(mcap::McapError::UnexpectedEoc);
+            };
+            f(op[0], body);
+        }
+        return Ok(());
+    }
     let mut reader = LinearReader::new_with_options(
         LinearReaderOptions::default()
             .with_skip_start_magic(true)
@@ -1061,6 +1075,33 @@ fn for_each_chunk_record(record: &[u8], mut f: impl FnMut(u8, &[u8])) -> Result<
         }
     }
     Ok(())
+}
+
+/// The records of an uncompressed chunk record (`record`: opcode and length
+/// included), their CRC checked when it is not 0; `None` for a compressed chunk, which
+/// the `mcap` crate decompresses.
+fn uncompressed_chunk_records(record: &[u8]) -> Option<Result<&[u8], mcap::McapError>> {
+    /// The chunk's compression and records, `None` when the record is too short.
+    fn parts(record: &[u8]) -> Option<(u32, &str, &[u8])> {
+        let mut f = Fields::new(record);
+        let _opcode = f.take(1)?;
+        let mut c = Fields::new(f.bytes64()?);
+        let (_start, _end, _size) = (c.u64()?, c.u64()?, c.u64()?);
+        let crc = c.u32()?;
+        let compression = c.string()?;
+        Some((crc, compression, c.bytes64()?))
+    }
+    let Some((crc, compression, records)) = parts(record) else {
+        return Some(Err(mcap::McapError::UnexpectedEoc));
+    };
+    if !compression.is_empty() {
+        return None;
+    }
+    let calculated = crc32fast_hash(records);
+    if crc != 0 && calculated != crc {
+        return Some(Err(mcap::McapError::BadChunkCrc { saved: crc, calculated }));
+    }
+    Some(Ok(records))
 }
 
 /// What a channel carries, from its topic, schema name and encoding.
@@ -1102,4 +1143,25 @@ fn latest<T>(list: &[T], t: u64, time: impl Fn(&T) -> u64) -> Option<&T> {
 /// A message stamp in nanoseconds (negative times count as 0).
 fn stamp_ns(t: crate::msg::Time) -> u64 {
     u64::try_from(t.sec).unwrap_or(0) * 1_000_000_000 + u64::from(t.nanosec)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Found by the `recording` fuzz target: an uncompressed chunk whose inner record
+    /// claims more bytes than the chunk holds made the `mcap` crate's reader subtract
+    /// past zero (a panic in debug builds). The chunk is now read here and counted as
+    /// damaged.
+    #[test]
+    fn an_uncompressed_chunk_whose_record_overruns_it_is_damage_not_a_panic() {
+        let bytes = include_bytes!("../../../fuzz/seeds/recording/uncompressed-chunk-overrun.mcap");
+        match Recording::from_bytes(bytes.to_vec(), Path::new("overrun.mcap")) {
+            Ok(rec) => assert!(
+                !rec.warnings().is_empty() || !rec.lost().is_empty(),
+                "the damage is reported"
+            ),
+            Err(e) => assert!(!e.to_string().is_empty()),
+        }
+    }
 }
