@@ -131,7 +131,7 @@ pub fn collect(sim: &Simulation, cursor: &mut PanelCursor) -> PanelUpdate {
 }
 
 /// `s` cut to at most `max` bytes at a character boundary, marked with an ellipsis.
-fn truncate(s: &str, max: usize) -> String {
+pub(super) fn truncate(s: &str, max: usize) -> String {
     if s.len() <= max {
         return s.to_owned();
     }

@@ -34,7 +34,7 @@ use tokio::sync::{mpsc, oneshot, watch};
 
 use super::command::ReplayAction;
 use super::frame::{Frame, FrameSender};
-use super::panels::{MAX_LOG_LINES, MAX_LOG_MESSAGE, MSG_IMAGE};
+use super::panels::{MAX_LOG_LINES, MAX_LOG_MESSAGE, MSG_IMAGE, truncate};
 use crate::sim_thread::{SendError, SimHandle};
 
 /// Frames per second of the replay clock while playing.
@@ -617,18 +617,6 @@ fn verbosity(level: u8) -> i64 {
         21..=30 => 300,
         _ => 200,
     }
-}
-
-/// `s` cut to at most `max` bytes at a character boundary.
-fn truncate(s: &str, max: usize) -> String {
-    if s.len() <= max {
-        return s.to_owned();
-    }
-    let mut end = max;
-    while !s.is_char_boundary(end) {
-        end -= 1;
-    }
-    format!("{}…", &s[..end])
 }
 
 /// A recorded `rgb8` image as the page's [`MSG_IMAGE`] message: the bottom row first,
