@@ -339,7 +339,9 @@ fn the_scene_sets_the_render_mode_and_what_to_ignore() {
         "far = 2.0\n",
         "far = 2.0\nrender_mode = \"color_coded\"\nignore_depth = true\n",
     );
-    let mut w = load(&text);
+    let model = load_scene_text(&DiskFiles, &text, Path::new("inline.toml"), &LoadOptions::default()).expect("scene");
+    assert!(model.warnings.is_empty(), "the keys are known: {:?}", model.warnings);
+    let mut w = Sim::new(&model);
     let cam = find(&w, "/cam");
     let gantry_sim_core::world::ObjectKind::VisionSensor(m) = &w.world.object(cam).unwrap().kind else {
         panic!("a vision sensor");

@@ -389,6 +389,9 @@ const OBJECT_KEYS: &[&str] = &[
     "ortho_size",
     "near",
     "far",
+    "render_mode",
+    "ignore_rgb",
+    "ignore_depth",
 ];
 const ROBOT_KEYS: &[&str] = &[
     "urdf",
