@@ -286,6 +286,60 @@ def test_scripts_log_graphs_and_vision(page, gantry):
              what="fk_server.lua running after reload")
 
 
+def test_vision_panel_shows_depth_and_the_mask_on_request(page, gantry):
+    """Issue 30 item 5: beside each sensor's RGB image, its depth in false colour and,
+    after the panel's mask button, its segmentation mask, whose hovered pixel names the
+    shape the simulation's own mask has there."""
+    sim = gantry.zmq_client().require("sim")
+    sensor = sim.getObject("/visionSensor")
+    fig = f'#vision-images figure.vision[data-sensor="{sensor}"]'
+
+    def colours(kind):
+        return page.evaluate(f"""() => {{
+            const cv = document.querySelector('{fig} canvas.{kind}');
+            if (cv.hidden) return 0;
+            const d = cv.getContext('2d').getImageData(0, 0, cv.width, cv.height).data;
+            const seen = new Set();
+            for (let i = 0; i < d.length; i += 4) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
+            return seen.size;
+        }}""")
+
+    # Depth: the floor recedes, so many shades.
+    wait_for(lambda: colours("depth") > 10, what="the depth image in false colour")
+    assert colours("mask") == 0, "no mask until asked for"
+    page.locator(f"{fig} button.mask-on").click()
+    wait_for(lambda: page.evaluate("gantry.masks") > 0, what="a mask in the panel")
+    assert page.locator(f"{fig} button.mask-on").is_hidden()
+    # Paused, the page's last mask (once the panels' next poll brought it) is the
+    # simulation's: hover some pixels.
+    page.click("#btn-pause")
+    wait_for(lambda: gantry.status()["state"] == 8, what="paused")
+    raw, (w, h) = sim.getVisionSensorMask(sensor)
+    mask = struct.unpack(f"<{w * h}i", raw)
+    assert len(set(mask)) >= 2, "the sensor sees at least two things"
+    box = page.locator(f"{fig} canvas.mask").bounding_box()
+
+    def hovered_pixels_match():
+        seen_shape = False
+        for fx, fy in [(0.5, 0.5), (0.2, 0.9), (0.8, 0.9), (0.5, 0.1), (0.1, 0.5)]:
+            page.mouse.move(box["x"] + fx * box["width"], box["y"] + fy * box["height"])
+            # The pixel the page looked up (column, row from the bottom) and what it
+            # found there must be the simulation's; the row is near the top for a small
+            # fy. (The canvas shows about two image pixels per CSS pixel, and mouse
+            # positions are whole CSS pixels: the lookup is near, not exact.)
+            x, y, got = (int(v) for v in page.locator(f"{fig} canvas.mask").get_attribute("data-hover").split(","))
+            assert abs(x - fx * w) <= 6 and abs(y - (1 - fy) * h) <= 6, (fx, fy, x, y)
+            if got != mask[y * w + x]:
+                return False
+            seen_shape |= got != -1
+        assert seen_shape, "at least one hovered pixel sees a shape"
+        return True
+
+    wait_for(hovered_pixels_match, what="the page's mask equal to the simulation's at the hovered pixels")
+    page.click("#btn-start")
+    wait_for(lambda: gantry.status()["state"] == 17, what="running again")
+
+
 def test_bad_websocket_messages_get_error_replies(page, gantry):
     replies = page.evaluate("""async () => {
         const ws = new WebSocket(`ws://${location.host}/ws`);

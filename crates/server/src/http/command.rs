@@ -9,6 +9,7 @@
 //! {"id": 11, "op": "debug", "action": "continue"}      // with --debug: continue, step_over, step_in, step_out, pause
 //! {"op": "key", "key": 2007, "mods": 0}                // a key pressed in the 3D view, for sim.getSimulatorMessage
 //! {"op": "select", "handles": [12]}                    // the user picked an object: sim.getObjectSel
+//! {"op": "mask", "sensor": 15}                         // draw this vision sensor's segmentation mask
 //! {"op": "replay", "action": "seek", "time": 12.5}      // gantry replay only: play, pause, seek (s),
 //!                                                      // step (frames: +-N snapshots), speed (0.25-4)
 //! ```
@@ -88,6 +89,12 @@ pub enum Command {
         /// Bit 0 ctrl, bit 1 shift.
         #[serde(default)]
         mods: i64,
+    },
+    /// Draw a vision sensor's segmentation mask from now on, for the vision panel
+    /// (as `sim.getVisionSensorMask` turns it on; the images do not change).
+    Mask {
+        /// The vision sensor's handle.
+        sensor: i64,
     },
     /// The replay's timeline (`gantry replay` only; a live run refuses it).
     Replay {
@@ -261,6 +268,14 @@ pub fn ui_value(v: &serde_json::Value) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mask_requests_name_a_sensor() {
+        let m = parse(r#"{"id":3,"op":"mask","sensor":15}"#).unwrap();
+        assert_eq!((m.id, m.command), (Some(3), Command::Mask { sensor: 15 }));
+        assert!(parse(r#"{"op":"mask"}"#).is_err());
+        assert!(parse(r#"{"op":"mask","sensor":"cam"}"#).is_err());
+    }
 
     #[test]
     fn keys_parse_within_their_ranges() {

@@ -17,6 +17,14 @@ use serde_json::{Value as Json, json};
 
 /// Binary message type of a vision sensor image (the first little-endian `u32`).
 pub const MSG_IMAGE: u32 = 2;
+/// Binary message type of a vision sensor's depth image, one byte a pixel (see
+/// [`depth_byte`]).
+pub const MSG_DEPTH: u32 = 4;
+/// Binary message type of a vision sensor's segmentation mask, one little-endian `i32`
+/// handle a pixel (-1: nothing seen).
+pub const MSG_MASK: u32 = 5;
+/// The depth byte of a pixel that sees nothing (depth 1, at or past the far plane).
+pub const DEPTH_NOTHING: u8 = 255;
 /// Most log lines per poll; the rest follow in the next polls.
 pub const MAX_LOG_LINES: usize = 500;
 /// Most samples per graph stream per poll (the newest); a page that fell further behind
@@ -54,7 +62,7 @@ pub struct PanelCursor {
 pub struct PanelUpdate {
     /// `{"t":"panels",...}` with only the parts that changed; `None` if nothing did.
     pub json: Option<Json>,
-    /// [`MSG_IMAGE`] messages.
+    /// [`MSG_IMAGE`], [`MSG_DEPTH`] and [`MSG_MASK`] messages.
     pub images: Vec<Vec<u8>>,
 }
 
@@ -229,8 +237,11 @@ fn first_after(s: &GraphStream, t: f64) -> usize {
     lo
 }
 
-/// Images of vision sensors that changed since the cursor: `u32` [`MSG_IMAGE`], `u32`
-/// handle, `u32` width, `u32` height, then RGB bytes, bottom row first.
+/// Images of vision sensors that changed since the cursor, three messages each with the
+/// header `u32` type, `u32` handle, `u32` width, `u32` height, bottom row first:
+/// [`MSG_IMAGE`] with RGB bytes, [`MSG_DEPTH`] with [`depth_byte`]s, and, when the
+/// sensor draws one (after `sim.getVisionSensorMask` or the viewer's mask button),
+/// [`MSG_MASK`] with its handles.
 fn image_updates(sim: &Sim, seen: &mut BTreeMap<Handle, (u64, u64)>) -> Vec<Vec<u8>> {
     let world = &sim.world;
     let mut out = Vec::new();
@@ -248,15 +259,40 @@ fn image_updates(sim: &Sim, seen: &mut BTreeMap<Handle, (u64, u64)>) -> Vec<Vec<
         }
         seen.insert(h, stamp);
         let [w, hgt] = img.resolution();
-        let rgb = img.rgb();
-        let mut b = Vec::with_capacity(16 + rgb.len());
-        for v in [MSG_IMAGE, h as u32, w, hgt] {
-            b.extend(v.to_le_bytes());
-        }
-        b.extend_from_slice(rgb);
+        let message = |kind: u32, len: usize| {
+            let mut b = Vec::with_capacity(16 + len);
+            for v in [kind, h as u32, w, hgt] {
+                b.extend(v.to_le_bytes());
+            }
+            b
+        };
+        let mut b = message(MSG_IMAGE, img.rgb().len());
+        b.extend_from_slice(img.rgb());
         out.push(b);
+        let mut b = message(MSG_DEPTH, img.depth().len());
+        b.extend(img.depth().iter().map(|&d| depth_byte(d)));
+        out.push(b);
+        if let Some(mask) = img.mask() {
+            let mut b = message(MSG_MASK, 4 * mask.len());
+            for id in mask {
+                b.extend(id.to_le_bytes());
+            }
+            out.push(b);
+        }
     }
     out
+}
+
+/// A normalised depth (0 at the near plane, 1 at the far one) as the byte the page's
+/// false-colour panel shows: 0..=254 for what is seen, [`DEPTH_NOTHING`] where nothing
+/// is. A byte is plenty for a picture, and a quarter of the floats' bandwidth.
+pub fn depth_byte(d: f32) -> u8 {
+    if d >= 1.0 || d.is_nan() {
+        DEPTH_NOTHING
+    } else {
+        // d in [0, 1): at most 254.
+        (d.max(0.0) * 254.0).round() as u8
+    }
 }
 
 /// A custom UI as the page draws it.
@@ -326,5 +362,17 @@ mod tests {
         assert_eq!(truncate("abcd", 3), "abc…");
         // 'é' is two bytes: a cut inside it backs off to before it.
         assert_eq!(truncate("aé", 2), "a…");
+    }
+
+    #[test]
+    fn depth_bytes_keep_nothing_seen_apart() {
+        assert_eq!(depth_byte(0.0), 0);
+        assert_eq!(depth_byte(0.5), 127);
+        // The farthest surface short of the far plane is still a surface.
+        assert_eq!(depth_byte(0.999_999), 254);
+        for nothing in [1.0, 1.5, f32::NAN, f32::INFINITY] {
+            assert_eq!(depth_byte(nothing), DEPTH_NOTHING, "{nothing}");
+        }
+        assert_eq!(depth_byte(-0.1), 0);
     }
 }

@@ -448,6 +448,13 @@ async fn execute(
                 .map(|_| String::new())
                 .map_err(ViewerCommandError::Call)
         }
+        // The registry's call turns the mask on (and checks the handle); its reply, the
+        // mask itself, reaches the page with the next panel poll.
+        Command::Mask { sensor } => sim
+            .call("getVisionSensorMask", vec![Value::Int(sensor)])
+            .await
+            .map(|_| String::new())
+            .map_err(ViewerCommandError::Call),
         Command::Key { key, mods } => sim
             .with(move |s| s.core_mut().messages.post_key(key, mods))
             .await

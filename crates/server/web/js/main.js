@@ -8,7 +8,8 @@
 //                          {"t":"panels"}  scripts, log, custom UIs, graph samples
 //                          {"t":"replay"}  gantry replay only: the timeline's time, end, playing, speed
 //                          {"t":"reply"}   answer to a command (matched by id)
-//                   binary u32 type 1: pose, drawing and point-cloud deltas, 2: vision image, 3: mesh
+//                   binary u32 type 1: pose, drawing and point-cloud deltas, 2: vision image, 3: mesh,
+//                   4: vision depth, 5: vision mask
 //   page -> server  text   {"id","op":"control"|"packet"|"ui"|"reload"|"debug"|"key"|"select"|"replay",...}
 // World frame: Z up, metres, radians; poses are [x, y, z, qx, qy, qz, qw].
 

@@ -9,7 +9,7 @@ import { boxGeometry, sphereGeometry, cylinderGeometry, capsuleGeometry, coneVol
 import { buildViewpoints, fitCamera } from './camera.js';
 import { buildTree } from './panels/selection.js';
 import { buildJointPanels } from './panels/joints.js';
-import { buildVisionPanels, onImage } from './panels/vision.js';
+import { buildVisionPanels, onDepth, onImage, onMask } from './panels/vision.js';
 
 export function onScene(msg) {
   for (const o of S.objects) for (const v of o.visuals || []) freeDrawable(v.drawable);
@@ -77,6 +77,8 @@ export function onBinary(buf) {
   if (type === 1) onFrame(dv);
   else if (type === 2) onImage(dv, buf);
   else if (type === 3) onMesh(dv, buf);
+  else if (type === 4) onDepth(dv, buf);
+  else if (type === 5) onMask(dv, buf);
 }
 
 function onMesh(dv, buf) {

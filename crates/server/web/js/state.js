@@ -19,6 +19,7 @@ export const S = {
   framesRendered: 0,
   frameMessages: 0,
   images: 0,
+  masks: 0,             // segmentation masks drawn in the vision panel
   replay: null,         // gantry replay: the timeline's last state (time, start, end, playing, speed, frame, frames)
   graphCursor: {},      // gantry replay: per graph handle, the cursor {time, x (canvas px), values {label: value}}
 };
