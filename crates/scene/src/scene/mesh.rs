@@ -25,7 +25,11 @@ pub fn load_mesh(files: &dyn Files, path: &Path, scale: [f64; 3]) -> Result<Arc<
         path: path.to_owned(),
         message: format!("cannot read mesh: {e}"),
     })?;
-    let loader = mesh_loader::Loader::default().merge_meshes(true);
+    // Sub-meshes are merged below, each offset by the vertices before it. (The loader's
+    // own `merge_meshes` offsets each by the previous sub-mesh's last index only, which
+    // points the triangles of the third sub-mesh on at the wrong vertices: the UR5's
+    // upper arm lost most of its tube that way.)
+    let loader = mesh_loader::Loader::default();
     let scene = match loader.load_from_slice(&bytes, path) {
         Ok(scene) => Ok(scene),
         // Some exporters (the Solo and Bolt feet in example-robot-data) begin a binary STL's
@@ -203,6 +207,84 @@ mod tests {
         let q = dir.join("one.obj");
         std::fs::write(&q, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").expect("write");
         assert!(load_mesh(&DiskFiles, &q, [1.0; 3]).expect("loads").parts.is_empty());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A COLLADA document with one geometry per `(positions, triangles)` (0-based
+    /// indices into its own positions), each instanced once at the origin.
+    fn collada(geometries: &[(&[[f32; 3]], &[[u32; 3]])]) -> String {
+        let mut lib = String::new();
+        let mut nodes = String::new();
+        for (k, (positions, triangles)) in geometries.iter().enumerate() {
+            let floats: Vec<String> = positions.iter().flatten().map(f32::to_string).collect();
+            let idx: Vec<String> = triangles.iter().flatten().map(u32::to_string).collect();
+            lib += &format!(
+                r##"<geometry id="g{k}"><mesh>
+<source id="g{k}-p"><float_array id="g{k}-a" count="{n}">{floats}</float_array>
+<technique_common><accessor source="#g{k}-a" count="{v}" stride="3">
+<param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+</accessor></technique_common></source>
+<vertices id="g{k}-v"><input semantic="POSITION" source="#g{k}-p"/></vertices>
+<triangles count="{t}"><input semantic="VERTEX" source="#g{k}-v" offset="0"/><p>{idx}</p></triangles>
+</mesh></geometry>
+"##,
+                n = floats.len(),
+                floats = floats.join(" "),
+                v = positions.len(),
+                t = triangles.len(),
+                idx = idx.join(" "),
+            );
+            nodes += &format!(r##"<node id="n{k}"><instance_geometry url="#g{k}"/></node>"##);
+        }
+        format!(
+            r##"<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+<asset><unit name="meter" meter="1"/><up_axis>Z_UP</up_axis></asset>
+<library_geometries>{lib}</library_geometries>
+<library_visual_scenes><visual_scene id="s">{nodes}</visual_scene></library_visual_scenes>
+<scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+"##
+        )
+    }
+
+    #[test]
+    fn every_sub_mesh_keeps_its_own_triangles() {
+        // Three geometries far apart (x near 0, 10 and 20 m), of different vertex and
+        // triangle counts, whose last triangles do not end on their last vertex, as
+        // vendor meshes (the UR5's upper arm: five geometries) have them. Each merged
+        // triangle must join three corners of its own geometry.
+        let a: &[[f32; 3]] = &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
+        let b: &[[f32; 3]] = &[[10.0, 0.0, 0.0], [11.0, 0.0, 0.0], [10.0, 1.0, 0.0]];
+        let c: &[[f32; 3]] = &[
+            [20.0, 0.0, 0.0],
+            [21.0, 0.0, 0.0],
+            [20.0, 1.0, 0.0],
+            [21.0, 1.0, 0.0],
+            [20.0, 0.0, 1.0],
+        ];
+        let text = collada(&[
+            (a, &[[0, 1, 2], [3, 2, 1]]),
+            (b, &[[2, 1, 0]]),
+            (c, &[[0, 1, 2], [1, 3, 2], [0, 1, 4]]),
+        ]);
+        let dir = scratch("sub-meshes");
+        let p = dir.join("three.dae");
+        std::fs::write(&p, text).expect("write");
+        let m = load_mesh(&DiskFiles, &p, [1.0; 3]).expect("loads");
+        let owners: Vec<[u32; 3]> = m
+            .indices
+            .iter()
+            .map(|t| t.map(|i| (m.vertices[i as usize][0] / 10.0) as u32))
+            .collect();
+        assert_eq!(
+            owners,
+            [[0; 3], [0; 3], [1; 3], [2; 3], [2; 3], [2; 3]],
+            "each triangle's geometry"
+        );
+        // And the very corners written: the third geometry's last triangle.
+        let last = m.indices[5].map(|i| m.vertices[i as usize]);
+        assert_eq!(last, [[20.0, 0.0, 0.0], [21.0, 0.0, 0.0], [20.0, 0.0, 1.0]]);
         std::fs::remove_dir_all(&dir).ok();
     }
 
