@@ -100,6 +100,19 @@ class Box:
 
 
 @dataclass(frozen=True)
+class Camera:
+    """A vision sensor: name, resolution (px), and its eye and target (m) with a world up
+    direction, from which both sides build the same pose (``camera_axes``)."""
+
+    name: str
+    width: int
+    height: int
+    eye: tuple[float, float, float]
+    target: tuple[float, float, float]
+    up: tuple[float, float, float] = (0.0, 0.0, 1.0)
+
+
+@dataclass(frozen=True)
 class Scene:
     """One referee scene: a public robot at the world origin (fixed base), joint angles by
     URDF joint name (radians or metres), boxes, and the camera's eye and target (m)."""
@@ -111,6 +124,11 @@ class Scene:
     eye: tuple[float, float, float]
     target: tuple[float, float, float]
     up: tuple[float, float, float] = field(default=(0.0, 0.0, 1.0))
+
+    @property
+    def camera(self) -> Camera:
+        """The referee's camera: WIDTH x HEIGHT, named ``camera``."""
+        return Camera("camera", WIDTH, HEIGHT, self.eye, self.target, self.up)
 
 
 # Known gantry bugs a scene shows (pytest.param marks below), in one place:
@@ -183,9 +201,9 @@ SCENE_BY_ID = {p.values[0].sid: p.values[0] for p in SCENES}
 # Camera geometry shared by both sides
 
 
-def camera_axes(scene: Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def camera_axes(cam: Camera | Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(forward, right, up) unit vectors in the world, as ``gluLookAt`` builds them."""
-    eye, target, up = (np.asarray(v, dtype=float) for v in (scene.eye, scene.target, scene.up))
+    eye, target, up = (np.asarray(v, dtype=float) for v in (cam.eye, cam.target, cam.up))
     f = target - eye
     f /= np.linalg.norm(f)
     r = np.cross(f, up)
@@ -193,10 +211,10 @@ def camera_axes(scene: Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return f, r, np.cross(r, f)
 
 
-def sensor_quaternion(scene: Scene) -> list[float]:
+def sensor_quaternion(cam: Camera | Scene) -> list[float]:
     """The gantry sensor's world orientation as [x, y, z, w]: local +Z forward, local +Y
     up, local +X to the image's *left* (so image right is local -X)."""
-    f, r, u = camera_axes(scene)
+    f, r, u = camera_axes(cam)
     m = np.column_stack([-r, u, f])
     # Shepperd's method on the largest of the four candidates, for accuracy.
     tr = np.trace(m)
@@ -283,9 +301,10 @@ def toml_list(values) -> str:
     return "[" + ", ".join(repr(float(v)) for v in values) + "]"
 
 
-def gantry_scene_text(scene: Scene) -> str:
+def gantry_scene_text(scene: Scene, cameras: list[Camera] | None = None) -> str:
     """The gantry scene file: floor, robot (joint angles as ``initial``, in degrees for
-    revolute joints and metres for prismatic ones), boxes, and the vision sensor."""
+    revolute joints and metres for prismatic ones), boxes, and ``cameras`` (default: the
+    scene's camera) as vision sensors."""
     info = UrdfInfo.parse(scene.robot.path.read_text(errors="replace"))
     types = {j.name: j.type for j in info.joints}
     initial = ", ".join(
@@ -311,18 +330,19 @@ def gantry_scene_text(scene: Scene) -> str:
             f"position = {toml_list(box.position)}",
             f"orientation_deg = {toml_list((0, 0, box.yaw_deg))}",
         ]
-    lines += [
-        "",
-        "[[object]]",
-        'name = "camera"',
-        'kind = "vision_sensor"',
-        f"resolution = [{WIDTH}, {HEIGHT}]",
-        f"fov_deg = {FOV_DEG!r}",
-        f"near = {NEAR!r}",
-        f"far = {FAR!r}",
-        f"position = {toml_list(scene.eye)}",
-        f"quaternion = {toml_list(sensor_quaternion(scene))}",
-    ]
+    for cam in cameras or [scene.camera]:
+        lines += [
+            "",
+            "[[object]]",
+            f'name = "{cam.name}"',
+            'kind = "vision_sensor"',
+            f"resolution = [{cam.width}, {cam.height}]",
+            f"fov_deg = {FOV_DEG!r}",
+            f"near = {NEAR!r}",
+            f"far = {FAR!r}",
+            f"position = {toml_list(cam.eye)}",
+            f"quaternion = {toml_list(sensor_quaternion(cam))}",
+        ]
     return "\n".join(lines) + "\n"
 
 
@@ -362,39 +382,50 @@ class PyBulletView:
     labels: dict[int, str]  # segmentation value -> "link:NAME", "Floor" or a box name
 
 
+def pybullet_world(scene: Scene, cid: int) -> dict[int, str]:
+    """Builds the scene in PyBullet client ``cid``: the robot (fixed base at the origin, the
+    scene's joint angles), the floor and the boxes. Returns the segmentation labels:
+    segmentation value -> "link:NAME", "Floor" or a box name."""
+    kw = {"physicsClientId": cid}
+    labels: dict[int, str] = {}
+    body = pb.loadURDF(str(scene.robot.path), [0, 0, 0], [0, 0, 0, 1], useFixedBase=True, **kw)
+    labels[body] = "link:" + pb.getBodyInfo(body, **kw)[0].decode()  # the base link: index -1
+    by_name = {}
+    for j in range(pb.getNumJoints(body, **kw)):
+        info = pb.getJointInfo(body, j, **kw)  # joint j's child link is link j
+        by_name[info[1].decode()] = j
+        labels[body + ((j + 1) << 24)] = "link:" + info[12].decode()
+    for name, value in scene.joints.items():
+        pb.resetJointState(body, by_name[name], value, **kw)
+
+    def box(half, pos, yaw_deg=0.0) -> int:
+        col = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, **kw)
+        vis = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, **kw)
+        orn = pb.getQuaternionFromEuler([0, 0, math.radians(yaw_deg)])
+        return pb.createMultiBody(0, col, vis, pos, orn, **kw)
+
+    labels[box([FLOOR_SIZE[0] / 2, FLOOR_SIZE[1] / 2, 0.05], [0, 0, -0.05])] = "Floor"
+    for b in scene.boxes:
+        labels[box([s / 2 for s in b.size], list(b.position), b.yaw_deg)] = b.name
+    return labels
+
+
+def pybullet_matrices(cam: Camera, *, shift: bool = True) -> tuple[list[float], list[float]]:
+    """PyBullet's view and projection matrices for ``cam`` (``shift``: sample pixel centres)."""
+    view = pb.computeViewMatrix(list(cam.eye), list(cam.target), list(cam.up))
+    proj = pb.computeProjectionMatrixFOV(vertical_fov_deg(cam.width, cam.height), cam.width / cam.height, NEAR, FAR)
+    return view, (half_pixel_shift(proj, cam.width, cam.height) if shift else list(proj))
+
+
 def render_pybullet(scene: Scene, *, shift: bool = True) -> PyBulletView:
     """PyBullet's TinyRenderer view of the scene (``shift``: sample at pixel centres)."""
     cid = pb.connect(pb.DIRECT)
     try:
-        kw = {"physicsClientId": cid}
-        labels: dict[int, str] = {}
-        body = pb.loadURDF(str(scene.robot.path), [0, 0, 0], [0, 0, 0, 1], useFixedBase=True, **kw)
-        labels[body] = "link:" + pb.getBodyInfo(body, **kw)[0].decode()  # base link: index -1
-        by_name = {}
-        for j in range(pb.getNumJoints(body, **kw)):
-            info = pb.getJointInfo(body, j, **kw)
-            by_name[info[1].decode()] = j
-            labels[body + ((j + 1) << 24)] = "link:" + info[12].decode()
-        for name, value in scene.joints.items():
-            pb.resetJointState(body, by_name[name], value, **kw)
-
-        def box(half, pos, yaw_deg=0.0) -> int:
-            col = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, **kw)
-            vis = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, **kw)
-            orn = pb.getQuaternionFromEuler([0, 0, math.radians(yaw_deg)])
-            return pb.createMultiBody(0, col, vis, pos, orn, **kw)
-
-        labels[box([FLOOR_SIZE[0] / 2, FLOOR_SIZE[1] / 2, 0.05], [0, 0, -0.05])] = "Floor"
-        for b in scene.boxes:
-            labels[box([s / 2 for s in b.size], list(b.position), b.yaw_deg)] = b.name
-
-        view = pb.computeViewMatrix(list(scene.eye), list(scene.target), list(scene.up))
-        proj = pb.computeProjectionMatrixFOV(vertical_fov_deg(), WIDTH / HEIGHT, NEAR, FAR)
-        if shift:
-            proj = half_pixel_shift(proj, WIDTH, HEIGHT)
+        labels = pybullet_world(scene, cid)
+        view, proj = pybullet_matrices(scene.camera, shift=shift)
         _, _, _, zbuf, seg = pb.getCameraImage(
             WIDTH, HEIGHT, view, proj, renderer=pb.ER_TINY_RENDERER,
-            flags=pb.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX, **kw,
+            flags=pb.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX, physicsClientId=cid,
         )
     finally:
         pb.disconnect(cid)
@@ -469,7 +500,9 @@ def test_scenes_are_three_public_robots():
     # At least three robots are held to the criteria without a known-bug mark.
     assert len({p.values[0].robot.rid for p in SCENES if not p.marks}) >= 3
     for scene in SCENE_BY_ID.values():
-        assert scene.robot.path.is_file(), f"{scene.robot.path} is missing (pip install -r tests/python/requirements.txt)"
+        assert scene.robot.path.is_file(), (
+            f"{scene.robot.path} is missing (pip install -r tests/python/requirements.txt)"
+        )
         check_configuration(scene)
 
 
