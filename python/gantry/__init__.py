@@ -205,6 +205,13 @@ class Client:
         array: 0..1 between the clipping planes, or metres."""
         return self._engine_here.depth(sensor, metres, top_first)
 
+    def mask(self, sensor: int, top_first: bool = True):
+        """A vision sensor's segmentation mask as a ``(height, width)`` ``int32`` numpy
+        array: the handle of the shape seen at each pixel, -1 where nothing is. It
+        comes from the same render as ``image`` and ``depth`` (the first call renders
+        the sensor again, with its mask)."""
+        return self._engine_here.mask(sensor, top_first)
+
     @property
     def addresses(self) -> dict[str, str]:
         """The listeners of a served simulation (``{"http": "127.0.0.1:8080"}``)."""

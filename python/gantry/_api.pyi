@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 226 functions, 164 constants."""
+    """`sim`: 227 functions, 169 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -131,6 +131,8 @@ class Sim:
     proximitysensor_pyramid_subtype: int
     proximitysensor_ray_subtype: int
     proxintparam_volume_type: int
+    rendermode_colorcoded: int
+    rendermode_opengl: int
     ruckig_minaccel: int
     ruckig_minvel: int
     ruckig_nosync: int
@@ -164,9 +166,12 @@ class Sim:
     visionfloatparam_near_clipping: int
     visionfloatparam_ortho_size: int
     visionfloatparam_perspective_angle: int
+    visionintparam_depthignored: int
     visionintparam_perspective_operation: int
+    visionintparam_render_mode: int
     visionintparam_resolution_x: int
     visionintparam_resolution_y: int
+    visionintparam_rgbignored: int
     volume_cone: int
     volume_cylinder: int
     volume_disc: int
@@ -337,6 +342,8 @@ class Sim:
         """values are the byte image divided by 255 (256 levels); `returnType=1` returns packed little-endian floats."""
     def getVisionSensorImg(self, *args: Any) -> Any:
         """options bit 1 adds an alpha byte per pixel (RGBA or grey + alpha), 255 unless `rgbaCutOff` is given, as `sim.setVisionSensorImg` takes it."""
+    def getVisionSensorMask(self, *args: Any) -> Any:
+        """gantry's, not CoppeliaSim's: `sim.getVisionSensorMask(sensor [, pos, size])` returns the segmentation mask (one little-endian `int32` per pixel, bottom row first, the handle of the shape seen or -1 where nothing is; `sim.unpackInt32Table` unpacks it) and `{width, height}`, from the same render as the RGB and depth images. The first call renders the sensor again with a mask; from then on every render draws one (one more buffer write per pixel drawn). CoppeliaSim's own way, `sim.setObjectInt32Param(sensor, sim.visionintparam_render_mode, sim.rendermode_colorcoded)`, is served too: the RGB image then holds each handle as `r + 256 g + 65536 b`, white where nothing is seen, as PyRep and RLBench decode it. In-process Python: `client.mask(sensor)`."""
     def getVisionSensorRes(self, *args: Any) -> Any: ...
     def getVisionSensorResolution(self, *args: Any) -> Any: ...
     def handleProximitySensor(self, *args: Any) -> Any: ...

@@ -386,6 +386,19 @@ impl Engine {
         flip(array, top_first)
     }
 
+    /// A vision sensor's segmentation mask as a numpy array `(height, width)` of
+    /// `int32`: the handle of the shape seen at each pixel, -1 where nothing is
+    /// (`sim.getVisionSensorMask`), from the same render as `image` and `depth`;
+    /// reinterpreted in place, not copied; `top_first` as for `image`.
+    #[pyo3(signature = (sensor, top_first=true))]
+    fn mask<'py>(&mut self, py: Python<'py>, sensor: i64, top_first: bool) -> PyResult<Bound<'py, PyAny>> {
+        let (bytes, [w, h]) = self.sensor_bytes(py, "getVisionSensorMask", &[Value::Int(sensor)])?;
+        let bytes = PyArray1::from_vec(py, bytes);
+        let handles = bytes.call_method1("view", ("<i4",))?;
+        let array = handles.call_method1("reshape", ((h, w),))?;
+        flip(array, top_first)
+    }
+
     /// The listeners' addresses (`{"http": "127.0.0.1:8080", ...}`) of a served
     /// simulation; empty in-process.
     fn addresses<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

@@ -46,6 +46,25 @@ def test_images_are_numpy_arrays_over_the_same_pixels():
         near, far = 0.01, 1.0  # the scene's clipping planes
         assert near <= depth.min() and depth.max() <= far + 1e-6
 
+        # The segmentation mask: handles of shapes, -1 where nothing is seen, from the
+        # same render as the image (the first call renders again, with a mask).
+        mask = client.mask(sensor)
+        assert mask.shape == (h, w) and mask.dtype == np.int32
+        raw_mask, _ = sim.getVisionSensorMask(sensor)
+        assert np.array_equal(mask, np.frombuffer(raw_mask, "<i4").reshape(h, w)[::-1])
+        seen = {int(v) for v in np.unique(mask)} - {-1}
+        assert seen and all(sim.getObjectType(s) == sim.object_shape_type for s in seen)
+        # Nothing seen exactly where the depth reaches the far plane, and black there.
+        img, depth = client.image(sensor), client.depth(sensor)
+        assert np.array_equal(mask == -1, depth >= 1.0)
+        assert (img[mask == -1] == 0).all()
+        # PyRep's and RLBench's way: a colour-coded sensor shows handles as colours.
+        sim.setObjectInt32Param(sensor, sim.visionintparam_render_mode, sim.rendermode_colorcoded)
+        sim.handleVisionSensor(sensor)
+        coded = client.image(sensor).astype(np.int64)
+        decoded = coded[..., 0] + 256 * coded[..., 1] + 65536 * coded[..., 2]
+        assert np.array_equal(np.where(decoded == 0xFFFFFF, -1, decoded), client.mask(sensor))
+
 
 def test_bundled_scene_without_scripts_and_step_control():
     assert set(gantry.bundled_scenes()) >= {"showroom", "bubble_rob", "fk_arm"}

@@ -12,8 +12,9 @@ use std::sync::Arc;
 use gantry_sim_core::math::{Pose, pose_from_euler};
 use gantry_sim_core::scene::{
     CameraModel, DiskFiles, GeomModel, Geometry, JointMode, JointModel, JointType, LoadOptions, MassModel, MeshData,
-    MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, SceneModel, ScriptModel,
-    ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel, load_coppelia, load_scene, write_scene,
+    MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode, SceneModel,
+    ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel, load_coppelia, load_scene,
+    write_scene,
 };
 
 /// The shared CoppeliaSim files, or `None` (with a note) where they are absent.
@@ -460,6 +461,10 @@ fn everything() -> SceneModel {
                 ortho_size: 0.25,
                 near: 0.01,
                 far: 10.0,
+                // Non-default, so that the writer's keys for them are read back.
+                render_mode: RenderMode::ColorCoded,
+                ignore_rgb: false,
+                ignore_depth: true,
             }),
         ),
         object("fs", Some(0), Pose::identity(), ObjectModelKind::ForceSensor),

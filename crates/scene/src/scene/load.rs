@@ -15,8 +15,8 @@ use super::files::{Files, normalize, stem};
 use super::floor::{floor_object, put_on_floor};
 use super::model::{
     CameraModel, GeomModel, Geometry, JointMode, JointModel, JointType, MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION,
-    MassModel, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, SceneModel,
-    ScriptModel, ServerSettings, ShapeModel, SimSettings, VISION_BYTES_PER_PIXEL, VisionModel, VisualModel,
+    MassModel, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode,
+    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VISION_BYTES_PER_PIXEL, VisionModel, VisualModel,
     vision_image_bytes,
 };
 use super::raw::{RawObject, RawPart, RawRobot, RawScene, unknown_keys};
@@ -1053,6 +1053,19 @@ impl Resolver<'_> {
                 }
             },
         };
+        let render_mode = match &o.render_mode {
+            None => RenderMode::Visible,
+            Some(m) => match m.get_ref().as_str() {
+                "visible" => RenderMode::Visible,
+                "color_coded" => RenderMode::ColorCoded,
+                other => {
+                    return self.err_at(
+                        m.span(),
+                        format!("unknown render mode '{other}'; use visible or color_coded"),
+                    );
+                }
+            },
+        };
         let fov = o.fov_deg.unwrap_or(60.0);
         let ortho_size = o.ortho_size.unwrap_or(1.0);
         let near = o.near.unwrap_or(0.01);
@@ -1080,6 +1093,9 @@ impl Resolver<'_> {
             ortho_size,
             near,
             far,
+            render_mode,
+            ignore_rgb: o.ignore_rgb.unwrap_or(false),
+            ignore_depth: o.ignore_depth.unwrap_or(false),
         })
     }
 

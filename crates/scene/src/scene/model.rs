@@ -495,6 +495,19 @@ pub enum Projection {
     Orthographic,
 }
 
+/// What a vision sensor's RGB image shows (CoppeliaSim's
+/// `sim.visionintparam_render_mode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RenderMode {
+    /// The shapes' colours, lit (`sim.rendermode_opengl`, 0).
+    #[default]
+    Visible,
+    /// Each pixel's colour is the handle of the shape it sees, `r + 256 g + 65536 b`
+    /// (bytes), white where nothing is seen (`sim.rendermode_colorcoded`, 2): the
+    /// segmentation masks PyRep and RLBench read.
+    ColorCoded,
+}
+
 /// A vision sensor. It looks along its local +Z axis, image X along local -X, image
 /// up along local +Y. As in CoppeliaSim, it holds both a view angle and an ortho size
 /// whatever its projection, so switching the projection at run time keeps both.
@@ -515,6 +528,16 @@ pub struct VisionModel {
     pub near: f64,
     /// Far clipping distance along +Z, m.
     pub far: f64,
+    /// What the RGB image shows.
+    pub render_mode: RenderMode,
+    /// Skip the colour work: the RGB image stays black (CoppeliaSim's "ignore RGB
+    /// info", `sim.visionintparam_rgbignored`), for depth-only sensors such as laser
+    /// scanners.
+    pub ignore_rgb: bool,
+    /// Skip the depth image: it stays as it was (1, nothing seen, before any render)
+    /// (CoppeliaSim's "ignore depth info", `sim.visionintparam_depthignored`). The
+    /// z-buffer that decides what is seen is still drawn.
+    pub ignore_depth: bool,
 }
 
 /// A CoppeliaSim camera: a viewpoint the viewer can look through. It looks along its

@@ -201,6 +201,12 @@ pub struct RawObject {
     pub near: Option<f64>,
     /// Vision sensor: far clipping distance in metres.
     pub far: Option<f64>,
+    /// Vision sensor: `visible` (default) or `color_coded` (handles as colours).
+    pub render_mode: Option<Spanned<String>>,
+    /// Vision sensor: render no colour (default false).
+    pub ignore_rgb: Option<bool>,
+    /// Vision sensor: write no depth image (default false).
+    pub ignore_depth: Option<bool>,
 }
 
 /// One `[[object.part]]` of a shape: a primitive or mesh placed in the shape frame.
@@ -383,6 +389,9 @@ const OBJECT_KEYS: &[&str] = &[
     "ortho_size",
     "near",
     "far",
+    "render_mode",
+    "ignore_rgb",
+    "ignore_depth",
 ];
 const ROBOT_KEYS: &[&str] = &[
     "urdf",

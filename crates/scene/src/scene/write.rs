@@ -20,7 +20,7 @@ use std::sync::Arc;
 
 use super::model::{
     Geometry, JointMode, JointType, MassModel, MeshData, ObjectModel, ObjectModelKind, Projection, ProximityModel,
-    SceneModel, ShapeModel, VisionModel,
+    RenderMode, SceneModel, ShapeModel, VisionModel,
 };
 use super::obj_write::write_obj;
 use crate::math::{Pose, Quat, euler_from_quat, quat_from_euler, quat_to_array};
@@ -302,7 +302,17 @@ impl Writer {
         self.key("fov_deg", v.fov.to_degrees())?;
         self.key("ortho_size", v.ortho_size)?;
         self.key("near", v.near)?;
-        self.key("far", v.far)
+        self.key("far", v.far)?;
+        if v.render_mode == RenderMode::ColorCoded {
+            self.out.push_str("render_mode = \"color_coded\"\n");
+        }
+        if v.ignore_rgb {
+            self.out.push_str("ignore_rgb = true\n");
+        }
+        if v.ignore_depth {
+            self.out.push_str("ignore_depth = true\n");
+        }
+        Ok(())
     }
 
     fn shape(&mut self, s: &ShapeModel) -> Result<(), WriteError> {

@@ -10,7 +10,7 @@
 use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::error::SimError;
-use crate::scene::{JointMode, Projection, ProximityModel};
+use crate::scene::{JointMode, Projection, ProximityModel, RenderMode};
 use crate::sim::Sim;
 use crate::world::{ObjectKind, World};
 
@@ -30,7 +30,14 @@ const VISION_RES_X: i64 = 1002;
 const VISION_RES_Y: i64 = 1003;
 const VISION_ANGLE: i64 = 1004;
 const VISION_ORTHO_SIZE: i64 = 1005;
+const VISION_RENDER_MODE: i64 = 1017;
 const VISION_PERSPECTIVE: i64 = 1018;
+const VISION_RGB_IGNORED: i64 = 1020;
+const VISION_DEPTH_IGNORED: i64 = 1021;
+/// `sim.rendermode_opengl`: the shapes' colours.
+const RENDERMODE_OPENGL: i64 = 0;
+/// `sim.rendermode_colorcoded`: each pixel the handle of the shape seen.
+const RENDERMODE_COLORCODED: i64 = 2;
 const JOINT_MOTOR_ENABLED: i64 = 2000;
 const JOINT_CTRL_ENABLED: i64 = 2001;
 const JOINT_PID_P: i64 = 2002;
@@ -112,6 +119,11 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("visionfloatparam_perspective_angle", VISION_ANGLE),
     ("visionfloatparam_ortho_size", VISION_ORTHO_SIZE),
     ("visionintparam_perspective_operation", VISION_PERSPECTIVE),
+    ("visionintparam_render_mode", VISION_RENDER_MODE),
+    ("visionintparam_rgbignored", VISION_RGB_IGNORED),
+    ("visionintparam_depthignored", VISION_DEPTH_IGNORED),
+    ("rendermode_opengl", RENDERMODE_OPENGL),
+    ("rendermode_colorcoded", RENDERMODE_COLORCODED),
     ("jointintparam_motor_enabled", JOINT_MOTOR_ENABLED),
     ("jointintparam_ctrl_enabled", JOINT_CTRL_ENABLED),
     ("jointfloatparam_pid_p", JOINT_PID_P),
@@ -208,6 +220,12 @@ pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (VISION_RES_X, ObjectKind::VisionSensor(v)) => Some(i64::from(v.resolution[0])),
         (VISION_RES_Y, ObjectKind::VisionSensor(v)) => Some(i64::from(v.resolution[1])),
         (VISION_PERSPECTIVE, ObjectKind::VisionSensor(v)) => Some(i64::from(v.projection == Projection::Perspective)),
+        (VISION_RENDER_MODE, ObjectKind::VisionSensor(v)) => Some(match v.render_mode {
+            RenderMode::Visible => RENDERMODE_OPENGL,
+            RenderMode::ColorCoded => RENDERMODE_COLORCODED,
+        }),
+        (VISION_RGB_IGNORED, ObjectKind::VisionSensor(v)) => Some(i64::from(v.ignore_rgb)),
+        (VISION_DEPTH_IGNORED, ObjectKind::VisionSensor(v)) => Some(i64::from(v.ignore_depth)),
         (PROX_VOLUME_TYPE, ObjectKind::ProximitySensor(p)) => Some(match p.volume {
             ProximityModel::Pyramid { .. } => 0,
             ProximityModel::Cylinder { .. } => 1,
@@ -235,7 +253,10 @@ pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Arg
 /// dynamic with that controller (free, velocity or position). A vision sensor's
 /// resolution is 1..=2048 a side, within 1 GiB of RGB and depth images for all
 /// sensors together; `sim.visionintparam_perspective_operation` is 1 for perspective,
-/// 0 for orthographic.
+/// 0 for orthographic; `sim.visionintparam_render_mode` is `sim.rendermode_opengl` (0)
+/// or `sim.rendermode_colorcoded` (2, each pixel the handle of the shape seen, `r + 256
+/// g + 65536 b`, white where none); `sim.visionintparam_rgbignored` and
+/// `sim.visionintparam_depthignored` (0 or 1) skip the colour or the depth image.
 fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
@@ -259,6 +280,29 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
             } else {
                 Projection::Orthographic
             };
+            w.set_vision_model(h, m)?;
+        }
+        (VISION_RENDER_MODE, ObjectKind::VisionSensor(m)) => {
+            let mut m = *m;
+            m.render_mode = match v {
+                RENDERMODE_OPENGL => RenderMode::Visible,
+                RENDERMODE_COLORCODED => RenderMode::ColorCoded,
+                _ => {
+                    return Err(SimError::bad_argument(format!(
+                        "argument 3: gantry's vision sensors render the visible colours (sim.rendermode_opengl, 0) or \
+                         colour-coded handles (sim.rendermode_colorcoded, 2), not render mode {v}"
+                    )));
+                }
+            };
+            w.set_vision_model(h, m)?;
+        }
+        (VISION_RGB_IGNORED | VISION_DEPTH_IGNORED, ObjectKind::VisionSensor(m)) => {
+            let mut m = *m;
+            if id == VISION_RGB_IGNORED {
+                m.ignore_rgb = v != 0;
+            } else {
+                m.ignore_depth = v != 0;
+            }
             w.set_vision_model(h, m)?;
         }
         (JOINT_DYNCTRLMODE, ObjectKind::Joint(_)) => {

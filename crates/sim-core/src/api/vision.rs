@@ -43,6 +43,11 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::Sim(get_vision_sensor_img),
     },
     ApiFunction {
+        // gantry's own: the segmentation mask.
+        name: "getVisionSensorMask",
+        call: ApiFn::Sim(get_vision_sensor_mask),
+    },
+    ApiFunction {
         name: "getVisionSensorRes",
         call: ApiFn::Sim(get_vision_sensor_res),
     },
@@ -314,6 +319,29 @@ pub(super) fn get_vision_sensor_depth(sim: &mut Sim, _: &CallContext<'_>, a: &Ar
         for &d in ds {
             let v = if metres { near + d * (far - near) } else { d };
             out.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    Ok(vec![Value::Bytes(out), p.size_value()])
+}
+
+/// `sim.getVisionSensorMask(h, pos={0,0}, size={0,0})` → `bytes, {width, height}`
+/// (gantry's own): the segmentation mask, one little-endian `i32` per pixel, bottom
+/// row first, the handle of the shape seen there or -1 where nothing is (unpack with
+/// `sim.unpackInt32Table`). The mask comes from the same render as the RGB and depth
+/// images; the first call renders the sensor again with a mask (see
+/// [`vision::read_mask`]), later renders draw one each time. CoppeliaSim's way, a
+/// sensor in `sim.rendermode_colorcoded`, gives the same handles as colours.
+fn get_vision_sensor_mask(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    let (&model, _) = vision::sensor_model(&sim.world, h)?;
+    let p = portion(a, 1, model.resolution)?;
+    let width = model.resolution[0] as usize;
+    let s = vision::read_mask(&sim.world, &mut sim.vision, h)?;
+    let mask = s.mask().unwrap_or_default();
+    let mut out = Vec::with_capacity(4 * p.w * p.h);
+    for row in p.rows(width) {
+        for &id in mask.get(row).unwrap_or_default() {
+            out.extend_from_slice(&id.to_le_bytes());
         }
     }
     Ok(vec![Value::Bytes(out), p.size_value()])

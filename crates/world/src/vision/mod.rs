@@ -87,6 +87,13 @@ pub struct SensorImage {
     /// Scratch image of the 3x3 filters, kept to avoid an allocation per call.
     filter_scratch: Vec<f32>,
     result: Option<VisionResult>,
+    /// Handle of the shape seen per pixel, -1 where none, bottom row first: empty until
+    /// a mask is first asked for ([`read_mask`]), then drawn with every render.
+    mask: Vec<i32>,
+    /// Whether renders draw the mask (from the first [`read_mask`] on).
+    mask_wanted: bool,
+    /// Whether `mask` belongs to the last render.
+    mask_current: bool,
 }
 
 /// When a sensor last rendered.
@@ -123,6 +130,18 @@ impl SensorImage {
             work: None,
             filter_scratch: Vec::new(),
             result: None,
+            mask: Vec::new(),
+            mask_wanted: false,
+            mask_current: false,
+        }
+    }
+
+    /// A new black image for a sensor whose resolution changed, which keeps drawing
+    /// masks if it did.
+    fn resized(old: &SensorImage, resolution: [u32; 2]) -> Self {
+        SensorImage {
+            mask_wanted: old.mask_wanted,
+            ..SensorImage::new(resolution)
         }
     }
 
@@ -142,6 +161,13 @@ impl SensorImage {
     /// planes, one value per pixel, bottom row first.
     pub fn depth(&self) -> &[f32] {
         &self.depth
+    }
+
+    /// The segmentation mask of the last render: per pixel, the handle of the shape
+    /// seen (-1 where nothing is), bottom row first. `None` when the last render drew
+    /// none (before the first [`read_mask`], which turns masks on).
+    pub fn mask(&self) -> Option<&[i32]> {
+        self.mask_current.then_some(self.mask.as_slice())
     }
 
     /// How many times the sensor rendered since the scene was loaded.
@@ -208,7 +234,7 @@ impl VisionStates {
             .entry(h)
             .or_insert_with(|| SensorImage::new(model.resolution));
         if s.resolution != model.resolution {
-            *s = SensorImage::new(model.resolution);
+            *s = SensorImage::resized(s, model.resolution);
         }
         s
     }
@@ -242,7 +268,7 @@ impl VisionStates {
                 Ok((cam, model, pose)) => {
                     let mut s = sensors.remove(&h).unwrap_or_else(|| SensorImage::new(model.resolution));
                     if s.resolution != model.resolution {
-                        s = SensorImage::new(model.resolution);
+                        s = SensorImage::resized(&s, model.resolution);
                     }
                     jobs.push(Job {
                         handle: h,
@@ -314,11 +340,19 @@ struct Job {
 
 impl Job {
     fn draw(&mut self, items: &[raster::DrawItem<'_>], scratch: &mut raster::Scratch, cull: bool) {
+        let image = &mut self.image;
+        // A colour-coded image draws the handles anyway: its mask costs one copy.
+        let with_mask = image.mask_wanted || self.cam.colour == raster::ColourWork::Coded;
+        if with_mask {
+            image.mask.resize(image.depth.len(), -1);
+        }
         let frame = raster::Frame {
-            rgb: &mut self.image.rgb,
-            depth: &mut self.image.depth,
+            rgb: &mut image.rgb,
+            depth: &mut image.depth,
+            mask: with_mask.then_some(image.mask.as_mut_slice()),
         };
         self.packet1 = raster::render(items, &self.cam, &self.pose, scratch, frame, cull);
+        image.mask_current = with_mask;
     }
 }
 
@@ -418,6 +452,22 @@ pub fn read<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Resul
     }
     let (&model, _) = sensor_model(world, h)?;
     Ok(states.state_mut(h, &model))
+}
+
+/// A mask reader's access (`sim.getVisionSensorMask`): as [`read`], and if the image
+/// has no mask, the sensor renders again now with one (explicitly handled sensors
+/// too, so that image, depth and mask stay of one instant). From then on every render
+/// of the sensor draws its mask, at the cost of one more buffer write per pixel drawn.
+///
+/// # Errors
+/// As [`handle_vision_sensor`].
+pub fn read_mask<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Result<&'a SensorImage, SimError> {
+    let s = read(world, states, h)?;
+    if !s.mask_current {
+        s.mask_wanted = true;
+        states.render(world, h)?;
+    }
+    state(world, states, h).map(|s| &*s)
 }
 
 /// The sensor's state without rendering, created black if it never rendered.

@@ -30,7 +30,7 @@ use super::resolve::{self, Packet1};
 use super::simd::multiversion;
 use super::tessellate::{Normals, TriMesh, cross, dot, sub};
 use crate::math::Pose;
-use crate::scene::{Projection, VisionModel};
+use crate::scene::{Projection, RenderMode, VisionModel};
 use crate::world::{Handle, ObjectKind, World};
 
 /// Share of an object's colour it shows with no light on it.
@@ -43,6 +43,11 @@ pub(crate) const HEADLIGHT: f32 = 0.45;
 pub(crate) const TOPLIGHT: f32 = 0.35;
 /// Colour of pixels that see nothing between the clipping planes (RGB, 0..1).
 pub(crate) const BACKGROUND: [f32; 3] = [0.0, 0.0, 0.0];
+/// Colour of pixels that see nothing in a colour-coded image: white, as CoppeliaSim
+/// clears it, which no handle below 2^24 - 1 can be mistaken for.
+const CODED_BACKGROUND: u32 = 0x00ff_ffff;
+/// The id buffer's value where no shape is seen: -1 as an `i32` handle.
+const NO_SHAPE: u32 = u32::MAX;
 
 /// A camera derived from a [`VisionModel`], in the sensor frame: looking along +Z,
 /// image up = +Y, image right = -X (CoppeliaSim's convention).
@@ -63,6 +68,22 @@ pub(crate) struct Camera {
     pub near: f32,
     /// Far clipping distance along +Z, metres.
     pub far: f32,
+    /// What the colour buffer holds: the lit colours, handles, or nothing.
+    pub colour: ColourWork,
+    /// Whether the normalised depth image is written.
+    pub depth: bool,
+}
+
+/// What a render does with colour (from the model's render mode and `ignore_rgb`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ColourWork {
+    /// Lit shape colours.
+    Shaded,
+    /// Each pixel the handle of the shape seen, white where none
+    /// ([`RenderMode::ColorCoded`]).
+    Coded,
+    /// None: the RGB image is left as it was (`ignore_rgb`).
+    Skipped,
 }
 
 impl Camera {
@@ -95,6 +116,13 @@ impl Camera {
         } else {
             (t * f64::from(w) / f64::from(h), t)
         };
+        let colour = match m.render_mode {
+            // Handles need no light, and CoppeliaSim's "ignore RGB" does not apply to
+            // them (a mask sensor is read through its RGB image).
+            RenderMode::ColorCoded => ColourWork::Coded,
+            RenderMode::Visible if m.ignore_rgb => ColourWork::Skipped,
+            RenderMode::Visible => ColourWork::Shaded,
+        };
         Some(Camera {
             width: w as usize,
             height: h as usize,
@@ -103,6 +131,8 @@ impl Camera {
             tan_y: ty as f32,
             near: m.near as f32,
             far: m.far as f32,
+            colour,
+            depth: !m.ignore_depth,
         })
     }
 
@@ -242,6 +272,9 @@ pub(crate) struct Scratch {
     /// whole words, which the compiler vectorises; packed to RGB bytes at the end.
     /// Both buffers carry `CHUNK - 1` pixels of padding after the image.
     color: Vec<u32>,
+    /// Handle of the shape seen per pixel ([`NO_SHAPE`] where none), when a mask or a
+    /// colour-coded image is drawn; padded as the others.
+    ids: Vec<u32>,
     /// What the last frame culled and drew.
     pub stats: RenderStats,
 }
@@ -255,11 +288,14 @@ pub(crate) struct RenderStats {
     pub drawn_chunks: usize,
 }
 
-/// Where a frame goes: `rgb` (3 bytes per pixel) and `depth` (normalised), both bottom
-/// row first, sized `width * height` pixels.
+/// Where a frame goes: `rgb` (3 bytes per pixel), `depth` (normalised) and, when
+/// asked for, `mask` (the handle of the shape seen, -1 where none), all bottom row
+/// first, sized `width * height` pixels. What the camera skips (its `colour` and
+/// `depth`) is left as it was.
 pub(crate) struct Frame<'a> {
     pub rgb: &'a mut [u8],
     pub depth: &'a mut [f32],
+    pub mask: Option<&'a mut [i32]>,
 }
 
 /// A polygon after clipping a triangle against up to six planes has at most 9 corners.
@@ -268,6 +304,8 @@ const MAX_POLY: usize = 12;
 /// One visual to draw: where it is in the world, and its tessellation.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct DrawItem<'a> {
+    /// The shape the visual belongs to: what a mask shows.
+    pub handle: Handle,
     /// The visual's world pose.
     pub pose: Pose,
     pub visual: &'a CachedVisual,
@@ -285,6 +323,7 @@ pub(crate) fn draw_list<'a>(world: &World, shapes: &'a ShapeCache) -> Vec<DrawIt
         for v in visuals {
             if !v.mesh.triangles.is_empty() {
                 items.push(DrawItem {
+                    handle: h,
                     pose: object.world * v.local,
                     visual: v,
                 });
@@ -306,17 +345,28 @@ pub(crate) fn render(
     cull: bool,
 ) -> Packet1 {
     let n = cam.width * cam.height;
+    let shaded = cam.colour == ColourWork::Shaded;
+    let with_ids = cam.colour == ColourWork::Coded || frame.mask.is_some();
     // CHUNK - 1 pixels of padding, which the last chunk of the last row may cover.
     scratch.zbuf.clear();
     scratch.zbuf.resize(n + CHUNK - 1, f32::INFINITY);
     scratch.color.clear();
-    scratch.color.resize(n + CHUNK - 1, pack(BACKGROUND.map(to_byte)));
+    if shaded {
+        scratch.color.resize(n + CHUNK - 1, pack(BACKGROUND.map(to_byte)));
+    }
+    scratch.ids.clear();
+    if with_ids {
+        scratch.ids.resize(n + CHUNK - 1, NO_SHAPE);
+    }
     let cam_from_world = sensor.inverse();
     let mut target = Target {
         width: cam.width,
         height: cam.height,
         zbuf: &mut scratch.zbuf,
         color: &mut scratch.color,
+        ids: &mut scratch.ids,
+        shaded,
+        with_ids,
     };
     let sampled = cull.then(|| cam.sampled());
     scratch.stats = RenderStats::default();
@@ -331,13 +381,35 @@ pub(crate) fn render(
             &mut scratch.stats,
         );
     }
+    let ids = &scratch.ids[..if with_ids { n } else { 0 }];
+    if let Some(mask) = frame.mask {
+        for (m, &id) in mask.iter_mut().zip(ids) {
+            // NO_SHAPE is -1; handles are below 2^31.
+            *m = id as i32;
+        }
+    }
+    let colour = match cam.colour {
+        ColourWork::Shaded => Some(&scratch.color[..n]),
+        ColourWork::Coded => {
+            scratch.color.clear();
+            scratch.color.extend(ids.iter().map(|&id| {
+                if id == NO_SHAPE {
+                    CODED_BACKGROUND
+                } else {
+                    id & CODED_BACKGROUND
+                }
+            }));
+            Some(&scratch.color[..n])
+        }
+        ColourWork::Skipped => None,
+    };
     resolve::resolve(
-        &scratch.color[..n],
+        colour,
         &scratch.zbuf[..n],
         cam.near,
         cam.far,
         frame.rgb,
-        frame.depth,
+        cam.depth.then_some(frame.depth),
     )
 }
 
@@ -346,12 +418,15 @@ fn pack([r, g, b]: [u8; 3]) -> u32 {
     u32::from(r) | u32::from(g) << 8 | u32::from(b) << 16
 }
 
-/// The buffers triangles are drawn into.
+/// The buffers triangles are drawn into, and which of them are (`zbuf` always).
 struct Target<'a> {
     width: usize,
     height: usize,
     zbuf: &'a mut [f32],
     color: &'a mut [u32],
+    ids: &'a mut [u32],
+    shaded: bool,
+    with_ids: bool,
 }
 
 fn rows(p: &Pose) -> ([[f32; 3]; 3], [f32; 3]) {
@@ -389,6 +464,8 @@ fn draw_visual(
     let up = rows(world_pose).0[2];
     let light = |n: [f32; 3]| (AMBIENT + HEADLIGHT * dot(head, n).abs() + TOPLIGHT * dot(up, n).max(0.0)).min(1.0);
     let color = v.color.map(|c| c * 255.0);
+    // Handles are never negative.
+    let id = item.handle as u32;
     let (vertex_normals, face_normals) = match &mesh.normals {
         Normals::Vertex(n) => (Some(n.as_slice()), None),
         Normals::Face(n) => (None, Some(n.as_slice())),
@@ -454,7 +531,7 @@ fn draw_visual(
                 }
             }
             if oa | ob | oc == 0 {
-                fill(cam, target, [a, b, c].map(|v| screen(cam, v)), color);
+                fill(cam, target, [a, b, c].map(|v| screen(cam, v)), color, id);
                 continue;
             }
             let mut poly = [CamVertex::default(); MAX_POLY];
@@ -466,6 +543,7 @@ fn draw_visual(
                     target,
                     [poly[0], poly[k], poly[k + 1]].map(|v| project(cam, v)),
                     color,
+                    id,
                 );
             }
         }
@@ -589,13 +667,14 @@ fn to_byte(c: f32) -> u8 {
 }
 
 multiversion! {
-    /// Fills one triangle that lies inside the frustum. `color` is RGB scaled to 0..255.
+    /// Fills one triangle that lies inside the frustum. `color` is RGB scaled to 0..255,
+    /// `id` the handle written to the id buffer (when it is drawn).
     ///
     /// Per row, the pixels whose centres lie inside all three edges form one interval,
     /// found from the edge functions directly; 1/z and light/z are affine in screen
     /// space, and [`write_span`] draws the interval in vector code (eight lanes with
     /// AVX2, see [`super::simd`]).
-    fn fill(cam: &Camera, target: &mut Target<'_>, tri: [ScreenVertex; 3], color: [f32; 3]) {
+    fn fill(cam: &Camera, target: &mut Target<'_>, tri: [ScreenVertex; 3], color: [f32; 3], id: u32) {
         let [mut a, mut b, c] = tri;
         let mut area = edge(a, b, c.x, c.y);
         if !area.is_finite() || area.abs() < 1e-12 {
@@ -668,10 +747,20 @@ multiversion! {
                 dlz,
             };
             // Chosen per row rather than per pixel: each copy keeps its loop branch-free.
-            if cam.ortho {
-                write_span::<true>(target.zbuf, target.color, &span, color);
-            } else {
-                write_span::<false>(target.zbuf, target.color, &span, color);
+            let bufs = Buffers {
+                zbuf: &mut *target.zbuf,
+                color: &mut *target.color,
+                ids: &mut *target.ids,
+            };
+            match (cam.ortho, target.shaded, target.with_ids) {
+                (false, true, false) => write_span::<false, true, false>(bufs, &span, color, id),
+                (false, true, true) => write_span::<false, true, true>(bufs, &span, color, id),
+                (false, false, false) => write_span::<false, false, false>(bufs, &span, color, id),
+                (false, false, true) => write_span::<false, false, true>(bufs, &span, color, id),
+                (true, true, false) => write_span::<true, true, false>(bufs, &span, color, id),
+                (true, true, true) => write_span::<true, true, true>(bufs, &span, color, id),
+                (true, false, false) => write_span::<true, false, false>(bufs, &span, color, id),
+                (true, false, true) => write_span::<true, false, true>(bufs, &span, color, id),
             }
         }
     }
@@ -711,10 +800,19 @@ struct Span {
     dlz: f32,
 }
 
-/// Draws `span` in colour `rgb` (scaled to 0..255) where it is closer than what the
-/// z-buffer holds. Each pixel costs a multiply-add, a division (perspective-correct
-/// depth and light) and a depth test done as a bit blend: written as `if closer { .. }`
-/// (or as a select) the compiler makes each store conditional, lane by lane.
+/// The buffers one span is drawn into; `color` and `ids` are only touched when
+/// [`write_span`]'s `COLOUR` and `IDS` say so.
+struct Buffers<'a> {
+    zbuf: &'a mut [f32],
+    color: &'a mut [u32],
+    ids: &'a mut [u32],
+}
+
+/// Draws `span` in colour `rgb` (scaled to 0..255) and with handle `id` where it is
+/// closer than what the z-buffer holds. Each pixel costs a multiply-add, a division
+/// (perspective-correct depth and light) and a depth test done as a bit blend: written
+/// as `if closer { .. }` (or as a select) the compiler makes each store conditional,
+/// lane by lane.
 ///
 /// The row is processed in whole chunks of [`CHUNK`] pixels aligned in the row, with
 /// the pixels outside the span masked out: most triangles are a few pixels wide, and a
@@ -723,35 +821,59 @@ struct Span {
 /// or into the buffers' padding of `CHUNK - 1` pixels (without it, the last pixels are
 /// drawn one by one).
 ///
-/// `ORTHO`: see [`shade`].
+/// `ORTHO`: see [`shade`]. `COLOUR`: write the colour buffer (lit colours); `IDS`:
+/// write the id buffer. A depth-only sensor draws neither, and the compiler drops the
+/// light arithmetic with them.
 #[inline(always)]
-fn write_span<const ORTHO: bool>(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
+fn write_span<const ORTHO: bool, const COLOUR: bool, const IDS: bool>(
+    bufs: Buffers<'_>,
+    span: &Span,
+    rgb: [f32; 3],
+    id: u32,
+) {
+    let Buffers { zbuf, color, ids } = bufs;
     // Columns fit in i32 (images are at most MAX_RESOLUTION wide) and convert to f32
     // exactly (below 2^24).
     let (first, end) = (span.first as i32, span.end as i32);
     let mut col0 = span.first - span.first % CHUNK;
     while col0 < span.end {
         let at = span.start + col0;
-        let (Some(zs), Some(cs)) = (
-            zbuf.get_mut(at..).and_then(|z| z.first_chunk_mut::<CHUNK>()),
-            color.get_mut(at..).and_then(|c| c.first_chunk_mut::<CHUNK>()),
-        ) else {
+        let zs = zbuf.get_mut(at..).and_then(|z| z.first_chunk_mut::<CHUNK>());
+        let cs = if COLOUR {
+            color.get_mut(at..).and_then(|c| c.first_chunk_mut::<CHUNK>())
+        } else {
+            None
+        };
+        let is = if IDS {
+            ids.get_mut(at..).and_then(|c| c.first_chunk_mut::<CHUNK>())
+        } else {
+            None
+        };
+        let Some(zs) = zs.filter(|_| (!COLOUR || cs.is_some()) && (!IDS || is.is_some())) else {
             // Buffers without the padding: the rest pixel by pixel.
             for col in col0.max(span.first)..span.end {
                 let i = span.start + col;
                 let (z, packed) = shade::<ORTHO>(span, col as i32, rgb);
-                if let (Some(zp), Some(cp)) = (zbuf.get_mut(i), color.get_mut(i))
+                if let Some(zp) = zbuf.get_mut(i)
                     && z < *zp
                 {
-                    (*zp, *cp) = (z, packed);
+                    *zp = z;
+                    if COLOUR && let Some(cp) = color.get_mut(i) {
+                        *cp = packed;
+                    }
+                    if IDS && let Some(ip) = ids.get_mut(i) {
+                        *ip = id;
+                    }
                 }
             }
             return;
         };
         // Computed from copies into fresh arrays, which the compiler keeps in vector
         // registers (working on `zs` and `cs` in place, it did not vectorise).
-        let (z_old, c_old) = (*zs, *cs);
-        let (mut z_new, mut c_new) = ([0.0f32; CHUNK], [0u32; CHUNK]);
+        let z_old = *zs;
+        let c_old = cs.as_deref().copied().unwrap_or([0; CHUNK]);
+        let i_old = is.as_deref().copied().unwrap_or([0; CHUNK]);
+        let (mut z_new, mut c_new, mut i_new) = ([0.0f32; CHUNK], [0u32; CHUNK], [0u32; CHUNK]);
         for k in 0..CHUNK {
             let col = (col0 + k) as i32;
             let (z, packed) = shade::<ORTHO>(span, col, rgb);
@@ -759,9 +881,15 @@ fn write_span<const ORTHO: bool>(zbuf: &mut [f32], color: &mut [u32], span: &Spa
             let keep_new = u32::from(inside & (z < z_old[k])).wrapping_neg();
             z_new[k] = f32::from_bits(z.to_bits() & keep_new | z_old[k].to_bits() & !keep_new);
             c_new[k] = packed & keep_new | c_old[k] & !keep_new;
+            i_new[k] = id & keep_new | i_old[k] & !keep_new;
         }
         *zs = z_new;
-        *cs = c_new;
+        if let Some(cs) = cs {
+            *cs = c_new;
+        }
+        if let Some(is) = is {
+            *is = i_new;
+        }
         col0 += CHUNK;
     }
 }
@@ -778,6 +906,9 @@ mod tests {
             ortho_size: 1.0,
             near,
             far,
+            render_mode: RenderMode::Visible,
+            ignore_rgb: false,
+            ignore_depth: false,
         }
     }
 
@@ -790,13 +921,21 @@ mod tests {
     }
 
     /// [`write_span`] the obvious way: each covered pixel, one after the other.
-    fn write_span_by_pixel<const ORTHO: bool>(zbuf: &mut [f32], color: &mut [u32], span: &Span, rgb: [f32; 3]) {
+    fn write_span_by_pixel<const ORTHO: bool>(
+        zbuf: &mut [f32],
+        color: &mut [u32],
+        ids: &mut [u32],
+        span: &Span,
+        rgb: [f32; 3],
+        id: u32,
+    ) {
         for col in span.first..span.end {
             let (z, packed) = shade::<ORTHO>(span, col as i32, rgb);
             let i = span.start + col;
             if z < zbuf[i] {
                 zbuf[i] = z;
                 color[i] = packed;
+                ids[i] = id;
             }
         }
     }
@@ -832,6 +971,7 @@ mod tests {
                 })
                 .collect();
             let color: Vec<u32> = (0..n + CHUNK - 1).map(|_| next(1 << 24) as u32).collect();
+            let ids: Vec<u32> = (0..n + CHUNK - 1).map(|_| next(50) as u32).collect();
             let mut drawn = 0;
             for _ in 0..200 {
                 let row = next(h as u64) as usize;
@@ -850,16 +990,36 @@ mod tests {
                     dlz: (next(1000) as f32 / 1000.0 - 0.5) / w as f32 * 0.1,
                 };
                 let rgb = [200.0, 100.0, 50.0];
-                let (mut z_want, mut c_want) = (zbuf.clone(), color.clone());
-                write_span_by_pixel::<ORTHO>(&mut z_want, &mut c_want, &span, rgb);
+                let id = 50 + next(50) as u32;
+                let (mut z_want, mut c_want, mut i_want) = (zbuf.clone(), color.clone(), ids.clone());
+                write_span_by_pixel::<ORTHO>(&mut z_want, &mut c_want, &mut i_want, &span, rgb, id);
                 let bits = |z: &[f32]| z.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-                // With the padding, and without (the buffers cut to the image).
+                // With the padding, and without (the buffers cut to the image); every
+                // combination of buffers, each of which must get what the reference
+                // wrote or stay untouched.
                 for len in [n + CHUNK - 1, n] {
-                    let (mut z_fast, mut c_fast) = (zbuf[..len].to_vec(), color[..len].to_vec());
-                    write_span::<ORTHO>(&mut z_fast, &mut c_fast, &span, rgb);
                     let at = format!("w {w}, row {row}, {first}..{end}, {len} pixels");
-                    assert_eq!(bits(&z_fast), bits(&z_want[..len]), "{at}");
-                    assert_eq!(c_fast, c_want[..len], "{at}");
+                    for (colour, with_ids) in [(true, false), (true, true), (false, true), (false, false)] {
+                        let mut z_fast = zbuf[..len].to_vec();
+                        let mut c_fast = color[..len].to_vec();
+                        let mut i_fast = ids[..len].to_vec();
+                        let bufs = Buffers {
+                            zbuf: &mut z_fast,
+                            color: &mut c_fast,
+                            ids: &mut i_fast,
+                        };
+                        match (colour, with_ids) {
+                            (true, false) => write_span::<ORTHO, true, false>(bufs, &span, rgb, id),
+                            (true, true) => write_span::<ORTHO, true, true>(bufs, &span, rgb, id),
+                            (false, true) => write_span::<ORTHO, false, true>(bufs, &span, rgb, id),
+                            (false, false) => write_span::<ORTHO, false, false>(bufs, &span, rgb, id),
+                        }
+                        assert_eq!(bits(&z_fast), bits(&z_want[..len]), "{at}");
+                        let c_ref = if colour { &c_want[..len] } else { &color[..len] };
+                        assert_eq!(c_fast, c_ref, "{at}, colour {colour}");
+                        let i_ref = if with_ids { &i_want[..len] } else { &ids[..len] };
+                        assert_eq!(i_fast, i_ref, "{at}, ids {with_ids}");
+                    }
                 }
                 drawn += usize::from(z_want != zbuf);
             }

@@ -16,14 +16,23 @@ pub(crate) type Packet1 = [f64; 15];
 /// Writes `rgb` (3 bytes per pixel) from `color` (`0x00BBGGRR` per pixel) and `depth`
 /// (planar depth normalised between `near` and `far`, 1 where `zbuf` is infinite,
 /// that is, nothing was drawn) from `zbuf` (metres), and returns packet 1 of the
-/// result. All four buffers hold the same number of pixels.
-pub(crate) fn resolve(color: &[u32], zbuf: &[f32], near: f32, far: f32, rgb: &mut [u8], depth: &mut [f32]) -> Packet1 {
-    let n = color.len();
+/// result. All the buffers hold the same number of pixels. Without `color` (a sensor
+/// ignoring RGB) `rgb` is left as it is, without `depth` nothing is written there, and
+/// packet 1's values for what was skipped are 0.
+pub(crate) fn resolve(
+    color: Option<&[u32]>,
+    zbuf: &[f32],
+    near: f32,
+    far: f32,
+    rgb: &mut [u8],
+    depth: Option<&mut [f32]>,
+) -> Packet1 {
+    let n = zbuf.len();
     if n == 0 {
         return [0.0; 15];
     }
-    let [cmin, cmax, csum] = colour(color, rgb);
-    let [dmin, dmax, dsum] = depths(zbuf, near, far, depth);
+    let [cmin, cmax, csum] = color.map_or([[0.0; 4]; 3], |c| colour(c, rgb));
+    let [dmin, dmax, dsum] = depth.map_or([0.0; 3], |d| depths(zbuf, near, far, d));
     let scale = [765.0, 255.0, 255.0, 255.0];
     let mut out = [0.0; 15];
     for k in 0..4 {
@@ -222,7 +231,7 @@ mod tests {
                 })
                 .collect();
             let (mut rgb, mut depth) = (vec![0u8; 3 * n], vec![0f32; n]);
-            let got = resolve(&color, &zbuf, 0.01, 1.0, &mut rgb, &mut depth);
+            let got = resolve(Some(&color), &zbuf, 0.01, 1.0, &mut rgb, Some(&mut depth));
             for i in 0..n {
                 assert_eq!(rgb[3 * i..3 * i + 3], color[i].to_le_bytes()[..3], "{w}x{h} pixel {i}");
                 let want = if zbuf[i].is_finite() {

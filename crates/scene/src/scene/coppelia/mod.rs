@@ -358,6 +358,10 @@ fn convert_vision(v: &cf::VisionSensor) -> Result<VisionModel, String> {
         ortho_size: if size_ok { v.ortho_size } else { 0.01 },
         near: v.near,
         far: v.far,
+        // Not decoded from the files (reference/coppelia-files.md lists no such chunk).
+        render_mode: RenderMode::Visible,
+        ignore_rgb: false,
+        ignore_depth: false,
     })
 }
 
