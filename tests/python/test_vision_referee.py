@@ -135,16 +135,18 @@ class Scene:
         return Camera("camera", WIDTH, HEIGHT, self.eye, self.target, self.up)
 
 
-# Known gantry bugs a scene shows (pytest.param marks below), in one place:
+# Known gantry bugs a scene shows (DEPTH_XFAIL and MASK_XFAIL below), in one place:
 #
 # gantry's mesh loader (crates/scene/src/scene/mesh.rs) asks mesh-loader 0.1.13 to merge a
 # file's sub-meshes (`merge_meshes(true)`), and that merge offsets the vertex indices of
-# each sub-mesh after the second by the previous sub-mesh's last face's third index plus
-# one, not by the number of vertices before it (mesh-loader's src/common.rs,
-# `Mesh::merge`: `last = m.faces.last().unwrap()[2] + 1`). Files of several meshes then
-# lose triangles to wrong vertices: the UR5's upperarm.dae (5 geometries, 7 <triangles>)
-# misses its tube, and pybullet_data's Panda link6.obj (17 objects) part of its body. Each
-# geometry of upperarm.dae alone renders as PyBullet renders it.
+# each sub-mesh by the previous sub-mesh's last face's third index plus one, not by the
+# number of vertices of all the sub-meshes before it (mesh-loader's src/common.rs,
+# `Mesh::merge`: `last = m.faces.last().unwrap()[2] + 1`). From the third sub-mesh on,
+# triangles take other sub-meshes' vertices. The UR5's upperarm.dae has five geometries
+# (sub-meshes): each alone, and the pairs (0, 1) and (1, 3), render as PyBullet renders
+# them; the geometries 1, 3 and 4 together lose the third; the whole file loses its tube.
+# pybullet_data's Panda link6.obj (17 objects) loses part of its body. gantry's own loop
+# over the sub-meshes offsets them correctly; without `merge_meshes(true)` it would get them.
 MERGE_BUG = pytest.mark.xfail(
     strict=True,
     reason="mesh-loader's Mesh::merge mis-offsets the indices of a multi-mesh file's 3rd+ sub-meshes",
