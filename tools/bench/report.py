@@ -143,16 +143,16 @@ def vision_table(f: dict) -> str:
         "1x1": "1 camera 1 x 1, UR5 in view",
     }
     target = {
-        "640x480": f"≥ {t['fps_640x480']['target']:.0f} frames/s: {verdict(t['fps_640x480']['met'])}",
-        "5x128": f"≤ {t['ms_5x128']['target']:.0f} ms: {verdict(t['ms_5x128']['met'])}",
-        "1x1": f"≤ {t['ms_1x1']['target']:.2f} ms: {verdict(t['ms_1x1']['met'])}",
+        "640x480": f"≥ {t['fps_640x480']['target']:.0f} frames/s on one core (CPU): {verdict(t['fps_640x480']['met'])}",
+        "5x128": f"≤ {t['ms_5x128']['target']:.0f} ms (wall): {verdict(t['ms_5x128']['met'])}",
+        "1x1": f"≤ {t['ms_1x1']['target']:.2f} ms on one core (CPU): {verdict(t['ms_1x1']['met'])}",
     }
-    out = ["| case | gantry ms (frames/s) | gantry CPU ms | PyBullet TinyRenderer ms (frames/s) | "
-           "PyBullet / gantry | gantry target |", "|---|---|---|---|---|---|"]
+    out = ["| case | gantry wall ms (frames/s) | gantry CPU ms | PyBullet wall ms (frames/s) | PyBullet CPU ms | "
+           "PyBullet / gantry, wall | gantry target |", "|---|---|---|---|---|---|---|"]
     for case, label in what.items():
         g, p = c[case]["gantry"], c[case]["pybullet"]
         out.append(f"| {label} | {g['ms']:.2f} ({g['fps']:,.0f}) | {g['cpu_ms']:.2f} | {p['ms']:.2f} ({p['fps']:,.0f}) | "
-                   f"**{p['ms'] / g['ms']:.1f}x** | {target[case]} |")
+                   f"{p['cpu_ms']:.2f} | **{p['ms'] / g['ms']:.1f}x** | {target[case]} |")
     return "\n".join(out)
 
 
@@ -165,7 +165,8 @@ def vision_section(v: dict) -> str:
         + f"\n\nMedian over {v['rounds']} interleaved rounds of the mean time per frame (for the five cameras: "
         "per step, all five), on " + f"{m['cpu']} ({m['cores']} cores). gantry: `sim.handleVisionSensor` "
         "(one handle, or `sim.handle_all` for the five, which renders on all cores) and a copy of each RGB, "
-        "depth (m)" + (" and mask" if v["mask"] else "") + " array; CPU ms is all threads' CPU time per frame. "
+        "depth (m)" + (" and mask" if v["mask"] else "") + " array. CPU ms is the process's CPU time per frame, "
+        "all threads: the one-core targets are judged on it (a busy machine inflates wall time, not CPU time). "
         "PyBullet: `getCameraImage(renderer=ER_TINY_RENDERER)` per camera. The 1 x 1 target is issue 30's "
         "5.4 ms before culling divided by 20. tests/python/test_vision_referee.py checks that the two "
         "renderers' depth and masks agree on these scenes.\n"

@@ -24,7 +24,9 @@ is the same, but the picture is not yet right.
 
 Rounds are interleaved (gantry, then PyBullet, case after case, ``--rounds`` times) and
 each figure is the median over rounds of the mean frame time within a round. CPU time
-(``time.process_time``, all threads) over wall time says how many cores a case kept busy.
+(``time.process_time``, all threads) is measured too: the "on one core" targets are
+judged on it, since it is what one core has to spend and a busy machine does not inflate
+it; the five cameras, allowed every core, are judged on wall time.
 
     .venv/bin/python tools/bench/vision.py [--rounds 5] [--seconds 1.0] [--json FILE]
 """
@@ -130,7 +132,9 @@ def main() -> int:
     args = ap.parse_args()
 
     ur5, panda = SCENE_BY_ID["ur5"], SCENE_BY_ID["pb_panda"]
-    big = [Camera("big", 640, 480, ur5.eye, ur5.target), Camera("tiny", 1, 1, ur5.eye, ur5.target)]
+    # Closer than the referee's camera: the UR5 fills about 11 % of the 640 x 480 image.
+    eye, target = (0.65, -0.45, 0.6), (0.1, 0.15, 0.38)
+    big = [Camera("big", 640, 480, eye, target), Camera("tiny", 1, 1, eye, target)]
     # RLBench's five views, as fixed cameras: front, over each shoulder, overhead, and one
     # close to the hand.
     five = [
@@ -181,10 +185,14 @@ def main() -> int:
             for side, runs in sides.items()
         }
     c = figures["cases"]
+    # "On one core" targets are judged on CPU time per frame (all gantry threads), which
+    # a busy machine does not inflate and which is what one core would have to spend;
+    # the five cameras may use every core, so they are judged on wall time.
     figures["targets"] = {
-        "fps_640x480": {"target": TARGET_FPS_640, "met": c["640x480"]["gantry"]["fps"] >= TARGET_FPS_640},
-        "ms_5x128": {"target": TARGET_MS_5CAM, "met": c["5x128"]["gantry"]["ms"] <= TARGET_MS_5CAM},
-        "ms_1x1": {"target": TARGET_1X1_MS, "met": c["1x1"]["gantry"]["ms"] <= TARGET_1X1_MS},
+        "fps_640x480": {"target": TARGET_FPS_640, "basis": "cpu",
+                        "met": 1e3 / c["640x480"]["gantry"]["cpu_ms"] >= TARGET_FPS_640},
+        "ms_5x128": {"target": TARGET_MS_5CAM, "basis": "wall", "met": c["5x128"]["gantry"]["ms"] <= TARGET_MS_5CAM},
+        "ms_1x1": {"target": TARGET_1X1_MS, "basis": "cpu", "met": c["1x1"]["gantry"]["cpu_ms"] <= TARGET_1X1_MS},
     }
     print(vision_table(figures))
     if args.json:
