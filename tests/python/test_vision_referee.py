@@ -25,9 +25,10 @@ under 1 % of the image (the UR5's missing upper-arm tube is), and the image-wide
 criterion alone would pass it. Scenes that show a known gantry bug carry a strict
 ``xfail`` naming it (DEPTH_XFAIL, MASK_XFAIL; ``MERGE_BUG`` says what is wrong), so they
 turn into failures the day the bug is fixed and the mark must go; at least three robots
-pass both tests without one. The comparison also asks
-that most of the image is compared (MIN_COMPARED) and that the robot is really in view
-(MIN_ROBOT_PIXELS), so it cannot pass by looking at the floor.
+pass both tests without one. The comparison also asks that most of the image is compared
+(MIN_COMPARED) and that the robot is really in view (MIN_ROBOT_PIXELS), so it cannot pass
+by looking at the floor. ``test_gantry_floor_depth_is_analytic`` checks gantry's floor
+against the closed-form depth, without PyBullet.
 
 Conventions, which is where a comparison like this goes wrong:
 
@@ -558,6 +559,28 @@ def test_tinyrenderer_samples_pixel_corners():
         expected = floor_depth(scene, rows, cols, row_offset, col_offset)
         err = np.abs(view.depth - expected)[floor] / expected[floor]
         assert np.quantile(err, 0.99) < 1e-3, (shift, float(np.quantile(err, 0.99)))
+
+
+def test_gantry_floor_depth_is_analytic(tmp_path: Path):
+    """gantry against no renderer at all: its floor pixels (by its own mask) have the
+    closed-form planar depth of the plane z = 0 along the ray through each pixel's centre,
+    which pins its pose, fov-across-the-larger-side, row order and depth conventions
+    independently of PyBullet."""
+    scene = SCENE_BY_ID["kuka_iiwa"]
+    g = render_gantry(scene, tmp_path, mask=True)
+    floor = (g.mask == g.handles["Floor"]) & ~edge_pixels([g.depth], [g.mask])
+    assert floor.sum() > 0.2 * floor.size
+    rows, cols = np.mgrid[0:HEIGHT, 0:WIDTH]
+    expected = floor_depth(scene, rows, cols, 0.5, 0.5)
+    rel = np.zeros(floor.shape)
+    rel[floor] = np.abs(g.depth - expected)[floor] / expected[floor]
+    worst = np.unravel_index(np.argmax(rel), rel.shape)
+    print(f"gantry floor depth against the closed form: largest relative error {rel.max():.2e} "
+          f"over {floor.sum()} pixels")
+    assert rel.max() < 1e-4, (
+        f"largest relative error {rel.max():.2e} at (row, col) {tuple(int(i) for i in worst)}: "
+        f"gantry {g.depth[worst]:.5f} m, analytic {expected[worst]:.5f} m"
+    )
 
 
 def per_object_agreement(good: np.ndarray, compared: np.ndarray, names: np.ndarray) -> dict[str, tuple[float, int]]:
