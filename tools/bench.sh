@@ -3,9 +3,9 @@
 # machine. Builds the release binary, runs `cargo bench --bench sim`, the PyBullet side,
 # the public robots (mesh-collision arms from pybullet_data and example-robot-data, in
 # gantry and PyBullet; issue 15), the ZMQ latency benchmark with the real Python client
-# (and against the client's floor, tools/bench/zmq_floor.py)
-# and the start-up probe, then prints the side-by-side report (also in
-# target/bench/report.md) and draws docs/rovers.png. Takes about ten minutes; run it on
+# (and against the client's floor, tools/bench/zmq_floor.py), the vision sensors against
+# PyBullet's TinyRenderer (tools/bench/vision.py) and the start-up probe, then prints the
+# side-by-side report (also in target/bench/report.md) and draws docs/rovers.png. Takes about ten minutes; run it on
 # a quiet machine.
 #
 #   bash tools/bench.sh            # GANTRY_BENCH_SECONDS=3 by default
@@ -13,6 +13,9 @@
 # The public robots alone, with a given binary (the report's section 6):
 #   GANTRY_BIN=target/release/gantry .venv/bin/python tools/bench/public_robots.py \
 #       --repeat 3 > target/bench/public.json && .venv/bin/python tools/bench/report.py --public-only
+# The vision section alone, with the installed wheel (source tools/python-wheel.sh first):
+#   .venv/bin/python tools/bench/vision.py --json target/bench/vision.json && \
+#       .venv/bin/python tools/bench/report.py --vision-only
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -40,6 +43,8 @@ source tools/python-wheel.sh
 "$venv/bin/python" tools/bench/python_inproc.py --repeat 3 --json target/bench/python.json
 # The batch benchmark exits 1 below its target speed-up; the report says so too.
 "$venv/bin/python" tools/bench/ray_batch.py --json target/bench/ray.json || true
+echo "== vision: gantry's vision sensors against PyBullet's TinyRenderer, same scenes, interleaved (issue 30)"
+"$venv/bin/python" tools/bench/vision.py --rounds 5 --json target/bench/vision.json
 echo "== script debugger: step rate with and without --debug"
 "$venv/bin/python" tools/bench/debugger.py --steps 10000 --repeat 3 --json target/bench/debugger.json
 echo "== recording: the showroom's step rate with and without --record (issue 31)"

@@ -4,13 +4,14 @@
 Reads, from target/bench/: gantry.json (`cargo bench --bench sim`), pybullet.json
 (tools/bench/pybullet_bench.py), zmq.json (tests/python/bench_zmq.py --json),
 startup.json (tools/bench/startup.py) and, if present, public.json
-(tools/bench/public_robots.py), python.json (tools/bench/python_inproc.py) and ray.json
-(tools/bench/ray_batch.py); prints one Markdown report with ratios and the
-targets, writes it to target/bench/report.md, and draws steps/s against the number of
-rovers to docs/rovers.png. `bash tools/bench.sh` runs everything in order.
+(tools/bench/public_robots.py), python.json (tools/bench/python_inproc.py), ray.json
+(tools/bench/ray_batch.py) and vision.json (tools/bench/vision.py); prints one Markdown
+report with ratios and the targets, writes it to target/bench/report.md, and draws
+steps/s against the number of rovers to docs/rovers.png. `bash tools/bench.sh` runs everything in order.
 
     python3 tools/bench/report.py                 # the whole report
     python3 tools/bench/report.py --public-only   # only the public robots' table
+    python3 tools/bench/report.py --vision-only   # only the vision section
 """
 
 from __future__ import annotations
@@ -133,6 +134,45 @@ def python_section(py: dict, ray: dict | None) -> str:
     return "\n".join(out) + "\n"
 
 
+def vision_table(f: dict) -> str:
+    """The vision benchmark's Markdown table (tools/bench/vision.py prints it too)."""
+    c, t = f["cases"], f["targets"]
+    what = {
+        "640x480": "1 camera 640 x 480, RGB + depth, UR5 in view",
+        "5x128": f"5 cameras 128 x 128, RGB + depth{' + mask' if f['mask'] else ''}, Panda in view (one step)",
+        "1x1": "1 camera 1 x 1, UR5 in view",
+    }
+    target = {
+        "640x480": f"≥ {t['fps_640x480']['target']:.0f} frames/s on one core (CPU): {verdict(t['fps_640x480']['met'])}",
+        "5x128": f"≤ {t['ms_5x128']['target']:.0f} ms (wall): {verdict(t['ms_5x128']['met'])}",
+        "1x1": f"≤ {t['ms_1x1']['target']:.2f} ms on one core (CPU): {verdict(t['ms_1x1']['met'])}",
+    }
+    out = ["| case | gantry wall ms (frames/s) | gantry CPU ms | PyBullet wall ms (frames/s) | PyBullet CPU ms | "
+           "PyBullet / gantry, wall | gantry target |", "|---|---|---|---|---|---|---|"]
+    for case, label in what.items():
+        g, p = c[case]["gantry"], c[case]["pybullet"]
+        out.append(f"| {label} | {g['ms']:.2f} ({g['fps']:,.0f}) | {g['cpu_ms']:.2f} | {p['ms']:.2f} ({p['fps']:,.0f}) | "
+                   f"{p['cpu_ms']:.2f} | **{p['ms'] / g['ms']:.1f}x** | {target[case]} |")
+    return "\n".join(out)
+
+
+def vision_section(v: dict) -> str:
+    """Section 8: vision sensors, gantry in-process against PyBullet's TinyRenderer (issue 30)."""
+    m = v["machine"]
+    return (
+        "### 8. Vision sensors: gantry in-process against PyBullet's TinyRenderer, same scenes\n\n"
+        + vision_table(v)
+        + f"\n\nMedian over {v['rounds']} interleaved rounds of the mean time per frame (for the five cameras: "
+        "per step, all five), on " + f"{m['cpu']} ({m['cores']} cores). gantry: `sim.handleVisionSensor` "
+        "(one handle, or `sim.handle_all` for the five, which renders on all cores) and a copy of each RGB, "
+        "depth (m)" + (" and mask" if v["mask"] else "") + " array. CPU ms is the process's CPU time per frame, "
+        "all threads: the one-core targets are judged on it (a busy machine inflates wall time, not CPU time). "
+        "PyBullet: `getCameraImage(renderer=ER_TINY_RENDERER)` per camera. The 1 x 1 target is issue 30's "
+        "5.4 ms before culling divided by 20. tests/python/test_vision_referee.py checks that the two "
+        "renderers' depth and masks agree on these scenes.\n"
+    )
+
+
 def public_robots(pub: dict) -> str:
     """Section 6: gantry and PyBullet on public mesh-collision arms (issue 15)."""
     out = []
@@ -222,9 +262,13 @@ def plot(g: dict, pb: dict) -> Path | None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--public-only", action="store_true", help="print only the public robots' table")
+    ap.add_argument("--vision-only", action="store_true", help="print only the vision section")
     args = ap.parse_args()
     if args.public_only:
         print(public_robots(load("public.json")))
+        return
+    if args.vision_only:
+        print(vision_section(load("vision.json")))
         return
     g, pb, zmq, start = load("gantry.json"), load("pybullet.json"), load("zmq.json"), load("startup.json")
     text = report(g, pb, zmq, start)
@@ -233,6 +277,8 @@ def main() -> None:
         text += "\n" + python_section(load("python.json"), ray)
     if (BENCH / "public.json").exists():
         text += "\n" + public_robots(load("public.json"))
+    if (BENCH / "vision.json").exists():
+        text += "\n" + vision_section(load("vision.json"))
     (BENCH / "report.md").write_text(text + "\n")
     print(text)
     path = plot(g, pb)
