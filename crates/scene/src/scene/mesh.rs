@@ -210,9 +210,11 @@ mod tests {
         std::fs::remove_dir_all(&dir).ok();
     }
 
-    /// A COLLADA document with one geometry per `(positions, triangles)` (0-based
-    /// indices into its own positions), each instanced once at the origin.
-    fn collada(geometries: &[(&[[f32; 3]], &[[u32; 3]])]) -> String {
+    /// A geometry: its positions and its triangles (0-based indices into them).
+    type Geometry<'a> = (&'a [[f32; 3]], &'a [[u32; 3]]);
+
+    /// A COLLADA document with one geometry per entry, each instanced once at the origin.
+    fn collada(geometries: &[Geometry<'_>]) -> String {
         let mut lib = String::new();
         let mut nodes = String::new();
         for (k, (positions, triangles)) in geometries.iter().enumerate() {
