@@ -22,10 +22,9 @@ with the same intrinsics; then
 Both also hold each object (a link, the floor, a box) seen on at least OBJECT_MIN_PIXELS
 compared pixels to OBJECT_MIN_AGREEMENT of them: a link that is half missing can be well
 under 1 % of the image (the UR5's missing upper-arm tube is), and the image-wide
-criterion alone would pass it. Scenes that show a known gantry bug carry a strict
-``xfail`` naming it (DEPTH_XFAIL, MASK_XFAIL; ``MERGE_BUG`` says what is wrong), so they
-turn into failures the day the bug is fixed and the mark must go; at least three robots
-pass both tests without one. The comparison also asks that most of the image is compared
+criterion alone would pass it. (That is how this test found gantry's mesh loader
+pointing the triangles of a file's third sub-mesh on at the wrong vertices, fixed since:
+the UR5's upper arm agreed on 7.9 % of its pixels, the Panda's link6 on 28 %.) The comparison also asks that most of the image is compared
 (MIN_COMPARED) and that the robot is really in view (MIN_ROBOT_PIXELS), so it cannot pass
 by looking at the floor. ``test_gantry_floor_depth_is_analytic`` checks gantry's floor
 against the closed-form depth, without PyBullet.
@@ -136,23 +135,6 @@ class Scene:
         return Camera("camera", WIDTH, HEIGHT, self.eye, self.target, self.up)
 
 
-# Known gantry bugs a scene shows (DEPTH_XFAIL and MASK_XFAIL below), in one place:
-#
-# gantry's mesh loader (crates/scene/src/scene/mesh.rs) asks mesh-loader 0.1.13 to merge a
-# file's sub-meshes (`merge_meshes(true)`), and that merge offsets the vertex indices of
-# each sub-mesh by the previous sub-mesh's last face's third index plus one, not by the
-# number of vertices of all the sub-meshes before it (mesh-loader's src/common.rs,
-# `Mesh::merge`: `last = m.faces.last().unwrap()[2] + 1`). From the third sub-mesh on,
-# triangles take other sub-meshes' vertices. The UR5's upperarm.dae has five geometries
-# (sub-meshes): each alone, and the pairs (0, 1) and (1, 3), render as PyBullet renders
-# them; the geometries 1, 3 and 4 together lose the third; the whole file loses its tube.
-# pybullet_data's Panda link6.obj (17 objects) loses part of its body. gantry's own loop
-# over the sub-meshes offsets them correctly; without `merge_meshes(true)` it would get them.
-MERGE_BUG = pytest.mark.xfail(
-    strict=True,
-    reason="mesh-loader's Mesh::merge mis-offsets the indices of a multi-mesh file's 3rd+ sub-meshes",
-)
-
 SCENE_LIST = [
     Scene(
         "ur5",
@@ -202,14 +184,6 @@ SCENE_LIST = [
     ),
 ]
 SCENE_BY_ID = {s.sid: s for s in SCENE_LIST}
-# The scenes each test expects to fail, and why. The Panda's misplaced link6 triangles
-# still belong to link6, so its mask agrees where its depth does not.
-DEPTH_XFAIL = {"ur5": MERGE_BUG, "pb_panda": MERGE_BUG}
-MASK_XFAIL = {"ur5": MERGE_BUG}
-
-
-def scene_params(xfail: dict) -> list:
-    return [pytest.param(s, id=s.sid, marks=xfail.get(s.sid, ())) for s in SCENE_LIST]
 
 
 # ---------------------------------------------------------------------------------------
@@ -531,9 +505,7 @@ def label_name_image(view: PyBulletView) -> np.ndarray:
 
 
 def test_scenes_are_three_public_robots():
-    # At least three robots are held to the criteria without a known-bug mark.
-    unmarked = [s for s in SCENE_LIST if s.sid not in DEPTH_XFAIL and s.sid not in MASK_XFAIL]
-    assert len({s.robot.rid for s in unmarked}) >= 3
+    assert len({s.robot.rid for s in SCENE_LIST}) >= 3
     for scene in SCENE_BY_ID.values():
         assert scene.robot.path.is_file(), (
             f"{scene.robot.path} is missing (pip install -r tests/python/requirements.txt)"
@@ -618,7 +590,7 @@ def check_agreement(what: str, scene: Scene, good: np.ndarray, compared: np.ndar
     assert robot_pixels >= MIN_ROBOT_PIXELS, f"the robot covers only {robot_pixels} compared pixels"
 
 
-@pytest.mark.parametrize("scene", scene_params(DEPTH_XFAIL))
+@pytest.mark.parametrize("scene", SCENE_LIST, ids=lambda s: s.sid)
 def test_depth_matches_tinyrenderer(scene: Scene, tmp_path: Path):
     g = render_gantry(scene, tmp_path)
     p = render_pybullet(scene)
@@ -632,7 +604,7 @@ def test_depth_matches_tinyrenderer(scene: Scene, tmp_path: Path):
                     [("gantry m", g.depth), ("pybullet m", p.depth)])
 
 
-@pytest.mark.parametrize("scene", scene_params(MASK_XFAIL))
+@pytest.mark.parametrize("scene", SCENE_LIST, ids=lambda s: s.sid)
 def test_mask_matches_segmentation(scene: Scene, tmp_path: Path):
     """gantry's mask (``client.mask``: the handle of the shape seen, -1 for nothing) against
     PyBullet's segmentation buffer, objectUniqueId + ((linkIndex + 1) << 24) (link index
