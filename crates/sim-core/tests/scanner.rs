@@ -504,7 +504,7 @@ fn bad_input_gives_clear_errors() {
         &mut w,
         vec![Value::Int(hokuyo), Value::Str("abc".into()), Value::Float(1.0)],
     );
-    assert!(e.contains("argument 2") && e.contains("packed floats"), "{e}");
+    assert!(e.contains("argument 2") && e.contains("whole directions"), "{e}");
     for max in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         let e = cast(&mut w, vec![Value::Int(hokuyo), x(), Value::Float(max)]);
         assert!(e.contains("argument 3") && e.contains("> 0"), "{max}: {e}");

@@ -79,12 +79,9 @@ pub fn cast_rays(
             directions.len()
         )));
     }
-    // Rotated into the world frame and normalised once, so that a hit's time of impact
-    // is its distance in metres.
-    let mut world_dirs = Vec::with_capacity(directions.len());
+    // Checked before anything is cast, so a bad batch leaves `hits` as it was.
     for (k, d) in directions.iter().enumerate() {
-        let v = Vec3::from(*d);
-        let n = v.norm();
+        let n = Vec3::from(*d).norm();
         if !(n.is_finite() && n > 0.0) {
             return Err(SimError::bad_argument(format!(
                 "direction {} is {{{}, {}, {}}}: it must be finite and not zero",
@@ -94,7 +91,6 @@ pub fn cast_rays(
                 d[2]
             )));
         }
-        world_dirs.push(math::vec_to_physics(&(origin.rotation * (v / n))));
     }
     world.refresh_queries();
     let blocked = blocked_colliders(world, params);
@@ -110,7 +106,10 @@ pub fn cast_rays(
     let from = math::vec_to_physics(&origin.translation.vector);
     let max = params.max_distance as f32;
     hits.clear();
-    hits.extend(world_dirs.iter().map(|&dir| {
+    hits.extend(directions.iter().map(|d| {
+        // Into the world frame and normalised, so that a hit's time of impact is its
+        // distance in metres.
+        let dir = math::vec_to_physics(&(origin.rotation * Vec3::from(*d).normalize()));
         // Solid: a ray that starts inside a shape is blocked at once, as a beam would be.
         pipeline
             .cast_ray(&Ray::new(from, dir), max, true)

@@ -75,17 +75,23 @@ pub fn coordinates_from_work(
 ) -> Result<Vec<f32>, SimError> {
     let depth = DepthMap::new(world, states, h, counts)?;
     let [nx, ny] = counts;
+    // Image-plane coordinates of each column and row of samples, worked out once: the
+    // tangents cost more than reading a pixel.
+    let along = |n: usize, extent: f64| -> Vec<f64> {
+        (0..n)
+            .map(|k| {
+                if angular {
+                    spread(k, n, extent.atan()).tan()
+                } else {
+                    spread(k, n, extent)
+                }
+            })
+            .collect()
+    };
+    let (us, vs) = (along(nx, depth.extent_x), along(ny, depth.extent_y));
     let mut out = packet(counts);
-    for j in 0..ny {
-        for i in 0..nx {
-            let (u, v) = if angular {
-                (
-                    spread(i, nx, depth.extent_x.atan()).tan(),
-                    spread(j, ny, depth.extent_y.atan()).tan(),
-                )
-            } else {
-                (spread(i, nx, depth.extent_x), spread(j, ny, depth.extent_y))
-            };
+    for &v in &vs {
+        for &u in &us {
             depth.push_point(u, v, frame, &mut out)?;
         }
     }
@@ -134,18 +140,24 @@ pub fn velodyne_from_work(
             2.0 * (depth.extent_y * half_azimuth.cos()).atan()
         )));
     }
+    // The beams' elevations, as tangents, once for every azimuth.
+    let tan_elevations: Vec<f64> = (0..ny)
+        .map(|j| {
+            if ny > 1 {
+                (-vertical_angle / 2.0 + vertical_angle * j as f64 / (ny - 1) as f64).tan()
+            } else {
+                0.0
+            }
+        })
+        .collect();
     let mut out = packet(counts);
     for i in 0..nx {
         let azimuth = spread(i, nx, half_azimuth);
-        for j in 0..ny {
-            let elevation = if ny > 1 {
-                -vertical_angle / 2.0 + vertical_angle * j as f64 / (ny - 1) as f64
-            } else {
-                0.0
-            };
-            // The beam (sin az cos el, sin el, cos az cos el) crosses the image plane z = 1 at:
-            let (u, v) = (azimuth.tan(), elevation.tan() / azimuth.cos());
-            depth.push_point(u, v, frame, &mut out)?;
+        let (u, secant) = (azimuth.tan(), 1.0 / azimuth.cos());
+        for &tan_elevation in &tan_elevations {
+            // The beam (sin az cos el, sin el, cos az cos el) crosses the image plane
+            // z = 1 at u = tan az, v = tan el / cos az.
+            depth.push_point(u, tan_elevation * secant, frame, &mut out)?;
         }
     }
     Ok(out)
