@@ -123,7 +123,7 @@ fn self_or(ctx: &CallContext<'_>, h: Handle) -> Result<Handle, SimError> {
 /// buffer of that size costed about a tenth of the ray cast.
 fn directions(a: &Args<'_>, i: usize) -> Result<Vec<[f64; 3]>, SimError> {
     let whole = |n: usize| {
-        if n % 3 == 0 {
+        if n.is_multiple_of(3) {
             Ok(())
         } else {
             Err(SimError::bad_argument(format!(
@@ -169,7 +169,7 @@ fn directions(a: &Args<'_>, i: usize) -> Result<Vec<[f64; 3]>, SimError> {
 
 /// Directions packed as little-endian `f32`s, 3 per ray, from argument `i`.
 fn packed_directions(bytes: &[u8], i: usize) -> Result<Vec<[f64; 3]>, SimError> {
-    if bytes.len() % 12 != 0 {
+    if !bytes.len().is_multiple_of(12) {
         return Err(SimError::bad_argument(format!(
             "argument {}: {} bytes of packed floats do not make whole directions (3 floats, 12 bytes, per ray)",
             i + 1,

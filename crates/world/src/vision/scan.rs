@@ -204,7 +204,7 @@ impl<'a> DepthMap<'a> {
         h: Handle,
         counts: [usize; 2],
     ) -> Result<DepthMap<'a>, SimError> {
-        let points = counts[0].checked_mul(counts[1]).unwrap_or(usize::MAX);
+        let points = counts[0].saturating_mul(counts[1]);
         if counts.contains(&0) || points > MAX_POINTS {
             return Err(SimError::bad_argument(format!(
                 "point counts {{{}, {}}}: each must be at least 1, and at most {MAX_POINTS} points in all",
