@@ -9,6 +9,7 @@ mod util;
 
 use gantry_script::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::math::Vec3;
+use gantry_sim_core::scene::{LoadOptions, load_bundled};
 use gantry_sim_core::{Handle, Value};
 use util::{find, floats, ints, load, repo};
 
@@ -51,8 +52,16 @@ fn rays(sim: &mut Simulation, scanner: Handle, points: &[Vec3], max: f64) -> (Ve
 
 #[test]
 fn the_scanner_scripts_publish_the_ranges_the_rays_measure() {
-    let mut sim = Simulation::new(load(&repo("assets/scenes/scanners.toml")), ScriptLimits::default())
-        .expect("the scanners scene builds");
+    // The scene as compiled into gantry (`gantry run scanners`), which must be the file.
+    let bundled = load_bundled("scanners", &LoadOptions::default())
+        .expect("a bundled scene named scanners")
+        .expect("it loads");
+    let file = load(&repo("assets/scenes/scanners.toml"));
+    assert_eq!(bundled.objects.len(), file.objects.len());
+    let sources =
+        |m: &gantry_sim_core::scene::SceneModel| m.scripts.iter().map(|s| s.source.clone()).collect::<Vec<_>>();
+    assert_eq!(sources(&bundled), sources(&file));
+    let mut sim = Simulation::new(bundled, ScriptLimits::default()).expect("the scanners scene builds");
     sim.start();
     for _ in 0..3 {
         sim.step();
