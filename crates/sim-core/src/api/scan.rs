@@ -61,7 +61,7 @@ pub(super) const CONSTANTS: &[(&str, i64)] = &[("handleflag_abscoords", HANDLEFL
 /// collidable shape (the floor included, as a depth sensor sees); bit 1: return the
 /// distances as packed floats (`sim.unpackFloatTable`) and the handles as packed int32s
 /// (`sim.unpackInt32Table`), which for a 3-D scan of 28,800 rays saves two tables of
-/// that many numbers (about a third of the call's time).
+/// that many numbers (with packed directions, 40 % of the call's time).
 fn cast_rays(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let frame = self_or(ctx, a.handle(0)?)?;
     let directions = directions(a, 1)?;
@@ -145,17 +145,17 @@ fn directions(a: &Args<'_>, i: usize) -> Result<Vec<[f64; 3]>, SimError> {
                     ))
                 })
             };
-            items
-                .chunks_exact(3)
-                .enumerate()
-                .map(|(k, c)| {
-                    Ok([
-                        number(3 * k, &c[0])?,
-                        number(3 * k + 1, &c[1])?,
-                        number(3 * k + 2, &c[2])?,
-                    ])
-                })
-                .collect()
+            // A loop into a buffer of the final size: collecting through `Result` grows
+            // the vector by doubling, a few copies of a 700 KB buffer per 3-D scan.
+            let mut out = Vec::with_capacity(items.len() / 3);
+            for (k, c) in items.chunks_exact(3).enumerate() {
+                out.push([
+                    number(3 * k, &c[0])?,
+                    number(3 * k + 1, &c[1])?,
+                    number(3 * k + 2, &c[2])?,
+                ]);
+            }
+            Ok(out)
         }
         Value::Bytes(b) => packed_directions(b, i),
         Value::Str(s) => packed_directions(s.as_bytes(), i),
