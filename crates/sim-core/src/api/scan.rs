@@ -20,7 +20,7 @@ use crate::world::{Handle, World};
 const HANDLE_SELF: Handle = -4;
 /// `sim.handleflag_abscoords`: OR-ed onto a sensor handle, asks for points in the world
 /// frame (CoppeliaSim's value).
-pub(super) const HANDLEFLAG_ABSCOORDS: i64 = 0x0080_0000;
+const HANDLEFLAG_ABSCOORDS: i64 = 0x0080_0000;
 /// `castRays` option bit 0: only shapes marked detectable.
 const CAST_DETECTABLE_ONLY: i64 = 1;
 /// `castRays` option bit 1: results as packed numbers rather than tables.
@@ -52,8 +52,8 @@ pub(super) const CONSTANTS: &[(&str, i64)] = &[("handleflag_abscoords", HANDLEFL
 /// `distances, handles`: one ray per direction from the origin of `frameHandle`
 /// (`sim.handle_self` for the calling script's object) against the scene's collision
 /// geometry. `directions` holds x, y, z per ray in the frame object's coordinates, as a
-/// flat table of numbers or a string of packed floats (`sim.packFloatTable`); any length
-/// but zero. Each ray reports the distance (m) to its first hit within `maxDistance`
+/// flat table of numbers or a string of packed floats (`sim.packFloatTable`); each may
+/// have any length but zero (they are normalised). Each ray reports the distance (m) to its first hit within `maxDistance`
 /// and the shape hit, or `-1` and `-1` when nothing is hit that near. A ray starting
 /// inside a shape hits it at 0 m: pass the scanner's model as `ignoredTree` (its root;
 /// `-1` for none) and the rays pass through that object and everything below it.
