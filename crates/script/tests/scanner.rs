@@ -52,7 +52,7 @@ fn rays(sim: &mut Simulation, scanner: Handle, points: &[Vec3], max: f64) -> (Ve
 
 #[test]
 fn the_scanner_scripts_publish_the_ranges_the_rays_measure() {
-    // The scene as compiled into gantry (`gantry run scanners`), which must be the file.
+    // The scene as compiled into gantry (`gantry.Client("scanners")`), which must be the file.
     let bundled = load_bundled("scanners", &LoadOptions::default())
         .expect("a bundled scene named scanners")
         .expect("it loads");
