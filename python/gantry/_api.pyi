@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 227 functions, 169 constants."""
+    """`sim`: 228 functions, 170 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -58,6 +58,7 @@ class Sim:
     handle_single: int
     handle_tree: int
     handle_world: int
+    handleflag_abscoords: int
     handleflag_addmultiple: int
     handleflag_reljointbaseframe: int
     handleflag_resetforce: int
@@ -211,6 +212,8 @@ class Sim:
     def buildPose(self, *args: Any) -> Any: ...
     def callScriptFunction(self, *args: Any) -> Any:
         """`name@alias` is accepted; the called function runs under the time budget of a hook."""
+    def castRays(self, *args: Any) -> Any:
+        """gantry's, not CoppeliaSim's: `distances, handles = sim.castRays(frameHandle, directions, maxDistance [, ignoredTree = -1 [, options = 0]])` casts one ray per direction from the origin of `frameHandle` against the scene's collision geometry (rapier's colliders: true cylinders and spheres, not their tessellation). `directions` are x, y, z per ray in the frame object's coordinates, as a flat table or packed floats (`sim.packFloatTable`); each may have any length but zero (they are normalised). Each ray gives its distance in metres to the first hit within `maxDistance` and the shape hit, or `-1` and `-1` for no hit. A ray starting inside a shape hits it at 0: pass the scanner's model base as `ignoredTree` and the rays pass through that object and everything below it. Options bit 0: only shapes marked detectable (the floor is not); bit 1: results packed (`sim.unpackFloatTable`, `sim.unpackInt32Table`), which with packed directions makes a 3-D scan of 28,800 rays 40 % cheaper. Deterministic; no rendering, so a 360-ray 2-D scan costs about 0.04 ms (docs/performance.md, "Laser scanners")."""
     def checkCollision(self, *args: Any) -> Any: ...
     def checkDistance(self, *args: Any) -> Any: ...
     def checkProximitySensor(self, *args: Any) -> Any:
@@ -638,10 +641,12 @@ class SimUI:
     def show(self, *args: Any) -> Any: ...
 
 class SimVision:
-    """`simVision`: 10 functions, 0 constants."""
+    """`simVision`: 12 functions, 0 constants."""
 
     def blobDetectionOnWorkImg(self, *args: Any) -> Any:
         """the rectangle is fitted to the pixels as unit squares, so a 10-pixel-wide blob is 10 pixels wide (CoppeliaSim measures between outer pixel centres, one pixel less); orientation is in [-π/4, π/4), width along that direction; blobs are listed in the order of their first pixel (rows from the bottom). `trigger` is always false, as in CoppeliaSim."""
+    def coordinatesFromWorkImg(self, *args: Any) -> Any:
+        """the sample directions span the outermost pixel centres (the plugin spans the image edges), so `{resX, resY}` points read each pixel along its own ray; between pixel centres the inverse depth is interpolated from the four pixels around a direction, or the nearest pixel is read where their depths differ by more than 5 % (a silhouette). Points beyond the far plane come back at the far distance with distance = far, as in CoppeliaSim. The work image must be a depth map (`simVision.sensorDepthMapToWorkImg`); a colour image or edge mask is refused. `returnRgb` returns no colours (gantry has no buffer 1). The packet layout, order and `sim.handleflag_abscoords` are CoppeliaSim's."""
     def edgeDetectionOnWorkImg(self, *args: Any) -> Any: ...
     def horizontalFlipWorkImg(self, *args: Any) -> Any: ...
     def selectiveColorOnWorkImg(self, *args: Any) -> Any:
@@ -650,5 +655,7 @@ class SimVision:
     def sensorImgToWorkImg(self, *args: Any) -> Any: ...
     def sharpenWorkImg(self, *args: Any) -> Any: ...
     def uniformImgToWorkImg(self, *args: Any) -> Any: ...
+    def velodyneDataFromWorkImg(self, *args: Any) -> Any:
+        """as `coordinatesFromWorkImg` for where points are read; perspective sensors only, and the beams at the sides of the view must fall inside the image (an error says how tall it must be) where the plugin would read the edge row."""
     def verticalFlipWorkImg(self, *args: Any) -> Any: ...
     def workImgToSensorImg(self, *args: Any) -> Any: ...

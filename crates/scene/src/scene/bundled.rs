@@ -1,6 +1,6 @@
 //! The scenes compiled into gantry, so that `gantry` and `gantry.Client("bubble_rob")`
-//! run from any directory: the showroom and the two seed scenes, with every file they
-//! reference.
+//! run from any directory: the showroom, the two seed scenes and the laser scanners,
+//! with every file they reference.
 
 use super::{EmbeddedFiles, Files, LoadError, LoadOptions, SceneModel, load_scene};
 
@@ -9,6 +9,7 @@ pub const BUNDLED_SCENES: &[(&str, &str)] = &[
     ("showroom", "assets/scenes/showroom.toml"),
     ("bubble_rob", "assets/scenes/bubble_rob.toml"),
     ("fk_arm", "assets/scenes/fk_arm.toml"),
+    ("scanners", "assets/scenes/scanners.toml"),
 ];
 
 /// Every file the bundled scenes reference, by path relative to the repository root.
@@ -27,6 +28,10 @@ pub fn bundled_files() -> EmbeddedFiles {
             include_bytes!("../../../../assets/scenes/fk_arm.toml"),
         ),
         (
+            "assets/scenes/scanners.toml",
+            include_bytes!("../../../../assets/scenes/scanners.toml"),
+        ),
+        (
             "assets/robots/arm6/arm6.urdf",
             include_bytes!("../../../../assets/robots/arm6/arm6.urdf"),
         ),
@@ -41,6 +46,19 @@ pub fn bundled_files() -> EmbeddedFiles {
         (
             "scripts/edge_detect.lua",
             include_bytes!("../../../../scripts/edge_detect.lua"),
+        ),
+        ("scripts/hokuyo.lua", include_bytes!("../../../../scripts/hokuyo.lua")),
+        (
+            "scripts/hokuyo_sensor.lua",
+            include_bytes!("../../../../scripts/hokuyo_sensor.lua"),
+        ),
+        (
+            "scripts/velodyne.lua",
+            include_bytes!("../../../../scripts/velodyne.lua"),
+        ),
+        (
+            "scripts/velodyne_sensor.lua",
+            include_bytes!("../../../../scripts/velodyne_sensor.lua"),
         ),
     ])
 }

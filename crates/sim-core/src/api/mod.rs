@@ -28,6 +28,7 @@ mod proximity_check;
 mod referenced;
 mod resolve;
 pub(crate) mod ruckig;
+mod scan;
 mod scene;
 mod sensing;
 mod signals;
@@ -338,6 +339,7 @@ pub const MODULES: &[Module] = &[
             referenced::FUNCTIONS,
             views::FUNCTIONS,
             point_cloud::FUNCTIONS,
+            scan::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
@@ -345,6 +347,7 @@ pub const MODULES: &[Module] = &[
             params::CONSTANTS,
             ruckig::CONSTANTS,
             legacy::CONSTANTS,
+            scan::CONSTANTS,
         ]),
         aliases: legacy::ALIASES,
     },
@@ -362,7 +365,7 @@ pub const MODULES: &[Module] = &[
     },
     Module {
         name: "simVision",
-        functions: &[vision::SIM_VISION_FUNCTIONS],
+        functions: &[vision::SIM_VISION_FUNCTIONS, scan::SIM_VISION_FUNCTIONS],
         constants: Constants(&[]),
         aliases: &[],
     },

@@ -1,9 +1,12 @@
 //! Sensors evaluated against the collision world: proximity sensors (the nearest point
-//! within a ray, cone, pyramid, cylinder or disc volume).
+//! within a ray, cone, pyramid, cylinder or disc volume) and batches of rays (laser
+//! scanners, [`cast_rays`]).
 
 mod proximity_volume;
+mod rays;
 
 pub use proximity_volume::{ProximityHit, ProximityVolume};
+pub use rays::{MAX_RAYS, RayCastParams, RayHit, cast_rays};
 
 use rapier3d::prelude::*;
 

@@ -45,6 +45,9 @@ mod raster;
 #[cfg(test)]
 mod render_tests;
 mod resolve;
+// Public as a module (not re-exported) because it reads this module's work images: a
+// re-export would make the two files import each other.
+pub mod scan;
 mod simd;
 mod tessellate;
 mod work_image;
