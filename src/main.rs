@@ -58,7 +58,7 @@ enum Command {
         #[arg(long = "package-path")]
         package_paths: Vec<PathBuf>,
     },
-    /// Write a scene (.ttt, .ttm, .urdf, .toml) as a TOML scene in DIR: DIR/<stem>.toml,
+    /// Write a scene (.ttt, .ttm, .urdf, .toml) as a TOML scene in DIR: DIR/NAME.toml (NAME: the file name without its extension),
     /// its meshes as OBJ files in DIR/meshes and its scripts as Lua files in DIR/scripts.
     Convert {
         /// The scene to convert.

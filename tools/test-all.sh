@@ -74,6 +74,11 @@ stage "lints (cargo clippy -D warnings)"
 # and proc-macros it builds are the ones the test build below reuses.
 cargo clippy --workspace --all-targets --profile ci -- -D warnings
 
+stage "API docs (cargo doc -D warnings: no broken or private links)"
+# After clippy, whose metadata it reuses; the Python bindings' crate is left out (its
+# docs are the Python package's).
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --exclude gantry-python --no-deps --profile ci --quiet
+
 stage "dependency direction: protocol, coppelia-file and the scene model stay pure (no tokio runtime, rapier or mlua); no circle among files; floors inside the simulation crates and the Lua host"
 if cargo tree -p gantry-protocol -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d) ' ; then
     echo "gantry-protocol must not depend on the crates listed above" >&2

@@ -6,7 +6,7 @@
 //!   and [`decode`]: their decoding (total, bounded), for reading recordings back;
 //! - [`schema`]: their `ros2msg` schema text, with every type they use;
 //! - [`input`]: what reached the simulation from outside (`/gantry/input`);
-//! - [`format`]: the format's version, fixed topics, topic naming, attachments;
+//! - [`format`](mod@format): the format's version, fixed topics, topic naming, attachments;
 //! - [`decode`] and [`reader`]: reading a recording back (`gantry replay`, `gantry
 //!   verify`), damaged and cut-short files included.
 //!

@@ -12,19 +12,19 @@
 //!   files themselves are compiled as text only ([`SOURCE_MODE`]), because Lua does not
 //!   verify binary chunks and a crafted one can corrupt memory;
 //! * no way to change what other scripts see: every script gets its own copy of the
-//!   global tables ([`script_env`]), as in CoppeliaSim where each script has its own Lua
+//!   global tables (`script_env`), as in CoppeliaSim where each script has its own Lua
 //!   state, and the one thing all scripts still share, the string metatable, is
 //!   protected;
 //! * no use of the shared collector against the others: `__gc` finalizers are refused
 //!   (they would run at the collector's convenience, inside whichever script happens
 //!   to allocate, or outside any time budget) and `collectgarbage` cannot stop or retune
 //!   the collector;
-//! * files written through the API only inside the scene's folder ([`confine`]);
+//! * files written through the API only inside the scene's folder (`confine`);
 //! * the network only through LuaSocket's TCP subset, listening where gantry listens
-//!   and connecting out only when the user allows it ([`crate::luasocket`]).
+//!   and connecting out only when the user allows it (`crate::luasocket`).
 //!
 //! Time and memory are bounded elsewhere: the time budget by the hook in `budget.rs`,
-//! memory by the state's cap set in [`new_state`]. Non-goal: protecting against a malicious Rust host or
+//! memory by the state's cap set in `new_state`. Non-goal: protecting against a malicious Rust host or
 //! against the scene's author, who chose the scripts.
 
 use gantry_sim_core::Sim;
@@ -38,7 +38,7 @@ use crate::limits::ScriptLimits;
 /// Globals removed from the base library: each loads code from a file or from a string
 /// (which may be bytecode), bypassing the checks on script files.
 /// (`require` comes with the `package` library, which is not loaded; scripts get the
-/// sandbox's own, see [`add_require`].)
+/// sandbox's own, see `add_require`.)
 pub const REMOVED_GLOBALS: &[&str] = &["dofile", "loadfile", "load", "loadstring"];
 
 /// `os` functions removed: they run programs, touch files, read the environment, end
@@ -222,7 +222,7 @@ fn copy_table(lua: &Lua, t: &Table, copies: &Table) -> mlua::Result<Table> {
 pub const REQUIRABLE: &[&str] = &["sim", "simIK", "simRemoteApi", "simUI", "simVision", "socket"];
 
 /// Other names `require` accepts, and the global each one returns: LuaSocket's C core,
-/// which a few scripts require directly (see [`crate::luasocket`]).
+/// which a few scripts require directly (see `crate::luasocket`).
 pub const REQUIRE_ALIASES: &[(&str, &str)] = &[("socket.core", "socket")];
 
 /// Gives a script's environment a `require` that returns the script's own copy of an

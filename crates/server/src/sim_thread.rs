@@ -320,7 +320,7 @@ pub fn channel() -> (SimHandle, Receiver<Request>) {
 /// The simulation loop. Runs until `config.steps` is reached, `should_stop` returns
 /// true, or every [`SimHandle`] is dropped. Runs cleanup hooks before returning.
 ///
-/// The simulation advances only when [`Stepping`] allows it (no remote client holds it
+/// The simulation advances only when `Stepping` allows it (no remote client holds it
 /// back). While some client is stepping, steps are taken as soon as they are asked for,
 /// not in real time, as CoppeliaSim does; real-time pacing resumes from that moment
 /// when the last client stops stepping.

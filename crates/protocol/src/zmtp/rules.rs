@@ -24,7 +24,7 @@ pub const MAX_MESSAGE_FRAMES: u32 = 64;
 /// Longest frame header: the flags byte and an 8-byte length.
 pub const MAX_HEADER_LEN: usize = 9;
 
-/// The most bytes [`Decoder::decode`] may need in the buffer before it can return an
+/// The most bytes `Decoder::decode` may need in the buffer before it can return an
 /// event: a message of [`MAX_MESSAGE_LEN`] bytes in [`MAX_MESSAGE_FRAMES`] frames with
 /// the longest headers (a command is one frame, so it needs less). It returns
 /// `Ok(None)` only while the buffer holds fewer bytes than this, so a connection that

@@ -22,7 +22,7 @@
 //!
 //! Access: the listener binds loopback by default, like the other channels. With an
 //! access token (`--token`) every route, the page, its assets, the WebSocket, the CSV
-//! downloads and the API, requires it ([`access`]: `?token=` then a cookie, or a bearer
+//! downloads and the API, requires it (`access`: `?token=` then a cookie, or a bearer
 //! header). In every mode a WebSocket handshake from another site's page is refused.
 //!
 //! Replay mode ([`serve_replay`], `gantry replay FILE`): the same page and pose stream
@@ -75,7 +75,7 @@ use crate::debug::DebugHub;
 use crate::sim_thread::SimHandle;
 
 /// Serves the page, its assets, the WebSocket and the HTTP API until `shutdown`
-/// turns true. With `token`, every route requires it (see [`access`]).
+/// turns true. With `token`, every route requires it (see the `access` module).
 pub async fn serve(
     listener: TcpListener,
     sim: SimHandle,

@@ -62,7 +62,7 @@ pub struct PanelCursor {
 pub struct PanelUpdate {
     /// `{"t":"panels",...}` with only the parts that changed; `None` if nothing did.
     pub json: Option<Json>,
-    /// [`MSG_IMAGE`], [`MSG_DEPTH`] and [`MSG_MASK`] messages.
+    /// `MSG_IMAGE`, `MSG_DEPTH` and `MSG_MASK` messages.
     pub images: Vec<Vec<u8>>,
 }
 

@@ -3,12 +3,12 @@
 //! results to the binary replies the client library reads. Nothing here acts on the
 //! world itself: every command is one or more [`SimHandle`] requests.
 //!
-//! [`table::COMMANDS`] lists every command served, by code; a command that is one
-//! registry call is written there as data, the others are [`table::Simx`] variants
-//! implemented by family: [`objects`], [`sensors`], [`signals`], [`script_call`], and
+//! `table::COMMANDS` lists every command served, by code; a command that is one
+//! registry call is written there as data, the others are `table::Simx` variants
+//! implemented by family: `objects`, `sensors`, `signals`, `script_call`, and
 //! the session's own commands (stepping, errors, closing) below.
 //!
-//! Layouts follow the client library ([`layout`]): integers and floats are little-endian
+//! Layouts follow the client library (`layout`): integers and floats are little-endian
 //! 32-bit, strings NUL-terminated; a reply repeats the command's identifying data (the
 //! transport does that) and carries the results as its pure data. A command that fails
 //! on the server side replies with status bit 0 set, which the client reports as

@@ -648,7 +648,7 @@ pub struct WorkImage<'a> {
 
 impl WorkImage<'_> {
     /// `simVision.edgeDetectionOnWorkImg`: the result is black and white, so it is
-    /// kept as [`Work::Binary`].
+    /// kept as `Work::Binary`.
     pub fn edge_detection(&mut self, threshold: f32) {
         let n = self.width * self.height;
         // The grey image, then the filter's scratch. Everything in it is overwritten,
@@ -677,7 +677,7 @@ impl WorkImage<'_> {
 
     /// `simVision.selectiveColorOnWorkImg`: blacks out the pixels that do not match
     /// `color` within `tolerance` (with `keep`), or those that do (without); in RGB, or
-    /// in HSL when `rgb` is false. See [`blobs::selective_color`].
+    /// in HSL when `rgb` is false. See `blobs::selective_color`.
     pub fn selective_color(&mut self, color: [f32; 3], tolerance: [f32; 3], rgb: bool, keep: bool) {
         blobs::selective_color(self.work.floats_mut(), color, tolerance, rgb, keep);
     }
@@ -686,7 +686,7 @@ impl WorkImage<'_> {
     /// of R, G, B is at least `threshold`, blobs under `min_size` (a fraction of the
     /// image's pixels) left out and blacked out; with `recolor`, the background turns
     /// black and each blob takes a colour; with `overlay`, each blob's rectangle is
-    /// drawn in that colour. See [`blobs::blob_packet`] for the packet.
+    /// drawn in that colour. See `blobs::blob_packet` for the packet.
     pub fn blob_detection(
         &mut self,
         threshold: f32,
@@ -707,7 +707,7 @@ impl WorkImage<'_> {
 
 impl SensorImage {
     /// `simVision.sensorImgToWorkImg`: the sensor image as floats 0..1 (kept as its
-    /// bytes, see [`Work`]).
+    /// bytes, see `Work`).
     pub fn rgb_to_work(&mut self) {
         // The buffer of a byte or edge image is reused: no allocation per frame.
         let mut bytes = match self.work.take() {
