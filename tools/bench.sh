@@ -28,6 +28,9 @@ echo "== release build"
 cargo build --release --quiet
 echo "== gantry: cargo bench --bench sim"
 cargo bench --quiet --bench sim
+echo "== vision sensors and laser scanners (cargo bench -p gantry-sim-core --bench vision / --bench scan; issue 30)"
+cargo bench --quiet -p gantry-sim-core --bench vision
+cargo bench --quiet -p gantry-sim-core --bench scan
 echo "== PyBullet"
 "$venv/bin/python" tools/bench/pybullet_bench.py --seconds "${GANTRY_BENCH_SECONDS:-3}" > target/bench/pybullet.json
 echo "== public robots: mesh-collision arms in gantry and PyBullet"

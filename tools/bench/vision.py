@@ -18,10 +18,6 @@ in gantry in-process and in PyBullet's TinyRenderer (DIRECT mode,
   pixels (issue 30 measured 5.4-6.4 ms a frame before culling; target at least 20x
   cheaper than 5.4 ms, so at most 0.27 ms).
 
-The UR5's visual meshes are COLLADA files of several sub-meshes, which gantry merges with
-wrong indices today (see MERGE_BUG in the referee): the triangle count, and so the cost,
-is the same, but the picture is not yet right.
-
 Rounds are interleaved (gantry, then PyBullet, case after case, ``--rounds`` times) and
 each figure is the median over rounds of the mean frame time within a round. CPU time
 (``time.process_time``, all threads) is measured too: the "on one core" targets are
