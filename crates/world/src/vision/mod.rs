@@ -41,6 +41,7 @@
 
 mod blobs;
 mod bytes;
+mod detail;
 mod raster;
 #[cfg(test)]
 mod render_tests;
@@ -73,6 +74,9 @@ pub struct VisionStates {
     /// Draw every chunk, culling nothing: only for the test that culling changes no
     /// image (false, culling on, otherwise).
     no_cull: bool,
+    /// Draw every mesh in full: only for the test that coarser levels stay within
+    /// their error (false otherwise).
+    full_detail: bool,
 }
 
 /// The image state of one vision sensor.
@@ -259,8 +263,12 @@ impl VisionStates {
             scratch,
             extra_scratch,
             no_cull,
+            full_detail,
         } = self;
-        let cull = !*no_cull;
+        let shortcuts = raster::Shortcuts {
+            cull: !*no_cull,
+            coarse: !*full_detail,
+        };
         // Each job owns its sensor's image while it is drawn: taken out of the map here,
         // put back below.
         let mut jobs = Vec::new();
@@ -289,7 +297,7 @@ impl VisionStates {
         let threads = threads.clamp(1, jobs.len().max(1));
         if threads == 1 {
             for job in &mut jobs {
-                job.draw(&items, scratch, cull);
+                job.draw(&items, scratch, shortcuts);
             }
         } else {
             // Jobs dealt out in contiguous runs, the first to this thread. A thread
@@ -304,12 +312,12 @@ impl VisionStates {
                 for (run, scratch) in runs.zip(extra_scratch.iter_mut()) {
                     scope.spawn(move || {
                         for job in run {
-                            job.draw(items, scratch, cull);
+                            job.draw(items, scratch, shortcuts);
                         }
                     });
                 }
                 for job in first.into_iter().flatten() {
-                    job.draw(items, scratch, cull);
+                    job.draw(items, scratch, shortcuts);
                 }
             });
         }
@@ -342,7 +350,7 @@ struct Job {
 }
 
 impl Job {
-    fn draw(&mut self, items: &[raster::DrawItem<'_>], scratch: &mut raster::Scratch, cull: bool) {
+    fn draw(&mut self, items: &[raster::DrawItem<'_>], scratch: &mut raster::Scratch, shortcuts: raster::Shortcuts) {
         let image = &mut self.image;
         // A colour-coded image draws the handles anyway: its mask costs one copy.
         let with_mask = image.mask_wanted || self.cam.colour == raster::ColourWork::Coded;
@@ -354,7 +362,7 @@ impl Job {
             depth: &mut image.depth,
             mask: with_mask.then_some(image.mask.as_mut_slice()),
         };
-        self.packet1 = raster::render(items, &self.cam, &self.pose, scratch, frame, cull);
+        self.packet1 = raster::render(items, &self.cam, &self.pose, scratch, frame, shortcuts);
         image.mask_current = with_mask;
     }
 }

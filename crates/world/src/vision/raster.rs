@@ -26,6 +26,7 @@
 use std::collections::BTreeMap;
 
 use super::bytes::round_byte;
+use super::detail;
 use super::resolve::{self, Packet1};
 use super::simd::multiversion;
 use super::tessellate::{Normals, TriMesh, cross, dot, sub};
@@ -188,6 +189,9 @@ const CULL_MARGIN_PX: f32 = 0.05;
 #[derive(Debug, Clone)]
 pub(crate) struct CachedVisual {
     mesh: TriMesh,
+    /// Coarser copies of a dense imported mesh, for views whose pixels are larger than
+    /// its triangles (see [`super::detail`]).
+    levels: Vec<detail::Level>,
     local: Pose,
     color: [f32; 3],
 }
@@ -219,10 +223,14 @@ impl ShapeCache {
                 let visuals = s
                     .visuals
                     .iter()
-                    .map(|v| CachedVisual {
-                        mesh: TriMesh::from_geometry(&v.geometry),
-                        local: v.local,
-                        color: v.color.map(|c| if c.is_finite() { c.clamp(0.0, 1.0) } else { 0.0 }),
+                    .map(|v| {
+                        let mesh = TriMesh::from_geometry(&v.geometry);
+                        CachedVisual {
+                            levels: detail::levels(&v.geometry, &mesh),
+                            mesh,
+                            local: v.local,
+                            color: v.color.map(|c| if c.is_finite() { c.clamp(0.0, 1.0) } else { 0.0 }),
+                        }
                     })
                     .collect();
                 self.shapes.insert(h, visuals);
@@ -286,6 +294,8 @@ pub(crate) struct RenderStats {
     pub culled_chunks: usize,
     /// Chunks whose vertices were transformed.
     pub drawn_chunks: usize,
+    /// Visuals drawn at a coarser level.
+    pub coarse_visuals: usize,
 }
 
 /// Where a frame goes: `rgb` (3 bytes per pixel), `depth` (normalised) and, when
@@ -333,17 +343,26 @@ pub(crate) fn draw_list<'a>(world: &World, shapes: &'a ShapeCache) -> Vec<DrawIt
     items
 }
 
+/// How much [`render`] may skip: `cull` false draws every chunk (for the test that
+/// culling changes nothing), `coarse` false always draws the full meshes (for the test
+/// that coarser levels stay within their error).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Shortcuts {
+    pub cull: bool,
+    pub coarse: bool,
+}
+
 /// Renders `items` as seen from `sensor` (the sensor's world pose) and returns packet
-/// 1 of the image. `frame` must hold exactly `width * height` pixels of `cam`. `cull`
-/// false draws every chunk (for the test that culling changes nothing).
+/// 1 of the image. `frame` must hold exactly `width * height` pixels of `cam`.
 pub(crate) fn render(
     items: &[DrawItem<'_>],
     cam: &Camera,
     sensor: &Pose,
     scratch: &mut Scratch,
     frame: Frame<'_>,
-    cull: bool,
+    shortcuts: Shortcuts,
 ) -> Packet1 {
+    let cull = shortcuts.cull;
     let n = cam.width * cam.height;
     let shaded = cam.colour == ColourWork::Shaded;
     let with_ids = cam.colour == ColourWork::Coded || frame.mask.is_some();
@@ -374,6 +393,7 @@ pub(crate) fn render(
         draw_visual(
             cam,
             sampled.as_ref(),
+            shortcuts.coarse,
             &cam_from_world,
             item,
             &mut scratch.vertices,
@@ -438,10 +458,16 @@ fn rows(p: &Pose) -> ([[f32; 3]; 3], [f32; 3]) {
 }
 
 /// Draws one visual. `sampled`: the frustum to cull chunks against (`None`: cull
-/// nothing, beyond what the per-triangle outcodes reject).
+/// nothing, beyond what the per-triangle outcodes reject). `coarse`: a dense mesh may be
+/// drawn at a coarser level where this view's pixels allow ([`detail::pick`]).
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the frame's shared state, passed rather than bundled per call"
+)]
 fn draw_visual(
     cam: &Camera,
     sampled: Option<&Camera>,
+    coarse: bool,
     cam_from_world: &Pose,
     item: &DrawItem<'_>,
     vertices: &mut Vec<ChunkVertex>,
@@ -451,12 +477,26 @@ fn draw_visual(
     let (world_pose, v) = (&item.pose, item.visual);
     let (r, t) = rows(&(cam_from_world * world_pose));
     let xf = |p: [f32; 3]| [dot(r[0], p) + t[0], dot(r[1], p) + t[1], dot(r[2], p) + t[2]];
-    let mesh = &v.mesh;
+    let mut mesh = &v.mesh;
+    let center = xf(mesh.center);
     if let Some(s) = sampled
-        && s.sphere_outside(xf(mesh.center), mesh.radius)
+        && s.sphere_outside(center, mesh.radius)
     {
         stats.culled_chunks += mesh.chunks.len();
         return;
+    }
+    if coarse && !v.levels.is_empty() {
+        // A pixel's side (metres) at the visual's nearest point in view.
+        let per_pixel = (2.0 * cam.tan_x / cam.width as f32).min(2.0 * cam.tan_y / cam.height as f32);
+        let footprint = if cam.ortho {
+            per_pixel
+        } else {
+            per_pixel * (center[2] - mesh.radius).max(cam.near)
+        };
+        if let Some(level) = detail::pick(&v.levels, footprint) {
+            mesh = &level.mesh;
+            stats.coarse_visuals += 1;
+        }
     }
     // Light directions in the visual's frame: the camera's Z axis (row 2 of the
     // camera-from-visual rotation) and the world's Z axis.

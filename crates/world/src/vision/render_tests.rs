@@ -31,7 +31,11 @@ impl Rng {
 /// An OBJ of a bumpy UV sphere of radius about 0.3 m: 2,400 triangles, so about ten
 /// chunks of 256, with vertices shared between triangles as in a vendor's mesh.
 fn bumpy_sphere_obj() -> String {
-    let (rings, around) = (30, 40);
+    uv_sphere_obj(30, 40)
+}
+
+/// A bumpy UV sphere of radius about 0.3 m with `rings` x `around` quads.
+fn uv_sphere_obj(rings: u32, around: u32) -> String {
     let mut s = String::new();
     for i in 0..=rings {
         let phi = std::f64::consts::PI * f64::from(i) / f64::from(rings);
@@ -108,6 +112,10 @@ fn scene() -> Sim {
              position = [0, 0, -0.01]\ncolor = [0.5, 0.6, 0.7]\n\n";
     text += "[[object]]\nname = \"dome\"\nkind = \"shape\"\nshape = \"mesh\"\nmesh = \"bumpy.obj\"\n\
              scale = [10, 10, 10]\nposition = [0, 0, 0]\ncolor = [0.9, 0.8, 0.2]\n\n";
+    // A vendor-dense mesh (28,800 triangles of about 1.5 cm), which small views draw
+    // at a coarser level.
+    text += "[[object]]\nname = \"dense\"\nkind = \"shape\"\nshape = \"mesh\"\nmesh = \"dense.obj\"\n\
+             scale = [2, 2, 2]\nposition = [0.5, -0.5, 0.8]\ncolor = [0.3, 0.7, 0.9]\n\n";
     for (name, [w, h], projection, angle, near, far) in SENSORS {
         let extent = if projection == "orthographic" {
             format!("ortho_size = {angle}")
@@ -123,6 +131,7 @@ fn scene() -> Sim {
     let files = MapFiles::new([
         (dir.join("scene.toml"), text.into_bytes()),
         (dir.join("bumpy.obj"), bumpy_sphere_obj().into_bytes()),
+        (dir.join("dense.obj"), uv_sphere_obj(120, 120).into_bytes()),
     ]);
     let model = load_scene(&files, &dir.join("scene.toml"), &LoadOptions::default()).expect("test scene loads");
     Sim::new(&model)
@@ -162,15 +171,22 @@ fn culling_drops_nothing_visible() {
         .map(|k| w.world.object(sensor(&w, &format!("s{k}"))).expect("shape").world)
         .collect();
     let mut rng = Rng(0x0dd_ba11);
+    let mut tessellated = VisionStates::default();
+    tessellated.shapes.refresh(&w.world);
     let (mut culled, mut drawn, mut nonempty) = (0, 0, 0);
     for round in 0..60 {
         for (name, ..) in SENSORS {
             let h = sensor(&w, name);
             let pose = random_pose(&mut rng, &shapes);
             w.world.set_world_pose(h, pose).expect("pose");
-            let mut culling = VisionStates::default();
+            // Fresh image states, over the tessellations made once above.
+            let mut culling = VisionStates {
+                shapes: tessellated.shapes.clone(),
+                ..VisionStates::default()
+            };
             let mut everything = VisionStates {
                 no_cull: true,
+                shapes: tessellated.shapes.clone(),
                 ..VisionStates::default()
             };
             // Every other round with masks, which must not change a bit either.
@@ -220,6 +236,75 @@ fn culling_drops_nothing_visible() {
     assert!(nonempty > 200, "{nonempty} of 360 images show something");
     assert!(culled > 10 * drawn / 100, "culled {culled} chunks, drew {drawn}");
     assert!(drawn > 1000, "drew {drawn} chunks");
+}
+
+#[test]
+fn coarser_levels_stay_within_half_a_pixel() {
+    // Random views drawn with the meshes' coarser levels where the pixels allow, and in
+    // full: where the shape seen differs, the full image has a silhouette within a
+    // pixel; elsewhere (the pixel and its eight neighbours see one shape) depths agree
+    // within 1 %.
+    let mut w = scene();
+    let shapes: Vec<Pose> = (0..40)
+        .map(|k| w.world.object(sensor(&w, &format!("s{k}"))).expect("shape").world)
+        .collect();
+    let mut rng = Rng(0xc0a2_5e11);
+    let mut tessellated = VisionStates::default();
+    tessellated.shapes.refresh(&w.world);
+    let (mut coarse, mut compared, mut differing) = (0, 0, 0);
+    for round in 0..40 {
+        for (name, [width, height], _, _, near, far) in SENSORS {
+            let h = sensor(&w, name);
+            let pose = random_pose(&mut rng, &shapes);
+            w.world.set_world_pose(h, pose).expect("pose");
+            let mut images = Vec::new();
+            for full_detail in [false, true] {
+                let mut states = VisionStates {
+                    shapes: tessellated.shapes.clone(),
+                    full_detail,
+                    ..VisionStates::default()
+                };
+                super::read_mask(&w.world, &mut states, h).expect("render");
+                if !full_detail {
+                    coarse += states.scratch.stats.coarse_visuals;
+                }
+                let img = states.image(h).expect("rendered");
+                images.push((img.mask().expect("a mask").to_vec(), img.depth().to_vec()));
+            }
+            let [(mask, depth), (full_mask, full_depth)] = [&images[0], &images[1]];
+            let (w_px, h_px) = (width as usize, height as usize);
+            let uniform = |x: usize, y: usize| {
+                let id = full_mask[y * w_px + x];
+                (y.saturating_sub(1)..(y + 2).min(h_px))
+                    .all(|yy| (x.saturating_sub(1)..(x + 2).min(w_px)).all(|xx| full_mask[yy * w_px + xx] == id))
+            };
+            for y in 0..h_px {
+                for x in 0..w_px {
+                    let i = y * w_px + x;
+                    if uniform(x, y) {
+                        compared += 1;
+                        assert_eq!(
+                            mask[i], full_mask[i],
+                            "round {round}, {name}, pixel ({x}, {y}): another shape"
+                        );
+                        if full_mask[i] != -1 {
+                            let metres = |d: f32| near + f64::from(d) * (far - near);
+                            let (a, b) = (metres(depth[i]), metres(full_depth[i]));
+                            assert!(
+                                (a - b).abs() <= 0.01 * b,
+                                "round {round}, {name}, pixel ({x}, {y}): {a} m against {b} m"
+                            );
+                        }
+                    }
+                    differing += usize::from(depth[i].to_bits() != full_depth[i].to_bits());
+                }
+            }
+        }
+    }
+    // Coarse levels were drawn, and changed some depths, so the comparison is not empty.
+    assert!(coarse > 20, "{coarse} coarse visuals drawn");
+    assert!(compared > 10_000, "{compared} pixels compared");
+    assert!(differing > 0, "no pixel changed: were coarse levels drawn?");
 }
 
 #[test]

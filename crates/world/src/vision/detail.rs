@@ -1,0 +1,249 @@
+//! Levels of detail for dense imported meshes, so that a small view of a vendor arm
+//! does not fetch and test 100,000 triangles smaller than its pixels.
+//!
+//! A public arm's visual meshes (a Panda, a UR5) hold about 100,000 triangles, a few
+//! millimetres each. A 128 x 128 view of the arm from a metre away has pixels of about
+//! a centimetre: most triangles cover no pixel centre and draw nothing, yet each is
+//! transformed, fetched and tested, which was nearly all of such a frame's time. Each
+//! dense mesh therefore also keeps coarser copies made by *vertex clustering*: space is
+//! cut into cubic cells of side `cell`, the vertices in a cell are replaced by their
+//! mean, and triangles left with fewer than three distinct corners are dropped.
+//!
+//! # The error is below half a pixel
+//! A vertex moves to the mean of its cell's vertices, which lies in the cell, so it
+//! moves by less than the cell's diagonal, `sqrt(3) * cell`. The renderer picks, per
+//! visual and per view, the coarsest copy whose diagonal is at most [`MAX_ERROR_PX`] of a
+//! pixel's footprint at the visual's nearest point ([`pick`]): every silhouette and
+//! surface is then within half a pixel, sideways, of where the full mesh puts it, and
+//! depths within that distance too (well under 1 % of the depth). Views whose pixels are
+//! small next to the triangles (a 640 x 480 camera close to the arm) keep the full mesh.
+//! The choice depends only on the mesh and the view, so images stay the same from run
+//! to run.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use super::tessellate::TriMesh;
+use crate::scene::{Geometry, MeshData};
+
+/// The largest displacement a coarser copy may make, in pixels at the visual's nearest
+/// point.
+pub(crate) const MAX_ERROR_PX: f32 = 0.5;
+/// Meshes with fewer triangles are always drawn whole: a coarse copy would save little.
+const MIN_TRIANGLES: usize = 2048;
+/// Cell sides tried, as fractions of the mesh's bounding radius: 1/512 to 1/16.
+const CELL_FRACTIONS: [f32; 6] = [
+    1.0 / 512.0,
+    1.0 / 256.0,
+    1.0 / 128.0,
+    1.0 / 64.0,
+    1.0 / 32.0,
+    1.0 / 16.0,
+];
+/// A level is kept only with at most this share of the triangles of the finer one it
+/// would replace.
+const MIN_SAVING: f32 = 0.7;
+
+/// A coarser copy of a mesh: its cell side, metres, and its triangles.
+#[derive(Debug, Clone)]
+pub(crate) struct Level {
+    pub cell: f32,
+    pub mesh: TriMesh,
+}
+
+/// The coarser copies of an imported mesh worth keeping, finest first; none for a
+/// primitive or a mesh of fewer than [`MIN_TRIANGLES`] triangles.
+pub(crate) fn levels(geometry: &Geometry, full: &TriMesh) -> Vec<Level> {
+    let Geometry::Mesh(data) = geometry else {
+        return Vec::new();
+    };
+    if full.triangles.len() < MIN_TRIANGLES || full.radius.is_nan() || full.radius <= 0.0 {
+        return Vec::new();
+    }
+    let mut out: Vec<Level> = Vec::new();
+    let mut previous = full.triangles.len();
+    for fraction in CELL_FRACTIONS {
+        let cell = full.radius * fraction;
+        let mesh = TriMesh::from_geometry(&Geometry::Mesh(Arc::new(cluster(data, cell))));
+        if mesh.triangles.is_empty() {
+            break;
+        }
+        if (mesh.triangles.len() as f32) <= MIN_SAVING * previous as f32 {
+            previous = mesh.triangles.len();
+            out.push(Level { cell, mesh });
+        }
+    }
+    out
+}
+
+/// The level to draw: the coarsest whose cell diagonal is within [`MAX_ERROR_PX`] of
+/// `footprint`, the side of a pixel (metres) at the visual's nearest point; `None` for
+/// the full mesh.
+pub(crate) fn pick(levels: &[Level], footprint: f32) -> Option<&Level> {
+    let max_cell = MAX_ERROR_PX * footprint / 3f32.sqrt();
+    levels.iter().rev().find(|l| l.cell <= max_cell)
+}
+
+/// `data` with its vertices clustered in cells of side `cell` (metres), each replaced by
+/// the mean of its cell's vertices, and the triangles that keep three distinct corners,
+/// once each, in the file's order. Non-finite vertices are left as they are (their
+/// triangles are then skipped by the tessellation, as in the full mesh).
+fn cluster(data: &MeshData, cell: f32) -> MeshData {
+    let mut cells: HashMap<[i64; 3], u32> = HashMap::new();
+    // Per cluster: the sum of its vertices (f64, so the mean does not depend on how
+    // many there are beyond rounding) and their count.
+    let mut sums: Vec<([f64; 3], f64)> = Vec::new();
+    let ids: Vec<u32> = data
+        .vertices
+        .iter()
+        .map(|v| {
+            let key = if v.iter().all(|c| c.is_finite()) {
+                v.map(|c| (f64::from(c) / f64::from(cell)).floor() as i64)
+            } else {
+                // Its own cluster, never merged: the tessellation drops its triangles.
+                [i64::MIN, i64::MIN, sums.len() as i64]
+            };
+            let next = sums.len() as u32;
+            let id = *cells.entry(key).or_insert_with(|| {
+                sums.push(([0.0; 3], 0.0));
+                next
+            });
+            let (s, n) = &mut sums[id as usize];
+            for k in 0..3 {
+                s[k] += f64::from(v[k]);
+            }
+            *n += 1.0;
+            id
+        })
+        .collect();
+    let vertices = sums.iter().map(|(s, n)| s.map(|c| (c / n) as f32)).collect();
+    let mut seen = std::collections::HashSet::new();
+    let indices = data
+        .indices
+        .iter()
+        .filter_map(|t| {
+            let c = t.map(|i| ids.get(i as usize).copied());
+            let [Some(a), Some(b), Some(c)] = c else {
+                return None;
+            };
+            if a == b || b == c || a == c {
+                return None;
+            }
+            // Drawn two-sided: one triangle per set of corners, whichever its winding.
+            let mut key = [a, b, c];
+            key.sort_unstable();
+            seen.insert(key).then_some([a, b, c])
+        })
+        .collect();
+    MeshData {
+        source: data.source.clone(),
+        vertices,
+        indices,
+        parts: Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bumpy, finely tessellated sphere of radius about 0.1 m: `n` x `2n` quads.
+    fn dense_sphere(n: u32) -> MeshData {
+        let mut vertices = Vec::new();
+        for i in 0..=n {
+            let phi = std::f32::consts::PI * i as f32 / n as f32;
+            for j in 0..2 * n {
+                let th = std::f32::consts::PI * j as f32 / n as f32;
+                let r = 0.1 + 0.004 * (5.0 * th).sin() * (3.0 * phi).cos();
+                vertices.push([r * phi.sin() * th.cos(), r * phi.sin() * th.sin(), r * phi.cos()]);
+            }
+        }
+        let at = |i: u32, j: u32| i * 2 * n + j % (2 * n);
+        let mut indices = Vec::new();
+        for i in 0..n {
+            for j in 0..2 * n {
+                indices.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        MeshData {
+            source: "sphere".into(),
+            vertices,
+            indices,
+            parts: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn coarser_levels_move_no_vertex_beyond_their_cell() {
+        let data = dense_sphere(100);
+        let geometry = Geometry::Mesh(Arc::new(data.clone()));
+        let full = TriMesh::from_geometry(&geometry);
+        let levels = levels(&geometry, &full);
+        assert!(levels.len() >= 2, "{} levels", levels.len());
+        let mut previous = full.triangles.len();
+        for level in &levels {
+            assert!(level.mesh.triangles.len() as f32 <= MIN_SAVING * previous as f32);
+            previous = level.mesh.triangles.len();
+            // Every vertex of the coarse mesh is the mean of a cell's vertices: within a
+            // cell diagonal of one of the original vertices.
+            let diag = 3f32.sqrt() * level.cell;
+            for p in &level.mesh.positions {
+                let nearest = data
+                    .vertices
+                    .iter()
+                    .map(|v| (0..3).map(|k| (v[k] - p[k]).powi(2)).sum::<f32>().sqrt())
+                    .fold(f32::INFINITY, f32::min);
+                assert!(nearest <= diag * 1.0001, "{nearest} > {diag}");
+            }
+        }
+        // Coarse enough levels keep far fewer triangles.
+        assert!(
+            levels
+                .last()
+                .is_some_and(|l| l.mesh.triangles.len() * 3 < full.triangles.len())
+        );
+    }
+
+    #[test]
+    fn the_pick_keeps_the_error_below_half_a_pixel() {
+        let data = dense_sphere(100);
+        let geometry = Geometry::Mesh(Arc::new(data));
+        let full = TriMesh::from_geometry(&geometry);
+        let levels = levels(&geometry, &full);
+        // Pixels far smaller than the finest cell: the full mesh.
+        assert!(pick(&levels, levels[0].cell).is_none());
+        for footprint in [0.001f32, 0.004, 0.01, 0.05, 1.0] {
+            if let Some(l) = pick(&levels, footprint) {
+                assert!(3f32.sqrt() * l.cell <= MAX_ERROR_PX * footprint);
+                // And it is the coarsest such level.
+                assert!(
+                    levels
+                        .iter()
+                        .filter(|m| m.cell > l.cell)
+                        .all(|m| 3f32.sqrt() * m.cell > MAX_ERROR_PX * footprint)
+                );
+            }
+        }
+        // Small meshes and primitives have no levels.
+        let small = Geometry::Mesh(Arc::new(dense_sphere(10)));
+        assert!(levels_of(&small).is_empty());
+        assert!(levels_of(&Geometry::Sphere { radius: 0.1 }).is_empty());
+    }
+
+    fn levels_of(g: &Geometry) -> Vec<Level> {
+        levels(g, &TriMesh::from_geometry(g))
+    }
+
+    #[test]
+    fn non_finite_vertices_stay_out_of_every_level() {
+        let mut data = dense_sphere(60);
+        data.vertices[5] = [f32::NAN, 0.0, 0.0];
+        data.vertices[6] = [f32::INFINITY, 0.0, 0.0];
+        let geometry = Geometry::Mesh(Arc::new(data));
+        let full = TriMesh::from_geometry(&geometry);
+        for level in levels(&geometry, &full) {
+            assert!(level.mesh.positions.iter().flatten().all(|c| c.is_finite()));
+        }
+    }
+}
