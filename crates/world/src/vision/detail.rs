@@ -11,11 +11,14 @@
 //!
 //! # The error is below half a pixel
 //! A vertex moves to the mean of its cell's vertices, which lies in the cell, so it
-//! moves by less than the cell's diagonal, `sqrt(3) * cell`. The renderer picks, per
-//! visual and per view, the coarsest copy whose diagonal is at most [`MAX_ERROR_PX`] of a
-//! pixel's footprint at the visual's nearest point ([`pick`]): every silhouette and
-//! surface is then within half a pixel, sideways, of where the full mesh puts it, and
-//! depths within that distance too (well under 1 % of the depth). Views whose pixels are
+//! moves by less than the cell's diagonal, `sqrt(3) * cell`; each level records the
+//! largest move it actually made (`max_shift`, usually well under the diagonal). A point
+//! of a triangle is a weighted mean of its corners, so it moves by at most as much as
+//! they do. The renderer picks, per visual and per view, the coarsest copy whose
+//! largest move is at most [`MAX_ERROR_PX`] of a pixel's footprint at the visual's
+//! nearest point ([`pick`]): every silhouette and surface is then within half a pixel of
+//! where the full mesh puts it, and depths within that distance too (well under 1 % of
+//! the depth). Views whose pixels are
 //! small next to the triangles (a 640 x 480 camera close to the arm) keep the full mesh.
 //! The choice depends only on the mesh and the view, so images stay the same from run
 //! to run.
@@ -31,23 +34,29 @@ use crate::scene::{Geometry, MeshData};
 pub(crate) const MAX_ERROR_PX: f32 = 0.5;
 /// Meshes with fewer triangles are always drawn whole: a coarse copy would save little.
 const MIN_TRIANGLES: usize = 2048;
-/// Cell sides tried, as fractions of the mesh's bounding radius: 1/512 to 1/16.
-const CELL_FRACTIONS: [f32; 6] = [
-    1.0 / 512.0,
+/// Cell sides tried, as fractions of the mesh's bounding radius: 1/256 to 1/16 in steps
+/// of a factor sqrt(2) (with a factor 2, a view often fell just short of the next level).
+const CELL_FRACTIONS: [f32; 9] = [
     1.0 / 256.0,
+    1.0 / 181.0,
     1.0 / 128.0,
+    1.0 / 90.5,
     1.0 / 64.0,
+    1.0 / 45.3,
     1.0 / 32.0,
+    1.0 / 22.6,
     1.0 / 16.0,
 ];
 /// A level is kept only with at most this share of the triangles of the finer one it
 /// would replace.
-const MIN_SAVING: f32 = 0.7;
+const MIN_SAVING: f32 = 0.8;
 
-/// A coarser copy of a mesh: its cell side, metres, and its triangles.
+/// A coarser copy of a mesh: its cell side and the largest distance a vertex moved,
+/// metres, and its triangles.
 #[derive(Debug, Clone)]
 pub(crate) struct Level {
     pub cell: f32,
+    pub max_shift: f32,
     pub mesh: TriMesh,
 }
 
@@ -64,31 +73,38 @@ pub(crate) fn levels(geometry: &Geometry, full: &TriMesh) -> Vec<Level> {
     let mut previous = full.triangles.len();
     for fraction in CELL_FRACTIONS {
         let cell = full.radius * fraction;
-        let mesh = TriMesh::from_geometry(&Geometry::Mesh(Arc::new(cluster(data, cell))));
+        let (clustered, max_shift) = cluster(data, cell);
+        let mesh = TriMesh::from_geometry(&Geometry::Mesh(Arc::new(clustered)));
         if mesh.triangles.is_empty() {
             break;
         }
         if (mesh.triangles.len() as f32) <= MIN_SAVING * previous as f32 {
             previous = mesh.triangles.len();
-            out.push(Level { cell, mesh });
+            out.push(Level { cell, max_shift, mesh });
         }
     }
+    eprintln!(
+        "levels of {} tris: {:?}",
+        full.triangles.len(),
+        out.iter().map(|l| (l.cell, l.mesh.triangles.len())).collect::<Vec<_>>()
+    );
     out
 }
 
-/// The level to draw: the coarsest whose cell diagonal is within [`MAX_ERROR_PX`] of
+/// The level to draw: the coarsest whose vertices moved at most [`MAX_ERROR_PX`] of
 /// `footprint`, the side of a pixel (metres) at the visual's nearest point; `None` for
 /// the full mesh.
 pub(crate) fn pick(levels: &[Level], footprint: f32) -> Option<&Level> {
-    let max_cell = MAX_ERROR_PX * footprint / 3f32.sqrt();
-    levels.iter().rev().find(|l| l.cell <= max_cell)
+    let allowed = MAX_ERROR_PX * footprint;
+    levels.iter().rev().find(|l| l.max_shift <= allowed)
 }
 
 /// `data` with its vertices clustered in cells of side `cell` (metres), each replaced by
 /// the mean of its cell's vertices, and the triangles that keep three distinct corners,
-/// once each, in the file's order. Non-finite vertices are left as they are (their
-/// triangles are then skipped by the tessellation, as in the full mesh).
-fn cluster(data: &MeshData, cell: f32) -> MeshData {
+/// once each, in the file's order; and the largest distance a finite vertex moved.
+/// Non-finite vertices are left as they are (their triangles are then skipped by the
+/// tessellation, as in the full mesh).
+fn cluster(data: &MeshData, cell: f32) -> (MeshData, f32) {
     let mut cells: HashMap<[i64; 3], u32> = HashMap::new();
     // Per cluster: the sum of its vertices (f64, so the mean does not depend on how
     // many there are beyond rounding) and their count.
@@ -116,7 +132,17 @@ fn cluster(data: &MeshData, cell: f32) -> MeshData {
             id
         })
         .collect();
-    let vertices = sums.iter().map(|(s, n)| s.map(|c| (c / n) as f32)).collect();
+    let vertices: Vec<[f32; 3]> = sums.iter().map(|(s, n)| s.map(|c| (c / n) as f32)).collect();
+    let max_shift = data
+        .vertices
+        .iter()
+        .zip(&ids)
+        .filter(|(v, _)| v.iter().all(|c| c.is_finite()))
+        .map(|(v, &id)| {
+            let m = vertices[id as usize];
+            (0..3).map(|k| (v[k] - m[k]).powi(2)).sum::<f32>().sqrt()
+        })
+        .fold(0.0f32, f32::max);
     let mut seen = std::collections::HashSet::new();
     let indices = data
         .indices
@@ -135,12 +161,13 @@ fn cluster(data: &MeshData, cell: f32) -> MeshData {
             seen.insert(key).then_some([a, b, c])
         })
         .collect();
-    MeshData {
+    let clustered = MeshData {
         source: data.source.clone(),
         vertices,
         indices,
         parts: Vec::new(),
-    }
+    };
+    (clustered, max_shift)
 }
 
 #[cfg(test)]
@@ -188,6 +215,8 @@ mod tests {
             // Every vertex of the coarse mesh is the mean of a cell's vertices: within a
             // cell diagonal of one of the original vertices.
             let diag = 3f32.sqrt() * level.cell;
+            // The largest move recorded is within it too.
+            assert!(level.max_shift > 0.0 && level.max_shift <= diag * 1.0001);
             for p in &level.mesh.positions {
                 let nearest = data
                     .vertices
@@ -211,17 +240,17 @@ mod tests {
         let geometry = Geometry::Mesh(Arc::new(data));
         let full = TriMesh::from_geometry(&geometry);
         let levels = levels(&geometry, &full);
-        // Pixels far smaller than the finest cell: the full mesh.
-        assert!(pick(&levels, levels[0].cell).is_none());
+        // Pixels whose half is less than the finest level's largest move: the full mesh.
+        assert!(pick(&levels, levels[0].max_shift).is_none());
         for footprint in [0.001f32, 0.004, 0.01, 0.05, 1.0] {
             if let Some(l) = pick(&levels, footprint) {
-                assert!(3f32.sqrt() * l.cell <= MAX_ERROR_PX * footprint);
+                assert!(l.max_shift <= MAX_ERROR_PX * footprint);
                 // And it is the coarsest such level.
                 assert!(
                     levels
                         .iter()
                         .filter(|m| m.cell > l.cell)
-                        .all(|m| 3f32.sqrt() * m.cell > MAX_ERROR_PX * footprint)
+                        .all(|m| m.max_shift > MAX_ERROR_PX * footprint)
                 );
             }
         }
