@@ -6,32 +6,20 @@
 //! scans, after a warm-up scan; the `sim.castRays` rows go through the registry as a
 //! script's or client's call does, arguments and results converted included.
 
+mod timing;
+
 use std::path::Path;
-use std::time::Instant;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::sensor::{self, RayCastParams};
 use gantry_sim_core::{Handle, Sim, Value};
+use timing::median_ms;
 
 fn scanners() -> Sim {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/scanners.toml");
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
     Sim::new(&model)
-}
-
-/// Median and minimum milliseconds of `f` over `n` runs, as "median (min)".
-fn median_ms(n: usize, mut f: impl FnMut()) -> String {
-    f();
-    let mut times: Vec<f64> = (0..n)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    format!("{:.4} ({:.4})", times[n / 2], times[0])
 }
 
 fn call(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
@@ -59,7 +47,7 @@ fn fan(azimuths: usize, elevations: usize, spread: f64) -> Vec<[f64; 3]> {
 fn cast_rays_row(w: &mut Sim, label: &str, frame: Handle, dirs: &[[f64; 3]], max: f64) {
     let table = Value::Array(dirs.iter().flatten().map(|&v| Value::Float(v)).collect());
     let args = [Value::Int(frame), table, Value::Float(max), Value::Int(frame)];
-    let tables = median_ms(300, || {
+    let tables = median_ms(300, 4, || {
         call(w, "sim.castRays", &args);
     });
     // Packed in and out, as a script passes sim.packFloatTable and reads
@@ -72,7 +60,7 @@ fn cast_rays_row(w: &mut Sim, label: &str, frame: Handle, dirs: &[[f64; 3]], max
         Value::Int(frame),
         Value::Int(2),
     ];
-    let packed = median_ms(300, || {
+    let packed = median_ms(300, 4, || {
         call(w, "sim.castRays", &args);
     });
     let params = RayCastParams {
@@ -81,7 +69,7 @@ fn cast_rays_row(w: &mut Sim, label: &str, frame: Handle, dirs: &[[f64; 3]], max
         detectable_only: false,
     };
     let mut hits = Vec::new();
-    let direct = median_ms(300, || {
+    let direct = median_ms(300, 4, || {
         sensor::cast_rays(&mut w.world, frame, dirs, &params, &mut hits).expect("cast");
     });
     let n = hits.iter().flatten().count();
@@ -93,7 +81,7 @@ fn cast_rays_row(w: &mut Sim, label: &str, frame: Handle, dirs: &[[f64; 3]], max
 /// One scan of a depth-sensor scanner as its filters do it: per sensor, render, depth
 /// map to the work image, points.
 fn simvision_row(w: &mut Sim, label: &str, sensors: &[Handle], function: &str, args: &[Value]) {
-    let ms = median_ms(100, || {
+    let ms = median_ms(100, 4, || {
         for &s in sensors {
             call(w, "sim.handleVisionSensor", &[Value::Int(s)]);
             call(w, "simVision.sensorDepthMapToWorkImg", &[Value::Int(s)]);
@@ -103,7 +91,7 @@ fn simvision_row(w: &mut Sim, label: &str, sensors: &[Handle], function: &str, a
         }
     });
     // The points alone, from the work images left by the last scan.
-    let points = median_ms(300, || {
+    let points = median_ms(300, 4, || {
         for &s in sensors {
             let mut a = vec![Value::Int(s)];
             a.extend_from_slice(args);

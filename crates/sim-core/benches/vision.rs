@@ -5,13 +5,15 @@
 //! Prints one Markdown table. Figures are medians over a few hundred frames on this
 //! machine, after a warm-up frame that fills the tessellation cache.
 
+mod timing;
+
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::math::Pose;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value, vision};
+use timing::median_ms;
 
 fn bubble_rob() -> (Sim, Handle) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
@@ -21,20 +23,6 @@ fn bubble_rob() -> (Sim, Handle) {
     (w, sensor)
 }
 
-/// Median and minimum milliseconds of `f` over `n` runs, as "median (min)": on a busy
-/// machine the minimum is the steadier figure for comparing two versions.
-fn median_ms(n: usize, mut f: impl FnMut()) -> String {
-    let mut times: Vec<f64> = (0..n)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    format!("{:.3} ({:.3})", times[n / 2], times[0])
-}
-
 fn main() {
     println!("| vision, 256 x 256 | ms per frame, median (min) |");
     println!("|---|---|");
@@ -42,7 +30,7 @@ fn main() {
     // The scene as loaded: floor, walls and obstacle 0 within the 1 m far plane.
     let (mut w, sensor) = bubble_rob();
     vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render");
-    let ms = median_ms(300, || {
+    let ms = median_ms(300, 3, || {
         vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render")
     });
     println!("| render, scene as loaded | {ms} |");
@@ -52,7 +40,7 @@ fn main() {
     w.world
         .set_world_pose(o0, Pose::translation(0.35, 0.0, 0.1))
         .expect("pose");
-    let ms = median_ms(300, || {
+    let ms = median_ms(300, 3, || {
         vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render")
     });
     println!("| render, obstacle 0.2 m ahead | {ms} |");
@@ -64,7 +52,7 @@ fn main() {
     };
     let h = [Value::Int(sensor)];
     let edge = [Value::Int(sensor), Value::Float(0.2)];
-    let ms = median_ms(300, || {
+    let ms = median_ms(300, 3, || {
         vision::handle_vision_sensor(&w.world, &mut w.vision, sensor).expect("render");
         api::call(&mut w, &ctx, "simVision.sensorImgToWorkImg", &h).expect("to work");
         api::call(&mut w, &ctx, "simVision.edgeDetectionOnWorkImg", &edge).expect("edges");
@@ -73,7 +61,7 @@ fn main() {
     println!("| render + edge detection (sysCall_vision) | {ms} |");
 
     // What a remote client pays to fetch the image.
-    let ms = median_ms(300, || {
+    let ms = median_ms(300, 3, || {
         api::call(&mut w, &ctx, "sim.getVisionSensorImg", &h).expect("image");
     });
     println!("| sim.getVisionSensorImg (no render) | {ms} |");
@@ -185,7 +173,7 @@ fn load_text(text: &str) -> Sim {
 fn time_sensor(w: &mut Sim, name: &str, n: usize) -> (String, u64, f32) {
     let h = w.world.find(&format!("/{name}"), None, 0).expect("sensor");
     vision::handle_vision_sensor(&w.world, &mut w.vision, h).expect("render");
-    let ms = median_ms(n, || {
+    let ms = median_ms(n, 3, || {
         vision::handle_vision_sensor(&w.world, &mut w.vision, h).expect("render")
     });
     let img = w.vision.image(h).expect("image");
@@ -267,7 +255,7 @@ fn scenes() {
     let mut w = load_text(&scene_text(Some(&urdf), &refs));
     aim_at_arm(&mut w, &refs.iter().map(|s| s.0).collect::<Vec<_>>());
     vision::handle_all_vision_sensors(&w.world, &mut w.vision, false).expect("render");
-    let ms = median_ms(100, || {
+    let ms = median_ms(100, 3, || {
         vision::handle_all_vision_sensors(&w.world, &mut w.vision, false).expect("render");
     });
     // The same five one after the other on this thread, for the single-core figure.
@@ -275,7 +263,7 @@ fn scenes() {
         .iter()
         .map(|(name, _, _)| w.world.find(&format!("/{name}"), None, 0).expect("camera"))
         .collect();
-    let one_core = median_ms(100, || {
+    let one_core = median_ms(100, 3, || {
         for &h in &handles {
             vision::handle_vision_sensor(&w.world, &mut w.vision, h).expect("render");
         }
@@ -292,10 +280,10 @@ fn scenes() {
     for &h in &handles {
         vision::read_mask(&w.world, &mut w.vision, h).expect("mask");
     }
-    let masked = median_ms(100, || {
+    let masked = median_ms(100, 3, || {
         vision::handle_all_vision_sensors(&w.world, &mut w.vision, false).expect("render");
     });
-    let masked_one_core = median_ms(100, || {
+    let masked_one_core = median_ms(100, 3, || {
         for &h in &handles {
             vision::handle_vision_sensor(&w.world, &mut w.vision, h).expect("render");
         }

@@ -6,11 +6,13 @@
 //! The scene is seen straight down by an orthographic sensor, so which shape each
 //! pixel sees follows from the geometry exactly.
 
+mod util;
+
 use std::path::Path;
 
-use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, RenderMode, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::{call, find, image_reply as reply_bytes};
 
 // CoppeliaSim's parameter numbers and render modes.
 const RENDER_MODE: i64 = 1017;
@@ -18,26 +20,8 @@ const RGB_IGNORED: i64 = 1020;
 const DEPTH_IGNORED: i64 = 1021;
 const RENDERMODE_COLORCODED: i64 = 2;
 
-fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, String> {
-    api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
-}
-
 fn load(text: &str) -> Sim {
-    let model = load_scene_text(&DiskFiles, text, Path::new("inline.toml"), &LoadOptions::default()).expect("scene");
-    Sim::new(&model)
-}
-
-fn find(w: &Sim, path: &str) -> Handle {
-    w.world.find(path, None, 0).expect(path)
-}
-
-/// Bytes and `[width, height]` of a `getVisionSensorImg`-shaped reply.
-fn reply_bytes(reply: &[Value]) -> (Vec<u8>, [usize; 2]) {
-    let (Some(Value::Bytes(bytes)), Some(Value::Array(res))) = (reply.first(), reply.get(1)) else {
-        panic!("expected bytes and a resolution, got {reply:?}");
-    };
-    let dim = |k: usize| res[k].as_i64().expect("integer") as usize;
-    (bytes.clone(), [dim(0), dim(1)])
+    util::text_scene("inline.toml", text)
 }
 
 fn words<T>(bytes: &[u8], f: fn([u8; 4]) -> T) -> Vec<T> {

@@ -5,10 +5,13 @@
 
 use std::path::Path;
 
+mod util;
+
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::math::{Pose, pose_from_euler};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, Projection, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
+use util::image_reply as image;
 
 // CoppeliaSim's parameter numbers (`sim.visionfloatparam_ortho_size`, ...).
 const ORTHO_SIZE: i64 = 1005;
@@ -32,15 +35,6 @@ fn load_err(text: &str) -> String {
 
 fn find(w: &Sim, path: &str) -> Handle {
     w.world.find(path, None, 0).expect(path)
-}
-
-/// An image's bytes and `[width, height]` from a `getVisionSensorImg`-shaped reply.
-fn image(reply: &[Value]) -> (Vec<u8>, [usize; 2]) {
-    let (Some(Value::Bytes(bytes)), Some(Value::Array(res))) = (reply.first(), reply.get(1)) else {
-        panic!("expected bytes and a resolution, got {reply:?}");
-    };
-    let dim = |k: usize| res[k].as_i64().expect("integer") as usize;
-    (bytes.clone(), [dim(0), dim(1)])
 }
 
 /// Renders sensor `h` now: a reader alone gets the image of the current step, which

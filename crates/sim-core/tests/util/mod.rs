@@ -46,6 +46,16 @@ pub fn call(w: &mut Sim, name: &str, args: &[Value]) -> Result<Vec<Value>, Strin
     api::call(w, &CallContext::default(), name, args).map_err(|e| e.to_string())
 }
 
+/// The image bytes and `{width, height}` of a `sim.getVisionSensorImg`-shaped reply
+/// (also depth and mask replies).
+pub fn image_reply(reply: &[Value]) -> (Vec<u8>, [usize; 2]) {
+    let (Some(Value::Bytes(bytes)), Some(Value::Array(res))) = (reply.first(), reply.get(1)) else {
+        panic!("expected bytes and a resolution, got {reply:?}");
+    };
+    let dim = |k: usize| res[k].as_i64().expect("integer") as usize;
+    (bytes.clone(), [dim(0), dim(1)])
+}
+
 /// [`call`] that must succeed.
 pub fn ok(w: &mut Sim, name: &str, args: &[Value]) -> Vec<Value> {
     call(w, name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
