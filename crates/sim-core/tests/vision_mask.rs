@@ -370,3 +370,64 @@ fn masks_of_what_is_not_a_sensor_or_outside_the_image_are_refused() {
     // Nothing rendered for a refused call.
     assert_eq!(w.vision.render_count(cam), 0);
 }
+
+#[test]
+fn bad_sensor_settings_and_poses_are_refused_and_the_sensor_still_renders() {
+    let mut w = load(SCENE);
+    let cam = find(&w, "/cam");
+    let before = {
+        handle(&mut w, cam);
+        mask(&mut w, cam).0
+    };
+    // Clipping planes: zero, inverted, not a number (CoppeliaSim's parameter numbers).
+    let (near, far) = (1000, 1001);
+    for (id, v) in [
+        (near, 0.0),
+        (near, 3.0),
+        (far, 0.001),
+        (far, f64::NAN),
+        (near, f64::INFINITY),
+    ] {
+        let err = call(
+            &mut w,
+            "sim.setObjectFloatParam",
+            &[Value::Int(cam), Value::Int(id), Value::Float(v)],
+        )
+        .unwrap_err();
+        assert!(err.contains("0 < near < far"), "parameter {id} = {v}: {err}");
+    }
+    // Poses with a NaN position or orientation.
+    let err = call(
+        &mut w,
+        "sim.setObjectPosition",
+        &[Value::Int(cam), Value::floats(&[f64::NAN, 0.0, 1.0])],
+    )
+    .unwrap_err();
+    assert!(err.contains("finite"), "{err}");
+    let err = call(
+        &mut w,
+        "sim.setObjectOrientation",
+        &[Value::Int(cam), Value::floats(&[f64::NAN, 0.0, 0.0])],
+    )
+    .unwrap_err();
+    assert!(err.contains("finite"), "{err}");
+    let err = call(
+        &mut w,
+        "sim.setObjectQuaternion",
+        &[Value::Int(cam), Value::floats(&[f64::NAN, 0.0, 0.0, 1.0])],
+    )
+    .unwrap_err();
+    assert!(err.contains("finite"), "{err}");
+    // And through the world itself, which the API's argument checks stand in front of.
+    let mut nan_turn = w.world.object(cam).unwrap().world;
+    nan_turn.rotation = nalgebra::Unit::new_unchecked(nalgebra::Quaternion::new(f64::NAN, 0.0, 0.0, 0.0));
+    let err = w.world.set_world_pose(cam, nan_turn).unwrap_err().to_string();
+    assert!(err.contains("finite"), "{err}");
+    // Absurd resolutions, at run time.
+    for side in [0, -5, 1 << 20] {
+        assert!(set_int(&mut w, cam, 1002, side).is_err(), "resolution {side}");
+    }
+    // Nothing changed: the same view, the same mask.
+    handle(&mut w, cam);
+    assert_eq!(mask(&mut w, cam).0, before);
+}

@@ -378,7 +378,15 @@ impl World {
     /// # Errors
     /// No such object, or a non-finite pose.
     pub fn set_world_pose(&mut self, h: Handle, pose: Pose) -> Result<(), SimError> {
-        if !pose.translation.vector.iter().all(|v| v.is_finite()) {
+        // A NaN orientation (from NaN Euler angles, say) would reach rapier and the
+        // renderers as surely as a NaN position.
+        let finite = pose
+            .translation
+            .vector
+            .iter()
+            .chain(pose.rotation.coords.iter())
+            .all(|v| v.is_finite());
+        if !finite {
             return Err(SimError::BadArgument("pose must be finite".into()));
         }
         self.object(h)?;
