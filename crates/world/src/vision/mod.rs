@@ -300,25 +300,26 @@ impl VisionStates {
                 job.draw(&items, scratch, shortcuts);
             }
         } else {
-            // Jobs dealt out in contiguous runs, the first to this thread. A thread
-            // costs 20-50 us to start on the 2-core VM, less than one 128 x 128 frame
-            // of a scene with a mesh arm in view.
+            // Each thread takes the next sensor not yet drawn, this one included: views
+            // of one scene can differ several-fold in cost (a camera close to a mesh
+            // arm against one far away), and dealing them out in fixed runs left one
+            // core idle while the other drew three. A thread costs 20-50 us to start on
+            // the 2-core VM, less than one 128 x 128 frame of a scene with a mesh arm
+            // in view.
             extra_scratch.resize_with(threads - 1, raster::Scratch::default);
-            let per = jobs.len().div_ceil(threads);
-            let mut runs = jobs.chunks_mut(per);
-            let first = runs.next();
+            let queue = std::sync::Mutex::new(jobs.iter_mut());
+            let next = || queue.lock().ok().and_then(|mut q| q.next());
             let items = &items;
-            std::thread::scope(|scope| {
-                for (run, scratch) in runs.zip(extra_scratch.iter_mut()) {
-                    scope.spawn(move || {
-                        for job in run {
-                            job.draw(items, scratch, shortcuts);
-                        }
-                    });
-                }
-                for job in first.into_iter().flatten() {
+            let draw_queue = |scratch: &mut raster::Scratch| {
+                while let Some(job) = next() {
                     job.draw(items, scratch, shortcuts);
                 }
+            };
+            std::thread::scope(|scope| {
+                for scratch in extra_scratch.iter_mut() {
+                    scope.spawn(|| draw_queue(scratch));
+                }
+                draw_queue(scratch);
             });
         }
         for job in jobs {
