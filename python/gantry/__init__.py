@@ -208,7 +208,7 @@ class Client:
     def mask(self, sensor: int, top_first: bool = True):
         """A vision sensor's segmentation mask as a ``(height, width)`` ``int32`` numpy
         array: the handle of the shape seen at each pixel, -1 where nothing is. It
-        comes from the same render as ``image`` and ``depth`` (the first call renders
+        comes from the same render as ``image`` and ``depth`` (the first call may render
         the sensor again, with its mask)."""
         return self._engine_here.mask(sensor, top_first)
 

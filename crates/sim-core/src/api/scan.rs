@@ -8,6 +8,7 @@
 //! scripts run unchanged. See [`crate::sensor::cast_rays`] and
 //! [`crate::vision::scan`] for the geometry.
 
+use super::vision::self_or;
 use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::error::SimError;
@@ -16,8 +17,6 @@ use crate::sim::Sim;
 use crate::vision::scan::{self, PointFrame};
 use crate::world::{Handle, World};
 
-/// `sim.handle_self`: the object of the calling script.
-const HANDLE_SELF: Handle = -4;
 /// `sim.handleflag_abscoords`: OR-ed onto a sensor handle, asks for points in the world
 /// frame (CoppeliaSim's value).
 const HANDLEFLAG_ABSCOORDS: i64 = 0x0080_0000;
@@ -106,16 +105,6 @@ fn cast_rays(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
             Value::Array(handles.map(Value::Int).collect()),
         ]
     })
-}
-
-/// `sim.handle_self` as the calling script's object; other handles as they are.
-fn self_or(ctx: &CallContext<'_>, h: Handle) -> Result<Handle, SimError> {
-    match h {
-        HANDLE_SELF => ctx
-            .script_object
-            .ok_or_else(|| SimError::bad_argument("sim.handle_self: the caller is not a script attached to an object")),
-        h => Ok(h),
-    }
 }
 
 /// Argument `i` as ray directions: a flat table of numbers or packed `f32`s, 3 per ray.

@@ -197,7 +197,12 @@ fn portion(a: &Args<'_>, pos_i: usize, res: [u32; 2]) -> Result<Portion, SimErro
 
 /// Argument `i` as a sensor handle, `sim.handle_self` meaning the calling script's object.
 fn sensor_handle(ctx: &CallContext<'_>, a: &Args<'_>, i: usize) -> Result<Handle, SimError> {
-    match a.handle(i)? {
+    self_or(ctx, a.handle(i)?)
+}
+
+/// `sim.handle_self` as the calling script's object; other handles as they are.
+pub(super) fn self_or(ctx: &CallContext<'_>, h: Handle) -> Result<Handle, SimError> {
+    match h {
         HANDLE_SELF => ctx
             .script_object
             .ok_or_else(|| SimError::bad_argument("sim.handle_self: the caller is not a script attached to an object")),
@@ -328,7 +333,7 @@ pub(super) fn get_vision_sensor_depth(sim: &mut Sim, _: &CallContext<'_>, a: &Ar
 /// (gantry's own): the segmentation mask, one little-endian `i32` per pixel, bottom
 /// row first, the handle of the shape seen there or -1 where nothing is (unpack with
 /// `sim.unpackInt32Table`). The mask comes from the same render as the RGB and depth
-/// images; the first call renders the sensor again with a mask (see
+/// images; the first call renders the sensor (again) with a mask (see
 /// [`vision::read_mask`]), later renders draw one each time. CoppeliaSim's way, a
 /// sensor in `sim.rendermode_colorcoded`, gives the same handles as colours.
 fn get_vision_sensor_mask(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {

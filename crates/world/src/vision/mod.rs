@@ -474,9 +474,9 @@ pub fn read<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Resul
 /// # Errors
 /// As [`handle_vision_sensor`].
 pub fn read_mask<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Result<&'a SensorImage, SimError> {
-    let s = read(world, states, h)?;
-    if !s.mask_current {
-        s.mask_wanted = true;
+    // Wanted before reading, so that a stale image renders once, with its mask.
+    state(world, states, h)?.mask_wanted = true;
+    if !read(world, states, h)?.mask_current {
         states.render(world, h)?;
     }
     state(world, states, h).map(|s| &*s)
