@@ -13,6 +13,8 @@
 //!   the ZMQ remote API's ROUTER socket speaks it.
 //! * [`dap`]: the Debug Adapter Protocol: `Content-Length` frames, typed requests, and the
 //!   adapter's responses and events.
+//! * [`ros`]: ROS 2 messages as CDR to and from [`Value`] for the known message and
+//!   service types, and ROS 2 names to DDS topic names.
 
 pub mod cbor;
 pub mod dap;
@@ -20,6 +22,7 @@ pub mod legacy_remote_api;
 pub mod line;
 pub mod packet;
 pub mod remote_api;
+pub mod ros;
 pub mod value;
 pub mod zmtp;
 
