@@ -592,6 +592,16 @@ fn decode_errors_name_the_type_and_the_field() {
         e.starts_with("std_msgs/msg/UInt64.data: uint64 value 18446744073709551615 is larger"),
         "{e}"
     );
+    // layout: no dims, data_offset 0; data: two uint64 after 4 bytes of padding.
+    let mut big = with_header(&[0; 8]);
+    big.extend_from_slice(&2u32.to_le_bytes());
+    big.extend_from_slice(&[0; 4 + 8]);
+    big.extend_from_slice(&u64::MAX.to_le_bytes());
+    let e = decode_err("std_msgs/msg/UInt64MultiArray", &big);
+    assert!(
+        e.starts_with("std_msgs/msg/UInt64MultiArray.data[1]: uint64 value"),
+        "{e}"
+    );
     let e = decode_err("std_msgs/msg/Bool", &[0x00, 0x07, 0, 0, 1]);
     assert!(
         e.starts_with("std_msgs/msg/Bool: unsupported CDR encapsulation 00 07"),
@@ -805,4 +815,24 @@ fn write_fuzz_seeds() {
         let file = name.rsplit('/').next().unwrap().to_ascii_lowercase();
         std::fs::write(dir.join(format!("{file}.cdr")), seed).unwrap();
     }
+}
+
+#[test]
+fn a_hundred_joint_state_round_trips() {
+    let t = ty("sensor_msgs/msg/JointState");
+    let names: Vec<Value> = (0..100).map(|i| Value::Str(format!("joint_{i}"))).collect();
+    let xs: Vec<f64> = (0..100).map(|i| f64::from(i) * 0.01).collect();
+    let v = map(&[
+        ("header", map(&[("frame_id", "world".into())])),
+        ("name", Value::Array(names.clone())),
+        ("position", Value::floats(&xs)),
+        ("velocity", Value::floats(&xs)),
+        ("effort", Value::floats(&xs)),
+    ]);
+    let bytes = t.encode(&v).unwrap();
+    // The three float64 sequences take 3 x (count + 800 bytes) at least.
+    assert!(bytes.len() > 3 * 804);
+    let back = t.decode(&bytes).unwrap();
+    assert_eq!(back.get("name"), Some(&Value::Array(names)));
+    assert_eq!(back.get("effort"), Some(&Value::floats(&xs)));
 }

@@ -145,8 +145,8 @@ impl<'a> Decoder<'a> {
                 self.align(size);
                 let raw = self.take(n.saturating_mul(size), path)?;
                 let mut items = Vec::with_capacity(n);
-                for chunk in raw.chunks_exact(size) {
-                    items.push(self.number(p, chunk, path)?);
+                for (i, chunk) in raw.chunks_exact(size).enumerate() {
+                    items.push(self.number(p, chunk, &path.index(i))?);
                 }
                 Ok(Value::Array(items))
             }

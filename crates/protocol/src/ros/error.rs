@@ -58,7 +58,7 @@ pub enum EncodeError {
         got: usize,
     },
     /// A sequence or string longer than CDR's 32-bit length can say.
-    #[error("{location}: {len} elements do not fit CDR's 32-bit length")]
+    #[error("{location}: {len} elements (or bytes) are more than CDR's 32-bit length can count")]
     TooLong {
         /// Type and path of the field.
         location: String,

@@ -64,8 +64,9 @@ pub use srv_type::SrvType;
 use registry::{lookup, registry};
 
 /// Deepest nesting of message types the codec follows (the top-level message is depth
-/// 1). The catalog's deepest type nests 5 levels; the limit guards the recursion
-/// against a future catalog entry, not against input, which cannot add nesting.
+/// 1). The catalog's deepest types nest 4 levels (`tf2_msgs/msg/TFMessage` >
+/// `TransformStamped` > `Header` > `Time`); the limit guards the recursion against a
+/// future catalog entry, not against input, which cannot add nesting.
 pub const MAX_DEPTH: usize = 16;
 
 /// Looks up a message type by name: `pkg/msg/Type`, or ROS 1 style `pkg/Type` (taken

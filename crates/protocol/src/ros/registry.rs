@@ -256,6 +256,27 @@ mod tests {
         assert_eq!(size("sensor_msgs/msg/JointState"), 12 + 16);
     }
 
+    /// Levels of message nesting in `t`, itself included.
+    fn depth(t: &MsgType) -> usize {
+        1 + t
+            .fields()
+            .iter()
+            .filter_map(|f| match f.kind {
+                Kind::Message(i) => Some(depth(nested(i))),
+                Kind::Primitive(_) => None,
+            })
+            .max()
+            .unwrap_or(0)
+    }
+
+    #[test]
+    fn the_catalog_nests_four_levels_deep_at_most() {
+        // What the MAX_DEPTH docs say; TFMessage > TransformStamped > Header > Time.
+        let deepest = registry().types.iter().map(depth).max().unwrap();
+        assert_eq!(deepest, 4);
+        assert!(deepest < MAX_DEPTH);
+    }
+
     #[test]
     fn edit_distances() {
         assert_eq!(edit_distance("twist", "twst"), 1);
