@@ -191,6 +191,45 @@ struct RunArgs {
     /// Repeatable.
     #[arg(long = "record-image", value_name = "SENSOR[=HZ]", requires = "record", value_parser = parse_image_stream)]
     record_images: Vec<ImageStream>,
+    /// Join the ROS 2 graph (no ROS install needed): /clock, /tf, /tf_static,
+    /// /joint_states and each vision sensor's image, depth and camera info. Domain and
+    /// range from ROS_DOMAIN_ID and ROS_AUTOMATIC_DISCOVERY_RANGE (or
+    /// ROS_LOCALHOST_ONLY); this host only unless they say SUBNET. Scripts' simROS2
+    /// works without it. See docs/ros2.md.
+    #[arg(long)]
+    ros2: bool,
+    /// With --ros2: images per simulated second of each vision sensor, at most (0: no
+    /// camera topics).
+    #[arg(long, value_name = "HZ", requires = "ros2", default_value_t = 30.0)]
+    ros2_camera_rate: f64,
+}
+
+/// The ROS 2 network scripts' `simROS2` uses, started on first use; with `--ros2`,
+/// started now (a domain that cannot be joined fails the run) and with the graph's
+/// topics.
+fn ros2_setup(args: &RunArgs) -> anyhow::Result<gantry_ros2::RosSetup> {
+    let config = gantry_ros2::RosConfig::from_env();
+    if !args.ros2 {
+        // Scripts that use simROS2 get the reason a bad environment gives.
+        let network = match config {
+            Ok(c) => gantry_ros2::DdsNetwork::new(c),
+            Err(e) => gantry_ros2::DdsNetwork::unavailable(e.to_string()),
+        };
+        return Ok(gantry_ros2::RosSetup {
+            network: Arc::new(network),
+            graph: None,
+        });
+    }
+    let rate = args.ros2_camera_rate;
+    if !(rate.is_finite() && rate >= 0.0) {
+        anyhow::bail!("--ros2-camera-rate {rate}: images per simulated second must be 0 or more");
+    }
+    let network = gantry_ros2::DdsNetwork::new(config?);
+    network.start_now()?;
+    Ok(gantry_ros2::RosSetup {
+        network: Arc::new(network),
+        graph: Some(gantry_ros2::GraphOptions { camera_rate_hz: rate }),
+    })
 }
 
 /// `SENSOR[=HZ]` of `--record-image`.
@@ -220,7 +259,10 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let level = match (cli.quiet, cli.verbose) {
         (true, _) => "error",
-        (false, 0) => "warn,gantry=info",
+        // RustDDS reports routine network conditions (a multicast group it cannot
+        // leave at exit, peers without locators) as warnings and errors: noise for a
+        // simulator user. RUST_LOG=rustdds=debug shows them.
+        (false, 0) => "warn,gantry=info,rustdds=off",
         (false, 1) => "info",
         (false, _) => "debug",
     };
@@ -474,6 +516,7 @@ fn run(args: &RunArgs) -> Result<()> {
             .map(|path| record_params(path, args, run.clone()))
             .transpose()?,
         recorder_factory: Some(Arc::new(RunRecorder::new(run))),
+        ros2: Some(ros2_setup(args)?),
     };
     let summary = gantry_server::run(model, sim, serve, Shutdown::default(), |bound| {
         // One machine-readable line per listener on stderr, for scripts that start

@@ -175,6 +175,7 @@ fn touches_name(t: Touches) -> &'static str {
         Touches::Scene => "scene",
         Touches::Motion => "motion",
         Touches::Listeners => "listeners",
+        Touches::Ros => "the ROS 2 network",
     }
 }
 

@@ -59,13 +59,13 @@ FLOORS = {
     "crates/script/src": [
         ({"limits", "convert", "listeners", "lua_error", "app_state"}, False),
         ({"sandbox", "running", "directory", "core_cell", "hooks"}, False),
-        ({"threads", "control", "recording", "models", "luasocket"}, False),
+        ({"threads", "control", "recording", "models", "luasocket", "ros"}, False),
         ({"messages"}, False),
         ({"debugger"}, False),
         ({"budget", "host_api"}, False),
         ({"scripts"}, False),
         ({"simulation"}, False),
-        ({"step", "remote"}, False),
+        ({"step", "remote", "ros_dispatch"}, False),
     ],
 }
 

@@ -270,6 +270,10 @@ def main():
     show += ARM.format(x=-3.2, y=0, tx=-3.2 + 0.45, script='script = "../../scripts/fk_server.lua"\n')
     show += rover("", 1.3, 0, "bubble_rob.lua") + arena(1.3, 0, "")
     (HERE / "showroom.toml").write_text(show)
+    ros = HEADER.format(title="BubbleRob driven over ROS 2: /cmd_vel in, its sensor and pose out (docs/ros2.md).",
+                        floor="[5, 5]", floor_friction=FRICTION["floor"])
+    ros += rover("", 0, 0, "bubble_rob_ros2.lua", vision_script="") + arena(0, 0, "")
+    (HERE / "bubble_rob_ros2.toml").write_text(ros)
 
 
 if __name__ == "__main__":

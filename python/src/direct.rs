@@ -64,8 +64,12 @@ impl Direct {
         config: EngineConfig,
         autostart: bool,
         recorder: Option<Recorder>,
+        ros_graph: Option<gantry_ros2::RosGraph>,
     ) -> Result<Self, ScriptError> {
         let mut engine = Engine::new(model, config, None)?;
+        if let Some(g) = ros_graph {
+            engine.add_observer(Box::new(g));
+        }
         if let Some(r) = recorder {
             // Before the start, so that the start is the recording's first input.
             let tap = RecordTap::new(r, engine.sim());

@@ -126,7 +126,8 @@ impl Engine {
     #[new]
     #[pyo3(signature = (scene=None, *, dt=None, substeps=None, autostart=true, realtime=true,
                         package_paths=Vec::new(), free_base=false, scripts=true, bind=None, http_port=None,
-                        zmq_port=None, text_port=None, token=None, record=None, record_rate=None, seed=None))]
+                        zmq_port=None, text_port=None, token=None, record=None, record_rate=None, seed=None,
+                        ros2=false))]
     #[expect(clippy::too_many_arguments, reason = "Python keyword arguments")]
     fn new(
         py: Python<'_>,
@@ -146,6 +147,7 @@ impl Engine {
         record: Option<PathBuf>,
         record_rate: Option<f64>,
         seed: Option<i64>,
+        ros2: bool,
     ) -> PyResult<Self> {
         let options = LoadOptions {
             package_paths,
@@ -219,6 +221,7 @@ impl Engine {
         let record = record.map(|path| RecordParams::for_run(path, record_rate, run.clone()));
         let recorder_factory: Arc<dyn RecorderFactory> = Arc::new(RunRecorder::new(run));
         let limits = ScriptLimits::default();
+        let ros2 = ros2_setup(ros2)?;
         let backend = if http_port.is_some() || zmq_port.is_some() || text_port.is_some() {
             let bind: IpAddr = match bind.as_deref() {
                 Some(b) => b
@@ -244,6 +247,7 @@ impl Engine {
                 load_options: options,
                 record,
                 recorder_factory: Some(recorder_factory),
+                ros2: Some(ros2),
                 ..SimConfig::default()
             };
             let running = gantry_server::start(model, config, serve, Shutdown::default(), Signals::Leave)
@@ -261,8 +265,9 @@ impl Engine {
                 listeners: None,
                 realtime,
                 recorder: Some(recorder_factory),
+                ros: Some(ros2.network.clone()),
             };
-            let d = Direct::new(py, model, config, autostart, recorder)
+            let d = Direct::new(py, model, config, autostart, recorder, ros2.graph())
                 .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             Backend::Direct(Box::new(d))
         };
@@ -455,6 +460,32 @@ impl Engine {
 }
 
 /// Rows reversed (a view) when `top_first`.
+/// The ROS 2 network of scripts' `simROS2` (started on first use), and with
+/// `ros2=True` the graph's topics as `gantry run --ros2` publishes them, started now so
+/// that a domain that cannot be joined fails here.
+fn ros2_setup(graph: bool) -> PyResult<gantry_ros2::RosSetup> {
+    let config = gantry_ros2::RosConfig::from_env();
+    if !graph {
+        let network = match config {
+            Ok(c) => gantry_ros2::DdsNetwork::new(c),
+            Err(e) => gantry_ros2::DdsNetwork::unavailable(e.to_string()),
+        };
+        return Ok(gantry_ros2::RosSetup {
+            network: Arc::new(network),
+            graph: None,
+        });
+    }
+    let config = config.map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let network = gantry_ros2::DdsNetwork::new(config);
+    network
+        .start_now()
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok(gantry_ros2::RosSetup {
+        network: Arc::new(network),
+        graph: Some(gantry_ros2::GraphOptions::default()),
+    })
+}
+
 fn flip(array: Bound<'_, PyAny>, top_first: bool) -> PyResult<Bound<'_, PyAny>> {
     if top_first {
         let py = array.py();

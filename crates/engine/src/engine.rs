@@ -14,6 +14,7 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use gantry_script::ros::RosNetwork;
 use gantry_script::{
     DebugLink, HookError, Listeners, RecordingRequest, ScriptError, ScriptLimits, Simulation, StepBoundary,
 };
@@ -53,6 +54,8 @@ pub struct EngineConfig {
     /// Starts the recordings scripts ask for (`sim.startRecording`); without it,
     /// they are refused with a logged error.
     pub recorder: Option<Arc<dyn RecorderFactory>>,
+    /// The ROS 2 network of scripts' `simROS2` (none: scripts' calls are refused).
+    pub ros: Option<Arc<dyn RosNetwork>>,
 }
 
 /// When the next step may be taken (see [`Engine::due`]).
@@ -80,6 +83,9 @@ pub struct Engine {
     last_idle: Instant,
     /// Looks at every input and step (the recorder), when set.
     tap: Option<Box<dyn Tap>>,
+    /// Look at every step and the end of the run (the ROS 2 graph's publisher), for
+    /// the engine's whole life.
+    observers: Vec<Box<dyn Tap>>,
 }
 
 impl Engine {
@@ -99,6 +105,7 @@ impl Engine {
             last_reload: now,
             last_idle: now,
             tap: None,
+            observers: Vec::new(),
         })
     }
 
@@ -106,6 +113,12 @@ impl Engine {
     /// already set, if any, is returned.
     pub fn set_tap(&mut self, tap: Box<dyn Tap>) -> Option<Box<dyn Tap>> {
         self.tap.replace(tap)
+    }
+
+    /// Has `observer` see every step and the end of the run, after the tap, for the
+    /// engine's whole life (its inputs are not shown to it).
+    pub fn add_observer(&mut self, observer: Box<dyn Tap>) {
+        self.observers.push(observer);
     }
 
     /// Stops tapping: the tap is returned, not finished.
@@ -138,6 +151,9 @@ impl Engine {
         sim.set_load_options(config.load_options.clone());
         if let Some(l) = &config.listeners {
             sim.set_listeners(l.clone());
+        }
+        if let Some(n) = &config.ros {
+            sim.set_ros_network(n.clone());
         }
         Ok(sim)
     }
@@ -253,6 +269,9 @@ impl Engine {
         self.steps += 1;
         if let Some(t) = &mut self.tap {
             t.stepped(&self.sim, self.steps);
+        }
+        for o in &mut self.observers {
+            o.stepped(&self.sim, self.steps);
         }
         self.serve_recording_request();
         let now = Instant::now();
@@ -487,6 +506,9 @@ impl Engine {
         self.stepping.stopped();
         if let Some(mut t) = self.tap.take() {
             t.finish(&self.sim, self.steps);
+        }
+        for o in &mut self.observers {
+            o.finish(&self.sim, self.steps);
         }
     }
 }

@@ -18,6 +18,7 @@
 pub mod recorder;
 pub mod snapshot;
 pub mod tap;
+pub mod tf_frames;
 pub mod verify;
 pub mod writer;
 

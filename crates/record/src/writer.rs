@@ -13,23 +13,11 @@ use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, Compression, McapError, WriteOptions, Writer};
 
 use crate::snapshot::{LogSample, SignalSample, Snapshot};
-use gantry_mcap::format::{
-    AttachedFile, JOINT_STATES_TOPIC, ROSOUT_TOPIC, TF_STATIC_TOPIC, TF_TOPIC, WORLD_FRAME, topic_name,
-};
+use crate::tf_frames::TfFrames;
+use gantry_mcap::format::{AttachedFile, JOINT_STATES_TOPIC, ROSOUT_TOPIC, TF_STATIC_TOPIC, TF_TOPIC, topic_name};
 use gantry_mcap::input::{INPUT_TOPIC, Input};
-use gantry_mcap::msg::{self, LogLevel, Time, TransformStamped};
+use gantry_mcap::msg::{self, LogLevel, Time};
 use gantry_mcap::schema::{self, MessageType};
-
-/// One `geometry_msgs/TransformStamped` of a frame.
-fn transform<'a>(stamp: Time, parent: &'a str, child: &'a str, pose: &[f64; 7]) -> TransformStamped<'a> {
-    TransformStamped {
-        stamp,
-        frame_id: parent,
-        child_frame_id: child,
-        translation: [pose[0], pose[1], pose[2]],
-        rotation: [pose[3], pose[4], pose[5], pose[6]],
-    }
-}
 
 /// An MCAP file being written: the channels so far and their message counts.
 pub struct McapSink<W: Write + Seek> {
@@ -44,11 +32,8 @@ pub struct McapSink<W: Write + Seek> {
     messages: u64,
     /// The last log time written, so that times never go back in the file.
     last_log_ns: u64,
-    /// The frames on `/tf_static`, by child frame id: parent frame id and pose of
-    /// each frame that has not moved relative to its parent since the recording began.
-    statics: BTreeMap<String, (String, [f64; 7])>,
-    /// Frames that have moved at least once: they are on `/tf` from then on.
-    moved: std::collections::HashSet<String>,
+    /// Which frames go on `/tf_static` and which on `/tf`.
+    frames: TfFrames,
 }
 
 impl<W: Write + Seek> McapSink<W> {
@@ -76,8 +61,7 @@ impl<W: Write + Seek> McapSink<W> {
             sequence: HashMap::new(),
             messages: 0,
             last_log_ns: 0,
-            statics: BTreeMap::new(),
-            moved: std::collections::HashSet::new(),
+            frames: TfFrames::exact(),
         };
         for (topic, ty) in [
             (TF_TOPIC, &schema::TF_MESSAGE),
@@ -195,29 +179,13 @@ impl<W: Write + Seek> McapSink<W> {
                 .and_then(|i| s.frames.get(i))
                 .map_or("", String::as_str)
         };
-        let frames_now: Vec<(&str, &str, &[f64; 7])> = s
-            .poses
-            .iter()
-            .map(|p| (frame(p.handle), p.parent.map_or(WORLD_FRAME, frame), &p.pose))
-            .collect();
-        if self.update_statics(&frames_now) {
-            let transforms: Vec<TransformStamped<'_>> = self
-                .statics
-                .iter()
-                .map(|(child, (parent, pose))| transform(stamp, parent, child, pose))
-                .collect();
-            let data = msg::tf_message(&transforms);
+        let (statics, tf_data) = self.frames.messages(s);
+        if let Some(data) = statics {
             let ch = self.channel(TF_STATIC_TOPIC, &schema::TF_MESSAGE)?;
             self.message(ch, s.log_time_ns, &data)?;
         }
-        let transforms: Vec<TransformStamped<'_>> = frames_now
-            .iter()
-            .filter(|(child, _, _)| self.moved.contains(*child))
-            .map(|&(child, parent, pose)| transform(stamp, parent, child, pose))
-            .collect();
-        let data = msg::tf_message(&transforms);
         let tf = self.channel(TF_TOPIC, &schema::TF_MESSAGE)?;
-        self.message(tf, s.log_time_ns, &data)?;
+        self.message(tf, s.log_time_ns, &tf_data)?;
         if !s.joints.is_empty() {
             let names: Vec<&str> = s.joints.iter().map(|j| frame(j.handle)).collect();
             let position: Vec<f64> = s.joints.iter().map(|j| j.position).collect();
@@ -270,40 +238,6 @@ impl<W: Write + Seek> McapSink<W> {
             self.message(ch, s.log_time_ns, &data)?;
         }
         Ok(())
-    }
-
-    /// Sorts this snapshot's frames `(child, parent, pose)` into static and moving
-    /// ones: a frame is static until its pose or parent differs from the value it had
-    /// on `/tf_static` (bit for bit), and moving from then on. Returns whether the
-    /// static set changed (a frame added, removed or moved), so that `/tf_static` is
-    /// published again, whole, as ROS's latched topic is.
-    fn update_statics(&mut self, frames: &[(&str, &str, &[f64; 7])]) -> bool {
-        let mut changed = false;
-        for &(child, parent, pose) in frames {
-            if self.moved.contains(child) {
-                continue;
-            }
-            match self.statics.get(child) {
-                Some((p, q)) if p == parent && q.iter().zip(pose).all(|(a, b)| a.to_bits() == b.to_bits()) => {}
-                Some(_) => {
-                    self.statics.remove(child);
-                    self.moved.insert(child.to_owned());
-                    changed = true;
-                }
-                None => {
-                    self.statics.insert(child.to_owned(), (parent.to_owned(), *pose));
-                    changed = true;
-                }
-            }
-        }
-        // Frames gone from the tree (objects removed, renamed or moved elsewhere).
-        if self.statics.len() + frames.iter().filter(|(c, _, _)| self.moved.contains(*c)).count() != frames.len() {
-            let present: std::collections::HashSet<&str> = frames.iter().map(|(c, _, _)| *c).collect();
-            let before = self.statics.len();
-            self.statics.retain(|c, _| present.contains(c.as_str()));
-            changed |= self.statics.len() != before;
-        }
-        changed
     }
 
     /// Writes log lines on `/rosout`.

@@ -25,6 +25,8 @@ mod messages;
 mod models;
 mod recording;
 mod remote;
+pub mod ros;
+mod ros_dispatch;
 mod running;
 pub mod sandbox;
 mod scripts;

@@ -219,7 +219,16 @@ fn copy_table(lua: &Lua, t: &Table, copies: &Table) -> mlua::Result<Table> {
 
 /// The modules `require` returns: the API's namespaces, as in CoppeliaSim 4.6+ where
 /// scripts begin with `sim = require 'sim'`.
-pub const REQUIRABLE: &[&str] = &["sim", "simIK", "simRemoteApi", "simUI", "simVision", "socket"];
+pub const REQUIRABLE: &[&str] = &[
+    "sim",
+    "simIK",
+    "simROS",
+    "simROS2",
+    "simRemoteApi",
+    "simUI",
+    "simVision",
+    "socket",
+];
 
 /// Other names `require` accepts, and the global each one returns: LuaSocket's C core,
 /// which a few scripts require directly (see `crate::luasocket`).

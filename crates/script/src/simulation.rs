@@ -37,6 +37,8 @@ use crate::luasocket::{self, Sockets};
 use crate::messages::Mailboxes;
 use crate::models::{self, LoadedModel, ModelLoadError, Models};
 use crate::recording::{PendingRecording, RecordingRequest};
+use crate::ros::RosNetwork;
+use crate::ros::host::RosHost;
 use crate::running::Running;
 use crate::sandbox::{self, SOURCE_MODE, new_debuggable_state, new_state};
 use crate::scripts::{ScriptSet, ScriptState};
@@ -107,6 +109,7 @@ impl Simulation {
         app_state::install(&lua, PendingControl::default());
         app_state::install(&lua, PendingRecording::default());
         app_state::install(&lua, Models::default());
+        app_state::install(&lua, RosHost::default());
         let sockets = Sockets::new(limits.network.clone());
         sockets.clear_interrupt();
         app_state::install(&lua, sockets);
@@ -142,6 +145,12 @@ impl Simulation {
     /// front end that runs this simulation with its transports.
     pub fn set_listeners(&mut self, listeners: Arc<dyn Listeners>) {
         self.listeners.borrow_mut().front_end = Some(listeners);
+    }
+
+    /// Lets scripts join a ROS 2 graph (`simROS2`, `simROS`) through the front end's
+    /// network.
+    pub fn set_ros_network(&mut self, network: Arc<dyn RosNetwork>) {
+        *state::<RosHost>(&self.lua).network.borrow_mut() = Some(network);
     }
 
     /// Sets how model files are read (`sim.loadModel`); the host passes the options its
@@ -289,6 +298,8 @@ impl Simulation {
         state::<Sockets>(&self.lua).close_all();
         // Legacy remote API servers started during the run end with it, as in CoppeliaSim.
         self.listeners.borrow_mut().simulation_ended();
+        // So do the run's ROS publishers, subscriptions and services.
+        state::<RosHost>(&self.lua).simulation_ended();
         // What cleanup hooks asked for: a removal ends with the run (the scene comes back
         // as loaded), a model loaded joins the scene now being rebuilt.
         state::<Directory>(&self.lua).take_removals();

@@ -59,6 +59,7 @@ impl Simulation {
             return;
         }
         self.dispatch_ui_events();
+        self.dispatch_ros();
         // CoppeliaSim resumes threads at the start of actuation.
         self.scripts.resume_threads();
         for k in 0..self.scripts.order.len() {

@@ -237,6 +237,9 @@ pub struct SimConfig {
     /// Starts the recordings scripts ask for (`sim.startRecording`); without it they
     /// are refused.
     pub recorder_factory: Option<std::sync::Arc<dyn gantry_engine::RecorderFactory>>,
+    /// ROS 2: the network of scripts' `simROS2`, and the graph's topics when asked for
+    /// (`--ros2`).
+    pub ros2: Option<gantry_ros2::RosSetup>,
 }
 
 /// What a finished run reports.
@@ -374,9 +377,16 @@ pub fn run_sim_thread_debugged(
             listeners: config.listeners.clone(),
             realtime: !config.fast,
             recorder: config.recorder_factory.clone(),
+            ros: config
+                .ros2
+                .as_ref()
+                .map(|r| r.network.clone() as std::sync::Arc<dyn gantry_script::ros::RosNetwork>),
         },
         debug,
     )?;
+    if let Some(g) = config.ros2.as_ref().and_then(gantry_ros2::RosSetup::graph) {
+        engine.add_observer(Box::new(g));
+    }
     if let Some(r) = recorder {
         let tap = gantry_record::RecordTap::new(r, engine.sim());
         engine.set_tap(Box::new(tap));

@@ -7,12 +7,13 @@
 //! [`MAX_DEPTH`] all the same.
 
 use super::DecodeError;
-use super::MAX_DEPTH;
 use super::definition::Arity;
+use super::field::{Field, Kind};
 use super::msg_type::MsgType;
 use super::path::Path;
 use super::primitive::Primitive;
-use super::registry::{Field, Kind, nested};
+use super::registry::MAX_DEPTH;
+use super::registry::nested;
 use crate::Value;
 
 /// Reads one message body.

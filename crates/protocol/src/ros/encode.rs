@@ -5,12 +5,13 @@
 //! given as [`Value::Bytes`] or [`Value::Str`] are copied in one go.
 
 use super::EncodeError;
-use super::MAX_DEPTH;
 use super::definition::Arity;
+use super::field::{Field, Kind};
 use super::msg_type::MsgType;
 use super::path::Path;
 use super::primitive::Primitive;
-use super::registry::{Field, Kind, nested};
+use super::registry::MAX_DEPTH;
+use super::registry::nested;
 use crate::Value;
 
 /// Appends one message body to a buffer.

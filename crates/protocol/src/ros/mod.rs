@@ -45,10 +45,12 @@
 //! pads payloads to a multiple of 4.
 
 mod catalog;
+mod codec;
 mod decode;
 mod definition;
 mod encode;
 mod error;
+mod field;
 mod msg_type;
 mod names;
 mod path;
@@ -56,18 +58,14 @@ mod primitive;
 mod registry;
 mod srv_type;
 
+pub use codec::CDR_LE_HEADER;
 pub use error::{DecodeError, EncodeError, NameError, RosTypeError};
-pub use msg_type::{CDR_LE_HEADER, MsgType};
+pub use msg_type::MsgType;
 pub use names::{ros_topic_name, service_reply_topic, service_request_topic, topic_name};
 pub use srv_type::SrvType;
 
+pub use registry::MAX_DEPTH;
 use registry::{lookup, registry};
-
-/// Deepest nesting of message types the codec follows (the top-level message is depth
-/// 1). The catalog's deepest types nest 4 levels (`tf2_msgs/msg/TFMessage` >
-/// `TransformStamped` > `Header` > `Time`); the limit guards the recursion against a
-/// future catalog entry, not against input, which cannot add nesting.
-pub const MAX_DEPTH: usize = 16;
 
 /// Looks up a message type by name: `pkg/msg/Type`, or ROS 1 style `pkg/Type` (taken
 /// as `pkg/msg/Type`). The halves of services (`std_srvs/srv/SetBool_Request`) are

@@ -4,31 +4,17 @@
 
 use std::sync::OnceLock;
 
-use super::MAX_DEPTH;
 use super::catalog;
 use super::definition::{self, Arity, RawKind, RawType};
+use super::field::{Field, Kind};
 use super::msg_type::MsgType;
-use super::primitive::Primitive;
 use super::srv_type::SrvType;
-use crate::Value;
 
-/// A field's element type, resolved.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Kind {
-    Primitive(Primitive),
-    /// Index of a message type in [`Registry::types`].
-    Message(usize),
-}
-
-/// One field of a message type.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Field {
-    pub(crate) name: String,
-    pub(crate) kind: Kind,
-    pub(crate) arity: Arity,
-    /// The declared default of a single builtin field; `None` means zero, false or "".
-    pub(crate) default: Option<Value>,
-}
+/// Deepest nesting of message types the codec follows (the top-level message is depth
+/// 1). The catalog's deepest types nest 4 levels (`tf2_msgs/msg/TFMessage` >
+/// `TransformStamped` > `Header` > `Time`); the limit guards the recursion against a
+/// future catalog entry, not against input, which cannot add nesting.
+pub const MAX_DEPTH: usize = 16;
 
 /// Every known type, sorted by name.
 #[derive(Debug)]

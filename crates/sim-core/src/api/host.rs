@@ -85,6 +85,8 @@ pub enum Touches {
     Motion,
     /// The front end's listeners: servers scripts start for remote clients.
     Listeners,
+    /// The front end's ROS 2 network: publishers, subscriptions and services.
+    Ros,
 }
 
 /// One host function.
@@ -188,16 +190,61 @@ pub struct HostModule {
 }
 
 /// Modules besides `sim` that only the Lua host implements.
-pub const HOST_MODULES: &[HostModule] = &[HostModule {
-    // CoppeliaSim's legacy remote API plugin: scripts start servers for `simx*` clients.
-    name: "simRemoteApi",
-    functions: &[
-        f("reset", AnyHook, Remote::No, Touches::Listeners),
-        f("start", AnyHook, Remote::No, Touches::Listeners),
-        f("status", AnyHook, Remote::No, Touches::Listeners),
-        f("stop", AnyHook, Remote::No, Touches::Listeners),
-    ],
-}];
+pub const HOST_MODULES: &[HostModule] = &[
+    HostModule {
+        // CoppeliaSim's legacy remote API plugin: scripts start servers for `simx*` clients.
+        name: "simRemoteApi",
+        functions: &[
+            f("reset", AnyHook, Remote::No, Touches::Listeners),
+            f("start", AnyHook, Remote::No, Touches::Listeners),
+            f("status", AnyHook, Remote::No, Touches::Listeners),
+            f("stop", AnyHook, Remote::No, Touches::Listeners),
+        ],
+    },
+    HostModule {
+        // CoppeliaSim's ROS 2 plugin, on gantry's own DDS transport (docs/ros2.md).
+        name: "simROS2",
+        functions: &[
+            f("call", AnyHook, Remote::No, Touches::Ros),
+            f("createClient", AnyHook, Remote::No, Touches::Ros),
+            f("createInterface", AnyHook, Remote::No, Touches::Ros),
+            f("createPublisher", AnyHook, Remote::No, Touches::Ros),
+            f("createService", AnyHook, Remote::No, Touches::Ros),
+            f("createSubscription", AnyHook, Remote::No, Touches::Ros),
+            f("getSimulationTime", AnyHook, Remote::No, Touches::Ros),
+            f("getSystemTime", AnyHook, Remote::No, Touches::Ros),
+            f("getTime", AnyHook, Remote::No, Touches::Ros),
+            f("publish", AnyHook, Remote::No, Touches::Ros),
+            f("publisherTreatUInt8ArrayAsString", AnyHook, Remote::No, Touches::Ros),
+            f("sendTransform", AnyHook, Remote::No, Touches::Ros),
+            f("sendTransforms", AnyHook, Remote::No, Touches::Ros),
+            f("shutdownClient", AnyHook, Remote::No, Touches::Ros),
+            f("shutdownPublisher", AnyHook, Remote::No, Touches::Ros),
+            f("shutdownService", AnyHook, Remote::No, Touches::Ros),
+            f("shutdownSubscription", AnyHook, Remote::No, Touches::Ros),
+            f("subscriptionTreatUInt8ArrayAsString", AnyHook, Remote::No, Touches::Ros),
+            f("timeFromFloat", AnyHook, Remote::No, Touches::Ros),
+            f("timeToFloat", AnyHook, Remote::No, Touches::Ros),
+            f("waitForService", AnyHook, Remote::No, Touches::Ros),
+        ],
+    },
+    HostModule {
+        // ROS 1's plugin: old scripts, served on the ROS 2 graph.
+        name: "simROS",
+        functions: &[
+            f("advertise", AnyHook, Remote::No, Touches::Ros),
+            f("getTime", AnyHook, Remote::No, Touches::Ros),
+            f("publish", AnyHook, Remote::No, Touches::Ros),
+            f("publisherTreatUInt8ArrayAsString", AnyHook, Remote::No, Touches::Ros),
+            f("sendTransform", AnyHook, Remote::No, Touches::Ros),
+            f("sendTransforms", AnyHook, Remote::No, Touches::Ros),
+            f("shutdownPublisher", AnyHook, Remote::No, Touches::Ros),
+            f("shutdownSubscriber", AnyHook, Remote::No, Touches::Ros),
+            f("subscribe", AnyHook, Remote::No, Touches::Ros),
+            f("subscriberTreatUInt8ArrayAsString", AnyHook, Remote::No, Touches::Ros),
+        ],
+    },
+];
 
 /// The host function named `name` (without `sim.`).
 pub fn host_function(name: &str) -> Option<&'static HostFunction> {

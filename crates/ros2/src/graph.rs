@@ -1,0 +1,428 @@
+//! The topics a ROS user expects from a simulator, without a script (`gantry run SCENE
+//! --ros2`): `/clock`, `/tf` and `/tf_static` for the object tree, `/joint_states`, and
+//! each vision sensor's RGB image, depth image and camera info. Published after each
+//! step by the simulation thread (which owns the world); the DDS thread sends.
+//!
+//! Names, frames and QoS (docs/ros2.md has the table):
+//! - `/clock` (`rosgraph_msgs/Clock`): simulation time after each step; nothing while
+//!   paused or stopped, so `use_sim_time` nodes pause with the simulation.
+//! - `/tf` (depth 100) and `/tf_static` (transient local, depth 1): each object's pose
+//!   relative to its parent, parent frame `world` for roots (REP 105's fixed frame);
+//!   frame ids are object paths without the leading `/`.
+//! - `/joint_states`: every joint, named by its frame id; rad, rad/s, N·m (REP 103).
+//! - `/<sensor>/image_raw` (`rgb8`), `/<sensor>/depth/image_raw` (`32FC1`, m, +inf
+//!   where nothing is seen within the far plane) and `/<sensor>/camera_info`, top row
+//!   first, in the sensor's frame, at most [`GraphOptions::camera_rate_hz`] per
+//!   simulated second.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use gantry_engine::{EngineInput, InputAt, Tap};
+use gantry_record::cdr::CdrWriter;
+use gantry_record::msg::{self, Time, nanos_from_secs};
+use gantry_record::snapshot::Sampler;
+use gantry_record::tf_frames::TfFrames;
+use gantry_script::Simulation;
+use gantry_script::ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos};
+use gantry_sim_core::Handle;
+use gantry_sim_core::scene::Projection;
+use gantry_sim_core::vision;
+use gantry_sim_core::world::ObjectKind;
+
+/// What the graph publishes besides the always-on topics.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GraphOptions {
+    /// Images per simulated second of each vision sensor, at most (0: no camera topics).
+    pub camera_rate_hz: f64,
+}
+
+impl Default for GraphOptions {
+    fn default() -> Self {
+        Self { camera_rate_hz: 30.0 }
+    }
+}
+
+/// One vision sensor's topics.
+struct Camera {
+    image: EndpointId,
+    depth: EndpointId,
+    info: EndpointId,
+    /// Simulation time of the last image published, ns.
+    last_ns: Option<u64>,
+}
+
+/// The graph's endpoints and what it remembers between steps (see the module docs).
+pub struct RosGraph {
+    net: Arc<dyn RosNetwork>,
+    options: GraphOptions,
+    clock: EndpointId,
+    tf: EndpointId,
+    tf_static: EndpointId,
+    joint_states: EndpointId,
+    cameras: HashMap<Handle, Camera>,
+    sampler: Sampler,
+    frames: TfFrames,
+    /// Simulation time of the last publication, ns.
+    last_ns: Option<u64>,
+}
+
+/// The DDS type of a ROS message type `pkg/msg/Type`.
+fn dds_type(ros_type: &str) -> String {
+    let (pkg, name) = ros_type.split_once("/msg/").unwrap_or(("", ros_type));
+    format!("{pkg}::msg::dds_::{name}_")
+}
+
+fn open(
+    net: &dyn RosNetwork,
+    dir: Direction,
+    topic: &str,
+    ros_type: &str,
+    qos: RosQos,
+) -> Result<EndpointId, NetworkError> {
+    net.open(&EndpointSpec {
+        direction: dir,
+        dds_topic: format!("rt{topic}"),
+        dds_type: dds_type(ros_type),
+        qos,
+    })
+}
+
+/// ROS's topic name rules allow letters, digits and `_` in each token, which must not
+/// start with a digit: other characters of a frame id become `_`.
+pub fn topic_token(frame: &str) -> String {
+    let mut out = String::with_capacity(frame.len() + 1);
+    for (i, part) in frame.split('/').filter(|p| !p.is_empty()).enumerate() {
+        if i > 0 {
+            out.push('/');
+        }
+        if part.starts_with(|c: char| c.is_ascii_digit()) {
+            out.push('_');
+        }
+        out.extend(
+            part.chars()
+                .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }),
+        );
+    }
+    out
+}
+
+impl RosGraph {
+    /// Opens the always-on topics on `net`.
+    ///
+    /// # Errors
+    /// The network could not start or open them.
+    pub fn new(net: Arc<dyn RosNetwork>, options: GraphOptions) -> Result<Self, NetworkError> {
+        let n = net.as_ref();
+        let clock = open(
+            n,
+            Direction::Publish,
+            "/clock",
+            "rosgraph_msgs/msg/Clock",
+            RosQos::default(),
+        )?;
+        let tf = open(
+            n,
+            Direction::Publish,
+            "/tf",
+            "tf2_msgs/msg/TFMessage",
+            RosQos {
+                depth: 100,
+                ..RosQos::default()
+            },
+        )?;
+        let tf_static = open(
+            n,
+            Direction::Publish,
+            "/tf_static",
+            "tf2_msgs/msg/TFMessage",
+            RosQos {
+                depth: 1,
+                transient_local: true,
+                reliable: true,
+            },
+        )?;
+        let joint_states = open(
+            n,
+            Direction::Publish,
+            "/joint_states",
+            "sensor_msgs/msg/JointState",
+            RosQos::default(),
+        )?;
+        Ok(Self {
+            net,
+            options,
+            clock,
+            tf,
+            tf_static,
+            joint_states,
+            cameras: HashMap::new(),
+            sampler: Sampler::new(None),
+            frames: TfFrames::tolerant(),
+            last_ns: None,
+        })
+    }
+
+    fn write(&self, id: EndpointId, message: Vec<u8>) {
+        // The codecs here write the encapsulation header; the network wants the body.
+        let body = message.get(4..).map(<[u8]>::to_vec).unwrap_or_default();
+        if let Err(e) = self.net.write(id, body) {
+            tracing::debug!("ROS 2 graph: {e}");
+        }
+    }
+
+    /// Publishes the state after a step (nothing when simulation time has not moved).
+    pub fn after_step(&mut self, sim: &Simulation) {
+        let snapshot = {
+            let core = sim.core();
+            let now = nanos_from_secs(core.world.time());
+            if self.last_ns.is_some_and(|t| t == now) {
+                return;
+            }
+            self.last_ns = Some(now);
+            self.sampler.sample(&core)
+        };
+        let Some(s) = snapshot else { return };
+        let stamp = Time::from_nanos(s.stamp_ns);
+        let mut clock = CdrWriter::new();
+        clock.i32(stamp.sec);
+        clock.u32(stamp.nanosec);
+        self.write(self.clock, clock.into_bytes());
+        let (statics, tf) = self.frames.messages(&s);
+        if let Some(m) = statics {
+            self.write(self.tf_static, m);
+        }
+        self.write(self.tf, tf);
+        if !s.joints.is_empty() {
+            let frame = |h: Handle| {
+                usize::try_from(h)
+                    .ok()
+                    .and_then(|i| s.frames.get(i))
+                    .map_or("", String::as_str)
+            };
+            let names: Vec<&str> = s.joints.iter().map(|j| frame(j.handle)).collect();
+            let position: Vec<f64> = s.joints.iter().map(|j| j.position).collect();
+            let velocity: Vec<f64> = s.joints.iter().map(|j| j.velocity).collect();
+            let effort: Vec<f64> = s.joints.iter().map(|j| j.effort).collect();
+            self.write(
+                self.joint_states,
+                msg::joint_state(stamp, &names, &position, &velocity, &effort),
+            );
+        }
+        if self.options.camera_rate_hz > 0.0 {
+            self.cameras_after_step(sim, &s.frames, s.stamp_ns);
+        }
+    }
+
+    /// Renders (when stale) and publishes the vision sensors whose period has passed.
+    fn cameras_after_step(&mut self, sim: &Simulation, frames: &[String], stamp_ns: u64) {
+        let period_ns = nanos_from_secs(1.0 / self.options.camera_rate_hz);
+        let sensors: Vec<Handle> = {
+            let core = sim.core();
+            core.world
+                .handles()
+                .iter()
+                .copied()
+                .filter(|&h| matches!(core.world.object(h).map(|o| &o.kind), Ok(ObjectKind::VisionSensor(_))))
+                .collect()
+        };
+        for h in sensors {
+            let frame = usize::try_from(h)
+                .ok()
+                .and_then(|i| frames.get(i))
+                .cloned()
+                .unwrap_or_default();
+            if !self.cameras.contains_key(&h) {
+                match self.open_camera(&frame) {
+                    Ok(c) => {
+                        self.cameras.insert(h, c);
+                    }
+                    Err(e) => {
+                        tracing::warn!("ROS 2 graph: no topics for vision sensor {frame}: {e}");
+                        continue;
+                    }
+                }
+            }
+            let due = self.cameras[&h]
+                .last_ns
+                .is_none_or(|t| stamp_ns < t || stamp_ns - t >= period_ns);
+            if !due {
+                continue;
+            }
+            let messages = {
+                let mut core = sim.core_mut();
+                let core = &mut *core;
+                camera_messages(&core.world, &mut core.vision, h, &frame, Time::from_nanos(stamp_ns))
+            };
+            match messages {
+                Ok([image, depth, info]) => {
+                    let c = &self.cameras[&h];
+                    let ids = (c.image, c.depth, c.info);
+                    self.write(ids.0, image);
+                    self.write(ids.1, depth);
+                    self.write(ids.2, info);
+                    if let Some(c) = self.cameras.get_mut(&h) {
+                        c.last_ns = Some(stamp_ns);
+                    }
+                }
+                Err(e) => tracing::debug!("ROS 2 graph: vision sensor {frame}: {e}"),
+            }
+        }
+    }
+
+    fn open_camera(&self, frame: &str) -> Result<Camera, NetworkError> {
+        let base = format!("/{}", topic_token(frame));
+        let n = self.net.as_ref();
+        let q = RosQos {
+            depth: 5,
+            ..RosQos::default()
+        };
+        Ok(Camera {
+            image: open(
+                n,
+                Direction::Publish,
+                &format!("{base}/image_raw"),
+                "sensor_msgs/msg/Image",
+                q,
+            )?,
+            depth: open(
+                n,
+                Direction::Publish,
+                &format!("{base}/depth/image_raw"),
+                "sensor_msgs/msg/Image",
+                q,
+            )?,
+            info: open(
+                n,
+                Direction::Publish,
+                &format!("{base}/camera_info"),
+                "sensor_msgs/msg/CameraInfo",
+                q,
+            )?,
+            last_ns: None,
+        })
+    }
+}
+
+/// The graph publishes after each step the engine takes.
+impl Tap for RosGraph {
+    fn input(&mut self, _: &Simulation, _: InputAt, _: EngineInput<'_>) {}
+
+    fn stepped(&mut self, sim: &Simulation, _steps: u64) {
+        self.after_step(sim);
+    }
+
+    fn finish(&mut self, _: &Simulation, _: u64) {}
+}
+
+impl Drop for RosGraph {
+    fn drop(&mut self) {
+        for id in [self.clock, self.tf, self.tf_static, self.joint_states] {
+            self.net.close(id);
+        }
+        for c in self.cameras.values() {
+            for id in [c.image, c.depth, c.info] {
+                self.net.close(id);
+            }
+        }
+    }
+}
+
+/// The image, depth image and camera info of sensor `h`, rendered first when stale.
+fn camera_messages(
+    world: &gantry_sim_core::World,
+    states: &mut gantry_sim_core::vision::VisionStates,
+    h: Handle,
+    frame: &str,
+    stamp: Time,
+) -> Result<[Vec<u8>; 3], gantry_sim_core::SimError> {
+    let (model, _) = vision::sensor_model(world, h)?;
+    let (near, far, fov, projection, ortho) = (model.near, model.far, model.fov, model.projection, model.ortho_size);
+    let img = vision::read(world, states, h)?;
+    let [w, hgt] = img.resolution();
+    let image = msg::image(stamp, frame, w, hgt, img.rgb());
+    // 32FC1 in metres, top row first; +inf where nothing is seen (REP 118).
+    let mut d = CdrWriter::with_capacity(64 + frame.len() + img.depth().len() * 4);
+    d.i32(stamp.sec);
+    d.u32(stamp.nanosec);
+    d.string(frame);
+    d.u32(hgt);
+    d.u32(w);
+    d.string("32FC1");
+    d.u8(0);
+    d.u32(4 * w);
+    d.sequence_len(img.depth().len() * 4);
+    let row = w as usize;
+    if row > 0 {
+        let mut bytes = Vec::with_capacity(row * 4);
+        for r in img.depth().chunks_exact(row).rev() {
+            bytes.clear();
+            for &v in r {
+                let m = if v >= 1.0 {
+                    f32::INFINITY
+                } else {
+                    (near + f64::from(v) * (far - near)) as f32
+                };
+                bytes.extend_from_slice(&m.to_le_bytes());
+            }
+            d.raw(&bytes);
+        }
+    }
+    let info = camera_info(stamp, frame, w, hgt, projection, fov, ortho);
+    Ok([image, d.into_bytes(), info])
+}
+
+/// `sensor_msgs/CameraInfo` of a pinhole camera whose view angle `fov` (rad) spans the
+/// larger side of the image, as CoppeliaSim's perspective angle does. An orthographic
+/// sensor has no pinhole model: its matrices are left at zero (ROS's "uncalibrated").
+fn camera_info(stamp: Time, frame: &str, w: u32, h: u32, projection: Projection, fov: f64, _ortho: f64) -> Vec<u8> {
+    let (fx, cx, cy) = match projection {
+        Projection::Perspective => {
+            let f = (f64::from(w.max(h)) / 2.0) / (fov / 2.0).tan();
+            (f, (f64::from(w) - 1.0) / 2.0, (f64::from(h) - 1.0) / 2.0)
+        }
+        Projection::Orthographic => (0.0, 0.0, 0.0),
+    };
+    let mut c = CdrWriter::with_capacity(400 + frame.len());
+    c.i32(stamp.sec);
+    c.u32(stamp.nanosec);
+    c.string(frame);
+    c.u32(h);
+    c.u32(w);
+    c.string("plumb_bob");
+    c.f64_sequence(&[0.0; 5]);
+    for v in [fx, 0.0, cx, 0.0, fx, cy, 0.0, 0.0, 1.0] {
+        c.f64(v);
+    }
+    for v in [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0] {
+        c.f64(v);
+    }
+    for v in [fx, 0.0, cx, 0.0, 0.0, fx, cy, 0.0, 0.0, 0.0, 1.0, 0.0] {
+        c.f64(v);
+    }
+    // binning_x, binning_y, then the region of interest (all of the image).
+    c.u32(0);
+    c.u32(0);
+    for _ in 0..4 {
+        c.u32(0);
+    }
+    c.u8(0);
+    c.into_bytes()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn topic_tokens_follow_ros_name_rules() {
+        assert_eq!(topic_token("bubbleRob/visionSensor"), "bubbleRob/visionSensor");
+        assert_eq!(topic_token("wheel[1]/cam-2"), "wheel_1_/cam_2");
+        assert_eq!(topic_token("3d/cam"), "_3d/cam");
+    }
+
+    #[test]
+    fn dds_type_names_are_mangled_as_ros_does() {
+        assert_eq!(dds_type("sensor_msgs/msg/Image"), "sensor_msgs::msg::dds_::Image_");
+    }
+}

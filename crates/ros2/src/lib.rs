@@ -1,0 +1,43 @@
+//! gantry on a ROS 2 graph, with nothing installed but gantry.
+//!
+//! ROS 2 nodes talk DDS/RTPS; RustDDS speaks it in pure Rust, so gantry joins a graph
+//! without a ROS distribution or a C toolchain. This crate sits above the simulation,
+//! on the simulation thread's side of a channel like every other transport:
+//!
+//! - [`config`]: the domain and discovery range, from ROS's environment variables;
+//! - [`node`]: the DDS participant on its own thread, which carries CDR bodies for the
+//!   Lua host's `simROS2` module (the [`gantry_script::ros::RosNetwork`] it
+//!   implements) and for the graph;
+//! - [`graph`]: `/clock`, `/tf`, `/joint_states` and camera topics after each step.
+//!
+//! See docs/ros2.md.
+
+pub mod config;
+pub mod graph;
+pub mod node;
+mod raw;
+
+pub use config::{ConfigError, DiscoveryRange, RosConfig};
+pub use graph::{GraphOptions, RosGraph};
+
+/// What a front end runs ROS 2 with.
+#[derive(Debug, Clone)]
+pub struct RosSetup {
+    /// The network (started on first use, or by [`DdsNetwork::start_now`]).
+    pub network: std::sync::Arc<DdsNetwork>,
+    /// Publish the graph's topics with these options (`--ros2`); `None`: only what
+    /// scripts publish.
+    pub graph: Option<GraphOptions>,
+}
+
+impl RosSetup {
+    /// The graph's publisher when asked for; `None` otherwise, or (logged) when the
+    /// network cannot open its topics.
+    pub fn graph(&self) -> Option<RosGraph> {
+        let options = self.graph?;
+        RosGraph::new(self.network.clone(), options)
+            .map_err(|e| tracing::error!("ROS 2: the graph's topics are not published: {e}"))
+            .ok()
+    }
+}
+pub use node::{DdsNetwork, EndpointStats};

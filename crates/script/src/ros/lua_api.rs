@@ -1,0 +1,655 @@
+//! The `simROS2` table scripts call, and `simROS` (ROS 1's plugin) on the same graph.
+//! Each function reports failure as `(false, message)` for the API's error wrapper,
+//! which raises it from the caller's line as CoppeliaSim does.
+//!
+//! Messages are Lua tables with ROS's field names; fields left out take ROS's defaults,
+//! `uint8[]` fields are Lua strings, and times are `{sec=, nanosec=}` tables (a number of
+//! seconds is accepted too, as ROS 1's plugin took). Handles are integers.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use gantry_protocol::Value;
+use gantry_protocol::ros::{
+    MsgType, message_type, service_reply_topic, service_request_topic, service_type, topic_name,
+};
+use mlua::{Function, Lua, MultiValue, Table, Value as LuaValue};
+
+use super::host::{Callback, Endpoint, Kind, RosHost};
+use super::network::{Direction, RosQos};
+use crate::app_state::state;
+use crate::convert::{to_lua, to_value};
+use crate::core_cell::CoreCell;
+use crate::running::Running;
+
+/// The functions of `simROS2`, sorted (the registry lists the same names; a test checks
+/// that the two agree).
+pub const FUNCTIONS: &[&str] = &[
+    "call",
+    "createClient",
+    "createInterface",
+    "createPublisher",
+    "createService",
+    "createSubscription",
+    "getSimulationTime",
+    "getSystemTime",
+    "getTime",
+    "publish",
+    "publisherTreatUInt8ArrayAsString",
+    "sendTransform",
+    "sendTransforms",
+    "shutdownClient",
+    "shutdownPublisher",
+    "shutdownService",
+    "shutdownSubscription",
+    "subscriptionTreatUInt8ArrayAsString",
+    "timeFromFloat",
+    "timeToFloat",
+    "waitForService",
+];
+
+/// The functions of `simROS` (ROS 1's plugin), sorted: served on the ROS 2 graph.
+pub const ROS1_FUNCTIONS: &[&str] = &[
+    "advertise",
+    "getTime",
+    "publish",
+    "publisherTreatUInt8ArrayAsString",
+    "sendTransform",
+    "sendTransforms",
+    "shutdownPublisher",
+    "shutdownSubscriber",
+    "subscribe",
+    "subscriberTreatUInt8ArrayAsString",
+];
+
+/// How long `simROS2.call` waits for a reply, s.
+pub const CALL_TIMEOUT_S: f64 = 5.0;
+
+type Res = Result<Vec<LuaValue>, String>;
+
+fn arg(args: &MultiValue, i: usize) -> Option<&LuaValue> {
+    args.get(i).filter(|v| !v.is_nil())
+}
+
+fn string_arg(args: &MultiValue, i: usize, what: &str) -> Result<String, String> {
+    match arg(args, i) {
+        Some(LuaValue::String(s)) => s
+            .to_str()
+            .map(|s| s.to_string())
+            .map_err(|_| format!("argument {}: {what} is not UTF-8", i + 1)),
+        Some(v) => Err(format!(
+            "argument {}: {what} must be a string, got {}",
+            i + 1,
+            v.type_name()
+        )),
+        None => Err(format!("argument {}: {what} is missing", i + 1)),
+    }
+}
+
+fn handle_arg(args: &MultiValue, i: usize) -> Result<i64, String> {
+    match arg(args, i) {
+        Some(LuaValue::Integer(h)) => Ok(*h),
+        Some(LuaValue::Number(n)) if n.fract() == 0.0 => Ok(*n as i64),
+        Some(v) => Err(format!("argument {}: expected a handle, got {}", i + 1, v.type_name())),
+        None => Err(format!("argument {}: the handle is missing", i + 1)),
+    }
+}
+
+fn table_value(args: &MultiValue, i: usize, what: &str) -> Result<Value, String> {
+    match arg(args, i) {
+        Some(v @ LuaValue::Table(_)) => to_value(v).map_err(|e| format!("argument {}: {what}: {e}", i + 1)),
+        Some(v) => Err(format!(
+            "argument {}: {what} must be a table, got {}",
+            i + 1,
+            v.type_name()
+        )),
+        None => Err(format!("argument {}: {what} is missing", i + 1)),
+    }
+}
+
+/// The QoS of `createPublisher(topic, type, queueSize|qos, latch)` and
+/// `createSubscription(topic, type, callback, queueSize|qos)`: a number is the history
+/// depth; a table holds `history`, `depth`, `reliability`, `durability` with the values
+/// of `simROS2.qos_*_policy`; `latch` makes a publisher transient-local.
+fn qos_arg(v: Option<&LuaValue>, latch: bool) -> Result<RosQos, String> {
+    let mut q = RosQos {
+        transient_local: latch,
+        ..RosQos::default()
+    };
+    match v {
+        None => {}
+        Some(LuaValue::Integer(d)) => {
+            q.depth = u32::try_from(*d)
+                .map_err(|_| format!("queue size {d} is not valid"))?
+                .max(1)
+        }
+        Some(LuaValue::Number(d)) if d.fract() == 0.0 && *d >= 0.0 => q.depth = (*d as u32).max(1),
+        Some(LuaValue::Table(t)) => {
+            let int = |k: &str| -> Result<Option<i64>, String> {
+                match t.get::<LuaValue>(k).map_err(|e| e.to_string())? {
+                    LuaValue::Nil => Ok(None),
+                    LuaValue::Integer(i) => Ok(Some(i)),
+                    LuaValue::Number(n) if n.fract() == 0.0 => Ok(Some(n as i64)),
+                    other => Err(format!("qos.{k} must be an integer, got {}", other.type_name())),
+                }
+            };
+            if let Some(d) = int("depth")? {
+                q.depth = u32::try_from(d)
+                    .map_err(|_| format!("qos.depth {d} is not valid"))?
+                    .max(1);
+            }
+            match int("history")? {
+                // keep_all: the deepest queue gantry keeps.
+                Some(2) => q.depth = q.depth.max(1000),
+                None | Some(0..=1) => {}
+                Some(h) => return Err(format!("qos.history {h} is not a simROS2.qos_history_policy value")),
+            }
+            match int("reliability")? {
+                None | Some(0 | 1) => q.reliable = true,
+                Some(2) => q.reliable = false,
+                Some(r) => {
+                    return Err(format!(
+                        "qos.reliability {r} is not a simROS2.qos_reliability_policy value"
+                    ));
+                }
+            }
+            match int("durability")? {
+                None | Some(0) => {}
+                Some(1) => q.transient_local = true,
+                Some(2) => q.transient_local = false,
+                Some(d) => {
+                    return Err(format!(
+                        "qos.durability {d} is not a simROS2.qos_durability_policy value"
+                    ));
+                }
+            }
+        }
+        Some(other) => {
+            return Err(format!(
+                "the queue size or QoS must be a number or a table, got {}",
+                other.type_name()
+            ));
+        }
+    }
+    Ok(q)
+}
+
+fn callback_arg(lua: &Lua, v: Option<&LuaValue>) -> Result<Callback, String> {
+    match v {
+        Some(LuaValue::Function(f)) => lua
+            .create_registry_value(f.clone())
+            .map(Callback::Function)
+            .map_err(|e| e.to_string()),
+        Some(LuaValue::String(s)) => Ok(Callback::Name(s.to_string_lossy())),
+        Some(other) => Err(format!(
+            "the callback must be a function or its name, got {}",
+            other.type_name()
+        )),
+        None => Err("the callback is missing".to_owned()),
+    }
+}
+
+fn msg_type(name: &str) -> Result<&'static MsgType, String> {
+    message_type(name).map_err(|e| e.to_string())
+}
+
+fn running_object(lua: &Lua) -> Option<gantry_sim_core::Handle> {
+    state::<Running>(lua).object.get()
+}
+
+/// Simulation time, s.
+fn sim_time(lua: &Lua) -> f64 {
+    state::<CoreCell>(lua)
+        .try_borrow()
+        .map(|s| s.world.time())
+        .unwrap_or(0.0)
+}
+
+/// `builtin_interfaces/Time` of `t` seconds (negative and non-finite times are 0).
+pub(crate) fn time_value(t: f64) -> Value {
+    let t = if t.is_finite() && t > 0.0 { t } else { 0.0 };
+    let sec = t.floor();
+    let mut nanosec = ((t - sec) * 1e9).round();
+    let mut sec = sec;
+    if nanosec >= 1e9 {
+        sec += 1.0;
+        nanosec = 0.0;
+    }
+    Value::Map(vec![
+        (
+            Value::Str("sec".into()),
+            Value::Int(sec.min(f64::from(i32::MAX)) as i64),
+        ),
+        (Value::Str("nanosec".into()), Value::Int(nanosec as i64)),
+    ])
+}
+
+fn time_lua(lua: &Lua, t: f64) -> mlua::Result<LuaValue> {
+    to_lua(lua, &time_value(t))
+}
+
+fn encode(ty: &MsgType, v: &Value) -> Result<Vec<u8>, String> {
+    let mut body = Vec::new();
+    ty.encode_into(v, &mut body, 0).map_err(|e| e.to_string())?;
+    Ok(body)
+}
+
+fn create_publisher(lua: &Lua, args: &MultiValue) -> Res {
+    let topic = string_arg(args, 0, "the topic name")?;
+    let type_name = string_arg(args, 1, "the message type")?;
+    let ty = msg_type(&type_name)?;
+    let latch = matches!(arg(args, 3), Some(LuaValue::Boolean(true)));
+    let qos = qos_arg(arg(args, 2), latch)?;
+    let dds_topic = topic_name(&topic).map_err(|e| e.to_string())?;
+    let host = state::<RosHost>(lua);
+    let id = host
+        .open(Direction::Publish, dds_topic, ty.dds_type_name(), qos)
+        .map_err(|e| e.to_string())?;
+    let h = host.insert(Endpoint {
+        script: running_object(lua),
+        kind: Kind::Publisher { id, ty },
+    });
+    Ok(vec![LuaValue::Integer(h)])
+}
+
+fn publish(lua: &Lua, args: &MultiValue) -> Res {
+    let h = handle_arg(args, 0)?;
+    let msg = table_value(args, 1, "the message")?;
+    let host = state::<RosHost>(lua);
+    let (id, ty) = match host.endpoints.borrow().get(&h).map(|e| &e.kind) {
+        Some(Kind::Publisher { id, ty }) => (*id, *ty),
+        _ => return Err(format!("argument 1: {h} is not a publisher handle")),
+    };
+    let body = encode(ty, &msg)?;
+    host.network()
+        .and_then(|n| n.write(id, body))
+        .map_err(|e| e.to_string())?;
+    Ok(vec![])
+}
+
+fn shutdown(lua: &Lua, args: &MultiValue, what: &str, is: fn(&Kind) -> bool) -> Res {
+    let h = handle_arg(args, 0)?;
+    let host = state::<RosHost>(lua);
+    let ok = host.endpoints.borrow().get(&h).is_some_and(|e| is(&e.kind));
+    if !ok {
+        return Err(format!("argument 1: {h} is not a {what} handle"));
+    }
+    host.remove(h);
+    Ok(vec![])
+}
+
+fn create_subscription(lua: &Lua, args: &MultiValue) -> Res {
+    let topic = string_arg(args, 0, "the topic name")?;
+    let type_name = string_arg(args, 1, "the message type")?;
+    let ty = msg_type(&type_name)?;
+    let callback = callback_arg(lua, arg(args, 2)).map_err(|e| format!("argument 3: {e}"))?;
+    let qos = qos_arg(arg(args, 3), false)?;
+    let dds_topic = topic_name(&topic).map_err(|e| e.to_string())?;
+    let host = state::<RosHost>(lua);
+    let id = host
+        .open(Direction::Subscribe, dds_topic, ty.dds_type_name(), qos)
+        .map_err(|e| e.to_string())?;
+    let h = host.insert(Endpoint {
+        script: running_object(lua),
+        kind: Kind::Subscription {
+            id,
+            ty,
+            callback,
+            warned: std::cell::Cell::new(false),
+        },
+    });
+    Ok(vec![LuaValue::Integer(h)])
+}
+
+fn create_service(lua: &Lua, args: &MultiValue) -> Res {
+    let name = string_arg(args, 0, "the service name")?;
+    let type_name = string_arg(args, 1, "the service type")?;
+    let ty = service_type(&type_name).map_err(|e| e.to_string())?;
+    let callback = callback_arg(lua, arg(args, 2)).map_err(|e| format!("argument 3: {e}"))?;
+    let host = state::<RosHost>(lua);
+    let rq = service_request_topic(&name).map_err(|e| e.to_string())?;
+    let rr = service_reply_topic(&name).map_err(|e| e.to_string())?;
+    let requests = host
+        .open(Direction::Subscribe, rq, ty.dds_request_type_name(), RosQos::default())
+        .map_err(|e| e.to_string())?;
+    let replies = match host.open(Direction::Publish, rr, ty.dds_response_type_name(), RosQos::default()) {
+        Ok(r) => r,
+        Err(e) => {
+            if let Ok(n) = host.network() {
+                n.close(requests);
+            }
+            return Err(e.to_string());
+        }
+    };
+    let h = host.insert(Endpoint {
+        script: running_object(lua),
+        kind: Kind::Service {
+            requests,
+            replies,
+            ty,
+            callback,
+        },
+    });
+    Ok(vec![LuaValue::Integer(h)])
+}
+
+/// Client ids: distinct per client in this process, and unlikely to meet another
+/// process's (the process id in the high bits).
+fn next_guid() -> u64 {
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    (u64::from(std::process::id()) << 32) | NEXT.fetch_add(1, Ordering::Relaxed)
+}
+
+fn create_client(lua: &Lua, args: &MultiValue) -> Res {
+    let name = string_arg(args, 0, "the service name")?;
+    let type_name = string_arg(args, 1, "the service type")?;
+    let ty = service_type(&type_name).map_err(|e| e.to_string())?;
+    let host = state::<RosHost>(lua);
+    let rq = service_request_topic(&name).map_err(|e| e.to_string())?;
+    let rr = service_reply_topic(&name).map_err(|e| e.to_string())?;
+    let requests = host
+        .open(Direction::Publish, rq, ty.dds_request_type_name(), RosQos::default())
+        .map_err(|e| e.to_string())?;
+    let replies = match host.open(Direction::Subscribe, rr, ty.dds_response_type_name(), RosQos::default()) {
+        Ok(r) => r,
+        Err(e) => {
+            if let Ok(n) = host.network() {
+                n.close(requests);
+            }
+            return Err(e.to_string());
+        }
+    };
+    let h = host.insert(Endpoint {
+        script: running_object(lua),
+        kind: Kind::Client {
+            requests,
+            replies,
+            ty,
+            guid: next_guid(),
+            seq: std::cell::Cell::new(0),
+        },
+    });
+    Ok(vec![LuaValue::Integer(h)])
+}
+
+/// The 16-byte request header of rmw_cyclonedds: the client's id and the request's
+/// sequence number, little-endian.
+pub(crate) fn request_header(guid: u64, seq: i64) -> Vec<u8> {
+    let mut b = Vec::with_capacity(64);
+    b.extend_from_slice(&guid.to_le_bytes());
+    b.extend_from_slice(&seq.to_le_bytes());
+    b
+}
+
+/// A header read back in the byte order of its sample.
+pub(crate) fn read_header(body: &[u8], little_endian: bool) -> Option<(u64, i64)> {
+    let g: [u8; 8] = body.get(0..8)?.try_into().ok()?;
+    let s: [u8; 8] = body.get(8..16)?.try_into().ok()?;
+    Some(if little_endian {
+        (u64::from_le_bytes(g), i64::from_le_bytes(s))
+    } else {
+        (u64::from_be_bytes(g), i64::from_be_bytes(s))
+    })
+}
+
+/// `simROS2.call(client, request)`: sends the request and waits for its reply, at most
+/// [`CALL_TIMEOUT_S`] of wall time (CoppeliaSim's call blocks the same way; the
+/// simulation is not stepped meanwhile).
+fn call(lua: &Lua, args: &MultiValue) -> Res {
+    let h = handle_arg(args, 0)?;
+    let req = table_value(args, 1, "the request")?;
+    let host = state::<RosHost>(lua);
+    let (requests, replies, ty, guid, seq) = match host.endpoints.borrow().get(&h).map(|e| &e.kind) {
+        Some(Kind::Client {
+            requests,
+            replies,
+            ty,
+            guid,
+            seq,
+        }) => {
+            seq.set(seq.get() + 1);
+            (*requests, *replies, *ty, *guid, seq.get())
+        }
+        _ => return Err(format!("argument 1: {h} is not a client handle")),
+    };
+    let mut body = request_header(guid, seq);
+    ty.request()
+        .encode_into(&req, &mut body, 0)
+        .map_err(|e| e.to_string())?;
+    let net = host.network().map_err(|e| e.to_string())?;
+    drop(host);
+    net.write(requests, body).map_err(|e| e.to_string())?;
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs_f64(CALL_TIMEOUT_S);
+    while std::time::Instant::now() < deadline {
+        for s in net.take(replies, usize::MAX) {
+            if read_header(&s.body, s.little_endian) == Some((guid, seq)) {
+                let v = ty
+                    .response()
+                    .decode_body(&s.body, s.little_endian, 16)
+                    .map_err(|e| format!("the reply is malformed: {e}"))?;
+                return Ok(vec![to_lua(lua, &v).map_err(|e| e.to_string())?]);
+            }
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    Err(format!("no reply from service {} within {CALL_TIMEOUT_S} s", ty.name()))
+}
+
+fn transform_stamped() -> &'static MsgType {
+    // Known to the codec: a missing entry is a bug caught by the tests.
+    message_type("tf2_msgs/msg/TFMessage").expect("tf2_msgs/msg/TFMessage is a known type")
+}
+
+fn send_transforms(lua: &Lua, transforms: Vec<Value>) -> Res {
+    let host = state::<RosHost>(lua);
+    let id = match host.tf.get() {
+        Some(id) => id,
+        None => {
+            let id = host
+                .open(
+                    Direction::Publish,
+                    "rt/tf".to_owned(),
+                    transform_stamped().dds_type_name(),
+                    RosQos {
+                        depth: 100,
+                        ..RosQos::default()
+                    },
+                )
+                .map_err(|e| e.to_string())?;
+            host.tf.set(Some(id));
+            id
+        }
+    };
+    let msg = Value::Map(vec![(Value::Str("transforms".into()), Value::Array(transforms))]);
+    let body = encode(transform_stamped(), &msg)?;
+    host.network()
+        .and_then(|n| n.write(id, body))
+        .map_err(|e| e.to_string())?;
+    Ok(vec![])
+}
+
+fn create_interface(lua: &Lua, args: &MultiValue) -> Res {
+    let type_name = string_arg(args, 0, "the message type")?;
+    let ty = msg_type(&type_name)?;
+    Ok(vec![to_lua(lua, &ty.default_value()).map_err(|e| e.to_string())?])
+}
+
+fn time_arg(args: &MultiValue, i: usize) -> Result<f64, String> {
+    match arg(args, i) {
+        Some(LuaValue::Integer(n)) => Ok(*n as f64),
+        Some(LuaValue::Number(n)) => Ok(*n),
+        Some(LuaValue::Table(t)) => {
+            let sec: f64 = t.get::<Option<f64>>("sec").ok().flatten().unwrap_or(0.0);
+            let ns: f64 = t.get::<Option<f64>>("nanosec").ok().flatten().unwrap_or(0.0);
+            Ok(sec + ns * 1e-9)
+        }
+        Some(v) => Err(format!("argument {}: expected a time, got {}", i + 1, v.type_name())),
+        None => Err(format!("argument {}: the time is missing", i + 1)),
+    }
+}
+
+/// Adds `f` to `table` as `name`, reporting its errors through `wrap`.
+fn add(
+    lua: &Lua,
+    table: &Table,
+    wrap: &Function,
+    module: &'static str,
+    name: &'static str,
+    f: fn(&Lua, &MultiValue) -> Res,
+) -> mlua::Result<()> {
+    let func = lua.create_function(move |lua, args: MultiValue| {
+        if module == "simROS" {
+            notice_ros1(lua);
+        }
+        match f(lua, &args) {
+            Ok(values) => {
+                let mut out = MultiValue::from_iter(values);
+                out.push_front(LuaValue::Boolean(true));
+                Ok(out)
+            }
+            Err(e) => Ok(MultiValue::from_iter([
+                LuaValue::Boolean(false),
+                LuaValue::String(lua.create_string(format!("{e} (in function '{module}.{name}')"))?),
+            ])),
+        }
+    })?;
+    table.set(name, wrap.call::<Function>(func)?)
+}
+
+/// Logs, once per Lua state, that ROS 1 calls go to the ROS 2 graph.
+fn notice_ros1(lua: &Lua) {
+    let host = state::<RosHost>(lua);
+    if !host.ros1_noticed.replace(true) {
+        tracing::warn!(
+            "simROS: ROS 1 is end-of-life; gantry serves this script's simROS calls on the ROS 2 graph \
+             (types such as geometry_msgs/Twist become geometry_msgs/msg/Twist)"
+        );
+    }
+}
+
+fn policy_table(lua: &Lua, entries: &[(&str, i64)]) -> mlua::Result<Table> {
+    let t = lua.create_table()?;
+    for (k, v) in entries {
+        t.set(*k, *v)?;
+    }
+    Ok(t)
+}
+
+/// Creates the `simROS2` and `simROS` tables.
+pub(crate) fn install(lua: &Lua, wrap: &Function) -> mlua::Result<(Table, Table)> {
+    let r2 = lua.create_table()?;
+    let m = "simROS2";
+    add(lua, &r2, wrap, m, "createPublisher", create_publisher)?;
+    add(lua, &r2, wrap, m, "publish", publish)?;
+    add(lua, &r2, wrap, m, "shutdownPublisher", |lua, a| {
+        shutdown(lua, a, "publisher", |k| matches!(k, Kind::Publisher { .. }))
+    })?;
+    add(lua, &r2, wrap, m, "createSubscription", create_subscription)?;
+    add(lua, &r2, wrap, m, "shutdownSubscription", |lua, a| {
+        shutdown(lua, a, "subscription", |k| matches!(k, Kind::Subscription { .. }))
+    })?;
+    add(lua, &r2, wrap, m, "createService", create_service)?;
+    add(lua, &r2, wrap, m, "shutdownService", |lua, a| {
+        shutdown(lua, a, "service", |k| matches!(k, Kind::Service { .. }))
+    })?;
+    add(lua, &r2, wrap, m, "createClient", create_client)?;
+    add(lua, &r2, wrap, m, "shutdownClient", |lua, a| {
+        shutdown(lua, a, "client", |k| matches!(k, Kind::Client { .. }))
+    })?;
+    add(lua, &r2, wrap, m, "call", call)?;
+    // Discovery runs on the DDS thread; a request sent before it matched the server is
+    // still delivered by the reliable, history-keeping endpoints, so waiting is not
+    // needed: true at once.
+    add(lua, &r2, wrap, m, "waitForService", |_, a| {
+        handle_arg(a, 0)?;
+        Ok(vec![LuaValue::Boolean(true)])
+    })?;
+    add(lua, &r2, wrap, m, "sendTransform", |lua, a| {
+        let t = table_value(a, 0, "the transform")?;
+        send_transforms(lua, vec![t])
+    })?;
+    add(lua, &r2, wrap, m, "sendTransforms", |lua, a| {
+        match table_value(a, 0, "the transforms")? {
+            Value::Array(ts) => send_transforms(lua, ts),
+            Value::Map(m) if m.is_empty() => send_transforms(lua, Vec::new()),
+            _ => Err("argument 1: the transforms must be an array of geometry_msgs/TransformStamped tables".to_owned()),
+        }
+    })?;
+    add(lua, &r2, wrap, m, "createInterface", create_interface)?;
+    // gantry's ROS clock is the simulation's (/clock): stamps agree with use_sim_time nodes.
+    add(lua, &r2, wrap, m, "getTime", |lua, _| {
+        Ok(vec![time_lua(lua, sim_time(lua)).map_err(|e| e.to_string())?])
+    })?;
+    add(lua, &r2, wrap, m, "getSimulationTime", |lua, _| {
+        Ok(vec![time_lua(lua, sim_time(lua)).map_err(|e| e.to_string())?])
+    })?;
+    add(lua, &r2, wrap, m, "getSystemTime", |lua, _| {
+        let now = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0.0, |d| d.as_secs_f64());
+        Ok(vec![time_lua(lua, now).map_err(|e| e.to_string())?])
+    })?;
+    add(lua, &r2, wrap, m, "timeFromFloat", |lua, a| {
+        let t = time_arg(a, 0)?;
+        Ok(vec![time_lua(lua, t).map_err(|e| e.to_string())?])
+    })?;
+    add(lua, &r2, wrap, m, "timeToFloat", |_, a| {
+        Ok(vec![LuaValue::Number(time_arg(a, 0)?)])
+    })?;
+    // uint8[] fields are always Lua strings here: these switches change nothing.
+    add(lua, &r2, wrap, m, "publisherTreatUInt8ArrayAsString", |_, a| {
+        handle_arg(a, 0)?;
+        Ok(vec![])
+    })?;
+    add(lua, &r2, wrap, m, "subscriptionTreatUInt8ArrayAsString", |_, a| {
+        handle_arg(a, 0)?;
+        Ok(vec![])
+    })?;
+    r2.set(
+        "qos_history_policy",
+        policy_table(lua, &[("system_default", 0), ("keep_last", 1), ("keep_all", 2)])?,
+    )?;
+    r2.set(
+        "qos_reliability_policy",
+        policy_table(lua, &[("system_default", 0), ("reliable", 1), ("best_effort", 2)])?,
+    )?;
+    r2.set(
+        "qos_durability_policy",
+        policy_table(lua, &[("system_default", 0), ("transient_local", 1), ("volatile", 2)])?,
+    )?;
+
+    let r1 = lua.create_table()?;
+    let m = "simROS";
+    add(lua, &r1, wrap, m, "advertise", create_publisher)?;
+    add(lua, &r1, wrap, m, "publish", publish)?;
+    add(lua, &r1, wrap, m, "shutdownPublisher", |lua, a| {
+        shutdown(lua, a, "publisher", |k| matches!(k, Kind::Publisher { .. }))
+    })?;
+    add(lua, &r1, wrap, m, "subscribe", create_subscription)?;
+    add(lua, &r1, wrap, m, "shutdownSubscriber", |lua, a| {
+        shutdown(lua, a, "subscriber", |k| matches!(k, Kind::Subscription { .. }))
+    })?;
+    // ROS 1's plugin returned time as a number of seconds.
+    add(lua, &r1, wrap, m, "getTime", |lua, _| {
+        Ok(vec![LuaValue::Number(sim_time(lua))])
+    })?;
+    add(lua, &r1, wrap, m, "sendTransform", |lua, a| {
+        let t = table_value(a, 0, "the transform")?;
+        send_transforms(lua, vec![t])
+    })?;
+    add(lua, &r1, wrap, m, "sendTransforms", |lua, a| {
+        match table_value(a, 0, "the transforms")? {
+            Value::Array(ts) => send_transforms(lua, ts),
+            Value::Map(m) if m.is_empty() => send_transforms(lua, Vec::new()),
+            _ => Err("argument 1: the transforms must be an array of geometry_msgs/TransformStamped tables".to_owned()),
+        }
+    })?;
+    add(lua, &r1, wrap, m, "publisherTreatUInt8ArrayAsString", |_, a| {
+        handle_arg(a, 0)?;
+        Ok(vec![])
+    })?;
+    add(lua, &r1, wrap, m, "subscriberTreatUInt8ArrayAsString", |_, a| {
+        handle_arg(a, 0)?;
+        Ok(vec![])
+    })?;
+    Ok((r2, r1))
+}

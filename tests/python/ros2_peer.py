@@ -1,0 +1,205 @@
+"""The independent ROS 2 peer of test_ros2.py: Eclipse Cyclone DDS from PyPI (the core of
+ROS 2's rmw_cyclonedds_cpp) with ROS 2's name mangling written out by hand, so that
+nothing here comes from gantry.
+
+ROS 2 maps topic ``/x`` to DDS topic ``rt/x`` and message type ``pkg/msg/T`` to DDS type
+``pkg::msg::dds_::T_``; a service ``/s`` is two topics, ``rq/sRequest`` and
+``rr/sReply``, whose samples begin (in rmw_cyclonedds' mapping) with the client's id and
+a sequence number. The dataclasses below are those messages' IDL, field for field.
+"""
+
+
+import os
+import random
+import time
+from dataclasses import dataclass
+
+from cyclonedds.core import Policy, Qos
+from cyclonedds.domain import DomainParticipant
+from cyclonedds.idl import IdlStruct
+from cyclonedds.idl.types import array, float32, float64, int32, int64, sequence, uint8, uint32, uint64
+from cyclonedds.pub import DataWriter
+from cyclonedds.sub import DataReader
+from cyclonedds.topic import Topic
+from cyclonedds.util import duration
+
+
+@dataclass
+class Time(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
+    sec: int32
+    nanosec: uint32
+
+
+@dataclass
+class Clock(IdlStruct, typename="rosgraph_msgs::msg::dds_::Clock_"):
+    clock: Time
+
+
+@dataclass
+class Header(IdlStruct, typename="std_msgs::msg::dds_::Header_"):
+    stamp: Time
+    frame_id: str
+
+
+@dataclass
+class Bool(IdlStruct, typename="std_msgs::msg::dds_::Bool_"):
+    data: bool
+
+
+@dataclass
+class Float32(IdlStruct, typename="std_msgs::msg::dds_::Float32_"):
+    data: float32
+
+
+@dataclass
+class Vector3(IdlStruct, typename="geometry_msgs::msg::dds_::Vector3_"):
+    x: float64
+    y: float64
+    z: float64
+
+
+@dataclass
+class Quaternion(IdlStruct, typename="geometry_msgs::msg::dds_::Quaternion_"):
+    x: float64
+    y: float64
+    z: float64
+    w: float64
+
+
+@dataclass
+class Transform(IdlStruct, typename="geometry_msgs::msg::dds_::Transform_"):
+    translation: Vector3
+    rotation: Quaternion
+
+
+@dataclass
+class TransformStamped(IdlStruct, typename="geometry_msgs::msg::dds_::TransformStamped_"):
+    header: Header
+    child_frame_id: str
+    transform: Transform
+
+
+@dataclass
+class TFMessage(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
+    transforms: sequence[TransformStamped]
+
+
+@dataclass
+class Twist(IdlStruct, typename="geometry_msgs::msg::dds_::Twist_"):
+    linear: Vector3
+    angular: Vector3
+
+
+@dataclass
+class TruncatedTwist(IdlStruct, typename="geometry_msgs::msg::dds_::Twist_"):
+    """Bad input: a `Twist` by name with one float where six belong."""
+
+    linear_x: float64
+
+
+@dataclass
+class JointState(IdlStruct, typename="sensor_msgs::msg::dds_::JointState_"):
+    header: Header
+    name: sequence[str]
+    position: sequence[float64]
+    velocity: sequence[float64]
+    effort: sequence[float64]
+
+
+@dataclass
+class Image(IdlStruct, typename="sensor_msgs::msg::dds_::Image_"):
+    header: Header
+    height: uint32
+    width: uint32
+    encoding: str
+    is_bigendian: uint8
+    step: uint32
+    data: sequence[uint8]
+
+
+@dataclass
+class RegionOfInterest(IdlStruct, typename="sensor_msgs::msg::dds_::RegionOfInterest_"):
+    x_offset: uint32
+    y_offset: uint32
+    height: uint32
+    width: uint32
+    do_rectify: bool
+
+
+@dataclass
+class CameraInfo(IdlStruct, typename="sensor_msgs::msg::dds_::CameraInfo_"):
+    header: Header
+    height: uint32
+    width: uint32
+    distortion_model: str
+    d: sequence[float64]
+    k: array[float64, 9]
+    r: array[float64, 9]
+    p: array[float64, 12]
+    binning_x: uint32
+    binning_y: uint32
+    roi: RegionOfInterest
+
+
+@dataclass
+class SetBoolRequest(IdlStruct, typename="std_srvs::srv::dds_::SetBool_Request_"):
+    client_guid: uint64
+    sequence_number: int64
+    data: bool
+
+
+@dataclass
+class SetBoolResponse(IdlStruct, typename="std_srvs::srv::dds_::SetBool_Response_"):
+    client_guid: uint64
+    sequence_number: int64
+    success: bool
+    message: str
+
+
+def loopback_config() -> str:
+    """Cyclone on the loopback interface, as ROS_LOCALHOST_ONLY=1 configures it: gantry
+    joins the graph on this host only by default."""
+    return (
+        "<CycloneDDS><Domain><General><Interfaces>"
+        '<NetworkInterface address="127.0.0.1" multicast="true"/>'
+        "</Interfaces></General></Domain></CycloneDDS>"
+    )
+
+
+def free_domain() -> int:
+    """A domain id no other test run on this host is likely to use."""
+    return random.Random(os.getpid() ^ time.time_ns()).randrange(100, 230)
+
+
+RELIABLE = Qos(Policy.Reliability.Reliable(duration(milliseconds=200)), Policy.History.KeepLast(10))
+LATCHED = Qos(
+    Policy.Reliability.Reliable(duration(milliseconds=200)),
+    Policy.Durability.TransientLocal,
+    Policy.History.KeepLast(1),
+)
+
+
+class Peer:
+    """One Cyclone DDS participant in ``domain``."""
+
+    def __init__(self, domain: int):
+        os.environ["CYCLONEDDS_URI"] = loopback_config()
+        self.dp = DomainParticipant(domain)
+
+    def reader(self, topic, kind, qos=RELIABLE):
+        return DataReader(self.dp, Topic(self.dp, topic, kind, qos=qos), qos=qos)
+
+    def writer(self, topic, kind, qos=RELIABLE):
+        return DataWriter(self.dp, Topic(self.dp, topic, kind, qos=qos), qos=qos)
+
+
+def take_until(reader, done, timeout=20.0, what="samples"):
+    """Samples from ``reader`` until ``done(samples)`` holds; fails after ``timeout`` s."""
+    got: list = []
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        got.extend(reader.take(N=1000))
+        if done(got):
+            return got
+        time.sleep(0.02)
+    raise AssertionError(f"timed out waiting for {what}: got {len(got)}")

@@ -1,0 +1,264 @@
+"""Issue 29: gantry on a ROS 2 graph, checked by an independent DDS implementation.
+
+The peer is Eclipse Cyclone DDS from PyPI (``ros2_peer.py``), speaking ROS 2's topic and
+type name mangling with ROS's default QoS; nothing of ROS is installed. Each test runs
+a real gantry process in its own ROS domain (``ROS_DOMAIN_ID``), holds it with the ZMQ
+client's stepping, and compares what arrives on the graph with what the ``sim`` API
+says at the same step:
+
+- ``--ros2``: ``/clock``, ``/tf``, ``/tf_static``, ``/joint_states`` and a vision
+  sensor's ``image_raw`` and ``camera_info``;
+- a ``simROS2.createSubscription`` script (``bubble_rob_ros2.lua``) turns ``/cmd_vel``
+  Twists from the peer into BubbleRob's wheel speeds, and the rover moves as commanded;
+- the same script serves ``std_srvs/SetBool``, called by the peer with rmw_cyclonedds'
+  request header;
+- ROS 1's ``simROS`` names publish on the ROS 2 graph;
+- malformed samples are dropped with a clear log line and the simulation goes on.
+
+Without gantry's transport nothing arrives and every test times out.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import pytest
+
+from gantry_proc import GantryProcess
+from ros2_peer import (
+    LATCHED,
+    Bool,
+    CameraInfo,
+    Clock,
+    Float32,
+    Image,
+    JointState,
+    Peer,
+    SetBoolRequest,
+    SetBoolResponse,
+    TFMessage,
+    TruncatedTwist,
+    Twist,
+    Vector3,
+    free_domain,
+    take_until,
+)
+
+SCENE = "assets/scenes/bubble_rob_ros2.toml"
+
+
+@pytest.fixture
+def domain(monkeypatch):
+    d = free_domain()
+    monkeypatch.setenv("ROS_DOMAIN_ID", str(d))
+    return d
+
+
+@pytest.fixture
+def procs():
+    started: list[GantryProcess] = []
+    yield started
+    for p in started:
+        p.close()
+
+
+def stamp_s(t) -> float:
+    return t.sec + t.nanosec * 1e-9
+
+
+def held(procs, scene=SCENE, extra=None):
+    """A gantry process held by a stepping ZMQ client: (process, client, sim)."""
+    g = GantryProcess(scene, fast=True, extra=extra)
+    procs.append(g)
+    client = g.client()
+    client.setStepping(True)
+    sim = client.require("sim")
+    if sim.getSimulationState() == sim.simulation_stopped:
+        sim.startSimulation()
+    return g, client, sim
+
+
+def wait_matched(writer, timeout=20.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if writer.get_matched_subscriptions():
+            return
+        time.sleep(0.02)
+    raise AssertionError("gantry's subscription never matched the peer's writer")
+
+
+def test_graph_topics_match_the_sim_api(domain, procs):
+    peer = Peer(domain)
+    clock = peer.reader("rt/clock", Clock)
+    tf = peer.reader("rt/tf", TFMessage)
+    tf_static = peer.reader("rt/tf_static", TFMessage, LATCHED)
+    joints = peer.reader("rt/joint_states", JointState)
+    image = peer.reader("rt/bubbleRob/sensingNose/visionSensor/image_raw", Image)
+    info = peer.reader("rt/bubbleRob/sensingNose/visionSensor/camera_info", CameraInfo)
+    g, client, sim = held(procs, extra=["--ros2"])
+    # Discovery takes a moment: step until the clock is seen, then a few more.
+    take_until(clock, lambda s: s or client.step() and False, what="/clock")
+    for _ in range(5):
+        client.step()
+    t = sim.getSimulationTime()
+    robot = sim.getObject("/bubbleRob")
+    left, right = sim.getObject("/bubbleRob/leftMotor"), sim.getObject("/bubbleRob/rightMotor")
+    sensor = sim.getObject("/bubbleRob/visionSensor")
+    position = sim.getObjectPosition(robot, -1)
+    quaternion = sim.getObjectQuaternion(robot, -1)
+    joint_positions = [sim.getJointPosition(left), sim.getJointPosition(right)]
+    rgb, (w, h) = sim.getVisionSensorImg(sensor)
+
+    def at_t(samples, stamp):
+        return [s for s in samples if abs(stamp(s) - t) < 1e-6]
+
+    clocks = take_until(clock, lambda s: at_t(s, lambda c: stamp_s(c.clock)), what="/clock at t")
+    stamps = [stamp_s(c.clock) for c in clocks]
+    assert stamps == sorted(stamps), "simulation time never goes back"
+
+    js = at_t(take_until(joints, lambda s: at_t(s, lambda m: stamp_s(m.header.stamp)), what="/joint_states"),
+              lambda m: stamp_s(m.header.stamp))[0]
+    assert list(js.name) == ["bubbleRob/leftMotor", "bubbleRob/rightMotor"]
+    assert list(js.position) == pytest.approx(joint_positions, abs=1e-12)
+
+    def robot_tf(samples):
+        for m in samples:
+            for x in m.transforms:
+                if x.child_frame_id == "bubbleRob" and abs(stamp_s(x.header.stamp) - t) < 1e-6:
+                    return x
+        return None
+
+    x = robot_tf(take_until(tf, robot_tf, what="/tf of bubbleRob"))
+    assert x.header.frame_id == "world"
+    tr, rot = x.transform.translation, x.transform.rotation
+    assert [tr.x, tr.y, tr.z] == pytest.approx(position, abs=1e-9)
+    # q and -q are one rotation.
+    q = [rot.x, rot.y, rot.z, rot.w]
+    sign = 1.0 if sum(a * b for a, b in zip(q, quaternion)) >= 0 else -1.0
+    assert [sign * v for v in q] == pytest.approx(quaternion, abs=1e-9)
+
+    statics = take_until(tf_static, lambda s: s, what="/tf_static")[-1]
+    static_children = {s.child_frame_id: s.header.frame_id for s in statics.transforms}
+    # The wheels turn, the sensors do not move on the body.
+    assert static_children.get("bubbleRob/sensingNose") == "bubbleRob"
+    assert static_children.get("bubbleRob/sensingNose/visionSensor") == "bubbleRob/sensingNose"
+    assert "bubbleRob/leftMotor/leftWheel" not in static_children
+
+    img = at_t(take_until(image, lambda s: at_t(s, lambda m: stamp_s(m.header.stamp)), what="an image"),
+               lambda m: stamp_s(m.header.stamp))[0]
+    assert (img.width, img.height, img.encoding, img.step) == (w, h, "rgb8", 3 * w)
+    assert img.header.frame_id == "bubbleRob/sensingNose/visionSensor"
+    rows = [rgb[r * 3 * w:(r + 1) * 3 * w] for r in range(h)]
+    assert bytes(img.data) == b"".join(reversed(rows)), "ROS images are top row first"
+
+    ci = take_until(info, lambda s: s, what="camera_info")[-1]
+    assert (ci.width, ci.height) == (w, h)
+    fov = sim.getObjectFloatParam(sensor, sim.visionfloatparam_perspective_angle)
+    f = (max(w, h) / 2) / math.tan(fov / 2)
+    assert list(ci.k) == pytest.approx([f, 0, (w - 1) / 2, 0, f, (h - 1) / 2, 0, 0, 1])
+
+
+def drive(client, sim, writer, msg, until, steps=400):
+    """Publishes ``msg`` and steps until ``until()`` holds."""
+    wait_matched(writer)
+    for _ in range(steps):
+        writer.write(msg)
+        client.step()
+        if until():
+            return
+    raise AssertionError("the script never saw the command")
+
+
+def test_cmd_vel_drives_bubble_rob(domain, procs):
+    peer = Peer(domain)
+    cmd = peer.writer("rt/cmd_vel", Twist)
+    g, client, sim = held(procs)
+    left, right = sim.getObject("/bubbleRob/leftMotor"), sim.getObject("/bubbleRob/rightMotor")
+    robot = sim.getObject("/bubbleRob")
+
+    forward = Twist(linear=Vector3(0.1, 0, 0), angular=Vector3(0, 0, 0))
+    drive(client, sim, cmd, forward, lambda: sim.getInt32Signal("bubbleRobCommands") > 0)
+    client.step()
+    # Differential drive: wheel radius 0.04 m, wheels 0.2 m apart.
+    assert sim.getJointTargetVelocity(left) == pytest.approx(0.1 / 0.04)
+    assert sim.getJointTargetVelocity(right) == pytest.approx(0.1 / 0.04)
+
+    start = sim.getObjectPosition(robot, -1)
+    heading = sim.getObjectMatrix(robot, -1)
+    ahead = (heading[0], heading[4])
+    for _ in range(40):  # 2 s
+        client.step()
+    end = sim.getObjectPosition(robot, -1)
+    moved = ((end[0] - start[0]) * ahead[0] + (end[1] - start[1]) * ahead[1])
+    assert 0.1 < moved < 0.3, f"at 0.1 m/s for 2 s the rover moved {moved:.3f} m forward"
+
+    turn = Twist(linear=Vector3(0.1, 0, 0), angular=Vector3(0, 0, 0.5))
+    n = sim.getInt32Signal("bubbleRobCommands")
+    drive(client, sim, cmd, turn, lambda: sim.getInt32Signal("bubbleRobCommands") > n + 2)
+    client.step()
+    assert sim.getJointTargetVelocity(left) == pytest.approx((0.1 - 0.05) / 0.04)
+    assert sim.getJointTargetVelocity(right) == pytest.approx((0.1 + 0.05) / 0.04)
+
+
+def test_set_bool_service_served_by_a_script(domain, procs):
+    peer = Peer(domain)
+    requests = peer.writer("rq/bubbleRob/set_enabledRequest", SetBoolRequest)
+    replies = peer.reader("rr/bubbleRob/set_enabledReply", SetBoolResponse)
+    g, client, sim = held(procs)
+    client.step()
+    assert sim.getInt32Signal("bubbleRobEnabled") == 1
+    wait_matched(requests)
+    requests.write(SetBoolRequest(client_guid=0x1234ABCD, sequence_number=7, data=False))
+    got: list = []
+    for _ in range(400):
+        client.step()
+        got.extend(replies.take(N=10))
+        if got:
+            break
+    assert got, "no reply from the script's service"
+    r = got[0]
+    assert (r.client_guid, r.sequence_number) == (0x1234ABCD, 7), "the reply names the request"
+    assert r.success and r.message == "wheels stopped"
+    assert sim.getInt32Signal("bubbleRobEnabled") == 0
+
+
+def test_ros1_simros_publishes_on_the_ros2_graph(domain, procs, tmp_path):
+    script = tmp_path / "ros1.lua"
+    script.write_text(
+        "function sysCall_init()\n"
+        "    pub = simROS.advertise('/ros1/flag', 'std_msgs/Bool')\n"
+        "    tpub = simROS.advertise('/ros1/time', 'std_msgs/Float32')\n"
+        "end\n"
+        "function sysCall_sensing()\n"
+        "    simROS.publish(pub, {data = true})\n"
+        "    simROS.publish(tpub, {data = simROS.getTime()})\n"
+        "end\n"
+    )
+    scene = tmp_path / "ros1.toml"
+    scene.write_text(f'[[object]]\nname = "node"\nkind = "dummy"\nscript = "{script.name}"\n')
+    peer = Peer(domain)
+    flags = peer.reader("rt/ros1/flag", Bool)
+    times = peer.reader("rt/ros1/time", Float32)
+    g, client, sim = held(procs, scene=scene)
+    take_until(flags, lambda s: s or client.step() and False, what="a ROS 1 style message")
+    got = take_until(times, lambda s: s or client.step() and False, what="simROS.getTime")
+    assert got[-1].data >= 0
+    assert "ROS 1 is end-of-life" in g.stderr()
+
+
+def test_malformed_samples_are_dropped_and_the_run_goes_on(domain, procs):
+    peer = Peer(domain)
+    bad = peer.writer("rt/cmd_vel", TruncatedTwist)
+    good = peer.writer("rt/cmd_vel", Twist)
+    g, client, sim = held(procs)
+    wait_matched(bad)
+    for _ in range(20):
+        bad.write(TruncatedTwist(linear_x=1.0))
+        client.step()
+    assert sim.getInt32Signal("bubbleRobCommands") == 0
+    drive(client, sim, good, Twist(linear=Vector3(0.05, 0, 0), angular=Vector3(0, 0, 0)),
+          lambda: sim.getInt32Signal("bubbleRobCommands") > 0)
+    assert "dropped a malformed geometry_msgs/msg/Twist message" in g.stderr()
+    assert sim.getSimulationState() != sim.simulation_stopped
