@@ -324,8 +324,14 @@ FORCE_FNS = {"readForceSensor"}
 class Script:
     """What a Lua file asks of gantry and of the ROS graph."""
 
-    def __init__(self, path: Path):
+    def __init__(self, path: Path, extra: Path | None = None):
         self.path = path
+        self.extra: list[tuple[str, str]] = []
+        if extra and (extra / f"{path.stem}.paths").exists():
+            for line in (extra / f"{path.stem}.paths").read_text(encoding="utf-8").splitlines():
+                line = line.split("#", 1)[0].split()
+                if line:
+                    self.extra.append((line[0], line[1] if len(line) > 1 else "dummy"))
         self.src = path.read_text(encoding="utf-8", errors="replace")
         self.code = strip_comments(self.src)
         code = self.code
@@ -350,7 +356,7 @@ class Script:
             else:
                 self.services.append(f"{m.group(1)}({args[0]}, {args[1]})")
         self.sends_tf = bool(re.search(r"\bsimROS2?\.sendTransforms?\s*\(", code))
-        self.objects = self._object_lookups()
+        self.objects = self._object_lookups() + self.extra
 
     def _object_lookups(self) -> list[tuple[str, str]]:
         """``[(path, kind)]`` of the objects the script looks up."""
@@ -676,7 +682,7 @@ def run_one(script: Script, idl: Idl, args) -> Result:
             for topic, r in readers.items():
                 if r is not None:
                     res.seen[topic] += len(r.take(N=1000))
-            if now - last_write > 0.05:
+            if not args.no_feed and now - last_write > 0.05:
                 last_write = now
                 for topic, (w, msg) in writers.items():
                     if w is None:
@@ -795,6 +801,10 @@ def report(results: list[Result], manifest: dict, args) -> str:
         if r.script.services:
             out.append(f"- services/clients: {'; '.join(r.script.services)}")
         out.append(f"- scene objects: {', '.join(f'{p} ({k})' for p, k in r.script.objects) or '-'}")
+        if r.script.extra:
+            out.append(f"- of which added by hand (paths built at run time): {len(r.script.extra)}")
+        if args.no_feed:
+            out.append("- run with --no-feed: the peer wrote nothing to the script's subscriptions")
         if r.gantry_writers or r.gantry_readers:
             out.append("- on the graph: writers " + (", ".join(f"{t} [{ty}]" for t, ty in sorted(r.gantry_writers.items())) or "-")
                        + "; readers " + (", ".join(f"{t} [{ty}]" for t, ty in sorted(r.gantry_readers.items())) or "-"))
@@ -822,6 +832,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--multicast", action="store_true",
                     help="use ros2_peer's multicast loopback configuration even if lo has no multicast")
     ap.add_argument("--timeout", type=float, default=30.0, help="extra wall seconds per run")
+    ap.add_argument("--no-feed", action="store_true",
+                    help="the peer writes nothing to the script's subscriptions (isolates callback failures)")
+    ap.add_argument("--extra", type=Path,
+                    help="folder of <script stem>.paths files: extra scene objects ('path kind' lines) "
+                         "for paths the script builds at run time (default CORPUS/_extra)")
     ap.add_argument("--only", help="run only files whose name contains this")
     ap.add_argument("--markdown", type=Path, help="also write the report here")
     ap.add_argument("--keep-scenes", help="copy each generated scene.toml into this folder")
@@ -831,7 +846,8 @@ def main(argv: list[str] | None = None) -> int:
     if a.write_manifest:
         return write_manifest(a.corpus, a.manifest)
     files = sorted(p for p in a.corpus.glob("*.lua") if not a.only or a.only in p.name)
-    scripts = [Script(p) for p in files]
+    extra = a.extra or a.corpus / "_extra"
+    scripts = [Script(p, extra) for p in files]
     if a.list:
         for s in scripts:
             print(s.path.name, s.called, s.publishers, s.subscriptions, s.objects, sep="\n  ")

@@ -66,6 +66,14 @@ pub const CALL_TIMEOUT_S: f64 = 5.0;
 
 type Res = Result<Vec<LuaValue>, String>;
 
+/// A value's type as Lua's `type()` names it (mlua tells integers from floats).
+fn lua_type(v: &LuaValue) -> &'static str {
+    match v {
+        LuaValue::Integer(_) | LuaValue::Number(_) => "number",
+        other => other.type_name(),
+    }
+}
+
 fn arg(args: &MultiValue, i: usize) -> Option<&LuaValue> {
     args.get(i).filter(|v| !v.is_nil())
 }
@@ -79,7 +87,7 @@ fn string_arg(args: &MultiValue, i: usize, what: &str) -> Result<String, String>
         Some(v) => Err(format!(
             "argument {}: {what} must be a string, got {}",
             i + 1,
-            v.type_name()
+            lua_type(v)
         )),
         None => Err(format!("argument {}: {what} is missing", i + 1)),
     }
@@ -89,7 +97,7 @@ fn handle_arg(args: &MultiValue, i: usize) -> Result<i64, String> {
     match arg(args, i) {
         Some(LuaValue::Integer(h)) => Ok(*h),
         Some(LuaValue::Number(n)) if n.fract() == 0.0 => Ok(*n as i64),
-        Some(v) => Err(format!("argument {}: expected a handle, got {}", i + 1, v.type_name())),
+        Some(v) => Err(format!("argument {}: expected a handle, got {}", i + 1, lua_type(v))),
         None => Err(format!("argument {}: the handle is missing", i + 1)),
     }
 }
@@ -100,7 +108,7 @@ fn table_value(args: &MultiValue, i: usize, what: &str) -> Result<Value, String>
         Some(v) => Err(format!(
             "argument {}: {what} must be a table, got {}",
             i + 1,
-            v.type_name()
+            lua_type(v)
         )),
         None => Err(format!("argument {}: {what} is missing", i + 1)),
     }
@@ -129,7 +137,7 @@ fn qos_arg(v: Option<&LuaValue>, latch: bool) -> Result<RosQos, String> {
                     LuaValue::Nil => Ok(None),
                     LuaValue::Integer(i) => Ok(Some(i)),
                     LuaValue::Number(n) if n.fract() == 0.0 => Ok(Some(n as i64)),
-                    other => Err(format!("qos.{k} must be an integer, got {}", other.type_name())),
+                    other => Err(format!("qos.{k} must be an integer, got {}", lua_type(&other))),
                 }
             };
             if let Some(d) = int("depth")? {
@@ -166,7 +174,7 @@ fn qos_arg(v: Option<&LuaValue>, latch: bool) -> Result<RosQos, String> {
         Some(other) => {
             return Err(format!(
                 "the queue size or QoS must be a number or a table, got {}",
-                other.type_name()
+                lua_type(other)
             ));
         }
     }
@@ -182,7 +190,7 @@ fn callback_arg(lua: &Lua, v: Option<&LuaValue>) -> Result<Callback, String> {
         Some(LuaValue::String(s)) => Ok(Callback::Name(s.to_string_lossy())),
         Some(other) => Err(format!(
             "the callback must be a function or its name, got {}",
-            other.type_name()
+            lua_type(other)
         )),
         None => Err("the callback is missing".to_owned()),
     }
@@ -482,7 +490,7 @@ fn time_arg(args: &MultiValue, i: usize) -> Result<f64, String> {
             let ns: f64 = t.get::<Option<f64>>("nanosec").ok().flatten().unwrap_or(0.0);
             Ok(sec + ns * 1e-9)
         }
-        Some(v) => Err(format!("argument {}: expected a time, got {}", i + 1, v.type_name())),
+        Some(v) => Err(format!("argument {}: expected a time, got {}", i + 1, lua_type(v))),
         None => Err(format!("argument {}: the time is missing", i + 1)),
     }
 }
