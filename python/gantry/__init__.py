@@ -84,6 +84,12 @@ class Client:
     most ``record_rate`` snapshots per simulated second); the file is complete once the
     client is closed, and ``gantry verify run.mcap`` re-runs it (docs/recording.md).
 
+    ``ros2=True`` joins the ROS 2 graph as ``gantry run --ros2`` does: ``/clock``,
+    ``/tf``, ``/tf_static``, ``/joint_states``, camera topics and joint command topics,
+    in the domain of ``ROS_DOMAIN_ID``, on this host unless
+    ``ROS_AUTOMATIC_DISCOVERY_RANGE=SUBNET`` (docs/ros2.md). Scripts' ``simROS2`` works
+    without it.
+
     ``seed`` overrides the scene's random seed (the scripts' ``math.random`` and
     ``sim.floatparam_rand``; default the scene's, else 0): one seed, one sequence.
 
@@ -110,6 +116,7 @@ class Client:
         record: Optional[str | _os.PathLike] = None,
         record_rate: Optional[float] = None,
         seed: Optional[int] = None,
+        ros2: bool = False,
     ):
         self._engine = _Engine(
             None if scene is None else _os.fspath(scene),
@@ -128,6 +135,7 @@ class Client:
             record=None if record is None else _os.fspath(record),
             record_rate=record_rate,
             seed=seed,
+            ros2=ros2,
         )
         self._required: dict[str, _Module] = {}
         self._owner = _threading.get_ident()

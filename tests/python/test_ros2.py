@@ -12,6 +12,9 @@ says at the same step:
   Twists from the peer into BubbleRob's wheel speeds, and the rover moves as commanded;
 - the same script serves ``std_srvs/SetBool``, called by the peer with rmw_cyclonedds'
   request header;
+- ``--ros2``: ros2_control-style position commands (``Float64MultiArray``) set the
+  arm's joint targets, and a command of the wrong length is dropped;
+- ``gantry.Client(scene, ros2=True)`` (in process) publishes the same graph;
 - ROS 1's ``simROS`` names publish on the ROS 2 graph;
 - malformed samples are dropped with a clear log line and the simulation goes on.
 
@@ -26,14 +29,16 @@ from pathlib import Path
 
 import pytest
 
-from gantry_proc import GantryProcess
+from gantry_proc import REPO, GantryProcess
 from ros2_peer import (
     LATCHED,
     Bool,
     CameraInfo,
     Clock,
     Float32,
+    Float64MultiArray,
     Image,
+    MultiArrayLayout,
     JointState,
     Peer,
     SetBoolRequest,
@@ -262,3 +267,52 @@ def test_malformed_samples_are_dropped_and_the_run_goes_on(domain, procs):
           lambda: sim.getInt32Signal("bubbleRobCommands") > 0)
     assert "dropped a malformed geometry_msgs/msg/Twist message" in g.stderr()
     assert sim.getSimulationState() != sim.simulation_stopped
+
+
+def test_forward_position_commands_set_the_arm_joint_targets(domain, procs):
+    peer = Peer(domain)
+    commands = peer.writer("rt/arm6/forward_position_controller/commands", Float64MultiArray)
+    joints = peer.reader("rt/joint_states", JointState)
+    g, client, sim = held(procs, scene="assets/scenes/fk_arm.toml", extra=["--ros2"])
+    names = take_until(joints, lambda s: s or client.step() and False, what="/joint_states")[-1].name
+    arm = [n for n in names if n.startswith("arm6/")]
+    assert len(arm) == 6, names
+    handles = [sim.getObject("/" + n) for n in arm]
+    target = [0.1, -0.2, 0.3, -0.4, 0.5, -0.6]
+    layout = MultiArrayLayout(dim=[], data_offset=0)
+    wait_matched(commands)
+    # One value short: dropped, with a warning, and the targets do not move.
+    before = [sim.getJointTargetPosition(h) for h in handles]
+    commands.write(Float64MultiArray(layout=layout, data=target[:5]))
+    for _ in range(5):
+        client.step()
+    assert [sim.getJointTargetPosition(h) for h in handles] == before
+    for _ in range(200):
+        commands.write(Float64MultiArray(layout=layout, data=target))
+        client.step()
+        if [sim.getJointTargetPosition(h) for h in handles] == pytest.approx(target):
+            break
+    assert [sim.getJointTargetPosition(h) for h in handles] == pytest.approx(target)
+    assert "5 values for 6 joints" in g.stderr()
+
+
+def test_in_process_client_with_ros2_publishes_the_graph(domain):
+    import gantry
+
+    peer = Peer(domain)
+    clock = peer.reader("rt/clock", Clock)
+    joints = peer.reader("rt/joint_states", JointState)
+    client = gantry.Client(REPO / SCENE, ros2=True, realtime=False)
+    try:
+        sim = client.require("sim")
+        got = take_until(clock, lambda s: s or client.step() and False, what="/clock from gantry.Client")
+        for _ in range(3):
+            sim.step()
+        t = sim.getSimulationTime()
+        seen = take_until(clock, lambda s: any(abs(stamp_s(c.clock) - t) < 1e-6 for c in s), what="/clock at t")
+        assert stamp_s(seen[-1].clock) == pytest.approx(t, abs=1e-6)
+        js = take_until(joints, lambda s: s, what="/joint_states")[-1]
+        assert list(js.name) == ["bubbleRob/leftMotor", "bubbleRob/rightMotor"]
+        assert got
+    finally:
+        client.close()

@@ -9,11 +9,19 @@
 //! - `/tf` (depth 100) and `/tf_static` (transient local, depth 1): each object's pose
 //!   relative to its parent, parent frame `world` for roots (REP 105's fixed frame);
 //!   frame ids are object paths without the leading `/`.
-//! - `/joint_states`: every joint, named by its frame id; rad, rad/s, N·m (REP 103).
+//! - `/joint_states`: every revolute and prismatic joint, named by its frame id; rad,
+//!   rad/s, N·m (m, m/s, N for prismatic joints; REP 103).
 //! - `/<sensor>/image_raw` (`rgb8`), `/<sensor>/depth/image_raw` (`32FC1`, m, +inf
 //!   where nothing is seen within the far plane) and `/<sensor>/camera_info`, top row
 //!   first, in the sensor's frame, at most [`GraphOptions::camera_rate_hz`] per
 //!   simulated second.
+//! - Joint commands in, as `ros2_control`'s forward command controllers take them: for
+//!   each model base with joints below it (a robot), `std_msgs/Float64MultiArray` on
+//!   `/<robot>/forward_position_controller/commands` (rad or m) and
+//!   `/<robot>/forward_velocity_controller/commands` (rad/s or m/s), one value per joint
+//!   in the order `/joint_states` lists them. A command received during a step is set
+//!   (`sim.setJointTargetPosition` / `sim.setJointTargetVelocity`) after it, so it acts
+//!   from the next step on; one of the wrong length is dropped with a warning.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -26,7 +34,7 @@ use gantry_record::tf_frames::TfFrames;
 use gantry_script::Simulation;
 use gantry_script::ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos};
 use gantry_sim_core::Handle;
-use gantry_sim_core::scene::Projection;
+use gantry_sim_core::scene::{JointType, Projection};
 use gantry_sim_core::vision;
 use gantry_sim_core::world::ObjectKind;
 
@@ -52,6 +60,18 @@ struct Camera {
     last_ns: Option<u64>,
 }
 
+/// One robot's command topics.
+struct Robot {
+    /// Its frame id, for messages.
+    name: String,
+    /// Its joints, in tree order.
+    joints: Vec<Handle>,
+    position: EndpointId,
+    velocity: EndpointId,
+    /// Whether a malformed command was reported.
+    warned: bool,
+}
+
 /// The graph's endpoints and what it remembers between steps (see the module docs).
 pub struct RosGraph {
     net: Arc<dyn RosNetwork>,
@@ -61,6 +81,8 @@ pub struct RosGraph {
     tf_static: EndpointId,
     joint_states: EndpointId,
     cameras: HashMap<Handle, Camera>,
+    /// The robots' command topics, opened at the first step.
+    robots: Option<Vec<Robot>>,
     sampler: Sampler,
     frames: TfFrames,
     /// Simulation time of the last publication, ns.
@@ -157,6 +179,7 @@ impl RosGraph {
             tf_static,
             joint_states,
             cameras: HashMap::new(),
+            robots: None,
             sampler: Sampler::new(None),
             frames: TfFrames::tolerant(),
             last_ns: None,
@@ -193,17 +216,25 @@ impl RosGraph {
             self.write(self.tf_static, m);
         }
         self.write(self.tf, tf);
-        if !s.joints.is_empty() {
+        let joints: Vec<_> = {
+            let core = sim.core();
+            s.joints
+                .iter()
+                .filter(|j| movable(&core.world, j.handle))
+                .copied()
+                .collect()
+        };
+        if !joints.is_empty() {
             let frame = |h: Handle| {
                 usize::try_from(h)
                     .ok()
                     .and_then(|i| s.frames.get(i))
                     .map_or("", String::as_str)
             };
-            let names: Vec<&str> = s.joints.iter().map(|j| frame(j.handle)).collect();
-            let position: Vec<f64> = s.joints.iter().map(|j| j.position).collect();
-            let velocity: Vec<f64> = s.joints.iter().map(|j| j.velocity).collect();
-            let effort: Vec<f64> = s.joints.iter().map(|j| j.effort).collect();
+            let names: Vec<&str> = joints.iter().map(|j| frame(j.handle)).collect();
+            let position: Vec<f64> = joints.iter().map(|j| j.position).collect();
+            let velocity: Vec<f64> = joints.iter().map(|j| j.velocity).collect();
+            let effort: Vec<f64> = joints.iter().map(|j| j.effort).collect();
             self.write(
                 self.joint_states,
                 msg::joint_state(stamp, &names, &position, &velocity, &effort),
@@ -211,6 +242,124 @@ impl RosGraph {
         }
         if self.options.camera_rate_hz > 0.0 {
             self.cameras_after_step(sim, &s.frames, s.stamp_ns);
+        }
+        if self.robots.is_none() {
+            self.robots = Some(self.open_robots(sim, &s.frames));
+        }
+        self.apply_commands(sim);
+    }
+
+    /// Opens the command topics of every model base with joints below it.
+    fn open_robots(&self, sim: &Simulation, frames: &[String]) -> Vec<Robot> {
+        let core = sim.core();
+        let world = &core.world;
+        let mut robots = Vec::new();
+        for &h in world.handles() {
+            if !world.object(h).is_ok_and(|o| o.model_base) {
+                continue;
+            }
+            let joints: Vec<Handle> = world
+                .handles()
+                .iter()
+                .copied()
+                .filter(|&j| movable(world, j) && below(world, j, h))
+                .collect();
+            if joints.is_empty() {
+                continue;
+            }
+            let name = usize::try_from(h)
+                .ok()
+                .and_then(|i| frames.get(i))
+                .cloned()
+                .unwrap_or_default();
+            let base = format!("/{}", topic_token(&name));
+            let n = self.net.as_ref();
+            let ty = "std_msgs/msg/Float64MultiArray";
+            let opened = open(
+                n,
+                Direction::Subscribe,
+                &format!("{base}/forward_position_controller/commands"),
+                ty,
+                RosQos::default(),
+            )
+            .and_then(|p| {
+                open(
+                    n,
+                    Direction::Subscribe,
+                    &format!("{base}/forward_velocity_controller/commands"),
+                    ty,
+                    RosQos::default(),
+                )
+                .map(|v| (p, v))
+            });
+            match opened {
+                Ok((position, velocity)) => robots.push(Robot {
+                    name,
+                    joints,
+                    position,
+                    velocity,
+                    warned: false,
+                }),
+                Err(e) => tracing::warn!("ROS 2 graph: no command topics for {name}: {e}"),
+            }
+        }
+        robots
+    }
+
+    /// Sets the joint targets the latest commands ask for.
+    fn apply_commands(&mut self, sim: &Simulation) {
+        let Some(robots) = self.robots.as_mut() else { return };
+        let ty = match gantry_protocol::ros::message_type("std_msgs/msg/Float64MultiArray") {
+            Ok(t) => t,
+            Err(_) => return,
+        };
+        for r in robots {
+            for (id, function) in [
+                (r.position, "setJointTargetPosition"),
+                (r.velocity, "setJointTargetVelocity"),
+            ] {
+                // Only the newest command counts: the ones before it were overtaken.
+                let Some(sample) = self.net.take(id, usize::MAX).pop() else {
+                    continue;
+                };
+                let values = ty
+                    .decode_body(&sample.body, sample.little_endian, 0)
+                    .map_err(|e| e.to_string())
+                    .and_then(|v| match v.get("data") {
+                        Some(gantry_protocol::Value::Array(a)) => Ok(a
+                            .iter()
+                            .filter_map(gantry_protocol::Value::as_f64)
+                            .collect::<Vec<f64>>()),
+                        _ => Err("no data".to_owned()),
+                    })
+                    .and_then(|v| {
+                        if v.len() == r.joints.len() {
+                            Ok(v)
+                        } else {
+                            Err(format!("{} values for {} joints", v.len(), r.joints.len()))
+                        }
+                    });
+                let values = match values {
+                    Ok(v) => v,
+                    Err(e) => {
+                        if !std::mem::replace(&mut r.warned, true) {
+                            tracing::warn!("ROS 2: a joint command for {} was dropped: {e}", r.name);
+                        }
+                        continue;
+                    }
+                };
+                let mut core = sim.core_mut();
+                let ctx = gantry_sim_core::api::CallContext {
+                    script_object: None,
+                    source: "ROS 2",
+                };
+                for (&j, &v) in r.joints.iter().zip(&values) {
+                    let args = [gantry_protocol::Value::Int(j), gantry_protocol::Value::Float(v)];
+                    if let Err(e) = gantry_sim_core::api::call(&mut core, &ctx, function, &args) {
+                        tracing::debug!("ROS 2: {e}");
+                    }
+                }
+            }
         }
     }
 
@@ -315,10 +464,32 @@ impl Tap for RosGraph {
     fn finish(&mut self, _: &Simulation, _: u64) {}
 }
 
+/// Whether `h` is a revolute or prismatic joint (fixed joints are frames on `/tf`, as
+/// robot_state_publisher has them, not entries of `/joint_states`).
+fn movable(world: &gantry_sim_core::World, h: Handle) -> bool {
+    matches!(world.object(h).map(|o| &o.kind), Ok(ObjectKind::Joint(j)) if j.joint_type != JointType::Fixed)
+}
+
+/// Whether `h` is `ancestor` or below it.
+fn below(world: &gantry_sim_core::World, h: Handle, ancestor: Handle) -> bool {
+    let mut at = Some(h);
+    while let Some(x) = at {
+        if x == ancestor {
+            return true;
+        }
+        at = world.object(x).ok().and_then(|o| o.parent);
+    }
+    false
+}
+
 impl Drop for RosGraph {
     fn drop(&mut self) {
         for id in [self.clock, self.tf, self.tf_static, self.joint_states] {
             self.net.close(id);
+        }
+        for r in self.robots.iter().flatten() {
+            self.net.close(r.position);
+            self.net.close(r.velocity);
         }
         for c in self.cameras.values() {
             for id in [c.image, c.depth, c.info] {

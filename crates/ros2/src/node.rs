@@ -35,7 +35,7 @@ const WAKE: Token = Token(usize::MAX);
 
 /// How long the DDS thread sleeps without an event before it looks at its readers
 /// anyway (a safety net under edge-triggered readiness).
-const IDLE_POLL: StdDuration = StdDuration::from_millis(50);
+const IDLE_POLL: StdDuration = StdDuration::from_millis(20);
 
 /// One endpoint's traffic, for the viewer's topic list and the logs.
 #[derive(Debug, Clone, PartialEq, Eq)]
