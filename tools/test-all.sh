@@ -115,6 +115,16 @@ if cargo tree -p gantry-record -e normal --prefix none | grep -E '^(axum|zeromq|
     echo "gantry-record must not depend on a transport" >&2
     exit 1
 fi
+# ROS 2 (issue 29): the Lua host knows the network only as a trait; DDS lives in
+# gantry-ros2, which is a transport beside the others, not under them.
+if cargo tree -p gantry-script -e normal --prefix none | grep -E '^(rustdds|gantry-ros2) ' ; then
+    echo "gantry-script must not depend on a DDS implementation" >&2
+    exit 1
+fi
+if cargo tree -p gantry-ros2 -e normal --prefix none | grep -E '^(axum|zeromq|gantry-server) ' ; then
+    echo "gantry-ros2 must not depend on the server's transports" >&2
+    exit 1
+fi
 # Inside the crates: no circle among files in any crate, and sim-core's and the Lua
 # host's floors; the self-test first shows the checker still catches both.
 python3 tools/layers.py --self-test

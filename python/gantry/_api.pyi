@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 228 functions, 170 constants."""
+    """`sim`: 228 functions, 172 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -94,6 +94,7 @@ class Sim:
     jointintparam_motor_enabled: int
     jointmode_dependent: int
     jointmode_dynamic: int
+    jointmode_force: int
     jointmode_kinematic: int
     jointmode_passive: int
     message_keypress: int
@@ -158,6 +159,7 @@ class Sim:
     verbosity_errors: int
     verbosity_infos: int
     verbosity_loadinfos: int
+    verbosity_msgs: int
     verbosity_none: int
     verbosity_scripterrors: int
     verbosity_scriptinfos: int

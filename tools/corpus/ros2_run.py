@@ -33,8 +33,10 @@ peer either, and is reported.
 
 Discovery: ``ros2_peer.py``'s configuration discovers over multicast on ``lo``. Where
 ``lo`` has no IFF_MULTICAST (containers), neither Cyclone nor gantry's RustDDS can join
-the SPDP group, so the peer then discovers by unicast on the well-known ports of
-127.0.0.1 (``unicast_config``); ``--multicast`` forces ros2_peer's configuration.
+the SPDP group and the two find each other only through RustDDS's periodic unicast
+fallback, about 8 s after start (measured here): longer than a 100-step run. The peer
+then discovers by unicast on the well-known ports of 127.0.0.1 instead
+(``unicast_config``, under a second); ``--multicast`` forces ros2_peer's configuration.
 Runs are paced to wall-clock time by default: with ``--fast`` gantry finishes 100 steps
 in well under a millisecond, before any DDS discovery can complete.
 
@@ -964,8 +966,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-feed", action="store_true",
                     help="the peer writes nothing to the script's subscriptions (isolates callback failures)")
     ap.add_argument("--extra", type=Path,
-                    help="folder of <script stem>.paths files: extra scene objects ('path kind' lines) "
-                         "for paths the script builds at run time (default CORPUS/_extra)")
+                    help="folder of <script stem>.paths files (extra scene objects, 'path kind' lines, "
+                         "for paths the script builds at run time) and <script stem>.companion.lua "
+                         "files (our stand-ins for other scripts of the original scene) "
+                         "(default CORPUS/_extra)")
     ap.add_argument("--shim", action="store_true",
                     help="diagnostic: define sim.verbosity_msgs before the script (not an unmodified run)")
     ap.add_argument("--extract-ttt", nargs=2, metavar=("SCENE.ttt", "OUTDIR"),

@@ -836,3 +836,28 @@ fn a_hundred_joint_state_round_trips() {
     assert_eq!(back.get("name"), Some(&Value::Array(names)));
     assert_eq!(back.get("effort"), Some(&Value::floats(&xs)));
 }
+
+#[test]
+fn a_time_given_in_seconds_encodes_as_sec_and_nanosec() {
+    use gantry_protocol::Value;
+    use gantry_protocol::ros::message_type;
+    let header = message_type("std_msgs/msg/Header").unwrap();
+    let as_number = Value::Map(vec![(Value::Str("stamp".into()), Value::Float(2.25))]);
+    let as_table = Value::Map(vec![(
+        Value::Str("stamp".into()),
+        Value::Map(vec![
+            (Value::Str("sec".into()), Value::Int(2)),
+            (Value::Str("nanosec".into()), Value::Int(250_000_000)),
+        ]),
+    )]);
+    assert_eq!(header.encode(&as_number).unwrap(), header.encode(&as_table).unwrap());
+    let d = message_type("builtin_interfaces/msg/Duration").unwrap();
+    let neg = d.decode(&d.encode(&Value::Float(-0.5)).unwrap()).unwrap();
+    assert_eq!(neg.get("sec"), Some(&Value::Int(-1)));
+    assert_eq!(neg.get("nanosec"), Some(&Value::Int(500_000_000)));
+    let err = header
+        .encode(&Value::Map(vec![(Value::Str("stamp".into()), Value::Float(f64::NAN))]))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("stamp") && err.contains("seconds"), "{err}");
+}

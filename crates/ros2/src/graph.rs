@@ -25,11 +25,13 @@
 
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::sync::mpsc::{Receiver, SyncSender};
+use std::thread::JoinHandle;
 
 use gantry_engine::{EngineInput, InputAt, Tap};
 use gantry_record::cdr::CdrWriter;
 use gantry_record::msg::{self, Time, nanos_from_secs};
-use gantry_record::snapshot::Sampler;
+use gantry_record::snapshot::{Sampler, Snapshot};
 use gantry_record::tf_frames::TfFrames;
 use gantry_script::Simulation;
 use gantry_script::ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos};
@@ -60,81 +62,25 @@ struct Camera {
     last_ns: Option<u64>,
 }
 
-/// One robot's command topics.
-struct Robot {
-    /// Its frame id, for messages.
-    name: String,
-    /// Its joints, in tree order.
-    joints: Vec<Handle>,
-    position: EndpointId,
-    velocity: EndpointId,
-    /// Whether a malformed command was reported.
-    warned: bool,
-}
+/// Snapshots waiting for the encoder, at most (about a second of a fast run's worth of
+/// `/tf` is never needed: ROS consumers want the newest).
+const ENCODER_QUEUE: usize = 64;
 
-/// The graph's endpoints and what it remembers between steps (see the module docs).
-pub struct RosGraph {
+/// How long the encoder rests between batches (see [`Encoder::run`]).
+const BATCH_PERIOD: std::time::Duration = std::time::Duration::from_millis(1);
+
+/// The always-on topics, encoded and sent on a thread of their own.
+struct Encoder {
     net: Arc<dyn RosNetwork>,
-    options: GraphOptions,
     clock: EndpointId,
     tf: EndpointId,
     tf_static: EndpointId,
     joint_states: EndpointId,
-    cameras: HashMap<Handle, Camera>,
-    /// The robots' command topics, opened at the first step.
-    robots: Option<Vec<Robot>>,
-    sampler: Sampler,
     frames: TfFrames,
-    /// Simulation time of the last publication, ns.
-    last_ns: Option<u64>,
 }
 
-/// The DDS type of a ROS message type `pkg/msg/Type`.
-fn dds_type(ros_type: &str) -> String {
-    let (pkg, name) = ros_type.split_once("/msg/").unwrap_or(("", ros_type));
-    format!("{pkg}::msg::dds_::{name}_")
-}
-
-fn open(
-    net: &dyn RosNetwork,
-    dir: Direction,
-    topic: &str,
-    ros_type: &str,
-    qos: RosQos,
-) -> Result<EndpointId, NetworkError> {
-    net.open(&EndpointSpec {
-        direction: dir,
-        dds_topic: format!("rt{topic}"),
-        dds_type: dds_type(ros_type),
-        qos,
-    })
-}
-
-/// ROS's topic name rules allow letters, digits and `_` in each token, which must not
-/// start with a digit: other characters of a frame id become `_`.
-pub fn topic_token(frame: &str) -> String {
-    let mut out = String::with_capacity(frame.len() + 1);
-    for (i, part) in frame.split('/').filter(|p| !p.is_empty()).enumerate() {
-        if i > 0 {
-            out.push('/');
-        }
-        if part.starts_with(|c: char| c.is_ascii_digit()) {
-            out.push('_');
-        }
-        out.extend(
-            part.chars()
-                .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }),
-        );
-    }
-    out
-}
-
-impl RosGraph {
-    /// Opens the always-on topics on `net`.
-    ///
-    /// # Errors
-    /// The network could not start or open them.
-    pub fn new(net: Arc<dyn RosNetwork>, options: GraphOptions) -> Result<Self, NetworkError> {
+impl Encoder {
+    fn open(net: Arc<dyn RosNetwork>) -> Result<Self, NetworkError> {
         let n = net.as_ref();
         let clock = open(
             n,
@@ -173,25 +119,172 @@ impl RosGraph {
         )?;
         Ok(Self {
             net,
-            options,
             clock,
             tf,
             tf_static,
             joint_states,
+            frames: TfFrames::tolerant(),
+        })
+    }
+
+    /// Publishes each snapshot until the graph is dropped, then closes the topics.
+    ///
+    /// A fast run steps thousands of times a second; waking this thread (and the DDS
+    /// thread behind it) for each step would cost more than the messages. So it takes
+    /// what has queued up, publishes it all, and rests [`BATCH_PERIOD`] before looking
+    /// again: at most a millisecond later, in batches.
+    fn run(mut self, rx: &Receiver<Snapshot>) {
+        while let Ok(s) = rx.recv() {
+            self.publish(&s);
+            while let Ok(s) = rx.try_recv() {
+                self.publish(&s);
+            }
+            std::thread::sleep(BATCH_PERIOD);
+        }
+        for id in [self.clock, self.tf, self.tf_static, self.joint_states] {
+            self.net.close(id);
+        }
+    }
+
+    fn write(&self, id: EndpointId, message: &[u8]) {
+        send(self.net.as_ref(), id, message);
+    }
+
+    fn publish(&mut self, s: &Snapshot) {
+        let stamp = Time::from_nanos(s.stamp_ns);
+        let mut clock = CdrWriter::new();
+        clock.i32(stamp.sec);
+        clock.u32(stamp.nanosec);
+        self.write(self.clock, clock.as_bytes());
+        let (statics, tf) = self.frames.messages(s);
+        if let Some(m) = statics {
+            self.write(self.tf_static, &m);
+        }
+        self.write(self.tf, &tf);
+        if !s.joints.is_empty() {
+            let frame = |h: Handle| {
+                usize::try_from(h)
+                    .ok()
+                    .and_then(|i| s.frames.get(i))
+                    .map_or("", String::as_str)
+            };
+            let names: Vec<&str> = s.joints.iter().map(|j| frame(j.handle)).collect();
+            let position: Vec<f64> = s.joints.iter().map(|j| j.position).collect();
+            let velocity: Vec<f64> = s.joints.iter().map(|j| j.velocity).collect();
+            let effort: Vec<f64> = s.joints.iter().map(|j| j.effort).collect();
+            self.write(
+                self.joint_states,
+                &msg::joint_state(stamp, &names, &position, &velocity, &effort),
+            );
+        }
+    }
+}
+
+/// One robot's command topics.
+struct Robot {
+    /// Its frame id, for messages.
+    name: String,
+    /// Its joints, in tree order.
+    joints: Vec<Handle>,
+    position: EndpointId,
+    velocity: EndpointId,
+    /// Whether a malformed command was reported.
+    warned: bool,
+}
+
+/// The graph's endpoints and what it remembers between steps (see the module docs).
+pub struct RosGraph {
+    net: Arc<dyn RosNetwork>,
+    options: GraphOptions,
+    /// Snapshots to the encoder's thread; `None` once dropped (at the end).
+    encoder: Option<SyncSender<Snapshot>>,
+    worker: Option<JoinHandle<()>>,
+    /// Snapshots the encoder's full queue refused.
+    dropped: u64,
+    cameras: HashMap<Handle, Camera>,
+    /// The robots' command topics, opened at the first step.
+    robots: Option<Vec<Robot>>,
+    sampler: Sampler,
+    /// Simulation time of the last publication, ns.
+    last_ns: Option<u64>,
+}
+
+/// The DDS type of a ROS message type `pkg/msg/Type`.
+fn dds_type(ros_type: &str) -> String {
+    let (pkg, name) = ros_type.split_once("/msg/").unwrap_or(("", ros_type));
+    format!("{pkg}::msg::dds_::{name}_")
+}
+
+fn open(
+    net: &dyn RosNetwork,
+    dir: Direction,
+    topic: &str,
+    ros_type: &str,
+    qos: RosQos,
+) -> Result<EndpointId, NetworkError> {
+    net.open(&EndpointSpec {
+        direction: dir,
+        dds_topic: format!("rt{topic}"),
+        dds_type: dds_type(ros_type),
+        qos,
+    })
+}
+
+/// Sends a message the codecs here encoded (with the encapsulation header; the network
+/// wants the body after it). A failure is the network's to report: the graph goes on.
+fn send(net: &dyn RosNetwork, id: EndpointId, message: &[u8]) {
+    let body = message.get(4..).map(<[u8]>::to_vec).unwrap_or_default();
+    if let Err(e) = net.write(id, body) {
+        tracing::debug!("ROS 2 graph: {e}");
+    }
+}
+
+/// ROS's topic name rules allow letters, digits and `_` in each token, which must not
+/// start with a digit: other characters of a frame id become `_`.
+pub fn topic_token(frame: &str) -> String {
+    let mut out = String::with_capacity(frame.len() + 1);
+    for (i, part) in frame.split('/').filter(|p| !p.is_empty()).enumerate() {
+        if i > 0 {
+            out.push('/');
+        }
+        if part.starts_with(|c: char| c.is_ascii_digit()) {
+            out.push('_');
+        }
+        out.extend(
+            part.chars()
+                .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }),
+        );
+    }
+    out
+}
+
+impl RosGraph {
+    /// Opens the always-on topics on `net`.
+    ///
+    /// # Errors
+    /// The network could not start or open them.
+    pub fn new(net: Arc<dyn RosNetwork>, options: GraphOptions) -> Result<Self, NetworkError> {
+        let encoder = Encoder::open(net.clone())?;
+        let (tx, rx) = std::sync::mpsc::sync_channel::<Snapshot>(ENCODER_QUEUE);
+        let worker = std::thread::Builder::new()
+            .name("gantry-ros2-graph".to_owned())
+            .spawn(move || encoder.run(&rx))
+            .map_err(|e| NetworkError(format!("cannot start the graph's encoder: {e}")))?;
+        Ok(Self {
+            net,
+            options,
+            encoder: Some(tx),
+            worker: Some(worker),
+            dropped: 0,
             cameras: HashMap::new(),
             robots: None,
             sampler: Sampler::new(None),
-            frames: TfFrames::tolerant(),
             last_ns: None,
         })
     }
 
-    fn write(&self, id: EndpointId, message: Vec<u8>) {
-        // The codecs here write the encapsulation header; the network wants the body.
-        let body = message.get(4..).map(<[u8]>::to_vec).unwrap_or_default();
-        if let Err(e) = self.net.write(id, body) {
-            tracing::debug!("ROS 2 graph: {e}");
-        }
+    fn write(&self, id: EndpointId, message: &[u8]) {
+        send(self.net.as_ref(), id, message);
     }
 
     /// Publishes the state after a step (nothing when simulation time has not moved).
@@ -205,46 +298,33 @@ impl RosGraph {
             self.last_ns = Some(now);
             self.sampler.sample(&core)
         };
-        let Some(s) = snapshot else { return };
-        let stamp = Time::from_nanos(s.stamp_ns);
-        let mut clock = CdrWriter::new();
-        clock.i32(stamp.sec);
-        clock.u32(stamp.nanosec);
-        self.write(self.clock, clock.into_bytes());
-        let (statics, tf) = self.frames.messages(&s);
-        if let Some(m) = statics {
-            self.write(self.tf_static, m);
-        }
-        self.write(self.tf, tf);
-        let joints: Vec<_> = {
+        let Some(mut s) = snapshot else { return };
+        {
             let core = sim.core();
-            s.joints
-                .iter()
-                .filter(|j| movable(&core.world, j.handle))
-                .copied()
-                .collect()
-        };
-        if !joints.is_empty() {
-            let frame = |h: Handle| {
-                usize::try_from(h)
-                    .ok()
-                    .and_then(|i| s.frames.get(i))
-                    .map_or("", String::as_str)
-            };
-            let names: Vec<&str> = joints.iter().map(|j| frame(j.handle)).collect();
-            let position: Vec<f64> = joints.iter().map(|j| j.position).collect();
-            let velocity: Vec<f64> = joints.iter().map(|j| j.velocity).collect();
-            let effort: Vec<f64> = joints.iter().map(|j| j.effort).collect();
-            self.write(
-                self.joint_states,
-                msg::joint_state(stamp, &names, &position, &velocity, &effort),
-            );
+            s.joints.retain(|j| movable(&core.world, j.handle));
         }
+        // Encoding and sending happen on the encoder's thread: the simulation thread
+        // only copies numbers. A full queue (the network cannot keep up) drops the
+        // snapshot, counted, rather than slowing the simulation.
+        let frames = s.frames.clone();
+        let stamp_ns = s.stamp_ns;
+        if let Some(tx) = &self.encoder
+            && tx.try_send(s).is_err()
+        {
+            self.dropped += 1;
+            if self.dropped.is_power_of_two() {
+                tracing::warn!(
+                    "ROS 2 graph: {} steps not published (the network is behind)",
+                    self.dropped
+                );
+            }
+        }
+        let s = (frames, stamp_ns);
         if self.options.camera_rate_hz > 0.0 {
-            self.cameras_after_step(sim, &s.frames, s.stamp_ns);
+            self.cameras_after_step(sim, &s.0, s.1);
         }
         if self.robots.is_none() {
-            self.robots = Some(self.open_robots(sim, &s.frames));
+            self.robots = Some(self.open_robots(sim, &s.0));
         }
         self.apply_commands(sim);
     }
@@ -407,9 +487,9 @@ impl RosGraph {
                 Ok([image, depth, info]) => {
                     let c = &self.cameras[&h];
                     let ids = (c.image, c.depth, c.info);
-                    self.write(ids.0, image);
-                    self.write(ids.1, depth);
-                    self.write(ids.2, info);
+                    self.write(ids.0, &image);
+                    self.write(ids.1, &depth);
+                    self.write(ids.2, &info);
                     if let Some(c) = self.cameras.get_mut(&h) {
                         c.last_ns = Some(stamp_ns);
                     }
@@ -484,8 +564,10 @@ fn below(world: &gantry_sim_core::World, h: Handle, ancestor: Handle) -> bool {
 
 impl Drop for RosGraph {
     fn drop(&mut self) {
-        for id in [self.clock, self.tf, self.tf_static, self.joint_states] {
-            self.net.close(id);
+        // The encoder publishes what is queued, closes its topics and ends.
+        self.encoder = None;
+        if let Some(w) = self.worker.take() {
+            let _ = w.join();
         }
         for r in self.robots.iter().flatten() {
             self.net.close(r.position);

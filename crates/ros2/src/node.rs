@@ -177,11 +177,19 @@ impl DdsNetwork {
     }
 
     fn send(&self, command: Command) -> Result<(), NetworkError> {
+        self.send_waking(command, true)
+    }
+
+    /// Sends `command`, waking the DDS thread when `wake` (a wake is a system call:
+    /// writes wake it only when it may be asleep, see [`Node::run`]).
+    fn send_waking(&self, command: Command, wake: bool) -> Result<(), NetworkError> {
         let (tx, waker) = self.started()?;
         tx.send(command)
             .map_err(|_| NetworkError("the ROS 2 network thread has stopped".to_owned()))?;
-        // A failed wake leaves the command for the thread's next idle poll.
-        let _ = waker.wake();
+        if wake {
+            // A failed wake leaves the command for the thread's next idle poll.
+            let _ = waker.wake();
+        }
         Ok(())
     }
 }
@@ -229,12 +237,15 @@ impl RosNetwork for DdsNetwork {
             .cloned()
             .filter(|s| s.spec.direction == Direction::Publish)
             .ok_or_else(|| NetworkError(format!("no publisher {id}")))?;
-        if self.queued.fetch_add(1, Ordering::AcqRel) >= MAX_QUEUED_WRITES {
+        let before = self.queued.fetch_add(1, Ordering::AcqRel);
+        if before >= MAX_QUEUED_WRITES {
             self.queued.fetch_sub(1, Ordering::AcqRel);
             shared.dropped.fetch_add(1, Ordering::Relaxed);
             return Ok(());
         }
-        self.send(Command::Write { id, body })
+        // With writes already queued the thread is awake, or will not sleep before it
+        // has taken them all (see `Node::run`): only the first needs a wake.
+        self.send_waking(Command::Write { id, body }, before == 0)
     }
 
     fn take(&self, id: EndpointId, max: usize) -> Vec<RosSample> {
@@ -357,23 +368,34 @@ impl Node {
                 tracing::error!("ROS 2: polling failed, the network thread stops: {e}");
                 return;
             }
-            while let Ok(c) = commands.try_recv() {
-                match c {
-                    Command::Open { id, spec, done } => {
-                        let _ = done.send(self.open(id, &spec));
-                    }
-                    Command::Write { id, body } => {
-                        self.queued.fetch_sub(1, Ordering::AcqRel);
-                        self.write(id, body);
-                    }
-                    Command::Close(id) => {
-                        self.writers.remove(&id);
-                        if let Some(mut r) = self.readers.remove(&id) {
-                            let _ = self.poll.registry().deregister(&mut r);
+            // Writes are counted in `queued` before they are sent, and a writer wakes
+            // this thread only when the count was 0. So the count is lowered only
+            // after the channel ran dry, and while it is still above 0 a write is on
+            // its way (counted, not yet in the channel): take it before sleeping.
+            loop {
+                let mut writes = 0;
+                while let Ok(c) = commands.try_recv() {
+                    match c {
+                        Command::Open { id, spec, done } => {
+                            let _ = done.send(self.open(id, &spec));
                         }
+                        Command::Write { id, body } => {
+                            writes += 1;
+                            self.write(id, body);
+                        }
+                        Command::Close(id) => {
+                            self.writers.remove(&id);
+                            if let Some(mut r) = self.readers.remove(&id) {
+                                let _ = self.poll.registry().deregister(&mut r);
+                            }
+                        }
+                        Command::Shutdown => return,
                     }
-                    Command::Shutdown => return,
                 }
+                if self.queued.fetch_sub(writes, Ordering::AcqRel) == writes {
+                    break;
+                }
+                std::thread::yield_now();
             }
             self.receive();
         }

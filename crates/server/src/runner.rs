@@ -332,7 +332,10 @@ pub fn start(
                 serve.http.clone(),
                 serve.token.clone(),
                 stop_rx.clone(),
-                debug_hub.clone(),
+                crate::http::Sidecars {
+                    debug: debug_hub.clone(),
+                    ros2: sim.ros2.as_ref().map(|r| r.network.clone()),
+                },
             ));
         }
         Ok::<_, ServerError>(bound)

@@ -19,7 +19,7 @@ pub(crate) const MESSAGES: &[(&str, &str)] = &[
 ];
 
 /// Service packages: `(package, definitions)`.
-pub(crate) const SERVICES: &[(&str, &str)] = &[("std_srvs", STD_SRVS)];
+pub(crate) const SERVICES: &[(&str, &str)] = &[("std_srvs", STD_SRVS), ("example_interfaces", EXAMPLE_INTERFACES_SRVS)];
 
 const BUILTIN_INTERFACES: &str = "
 MSG: Time
@@ -260,6 +260,13 @@ float32 range_min
 float32 range_max
 float32[] ranges
 float32[] intensities
+MSG: ChannelFloat32
+string name
+float32[] values
+MSG: PointCloud
+Header header
+geometry_msgs/Point32[] points
+ChannelFloat32[] channels
 MSG: PointField
 uint8 INT8=1
 uint8 UINT8=2
@@ -410,4 +417,13 @@ SRV: Trigger
 ---
 bool success
 string message
+";
+
+/// The tutorials' service (CoppeliaSim's simROS2 examples call it).
+const EXAMPLE_INTERFACES_SRVS: &str = "
+SRV: AddTwoInts
+int64 a
+int64 b
+---
+int64 sum
 ";

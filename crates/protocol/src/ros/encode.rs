@@ -57,6 +57,21 @@ impl<'a> Encoder<'a> {
                 max: MAX_DEPTH,
             });
         }
+        // A time or duration may be given as a number of seconds, as ROS 1's plugin
+        // took it (old scripts stamp headers with `simROS.getTime()`).
+        let from_seconds;
+        let value = match value.as_f64() {
+            Some(t)
+                if matches!(
+                    ty.name(),
+                    "builtin_interfaces/msg/Time" | "builtin_interfaces/msg/Duration"
+                ) =>
+            {
+                from_seconds = seconds(t).ok_or_else(|| self.wrong(path, "a finite number of seconds", value))?;
+                &from_seconds
+            }
+            _ => value,
+        };
         let pairs: &[(Value, Value)] = match value {
             Value::Map(pairs) => pairs,
             Value::Array(items) if items.is_empty() => &[],
@@ -271,4 +286,26 @@ impl<'a> Encoder<'a> {
             Err(out_of_range(i.to_string()))
         }
     }
+}
+
+/// `{sec, nanosec}` of `t` seconds (`nanosec` in `0..1e9`, so a negative duration has a
+/// negative `sec`); `None` for a time that is not finite or beyond `i32` seconds.
+fn seconds(t: f64) -> Option<Value> {
+    if !t.is_finite() {
+        return None;
+    }
+    let mut sec = t.floor();
+    let mut nanosec = ((t - sec) * 1e9).round();
+    if nanosec >= 1e9 {
+        sec += 1.0;
+        nanosec = 0.0;
+    }
+    if sec < f64::from(i32::MIN) || sec > f64::from(i32::MAX) {
+        return None;
+    }
+    // Both in range, checked above.
+    Some(Value::Map(vec![
+        (Value::Str("sec".into()), Value::Int(sec as i64)),
+        (Value::Str("nanosec".into()), Value::Int(nanosec as i64)),
+    ]))
 }

@@ -25,6 +25,8 @@
 //!   type; float fields take any number (`float32` rounds; NaN and infinities are
 //!   data); `bool` takes booleans only; `string` takes strings (or UTF-8 bytes).
 //!   `byte`, `char` and `uint8` are numbers.
+//! * A `builtin_interfaces` `Time` or `Duration` also takes a number of seconds (ROS 1's
+//!   plugin took times that way).
 //! * Arrays and sequences take arrays (an empty map counts as empty); arrays of
 //!   `uint8`, `byte` and `char` also take bytes or strings, copied in one go (images).
 //! * Decoding gives maps in field order, integers as `Int`, floats as `Float`, strings

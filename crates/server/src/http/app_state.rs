@@ -26,4 +26,6 @@ pub(super) struct AppState {
     pub(super) debug: Option<DebugHub>,
     /// With `gantry replay`: the recording and its clock; the page is in replay mode.
     pub(super) replay: Option<ReplayHub>,
+    /// The ROS 2 network, for the page's list of topics.
+    pub(super) ros2: Option<Arc<gantry_ros2::DdsNetwork>>,
 }

@@ -68,6 +68,7 @@ pub(super) const ASSETS: &[Asset] = &[
     module!("panels/graphs.js"),
     module!("panels/vision.js"),
     module!("panels/replay.js"),
+    module!("panels/ros2.js"),
 ];
 
 impl Asset {

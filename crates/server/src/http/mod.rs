@@ -18,6 +18,7 @@
 //!
 //! Plain HTTP routes, for scripts and tests:
 //! * `GET /api/status`: `{"time", "steps", "state", "viewers"}` as JSON;
+//! * `GET /api/ros2`: the ROS 2 topics gantry publishes and subscribes to, with counts;
 //! * `GET /api/graph/HANDLE.csv`: a graph's streams as CSV (the page's download link).
 //!
 //! Access: the listener binds loopback by default, like the other channels. With an
@@ -74,6 +75,15 @@ use crate::auth::AccessToken;
 use crate::debug::DebugHub;
 use crate::sim_thread::SimHandle;
 
+/// What a live run's page shows beside the simulation.
+#[derive(Clone, Default)]
+pub struct Sidecars {
+    /// With `--debug`: the script debugger, for the "paused in SCRIPT:LINE" banner.
+    pub debug: Option<DebugHub>,
+    /// The ROS 2 network, for the list of topics.
+    pub ros2: Option<Arc<gantry_ros2::DdsNetwork>>,
+}
+
 /// Serves the page, its assets, the WebSocket and the HTTP API until `shutdown`
 /// turns true. With `token`, every route requires it (see the `access` module).
 pub async fn serve(
@@ -83,7 +93,7 @@ pub async fn serve(
     cfg: HttpConfig,
     token: Option<AccessToken>,
     shutdown: watch::Receiver<bool>,
-    debug: Option<DebugHub>,
+    sidecars: Sidecars,
 ) {
     let state = AppState {
         sim,
@@ -91,8 +101,9 @@ pub async fn serve(
         viewers: Arc::new(Semaphore::new(cfg.max_viewers)),
         cfg,
         shutdown: shutdown.clone(),
-        debug,
+        debug: sidecars.debug,
         replay: None,
+        ros2: sidecars.ros2,
     };
     serve_state(listener, state, token, shutdown).await;
 }
@@ -116,6 +127,7 @@ pub async fn serve_replay(
         shutdown: shutdown.clone(),
         debug: None,
         replay: Some(replay),
+        ros2: None,
     };
     serve_state(listener, state, token, shutdown).await;
 }
@@ -131,6 +143,7 @@ async fn serve_state(
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .route("/ws", get(websocket))
         .route("/api/status", get(status))
+        .route("/api/ros2", get(ros2_topics))
         .route("/api/graph/{file}", get(graph_csv))
         .fallback(|| async { (StatusCode::NOT_FOUND, "not found: the viewer is at /\n") })
         .with_state(state);
@@ -229,6 +242,39 @@ async fn status(State(st): State<AppState>) -> Response {
         })),
         Err(e) => (StatusCode::SERVICE_UNAVAILABLE, format!("{e}\n")).into_response(),
     }
+}
+
+/// `GET /api/ros2`: `{"topics": [{"id", "topic", "type", "direction", "messages",
+/// "dropped"}]}`, every endpoint gantry has open on the ROS 2 graph (none without it), with
+/// ROS names (`/cmd_vel`, `geometry_msgs/msg/Twist`); the page derives rates from two
+/// readings.
+async fn ros2_topics(State(st): State<AppState>) -> Response {
+    let topics: Vec<serde_json::Value> = st
+        .ros2
+        .as_ref()
+        .map(|n| n.stats())
+        .unwrap_or_default()
+        .into_iter()
+        .map(|s| {
+            serde_json::json!({
+                "id": s.id,
+                "topic": gantry_protocol::ros::ros_topic_name(&s.dds_topic).unwrap_or(s.dds_topic),
+                "type": ros_type_name(&s.dds_type),
+                "direction": match s.direction {
+                    gantry_script::ros::Direction::Publish => "publish",
+                    gantry_script::ros::Direction::Subscribe => "subscribe",
+                },
+                "messages": s.messages,
+                "dropped": s.dropped,
+            })
+        })
+        .collect();
+    json_response(&serde_json::json!({ "topics": topics }))
+}
+
+/// `geometry_msgs/msg/Twist` of the DDS name `geometry_msgs::msg::dds_::Twist_`.
+fn ros_type_name(dds: &str) -> String {
+    dds.replace("::dds_::", "::").trim_end_matches('_').replace("::", "/")
 }
 
 /// `GET /api/graph/HANDLE.csv` (or without `.csv`).

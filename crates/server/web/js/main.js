@@ -28,6 +28,7 @@ import { showUis } from './panels/custom_ui.js';
 import { showViews } from './panels/vision.js';
 import { addGraphSamples } from './panels/graphs.js';
 import { onReplay } from './panels/replay.js';
+import { startRos2Panel } from './panels/ros2.js';
 
 // Slower panels: scripts, log, custom UIs, floating views, the selection, graphs.
 function onPanels(p) {
@@ -66,4 +67,5 @@ function loop(now) {
 if (glError) showError(glError);
 window.addEventListener('resize', () => { changed.view = true; });
 connect({ scene: onScene, tick: onTick, panels: onPanels, debug: onDebug, replay: onReplay, binary: onBinary });
+startRos2Panel();
 requestAnimationFrame(loop);

@@ -438,6 +438,8 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("jointmode_passive", 0),
     ("jointmode_dependent", 4),
     ("jointmode_dynamic", 5),
+    // CoppeliaSim 4.4's name for the dynamic mode.
+    ("jointmode_force", 5),
     ("proximitysensor_pyramid_subtype", 30),
     ("proximitysensor_cylinder_subtype", 31),
     ("proximitysensor_disc_subtype", 32),
@@ -462,6 +464,8 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("verbosity_scripterrors", 400),
     ("verbosity_scriptwarnings", 420),
     ("verbosity_scriptinfos", 450),
+    // CoppeliaSim 4.5's name for the same level (its plugin examples log with it).
+    ("verbosity_msgs", 450),
     ("verbosity_infos", 500),
     ("verbosity_debug", 600),
     ("scripttype_main", 0),
