@@ -54,6 +54,8 @@ echo "== recording: the showroom's step rate with and without --record (issue 31
 GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/record.py --json target/bench/record.json
 echo "== replay: scrubbing a 10-minute showroom recording (issue 31)"
 GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/replay.py --steps 12000 --seeks 200 --json target/bench/replay.json
+echo "== ROS 2: --ros2's cost, a VGA camera on the graph, /cmd_vel latency; Cyclone DDS as the peer (issue 29)"
+GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/ros2.py --json target/bench/ros2.json
 echo "== start-up and memory"
 "$venv/bin/python" tools/bench/startup.py > target/bench/startup.json
 echo

@@ -181,12 +181,18 @@ class SetBoolResponse(IdlStruct, typename="std_srvs::srv::dds_::SetBool_Response
 
 
 def loopback_config() -> str:
-    """Cyclone on the loopback interface, as ROS_LOCALHOST_ONLY=1 configures it: gantry
-    joins the graph on this host only by default."""
+    """Cyclone on the loopback interface, as ROS_LOCALHOST_ONLY=1 configures it (gantry
+    joins the graph on this host only by default). Discovery goes by unicast to the
+    well-known ports of 127.0.0.1, where RustDDS announces itself too: Linux's `lo`
+    often has no multicast (as on the CI machines), and multicast discovery there took
+    seconds instead of well under one."""
     return (
         "<CycloneDDS><Domain><General><Interfaces>"
-        '<NetworkInterface address="127.0.0.1" multicast="true"/>'
-        "</Interfaces></General></Domain></CycloneDDS>"
+        '<NetworkInterface address="127.0.0.1"/>'
+        "</Interfaces><AllowMulticast>false</AllowMulticast></General>"
+        "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
+        '<Peers><Peer address="127.0.0.1"/></Peers></Discovery>'
+        "</Domain></CycloneDDS>"
     )
 
 

@@ -173,6 +173,28 @@ def vision_section(v: dict) -> str:
     )
 
 
+def ros2_section(r: dict) -> str:
+    """ROS 2 (issue 29): what --ros2 costs, a VGA camera on the graph, command latency."""
+    g, c = r["graph"], r["camera_640x480"]
+    lf, lr = r["latency_fast"], r["latency_realtime"]
+    cost = 100 * (1 - g["ratio"])
+    return (
+        "## ROS 2 (tools/bench/ros2.py, Cyclone DDS from PyPI as the peer)\n\n"
+        "| what | figure | target |\n|---|---|---|\n"
+        f"| showroom, /clock + /tf + /joint_states every step, peer subscribed | "
+        f"{g['without_steps_per_s']:.0f} -> {g['with_ros2_steps_per_s']:.0f} steps/s ({cost:.1f} % cost) | "
+        f"<= 5 % {verdict(cost <= 5)} |\n"
+        f"| 640 x 480 camera at 30 Hz, paced in real time | rtf {c['real_time_factor_paced']:.3f}, "
+        f"{c['images_received_median']:.0f} of {c['images_published']} images received | rtf >= 1 "
+        f"{verdict(c['real_time_factor_paced'] >= 0.99)} |\n"
+        f"| the same, --fast | rtf {c['real_time_factor_fast']:.1f} | |\n"
+        f"| /cmd_vel -> callback -> ack round trip, --fast | median {lf['round_trip_ms_median']:.2f} ms, "
+        f"p99 {lf['round_trip_ms_p99']:.2f} ms | |\n"
+        f"| the same, real time (dt 0.05 s) | median {lr['round_trip_ms_median']:.1f} ms, "
+        f"p99 {lr['round_trip_ms_p99']:.1f} ms | |\n"
+    )
+
+
 def public_robots(pub: dict) -> str:
     """Section 6: gantry and PyBullet on public mesh-collision arms (issue 15)."""
     out = []
@@ -279,6 +301,8 @@ def main() -> None:
         text += "\n" + public_robots(load("public.json"))
     if (BENCH / "vision.json").exists():
         text += "\n" + vision_section(load("vision.json"))
+    if (BENCH / "ros2.json").exists():
+        text += "\n" + ros2_section(load("ros2.json"))
     (BENCH / "report.md").write_text(text + "\n")
     print(text)
     path = plot(g, pb)

@@ -13,8 +13,8 @@
 //!   rad/s, N·m (m, m/s, N for prismatic joints; REP 103).
 //! - `/<sensor>/image_raw` (`rgb8`), `/<sensor>/depth/image_raw` (`32FC1`, m, +inf
 //!   where nothing is seen within the far plane) and `/<sensor>/camera_info`, top row
-//!   first, in the sensor's frame, at most [`GraphOptions::camera_rate_hz`] per
-//!   simulated second.
+//!   first, in the sensor's frame, at most the sensor's `ros2_rate` (scene key) or else
+//!   [`GraphOptions::camera_rate_hz`] per simulated second.
 //! - Joint commands in, as `ros2_control`'s forward command controllers take them: for
 //!   each model base with joints below it (a robot), `std_msgs/Float64MultiArray` on
 //!   `/<robot>/forward_position_controller/commands` (rad or m) and
@@ -43,7 +43,8 @@ use gantry_sim_core::world::ObjectKind;
 /// What the graph publishes besides the always-on topics.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GraphOptions {
-    /// Images per simulated second of each vision sensor, at most (0: no camera topics).
+    /// Images per simulated second of each vision sensor whose scene sets no
+    /// `ros2_rate`, at most (0: none).
     pub camera_rate_hz: f64,
 }
 
@@ -320,9 +321,7 @@ impl RosGraph {
             }
         }
         let s = (frames, stamp_ns);
-        if self.options.camera_rate_hz > 0.0 {
-            self.cameras_after_step(sim, &s.0, s.1);
-        }
+        self.cameras_after_step(sim, &s.0, s.1);
         if self.robots.is_none() {
             self.robots = Some(self.open_robots(sim, &s.0));
         }
@@ -445,17 +444,21 @@ impl RosGraph {
 
     /// Renders (when stale) and publishes the vision sensors whose period has passed.
     fn cameras_after_step(&mut self, sim: &Simulation, frames: &[String], stamp_ns: u64) {
-        let period_ns = nanos_from_secs(1.0 / self.options.camera_rate_hz);
-        let sensors: Vec<Handle> = {
+        // Each sensor's rate: its scene's `ros2_rate`, else the run's; 0 is none.
+        let sensors: Vec<(Handle, f64)> = {
             let core = sim.core();
             core.world
                 .handles()
                 .iter()
-                .copied()
-                .filter(|&h| matches!(core.world.object(h).map(|o| &o.kind), Ok(ObjectKind::VisionSensor(_))))
+                .filter_map(|&h| match core.world.object(h).map(|o| &o.kind) {
+                    Ok(ObjectKind::VisionSensor(v)) => Some((h, v.ros2_rate.unwrap_or(self.options.camera_rate_hz))),
+                    _ => None,
+                })
+                .filter(|(_, rate)| rate.is_finite() && *rate > 0.0)
                 .collect()
         };
-        for h in sensors {
+        for (h, rate) in sensors {
+            let period_ns = nanos_from_secs(1.0 / rate);
             let frame = usize::try_from(h)
                 .ok()
                 .and_then(|i| frames.get(i))

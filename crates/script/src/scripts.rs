@@ -153,6 +153,9 @@ impl ScriptSet {
             thread: None,
         });
         self.register_with_debugger(index, &s.source);
+        if crate::ros::lua_api::uses_ros1(&s.source) {
+            crate::ros::lua_api::notice_ros1(&self.lua);
+        }
         if let Some(e) = env_error {
             self.fail(index, e);
         } else if let Err(e) = self.exec_chunk(index, &s.source) {

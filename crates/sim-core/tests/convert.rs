@@ -465,6 +465,7 @@ fn everything() -> SceneModel {
                 render_mode: RenderMode::ColorCoded,
                 ignore_rgb: false,
                 ignore_depth: true,
+                ros2_rate: Some(15.0),
             }),
         ),
         object("fs", Some(0), Pose::identity(), ObjectModelKind::ForceSensor),

@@ -1066,6 +1066,17 @@ impl Resolver<'_> {
                 }
             },
         };
+        if let Some(r) = o.ros2_rate
+            && !(r.is_finite() && r >= 0.0)
+        {
+            return self.err_at(
+                o.name.span(),
+                format!(
+                    "vision sensor '{}': ros2_rate {r} must be 0 (no images) or a positive number of Hz",
+                    o.name.get_ref()
+                ),
+            );
+        }
         let fov = o.fov_deg.unwrap_or(60.0);
         let ortho_size = o.ortho_size.unwrap_or(1.0);
         let near = o.near.unwrap_or(0.01);
@@ -1096,6 +1107,7 @@ impl Resolver<'_> {
             render_mode,
             ignore_rgb: o.ignore_rgb.unwrap_or(false),
             ignore_depth: o.ignore_depth.unwrap_or(false),
+            ros2_rate: o.ros2_rate,
         })
     }
 

@@ -538,6 +538,9 @@ pub struct VisionModel {
     /// (CoppeliaSim's "ignore depth info", `sim.visionintparam_depthignored`). The
     /// z-buffer that decides what is seen is still drawn.
     pub ignore_depth: bool,
+    /// Images per simulated second on the ROS 2 graph (`gantry run --ros2`): `None`
+    /// takes the run's default (`--ros2-camera-rate`), 0 publishes none.
+    pub ros2_rate: Option<f64>,
 }
 
 /// A CoppeliaSim camera: a viewpoint the viewer can look through. It looks along its

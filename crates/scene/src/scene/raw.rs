@@ -207,6 +207,8 @@ pub struct RawObject {
     pub ignore_rgb: Option<bool>,
     /// Vision sensor: write no depth image (default false).
     pub ignore_depth: Option<bool>,
+    /// Vision sensor: images per simulated second on the ROS 2 graph (default: the run's).
+    pub ros2_rate: Option<f64>,
 }
 
 /// One `[[object.part]]` of a shape: a primitive or mesh placed in the shape frame.
@@ -392,6 +394,7 @@ const OBJECT_KEYS: &[&str] = &[
     "render_mode",
     "ignore_rgb",
     "ignore_depth",
+    "ros2_rate",
 ];
 const ROBOT_KEYS: &[&str] = &[
     "urdf",

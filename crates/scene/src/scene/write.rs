@@ -312,6 +312,9 @@ impl Writer {
         if v.ignore_depth {
             self.out.push_str("ignore_depth = true\n");
         }
+        if let Some(r) = v.ros2_rate {
+            self.key("ros2_rate", r)?;
+        }
         Ok(())
     }
 

@@ -523,8 +523,14 @@ fn add(
     table.set(name, wrap.call::<Function>(func)?)
 }
 
+/// Whether a script's source calls ROS 1's plugin (`simROS.`, not `simROS2.`): its
+/// load gives the notice below.
+pub(crate) fn uses_ros1(source: &str) -> bool {
+    source.contains("simROS.") || source.contains("'simROS'") || source.contains("\"simROS\"")
+}
+
 /// Logs, once per Lua state, that ROS 1 calls go to the ROS 2 graph.
-fn notice_ros1(lua: &Lua) {
+pub(crate) fn notice_ros1(lua: &Lua) {
     let host = state::<RosHost>(lua);
     if !host.ros1_noticed.replace(true) {
         tracing::warn!(

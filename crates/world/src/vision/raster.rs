@@ -949,6 +949,7 @@ mod tests {
             render_mode: RenderMode::Visible,
             ignore_rgb: false,
             ignore_depth: false,
+            ros2_rate: None,
         }
     }
 

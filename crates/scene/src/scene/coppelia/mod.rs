@@ -362,6 +362,7 @@ fn convert_vision(v: &cf::VisionSensor) -> Result<VisionModel, String> {
         render_mode: RenderMode::Visible,
         ignore_rgb: false,
         ignore_depth: false,
+        ros2_rate: None,
     })
 }
 
