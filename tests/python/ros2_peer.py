@@ -180,6 +180,21 @@ class SetBoolResponse(IdlStruct, typename="std_srvs::srv::dds_::SetBool_Response
     message: str
 
 
+@dataclass
+class AddTwoIntsRequest(IdlStruct, typename="example_interfaces::srv::dds_::AddTwoInts_Request_"):
+    client_guid: uint64
+    sequence_number: int64
+    a: int64
+    b: int64
+
+
+@dataclass
+class AddTwoIntsResponse(IdlStruct, typename="example_interfaces::srv::dds_::AddTwoInts_Response_"):
+    client_guid: uint64
+    sequence_number: int64
+    sum: int64
+
+
 def loopback_config() -> str:
     """Cyclone on the loopback interface, as ROS_LOCALHOST_ONLY=1 configures it (gantry
     joins the graph on this host only by default). Discovery goes by unicast to the

@@ -15,6 +15,8 @@ says at the same step:
 - ``--ros2``: ros2_control-style position commands (``Float64MultiArray``) set the
   arm's joint targets, and a command of the wrong length is dropped;
 - ``gantry.Client(scene, ros2=True)`` (in process) publishes the same graph;
+- a script's ``simROS2`` client calls a service the peer serves (``waitForService``,
+  then ``call``);
 - ROS 1's ``simROS`` names publish on the ROS 2 graph;
 - malformed samples are dropped with a clear log line and the simulation goes on.
 
@@ -32,6 +34,8 @@ import pytest
 from gantry_proc import REPO, GantryProcess
 from ros2_peer import (
     LATCHED,
+    AddTwoIntsRequest,
+    AddTwoIntsResponse,
     Bool,
     CameraInfo,
     Clock,
@@ -316,3 +320,94 @@ def test_in_process_client_with_ros2_publishes_the_graph(domain):
         assert got
     finally:
         client.close()
+
+
+PEER_THAT_VANISHES = """
+import sys, time
+sys.path.insert(0, {here!r})
+from ros2_peer import Image, Peer
+peer = Peer({domain})
+images = peer.reader("rt/bubbleRob/sensingNose/visionSensor/image_raw", Image)
+while True:
+    if images.take(N=10):
+        print("got", flush=True)
+    time.sleep(0.005)
+"""
+
+
+def test_a_peer_killed_mid_transfer_leaves_the_simulation_running(domain, procs):
+    import subprocess
+    import sys
+
+    g, client, sim = held(procs, extra=["--ros2"])
+    code = PEER_THAT_VANISHES.format(here=str(Path(__file__).resolve().parent), domain=domain)
+    peer = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    try:
+        # Step until the peer has images coming, then kill it while more are sent.
+        import threading
+
+        lines: list[str] = []
+        assert peer.stdout is not None
+        threading.Thread(target=lambda: lines.extend(peer.stdout), daemon=True).start()
+        deadline = time.monotonic() + 30
+        while not lines:
+            assert time.monotonic() < deadline, "the peer never received an image"
+            client.step()
+        client.step()
+        peer.kill()
+    finally:
+        peer.kill()
+        peer.wait(10)
+    t0 = sim.getSimulationTime()
+    for _ in range(40):
+        client.step()
+    assert sim.getSimulationTime() == pytest.approx(t0 + 40 * 0.05)
+    assert g.proc.poll() is None, "gantry is still running"
+    assert "panicked" not in g.stderr()
+
+
+def test_a_script_calls_a_service_the_peer_serves(domain, procs, tmp_path):
+    import threading
+
+    script = tmp_path / "client.lua"
+    script.write_text(
+        "function sysCall_init()\n"
+        "    client = simROS2.createClient('/add_two_ints', 'example_interfaces/srv/AddTwoInts')\n"
+        "end\n"
+        "function sysCall_actuation()\n"
+        "    if not done and simROS2.waitForService(client, 1) then\n"
+        "        local r = simROS2.call(client, {a = 2, b = 40})\n"
+        "        sim.setInt32Signal('sum', r.sum)\n"
+        "        done = true\n"
+        "    end\n"
+        "end\n"
+    )
+    scene = tmp_path / "client.toml"
+    scene.write_text(f'[[object]]\nname = "node"\nkind = "dummy"\nscript = "{script.name}"\n')
+    peer = Peer(domain)
+    requests = peer.reader("rq/add_two_intsRequest", AddTwoIntsRequest)
+    replies = peer.writer("rr/add_two_intsReply", AddTwoIntsResponse)
+    seen: list = []
+    stop = threading.Event()
+
+    def serve():
+        while not stop.is_set():
+            for r in requests.take(N=10):
+                seen.append(r)
+                replies.write(AddTwoIntsResponse(client_guid=r.client_guid, sequence_number=r.sequence_number,
+                                                 sum=r.a + r.b))
+            time.sleep(0.002)
+
+    server = threading.Thread(target=serve, daemon=True)
+    server.start()
+    try:
+        g, client, sim = held(procs, scene=scene)
+        for _ in range(100):
+            client.step()
+            if sim.getInt32Signal("sum"):
+                break
+        assert sim.getInt32Signal("sum") == 42, (seen, g.stderr()[-300:])
+        assert len(seen) == 1 and seen[0].sequence_number == 1, seen
+    finally:
+        stop.set()
+        server.join(5)

@@ -3,7 +3,7 @@ that subscribes and publishes (tests/python/ros2_peer.py):
 
 1. the showroom's headless step rate without --ros2 and with it (/clock, /tf,
    /tf_static and /joint_states every step, camera topics off), a peer subscribed to
-   all of them; target: at most 5 % slower;
+   all of them (taking /clock); target: at most 5 % slower;
 2. BubbleRob with its vision sensor at 640 x 480, published as image_raw, depth and
    camera_info at 30 Hz of simulated time (every 0.05 s step): paced in real time,
    whether the rate holds and how many images the peer received; with --fast, the
@@ -94,11 +94,13 @@ def graph_cost(steps: int, repeat: int) -> dict:
     domain = free_domain()
     env = {**os.environ, "ROS_DOMAIN_ID": str(domain)}
     peer = Peer(domain)
-    readers = [
-        peer.reader("rt/clock", Clock),
-        peer.reader("rt/tf", TFMessage),
-        peer.reader("rt/joint_states", JointState),
-    ]
+    # Subscribed to all three (gantry sends every message to the peer, reliably, and
+    # handles its acknowledgements), but only /clock is taken and decoded: decoding 45
+    # transforms per message in Python would take the CPU this 2-core machine shares
+    # with gantry, and measure the peer rather than gantry.
+    readers = [peer.reader("rt/clock", Clock)]
+    subscribed = [peer.reader("rt/tf", TFMessage), peer.reader("rt/joint_states", JointState)]
+    assert subscribed
     base = [str(gantry_bin()), "run", "assets/scenes/showroom.toml", "--fast", "--steps", str(steps), "--no-listen"]
     without, with_ros, received = [], [], []
     for _ in range(repeat):
@@ -138,6 +140,10 @@ def camera(steps: int, repeat: int, tmp: Path) -> dict:
             "--ros2", "--ros2-camera-rate", "30"]
     rtf, images, fast_rtf = [], [], []
     for _ in range(repeat):
+        # What the previous (fast) run left in the readers is not this run's.
+        for r in readers:
+            while r.take(N=1000):
+                pass
         stop, counts = counting(readers)
         out = run(base, env)
         time.sleep(0.3)

@@ -17,7 +17,7 @@ use gantry_script::ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosN
 use rustdds::mio1::{Events, Interest, Poll, Token, Waker};
 use rustdds::no_key::{DataReader, DataWriter};
 use rustdds::policy::{Durability, History, Reliability};
-use rustdds::{DomainParticipantBuilder, QosPolicies, QosPolicyBuilder, TopicKind};
+use rustdds::{DomainParticipantBuilder, QosPolicies, QosPolicyBuilder, RTPSEntity, TopicKind};
 
 use crate::config::RosConfig;
 use crate::raw::{RawAdapter, RawCdr};
@@ -32,6 +32,9 @@ pub const MAX_RECEIVED_BODY: usize = 64 << 20;
 
 /// The poll token of the command channel's waker.
 const WAKE: Token = Token(usize::MAX);
+
+/// How often the DDS thread refreshes the publishers' matched subscriptions.
+const MATCH_REFRESH: StdDuration = StdDuration::from_millis(20);
 
 /// How long the DDS thread sleeps without an event before it looks at its readers
 /// anyway (a safety net under edge-triggered readiness).
@@ -75,6 +78,8 @@ struct Shared {
     spec: EndpointSpec,
     messages: AtomicU64,
     dropped: AtomicU64,
+    /// Subscriptions a publisher has matched, refreshed by the DDS thread.
+    matched: AtomicUsize,
     /// Received messages not yet taken (subscriptions only), oldest first.
     inbox: Mutex<VecDeque<RosSample>>,
 }
@@ -204,6 +209,7 @@ impl RosNetwork for DdsNetwork {
                 spec: spec.clone(),
                 messages: AtomicU64::new(0),
                 dropped: AtomicU64::new(0),
+                matched: AtomicUsize::new(0),
                 inbox: Mutex::new(VecDeque::new()),
             }),
         );
@@ -261,6 +267,14 @@ impl RosNetwork for DdsNetwork {
         let mut inbox = shared.inbox.lock().unwrap_or_else(PoisonError::into_inner);
         let n = inbox.len().min(max);
         inbox.drain(..n).collect()
+    }
+
+    fn matched(&self, id: EndpointId) -> usize {
+        self.endpoints
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .get(&id)
+            .map_or(0, |s| s.matched.load(Ordering::Relaxed))
     }
 
     fn close(&self, id: EndpointId) {
@@ -336,6 +350,7 @@ fn start(
                 readers: HashMap::new(),
                 endpoints,
                 queued,
+                seen: HashMap::new(),
             };
             node.run(&rx);
         })
@@ -356,11 +371,14 @@ struct Node {
     readers: HashMap<EndpointId, DataReader<RawCdr, RawAdapter>>,
     endpoints: Arc<Mutex<HashMap<EndpointId, Arc<Shared>>>>,
     queued: Arc<AtomicUsize>,
+    /// Each endpoint's match count at the last refresh.
+    seen: HashMap<EndpointId, usize>,
 }
 
 impl Node {
     fn run(&mut self, commands: &Receiver<Command>) {
         let mut events = Events::with_capacity(64);
+        let mut last_matched = std::time::Instant::now();
         loop {
             if let Err(e) = self.poll.poll(&mut events, Some(IDLE_POLL))
                 && e.kind() != std::io::ErrorKind::Interrupted
@@ -398,7 +416,56 @@ impl Node {
                 std::thread::yield_now();
             }
             self.receive();
+            if last_matched.elapsed() >= MATCH_REFRESH {
+                last_matched = std::time::Instant::now();
+                self.refresh_matches();
+            }
         }
+    }
+
+    /// Notes how many remote endpoints of each endpoint's topic discovery has found:
+    /// subscriptions for a publisher, publishers for a subscription (RustDDS's
+    /// per-writer match status is not implemented). A count is reported once it has
+    /// held for two refreshes: discovery's database learns of a reader a moment
+    /// before the writer itself sends to it, and a request written in that moment
+    /// would be lost.
+    fn refresh_matches(&mut self) {
+        let mut seen = std::mem::take(&mut self.seen);
+        let mine = self.participant.guid().prefix;
+        if !self.writers.is_empty() {
+            let readers = self.participant.discovered_readers();
+            for id in self.writers.keys() {
+                if let Some(s) = self.shared(*id) {
+                    let n = readers
+                        .iter()
+                        .filter(|r| {
+                            r.reader_proxy.remote_reader_guid.prefix != mine
+                                && *r.subscription_topic_data.topic_name() == s.spec.dds_topic
+                        })
+                        .count();
+                    let before = seen.insert(*id, n).unwrap_or(0);
+                    s.matched.store(n.min(before), Ordering::Relaxed);
+                }
+            }
+        }
+        if !self.readers.is_empty() {
+            let writers = self.participant.discovered_writers();
+            for id in self.readers.keys() {
+                if let Some(s) = self.shared(*id) {
+                    let n = writers
+                        .iter()
+                        .filter(|w| {
+                            w.writer_proxy.remote_writer_guid.prefix != mine
+                                && *w.publication_topic_data.topic_name() == s.spec.dds_topic
+                        })
+                        .count();
+                    let before = seen.insert(*id, n).unwrap_or(0);
+                    s.matched.store(n.min(before), Ordering::Relaxed);
+                }
+            }
+        }
+        seen.retain(|id, _| self.writers.contains_key(id) || self.readers.contains_key(id));
+        self.seen = seen;
     }
 
     fn open(&mut self, id: EndpointId, spec: &EndpointSpec) -> Result<(), NetworkError> {

@@ -64,6 +64,12 @@ fn samples_cross_from_one_participant_to_another() {
         }));
     }
     let run: Vec<u32> = values.into_iter().filter(|&v| v > 0).collect();
+    // Discovery's view, for simROS2.waitForService: each side sees the other.
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while talker.matched(publ) == 0 || listener.matched(sub) == 0 {
+        assert!(Instant::now() < deadline, "no match seen");
+        std::thread::sleep(Duration::from_millis(10));
+    }
     assert_eq!(run, (1..=20).collect::<Vec<_>>(), "reliable and in order");
     let stats = listener.stats();
     assert_eq!(stats.len(), 1);

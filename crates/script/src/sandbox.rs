@@ -138,6 +138,22 @@ fn harden(lua: &Lua, limits: &ScriptLimits) -> mlua::Result<()> {
         os.raw_set(*name, LuaValue::Nil)?;
     }
     lua.load(HARDEN).set_name("@gantry/sandbox.lua").exec()?;
+    // CoppeliaSim's `table.tostring`, before the scripts' copies of `table` are made.
+    let table: Table = g.get("table")?;
+    let math: Table = g.get("math")?;
+    let string: Table = g.get("string")?;
+    lua.load(include_str!("lua/table_tostring.lua"))
+        .set_name("@gantry/table_tostring.lua")
+        .call::<()>((
+            g.get::<mlua::Function>("type")?,
+            g.get::<mlua::Function>("tostring")?,
+            g.get::<mlua::Function>("pairs")?,
+            g.get::<mlua::Function>("ipairs")?,
+            table.get::<mlua::Function>("sort")?,
+            table.get::<mlua::Function>("concat")?,
+            string.get::<mlua::Function>("format")?,
+            math.get::<mlua::Function>("floor")?,
+        ))?;
     // `debug.traceback` only: the templates of CoppeliaSim 4.3-4.5 threaded scripts
     // report a coroutine's error with `error(debug.traceback(co, msg), 2)`. The rest of
     // the debug library reaches other scripts' locals and the registry.

@@ -80,6 +80,14 @@ impl RosNetwork for Loopback {
     fn close(&self, id: EndpointId) {
         self.endpoints.lock().unwrap().remove(&id);
     }
+
+    fn matched(&self, id: EndpointId) -> usize {
+        let e = self.endpoints.lock().unwrap();
+        let Some((spec, _)) = e.get(&id) else { return 0 };
+        e.values()
+            .filter(|(s, _)| s.dds_topic == spec.dds_topic && s.direction != spec.direction)
+            .count()
+    }
 }
 
 const SCENE: &str = r#"
@@ -318,6 +326,9 @@ function sysCall_init()
     sim.setInt32Signal('nanosec', t.nanosec)
     local m = simROS2.createInterface('geometry_msgs/msg/Pose')
     sim.setFloatSignal('w', m.orientation.w)
+    local c = {data = 'x', n = {1, 2}}
+    c.self = c
+    sim.setStringSignal('tostring', table.tostring(c))
     simROS2.createPublisher('/x', 'std_msgs/msg/Bool')
 end
 "#;
@@ -332,6 +343,11 @@ end
     assert_eq!(int32_signal(&mut sc.sim, "sec"), Some(1));
     assert_eq!(int32_signal(&mut sc.sim, "nanosec"), Some(250_000_000));
     assert_eq!(float_signal(&mut sc, "w"), 1.0, "a default quaternion is the identity");
+    assert_eq!(
+        string_signal(&mut sc, "tostring"),
+        r#"{data="x", n={1, 2}, self=<cycle>}"#,
+        "CoppeliaSim's table.tostring, which its ROS 2 examples log messages with"
+    );
     assert!(matches!(script_state(&sc.sim, "talker.lua"), ScriptState::Errored(_)));
     assert_contains(
         script_error(&sc.sim, "talker.lua"),

@@ -346,6 +346,22 @@ fn the_scene_sets_the_render_mode_and_what_to_ignore() {
         .expect_err("refused")
         .to_string();
     assert!(err.contains("povray") && err.contains("color_coded"), "{err}");
+
+    // The ROS 2 image rate: read, and refused when negative or not a number.
+    let rated = SCENE.replace("far = 2.0\n", "far = 2.0\nros2_rate = 12.5\n");
+    let model = load_scene_text(&DiskFiles, &rated, Path::new("inline.toml"), &LoadOptions::default()).expect("scene");
+    let rate = model.objects.iter().find_map(|o| match &o.kind {
+        gantry_sim_core::scene::ObjectModelKind::VisionSensor(v) => v.ros2_rate,
+        _ => None,
+    });
+    assert_eq!(rate, Some(12.5));
+    for bad in ["-1.0", "nan"] {
+        let text = SCENE.replace("far = 2.0\n", &format!("far = 2.0\nros2_rate = {bad}\n"));
+        let err = load_scene_text(&DiskFiles, &text, Path::new("inline.toml"), &LoadOptions::default())
+            .expect_err("refused")
+            .to_string();
+        assert!(err.contains("ros2_rate"), "{err}");
+    }
 }
 
 #[test]

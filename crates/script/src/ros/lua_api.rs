@@ -425,8 +425,16 @@ fn call(lua: &Lua, args: &MultiValue) -> Res {
         .map_err(|e| e.to_string())?;
     let net = host.network().map_err(|e| e.to_string())?;
     drop(host);
-    net.write(requests, body).map_err(|e| e.to_string())?;
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs_f64(CALL_TIMEOUT_S);
+    // A request written before discovery has matched the server would be lost
+    // (requests are volatile, as in ROS): wait for the match first.
+    if !(wait_matched(net.as_ref(), requests, deadline) && wait_matched(net.as_ref(), replies, deadline)) {
+        return Err(format!(
+            "no server of service {} answered within {CALL_TIMEOUT_S} s",
+            ty.name()
+        ));
+    }
+    net.write(requests, body).map_err(|e| e.to_string())?;
     while std::time::Instant::now() < deadline {
         for s in net.take(replies, usize::MAX) {
             if read_header(&s.body, s.little_endian) == Some((guid, seq)) {
@@ -440,6 +448,58 @@ fn call(lua: &Lua, args: &MultiValue) -> Res {
         std::thread::sleep(std::time::Duration::from_millis(1));
     }
     Err(format!("no reply from service {} within {CALL_TIMEOUT_S} s", ty.name()))
+}
+
+/// Waits (wall time, until `deadline`) for publisher `id` to match a subscription;
+/// whether it did.
+fn wait_matched(
+    net: &dyn super::network::RosNetwork,
+    id: super::network::EndpointId,
+    deadline: std::time::Instant,
+) -> bool {
+    loop {
+        if net.matched(id) > 0 {
+            return true;
+        }
+        if std::time::Instant::now() >= deadline {
+            return false;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+}
+
+/// `simROS2.waitForService(client, timeout)`: whether a server of the client's service
+/// is on the graph, waiting at most `timeout` s of wall time (default and cap
+/// [`CALL_TIMEOUT_S`]); the simulation waits meanwhile, as in CoppeliaSim.
+fn wait_for_service(lua: &Lua, args: &MultiValue) -> Res {
+    let h = handle_arg(args, 0)?;
+    let timeout = match arg(args, 1) {
+        None => CALL_TIMEOUT_S,
+        Some(LuaValue::Integer(t)) => *t as f64,
+        Some(LuaValue::Number(t)) => *t,
+        Some(v) => {
+            return Err(format!(
+                "argument 2: the timeout must be a number of seconds, got {}",
+                lua_type(v)
+            ));
+        }
+    };
+    let timeout = if timeout.is_finite() {
+        timeout.clamp(0.0, CALL_TIMEOUT_S)
+    } else {
+        CALL_TIMEOUT_S
+    };
+    let host = state::<RosHost>(lua);
+    let (requests, replies) = match host.endpoints.borrow().get(&h).map(|e| &e.kind) {
+        Some(Kind::Client { requests, replies, .. }) => (*requests, *replies),
+        _ => return Err(format!("argument 1: {h} is not a client handle")),
+    };
+    let net = host.network().map_err(|e| e.to_string())?;
+    drop(host);
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs_f64(timeout);
+    // Both ways: the server reads our requests, and we read its replies.
+    let ready = wait_matched(net.as_ref(), requests, deadline) && wait_matched(net.as_ref(), replies, deadline);
+    Ok(vec![LuaValue::Boolean(ready)])
 }
 
 fn transform_stamped() -> &'static MsgType {
@@ -570,13 +630,7 @@ pub(crate) fn install(lua: &Lua, wrap: &Function) -> mlua::Result<(Table, Table)
         shutdown(lua, a, "client", |k| matches!(k, Kind::Client { .. }))
     })?;
     add(lua, &r2, wrap, m, "call", call)?;
-    // Discovery runs on the DDS thread; a request sent before it matched the server is
-    // still delivered by the reliable, history-keeping endpoints, so waiting is not
-    // needed: true at once.
-    add(lua, &r2, wrap, m, "waitForService", |_, a| {
-        handle_arg(a, 0)?;
-        Ok(vec![LuaValue::Boolean(true)])
-    })?;
+    add(lua, &r2, wrap, m, "waitForService", wait_for_service)?;
     add(lua, &r2, wrap, m, "sendTransform", |lua, a| {
         let t = table_value(a, 0, "the transform")?;
         send_transforms(lua, vec![t])

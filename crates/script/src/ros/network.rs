@@ -93,4 +93,8 @@ pub trait RosNetwork: Send + Sync + fmt::Debug {
     fn take(&self, id: EndpointId, max: usize) -> Vec<RosSample>;
     /// Closes an endpoint (unknown ids are ignored).
     fn close(&self, id: EndpointId);
+    /// How many remote endpoints of its topic an endpoint has matched, as last seen
+    /// (subscriptions for a publisher, publishers for a subscription): 0 until
+    /// discovery finds one.
+    fn matched(&self, id: EndpointId) -> usize;
 }
