@@ -208,28 +208,12 @@ struct RunArgs {
 /// started now (a domain that cannot be joined fails the run) and with the graph's
 /// topics.
 fn ros2_setup(args: &RunArgs) -> anyhow::Result<gantry_ros2::RosSetup> {
-    let config = gantry_ros2::RosConfig::from_env();
-    if !args.ros2 {
-        // Scripts that use simROS2 get the reason a bad environment gives.
-        let network = match config {
-            Ok(c) => gantry_ros2::DdsNetwork::new(c),
-            Err(e) => gantry_ros2::DdsNetwork::unavailable(e.to_string()),
-        };
-        return Ok(gantry_ros2::RosSetup {
-            network: Arc::new(network),
-            graph: None,
-        });
-    }
     let rate = args.ros2_camera_rate;
     if !(rate.is_finite() && rate >= 0.0) {
         anyhow::bail!("--ros2-camera-rate {rate}: images per simulated second must be 0 or more");
     }
-    let network = gantry_ros2::DdsNetwork::new(config?);
-    network.start_now()?;
-    Ok(gantry_ros2::RosSetup {
-        network: Arc::new(network),
-        graph: Some(gantry_ros2::GraphOptions { camera_rate_hz: rate }),
-    })
+    let graph = args.ros2.then_some(gantry_ros2::GraphOptions { camera_rate_hz: rate });
+    gantry_ros2::RosSetup::from_env(graph).map_err(|e| anyhow::anyhow!("--ros2: {e}"))
 }
 
 /// `SENSOR[=HZ]` of `--record-image`.

@@ -459,33 +459,15 @@ impl Engine {
     }
 }
 
-/// Rows reversed (a view) when `top_first`.
 /// The ROS 2 network of scripts' `simROS2` (started on first use), and with
 /// `ros2=True` the graph's topics as `gantry run --ros2` publishes them, started now so
 /// that a domain that cannot be joined fails here.
 fn ros2_setup(graph: bool) -> PyResult<gantry_ros2::RosSetup> {
-    let config = gantry_ros2::RosConfig::from_env();
-    if !graph {
-        let network = match config {
-            Ok(c) => gantry_ros2::DdsNetwork::new(c),
-            Err(e) => gantry_ros2::DdsNetwork::unavailable(e.to_string()),
-        };
-        return Ok(gantry_ros2::RosSetup {
-            network: Arc::new(network),
-            graph: None,
-        });
-    }
-    let config = config.map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let network = gantry_ros2::DdsNetwork::new(config);
-    network
-        .start_now()
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    Ok(gantry_ros2::RosSetup {
-        network: Arc::new(network),
-        graph: Some(gantry_ros2::GraphOptions::default()),
-    })
+    gantry_ros2::RosSetup::from_env(graph.then(gantry_ros2::GraphOptions::default))
+        .map_err(|e| PyRuntimeError::new_err(format!("ros2=True: {e}")))
 }
 
+/// Rows reversed (a view) when `top_first`.
 fn flip(array: Bound<'_, PyAny>, top_first: bool) -> PyResult<Bound<'_, PyAny>> {
     if top_first {
         let py = array.py();

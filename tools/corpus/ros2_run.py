@@ -31,12 +31,9 @@ The message classes are generated from gantry's own catalog text
 mangling (``pkg::msg::dds_::T_``); a type gantry does not know cannot be read by the
 peer either, and is reported.
 
-Discovery: ``ros2_peer.py``'s configuration discovers over multicast on ``lo``. Where
-``lo`` has no IFF_MULTICAST (containers), neither Cyclone nor gantry's RustDDS can join
-the SPDP group and the two find each other only through RustDDS's periodic unicast
-fallback, about 8 s after start (measured here): longer than a 100-step run. The peer
-then discovers by unicast on the well-known ports of 127.0.0.1 instead
-(``unicast_config``, under a second); ``--multicast`` forces ros2_peer's configuration.
+Discovery: ``ros2_peer.py``'s configuration, unicast on the well-known ports of
+127.0.0.1 (``lo`` often has no multicast; multicast discovery there took about 8 s,
+longer than a 100-step run; unicast takes under a second).
 Runs are paced to wall-clock time by default: with ``--fast`` gantry finishes 100 steps
 in well under a millisecond, before any DDS discovery can complete.
 
@@ -583,27 +580,6 @@ class Result:
         return all(self.seen.get(t, 0) > 0 for t in self.expected_topics())
 
 
-def loopback_multicast() -> bool:
-    """Whether lo has IFF_MULTICAST (Linux)."""
-    try:
-        return bool(int(Path("/sys/class/net/lo/flags").read_text(), 16) & 0x1000)
-    except (OSError, ValueError):
-        return True
-
-
-def unicast_config() -> str:
-    """Cyclone on loopback without multicast: SPDP to the well-known unicast ports of
-    127.0.0.1 (gantry's RustDDS sends its SPDP there too when multicast is missing)."""
-    return (
-        "<CycloneDDS><Domain><General><Interfaces>"
-        '<NetworkInterface address="127.0.0.1"/>'
-        "</Interfaces><AllowMulticast>false</AllowMulticast></General>"
-        "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
-        '<Peers><Peer address="127.0.0.1"/></Peers></Discovery>'
-        "</Domain></CycloneDDS>"
-    )
-
-
 def gantry_bin(arg: str | None) -> str:
     for p in (arg, os.environ.get("GANTRY_BIN"), REPO / "target/ci/gantry",
               REPO / "target/release/gantry", REPO / "target/debug/gantry"):
@@ -622,11 +598,6 @@ def run_one(script: Script, idl: Idl, args) -> Result:
     from cyclonedds.topic import Topic
     from cyclonedds.util import duration
     import ros2_peer
-
-    if not args.multicast and not loopback_multicast():
-        # ros2_peer's configuration discovers over multicast on lo; without IFF_MULTICAST
-        # on lo (containers), discover by unicast on the well-known ports instead.
-        ros2_peer.loopback_config = unicast_config
 
     res = Result(script)
     domain = random.Random(os.getpid() ^ time.time_ns()).randrange(100, 230)
@@ -960,8 +931,6 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--steps", type=int, default=100, help="simulation steps per script (default 100)")
     ap.add_argument("--fast", action="store_true",
                     help="pass --fast (unpaced; short runs may end before DDS discovery completes)")
-    ap.add_argument("--multicast", action="store_true",
-                    help="use ros2_peer's multicast loopback configuration even if lo has no multicast")
     ap.add_argument("--timeout", type=float, default=30.0, help="extra wall seconds per run")
     ap.add_argument("--no-feed", action="store_true",
                     help="the peer writes nothing to the script's subscriptions (isolates callback failures)")

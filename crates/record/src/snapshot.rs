@@ -143,6 +143,16 @@ pub struct Snapshot {
     pub images: Vec<ImageSample>,
 }
 
+impl Snapshot {
+    /// The frame id of object `h` (empty for a handle not in the tree).
+    pub fn frame(&self, h: Handle) -> &str {
+        usize::try_from(h)
+            .ok()
+            .and_then(|i| self.frames.get(i))
+            .map_or("", String::as_str)
+    }
+}
+
 /// An image stream's sampling state.
 #[derive(Debug)]
 struct ImageState {

@@ -60,12 +60,7 @@ impl TfFrames {
     /// `/tf` message of the moving frames (CDR with its encapsulation header).
     pub fn messages(&mut self, s: &Snapshot) -> (Option<Vec<u8>>, Vec<u8>) {
         let stamp = Time::from_nanos(s.stamp_ns);
-        let frame = |h: i64| -> &str {
-            usize::try_from(h)
-                .ok()
-                .and_then(|i| s.frames.get(i))
-                .map_or("", String::as_str)
-        };
+        let frame = |h| s.frame(h);
         let frames_now: Vec<(&str, &str, &[f64; 7])> = s
             .poses
             .iter()

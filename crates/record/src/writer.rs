@@ -173,12 +173,7 @@ impl<W: Write + Seek> McapSink<W> {
             self.message(ch, g.log_time_ns, &msg::float64(g.value))?;
         }
         let stamp = Time::from_nanos(s.stamp_ns);
-        let frame = |h: i64| -> &str {
-            usize::try_from(h)
-                .ok()
-                .and_then(|i| s.frames.get(i))
-                .map_or("", String::as_str)
-        };
+        let frame = |h| s.frame(h);
         let (statics, tf_data) = self.frames.messages(s);
         if let Some(data) = statics {
             let ch = self.channel(TF_STATIC_TOPIC, &schema::TF_MESSAGE)?;

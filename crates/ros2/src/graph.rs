@@ -163,13 +163,7 @@ impl Encoder {
         }
         self.write(self.tf, &tf);
         if !s.joints.is_empty() {
-            let frame = |h: Handle| {
-                usize::try_from(h)
-                    .ok()
-                    .and_then(|i| s.frames.get(i))
-                    .map_or("", String::as_str)
-            };
-            let names: Vec<&str> = s.joints.iter().map(|j| frame(j.handle)).collect();
+            let names: Vec<&str> = s.joints.iter().map(|j| s.frame(j.handle)).collect();
             let position: Vec<f64> = s.joints.iter().map(|j| j.position).collect();
             let velocity: Vec<f64> = s.joints.iter().map(|j| j.velocity).collect();
             let effort: Vec<f64> = s.joints.iter().map(|j| j.effort).collect();

@@ -31,6 +31,30 @@ pub struct RosSetup {
 }
 
 impl RosSetup {
+    /// The set-up of a front end, on the domain and range of ROS's environment
+    /// variables ([`RosConfig::from_env`]). Without `graph` the network starts on first
+    /// use, and a bad environment is the reason scripts' `simROS2` calls get. With it,
+    /// the network starts now, so that a domain that cannot be joined fails the run.
+    ///
+    /// # Errors
+    /// With `graph`: the environment names no valid domain or range, or the
+    /// participant cannot start.
+    pub fn from_env(graph: Option<GraphOptions>) -> Result<Self, String> {
+        let config = RosConfig::from_env();
+        let network = match (config, graph) {
+            (Ok(c), _) => DdsNetwork::new(c),
+            (Err(e), None) => DdsNetwork::unavailable(e.to_string()),
+            (Err(e), Some(_)) => return Err(e.to_string()),
+        };
+        if graph.is_some() {
+            network.start_now().map_err(|e| e.to_string())?;
+        }
+        Ok(Self {
+            network: std::sync::Arc::new(network),
+            graph,
+        })
+    }
+
     /// The graph's publisher when asked for; `None` otherwise, or (logged) when the
     /// network cannot open its topics.
     pub fn graph(&self) -> Option<RosGraph> {

@@ -430,39 +430,51 @@ impl Node {
     /// before the writer itself sends to it, and a request written in that moment
     /// would be lost.
     fn refresh_matches(&mut self) {
-        let mut seen = std::mem::take(&mut self.seen);
         let mine = self.participant.guid().prefix;
-        if !self.writers.is_empty() {
-            let readers = self.participant.discovered_readers();
-            for id in self.writers.keys() {
-                if let Some(s) = self.shared(*id) {
-                    let n = readers
-                        .iter()
-                        .filter(|r| {
-                            r.reader_proxy.remote_reader_guid.prefix != mine
-                                && *r.subscription_topic_data.topic_name() == s.spec.dds_topic
-                        })
-                        .count();
-                    let before = seen.insert(*id, n).unwrap_or(0);
-                    s.matched.store(n.min(before), Ordering::Relaxed);
-                }
-            }
-        }
-        if !self.readers.is_empty() {
-            let writers = self.participant.discovered_writers();
-            for id in self.readers.keys() {
-                if let Some(s) = self.shared(*id) {
-                    let n = writers
-                        .iter()
-                        .filter(|w| {
-                            w.writer_proxy.remote_writer_guid.prefix != mine
-                                && *w.publication_topic_data.topic_name() == s.spec.dds_topic
-                        })
-                        .count();
-                    let before = seen.insert(*id, n).unwrap_or(0);
-                    s.matched.store(n.min(before), Ordering::Relaxed);
-                }
-            }
+        let mut seen = std::mem::take(&mut self.seen);
+        // Subscriptions for our writers and publications for our readers, by topic
+        // name, each marked whether it is this participant's own.
+        let readers: Vec<(bool, String)> = if self.writers.is_empty() {
+            Vec::new()
+        } else {
+            self.participant
+                .discovered_readers()
+                .into_iter()
+                .map(|r| {
+                    (
+                        r.reader_proxy.remote_reader_guid.prefix == mine,
+                        r.subscription_topic_data.topic_name().clone(),
+                    )
+                })
+                .collect()
+        };
+        let writers: Vec<(bool, String)> = if self.readers.is_empty() {
+            Vec::new()
+        } else {
+            self.participant
+                .discovered_writers()
+                .into_iter()
+                .map(|w| {
+                    (
+                        w.writer_proxy.remote_writer_guid.prefix == mine,
+                        w.publication_topic_data.topic_name().clone(),
+                    )
+                })
+                .collect()
+        };
+        let ours = self
+            .writers
+            .keys()
+            .map(|id| (*id, &readers))
+            .chain(self.readers.keys().map(|id| (*id, &writers)));
+        for (id, remote) in ours {
+            let Some(s) = self.shared(id) else { continue };
+            let n = remote
+                .iter()
+                .filter(|(own, topic)| !own && *topic == s.spec.dds_topic)
+                .count();
+            let before = seen.insert(id, n).unwrap_or(0);
+            s.matched.store(n.min(before), Ordering::Relaxed);
         }
         seen.retain(|id, _| self.writers.contains_key(id) || self.readers.contains_key(id));
         self.seen = seen;

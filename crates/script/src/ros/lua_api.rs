@@ -10,12 +10,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use gantry_protocol::Value;
 use gantry_protocol::ros::{
-    MsgType, message_type, service_reply_topic, service_request_topic, service_type, topic_name,
+    MsgType, SrvType, message_type, service_reply_topic, service_request_topic, service_type, topic_name,
 };
 use mlua::{Function, Lua, MultiValue, Table, Value as LuaValue};
 
 use super::host::{Callback, Endpoint, Kind, RosHost};
-use super::network::{Direction, RosQos};
+use super::network::{Direction, EndpointId, RosQos};
 use crate::app_state::state;
 use crate::convert::{to_lua, to_value};
 use crate::core_cell::CoreCell;
@@ -308,26 +308,38 @@ fn create_subscription(lua: &Lua, args: &MultiValue) -> Res {
     Ok(vec![LuaValue::Integer(h)])
 }
 
+/// A service's two endpoints, for a server (`serving`: requests in, replies out) or a
+/// client (the other way round): `(requests, replies)`, after the name and type are
+/// checked.
+fn open_service(host: &RosHost, name: &str, ty: &SrvType, serving: bool) -> Result<(EndpointId, EndpointId), String> {
+    let rq = service_request_topic(name).map_err(|e| e.to_string())?;
+    let rr = service_reply_topic(name).map_err(|e| e.to_string())?;
+    let (inward, outward) = if serving {
+        (Direction::Subscribe, Direction::Publish)
+    } else {
+        (Direction::Publish, Direction::Subscribe)
+    };
+    let requests = host
+        .open(inward, rq, ty.dds_request_type_name(), RosQos::default())
+        .map_err(|e| e.to_string())?;
+    match host.open(outward, rr, ty.dds_response_type_name(), RosQos::default()) {
+        Ok(replies) => Ok((requests, replies)),
+        Err(e) => {
+            if let Ok(n) = host.network() {
+                n.close(requests);
+            }
+            Err(e.to_string())
+        }
+    }
+}
+
 fn create_service(lua: &Lua, args: &MultiValue) -> Res {
     let name = string_arg(args, 0, "the service name")?;
     let type_name = string_arg(args, 1, "the service type")?;
     let ty = service_type(&type_name).map_err(|e| e.to_string())?;
     let callback = callback_arg(lua, arg(args, 2)).map_err(|e| format!("argument 3: {e}"))?;
     let host = state::<RosHost>(lua);
-    let rq = service_request_topic(&name).map_err(|e| e.to_string())?;
-    let rr = service_reply_topic(&name).map_err(|e| e.to_string())?;
-    let requests = host
-        .open(Direction::Subscribe, rq, ty.dds_request_type_name(), RosQos::default())
-        .map_err(|e| e.to_string())?;
-    let replies = match host.open(Direction::Publish, rr, ty.dds_response_type_name(), RosQos::default()) {
-        Ok(r) => r,
-        Err(e) => {
-            if let Ok(n) = host.network() {
-                n.close(requests);
-            }
-            return Err(e.to_string());
-        }
-    };
+    let (requests, replies) = open_service(&host, &name, ty, true)?;
     let h = host.insert(Endpoint {
         script: running_object(lua),
         kind: Kind::Service {
@@ -352,20 +364,7 @@ fn create_client(lua: &Lua, args: &MultiValue) -> Res {
     let type_name = string_arg(args, 1, "the service type")?;
     let ty = service_type(&type_name).map_err(|e| e.to_string())?;
     let host = state::<RosHost>(lua);
-    let rq = service_request_topic(&name).map_err(|e| e.to_string())?;
-    let rr = service_reply_topic(&name).map_err(|e| e.to_string())?;
-    let requests = host
-        .open(Direction::Publish, rq, ty.dds_request_type_name(), RosQos::default())
-        .map_err(|e| e.to_string())?;
-    let replies = match host.open(Direction::Subscribe, rr, ty.dds_response_type_name(), RosQos::default()) {
-        Ok(r) => r,
-        Err(e) => {
-            if let Ok(n) = host.network() {
-                n.close(requests);
-            }
-            return Err(e.to_string());
-        }
-    };
+    let (requests, replies) = open_service(&host, &name, ty, false)?;
     let h = host.insert(Endpoint {
         script: running_object(lua),
         kind: Kind::Client {
