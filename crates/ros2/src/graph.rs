@@ -202,6 +202,8 @@ pub struct RosGraph {
     sampler: Sampler,
     /// Simulation time of the last publication, ns.
     last_ns: Option<u64>,
+    /// The frame names of the tree the cameras' and robots' topics were opened for.
+    tree: Option<gantry_record::snapshot::FrameNames>,
 }
 
 /// The DDS type of a ROS message type `pkg/msg/Type`.
@@ -275,6 +277,7 @@ impl RosGraph {
             robots: None,
             sampler: Sampler::new(None),
             last_ns: None,
+            tree: None,
         })
     }
 
@@ -314,12 +317,31 @@ impl RosGraph {
                 );
             }
         }
-        let s = (frames, stamp_ns);
-        self.cameras_after_step(sim, &s.0, s.1);
+        // The frame names are shared until the object tree changes (a scene or model
+        // loaded, an object removed): then handles may name other objects, so the
+        // cameras' and robots' topics are opened afresh.
+        if !self.tree.as_ref().is_some_and(|t| Arc::ptr_eq(t, &frames)) {
+            self.tree = Some(frames.clone());
+            self.close_tree_topics();
+        }
+        self.cameras_after_step(sim, &frames, stamp_ns);
         if self.robots.is_none() {
-            self.robots = Some(self.open_robots(sim, &s.0));
+            self.robots = Some(self.open_robots(sim, &frames));
         }
         self.apply_commands(sim);
+    }
+
+    /// Closes the topics opened for the objects of the tree (cameras and robots).
+    fn close_tree_topics(&mut self) {
+        for c in std::mem::take(&mut self.cameras).into_values() {
+            for id in [c.image, c.depth, c.info] {
+                self.net.close(id);
+            }
+        }
+        for r in self.robots.take().into_iter().flatten() {
+            self.net.close(r.position);
+            self.net.close(r.velocity);
+        }
     }
 
     /// Opens the command topics of every model base with joints below it.
@@ -566,15 +588,7 @@ impl Drop for RosGraph {
         if let Some(w) = self.worker.take() {
             let _ = w.join();
         }
-        for r in self.robots.iter().flatten() {
-            self.net.close(r.position);
-            self.net.close(r.velocity);
-        }
-        for c in self.cameras.values() {
-            for id in [c.image, c.depth, c.info] {
-                self.net.close(id);
-            }
-        }
+        self.close_tree_topics();
     }
 }
 
