@@ -553,7 +553,12 @@ fn lookups_accept_ros1_style_names() {
     let srvs: Vec<&str> = known_service_types().map(|s| s.name()).collect();
     assert_eq!(
         srvs,
-        ["std_srvs/srv/Empty", "std_srvs/srv/SetBool", "std_srvs/srv/Trigger"]
+        [
+            "example_interfaces/srv/AddTwoInts",
+            "std_srvs/srv/Empty",
+            "std_srvs/srv/SetBool",
+            "std_srvs/srv/Trigger"
+        ]
     );
 }
 
