@@ -386,3 +386,39 @@ end
         assert_eq!(in_registry, listed, "{module}");
     }
 }
+
+#[test]
+fn image_transport_publishes_rgb8_images_and_checks_their_size() {
+    let script = r#"
+function sysCall_init()
+    pub = simROS2.imageTransportCreatePublisher('/camera/image')
+    simROS2.imageTransportPublish(pub, string.rep('\1\2\3', 4 * 2), 4, 2, 'cam')
+    local ok, err = pcall(simROS2.imageTransportPublish, pub, 'abc', 4, 2, 'cam')
+    sim.setStringSignal('size', tostring(err))
+end
+"#;
+    let (mut sc, net) = scene("ros-image", &[("talker.lua", script), ("listener.lua", "")]);
+    sc.sim.start();
+    assert_eq!(
+        script_state(&sc.sim, "talker.lua"),
+        ScriptState::Running,
+        "{}",
+        script_error(&sc.sim, "talker.lua")
+    );
+    let writes = net.writes.lock().unwrap().clone();
+    let (topic, body) = writes.first().expect("an image");
+    assert_eq!(topic, "rt/camera/image");
+    let img = gantry_protocol::ros::message_type("sensor_msgs/msg/Image")
+        .unwrap()
+        .decode_body(body, true, 0)
+        .unwrap();
+    assert_eq!(img.get("encoding"), Some(&Value::Str("rgb8".into())));
+    assert_eq!(img.get("width"), Some(&Value::Int(4)));
+    assert_eq!(img.get("step"), Some(&Value::Int(12)));
+    assert_eq!(img.get("data"), Some(&Value::Bytes([1, 2, 3].repeat(8))));
+    assert_eq!(
+        img.get("header").and_then(|h| h.get("frame_id")),
+        Some(&Value::Str("cam".into()))
+    );
+    assert_contains(string_signal(&mut sc, "size"), &["4 x 2", "24 bytes", "got 3"]);
+}

@@ -33,6 +33,9 @@ pub const FUNCTIONS: &[&str] = &[
     "getSimulationTime",
     "getSystemTime",
     "getTime",
+    "imageTransportCreatePublisher",
+    "imageTransportPublish",
+    "imageTransportShutdownPublisher",
     "publish",
     "publisherTreatUInt8ArrayAsString",
     "sendTransform",
@@ -262,16 +265,98 @@ fn create_publisher(lua: &Lua, args: &MultiValue) -> Res {
 fn publish(lua: &Lua, args: &MultiValue) -> Res {
     let h = handle_arg(args, 0)?;
     let msg = table_value(args, 1, "the message")?;
+    publish_value(lua, h, &msg)
+}
+
+/// Encodes `msg` for publisher `h` and queues it.
+fn publish_value(lua: &Lua, h: i64, msg: &Value) -> Res {
     let host = state::<RosHost>(lua);
     let (id, ty) = match host.endpoints.borrow().get(&h).map(|e| &e.kind) {
         Some(Kind::Publisher { id, ty }) => (*id, *ty),
         _ => return Err(format!("argument 1: {h} is not a publisher handle")),
     };
-    let body = encode(ty, &msg)?;
+    let body = encode(ty, msg)?;
     host.network()
         .and_then(|n| n.write(id, body))
         .map_err(|e| e.to_string())?;
     Ok(vec![])
+}
+
+/// `simROS2.imageTransportCreatePublisher(topic [, queueSize])`: a `sensor_msgs/Image`
+/// publisher for [`image_transport_publish`] (the raw transport only).
+fn image_transport_create_publisher(lua: &Lua, args: &MultiValue) -> Res {
+    let topic = string_arg(args, 0, "the topic name")?;
+    let qos = qos_arg(arg(args, 1), false)?;
+    let ty = msg_type("sensor_msgs/msg/Image")?;
+    let dds_topic = topic_name(&topic).map_err(|e| e.to_string())?;
+    let host = state::<RosHost>(lua);
+    let id = host
+        .open(Direction::Publish, dds_topic, ty.dds_type_name(), qos)
+        .map_err(|e| e.to_string())?;
+    let h = host.insert(Endpoint {
+        script: running_object(lua),
+        kind: Kind::Publisher { id, ty },
+    });
+    Ok(vec![LuaValue::Integer(h)])
+}
+
+/// `simROS2.imageTransportPublish(publisher, data, width, height, frameId)`: an `rgb8`
+/// image of `width` x `height` pixels, rows as given (3 bytes a pixel), stamped with
+/// simulation time.
+fn image_transport_publish(lua: &Lua, args: &MultiValue) -> Res {
+    let h = handle_arg(args, 0)?;
+    let data = match arg(args, 1) {
+        Some(LuaValue::String(s)) => s.as_bytes().to_vec(),
+        Some(v) => {
+            return Err(format!(
+                "argument 2: the image must be a string (buffer), got {}",
+                lua_type(v)
+            ));
+        }
+        None => return Err("argument 2: the image is missing".to_owned()),
+    };
+    let size = |i: usize, what: &str| -> Result<u32, String> {
+        match arg(args, i) {
+            Some(LuaValue::Integer(n)) => {
+                u32::try_from(*n).map_err(|_| format!("argument {}: {what} {n} is not valid", i + 1))
+            }
+            Some(LuaValue::Number(n)) if n.fract() == 0.0 && *n >= 0.0 && *n <= f64::from(u32::MAX) => Ok(*n as u32),
+            Some(v) => Err(format!(
+                "argument {}: {what} must be an integer, got {}",
+                i + 1,
+                lua_type(v)
+            )),
+            None => Err(format!("argument {}: {what} is missing", i + 1)),
+        }
+    };
+    let (w, hgt) = (size(2, "the width")?, size(3, "the height")?);
+    let frame = match arg(args, 4) {
+        Some(LuaValue::String(s)) => s.to_string_lossy(),
+        _ => String::new(),
+    };
+    let expected = 3 * u64::from(w) * u64::from(hgt);
+    if data.len() as u64 != expected {
+        return Err(format!(
+            "argument 2: a {w} x {hgt} rgb8 image has {expected} bytes, got {}",
+            data.len()
+        ));
+    }
+    let key = |k: &str| Value::Str(k.to_owned());
+    let msg = Value::Map(vec![
+        (
+            key("header"),
+            Value::Map(vec![
+                (key("stamp"), time_value(sim_time(lua))),
+                (key("frame_id"), Value::Str(frame)),
+            ]),
+        ),
+        (key("height"), Value::Int(i64::from(hgt))),
+        (key("width"), Value::Int(i64::from(w))),
+        (key("encoding"), Value::Str("rgb8".to_owned())),
+        (key("step"), Value::Int(3 * i64::from(w))),
+        (key("data"), Value::Bytes(data)),
+    ]);
+    publish_value(lua, h, &msg)
 }
 
 fn shutdown(lua: &Lua, args: &MultiValue, what: &str, is: fn(&Kind) -> bool) -> Res {
@@ -642,6 +727,18 @@ pub(crate) fn install(lua: &Lua, wrap: &Function) -> mlua::Result<(Table, Table)
         }
     })?;
     add(lua, &r2, wrap, m, "createInterface", create_interface)?;
+    add(
+        lua,
+        &r2,
+        wrap,
+        m,
+        "imageTransportCreatePublisher",
+        image_transport_create_publisher,
+    )?;
+    add(lua, &r2, wrap, m, "imageTransportPublish", image_transport_publish)?;
+    add(lua, &r2, wrap, m, "imageTransportShutdownPublisher", |lua, a| {
+        shutdown(lua, a, "publisher", |k| matches!(k, Kind::Publisher { .. }))
+    })?;
     // gantry's ROS clock is the simulation's (/clock): stamps agree with use_sim_time nodes.
     add(lua, &r2, wrap, m, "getTime", |lua, _| {
         Ok(vec![time_lua(lua, sim_time(lua)).map_err(|e| e.to_string())?])
