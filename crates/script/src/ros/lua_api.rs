@@ -692,82 +692,120 @@ fn policy_table(lua: &Lua, entries: &[(&str, i64)]) -> mlua::Result<Table> {
     Ok(t)
 }
 
+fn shutdown_publisher(lua: &Lua, a: &MultiValue) -> Res {
+    shutdown(lua, a, "publisher", |k| matches!(k, Kind::Publisher { .. }))
+}
+
+fn shutdown_subscription(lua: &Lua, a: &MultiValue) -> Res {
+    shutdown(lua, a, "subscription", |k| matches!(k, Kind::Subscription { .. }))
+}
+
+fn shutdown_service(lua: &Lua, a: &MultiValue) -> Res {
+    shutdown(lua, a, "service", |k| matches!(k, Kind::Service { .. }))
+}
+
+fn shutdown_client(lua: &Lua, a: &MultiValue) -> Res {
+    shutdown(lua, a, "client", |k| matches!(k, Kind::Client { .. }))
+}
+
+fn send_transform(lua: &Lua, a: &MultiValue) -> Res {
+    let t = table_value(a, 0, "the transform")?;
+    send_transforms(lua, vec![t])
+}
+
+fn send_transform_list(lua: &Lua, a: &MultiValue) -> Res {
+    match table_value(a, 0, "the transforms")? {
+        Value::Array(ts) => send_transforms(lua, ts),
+        Value::Map(m) if m.is_empty() => send_transforms(lua, Vec::new()),
+        _ => Err("argument 1: the transforms must be an array of geometry_msgs/TransformStamped tables".to_owned()),
+    }
+}
+
+/// `uint8[]` fields are always Lua strings here: the `...TreatUInt8ArrayAsString`
+/// switches check their handle and change nothing.
+fn treat_uint8_array_as_string(_: &Lua, a: &MultiValue) -> Res {
+    handle_arg(a, 0)?;
+    Ok(vec![])
+}
+
+/// gantry's ROS clock is the simulation's (`/clock`): stamps agree with `use_sim_time`
+/// nodes.
+fn ros_time(lua: &Lua, _: &MultiValue) -> Res {
+    Ok(vec![time_lua(lua, sim_time(lua)).map_err(|e| e.to_string())?])
+}
+
+fn system_time(lua: &Lua, _: &MultiValue) -> Res {
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0.0, |d| d.as_secs_f64());
+    Ok(vec![time_lua(lua, now).map_err(|e| e.to_string())?])
+}
+
+fn time_from_float(lua: &Lua, a: &MultiValue) -> Res {
+    let t = time_arg(a, 0)?;
+    Ok(vec![time_lua(lua, t).map_err(|e| e.to_string())?])
+}
+
+fn time_to_float(_: &Lua, a: &MultiValue) -> Res {
+    Ok(vec![LuaValue::Number(time_arg(a, 0)?)])
+}
+
+/// ROS 1's plugin returned time as a number of seconds.
+fn ros1_time(lua: &Lua, _: &MultiValue) -> Res {
+    Ok(vec![LuaValue::Number(sim_time(lua))])
+}
+
+type LuaApiFn = fn(&Lua, &MultiValue) -> Res;
+
+/// `simROS2`'s functions by name (sorted as [`FUNCTIONS`]).
+const ROS2_TABLE: &[(&str, LuaApiFn)] = &[
+    ("call", call),
+    ("createClient", create_client),
+    ("createInterface", create_interface),
+    ("createPublisher", create_publisher),
+    ("createService", create_service),
+    ("createSubscription", create_subscription),
+    ("getSimulationTime", ros_time),
+    ("getSystemTime", system_time),
+    ("getTime", ros_time),
+    ("imageTransportCreatePublisher", image_transport_create_publisher),
+    ("imageTransportPublish", image_transport_publish),
+    ("imageTransportShutdownPublisher", shutdown_publisher),
+    ("publish", publish),
+    ("publisherTreatUInt8ArrayAsString", treat_uint8_array_as_string),
+    ("sendTransform", send_transform),
+    ("sendTransforms", send_transform_list),
+    ("shutdownClient", shutdown_client),
+    ("shutdownPublisher", shutdown_publisher),
+    ("shutdownService", shutdown_service),
+    ("shutdownSubscription", shutdown_subscription),
+    ("subscriptionTreatUInt8ArrayAsString", treat_uint8_array_as_string),
+    ("timeFromFloat", time_from_float),
+    ("timeToFloat", time_to_float),
+    ("waitForService", wait_for_service),
+];
+
+/// `simROS`'s functions by name (sorted as [`ROS1_FUNCTIONS`]): ROS 1's names for the
+/// same work.
+const ROS1_TABLE: &[(&str, LuaApiFn)] = &[
+    ("advertise", create_publisher),
+    ("getTime", ros1_time),
+    ("publish", publish),
+    ("publisherTreatUInt8ArrayAsString", treat_uint8_array_as_string),
+    ("sendTransform", send_transform),
+    ("sendTransforms", send_transform_list),
+    ("shutdownPublisher", shutdown_publisher),
+    ("shutdownSubscriber", shutdown_subscription),
+    ("subscribe", create_subscription),
+    ("subscriberTreatUInt8ArrayAsString", treat_uint8_array_as_string),
+];
+
 /// Creates the `simROS2` and `simROS` tables.
 pub(crate) fn install(lua: &Lua, wrap: &Function) -> mlua::Result<(Table, Table)> {
     let r2 = lua.create_table()?;
-    let m = "simROS2";
-    add(lua, &r2, wrap, m, "createPublisher", create_publisher)?;
-    add(lua, &r2, wrap, m, "publish", publish)?;
-    add(lua, &r2, wrap, m, "shutdownPublisher", |lua, a| {
-        shutdown(lua, a, "publisher", |k| matches!(k, Kind::Publisher { .. }))
-    })?;
-    add(lua, &r2, wrap, m, "createSubscription", create_subscription)?;
-    add(lua, &r2, wrap, m, "shutdownSubscription", |lua, a| {
-        shutdown(lua, a, "subscription", |k| matches!(k, Kind::Subscription { .. }))
-    })?;
-    add(lua, &r2, wrap, m, "createService", create_service)?;
-    add(lua, &r2, wrap, m, "shutdownService", |lua, a| {
-        shutdown(lua, a, "service", |k| matches!(k, Kind::Service { .. }))
-    })?;
-    add(lua, &r2, wrap, m, "createClient", create_client)?;
-    add(lua, &r2, wrap, m, "shutdownClient", |lua, a| {
-        shutdown(lua, a, "client", |k| matches!(k, Kind::Client { .. }))
-    })?;
-    add(lua, &r2, wrap, m, "call", call)?;
-    add(lua, &r2, wrap, m, "waitForService", wait_for_service)?;
-    add(lua, &r2, wrap, m, "sendTransform", |lua, a| {
-        let t = table_value(a, 0, "the transform")?;
-        send_transforms(lua, vec![t])
-    })?;
-    add(lua, &r2, wrap, m, "sendTransforms", |lua, a| {
-        match table_value(a, 0, "the transforms")? {
-            Value::Array(ts) => send_transforms(lua, ts),
-            Value::Map(m) if m.is_empty() => send_transforms(lua, Vec::new()),
-            _ => Err("argument 1: the transforms must be an array of geometry_msgs/TransformStamped tables".to_owned()),
-        }
-    })?;
-    add(lua, &r2, wrap, m, "createInterface", create_interface)?;
-    add(
-        lua,
-        &r2,
-        wrap,
-        m,
-        "imageTransportCreatePublisher",
-        image_transport_create_publisher,
-    )?;
-    add(lua, &r2, wrap, m, "imageTransportPublish", image_transport_publish)?;
-    add(lua, &r2, wrap, m, "imageTransportShutdownPublisher", |lua, a| {
-        shutdown(lua, a, "publisher", |k| matches!(k, Kind::Publisher { .. }))
-    })?;
-    // gantry's ROS clock is the simulation's (/clock): stamps agree with use_sim_time nodes.
-    add(lua, &r2, wrap, m, "getTime", |lua, _| {
-        Ok(vec![time_lua(lua, sim_time(lua)).map_err(|e| e.to_string())?])
-    })?;
-    add(lua, &r2, wrap, m, "getSimulationTime", |lua, _| {
-        Ok(vec![time_lua(lua, sim_time(lua)).map_err(|e| e.to_string())?])
-    })?;
-    add(lua, &r2, wrap, m, "getSystemTime", |lua, _| {
-        let now = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0.0, |d| d.as_secs_f64());
-        Ok(vec![time_lua(lua, now).map_err(|e| e.to_string())?])
-    })?;
-    add(lua, &r2, wrap, m, "timeFromFloat", |lua, a| {
-        let t = time_arg(a, 0)?;
-        Ok(vec![time_lua(lua, t).map_err(|e| e.to_string())?])
-    })?;
-    add(lua, &r2, wrap, m, "timeToFloat", |_, a| {
-        Ok(vec![LuaValue::Number(time_arg(a, 0)?)])
-    })?;
-    // uint8[] fields are always Lua strings here: these switches change nothing.
-    add(lua, &r2, wrap, m, "publisherTreatUInt8ArrayAsString", |_, a| {
-        handle_arg(a, 0)?;
-        Ok(vec![])
-    })?;
-    add(lua, &r2, wrap, m, "subscriptionTreatUInt8ArrayAsString", |_, a| {
-        handle_arg(a, 0)?;
-        Ok(vec![])
-    })?;
+    for (name, f) in ROS2_TABLE {
+        add(lua, &r2, wrap, "simROS2", name, *f)?;
+    }
     r2.set(
         "qos_history_policy",
         policy_table(lua, &[("system_default", 0), ("keep_last", 1), ("keep_all", 2)])?,
@@ -780,40 +818,9 @@ pub(crate) fn install(lua: &Lua, wrap: &Function) -> mlua::Result<(Table, Table)
         "qos_durability_policy",
         policy_table(lua, &[("system_default", 0), ("transient_local", 1), ("volatile", 2)])?,
     )?;
-
     let r1 = lua.create_table()?;
-    let m = "simROS";
-    add(lua, &r1, wrap, m, "advertise", create_publisher)?;
-    add(lua, &r1, wrap, m, "publish", publish)?;
-    add(lua, &r1, wrap, m, "shutdownPublisher", |lua, a| {
-        shutdown(lua, a, "publisher", |k| matches!(k, Kind::Publisher { .. }))
-    })?;
-    add(lua, &r1, wrap, m, "subscribe", create_subscription)?;
-    add(lua, &r1, wrap, m, "shutdownSubscriber", |lua, a| {
-        shutdown(lua, a, "subscriber", |k| matches!(k, Kind::Subscription { .. }))
-    })?;
-    // ROS 1's plugin returned time as a number of seconds.
-    add(lua, &r1, wrap, m, "getTime", |lua, _| {
-        Ok(vec![LuaValue::Number(sim_time(lua))])
-    })?;
-    add(lua, &r1, wrap, m, "sendTransform", |lua, a| {
-        let t = table_value(a, 0, "the transform")?;
-        send_transforms(lua, vec![t])
-    })?;
-    add(lua, &r1, wrap, m, "sendTransforms", |lua, a| {
-        match table_value(a, 0, "the transforms")? {
-            Value::Array(ts) => send_transforms(lua, ts),
-            Value::Map(m) if m.is_empty() => send_transforms(lua, Vec::new()),
-            _ => Err("argument 1: the transforms must be an array of geometry_msgs/TransformStamped tables".to_owned()),
-        }
-    })?;
-    add(lua, &r1, wrap, m, "publisherTreatUInt8ArrayAsString", |_, a| {
-        handle_arg(a, 0)?;
-        Ok(vec![])
-    })?;
-    add(lua, &r1, wrap, m, "subscriberTreatUInt8ArrayAsString", |_, a| {
-        handle_arg(a, 0)?;
-        Ok(vec![])
-    })?;
+    for (name, f) in ROS1_TABLE {
+        add(lua, &r1, wrap, "simROS", name, *f)?;
+    }
     Ok((r2, r1))
 }
