@@ -206,12 +206,7 @@ pub struct RosGraph {
     tree: Option<gantry_record::snapshot::FrameNames>,
 }
 
-/// The DDS type of a ROS message type `pkg/msg/Type`.
-fn dds_type(ros_type: &str) -> String {
-    let (pkg, name) = ros_type.split_once("/msg/").unwrap_or(("", ros_type));
-    format!("{pkg}::msg::dds_::{name}_")
-}
-
+/// Opens `topic` of `ros_type`, with ROS 2's DDS names (the codec's mangling).
 fn open(
     net: &dyn RosNetwork,
     dir: Direction,
@@ -219,10 +214,12 @@ fn open(
     ros_type: &str,
     qos: RosQos,
 ) -> Result<EndpointId, NetworkError> {
+    let dds_topic = gantry_protocol::ros::topic_name(topic).map_err(|e| NetworkError(e.to_string()))?;
+    let ty = gantry_protocol::ros::message_type(ros_type).map_err(|e| NetworkError(e.to_string()))?;
     net.open(&EndpointSpec {
         direction: dir,
-        dds_topic: format!("rt{topic}"),
-        dds_type: dds_type(ros_type),
+        dds_topic,
+        dds_type: ty.dds_type_name(),
         qos,
     })
 }
@@ -683,10 +680,5 @@ mod tests {
         assert_eq!(topic_token("bubbleRob/visionSensor"), "bubbleRob/visionSensor");
         assert_eq!(topic_token("wheel[1]/cam-2"), "wheel_1_/cam_2");
         assert_eq!(topic_token("3d/cam"), "_3d/cam");
-    }
-
-    #[test]
-    fn dds_type_names_are_mangled_as_ros_does() {
-        assert_eq!(dds_type("sensor_msgs/msg/Image"), "sensor_msgs::msg::dds_::Image_");
     }
 }

@@ -250,7 +250,12 @@ fn create_publisher(lua: &Lua, args: &MultiValue) -> Res {
     let ty = msg_type(&type_name)?;
     let latch = matches!(arg(args, 3), Some(LuaValue::Boolean(true)));
     let qos = qos_arg(arg(args, 2), latch)?;
-    let dds_topic = topic_name(&topic).map_err(|e| e.to_string())?;
+    open_publisher(lua, &topic, ty, qos)
+}
+
+/// A publisher of `ty` on `topic` for the running script; its handle.
+fn open_publisher(lua: &Lua, topic: &str, ty: &'static MsgType, qos: RosQos) -> Res {
+    let dds_topic = topic_name(topic).map_err(|e| e.to_string())?;
     let host = state::<RosHost>(lua);
     let id = host
         .open(Direction::Publish, dds_topic, ty.dds_type_name(), qos)
@@ -287,17 +292,7 @@ fn publish_value(lua: &Lua, h: i64, msg: &Value) -> Res {
 fn image_transport_create_publisher(lua: &Lua, args: &MultiValue) -> Res {
     let topic = string_arg(args, 0, "the topic name")?;
     let qos = qos_arg(arg(args, 1), false)?;
-    let ty = msg_type("sensor_msgs/msg/Image")?;
-    let dds_topic = topic_name(&topic).map_err(|e| e.to_string())?;
-    let host = state::<RosHost>(lua);
-    let id = host
-        .open(Direction::Publish, dds_topic, ty.dds_type_name(), qos)
-        .map_err(|e| e.to_string())?;
-    let h = host.insert(Endpoint {
-        script: running_object(lua),
-        kind: Kind::Publisher { id, ty },
-    });
-    Ok(vec![LuaValue::Integer(h)])
+    open_publisher(lua, &topic, msg_type("sensor_msgs/msg/Image")?, qos)
 }
 
 /// `simROS2.imageTransportPublish(publisher, data, width, height, frameId)`: an `rgb8`
