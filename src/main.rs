@@ -156,7 +156,8 @@ struct RunArgs {
     #[arg(long, value_name = "PORT")]
     legacy_port: Option<u16>,
     /// Open no network listener at all (headless batch runs); scripts may not listen
-    /// either.
+    /// either. The run ends when a script stops the simulation, since nothing could
+    /// start it again.
     #[arg(long)]
     no_listen: bool,
     /// Let scripts open outgoing TCP connections (LuaSocket's `socket.connect`); by
@@ -491,6 +492,7 @@ fn run(args: &RunArgs) -> Result<()> {
             ..ScriptLimits::default()
         },
         autostart: true,
+        quit_when_stopped: args.no_listen,
         export_graphs: args.export_graphs.clone(),
         load_options: opts.clone(),
         listeners: None,

@@ -66,6 +66,7 @@ FLOORS = {
         ({"scripts"}, False),
         ({"simulation"}, False),
         ({"step", "remote", "ros_dispatch"}, False),
+        ({"ros_action_dispatch"}, False),
     ],
 }
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from cyclonedds.core import Policy, Qos
 from cyclonedds.domain import DomainParticipant
 from cyclonedds.idl import IdlStruct
-from cyclonedds.idl.types import array, float32, float64, int32, int64, sequence, uint8, uint32, uint64
+from cyclonedds.idl.types import array, float32, float64, int8, int32, int64, sequence, uint8, uint32, uint64
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
@@ -193,6 +193,132 @@ class AddTwoIntsResponse(IdlStruct, typename="example_interfaces::srv::dds_::Add
     client_guid: uint64
     sequence_number: int64
     sum: int64
+
+
+# ---- actions: rcl_action's wire types around example_interfaces/action/Fibonacci ----
+
+
+@dataclass
+class UUID(IdlStruct, typename="unique_identifier_msgs::msg::dds_::UUID_"):
+    uuid: array[uint8, 16]
+
+
+@dataclass
+class GoalInfo(IdlStruct, typename="action_msgs::msg::dds_::GoalInfo_"):
+    goal_id: UUID
+    stamp: Time
+
+
+@dataclass
+class GoalStatus(IdlStruct, typename="action_msgs::msg::dds_::GoalStatus_"):
+    goal_info: GoalInfo
+    status: int8
+
+
+@dataclass
+class GoalStatusArray(IdlStruct, typename="action_msgs::msg::dds_::GoalStatusArray_"):
+    status_list: sequence[GoalStatus]
+
+
+@dataclass
+class CancelGoalRequest(IdlStruct, typename="action_msgs::srv::dds_::CancelGoal_Request_"):
+    client_guid: uint64
+    sequence_number: int64
+    goal_info: GoalInfo
+
+
+@dataclass
+class CancelGoalResponse(IdlStruct, typename="action_msgs::srv::dds_::CancelGoal_Response_"):
+    client_guid: uint64
+    sequence_number: int64
+    return_code: int8
+    goals_canceling: sequence[GoalInfo]
+
+
+@dataclass
+class FibonacciGoal(IdlStruct, typename="example_interfaces::action::dds_::Fibonacci_Goal_"):
+    order: int32
+
+
+@dataclass
+class FibonacciResult(IdlStruct, typename="example_interfaces::action::dds_::Fibonacci_Result_"):
+    sequence: sequence[int32]
+
+
+@dataclass
+class FibonacciFeedback(IdlStruct, typename="example_interfaces::action::dds_::Fibonacci_Feedback_"):
+    sequence: sequence[int32]
+
+
+@dataclass
+class FibonacciSendGoalRequest(IdlStruct, typename="example_interfaces::action::dds_::Fibonacci_SendGoal_Request_"):
+    client_guid: uint64
+    sequence_number: int64
+    goal_id: UUID
+    goal: FibonacciGoal
+
+
+@dataclass
+class FibonacciSendGoalResponse(IdlStruct, typename="example_interfaces::action::dds_::Fibonacci_SendGoal_Response_"):
+    client_guid: uint64
+    sequence_number: int64
+    accepted: bool
+    stamp: Time
+
+
+@dataclass
+class FibonacciGetResultRequest(IdlStruct, typename="example_interfaces::action::dds_::Fibonacci_GetResult_Request_"):
+    client_guid: uint64
+    sequence_number: int64
+    goal_id: UUID
+
+
+@dataclass
+class FibonacciGetResultResponse(
+    IdlStruct, typename="example_interfaces::action::dds_::Fibonacci_GetResult_Response_"
+):
+    client_guid: uint64
+    sequence_number: int64
+    status: int8
+    result: FibonacciResult
+
+
+@dataclass
+class FibonacciFeedbackMessage(IdlStruct, typename="example_interfaces::action::dds_::Fibonacci_FeedbackMessage_"):
+    goal_id: UUID
+    feedback: FibonacciFeedback
+
+
+class FibonacciEndpoints:
+    """The peer's side of action ``name`` (rcl_action's layout): as a client
+    (``serving=False``) it writes requests and reads replies, feedback and status; as a
+    server the other way round."""
+
+    def __init__(self, peer: "Peer", name: str, serving: bool):
+        base = name.strip("/")
+        pairs = {
+            "send_goal": (FibonacciSendGoalRequest, FibonacciSendGoalResponse),
+            "cancel_goal": (CancelGoalRequest, CancelGoalResponse),
+            "get_result": (FibonacciGetResultRequest, FibonacciGetResultResponse),
+        }
+        self.requests, self.replies = {}, {}
+        for service, (rq, rr) in pairs.items():
+            rq_topic = f"rq/{base}/_action/{service}Request"
+            rr_topic = f"rr/{base}/_action/{service}Reply"
+            if serving:
+                self.requests[service] = peer.reader(rq_topic, rq)
+                self.replies[service] = peer.writer(rr_topic, rr)
+            else:
+                self.requests[service] = peer.writer(rq_topic, rq)
+                self.replies[service] = peer.reader(rr_topic, rr)
+        feedback = f"rt/{base}/_action/feedback"
+        status = f"rt/{base}/_action/status"
+        if serving:
+            self.feedback = peer.writer(feedback, FibonacciFeedbackMessage)
+            self.status = peer.writer(status, GoalStatusArray, LATCHED)
+        else:
+            self.feedback = peer.reader(feedback, FibonacciFeedbackMessage)
+            self.status = peer.reader(status, GoalStatusArray, LATCHED)
 
 
 def loopback_config() -> str:

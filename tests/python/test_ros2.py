@@ -17,6 +17,9 @@ says at the same step:
 - ``gantry.Client(scene, ros2=True)`` (in process) publishes the same graph;
 - a script's ``simROS2`` client calls a service the peer serves (``waitForService``,
   then ``call``);
+- a script's ``simROS2`` action server serves the peer's goals (feedback, result,
+  rejection, cancel, the status list) and a script's action client gets a goal done by
+  the peer's action server, both on rcl_action's topics and types;
 - ROS 1's ``simROS`` names publish on the ROS 2 graph;
 - malformed samples are dropped with a clear log line and the simulation goes on.
 
@@ -34,6 +37,19 @@ import pytest
 from gantry_proc import REPO, GantryProcess
 from ros2_peer import (
     LATCHED,
+    UUID,
+    CancelGoalRequest,
+    FibonacciEndpoints,
+    FibonacciFeedback,
+    FibonacciFeedbackMessage,
+    FibonacciGetResultRequest,
+    FibonacciGetResultResponse,
+    FibonacciGoal,
+    FibonacciResult,
+    FibonacciSendGoalRequest,
+    FibonacciSendGoalResponse,
+    GoalInfo,
+    Time,
     AddTwoIntsRequest,
     AddTwoIntsResponse,
     Bool,
@@ -419,6 +435,185 @@ def test_a_script_calls_a_service_the_peer_serves(domain, procs, tmp_path):
                 break
         assert sim.getInt32Signal("sum") == 42, (seen, g.stderr()[-300:])
         assert len(seen) == 1 and seen[0].sequence_number == 1, seen
+    finally:
+        stop.set()
+        server.join(5)
+
+
+ACTION_SERVER = """
+function handle_goal(id, goal)
+    if goal.order > 50 then return simROS2.goal_response.reject end
+    return simROS2.goal_response.accept_and_execute
+end
+function handle_cancel(id, goal)
+    return simROS2.cancel_response.accept
+end
+function handle_accepted(id, goal)
+    current = {id = id, order = goal.order, seq = {0, 1}}
+    sim.setStringSignal('goal', id)
+end
+function sysCall_init()
+    srv = simROS2.createActionServer('/fibonacci', 'example_interfaces/action/Fibonacci',
+        handle_goal, handle_cancel, handle_accepted)
+end
+function sysCall_actuation()
+    if not current then return end
+    if simROS2.actionServerActionIsCanceling(srv, current.id) then
+        simROS2.actionServerActionCanceled(srv, current.id, {sequence = current.seq})
+        current = nil
+        return
+    end
+    local n = #current.seq
+    current.seq[n + 1] = current.seq[n] + current.seq[n - 1]
+    simROS2.actionServerPublishFeedback(srv, current.id, {sequence = current.seq})
+    if n + 1 >= current.order then
+        simROS2.actionServerActionSucceed(srv, current.id, {sequence = current.seq})
+        current = nil
+    end
+end
+"""
+
+
+def one_script_scene(tmp_path, name, source):
+    script = tmp_path / f"{name}.lua"
+    script.write_text(source)
+    scene = tmp_path / f"{name}.toml"
+    scene.write_text(f'[[object]]\nname = "node"\nkind = "dummy"\nscript = "{script.name}"\n')
+    return scene
+
+
+def reply_to(reader, seq, client, sim, steps=200):
+    """The reply to request ``seq``, stepping gantry until it comes."""
+    for _ in range(steps):
+        for r in reader.take(N=100):
+            if r.sequence_number == seq:
+                return r
+        client.step()
+        time.sleep(0.002)
+    raise AssertionError(f"no reply to request {seq}")
+
+
+def test_a_script_action_server_serves_the_peer(domain, procs, tmp_path):
+    import os
+
+    scene = one_script_scene(tmp_path, "server", ACTION_SERVER)
+    peer = Peer(domain)
+    act = FibonacciEndpoints(peer, "/fibonacci", serving=False)
+    g, client, sim = held(procs, scene=scene)
+    for w in act.requests.values():
+        wait_matched(w)
+    guid = 0xC0FFEE
+
+    def goal(seq, order):
+        gid = UUID(uuid=list(os.urandom(16)))
+        act.requests["send_goal"].write(
+            FibonacciSendGoalRequest(client_guid=guid, sequence_number=seq, goal_id=gid,
+                                     goal=FibonacciGoal(order=order)))
+        return gid, reply_to(act.replies["send_goal"], seq, client, sim)
+
+    # A goal that runs to the end, with feedback at every step.
+    gid, r = goal(1, 6)
+    assert r.accepted, g.stderr()[-500:]
+    assert sim.getStringSignal("goal") == bytes(gid.uuid).hex().encode()
+    act.requests["get_result"].write(FibonacciGetResultRequest(client_guid=guid, sequence_number=2, goal_id=gid))
+    res = reply_to(act.replies["get_result"], 2, client, sim)
+    assert res.status == 4, "STATUS_SUCCEEDED"
+    assert list(res.result.sequence) == [0, 1, 1, 2, 3, 5]
+    fb = [f for f in take_until(act.feedback, lambda got: len(got) >= 4, what="feedback")
+          if bytes(f.goal_id.uuid) == bytes(gid.uuid)]
+    assert [len(f.feedback.sequence) for f in fb] == [3, 4, 5, 6]
+    status = take_until(act.status, lambda got: any(
+        s.status == 4 for m in got for s in m.status_list), what="a succeeded status")
+    assert any(bytes(s.goal_info.goal_id.uuid) == bytes(gid.uuid) for m in status for s in m.status_list)
+
+    # One the server's callback rejects.
+    _, r = goal(3, 99)
+    assert not r.accepted
+
+    # One canceled while it runs: the cancel reply lists it, the result says canceled.
+    gid, r = goal(4, 40)
+    assert r.accepted
+    for _ in range(3):
+        client.step()
+    act.requests["cancel_goal"].write(CancelGoalRequest(client_guid=guid, sequence_number=5, goal_info=GoalInfo(
+        goal_id=gid, stamp=Time(sec=0, nanosec=0))))
+    c = reply_to(act.replies["cancel_goal"], 5, client, sim)
+    assert c.return_code == 0
+    assert [bytes(i.goal_id.uuid) for i in c.goals_canceling] == [bytes(gid.uuid)]
+    act.requests["get_result"].write(FibonacciGetResultRequest(client_guid=guid, sequence_number=6, goal_id=gid))
+    res = reply_to(act.replies["get_result"], 6, client, sim)
+    assert res.status == 5, "STATUS_CANCELED"
+    assert list(res.result.sequence)[:4] == [0, 1, 1, 2]
+    assert g.proc.poll() is None and "panicked" not in g.stderr()
+
+
+ACTION_CLIENT = """
+function sysCall_init()
+    cli = simROS2.createActionClient('/fibonacci', 'example_interfaces/action/Fibonacci',
+        'on_response', 'on_feedback', 'on_result')
+end
+function sysCall_actuation()
+    if not sent then
+        sent = true
+        sim.setInt32Signal('sent', simROS2.sendGoal(cli, {order = 5}) and 1 or 0)
+    end
+end
+function on_response(id, accepted)
+    sim.setInt32Signal('accepted', accepted and 1 or 0)
+    sim.setStringSignal('goal', id)
+end
+function on_feedback(id, fb)
+    sim.setInt32Signal('feedback', #fb.sequence)
+end
+function on_result(id, code, result)
+    sim.setInt32Signal('code', code)
+    sim.setStringSignal('result', table.concat(result.sequence, ','))
+end
+"""
+
+
+def test_a_script_action_client_gets_a_goal_done_by_the_peer(domain, procs, tmp_path):
+    import threading
+
+    scene = one_script_scene(tmp_path, "client", ACTION_CLIENT)
+    peer = Peer(domain)
+    act = FibonacciEndpoints(peer, "/fibonacci", serving=True)
+    goals: dict = {}
+    stop = threading.Event()
+
+    def serve():
+        while not stop.is_set():
+            for r in act.requests["send_goal"].take(N=10):
+                seq = [0, 1]
+                while len(seq) < r.goal.order:
+                    seq.append(seq[-1] + seq[-2])
+                goals[bytes(r.goal_id.uuid)] = seq
+                act.replies["send_goal"].write(FibonacciSendGoalResponse(
+                    client_guid=r.client_guid, sequence_number=r.sequence_number, accepted=True,
+                    stamp=Time(sec=0, nanosec=0)))
+                for n in (3, 4):
+                    act.feedback.write(FibonacciFeedbackMessage(
+                        goal_id=r.goal_id, feedback=FibonacciFeedback(sequence=seq[:n])))
+            for r in act.requests["get_result"].take(N=10):
+                act.replies["get_result"].write(FibonacciGetResultResponse(
+                    client_guid=r.client_guid, sequence_number=r.sequence_number, status=4,
+                    result=FibonacciResult(sequence=goals.get(bytes(r.goal_id.uuid), []))))
+            time.sleep(0.002)
+
+    server = threading.Thread(target=serve, daemon=True)
+    server.start()
+    try:
+        g, client, sim = held(procs, scene=scene)
+        for _ in range(200):
+            client.step()
+            if sim.getInt32Signal("code"):
+                break
+        assert sim.getInt32Signal("sent") == 1, g.stderr()[-500:]
+        assert sim.getInt32Signal("accepted") == 1
+        assert len(goals) == 1 and sim.getStringSignal("goal") == next(iter(goals)).hex().encode()
+        assert sim.getInt32Signal("feedback") == 4
+        assert sim.getInt32Signal("code") == 8564, "simROS2.action_result_code.succeeded"
+        assert sim.getStringSignal("result") == b"0,1,1,2,3"
     finally:
         stop.set()
         server.join(5)

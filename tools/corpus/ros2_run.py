@@ -21,7 +21,11 @@ For each Lua file of a corpus kept OUTSIDE the repository (default
    ``tests/python/ros2_peer.py``, from the ``/tmp/cddtest`` venv) reads every topic the
    script publishes and writes default-valued messages on every topic it subscribes
    to. Topics whose names are built at run time are found through DDS discovery
-   (the DCPSPublication / DCPSSubscription built-in topics), so they are covered too;
+   (the DCPSPublication / DCPSSubscription built-in topics), so they are covered too.
+   For the tutorial types (``example_interfaces`` Fibonacci actions and AddTwoInts
+   services) the peer also plays the other side: it sends a goal to a script's action
+   server and asks for the result, serves a script's action client, and answers a
+   script's service client;
 4. prints a markdown table: whether the script runs (no Lua error from it in gantry's
    log, and at least one message of every topic it publishes reached the peer),
    messages seen per topic, and the first error line.
@@ -102,14 +106,18 @@ def read_catalog(path: Path = CATALOG_RS) -> tuple[dict, dict]:
             line = raw.split("#", 1)[0].strip()
             if not line:
                 continue
-            m = re.match(r"(MSG|SRV):\s*(\w+)$", line)
+            m = re.match(r"(MSG|SRV|ACTION):\s*(\w+)$", line)
             if m:
                 kind, cur = m.group(1), m.group(2)
                 part = 0
+                if kind == "ACTION":
+                    continue  # the peer's action types are ros2_peer.py's
                 if kind == "MSG":
                     msgs[f"{pkg}/msg/{cur}"] = []
                 else:
                     srvs[f"{pkg}/srv/{cur}"] = ([], [])
+                continue
+            if kind == "ACTION":
                 continue
             if line == "---":
                 part = 1
@@ -376,6 +384,19 @@ class Script:
                 self.subscriptions.append(entry)
             else:
                 self.services.append(f"{m.group(1)}({args[0]}, {args[1]})")
+        # Actions and service clients of the tutorial types the peer can play the other
+        # side of: (kind, name) with kind "action server", "action client", "client".
+        self.counterparts: list[tuple[str, str]] = []
+        for m in re.finditer(r"\bsimROS2\s*\.\s*(createActionServer|createActionClient|createClient)\s*\(", code):
+            args = split_args(code, m.end() - 1)
+            if len(args) < 2:
+                continue
+            name, typ = lit_value(args[0]), lit_value(args[1])
+            if not name or typ not in PLAYABLE.get(m.group(1), ()):
+                continue
+            kind = {"createActionServer": "action server", "createActionClient": "action client",
+                    "createClient": "client"}[m.group(1)]
+            self.counterparts.append((kind, name))
         self.sends_tf = bool(re.search(r"\bsimROS2?\.sendTransforms?\s*\(", code))
         self.objects = self._object_lookups() + self.extra
 
@@ -549,6 +570,92 @@ def toml_str(s: str) -> str:
 
 IGNORED_TOPICS = {"rt/rosout", "rt/parameter_events"}
 
+# The types whose other side the peer plays (ros2_peer.py has their IDL).
+PLAYABLE = {
+    "createActionServer": ("example_interfaces/action/Fibonacci",),
+    "createActionClient": ("example_interfaces/action/Fibonacci",),
+    "createClient": ("example_interfaces/srv/AddTwoInts",),
+}
+
+
+class Counterpart:
+    """The peer's side of one action or service a script uses: a client sending one
+    Fibonacci goal (order 3) to a script's action server and asking for its result, a
+    Fibonacci action server for a script's action client, or an AddTwoInts server for a
+    script's service client. ``progress`` counts what happened, under pseudo-topics
+    (``action /fibonacci: result``) the report lists with the topics."""
+
+    def __init__(self, peer, kind: str, name: str):
+        import ros2_peer as rp
+        self.rp, self.kind, self.name = rp, kind, name
+        self.progress: dict[str, int] = {}
+        self.guid, self.goal_id, self.goals = 0x5EED, None, {}
+        if kind == "client":
+            base = name.strip("/")
+            self.requests = peer.reader(f"rq/{base}Request", rp.AddTwoIntsRequest)
+            self.replies = peer.writer(f"rr/{base}Reply", rp.AddTwoIntsResponse)
+        else:
+            self.act = rp.FibonacciEndpoints(peer, name, serving=(kind == "action client"))
+
+    @staticmethod
+    def expected_for(kind: str, name: str) -> list[str]:
+        return [{"action server": f"action {name}: result",
+                 "action client": f"action {name}: result request",
+                 "client": f"service {name}: request"}[kind]]
+
+    def count(self, what: str, n: int = 1) -> None:
+        key = f"{'service' if self.kind == 'client' else 'action'} {self.name}: {what}"
+        self.progress[key] = self.progress.get(key, 0) + n
+
+    @staticmethod
+    def valid(samples) -> list:
+        """The data samples (Cyclone also returns InvalidSample for a writer's dispose
+        or unregister, e.g. when gantry exits)."""
+        return [x for x in samples if type(x).__name__ != "InvalidSample"]
+
+    def poll(self) -> None:
+        rp, valid = self.rp, self.valid
+        if self.kind == "client":
+            for r in valid(self.requests.take(N=10)):
+                self.count("request")
+                self.replies.write(rp.AddTwoIntsResponse(client_guid=r.client_guid,
+                                                         sequence_number=r.sequence_number, sum=r.a + r.b))
+        elif self.kind == "action client":
+            a = self.act
+            for r in valid(a.requests["send_goal"].take(N=10)):
+                self.count("goal")
+                seq = [0, 1]
+                while len(seq) < r.goal.order:
+                    seq.append(seq[-1] + seq[-2])
+                self.goals[bytes(r.goal_id.uuid)] = seq
+                a.replies["send_goal"].write(rp.FibonacciSendGoalResponse(
+                    client_guid=r.client_guid, sequence_number=r.sequence_number, accepted=True,
+                    stamp=rp.Time(sec=0, nanosec=0)))
+                a.feedback.write(rp.FibonacciFeedbackMessage(
+                    goal_id=r.goal_id, feedback=rp.FibonacciFeedback(sequence=seq[:2])))
+            for r in valid(a.requests["get_result"].take(N=10)):
+                self.count("result request")
+                a.replies["get_result"].write(rp.FibonacciGetResultResponse(
+                    client_guid=r.client_guid, sequence_number=r.sequence_number, status=4,
+                    result=rp.FibonacciResult(sequence=self.goals.get(bytes(r.goal_id.uuid), []))))
+        else:
+            a = self.act
+            if self.goal_id is None and all(w.get_matched_subscriptions() for w in a.requests.values()):
+                self.goal_id = rp.UUID(uuid=list(os.urandom(16)))
+                a.requests["send_goal"].write(rp.FibonacciSendGoalRequest(
+                    client_guid=self.guid, sequence_number=1, goal_id=self.goal_id,
+                    goal=rp.FibonacciGoal(order=3)))
+                self.count("goal")
+            for r in valid(a.replies["send_goal"].take(N=10)):
+                if r.accepted:
+                    self.count("accepted")
+                    a.requests["get_result"].write(rp.FibonacciGetResultRequest(
+                        client_guid=self.guid, sequence_number=2, goal_id=self.goal_id))
+            self.count("feedback", len(valid(a.feedback.take(N=100))))
+            for r in valid(a.replies["get_result"].take(N=10)):
+                if r.status == 4:
+                    self.count("result")
+
 
 class Result:
     def __init__(self, script: Script):
@@ -571,7 +678,10 @@ class Result:
                for t, _, _ in self.script.publishers if t}
         if self.script.sends_tf:
             exp.add("rt/tf")
-        exp |= set(self.gantry_writers)
+        # An action's own topics are checked through its counterpart's progress.
+        exp |= {t for t in self.gantry_writers if "/_action/" not in t}
+        exp |= {e for kind, name in self.script.counterparts
+                for e in Counterpart.expected_for(kind, name)}
         return sorted(exp - IGNORED_TOPICS)
 
     def runs(self) -> bool:
@@ -619,7 +729,8 @@ def run_one(script: Script, idl: Idl, args) -> Result:
     writers: dict[str, tuple] = {}
 
     def add_reader(topic: str, typ: str | None):
-        if topic in readers or topic in IGNORED_TOPICS:
+        # An action's topics are its counterpart's (rcl_action's QoS, its own types).
+        if topic in readers or topic in IGNORED_TOPICS or "/_action/" in topic:
             return
         if not typ:
             return
@@ -652,6 +763,7 @@ def run_one(script: Script, idl: Idl, args) -> Result:
     for topic, typ, _ in script.subscriptions:
         if topic:
             add_writer(dds(topic), typ)
+    counterparts = [Counterpart(peer, kind, name) for kind, name in script.counterparts]
     pubs_seen = BuiltinDataReader(peer.dp, BuiltinTopicDcpsPublication)
     subs_seen = BuiltinDataReader(peer.dp, BuiltinTopicDcpsSubscription)
     own = peer.dp.guid
@@ -699,6 +811,8 @@ def run_one(script: Script, idl: Idl, args) -> Result:
             for topic, r in readers.items():
                 if r is not None:
                     res.seen[topic] += len(r.take(N=1000))
+            for c in counterparts:
+                c.poll()
             if not args.no_feed and now - last_write > 0.05:
                 last_write = now
                 for topic, (w, msg) in writers.items():
@@ -718,10 +832,13 @@ def run_one(script: Script, idl: Idl, args) -> Result:
             time.sleep(0.01)
         res.rc = proc.wait()
         th.join(2)
+    for c in counterparts:
+        for k, n in c.progress.items():
+            res.seen[k] = res.seen.get(k, 0) + n
     res.log = list(log)
     analyse_log(res)
     # let the participant go before the next script
-    del readers, writers, pubs_seen, subs_seen, topics, peer
+    del readers, writers, pubs_seen, subs_seen, topics, peer, counterparts
     gc.collect()
     return res
 
@@ -870,6 +987,11 @@ def write_manifest(corpus: Path, out: Path) -> int:
     return 0
 
 
+def shown(topic: str) -> str:
+    """A DDS topic as its ROS name (``rt/x`` -> ``/x``); pseudo-topics as they are."""
+    return topic[2:] if topic.startswith("rt/") else topic
+
+
 def md_escape(s: str) -> str:
     return s.replace("|", "\\|").replace("\n", " ")
 
@@ -880,13 +1002,13 @@ def report(results: list[Result], manifest: dict, args) -> str:
     for r in results:
         m = manifest.get(r.script.path.name, {})
         where = f"{m.get('repo', '?')} `{m.get('path', r.script.path.name)}` @ {m.get('commit', '?')[:10]}"
-        seen = ", ".join(f"{t[2:]}: {r.seen.get(t, 0)}" for t in r.expected_topics()) or "-"
+        seen = ", ".join(f"{shown(t)}: {r.seen.get(t, 0)}" for t in r.expected_topics()) or "-"
         wrote = ", ".join(
             f"{t[2:]}: {n}{'' if r.matched.get(t) else ' (no gantry reader matched)'}"
             for t, n in sorted(r.written.items())) or "-"
         err = r.errors[0] if r.errors else ""
         if not err and not r.runs():
-            missing = [t[2:] for t in r.expected_topics() if not r.seen.get(t)]
+            missing = [shown(t) for t in r.expected_topics() if not r.seen.get(t)]
             err = f"(no Lua error) nothing received on {', '.join(missing)}" if missing else f"exit code {r.rc}"
         out.append(f"| {r.script.path.stem[:60]} | {md_escape(where)} | {'yes' if r.runs() else 'no'} | "
                    f"{md_escape(seen)} | {md_escape(wrote)} | {md_escape(err[:300])} |")

@@ -3,8 +3,9 @@
 
 use gantry_protocol::Value;
 use gantry_protocol::ros::{
-    self, DecodeError, MsgType, known_message_types, known_service_types, message_type, ros_topic_name,
-    service_reply_topic, service_request_topic, service_type, topic_name,
+    self, DecodeError, MsgType, action_topics, action_type, known_action_types, known_message_types,
+    known_service_types, message_type, ros_topic_name, service_reply_topic, service_request_topic, service_type,
+    topic_name,
 };
 
 /// `{k = v, ...}` with string keys.
@@ -312,6 +313,13 @@ fn every_type() -> Vec<&'static MsgType> {
         all.push(s.request());
         all.push(s.response());
     }
+    for a in known_action_types() {
+        all.extend([a.goal(), a.result(), a.feedback(), a.feedback_message()]);
+        for s in [a.send_goal(), a.get_result()] {
+            all.push(s.request());
+            all.push(s.response());
+        }
+    }
     all
 }
 
@@ -554,6 +562,7 @@ fn lookups_accept_ros1_style_names() {
     assert_eq!(
         srvs,
         [
+            "action_msgs/srv/CancelGoal",
             "example_interfaces/srv/AddTwoInts",
             "std_srvs/srv/Empty",
             "std_srvs/srv/SetBool",
@@ -745,6 +754,123 @@ fn a_huge_declared_length_errors_without_allocating() {
     assert!(start.elapsed().as_secs() < 5, "refusing took {:?}", start.elapsed());
 }
 
+// ---- actions ----
+
+#[test]
+fn fibonacci_action_parts_have_rcl_action_layouts() {
+    let a = action_type("example_interfaces/action/Fibonacci").unwrap();
+    assert_eq!(action_type("example_interfaces/Fibonacci").unwrap().name(), a.name());
+    let uuid: Vec<u8> = (0..16).collect();
+    let goal_id = map(&[("uuid", Value::Bytes(uuid.clone()))]);
+
+    // send_goal: the 16 id bytes, then the goal (int32 order, already aligned).
+    let rq = a.send_goal().request();
+    assert_eq!(
+        rq.dds_type_name(),
+        "example_interfaces::action::dds_::Fibonacci_SendGoal_Request_"
+    );
+    let v = map(&[("goal_id", goal_id.clone()), ("goal", map(&[("order", Value::Int(9))]))]);
+    let mut want = uuid.clone();
+    want.extend(9i32.to_le_bytes());
+    assert_eq!(rq.encode(&v).unwrap(), with_header(&want));
+    assert_eq!(rq.decode(&with_header(&want)).unwrap(), v);
+    assert_eq!(
+        a.send_goal().response().definition(),
+        "bool accepted\nbuiltin_interfaces/Time stamp\n"
+    );
+
+    // get_result's response: int8 status, padding to 4, then the sequence.
+    let rs = a.get_result().response();
+    assert_eq!(
+        rs.dds_type_name(),
+        "example_interfaces::action::dds_::Fibonacci_GetResult_Response_"
+    );
+    let v = map(&[
+        ("status", Value::Int(4)),
+        (
+            "result",
+            map(&[("sequence", Value::Array(vec![Value::Int(0), Value::Int(1)]))]),
+        ),
+    ]);
+    let want = [4u8, 0, 0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0];
+    assert_eq!(rs.encode(&v).unwrap(), with_header(&want));
+
+    // feedback: the id, then the sequence.
+    let fb = a.feedback_message();
+    assert_eq!(
+        fb.dds_type_name(),
+        "example_interfaces::action::dds_::Fibonacci_FeedbackMessage_"
+    );
+    let v = map(&[
+        ("goal_id", goal_id.clone()),
+        ("feedback", map(&[("sequence", Value::Array(vec![Value::Int(7)]))])),
+    ]);
+    let mut want = uuid.clone();
+    want.extend([1, 0, 0, 0, 7, 0, 0, 0]);
+    assert_eq!(fb.encode(&v).unwrap(), with_header(&want));
+
+    // The status array every action server keeps.
+    let st = ty("action_msgs/msg/GoalStatusArray");
+    let v = map(&[(
+        "status_list",
+        Value::Array(vec![map(&[
+            (
+                "goal_info",
+                map(&[
+                    ("goal_id", goal_id),
+                    ("stamp", map(&[("sec", Value::Int(3)), ("nanosec", Value::Int(5))])),
+                ]),
+            ),
+            ("status", Value::Int(2)),
+        ])]),
+    )]);
+    let mut want = vec![1, 0, 0, 0];
+    want.extend(&uuid);
+    want.extend([3, 0, 0, 0, 5, 0, 0, 0, 2]);
+    assert_eq!(st.encode(&v).unwrap(), with_header(&want));
+    assert_eq!(st.decode(&with_header(&want)).unwrap(), v);
+    assert_eq!(
+        service_type("action_msgs/srv/CancelGoal")
+            .unwrap()
+            .dds_request_type_name(),
+        "action_msgs::srv::dds_::CancelGoal_Request_"
+    );
+    let names: Vec<&str> = known_action_types().map(|a| a.name()).collect();
+    assert_eq!(names, ["example_interfaces/action/Fibonacci"]);
+}
+
+#[test]
+fn simros2_interface_names_find_the_parts_of_services_and_actions() {
+    for (simros2, canonical) in [
+        (
+            "example_interfaces/action/FibonacciGoal",
+            "example_interfaces/action/Fibonacci_Goal",
+        ),
+        (
+            "example_interfaces/action/FibonacciResult",
+            "example_interfaces/action/Fibonacci_Result",
+        ),
+        (
+            "example_interfaces/action/FibonacciFeedback",
+            "example_interfaces/action/Fibonacci_Feedback",
+        ),
+        (
+            "example_interfaces/srv/AddTwoIntsRequest",
+            "example_interfaces/srv/AddTwoInts_Request",
+        ),
+        ("std_srvs/srv/SetBoolResponse", "std_srvs/srv/SetBool_Response"),
+        ("std_srvs/srv/SetBool_Response", "std_srvs/srv/SetBool_Response"),
+    ] {
+        assert_eq!(ty(simros2).name(), canonical);
+    }
+    let e = message_type("example_interfaces/action/FibonacciGaol")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("FibonacciGaol"), "{e}");
+    assert!(message_type("std_srvs/srv/Request").is_err());
+    assert!(action_type("example_interfaces/action/Fib").is_err());
+}
+
 // ---- names ----
 
 #[test]
@@ -763,6 +889,19 @@ fn topic_names_map_to_dds() {
     assert_eq!(ros_topic_name("DCPSParticipant"), None);
     assert_eq!(ros_topic_name("rt/"), None);
     assert_eq!(ros_topic_name("rq/set_flag"), None);
+    let a = action_topics("/fibonacci").unwrap();
+    assert_eq!(
+        a.send_goal,
+        (
+            "rq/fibonacci/_action/send_goalRequest".to_owned(),
+            "rr/fibonacci/_action/send_goalReply".to_owned()
+        )
+    );
+    assert_eq!(a.cancel_goal.0, "rq/fibonacci/_action/cancel_goalRequest");
+    assert_eq!(a.get_result.1, "rr/fibonacci/_action/get_resultReply");
+    assert_eq!(a.feedback, "rt/fibonacci/_action/feedback");
+    assert_eq!(a.status, "rt/fibonacci/_action/status");
+    assert!(action_topics("/fib onacci").is_err());
 }
 
 #[test]

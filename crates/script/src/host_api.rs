@@ -119,7 +119,7 @@ pub(crate) fn install(lua: &Lua, listeners: &Rc<RefCell<ListenerState>>) -> mlua
         &wrap,
     )?;
     lua.globals().set("simRemoteApi", remote_api)?;
-    let (ros2, ros1) = crate::ros::lua_api::install(lua, &wrap)?;
+    let (ros2, ros1) = crate::ros::module::install(lua, &wrap)?;
     lua.globals().set("simROS2", ros2)?;
     lua.globals().set("simROS", ros1)?;
     install_script_functions(lua, &sim, &wrap)?;

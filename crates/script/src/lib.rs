@@ -26,6 +26,7 @@ mod models;
 mod recording;
 mod remote;
 pub mod ros;
+mod ros_action_dispatch;
 mod ros_dispatch;
 mod running;
 pub mod sandbox;

@@ -8,13 +8,14 @@ use std::borrow::Cow;
 use gantry_protocol::Value;
 use gantry_protocol::ros::SrvType;
 use gantry_sim_core::Handle;
-use mlua::{Function, Value as LuaValue};
+use mlua::{Function, MultiValue, Value as LuaValue};
 
 use crate::app_state::state;
 use crate::convert::{to_lua, to_value};
 use crate::ros::EndpointId;
-use crate::ros::host::{Callback, Kind, RosHost};
-use crate::ros::lua_api::{read_header, request_header};
+use crate::ros::callback::Callback;
+use crate::ros::host::{Kind, RosHost};
+use crate::ros::wire::{read_header, request_header};
 use crate::scripts::ScriptState;
 use crate::simulation::Simulation;
 
@@ -86,10 +87,7 @@ impl Simulation {
                         _ => None,
                     };
                     let Some((message, reply)) = decoded else { continue };
-                    let callback = match callback {
-                        Callback::Function(key) => self.lua.registry_value::<Function>(key).map_err(|e| e.to_string()),
-                        Callback::Name(n) => Err(n.clone()),
-                    };
+                    let callback = resolve(&self.lua, callback);
                     out.push(Delivery {
                         script: e.script,
                         callback,
@@ -103,45 +101,12 @@ impl Simulation {
         for d in deliveries {
             self.deliver(d);
         }
+        self.dispatch_ros_actions();
     }
 
     fn deliver(&mut self, d: Delivery) {
-        let scripts = &mut self.scripts;
-        let Some(i) = scripts
-            .list
-            .iter()
-            .position(|s| Some(s.object) == d.script && s.state == ScriptState::Running)
-        else {
+        let Some((response, name)) = self.call_ros_callback(d.script, d.callback, &[d.message]) else {
             return;
-        };
-        let name = scripts.list[i].name.clone();
-        let (f, label) = match d.callback {
-            Ok(f) => (f, "ROS callback".to_owned()),
-            Err(fname) => match scripts.list[i].env.get::<Option<Function>>(fname.as_str()) {
-                Ok(Some(f)) => (f, fname),
-                _ => {
-                    let msg = format!("simROS2 callback '{fname}' is not a function of this script");
-                    self.core.log(300, &name, &msg);
-                    return;
-                }
-            },
-        };
-        let arg = match to_lua(&self.lua, &d.message) {
-            Ok(a) => a,
-            Err(e) => {
-                self.core.log(200, &name, &format!("simROS2: message dropped: {e}"));
-                return;
-            }
-        };
-        scripts.enter(i, Cow::Owned(label));
-        let r = scripts.call_script::<LuaValue>(&f, arg);
-        scripts.leave();
-        let response = match r {
-            Ok(v) => v,
-            Err(e) => {
-                scripts.fail(i, e);
-                return;
-            }
         };
         let Some(reply) = d.reply else { return };
         let value = match to_value(&response) {
@@ -167,5 +132,63 @@ impl Simulation {
             self.core
                 .log(200, &name, &format!("simROS2: the reply was not sent: {e}"));
         }
+    }
+
+    /// Calls a `simROS2` callback (a function, or `Err(name)` of a global of the script)
+    /// in the running script of object `script` with `args`; its first return value
+    /// and the script's name. `None` when the script is gone or stopped, the name is not
+    /// a function (logged), or the call failed (the script fails, as from any hook).
+    pub(crate) fn call_ros_callback(
+        &mut self,
+        script: Option<Handle>,
+        callback: Result<Function, String>,
+        args: &[Value],
+    ) -> Option<(LuaValue, String)> {
+        let scripts = &mut self.scripts;
+        let i = scripts
+            .list
+            .iter()
+            .position(|s| Some(s.object) == script && s.state == ScriptState::Running)?;
+        let name = scripts.list[i].name.clone();
+        let (f, label) = match callback {
+            Ok(f) => (f, "ROS callback".to_owned()),
+            Err(fname) => match scripts.list[i].env.get::<Option<Function>>(fname.as_str()) {
+                Ok(Some(f)) => (f, fname),
+                _ => {
+                    let msg = format!("simROS2 callback '{fname}' is not a function of this script");
+                    self.core.log(300, &name, &msg);
+                    return None;
+                }
+            },
+        };
+        let mut lua_args = MultiValue::new();
+        for a in args {
+            match to_lua(&self.lua, a) {
+                Ok(v) => lua_args.push_back(v),
+                Err(e) => {
+                    self.core.log(200, &name, &format!("simROS2: message dropped: {e}"));
+                    return None;
+                }
+            }
+        }
+        scripts.enter(i, Cow::Owned(label));
+        let r = scripts.call_script::<LuaValue>(&f, lua_args);
+        scripts.leave();
+        match r {
+            Ok(v) => Some((v, name.to_string())),
+            Err(e) => {
+                scripts.fail(i, e);
+                None
+            }
+        }
+    }
+}
+
+/// The function a callback names: a registry function, or `Err(name)` to look up in the
+/// script's environment when called.
+pub(crate) fn resolve(lua: &mlua::Lua, callback: &Callback) -> Result<Function, String> {
+    match callback {
+        Callback::Function(key) => lua.registry_value::<Function>(key).map_err(|e| e.to_string()),
+        Callback::Name(n) => Err(n.clone()),
     }
 }

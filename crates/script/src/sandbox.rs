@@ -154,6 +154,10 @@ fn harden(lua: &Lua, limits: &ScriptLimits) -> mlua::Result<()> {
             string.get::<mlua::Function>("format")?,
             math.get::<mlua::Function>("floor")?,
         ))?;
+    // `_S`: the table where CoppeliaSim 4.x's own Lua code keeps a script's private
+    // state, which public scripts use the same way (simROS2's examples keep a throttle's
+    // last times in it). Each script gets its own copy, like every table here.
+    g.raw_set("_S", lua.create_table()?)?;
     // `debug.traceback` only: the templates of CoppeliaSim 4.3-4.5 threaded scripts
     // report a coroutine's error with `error(debug.traceback(co, msg), 2)`. The rest of
     // the debug library reaches other scripts' locals and the registry.

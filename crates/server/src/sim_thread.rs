@@ -224,6 +224,10 @@ pub struct SimConfig {
     pub limits: ScriptLimits,
     /// Start running at once (otherwise wait for a start request).
     pub autostart: bool,
+    /// End the run when the simulation stops after having run (a script's
+    /// `sim.stopSimulation`), as CoppeliaSim's `-q` does: for headless runs where no
+    /// client could start it again (`gantry run --no-listen`).
+    pub quit_when_stopped: bool,
     /// Write every graph stream as CSV into this folder when the run ends.
     pub export_graphs: Option<std::path::PathBuf>,
     /// How scenes loaded later by remote clients (`sim.loadScene`) are read.
@@ -400,10 +404,18 @@ pub fn run_sim_thread_debugged(
     }
     let start = Instant::now();
     let mut last_served = start.checked_sub(SPIN_AFTER_ACTIVITY).unwrap_or(start);
+    let mut has_run = false;
     loop {
         observer.observe(lp.engine.sim(), lp.engine.steps());
         if should_stop() || config.steps.is_some_and(|n| lp.engine.steps() >= n) {
             break;
+        }
+        if lp.engine.state() == SimulationState::Stopped {
+            if has_run && config.quit_when_stopped {
+                break;
+            }
+        } else {
+            has_run = true;
         }
         let now = Instant::now();
         let wait = match lp.engine.due(now) {

@@ -4,8 +4,9 @@
 //! unchanged since); comments are left out. Constants are kept because they document
 //! the numeric fields (`Range.radiation_type`, `PointField.datatype`), and the codec
 //! skips them. Each section starts with `MSG: Type` (or `SRV: Type`, request and
-//! response separated by `---`); bare nested names are in the same package, and
-//! `Header` is `std_msgs/msg/Header`.
+//! response separated by `---`, or `ACTION: Type`, goal, result and feedback separated
+//! by `---`); bare nested names are in the same package, and `Header` is
+//! `std_msgs/msg/Header`.
 
 /// Message packages: `(package, definitions)`.
 pub(crate) const MESSAGES: &[(&str, &str)] = &[
@@ -16,10 +17,19 @@ pub(crate) const MESSAGES: &[(&str, &str)] = &[
     ("nav_msgs", NAV_MSGS),
     ("rosgraph_msgs", ROSGRAPH_MSGS),
     ("tf2_msgs", TF2_MSGS),
+    ("unique_identifier_msgs", UNIQUE_IDENTIFIER_MSGS),
+    ("action_msgs", ACTION_MSGS),
 ];
 
 /// Service packages: `(package, definitions)`.
-pub(crate) const SERVICES: &[(&str, &str)] = &[("std_srvs", STD_SRVS), ("example_interfaces", EXAMPLE_INTERFACES_SRVS)];
+pub(crate) const SERVICES: &[(&str, &str)] = &[
+    ("std_srvs", STD_SRVS),
+    ("example_interfaces", EXAMPLE_INTERFACES_SRVS),
+    ("action_msgs", ACTION_MSGS_SRVS),
+];
+
+/// Action packages: `(package, definitions)`.
+pub(crate) const ACTIONS: &[(&str, &str)] = &[("example_interfaces", EXAMPLE_INTERFACES_ACTIONS)];
 
 const BUILTIN_INTERFACES: &str = "
 MSG: Time
@@ -426,4 +436,53 @@ int64 a
 int64 b
 ---
 int64 sum
+";
+
+/// A goal's identity in ROS 2 actions: 16 random bytes.
+const UNIQUE_IDENTIFIER_MSGS: &str = "
+MSG: UUID
+uint8[16] uuid
+";
+
+/// What every ROS 2 action carries besides its own goal, result and feedback: goal
+/// identities and the status list an action server keeps (rcl_action's wire types).
+const ACTION_MSGS: &str = "
+MSG: GoalInfo
+unique_identifier_msgs/UUID goal_id
+builtin_interfaces/Time stamp
+MSG: GoalStatus
+int8 STATUS_UNKNOWN=0
+int8 STATUS_ACCEPTED=1
+int8 STATUS_EXECUTING=2
+int8 STATUS_CANCELING=3
+int8 STATUS_SUCCEEDED=4
+int8 STATUS_CANCELED=5
+int8 STATUS_ABORTED=6
+GoalInfo goal_info
+int8 status
+MSG: GoalStatusArray
+GoalStatus[] status_list
+";
+
+/// An action's cancel service (one type for every action).
+const ACTION_MSGS_SRVS: &str = "
+SRV: CancelGoal
+GoalInfo goal_info
+---
+int8 ERROR_NONE=0
+int8 ERROR_REJECTED=1
+int8 ERROR_UNKNOWN_GOAL_ID=2
+int8 ERROR_GOAL_TERMINATED=3
+int8 return_code
+GoalInfo[] goals_canceling
+";
+
+/// The tutorials' action (CoppeliaSim's simROS2 action examples use it).
+const EXAMPLE_INTERFACES_ACTIONS: &str = "
+ACTION: Fibonacci
+int32 order
+---
+int32[] sequence
+---
+int32[] sequence
 ";

@@ -1,13 +1,15 @@
-//! The codec's entry points on [`MsgType`] and [`SrvType`]: defaults, encoding and
-//! decoding, which follow nested types through the registry.
+//! The codec's entry points on [`MsgType`], [`SrvType`] and [`ActionType`]: defaults,
+//! encoding and decoding, and the parts of services and actions, which follow nested
+//! types through the registry.
 
+use super::action_type::ActionType;
 use super::decode::Decoder;
 use super::definition::Arity;
 use super::encode::Encoder;
 use super::field::{Field, Kind};
 use super::msg_type::MsgType;
 use super::primitive::Primitive;
-use super::registry::nested;
+use super::registry::{nested, registry};
 use super::srv_type::SrvType;
 use super::{DecodeError, EncodeError};
 use crate::Value;
@@ -131,6 +133,38 @@ impl SrvType {
     /// The DDS type name of responses: `std_srvs::srv::dds_::SetBool_Response_`.
     pub fn dds_response_type_name(&self) -> String {
         self.response().dds_type_name()
+    }
+}
+
+impl ActionType {
+    /// The goal a client sends, `..._Goal`.
+    pub fn goal(&self) -> &'static MsgType {
+        nested(self.parts().0)
+    }
+
+    /// The result a server ends a goal with, `..._Result`.
+    pub fn result(&self) -> &'static MsgType {
+        nested(self.parts().1)
+    }
+
+    /// The progress a server reports, `..._Feedback`.
+    pub fn feedback(&self) -> &'static MsgType {
+        nested(self.parts().2)
+    }
+
+    /// What the feedback topic carries: `goal_id` and `feedback`.
+    pub fn feedback_message(&self) -> &'static MsgType {
+        nested(self.parts().3)
+    }
+
+    /// The send-goal service: request `goal_id`, `goal`; response `accepted`, `stamp`.
+    pub fn send_goal(&self) -> &'static SrvType {
+        &registry().services[self.parts().4]
+    }
+
+    /// The get-result service: request `goal_id`; response `status`, `result`.
+    pub fn get_result(&self) -> &'static SrvType {
+        &registry().services[self.parts().5]
     }
 }
 

@@ -6,7 +6,7 @@
 //! `TYPE NAME`, `TYPE NAME DEFAULT` (numbers and booleans), `TYPE NAME=VALUE`
 //! (a constant: kept in the text, skipped by the codec), `TYPE[]` (sequence),
 //! `TYPE[N]` (fixed array), `#` comments, and `---` between a service's request and
-//! response. Bounded sequences and strings (`[<=N]`, `string<=N`) are refused rather
+//! response (and between an action's goal, result and feedback). Bounded sequences and strings (`[<=N]`, `string<=N`) are refused rather
 //! than silently treated as unbounded, since the catalog has none.
 
 use super::primitive::Primitive;
@@ -59,6 +59,137 @@ pub(crate) struct RawService {
     pub(crate) response: String,
 }
 
+/// An action type as written: its name and its parts' names. The goal, result and
+/// feedback are written in the catalog; the rest is what rcl_action builds around them.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RawAction {
+    /// `pkg/action/Type`.
+    pub(crate) name: String,
+    /// `pkg/action/Type_Goal`, `_Result`, `_Feedback`.
+    pub(crate) goal: String,
+    pub(crate) result: String,
+    pub(crate) feedback: String,
+    /// `pkg/action/Type_FeedbackMessage`: a feedback with its goal's id.
+    pub(crate) feedback_message: String,
+    /// The services `pkg/action/Type_SendGoal` and `pkg/action/Type_GetResult`.
+    pub(crate) send_goal: String,
+    pub(crate) get_result: String,
+}
+
+/// A field of a nested message type given by full name.
+fn message_field(name: &str, ty: &str) -> RawField {
+    RawField {
+        name: name.to_owned(),
+        kind: RawKind::Message(ty.to_owned()),
+        arity: Arity::Single,
+        default: None,
+    }
+}
+
+/// A type made of the given fields, with its definition text (nested action parts by
+/// their full `pkg/action/Type_Part` names, as rosidl writes them).
+fn composed(name: String, fields: Vec<RawField>, definition: &str) -> RawType {
+    RawType {
+        name,
+        definition: definition.to_owned(),
+        fields,
+    }
+}
+
+/// What [`parse_actions`] finds: the actions, their services and their message types.
+pub(crate) type ParsedActions = (Vec<RawAction>, Vec<RawService>, Vec<RawType>);
+
+/// Parses one package's action definitions: sections headed `ACTION: Type`, goal,
+/// result and feedback separated by `---`. Returns the actions, the services each
+/// implies (`_SendGoal`, `_GetResult`) and every message type they need, as
+/// `rosidl_generator` derives them for rcl_action.
+pub(crate) fn parse_actions(package: &str, text: &str) -> Result<ParsedActions, String> {
+    const UUID: &str = "unique_identifier_msgs/msg/UUID";
+    let mut actions = Vec::new();
+    let mut services = Vec::new();
+    let mut types = Vec::new();
+    for (short, lines) in sections(text)? {
+        let name = format!("{package}/action/{short}");
+        let dashes: Vec<usize> = lines
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.trim() == "---")
+            .map(|(i, _)| i)
+            .collect();
+        let [a, b] = dashes[..] else {
+            return Err(format!(
+                "{name}: expected goal, result and feedback separated by two `---`"
+            ));
+        };
+        let part = |suffix: &str| format!("{name}_{suffix}");
+        let (goal, result, feedback) = (part("Goal"), part("Result"), part("Feedback"));
+        types.push(parse_type(package, goal.clone(), &lines[..a])?);
+        types.push(parse_type(package, result.clone(), &lines[a + 1..b])?);
+        types.push(parse_type(package, feedback.clone(), &lines[b + 1..])?);
+        let uuid = || message_field("goal_id", UUID);
+        let (send_goal, get_result) = (part("SendGoal"), part("GetResult"));
+        types.push(composed(
+            format!("{send_goal}_Request"),
+            vec![uuid(), message_field("goal", &goal)],
+            &format!("unique_identifier_msgs/UUID goal_id\n{goal} goal\n"),
+        ));
+        types.push(composed(
+            format!("{send_goal}_Response"),
+            vec![
+                RawField {
+                    name: "accepted".to_owned(),
+                    kind: RawKind::Primitive(Primitive::Bool),
+                    arity: Arity::Single,
+                    default: None,
+                },
+                message_field("stamp", "builtin_interfaces/msg/Time"),
+            ],
+            "bool accepted\nbuiltin_interfaces/Time stamp\n",
+        ));
+        types.push(composed(
+            format!("{get_result}_Request"),
+            vec![uuid()],
+            "unique_identifier_msgs/UUID goal_id\n",
+        ));
+        types.push(composed(
+            format!("{get_result}_Response"),
+            vec![
+                RawField {
+                    name: "status".to_owned(),
+                    kind: RawKind::Primitive(Primitive::Int8),
+                    arity: Arity::Single,
+                    default: None,
+                },
+                message_field("result", &result),
+            ],
+            &format!("int8 status\n{result} result\n"),
+        ));
+        let feedback_message = part("FeedbackMessage");
+        types.push(composed(
+            feedback_message.clone(),
+            vec![uuid(), message_field("feedback", &feedback)],
+            &format!("unique_identifier_msgs/UUID goal_id\n{feedback} feedback\n"),
+        ));
+        for service in [&send_goal, &get_result] {
+            services.push(RawService {
+                name: service.clone(),
+                request: format!("{service}_Request"),
+                response: format!("{service}_Response"),
+            });
+        }
+        actions.push(RawAction {
+            name,
+            goal,
+            result,
+            feedback,
+            feedback_message,
+            send_goal,
+            get_result,
+        });
+    }
+    Ok((actions, services, types))
+}
+
 /// Parses one package's message definitions: sections headed `MSG: Type`.
 pub(crate) fn parse_messages(package: &str, text: &str) -> Result<Vec<RawType>, String> {
     sections(text)?
@@ -95,11 +226,15 @@ pub(crate) fn parse_services(package: &str, text: &str) -> Result<(Vec<RawServic
     Ok((services, types))
 }
 
-/// Splits text into `(short name, lines)` sections at `MSG: ` / `SRV: ` headers.
+/// Splits text into `(short name, lines)` sections at `MSG: ` / `SRV: ` / `ACTION: `
+/// headers.
 fn sections(text: &str) -> Result<Vec<(&str, Vec<&str>)>, String> {
     let mut out: Vec<(&str, Vec<&str>)> = Vec::new();
     for line in text.lines() {
-        let header = line.strip_prefix("MSG: ").or_else(|| line.strip_prefix("SRV: "));
+        let header = line
+            .strip_prefix("MSG: ")
+            .or_else(|| line.strip_prefix("SRV: "))
+            .or_else(|| line.strip_prefix("ACTION: "));
         match (header, out.last_mut()) {
             (Some(short), _) => out.push((short.trim(), Vec::new())),
             (None, Some((_, lines))) => lines.push(line),
@@ -274,5 +409,6 @@ mod tests {
         }
         assert!(parse_messages("p", "MSG: T\nint8 a\nint8 a\n").is_err());
         assert!(parse_services("p", "SRV: S\nint8 a\n").is_err());
+        assert!(parse_actions("p", "ACTION: A\nint8 a\n---\nint8 b\n").is_err());
     }
 }

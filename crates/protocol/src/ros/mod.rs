@@ -11,9 +11,15 @@
 //!
 //! The catalog (`catalog.rs`) holds ROS 2 Humble's definitions of `builtin_interfaces`,
 //! `std_msgs`, `geometry_msgs`, `sensor_msgs`, `nav_msgs`, `rosgraph_msgs` and
-//! `tf2_msgs` messages and `std_srvs` services, in `.msg` text parsed once on first use.
-//! Look types up with [`message_type`] and [`service_type`]; list them with
-//! [`known_message_types`] and [`known_service_types`].
+//! `tf2_msgs` messages, `std_srvs` services, the action plumbing of `action_msgs` and
+//! `unique_identifier_msgs`, and `example_interfaces`' tutorial service and action, in
+//! `.msg` text parsed once on first use. Look types up with [`message_type`],
+//! [`service_type`] and [`action_type`]; list them with [`known_message_types`],
+//! [`known_service_types`] and [`known_action_types`].
+//!
+//! simROS2's interface names are found too: a service's `pkg/srv/TypeRequest` is
+//! `pkg/srv/Type_Request`, an action's `pkg/action/TypeGoal` is `pkg/action/Type_Goal`
+//! (likewise `Response`, `Result` and `Feedback`).
 //!
 //! # Values
 //!
@@ -46,6 +52,7 @@
 //! a top-level one also decodes from nothing. Bytes after a message are ignored: RTPS
 //! pads payloads to a multiple of 4.
 
+mod action_type;
 mod catalog;
 mod codec;
 mod decode;
@@ -60,14 +67,16 @@ mod primitive;
 mod registry;
 mod srv_type;
 
+pub use action_type::ActionType;
 pub use codec::CDR_LE_HEADER;
 pub use error::{DecodeError, EncodeError, NameError, RosTypeError};
 pub use msg_type::MsgType;
-pub use names::{ros_topic_name, service_reply_topic, service_request_topic, topic_name};
+pub use names::{ActionTopics, action_topics, ros_topic_name, service_reply_topic, service_request_topic, topic_name};
 pub use srv_type::SrvType;
 
 pub use registry::MAX_DEPTH;
-use registry::{lookup, registry};
+use registry::lookup;
+pub(crate) use registry::registry;
 
 /// Looks up a message type by name: `pkg/msg/Type`, or ROS 1 style `pkg/Type` (taken
 /// as `pkg/msg/Type`). The halves of services (`std_srvs/srv/SetBool_Request`) are
@@ -76,7 +85,18 @@ use registry::{lookup, registry};
 /// # Errors
 /// The type is not in the catalog; the error suggests close names in the same package.
 pub fn message_type(name: &str) -> Result<&'static MsgType, RosTypeError> {
-    lookup(&registry().types, MsgType::name, "msg", "message", name)
+    let types = &registry().types;
+    lookup(types, MsgType::name, "msg", "message", name).or_else(|e| {
+        // simROS2 names the parts of services and actions without the underscore.
+        const PARTS: [&str; 5] = ["Request", "Response", "Goal", "Result", "Feedback"];
+        let (dir, short) = name.rsplit_once('/').ok_or(e.clone())?;
+        let part = PARTS
+            .iter()
+            .find(|p| short.len() > p.len() && short.ends_with(*p) && !short.ends_with(&format!("_{p}")))
+            .ok_or(e.clone())?;
+        let base = &short[..short.len() - part.len()];
+        lookup(types, MsgType::name, "msg", "message", &format!("{dir}/{base}_{part}")).map_err(|_| e)
+    })
 }
 
 /// Looks up a service type by name: `pkg/srv/Type`, or `pkg/Type` (taken as
@@ -88,12 +108,26 @@ pub fn service_type(name: &str) -> Result<&'static SrvType, RosTypeError> {
     lookup(&registry().services, SrvType::name, "srv", "service", name)
 }
 
+/// Looks up an action type by name: `pkg/action/Type`, or `pkg/Type` (taken as
+/// `pkg/action/Type`).
+///
+/// # Errors
+/// The type is not in the catalog; the error suggests close names in the same package.
+pub fn action_type(name: &str) -> Result<&'static ActionType, RosTypeError> {
+    lookup(&registry().actions, ActionType::name, "action", "action", name)
+}
+
+/// Every known action type, sorted by name.
+pub fn known_action_types() -> impl Iterator<Item = &'static ActionType> {
+    registry().actions.iter()
+}
+
 /// Every known message type (not the halves of services), sorted by name.
 pub fn known_message_types() -> impl Iterator<Item = &'static MsgType> {
     registry().types.iter().filter(|t| t.name().contains("/msg/"))
 }
 
-/// Every known service type, sorted by name.
+/// Every known service type (not the services of actions), sorted by name.
 pub fn known_service_types() -> impl Iterator<Item = &'static SrvType> {
-    registry().services.iter()
+    registry().services.iter().filter(|s| s.name().contains("/srv/"))
 }

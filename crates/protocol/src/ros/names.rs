@@ -35,6 +35,42 @@ pub fn service_reply_topic(ros_name: &str) -> Result<String, NameError> {
     Ok(format!("rr/{}Reply", validate(ros_name)?))
 }
 
+/// The DDS topics of ROS 2 action `/name` (rcl_action's layout under `/name/_action/`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ActionTopics {
+    /// `rq/name/_action/send_goalRequest` and `rr/name/_action/send_goalReply`.
+    pub send_goal: (String, String),
+    /// `rq/name/_action/cancel_goalRequest` and its reply topic.
+    pub cancel_goal: (String, String),
+    /// `rq/name/_action/get_resultRequest` and its reply topic.
+    pub get_result: (String, String),
+    /// `rt/name/_action/feedback`.
+    pub feedback: String,
+    /// `rt/name/_action/status`.
+    pub status: String,
+}
+
+/// The DDS topics of ROS 2 action `ros_name`.
+///
+/// # Errors
+/// As [`topic_name`].
+pub fn action_topics(ros_name: &str) -> Result<ActionTopics, NameError> {
+    let base = validate(ros_name)?;
+    let service = |s: &str| {
+        (
+            format!("rq/{base}/_action/{s}Request"),
+            format!("rr/{base}/_action/{s}Reply"),
+        )
+    };
+    Ok(ActionTopics {
+        send_goal: service("send_goal"),
+        cancel_goal: service("cancel_goal"),
+        get_result: service("get_result"),
+        feedback: format!("rt/{base}/_action/feedback"),
+        status: format!("rt/{base}/_action/status"),
+    })
+}
+
 /// The ROS 2 name of a DDS topic, for display: `rt/cmd_vel` -> `/cmd_vel`, and a
 /// service's `rq/xRequest` or `rr/xReply` -> `/x`. `None` for DDS topics that are not
 /// ROS 2 topics or services (discovery topics, `rp/` parameters' internals, other

@@ -4,8 +4,9 @@
 
 use std::sync::OnceLock;
 
+use super::action_type::{ActionParts, ActionType};
 use super::catalog;
-use super::definition::{self, Arity, RawKind, RawType};
+use super::definition::{self, Arity, RawAction, RawKind, RawType};
 use super::field::{Field, Kind};
 use super::msg_type::MsgType;
 use super::srv_type::SrvType;
@@ -22,6 +23,7 @@ pub(crate) struct Registry {
     /// Messages, including the `_Request`/`_Response` halves of services.
     pub(crate) types: Vec<MsgType>,
     pub(crate) services: Vec<SrvType>,
+    pub(crate) actions: Vec<ActionType>,
 }
 
 /// The table, built on first use.
@@ -46,6 +48,13 @@ pub(crate) fn build() -> Result<Registry, String> {
     let mut raw_services = Vec::new();
     for (package, text) in catalog::SERVICES {
         let (services, types) = definition::parse_services(package, text)?;
+        raw_services.extend(services);
+        raw.extend(types);
+    }
+    let mut raw_actions: Vec<RawAction> = Vec::new();
+    for (package, text) in catalog::ACTIONS {
+        let (actions, services, types) = definition::parse_actions(package, text)?;
+        raw_actions.extend(actions);
         raw_services.extend(services);
         raw.extend(types);
     }
@@ -98,7 +107,30 @@ pub(crate) fn build() -> Result<Registry, String> {
         services.push(SrvType::new(s.name, request, response));
     }
     services.sort_by(|a, b| a.name().cmp(b.name()));
-    Ok(Registry { types, services })
+    let service_of = |name: &str| {
+        services
+            .binary_search_by(|s| s.name().cmp(name))
+            .map_err(|_| format!("service {name} missing"))
+    };
+    let type_of = |name: &str| index_of(name).ok_or_else(|| format!("type {name} missing"));
+    let mut actions = Vec::with_capacity(raw_actions.len());
+    for a in raw_actions {
+        let parts = ActionParts {
+            goal: type_of(&a.goal)?,
+            result: type_of(&a.result)?,
+            feedback: type_of(&a.feedback)?,
+            feedback_message: type_of(&a.feedback_message)?,
+            send_goal: service_of(&a.send_goal)?,
+            get_result: service_of(&a.get_result)?,
+        };
+        actions.push(ActionType::new(a.name, parts));
+    }
+    actions.sort_by(|a, b| a.name().cmp(b.name()));
+    Ok(Registry {
+        types,
+        services,
+        actions,
+    })
 }
 
 /// The fewest bytes a message of type `t` takes (padding aside), if every nested type's
@@ -189,6 +221,7 @@ mod tests {
         // Sorted and unique, as lookups assume.
         assert!(reg.types.windows(2).all(|w| w[0].name() < w[1].name()));
         assert!(reg.services.windows(2).all(|w| w[0].name() < w[1].name()));
+        assert!(reg.actions.windows(2).all(|w| w[0].name() < w[1].name()));
         assert!(reg.types.len() > 80, "{} types", reg.types.len());
     }
 

@@ -10,16 +10,9 @@ use std::sync::Arc;
 use gantry_protocol::ros::{MsgType, SrvType};
 use gantry_sim_core::Handle;
 
+use super::action::{ActionClient, ActionServer};
+use super::callback::Callback;
 use super::network::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos};
-
-/// What a subscription or a service calls: a function, or the name of a global of the
-/// owning script (both forms are CoppeliaSim's).
-pub(crate) enum Callback {
-    /// A Lua function, kept in the registry.
-    Function(mlua::RegistryKey),
-    /// A function looked up in the script's environment at each call.
-    Name(String),
-}
 
 /// What an endpoint handle stands for.
 pub(crate) enum Kind {
@@ -66,6 +59,10 @@ pub(crate) enum Kind {
         /// The last sequence number sent.
         seq: Cell<i64>,
     },
+    /// `createActionServer`.
+    ActionServer(Box<ActionServer>),
+    /// `createActionClient`.
+    ActionClient(Box<ActionClient>),
 }
 
 impl Kind {
@@ -75,6 +72,8 @@ impl Kind {
             Kind::Service { requests, replies, .. } | Kind::Client { requests, replies, .. } => {
                 vec![*requests, *replies]
             }
+            Kind::ActionServer(s) => s.network_ids(),
+            Kind::ActionClient(c) => c.network_ids(),
         }
     }
 }

@@ -12,76 +12,35 @@ use gantry_protocol::Value;
 use gantry_protocol::ros::{
     MsgType, SrvType, message_type, service_reply_topic, service_request_topic, service_type, topic_name,
 };
-use mlua::{Function, Lua, MultiValue, Table, Value as LuaValue};
+use mlua::{Lua, MultiValue, Value as LuaValue};
 
-use super::host::{Callback, Endpoint, Kind, RosHost};
+use super::callback::Callback;
+use super::host::{Endpoint, Kind, RosHost};
 use super::network::{Direction, EndpointId, RosQos};
+use super::wire::{encode, read_header, request_header, time_value};
 use crate::app_state::state;
 use crate::convert::{to_lua, to_value};
 use crate::core_cell::CoreCell;
 use crate::running::Running;
 
-/// The functions of `simROS2`, sorted (the registry lists the same names; a test checks
-/// that the two agree).
-pub const FUNCTIONS: &[&str] = &[
-    "call",
-    "createClient",
-    "createInterface",
-    "createPublisher",
-    "createService",
-    "createSubscription",
-    "getSimulationTime",
-    "getSystemTime",
-    "getTime",
-    "imageTransportCreatePublisher",
-    "imageTransportPublish",
-    "imageTransportShutdownPublisher",
-    "publish",
-    "publisherTreatUInt8ArrayAsString",
-    "sendTransform",
-    "sendTransforms",
-    "shutdownClient",
-    "shutdownPublisher",
-    "shutdownService",
-    "shutdownSubscription",
-    "subscriptionTreatUInt8ArrayAsString",
-    "timeFromFloat",
-    "timeToFloat",
-    "waitForService",
-];
-
-/// The functions of `simROS` (ROS 1's plugin), sorted: served on the ROS 2 graph.
-pub const ROS1_FUNCTIONS: &[&str] = &[
-    "advertise",
-    "getTime",
-    "publish",
-    "publisherTreatUInt8ArrayAsString",
-    "sendTransform",
-    "sendTransforms",
-    "shutdownPublisher",
-    "shutdownSubscriber",
-    "subscribe",
-    "subscriberTreatUInt8ArrayAsString",
-];
-
 /// How long `simROS2.call` waits for a reply, s.
 pub const CALL_TIMEOUT_S: f64 = 5.0;
 
-type Res = Result<Vec<LuaValue>, String>;
+pub(super) type Res = Result<Vec<LuaValue>, String>;
 
 /// A value's type as Lua's `type()` names it (mlua tells integers from floats).
-fn lua_type(v: &LuaValue) -> &'static str {
+pub(super) fn lua_type(v: &LuaValue) -> &'static str {
     match v {
         LuaValue::Integer(_) | LuaValue::Number(_) => "number",
         other => other.type_name(),
     }
 }
 
-fn arg(args: &MultiValue, i: usize) -> Option<&LuaValue> {
+pub(super) fn arg(args: &MultiValue, i: usize) -> Option<&LuaValue> {
     args.get(i).filter(|v| !v.is_nil())
 }
 
-fn string_arg(args: &MultiValue, i: usize, what: &str) -> Result<String, String> {
+pub(super) fn string_arg(args: &MultiValue, i: usize, what: &str) -> Result<String, String> {
     match arg(args, i) {
         Some(LuaValue::String(s)) => s
             .to_str()
@@ -96,7 +55,7 @@ fn string_arg(args: &MultiValue, i: usize, what: &str) -> Result<String, String>
     }
 }
 
-fn handle_arg(args: &MultiValue, i: usize) -> Result<i64, String> {
+pub(super) fn handle_arg(args: &MultiValue, i: usize) -> Result<i64, String> {
     match arg(args, i) {
         Some(LuaValue::Integer(h)) => Ok(*h),
         Some(LuaValue::Number(n)) if n.fract() == 0.0 => Ok(*n as i64),
@@ -105,7 +64,7 @@ fn handle_arg(args: &MultiValue, i: usize) -> Result<i64, String> {
     }
 }
 
-fn table_value(args: &MultiValue, i: usize, what: &str) -> Result<Value, String> {
+pub(super) fn table_value(args: &MultiValue, i: usize, what: &str) -> Result<Value, String> {
     match arg(args, i) {
         Some(v @ LuaValue::Table(_)) => to_value(v).map_err(|e| format!("argument {}: {what}: {e}", i + 1)),
         Some(v) => Err(format!(
@@ -184,7 +143,7 @@ fn qos_arg(v: Option<&LuaValue>, latch: bool) -> Result<RosQos, String> {
     Ok(q)
 }
 
-fn callback_arg(lua: &Lua, v: Option<&LuaValue>) -> Result<Callback, String> {
+pub(super) fn callback_arg(lua: &Lua, v: Option<&LuaValue>) -> Result<Callback, String> {
     match v {
         Some(LuaValue::Function(f)) => lua
             .create_registry_value(f.clone())
@@ -203,48 +162,23 @@ fn msg_type(name: &str) -> Result<&'static MsgType, String> {
     message_type(name).map_err(|e| e.to_string())
 }
 
-fn running_object(lua: &Lua) -> Option<gantry_sim_core::Handle> {
+pub(super) fn running_object(lua: &Lua) -> Option<gantry_sim_core::Handle> {
     state::<Running>(lua).object.get()
 }
 
 /// Simulation time, s.
-fn sim_time(lua: &Lua) -> f64 {
+pub(crate) fn sim_time(lua: &Lua) -> f64 {
     state::<CoreCell>(lua)
         .try_borrow()
         .map(|s| s.world.time())
         .unwrap_or(0.0)
 }
 
-/// `builtin_interfaces/Time` of `t` seconds (negative and non-finite times are 0).
-pub(crate) fn time_value(t: f64) -> Value {
-    let t = if t.is_finite() && t > 0.0 { t } else { 0.0 };
-    let sec = t.floor();
-    let mut nanosec = ((t - sec) * 1e9).round();
-    let mut sec = sec;
-    if nanosec >= 1e9 {
-        sec += 1.0;
-        nanosec = 0.0;
-    }
-    Value::Map(vec![
-        (
-            Value::Str("sec".into()),
-            Value::Int(sec.min(f64::from(i32::MAX)) as i64),
-        ),
-        (Value::Str("nanosec".into()), Value::Int(nanosec as i64)),
-    ])
-}
-
 fn time_lua(lua: &Lua, t: f64) -> mlua::Result<LuaValue> {
     to_lua(lua, &time_value(t))
 }
 
-fn encode(ty: &MsgType, v: &Value) -> Result<Vec<u8>, String> {
-    let mut body = Vec::new();
-    ty.encode_into(v, &mut body, 0).map_err(|e| e.to_string())?;
-    Ok(body)
-}
-
-fn create_publisher(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn create_publisher(lua: &Lua, args: &MultiValue) -> Res {
     let topic = string_arg(args, 0, "the topic name")?;
     let type_name = string_arg(args, 1, "the message type")?;
     let ty = msg_type(&type_name)?;
@@ -267,7 +201,7 @@ fn open_publisher(lua: &Lua, topic: &str, ty: &'static MsgType, qos: RosQos) -> 
     Ok(vec![LuaValue::Integer(h)])
 }
 
-fn publish(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn publish(lua: &Lua, args: &MultiValue) -> Res {
     let h = handle_arg(args, 0)?;
     let msg = table_value(args, 1, "the message")?;
     publish_value(lua, h, &msg)
@@ -289,7 +223,7 @@ fn publish_value(lua: &Lua, h: i64, msg: &Value) -> Res {
 
 /// `simROS2.imageTransportCreatePublisher(topic [, queueSize])`: a `sensor_msgs/Image`
 /// publisher for [`image_transport_publish`] (the raw transport only).
-fn image_transport_create_publisher(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn image_transport_create_publisher(lua: &Lua, args: &MultiValue) -> Res {
     let topic = string_arg(args, 0, "the topic name")?;
     let qos = qos_arg(arg(args, 1), false)?;
     open_publisher(lua, &topic, msg_type("sensor_msgs/msg/Image")?, qos)
@@ -298,7 +232,7 @@ fn image_transport_create_publisher(lua: &Lua, args: &MultiValue) -> Res {
 /// `simROS2.imageTransportPublish(publisher, data, width, height, frameId)`: an `rgb8`
 /// image of `width` x `height` pixels, rows as given (3 bytes a pixel), stamped with
 /// simulation time.
-fn image_transport_publish(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn image_transport_publish(lua: &Lua, args: &MultiValue) -> Res {
     let h = handle_arg(args, 0)?;
     let data = match arg(args, 1) {
         Some(LuaValue::String(s)) => s.as_bytes().to_vec(),
@@ -365,7 +299,7 @@ fn shutdown(lua: &Lua, args: &MultiValue, what: &str, is: fn(&Kind) -> bool) -> 
     Ok(vec![])
 }
 
-fn create_subscription(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn create_subscription(lua: &Lua, args: &MultiValue) -> Res {
     let topic = string_arg(args, 0, "the topic name")?;
     let type_name = string_arg(args, 1, "the message type")?;
     let ty = msg_type(&type_name)?;
@@ -394,6 +328,16 @@ fn create_subscription(lua: &Lua, args: &MultiValue) -> Res {
 fn open_service(host: &RosHost, name: &str, ty: &SrvType, serving: bool) -> Result<(EndpointId, EndpointId), String> {
     let rq = service_request_topic(name).map_err(|e| e.to_string())?;
     let rr = service_reply_topic(name).map_err(|e| e.to_string())?;
+    open_service_topics(host, (rq, rr), ty, serving)
+}
+
+/// [`open_service`] on DDS topics already mapped: `(request topic, reply topic)`.
+pub(super) fn open_service_topics(
+    host: &RosHost,
+    (rq, rr): (String, String),
+    ty: &SrvType,
+    serving: bool,
+) -> Result<(EndpointId, EndpointId), String> {
     let (inward, outward) = if serving {
         (Direction::Subscribe, Direction::Publish)
     } else {
@@ -413,7 +357,7 @@ fn open_service(host: &RosHost, name: &str, ty: &SrvType, serving: bool) -> Resu
     }
 }
 
-fn create_service(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn create_service(lua: &Lua, args: &MultiValue) -> Res {
     let name = string_arg(args, 0, "the service name")?;
     let type_name = string_arg(args, 1, "the service type")?;
     let ty = service_type(&type_name).map_err(|e| e.to_string())?;
@@ -434,12 +378,12 @@ fn create_service(lua: &Lua, args: &MultiValue) -> Res {
 
 /// Client ids: distinct per client in this process, and unlikely to meet another
 /// process's (the process id in the high bits).
-fn next_guid() -> u64 {
+pub(super) fn next_guid() -> u64 {
     static NEXT: AtomicU64 = AtomicU64::new(1);
     (u64::from(std::process::id()) << 32) | NEXT.fetch_add(1, Ordering::Relaxed)
 }
 
-fn create_client(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn create_client(lua: &Lua, args: &MultiValue) -> Res {
     let name = string_arg(args, 0, "the service name")?;
     let type_name = string_arg(args, 1, "the service type")?;
     let ty = service_type(&type_name).map_err(|e| e.to_string())?;
@@ -458,30 +402,10 @@ fn create_client(lua: &Lua, args: &MultiValue) -> Res {
     Ok(vec![LuaValue::Integer(h)])
 }
 
-/// The 16-byte request header of rmw_cyclonedds: the client's id and the request's
-/// sequence number, little-endian.
-pub(crate) fn request_header(guid: u64, seq: i64) -> Vec<u8> {
-    let mut b = Vec::with_capacity(64);
-    b.extend_from_slice(&guid.to_le_bytes());
-    b.extend_from_slice(&seq.to_le_bytes());
-    b
-}
-
-/// A header read back in the byte order of its sample.
-pub(crate) fn read_header(body: &[u8], little_endian: bool) -> Option<(u64, i64)> {
-    let g: [u8; 8] = body.get(0..8)?.try_into().ok()?;
-    let s: [u8; 8] = body.get(8..16)?.try_into().ok()?;
-    Some(if little_endian {
-        (u64::from_le_bytes(g), i64::from_le_bytes(s))
-    } else {
-        (u64::from_be_bytes(g), i64::from_be_bytes(s))
-    })
-}
-
 /// `simROS2.call(client, request)`: sends the request and waits for its reply, at most
 /// [`CALL_TIMEOUT_S`] of wall time (CoppeliaSim's call blocks the same way; the
 /// simulation is not stepped meanwhile).
-fn call(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn call(lua: &Lua, args: &MultiValue) -> Res {
     let h = handle_arg(args, 0)?;
     let req = table_value(args, 1, "the request")?;
     let host = state::<RosHost>(lua);
@@ -531,7 +455,7 @@ fn call(lua: &Lua, args: &MultiValue) -> Res {
 
 /// Waits (wall time, until `deadline`) for publisher `id` to match a subscription;
 /// whether it did.
-fn wait_matched(
+pub(super) fn wait_matched(
     net: &dyn super::network::RosNetwork,
     id: super::network::EndpointId,
     deadline: std::time::Instant,
@@ -550,7 +474,7 @@ fn wait_matched(
 /// `simROS2.waitForService(client, timeout)`: whether a server of the client's service
 /// is on the graph, waiting at most `timeout` s of wall time (default and cap
 /// [`CALL_TIMEOUT_S`]); the simulation waits meanwhile, as in CoppeliaSim.
-fn wait_for_service(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn wait_for_service(lua: &Lua, args: &MultiValue) -> Res {
     let h = handle_arg(args, 0)?;
     let timeout = match arg(args, 1) {
         None => CALL_TIMEOUT_S,
@@ -614,7 +538,7 @@ fn send_transforms(lua: &Lua, transforms: Vec<Value>) -> Res {
     Ok(vec![])
 }
 
-fn create_interface(lua: &Lua, args: &MultiValue) -> Res {
+pub(super) fn create_interface(lua: &Lua, args: &MultiValue) -> Res {
     let type_name = string_arg(args, 0, "the message type")?;
     let ty = msg_type(&type_name)?;
     Ok(vec![to_lua(lua, &ty.default_value()).map_err(|e| e.to_string())?])
@@ -634,34 +558,6 @@ fn time_arg(args: &MultiValue, i: usize) -> Result<f64, String> {
     }
 }
 
-/// Adds `f` to `table` as `name`, reporting its errors through `wrap`.
-fn add(
-    lua: &Lua,
-    table: &Table,
-    wrap: &Function,
-    module: &'static str,
-    name: &'static str,
-    f: fn(&Lua, &MultiValue) -> Res,
-) -> mlua::Result<()> {
-    let func = lua.create_function(move |lua, args: MultiValue| {
-        if module == "simROS" {
-            notice_ros1(lua);
-        }
-        match f(lua, &args) {
-            Ok(values) => {
-                let mut out = MultiValue::from_iter(values);
-                out.push_front(LuaValue::Boolean(true));
-                Ok(out)
-            }
-            Err(e) => Ok(MultiValue::from_iter([
-                LuaValue::Boolean(false),
-                LuaValue::String(lua.create_string(format!("{e} (in function '{module}.{name}')"))?),
-            ])),
-        }
-    })?;
-    table.set(name, wrap.call::<Function>(func)?)
-}
-
 /// Whether a script's source calls ROS 1's plugin (`simROS.`, not `simROS2.`): its
 /// load gives the notice below.
 pub(crate) fn uses_ros1(source: &str) -> bool {
@@ -679,36 +575,36 @@ pub(crate) fn notice_ros1(lua: &Lua) {
     }
 }
 
-fn policy_table(lua: &Lua, entries: &[(&str, i64)]) -> mlua::Result<Table> {
-    let t = lua.create_table()?;
-    for (k, v) in entries {
-        t.set(*k, *v)?;
-    }
-    Ok(t)
-}
-
-fn shutdown_publisher(lua: &Lua, a: &MultiValue) -> Res {
+pub(super) fn shutdown_publisher(lua: &Lua, a: &MultiValue) -> Res {
     shutdown(lua, a, "publisher", |k| matches!(k, Kind::Publisher { .. }))
 }
 
-fn shutdown_subscription(lua: &Lua, a: &MultiValue) -> Res {
+pub(super) fn shutdown_subscription(lua: &Lua, a: &MultiValue) -> Res {
     shutdown(lua, a, "subscription", |k| matches!(k, Kind::Subscription { .. }))
 }
 
-fn shutdown_service(lua: &Lua, a: &MultiValue) -> Res {
+pub(super) fn shutdown_service(lua: &Lua, a: &MultiValue) -> Res {
     shutdown(lua, a, "service", |k| matches!(k, Kind::Service { .. }))
 }
 
-fn shutdown_client(lua: &Lua, a: &MultiValue) -> Res {
+pub(super) fn shutdown_client(lua: &Lua, a: &MultiValue) -> Res {
     shutdown(lua, a, "client", |k| matches!(k, Kind::Client { .. }))
 }
 
-fn send_transform(lua: &Lua, a: &MultiValue) -> Res {
+pub(super) fn shutdown_action_server(lua: &Lua, a: &MultiValue) -> Res {
+    shutdown(lua, a, "action server", |k| matches!(k, Kind::ActionServer(_)))
+}
+
+pub(super) fn shutdown_action_client(lua: &Lua, a: &MultiValue) -> Res {
+    shutdown(lua, a, "action client", |k| matches!(k, Kind::ActionClient(_)))
+}
+
+pub(super) fn send_transform(lua: &Lua, a: &MultiValue) -> Res {
     let t = table_value(a, 0, "the transform")?;
     send_transforms(lua, vec![t])
 }
 
-fn send_transform_list(lua: &Lua, a: &MultiValue) -> Res {
+pub(super) fn send_transform_list(lua: &Lua, a: &MultiValue) -> Res {
     match table_value(a, 0, "the transforms")? {
         Value::Array(ts) => send_transforms(lua, ts),
         Value::Map(m) if m.is_empty() => send_transforms(lua, Vec::new()),
@@ -718,104 +614,34 @@ fn send_transform_list(lua: &Lua, a: &MultiValue) -> Res {
 
 /// `uint8[]` fields are always Lua strings here: the `...TreatUInt8ArrayAsString`
 /// switches check their handle and change nothing.
-fn treat_uint8_array_as_string(_: &Lua, a: &MultiValue) -> Res {
+pub(super) fn treat_uint8_array_as_string(_: &Lua, a: &MultiValue) -> Res {
     handle_arg(a, 0)?;
     Ok(vec![])
 }
 
 /// gantry's ROS clock is the simulation's (`/clock`): stamps agree with `use_sim_time`
 /// nodes.
-fn ros_time(lua: &Lua, _: &MultiValue) -> Res {
+pub(super) fn ros_time(lua: &Lua, _: &MultiValue) -> Res {
     Ok(vec![time_lua(lua, sim_time(lua)).map_err(|e| e.to_string())?])
 }
 
-fn system_time(lua: &Lua, _: &MultiValue) -> Res {
+pub(super) fn system_time(lua: &Lua, _: &MultiValue) -> Res {
     let now = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0.0, |d| d.as_secs_f64());
     Ok(vec![time_lua(lua, now).map_err(|e| e.to_string())?])
 }
 
-fn time_from_float(lua: &Lua, a: &MultiValue) -> Res {
+pub(super) fn time_from_float(lua: &Lua, a: &MultiValue) -> Res {
     let t = time_arg(a, 0)?;
     Ok(vec![time_lua(lua, t).map_err(|e| e.to_string())?])
 }
 
-fn time_to_float(_: &Lua, a: &MultiValue) -> Res {
+pub(super) fn time_to_float(_: &Lua, a: &MultiValue) -> Res {
     Ok(vec![LuaValue::Number(time_arg(a, 0)?)])
 }
 
 /// ROS 1's plugin returned time as a number of seconds.
-fn ros1_time(lua: &Lua, _: &MultiValue) -> Res {
+pub(super) fn ros1_time(lua: &Lua, _: &MultiValue) -> Res {
     Ok(vec![LuaValue::Number(sim_time(lua))])
-}
-
-type LuaApiFn = fn(&Lua, &MultiValue) -> Res;
-
-/// `simROS2`'s functions by name (sorted as [`FUNCTIONS`]).
-const ROS2_TABLE: &[(&str, LuaApiFn)] = &[
-    ("call", call),
-    ("createClient", create_client),
-    ("createInterface", create_interface),
-    ("createPublisher", create_publisher),
-    ("createService", create_service),
-    ("createSubscription", create_subscription),
-    ("getSimulationTime", ros_time),
-    ("getSystemTime", system_time),
-    ("getTime", ros_time),
-    ("imageTransportCreatePublisher", image_transport_create_publisher),
-    ("imageTransportPublish", image_transport_publish),
-    ("imageTransportShutdownPublisher", shutdown_publisher),
-    ("publish", publish),
-    ("publisherTreatUInt8ArrayAsString", treat_uint8_array_as_string),
-    ("sendTransform", send_transform),
-    ("sendTransforms", send_transform_list),
-    ("shutdownClient", shutdown_client),
-    ("shutdownPublisher", shutdown_publisher),
-    ("shutdownService", shutdown_service),
-    ("shutdownSubscription", shutdown_subscription),
-    ("subscriptionTreatUInt8ArrayAsString", treat_uint8_array_as_string),
-    ("timeFromFloat", time_from_float),
-    ("timeToFloat", time_to_float),
-    ("waitForService", wait_for_service),
-];
-
-/// `simROS`'s functions by name (sorted as [`ROS1_FUNCTIONS`]): ROS 1's names for the
-/// same work.
-const ROS1_TABLE: &[(&str, LuaApiFn)] = &[
-    ("advertise", create_publisher),
-    ("getTime", ros1_time),
-    ("publish", publish),
-    ("publisherTreatUInt8ArrayAsString", treat_uint8_array_as_string),
-    ("sendTransform", send_transform),
-    ("sendTransforms", send_transform_list),
-    ("shutdownPublisher", shutdown_publisher),
-    ("shutdownSubscriber", shutdown_subscription),
-    ("subscribe", create_subscription),
-    ("subscriberTreatUInt8ArrayAsString", treat_uint8_array_as_string),
-];
-
-/// Creates the `simROS2` and `simROS` tables.
-pub(crate) fn install(lua: &Lua, wrap: &Function) -> mlua::Result<(Table, Table)> {
-    let r2 = lua.create_table()?;
-    for (name, f) in ROS2_TABLE {
-        add(lua, &r2, wrap, "simROS2", name, *f)?;
-    }
-    r2.set(
-        "qos_history_policy",
-        policy_table(lua, &[("system_default", 0), ("keep_last", 1), ("keep_all", 2)])?,
-    )?;
-    r2.set(
-        "qos_reliability_policy",
-        policy_table(lua, &[("system_default", 0), ("reliable", 1), ("best_effort", 2)])?,
-    )?;
-    r2.set(
-        "qos_durability_policy",
-        policy_table(lua, &[("system_default", 0), ("transient_local", 1), ("volatile", 2)])?,
-    )?;
-    let r1 = lua.create_table()?;
-    for (name, f) in ROS1_TABLE {
-        add(lua, &r1, wrap, "simROS", name, *f)?;
-    }
-    Ok((r2, r1))
 }

@@ -2,6 +2,8 @@
 //! inline scripts, the BubbleRob scene with a replacement script, and value accessors.
 #![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
 
+pub mod loopback;
+
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
