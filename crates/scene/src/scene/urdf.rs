@@ -858,6 +858,47 @@ mod tests {
     }
 
     #[test]
+    fn keeps_the_text_as_read_up_to_the_limit() {
+        let text = r#"<robot name="r"><link name="a"/><link name="b"/>
+              <joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>"#;
+        let p = write("text", text);
+        let mut objects = Vec::new();
+        let mut warnings = Vec::new();
+        let idx = import_urdf(
+            &DiskFiles,
+            &p,
+            &UrdfInclude::default(),
+            &[],
+            &mut objects,
+            &mut warnings,
+        )
+        .expect("loads");
+        let robot = idx.robot_model();
+        assert_eq!(robot.text.as_deref(), Some(text));
+        assert_eq!(robot.links, [(1, "a".to_owned()), (3, "b".to_owned())]);
+        assert_eq!(robot.joints, [(2, "j".to_owned())]);
+        // A file past the limit still loads; only its text is not kept, and it is said.
+        let padding = "x".repeat(MAX_URDF_TEXT_BYTES);
+        let p = write(
+            "big",
+            &text.replace("<link name=\"b\"/>", &format!("<link name=\"b\"/><!--{padding}-->")),
+        );
+        let mut warnings = Vec::new();
+        let idx = import_urdf(
+            &DiskFiles,
+            &p,
+            &UrdfInclude::default(),
+            &[],
+            &mut Vec::new(),
+            &mut warnings,
+        )
+        .expect("loads");
+        let _ = std::fs::remove_file(&p);
+        assert_eq!(idx.text, None);
+        assert!(warnings.iter().any(|w| w.contains("not kept")), "{warnings:?}");
+    }
+
+    #[test]
     fn rejects_cycles_and_two_parents() {
         let p = write(
             "cycle",
