@@ -1,16 +1,24 @@
 //! The topics a ROS user expects from a simulator, without a script (`gantry run SCENE
-//! --ros2`): `/clock`, `/tf` and `/tf_static` for the object tree, `/joint_states`, and
-//! each vision sensor's RGB image, depth image and camera info. Published after each
-//! step by the simulation thread (which owns the world); the DDS thread sends.
+//! --ros2`): `/clock`, `/tf` and `/tf_static` for the object tree, `/joint_states`,
+//! `/robot_description` for URDF robots, and each vision sensor's RGB image, depth image
+//! and camera info. Published after each step by the simulation thread (which owns the
+//! world); the DDS thread sends.
 //!
 //! Names, frames and QoS (docs/ros2.md has the table):
 //! - `/clock` (`rosgraph_msgs/Clock`): simulation time after each step; nothing while
 //!   paused or stopped, so `use_sim_time` nodes pause with the simulation.
 //! - `/tf` (depth 100) and `/tf_static` (transient local, depth 1): each object's pose
 //!   relative to its parent, parent frame `world` for roots (REP 105's fixed frame);
-//!   frame ids are object paths without the leading `/`.
-//! - `/joint_states`: every revolute and prismatic joint, named by its frame id; rad,
-//!   rad/s, N·m (m, m/s, N for prismatic joints; REP 103).
+//!   frame ids are object paths without the leading `/`, except for URDF robots, named
+//!   as robot_state_publisher names them: a link's object by the URDF link name
+//!   (`<robot>/` first when the scene holds several URDF robots), and the URDF joints'
+//!   objects left out, so a link's TF parent is its parent link ([`crate::description`]).
+//! - `/joint_states`: every revolute and prismatic joint, named by its frame id (a URDF
+//!   joint by its URDF name); rad, rad/s, N·m (m, m/s, N for prismatic joints; REP 103).
+//! - `/robot_description` (`std_msgs/String`, transient local, depth 1): the URDF text
+//!   of the scene's one URDF robot; with several, `/<robot>/robot_description` each.
+//!   Published once per robot (the durability hands it to late subscribers), and again
+//!   when a load or removal changes the scene's URDF robots.
 //! - `/<sensor>/image_raw` (`rgb8`), `/<sensor>/depth/image_raw` (`32FC1`, m, +inf
 //!   where nothing is seen within the far plane) and `/<sensor>/camera_info`, top row
 //!   first, in the sensor's frame, at most the sensor's `ros2_rate` (scene key) or else
@@ -34,11 +42,15 @@ use gantry_record::msg::{self, Time, nanos_from_secs};
 use gantry_record::snapshot::{Sampler, Snapshot};
 use gantry_record::tf_frames::TfFrames;
 use gantry_script::Simulation;
-use gantry_script::ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos};
+use gantry_script::ros::{Direction, EndpointId, NetworkError, RosNetwork, RosQos};
 use gantry_sim_core::Handle;
 use gantry_sim_core::scene::{JointType, Projection};
 use gantry_sim_core::vision;
 use gantry_sim_core::world::ObjectKind;
+
+use crate::description::{Descriptions, RosNames};
+pub use crate::topics::topic_token;
+use crate::topics::{open, send};
 
 /// What the graph publishes besides the always-on topics.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -134,10 +146,12 @@ impl Encoder {
     /// thread behind it) for each step would cost more than the messages. So it takes
     /// what has queued up, publishes it all, and rests [`BATCH_PERIOD`] before looking
     /// again: at most a millisecond later, in batches.
-    fn run(mut self, rx: &Receiver<Snapshot>) {
-        while let Ok(s) = rx.recv() {
+    fn run(mut self, rx: &Receiver<(Snapshot, Arc<RosNames>)>) {
+        while let Ok((mut s, names)) = rx.recv() {
+            names.apply(&mut s);
             self.publish(&s);
-            while let Ok(s) = rx.try_recv() {
+            while let Ok((mut s, names)) = rx.try_recv() {
+                names.apply(&mut s);
                 self.publish(&s);
             }
             std::thread::sleep(BATCH_PERIOD);
@@ -191,8 +205,9 @@ struct Robot {
 pub struct RosGraph {
     net: Arc<dyn RosNetwork>,
     options: GraphOptions,
-    /// Snapshots to the encoder's thread; `None` once dropped (at the end).
-    encoder: Option<SyncSender<Snapshot>>,
+    /// Snapshots to the encoder's thread, with the names to publish them under; `None`
+    /// once dropped (at the end).
+    encoder: Option<SyncSender<(Snapshot, Arc<RosNames>)>>,
     worker: Option<JoinHandle<()>>,
     /// Snapshots the encoder's full queue refused.
     dropped: u64,
@@ -202,54 +217,13 @@ pub struct RosGraph {
     sampler: Sampler,
     /// Simulation time of the last publication, ns.
     last_ns: Option<u64>,
-    /// The frame names of the tree the cameras' and robots' topics were opened for.
+    /// The frame names (object paths) of the tree the cameras', robots' and
+    /// descriptions' topics were opened for.
     tree: Option<gantry_record::snapshot::FrameNames>,
-}
-
-/// Opens `topic` of `ros_type`, with ROS 2's DDS names (the codec's mangling).
-fn open(
-    net: &dyn RosNetwork,
-    dir: Direction,
-    topic: &str,
-    ros_type: &str,
-    qos: RosQos,
-) -> Result<EndpointId, NetworkError> {
-    let dds_topic = gantry_protocol::ros::topic_name(topic).map_err(|e| NetworkError(e.to_string()))?;
-    let ty = gantry_protocol::ros::message_type(ros_type).map_err(|e| NetworkError(e.to_string()))?;
-    net.open(&EndpointSpec {
-        direction: dir,
-        dds_topic,
-        dds_type: ty.dds_type_name(),
-        qos,
-    })
-}
-
-/// Sends a message the codecs here encoded (with the encapsulation header; the network
-/// wants the body after it). A failure is the network's to report: the graph goes on.
-fn send(net: &dyn RosNetwork, id: EndpointId, message: &[u8]) {
-    let body = message.get(4..).map(<[u8]>::to_vec).unwrap_or_default();
-    if let Err(e) = net.write(id, body) {
-        tracing::debug!("ROS 2 graph: {e}");
-    }
-}
-
-/// ROS's topic name rules allow letters, digits and `_` in each token, which must not
-/// start with a digit: other characters of a frame id become `_`.
-pub fn topic_token(frame: &str) -> String {
-    let mut out = String::with_capacity(frame.len() + 1);
-    for (i, part) in frame.split('/').filter(|p| !p.is_empty()).enumerate() {
-        if i > 0 {
-            out.push('/');
-        }
-        if part.starts_with(|c: char| c.is_ascii_digit()) {
-            out.push('_');
-        }
-        out.extend(
-            part.chars()
-                .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }),
-        );
-    }
-    out
+    /// How that tree is named on the graph (URDF links by link name).
+    names: Arc<RosNames>,
+    /// The URDF robots' `/robot_description` topics.
+    descriptions: Descriptions,
 }
 
 impl RosGraph {
@@ -259,7 +233,7 @@ impl RosGraph {
     /// The network could not start or open them.
     pub fn new(net: Arc<dyn RosNetwork>, options: GraphOptions) -> Result<Self, NetworkError> {
         let encoder = Encoder::open(net.clone())?;
-        let (tx, rx) = std::sync::mpsc::sync_channel::<Snapshot>(ENCODER_QUEUE);
+        let (tx, rx) = std::sync::mpsc::sync_channel::<(Snapshot, Arc<RosNames>)>(ENCODER_QUEUE);
         let worker = std::thread::Builder::new()
             .name("gantry-ros2-graph".to_owned())
             .spawn(move || encoder.run(&rx))
@@ -275,6 +249,8 @@ impl RosGraph {
             sampler: Sampler::new(None),
             last_ns: None,
             tree: None,
+            names: Arc::default(),
+            descriptions: Descriptions::default(),
         })
     }
 
@@ -298,13 +274,24 @@ impl RosGraph {
             let core = sim.core();
             s.joints.retain(|j| movable(&core.world, j.handle));
         }
+        // The frame names are shared until the object tree changes (a scene or model
+        // loaded, an object removed): then handles may name other objects, so the
+        // cameras', robots' and descriptions' topics are opened afresh, and the graph's
+        // names made again.
+        let frames = s.frames.clone();
+        if !self.tree.as_ref().is_some_and(|t| Arc::ptr_eq(t, &frames)) {
+            self.tree = Some(frames.clone());
+            self.close_tree_topics();
+            let core = sim.core();
+            self.names = Arc::new(RosNames::new(&core.world, &frames));
+            self.descriptions.refresh(self.net.as_ref(), &core.world, &frames);
+        }
         // Encoding and sending happen on the encoder's thread: the simulation thread
         // only copies numbers. A full queue (the network cannot keep up) drops the
         // snapshot, counted, rather than slowing the simulation.
-        let frames = s.frames.clone();
         let stamp_ns = s.stamp_ns;
         if let Some(tx) = &self.encoder
-            && tx.try_send(s).is_err()
+            && tx.try_send((s, self.names.clone())).is_err()
         {
             self.dropped += 1;
             if self.dropped.is_power_of_two() {
@@ -313,13 +300,6 @@ impl RosGraph {
                     self.dropped
                 );
             }
-        }
-        // The frame names are shared until the object tree changes (a scene or model
-        // loaded, an object removed): then handles may name other objects, so the
-        // cameras' and robots' topics are opened afresh.
-        if !self.tree.as_ref().is_some_and(|t| Arc::ptr_eq(t, &frames)) {
-            self.tree = Some(frames.clone());
-            self.close_tree_topics();
         }
         self.cameras_after_step(sim, &frames, stamp_ns);
         if self.robots.is_none() {
@@ -586,6 +566,7 @@ impl Drop for RosGraph {
             let _ = w.join();
         }
         self.close_tree_topics();
+        self.descriptions.close(self.net.as_ref());
     }
 }
 
@@ -669,16 +650,4 @@ fn camera_info(stamp: Time, frame: &str, w: u32, h: u32, projection: Projection,
     }
     c.u8(0);
     c.into_bytes()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn topic_tokens_follow_ros_name_rules() {
-        assert_eq!(topic_token("bubbleRob/visionSensor"), "bubbleRob/visionSensor");
-        assert_eq!(topic_token("wheel[1]/cam-2"), "wheel_1_/cam_2");
-        assert_eq!(topic_token("3d/cam"), "_3d/cam");
-    }
 }

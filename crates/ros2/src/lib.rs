@@ -8,14 +8,18 @@
 //! - [`node`]: the DDS participant on its own thread, which carries CDR bodies for the
 //!   Lua host's `simROS2` module (the [`gantry_script::ros::RosNetwork`] it
 //!   implements) and for the graph;
-//! - [`graph`]: `/clock`, `/tf`, `/joint_states` and camera topics after each step.
+//! - [`graph`]: `/clock`, `/tf`, `/joint_states` and camera topics after each step;
+//! - [`description`]: URDF robots as robot_state_publisher presents them
+//!   (`/robot_description`, TF frames named by URDF link).
 //!
 //! See docs/ros2.md.
 
 pub mod config;
+pub mod description;
 pub mod graph;
 pub mod node;
 mod raw;
+mod topics;
 
 pub use config::{ConfigError, DiscoveryRange, RosConfig};
 pub use graph::{GraphOptions, RosGraph};

@@ -536,6 +536,7 @@ fn everything() -> SceneModel {
             tag: "ik.tip".into(),
             targets: vec![7, 6],
         }],
+        urdf_robots: Vec::new(),
         warnings: vec!["line one\nline two".into()],
     }
 }

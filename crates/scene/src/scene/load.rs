@@ -16,8 +16,8 @@ use super::floor::{floor_object, put_on_floor};
 use super::model::{
     CameraModel, GeomModel, Geometry, JointMode, JointModel, JointType, MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION,
     MassModel, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode,
-    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VISION_BYTES_PER_PIXEL, VisionModel, VisualModel,
-    vision_image_bytes,
+    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, UrdfRobotModel, VISION_BYTES_PER_PIXEL,
+    VisionModel, VisualModel, vision_image_bytes,
 };
 use super::raw::{RawObject, RawPart, RawRobot, RawScene, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
@@ -93,7 +93,7 @@ fn load_bare_urdf(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<
 /// A URDF robot as a scene of its own objects (no floor, default settings), named after
 /// the file, with the import's warnings; the model `sim.loadModel` inserts.
 pub(super) fn load_urdf_model(files: &dyn Files, path: &Path, opts: &LoadOptions) -> Result<SceneModel, LoadError> {
-    let (objects, warnings) = load_urdf_objects(files, path, opts)?;
+    let (objects, robot, warnings) = load_urdf_objects(files, path, opts)?;
     Ok(SceneModel {
         name: stem(path),
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
@@ -104,25 +104,26 @@ pub(super) fn load_urdf_model(files: &dyn Files, path: &Path, opts: &LoadOptions
         dummy_links: Vec::new(),
         ball_links: Vec::new(),
         referenced_handles: Vec::new(),
+        urdf_robots: vec![robot],
         warnings,
     })
 }
 
 /// A URDF robot's objects on their own (no floor), its base fixed unless
-/// `opts.free_base`, with the import's warnings.
-pub(super) fn load_urdf_objects(
+/// `opts.free_base`, with where its links and joints landed and the import's warnings.
+fn load_urdf_objects(
     files: &dyn Files,
     path: &Path,
     opts: &LoadOptions,
-) -> Result<(Vec<ObjectModel>, Vec<String>), LoadError> {
+) -> Result<(Vec<ObjectModel>, UrdfRobotModel, Vec<String>), LoadError> {
     let mut objects = Vec::new();
     let mut warnings = Vec::new();
     let include = UrdfInclude {
         fixed_base: !opts.free_base,
         ..UrdfInclude::default()
     };
-    import_urdf(files, path, &include, &opts.package_paths, &mut objects, &mut warnings)?;
-    Ok((objects, dedup(warnings)))
+    let index = import_urdf(files, path, &include, &opts.package_paths, &mut objects, &mut warnings)?;
+    Ok((objects, index.robot_model(), dedup(warnings)))
 }
 
 /// Resolves the text of a scene file. `path` names the file in messages and anchors
@@ -157,6 +158,7 @@ pub fn load_scene_text(
         objects: Vec::new(),
         scripts: Vec::new(),
         warnings: unknown_keys(&doc),
+        urdf_robots: Vec::new(),
         names: Names::new(),
         mimics: Vec::new(),
     };
@@ -204,6 +206,7 @@ pub fn load_scene_text(
         dummy_links,
         ball_links,
         referenced_handles,
+        urdf_robots: r.urdf_robots,
         warnings: dedup(r.warnings),
     })
 }
@@ -238,6 +241,8 @@ struct Resolver<'a> {
     objects: Vec<ObjectModel>,
     scripts: Vec<ScriptModel>,
     warnings: Vec<String>,
+    /// The `[[robot]]`s emitted so far.
+    urdf_robots: Vec<UrdfRobotModel>,
     names: Names,
     /// Joints that follow another, resolved once every object exists: the follower's
     /// index, the leader's name, and the multiplier and offset in model units.
@@ -1266,6 +1271,7 @@ impl Resolver<'_> {
         if let Some(s) = &r.script {
             self.attach_script(idx.base, s)?;
         }
+        self.urdf_robots.push(idx.robot_model());
         Ok(idx)
     }
 }

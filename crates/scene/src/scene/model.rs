@@ -37,6 +37,9 @@ pub struct SceneModel {
     /// a tag and the objects it names, all as object indices. A model's scripts find their
     /// parts this way (`sim.getReferencedHandle(self, 'ik.tip')`).
     pub referenced_handles: Vec<ReferencedHandles>,
+    /// The robots loaded from URDF files, in load order: which objects each file's links
+    /// and joints became, and the file's text (ROS 2's `/robot_description`).
+    pub urdf_robots: Vec<UrdfRobotModel>,
     /// Soft problems found while loading (unknown keys, unsupported URDF elements).
     pub warnings: Vec<String>,
 }
@@ -66,7 +69,37 @@ impl SceneModel {
                 *t += by;
             }
         }
+        for r in &mut self.urdf_robots {
+            r.base += by;
+            for (i, _) in r.links.iter_mut().chain(&mut r.joints) {
+                *i += by;
+            }
+        }
     }
+}
+
+/// The longest URDF text a scene keeps for its robot description, bytes. The whole file
+/// is read and parsed anyway; this bounds what is held for the run (and sent as one
+/// ROS message to every subscriber). The largest public robots (a humanoid with every
+/// `<gazebo>` block) stay well under a megabyte.
+pub const MAX_URDF_TEXT_BYTES: usize = 8 << 20;
+
+/// A robot loaded from a URDF file: where its parts landed in the object list, and the
+/// file itself, for consumers that want the robot as ROS describes it (the ROS 2
+/// graph's `/robot_description` and link-named TF frames).
+#[derive(Debug, Clone, PartialEq)]
+pub struct UrdfRobotModel {
+    /// Index of the model base (the dummy aliased by the robot name).
+    pub base: usize,
+    /// The file it was read from.
+    pub path: PathBuf,
+    /// The file's text as read, unchanged (before gantry's repairs of common mistakes);
+    /// `None` when longer than [`MAX_URDF_TEXT_BYTES`] (a loading warning says so).
+    pub text: Option<Arc<str>>,
+    /// Index of each link's object and the URDF link name, by index.
+    pub links: Vec<(usize, String)>,
+    /// Index of each joint's object and the URDF joint name, by index.
+    pub joints: Vec<(usize, String)>,
 }
 
 /// One tag of an object's referenced handles.

@@ -20,6 +20,7 @@
 
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
 
@@ -27,8 +28,8 @@ use super::error::LoadError;
 use super::files::Files;
 use super::mesh::{load_mesh, resolve_mesh_path};
 use super::model::{
-    GeomModel, Geometry, JointMode, JointModel, JointType, MassModel, MimicModel, ObjectModel, ObjectModelKind,
-    ShapeModel, VisualModel,
+    GeomModel, Geometry, JointMode, JointModel, JointType, MAX_URDF_TEXT_BYTES, MassModel, MimicModel, ObjectModel,
+    ObjectModelKind, ShapeModel, UrdfRobotModel, VisualModel,
 };
 use crate::math::{Pose, rotation_z_to};
 
@@ -92,6 +93,28 @@ pub struct UrdfIndex {
     pub links: HashMap<String, usize>,
     /// Joint objects by URDF joint name.
     pub joints: HashMap<String, usize>,
+    /// The file read.
+    pub path: PathBuf,
+    /// Its text as read, unchanged; `None` when over [`MAX_URDF_TEXT_BYTES`].
+    pub text: Option<Arc<str>>,
+}
+
+impl UrdfIndex {
+    /// The robot as the scene model keeps it, links and joints in object order.
+    pub fn robot_model(&self) -> UrdfRobotModel {
+        let sorted = |m: &HashMap<String, usize>| {
+            let mut v: Vec<(usize, String)> = m.iter().map(|(name, &i)| (i, name.clone())).collect();
+            v.sort_unstable();
+            v
+        };
+        UrdfRobotModel {
+            base: self.base,
+            path: self.path.clone(),
+            text: self.text.clone(),
+            links: sorted(&self.links),
+            joints: sorted(&self.joints),
+        }
+    }
 }
 
 /// Reads a URDF file and appends its objects to `objects`.
@@ -118,6 +141,15 @@ pub fn import_urdf(
         path: path.to_owned(),
         message: "the file is not UTF-8 text".into(),
     })?;
+    // Kept as read: ROS consumers of the description parse it themselves.
+    let original: Option<Arc<str>> = (text.len() <= MAX_URDF_TEXT_BYTES).then(|| Arc::from(text.as_str()));
+    if original.is_none() {
+        warnings.push(format!(
+            "{}: the file is larger than {} MiB, so its text is not kept (no ROS 2 /robot_description for it)",
+            path.display(),
+            MAX_URDF_TEXT_BYTES >> 20
+        ));
+    }
     let (text, repairs) = super::urdf_fixups::repair(&text);
     warnings.extend(repairs.into_iter().map(|r| format!("{}: {r}", path.display())));
     let robot = urdf_rs::read_from_string(&text).map_err(|e| malformed(path, &text, &e.to_string()))?;
@@ -315,6 +347,8 @@ pub fn import_urdf(
         base,
         links: HashMap::new(),
         joints: HashMap::new(),
+        path: path.to_owned(),
+        text: original,
     };
 
     // Depth-first from the root; an explicit stack keeps deep chains off the call stack.
@@ -821,6 +855,47 @@ mod tests {
         };
         assert_eq!((j.damping, j.friction, j.max_velocity), (0.1, 0.0, Some(1.0)));
         assert!(warnings.is_empty(), "{warnings:?}");
+    }
+
+    #[test]
+    fn keeps_the_text_as_read_up_to_the_limit() {
+        let text = r#"<robot name="r"><link name="a"/><link name="b"/>
+              <joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>"#;
+        let p = write("text", text);
+        let mut objects = Vec::new();
+        let mut warnings = Vec::new();
+        let idx = import_urdf(
+            &DiskFiles,
+            &p,
+            &UrdfInclude::default(),
+            &[],
+            &mut objects,
+            &mut warnings,
+        )
+        .expect("loads");
+        let robot = idx.robot_model();
+        assert_eq!(robot.text.as_deref(), Some(text));
+        assert_eq!(robot.links, [(1, "a".to_owned()), (3, "b".to_owned())]);
+        assert_eq!(robot.joints, [(2, "j".to_owned())]);
+        // A file past the limit still loads; only its text is not kept, and it is said.
+        let padding = "x".repeat(MAX_URDF_TEXT_BYTES);
+        let p = write(
+            "big",
+            &text.replace("<link name=\"b\"/>", &format!("<link name=\"b\"/><!--{padding}-->")),
+        );
+        let mut warnings = Vec::new();
+        let idx = import_urdf(
+            &DiskFiles,
+            &p,
+            &UrdfInclude::default(),
+            &[],
+            &mut Vec::new(),
+            &mut warnings,
+        )
+        .expect("loads");
+        let _ = std::fs::remove_file(&p);
+        assert_eq!(idx.text, None);
+        assert!(warnings.iter().any(|w| w.contains("not kept")), "{warnings:?}");
     }
 
     #[test]

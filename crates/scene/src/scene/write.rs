@@ -662,6 +662,7 @@ mod tests {
             dummy_links: Vec::new(),
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
+            urdf_robots: Vec::new(),
             warnings: Vec::new(),
         }
     }
@@ -709,6 +710,7 @@ mod tests {
             dummy_links: Vec::new(),
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
+            urdf_robots: Vec::new(),
             warnings: Vec::new(),
         };
         let files = write_scene(&model, "s", "s.ttt").expect("writes");

@@ -353,6 +353,12 @@ impl World {
             let targets = r.targets.iter().map(|&t| map[t]).collect();
             self.custom.set_referenced(map[r.object], &r.tag, targets);
         }
+        self.urdf_robots.extend(
+            model
+                .urdf_robots
+                .iter()
+                .map(|r| super::UrdfRobot::from_model(r, |i| map[i])),
+        );
         self.edit.counters.created += map.len() as u64;
         self.bump();
         (map, warnings)

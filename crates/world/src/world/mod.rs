@@ -18,6 +18,7 @@ mod point_cloud;
 mod query;
 mod scale;
 mod selection;
+mod urdf_robot;
 #[expect(
     clippy::module_inception,
     reason = "the World type's file is named after it, like rapier's rigid_body/rigid_body.rs"
@@ -38,4 +39,5 @@ pub use point_cloud::{
 };
 pub use query::DistanceResult;
 pub use selection::{MAX_SELECTION, Selection};
+pub use urdf_robot::UrdfRobot;
 pub use world::World;

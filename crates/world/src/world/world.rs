@@ -47,6 +47,9 @@ pub struct World {
     pub(super) kinematic_moving: Vec<Handle>,
     /// Run-time scene editing: removed handles, the scene revision, pending forces.
     pub(super) edit: super::edit_state::EditState,
+    /// The robots loaded from URDF files, in load order (a removed robot's handles
+    /// name no object: handles are never reused).
+    pub(super) urdf_robots: Vec<super::UrdfRobot>,
 }
 
 impl World {
@@ -194,6 +197,11 @@ impl World {
             mimics: Vec::new(),
             profiled: Vec::new(),
             kinematic_moving: Vec::new(),
+            urdf_robots: model
+                .urdf_robots
+                .iter()
+                .map(|r| super::UrdfRobot::from_model(r, |i| i as Handle))
+                .collect(),
         };
         world.refresh_caches();
         world.link_loop_closures(
@@ -217,6 +225,12 @@ impl World {
                 self.warnings.push(format!("loop closure {a}-{b} not made: {e}"));
             }
         }
+    }
+
+    /// The robots loaded from URDF files, in load order, removed ones included (their
+    /// handles name no object).
+    pub fn urdf_robots(&self) -> &[super::UrdfRobot] {
+        &self.urdf_robots
     }
 
     /// Warnings from loading and building (unsupported features, ignored keys).

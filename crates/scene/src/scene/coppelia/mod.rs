@@ -169,6 +169,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         dummy_links,
         ball_links,
         referenced_handles,
+        urdf_robots: Vec::new(),
         warnings,
     };
     Ok((model, report))
