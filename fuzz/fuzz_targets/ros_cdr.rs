@@ -1,5 +1,5 @@
-//! ROS 2 CDR decoder: the first byte picks a known message type, the rest is decoded as
-//! that type; it never panics, and whatever decodes re-encodes to bytes that decode to
+//! ROS 2 CDR decoder: the first byte picks a known message type (services' and actions'
+//! parts included), the rest is decoded as that type; it never panics, and whatever decodes re-encodes to bytes that decode to
 //! the same value.
 #![no_main]
 
@@ -23,7 +23,14 @@ fuzz_target!(|data: &[u8]| {
     let Some((&pick, bytes)) = data.split_first() else {
         return;
     };
-    let types: Vec<&ros::MsgType> = ros::known_message_types().collect();
+    let mut types: Vec<&ros::MsgType> = ros::known_message_types().collect();
+    for s in ros::known_service_types() {
+        types.extend([s.request(), s.response()]);
+    }
+    for a in ros::known_action_types() {
+        types.extend([a.feedback_message(), a.send_goal().request(), a.send_goal().response()]);
+        types.extend([a.get_result().request(), a.get_result().response()]);
+    }
     let t = types[usize::from(pick) % types.len()];
     let Ok(v) = t.decode(bytes) else {
         return;

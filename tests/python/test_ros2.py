@@ -303,12 +303,13 @@ def test_forward_position_commands_set_the_arm_joint_targets(domain, procs):
 
     def arm_seen(samples) -> bool:
         client.step()
-        return bool(samples) and any(n.startswith("arm6/") for n in samples[-1].name)
+        return bool(samples) and "joint1" in samples[-1].name
 
+    # The arm is a URDF robot: /joint_states names its joints as the URDF does.
     names = take_until(joints, arm_seen, what="/joint_states of the arm")[-1].name
-    arm = [n for n in names if n.startswith("arm6/")]
+    arm = [n for n in names if n.startswith("joint")]
     assert len(arm) == 6, names
-    handles = [sim.getObject("/" + n) for n in arm]
+    handles = [sim.getObject("/arm6/" + n) for n in arm]
     target = [0.1, -0.2, 0.3, -0.4, 0.5, -0.6]
     layout = MultiArrayLayout(dim=[], data_offset=0)
     wait_matched(commands)

@@ -120,6 +120,9 @@ pub(crate) fn merge_into(scene: &mut SceneModel, mut model: SceneModel) -> usize
     scene.objects.extend(model.objects);
     scene.scripts.extend(model.scripts);
     scene.dummy_links.extend(model.dummy_links);
+    // A URDF model keeps its text and link names through a stop and restart too
+    // (`/robot_description` and its TF frames on the ROS 2 graph).
+    scene.urdf_robots.extend(model.urdf_robots);
     offset
 }
 
