@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 228 functions, 172 constants."""
+    """`sim`: 231 functions, 172 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -275,6 +275,8 @@ class Sim:
     def getLinkDummy(self, *args: Any) -> Any: ...
     def getMatrixInverse(self, *args: Any) -> Any:
         """a 3x3 block that is not a rotation gives some rotation, not an error (read by the closed-form method)."""
+    def getModuleName(self, *args: Any) -> Any:
+        """lists the plugins gantry stands in for (`ROS2`, `ROS`, `RosInterface`, `IK`, `CustomUI`, `Vision`, `RemoteApi`), version 4, then `nil`."""
     def getNameSuffix(self, *args: Any) -> Any:
         """gantry never numbers copies with `#`, so a script's own suffix (nil argument) is always -1."""
     def getNamedInt32Param(self, *args: Any) -> Any: ...
@@ -363,6 +365,8 @@ class Sim:
     def isHandle(self, *args: Any) -> Any: ...
     def isHandleValid(self, *args: Any) -> Any:
         """V-REP 3's: 1 when the handle names a scene object and the type is -1 or 109 (`sim_appobj_object_type`), else 0; gantry's handles name scene objects only."""
+    def launchExecutable(self, *args: Any) -> Any:
+        """starts nothing (scripts run in a sandbox, see SECURITY.md): logs a warning naming the program and returns -1, CoppeliaSim's "could not launch"."""
     def loadModel(self, *args: Any) -> Any:
         """reads a robot (`.urdf`, base fixed unless `--free-base`) or a gantry model (a `.toml` scene file with `[[object]]`, `[[robot]]` and `[[script]]` only); CoppeliaSim's `.ttm` is refused. The model joins the scene for good (a stop restores it as loaded); its scripts initialise at once during a run. Scripts load model files only from inside the scene's folder; remote clients from any path gantry can read. The returned handle is the model base's; the handles of a model loaded after objects were created at run time change at the next stop, when the scene is rebuilt from the files."""
     def loadScene(self, *args: Any) -> Any:
@@ -473,6 +477,8 @@ class Sim:
         """yields the calling thread until the next step; threads are resumed once per step at the start of actuation. A call from a non-threaded hook is an error naming `sysCall_thread`, not a frozen simulator."""
     def stopSimulation(self, *args: Any) -> Any:
         """from a script, takes effect at the end of the current step (cleanup hooks run, the scene is restored); a stop asked for during cleanup is ignored."""
+    def transformImage(self, *args: Any) -> Any:
+        """returns the flipped image (bit 4: rows, bit 8: each row's pixels; the shift option 2 is refused). CoppeliaSim rewrites the Lua string in place and returns nothing, which a Lua host cannot do safely: write `data = sim.transformImage(data, {w, h}, 4)`. A buffer of `w * h * k` bytes flips as `k`-byte pixels (depth buffers too)."""
     def unpackDoubleTable(self, *args: Any) -> Any: ...
     def unpackFloatTable(self, *args: Any) -> Any: ...
     def unpackInt32Table(self, *args: Any) -> Any: ...

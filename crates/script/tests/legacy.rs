@@ -249,3 +249,52 @@ fn v_rep_3_bit_operations_handle_checks_and_matrix_copies() {
     };
     assert_contains(err, &["copyMatrix"]);
 }
+
+/// What V-REP-era ROS scripts do before publishing: look for the ROS plugin by name,
+/// try to start a driver program, and flip a vision sensor's image.
+const SCRIPT_PLUGINS: &str = r#"
+function sysCall_init()
+    local names, index, moduleName = {}, 0, 0
+    while moduleName do
+        moduleName = sim.getModuleName(index)
+        if moduleName then names[#names + 1] = moduleName end
+        index = index + 1
+    end
+    launched = sim.launchExecutable('hokuyo_node', '', 0)
+    local img = string.char(1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4)
+    flipped = sim.transformImage(img, {2, 2}, 4)
+    mirrored = sim.transformImage(img, {2, 2}, 8)
+    ok, err = pcall(sim.transformImage, img, {5, 2}, 4)
+    modules = table.concat(names, ',')
+end
+function report()
+    return modules, launched, table.concat({flipped:byte(1, -1)}, ','), mirrored:byte(1), err
+end
+"#;
+
+#[test]
+fn v_rep_plugin_lookup_program_launch_and_image_flips() {
+    let mut s = Scene::rover("legacy-plugins", SCRIPT_PLUGINS);
+    let out = s.call("report", &[]);
+    let Value::Str(modules) = &out[0] else {
+        panic!("{out:?}")
+    };
+    for m in ["RosInterface", "ROS2", "ROS"] {
+        assert!(modules.split(',').any(|x| x == m), "{m} in {modules}");
+    }
+    assert_eq!(
+        out[1],
+        Value::Int(-1),
+        "programs are not launched: CoppeliaSim's failure value"
+    );
+    assert_eq!(out[2], Value::from("3,3,3,4,4,4,1,1,1,2,2,2"), "rows reversed");
+    assert_eq!(out[3], Value::Int(2), "pixels of a row reversed");
+    let Value::Str(err) = &out[4] else { panic!("{out:?}") };
+    assert_contains(err, &["5 x 2", "30 bytes", "got 12", "transformImage"]);
+    let log = log_lines(&s.sim);
+    assert!(
+        log.iter()
+            .any(|(_, _, m)| m.contains("launchExecutable('hokuyo_node')")),
+        "{log:?}"
+    );
+}

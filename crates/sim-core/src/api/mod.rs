@@ -6,6 +6,7 @@
 //! numbers, `readProximitySensor` always 5 values, ...), and errors carry a message to
 //! which the front end appends `(in function 'sim.name')`.
 
+mod application;
 mod args;
 mod custom_data;
 mod drawing;
@@ -15,6 +16,7 @@ pub mod host;
 mod ik;
 mod ik_legacy;
 mod ik_objects;
+mod image;
 mod joints;
 pub mod legacy;
 mod links;
@@ -340,6 +342,8 @@ pub const MODULES: &[Module] = &[
             views::FUNCTIONS,
             point_cloud::FUNCTIONS,
             scan::FUNCTIONS,
+            image::FUNCTIONS,
+            application::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
