@@ -479,8 +479,12 @@ fn encode_errors_name_the_type_and_the_field() {
         "std_msgs/msg/Bool.data: expected a boolean, got number"
     );
     assert_eq!(
-        encode_err("std_msgs/msg/Int32", map(&[("data", 1.5.into())])),
-        "std_msgs/msg/Int32.data: expected an integer, got 1.5"
+        encode_err("std_msgs/msg/Int32", map(&[("data", f64::NAN.into())])),
+        "std_msgs/msg/Int32.data: expected an integer, got NaN"
+    );
+    assert_eq!(
+        encode_err("std_msgs/msg/UInt8", map(&[("data", 256.5.into())])),
+        "std_msgs/msg/UInt8.data: 256 is out of range for uint8"
     );
     assert_eq!(
         encode_err("std_msgs/msg/Int64", map(&[("data", 1e30.into())])),
@@ -752,6 +756,29 @@ fn a_huge_declared_length_errors_without_allocating() {
         assert!(!matches!(e, DecodeError::NoHeader { .. }), "{e}");
     }
     assert!(start.elapsed().as_secs() < 5, "refusing took {:?}", start.elapsed());
+}
+
+#[test]
+fn fractions_truncate_and_ros1_header_seq_is_ignored_as_coppeliasims_plugins_do() {
+    let t = ty("std_msgs/msg/Int32");
+    assert_eq!(
+        t.encode(&map(&[("data", 1.9.into())])).unwrap(),
+        t.encode(&map(&[("data", 1.into())])).unwrap()
+    );
+    assert_eq!(
+        t.encode(&map(&[("data", (-1.9).into())])).unwrap(),
+        t.encode(&map(&[("data", (-1).into())])).unwrap()
+    );
+    let h = ty("std_msgs/msg/Header");
+    let ros1 = map(&[("seq", 7.into()), ("frame_id", "a".into())]);
+    assert_eq!(
+        h.encode(&ros1).unwrap(),
+        h.encode(&map(&[("frame_id", "a".into())])).unwrap()
+    );
+    assert!(
+        ty("std_msgs/msg/String").encode(&map(&[("seq", 7.into())])).is_err(),
+        "only in a Header"
+    );
 }
 
 // ---- actions ----

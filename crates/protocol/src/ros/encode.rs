@@ -87,6 +87,11 @@ impl<'a> Encoder<'a> {
                     got: key.type_name(),
                 });
             };
+            // ROS 1's Header had a sequence number; ROS 2 dropped it. ROS 1 scripts
+            // still set it, so it is ignored rather than refused.
+            if ty.name() == "std_msgs/msg/Header" && key == "seq" {
+                continue;
+            }
             if !ty.fields().iter().any(|f| f.name == *key) {
                 return Err(EncodeError::UnknownField {
                     msg_type: self.top.to_owned(),
@@ -267,8 +272,14 @@ impl<'a> Encoder<'a> {
         let i = match *v {
             Value::Nil => 0,
             Value::Int(i) => i,
-            Value::Float(f) if f.is_finite() && f.fract() == 0.0 => {
-                v.as_i64().ok_or_else(|| out_of_range(format!("{f}")))?
+            // A fraction is dropped (toward zero), as CoppeliaSim's plugins convert a
+            // Lua number for an integer field: scripts compute `nanosec` as
+            // `(t - sec) * 1e9` and publish it as it comes.
+            Value::Float(f) if f.is_finite() => {
+                let whole = f.trunc();
+                Value::Float(whole)
+                    .as_i64()
+                    .ok_or_else(|| out_of_range(format!("{f}")))?
             }
             Value::Float(f) => {
                 return Err(EncodeError::WrongType {

@@ -25,10 +25,10 @@
 //!
 //! * A message is a [`Value::Map`](crate::Value::Map) of field name to value. Missing
 //!   fields (and `nil`) take ROS's default, so `{linear = {x = 1}}` is a whole `Twist`;
-//!   an unknown field name is an error. An empty array (an empty Lua table) or `nil`
-//!   is an all-default message.
-//! * Integer fields take integers and floats with no fraction, range-checked for their
-//!   type; float fields take any number (`float32` rounds; NaN and infinities are
+//!   an unknown field name is an error (but for `Header.seq`, ROS 1's, which is
+//!   ignored). An empty array (an empty Lua table) or `nil` is an all-default message.
+//! * Integer fields take integers, and finite floats with any fraction dropped (toward
+//!   zero, as CoppeliaSim's plugins convert numbers), range-checked for their type; float fields take any number (`float32` rounds; NaN and infinities are
 //!   data); `bool` takes booleans only; `string` takes strings (or UTF-8 bytes).
 //!   `byte`, `char` and `uint8` are numbers.
 //! * A `builtin_interfaces` `Time` or `Duration` also takes a number of seconds (ROS 1's
