@@ -100,3 +100,23 @@ def pytest_configure(config):
 @pytest.fixture
 def repo() -> Path:
     return REPO
+
+
+@pytest.fixture
+def domain(monkeypatch) -> int:
+    """A ROS 2 domain of this test's own (``ROS_DOMAIN_ID``, which the gantry processes
+    it starts inherit), so that tests running at once never see each other's graph."""
+    from ros2_peer import free_domain  # Cyclone DDS: imported by the ROS 2 tests only
+
+    d = free_domain()
+    monkeypatch.setenv("ROS_DOMAIN_ID", str(d))
+    return d
+
+
+@pytest.fixture
+def procs():
+    """The gantry processes a test starts (append them), closed when it ends."""
+    started: list[GantryProcess] = []
+    yield started
+    for p in started:
+        p.close()

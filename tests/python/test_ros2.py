@@ -67,26 +67,10 @@ from ros2_peer import (
     TruncatedTwist,
     Twist,
     Vector3,
-    free_domain,
     take_until,
 )
 
 SCENE = "assets/scenes/bubble_rob_ros2.toml"
-
-
-@pytest.fixture
-def domain(monkeypatch):
-    d = free_domain()
-    monkeypatch.setenv("ROS_DOMAIN_ID", str(d))
-    return d
-
-
-@pytest.fixture
-def procs():
-    started: list[GantryProcess] = []
-    yield started
-    for p in started:
-        p.close()
 
 
 def stamp_s(t) -> float:

@@ -21,7 +21,7 @@ import pytest
 from cyclonedds.idl import IdlStruct
 
 from gantry_proc import REPO, GantryProcess
-from ros2_peer import LATCHED, Clock, JointState, Peer, TFMessage, free_domain, take_until
+from ros2_peer import LATCHED, Clock, JointState, Peer, TFMessage, take_until
 
 SCENE = "assets/scenes/fk_arm.toml"
 URDF = REPO / "assets/robots/arm6/arm6.urdf"
@@ -30,21 +30,6 @@ URDF = REPO / "assets/robots/arm6/arm6.urdf"
 @dataclass
 class String(IdlStruct, typename="std_msgs::msg::dds_::String_"):
     data: str
-
-
-@pytest.fixture
-def domain(monkeypatch):
-    d = free_domain()
-    monkeypatch.setenv("ROS_DOMAIN_ID", str(d))
-    return d
-
-
-@pytest.fixture
-def procs():
-    started: list[GantryProcess] = []
-    yield started
-    for p in started:
-        p.close()
 
 
 def urdf_names(tag: str) -> list[str]:

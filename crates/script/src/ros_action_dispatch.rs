@@ -9,13 +9,15 @@
 //! goal's result is asked for at once, as rclcpp_action does.
 
 use gantry_protocol::Value;
+use gantry_protocol::ros::MsgType;
 use gantry_sim_core::Handle;
 use mlua::{Function, Value as LuaValue};
 
 use crate::app_state::state;
 use crate::ros::action::{
     ActionClient, ActionServer, CANCEL_ACCEPT, GOAL_ACCEPT_AND_DEFER, GOAL_ACCEPT_AND_EXECUTE, GOAL_REJECT, GoalId,
-    MAX_WAITING, ServerGoal, cancel_code, goal_id_of, goal_id_string, result_code, status, time_of, uuid_value,
+    MAX_WAITING, ServerGoal, cancel_code, cancel_service, goal_id_of, goal_id_string, result_code, status, time_of,
+    uuid_value,
 };
 use crate::ros::host::{Kind, RosHost};
 use crate::ros::lua_api::sim_time;
@@ -57,19 +59,14 @@ fn key(k: &str) -> Value {
     Value::Str(k.to_owned())
 }
 
-/// The samples of `id`, each with its request header and decoded body.
-fn requests(
-    net: &dyn RosNetwork,
-    id: u64,
-    decode: impl Fn(&RosSample) -> Result<Value, String>,
-    what: &str,
-) -> Vec<((u64, i64), Value)> {
+/// The requests received on `id`, each with its request header, decoded as `ty`.
+fn requests(net: &dyn RosNetwork, id: u64, ty: &MsgType, what: &str) -> Vec<((u64, i64), Value)> {
     let mut out = Vec::new();
     for s in net.take(id, MAX_PER_STEP) {
         let Some(header) = read_header(&s.body, s.little_endian) else {
             continue;
         };
-        match decode(&s) {
+        match ty.decode_body(&s.body, s.little_endian, 16) {
             Ok(v) => out.push((header, v)),
             Err(e) => tracing::warn!("simROS2: dropped a malformed {what}: {e}"),
         }
@@ -86,17 +83,7 @@ fn server_events(
     net: &dyn RosNetwork,
     out: &mut Vec<Event>,
 ) {
-    let srv = s.ty.send_goal();
-    for (header, v) in requests(
-        net,
-        s.send_goal.0,
-        |x| {
-            srv.request()
-                .decode_body(&x.body, x.little_endian, 16)
-                .map_err(|e| e.to_string())
-        },
-        "goal request",
-    ) {
+    for (header, v) in requests(net, s.send_goal.0, s.ty.send_goal().request(), "goal request") {
         let Some(id) = goal_id_of(&v, "goal_id") else { continue };
         out.push(Event::Goal {
             server: h,
@@ -108,18 +95,7 @@ fn server_events(
             goal: v.get("goal").cloned().unwrap_or(Value::Nil),
         });
     }
-    let cancel = crate::ros::action::cancel_service();
-    for (header, v) in requests(
-        net,
-        s.cancel_goal.0,
-        |x| {
-            cancel
-                .request()
-                .decode_body(&x.body, x.little_endian, 16)
-                .map_err(|e| e.to_string())
-        },
-        "cancel request",
-    ) {
+    for (header, v) in requests(net, s.cancel_goal.0, cancel_service().request(), "cancel request") {
         let info = v.get("goal_info");
         let id = info.and_then(|i| goal_id_of(i, "goal_id")).unwrap_or_default();
         out.push(Event::Cancel {
@@ -137,17 +113,7 @@ fn server_events(
 /// know), later for a running one. Called after the step's goal requests are handled,
 /// so that a result request never overtakes its own goal.
 fn answer_result_requests(s: &ActionServer, net: &dyn RosNetwork) {
-    let get = s.ty.get_result();
-    for (header, v) in requests(
-        net,
-        s.get_result.0,
-        |x| {
-            get.request()
-                .decode_body(&x.body, x.little_endian, 16)
-                .map_err(|e| e.to_string())
-        },
-        "result request",
-    ) {
+    for (header, v) in requests(net, s.get_result.0, s.ty.get_result().request(), "result request") {
         let Some(id) = goal_id_of(&v, "goal_id") else { continue };
         let answer = {
             let mut goals = s.goals.borrow_mut();
@@ -256,7 +222,7 @@ fn client_events(
             Err(e) => tracing::warn!("simROS2: dropped a malformed result: {e}"),
         }
     }
-    let cancel = crate::ros::action::cancel_service();
+    let cancel = cancel_service();
     for s in net.take(c.cancel_goal.1, MAX_PER_STEP) {
         let Some((_, seq)) = ours(&s) else { continue };
         let mut canceling = c.canceling.borrow_mut();
@@ -468,7 +434,7 @@ impl Simulation {
                 (key("goals_canceling"), Value::Array(infos)),
             ]);
             let mut body = request_header(header.0, header.1);
-            let cancel = crate::ros::action::cancel_service();
+            let cancel = cancel_service();
             if let Err(e) = cancel.response().encode_into(&reply, &mut body, 0) {
                 tracing::warn!("simROS2: cancel reply not encoded: {e}");
             } else if let Err(e) = net.write(s.cancel_goal.1, body) {
