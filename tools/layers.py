@@ -50,7 +50,7 @@ FLOORS = {
         ({"scene"}, False),
     ],
     "crates/world/src": [
-        ({"math", "signals"}, False),
+        ({"math", "signals", "tubes"}, False),
         ({"world"}, False),
         ({"sensor", "vision", "ik", "drawing", "graph", "ui", "motion"}, False),
         ({"sim"}, False),

@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 231 functions, 172 constants."""
+    """`sim`: 236 functions, 172 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -479,6 +479,14 @@ class Sim:
         """from a script, takes effect at the end of the current step (cleanup hooks run, the scene is restored); a stop asked for during cleanup is ignored."""
     def transformImage(self, *args: Any) -> Any:
         """returns the flipped image (bit 4: rows, bit 8: each row's pixels; the shift option 2 is refused). CoppeliaSim rewrites the Lua string in place and returns nothing, which a Lua host cannot do safely: write `data = sim.transformImage(data, {w, h}, 4)`. A buffer of `w * h * k` bytes flips as `k`-byte pixels (depth buffers too)."""
+    def tubeClose(self, *args: Any) -> Any: ...
+    def tubeOpen(self, *args: Any) -> Any:
+        """V-REP's pipes between scripts; the two opens of one header and name are a tube's two ends. An end keeps at most its read buffer size of packets (oldest dropped), at most 10,000, of at most 16 MiB each; a tube whose one end closed is not joined again. Tubes go with the simulation at stop."""
+    def tubeRead(self, *args: Any) -> Any:
+        """the blocking form waits a step at a time, in a threaded script only (as `sim.waitForSignal`)."""
+    def tubeStatus(self, *args: Any) -> Any: ...
+    def tubeWrite(self, *args: Any) -> Any:
+        """returns 1 when the other end is open, 0 when not (the packet is dropped)."""
     def unpackDoubleTable(self, *args: Any) -> Any: ...
     def unpackFloatTable(self, *args: Any) -> Any: ...
     def unpackInt32Table(self, *args: Any) -> Any: ...

@@ -298,3 +298,77 @@ fn v_rep_plugin_lookup_program_launch_and_image_flips() {
         "{log:?}"
     );
 }
+
+/// V-REP's tubes, as its gyroscope and accelerometer models hand readings to another
+/// script: a sensor writes every step, a threaded reader blocks on the tube, and a
+/// non-threaded one polls.
+#[test]
+fn tubes_carry_packets_between_scripts_in_order() {
+    let scene = r#"
+[simulation]
+dt = 0.05
+
+[[object]]
+name = "gyro"
+kind = "dummy"
+script = "gyro.lua"
+
+[[object]]
+name = "reader"
+kind = "dummy"
+script = "reader.lua"
+"#;
+    let gyro = r#"
+function sysCall_init()
+    tube = sim.tubeOpen(0, 'gyroData', 1)
+    n = 0
+end
+function sysCall_sensing()
+    n = n + 1
+    sent = sim.tubeWrite(tube, sim.packFloatTable({n, 2 * n}))
+end
+function gyroReport()
+    return sent, sim.tubeStatus(tube)
+end
+"#;
+    let reader = r#"
+function sysCall_thread()
+    tube = sim.tubeOpen(0, 'gyroData', 1)
+    got = {}
+    for i = 1, 3 do
+        local data = sim.tubeRead(tube, true)
+        got[#got + 1] = sim.unpackFloatTable(data)[1]
+    end
+    sim.tubeClose(tube)
+    closed = true
+end
+function report()
+    local ok, err = pcall(sim.tubeRead, 9999)
+    return table.concat(got, ','), closed or false, err
+end
+"#;
+    let mut sc = Scene::new(
+        "tubes",
+        scene,
+        &[("gyro.lua", gyro), ("reader.lua", reader)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    for _ in 0..8 {
+        sc.sim.step();
+    }
+    for f in ["gyro.lua", "reader.lua"] {
+        assert_eq!(script_state(&sc.sim, f), gantry_script::ScriptState::Running, "{f}");
+    }
+    let r = sc.call("report", &[]);
+    let Value::Str(got) = &r[0] else { panic!("{r:?}") };
+    let got: Vec<f64> = got.split(',').map(|x| x.parse().unwrap()).collect();
+    assert_eq!(got.len(), 3, "{got:?}");
+    assert!(got.windows(2).all(|w| w[1] > w[0]), "in order: {got:?}");
+    assert_eq!(r[1], Value::Bool(true), "the reader closed its end");
+    let Value::Str(err) = &r[2] else { panic!("{r:?}") };
+    assert_contains(err, &["tube 9999 does not exist", "tubeRead"]);
+    // The writer's end is alone now: its packets are dropped, and it says so.
+    let g = sc.call("gyroReport", &[]);
+    assert_eq!(g, [Value::Int(0), Value::Int(0), Value::Int(0), Value::Int(0)]);
+}

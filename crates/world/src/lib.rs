@@ -21,6 +21,7 @@ pub use gantry_scene::{error, handle, scene};
 // Leaves of this crate.
 pub mod math;
 pub mod signals;
+pub mod tubes;
 // Objects and physics.
 pub mod world;
 // Subsystems on the world.

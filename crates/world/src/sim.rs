@@ -6,7 +6,7 @@
 //!
 //! Floors, each importing only from those below it (checked by `tools/layers.py`):
 //!
-//! 1. `handle`, `math`, `error`, `signals`: leaves.
+//! 1. `handle`, `math`, `error`, `signals`, `tubes`: leaves.
 //! 2. `scene`: the model read from files.
 //! 3. `world`: objects and physics.
 //! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`: subsystems, each
@@ -22,6 +22,7 @@ use crate::ik::IkEnvironments;
 use crate::motion::RuckigObjects;
 use crate::scene::SceneModel;
 use crate::signals::Signals;
+use crate::tubes::Tubes;
 use crate::ui::{FloatingViews, SimulatorMessages, Uis};
 use crate::vision::VisionStates;
 use crate::world::World;
@@ -36,6 +37,8 @@ pub struct Sim {
     pub advancing: Advancing,
     /// Named signals shared by scripts and clients.
     pub signals: Signals,
+    /// Tubes between scripts (`sim.tubeOpen`), gone with the simulation at stop.
+    pub tubes: Tubes,
     /// User-interface events for `sim.getSimulatorMessage` (keys pressed in the viewer).
     pub messages: SimulatorMessages,
     /// Drawing objects.
@@ -68,6 +71,7 @@ impl Sim {
             state: SimulationState::Stopped,
             advancing: Advancing::default(),
             signals: Signals::default(),
+            tubes: Tubes::default(),
             messages: SimulatorMessages::default(),
             drawings: Drawings::default(),
             graphs: Graphs::default(),

@@ -14,6 +14,7 @@ local sim, host, coroutine, error, type, string, ipairs = ...
 local yield, isyieldable = coroutine.yield, coroutine.isyieldable
 local getTime, getSystemTime = sim.getSimulationTime, sim.getSystemTime
 local getInt, getFloat, getString = sim.getInt32Signal, sim.getFloatSignal, sim.getStringSignal
+local tubeRead = sim.tubeRead
 
 -- Raises the error CoppeliaSim users need when a blocking call is made where nothing
 -- can be suspended: the non-threaded hooks must return for the simulation to advance.
@@ -75,6 +76,19 @@ function sim.waitForSignal(a, b)
         if v ~= nil then return v end
         yield()
     end
+end
+
+-- V-REP's blocking tube read: a packet, waiting for one a step at a time; the
+-- non-blocking form (the default) is the core's.
+function sim.tubeRead(handle, blocking)
+    local data = tubeRead(handle)
+    if data ~= nil or not blocking then return data end
+    need_thread('tubeRead')
+    while data == nil do
+        yield()
+        data = tubeRead(handle)
+    end
+    return data
 end
 
 -- The mode setters (Rust, threads.rs) return ok, value; a failure is raised here, from

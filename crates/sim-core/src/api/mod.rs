@@ -37,6 +37,7 @@ mod signals;
 mod simulation;
 mod simulator_messages;
 mod target;
+mod tubes;
 mod ui;
 mod views;
 mod vision;
@@ -344,6 +345,7 @@ pub const MODULES: &[Module] = &[
             scan::FUNCTIONS,
             image::FUNCTIONS,
             application::FUNCTIONS,
+            tubes::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
