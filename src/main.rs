@@ -164,6 +164,11 @@ struct RunArgs {
     /// default they may only listen, on --bind's address or loopback.
     #[arg(long)]
     allow_script_connect: bool,
+    /// Let scripts start PROGRAM with `sim.launchExecutable` (repeatable; a name looked
+    /// up on PATH, or a path). Started directly, never through a shell, and ended when the
+    /// simulation stops. By default scripts start nothing.
+    #[arg(long = "allow-launch", value_name = "PROGRAM")]
+    allow_launch: Vec<std::path::PathBuf>,
     /// A script that binds or connects to port ASKED gets port USED instead, e.g.
     /// `--script-port 6000=6001` to run two scenes that both hard-code 6000 (USED 0 = any
     /// free port; repeatable).
@@ -489,6 +494,7 @@ fn run(args: &RunArgs) -> Result<()> {
                 port_map: args.script_ports.clone(),
                 ..NetworkParams::default()
             },
+            allow_launch: args.allow_launch.clone(),
             ..ScriptLimits::default()
         },
         autostart: true,

@@ -176,6 +176,7 @@ fn touches_name(t: Touches) -> &'static str {
         Touches::Motion => "motion",
         Touches::Listeners => "listeners",
         Touches::Ros => "the ROS 2 network",
+        Touches::Programs => "programs",
     }
 }
 

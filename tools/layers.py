@@ -59,7 +59,7 @@ FLOORS = {
     "crates/script/src": [
         ({"limits", "convert", "listeners", "lua_error", "app_state"}, False),
         ({"sandbox", "running", "directory", "core_cell", "hooks"}, False),
-        ({"threads", "control", "recording", "models", "luasocket", "ros"}, False),
+        ({"threads", "control", "recording", "models", "luasocket", "ros", "launch"}, False),
         ({"messages"}, False),
         ({"debugger"}, False),
         ({"budget", "host_api"}, False),

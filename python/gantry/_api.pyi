@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 236 functions, 172 constants."""
+    """`sim`: 235 functions, 172 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -365,8 +365,6 @@ class Sim:
     def isHandle(self, *args: Any) -> Any: ...
     def isHandleValid(self, *args: Any) -> Any:
         """V-REP 3's: 1 when the handle names a scene object and the type is -1 or 109 (`sim_appobj_object_type`), else 0; gantry's handles name scene objects only."""
-    def launchExecutable(self, *args: Any) -> Any:
-        """starts nothing (scripts run in a sandbox, see SECURITY.md): logs a warning naming the program and returns -1, CoppeliaSim's "could not launch"."""
     def loadModel(self, *args: Any) -> Any:
         """reads a robot (`.urdf`, base fixed unless `--free-base`) or a gantry model (a `.toml` scene file with `[[object]]`, `[[robot]]` and `[[script]]` only); CoppeliaSim's `.ttm` is refused. The model joins the scene for good (a stop restores it as loaded); its scripts initialise at once during a run. Scripts load model files only from inside the scene's folder; remote clients from any path gantry can read. The returned handle is the model base's; the handles of a model loaded after objects were created at run time change at the next stop, when the scene is rebuilt from the files."""
     def loadScene(self, *args: Any) -> Any:

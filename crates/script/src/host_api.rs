@@ -125,6 +125,7 @@ pub(crate) fn install(lua: &Lua, listeners: &Rc<RefCell<ListenerState>>) -> mlua
     install_script_functions(lua, &sim, &wrap)?;
     messages::install(lua, &sim, &wrap)?;
     models::install(lua, &sim, &wrap)?;
+    crate::launch::install(lua, &sim, &wrap)?;
     recording::install(lua, &sim, &wrap)?;
     control::install(lua, &sim)?;
     threads::install(lua, &sim)

@@ -17,6 +17,7 @@ pub mod debugger;
 mod directory;
 mod hooks;
 mod host_api;
+mod launch;
 mod limits;
 pub mod listeners;
 mod lua_error;

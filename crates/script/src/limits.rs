@@ -19,6 +19,9 @@ pub struct ScriptLimits {
     pub memory: usize,
     /// What scripts may do with LuaSocket.
     pub network: NetworkParams,
+    /// Programs `sim.launchExecutable` may start (`gantry run --allow-launch`); none by
+    /// default.
+    pub allow_launch: Vec<std::path::PathBuf>,
 }
 
 impl Default for ScriptLimits {
@@ -27,6 +30,7 @@ impl Default for ScriptLimits {
             time_budget: Duration::from_secs(1),
             memory: 512 << 20,
             network: NetworkParams::default(),
+            allow_launch: Vec::new(),
         }
     }
 }

@@ -30,6 +30,7 @@ use crate::debugger::{self, DebugHost, DebugLink};
 use crate::directory::Directory;
 use crate::hooks::{Hook, HookCaller};
 use crate::host_api;
+use crate::launch::Launcher;
 use crate::limits::ScriptLimits;
 use crate::listeners::{ListenerState, Listeners};
 use crate::lua_error::{ScriptError, error_text};
@@ -110,6 +111,7 @@ impl Simulation {
         app_state::install(&lua, PendingRecording::default());
         app_state::install(&lua, Models::default());
         app_state::install(&lua, RosHost::default());
+        app_state::install(&lua, Launcher::new(limits.allow_launch.clone()));
         let sockets = Sockets::new(limits.network.clone());
         sockets.clear_interrupt();
         app_state::install(&lua, sockets);
@@ -298,8 +300,10 @@ impl Simulation {
         state::<Sockets>(&self.lua).close_all();
         // Legacy remote API servers started during the run end with it, as in CoppeliaSim.
         self.listeners.borrow_mut().simulation_ended();
-        // So do the run's ROS publishers, subscriptions and services.
+        // So do the run's ROS publishers, subscriptions and services, and the programs
+        // its scripts started.
         state::<RosHost>(&self.lua).simulation_ended();
+        state::<Launcher>(&self.lua).simulation_ended();
         // What cleanup hooks asked for: a removal ends with the run (the scene comes back
         // as loaded), a model loaded joins the scene now being rebuilt.
         state::<Directory>(&self.lua).take_removals();

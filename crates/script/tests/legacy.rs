@@ -282,11 +282,7 @@ fn v_rep_plugin_lookup_program_launch_and_image_flips() {
     for m in ["RosInterface", "ROS2", "ROS"] {
         assert!(modules.split(',').any(|x| x == m), "{m} in {modules}");
     }
-    assert_eq!(
-        out[1],
-        Value::Int(-1),
-        "programs are not launched: CoppeliaSim's failure value"
-    );
+    assert_eq!(out[1], Value::Int(-1), "not allowed: CoppeliaSim's failure value");
     assert_eq!(out[2], Value::from("3,3,3,4,4,4,1,1,1,2,2,2"), "rows reversed");
     assert_eq!(out[3], Value::Int(2), "pixels of a row reversed");
     let Value::Str(err) = &out[4] else { panic!("{out:?}") };
@@ -294,7 +290,7 @@ fn v_rep_plugin_lookup_program_launch_and_image_flips() {
     let log = log_lines(&s.sim);
     assert!(
         log.iter()
-            .any(|(_, _, m)| m.contains("launchExecutable('hokuyo_node')")),
+            .any(|(_, _, m)| m.contains("launchExecutable") && m.contains("--allow-launch hokuyo_node")),
         "{log:?}"
     );
 }
@@ -371,4 +367,53 @@ end
     // The writer's end is alone now: its packets are dropped, and it says so.
     let g = sc.call("gyroReport", &[]);
     assert_eq!(g, [Value::Int(0), Value::Int(0), Value::Int(0), Value::Int(0)]);
+}
+
+/// `sim.launchExecutable` starts a program the command line allowed (`--allow-launch`),
+/// without a shell, and only that one; what a run started ends with it.
+#[test]
+fn launch_executable_starts_allowed_programs_only() {
+    let dir = std::env::temp_dir().join(format!("gantry-launch-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let made = dir.join("made");
+    let _ = std::fs::remove_file(&made);
+    let script = format!(
+        r#"
+function sysCall_init()
+    touched = sim.launchExecutable('touch', '{}', 0)
+    refused = sim.launchExecutable('rm', '-rf {}', 0)
+    sleeper = sim.launchExecutable('sleep', '30', 0)
+end
+function report() return touched, refused, sleeper end
+"#,
+        made.display(),
+        dir.display()
+    );
+    let scene = "[[object]]\nname = \"node\"\nkind = \"dummy\"\nscript = \"launch.lua\"\n";
+    let limits = gantry_script::ScriptLimits {
+        allow_launch: vec!["touch".into(), "sleep".into()],
+        ..gantry_script::ScriptLimits::default()
+    };
+    let mut sc = Scene::new("launch", scene, &[("launch.lua", &script)], limits);
+    sc.sim.start();
+    let r = sc.call("report", &[]);
+    assert!(r[0].as_i64().is_some_and(|pid| pid > 0), "{r:?}");
+    assert_eq!(r[1], Value::Int(-1), "rm is not allowed");
+    let sleeper = r[2].as_i64().expect("a pid");
+    // The allowed program ran with its argument (no shell, no quoting).
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    while !made.exists() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "touch never made {}",
+            made.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(dir.exists(), "the refused rm did not run");
+    // Stopping ends what the run started.
+    sc.sim.stop();
+    let alive = std::path::Path::new(&format!("/proc/{sleeper}")).exists();
+    assert!(!alive, "the sleep started by the run was ended and reaped at stop");
+    let _ = std::fs::remove_dir_all(&dir);
 }

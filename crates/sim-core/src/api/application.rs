@@ -1,5 +1,6 @@
 //! What scripts ask of the application around the simulation: which plugins it has
-//! loaded (`sim.getModuleName`) and starting programs (`sim.launchExecutable`).
+//! loaded (`sim.getModuleName`). Starting programs (`sim.launchExecutable`) is the Lua
+//! host's, which knows what the command line allows.
 
 use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
@@ -7,16 +8,10 @@ use crate::error::SimError;
 use crate::world::World;
 
 /// The application functions.
-pub const FUNCTIONS: &[ApiFunction] = &[
-    ApiFunction {
-        name: "getModuleName",
-        call: ApiFn::World(get_module_name),
-    },
-    ApiFunction {
-        name: "launchExecutable",
-        call: ApiFn::World(launch_executable),
-    },
-];
+pub const FUNCTIONS: &[ApiFunction] = &[ApiFunction {
+    name: "getModuleName",
+    call: ApiFn::World(get_module_name),
+}];
 
 /// The plugins gantry stands in for, by the names CoppeliaSim's plugins give
 /// themselves: scripts look them up before using their functions (V-REP's ROS 1 plugin
@@ -35,24 +30,4 @@ fn get_module_name(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
         Some(name) => vec![Value::Str((*name).to_owned()), Value::Int(MODULE_VERSION)],
         None => vec![Value::Nil],
     })
-}
-
-/// `sim.launchExecutable(path, arguments, showStatus)`: gantry does not start
-/// programs from scripts (a scene file should not run code outside its sandbox, see
-/// SECURITY.md), so it logs why and returns -1, CoppeliaSim's "could not launch", and the
-/// script goes on as it would without the program. Start such programs (ROS nodes,
-/// drivers) beside gantry instead.
-fn launch_executable(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
-    const WARNING: i64 = 300;
-    let path = a.str(0)?;
-    let t = w.time();
-    w.log.push(
-        t,
-        WARNING,
-        ctx.source,
-        &format!(
-            "sim.launchExecutable('{path}'): scripts do not start programs in gantry; start it beside gantry instead"
-        ),
-    );
-    Ok(vec![Value::Int(-1)])
 }

@@ -87,6 +87,8 @@ pub enum Touches {
     Listeners,
     /// The front end's ROS 2 network: publishers, subscriptions and services.
     Ros,
+    /// Programs the host starts for scripts (`--allow-launch`).
+    Programs,
 }
 
 /// One host function.
@@ -137,6 +139,7 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("getStepping", AnyHook, Remote::No, Scripts),
     f("getThreadAutomaticSwitch", AnyHook, Remote::No, Scripts),
     f("isScriptRunningInThread", AnyHook, Remote::No, Scripts),
+    f("launchExecutable", AnyHook, Remote::No, Touches::Programs),
     f("loadModel", AnyHook, ByScriptHost(ScriptHostFn::LoadModel), Scene),
     f("loadScene", InScripts::No, ByFrontEnd(FrontEndFn::LoadScene), Scene),
     f("moveToConfig", ThreadedOnly, Remote::No, Motion),
