@@ -417,3 +417,68 @@ function report() return touched, refused, sleeper end
     assert!(!alive, "the sleep started by the run was ended and reaped at stop");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// V-REP 3's `removeModel` and `getSimulationStopping`, and 4.7's custom string data
+/// names, as old scripts call them.
+#[test]
+fn remove_model_simulation_stopping_and_custom_string_data() {
+    let scene = r#"
+[[object]]
+name = "cart"
+kind = "dummy"
+model_base = true
+
+[[object]]
+name = "wheel"
+kind = "dummy"
+parent = "cart"
+
+[[object]]
+name = "axle"
+kind = "dummy"
+parent = "wheel"
+
+[[object]]
+name = "floor"
+kind = "dummy"
+script = "probe.lua"
+"#;
+    let probe = r#"
+function sysCall_init()
+    local floor = sim.getObject('/floor')
+    sim.writeCustomStringData(floor, 'note', 'hello')
+    note = sim.readCustomStringData(floor, 'note')
+    ok, notModel = pcall(sim.removeModel, floor)
+    removed = sim.removeModel(sim.getObject('/cart'))
+    left = #sim.getObjectsInTree(sim.handle_scene)
+end
+function sysCall_actuation()
+    stopping = sim.getSimulationStopping()
+end
+function sysCall_cleanup()
+    sim.addLog(sim.verbosity_scriptinfos, 'stopping at cleanup: ' .. tostring(sim.getSimulationStopping()))
+end
+function report() return note, notModel, removed, left, stopping end
+"#;
+    let mut sc = Scene::new(
+        "remove-model",
+        scene,
+        &[("probe.lua", probe)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    sc.sim.step();
+    let r = sc.call("report", &[]);
+    assert_eq!(r[0], Value::from("hello"));
+    let Value::Str(e) = &r[1] else { panic!("{r:?}") };
+    assert_contains(e, &["not a model base", "removeModel"]);
+    assert_eq!(r[2], Value::Int(3), "the base and the two objects below it");
+    assert_eq!(r[3], Value::Int(1), "only the floor is left");
+    assert_eq!(r[4], Value::Bool(false), "an ordinary pass is not the last");
+    sc.sim.stop();
+    let log = log_lines(&sc.sim);
+    assert!(
+        log.iter().any(|(_, _, m)| m == "stopping at cleanup: true"),
+        "the cleanup pass is the stopping one: {log:?}"
+    );
+}

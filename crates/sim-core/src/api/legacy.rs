@@ -12,6 +12,8 @@ use std::time::Instant;
 
 use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
+use crate::sim::{Advancing, Sim};
+use crate::world::object_path::ObjectTree;
 use crate::world::{Handle, World};
 
 /// `(old name, current name)`: old names that are pure renames.
@@ -26,6 +28,10 @@ pub const ALIASES: &[(&str, &str)] = &[
     // 4.0-4.2 customization scripts address the same user parameters by object.
     ("getUserParameter", "getScriptSimulationParameter"),
     ("getVelocity", "getObjectVelocity"),
+    // 4.7's names for the custom data blocks.
+    ("readCustomBufferData", "readCustomDataBlock"),
+    ("readCustomDataTags", "readCustomDataBlockTags"),
+    ("readCustomStringData", "readCustomDataBlock"),
     ("setArrayParameter", "setArrayParam"),
     ("setBoolParameter", "setBoolParam"),
     ("setFloatParameter", "setFloatParam"),
@@ -36,6 +42,8 @@ pub const ALIASES: &[(&str, &str)] = &[
     ("setObjectInt32Parameter", "setObjectInt32Param"),
     ("setObjectName", "setObjectAlias"),
     ("setUserParameter", "setScriptSimulationParameter"),
+    ("writeCustomBufferData", "writeCustomDataBlock"),
+    ("writeCustomStringData", "writeCustomDataBlock"),
 ];
 
 /// The old functions whose behaviour is their own, in alphabetical order.
@@ -137,6 +145,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(get_shape_bb),
     },
     ApiFunction {
+        name: "getSimulationStopping",
+        call: ApiFn::Sim(get_simulation_stopping),
+    },
+    ApiFunction {
         name: "getSystemTimeInMs",
         call: ApiFn::World(get_system_time_in_ms),
     },
@@ -151,6 +163,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "isHandleValid",
         call: ApiFn::World(is_handle_valid),
+    },
+    ApiFunction {
+        name: "removeModel",
+        call: ApiFn::Sim(remove_model),
     },
     ApiFunction {
         name: "setScriptSimulationParameter",
@@ -267,6 +283,32 @@ fn is_handle_valid(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
     let ty = a.opt_int(1, -1)?;
     let valid = (ty == -1 || ty == OBJECT_TYPE) && w.object(h).is_ok();
     Ok(vec![Value::Int(i64::from(valid))])
+}
+
+/// `sim.getSimulationStopping()` (V-REP 3): whether this is the simulation's last pass,
+/// the one a stop request ends it with.
+fn get_simulation_stopping(sim: &mut Sim, _: &CallContext<'_>, _: &Args<'_>) -> Result<Ret, SimError> {
+    Ok(vec![Value::Bool(sim.advancing == Advancing::AboutToStop)])
+}
+
+/// `sim.removeModel(objectHandle)`: removes a model, its base and every object below
+/// it; the number of objects removed. The handle must be a model base (an object
+/// marked `model_base`, or a loaded model's root), as in CoppeliaSim.
+fn remove_model(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let base = a.handle(0)?;
+    if !sim.world.object(base)?.model_base {
+        return Err(SimError::bad_argument(format!(
+            "argument 1: object {base} is not a model base; remove plain objects with sim.removeObjects"
+        )));
+    }
+    let mut tree = vec![base];
+    let mut i = 0;
+    while i < tree.len() {
+        tree.extend(sim.world.children(tree[i]).iter().copied());
+        i += 1;
+    }
+    sim.remove_objects(&tree)?;
+    Ok(vec![Value::Int(i64::try_from(tree.len()).unwrap_or(i64::MAX))])
 }
 
 /// `sim.boolAnd32`, `sim.boolOr32`, `sim.boolXor32` (V-REP 3): `op` on the two values'
