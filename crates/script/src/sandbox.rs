@@ -158,6 +158,10 @@ fn harden(lua: &Lua, limits: &ScriptLimits) -> mlua::Result<()> {
     // state, which public scripts use the same way (simROS2's examples keep a throttle's
     // last times in it). Each script gets its own copy, like every table here.
     g.raw_set("_S", lua.create_table()?)?;
+    // CoppeliaSim's Matrix and Vector classes (`require 'matrix'`), pure Lua.
+    lua.load(include_str!("lua/matrix.lua"))
+        .set_name("@gantry/matrix.lua")
+        .exec()?;
     // `debug.traceback` only: the templates of CoppeliaSim 4.3-4.5 threaded scripts
     // report a coroutine's error with `error(debug.traceback(co, msg), 2)`. The rest of
     // the debug library reaches other scripts' locals and the registry.
@@ -240,6 +244,7 @@ fn copy_table(lua: &Lua, t: &Table, copies: &Table) -> mlua::Result<Table> {
 /// The modules `require` returns: the API's namespaces, as in CoppeliaSim 4.6+ where
 /// scripts begin with `sim = require 'sim'`.
 pub const REQUIRABLE: &[&str] = &[
+    "Matrix",
     "sim",
     "simIK",
     "simROS",
@@ -251,8 +256,9 @@ pub const REQUIRABLE: &[&str] = &[
 ];
 
 /// Other names `require` accepts, and the global each one returns: LuaSocket's C core,
-/// which a few scripts require directly (see `crate::luasocket`).
-pub const REQUIRE_ALIASES: &[(&str, &str)] = &[("socket.core", "socket")];
+/// which a few scripts require directly (see `crate::luasocket`), and CoppeliaSim's
+/// `matrix` library, whose classes (`Matrix`, `Vector`, ...) every script has.
+pub const REQUIRE_ALIASES: &[(&str, &str)] = &[("socket.core", "socket"), ("matrix", "Matrix")];
 
 /// Gives a script's environment a `require` that returns the script's own copy of an
 /// API namespace (or of the LuaSocket subset) and refuses everything else by name: there is no file or C module to

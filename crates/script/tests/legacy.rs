@@ -7,7 +7,7 @@ mod util;
 
 use gantry_script::ScriptState;
 use gantry_sim_core::Value;
-use util::{Scene, assert_contains, log_lines, script_state};
+use util::{Scene, assert_close, assert_contains, log_lines, script_state};
 
 /// The rover of the BubbleRob scene with a 4.2-style threaded script: the old lookup,
 /// signals, status bar, console and user parameters, driving the motors for 1 s.
@@ -481,4 +481,53 @@ function report() return note, notModel, removed, left, stopping end
         log.iter().any(|(_, _, m)| m == "stopping at cleanup: true"),
         "the cleanup pass is the stopping one: {log:?}"
     );
+}
+
+/// CoppeliaSim's `matrix` library as scripts use it: a mobile base's inverse kinematics
+/// (`Matrix(3, 3, data) * (1 / r)`, `Vector3{...}`, a product, `v[i]`), and the rest of
+/// the everyday surface.
+#[test]
+fn the_matrix_library_builds_multiplies_and_indexes() {
+    let script = r#"
+function sysCall_init()
+    require 'matrix'
+    local L, r = 0.135, 0.04
+    local Minv = Matrix(3, 3, {-math.sqrt(3) / 2, 0.5, L, 0.0, -1.0, L, math.sqrt(3) / 2, 0.5, L}) * (1 / r)
+    local v = Minv * Vector3{1, 0, 0}
+    wheels = {v[1], v[2], v[3]}
+    local m = Matrix{{1, 2}, {3, 4}}
+    local t = m:t()
+    local e = Matrix:eye(2)
+    checks = {
+        m[2][1], t:get(1, 2), (m * e == m) and 1 or 0, #m, m:rows() * 10 + m:cols(),
+        Vector{3, 4}:norm(), Vector3{1, 0, 0}:cross(Vector3{0, 1, 0})[3],
+        Vector{1, 2, 3}:dot(Vector{4, 5, 6}), (m + m - m):sum(), (-m):abs():sum(), (m / 2)[1][2],
+    }
+    ok1, shapeErr = pcall(function() return m * Vector3{1, 2, 3} end)
+    ok2, sizeErr = pcall(Vector3, {1, 2})
+    local w = Vector(2)
+    w[2] = 5
+    text = tostring(w)
+    -- The shared metatables are hidden: no script can change another's matrices.
+    hidden = getmetatable(w) == 'Matrix' and not pcall(setmetatable, w, {})
+        and not pcall(setmetatable, Matrix, {})
+end
+function report()
+    return table.concat(wheels, ','), table.concat(checks, ','), shapeErr, sizeErr, text, hidden
+end
+"#;
+    let mut s = Scene::rover("matrix", script);
+    let r = s.call("report", &[]);
+    let Value::Str(wheels) = &r[0] else { panic!("{r:?}") };
+    let w: Vec<f64> = wheels.split(',').map(|x| x.parse().unwrap()).collect();
+    let k = 1.0 / 0.04;
+    assert_close(&w, &[-(3f64.sqrt()) / 2.0 * k, 0.0, 3f64.sqrt() / 2.0 * k], 1e-12);
+    assert_eq!(r[1], Value::from("3,3,1,2,22,5.0,1,32,10,10,1.0"));
+    let (Value::Str(shape), Value::Str(size), Value::Str(text)) = (&r[2], &r[3], &r[4]) else {
+        panic!("{r:?}")
+    };
+    assert_contains(shape, &["2 x 2 times 3 x 1", "inner sizes differ"]);
+    assert_contains(size, &["Vector3", "expected 3 x 1, got 2 x 1"]);
+    assert_eq!(text, "Matrix(2, 1, {[0], [5]})");
+    assert_eq!(r[5], Value::Bool(true), "the shared metatables are protected");
 }
