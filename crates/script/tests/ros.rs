@@ -347,3 +347,60 @@ end
     );
     assert_contains(string_signal(&mut sc, "size"), &["4 x 2", "24 bytes", "got 3"]);
 }
+
+#[test]
+fn ros1_parameters_are_kept_in_the_simulation_across_stops() {
+    let setter = r#"
+function sysCall_init()
+    local _, runs = simROS.getParamInt('/runs', 0)
+    simROS.setParamInt('/runs', runs + 1)
+    if not simROS.hasParam('/robot/gain') then
+        simROS.setParamDouble('/robot/gain', 2.5)
+        simROS.setParamInt('robot/count', 3)
+        simROS.setParamBool('/robot/enabled', true)
+        simROS.setParamString('/robot/name', 'rover')
+        simROS.setParamDouble('/tmp', 1)
+        simROS.deleteParam('/tmp')
+    end
+end
+"#;
+    let getter = r#"
+function sysCall_sensing()
+    local a, gain = simROS.getParamDouble('/robot/gain', 0)
+    local b, count = simROS.getParamInt('/robot/count', 0)
+    local c, enabled = simROS.getParamBool('/robot/enabled', false)
+    local d, name = simROS.getParamString('robot/name', '')
+    local e, missing = simROS.getParamDouble('/tmp', -1)
+    local f, wrongKind = simROS.getParamInt('/robot/name', 7)
+    local ok, err = pcall(simROS.setParamInt, '/x', 1.5)
+    result = table.concat({tostring(a), gain, tostring(b), count, tostring(c), tostring(enabled),
+        tostring(d), name, tostring(e), missing, tostring(f), wrongKind,
+        tostring(simROS.hasParam('/tmp'))}, ',')
+    badInt = err
+    local _, r = simROS.getParamInt('/runs', 0)
+    runs = r
+end
+function report() return result, badInt, runs end
+"#;
+    let (mut sc, _net) = scene("ros-params", &[("talker.lua", setter), ("listener.lua", getter)]);
+    for round in 0..2 {
+        sc.sim.start();
+        sc.sim.step();
+        let r = sc.call("report", &[]);
+        assert_eq!(
+            r[0],
+            Value::from("true,2.5,true,3,true,true,true,rover,false,-1,false,7,false"),
+            "round {round}"
+        );
+        assert_contains(
+            match &r[1] {
+                Value::Str(s) => s,
+                other => panic!("{other:?}"),
+            },
+            &["expected an integer, got 1.5", "simROS.setParamInt"],
+        );
+        // The second run finds what the first set, as a roscore keeps them.
+        assert_eq!(r[2], Value::Int(round + 1), "runs counted across stops");
+        sc.sim.stop();
+    }
+}

@@ -98,6 +98,8 @@ pub(crate) struct RosHost {
     pub(crate) tf: Cell<Option<EndpointId>>,
     /// Whether the ROS 1 notice was logged.
     pub(crate) ros1_noticed: Cell<bool>,
+    /// ROS 1's parameters (`simROS.setParam*`), kept across stops.
+    pub(crate) params: RefCell<super::param_store::Params>,
 }
 
 /// The network is missing.

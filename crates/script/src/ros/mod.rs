@@ -10,6 +10,8 @@ pub(crate) mod host;
 pub(crate) mod lua_api;
 pub(crate) mod module;
 mod network;
+mod param_store;
+mod params;
 pub(crate) mod wire;
 
 pub use lua_api::CALL_TIMEOUT_S;

@@ -6,6 +6,7 @@ use mlua::{Function, Lua, MultiValue, Table, Value as LuaValue};
 
 use super::action_api;
 use super::lua_api::{self, Res, notice_ros1};
+use super::params;
 
 /// The functions of `simROS2`, sorted (the registry lists the same names; a test checks
 /// that the two agree).
@@ -55,11 +56,21 @@ pub const FUNCTIONS: &[&str] = &[
 /// The functions of `simROS` (ROS 1's plugin), sorted: served on the ROS 2 graph.
 pub const ROS1_FUNCTIONS: &[&str] = &[
     "advertise",
+    "deleteParam",
+    "getParamBool",
+    "getParamDouble",
+    "getParamInt",
+    "getParamString",
     "getTime",
+    "hasParam",
     "publish",
     "publisherTreatUInt8ArrayAsString",
     "sendTransform",
     "sendTransforms",
+    "setParamBool",
+    "setParamDouble",
+    "setParamInt",
+    "setParamString",
     "shutdownPublisher",
     "shutdownSubscriber",
     "subscribe",
@@ -164,11 +175,21 @@ const ROS2_TABLE: &[(&str, LuaApiFn)] = &[
 /// same work.
 const ROS1_TABLE: &[(&str, LuaApiFn)] = &[
     ("advertise", lua_api::create_publisher),
+    ("deleteParam", params::delete_param),
+    ("getParamBool", params::get_bool),
+    ("getParamDouble", params::get_double),
+    ("getParamInt", params::get_int),
+    ("getParamString", params::get_string),
     ("getTime", lua_api::ros1_time),
+    ("hasParam", params::has_param),
     ("publish", lua_api::publish),
     ("publisherTreatUInt8ArrayAsString", lua_api::treat_uint8_array_as_string),
     ("sendTransform", lua_api::send_transform),
     ("sendTransforms", lua_api::send_transform_list),
+    ("setParamBool", params::set_bool),
+    ("setParamDouble", params::set_double),
+    ("setParamInt", params::set_int),
+    ("setParamString", params::set_string),
     ("shutdownPublisher", lua_api::shutdown_publisher),
     ("shutdownSubscriber", lua_api::shutdown_subscription),
     ("subscribe", lua_api::create_subscription),
