@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 242 functions, 172 constants."""
+    """`sim`: 242 functions, 187 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -31,15 +31,30 @@ class Sim:
     dlgstyle_ok: int
     dlgstyle_ok_cancel: int
     dlgstyle_yes_no: int
+    drawing_12percenttransparency: int
+    drawing_25percenttransparency: int
+    drawing_50percenttransparency: int
+    drawing_backfaceculling: int
     drawing_cubepts: int
     drawing_cyclic: int
+    drawing_emissioncolor: int
+    drawing_facingcamera: int
+    drawing_followparentvisibility: int
+    drawing_itemcolors: int
+    drawing_itemsizes: int
+    drawing_itemtransparency: int
     drawing_lines: int
     drawing_linestrip: int
     drawing_local: int
+    drawing_overlay: int
+    drawing_painttag: int
+    drawing_persistent: int
     drawing_points: int
     drawing_spherepts: int
     drawing_trianglepts: int
     drawing_triangles: int
+    drawing_vertexcolors: int
+    drawing_wireframe: int
     floatparam_dynamic_step_size: int
     floatparam_physicstimestep: int
     floatparam_rand: int

@@ -261,6 +261,10 @@ function sysCall_init()
         index = index + 1
     end
     launched = sim.launchExecutable('hokuyo_node', '', 0)
+    -- A laser scanner model's fading rays: transparency flags are accepted.
+    rays = sim.addDrawingObject(sim.drawing_lines + sim.drawing_50percenttransparency
+        + sim.drawing_25percenttransparency, 1, 0, -1, 1000, {0, 0, 0})
+    sim.addDrawingObjectItem(rays, {0, 0, 0, 1, 0, 0})
     local img = string.char(1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4)
     flipped = sim.transformImage(img, {2, 2}, 4)
     mirrored = sim.transformImage(img, {2, 2}, 8)
@@ -268,7 +272,8 @@ function sysCall_init()
     modules = table.concat(names, ',')
 end
 function report()
-    return modules, launched, table.concat({flipped:byte(1, -1)}, ','), mirrored:byte(1), err
+    return modules, launched, table.concat({flipped:byte(1, -1)}, ','), mirrored:byte(1), err,
+        math.type(rays)
 end
 "#;
 
@@ -287,6 +292,11 @@ fn v_rep_plugin_lookup_program_launch_and_image_flips() {
     assert_eq!(out[3], Value::Int(2), "pixels of a row reversed");
     let Value::Str(err) = &out[4] else { panic!("{out:?}") };
     assert_contains(err, &["5 x 2", "30 bytes", "got 12", "transformImage"]);
+    assert_eq!(
+        out[5],
+        Value::from("integer"),
+        "a drawing object with transparency flags"
+    );
     let log = log_lines(&s.sim);
     assert!(
         log.iter()
