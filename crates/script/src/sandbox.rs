@@ -302,6 +302,46 @@ end
         ))
 }
 
+/// Gives a script's environment V-REP 3's global names for the API, looked up when a
+/// script reads a global it has not defined: `simGetObjectHandle` is `sim.getObjectHandle`,
+/// the constant `sim_handle_all` is `sim.handle_all`, and ROS 1's plugin functions
+/// `simExtRosInterface_publish` are `simROS.publish`. Pre-4.0 scripts (and 4.x scripts
+/// that kept a few old calls) run with the one implementation of each function; names
+/// the script defines itself are untouched, and the lookup reads the script's own
+/// `sim`, so a script that replaces one of its functions sees its replacement.
+pub(crate) fn add_vrep3_names(lua: &Lua, env: &Table) -> mlua::Result<()> {
+    const NAMES: &str = r#"
+local env, setmetatable, type, rawget, lower = ...
+setmetatable(env, {
+    __metatable = false,
+    __index = function(_, k)
+        if type(k) ~= 'string' then return nil end
+        local sim = rawget(env, 'sim')
+        if type(sim) ~= 'table' then return nil end
+        local c = k:match('^sim_(.+)$')
+        if c then return sim[c] end
+        local ros = k:match('^simExtRosInterface_(.+)$')
+        if ros then
+            local m = rawget(env, 'simROS')
+            return type(m) == 'table' and m[ros] or nil
+        end
+        local f = k:match('^sim(%u%w*)$')
+        if f then return sim[lower(f:sub(1, 1)) .. f:sub(2)] end
+        return nil
+    end,
+})
+"#;
+    let g = lua.globals();
+    let string: Table = g.get("string")?;
+    lua.load(NAMES).set_name("@gantry/vrep3_names.lua").call::<()>((
+        env.clone(),
+        g.get::<mlua::Function>("setmetatable")?,
+        g.get::<mlua::Function>("type")?,
+        g.get::<mlua::Function>("rawget")?,
+        string.get::<mlua::Function>("lower")?,
+    ))
+}
+
 /// Confines the API's file exports (`sim.exportGraphStreams`) to the scene's folder, or
 /// forbids them for a scene embedded in the binary, which has no folder on disk. Remote
 /// clients call the same functions on the same world, so they are confined too.

@@ -175,6 +175,7 @@ impl ScriptSet {
         })?;
         env.set("print", print)?;
         sandbox::add_require(&self.lua, &env)?;
+        sandbox::add_vrep3_names(&self.lua, &env)?;
         Ok(env)
     }
 

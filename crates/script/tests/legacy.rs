@@ -541,3 +541,29 @@ end
     assert_eq!(text, "Matrix(2, 1, {[0], [5]})");
     assert_eq!(r[5], Value::Bool(true), "the shared metatables are protected");
 }
+
+/// V-REP 3's global names (`simGetObjectHandle`, `sim_handle_parent`) reach the same
+/// functions as `sim.*`, and a script's own globals win.
+#[test]
+fn v_rep_3_global_names_reach_the_api() {
+    let script = r#"
+function simMyHelper() return 'mine' end
+function sysCall_init()
+    local h = simGetObjectHandle('bubbleRob')
+    local m = simGetObjectMatrix(h, -1)
+    local inv = simGetInvertedMatrix(m)
+    results = {
+        h == sim.getObject('/bubbleRob') and 1 or 0,
+        sim_handle_parent == sim.handle_parent and 1 or 0,
+        math.abs(simMultiplyMatrices(m, inv)[1] - 1) < 1e-12 and 1 or 0,
+        simMyHelper(),
+        tostring(simNoSuchFunction),
+        tostring(sim_no_such_constant),
+        type(simExtRosInterface_advertise),
+    }
+end
+function report() return table.concat(results, ',') end
+"#;
+    let mut s = Scene::rover("vrep3-names", script);
+    assert_eq!(s.call("report", &[]), [Value::from("1,1,1,mine,nil,nil,function")]);
+}

@@ -24,6 +24,8 @@ pub const ALIASES: &[(&str, &str)] = &[
     ("getFloatParameter", "getFloatParam"),
     ("getInt32Parameter", "getInt32Param"),
     ("getIntegerSignal", "getInt32Signal"),
+    // V-REP 3's name (`simGetInvertedMatrix`).
+    ("getInvertedMatrix", "getMatrixInverse"),
     ("getObjectName", "getObjectAlias"),
     // 4.0-4.2 customization scripts address the same user parameters by object.
     ("getUserParameter", "getScriptSimulationParameter"),
