@@ -404,3 +404,22 @@ function report() return result, badInt, runs end
         sc.sim.stop();
     }
 }
+
+#[test]
+fn simros2_names_from_before_the_renames_do_what_the_new_names_do() {
+    let old = r#"
+function cb(msg) sim.setStringSignal('got', msg.data) end
+function sysCall_init()
+    sub = simROS2.subscribe('/chatter', 'std_msgs/msg/String', 'cb')
+    pub = simROS2.advertise('/echo', 'std_msgs/msg/String')
+end
+function sysCall_sensing() simROS2.publish(pub, {data = 'x'}) end
+"#;
+    let (mut sc, net) = scene("ros-old-names", &[("talker.lua", old), ("listener.lua", "")]);
+    sc.sim.start();
+    assert_eq!(net.open_topics(), ["rt/chatter", "rt/echo"]);
+    // `hi`: a std_msgs/String body.
+    net.inject("rt/chatter", vec![3, 0, 0, 0, b'h', b'i', 0]);
+    sc.sim.step();
+    assert_eq!(string_signal(&mut sc, "got"), "hi");
+}

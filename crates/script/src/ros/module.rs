@@ -21,6 +21,8 @@ pub const FUNCTIONS: &[&str] = &[
     "actionServerActionSucceed",
     "actionServerPublishFeedback",
     "actionServerTreatUInt8ArrayAsString",
+    "advertise",
+    "advertiseService",
     "call",
     "cancelLastGoal",
     "createActionClient",
@@ -41,12 +43,18 @@ pub const FUNCTIONS: &[&str] = &[
     "sendGoal",
     "sendTransform",
     "sendTransforms",
+    "serviceClient",
     "shutdownActionClient",
     "shutdownActionServer",
     "shutdownClient",
     "shutdownPublisher",
     "shutdownService",
+    "shutdownServiceClient",
+    "shutdownServiceServer",
+    "shutdownSubscriber",
     "shutdownSubscription",
+    "subscribe",
+    "subscriberTreatUInt8ArrayAsString",
     "subscriptionTreatUInt8ArrayAsString",
     "timeFromFloat",
     "timeToFloat",
@@ -115,7 +123,9 @@ fn policy_table(lua: &Lua, entries: &[(&str, i64)]) -> mlua::Result<Table> {
 
 type LuaApiFn = fn(&Lua, &MultiValue) -> Res;
 
-/// `simROS2`'s functions by name (sorted as [`FUNCTIONS`]).
+/// `simROS2`'s functions by name (sorted as [`FUNCTIONS`]). The plugin's names from before
+/// its renames (`subscribe`, `advertise`, `serviceClient`, ...) only log "renamed" in
+/// CoppeliaSim; here they do what the new names do, so scripts that kept them work.
 const ROS2_TABLE: &[(&str, LuaApiFn)] = &[
     (
         "actionClientTreatUInt8ArrayAsString",
@@ -133,6 +143,8 @@ const ROS2_TABLE: &[(&str, LuaApiFn)] = &[
         "actionServerTreatUInt8ArrayAsString",
         lua_api::treat_uint8_array_as_string,
     ),
+    ("advertise", lua_api::create_publisher),
+    ("advertiseService", lua_api::create_service),
     ("call", lua_api::call),
     ("cancelLastGoal", action_api::cancel_last_goal),
     ("createActionClient", action_api::create_action_client),
@@ -156,12 +168,21 @@ const ROS2_TABLE: &[(&str, LuaApiFn)] = &[
     ("sendGoal", action_api::send_goal),
     ("sendTransform", lua_api::send_transform),
     ("sendTransforms", lua_api::send_transform_list),
+    ("serviceClient", lua_api::create_client),
     ("shutdownActionClient", lua_api::shutdown_action_client),
     ("shutdownActionServer", lua_api::shutdown_action_server),
     ("shutdownClient", lua_api::shutdown_client),
     ("shutdownPublisher", lua_api::shutdown_publisher),
     ("shutdownService", lua_api::shutdown_service),
+    ("shutdownServiceClient", lua_api::shutdown_client),
+    ("shutdownServiceServer", lua_api::shutdown_service),
+    ("shutdownSubscriber", lua_api::shutdown_subscription),
     ("shutdownSubscription", lua_api::shutdown_subscription),
+    ("subscribe", lua_api::create_subscription),
+    (
+        "subscriberTreatUInt8ArrayAsString",
+        lua_api::treat_uint8_array_as_string,
+    ),
     (
         "subscriptionTreatUInt8ArrayAsString",
         lua_api::treat_uint8_array_as_string,
