@@ -434,6 +434,15 @@ def walk(corpus: str) -> list[FileResult]:
     return results
 
 
+ROS_MODULES = {"simROS", "simROS2", "simExtRosInterface", "simExtROS2", "simExtROS"}
+
+
+def uses_ros(r: FileResult) -> bool:
+    """A file that calls simROS.* / simROS2.* or requires a ROS plugin module."""
+    return (any(k.split(".", 1)[0] in ROS_MODULES for k in r.calls)
+            or any(q in ROS_MODULES for q in r.requires))
+
+
 def is_impl(name: str, lang: str, names: dict[str, set[str]]) -> bool:
     return lang in names.get(name, ())
 
@@ -624,6 +633,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--top", type=int, default=60, help="length of the missing list")
     ap.add_argument("--per-file", action="store_true",
                     help="print each file's unimplemented calls to stderr")
+    ap.add_argument("--without-ros", action="store_true",
+                    help="leave out files that call or require simROS / simROS2")
     a = ap.parse_args(argv)
 
     names = load_api_markdown(a.api) if a.api else load_names_file(a.names)
@@ -634,6 +645,10 @@ def main(argv: list[str] | None = None) -> int:
     if not results:
         print(f"no corpus files under {a.corpus}", file=sys.stderr)
         return 2
+    if a.without_ros:
+        before = len(results)
+        results = [r for r in results if not uses_ros(r)]
+        print(f"--without-ros: left out {before - len(results)} files", file=sys.stderr)
     report = render(results, names, a.top, a.api or a.names)
     print(report)
     if a.markdown:
