@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 243 functions, 187 constants."""
+    """`sim`: 245 functions, 187 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -206,6 +206,8 @@ class Sim:
     def addGraphStream(self, *args: Any) -> Any: ...
     def addItemToCollection(self, *args: Any) -> Any: ...
     def addLog(self, *args: Any) -> Any: ...
+    def addObjectToSelection(self, *args: Any) -> Any:
+        """V-REP 3's forms, `(what, handle)` with `sim.handle_single`, `sim.handle_tree`, `sim.handle_chain` or `sim.handle_all`, or a table of handles; the selection is the viewer's (`sim.getObjectSel`)."""
     def addStatusbarMessage(self, *args: Any) -> Any:
         """writes an information line to the log, which the viewer shows; `nil` does nothing."""
     def adjustView(self, *args: Any) -> Any:
@@ -417,6 +419,7 @@ class Sim:
     def removeModel(self, *args: Any) -> Any:
         """the handle must be a model base (`model_base`, or a loaded model's root); returns how many objects went."""
     def removeObject(self, *args: Any) -> Any: ...
+    def removeObjectFromSelection(self, *args: Any) -> Any: ...
     def removeObjects(self, *args: Any) -> Any:
         """children of a removed object move to its parent, keeping their world pose; scripts attached to removed objects keep running (their object calls then fail)."""
     def removePointsFromPointCloud(self, *args: Any) -> Any:

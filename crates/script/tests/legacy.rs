@@ -567,3 +567,57 @@ function report() return table.concat(results, ',') end
     let mut s = Scene::rover("vrep3-names", script);
     assert_eq!(s.call("report", &[]), [Value::from("1,1,1,mine,nil,nil,function")]);
 }
+
+/// The selection as V-REP 3 to CoppeliaSim 4.4 scripts edit it.
+#[test]
+fn add_and_remove_objects_from_the_selection() {
+    let scene = r#"
+[[object]]
+name = "base"
+kind = "dummy"
+
+[[object]]
+name = "arm"
+kind = "dummy"
+parent = "base"
+
+[[object]]
+name = "tip"
+kind = "dummy"
+parent = "arm"
+
+[[object]]
+name = "probe"
+kind = "dummy"
+script = "probe.lua"
+"#;
+    let probe = r#"
+local function names()
+    local out = {}
+    for _, h in ipairs(sim.getObjectSel()) do out[#out + 1] = sim.getObjectAlias(h) end
+    return table.concat(out, ' ')
+end
+function sysCall_init()
+    local base, arm, tip = sim.getObject('/base'), sim.getObject('/base/arm'), sim.getObject('/base/arm/tip')
+    steps = {}
+    sim.addObjectToSelection(sim.handle_single, arm); steps[#steps + 1] = names()
+    sim.addObjectToSelection(sim.handle_tree, base); steps[#steps + 1] = names()
+    sim.removeObjectFromSelection(sim.handle_chain, arm); steps[#steps + 1] = names()
+    sim.removeObjectFromSelection(sim.handle_all, -1); steps[#steps + 1] = names()
+    sim.addObjectToSelection({tip, base}); steps[#steps + 1] = names()
+    ok, err = pcall(sim.addObjectToSelection, 5, tip)
+end
+function report() return table.concat(steps, '|'), err end
+"#;
+    let mut sc = Scene::new(
+        "selection",
+        scene,
+        &[("probe.lua", probe)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    let r = sc.call("report", &[]);
+    assert_eq!(r[0], Value::from("arm|arm base tip|tip||tip base"));
+    let Value::Str(e) = &r[1] else { panic!("{r:?}") };
+    assert_contains(e, &["sim.handle_single", "addObjectToSelection"]);
+}

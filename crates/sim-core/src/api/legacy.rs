@@ -51,6 +51,10 @@ pub const ALIASES: &[(&str, &str)] = &[
 /// The old functions whose behaviour is their own, in alphabetical order.
 pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
+        name: "addObjectToSelection",
+        call: ApiFn::World(add_object_to_selection),
+    },
+    ApiFunction {
         name: "addStatusbarMessage",
         call: ApiFn::World(add_statusbar_message),
     },
@@ -169,6 +173,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "removeModel",
         call: ApiFn::Sim(remove_model),
+    },
+    ApiFunction {
+        name: "removeObjectFromSelection",
+        call: ApiFn::World(remove_object_from_selection),
     },
     ApiFunction {
         name: "setScriptSimulationParameter",
@@ -311,6 +319,89 @@ fn remove_model(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
     }
     sim.remove_objects(&tree)?;
     Ok(vec![Value::Int(i64::try_from(tree.len()).unwrap_or(i64::MAX))])
+}
+
+/// The objects `sim.addObjectToSelection` and `sim.removeObjectFromSelection` (V-REP
+/// 3 to CoppeliaSim 4.4) name: `(what, objectHandle)` with `what` one of
+/// `sim.handle_single` (the object), `sim.handle_tree` (it and everything below),
+/// `sim.handle_chain` (it and its ancestors) or `sim.handle_all` (every object); or a
+/// table of handles.
+fn selection_targets(w: &World, a: &Args<'_>) -> Result<Vec<Handle>, SimError> {
+    const HANDLE_ALL: i64 = -2;
+    const HANDLE_TREE: i64 = -6;
+    const HANDLE_CHAIN: i64 = -7;
+    const HANDLE_SINGLE: i64 = -8;
+    if let Value::Array(items) = a.get(0) {
+        let mut out = Vec::with_capacity(items.len());
+        for v in items {
+            let h = v
+                .as_i64()
+                .ok_or_else(|| SimError::bad_argument("argument 1: expected a table of handles"))?;
+            w.object(h)?;
+            out.push(h);
+        }
+        return Ok(out);
+    }
+    let what = a.int(0)?;
+    if what == HANDLE_ALL {
+        let mut all = Vec::new();
+        let mut stack: Vec<Handle> = w.roots().iter().rev().copied().collect();
+        while let Some(h) = stack.pop() {
+            all.push(h);
+            stack.extend(w.children(h).iter().rev().copied());
+        }
+        return Ok(all);
+    }
+    let h = a.handle(1)?;
+    w.object(h)?;
+    Ok(match what {
+        HANDLE_SINGLE => vec![h],
+        HANDLE_TREE => {
+            let mut tree = vec![h];
+            let mut i = 0;
+            while i < tree.len() {
+                tree.extend(w.children(tree[i]).iter().copied());
+                i += 1;
+            }
+            tree
+        }
+        HANDLE_CHAIN => {
+            let mut chain = vec![h];
+            while let Some(p) = w.object(*chain.last().unwrap_or(&h))?.parent {
+                chain.push(p);
+            }
+            chain
+        }
+        other => {
+            return Err(SimError::bad_argument(format!(
+                "argument 1: {other} is not sim.handle_single, sim.handle_tree, sim.handle_chain or sim.handle_all"
+            )));
+        }
+    })
+}
+
+/// `sim.addObjectToSelection(what, objectHandle)`: adds objects to the selection, after
+/// those already selected.
+fn add_object_to_selection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let mut handles = w.selection.handles().to_vec();
+    handles.extend(selection_targets(w, a)?);
+    w.selection.set(&handles);
+    Ok(Vec::new())
+}
+
+/// `sim.removeObjectFromSelection(what, objectHandle)`: takes objects out of the
+/// selection (`sim.handle_all` clears it).
+fn remove_object_from_selection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let gone = selection_targets(w, a)?;
+    let kept: Vec<Handle> = w
+        .selection
+        .handles()
+        .iter()
+        .copied()
+        .filter(|h| !gone.contains(h))
+        .collect();
+    w.selection.set(&kept);
+    Ok(Vec::new())
 }
 
 /// `sim.boolAnd32`, `sim.boolOr32`, `sim.boolXor32` (V-REP 3): `op` on the two values'
