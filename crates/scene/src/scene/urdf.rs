@@ -817,6 +817,13 @@ mod tests {
         p
     }
 
+    /// Imports the URDF at `p` with default options: its index, objects and warnings.
+    fn import(p: &Path) -> Result<(UrdfIndex, Vec<ObjectModel>, Vec<String>), LoadError> {
+        let (mut objects, mut warnings) = (Vec::new(), Vec::new());
+        let idx = import_urdf(&DiskFiles, p, &UrdfInclude::default(), &[], &mut objects, &mut warnings)?;
+        Ok((idx, objects, warnings))
+    }
+
     #[test]
     fn builds_link_joint_link_tree_with_z_axis_joints() {
         let p = write(
@@ -829,17 +836,7 @@ mod tests {
                 <dynamics damping="0.1"/></joint>
             </robot>"#,
         );
-        let mut objects = Vec::new();
-        let mut warnings = Vec::new();
-        let idx = import_urdf(
-            &DiskFiles,
-            &p,
-            &UrdfInclude::default(),
-            &[],
-            &mut objects,
-            &mut warnings,
-        )
-        .expect("loads");
+        let (idx, objects, warnings) = import(&p).expect("loads");
         let aliases: Vec<&str> = objects.iter().map(|o| o.alias.as_str()).collect();
         assert_eq!(aliases, ["r", "a", "j", "b"]);
         assert_eq!(objects[2].parent, Some(idx.links["a"]));
@@ -862,17 +859,7 @@ mod tests {
         let text = r#"<robot name="r"><link name="a"/><link name="b"/>
               <joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>"#;
         let p = write("text", text);
-        let mut objects = Vec::new();
-        let mut warnings = Vec::new();
-        let idx = import_urdf(
-            &DiskFiles,
-            &p,
-            &UrdfInclude::default(),
-            &[],
-            &mut objects,
-            &mut warnings,
-        )
-        .expect("loads");
+        let (idx, _, _) = import(&p).expect("loads");
         let robot = idx.robot_model();
         assert_eq!(robot.text.as_deref(), Some(text));
         assert_eq!(robot.links, [(1, "a".to_owned()), (3, "b".to_owned())]);
@@ -883,16 +870,7 @@ mod tests {
             "big",
             &text.replace("<link name=\"b\"/>", &format!("<link name=\"b\"/><!--{padding}-->")),
         );
-        let mut warnings = Vec::new();
-        let idx = import_urdf(
-            &DiskFiles,
-            &p,
-            &UrdfInclude::default(),
-            &[],
-            &mut Vec::new(),
-            &mut warnings,
-        )
-        .expect("loads");
+        let (idx, _, warnings) = import(&p).expect("loads");
         let _ = std::fs::remove_file(&p);
         assert_eq!(idx.text, None);
         assert!(warnings.iter().any(|w| w.contains("not kept")), "{warnings:?}");
@@ -906,15 +884,7 @@ mod tests {
               <joint name="j1" type="fixed"><parent link="a"/><child link="b"/></joint>
               <joint name="j2" type="fixed"><parent link="b"/><child link="a"/></joint></robot>"#,
         );
-        let err = import_urdf(
-            &DiskFiles,
-            &p,
-            &UrdfInclude::default(),
-            &[],
-            &mut Vec::new(),
-            &mut Vec::new(),
-        )
-        .expect_err("cycle");
+        let err = import(&p).map(|_| ()).expect_err("cycle");
         assert!(err.to_string().contains("cycle"), "{err}");
     }
 
@@ -924,15 +894,7 @@ mod tests {
             "mesh",
             r#"<robot name="r"><link name="a"><collision><geometry><mesh filename="package://nope/m.stl"/></geometry></collision></link></robot>"#,
         );
-        let err = import_urdf(
-            &DiskFiles,
-            &p,
-            &UrdfInclude::default(),
-            &[],
-            &mut Vec::new(),
-            &mut Vec::new(),
-        )
-        .expect_err("missing mesh");
+        let err = import(&p).map(|_| ()).expect_err("missing mesh");
         let msg = err.to_string();
         assert!(msg.contains("link 'a'") && msg.contains("--package-path"), "{msg}");
     }
