@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 245 functions, 187 constants."""
+    """`sim`: 246 functions, 188 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -75,6 +75,7 @@ class Sim:
     handle_world: int
     handleflag_abscoords: int
     handleflag_addmultiple: int
+    handleflag_depthbuffermeters: int
     handleflag_reljointbaseframe: int
     handleflag_resetforce: int
     handleflag_resetforcetorque: int
@@ -365,6 +366,7 @@ class Sim:
     def getVisionSensorCharImage(self, *args: Any) -> Any:
         """resX, resY are the sensor's full resolution; `h | sim.handleflag_greyscale` gives one byte per pixel."""
     def getVisionSensorDepth(self, *args: Any) -> Any: ...
+    def getVisionSensorDepthBuffer(self, *args: Any) -> Any: ...
     def getVisionSensorImage(self, *args: Any) -> Any:
         """values are the byte image divided by 255 (256 levels); `returnType=1` returns packed little-endian floats."""
     def getVisionSensorImg(self, *args: Any) -> Any:

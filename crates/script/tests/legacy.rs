@@ -621,3 +621,30 @@ function report() return table.concat(steps, '|'), err end
     let Value::Str(e) = &r[1] else { panic!("{r:?}") };
     assert_contains(e, &["sim.handle_single", "addObjectToSelection"]);
 }
+
+/// V-REP 3's depth buffer: a table, normalised or (with the flag) in metres, the same
+/// depths as `sim.getVisionSensorDepth`.
+#[test]
+fn vision_sensor_depth_buffer_as_v_rep_3_returned_it() {
+    let script = r#"
+function sysCall_sensing()
+    local cam = sim.getObject('/bubbleRob/visionSensor')
+    sim.handleVisionSensor(cam)
+    local buf = sim.getVisionSensorDepthBuffer(cam)
+    local metres = sim.getVisionSensorDepthBuffer(cam + sim.handleflag_depthbuffermeters)
+    local packed, res = sim.getVisionSensorDepth(cam, 1)
+    local ref = sim.unpackFloatTable(packed)
+    local part = sim.getVisionSensorDepthBuffer(cam, 1, 1, 2, 3)
+    local inRange, same = true, true
+    for i = 1, #buf do
+        if buf[i] < 0 or buf[i] > 1 then inRange = false end
+        if math.abs(metres[i] - ref[i]) > 1e-6 then same = false end
+    end
+    result = {#buf == res[1] * res[2] and 1 or 0, inRange and 1 or 0, same and 1 or 0, #part}
+end
+function report() return table.concat(result, ',') end
+"#;
+    let mut s = Scene::rover("depth-buffer", script);
+    s.sim.step();
+    assert_eq!(s.call("report", &[]), [Value::from("1,1,1,6")]);
+}

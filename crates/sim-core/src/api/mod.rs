@@ -480,6 +480,7 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("handleflag_addmultiple", 0x0100_0000),
     ("handleflag_silenterror", scene::HANDLEFLAG_SILENT_ERROR),
     ("handleflag_reljointbaseframe", objects::HANDLEFLAG_REL_JOINT_BASE_FRAME),
+    ("handleflag_depthbuffermeters", 0x0080_0000),
     ("verbosity_none", 100),
     ("verbosity_errors", 200),
     ("verbosity_warnings", 300),

@@ -34,6 +34,11 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::Sim(get_vision_sensor_depth),
     },
     ApiFunction {
+        // V-REP 3 to CoppeliaSim 4.5's depth as a table.
+        name: "getVisionSensorDepthBuffer",
+        call: ApiFn::Sim(get_vision_sensor_depth_buffer),
+    },
+    ApiFunction {
         // CoppeliaSim 4.0-4.5's float image.
         name: "getVisionSensorImage",
         call: ApiFn::Sim(get_vision_sensor_image),
@@ -571,6 +576,37 @@ fn set_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'
     ];
     set_vision_sensor_img(sim, ctx, &Args::new(&args))?;
     Ok(vec![Value::Int(1)])
+}
+
+/// `sim.handleflag_depthbuffermeters`, or-ed into the sensor handle of
+/// `sim.getVisionSensorDepthBuffer`.
+const HANDLEFLAG_DEPTH_METRES: Handle = 0x0080_0000;
+
+/// `sim.getVisionSensorDepthBuffer(h [| handleflag_depthbuffermeters], posX=0, posY=0,
+/// sizeX=0, sizeY=0)` → a table of depths (V-REP 3 to CoppeliaSim 4.5), bottom row
+/// first: from 0 at the near plane to 1 at the far one, or in metres with the flag.
+/// `sim.getVisionSensorDepth` with the portion as four integers, unpacked.
+fn get_vision_sensor_depth_buffer(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let raw = a.handle(0)?;
+    let metres = raw >= 0 && raw & HANDLEFLAG_DEPTH_METRES != 0;
+    let h = if metres { raw & !HANDLEFLAG_DEPTH_METRES } else { raw };
+    let mut xy = [0i64; 4];
+    for (k, v) in xy.iter_mut().enumerate() {
+        *v = a.opt_int(k + 1, 0)?;
+    }
+    let pair = |x: i64, y: i64| Value::Array(vec![Value::Int(x), Value::Int(y)]);
+    let args = [
+        Value::Int(h),
+        Value::Int(i64::from(metres)),
+        pair(xy[0], xy[1]),
+        pair(xy[2], xy[3]),
+    ];
+    let bytes = reply_bytes(get_vision_sensor_depth(sim, ctx, &Args::new(&args))?);
+    let depths = bytes
+        .chunks_exact(4)
+        .map(|c| Value::Float(f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]]))))
+        .collect();
+    Ok(vec![Value::Array(depths)])
 }
 
 /// `sim.getVisionSensorImage(h, posX=0, posY=0, sizeX=0, sizeY=0, returnType=0)` → the
