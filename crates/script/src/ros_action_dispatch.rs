@@ -16,8 +16,8 @@ use mlua::{Function, Value as LuaValue};
 use crate::app_state::state;
 use crate::ros::action::{
     ActionClient, ActionServer, CANCEL_ACCEPT, GOAL_ACCEPT_AND_DEFER, GOAL_ACCEPT_AND_EXECUTE, GOAL_REJECT, GoalId,
-    MAX_WAITING, ServerGoal, cancel_code, cancel_service, goal_id_of, goal_id_string, result_code, status, time_of,
-    uuid_value,
+    MAX_WAITING, ServerGoal, cancel_code, cancel_service, goal_id_of, goal_id_string, key, result_code, status,
+    time_of, uuid_value,
 };
 use crate::ros::host::{Kind, RosHost};
 use crate::ros::lua_api::sim_time;
@@ -53,10 +53,6 @@ enum Event {
         callback: Result<Function, String>,
         args: Vec<Value>,
     },
-}
-
-fn key(k: &str) -> Value {
-    Value::Str(k.to_owned())
 }
 
 /// The requests received on `id`, each with its request header, decoded as `ty`.
@@ -298,18 +294,6 @@ impl Simulation {
         }
     }
 
-    /// Runs `f` on action server `h` if it still exists (a callback may have shut it
-    /// down), with the network.
-    fn on_server<T>(&self, h: i64, f: impl FnOnce(&ActionServer, &dyn RosNetwork) -> T) -> Option<T> {
-        let host = state::<RosHost>(&self.lua);
-        let net = host.network().ok()?;
-        let endpoints = host.endpoints.borrow();
-        match endpoints.get(&h).map(|e| &e.kind) {
-            Some(Kind::ActionServer(s)) => Some(f(s, net.as_ref())),
-            _ => None,
-        }
-    }
-
     fn goal_request(
         &mut self,
         server: i64,
@@ -334,7 +318,7 @@ impl Simulation {
             }
         };
         let now = sim_time(&self.lua);
-        let accepted = self.on_server(server, |s, net| {
+        let accepted = state::<RosHost>(&self.lua).with_action_server(server, |s, net| {
             let duplicate = s.goals.borrow().iter().any(|g| g.id == id);
             let accepted = initial.is_some() && !duplicate;
             let mut body = request_header(header.0, header.1);
@@ -379,8 +363,8 @@ impl Simulation {
         // rcl_action's rules: a zero id and zero stamp cancel every goal; a stamp cancels
         // the goals accepted at or before it; an id cancels that goal.
         let any_id = id == GoalId::default();
-        let (candidates, known_ended) = self
-            .on_server(server, |s, _| {
+        let (candidates, known_ended) = state::<RosHost>(&self.lua)
+            .with_action_server(server, |s, _| {
                 let goals = s.goals.borrow();
                 let matches = |g: &&ServerGoal| {
                     (any_id && stamp == 0.0) || (!any_id && g.id == id) || (stamp > 0.0 && g.accepted_at <= stamp)
@@ -417,7 +401,7 @@ impl Simulation {
         } else {
             cancel_code::NONE
         };
-        self.on_server(server, |s, net| {
+        state::<RosHost>(&self.lua).with_action_server(server, |s, net| {
             let mut infos = Vec::new();
             for g in s.goals.borrow_mut().iter_mut() {
                 if canceling.contains(&g.id) && matches!(g.status, status::ACCEPTED | status::EXECUTING) {

@@ -13,7 +13,7 @@ use std::sync::Arc;
 use gantry_script::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use util::loopback::Loopback;
-use util::{Scene, assert_contains, int32_signal, script_error, script_state};
+use util::{Scene, assert_contains, assert_running, int32_signal, script_error, script_state};
 
 const SCENE: &str = r#"
 [simulation]
@@ -91,12 +91,7 @@ fn scripts_talk_through_topics_and_callbacks_run_in_the_subscriber() {
     let (mut sc, net) = scene("ros-talk", &[("talker.lua", TALKER), ("listener.lua", LISTENER)]);
     sc.sim.start();
     for f in ["talker.lua", "listener.lua"] {
-        assert_eq!(
-            script_state(&sc.sim, f),
-            ScriptState::Running,
-            "{}",
-            script_error(&sc.sim, f)
-        );
+        assert_running(&sc.sim, f);
     }
     assert_eq!(
         net.open_topics(),
@@ -145,12 +140,7 @@ end
 "#;
     let (mut sc, _net) = scene("ros-errors", &[("talker.lua", probe), ("listener.lua", "")]);
     sc.sim.start();
-    assert_eq!(
-        script_state(&sc.sim, "talker.lua"),
-        ScriptState::Running,
-        "{}",
-        script_error(&sc.sim, "talker.lua")
-    );
+    assert_running(&sc.sim, "talker.lua");
     let expect: &[(&str, &[&str])] = &[
         ("field", &["geometry_msgs/msg/Twist", "linear.q", "simROS2.publish"]),
         ("kind", &["linear.x", "number", "string"]),
@@ -178,12 +168,7 @@ end
 "#;
     let (mut sc, net) = scene("ros-service", &[("talker.lua", server), ("listener.lua", "")]);
     sc.sim.start();
-    assert_eq!(
-        script_state(&sc.sim, "talker.lua"),
-        ScriptState::Running,
-        "{}",
-        script_error(&sc.sim, "talker.lua")
-    );
+    assert_running(&sc.sim, "talker.lua");
     assert_eq!(net.open_topics(), ["rq/set_flagRequest", "rr/set_flagReply"]);
     // A request as rmw_cyclonedds writes it: client id, sequence number, then `data`.
     let mut req = Vec::new();
@@ -207,7 +192,7 @@ end
     // A malformed request is dropped; the server keeps serving.
     net.inject("rq/set_flagRequest", vec![1, 2, 3]);
     sc.sim.step();
-    assert_eq!(script_state(&sc.sim, "talker.lua"), ScriptState::Running);
+    assert_running(&sc.sim, "talker.lua");
 }
 
 #[test]
@@ -223,12 +208,7 @@ function onFlag(msg) sim.setInt32Signal('flag', msg.data and 1 or 0) end
 "#;
     let (mut sc, net) = scene("ros-one", &[("talker.lua", ros1), ("listener.lua", "")]);
     sc.sim.start();
-    assert_eq!(
-        script_state(&sc.sim, "talker.lua"),
-        ScriptState::Running,
-        "{}",
-        script_error(&sc.sim, "talker.lua")
-    );
+    assert_running(&sc.sim, "talker.lua");
     assert_eq!(net.open_topics(), ["rt/flag", "rt/flag"]);
     sc.sim.step();
     sc.sim.step();
@@ -324,12 +304,7 @@ end
 "#;
     let (mut sc, net) = scene("ros-image", &[("talker.lua", script), ("listener.lua", "")]);
     sc.sim.start();
-    assert_eq!(
-        script_state(&sc.sim, "talker.lua"),
-        ScriptState::Running,
-        "{}",
-        script_error(&sc.sim, "talker.lua")
-    );
+    assert_running(&sc.sim, "talker.lua");
     let writes = net.writes.lock().unwrap().clone();
     let (topic, body) = writes.first().expect("an image");
     assert_eq!(topic, "rt/camera/image");

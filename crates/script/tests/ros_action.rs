@@ -11,10 +11,10 @@ mod util;
 use std::sync::Arc;
 
 use gantry_protocol::ros::message_type;
-use gantry_script::{ScriptLimits, ScriptState};
+use gantry_script::ScriptLimits;
 use gantry_sim_core::Value;
 use util::loopback::Loopback;
-use util::{Scene, assert_contains, script_error, script_state};
+use util::{Scene, assert_contains, assert_running};
 
 const SCENE: &str = r#"
 [simulation]
@@ -156,12 +156,7 @@ fn a_script_serves_an_action_that_another_script_calls() {
     let (mut sc, net) = scene("ros-action", SERVER, CLIENT);
     sc.sim.start();
     for f in ["server.lua", "client.lua"] {
-        assert_eq!(
-            script_state(&sc.sim, f),
-            ScriptState::Running,
-            "{}",
-            script_error(&sc.sim, f)
-        );
+        assert_running(&sc.sim, f);
     }
     let topics = net.open_topics();
     for t in [
@@ -180,12 +175,7 @@ fn a_script_serves_an_action_that_another_script_calls() {
         sc.sim.step();
     }
     for f in ["server.lua", "client.lua"] {
-        assert_eq!(
-            script_state(&sc.sim, f),
-            ScriptState::Running,
-            "{}",
-            script_error(&sc.sim, f)
-        );
+        assert_running(&sc.sim, f);
     }
     let report = sc.call("report", &[]);
     // Goal ids are 32 hex digits; the order-0 goal (a default FibonacciGoal) is
@@ -286,12 +276,7 @@ end
 "#;
     let (mut sc, net) = scene("ros-action-wire", server, "");
     sc.sim.start();
-    assert_eq!(
-        script_state(&sc.sim, "server.lua"),
-        ScriptState::Running,
-        "{}",
-        script_error(&sc.sim, "server.lua")
-    );
+    assert_running(&sc.sim, "server.lua");
     let ty = gantry_protocol::ros::action_type("example_interfaces/action/Fibonacci").unwrap();
     let id: Vec<u8> = (1..=16).collect();
     let guid = 0x5EED_u64;
@@ -313,7 +298,7 @@ end
     // Garbage is dropped.
     net.inject("rq/fib/_action/send_goalRequest", vec![1, 2, 3]);
     sc.sim.step();
-    assert_eq!(script_state(&sc.sim, "server.lua"), ScriptState::Running);
+    assert_running(&sc.sim, "server.lua");
 
     let accepted = replies(&net, "rr/fib/_action/send_goalReply", guid, 1);
     assert_eq!(accepted.len(), 1);

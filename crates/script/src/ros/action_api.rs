@@ -151,34 +151,28 @@ pub(super) fn create_action_client(lua: &Lua, args: &MultiValue) -> Res {
     Ok(vec![LuaValue::Integer(h)])
 }
 
-/// Runs `f` on action server `h`.
+/// Runs `f` on action server `h`, or says why not.
 fn with_server<T>(
     lua: &Lua,
     h: i64,
     f: impl FnOnce(&ActionServer, &dyn RosNetwork) -> Result<T, String>,
 ) -> Result<T, String> {
     let host = state::<RosHost>(lua);
-    let net = host.network().map_err(|e| e.to_string())?;
-    let endpoints = host.endpoints.borrow();
-    match endpoints.get(&h).map(|e| &e.kind) {
-        Some(Kind::ActionServer(s)) => f(s, net.as_ref()),
-        _ => Err(format!("argument 1: {h} is not an action server handle")),
-    }
+    host.network().map_err(|e| e.to_string())?;
+    host.with_action_server(h, f)
+        .unwrap_or_else(|| Err(format!("argument 1: {h} is not an action server handle")))
 }
 
-/// Runs `f` on action client `h`.
+/// Runs `f` on action client `h`, or says why not.
 fn with_client<T>(
     lua: &Lua,
     h: i64,
     f: impl FnOnce(&ActionClient, &dyn RosNetwork) -> Result<T, String>,
 ) -> Result<T, String> {
     let host = state::<RosHost>(lua);
-    let net = host.network().map_err(|e| e.to_string())?;
-    let endpoints = host.endpoints.borrow();
-    match endpoints.get(&h).map(|e| &e.kind) {
-        Some(Kind::ActionClient(c)) => f(c, net.as_ref()),
-        _ => Err(format!("argument 1: {h} is not an action client handle")),
-    }
+    host.network().map_err(|e| e.to_string())?;
+    host.with_action_client(h, f)
+        .unwrap_or_else(|| Err(format!("argument 1: {h} is not an action client handle")))
 }
 
 fn goal_arg(args: &MultiValue) -> Result<GoalId, String> {

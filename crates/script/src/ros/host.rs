@@ -115,6 +115,33 @@ impl RosHost {
             .ok_or_else(|| NetworkError(NO_NETWORK.to_owned()))
     }
 
+    /// Runs `f` on action server `h` with the network; `None` without a network or
+    /// without such a server (a callback may have shut it down).
+    pub(crate) fn with_action_server<T>(
+        &self,
+        h: i64,
+        f: impl FnOnce(&ActionServer, &dyn RosNetwork) -> T,
+    ) -> Option<T> {
+        let net = self.network().ok()?;
+        match self.endpoints.borrow().get(&h).map(|e| &e.kind) {
+            Some(Kind::ActionServer(s)) => Some(f(s, net.as_ref())),
+            _ => None,
+        }
+    }
+
+    /// [`Self::with_action_server`] for action client `h`.
+    pub(crate) fn with_action_client<T>(
+        &self,
+        h: i64,
+        f: impl FnOnce(&ActionClient, &dyn RosNetwork) -> T,
+    ) -> Option<T> {
+        let net = self.network().ok()?;
+        match self.endpoints.borrow().get(&h).map(|e| &e.kind) {
+            Some(Kind::ActionClient(c)) => Some(f(c, net.as_ref())),
+            _ => None,
+        }
+    }
+
     /// Opens one network endpoint.
     pub(crate) fn open(
         &self,

@@ -232,6 +232,16 @@ pub fn script_state(sim: &Simulation, file: &str) -> ScriptState {
         .unwrap_or_else(|| panic!("no script {file}"))
 }
 
+/// Fails with the script's error unless script `file` is running.
+pub fn assert_running(sim: &Simulation, file: &str) {
+    assert_eq!(
+        script_state(sim, file),
+        ScriptState::Running,
+        "{file}: {}",
+        script_error(sim, file)
+    );
+}
+
 /// The error text of an errored script, or a panic if it is running.
 pub fn script_error(sim: &Simulation, file: &str) -> String {
     match script_state(sim, file) {

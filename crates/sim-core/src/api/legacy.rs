@@ -311,14 +311,20 @@ fn remove_model(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
             "argument 1: object {base} is not a model base; remove plain objects with sim.removeObjects"
         )));
     }
-    let mut tree = vec![base];
-    let mut i = 0;
-    while i < tree.len() {
-        tree.extend(sim.world.children(tree[i]).iter().copied());
-        i += 1;
-    }
+    let tree = tree_from(&sim.world, &[base]);
     sim.remove_objects(&tree)?;
     Ok(vec![Value::Int(i64::try_from(tree.len()).unwrap_or(i64::MAX))])
+}
+
+/// `bases` and every object below them, each base before its descendants.
+fn tree_from(w: &World, bases: &[Handle]) -> Vec<Handle> {
+    let mut tree = bases.to_vec();
+    let mut i = 0;
+    while i < tree.len() {
+        tree.extend(w.children(tree[i]).iter().copied());
+        i += 1;
+    }
+    tree
 }
 
 /// The objects `sim.addObjectToSelection` and `sim.removeObjectFromSelection` (V-REP
@@ -344,27 +350,13 @@ fn selection_targets(w: &World, a: &Args<'_>) -> Result<Vec<Handle>, SimError> {
     }
     let what = a.int(0)?;
     if what == HANDLE_ALL {
-        let mut all = Vec::new();
-        let mut stack: Vec<Handle> = w.roots().iter().rev().copied().collect();
-        while let Some(h) = stack.pop() {
-            all.push(h);
-            stack.extend(w.children(h).iter().rev().copied());
-        }
-        return Ok(all);
+        return Ok(tree_from(w, w.roots()));
     }
     let h = a.handle(1)?;
     w.object(h)?;
     Ok(match what {
         HANDLE_SINGLE => vec![h],
-        HANDLE_TREE => {
-            let mut tree = vec![h];
-            let mut i = 0;
-            while i < tree.len() {
-                tree.extend(w.children(tree[i]).iter().copied());
-                i += 1;
-            }
-            tree
-        }
+        HANDLE_TREE => tree_from(w, &[h]),
         HANDLE_CHAIN => {
             let mut chain = vec![h];
             while let Some(p) = w.object(*chain.last().unwrap_or(&h))?.parent {
