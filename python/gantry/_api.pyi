@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 246 functions, 188 constants."""
+    """`sim`: 262 functions, 242 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -114,6 +114,31 @@ class Sim:
     jointmode_kinematic: int
     jointmode_passive: int
     message_keypress: int
+    modelproperty_not_collidable: int
+    modelproperty_not_cuttable: int
+    modelproperty_not_detectable: int
+    modelproperty_not_dynamic: int
+    modelproperty_not_measurable: int
+    modelproperty_not_model: int
+    modelproperty_not_renderable: int
+    modelproperty_not_reset: int
+    modelproperty_not_respondable: int
+    modelproperty_not_showasinsidemodel: int
+    modelproperty_not_visible: int
+    modelproperty_scripts_inactive: int
+    msgbox_buttons_ok: int
+    msgbox_buttons_okcancel: int
+    msgbox_buttons_yesno: int
+    msgbox_buttons_yesnocancel: int
+    msgbox_return_cancel: int
+    msgbox_return_error: int
+    msgbox_return_no: int
+    msgbox_return_ok: int
+    msgbox_return_yes: int
+    msgbox_type_critical: int
+    msgbox_type_info: int
+    msgbox_type_question: int
+    msgbox_type_warning: int
     object_camera_type: int
     object_dummy_type: int
     object_forcesensor_type: int
@@ -123,6 +148,28 @@ class Sim:
     object_proximitysensor_type: int
     object_shape_type: int
     object_visionsensor_type: int
+    objectproperty_cannotdelete: int
+    objectproperty_cannotdeleteduringsim: int
+    objectproperty_collapsed: int
+    objectproperty_depthinvisible: int
+    objectproperty_dontshowasinsidemodel: int
+    objectproperty_hiddenforsimulation: int
+    objectproperty_ignoreviewfitting: int
+    objectproperty_selectable: int
+    objectproperty_selectinvisible: int
+    objectproperty_selectmodelbaseinstead: int
+    objectspecialproperty_collidable: int
+    objectspecialproperty_cuttable: int
+    objectspecialproperty_detectable: int
+    objectspecialproperty_detectable_all: int
+    objectspecialproperty_detectable_capacitive: int
+    objectspecialproperty_detectable_inductive: int
+    objectspecialproperty_detectable_infrared: int
+    objectspecialproperty_detectable_laser: int
+    objectspecialproperty_detectable_ultrasonic: int
+    objectspecialproperty_measurable: int
+    objectspecialproperty_pathplanning_ignored: int
+    objectspecialproperty_renderable: int
     objfloatparam_abs_rot_velocity: int
     objfloatparam_abs_x_velocity: int
     objfloatparam_abs_y_velocity: int
@@ -171,6 +218,13 @@ class Sim:
     simulation_advancing_running: int
     simulation_paused: int
     simulation_stopped: int
+    stringparam_application_path: int
+    stringparam_modeldefaultdir: int
+    stringparam_scene_name: int
+    stringparam_scene_path: int
+    stringparam_scene_path_and_name: int
+    stringparam_scenedefaultdir: int
+    stringparam_tempdir: int
     verbosity_debug: int
     verbosity_errors: int
     verbosity_infos: int
@@ -253,6 +307,8 @@ class Sim:
         """the cloud is a scene object (`sim.object_pointcloud_type`, 16) at the world origin, alias `PointCloud`, with white points. As in CoppeliaSim, sizes are clamped (voxel 0.001-1 m, 1-100 points per voxel, 1-8 pixels; the point size is rounded); negative or non-finite ones are an error. `maxVoxelSize` and `maxPtCntPerVoxel` only shape the calculation structure: a full voxel splits (as the manual says), no point is ever dropped for them. Option bits 1 (show OC tree) and 4 (emissive) are kept and reported, not drawn; bit 0 makes the viewer show random colours; bit 3 (no calculation structure) turns the insertion duplicate check off, as in CoppeliaSim. Point clouds are not collidable, measurable or detectable, and vision sensors do not render them; the viewer draws them as points of their colour and size."""
     def createPrimitiveShape(self, *args: Any) -> Any:
         """the shape is static, non-respondable, white, 1000 kg/m^3, at the origin; option bits 0-2 are accepted and ignored; non-round spheroids, elliptic cylinders and cones are tessellated meshes (their density-based mass uses the bounding box)."""
+    def createPureShape(self, *args: Any) -> Any:
+        """V-REP 3's primitive (0 cuboid, 1 sphere, 2 cylinder, 3 cone) with a mass in kg; options bit 3 respondable, bit 4 static (else dynamic); the drawing bits (culling, edges, smoothing, open ends) and `precision` are accepted and ignored (round shapes are exact primitives)."""
     def destroyCollection(self, *args: Any) -> Any: ...
     def displayDialog(self, *args: Any) -> Any:
         """gantry has no modal windows: the dialog is a log line, answered OK at once (`sim.getDialogResult` returns `sim.dlgret_ok`)."""
@@ -267,6 +323,7 @@ class Sim:
     def getBoolParameter(self, *args: Any) -> Any: ...
     def getBufferProperty(self, *args: Any) -> Any:
         """the custom data blocks only (`customData.<tag>`); a missing block is an error, or nil with `{noError = true}`."""
+    def getCollectionObjects(self, *args: Any) -> Any: ...
     def getDialogResult(self, *args: Any) -> Any: ...
     def getDrawingObjectItems(self, *args: Any) -> Any: ...
     def getEulerAnglesFromMatrix(self, *args: Any) -> Any: ...
@@ -294,6 +351,8 @@ class Sim:
     def getLinkDummy(self, *args: Any) -> Any: ...
     def getMatrixInverse(self, *args: Any) -> Any:
         """a 3x3 block that is not a rotation gives some rotation, not an error (read by the closed-form method)."""
+    def getModelProperty(self, *args: Any) -> Any:
+        """a model base's override flags; an object that is no model base has `sim.modelproperty_not_model` (0xf000) set."""
     def getModuleName(self, *args: Any) -> Any:
         """lists the plugins gantry stands in for (`ROS2`, `ROS`, `RosInterface`, `IK`, `CustomUI`, `Vision`, `RemoteApi`), version 4, then `nil`."""
     def getNameSuffix(self, *args: Any) -> Any:
@@ -304,6 +363,7 @@ class Sim:
     def getObjectAssociatedWithScript(self, *args: Any) -> Any:
         """a script's handle is its object's handle, so this returns its argument (or the calling script's object for `sim.handle_self`)."""
     def getObjectChild(self, *args: Any) -> Any: ...
+    def getObjectColor(self, *args: Any) -> Any: ...
     def getObjectFloatParam(self, *args: Any) -> Any: ...
     def getObjectFloatParameter(self, *args: Any) -> Any: ...
     def getObjectHandle(self, *args: Any) -> Any:
@@ -317,6 +377,7 @@ class Sim:
     def getObjectParent(self, *args: Any) -> Any: ...
     def getObjectPose(self, *args: Any) -> Any: ...
     def getObjectPosition(self, *args: Any) -> Any: ...
+    def getObjectProperty(self, *args: Any) -> Any: ...
     def getObjectQuaternion(self, *args: Any) -> Any: ...
     def getObjectSel(self, *args: Any) -> Any:
         """the selection is the viewer's: a click on an object selects it (a click on nothing clears it)."""
@@ -324,6 +385,7 @@ class Sim:
         """4.1's name for `sim.getObjectSel`, kept with its 4.1 result: `nil` when nothing is selected."""
     def getObjectSizeFactor(self, *args: Any) -> Any:
         """always 1: scaling a shape (`sim.setShapeBB`, `sim.scaleObject`) changes its geometry rather than a factor."""
+    def getObjectSpecialProperty(self, *args: Any) -> Any: ...
     def getObjectType(self, *args: Any) -> Any: ...
     def getObjectVelocity(self, *args: Any) -> Any: ...
     def getObjects(self, *args: Any) -> Any: ...
@@ -356,6 +418,9 @@ class Sim:
     def getSimulationTimeStep(self, *args: Any) -> Any: ...
     def getSimulatorMessage(self, *args: Any) -> Any:
         """the events are the keys pressed in the viewer's 3D view (`sim.message_keypress`, `{code, modifiers, 0, 0}`: a character's code, arrows 2007-2010, Enter 13, Escape 27; bit 0 ctrl, bit 1 shift); each script has its own queue, and remote clients share one. The last 256 events are kept."""
+    def getStringParam(self, *args: Any) -> Any:
+        """the scene's file, folder and name, gantry's folder and the temporary folder; `sim.stringparam_scenedefaultdir` and `_modeldefaultdir` (CoppeliaSim's installation folders) are the scene's folder, where relative scene and model paths resolve."""
+    def getStringParameter(self, *args: Any) -> Any: ...
     def getStringSignal(self, *args: Any) -> Any:
         """returns a byte buffer, as CoppeliaSim 4.6+ does (Python clients get `bytes`; Lua a string)."""
     def getSystemTime(self, *args: Any) -> Any: ...
@@ -387,11 +452,15 @@ class Sim:
     def isHandle(self, *args: Any) -> Any: ...
     def isHandleValid(self, *args: Any) -> Any:
         """V-REP 3's: 1 when the handle names a scene object and the type is -1 or 109 (`sim_appobj_object_type`), else 0; gantry's handles name scene objects only."""
+    def loadImage(self, *args: Any) -> Any:
+        """PNG files inside the scene's folder, as RGB (RGBA with option bit 0)."""
     def loadModel(self, *args: Any) -> Any:
         """reads a robot (`.urdf`, base fixed unless `--free-base`) or a gantry model (a `.toml` scene file with `[[object]]`, `[[robot]]` and `[[script]]` only); CoppeliaSim's `.ttm` is refused. The model joins the scene for good (a stop restores it as loaded); its scripts initialise at once during a run. Scripts load model files only from inside the scene's folder; remote clients from any path gantry can read. The returned handle is the model base's; the handles of a model loaded after objects were created at run time change at the next stop, when the scene is rebuilt from the files."""
     def loadScene(self, *args: Any) -> Any:
         """reads gantry scenes (.toml) and URDFs; a CoppeliaSim .ttt/.ttm is refused by name. The running simulation stops (cleanup hooks run) and the new scene waits, stopped, for `sim.startSimulation`; a file that does not load leaves the current scene as it was. Command-line overrides (`--dt`, `--substeps`) apply only to the scene gantry started with. Remote clients only."""
     def matrixToPose(self, *args: Any) -> Any: ...
+    def msgBox(self, *args: Any) -> Any:
+        """no modal windows in gantry: the message is a log line at the box's level and the box is answered at once with its affirmative button (OK, or Yes)."""
     def multiplyMatrices(self, *args: Any) -> Any: ...
     def multiplyPoses(self, *args: Any) -> Any: ...
     def multiplyVector(self, *args: Any) -> Any: ...
@@ -436,6 +505,8 @@ class Sim:
     def ruckigStep(self, *args: Any) -> Any:
         """`cycleTime` must be a whole number of base cycles (within 0.1 %); after a Ruckig failure the state is returned unchanged."""
     def ruckigVel(self, *args: Any) -> Any: ...
+    def saveImage(self, *args: Any) -> Any:
+        """PNG only (lossless; `quality` ignored), written inside the scene's folder like every file the API writes; a bare extension (`'.png'`) returns the encoded file. Rows go in buffer order, so a vision sensor's image (bottom row first) is upside down in the file, as in CoppeliaSim."""
     def scaleObject(self, *args: Any) -> Any:
         """shapes only (as `sim.setShapeBB`, by factors); other objects are refused; `options` is ignored."""
     def setArrayParam(self, *args: Any) -> Any: ...
@@ -467,8 +538,12 @@ class Sim:
         """a kinematic joint turns at that speed from the next step until a limit stops it (0 stops it)."""
     def setLinkDummy(self, *args: Any) -> Any:
         """every link is a dynamic loop closure (CoppeliaSim's default link type): a fixed joint between the bodies the two dummies ride on pulls their frames together (two dummies on the same body, or on none, are linked without effect). A link does not survive a physics rebuild of either body (re-parenting, a static/dynamic switch): link again after one."""
+    def setModelProperty(self, *args: Any) -> Any:
+        """`not_dynamic` holds the model's shapes still (static) and `not_respondable` takes them out of contacts, from the next step; the other flags (visibility, detection, rendering, collision and distance checks, scripts inactive) are kept and reported back, but gantry's viewer, sensors, checks and scripts do not consult them."""
     def setObjectAlias(self, *args: Any) -> Any:
         """characters other than letters, digits and `_` become `_`; an empty alias is an error. `sim.handleflag_silenterror` OR-ed onto the handle (4.0-4.2 scripts pass it to `sim.setObjectName`) ignores a missing object or a bad alias instead of raising."""
+    def setObjectColor(self, *args: Any) -> Any:
+        """a shape's one colour is index 0; other objects have none (the call returns false)."""
     def setObjectFloatParam(self, *args: Any) -> Any: ...
     def setObjectFloatParameter(self, *args: Any) -> Any: ...
     def setObjectInt32Param(self, *args: Any) -> Any: ...
@@ -480,9 +555,13 @@ class Sim:
         """rebuilding physics restarts the dynamics of the moved subtree at rest."""
     def setObjectPose(self, *args: Any) -> Any: ...
     def setObjectPosition(self, *args: Any) -> Any: ...
+    def setObjectProperty(self, *args: Any) -> Any:
+        """editor flags (selection, collapsing, deletion guards), kept and reported back."""
     def setObjectQuaternion(self, *args: Any) -> Any: ...
     def setObjectSel(self, *args: Any) -> Any:
         """the viewer shows the first selected object; handles must exist; at most 1024."""
+    def setObjectSpecialProperty(self, *args: Any) -> Any:
+        """kept and reported back by `sim.getObjectSpecialProperty` (a shape starts collidable, measurable, detectable and renderable); gantry's sensors and checks see every shape whatever the flags say."""
     def setPointCloudOptions(self, *args: Any) -> Any: ...
     def setReferencedHandles(self, *args: Any) -> Any: ...
     def setScriptSimulationParameter(self, *args: Any) -> Any: ...
@@ -496,6 +575,8 @@ class Sim:
     def setStringSignal(self, *args: Any) -> Any: ...
     def setUserParameter(self, *args: Any) -> Any: ...
     def setVisionSensorCharImage(self, *args: Any) -> Any: ...
+    def setVisionSensorImage(self, *args: Any) -> Any:
+        """the float image (0..1, a table or packed floats), RGB or with `sim.handleflag_greyscale` grey, written as `sim.setVisionSensorImg` writes bytes."""
     def setVisionSensorImg(self, *args: Any) -> Any: ...
     def startSimulation(self, *args: Any) -> Any:
         """a request carried out when the calling hook returns (scripts only run while the simulation runs, so it matters only after a pause from a remote client)."""
@@ -649,8 +730,20 @@ class SimIK:
     def syncToSim(self, *args: Any) -> Any: ...
 
 class SimUI:
-    """`simUI`: 28 functions, 0 constants."""
+    """`simUI`: 29 functions, 12 constants."""
 
+    msgbox_buttons_ok: int
+    msgbox_buttons_okcancel: int
+    msgbox_buttons_yesno: int
+    msgbox_buttons_yesnocancel: int
+    msgbox_result_cancel: int
+    msgbox_result_no: int
+    msgbox_result_ok: int
+    msgbox_result_yes: int
+    msgbox_type_critical: int
+    msgbox_type_info: int
+    msgbox_type_question: int
+    msgbox_type_warning: int
     def create(self, *args: Any) -> Any: ...
     def destroy(self, *args: Any) -> Any: ...
     def getCheckboxValue(self, *args: Any) -> Any: ...
@@ -669,6 +762,8 @@ class SimUI:
     def hide(self, *args: Any) -> Any: ...
     def interact(self, *args: Any) -> Any: ...
     def isVisible(self, *args: Any) -> Any: ...
+    def msgBox(self, *args: Any) -> Any:
+        """as `sim.msgBox`, with `simUI.msgbox_result_*`."""
     def setButtonText(self, *args: Any) -> Any: ...
     def setCheckboxValue(self, *args: Any) -> Any: ...
     def setEditValue(self, *args: Any) -> Any: ...

@@ -128,7 +128,29 @@ pub(crate) fn install(lua: &Lua, listeners: &Rc<RefCell<ListenerState>>) -> mlua
     crate::launch::install(lua, &sim, &wrap)?;
     recording::install(lua, &sim, &wrap)?;
     control::install(lua, &sim)?;
+    install_in_place(lua, &sim)?;
     threads::install(lua, &sim)
+}
+
+/// V-REP 3's `sim.invertMatrix(matrix)`: inverts the 12-value matrix table the script
+/// passes, in place, and returns 1. Registry functions return new values; only the
+/// host can write into a table the script holds.
+fn install_in_place(lua: &Lua, sim: &Table) -> mlua::Result<()> {
+    const IN_PLACE: &str = r#"
+local sim, pcall, error = ...
+sim.invertMatrix = function(matrix)
+    local ok, inverse = pcall(sim.getMatrixInverse, matrix)
+    if not ok then error(inverse, 2) end
+    for i = 1, 12 do matrix[i] = inverse[i] end
+    return 1
+end
+"#;
+    let g = lua.globals();
+    lua.load(IN_PLACE).set_name("@gantry/in_place.lua").call::<()>((
+        sim.clone(),
+        g.get::<Function>("pcall")?,
+        g.get::<Function>("error")?,
+    ))
 }
 
 /// `sim.callScriptFunction`, `sim.getScript`, `sim.removeScript` and

@@ -230,6 +230,17 @@ pub(crate) fn install(lua: &Lua, sim: &Table) -> mlua::Result<()> {
             Ok(mlua::Value::Integer(1))
         })?,
     )?;
+    // V-REP 3: a "free" thread ran unsynchronised with the simulation, to block in
+    // system calls. gantry's threads are coroutines on the simulation thread whose
+    // blocking calls yield, so there is nothing to free: the flag is checked and
+    // accepted, with V-REP 3's 1 for success.
+    host.set(
+        "setThreadIsFree",
+        with_mode(|_, arg| {
+            truthy(arg.as_ref(), "setThreadIsFree")?;
+            Ok(mlua::Value::Integer(1))
+        })?,
+    )?;
     host.set(
         "isScriptRunningInThread",
         lua.create_function(move |lua, ()| {

@@ -648,3 +648,231 @@ function report() return table.concat(result, ',') end
     s.sim.step();
     assert_eq!(s.call("report", &[]), [Value::from("1,1,1,6")]);
 }
+
+/// V-REP 3's model properties: `sim.modelproperty_not_dynamic` on a model base holds
+/// its shapes still (the kinematic mode V-REP 3 rover scripts switch to) and clearing
+/// it lets them fall again; `not_model` bits turn the base into an ordinary object.
+#[test]
+fn model_properties_hold_a_model_still_and_release_it() {
+    let scene = r#"
+[[object]]
+name = "cart"
+kind = "dummy"
+model_base = true
+position = [0, 0, 1]
+
+[[object]]
+name = "box"
+kind = "shape"
+shape = "box"
+size = [0.1, 0.1, 0.1]
+parent = "cart"
+dynamic = true
+script = "probe.lua"
+"#;
+    let probe = r#"
+function sysCall_init()
+    cart = sim.getObject('/cart')
+    box = sim.getObject('/cart/box')
+    before = sim.getModelProperty(cart)
+    boxProp = sim.getModelProperty(box)
+    sim.setModelProperty(cart, sim.boolOr32(before, sim.modelproperty_not_dynamic))
+    held = sim.getModelProperty(cart)
+    special = sim.getObjectSpecialProperty(box)
+    sim.setObjectSpecialProperty(box, 0)
+    sim.setObjectProperty(box, sim.objectproperty_selectable)
+    ok, err = pcall(sim.setModelProperty, cart, 0x10000)
+end
+function release()
+    sim.setModelProperty(cart, sim.getModelProperty(cart) - sim.modelproperty_not_dynamic)
+end
+function report()
+    return before, boxProp, held, special, sim.getObjectSpecialProperty(box), sim.getObjectProperty(box), err,
+        sim.getObjectPosition(box, -1)[3]
+end
+"#;
+    let mut sc = Scene::new(
+        "model-property",
+        scene,
+        &[("probe.lua", probe)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    for _ in 0..20 {
+        sc.sim.step();
+    }
+    let r = sc.call("report", &[]);
+    assert_eq!(r[0], Value::Int(0), "a model base without overrides");
+    assert_eq!(
+        r[1],
+        Value::Int(0xf000),
+        "a shape that is no model says sim.modelproperty_not_model"
+    );
+    assert_eq!(r[2], Value::Int(0x20));
+    assert_eq!(
+        r[3],
+        Value::Int(0x3f3),
+        "a shape is collidable, measurable, detectable and renderable"
+    );
+    assert_eq!(r[4], Value::Int(0));
+    assert_eq!(r[5], Value::Int(0x20));
+    assert_contains(util::text(&r[6]), &["setModelProperty", "does not define"]);
+    assert_close(&[util::num(&r[7])], &[1.0], 1e-9);
+    sc.call("release", &[]);
+    for _ in 0..10 {
+        sc.sim.step();
+    }
+    let z = util::num(&sc.call("report", &[])[7]);
+    assert!(z < 0.9, "the box falls once the model is dynamic again: z = {z}");
+}
+
+/// Old names and small functions V-REP 3 and CoppeliaSim 4.0 scripts call: a pure shape
+/// (`sim.createPureShape`: a dynamic, respondable cuboid that falls), the string
+/// parameters, a message box answered at once, a matrix inverted in place, a free
+/// thread, the float image setter, object colours and a collection's objects.
+#[test]
+fn pure_shapes_string_parameters_message_boxes_and_in_place_inverses() {
+    let scene = r#"
+[[object]]
+name = "camera"
+kind = "vision_sensor"
+resolution = [2, 1]
+script = "probe.lua"
+"#;
+    let probe = r#"
+function sysCall_init()
+    cube = sim.createPureShape(0, 8, {0.1, 0.1, 0.1}, 0.5)
+    sim.setObjectPosition(cube, -1, {0, 0, 1})
+    ok, badType = pcall(sim.createPureShape, 7, 0, {0.1, 0.1, 0.1}, 1)
+    sceneName = sim.getStringParameter(sim.stringparam_scene_name)
+    scenePath = sim.getStringParam(sim.stringparam_scene_path)
+    answer = sim.msgBox(sim.msgbox_type_question, sim.msgbox_buttons_yesno, 'Quit?', 'Really?')
+    uiAnswer = simUI.msgBox(simUI.msgbox_type_info, simUI.msgbox_buttons_ok, 'Note', 'Saved')
+    m = {1, 0, 0, 1, 0, 1, 0, 2, 0, 0, 1, 3}
+    inverted = sim.invertMatrix(m)
+    colorSet = sim.setObjectColor(cube, 0, sim.colorcomponent_ambient_diffuse, {1, 0, 0})
+    color = sim.getObjectColor(cube, 0, sim.colorcomponent_ambient_diffuse)
+    noColor = sim.setObjectColor(sim.getObject('/camera'), 0, sim.colorcomponent_ambient_diffuse, {1, 0, 0})
+    local c = sim.createCollection(0)
+    sim.addItemToCollection(c, sim.handle_single, cube, 0)
+    members = sim.getCollectionObjects(c)
+    local cam = sim.getObject('/camera')
+    sim.setVisionSensorImage(cam, {1, 0, 0, 0, 0.5, 1})
+    img = sim.getVisionSensorImg(cam)
+end
+function report()
+    return cube, sim.getObjectPosition(cube, -1)[3], badType, sceneName, scenePath, answer, uiAnswer, m,
+        inverted, colorSet, color, noColor, members, img
+end
+"#;
+    let mut sc = Scene::new(
+        "pure-shape",
+        scene,
+        &[("probe.lua", probe)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    for _ in 0..10 {
+        sc.sim.step();
+    }
+    let r = sc.call("report", &[]);
+    let z = util::num(&r[1]);
+    assert!(
+        z < 0.95,
+        "a pure shape without option bit 4 is dynamic and falls: z = {z}"
+    );
+    assert_contains(util::text(&r[2]), &["createPureShape", "invalid primitive type 7"]);
+    assert!(util::text(&r[3]).ends_with(".toml"), "{:?}", r[3]);
+    assert!(!util::text(&r[4]).is_empty());
+    assert_eq!(r[5], Value::Int(2), "a yes/no box is answered yes");
+    assert_eq!(r[6], Value::Int(3), "an OK box is answered OK");
+    assert_close(
+        &util::floats(&r[7]),
+        &[1.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0, -2.0, 0.0, 0.0, 1.0, -3.0],
+        1e-12,
+    );
+    assert_eq!(r[8], Value::Int(1));
+    assert_eq!(r[9], Value::Bool(true));
+    assert_close(&util::floats(&r[10]), &[1.0, 0.0, 0.0], 1e-12);
+    assert_eq!(r[11], Value::Bool(false), "a vision sensor has no colour 0");
+    assert_eq!(util::ints(&r[12]), vec![util::int(&r[0])]);
+    assert_eq!(r[13], Value::Bytes(vec![255, 0, 0, 0, 128, 255]));
+    let log = log_lines(&sc.sim);
+    assert!(log.iter().any(|(_, _, m)| m == "Quit?: Really?"), "{log:?}");
+}
+
+/// `sim.saveImage` writes PNG files in the scene's folder (or returns the encoded file
+/// for a bare extension) and `sim.loadImage` reads them back; writing outside the
+/// folder and other formats are refused.
+#[test]
+fn images_are_saved_and_loaded_as_png_in_the_scene_folder() {
+    let scene = r#"
+[[object]]
+name = "probe"
+kind = "dummy"
+script = "probe.lua"
+"#;
+    let probe = r#"
+function sysCall_init()
+    local img = string.char(255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30)
+    sim.saveImage(img, {2, 2}, 0, 'shot.png', -1)
+    encoded = sim.saveImage(img, {2, 2}, 0, '.png', -1)
+    loaded, res = sim.loadImage(0, 'shot.png')
+    rgba = sim.loadImage(1, 'shot.png')
+    okJpg, jpgErr = pcall(sim.saveImage, img, {2, 2}, 0, 'shot.jpg', 90)
+    okOut, outErr = pcall(sim.saveImage, img, {2, 2}, 0, '../outside.png', -1)
+    okSize, sizeErr = pcall(sim.saveImage, img, {3, 2}, 0, 'shot.png', -1)
+end
+function report()
+    return loaded, res, #rgba, encoded:sub(2, 4), jpgErr, outErr, sizeErr
+end
+"#;
+    let mut sc = Scene::new(
+        "save-image",
+        scene,
+        &[("probe.lua", probe)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    sc.sim.step();
+    let r = sc.call("report", &[]);
+    assert_eq!(r[0], Value::Bytes(vec![255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30]));
+    assert_eq!(util::ints(&r[1]), vec![2, 2]);
+    assert_eq!(r[2], Value::Int(16));
+    assert_eq!(util::text(&r[3]), "PNG");
+    assert_contains(util::text(&r[4]), &["saveImage", "PNG"]);
+    assert_contains(util::text(&r[5]), &["saveImage", "outside the scene's folder"]);
+    assert_contains(util::text(&r[6]), &["saveImage", "18 bytes"]);
+}
+
+/// V-REP 3's free threads: `sim.setThreadIsFree` is accepted (gantry's threads are
+/// coroutines whose blocking calls yield) and the thread goes on.
+#[test]
+fn a_free_thread_goes_on() {
+    let scene = r#"
+[[object]]
+name = "probe"
+kind = "dummy"
+script = "probe.lua"
+"#;
+    let probe = r#"
+function sysCall_threadmain()
+    freed = sim.setThreadIsFree(true)
+    sim.switchThread()
+    sim.setThreadIsFree(false)
+    done = true
+end
+function report() return freed, done end
+"#;
+    let mut sc = Scene::new(
+        "free-thread",
+        scene,
+        &[("probe.lua", probe)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    for _ in 0..3 {
+        sc.sim.step();
+    }
+    assert_eq!(sc.call("report", &[]), vec![Value::Int(1), Value::Bool(true)]);
+}

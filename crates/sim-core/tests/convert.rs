@@ -497,6 +497,7 @@ fn everything() -> SceneModel {
     SceneModel {
         name: "everything".into(),
         base_dir: PathBuf::new(),
+        path: PathBuf::new(),
         settings: SimSettings {
             dt: 0.01,
             substeps: 7,

@@ -97,6 +97,7 @@ pub(super) fn load_urdf_model(files: &dyn Files, path: &Path, opts: &LoadOptions
     Ok(SceneModel {
         name: stem(path),
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
+        path: path.to_owned(),
         settings: SimSettings::default(),
         server: ServerSettings::default(),
         objects,
@@ -199,6 +200,7 @@ pub fn load_scene_text(
     Ok(SceneModel {
         name: stem(path),
         base_dir: base_dir.clone(),
+        path: path.to_owned(),
         settings,
         server,
         objects: r.objects,

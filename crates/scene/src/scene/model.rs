@@ -16,6 +16,9 @@ pub struct SceneModel {
     pub name: String,
     /// Folder scripts may write into and relative paths are resolved against.
     pub base_dir: PathBuf,
+    /// The file the scene was read from (`sim.stringparam_scene_path_and_name`); empty
+    /// for a scene built in memory.
+    pub path: PathBuf,
     /// Time step, substeps and gravity.
     pub settings: SimSettings,
     /// Listener defaults from the scene's `[server]` section.

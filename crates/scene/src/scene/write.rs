@@ -655,6 +655,7 @@ mod tests {
         SceneModel {
             name: "s".into(),
             base_dir: PathBuf::new(),
+            path: PathBuf::new(),
             settings: crate::scene::model::SimSettings::default(),
             server: crate::scene::model::ServerSettings::default(),
             objects,
@@ -694,6 +695,7 @@ mod tests {
         let model = SceneModel {
             name: "s".into(),
             base_dir: PathBuf::new(),
+            path: PathBuf::new(),
             settings: crate::scene::model::SimSettings::default(),
             server: crate::scene::model::ServerSettings::default(),
             objects: vec![ObjectModel {

@@ -103,7 +103,7 @@ end
 
 for _, name in ipairs({'setStepping', 'getStepping', 'setThreadAutomaticSwitch',
         'getThreadAutomaticSwitch', 'setAutoYieldDelay', 'getAutoYieldDelay',
-        'setThreadSwitchTiming', 'acquireLock', 'releaseLock'}) do
+        'setThreadSwitchTiming', 'setThreadIsFree', 'acquireLock', 'releaseLock'}) do
     sim[name] = raising(host[name])
 end
 sim.isScriptRunningInThread = host.isScriptRunningInThread

@@ -138,6 +138,8 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     ),
     f("getStepping", AnyHook, Remote::No, Scripts),
     f("getThreadAutomaticSwitch", AnyHook, Remote::No, Scripts),
+    // V-REP 3's in-place inverse of a matrix table the script holds.
+    f("invertMatrix", AnyHook, Remote::No, Scripts),
     f("isScriptRunningInThread", AnyHook, Remote::No, Scripts),
     f("launchExecutable", AnyHook, Remote::No, Touches::Programs),
     f("loadModel", AnyHook, ByScriptHost(ScriptHostFn::LoadModel), Scene),
@@ -167,6 +169,7 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("setAutoYieldDelay", AnyHook, Remote::No, Scripts),
     f("setStepping", AnyHook, ByFrontEnd(FrontEndFn::SetStepping), Loop),
     f("setThreadAutomaticSwitch", AnyHook, Remote::No, Scripts),
+    f("setThreadIsFree", AnyHook, Remote::No, Scripts),
     f("setThreadSwitchTiming", AnyHook, Remote::No, Scripts),
     f("startRecording", AnyHook, Remote::No, Loop),
     f(

@@ -22,7 +22,7 @@ const FLIP_COLUMNS: i64 = 8;
 /// `sim.transformImage(image, {width, height}, options)`: the image with its rows
 /// reversed (bit 4: "flip on x", the vertical flip scripts use) and/or each row's pixels
 /// reversed (bit 8), returned. CoppeliaSim rewrites the Lua string in place and returns
-/// nothing; the Lua host gives scripts that effect (`lua/transform_image.lua`).
+/// nothing, which a host cannot do safely to a Lua string (docs/api-notes.md).
 ///
 /// A pixel is 3 bytes (4 with bit 1), unless the buffer holds `width * height * k`
 /// bytes for another `k` up to 16: then `k` bytes, so a depth buffer (4-byte floats)

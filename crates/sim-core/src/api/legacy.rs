@@ -24,6 +24,7 @@ pub const ALIASES: &[(&str, &str)] = &[
     ("getFloatParameter", "getFloatParam"),
     ("getInt32Parameter", "getInt32Param"),
     ("getIntegerSignal", "getInt32Signal"),
+    ("getStringParameter", "getStringParam"),
     // V-REP 3's name (`simGetInvertedMatrix`).
     ("getInvertedMatrix", "getMatrixInverse"),
     ("getObjectName", "getObjectAlias"),
@@ -175,6 +176,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::Sim(remove_model),
     },
     ApiFunction {
+        name: "msgBox",
+        call: ApiFn::World(msg_box),
+    },
+    ApiFunction {
         name: "removeObjectFromSelection",
         call: ApiFn::World(remove_object_from_selection),
     },
@@ -196,7 +201,82 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("dlgret_cancel", 2),
     ("dlgret_yes", 3),
     ("dlgret_no", 4),
+    ("msgbox_type_info", MSGBOX_TYPE_INFO),
+    ("msgbox_type_question", 1),
+    ("msgbox_type_warning", MSGBOX_TYPE_WARNING),
+    ("msgbox_type_critical", MSGBOX_TYPE_CRITICAL),
+    ("msgbox_buttons_ok", MSGBOX_BUTTONS_OK),
+    ("msgbox_buttons_yesno", MSGBOX_BUTTONS_YESNO),
+    ("msgbox_buttons_yesnocancel", MSGBOX_BUTTONS_YESNOCANCEL),
+    ("msgbox_buttons_okcancel", MSGBOX_BUTTONS_OKCANCEL),
+    ("msgbox_return_cancel", 0),
+    ("msgbox_return_no", 1),
+    ("msgbox_return_yes", MSGBOX_RETURN_YES),
+    ("msgbox_return_ok", MSGBOX_RETURN_OK),
+    ("msgbox_return_error", 4),
 ];
+
+// `sim.msgbox_*` and `simUI.msgbox_*` (the same numbers).
+const MSGBOX_TYPE_INFO: i64 = 0;
+const MSGBOX_TYPE_WARNING: i64 = 2;
+const MSGBOX_TYPE_CRITICAL: i64 = 3;
+const MSGBOX_BUTTONS_OK: i64 = 0;
+const MSGBOX_BUTTONS_YESNO: i64 = 1;
+const MSGBOX_BUTTONS_YESNOCANCEL: i64 = 2;
+const MSGBOX_BUTTONS_OKCANCEL: i64 = 3;
+const MSGBOX_RETURN_YES: i64 = 2;
+const MSGBOX_RETURN_OK: i64 = 3;
+
+/// The `simUI.msgbox_*` constants.
+pub(super) const UI_MSGBOX_CONSTANTS: &[(&str, i64)] = &[
+    ("msgbox_type_info", MSGBOX_TYPE_INFO),
+    ("msgbox_type_question", 1),
+    ("msgbox_type_warning", MSGBOX_TYPE_WARNING),
+    ("msgbox_type_critical", MSGBOX_TYPE_CRITICAL),
+    ("msgbox_buttons_ok", MSGBOX_BUTTONS_OK),
+    ("msgbox_buttons_yesno", MSGBOX_BUTTONS_YESNO),
+    ("msgbox_buttons_yesnocancel", MSGBOX_BUTTONS_YESNOCANCEL),
+    ("msgbox_buttons_okcancel", MSGBOX_BUTTONS_OKCANCEL),
+    ("msgbox_result_cancel", 0),
+    ("msgbox_result_no", 1),
+    ("msgbox_result_yes", MSGBOX_RETURN_YES),
+    ("msgbox_result_ok", MSGBOX_RETURN_OK),
+];
+
+/// `sim.msgBox(dlgType, buttons, title, message)` and `simUI.msgBox(...)` → the
+/// button pressed. gantry has no modal windows (it runs headless, the viewer is a web
+/// page that must not stop the simulation): the message is a log line at the
+/// dialog's level (critical as an error, warning as a warning) and the box is answered
+/// at once with its affirmative button, "OK" or "Yes", so a script that asks for
+/// confirmation goes on.
+pub(super) fn msg_box(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let kind = a.int(0)?;
+    let buttons = a.int(1)?;
+    let title = a.str(2)?;
+    let text = a.str(3)?;
+    if !(MSGBOX_TYPE_INFO..=MSGBOX_TYPE_CRITICAL).contains(&kind) {
+        return Err(SimError::bad_argument(format!(
+            "argument 1: invalid message box type {kind} (msgbox_type_info, _question, _warning or _critical)"
+        )));
+    }
+    let answer = match buttons {
+        MSGBOX_BUTTONS_OK | MSGBOX_BUTTONS_OKCANCEL => MSGBOX_RETURN_OK,
+        MSGBOX_BUTTONS_YESNO | MSGBOX_BUTTONS_YESNOCANCEL => MSGBOX_RETURN_YES,
+        _ => {
+            return Err(SimError::bad_argument(format!(
+                "argument 2: invalid buttons {buttons} (msgbox_buttons_ok, _yesno, _yesnocancel or _okcancel)"
+            )));
+        }
+    };
+    let level = match kind {
+        MSGBOX_TYPE_CRITICAL => 100,
+        MSGBOX_TYPE_WARNING => 300,
+        _ => INFO,
+    };
+    let t = w.time();
+    w.log.push(t, level, ctx.source, &format!("{title}: {text}"));
+    Ok(vec![Value::Int(answer)])
+}
 
 /// CoppeliaSim's `sim.handle_self`.
 const HANDLE_SELF: i64 = -4;

@@ -17,6 +17,7 @@ mod ik;
 mod ik_legacy;
 mod ik_objects;
 mod image;
+mod image_file;
 mod joints;
 pub mod legacy;
 mod links;
@@ -26,6 +27,7 @@ mod objects;
 mod packing;
 mod params;
 mod point_cloud;
+mod properties;
 mod proximity_check;
 mod referenced;
 mod resolve;
@@ -91,6 +93,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "destroyCollection",
         call: ApiFn::World(sensing::destroy_collection),
+    },
+    ApiFunction {
+        name: "getCollectionObjects",
+        call: ApiFn::World(sensing::get_collection_objects),
     },
     ApiFunction {
         name: "getFloatSignal",
@@ -344,8 +350,10 @@ pub const MODULES: &[Module] = &[
             point_cloud::FUNCTIONS,
             scan::FUNCTIONS,
             image::FUNCTIONS,
+            image_file::FUNCTIONS,
             application::FUNCTIONS,
             tubes::FUNCTIONS,
+            properties::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
@@ -354,6 +362,8 @@ pub const MODULES: &[Module] = &[
             ruckig::CONSTANTS,
             legacy::CONSTANTS,
             scan::CONSTANTS,
+            crate::world::model_property::CONSTANTS,
+            crate::world::object_special_property::CONSTANTS,
         ]),
         aliases: legacy::ALIASES,
     },

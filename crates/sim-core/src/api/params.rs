@@ -77,6 +77,13 @@ const BOOL_VISION_SENSOR_HANDLING: i64 = 10;
 const BOOL_REALTIME_SIMULATION: i64 = 25;
 const BOOL_HEADLESS: i64 = 34;
 const ARRAY_GRAVITY: i64 = 0;
+const STRING_APPLICATION_PATH: i64 = 0;
+const STRING_SCENE_PATH_AND_NAME: i64 = 13;
+const STRING_SCENE_PATH: i64 = 14;
+const STRING_SCENE_NAME: i64 = 15;
+const STRING_TEMP_DIR: i64 = 127;
+const STRING_SCENE_DEFAULT_DIR: i64 = 132;
+const STRING_MODEL_DEFAULT_DIR: i64 = 133;
 
 /// The parameter constants, with CoppeliaSim 4.6's values.
 pub const CONSTANTS: &[(&str, i64)] = &[
@@ -101,6 +108,13 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("boolparam_realtime_simulation", BOOL_REALTIME_SIMULATION),
     ("boolparam_headless", BOOL_HEADLESS),
     ("arrayparam_gravity", ARRAY_GRAVITY),
+    ("stringparam_application_path", STRING_APPLICATION_PATH),
+    ("stringparam_scene_path_and_name", STRING_SCENE_PATH_AND_NAME),
+    ("stringparam_scene_path", STRING_SCENE_PATH),
+    ("stringparam_scene_name", STRING_SCENE_NAME),
+    ("stringparam_tempdir", STRING_TEMP_DIR),
+    ("stringparam_scenedefaultdir", STRING_SCENE_DEFAULT_DIR),
+    ("stringparam_modeldefaultdir", STRING_MODEL_DEFAULT_DIR),
     ("objintparam_visibility_layer", OBJ_VISIBILITY_LAYER),
     ("objfloatparam_abs_x_velocity", OBJ_ABS_X_VELOCITY),
     ("objfloatparam_abs_y_velocity", OBJ_ABS_X_VELOCITY + 1),
@@ -175,6 +189,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getObjectInt32Param",
         call: ApiFn::World(get_object_int32_param),
+    },
+    ApiFunction {
+        name: "getStringParam",
+        call: ApiFn::World(get_string_param),
     },
     ApiFunction {
         name: "setArrayParam",
@@ -473,6 +491,41 @@ fn set_bool_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
         _ => return Err(unknown("set", id)),
     }
     Ok(Vec::new())
+}
+
+/// `sim.getStringParam(parameter)`: the scene's file (`sim.stringparam_scene_path_and_name`,
+/// empty for a scene built in memory), its folder (`_scene_path`) and file name
+/// (`_scene_name`), the folder of gantry's executable (`_application_path`), the
+/// temporary folder (`_tempdir`). CoppeliaSim's default scene and model folders
+/// (`_scenedefaultdir`, `_modeldefaultdir`) are its installation's; gantry has none and
+/// answers the scene's folder (the working folder for a scene built in memory), where
+/// relative paths in `sim.loadScene` and `sim.loadModel` resolve.
+fn get_string_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let id = a.int(0)?;
+    let source = w.source();
+    let text = |p: &std::path::Path| p.to_string_lossy().into_owned();
+    let v = match id {
+        STRING_APPLICATION_PATH => std::env::current_exe()
+            .ok()
+            .and_then(|p| p.parent().map(text))
+            .unwrap_or_default(),
+        STRING_SCENE_PATH_AND_NAME => text(&source.path),
+        STRING_SCENE_PATH => text(&source.dir),
+        STRING_SCENE_NAME => source
+            .path
+            .file_name()
+            .map_or_else(|| source.name.clone(), |n| n.to_string_lossy().into_owned()),
+        STRING_TEMP_DIR => text(&std::env::temp_dir()),
+        STRING_SCENE_DEFAULT_DIR | STRING_MODEL_DEFAULT_DIR => {
+            if source.dir.as_os_str().is_empty() {
+                std::env::current_dir().map(|d| text(&d)).unwrap_or_default()
+            } else {
+                text(&source.dir)
+            }
+        }
+        _ => return Err(unknown("retrieve", id)),
+    };
+    Ok(vec![Value::Str(v)])
 }
 
 /// `sim.getArrayParam(parameter)`: gravity, `[x, y, z]` in m/s².

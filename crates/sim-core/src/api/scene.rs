@@ -13,9 +13,9 @@ use std::sync::Arc;
 use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
 use crate::Value;
 use crate::math::{Pose, Vec3};
-use crate::scene::{Geometry, JointMode, MeshData, ShapeModel};
+use crate::scene::{Geometry, JointMode, MassModel, MeshData, ShapeModel};
 use crate::world::object_path::ObjectTree;
-use crate::world::{ColorComponent, Handle, ObjectKind, World};
+use crate::world::{ColorComponent, Handle, MIN_SHAPE_MASS, ObjectKind, World};
 
 /// `sim.handleflag_resetforce`: OR-ed onto a handle, clears the accumulated force.
 const RESET_FORCE: i64 = 0x0040_0000;
@@ -73,6 +73,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(create_primitive_shape),
     },
     ApiFunction {
+        name: "createPureShape",
+        call: ApiFn::World(create_pure_shape),
+    },
+    ApiFunction {
         name: "getJointMaxForce",
         call: ApiFn::World(get_joint_max_force),
     },
@@ -91,6 +95,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getObjects",
         call: ApiFn::World(get_objects),
+    },
+    ApiFunction {
+        name: "getObjectColor",
+        call: ApiFn::World(get_object_color),
     },
     ApiFunction {
         name: "getShapeColor",
@@ -137,6 +145,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(set_shape_bb),
     },
     ApiFunction {
+        name: "setObjectColor",
+        call: ApiFn::World(set_object_color),
+    },
+    ApiFunction {
         name: "setShapeColor",
         call: ApiFn::World(set_shape_color),
     },
@@ -180,9 +192,60 @@ fn create_primitive_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
     let kind = a.int(0)?;
     let sizes = a.floats::<3>(1)?;
     a.opt_int(2, 0)?;
-    if let Some(s) = sizes.iter().find(|s| **s <= 0.0) {
+    let (alias, geometry) = primitive(kind, sizes, 2)?;
+    // CoppeliaSim creates primitives white and not respondable.
+    let shape = ShapeModel {
+        respondable: false,
+        ..ShapeModel::single(geometry, [1.0, 1.0, 1.0])
+    };
+    let h = w.add_object(alias, ObjectKind::Shape(Box::new(shape)), None, Pose::identity())?;
+    Ok(vec![Value::Int(h)])
+}
+
+/// `sim.createPureShape(primitiveType, options, sizes, mass, precision=nil)` → handle:
+/// V-REP 3's form of [`create_primitive_shape`]. Types 0 cuboid, 1 sphere, 2 cylinder,
+/// 3 cone; `sizes` the bounding box (m), `mass` in kg. Options bit 3 makes the shape
+/// respondable and bit 4 static (without it the shape is dynamic and falls); bits 0
+/// (culling), 1 (edges), 2 (smooth) and 5 (open ends) only change how CoppeliaSim
+/// draws it and are accepted and ignored, as is `precision` (gantry's round shapes are
+/// exact primitives, not tessellated).
+fn create_pure_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let kind = match a.int(0)? {
+        0 => 3,
+        1 => 4,
+        2 => 5,
+        3 => 6,
+        other => {
+            return Err(SimError::bad_argument(format!(
+                "argument 1: invalid primitive type {other} (0 cuboid, 1 sphere, 2 cylinder, 3 cone)"
+            )));
+        }
+    };
+    let options = a.int(1)?;
+    let sizes = a.floats::<3>(2)?;
+    let mass = a.f64(3)?;
+    if !(mass.is_finite() && mass > 0.0) {
         return Err(SimError::bad_argument(format!(
-            "argument 2: sizes must be positive, got {s}"
+            "argument 4: mass must be positive, got {mass}"
+        )));
+    }
+    let (alias, geometry) = primitive(kind, sizes, 3)?;
+    let shape = ShapeModel {
+        respondable: options & 8 != 0,
+        dynamic: options & 16 == 0,
+        mass: MassModel::Mass(mass.max(MIN_SHAPE_MASS)),
+        ..ShapeModel::single(geometry, [1.0, 1.0, 1.0])
+    };
+    let h = w.add_object(alias, ObjectKind::Shape(Box::new(shape)), None, Pose::identity())?;
+    Ok(vec![Value::Int(h)])
+}
+
+/// The alias and geometry of `sim.primitiveshape_*` `kind` with bounding box `sizes`
+/// (x, y, z in m; diameters for round shapes), the sizes being argument `sizes_arg`.
+fn primitive(kind: i64, sizes: [f64; 3], sizes_arg: usize) -> Result<(&'static str, Geometry), SimError> {
+    if let Some(s) = sizes.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+        return Err(SimError::bad_argument(format!(
+            "argument {sizes_arg}: sizes must be positive, got {s}"
         )));
     }
     let [x, y, z] = sizes;
@@ -244,13 +307,7 @@ fn create_primitive_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
             )));
         }
     };
-    // CoppeliaSim creates primitives white and not respondable.
-    let shape = ShapeModel {
-        respondable: false,
-        ..ShapeModel::single(geometry, [1.0, 1.0, 1.0])
-    };
-    let h = w.add_object(alias, ObjectKind::Shape(Box::new(shape)), None, Pose::identity())?;
-    Ok(vec![Value::Int(h)])
+    Ok((alias, geometry))
 }
 
 /// The unit half circle from the south to the north pole, as `(radius, z)` pairs.
@@ -452,6 +509,35 @@ fn set_shape_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
         w.set_shape_color(h, component, &values)?;
     }
     Ok(Vec::new())
+}
+
+/// `sim.getObjectColor(objectHandle, index, colorComponent)` → `rgbData`, or nil when
+/// the object has no colour `index` (CoppeliaSim 4.8's form of `sim.getShapeColor`: a
+/// shape has one colour, index 0).
+fn get_object_color(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    let index = a.int(1)?;
+    let component = color_component(a, 2)?;
+    if index != 0 || !matches!(w.object(h)?.kind, ObjectKind::Shape(_)) {
+        return Ok(vec![Value::Nil]);
+    }
+    Ok(vec![
+        w.shape_color(h, component)?.map_or(Value::Nil, |c| Value::floats(&c)),
+    ])
+}
+
+/// `sim.setObjectColor(objectHandle, index, colorComponent, rgbData)` → whether the
+/// object has colour `index` (a shape has one, index 0) and it was set.
+fn set_object_color(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    let index = a.int(1)?;
+    color_component(a, 2)?;
+    if index != 0 || !matches!(w.object(h)?.kind, ObjectKind::Shape(_)) {
+        return Ok(vec![Value::Bool(false)]);
+    }
+    let args = [Value::Int(h), Value::Nil, a.get(2).clone(), a.get(3).clone()];
+    set_shape_color(w, ctx, &Args::new(&args))?;
+    Ok(vec![Value::Bool(true)])
 }
 
 /// `sim.getShapeMass(shapeHandle)` → kg.

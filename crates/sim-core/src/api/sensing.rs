@@ -97,6 +97,13 @@ pub(super) fn destroy_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_
 /// `sim.addItemToCollection(coll, what, obj, options)`: `what` is `sim.handle_single`,
 /// `handle_all`, `handle_tree` or `handle_chain`; options bit 0 removes instead of adds,
 /// bit 1 leaves out the tree base / chain tip.
+/// `sim.getCollectionObjects(collectionHandle)` → the handles of the objects the
+/// collection holds now, in handle order.
+pub(super) fn get_collection_objects(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let handles = w.collection_objects(a.handle(0)?)?;
+    Ok(vec![Value::Array(handles.into_iter().map(Value::Int).collect())])
+}
+
 pub(super) fn add_item_to_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let c = a.handle(0)?;
     let kind = match a.int(1)? {

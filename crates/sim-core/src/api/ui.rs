@@ -84,6 +84,10 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::Sim(is_visible),
     },
     ApiFunction {
+        name: "msgBox",
+        call: ApiFn::World(super::legacy::msg_box),
+    },
+    ApiFunction {
         name: "setButtonText",
         call: ApiFn::Sim(set_button_text),
     },
@@ -133,8 +137,8 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     },
 ];
 
-/// The `simUI.*` constants (none of the implemented functions needs one).
-pub(super) const CONSTANTS: &[(&str, i64)] = &[];
+/// The `simUI.*` constants: those of `simUI.msgBox`.
+pub(super) const CONSTANTS: &[(&str, i64)] = super::legacy::UI_MSGBOX_CONSTANTS;
 
 /// Runs `f` on the UIs, then moves any warnings it produced (unknown XML attributes,
 /// a full event queue) to the world log under the caller's name.

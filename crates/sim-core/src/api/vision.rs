@@ -75,6 +75,11 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::Sim(set_vision_sensor_char_image),
     },
     ApiFunction {
+        // V-REP 3 to CoppeliaSim 4.5's float image setter.
+        name: "setVisionSensorImage",
+        call: ApiFn::Sim(set_vision_sensor_image),
+    },
+    ApiFunction {
         name: "setVisionSensorImg",
         call: ApiFn::Sim(set_vision_sensor_img),
     },
@@ -574,6 +579,52 @@ fn set_vision_sensor_char_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'
         Value::Bytes(a.bytes(1)?.to_vec()),
         Value::Int(i64::from(grey)),
     ];
+    set_vision_sensor_img(sim, ctx, &Args::new(&args))?;
+    Ok(vec![Value::Int(1)])
+}
+
+/// `sim.setVisionSensorImage(h [| sim.handleflag_greyscale], image)` → 1: the image as
+/// floats 0..1 (a table, or packed single floats as a string), RGB per pixel or one
+/// grey value per pixel with the flag, bottom row first: [`set_vision_sensor_img`] with
+/// each value scaled to 0..255.
+fn set_vision_sensor_image(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let raw = a.handle(0)?;
+    let grey = raw >= 0 && raw & HANDLEFLAG_GREYSCALE != 0;
+    let h = if grey { raw & !HANDLEFLAG_GREYSCALE } else { raw };
+    let to_byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    let bytes: Vec<u8> = match a.get(1) {
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .map(|(k, v)| match v.as_f64() {
+                Some(f) if f.is_finite() => Ok(to_byte(f)),
+                _ => Err(SimError::bad_argument(format!(
+                    "argument 2: element {} must be a finite number",
+                    k + 1
+                ))),
+            })
+            .collect::<Result<_, _>>()?,
+        Value::Str(_) | Value::Bytes(_) => {
+            let packed = a.bytes(1)?;
+            if packed.len() % 4 != 0 {
+                return Err(SimError::bad_argument(format!(
+                    "argument 2: packed floats need a multiple of 4 bytes, got {}",
+                    packed.len()
+                )));
+            }
+            packed
+                .chunks_exact(4)
+                .map(|c| to_byte(f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]]))))
+                .collect()
+        }
+        other => {
+            return Err(SimError::bad_argument(format!(
+                "argument 2: expected a table of numbers or packed floats, got {}",
+                other.type_name()
+            )));
+        }
+    };
+    let args = [Value::Int(h), Value::Bytes(bytes), Value::Int(i64::from(grey))];
     set_vision_sensor_img(sim, ctx, &Args::new(&args))?;
     Ok(vec![Value::Int(1)])
 }

@@ -461,10 +461,12 @@ impl World {
         }
         self.physics.prune_joints();
         let objects = &self.objects;
+        let model_props = &self.edit.model_props;
         let tree = TreeView {
             parent: &|h| objects[h as usize].parent,
             kind: &|h| &objects[h as usize].kind,
             world: &|h| objects[h as usize].world,
+            overrides: &|h| super::properties::cumulative(model_props, |x| objects[x as usize].parent, h),
         };
         let mut warnings = Vec::new();
         self.physics.insert(&tree, &list, &mut warnings);
@@ -578,6 +580,8 @@ impl World {
     /// No such object, or not a shape.
     pub fn set_shape_respondable(&mut self, h: Handle, respondable: bool) -> Result<(), SimError> {
         self.shape_mut(h)?.respondable = respondable;
+        let respondable = respondable
+            && self.cumulative_model_property(h) & super::property_flags::model_property::NOT_RESPONDABLE == 0;
         for c in self.colliders_of(h).to_vec() {
             if let Some(col) = self.physics.world.colliders.get_mut(c) {
                 col.set_sensor(!respondable);

@@ -79,6 +79,14 @@ pub(crate) struct EditState {
     pub(super) counters: EditCounters,
     /// Visibility layers that differ from the default (1).
     pub(super) layers: HashMap<Handle, i64>,
+    /// Model properties of model bases (`sim.setModelProperty`), without the
+    /// `sim.modelproperty_not_model` bits (those are the object's `model_base`).
+    pub(super) model_props: HashMap<Handle, i64>,
+    /// Object properties (`sim.setObjectProperty`) that differ from 0.
+    pub(super) object_props: HashMap<Handle, i64>,
+    /// Object special properties (`sim.setObjectSpecialProperty`) that differ from the
+    /// object type's default.
+    pub(super) special_props: HashMap<Handle, i64>,
     /// Shape colour components gantry does not render, as set by `sim.setShapeColor`.
     pub(super) colors: HashMap<(Handle, ColorComponent), Vec<f64>>,
     /// Bodies given a force or torque for the coming step (`sim.addForce`).

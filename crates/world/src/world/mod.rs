@@ -15,6 +15,8 @@ mod object;
 pub mod object_path;
 mod physics;
 mod point_cloud;
+mod properties;
+mod property_flags;
 mod query;
 mod scale;
 mod selection;
@@ -37,7 +39,9 @@ pub use point_cloud::{
     POINTCLOUD_NO_STRUCTURE, POINTCLOUD_RANDOM_COLORS, POINTCLOUD_SHOW_OCTREE, POINTS_PER_VOXEL_RANGE, PointCloud,
     PointCloudOptions, PointColors, VOXEL_SIZE_RANGE,
 };
+pub use property_flags::{model_property, object_special_property};
 pub use query::DistanceResult;
 pub use selection::{MAX_SELECTION, Selection};
 pub use urdf_robot::UrdfRobot;
+pub use world::SceneSource;
 pub use world::World;

@@ -33,6 +33,7 @@ use std::collections::HashMap;
 use rapier3d::prelude::*;
 
 use super::object::{Handle, ObjectKind};
+use super::property_flags::model_property;
 use crate::math::{self, Pose};
 use crate::scene::{Geometry, JointMode, JointType, MassModel, ShapeModel, SimSettings};
 
@@ -112,6 +113,8 @@ pub(crate) struct TreeView<'a> {
     pub parent: &'a dyn Fn(Handle) -> Option<Handle>,
     pub kind: &'a dyn Fn(Handle) -> &'a ObjectKind,
     pub world: &'a dyn Fn(Handle) -> Pose,
+    /// The object's cumulative model property (`sim.modelproperty_*` overrides).
+    pub overrides: &'a dyn Fn(Handle) -> i64,
 }
 
 fn above(tree: &TreeView<'_>, h: Handle) -> Above {
@@ -177,6 +180,20 @@ impl Physics {
         let ObjectKind::Shape(shape) = (tree.kind)(h) else {
             return;
         };
+        // A model above may override the shape's own flags (`sim.setModelProperty`).
+        let overridden;
+        let shape: &ShapeModel =
+            match (tree.overrides)(h) & (model_property::NOT_DYNAMIC | model_property::NOT_RESPONDABLE) {
+                0 => shape,
+                flags => {
+                    overridden = ShapeModel {
+                        dynamic: shape.dynamic && flags & model_property::NOT_DYNAMIC == 0,
+                        respondable: shape.respondable && flags & model_property::NOT_RESPONDABLE == 0,
+                        ..ShapeModel::clone(shape)
+                    };
+                    &overridden
+                }
+            };
         let pose = (tree.world)(h);
         let placement = above(tree, h);
         if shape.dynamic {

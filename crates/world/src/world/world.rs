@@ -50,6 +50,19 @@ pub struct World {
     /// The robots loaded from URDF files, in load order (a removed robot's handles
     /// name no object: handles are never reused).
     pub(super) urdf_robots: Vec<super::UrdfRobot>,
+    /// Where the scene was read from.
+    source: SceneSource,
+}
+
+/// Where a world's scene was read from (`sim.stringparam_scene_*`).
+#[derive(Debug, Clone, Default)]
+pub struct SceneSource {
+    /// The scene's short name (the file stem).
+    pub name: String,
+    /// The folder relative paths in the scene resolve against.
+    pub dir: std::path::PathBuf,
+    /// The file, empty for a scene built in memory.
+    pub path: std::path::PathBuf,
 }
 
 impl World {
@@ -89,6 +102,11 @@ impl World {
     /// The dummy linked to `h` (`sim.getLinkDummy`), if any.
     pub fn linked_dummy(&self, h: Handle) -> Option<Handle> {
         self.physics.linked_dummy(h)
+    }
+
+    /// Where the scene was read from.
+    pub fn source(&self) -> &SceneSource {
+        &self.source
     }
 
     /// Builds the world from a resolved scene. Object handles are model indices.
@@ -175,6 +193,8 @@ impl World {
             parent: &|h| objects[h as usize].parent,
             kind: &|h| &objects[h as usize].kind,
             world: &|h| objects[h as usize].world,
+            // A scene as loaded has no model property overrides yet.
+            overrides: &|_| 0,
         };
         let physics = Physics::build(&tree, &order, &model.settings, &mut warnings);
         let warnings = crate::scene::dedup_warnings(warnings);
@@ -202,6 +222,11 @@ impl World {
                 .iter()
                 .map(|r| super::UrdfRobot::from_model(r, |i| i as Handle))
                 .collect(),
+            source: SceneSource {
+                name: model.name.clone(),
+                dir: model.base_dir.clone(),
+                path: model.path.clone(),
+            },
         };
         world.refresh_caches();
         world.link_loop_closures(

@@ -162,6 +162,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
     let model = SceneModel {
         name: stem(path),
         base_dir: path.parent().map(Path::to_owned).unwrap_or_default(),
+        path: path.to_owned(),
         settings,
         server: ServerSettings::default(),
         objects,
