@@ -213,10 +213,19 @@ fn generate_stubs(notes_text: &str) -> String {
             names.len(),
             module.constants.iter().count()
         );
-        let mut constants: Vec<&str> = module.constants.iter().map(|(n, _)| *n).collect();
+        // A dotted constant (`StateSpaceType.pose3d`) is a member of a nested namespace.
+        let mut constants: Vec<String> = module
+            .constants
+            .iter()
+            .map(|(n, _)| match n.split_once('.') {
+                Some((group, _)) => format!("{group}: Any"),
+                None => format!("{n}: int"),
+            })
+            .collect();
         constants.sort_unstable();
+        constants.dedup();
         for c in constants {
-            let _ = writeln!(out, "    {c}: int");
+            let _ = writeln!(out, "    {c}");
         }
         if module.name == "sim" {
             // Added on the client's side, as CoppeliaSim's remote client does.

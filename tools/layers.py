@@ -52,7 +52,7 @@ FLOORS = {
     "crates/world/src": [
         ({"math", "signals", "tubes"}, False),
         ({"world"}, False),
-        ({"sensor", "vision", "ik", "drawing", "graph", "ui", "motion"}, False),
+        ({"sensor", "vision", "ik", "drawing", "graph", "ui", "motion", "planning"}, False),
         ({"sim"}, False),
     ],
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.

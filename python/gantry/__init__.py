@@ -166,7 +166,14 @@ class Client:
         module = self._required.get(name)
         if module is None:
             members: dict[str, Any] = dict(self._engine_here.functions(name))
-            members.update(_Engine.constants(name))
+            for constant, value in _Engine.constants(name):
+                # ``simOMPL.StateSpaceType.pose3d``: a dotted name is a member of a
+                # nested namespace, as the remote client builds it.
+                group, dot, member = constant.partition(".")
+                if dot:
+                    members.setdefault(group, _Module(f"{name}.{group}", {})).__dict__[member] = value
+                else:
+                    members[constant] = value
             if name == "sim":
                 # Helpers the remote client adds on its own side. Bound to the engine,
                 # not to this client: a module referring back to the client would make

@@ -96,7 +96,21 @@ pub(crate) fn install(lua: &Lua, listeners: &Rc<RefCell<ListenerState>>) -> mlua
             table.set(name, wrap.call::<Function>(func)?)?;
         }
         for (name, value) in module.constants {
-            table.set(*name, *value)?;
+            // `simOMPL.StateSpaceType.pose3d`: a dotted name lives in a nested table.
+            match name.split_once('.') {
+                None => table.set(*name, *value)?,
+                Some((group, member)) => {
+                    let inner = match table.raw_get::<Option<Table>>(group)? {
+                        Some(t) => t,
+                        None => {
+                            let t = lua.create_table()?;
+                            table.set(group, t.clone())?;
+                            t
+                        }
+                    };
+                    inner.set(member, *value)?;
+                }
+            }
         }
         lua.globals().set(module.name, table.clone())?;
         if module.name == "sim" {

@@ -247,6 +247,7 @@ pub const REQUIRABLE: &[&str] = &[
     "Matrix",
     "sim",
     "simIK",
+    "simOMPL",
     "simROS",
     "simROS2",
     "simRemoteApi",

@@ -359,7 +359,7 @@ fn require_returns_the_api_and_refuses_anything_else_by_name() {
         util::text(&r[1]),
         &[
             "module 'lfs' is not available in gantry",
-            "Matrix, sim, simIK, simROS, simROS2, simRemoteApi, simUI, simVision, socket",
+            "Matrix, sim, simIK, simOMPL, simROS, simROS2, simRemoteApi, simUI, simVision, socket",
         ],
     );
 }

@@ -466,12 +466,26 @@ pub fn module_info(module: &api::Module) -> Value {
     };
     let names = module.callable().map(|(name, _)| name).chain(extra);
     let mut pairs: Vec<(Value, Value)> = names.map(|n| (n.into(), func())).collect();
-    pairs.extend(
-        module
-            .constants
-            .iter()
-            .map(|(n, v)| ((*n).into(), Value::Map(vec![("const".into(), Value::Int(*v))]))),
-    );
+    let constant = |v: i64| Value::Map(vec![("const".into(), Value::Int(v))]);
+    for (name, v) in module.constants.iter() {
+        // `simOMPL.StateSpaceType.pose3d`: a dotted name is a member of a nested map,
+        // which the client turns into a nested namespace.
+        match name.split_once('.') {
+            None => pairs.push(((*name).into(), constant(*v))),
+            Some((group, member)) => {
+                let at = match pairs.iter().position(|(k, _)| k.as_str() == Some(group)) {
+                    Some(i) => i,
+                    None => {
+                        pairs.push((group.into(), Value::Map(Vec::new())));
+                        pairs.len() - 1
+                    }
+                };
+                if let Value::Map(inner) = &mut pairs[at].1 {
+                    inner.push((member.into(), constant(*v)));
+                }
+            }
+        }
+    }
     Value::Map(pairs)
 }
 

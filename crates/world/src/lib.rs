@@ -1,6 +1,6 @@
 //! gantry's simulated world: the object tree on rapier (`world`), the subsystems that
-//! read and drive it (`sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`) and
-//! [`Sim`], which owns them all and steps them in CoppeliaSim's order.
+//! read and drive it (`sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`,
+//! `planning`) and [`Sim`], which owns them all and steps them in CoppeliaSim's order.
 //!
 //! These floors share one crate because they share the world's private parts: which
 //! collider belongs to which object, where a sensor's detection is stored, and the two
@@ -29,6 +29,7 @@ pub mod drawing;
 pub mod graph;
 pub mod ik;
 pub mod motion;
+pub mod planning;
 pub mod sensor;
 pub mod ui;
 pub mod vision;

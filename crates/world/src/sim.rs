@@ -20,6 +20,7 @@ use crate::graph::Graphs;
 use crate::handle::Handle;
 use crate::ik::IkEnvironments;
 use crate::motion::RuckigObjects;
+use crate::planning::Planning;
 use crate::scene::SceneModel;
 use crate::signals::Signals;
 use crate::tubes::Tubes;
@@ -55,6 +56,9 @@ pub struct Sim {
     pub vision: VisionStates,
     /// Ruckig trajectory generators (`sim.ruckigPos`), gone with the simulation at stop.
     pub ruckig: RuckigObjects,
+    /// Motion-planning state spaces and tasks (`simOMPL`), gone with the simulation at
+    /// stop.
+    pub planning: Planning,
 }
 
 impl Sim {
@@ -80,6 +84,7 @@ impl Sim {
             ik: IkEnvironments::default(),
             vision: VisionStates::default(),
             ruckig: RuckigObjects::default(),
+            planning: Planning::default(),
         }
     }
 

@@ -172,12 +172,12 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(is_handle_valid),
     },
     ApiFunction {
-        name: "removeModel",
-        call: ApiFn::Sim(remove_model),
-    },
-    ApiFunction {
         name: "msgBox",
         call: ApiFn::World(msg_box),
+    },
+    ApiFunction {
+        name: "removeModel",
+        call: ApiFn::Sim(remove_model),
     },
     ApiFunction {
         name: "removeObjectFromSelection",

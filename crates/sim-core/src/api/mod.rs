@@ -24,6 +24,7 @@ mod links;
 mod log;
 mod matrix;
 mod objects;
+mod ompl;
 mod packing;
 mod params;
 mod point_cloud;
@@ -372,6 +373,12 @@ pub const MODULES: &[Module] = &[
         functions: &[ik::FUNCTIONS, ik_objects::FUNCTIONS, ik_legacy::FUNCTIONS],
         constants: Constants(&[ik::CONSTANTS, ik_objects::CONSTANTS]),
         aliases: ik_legacy::ALIASES,
+    },
+    Module {
+        name: "simOMPL",
+        functions: &[ompl::FUNCTIONS],
+        constants: Constants(&[ompl::CONSTANTS]),
+        aliases: &[],
     },
     Module {
         name: "simUI",

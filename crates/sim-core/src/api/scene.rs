@@ -93,12 +93,12 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(get_object_child),
     },
     ApiFunction {
-        name: "getObjects",
-        call: ApiFn::World(get_objects),
-    },
-    ApiFunction {
         name: "getObjectColor",
         call: ApiFn::World(get_object_color),
+    },
+    ApiFunction {
+        name: "getObjects",
+        call: ApiFn::World(get_objects),
     },
     ApiFunction {
         name: "getShapeColor",
@@ -137,16 +137,16 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(set_object_alias),
     },
     ApiFunction {
+        name: "setObjectColor",
+        call: ApiFn::World(set_object_color),
+    },
+    ApiFunction {
         name: "setObjectParent",
         call: ApiFn::World(set_object_parent),
     },
     ApiFunction {
         name: "setShapeBB",
         call: ApiFn::World(set_shape_bb),
-    },
-    ApiFunction {
-        name: "setObjectColor",
-        call: ApiFn::World(set_object_color),
     },
     ApiFunction {
         name: "setShapeColor",

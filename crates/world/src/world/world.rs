@@ -441,7 +441,11 @@ impl World {
     /// (rapier itself refreshes them only inside a step).
     pub fn refresh_queries(&mut self) {
         if std::mem::take(&mut self.queries_stale) {
+            place_colliders(&mut self.physics.world);
             self.physics.world.detect_collisions(&(), &());
+            // The collision pipeline's own update puts the colliders of bodies it sees
+            // as changed back at the bodies' current poses: place them again.
+            place_colliders(&mut self.physics.world);
             // rapier 0.36's collision pipeline takes the bodies' list of changes without
             // passing it to the island manager, so a body created, made dynamic or woken
             // since the last step would never be simulated (it froze in mid-air). Mark
@@ -560,8 +564,14 @@ impl World {
             }
             mb.forward_kinematics(&self.physics.world.bodies, false);
             self.queries_stale = true;
+            self.refresh_subtree(h);
+        } else {
+            // Bodies below a kinematic joint are headed to their new poses now, so
+            // that collision checks and sensors see the joint where it was put before
+            // the next step takes them there.
+            self.refresh_subtree(h);
+            self.push_body_pose(h);
         }
-        self.refresh_subtree(h);
         Ok(())
     }
 
@@ -946,6 +956,30 @@ impl World {
 /// Moves a body that follows the tree: a kinematic body is given its next pose (so
 /// contacts see its velocity); one that roots a mechanism was made fixed (see
 /// `Physics::mount`) and is teleported.
+/// Puts every collider where the API put its body: rapier moves a body's colliders
+/// with it only inside a step, and a kinematic body placed through the API only gets
+/// there at the next step (`set_next_kinematic_position`, so that the step knows its
+/// velocity). A query before that step must see every body where the API put it; the
+/// step recomputes the colliders from the bodies, to the same poses.
+fn place_colliders(world: &mut rapier3d::prelude::PhysicsWorld) {
+    let rapier3d::prelude::PhysicsWorld { bodies, colliders, .. } = world;
+    for (_, rb) in bodies.iter() {
+        let at = if rb.is_kinematic() {
+            *rb.next_position()
+        } else {
+            *rb.position()
+        };
+        for &ch in rb.colliders() {
+            if let Some(c) = colliders.get_mut(ch)
+                && let Some(rel) = c.position_wrt_parent().copied()
+                && *c.position() != at * rel
+            {
+                c.set_position(at * rel);
+            }
+        }
+    }
+}
+
 fn place_kinematic(rb: &mut RigidBody, pose: rapier3d::math::Pose) {
     if rb.is_fixed() {
         rb.set_position(pose, true);
