@@ -50,7 +50,7 @@ FLOORS = {
         ({"scene"}, False),
     ],
     "crates/world/src": [
-        ({"math", "signals", "tubes"}, False),
+        ({"math", "signals", "tubes", "paths"}, False),
         ({"world"}, False),
         ({"sensor", "vision", "ik", "drawing", "graph", "ui", "motion"}, False),
         ({"sim"}, False),

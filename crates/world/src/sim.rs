@@ -6,7 +6,7 @@
 //!
 //! Floors, each importing only from those below it (checked by `tools/layers.py`):
 //!
-//! 1. `handle`, `math`, `error`, `signals`, `tubes`: leaves.
+//! 1. `handle`, `math`, `error`, `signals`, `tubes`, `paths`: leaves.
 //! 2. `scene`: the model read from files.
 //! 3. `world`: objects and physics.
 //! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`: subsystems, each
@@ -20,6 +20,7 @@ use crate::graph::Graphs;
 use crate::handle::Handle;
 use crate::ik::IkEnvironments;
 use crate::motion::RuckigObjects;
+use crate::paths::Paths;
 use crate::scene::SceneModel;
 use crate::signals::Signals;
 use crate::tubes::Tubes;
@@ -55,6 +56,8 @@ pub struct Sim {
     pub vision: VisionStates,
     /// Ruckig trajectory generators (`sim.ruckigPos`), gone with the simulation at stop.
     pub ruckig: RuckigObjects,
+    /// Path objects' data (`sim.createPath`), by the handle of their dummy.
+    pub paths: Paths,
 }
 
 impl Sim {
@@ -80,6 +83,7 @@ impl Sim {
             ik: IkEnvironments::default(),
             vision: VisionStates::default(),
             ruckig: RuckigObjects::default(),
+            paths: Paths::default(),
         }
     }
 
@@ -153,6 +157,7 @@ impl Sim {
             // Listed just above, so it exists.
             let _ = self.drawings.remove(d);
         }
+        self.paths.retain(|h| !world.is_removed(h));
         for h in 0..world.len() as Handle {
             if world.is_removed(h) {
                 self.views.forget_object(h);

@@ -25,6 +25,7 @@ mod matrix;
 mod objects;
 mod packing;
 mod params;
+mod paths;
 mod point_cloud;
 mod proximity_check;
 mod referenced;
@@ -346,6 +347,7 @@ pub const MODULES: &[Module] = &[
             image::FUNCTIONS,
             application::FUNCTIONS,
             tubes::FUNCTIONS,
+            paths::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
