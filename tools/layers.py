@@ -50,7 +50,8 @@ FLOORS = {
         ({"scene"}, False),
     ],
     "crates/world/src": [
-        ({"math", "signals", "tubes", "paths"}, False),
+        ({"math", "signals", "tubes"}, False),
+        ({"paths"}, False),
         ({"world"}, False),
         ({"sensor", "vision", "ik", "drawing", "graph", "ui", "motion"}, False),
         ({"sim"}, False),

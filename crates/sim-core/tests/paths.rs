@@ -120,11 +120,11 @@ fn created_paths_read_as_dummies_and_carry_their_points() {
     );
     let sp = straight[0].clone();
     assert_eq!(
-        num(&ok(&mut w, "sim.getObjectType", &[sp.clone()])[0]),
+        num(&ok(&mut w, "sim.getObjectType", std::slice::from_ref(&sp))[0]),
         4.0,
         "sim.object_dummy_type"
     );
-    assert_eq!(num(&ok(&mut w, "sim.getPathLength", &[sp.clone()])[0]), 2.0);
+    assert_eq!(num(&ok(&mut w, "sim.getPathLength", std::slice::from_ref(&sp))[0]), 2.0);
     let at = |w: &mut gantry_sim_core::Sim, h: &Value, rel: f64| {
         floats(&ok(w, "sim.getPositionOnPath", &[h.clone(), Value::Float(rel)])[0])
     };
@@ -147,7 +147,7 @@ fn created_paths_read_as_dummies_and_carry_their_points() {
     // Closed: back to the start; smoothed: the corner at (1,0) is cut.
     close(&pts[..3], &pts[pts.len() - 7..pts.len() - 4]);
     assert!(pts.chunks(7).all(|p| (p[0] - 1.0).abs() + p[1].abs() > 1e-3));
-    let len = num(&ok(&mut w, "sim.getPathLength", &[h.clone()])[0]);
+    let len = num(&ok(&mut w, "sim.getPathLength", std::slice::from_ref(&h))[0]);
     // Shorter than the triangle (2 + sqrt 2), longer than the triangle through its
     // sides' midpoints, where the roundings of strength 1 start and end.
     let perimeter = 2.0 + 2f64.sqrt();
@@ -158,6 +158,29 @@ fn created_paths_read_as_dummies_and_carry_their_points() {
         .set_world_pose(handle, Pose::translation(0.0, 0.0, 1.0))
         .unwrap();
     assert!((at(&mut w, &h, 0.0)[2] - 1.0).abs() < 1e-12);
+    let e = err(
+        &mut w,
+        "sim.createPath",
+        &[Value::floats(&ctrl), Value::Int(0), Value::Nil, Value::Float(1.5)],
+    );
+    assert!(e.contains("argument 4 (smoothness)") && e.contains("createPath"), "{e}");
+    let e = err(
+        &mut w,
+        "sim.createPath",
+        &[
+            Value::floats(&ctrl),
+            Value::Int(0),
+            Value::Nil,
+            Value::Nil,
+            Value::Int(-1),
+        ],
+    );
+    assert!(
+        e.contains("argument 5 (orientationMode)") && e.contains("got -1"),
+        "{e}"
+    );
+    let e = err(&mut w, "sim.createPath", &[Value::floats(&ctrl[..7])]);
+    assert!(e.contains("at least 2 control points"), "{e}");
     // Removed with its object.
     ok(&mut w, "sim.removeObjects", &[Value::Array(vec![h.clone()])]);
     assert!(err(&mut w, "sim.getPathLength", &[h]).contains("getPathLength"));
@@ -184,14 +207,17 @@ fn v_rep_3_paths_from_control_points() {
             Value::floats(&data),
         ],
     );
-    assert_eq!(num(&ok(&mut w, "sim.getPathLength", &[h.clone()])[0]), 3.0);
+    assert_eq!(num(&ok(&mut w, "sim.getPathLength", std::slice::from_ref(&h))[0]), 3.0);
     let pos = floats(&ok(&mut w, "sim.getPositionOnPath", &[h.clone(), Value::Float(0.5)])[0]);
     close(&pos, &[0.0, 0.0, 1.5]);
     let end = floats(&ok(&mut w, "sim.getOrientationOnPath", &[h.clone(), Value::Float(1.0)])[0]);
     close(&end, &[0.0, 0.0, std::f64::consts::FRAC_PI_2]);
     // V-REP's path position stays on an open path.
     ok(&mut w, "sim.setPathPosition", &[h.clone(), Value::Float(7.0)]);
-    assert_eq!(num(&ok(&mut w, "sim.getPathPosition", &[h.clone()])[0]), 3.0);
+    assert_eq!(
+        num(&ok(&mut w, "sim.getPathPosition", std::slice::from_ref(&h))[0]),
+        3.0
+    );
     ok(
         &mut w,
         "sim.setPathTargetNominalVelocity",

@@ -6,7 +6,7 @@
 //!
 //! Floors, each importing only from those below it (checked by `tools/layers.py`):
 //!
-//! 1. `handle`, `math`, `error`, `signals`, `tubes`, `paths`: leaves.
+//! 1. `handle`, `math`, `error`, `signals`, `tubes`: leaves; `paths` on `math`.
 //! 2. `scene`: the model read from files.
 //! 3. `world`: objects and physics.
 //! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`: subsystems, each

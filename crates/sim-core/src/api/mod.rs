@@ -356,6 +356,7 @@ pub const MODULES: &[Module] = &[
             ruckig::CONSTANTS,
             legacy::CONSTANTS,
             scan::CONSTANTS,
+            paths::CONSTANTS,
         ]),
         aliases: legacy::ALIASES,
     },

@@ -69,6 +69,18 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
 ];
 
+/// V-REP's distance calculation methods (`sim.moveToPosition`'s `distCalcMethod`): how
+/// a linear distance dl (m) and an angle dac (rad) make one distance.
+pub const CONSTANTS: &[(&str, i64)] = &[
+    ("distcalcmethod_dl", 0),
+    ("distcalcmethod_dac", 1),
+    ("distcalcmethod_max_dl_dac", 2),
+    ("distcalcmethod_dl_and_dac", 3),
+    ("distcalcmethod_sqrt_dl2_and_dac2", 4),
+    ("distcalcmethod_dl_if_nonzero", 5),
+    ("distcalcmethod_dac_if_nonzero", 6),
+];
+
 // ---------------------------------------------------------------------------------------
 // Arguments
 
@@ -175,7 +187,7 @@ fn types(a: &Args<'_>, i: usize) -> Result<Vec<DofType>, SimError> {
 fn path_and_lengths(a: &Args<'_>) -> Result<(Vec<f64>, Vec<f64>, usize), SimError> {
     let path = numbers(a, 0, "path")?;
     let lengths = numbers(a, 1, "pathLengths")?;
-    if lengths.is_empty() || path.len() % lengths.len() != 0 || path.is_empty() {
+    if lengths.is_empty() || path.is_empty() || !path.len().is_multiple_of(lengths.len()) {
         return Err(SimError::bad_argument(format!(
             "arguments 1 and 2: a path of {} values does not hold one configuration per length ({})",
             path.len(),
@@ -265,7 +277,20 @@ fn create_path(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
             )));
         }
         let smoothness = a.opt_f64(3, 1.0)?;
-        let orientation = u8::try_from(a.opt_int(4, 0)?).unwrap_or(u8::MAX);
+        if !(0.0..=1.0).contains(&smoothness) {
+            return Err(SimError::bad_argument(format!(
+                "argument 4 (smoothness): expected a value from 0 to 1, got {smoothness}"
+            )));
+        }
+        let orientation = match u8::try_from(a.opt_int(4, 0)?) {
+            Ok(m) if m <= 6 => m,
+            _ => {
+                return Err(SimError::bad_argument(format!(
+                    "argument 5 (orientationMode): expected 0 to 6, got {}",
+                    a.int(4)?
+                )));
+            }
+        };
         let up = match a.get(5) {
             Value::Nil => [0.0, 0.0, 1.0],
             _ => a.floats::<3>(5)?,

@@ -275,7 +275,7 @@ pub fn count(values: &[f64], dof: usize) -> Result<usize, SimError> {
             "dof: expected at least 1 value per configuration",
         ));
     }
-    if values.is_empty() || values.len() % dof != 0 {
+    if values.is_empty() || !values.len().is_multiple_of(dof) {
         return Err(SimError::bad_argument(format!(
             "path: expected whole configurations of {dof} values, got {} values",
             values.len()
