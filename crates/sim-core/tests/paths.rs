@@ -230,6 +230,21 @@ fn v_rep_3_paths_from_control_points() {
     );
     let e = err(&mut w, "sim.getPositionOnPath", &[h.clone(), Value::Float(0.0)]);
     assert!(e.contains("no control points"), "{e}");
+    // With auxiliary data (options bit 1), 16 values a point: (0,0,0) and (0,0,0.5).
+    let mut aux = vec![0.0; 32];
+    aux[16 + 2] = 0.5;
+    ok(
+        &mut w,
+        "sim.insertPathCtrlPoints",
+        &[
+            h.clone(),
+            Value::Int(2),
+            Value::Int(0),
+            Value::Int(2),
+            Value::floats(&aux),
+        ],
+    );
+    assert_eq!(num(&ok(&mut w, "sim.getPathLength", std::slice::from_ref(&h))[0]), 0.5);
     let e = err(
         &mut w,
         "sim.insertPathCtrlPoints",

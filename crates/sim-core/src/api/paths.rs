@@ -401,16 +401,16 @@ fn set_path_target_nominal_velocity(sim: &mut Sim, _: &CallContext<'_>, a: &Args
 
 /// `sim.insertPathCtrlPoints(pathHandle, options, startIndex, ptCnt, ptData)` (V-REP 3):
 /// control points before index `startIndex`, each `x, y, z, alpha, beta, gamma` in the
-/// path's frame followed by relative velocity, Bezier point count, two interpolation
-/// factors and auxiliary flags (11 values), plus 4 auxiliary channels when options bit 1
-/// (2) is set; gantry keeps the pose and ignores the rest. Options bit 0 (1): the path is
-/// closed.
+/// path's frame followed by maximum relative velocity, on-spot distance, Bezier point
+/// count and two Bezier factors (11 values), then auxiliary flags and 4 auxiliary
+/// channels when options bit 1 (2) is set (16 values); gantry keeps the pose and ignores
+/// the rest. Options bit 0 (1): the path is closed (else open).
 fn insert_path_ctrl_points(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let options = a.int(1)?;
     let start = size(a, 2, "startIndex", 0)?;
     let n = size(a, 3, "ptCnt", 0)?;
     let data = numbers(a, 4, "ptData")?;
-    let stride = if options & 2 != 0 { 15 } else { 11 };
+    let stride = if options & 2 != 0 { 16 } else { 11 };
     if n > MAX_POINTS || data.len() < n * stride {
         return Err(SimError::bad_argument(format!(
             "argument 5 (ptData): {n} points need {} values ({stride} per point), got {}",
