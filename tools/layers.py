@@ -51,6 +51,7 @@ FLOORS = {
     ],
     "crates/world/src": [
         ({"math", "signals", "tubes"}, False),
+        ({"paths"}, False),
         ({"world"}, False),
         ({"sensor", "vision", "ik", "drawing", "graph", "ui", "motion", "planning"}, False),
         ({"sim"}, False),

@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 262 functions, 242 constants."""
+    """`sim`: 274 functions, 249 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -21,6 +21,13 @@ class Sim:
     colorcomponent_emission: int
     colorcomponent_specular: int
     colorcomponent_transparency: int
+    distcalcmethod_dac: int
+    distcalcmethod_dac_if_nonzero: int
+    distcalcmethod_dl: int
+    distcalcmethod_dl_and_dac: int
+    distcalcmethod_dl_if_nonzero: int
+    distcalcmethod_max_dl_dac: int
+    distcalcmethod_sqrt_dl2_and_dac2: int
     dlgret_cancel: int
     dlgret_no: int
     dlgret_ok: int
@@ -303,12 +310,15 @@ class Sim:
         """a copy goes to the root unless its parent was copied too; scripts are not copied."""
     def createCollection(self, *args: Any) -> Any: ...
     def createDummy(self, *args: Any) -> Any: ...
+    def createPath(self, *args: Any) -> Any:
+        """the 4.3+ form makes a dummy whose points (7 values each, in its frame) are also its custom data blocks `PATHCTRLPTS` and `PATH`; without smoothness the points are the control points, with one the `subdiv` points are resampled along the corners rounded as `quadraticBezier` of that strength; options bit 2 closes the path, the display and shape bits are ignored; orientation modes 1-6 put x, x, y, y, z, z along the path with y, z, x, z, x, y up. The V-REP 3 form (a number first) makes an empty path for `sim.insertPathCtrlPoints`. Copies of a path object are plain dummies."""
     def createPointCloud(self, *args: Any) -> Any:
         """the cloud is a scene object (`sim.object_pointcloud_type`, 16) at the world origin, alias `PointCloud`, with white points. As in CoppeliaSim, sizes are clamped (voxel 0.001-1 m, 1-100 points per voxel, 1-8 pixels; the point size is rounded); negative or non-finite ones are an error. `maxVoxelSize` and `maxPtCntPerVoxel` only shape the calculation structure: a full voxel splits (as the manual says), no point is ever dropped for them. Option bits 1 (show OC tree) and 4 (emissive) are kept and reported, not drawn; bit 0 makes the viewer show random colours; bit 3 (no calculation structure) turns the insertion duplicate check off, as in CoppeliaSim. Point clouds are not collidable, measurable or detectable, and vision sensors do not render them; the viewer draws them as points of their colour and size."""
     def createPrimitiveShape(self, *args: Any) -> Any:
         """the shape is static, non-respondable, white, 1000 kg/m^3, at the origin; option bits 0-2 are accepted and ignored; non-round spheroids, elliptic cylinders and cones are tessellated meshes (their density-based mass uses the bounding box)."""
     def createPureShape(self, *args: Any) -> Any:
         """V-REP 3's primitive (0 cuboid, 1 sphere, 2 cylinder, 3 cone) with a mass in kg; options bit 3 respondable, bit 4 static (else dynamic); the drawing bits (culling, edges, smoothing, open ends) and `precision` are accepted and ignored (round shapes are exact primitives)."""
+    def cutPathCtrlPoints(self, *args: Any) -> Any: ...
     def destroyCollection(self, *args: Any) -> Any: ...
     def displayDialog(self, *args: Any) -> Any:
         """gantry has no modal windows: the dialog is a log line, answered OK at once (`sim.getDialogResult` returns `sim.dlgret_ok`)."""
@@ -390,10 +400,19 @@ class Sim:
     def getObjectVelocity(self, *args: Any) -> Any: ...
     def getObjects(self, *args: Any) -> Any: ...
     def getObjectsInTree(self, *args: Any) -> Any: ...
+    def getOrientationOnPath(self, *args: Any) -> Any: ...
+    def getPathInterpolatedConfig(self, *args: Any) -> Any:
+        """`quadraticBezier` rounds each corner with the quadratic Bezier curve on the points `strength` x half a segment before and after it (de Casteljau with the per-type blends, so quaternions stay unit); a path whose ends coincide is closed unless `forceOpen`. The length along a rounded corner is the curve's parameter, not its arc length."""
+    def getPathLength(self, *args: Any) -> Any: ...
+    def getPathLengths(self, *args: Any) -> Any:
+        """lengths in the first (up to) three values of each configuration, as CoppeliaSim; a `distCallback` is refused with an error (compute other distances in the script)."""
+    def getPathPosition(self, *args: Any) -> Any: ...
     def getPointCloudOptions(self, *args: Any) -> Any: ...
     def getPointCloudPoints(self, *args: Any) -> Any:
         """points in the cloud's frame, in insertion order (CoppeliaSim's order follows its OC tree)."""
     def getPoseInverse(self, *args: Any) -> Any: ...
+    def getPositionOnPath(self, *args: Any) -> Any:
+        """world position at a fraction of the path's length (Cartesian distance; V-REP's other path length calculation methods are not kept)."""
     def getQuaternionFromMatrix(self, *args: Any) -> Any: ...
     def getReferencedHandle(self, *args: Any) -> Any: ...
     def getReferencedHandles(self, *args: Any) -> Any:
@@ -442,6 +461,8 @@ class Sim:
     def getVisionSensorResolution(self, *args: Any) -> Any: ...
     def handleProximitySensor(self, *args: Any) -> Any: ...
     def handleVisionSensor(self, *args: Any) -> Any: ...
+    def insertPathCtrlPoints(self, *args: Any) -> Any:
+        """keeps each point's position and Euler angles (11 values, 16 with options bit 1) and ignores its velocity, on-spot distance, Bezier settings and auxiliary data: a V-REP 3 path is the polyline through its control points. Options bit 0 closes the path."""
     def insertPointsIntoPointCloud(self, *args: Any) -> Any:
         """at most 1,000,000 points per cloud: an insertion past it is refused as a whole. A point is a duplicate when strictly closer than `duplicateTolerance` (clamped to 1 m) to a point of the cloud or one inserted before it in the same call. Colours are numbers 0-255 (fractions are truncated) or a byte string; an empty points table inserts nothing (CoppeliaSim wants at least one point)."""
     def interpolateMatrices(self, *args: Any) -> Any: ...
@@ -497,6 +518,8 @@ class Sim:
         """removes points strictly closer than `tolerance`; with `points` nil every point goes (the tolerance is then ignored). Unlike CoppeliaSim, removal also works on a cloud without calculation structure (option bit 3)."""
     def removeScript(self, *args: Any) -> Any:
         """the script's `sysCall_cleanup` runs once the calling hook has returned (a script that removes itself finishes its function); it then receives nothing and `sim.getScript` no longer finds it. A stop restores the scene as loaded, the script included."""
+    def resamplePath(self, *args: Any) -> Any:
+        """`finalConfigCnt` configurations at equal lengths, interpolated as `sim.getPathInterpolatedConfig`."""
     def resetDynamicObject(self, *args: Any) -> Any: ...
     def rotateAroundAxis(self, *args: Any) -> Any: ...
     def ruckigPos(self, *args: Any) -> Any:
@@ -562,6 +585,9 @@ class Sim:
         """the viewer shows the first selected object; handles must exist; at most 1024."""
     def setObjectSpecialProperty(self, *args: Any) -> Any:
         """kept and reported back by `sim.getObjectSpecialProperty` (a shape starts collidable, measurable, detectable and renderable); gantry's sensors and checks see every shape whatever the flags say."""
+    def setPathPosition(self, *args: Any) -> Any: ...
+    def setPathTargetNominalVelocity(self, *args: Any) -> Any:
+        """kept; a path's position does not advance by itself (no `sim.handlePath`)."""
     def setPointCloudOptions(self, *args: Any) -> Any: ...
     def setReferencedHandles(self, *args: Any) -> Any: ...
     def setScriptSimulationParameter(self, *args: Any) -> Any: ...

@@ -146,6 +146,10 @@ const THREADS_LUA: &str = include_str!("lua/threads.lua");
 /// `sim.ruckigStep` and `sim.step`.
 const MOTION_LUA: &str = include_str!("lua/motion.lua");
 
+/// `sim.followPath` and `sim.moveToPosition` (V-REP 3), blocking calls built on the path
+/// and pose functions and `sim.step`.
+const PATH_MOTION_LUA: &str = include_str!("lua/path_motion.lua");
+
 /// Installs the thread functions into the global `sim` table: the blocking calls from
 /// `lua/threads.lua` and the mode setters below, which act on the calling script.
 pub(crate) fn install(lua: &Lua, sim: &Table) -> mlua::Result<()> {
@@ -250,6 +254,9 @@ pub(crate) fn install(lua: &Lua, sim: &Table) -> mlua::Result<()> {
     )?;
     lua.load(MOTION_LUA)
         .set_name("@gantry/motion.lua")
+        .call::<()>(sim.clone())?;
+    lua.load(PATH_MOTION_LUA)
+        .set_name("@gantry/path_motion.lua")
         .call::<()>(sim.clone())?;
     lua.load(THREADS_LUA).set_name("@gantry/threads.lua").call::<()>((
         sim.clone(),

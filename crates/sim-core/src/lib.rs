@@ -20,7 +20,9 @@ pub use rapier3d;
 // Floors 1 and 2: leaves and the scene model (crate gantry-scene).
 pub use gantry_scene::{error, handle, scene};
 // Floors 3 to 5: objects and physics, the subsystems, the aggregate (crate gantry-world).
-pub use gantry_world::{drawing, graph, ik, math, motion, planning, sensor, signals, sim, tubes, ui, vision, world};
+pub use gantry_world::{
+    drawing, graph, ik, math, motion, paths, planning, sensor, signals, sim, tubes, ui, vision, world,
+};
 // Floor 6: the `sim.*` registry.
 pub mod api;
 

@@ -20,6 +20,7 @@ pub use gantry_scene::{error, handle, scene};
 
 // Leaves of this crate.
 pub mod math;
+pub mod paths;
 pub mod signals;
 pub mod tubes;
 // Objects and physics.

@@ -6,7 +6,7 @@
 //!
 //! Floors, each importing only from those below it (checked by `tools/layers.py`):
 //!
-//! 1. `handle`, `math`, `error`, `signals`, `tubes`: leaves.
+//! 1. `handle`, `math`, `error`, `signals`, `tubes`: leaves; `paths` on `math`.
 //! 2. `scene`: the model read from files.
 //! 3. `world`: objects and physics.
 //! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`: subsystems, each
@@ -20,6 +20,7 @@ use crate::graph::Graphs;
 use crate::handle::Handle;
 use crate::ik::IkEnvironments;
 use crate::motion::RuckigObjects;
+use crate::paths::Paths;
 use crate::planning::Planning;
 use crate::scene::SceneModel;
 use crate::signals::Signals;
@@ -59,6 +60,8 @@ pub struct Sim {
     /// Motion-planning state spaces and tasks (`simOMPL`), gone with the simulation at
     /// stop.
     pub planning: Planning,
+    /// Path objects' data (`sim.createPath`), by the handle of their dummy.
+    pub paths: Paths,
 }
 
 impl Sim {
@@ -85,6 +88,7 @@ impl Sim {
             vision: VisionStates::default(),
             ruckig: RuckigObjects::default(),
             planning: Planning::default(),
+            paths: Paths::default(),
         }
     }
 
@@ -158,6 +162,7 @@ impl Sim {
             // Listed just above, so it exists.
             let _ = self.drawings.remove(d);
         }
+        self.paths.retain(|h| !world.is_removed(h));
         for h in 0..world.len() as Handle {
             if world.is_removed(h) {
                 self.views.forget_object(h);

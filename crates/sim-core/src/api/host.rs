@@ -128,6 +128,7 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
         Scripts,
     ),
     f("closeScene", InScripts::No, ByFrontEnd(FrontEndFn::CloseScene), Scene),
+    f("followPath", ThreadedOnly, Remote::No, Motion),
     f("getAutoYieldDelay", AnyHook, Remote::No, Scripts),
     f("getScript", AnyHook, ByScriptHost(ScriptHostFn::GetScript), Scripts),
     f(
@@ -152,6 +153,7 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("moveToPose_cleanup", AnyHook, Remote::No, Motion),
     f("moveToPose_init", AnyHook, Remote::No, Motion),
     f("moveToPose_step", AnyHook, Remote::No, Motion),
+    f("moveToPosition", ThreadedOnly, Remote::No, Motion),
     f(
         "pauseSimulation",
         AnyHook,

@@ -27,6 +27,7 @@ mod objects;
 mod ompl;
 mod packing;
 mod params;
+mod paths;
 mod point_cloud;
 mod properties;
 mod proximity_check;
@@ -355,6 +356,7 @@ pub const MODULES: &[Module] = &[
             application::FUNCTIONS,
             tubes::FUNCTIONS,
             properties::FUNCTIONS,
+            paths::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
@@ -365,6 +367,7 @@ pub const MODULES: &[Module] = &[
             scan::CONSTANTS,
             crate::world::model_property::CONSTANTS,
             crate::world::object_special_property::CONSTANTS,
+            paths::CONSTANTS,
         ]),
         aliases: legacy::ALIASES,
     },
