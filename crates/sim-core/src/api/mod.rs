@@ -26,6 +26,7 @@ mod matrix;
 mod objects;
 mod packing;
 mod params;
+mod particles;
 mod point_cloud;
 mod properties;
 mod proximity_check;
@@ -354,6 +355,7 @@ pub const MODULES: &[Module] = &[
             application::FUNCTIONS,
             tubes::FUNCTIONS,
             properties::FUNCTIONS,
+            particles::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
@@ -364,6 +366,7 @@ pub const MODULES: &[Module] = &[
             scan::CONSTANTS,
             crate::world::model_property::CONSTANTS,
             crate::world::object_special_property::CONSTANTS,
+            particles::CONSTANTS,
         ]),
         aliases: legacy::ALIASES,
     },
