@@ -768,6 +768,52 @@ mod tests {
         assert!(ps.add_item(&mut w, h, &data).is_err());
     }
 
+    /// Steps the world with the particles, as [`crate::sim::Sim::step_dynamics`] does.
+    fn step(w: &mut World, ps: &mut Particles) {
+        ps.before_step(w);
+        w.step_physics();
+        let end = w.time() + w.settings().dt;
+        ps.after_step(w, end);
+        w.advance_time();
+    }
+
+    #[test]
+    fn drag_slows_particles_and_water_particles_float_below_the_surface() {
+        let mut w = world();
+        let mut ps = Particles::default();
+        let mut p = params(PARTICLE_SPHERES | PARTICLE_IGNORESGRAVITY, 10, 0.0);
+        // Linear drag of 1e-3 N per m/s on a 4.2 g ball: |v| decays by about 24% a second.
+        p.material = ParticleMaterial::from_params(&[1.0, 5.0, 1e-3]).expect("valid");
+        let dragged = ps.create(p).expect("create");
+        let free = ps
+            .create(params(PARTICLE_SPHERES | PARTICLE_IGNORESGRAVITY, 10, 0.0))
+            .expect("create");
+        let water = ps
+            .create(params(PARTICLE_SPHERES | PARTICLE_WATER, 10, 0.0))
+            .expect("create");
+        for h in [dragged, free] {
+            ps.add_item(&mut w, h, &item(0.0)).expect("add");
+        }
+        ps.add_item(&mut w, water, &[0.0, 0.0, -1.0, 0.0, 0.0, -1.0])
+            .expect("under water");
+        ps.add_item(&mut w, water, &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0])
+            .expect("in the air");
+        for _ in 0..20 {
+            step(&mut w, &mut ps);
+        }
+        let speed = |h| ps.velocities(&w, h).expect("exists")[0].norm();
+        assert!((speed(free) - 1.0).abs() < 1e-6, "no drag, no gravity: {}", speed(free));
+        let expected = (-1e-3 / (1000.0 * std::f64::consts::PI / 6.0 * 0.02_f64.powi(3))).exp();
+        assert!(
+            (speed(dragged) - expected).abs() < 0.02,
+            "{} vs {expected}",
+            speed(dragged)
+        );
+        let z: Vec<f64> = ps.positions(&w, water).expect("exists").iter().map(|p| p.z).collect();
+        assert!((z[0] + 1.0).abs() < 1e-6, "weightless in the water: {z:?}");
+        assert!(z[1] < 0.0, "falls in the air: {z:?}");
+    }
+
     #[test]
     fn bad_objects_are_refused() {
         let mut ps = Particles::default();
