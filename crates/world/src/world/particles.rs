@@ -16,7 +16,7 @@
 //! - respondable particles (`respondable1to4`/`respondable5to8`) collide with every
 //!   shape that collides with anything: gantry's shapes carry no CoppeliaSim respondable
 //!   mask (scenes map it onto all-colliding rapier groups), so the two halves of the mask
-//!   are not told apart. Particles are in rapier group 32 ([`PARTICLE_GROUP`]), so a shape
+//!   are not told apart. Particles are in rapier group 32 (`PARTICLE_GROUP`), so a shape
 //!   whose collision mask leaves out that bit never meets them;
 //!   `particlerespondable` particles also collide with each other (and with those of
 //!   other particle-respondable objects). Other particles pass through everything and
@@ -99,7 +99,7 @@ const TYPE_MASK: i64 = 0x1f;
 /// Every flag CoppeliaSim defines.
 const FLAGS: i64 = 0x1_ffe0;
 /// The rapier collision group of every particle (shapes are in all groups by default).
-pub const PARTICLE_GROUP: Group = Group::GROUP_32;
+const PARTICLE_GROUP: Group = Group::GROUP_32;
 
 /// What the particles of an object are made of, from `params`.
 #[derive(Debug, Clone, Copy, PartialEq)]
