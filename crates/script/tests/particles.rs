@@ -285,3 +285,35 @@ end
         .expect_err("refused while stopped");
     assert_contains(stopped, &["simulation is not running"]);
 }
+
+/// The quadcopter and propeller models' calls, with V-REP 3's global names: a cyclic,
+/// weightless down-wash of 50 particles at most, with `params` setting restitution
+/// (id 1) and ODE's soft ERP (id 3, ignored).
+#[test]
+fn the_propeller_models_calls_run_unmodified() {
+    let body = r#"
+function sysCall_init()
+    local t = sim_particle_roughspheres + sim_particle_cyclic + sim_particle_respondable1to4
+        + sim_particle_respondable5to8 + sim_particle_ignoresgravity
+    wash = simAddParticleObject(t, 0.005, 8500, {2, 1, 0.2, 3, 0.4}, 0.5, 50, {0.3, 0.7, 1})
+end
+function sysCall_actuation()
+    for i = 1, 20 do
+        local x = (i - 10) * 0.01
+        simAddParticleObjectItem(wash, {x, 0, 1, x, 0, 0.5})
+    end
+end
+"#;
+    let mut sc = probe("particles-propeller", body);
+    for _ in 0..5 {
+        sc.sim.step();
+    }
+    assert_running(&sc.sim, "probe.lua");
+    let core = sc.sim.core();
+    let (h, o) = core.particles.iter().next().expect("the down-wash exists");
+    assert_eq!(o.material().restitution, 0.2);
+    assert_eq!(o.item_count(), 50, "cyclic: the newest 50 of 100 emitted");
+    // Weightless and touching nothing: every particle still falls at 0.5 m/s.
+    let v = core.particles.velocities(&core.world, h).expect("wash");
+    assert!(v.iter().all(|v| (v.z + 0.5).abs() < 1e-3), "{v:?}");
+}
