@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 274 functions, 249 constants."""
+    """`sim`: 277 functions, 266 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -188,6 +188,23 @@ class Sim:
     objfloatparam_objbbox_min_y: int
     objfloatparam_objbbox_min_z: int
     objintparam_visibility_layer: int
+    particle_cyclic: int
+    particle_emissioncolor: int
+    particle_ignoresgravity: int
+    particle_invisible: int
+    particle_itemcolors: int
+    particle_itemdensities: int
+    particle_itemsizes: int
+    particle_painttag: int
+    particle_particlerespondable: int
+    particle_points1: int
+    particle_points2: int
+    particle_points4: int
+    particle_respondable1to4: int
+    particle_respondable5to8: int
+    particle_roughspheres: int
+    particle_spheres: int
+    particle_water: int
     primitiveshape_capsule: int
     primitiveshape_cone: int
     primitiveshape_cuboid: int
@@ -270,6 +287,10 @@ class Sim:
     def addLog(self, *args: Any) -> Any: ...
     def addObjectToSelection(self, *args: Any) -> Any:
         """V-REP 3's forms, `(what, handle)` with `sim.handle_single`, `sim.handle_tree`, `sim.handle_chain` or `sim.handle_all`, or a table of handles; the selection is the viewer's (`sim.getObjectSel`)."""
+    def addParticleObject(self, *args: Any) -> Any:
+        """only while the simulation runs (particle objects go with it at stop; stopped, the call is refused). Each particle is a rapier ball of the given diameter (at most 100 m) and density. `params` is CoppeliaSim's `{n, id1, value1, ...}`: id 0 (friction) and 1 (restitution) set the contact, 5/6 a linear/quadratic drag (N per m/s, N per (m/s)²) and 7/8 the air drag of water particles; the other engines' ids (2-4, 9-17) are accepted and ignored. `respondable1to4` and `respondable5to8` are not told apart: either makes the particles collide with every shape (gantry's shapes have no CoppeliaSim respondable mask; a shape whose `collision_mask` leaves out bit 32 never meets particles). `maxItemCount` is capped at 10,000 per object and 20,000 particles in the world; at most 1,000 particle objects. `painttag` and `emissioncolor` change nothing: vision sensors do not see particles; ray-cast scanners do. The 4.1 colour arguments (specular, emission) are checked and ignored."""
+    def addParticleObjectItem(self, *args: Any) -> Any:
+        """`itemData` is `{p1, p2}` as in CoppeliaSim: the particle starts at p1 with velocity p2 - p1 (m/s), world frame; per-item sizes, densities and colours follow when the flags ask for them (the viewer draws every particle of an object in its colour and size). A full object replaces its oldest particle when cyclic and ignores the item otherwise, silently, as CoppeliaSim does. Particles appear in the viewer from the next step (as sphere points, or 1/2/4-pixel points, through a drawing object that a script's `sim.removeDrawingObject` cannot remove for good)."""
     def addStatusbarMessage(self, *args: Any) -> Any:
         """writes an information line to the log, which the viewer shows; `nil` does nothing."""
     def adjustView(self, *args: Any) -> Any:
@@ -514,6 +535,8 @@ class Sim:
     def removeObjectFromSelection(self, *args: Any) -> Any: ...
     def removeObjects(self, *args: Any) -> Any:
         """children of a removed object move to its parent, keeping their world pose; scripts attached to removed objects keep running (their object calls then fail)."""
+    def removeParticleObject(self, *args: Any) -> Any:
+        """also accepts `sim.handle_all`. Particle object handles start at 4,000,000; any other handle is "particle object does not exist"."""
     def removePointsFromPointCloud(self, *args: Any) -> Any:
         """removes points strictly closer than `tolerance`; with `points` nil every point goes (the tolerance is then ignored). Unlike CoppeliaSim, removal also works on a cloud without calculation structure (option bit 3)."""
     def removeScript(self, *args: Any) -> Any:

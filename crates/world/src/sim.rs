@@ -14,7 +14,9 @@
 //! 5. `sim`: this aggregate.
 //! 6. `api`: the `sim.*` registry over [`Sim`].
 
-use crate::drawing::Drawings;
+use std::collections::BTreeMap;
+
+use crate::drawing::{DrawingObject, DrawingParams, Drawings, MAX_DRAWING_ITEMS};
 use crate::error::SimError;
 use crate::graph::Graphs;
 use crate::handle::Handle;
@@ -27,7 +29,7 @@ use crate::signals::Signals;
 use crate::tubes::Tubes;
 use crate::ui::{FloatingViews, SimulatorMessages, Uis};
 use crate::vision::VisionStates;
-use crate::world::World;
+use crate::world::{PARTICLE_INVISIBLE, PARTICLE_POINTS1, PARTICLE_POINTS2, PARTICLE_POINTS4, Particles, World};
 
 /// A simulation: the world and everything scripts and clients build on it.
 pub struct Sim {
@@ -62,6 +64,11 @@ pub struct Sim {
     pub planning: Planning,
     /// Path objects' data (`sim.createPath`), by the handle of their dummy.
     pub paths: Paths,
+    /// Particle objects (`sim.addParticleObject`), gone with the simulation at stop.
+    pub particles: Particles,
+    /// The drawing object that shows each visible particle object, by particle object
+    /// handle (see [`Sim::draw_particles`]).
+    particle_drawings: BTreeMap<Handle, ParticleDrawing>,
 }
 
 impl Sim {
@@ -89,6 +96,8 @@ impl Sim {
             ruckig: RuckigObjects::default(),
             planning: Planning::default(),
             paths: Paths::default(),
+            particles: Particles::default(),
+            particle_drawings: BTreeMap::new(),
         }
     }
 
@@ -108,12 +117,96 @@ impl Sim {
     }
 
     /// The part of a step between actuation and sensing, in CoppeliaSim's order:
-    /// joints and physics advance one step, then every proximity sensor is handled.
-    /// Simulation time does not move yet: scripts see the step's start time until
-    /// [`Sim::finish_step`].
+    /// joints, physics and particles advance one step, then every proximity sensor is
+    /// handled. Simulation time does not move yet: scripts see the step's start time
+    /// until [`Sim::finish_step`].
     pub fn step_dynamics(&mut self) {
+        self.particles.before_step(&mut self.world);
         self.world.step_physics();
+        let end = self.world.time() + self.world.settings().dt;
+        self.particles.after_step(&mut self.world, end);
+        self.draw_particles();
         crate::sensor::handle_all_proximity_sensors(&mut self.world);
+    }
+
+    /// Shows the particles in the viewer: each visible particle object has a drawing
+    /// object (sphere points of the particles' diameter, or 1, 2 or 4-pixel points for
+    /// the point types, in the object's colour) holding its particles' current
+    /// positions. Per-item sizes and colours are not drawn. A drawing object a script
+    /// removed is made again; one whose particle object is gone is removed.
+    pub fn draw_particles(&mut self) {
+        let gone: Vec<Handle> = self
+            .particle_drawings
+            .keys()
+            .copied()
+            .filter(|&p| self.particles.object(p).is_err())
+            .collect();
+        for p in gone {
+            if let Some(pd) = self.particle_drawings.remove(&p)
+                && self.drawings.get(pd.handle).is_some_and(|d| pd.is(d))
+                && !self.particle_drawings.values().any(|other| other.handle == pd.handle)
+            {
+                let _ = self.drawings.remove(pd.handle);
+            }
+        }
+        // Drawing handles given to a particle object in this pass: after a restart of
+        // the drawing handles, a stale entry of a later object may name one of them.
+        let mut claimed: Vec<Handle> = Vec::new();
+        for (p, o) in self.particles.iter() {
+            if o.has(PARTICLE_INVISIBLE) {
+                continue;
+            }
+            let (object_type, size) = match o.kind() {
+                PARTICLE_POINTS1 => (0, 1.0),
+                PARTICLE_POINTS2 => (0, 2.0),
+                PARTICLE_POINTS4 => (0, 4.0),
+                _ => (7, o.size()),
+            };
+            let existing = self.particle_drawings.get(&p).copied();
+            let d = match existing
+                .filter(|pd| !claimed.contains(&pd.handle) && self.drawings.get(pd.handle).is_some_and(|d| pd.is(d)))
+            {
+                Some(pd) => pd.handle,
+                None => {
+                    let params = DrawingParams {
+                        object_type,
+                        size,
+                        duplicate_tolerance: 0.0,
+                        parent: None,
+                        max_items: o.max_items().min(MAX_DRAWING_ITEMS),
+                        color: o.color(),
+                        emission: None,
+                    };
+                    // At the drawing objects' cap the particles are simply not drawn.
+                    let Ok(d) = self.drawings.create(params) else {
+                        continue;
+                    };
+                    d
+                }
+            };
+            claimed.push(d);
+            let Ok(positions) = self.particles.positions(&self.world, p) else {
+                continue;
+            };
+            if let Ok(drawing) = self.drawings.object_mut(d) {
+                drawing.clear();
+                let frame = crate::math::Pose::identity();
+                for v in positions {
+                    // Positions come from rapier and are finite.
+                    let _ = drawing.add_item(&[v.x, v.y, v.z], &frame);
+                }
+                self.particle_drawings.insert(
+                    p,
+                    ParticleDrawing {
+                        handle: d,
+                        object_type: drawing.object_type(),
+                        size: drawing.size(),
+                        color: drawing.color(),
+                        written: drawing.item_count(),
+                    },
+                );
+            }
+        }
     }
 
     /// Ends a step: simulation time moves on, and the first pass after a start or a
@@ -168,6 +261,31 @@ impl Sim {
                 self.views.forget_object(h);
             }
         }
+    }
+}
+
+/// A drawing object showing a particle object, as last drawn.
+#[derive(Debug, Clone, Copy)]
+struct ParticleDrawing {
+    handle: Handle,
+    object_type: i64,
+    size: f64,
+    color: [f64; 3],
+    /// Items it was given.
+    written: usize,
+}
+
+impl ParticleDrawing {
+    /// Whether `d`, found at this handle, is still this drawing.
+    /// `sim.removeDrawingObject(sim.handle_all)` restarts the drawing handles, so a
+    /// script's new drawing object may have taken the handle: it is left alone unless it
+    /// is exactly what was drawn here last.
+    fn is(&self, d: &DrawingObject) -> bool {
+        d.object_type() == self.object_type
+            && d.size() == self.size
+            && d.color() == self.color
+            && d.parent().is_none()
+            && d.item_count() == self.written
     }
 }
 

@@ -27,6 +27,7 @@ mod objects;
 mod ompl;
 mod packing;
 mod params;
+mod particles;
 mod paths;
 mod point_cloud;
 mod properties;
@@ -357,6 +358,7 @@ pub const MODULES: &[Module] = &[
             tubes::FUNCTIONS,
             properties::FUNCTIONS,
             paths::FUNCTIONS,
+            particles::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
@@ -368,6 +370,7 @@ pub const MODULES: &[Module] = &[
             crate::world::model_property::CONSTANTS,
             crate::world::object_special_property::CONSTANTS,
             paths::CONSTANTS,
+            particles::CONSTANTS,
         ]),
         aliases: legacy::ALIASES,
     },

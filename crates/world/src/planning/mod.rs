@@ -24,7 +24,7 @@ use crate::world::Handle;
 /// keeps its own handles).
 const FIRST_SPACE: Handle = 3_000_000;
 /// The first handle of a task.
-const FIRST_TASK: Handle = 4_000_000;
+const FIRST_TASK: Handle = 3_500_000;
 
 /// The state spaces and tasks scripts created, gone with the simulation at stop.
 #[derive(Debug, Clone, Default)]

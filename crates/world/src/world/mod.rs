@@ -13,6 +13,7 @@ mod edit_state;
 mod log;
 mod object;
 pub mod object_path;
+mod particles;
 mod physics;
 mod point_cloud;
 mod properties;
@@ -33,6 +34,13 @@ pub use edit::MIN_SHAPE_MASS;
 pub use edit_state::{ColorComponent, EditCounters};
 pub use log::{LOG_CAPACITY, Log, LogLine};
 pub use object::{Detection, ForceReading, Handle, Joint, KinematicMotion, Object, ObjectKind, ProximitySensor};
+pub use particles::{
+    FIRST_PARTICLE_HANDLE, MAX_LIVE_PARTICLES, MAX_PARTICLE_ITEMS, MAX_PARTICLE_OBJECTS, MAX_PARTICLE_SIZE,
+    PARTICLE_CYCLIC, PARTICLE_EMISSIONCOLOR, PARTICLE_IGNORESGRAVITY, PARTICLE_INVISIBLE, PARTICLE_ITEMCOLORS,
+    PARTICLE_ITEMDENSITIES, PARTICLE_ITEMSIZES, PARTICLE_PAINTTAG, PARTICLE_PARTICLERESPONDABLE, PARTICLE_POINTS1,
+    PARTICLE_POINTS2, PARTICLE_POINTS4, PARTICLE_RESPONDABLE1TO4, PARTICLE_RESPONDABLE5TO8, PARTICLE_ROUGHSPHERES,
+    PARTICLE_SPHERES, PARTICLE_WATER, ParticleMaterial, ParticleObject, ParticleParams, Particles,
+};
 pub(crate) use physics::Physics;
 pub use point_cloud::{
     DEFAULT_POINT_COLOR, MAX_INSERTION_TOLERANCE, MAX_POINT_CLOUD_POINTS, POINT_SIZE_RANGE, POINTCLOUD_EMISSIVE,
