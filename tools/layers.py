@@ -66,7 +66,7 @@ FLOORS = {
         ({"budget", "host_api"}, False),
         ({"scripts"}, False),
         ({"simulation"}, False),
-        ({"step", "remote", "ros_dispatch"}, False),
+        ({"step", "remote", "remote_blocking", "ros_dispatch"}, False),
         ({"ros_action_dispatch"}, False),
     ],
 }

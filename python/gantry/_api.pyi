@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 277 functions, 266 constants."""
+    """`sim`: 281 functions, 266 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -501,6 +501,10 @@ class Sim:
     def loadScene(self, *args: Any) -> Any:
         """reads gantry scenes (.toml) and URDFs; a CoppeliaSim .ttt/.ttm is refused by name. The running simulation stops (cleanup hooks run) and the new scene waits, stopped, for `sim.startSimulation`; a file that does not load leaves the current scene as it was. Command-line overrides (`--dt`, `--substeps`) apply only to the scene gantry started with. Remote clients only."""
     def matrixToPose(self, *args: Any) -> Any: ...
+    def moveToConfig(self, *args: Any) -> Any:
+        """Ruckig-based like CoppeliaSim's (rsruckig); only function callbacks, not global function names; without limits the target is reached in one step (4.7+ behaviour); joints are driven with `sim.setJointTargetPosition` when dynamically enabled, else `sim.setJointPosition`. Remote clients (ZMQ, in-process Python) call it too: the call runs over as many steps as the motion takes (a stepping client's call takes them for it, as `sim.step()` would) and returns when it ends; the 4.6+ forms that move `joints` or `object` work, while Python callables as callbacks are refused (use the 4.6+ form, or `sim.ruckigPos`/`sim.ruckigStep`). A stop during the call ends it with an error."""
+    def moveToPose(self, *args: Any) -> Any:
+        """as `sim.moveToConfig` (remote clients included); the `ik` parameter is not supported; the 4.0-4.5 form returns a pose or a matrix, as it was given (CoppeliaSim always returns a matrix)."""
     def msgBox(self, *args: Any) -> Any:
         """no modal windows in gantry: the message is a log line at the box's level and the box is answered at once with its affirmative button (OK, or Yes)."""
     def multiplyMatrices(self, *args: Any) -> Any: ...
@@ -651,6 +655,10 @@ class Sim:
     def unpackUInt16Table(self, *args: Any) -> Any: ...
     def unpackUInt32Table(self, *args: Any) -> Any: ...
     def unpackUInt8Table(self, *args: Any) -> Any: ...
+    def wait(self, *args: Any) -> Any:
+        """waits in simulation time with the step's resolution and returns the overshoot (<= 0); `simTime=false` waits in wall-clock time, also in whole steps. From a remote client it is answered once the time has passed: in simulation time the call takes the steps it needs, as `sim.step()` would for a stepping client (refused while the simulation is stopped); `simTime=false` waits in wall-clock time without the simulation, as CoppeliaSim's examples use it while stopped."""
+    def waitForSignal(self, *args: Any) -> Any:
+        """accepts the signal name alone (4.0-4.5) or after a target (4.6+; the target is ignored: signals belong to the scene); returns the value of an int32, float or string signal, whichever is set first. Remote clients get the answer when the signal appears, steps later."""
     def writeCustomBufferData(self, *args: Any) -> Any: ...
     def writeCustomDataBlock(self, *args: Any) -> Any:
         """objects and `sim.handle_scene` only (`sim.handle_app` is refused as an unknown object); no `@tmp` distinction (gantry saves no scenes); no `sysCall_data` callback. Data read back with the type written (text or bytes); blocks and user parameters are separate namespaces."""

@@ -18,7 +18,7 @@ use gantry_engine::{ClientId, Due, Engine, EngineConfig, HostCall, RemoteOp};
 use gantry_record::{RecordTap, Recorder};
 use gantry_script::ScriptError;
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{CallError, Target};
+use gantry_sim_core::api::{CallError, ScriptHostFn, Target};
 use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::{Control, SimulationState};
 use pyo3::Python;
@@ -104,10 +104,68 @@ impl Direct {
         args: &[Value],
     ) -> Result<Vec<Value>, CallError> {
         self.before_call(py);
+        if let Target::ScriptHost(f) = *target
+            && f.blocks()
+        {
+            return self.call_blocking(py, f, args);
+        }
         if release_gil {
             self.detached(py, |d| d.engine.call(target, args))
         } else {
             self.engine.call(target, args)
+        }
+    }
+
+    /// A blocking call (`sim.wait`, `sim.moveToConfig`, ...): this client owns the loop,
+    /// so it takes the steps the call waits for itself, paced as its `sim.step()` is (in
+    /// real time when free running, at once when stepping or not in real time), with
+    /// the GIL released. `sim.wait(dt, false)` waits `dt` seconds of wall-clock time.
+    fn call_blocking(&mut self, py: Python<'_>, f: ScriptHostFn, args: &[Value]) -> Result<Vec<Value>, CallError> {
+        if f == ScriptHostFn::Wait && args.get(1) == Some(&Value::Bool(false)) {
+            let dt = match args.first().and_then(Value::as_f64) {
+                Some(dt) if dt.is_finite() => dt.clamp(0.0, 86_400.0),
+                _ => {
+                    return Err(CallError::failed(
+                        "sim.wait",
+                        SimError::bad_argument("argument 1: expected number"),
+                    ));
+                }
+            };
+            let start = Instant::now();
+            py.detach(|| std::thread::sleep(std::time::Duration::from_secs_f64(dt)));
+            return Ok(vec![Value::Float((dt - start.elapsed().as_secs_f64()).min(0.0))]);
+        }
+        let (reply, mut answer) = tokio::sync::oneshot::channel();
+        self.detached(py, |d| d.engine.call_blocking(None, f, args, reply));
+        loop {
+            match answer.try_recv() {
+                Ok(out) => return out,
+                Err(tokio::sync::oneshot::error::TryRecvError::Closed) => {
+                    return Err(CallError::failed(
+                        format!("sim.{}", f.name()),
+                        SimError::refused("the simulation ended before the call returned"),
+                    ));
+                }
+                Err(tokio::sync::oneshot::error::TryRecvError::Empty) => {}
+            }
+            if self.engine.state() != SimulationState::Running {
+                // Paused: nothing this client does will take the call further.
+                return Err(CallError::failed(
+                    format!("sim.{}", f.name()),
+                    SimError::refused("the simulation is paused: the call waits for steps that will not come"),
+                ));
+            }
+            py.check_signals().map_err(|e| {
+                CallError::failed(
+                    format!("sim.{}", f.name()),
+                    SimError::refused(format!("interrupted: {e}")),
+                )
+            })?;
+            if self.engine.on_demand() || !self.engine.realtime() {
+                self.run_steps(py, 1);
+            } else {
+                self.step(py);
+            }
         }
     }
 

@@ -19,11 +19,12 @@ use gantry_script::{
     DebugLink, HookError, Listeners, RecordingRequest, ScriptError, ScriptLimits, Simulation, StepBoundary,
 };
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{CallError, Target};
+use gantry_sim_core::api::{CallError, ScriptHostFn, Target};
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
 use gantry_sim_core::sim::{Control, SimulationState};
 use tokio::sync::oneshot;
 
+use crate::blocking::{BlockingCall, BlockingReply, ended_error, stopped_error};
 use crate::host_call::{LoopControl, RemoteOp};
 use crate::pacing::Pacing;
 use crate::stepping::{ClientId, Stepping, SteppingError};
@@ -86,6 +87,10 @@ pub struct Engine {
     /// Look at every step and the end of the run (the ROS 2 graph's publisher), for
     /// the engine's whole life.
     observers: Vec<Box<dyn Tap>>,
+    /// Remote clients' blocking calls in progress, oldest first.
+    blocking: Vec<BlockingCall>,
+    /// The last blocking call's number.
+    blocking_ids: u64,
 }
 
 impl Engine {
@@ -106,6 +111,8 @@ impl Engine {
             last_idle: now,
             tap: None,
             observers: Vec::new(),
+            blocking: Vec::new(),
+            blocking_ids: 0,
         })
     }
 
@@ -281,8 +288,81 @@ impl Engine {
         } else {
             self.pacing.taken(now, self.dt());
         }
+        self.resume_blocking();
         self.stepping.stepped(self.steps);
         self.follow_state(SimulationState::Running);
+    }
+
+    /// A remote client's blocking call (`sim.wait`, `sim.waitForSignal`,
+    /// `sim.moveToConfig`, `sim.moveToPose`): run up to its first wait now, then
+    /// resumed after each step until it returns, when `reply` gets its answer. While
+    /// `client` steps the simulation, its call takes the steps it needs, as its own
+    /// `sim.step()` calls would. Refused while the simulation is stopped (the steps it
+    /// waits for would never come); while paused, it waits.
+    pub fn call_blocking(&mut self, client: Option<ClientId>, f: ScriptHostFn, args: &[Value], reply: BlockingReply) {
+        if self.sim.state() == SimulationState::Stopped {
+            let _ = reply.send(Err(stopped_error(f)));
+            return;
+        }
+        let target = Target::ScriptHost(f);
+        self.tap_input(EngineInput::Call { target: &target, args });
+        let before = self.sim.state();
+        self.blocking_ids += 1;
+        let id = gantry_script::BlockingId(self.blocking_ids);
+        match self.sim.start_blocking(id, f, args) {
+            gantry_script::Blocking::Done(answer) => {
+                let _ = reply.send(answer);
+            }
+            gantry_script::Blocking::Waiting => {
+                self.blocking.push(BlockingCall { id, client, f, reply });
+                self.want_steps();
+            }
+        }
+        self.follow_state(before);
+    }
+
+    /// Whether a blocking call is in progress.
+    pub fn has_blocking(&self) -> bool {
+        !self.blocking.is_empty()
+    }
+
+    /// Resumes the blocking calls after a step and answers those that returned.
+    fn resume_blocking(&mut self) {
+        if self.blocking.is_empty() || self.sim.state() != SimulationState::Running {
+            return;
+        }
+        // A call nobody waits for any more (its client left) goes no further.
+        let (gone, kept): (Vec<_>, Vec<_>) = std::mem::take(&mut self.blocking)
+            .into_iter()
+            .partition(|c| c.reply.is_closed());
+        self.blocking = kept;
+        for c in gone {
+            self.sim.cancel_blocking(c.id);
+        }
+        for (id, answer) in self.sim.resume_blocking() {
+            if let Some(k) = self.blocking.iter().position(|c| c.id == id) {
+                let _ = self.blocking.remove(k).reply.send(answer);
+            }
+        }
+        self.want_steps();
+    }
+
+    /// Each stepping client with a blocking call in progress lets the simulation take
+    /// the next step.
+    fn want_steps(&mut self) {
+        for c in &self.blocking {
+            if let Some(client) = c.client {
+                self.stepping.want_step(client, self.steps);
+            }
+        }
+    }
+
+    /// The simulation stopped or changed scene: the blocking calls end with an error.
+    fn end_blocking(&mut self) {
+        self.sim.abort_blocking();
+        for c in self.blocking.drain(..) {
+            let _ = c.reply.send(Err(ended_error(c.f)));
+        }
     }
 
     /// After something that may have started, paused or stopped the simulation (a
@@ -295,7 +375,10 @@ impl Engine {
             return;
         }
         match now {
-            SimulationState::Stopped => self.stepping.stopped(),
+            SimulationState::Stopped => {
+                self.stepping.stopped();
+                self.end_blocking();
+            }
             SimulationState::Paused => self.stepping.release_waiters(),
             SimulationState::Running => self.pacing.restart(Instant::now()),
         }
@@ -381,6 +464,13 @@ impl Engine {
     /// A client left or timed out: it can no longer hold the simulation.
     pub fn drop_client(&mut self, client: ClientId) {
         self.stepping.drop_client(client);
+        let (gone, kept) = std::mem::take(&mut self.blocking)
+            .into_iter()
+            .partition(|c| c.client == Some(client));
+        self.blocking = kept;
+        for c in gone {
+            self.sim.cancel_blocking(c.id);
+        }
     }
 
     /// No front end is left to release a hold: forget every client's stepping state.
@@ -426,6 +516,7 @@ impl Engine {
         self.control_untapped(Control::Stop);
         self.sim.close_sockets();
         let sim = Self::simulation(model, &self.config, debug).map_err(|e| refused(&e))?;
+        self.end_blocking();
         self.sim = sim;
         Ok(())
     }

@@ -15,12 +15,14 @@
 //! way (a request queue and a sleeping loop; calls on the caller's thread), with the
 //! same rules because there is one copy of them.
 
+mod blocking;
 mod engine;
 mod host_call;
 pub mod pacing;
 pub mod stepping;
 pub mod tap;
 
+pub use blocking::BlockingReply;
 pub use engine::{Due, Engine, EngineConfig, NON_SIMULATION_PERIOD, RELOAD_PERIOD};
 pub use host_call::{HostCall, LoopControl, RemoteOp};
 pub use stepping::{ClientId, Stepping, SteppingError};

@@ -134,6 +134,17 @@ impl Stepping {
         }
     }
 
+    /// `client`'s blocking call needs the step after `current`: a stepping client's
+    /// desired step moves there, as its own `sim.step()` would move it (nothing to do
+    /// for a client that is not stepping).
+    pub fn want_step(&mut self, client: ClientId, current: u64) {
+        if let Some(c) = self.clients.get_mut(&client)
+            && c.level > 0
+        {
+            c.desired = c.desired.max(current.saturating_add(1));
+        }
+    }
+
     /// Whether `client` holds a lock (`sim.acquireLock`).
     pub fn holds_lock(&self, client: ClientId) -> bool {
         self.clients.get(&client).is_some_and(|c| c.locks > 0)

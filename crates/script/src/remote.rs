@@ -90,6 +90,15 @@ impl Simulation {
             ScriptHostFn::GetScript => script_handle(&self.lua, args)
                 .map(|h| vec![Value::Int(h)])
                 .map_err(in_function),
+            ScriptHostFn::Wait
+            | ScriptHostFn::WaitForSignal
+            | ScriptHostFn::MoveToConfig
+            | ScriptHostFn::MoveToPose => {
+                // The engine runs these over several steps (`Simulation::start_blocking`).
+                Err(in_function(SimError::refused(
+                    "this call blocks across steps and is served by the engine, not as a single call",
+                )))
+            }
             ScriptHostFn::CallScriptFunction => {
                 // Script code running for a remote client is outside any hook, so it gets
                 // a hook's time budget here; otherwise a loop in the called function

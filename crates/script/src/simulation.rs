@@ -55,6 +55,8 @@ pub struct Simulation {
     pub(crate) model: SceneModel,
     /// `simRemoteApi`: the front end's listeners and the servers started this run.
     listeners: Rc<RefCell<ListenerState>>,
+    /// Remote clients' blocking calls in progress (`sim.moveToConfig`, ...).
+    pub(crate) blocking: crate::threads::BlockingCalls,
 }
 
 impl Simulation {
@@ -138,6 +140,7 @@ impl Simulation {
             scripts,
             model,
             listeners,
+            blocking: Default::default(),
         };
         sim.scripts.load_all(&sim.model.scripts);
         Ok(sim)

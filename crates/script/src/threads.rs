@@ -29,6 +29,18 @@ use mlua::{Lua, Table, Thread};
 use crate::app_state::state;
 use crate::running::Running;
 
+/// A remote client's blocking call in progress (`crate::remote_blocking`), named by
+/// the engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BlockingId(pub u64);
+
+/// The coroutines of remote clients' blocking calls in progress, oldest first: threads
+/// too, but of no script, resumed by the engine after each step.
+#[derive(Default)]
+pub(crate) struct BlockingCalls {
+    pub(crate) running: Vec<(BlockingId, gantry_sim_core::api::ScriptHostFn, Thread)>,
+}
+
 /// CoppeliaSim's default auto-yield delay (`sim.getAutoYieldDelay`).
 pub const DEFAULT_AUTO_YIELD: Duration = Duration::from_millis(2);
 

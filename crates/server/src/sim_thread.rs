@@ -42,6 +42,18 @@ pub enum Request {
         /// The results or a CoppeliaSim-style error message.
         reply: oneshot::Sender<Result<Vec<Value>, CallError>>,
     },
+    /// A remote API client's blocking call (`sim.wait`, `sim.moveToConfig`, ...): run
+    /// over as many steps as it needs, then answered (see `Engine::call_blocking`).
+    Blocking {
+        /// The client, whose stepping level the call's steps go through.
+        client: ClientId,
+        /// The function.
+        f: gantry_sim_core::api::ScriptHostFn,
+        /// Arguments.
+        args: Vec<Value>,
+        /// The results or a CoppeliaSim-style error message.
+        reply: oneshot::Sender<Result<Vec<Value>, CallError>>,
+    },
     /// Deliver a text packet to the scripts' `sysCall_packet(packet)`.
     Packet {
         /// The packet as a table (see `text` module docs).
@@ -543,9 +555,17 @@ impl SimLoop {
 
     fn serve(&mut self, req: Request) {
         match req {
+            // A blocking function called without a client's session (the in-process
+            // client on the simulation thread, the legacy remote API).
+            Request::Call {
+                target: Target::ScriptHost(f),
+                args,
+                reply,
+            } if f.blocks() => self.engine.call_blocking(None, f, &args, reply),
             Request::Call { target, args, reply } => {
                 let _ = reply.send(self.engine.call(&target, &args));
             }
+            Request::Blocking { client, f, args, reply } => self.engine.call_blocking(Some(client), f, &args, reply),
             Request::Packet { packet, reply } => {
                 let _ = reply.send(packet_outcome(self.engine.packet(&packet)));
             }
@@ -578,6 +598,7 @@ fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
         },
         Request::Packet { .. } => at == StepBoundary::Phase,
         Request::Control { .. }
+        | Request::Blocking { .. }
         | Request::Remote { .. }
         | Request::Step { .. }
         | Request::DropClient(_)

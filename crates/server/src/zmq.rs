@@ -33,6 +33,11 @@
 //! timeout; one that hangs without closing its socket holds it until its timeout.
 //!
 //! Every malformed message gets an `{"err": ...}` reply and touches nothing else.
+//! * Blocking calls (`sim.wait`, `sim.waitForSignal`, `sim.moveToConfig`,
+//!   `sim.moveToPose`): [`Request::Blocking`], answered when the call returns, steps
+//!   later; the client's REQ socket simply waits, as ROUTER lets a reply be deferred.
+//!   `sim.wait(dt, false)` (wall-clock time) is served here, without the simulation.
+//!
 //! Non-goals: callbacks into the client (`...@func` arguments are passed through as
 //! strings), `eval`, and protocol v1 (answered with the real server's mismatch error).
 
@@ -163,6 +168,24 @@ impl zmtp_conn::Router for Sessions {
         server.routes.remove(&peer.id);
         server.disconnected(&peer.id);
     }
+}
+
+/// `sim.wait(dt, false)`: a wait in wall-clock time, which concerns neither the
+/// simulation nor its thread (CoppeliaSim's examples call it with the simulation
+/// stopped): answered after `dt` seconds with the overshoot (<= 0), as `sim.wait` is.
+fn wall_clock_wait(args: &[Value]) -> Outcome {
+    let dt = match args.first().and_then(Value::as_f64) {
+        Some(dt) if dt.is_finite() => dt.clamp(0.0, 86_400.0),
+        _ => return Outcome::Reply(encode_err("argument 1: expected number (in function 'sim.wait')")),
+    };
+    let (reply, rx) = oneshot::channel();
+    let start = Instant::now();
+    tokio::spawn(async move {
+        tokio::time::sleep(Duration::from_secs_f64(dt)).await;
+        let overshoot = dt - start.elapsed().as_secs_f64();
+        let _ = reply.send(Ok(vec![Value::Float(overshoot.min(0.0))]));
+    });
+    Outcome::Await(rx)
 }
 
 /// The reply to a call: its results, its error, or the end of the simulation (the
@@ -339,6 +362,12 @@ impl Server {
                 Ok(HostCall::LoadScene(path)) => Request::LoadScene { path, reply },
                 Err(e) => return Outcome::Reply(encode_err(&e.to_string())),
             },
+            Target::ScriptHost(f) if f.blocks() => {
+                if f == api::ScriptHostFn::Wait && args.get(1) == Some(&Value::Bool(false)) {
+                    return wall_clock_wait(&args);
+                }
+                Request::Blocking { client, f, args, reply }
+            }
             target => Request::Call { target, args, reply },
         };
         if let Err(e) = self.sim.send(request) {

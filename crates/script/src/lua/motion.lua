@@ -203,8 +203,9 @@ end
 local function run(fname, init, step, cleanup, params)
     need_thread(fname)
     local data = init(params)
-    local stepping = sim.setStepping ~= nil
-    if stepping then sim.setStepping(true) end
+    -- A script's thread steps for the motion; a remote client's call (run by the
+    -- engine, no script running) is stepped by the engine.
+    local stepping = sim.setStepping ~= nil and pcall(sim.setStepping, true)
     local ok, e = pcall(function()
         while true do
             local res = step(data)

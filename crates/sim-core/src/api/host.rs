@@ -46,6 +46,27 @@ pub enum ScriptHostFn {
     LoadModel,
     /// `sim.removeScript(scriptHandle)`.
     RemoveScript,
+    /// `sim.wait(dt, simulationTime=true)`: blocks (see [`ScriptHostFn::blocks`]).
+    Wait,
+    /// `sim.waitForSignal(name)`: blocks.
+    WaitForSignal,
+    /// `sim.moveToConfig(params)`: blocks while the joints move.
+    MoveToConfig,
+    /// `sim.moveToPose(params)`: blocks while the object moves.
+    MoveToPose,
+}
+
+impl ScriptHostFn {
+    /// Whether the call lasts several steps (a remote client's blocking call): the Lua
+    /// host runs it as a coroutine the engine resumes after each step, and the client
+    /// gets its answer when it returns. A stepping client's call takes the steps it
+    /// needs, as `sim.step()` would.
+    pub fn blocks(self) -> bool {
+        matches!(
+            self,
+            Self::Wait | Self::WaitForSignal | Self::MoveToConfig | Self::MoveToPose
+        )
+    }
 }
 
 /// The host functions a remote client's session or the simulation loop serves: what
@@ -145,11 +166,21 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("launchExecutable", AnyHook, Remote::No, Touches::Programs),
     f("loadModel", AnyHook, ByScriptHost(ScriptHostFn::LoadModel), Scene),
     f("loadScene", InScripts::No, ByFrontEnd(FrontEndFn::LoadScene), Scene),
-    f("moveToConfig", ThreadedOnly, Remote::No, Motion),
+    f(
+        "moveToConfig",
+        ThreadedOnly,
+        ByScriptHost(ScriptHostFn::MoveToConfig),
+        Motion,
+    ),
     f("moveToConfig_cleanup", AnyHook, Remote::No, Motion),
     f("moveToConfig_init", AnyHook, Remote::No, Motion),
     f("moveToConfig_step", AnyHook, Remote::No, Motion),
-    f("moveToPose", ThreadedOnly, Remote::No, Motion),
+    f(
+        "moveToPose",
+        ThreadedOnly,
+        ByScriptHost(ScriptHostFn::MoveToPose),
+        Motion,
+    ),
     f("moveToPose_cleanup", AnyHook, Remote::No, Motion),
     f("moveToPose_init", AnyHook, Remote::No, Motion),
     f("moveToPose_step", AnyHook, Remote::No, Motion),
@@ -184,8 +215,13 @@ pub const HOST_FUNCTIONS: &[HostFunction] = &[
     f("stopRecording", AnyHook, Remote::No, Loop),
     f("stopSimulation", AnyHook, ByFrontEnd(FrontEndFn::StopSimulation), Loop),
     f("switchThread", ThreadedOnly, Remote::No, Scripts),
-    f("wait", ThreadedOnly, Remote::No, Loop),
-    f("waitForSignal", ThreadedOnly, Remote::No, Loop),
+    f("wait", ThreadedOnly, ByScriptHost(ScriptHostFn::Wait), Loop),
+    f(
+        "waitForSignal",
+        ThreadedOnly,
+        ByScriptHost(ScriptHostFn::WaitForSignal),
+        Loop,
+    ),
 ];
 
 /// A module whose every function a host implements (no core function behind it).
@@ -383,7 +419,7 @@ mod tests {
             };
             assert_eq!(name, h.name);
         }
-        assert_eq!(script_host_functions().count(), 5);
+        assert_eq!(script_host_functions().count(), 9);
         assert_eq!(front_end_functions().count(), 9);
     }
 }

@@ -100,7 +100,9 @@ mod tests {
         assert!(Target::resolve("sim.noSuchThing").is_none());
         assert!(Target::resolve("simNope.getObject").is_none());
         // Host functions that only scripts may call are not remote targets.
-        assert!(Target::resolve("sim.wait").is_none());
+        assert!(Target::resolve("sim.switchThread").is_none());
+        // Blocking ones are, served by the engine over several steps.
+        assert!(matches!(Target::resolve("sim.wait"), Some(Target::ScriptHost(f)) if f.blocks()));
         assert!(matches!(
             Target::resolve_or_error("noSuchThing"),
             Err(CallError::NoSuchFunction(n)) if n == "sim.noSuchThing"
