@@ -532,6 +532,7 @@ fn everything() -> SceneModel {
         ],
         dummy_links: vec![[7, 6]],
         ball_links: Vec::new(),
+        ik_groups: Vec::new(),
         referenced_handles: vec![ReferencedHandles {
             object: 0,
             tag: "ik.tip".into(),

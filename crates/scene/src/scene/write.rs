@@ -663,6 +663,7 @@ mod tests {
             dummy_links: Vec::new(),
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
+            ik_groups: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
         }
@@ -712,6 +713,7 @@ mod tests {
             dummy_links: Vec::new(),
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
+            ik_groups: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
         };
