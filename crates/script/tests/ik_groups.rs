@@ -260,3 +260,27 @@ fn group_and_element_properties_change_the_solve() {
     );
     assert_eq!(util::floats(&r[6]).len(), 6, "a configuration for the six joints");
 }
+
+/// The loader checks `[[ik_group]]` tables: elements' tips and targets are dummies,
+/// methods and constraints are known names, and the file's line is in the message.
+#[test]
+fn bad_ik_group_tables_are_load_errors() {
+    use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
+    let dir = util::TempDir::new("ikgroups-load");
+    let path = dir.path().join("scene.toml");
+    let load = |text: &str| {
+        load_scene_text(&DiskFiles, text, &path, &LoadOptions::default())
+            .map(|m| m.ik_groups.len())
+            .map_err(|e| e.to_string())
+    };
+    let good = arm_scene(false, "none.lua").replace("script = \"none.lua\"\n", "");
+    assert_eq!(load(&good), Ok(1));
+    let err = load(&good.replace("tip = \"tip_frame\"", "tip = \"arm6/joint1\"")).unwrap_err();
+    assert_contains(&err, &["ik_group 'arm_ik'", "'arm6/joint1' is not a dummy"]);
+    let err = load(&good.replace("\"damped_least_squares\"", "\"newton\"")).unwrap_err();
+    assert_contains(&err, &["unknown method 'newton'"]);
+    let err = load(&good.replace("constraints = \"pose\"", "constraints = \"x+w\"")).unwrap_err();
+    assert_contains(&err, &["constraints 'x+w'"]);
+    let err = load(&good.replace("target = \"target\"", "target = \"nowhere\"")).unwrap_err();
+    assert_contains(&err, &["nowhere"]);
+}

@@ -11,8 +11,9 @@
 //! 3. `world`: objects and physics.
 //! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`: subsystems, each
 //!    taking the world as an argument.
-//! 5. `sim`: this aggregate.
-//! 6. `api`: the `sim.*` registry over [`Sim`].
+//! 5. `ik_groups`: the scene's IK groups, on `ik`.
+//! 6. `sim`: this aggregate.
+//! 7. `api`: the `sim.*` registry over [`Sim`].
 
 use std::collections::BTreeMap;
 
@@ -20,7 +21,8 @@ use crate::drawing::{DrawingObject, DrawingParams, Drawings, MAX_DRAWING_ITEMS};
 use crate::error::SimError;
 use crate::graph::Graphs;
 use crate::handle::Handle;
-use crate::ik::{IkEnvironments, SceneIkGroups};
+use crate::ik::IkEnvironments;
+use crate::ik_groups::SceneIkGroups;
 use crate::motion::RuckigObjects;
 use crate::paths::Paths;
 use crate::planning::Planning;

@@ -1,6 +1,6 @@
 //! `sim.getIkGroupHandle`, `sim.handleIkGroup`, `sim.setExplicitHandling`, ...: V-REP 3 /
 //! CoppeliaSim 4.0-4.2's built-in kinematics, on the IK groups the scene defines
-//! ([`crate::ik::SceneIkGroups`]; `[[ik_group]]` in a scene file). The groups are solved
+//! ([`crate::ik_groups::SceneIkGroups`]; `[[ik_group]]` in a scene file). The groups are solved
 //! by the same solver as `simIK`; those not flagged explicit are handled every step after
 //! the scripts' actuation.
 

@@ -20,15 +20,14 @@
 //! Layout: `environment` holds the handles and settings, `objects` an environment's own
 //! tree, `trees` reads either tree, `chain` snapshots a base→tip path into pure data
 //! (forward kinematics, analytic Jacobian, errors), `solver` iterates on that snapshot, and
-//! this file ties them to the trees. `scene_groups` keeps the scene's own IK groups (the
-//! built-in kinematics of V-REP 3 and CoppeliaSim 4.0-4.2) on this machinery. Non-goals: spherical joints, joint dependencies, joint
+//! this file ties them to the trees. `crate::ik_groups` keeps the scene's own IK groups
+//! (the built-in kinematics of V-REP 3 and CoppeliaSim 4.0-4.2) on this machinery. Non-goals: spherical joints, joint dependencies, joint
 //! IK weights and the `generatePath` family.
 
 mod chain;
 mod environment;
 mod error;
 mod objects;
-mod scene_groups;
 mod solver;
 mod trees;
 
@@ -44,7 +43,6 @@ pub use error::IkError;
 pub use objects::{
     FIRST_OBJECT, HANDLE_PARENT, HANDLE_WORLD, IkJoint, IkJointMode, IkObject, IkObjectKind, IkObjects, is_own_object,
 };
-pub use scene_groups::{FIRST_GROUP, SceneIkGroup, SceneIkGroups};
 pub use solver::{
     CALC_CANNOT_INVERT, CALC_LIMIT_HIT, CALC_NOT_PERFORMED, CALC_NOT_WITHIN_TOLERANCE, IkResult, STOP_TOLERANCE,
     Solution, SolveParams, solve,

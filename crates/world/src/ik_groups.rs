@@ -13,11 +13,11 @@ use std::collections::BTreeMap;
 
 use nalgebra::DMatrix;
 
-use super::{
+use crate::handle::Handle;
+use crate::ik::{
     Apply, ConfigSearch, Constraints, ElementTarget, IkElement, IkEnvironments, IkError, IkGroup, IkMethod, IkResult,
     KinematicModel, Trees, find_config, handle_groups,
 };
-use crate::handle::Handle;
 use crate::scene::{IkGroupModel, IkMethodModel};
 use crate::world::World;
 
