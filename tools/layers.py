@@ -54,6 +54,7 @@ FLOORS = {
         ({"paths"}, False),
         ({"world"}, False),
         ({"sensor", "vision", "ik", "drawing", "graph", "ui", "motion", "planning"}, False),
+        ({"ik_groups"}, False),
         ({"sim"}, False),
     ],
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.

@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 281 functions, 266 constants."""
+    """`sim`: 289 functions, 278 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -88,6 +88,18 @@ class Sim:
     handleflag_resetforcetorque: int
     handleflag_resettorque: int
     handleflag_silenterror: int
+    ik_alpha_beta_constraint: int
+    ik_avoidance_constraint: int
+    ik_damped_least_squares_method: int
+    ik_gamma_constraint: int
+    ik_jacobian_transpose_method: int
+    ik_pseudo_inverse_method: int
+    ik_x_constraint: int
+    ik_y_constraint: int
+    ik_z_constraint: int
+    ikresult_fail: int
+    ikresult_not_performed: int
+    ikresult_success: int
     intparam_dynamic_step_divider: int
     intparam_hierarchychangecounter: int
     intparam_objectcreationcounter: int
@@ -355,14 +367,22 @@ class Sim:
     def getBufferProperty(self, *args: Any) -> Any:
         """the custom data blocks only (`customData.<tag>`); a missing block is an error, or nil with `{noError = true}`."""
     def getCollectionObjects(self, *args: Any) -> Any: ...
+    def getConfigForTipPose(self, *args: Any) -> Any:
+        """the search of `simIK.getConfigForTipPose` (10,000 configurations from a fixed seed instead of for `maxTimeInMs`); collision pairs, joint options and custom limits are ignored."""
     def getDialogResult(self, *args: Any) -> Any: ...
     def getDrawingObjectItems(self, *args: Any) -> Any: ...
     def getEulerAnglesFromMatrix(self, *args: Any) -> Any: ...
+    def getExplicitHandling(self, *args: Any) -> Any:
+        """0 for a scene object (see `sim.setExplicitHandling`)."""
     def getFloatParam(self, *args: Any) -> Any:
         """`floatparam_rand` is a fixed, deterministic sequence."""
     def getFloatParameter(self, *args: Any) -> Any: ...
     def getFloatSignal(self, *args: Any) -> Any: ...
     def getGraphStreamValues(self, *args: Any) -> Any: ...
+    def getIkGroupHandle(self, *args: Any) -> Any:
+        """finds the groups a scene file defines with `[[ik_group]]` (see docs/scene-format.md); handles start at 2030000, CoppeliaSim's range for IK groups. `.ttt` files' IK groups are not read yet."""
+    def getIkGroupMatrix(self, *args: Any) -> Any:
+        """the Jacobian is computed at the scene's current joint values, not kept from the last calculation; it is returned row by row, one row per constrained component of each element (x, y, z in the base's frame, then the angular ones) and one column per joint, base to tip; options 1 gives the manipulability measure `sqrt(det(J Jᵀ))` as a 1×1 matrix."""
     def getInt32Param(self, *args: Any) -> Any: ...
     def getInt32Parameter(self, *args: Any) -> Any: ...
     def getInt32Signal(self, *args: Any) -> Any: ...
@@ -480,6 +500,8 @@ class Sim:
         """gantry's, not CoppeliaSim's: `sim.getVisionSensorMask(sensor [, pos, size])` returns the segmentation mask (one little-endian `int32` per pixel, bottom row first, the handle of the shape seen or -1 where nothing is; `sim.unpackInt32Table` unpacks it) and `{width, height}`, from the same render as the RGB and depth images. The first call, if the sensor's image has no mask, renders it (again) with one; from then on every render draws one (one more buffer write per pixel drawn). CoppeliaSim's own way, `sim.setObjectInt32Param(sensor, sim.visionintparam_render_mode, sim.rendermode_colorcoded)`, is served too: the RGB image then holds each handle as `r + 256 g + 65536 b`, white where nothing is seen, as PyRep and RLBench decode it. In-process Python: `client.mask(sensor)`."""
     def getVisionSensorRes(self, *args: Any) -> Any: ...
     def getVisionSensorResolution(self, *args: Any) -> Any: ...
+    def handleIkGroup(self, *args: Any) -> Any:
+        """solves with `simIK`'s solver from the scene's joint values and writes the solution into the scene whatever the result (values within the joints' limits); returns `sim.ikresult_*` for one group, and with `sim.handle_all` or `sim.handle_all_except_explicit` the number of groups performed (both handle only the groups not flagged explicit)."""
     def handleProximitySensor(self, *args: Any) -> Any: ...
     def handleVisionSensor(self, *args: Any) -> Any: ...
     def insertPathCtrlPoints(self, *args: Any) -> Any:
@@ -566,11 +588,17 @@ class Sim:
     def setBoolParameter(self, *args: Any) -> Any: ...
     def setBufferProperty(self, *args: Any) -> Any:
         """CoppeliaSim 4.7's property API for the custom data blocks only (`customData.<tag>`, the blocks of `sim.writeCustomDataBlock`)."""
+    def setExplicitHandling(self, *args: Any) -> Any:
+        """serves IK groups (bit 0: explicit); for any scene object (sensors, joints, graphs...) it is accepted and does nothing, because gantry handles those every step or when read; a handle that names neither is an error."""
     def setFloatParam(self, *args: Any) -> Any:
         """`floatparam_simulation_time_step` can change only while stopped."""
     def setFloatParameter(self, *args: Any) -> Any: ...
     def setFloatSignal(self, *args: Any) -> Any: ...
     def setGraphStreamValue(self, *args: Any) -> Any: ...
+    def setIkElementProperties(self, *args: Any) -> Any:
+        """the element is found by its tip dummy; `sim.ik_avoidance_constraint` is refused; the weights scale the error rows as `simIK.setElementWeights` does."""
+    def setIkGroupProperties(self, *args: Any) -> Any:
+        """methods 0-2 (`sim.ik_pseudo_inverse_method`, `ik_damped_least_squares_method`, `ik_jacobian_transpose_method`); 1-100000 iterations."""
     def setInt32Param(self, *args: Any) -> Any: ...
     def setInt32Parameter(self, *args: Any) -> Any: ...
     def setInt32Signal(self, *args: Any) -> Any: ...

@@ -21,7 +21,7 @@ pub use rapier3d;
 pub use gantry_scene::{error, handle, scene};
 // Floors 3 to 5: objects and physics, the subsystems, the aggregate (crate gantry-world).
 pub use gantry_world::{
-    drawing, graph, ik, math, motion, paths, planning, sensor, signals, sim, tubes, ui, vision, world,
+    drawing, graph, ik, ik_groups, math, motion, paths, planning, sensor, signals, sim, tubes, ui, vision, world,
 };
 // Floor 6: the `sim.*` registry.
 pub mod api;

@@ -11,10 +11,10 @@ use std::sync::Arc;
 
 use gantry_sim_core::math::{Pose, pose_from_euler};
 use gantry_sim_core::scene::{
-    CameraModel, DiskFiles, GeomModel, Geometry, JointMode, JointModel, JointType, LoadOptions, MassModel, MeshData,
-    MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode, SceneModel,
-    ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel, load_coppelia, load_scene,
-    write_scene,
+    CameraModel, DiskFiles, GeomModel, Geometry, IkElementModel, IkGroupModel, IkMethodModel, JointMode, JointModel,
+    JointType, LoadOptions, MassModel, MeshData, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel,
+    ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
+    VisualModel, load_coppelia, load_scene, write_scene,
 };
 
 /// The shared CoppeliaSim files, or `None` (with a note) where they are absent.
@@ -227,6 +227,7 @@ fn assert_same_model(a: &SceneModel, b: &SceneModel, tag: &str) {
     assert_eq!(a.dummy_links, b.dummy_links, "{tag}: dummy links");
     assert_eq!(a.ball_links, b.ball_links, "{tag}: ball links");
     assert_eq!(a.referenced_handles, b.referenced_handles, "{tag}: referenced handles");
+    assert_eq!(a.ik_groups, b.ik_groups, "{tag}: IK groups");
 }
 
 #[test]
@@ -532,6 +533,19 @@ fn everything() -> SceneModel {
         ],
         dummy_links: vec![[7, 6]],
         ball_links: Vec::new(),
+        ik_groups: vec![IkGroupModel {
+            name: "arm_ik".into(),
+            elements: vec![IkElementModel {
+                tip: 6,
+                target: 7,
+                base: Some(5),
+                constraints: 7 | 16,
+            }],
+            method: IkMethodModel::DampedLeastSquares,
+            damping: 0.05,
+            max_iterations: 40,
+            explicit: true,
+        }],
         referenced_handles: vec![ReferencedHandles {
             object: 0,
             tag: "ik.tip".into(),

@@ -34,6 +34,8 @@ pub mod planning;
 pub mod sensor;
 pub mod ui;
 pub mod vision;
+// The scene's IK groups, on the IK subsystem.
+pub mod ik_groups;
 // The aggregate and its step.
 pub mod sim;
 

@@ -11,8 +11,9 @@
 //! 3. `world`: objects and physics.
 //! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`: subsystems, each
 //!    taking the world as an argument.
-//! 5. `sim`: this aggregate.
-//! 6. `api`: the `sim.*` registry over [`Sim`].
+//! 5. `ik_groups`: the scene's IK groups, on `ik`.
+//! 6. `sim`: this aggregate.
+//! 7. `api`: the `sim.*` registry over [`Sim`].
 
 use std::collections::BTreeMap;
 
@@ -21,6 +22,7 @@ use crate::error::SimError;
 use crate::graph::Graphs;
 use crate::handle::Handle;
 use crate::ik::IkEnvironments;
+use crate::ik_groups::SceneIkGroups;
 use crate::motion::RuckigObjects;
 use crate::paths::Paths;
 use crate::planning::Planning;
@@ -55,6 +57,8 @@ pub struct Sim {
     pub views: FloatingViews,
     /// IK environments.
     pub ik: IkEnvironments,
+    /// The scene's IK groups (`sim.getIkGroupHandle`).
+    pub ik_groups: SceneIkGroups,
     /// Vision sensors' images.
     pub vision: VisionStates,
     /// Ruckig trajectory generators (`sim.ruckigPos`), gone with the simulation at stop.
@@ -75,7 +79,9 @@ impl Sim {
     /// A stopped simulation of a resolved scene, with no drawings, UIs, IK environments
     /// or signals yet (scripts create those).
     pub fn new(model: &SceneModel) -> Self {
-        Self::from_world(World::new(model))
+        let mut sim = Self::from_world(World::new(model));
+        sim.ik_groups = SceneIkGroups::build(&model.ik_groups);
+        sim
     }
 
     /// A stopped simulation of an already built world.
@@ -92,6 +98,7 @@ impl Sim {
             uis: Uis::default(),
             views: FloatingViews::default(),
             ik: IkEnvironments::default(),
+            ik_groups: SceneIkGroups::default(),
             vision: VisionStates::default(),
             ruckig: RuckigObjects::default(),
             planning: Planning::default(),
@@ -116,11 +123,14 @@ impl Sim {
         self.finish_step();
     }
 
-    /// The part of a step between actuation and sensing, in CoppeliaSim's order:
+    /// The part of a step between actuation and sensing, in CoppeliaSim's order: the
+    /// scene's IK groups not handled explicitly are solved (the 4.1 main script's
+    /// `sim.handleIkGroup(sim.handle_all_except_explicit)`, after the scripts' actuation),
     /// joints, physics and particles advance one step, then every proximity sensor is
     /// handled. Simulation time does not move yet: scripts see the step's start time
     /// until [`Sim::finish_step`].
     pub fn step_dynamics(&mut self) {
+        self.ik_groups.handle_automatic(&mut self.world);
         self.particles.before_step(&mut self.world);
         self.world.step_physics();
         let end = self.world.time() + self.world.settings().dt;

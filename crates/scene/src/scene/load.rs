@@ -14,10 +14,10 @@ use super::error::{LoadError, line_col};
 use super::files::{Files, normalize, stem};
 use super::floor::{floor_object, put_on_floor};
 use super::model::{
-    CameraModel, GeomModel, Geometry, JointMode, JointModel, JointType, MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION,
-    MassModel, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode,
-    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, UrdfRobotModel, VISION_BYTES_PER_PIXEL,
-    VisionModel, VisualModel, vision_image_bytes,
+    CameraModel, GeomModel, Geometry, IkElementModel, IkGroupModel, IkMethodModel, JointMode, JointModel, JointType,
+    MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION, MassModel, MimicModel, ObjectModel, ObjectModelKind, Projection,
+    ProximityModel, ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings,
+    UrdfRobotModel, VISION_BYTES_PER_PIXEL, VisionModel, VisualModel, vision_image_bytes,
 };
 use super::raw::{RawObject, RawPart, RawRobot, RawScene, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
@@ -105,6 +105,7 @@ pub(super) fn load_urdf_model(files: &dyn Files, path: &Path, opts: &LoadOptions
         dummy_links: Vec::new(),
         ball_links: Vec::new(),
         referenced_handles: Vec::new(),
+        ik_groups: Vec::new(),
         urdf_robots: vec![robot],
         warnings,
     })
@@ -197,6 +198,7 @@ pub fn load_scene_text(
     r.resolve_mimics()?;
     let (dummy_links, ball_links) = r.dummy_links(&raw)?;
     let referenced_handles = r.references(&raw)?;
+    let ik_groups = r.ik_groups(&raw)?;
     Ok(SceneModel {
         name: stem(path),
         base_dir: base_dir.clone(),
@@ -208,9 +210,30 @@ pub fn load_scene_text(
         dummy_links,
         ball_links,
         referenced_handles,
+        ik_groups,
         urdf_robots: r.urdf_robots,
         warnings: dedup(r.warnings),
     })
+}
+
+/// The `sim.ik_*_constraint` bits of a constraints name: `pose`, `position`,
+/// `orientation`, or components joined by `+` (`x+y`, `alpha_beta+gamma`).
+fn ik_constraints(text: &str) -> Option<u8> {
+    let mut bits = 0;
+    for part in text.split('+') {
+        bits |= match part.trim() {
+            "pose" => 31,
+            "position" => 7,
+            "orientation" => 24,
+            "x" => 1,
+            "y" => 2,
+            "z" => 4,
+            "alpha_beta" => 8,
+            "gamma" => 16,
+            _ => return None,
+        };
+    }
+    Some(bits)
 }
 
 /// Drops repeated warnings, keeping the first of each in order: a URDF included twice
@@ -1149,6 +1172,91 @@ impl Resolver<'_> {
                 object,
                 tag: r.tag.clone().unwrap_or_default(),
                 targets,
+            });
+        }
+        Ok(out)
+    }
+
+    /// The `[[ik_group]]` tables: unique names, elements whose tip and target are
+    /// dummies, a known method, and settings in range. Whether each chain has a joint
+    /// between base and tip is checked when the world is built.
+    fn ik_groups(&self, raw: &RawScene) -> Result<Vec<IkGroupModel>, LoadError> {
+        let mut out: Vec<IkGroupModel> = Vec::with_capacity(raw.ik_group.len());
+        for g in &raw.ik_group {
+            let name = g.name.get_ref();
+            if name.is_empty() || out.iter().any(|o| &o.name == name) {
+                return self.err_at(g.name.span(), format!("ik_group: name '{name}' is empty or used twice"));
+            }
+            let method = match g.method.as_ref().map(|m| m.get_ref().as_str()) {
+                None | Some("pseudo_inverse") => IkMethodModel::PseudoInverse,
+                Some("damped_least_squares") => IkMethodModel::DampedLeastSquares,
+                Some(other) => {
+                    let span = g.method.as_ref().map_or(g.name.span(), Spanned::span);
+                    return self.err_at(
+                        span,
+                        format!(
+                            "ik_group '{name}': unknown method '{other}' (use \"pseudo_inverse\" or \"damped_least_squares\")"
+                        ),
+                    );
+                }
+            };
+            let damping = g.damping.unwrap_or(0.1);
+            if !(damping.is_finite() && damping >= 0.0) {
+                return self.err_at(g.name.span(), format!("ik_group '{name}': damping must be >= 0"));
+            }
+            let max_iterations = g.max_iterations.unwrap_or(3);
+            if !(1..=100_000).contains(&max_iterations) {
+                return self.err_at(
+                    g.name.span(),
+                    format!("ik_group '{name}': max_iterations must be 1..100000"),
+                );
+            }
+            if g.element.is_empty() {
+                return self.err_at(
+                    g.name.span(),
+                    format!("ik_group '{name}': needs at least one [[ik_group.element]]"),
+                );
+            }
+            let mut elements = Vec::with_capacity(g.element.len());
+            for e in &g.element {
+                let [tip, target] = [&e.tip, &e.target].map(|r| self.reference(r));
+                let (tip, target) = (tip?, target?);
+                for (i, r) in [(tip, &e.tip), (target, &e.target)] {
+                    if !matches!(self.objects[i].kind, ObjectModelKind::Dummy) {
+                        return self.err_at(r.span(), format!("ik_group '{name}': '{}' is not a dummy", r.get_ref()));
+                    }
+                }
+                let base = e.base.as_ref().map(|b| self.reference(b)).transpose()?;
+                let constraints = match &e.constraints {
+                    None => 31,
+                    Some(c) => match ik_constraints(c.get_ref()) {
+                        Some(bits) => bits,
+                        None => {
+                            return self.err_at(
+                                c.span(),
+                                format!(
+                                    "ik_group '{name}': constraints '{}' (use \"pose\", \"position\", \"orientation\", \
+                                     or components joined by '+': x, y, z, alpha_beta, gamma)",
+                                    c.get_ref()
+                                ),
+                            );
+                        }
+                    },
+                };
+                elements.push(IkElementModel {
+                    tip,
+                    target,
+                    base,
+                    constraints,
+                });
+            }
+            out.push(IkGroupModel {
+                name: name.clone(),
+                elements,
+                method,
+                damping,
+                max_iterations,
+                explicit: g.explicit.unwrap_or(false),
             });
         }
         Ok(out)

@@ -40,6 +40,9 @@ pub struct SceneModel {
     /// a tag and the objects it names, all as object indices. A model's scripts find their
     /// parts this way (`sim.getReferencedHandle(self, 'ik.tip')`).
     pub referenced_handles: Vec<ReferencedHandles>,
+    /// The scene's IK groups (V-REP 3 / CoppeliaSim 4.0-4.2 built-in kinematics, reached
+    /// with `sim.getIkGroupHandle`), in file order.
+    pub ik_groups: Vec<IkGroupModel>,
     /// The robots loaded from URDF files, in load order: which objects each file's links
     /// and joints became, and the file's text (ROS 2's `/robot_description`).
     pub urdf_robots: Vec<UrdfRobotModel>,
@@ -70,6 +73,13 @@ impl SceneModel {
             r.object += by;
             for t in &mut r.targets {
                 *t += by;
+            }
+        }
+        for g in &mut self.ik_groups {
+            for e in &mut g.elements {
+                e.tip += by;
+                e.target += by;
+                e.base = e.base.map(|b| b + by);
             }
         }
         for r in &mut self.urdf_robots {
@@ -103,6 +113,49 @@ pub struct UrdfRobotModel {
     pub links: Vec<(usize, String)>,
     /// Index of each joint's object and the URDF joint name, by index.
     pub joints: Vec<(usize, String)>,
+}
+
+/// One IK group of the scene (`[[ik_group]]`): elements solved together each step
+/// unless handled explicitly.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IkGroupModel {
+    /// The name `sim.getIkGroupHandle` looks up.
+    pub name: String,
+    /// The base/tip/target triples, in order.
+    pub elements: Vec<IkElementModel>,
+    /// How the Jacobian is inverted.
+    pub method: IkMethodModel,
+    /// Damping factor of damped least squares.
+    pub damping: f64,
+    /// Solver iterations per handling.
+    pub max_iterations: u32,
+    /// Whether only `sim.handleIkGroup` on this group solves it (else the main script does,
+    /// every step).
+    pub explicit: bool,
+}
+
+/// How an IK group inverts its Jacobian (`sim.ik_*_method`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IkMethodModel {
+    /// Pseudo-inverse (CoppeliaSim's default).
+    PseudoInverse,
+    /// Damped least squares.
+    DampedLeastSquares,
+}
+
+/// One element of an IK group: a chain from `base` to the tip dummy, driven onto the
+/// target dummy.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IkElementModel {
+    /// Index of the tip dummy.
+    pub tip: usize,
+    /// Index of the target dummy.
+    pub target: usize,
+    /// Index of the chain's base; `None`: the world.
+    pub base: Option<usize>,
+    /// What is constrained, as `sim.ik_*_constraint` bits: x 1, y 2, z 4, alpha-beta 8,
+    /// gamma 16 (position 7, orientation 24, pose 31).
+    pub constraints: u8,
 }
 
 /// One tag of an object's referenced handles.

@@ -32,6 +32,9 @@ pub struct RawScene {
     /// `[[reference]]`: referenced handles (`sim.getReferencedHandles`) an object holds.
     #[serde(default)]
     pub reference: Vec<RawReference>,
+    /// `[[ik_group]]`: IK groups (V-REP 3's built-in kinematics).
+    #[serde(default)]
+    pub ik_group: Vec<RawIkGroup>,
 }
 
 /// `[simulation]`.
@@ -270,6 +273,37 @@ pub struct RawReference {
     pub objects: Vec<Spanned<String>>,
 }
 
+/// One `[[ik_group]]`.
+#[derive(Debug, Deserialize)]
+pub struct RawIkGroup {
+    /// The name `sim.getIkGroupHandle` finds it by.
+    pub name: Spanned<String>,
+    /// `pseudo_inverse` (default) or `damped_least_squares`.
+    pub method: Option<Spanned<String>>,
+    /// Damping factor of damped least squares (default 0.1).
+    pub damping: Option<f64>,
+    /// Solver iterations per handling (default 3).
+    pub max_iterations: Option<u32>,
+    /// Handled only by `sim.handleIkGroup` on it (default false: every step).
+    pub explicit: Option<bool>,
+    /// `[[ik_group.element]]`: the elements, in order.
+    #[serde(default)]
+    pub element: Vec<RawIkElement>,
+}
+
+/// One `[[ik_group.element]]`.
+#[derive(Debug, Deserialize)]
+pub struct RawIkElement {
+    /// The tip dummy, by name.
+    pub tip: Spanned<String>,
+    /// The target dummy, by name.
+    pub target: Spanned<String>,
+    /// The chain's base, by name (default: the world).
+    pub base: Option<Spanned<String>>,
+    /// `pose` (default), `position`, `orientation`, or components joined by `+`.
+    pub constraints: Option<Spanned<String>>,
+}
+
 /// One `[[robot]]`: a URDF include.
 #[derive(Debug, Deserialize)]
 pub struct RawRobot {
@@ -321,6 +355,7 @@ const SCENE_KEYS: &[&str] = &[
     "script",
     "dummy_link",
     "reference",
+    "ik_group",
 ];
 const SIMULATION_KEYS: &[&str] = &[
     "dt",
@@ -429,6 +464,8 @@ const PART_KEYS: &[&str] = &[
 const MIMIC_KEYS: &[&str] = &["leader", "multiplier", "offset"];
 const DUMMY_LINK_KEYS: &[&str] = &["dummies", "free_rotation"];
 const REFERENCE_KEYS: &[&str] = &["object", "tag", "objects"];
+const IK_GROUP_KEYS: &[&str] = &["name", "method", "damping", "max_iterations", "explicit", "element"];
+const IK_ELEMENT_KEYS: &[&str] = &["tip", "target", "base", "constraints"];
 
 /// Lists keys of the document that the scene format does not define, as
 /// `"table.key"` paths with a suggestion when a known key is close.
@@ -445,12 +482,13 @@ pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
             check_table(t, name, keys, &mut out);
         }
     }
-    let arrays: [(&str, &[&str]); 5] = [
+    let arrays: [(&str, &[&str]); 6] = [
         ("object", OBJECT_KEYS),
         ("robot", ROBOT_KEYS),
         ("script", SCRIPT_KEYS),
         ("dummy_link", DUMMY_LINK_KEYS),
         ("reference", REFERENCE_KEYS),
+        ("ik_group", IK_GROUP_KEYS),
     ];
     for (name, keys) in arrays {
         if let Some(toml::Value::Array(items)) = doc.get(name) {
@@ -463,6 +501,13 @@ pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
                     check_table(t, &label, keys, &mut out);
                     if let Some(toml::Value::Table(m)) = t.get("mimic") {
                         check_table(m, &format!("{label}.mimic"), MIMIC_KEYS, &mut out);
+                    }
+                    if let Some(toml::Value::Array(elements)) = t.get("element") {
+                        for (j, e) in elements.iter().enumerate() {
+                            if let toml::Value::Table(e) = e {
+                                check_table(e, &format!("{label}.element[{j}]"), IK_ELEMENT_KEYS, &mut out);
+                            }
+                        }
                     }
                     if let Some(toml::Value::Array(parts)) = t.get("part") {
                         for (j, p) in parts.iter().enumerate() {

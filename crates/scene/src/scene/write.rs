@@ -19,8 +19,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::model::{
-    Geometry, JointMode, JointType, MassModel, MeshData, ObjectModel, ObjectModelKind, Projection, ProximityModel,
-    RenderMode, SceneModel, ShapeModel, VisionModel,
+    Geometry, IkGroupModel, IkMethodModel, JointMode, JointType, MassModel, MeshData, ObjectModel, ObjectModelKind,
+    Projection, ProximityModel, RenderMode, SceneModel, ShapeModel, VisionModel,
 };
 use super::obj_write::write_obj;
 use crate::math::{Pose, Quat, euler_from_quat, quat_from_euler, quat_to_array};
@@ -89,6 +89,9 @@ pub fn write_scene(model: &SceneModel, stem: &str, source: &str) -> Result<Scene
         let targets: Vec<String> = r.targets.iter().map(|&t| quote(&names[t])).collect();
         let _ = writeln!(w.out, "objects = [{}]", targets.join(", "));
     }
+    for g in &model.ik_groups {
+        w.ik_group(g, &names)?;
+    }
     for s in &model.scripts {
         let name = &names[s.object];
         let file = w.file_name("scripts", name, "lua");
@@ -137,6 +140,35 @@ struct Writer {
 }
 
 impl Writer {
+    /// One `[[ik_group]]` with its `[[ik_group.element]]` tables.
+    fn ik_group(&mut self, g: &IkGroupModel, names: &[String]) -> Result<(), WriteError> {
+        self.out.push_str("\n[[ik_group]]\n");
+        let _ = writeln!(self.out, "name = {}", quote(&g.name));
+        let method = match g.method {
+            IkMethodModel::PseudoInverse => "pseudo_inverse",
+            IkMethodModel::DampedLeastSquares => "damped_least_squares",
+        };
+        let _ = writeln!(self.out, "method = {}", quote(method));
+        let _ = writeln!(self.out, "damping = {}", self.num("ik_group damping", g.damping)?);
+        let _ = writeln!(self.out, "max_iterations = {}", g.max_iterations);
+        let _ = writeln!(self.out, "explicit = {}", g.explicit);
+        for e in &g.elements {
+            self.out.push_str("\n[[ik_group.element]]\n");
+            let _ = writeln!(self.out, "tip = {}", quote(&names[e.tip]));
+            let _ = writeln!(self.out, "target = {}", quote(&names[e.target]));
+            if let Some(b) = e.base {
+                let _ = writeln!(self.out, "base = {}", quote(&names[b]));
+            }
+            let parts: Vec<&str> = [(1, "x"), (2, "y"), (4, "z"), (8, "alpha_beta"), (16, "gamma")]
+                .into_iter()
+                .filter(|(bit, _)| e.constraints & bit != 0)
+                .map(|(_, n)| n)
+                .collect();
+            let _ = writeln!(self.out, "constraints = {}", quote(&parts.join("+")));
+        }
+        Ok(())
+    }
+
     fn settings(&mut self, model: &SceneModel) -> Result<(), WriteError> {
         let s = &model.settings;
         self.object = "[simulation]".into();
@@ -663,6 +695,7 @@ mod tests {
             dummy_links: Vec::new(),
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
+            ik_groups: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
         }
@@ -712,6 +745,7 @@ mod tests {
             dummy_links: Vec::new(),
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
+            ik_groups: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
         };

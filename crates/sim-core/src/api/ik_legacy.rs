@@ -81,10 +81,10 @@ fn get_element_base(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<
 
 /// How `getConfigForTipPose` searches, in place of CoppeliaSim's time limit: random
 /// configurations drawn at most, and solves run at most from those near enough.
-const CONFIG_SAMPLES: u32 = 10_000;
-const CONFIG_SOLVES: u32 = 1_000;
+pub(super) const CONFIG_SAMPLES: u32 = 10_000;
+pub(super) const CONFIG_SOLVES: u32 = 1_000;
 /// Iterations each of its solves gets at least (see [`ik::ConfigSearch::min_iterations`]).
-const CONFIG_MIN_ITERATIONS: u32 = 100;
+pub(super) const CONFIG_MIN_ITERATIONS: u32 = 100;
 
 /// `simIK.getConfigForTipPose(env, group, jointHandles, distanceThreshold=0.1,
 /// maxTimeInMs=100, metric=nil, validationCallback=nil, auxData=nil, jointOptions=nil,

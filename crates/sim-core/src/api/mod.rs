@@ -14,6 +14,7 @@ mod error;
 mod function;
 pub mod host;
 mod ik;
+mod ik_groups;
 mod ik_legacy;
 mod ik_objects;
 mod image;
@@ -359,6 +360,7 @@ pub const MODULES: &[Module] = &[
             properties::FUNCTIONS,
             paths::FUNCTIONS,
             particles::FUNCTIONS,
+            ik_groups::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
@@ -371,6 +373,7 @@ pub const MODULES: &[Module] = &[
             crate::world::object_special_property::CONSTANTS,
             paths::CONSTANTS,
             particles::CONSTANTS,
+            ik_groups::CONSTANTS,
         ]),
         aliases: legacy::ALIASES,
     },

@@ -20,7 +20,8 @@
 //! Layout: `environment` holds the handles and settings, `objects` an environment's own
 //! tree, `trees` reads either tree, `chain` snapshots a base→tip path into pure data
 //! (forward kinematics, analytic Jacobian, errors), `solver` iterates on that snapshot, and
-//! this file ties them to the trees. Non-goals: spherical joints, joint dependencies, joint
+//! this file ties them to the trees. `crate::ik_groups` keeps the scene's own IK groups
+//! (the built-in kinematics of V-REP 3 and CoppeliaSim 4.0-4.2) on this machinery. Non-goals: spherical joints, joint dependencies, joint
 //! IK weights and the `generatePath` family.
 
 mod chain;

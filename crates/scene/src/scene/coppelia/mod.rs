@@ -170,6 +170,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         dummy_links,
         ball_links,
         referenced_handles,
+        ik_groups: Vec::new(),
         urdf_robots: Vec::new(),
         warnings,
     };

@@ -1,0 +1,294 @@
+//! `sim.getIkGroupHandle`, `sim.handleIkGroup`, `sim.setExplicitHandling`, ...: V-REP 3 /
+//! CoppeliaSim 4.0-4.2's built-in kinematics, on the IK groups the scene defines
+//! ([`crate::ik_groups::SceneIkGroups`]; `[[ik_group]]` in a scene file). The groups are solved
+//! by the same solver as `simIK`; those not flagged explicit are handled every step after
+//! the scripts' actuation.
+
+use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use crate::Value;
+use crate::error::SimError;
+use crate::ik::{self, Constraints, IkMethod};
+use crate::sim::Sim;
+use crate::world::Handle;
+
+/// The functions this file implements, in alphabetical order.
+pub(super) const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "getConfigForTipPose",
+        call: ApiFn::Sim(get_config_for_tip_pose),
+    },
+    ApiFunction {
+        name: "getExplicitHandling",
+        call: ApiFn::Sim(get_explicit_handling),
+    },
+    ApiFunction {
+        name: "getIkGroupHandle",
+        call: ApiFn::Sim(get_ik_group_handle),
+    },
+    ApiFunction {
+        name: "getIkGroupMatrix",
+        call: ApiFn::Sim(get_ik_group_matrix),
+    },
+    ApiFunction {
+        name: "handleIkGroup",
+        call: ApiFn::Sim(handle_ik_group),
+    },
+    ApiFunction {
+        name: "setExplicitHandling",
+        call: ApiFn::Sim(set_explicit_handling),
+    },
+    ApiFunction {
+        name: "setIkElementProperties",
+        call: ApiFn::Sim(set_ik_element_properties),
+    },
+    ApiFunction {
+        name: "setIkGroupProperties",
+        call: ApiFn::Sim(set_ik_group_properties),
+    },
+];
+
+/// The built-in kinematics' constants, with CoppeliaSim's values.
+pub(super) const CONSTANTS: &[(&str, i64)] = &[
+    ("ikresult_not_performed", 0),
+    ("ikresult_success", 1),
+    ("ikresult_fail", 2),
+    ("ik_pseudo_inverse_method", 0),
+    ("ik_damped_least_squares_method", 1),
+    ("ik_jacobian_transpose_method", 2),
+    ("ik_x_constraint", 1),
+    ("ik_y_constraint", 2),
+    ("ik_z_constraint", 4),
+    ("ik_alpha_beta_constraint", 8),
+    ("ik_gamma_constraint", 16),
+    ("ik_avoidance_constraint", 64),
+];
+
+/// `sim.handle_all`.
+const HANDLE_ALL: Handle = -2;
+/// `sim.handle_all_except_explicit`.
+const HANDLE_ALL_EXCEPT_EXPLICIT: Handle = -3;
+
+/// The error of a handle that names no IK group.
+fn no_group(h: Handle) -> SimError {
+    SimError::no_such_item(format!("IK group {h} does not exist (use sim.getIkGroupHandle)"))
+}
+
+/// Argument `i` as the handle of one of the scene's IK groups.
+fn group_arg(sim: &Sim, a: &Args<'_>, i: usize) -> Result<Handle, SimError> {
+    let h = a.handle(i)?;
+    sim.ik_groups.get(h).map(|g| g.handle).ok_or_else(|| no_group(h))
+}
+
+/// `sim.getIkGroupHandle(name)` → the handle of the scene's IK group of that name.
+fn get_ik_group_handle(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let name = a.str(0)?;
+    sim.ik_groups
+        .by_name(name)
+        .map(|g| vec![Value::Int(g.handle)])
+        .ok_or_else(|| SimError::no_such_item(format!("IK group '{name}' does not exist in the scene")))
+}
+
+/// `sim.handleIkGroup(ikGroupHandle)`: solves the group from the scene's joint values
+/// and writes the solution into the scene (whatever the result, as CoppeliaSim's built-in
+/// IK does) → `sim.ikresult_not_performed`, `ikresult_success` or `ikresult_fail`.
+/// With `sim.handle_all` or `sim.handle_all_except_explicit` every group not flagged
+/// explicit is handled, and the result is how many were performed.
+fn handle_ik_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    if h == HANDLE_ALL || h == HANDLE_ALL_EXCEPT_EXPLICIT {
+        let n = sim.ik_groups.handle_automatic(&mut sim.world);
+        return Ok(vec![Value::Int(i64::try_from(n).unwrap_or(i64::MAX))]);
+    }
+    let h = group_arg(sim, a, 0)?;
+    let result = sim.ik_groups.handle(&mut sim.world, h)?;
+    Ok(vec![Value::Int(result.code())])
+}
+
+/// `sim.setExplicitHandling(handle, flags)`: for an IK group, bit 0 set means only
+/// `sim.handleIkGroup` on it solves it; clear, the main script does every step. For a
+/// scene object (a sensor, joint, graph, ...) it is accepted and does nothing: gantry
+/// handles those every step or when read.
+fn set_explicit_handling(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    let flags = a.int(1)?;
+    if sim.ik_groups.set_explicit(h, flags & 1 != 0) || sim.world.object(h).is_ok() {
+        return Ok(Vec::new());
+    }
+    Err(SimError::no_such_item(format!(
+        "{h} is neither an IK group nor an object"
+    )))
+}
+
+/// `sim.getExplicitHandling(handle)` → flags: bit 0 set for an IK group handled
+/// explicitly; 0 for a scene object.
+fn get_explicit_handling(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    if let Some(g) = sim.ik_groups.get(h) {
+        return Ok(vec![Value::Int(i64::from(g.explicit))]);
+    }
+    if sim.world.object(h).is_ok() {
+        return Ok(vec![Value::Int(0)]);
+    }
+    Err(SimError::no_such_item(format!(
+        "{h} is neither an IK group nor an object"
+    )))
+}
+
+/// `sim.getIkGroupMatrix(ikGroupHandle, options)` → matrix, {columns, rows}. Options 0:
+/// the group's Jacobian at the scene's current joint values, row by row: one row per
+/// constrained component of each element (x, y, z in the base's frame, then the angular
+/// components), one column per joint of the chains, base to tip. Options 1: the
+/// manipulability measure `sqrt(det(J Jᵀ))`, as a 1×1 matrix.
+fn get_ik_group_matrix(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = group_arg(sim, a, 0)?;
+    let options = a.int(1)?;
+    let j = sim.ik_groups.jacobian(&sim.world, h)?;
+    let size = |cols: usize, rows: usize| {
+        let n = |x: usize| Value::Int(i64::try_from(x).unwrap_or(i64::MAX));
+        Value::Array(vec![n(cols), n(rows)])
+    };
+    match options {
+        0 => {
+            let values: Vec<f64> = j
+                .row_iter()
+                .flat_map(|r| r.iter().copied().collect::<Vec<_>>())
+                .collect();
+            Ok(vec![Value::floats(&values), size(j.ncols(), j.nrows())])
+        }
+        1 => {
+            let m = (&j * j.transpose()).determinant().max(0.0).sqrt();
+            Ok(vec![Value::floats(&[m]), size(1, 1)])
+        }
+        other => Err(SimError::bad_argument(format!(
+            "argument 2: options must be 0 (Jacobian) or 1 (manipulability measure), got {other}"
+        ))),
+    }
+}
+
+/// `sim.setIkGroupProperties(ikGroupHandle, resolutionMethod, maxIterations, damping)`:
+/// `sim.ik_pseudo_inverse_method`, `ik_damped_least_squares_method` or
+/// `ik_jacobian_transpose_method`; 1 to 100000 iterations; damping >= 0.
+fn set_ik_group_properties(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = group_arg(sim, a, 0)?;
+    let code = a.int(1)?;
+    let method = IkMethod::from_code(code).filter(|_| code <= 2).ok_or_else(|| {
+        SimError::bad_argument(format!(
+            "argument 2: unknown resolution method {code} (use sim.ik_pseudo_inverse_method, \
+             ik_damped_least_squares_method or ik_jacobian_transpose_method)"
+        ))
+    })?;
+    let iterations = a.int(2)?;
+    let max_iterations = u32::try_from(iterations)
+        .ok()
+        .filter(|n| (1..=100_000).contains(n))
+        .ok_or_else(|| {
+            SimError::bad_argument(format!("argument 3: maxIterations must be 1..100000, got {iterations}"))
+        })?;
+    let damping = a.finite(3)?;
+    if damping < 0.0 {
+        return Err(SimError::bad_argument(format!(
+            "argument 4: damping must be >= 0, got {damping}"
+        )));
+    }
+    let g = sim.ik_groups.settings_mut(h).ok_or_else(|| no_group(h))?;
+    g.method = method;
+    g.max_iterations = max_iterations;
+    g.damping = damping;
+    Ok(Vec::new())
+}
+
+/// Argument `i`: nil (keep), or two finite numbers >= 0.
+fn opt_pair(a: &Args<'_>, i: usize, what: &str) -> Result<Option<[f64; 2]>, SimError> {
+    if matches!(a.get(i), Value::Nil) {
+        return Ok(None);
+    }
+    let v = a.floats::<2>(i)?;
+    if v.iter().any(|x| *x < 0.0) {
+        return Err(SimError::bad_argument(format!(
+            "argument {}: {what} must be >= 0",
+            i + 1
+        )));
+    }
+    Ok(Some(v))
+}
+
+/// `sim.setIkElementProperties(ikGroupHandle, tipDummyHandle, constraints, precision=nil,
+/// weight=nil)`: the element of the group tipped at that dummy gets the constraints
+/// (`sim.ik_x_constraint` ... `ik_gamma_constraint` combined), and when given the
+/// precision {linear (m), angular (rad)} and weights {linear, angular}.
+/// `sim.ik_avoidance_constraint` is refused (gantry has no avoidance elements).
+fn set_ik_element_properties(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = group_arg(sim, a, 0)?;
+    let tip = a.handle(1)?;
+    let code = a.int(2)?;
+    let constraints = Constraints::from_code(code).ok_or_else(|| {
+        SimError::bad_argument(format!(
+            "argument 3: invalid constraints {code} (combine sim.ik_x_constraint, ik_y_constraint, ik_z_constraint, \
+             ik_alpha_beta_constraint and ik_gamma_constraint, 1..31)"
+        ))
+    })?;
+    let precision = opt_pair(a, 3, "precisions")?;
+    let weights = opt_pair(a, 4, "weights")?;
+    let e = sim
+        .ik_groups
+        .element_mut(h, tip)
+        .ok_or_else(|| SimError::no_such_item(format!("IK group {h} has no element whose tip is object {tip}")))?;
+    e.constraints = constraints;
+    if let Some(p) = precision {
+        e.precision = p;
+    }
+    if let Some([lin, ang]) = weights {
+        e.weights = [lin, ang, e.weights[2]];
+    }
+    Ok(Vec::new())
+}
+
+/// `sim.getConfigForTipPose(ikGroupHandle, jointHandles, thresholdDist, maxTimeInMs,
+/// metric=nil, collisionPairs=nil, jointOptions=nil, lowLimits=nil, ranges=nil)` → joint
+/// values in the order of `jointHandles`, or nil when none was found (V-REP 3's form).
+/// The search is `simIK.getConfigForTipPose`'s: random configurations within the joints'
+/// limits from a fixed seed (not for `maxTimeInMs`), solved from those within
+/// `thresholdDist` of the targets in the `metric` (default {1, 1, 1, 0.1}). The scene is
+/// not moved. Collision pairs, joint options and custom limits are ignored.
+fn get_config_for_tip_pose(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = group_arg(sim, a, 0)?;
+    let Value::Array(items) = a.get(1) else {
+        return Err(SimError::bad_argument(format!(
+            "argument 2: expected array of joint handles, got {}",
+            a.get(1).type_name()
+        )));
+    };
+    let joints = items
+        .iter()
+        .map(|v| {
+            v.as_i64()
+                .ok_or_else(|| SimError::bad_argument("argument 2: joint handles must be integers"))
+        })
+        .collect::<Result<Vec<Handle>, _>>()?;
+    let threshold = a.opt_f64(2, 0.1)?;
+    a.opt_f64(3, 100.0)?;
+    let metric = match a.get(4) {
+        Value::Nil => ik::ConfigSearch::DEFAULT_METRIC,
+        _ => a.floats::<4>(4)?,
+    };
+    let search = ik::ConfigSearch {
+        samples: super::ik_legacy::CONFIG_SAMPLES,
+        solves: super::ik_legacy::CONFIG_SOLVES,
+        threshold: Some(threshold),
+        metric,
+        min_iterations: super::ik_legacy::CONFIG_MIN_ITERATIONS,
+    };
+    let Some(found) = sim.ik_groups.find_config(&sim.world, h, &search)? else {
+        return Ok(vec![Value::Nil]);
+    };
+    let values = joints
+        .iter()
+        .map(|j| {
+            found
+                .get(j)
+                .map(|&q| Value::Float(q))
+                .ok_or_else(|| SimError::bad_argument(format!("argument 2: joint {j} is not in the group's chains")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(vec![Value::Array(values)])
+}

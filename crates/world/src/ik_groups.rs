@@ -1,0 +1,201 @@
+//! The scene's own IK groups: V-REP 3 / CoppeliaSim 4.0-4.2's built-in kinematics, set up
+//! in the scene (`[[ik_group]]` in gantry's scene files) and reached by handle
+//! (`sim.getIkGroupHandle`, `sim.handleIkGroup`, ...).
+//!
+//! Each group is backed by a group of one private `simIK` environment whose elements are
+//! made from the scene, as `simIK.addElementFromScene` makes them: handling one solves
+//! with the same solver and writes the joints back, as `applyIkEnvironmentToScene` does.
+//! Groups not flagged explicit are handled by the main script every step
+//! ([`SceneIkGroups::handle_automatic`]). Handles start at [`FIRST_GROUP`], CoppeliaSim's
+//! range for IK groups, so that they never name a scene object.
+
+use std::collections::BTreeMap;
+
+use nalgebra::DMatrix;
+
+use crate::handle::Handle;
+use crate::ik::{
+    Apply, ConfigSearch, Constraints, ElementTarget, IkElement, IkEnvironments, IkError, IkGroup, IkMethod, IkResult,
+    KinematicModel, Trees, find_config, handle_groups,
+};
+use crate::scene::{IkGroupModel, IkMethodModel};
+use crate::world::World;
+
+/// The handle of a scene's first IK group; the others follow in file order.
+pub const FIRST_GROUP: Handle = 2_030_000;
+
+/// One IK group of the scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneIkGroup {
+    /// Its handle.
+    pub handle: Handle,
+    /// Its name (`sim.getIkGroupHandle`).
+    pub name: String,
+    /// Whether only `sim.handleIkGroup` on this group solves it.
+    pub explicit: bool,
+    /// The backing group in [`SceneIkGroups`]' environment.
+    group: Handle,
+}
+
+/// Every IK group of the scene.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SceneIkGroups {
+    envs: IkEnvironments,
+    env: Handle,
+    groups: Vec<SceneIkGroup>,
+}
+
+impl SceneIkGroups {
+    /// The scene's groups, with their elements made from the scene's objects. A chain that
+    /// cannot be solved (a tip not below its base, no joint between) is kept as written:
+    /// handling its group fails with the reason, as in CoppeliaSim.
+    pub fn build(models: &[IkGroupModel]) -> Self {
+        let mut envs = IkEnvironments::default();
+        let env = envs.create();
+        let mut groups = Vec::with_capacity(models.len());
+        for (i, m) in models.iter().enumerate() {
+            let Ok(environment) = envs.get_mut(env) else { break };
+            let group = environment.create_group(&m.name);
+            if let Ok(g) = environment.group_mut(group) {
+                g.method = match m.method {
+                    IkMethodModel::PseudoInverse => IkMethod::PseudoInverse,
+                    IkMethodModel::DampedLeastSquares => IkMethod::DampedLeastSquares,
+                };
+                g.damping = m.damping;
+                g.max_iterations = m.max_iterations;
+            }
+            for e in &m.elements {
+                let base = e.base.map_or(-1, |b| b as Handle);
+                let constraints = Constraints::from_code(i64::from(e.constraints)).unwrap_or(Constraints::POSE);
+                // The group was just created.
+                let _ = environment.add_element(
+                    group,
+                    base,
+                    e.tip as Handle,
+                    ElementTarget::Object(e.target as Handle),
+                    constraints,
+                );
+            }
+            groups.push(SceneIkGroup {
+                handle: FIRST_GROUP + i as Handle,
+                name: m.name.clone(),
+                explicit: m.explicit,
+                group,
+            });
+        }
+        Self { envs, env, groups }
+    }
+
+    /// Every group, in handle order.
+    pub fn iter(&self) -> impl Iterator<Item = &SceneIkGroup> {
+        self.groups.iter()
+    }
+
+    /// The group named `name`.
+    pub fn by_name(&self, name: &str) -> Option<&SceneIkGroup> {
+        self.groups.iter().find(|g| g.name == name)
+    }
+
+    /// The group behind a handle.
+    pub fn get(&self, handle: Handle) -> Option<&SceneIkGroup> {
+        self.groups.iter().find(|g| g.handle == handle)
+    }
+
+    /// Sets whether only `sim.handleIkGroup` on the group solves it. Returns `false` when
+    /// `handle` names no group.
+    pub fn set_explicit(&mut self, handle: Handle, explicit: bool) -> bool {
+        match self.groups.iter_mut().find(|g| g.handle == handle) {
+            Some(g) => {
+                g.explicit = explicit;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The group's calculation settings and elements. `None` when `handle` names no group.
+    pub fn settings_mut(&mut self, handle: Handle) -> Option<&mut IkGroup> {
+        let group = self.get(handle)?.group;
+        self.envs.get_mut(self.env).ok()?.group_mut(group).ok()
+    }
+
+    /// The group's calculation settings and elements. `None` when `handle` names no group.
+    pub fn settings(&self, handle: Handle) -> Option<&IkGroup> {
+        let group = self.get(handle)?.group;
+        self.envs.get(self.env).ok()?.group(group).ok()
+    }
+
+    /// The element of the group whose tip is `tip`.
+    pub fn element_mut(&mut self, handle: Handle, tip: Handle) -> Option<&mut IkElement> {
+        self.settings_mut(handle)?.elements.iter_mut().find(|e| e.tip == tip)
+    }
+
+    /// Solves the group from the scene's joint values and writes the solution into the
+    /// scene whatever the result (finite values within the joints' limits), as
+    /// CoppeliaSim's built-in IK does.
+    ///
+    /// # Errors
+    /// No such group ([`IkError::NoSuchGroup`]), or a chain that does not exist any more.
+    pub fn handle(&mut self, world: &mut World, handle: Handle) -> Result<IkResult, IkError> {
+        let group = self.get(handle).ok_or(IkError::NoSuchGroup(handle))?.group;
+        let outcome = handle_groups(world, &mut self.envs, self.env, &[group], Apply::Always)?;
+        Ok(outcome.result)
+    }
+
+    /// Handles every group not flagged explicit, in handle order, as the main script's
+    /// `sim.handleIkGroup(sim.handle_all_except_explicit)` does each step. Returns how
+    /// many were performed; a group whose chain cannot be solved is skipped.
+    pub fn handle_automatic(&mut self, world: &mut World) -> usize {
+        let automatic: Vec<Handle> = self.groups.iter().filter(|g| !g.explicit).map(|g| g.handle).collect();
+        automatic
+            .into_iter()
+            .filter(|&h| matches!(self.handle(world, h), Ok(r) if r != IkResult::NotPerformed))
+            .count()
+    }
+
+    /// The group's Jacobian at the scene's current joint values: one row per constrained
+    /// component of each element (x, y, z in the base frame, then the angular rows), one
+    /// column per joint of the chains, base to tip.
+    ///
+    /// # Errors
+    /// No such group, or a chain that cannot be built.
+    pub fn jacobian(&self, world: &World, handle: Handle) -> Result<DMatrix<f64>, IkError> {
+        let model = self.model(world, handle)?;
+        let blocks: Vec<DMatrix<f64>> = model
+            .elements
+            .iter()
+            .map(|e| e.linearize(&model.start, &model.slots).jacobian)
+            .collect();
+        let rows = blocks.iter().map(DMatrix::nrows).sum();
+        let mut j = DMatrix::zeros(rows, model.slots.len());
+        let mut r = 0;
+        for b in blocks {
+            j.view_mut((r, 0), (b.nrows(), b.ncols())).copy_from(&b);
+            r += b.nrows();
+        }
+        Ok(j)
+    }
+
+    /// Searches a configuration putting the group's tips on their targets without moving
+    /// the scene (see [`find_config`]).
+    ///
+    /// # Errors
+    /// No such group, or a chain that cannot be built.
+    pub fn find_config(
+        &self,
+        world: &World,
+        handle: Handle,
+        search: &ConfigSearch,
+    ) -> Result<Option<BTreeMap<Handle, f64>>, IkError> {
+        let group = self.get(handle).ok_or(IkError::NoSuchGroup(handle))?.group;
+        find_config(world, &self.envs, self.env, group, search)
+    }
+
+    /// The group's problem as the solver sees it now.
+    fn model(&self, world: &World, handle: Handle) -> Result<KinematicModel, IkError> {
+        let group = self.get(handle).ok_or(IkError::NoSuchGroup(handle))?.group;
+        let environment = self.envs.get(self.env)?;
+        let g = environment.group(group)?;
+        KinematicModel::build(&Trees::new(world, &environment.objects), &g.elements)
+    }
+}
