@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 277 functions, 266 constants."""
+    """`sim`: 289 functions, 266 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -282,6 +282,8 @@ class Sim:
     def addDrawingObjectItem(self, *args: Any) -> Any: ...
     def addForce(self, *args: Any) -> Any: ...
     def addForceAndTorque(self, *args: Any) -> Any: ...
+    def addGraphCurve(self, *args: Any) -> Any:
+        """the curve is kept with its streams and exported by `sim.exportGraphStreams` as `<graph>.<curve>.csv` (time, then one column per stream, a missing stream value replaced by the curve's default); gantry draws no graphs itself, so options, colour and width are stored only."""
     def addGraphStream(self, *args: Any) -> Any: ...
     def addItemToCollection(self, *args: Any) -> Any: ...
     def addLog(self, *args: Any) -> Any: ...
@@ -329,7 +331,8 @@ class Sim:
     def copyMatrix(self, *args: Any) -> Any: ...
     def copyPasteObjects(self, *args: Any) -> Any:
         """a copy goes to the root unless its parent was copied too; scripts are not copied."""
-    def createCollection(self, *args: Any) -> Any: ...
+    def createCollection(self, *args: Any) -> Any:
+        """V-REP 3's `sim.createCollection(name, options)` is accepted beside the 4.x `sim.createCollection(options)`; names are unique among live collections. `options` is accepted and ignored."""
     def createDummy(self, *args: Any) -> Any: ...
     def createPath(self, *args: Any) -> Any:
         """the 4.3+ form makes a dummy whose points (7 values each, in its frame) are also its custom data blocks `PATHCTRLPTS` and `PATH`; without smoothness the points are the control points, with one the `subdiv` points are resampled along the corners rounded as `quadraticBezier` of that strength; options bit 2 closes the path, the display and shape bits are ignored; orientation modes 1-6 put x, x, y, y, z, z along the path with y, z, x, z, x, y up. The V-REP 3 form (a number first) makes an empty path for `sim.insertPathCtrlPoints`. Copies of a path object are plain dummies."""
@@ -354,6 +357,10 @@ class Sim:
     def getBoolParameter(self, *args: Any) -> Any: ...
     def getBufferProperty(self, *args: Any) -> Any:
         """the custom data blocks only (`customData.<tag>`); a missing block is an error, or nil with `{noError = true}`."""
+    def getCollectionHandle(self, *args: Any) -> Any:
+        """finds collections named by `sim.createCollection(name, options)`; gantry's scene files have no named collections; `name@silentError` returns -1 when there is none."""
+    def getCollectionName(self, *args: Any) -> Any:
+        """the empty string for an unnamed (4.x) collection."""
     def getCollectionObjects(self, *args: Any) -> Any: ...
     def getDialogResult(self, *args: Any) -> Any: ...
     def getDrawingObjectItems(self, *args: Any) -> Any: ...
@@ -379,6 +386,8 @@ class Sim:
     def getJointTargetVelocity(self, *args: Any) -> Any: ...
     def getJointType(self, *args: Any) -> Any: ...
     def getJointVelocity(self, *args: Any) -> Any: ...
+    def getLightParameters(self, *args: Any) -> Any:
+        """always an error, for the same reason as `sim.setLightParameters`."""
     def getLinkDummy(self, *args: Any) -> Any: ...
     def getMatrixInverse(self, *args: Any) -> Any:
         """a 3x3 block that is not a rotation gives some rotation, not an error (read by the closed-form method)."""
@@ -449,7 +458,13 @@ class Sim:
         """user parameters live with the world (a stop restores them); gantry scenes define none, scripts set them; a script's handle is its object's, so `sim.getUserParameter(object, name)` reads the same store (`sim.handle_self` is the calling script's object)."""
     def getShapeBB(self, *args: Any) -> Any: ...
     def getShapeColor(self, *args: Any) -> Any: ...
+    def getShapeGeomInfo(self, *args: Any) -> Any:
+        """a mesh part is reported neither pure nor convex (gantry does not test meshes for convexity), so cones and non-round spheroids made by `sim.createPrimitiveShape` are not pure; for a compound or a mesh, `dimensions` is the bounding box size in the shape frame (CoppeliaSim leaves it undefined)."""
+    def getShapeInertia(self, *args: Any) -> Any:
+        """computed from the shape's model (its mass spread uniformly over its collision parts, meshes counting as their bounding box, or a URDF inertial), not read back from the physics engine; the inertia is not divided by the mass and is expressed with the shape's axes at the centre of mass."""
     def getShapeMass(self, *args: Any) -> Any: ...
+    def getShapeMassAndInertia(self, *args: Any) -> Any:
+        """as `sim.getShapeInertia`, with V-REP 3's inertia divided by the mass; `transformation` is an absolute matrix, nil meaning the shape's frame."""
     def getSimulationState(self, *args: Any) -> Any:
         """reports CoppeliaSim's advancing passes: 16 during the first step after a start (and in `sysCall_init`), 17 after, 20 during the first step after a pause, 19 for the rest of a step in which a script asked to pause, 21 after a script asked to stop and during cleanup; `advancing_lastbeforestop` (22) is not reported."""
     def getSimulationStopping(self, *args: Any) -> Any:
@@ -480,6 +495,10 @@ class Sim:
         """gantry's, not CoppeliaSim's: `sim.getVisionSensorMask(sensor [, pos, size])` returns the segmentation mask (one little-endian `int32` per pixel, bottom row first, the handle of the shape seen or -1 where nothing is; `sim.unpackInt32Table` unpacks it) and `{width, height}`, from the same render as the RGB and depth images. The first call, if the sensor's image has no mask, renders it (again) with one; from then on every render draws one (one more buffer write per pixel drawn). CoppeliaSim's own way, `sim.setObjectInt32Param(sensor, sim.visionintparam_render_mode, sim.rendermode_colorcoded)`, is served too: the RGB image then holds each handle as `r + 256 g + 65536 b`, white where nothing is seen, as PyRep and RLBench decode it. In-process Python: `client.mask(sensor)`."""
     def getVisionSensorRes(self, *args: Any) -> Any: ...
     def getVisionSensorResolution(self, *args: Any) -> Any: ...
+    def groupShapes(self, *args: Any) -> Any:
+        """the compound has the last shape's frame, alias, parent and dynamic settings and the sum of the masses (spread uniformly, so a URDF inertial of a part is not kept); objects hanging from a grouped shape hang from the compound; `merge=true` also keeps the parts (gantry's primitives stay exact), so a merged shape is a compound here."""
+    def handleGraph(self, *args: Any) -> Any:
+        """checks its arguments and does nothing else: gantry records a stream value when `sim.setGraphStreamValue` sets it, stamped with the step's end time (the time the main script passes here)."""
     def handleProximitySensor(self, *args: Any) -> Any: ...
     def handleVisionSensor(self, *args: Any) -> Any: ...
     def insertPathCtrlPoints(self, *args: Any) -> Any:
@@ -544,6 +563,8 @@ class Sim:
     def resamplePath(self, *args: Any) -> Any:
         """`finalConfigCnt` configurations at equal lengths, interpolated as `sim.getPathInterpolatedConfig`."""
     def resetDynamicObject(self, *args: Any) -> Any: ...
+    def resetGraph(self, *args: Any) -> Any:
+        """drops the recorded values; the streams and curves stay."""
     def rotateAroundAxis(self, *args: Any) -> Any: ...
     def ruckigPos(self, *args: Any) -> Any:
         """malformed arguments are errors rather than a negative handle; at most 10,000 Ruckig objects per world."""
@@ -582,6 +603,8 @@ class Sim:
         """a kinematic joint moves to the target over the following steps at its `sim.jointfloatparam_maxvel` (URDF `velocity`), else 180 deg/s (0.5 m/s prismatic): a speed-limited profile, without CoppeliaSim's acceleration and jerk limits; `sim.setJointPosition` places it at once and ends the motion. `motionParams` are accepted and ignored."""
     def setJointTargetVelocity(self, *args: Any) -> Any:
         """a kinematic joint turns at that speed from the next step until a limit stops it (0 stops it)."""
+    def setLightParameters(self, *args: Any) -> Any:
+        """always an error naming the object: gantry scenes have no light objects (its renderers use fixed lighting, and a CoppeliaSim scene's lights are imported as dummies)."""
     def setLinkDummy(self, *args: Any) -> Any:
         """every link is a dynamic loop closure (CoppeliaSim's default link type): a fixed joint between the bodies the two dummies ride on pulls their frames together (two dummies on the same body, or on none, are linked without effect). A link does not survive a physics rebuild of either body (re-parenting, a static/dynamic switch): link again after one."""
     def setModelProperty(self, *args: Any) -> Any:
@@ -643,6 +666,8 @@ class Sim:
     def tubeStatus(self, *args: Any) -> Any: ...
     def tubeWrite(self, *args: Any) -> Any:
         """returns 1 when the other end is open, 0 when not (the packet is dropped)."""
+    def ungroupShape(self, *args: Any) -> Any:
+        """one shape per collision part, each with a share of the mass by volume; visual parts are paired with collision parts in order when their counts match, otherwise each part is drawn as its collision geometry; a simple shape gives its own handle."""
     def unpackDoubleTable(self, *args: Any) -> Any: ...
     def unpackFloatTable(self, *args: Any) -> Any: ...
     def unpackInt32Table(self, *args: Any) -> Any: ...

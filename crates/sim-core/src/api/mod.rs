@@ -12,6 +12,7 @@ mod custom_data;
 mod drawing;
 mod error;
 mod function;
+mod graph_curves;
 pub mod host;
 mod ik;
 mod ik_legacy;
@@ -20,6 +21,7 @@ mod image;
 mod image_file;
 mod joints;
 pub mod legacy;
+mod lights;
 mod links;
 mod log;
 mod matrix;
@@ -38,6 +40,8 @@ pub(crate) mod ruckig;
 mod scan;
 mod scene;
 mod sensing;
+mod shape_group;
+mod shape_info;
 mod signals;
 mod simulation;
 mod simulator_messages;
@@ -96,6 +100,14 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "destroyCollection",
         call: ApiFn::World(sensing::destroy_collection),
+    },
+    ApiFunction {
+        name: "getCollectionHandle",
+        call: ApiFn::World(sensing::get_collection_handle),
+    },
+    ApiFunction {
+        name: "getCollectionName",
+        call: ApiFn::World(sensing::get_collection_name),
     },
     ApiFunction {
         name: "getCollectionObjects",
@@ -359,6 +371,10 @@ pub const MODULES: &[Module] = &[
             properties::FUNCTIONS,
             paths::FUNCTIONS,
             particles::FUNCTIONS,
+            shape_group::FUNCTIONS,
+            shape_info::FUNCTIONS,
+            lights::FUNCTIONS,
+            graph_curves::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
