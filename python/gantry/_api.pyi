@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 289 functions, 266 constants."""
+    """`sim`: 290 functions, 266 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -362,6 +362,8 @@ class Sim:
     def getCollectionName(self, *args: Any) -> Any:
         """the empty string for an unnamed (4.x) collection."""
     def getCollectionObjects(self, *args: Any) -> Any: ...
+    def getContactInfo(self, *args: Any) -> Any:
+        """the touching contact points of the last step from the physics engine, pair by pair; the object asked for comes first, the force is the one the contact applied to it over the step (N) and the normal points from it to the other object; `dynamicPass` must be `sim.handle_all` or 0 (one pass per step)."""
     def getDialogResult(self, *args: Any) -> Any: ...
     def getDrawingObjectItems(self, *args: Any) -> Any: ...
     def getEulerAnglesFromMatrix(self, *args: Any) -> Any: ...

@@ -2,8 +2,8 @@
 //! from Lua as those scripts call them: named collections (`sim.createCollection(name,
 //! options)`, `sim.getCollectionHandle`, `sim.getCollectionName`), compound shapes
 //! (`sim.groupShapes`, `sim.ungroupShape`), shape information (`sim.getShapeGeomInfo`,
-//! `sim.getShapeInertia`, `sim.getShapeMassAndInertia`), graph curves and the light
-//! functions that gantry refuses.
+//! `sim.getShapeInertia`, `sim.getShapeMassAndInertia`), graph curves, the contacts of
+//! the last step (`sim.getContactInfo`) and the light functions that gantry refuses.
 
 mod util;
 
@@ -319,6 +319,88 @@ fn graph_curves_refuse_bad_arguments() {
     assert_contains(text(&r[3]), &["graph", "sim.addGraphCurve"]);
     assert_contains(text(&r[4]), &["graph", "sim.handleGraph"]);
     assert_contains(text(&r[5]), &["graph", "sim.resetGraph"]);
+}
+
+/// A 1 kg cube resting on a static floor whose top is at z = 0.
+const RESTING: &str = r#"
+[[object]]
+name = "holder"
+kind = "dummy"
+script = "probe.lua"
+
+[[object]]
+name = "floor"
+kind = "shape"
+shape = "box"
+size = [2, 2, 0.1]
+position = [0, 0, -0.05]
+
+[[object]]
+name = "cube"
+kind = "shape"
+shape = "box"
+size = [0.1, 0.1, 0.1]
+mass = 1.0
+dynamic = true
+position = [0, 0, 0.05]
+"#;
+
+const CONTACT_PROBE: &str = r#"
+function contacts()
+    local cube = sim.getObject('/cube')
+    local floor = sim.getObject('/floor')
+    local fz, n, others, normalZ, pointZ = 0, 0, true, 0, 0
+    while true do
+        local objs, pt, force, normal = sim.getContactInfo(sim.handle_all, cube, n)
+        if not objs then break end
+        others = others and objs[1] == cube and objs[2] == floor
+        fz = fz + force[3]
+        normalZ = normal[3]
+        pointZ = math.max(pointZ, math.abs(pt[3]))
+        n = n + 1
+    end
+    local none = sim.getContactInfo(sim.handle_all, sim.getObject('/holder'), 0)
+    return n, others, fz, normalZ, pointZ, none == nil
+end
+
+function contact_errors()
+    local cube = sim.getObject('/cube')
+    return err(sim.getContactInfo, 3, cube, 0), err(sim.getContactInfo, sim.handle_all, cube, -1),
+        err(sim.getContactInfo, sim.handle_all, 4242, 0)
+end
+"#;
+
+#[test]
+fn contact_info_lists_the_last_steps_contacts_of_an_object() {
+    let probe = format!("{CONTACT_PROBE}\n{LUA_ERR}");
+    let mut sc = Scene::new(
+        "old-contacts",
+        RESTING,
+        &[("probe.lua", &probe)],
+        ScriptLimits::default(),
+    );
+    sc.sim.start();
+    for _ in 0..40 {
+        sc.sim.step();
+    }
+    let r = sc.call("contacts", &[]);
+    assert!(int(&r[0]) >= 1, "the resting cube touches the floor: {r:?}");
+    assert_eq!(
+        r[1],
+        Value::Bool(true),
+        "the cube asked for comes first, then the floor"
+    );
+    // At rest the floor carries the cube's weight: 1 kg · 9.81 m/s² upwards.
+    assert_close(&[num(&r[2])], &[9.81], 0.3);
+    // The normal points from the cube down into the floor; contacts lie on its top.
+    assert_close(&[num(&r[3])], &[-1.0], 1e-3);
+    assert!(num(&r[4]) < 0.01, "contact points lie at z = 0: {r:?}");
+    assert_eq!(r[5], Value::Bool(true), "nil past the last contact");
+
+    let e = sc.call("contact_errors", &[]);
+    assert_contains(text(&e[0]), &["dynamicPass", "sim.getContactInfo"]);
+    assert_contains(text(&e[1]), &["index must be 0 or more", "sim.getContactInfo"]);
+    assert_contains(text(&e[2]), &["does not exist", "sim.getContactInfo"]);
 }
 
 #[test]

@@ -8,6 +8,7 @@
 
 mod application;
 mod args;
+mod contacts;
 mod custom_data;
 mod drawing;
 mod error;
@@ -375,6 +376,7 @@ pub const MODULES: &[Module] = &[
             shape_info::FUNCTIONS,
             lights::FUNCTIONS,
             graph_curves::FUNCTIONS,
+            contacts::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,

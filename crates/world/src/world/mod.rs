@@ -6,6 +6,7 @@
 //! signals) lives on the floors above, and [`crate::sim::Sim`] owns both.
 
 mod collection;
+mod contacts;
 mod containment;
 mod custom_data;
 mod edit;
@@ -31,6 +32,7 @@ mod urdf_robot;
 mod world;
 
 pub use collection::{Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind};
+pub use contacts::Contact;
 pub use custom_data::CustomData;
 pub use edit::MIN_SHAPE_MASS;
 pub use edit_state::{ColorComponent, EditCounters};
