@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 289 functions, 278 constants."""
+    """`sim`: 302 functions, 278 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -294,6 +294,8 @@ class Sim:
     def addDrawingObjectItem(self, *args: Any) -> Any: ...
     def addForce(self, *args: Any) -> Any: ...
     def addForceAndTorque(self, *args: Any) -> Any: ...
+    def addGraphCurve(self, *args: Any) -> Any:
+        """the curve is kept with its streams and exported by `sim.exportGraphStreams` as `<graph>.<curve>.csv` (time, then one column per stream, a missing stream value replaced by the curve's default); gantry draws no graphs itself, so options, colour and width are stored only."""
     def addGraphStream(self, *args: Any) -> Any: ...
     def addItemToCollection(self, *args: Any) -> Any: ...
     def addLog(self, *args: Any) -> Any: ...
@@ -341,7 +343,8 @@ class Sim:
     def copyMatrix(self, *args: Any) -> Any: ...
     def copyPasteObjects(self, *args: Any) -> Any:
         """a copy goes to the root unless its parent was copied too; scripts are not copied."""
-    def createCollection(self, *args: Any) -> Any: ...
+    def createCollection(self, *args: Any) -> Any:
+        """V-REP 3's `sim.createCollection(name, options)` is accepted beside the 4.x `sim.createCollection(options)`; names are unique among live collections. `options` is accepted and ignored."""
     def createDummy(self, *args: Any) -> Any: ...
     def createPath(self, *args: Any) -> Any:
         """the 4.3+ form makes a dummy whose points (7 values each, in its frame) are also its custom data blocks `PATHCTRLPTS` and `PATH`; without smoothness the points are the control points, with one the `subdiv` points are resampled along the corners rounded as `quadraticBezier` of that strength; options bit 2 closes the path, the display and shape bits are ignored; orientation modes 1-6 put x, x, y, y, z, z along the path with y, z, x, z, x, y up. The V-REP 3 form (a number first) makes an empty path for `sim.insertPathCtrlPoints`. Copies of a path object are plain dummies."""
@@ -366,9 +369,15 @@ class Sim:
     def getBoolParameter(self, *args: Any) -> Any: ...
     def getBufferProperty(self, *args: Any) -> Any:
         """the custom data blocks only (`customData.<tag>`); a missing block is an error, or nil with `{noError = true}`."""
+    def getCollectionHandle(self, *args: Any) -> Any:
+        """finds collections named by `sim.createCollection(name, options)`; gantry's scene files have no named collections; `name@silentError` returns -1 when there is none."""
+    def getCollectionName(self, *args: Any) -> Any:
+        """the empty string for an unnamed (4.x) collection."""
     def getCollectionObjects(self, *args: Any) -> Any: ...
     def getConfigForTipPose(self, *args: Any) -> Any:
         """the search of `simIK.getConfigForTipPose` (10,000 configurations from a fixed seed instead of for `maxTimeInMs`); collision pairs, joint options and custom limits are ignored."""
+    def getContactInfo(self, *args: Any) -> Any:
+        """the touching contact points of the last step from the physics engine, pair by pair; the object asked for comes first, the force is the one the contact applied to it over the step (N) and the normal points from it to the other object; `dynamicPass` must be `sim.handle_all` or 0 (one pass per step)."""
     def getDialogResult(self, *args: Any) -> Any: ...
     def getDrawingObjectItems(self, *args: Any) -> Any: ...
     def getEulerAnglesFromMatrix(self, *args: Any) -> Any: ...
@@ -399,6 +408,8 @@ class Sim:
     def getJointTargetVelocity(self, *args: Any) -> Any: ...
     def getJointType(self, *args: Any) -> Any: ...
     def getJointVelocity(self, *args: Any) -> Any: ...
+    def getLightParameters(self, *args: Any) -> Any:
+        """always an error, for the same reason as `sim.setLightParameters`."""
     def getLinkDummy(self, *args: Any) -> Any: ...
     def getMatrixInverse(self, *args: Any) -> Any:
         """a 3x3 block that is not a rotation gives some rotation, not an error (read by the closed-form method)."""
@@ -469,7 +480,13 @@ class Sim:
         """user parameters live with the world (a stop restores them); gantry scenes define none, scripts set them; a script's handle is its object's, so `sim.getUserParameter(object, name)` reads the same store (`sim.handle_self` is the calling script's object)."""
     def getShapeBB(self, *args: Any) -> Any: ...
     def getShapeColor(self, *args: Any) -> Any: ...
+    def getShapeGeomInfo(self, *args: Any) -> Any:
+        """a mesh part is reported neither pure nor convex (gantry does not test meshes for convexity), so cones and non-round spheroids made by `sim.createPrimitiveShape` are not pure; for a compound or a mesh, `dimensions` is the bounding box size in the shape frame (CoppeliaSim leaves it undefined)."""
+    def getShapeInertia(self, *args: Any) -> Any:
+        """computed from the shape's model (its mass spread uniformly over its collision parts, meshes counting as their bounding box, or a URDF inertial), not read back from the physics engine; the inertia is not divided by the mass and is expressed with the shape's axes at the centre of mass."""
     def getShapeMass(self, *args: Any) -> Any: ...
+    def getShapeMassAndInertia(self, *args: Any) -> Any:
+        """as `sim.getShapeInertia`, with V-REP 3's inertia divided by the mass; `transformation` is an absolute matrix, nil meaning the shape's frame."""
     def getSimulationState(self, *args: Any) -> Any:
         """reports CoppeliaSim's advancing passes: 16 during the first step after a start (and in `sysCall_init`), 17 after, 20 during the first step after a pause, 19 for the rest of a step in which a script asked to pause, 21 after a script asked to stop and during cleanup; `advancing_lastbeforestop` (22) is not reported."""
     def getSimulationStopping(self, *args: Any) -> Any:
@@ -500,6 +517,10 @@ class Sim:
         """gantry's, not CoppeliaSim's: `sim.getVisionSensorMask(sensor [, pos, size])` returns the segmentation mask (one little-endian `int32` per pixel, bottom row first, the handle of the shape seen or -1 where nothing is; `sim.unpackInt32Table` unpacks it) and `{width, height}`, from the same render as the RGB and depth images. The first call, if the sensor's image has no mask, renders it (again) with one; from then on every render draws one (one more buffer write per pixel drawn). CoppeliaSim's own way, `sim.setObjectInt32Param(sensor, sim.visionintparam_render_mode, sim.rendermode_colorcoded)`, is served too: the RGB image then holds each handle as `r + 256 g + 65536 b`, white where nothing is seen, as PyRep and RLBench decode it. In-process Python: `client.mask(sensor)`."""
     def getVisionSensorRes(self, *args: Any) -> Any: ...
     def getVisionSensorResolution(self, *args: Any) -> Any: ...
+    def groupShapes(self, *args: Any) -> Any:
+        """the compound has the last shape's frame, alias, parent and dynamic settings and the sum of the masses (spread uniformly, so a URDF inertial of a part is not kept); objects hanging from a grouped shape hang from the compound; `merge=true` also keeps the parts (gantry's primitives stay exact), so a merged shape is a compound here."""
+    def handleGraph(self, *args: Any) -> Any:
+        """checks its arguments and does nothing else: gantry records a stream value when `sim.setGraphStreamValue` sets it, stamped with the step's end time (the time the main script passes here)."""
     def handleIkGroup(self, *args: Any) -> Any:
         """solves with `simIK`'s solver from the scene's joint values and writes the solution into the scene whatever the result (values within the joints' limits); returns `sim.ikresult_*` for one group, and with `sim.handle_all` or `sim.handle_all_except_explicit` the number of groups performed (both handle only the groups not flagged explicit)."""
     def handleProximitySensor(self, *args: Any) -> Any: ...
@@ -570,6 +591,8 @@ class Sim:
     def resamplePath(self, *args: Any) -> Any:
         """`finalConfigCnt` configurations at equal lengths, interpolated as `sim.getPathInterpolatedConfig`."""
     def resetDynamicObject(self, *args: Any) -> Any: ...
+    def resetGraph(self, *args: Any) -> Any:
+        """drops the recorded values; the streams and curves stay."""
     def rotateAroundAxis(self, *args: Any) -> Any: ...
     def ruckigPos(self, *args: Any) -> Any:
         """malformed arguments are errors rather than a negative handle; at most 10,000 Ruckig objects per world."""
@@ -614,6 +637,8 @@ class Sim:
         """a kinematic joint moves to the target over the following steps at its `sim.jointfloatparam_maxvel` (URDF `velocity`), else 180 deg/s (0.5 m/s prismatic): a speed-limited profile, without CoppeliaSim's acceleration and jerk limits; `sim.setJointPosition` places it at once and ends the motion. `motionParams` are accepted and ignored."""
     def setJointTargetVelocity(self, *args: Any) -> Any:
         """a kinematic joint turns at that speed from the next step until a limit stops it (0 stops it)."""
+    def setLightParameters(self, *args: Any) -> Any:
+        """always an error naming the object: gantry scenes have no light objects (its renderers use fixed lighting, and a CoppeliaSim scene's lights are imported as dummies)."""
     def setLinkDummy(self, *args: Any) -> Any:
         """every link is a dynamic loop closure (CoppeliaSim's default link type): a fixed joint between the bodies the two dummies ride on pulls their frames together (two dummies on the same body, or on none, are linked without effect). A link does not survive a physics rebuild of either body (re-parenting, a static/dynamic switch): link again after one."""
     def setModelProperty(self, *args: Any) -> Any:
@@ -675,6 +700,8 @@ class Sim:
     def tubeStatus(self, *args: Any) -> Any: ...
     def tubeWrite(self, *args: Any) -> Any:
         """returns 1 when the other end is open, 0 when not (the packet is dropped)."""
+    def ungroupShape(self, *args: Any) -> Any:
+        """one shape per collision part, each with a share of the mass by volume; visual parts are paired with collision parts in order when their counts match, otherwise each part is drawn as its collision geometry; a simple shape gives its own handle."""
     def unpackDoubleTable(self, *args: Any) -> Any: ...
     def unpackFloatTable(self, *args: Any) -> Any: ...
     def unpackInt32Table(self, *args: Any) -> Any: ...

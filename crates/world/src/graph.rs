@@ -7,8 +7,12 @@
 //! phase with that time; setting a value twice in one step keeps the last one, as
 //! CoppeliaSim does. A stream keeps its newest [`MAX_STREAM_SAMPLES`] samples.
 //!
-//! Non-goals: curves (`sim.addGraphCurve`), stream transformations and the graph's own
-//! plotting options; `options` and `cyclicRange` are stored for the viewer only.
+//! A curve (`sim.addGraphCurve`) draws two or three streams of a graph against each
+//! other (x/y or x/y/z); it holds no samples of its own, and its points are read from
+//! its streams, a stream without a value at a time taking the curve's default.
+//!
+//! Non-goals: stream transformations and the graph's own plotting options; `options`,
+//! `cyclicRange`, colours and widths are stored for the viewer only.
 
 use std::collections::{BTreeMap, VecDeque};
 use std::io::{self, Write as _};
@@ -42,6 +46,50 @@ pub struct StreamParams {
     pub color: [f64; 3],
     /// Range of a cyclic quantity (e.g. 2π for a wrapping angle), 0 when not cyclic.
     pub cyclic_range: f64,
+}
+
+/// What `sim.addGraphCurve` asks for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurveParams {
+    /// Curve name, unique among the curves of its graph.
+    pub name: String,
+    /// The streams giving x, y and, for a 3D curve, z: 2 or 3 ids of the same graph.
+    pub streams: Vec<i64>,
+    /// One value per stream, used where that stream has no sample.
+    pub defaults: Vec<f64>,
+    /// Unit label; may be empty.
+    pub unit: String,
+    /// CoppeliaSim options (bit 0 hidden, bit 1 no label, bit 2 points not linked, ...).
+    pub options: i64,
+    /// Colour, RGB in [0, 1].
+    pub color: [f64; 3],
+    /// Line width, pixels.
+    pub width: i64,
+}
+
+/// A curve of a graph.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GraphCurve {
+    id: i64,
+    graph: Handle,
+    params: CurveParams,
+}
+
+impl GraphCurve {
+    /// The id `sim.addGraphCurve` returned.
+    pub fn id(&self) -> i64 {
+        self.id
+    }
+
+    /// The graph object the curve belongs to.
+    pub fn graph(&self) -> Handle {
+        self.graph
+    }
+
+    /// Name, streams, defaults, unit, options, colour and width.
+    pub fn params(&self) -> &CurveParams {
+        &self.params
+    }
 }
 
 /// One time series.
@@ -198,6 +246,7 @@ impl ExportScope {
 #[derive(Debug, Clone)]
 pub struct Graphs {
     streams: Vec<GraphStream>,
+    curves: Vec<GraphCurve>,
     next_id: i64,
     /// Where the API may export to; see [`ExportScope`].
     export_scope: ExportScope,
@@ -207,6 +256,7 @@ impl Default for Graphs {
     fn default() -> Self {
         Self {
             streams: Vec::new(),
+            curves: Vec::new(),
             next_id: FIRST_STREAM_ID,
             export_scope: ExportScope::default(),
         }
@@ -304,6 +354,104 @@ impl Graphs {
         Ok(())
     }
 
+    /// Adds a curve to `graph` over streams of that graph, or updates the curve of that
+    /// name, and returns its id (ids are shared with streams, so never equal to one).
+    /// The caller checks that `graph` is a graph object.
+    ///
+    /// # Errors
+    /// An empty name, other than 2 or 3 streams, a stream not on `graph`, not one
+    /// finite default per stream, a non-finite colour, or [`MAX_STREAMS`] curves.
+    pub fn add_curve(&mut self, graph: Handle, params: CurveParams) -> Result<i64, SimError> {
+        if params.name.is_empty() {
+            return Err(SimError::BadArgument("curve name must not be empty".into()));
+        }
+        if !(2..=3).contains(&params.streams.len()) {
+            return Err(SimError::BadArgument(format!(
+                "a curve combines 2 (x, y) or 3 (x, y, z) streams, got {}",
+                params.streams.len()
+            )));
+        }
+        for &id in &params.streams {
+            self.stream(graph, id)?;
+        }
+        if params.defaults.len() != params.streams.len() || !params.defaults.iter().all(|d| d.is_finite()) {
+            return Err(SimError::BadArgument(format!(
+                "a curve needs one finite default value per stream ({}), got {}",
+                params.streams.len(),
+                params.defaults.len()
+            )));
+        }
+        if !params.color.iter().all(|c| c.is_finite()) {
+            return Err(SimError::BadArgument("curve colour must be finite".into()));
+        }
+        let params = CurveParams {
+            color: params.color.map(|c| c.clamp(0.0, 1.0)),
+            ..params
+        };
+        if let Some(c) = self
+            .curves
+            .iter_mut()
+            .find(|c| c.graph == graph && c.params.name == params.name)
+        {
+            c.params = params;
+            return Ok(c.id);
+        }
+        if self.curves.len() >= MAX_STREAMS {
+            return Err(SimError::BadArgument(format!("too many graph curves ({MAX_STREAMS})")));
+        }
+        let id = self.next_id;
+        self.next_id += 1;
+        self.curves.push(GraphCurve { id, graph, params });
+        Ok(id)
+    }
+
+    /// Every curve, in creation order.
+    pub fn curves(&self) -> impl Iterator<Item = &GraphCurve> {
+        self.curves.iter()
+    }
+
+    /// The points of a curve, one per time at which any of its streams has a sample,
+    /// ascending: `(time, [x, y] or [x, y, z])`, a stream without a sample then giving
+    /// its default.
+    pub fn curve_points(&self, curve: &GraphCurve) -> Vec<(f64, Vec<f64>)> {
+        let dim = curve.params.streams.len();
+        let mut rows: BTreeMap<i64, (f64, Vec<f64>)> = BTreeMap::new();
+        for (k, &id) in curve.params.streams.iter().enumerate() {
+            let Ok(s) = self.stream(curve.graph, id) else {
+                continue;
+            };
+            for (t, v) in s.samples() {
+                rows.entry(time_key(t))
+                    .or_insert_with(|| (t, curve.params.defaults.clone()))
+                    .1[k] = v;
+            }
+        }
+        rows.into_values().filter(|(_, p)| p.len() == dim).collect()
+    }
+
+    /// The CSV table of a curve: `time`, then one column per stream (its label), one
+    /// row per point of [`Graphs::curve_points`].
+    pub fn curve_csv(&self, curve: &GraphCurve) -> String {
+        let mut out = String::from("time");
+        for &id in &curve.params.streams {
+            out.push(',');
+            let label = self
+                .stream(curve.graph, id)
+                .map_or_else(|_| id.to_string(), GraphStream::label);
+            out.push_str(&csv_field(&label));
+        }
+        out.push('\n');
+        for (t, point) in self.curve_points(curve) {
+            out.push_str(&number(t));
+            for v in point {
+                out.push(',');
+                out.push_str(&number(v));
+            }
+            out.push('\n');
+        }
+        out
+    }
+
     /// Every stream, in creation order.
     pub fn streams(&self) -> impl Iterator<Item = &GraphStream> {
         self.streams.iter()
@@ -325,6 +473,13 @@ impl Graphs {
     /// Drops every sample but keeps the streams (a new simulation run).
     pub fn clear_samples(&mut self) {
         for s in &mut self.streams {
+            s.samples.clear();
+        }
+    }
+
+    /// Drops the samples of one graph's streams (`sim.resetGraph`).
+    pub fn clear_graph_samples(&mut self, graph: Handle) {
+        for s in self.streams.iter_mut().filter(|s| s.graph == graph) {
             s.samples.clear();
         }
     }
@@ -367,7 +522,8 @@ impl Graphs {
     /// `dir`, creating it if needed, and returns the paths in graph-handle order. Each
     /// file is named `names(graph)` (characters other than letters, digits, `-`, `_`
     /// and `.` become `_`; a clash gets `_<handle>` appended) plus `.csv`, and is
-    /// written atomically: to a temporary file in `dir`, then renamed.
+    /// written atomically: to a temporary file in `dir`, then renamed. Each curve of the
+    /// graph follows its graph's file as `<graph>.<curve>.csv` ([`Graphs::curve_csv`]).
     ///
     /// # Errors
     /// Creating the directory or writing a file; files already written stay.
@@ -382,8 +538,13 @@ impl Graphs {
             }
             let path = dir.join(format!("{stem}.csv"));
             write_atomically(dir, &path, self.to_csv(graph).as_bytes())?;
-            used.push(stem);
             paths.push(path);
+            for curve in self.curves.iter().filter(|c| c.graph == graph) {
+                let path = dir.join(format!("{stem}.{}.csv", sanitize(&curve.params.name)));
+                write_atomically(dir, &path, self.curve_csv(curve).as_bytes())?;
+                paths.push(path);
+            }
+            used.push(stem);
         }
         Ok(paths)
     }

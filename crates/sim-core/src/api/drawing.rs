@@ -60,7 +60,7 @@ const DEFAULT_DRAWING_COLOR: [f64; 3] = [0.5, 0.5, 0.5];
 
 /// An optional RGB argument: `default` when nil, else 3 finite numbers (extra ones are
 /// ignored), clamped to [0, 1].
-fn opt_color(a: &Args<'_>, i: usize, default: [f64; 3]) -> Result<[f64; 3], SimError> {
+pub(super) fn opt_color(a: &Args<'_>, i: usize, default: [f64; 3]) -> Result<[f64; 3], SimError> {
     match a.get(i) {
         Value::Nil => Ok(default),
         _ => Ok(a.floats::<3>(i)?.map(|c| c.clamp(0.0, 1.0))),
@@ -215,7 +215,7 @@ fn get_drawing_object_items(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) ->
 }
 
 /// Checks that `h` is a graph object.
-fn graph(w: &World, h: Handle) -> Result<Handle, SimError> {
+pub(super) fn graph(w: &World, h: Handle) -> Result<Handle, SimError> {
     match &w.object(h)?.kind {
         ObjectKind::Graph => Ok(h),
         other => Err(SimError::WrongKind {

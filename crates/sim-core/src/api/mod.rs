@@ -8,10 +8,12 @@
 
 mod application;
 mod args;
+mod contacts;
 mod custom_data;
 mod drawing;
 mod error;
 mod function;
+mod graph_curves;
 pub mod host;
 mod ik;
 mod ik_groups;
@@ -21,6 +23,7 @@ mod image;
 mod image_file;
 mod joints;
 pub mod legacy;
+mod lights;
 mod links;
 mod log;
 mod matrix;
@@ -39,6 +42,8 @@ pub(crate) mod ruckig;
 mod scan;
 mod scene;
 mod sensing;
+mod shape_group;
+mod shape_info;
 mod signals;
 mod simulation;
 mod simulator_messages;
@@ -97,6 +102,14 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "destroyCollection",
         call: ApiFn::World(sensing::destroy_collection),
+    },
+    ApiFunction {
+        name: "getCollectionHandle",
+        call: ApiFn::World(sensing::get_collection_handle),
+    },
+    ApiFunction {
+        name: "getCollectionName",
+        call: ApiFn::World(sensing::get_collection_name),
     },
     ApiFunction {
         name: "getCollectionObjects",
@@ -361,6 +374,11 @@ pub const MODULES: &[Module] = &[
             paths::FUNCTIONS,
             particles::FUNCTIONS,
             ik_groups::FUNCTIONS,
+            shape_group::FUNCTIONS,
+            shape_info::FUNCTIONS,
+            lights::FUNCTIONS,
+            graph_curves::FUNCTIONS,
+            contacts::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,

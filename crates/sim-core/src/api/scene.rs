@@ -159,7 +159,7 @@ pub const FUNCTIONS: &[ApiFunction] = &[
 ];
 
 /// A required table of handles.
-fn handle_list(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, SimError> {
+pub(super) fn handle_list(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, SimError> {
     match a.get(i) {
         Value::Array(items) => items
             .iter()

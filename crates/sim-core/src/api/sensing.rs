@@ -70,13 +70,57 @@ pub(super) fn read_force_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>
     }
 }
 
-/// `sim.createCollection(options=0)` → collection handle.
+/// `sim.createCollection(options=0)` → collection handle, or V-REP 3's
+/// `sim.createCollection(name, options)`, whose name `sim.getCollectionHandle` finds.
+/// Names are unique among live collections, as in V-REP.
 pub(super) fn create_collection(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
-    let _options = a.opt_int(0, 0)?;
-    w.collections.push(Some(Collection::default()));
+    let name = match a.get(0) {
+        Value::Str(name) => {
+            a.opt_int(1, 0)?;
+            if w.collection_named(name).is_some() {
+                return Err(SimError::bad_argument(format!(
+                    "argument 1: a collection named '{name}' already exists"
+                )));
+            }
+            name.clone()
+        }
+        _ => {
+            a.opt_int(0, 0)?;
+            String::new()
+        }
+    };
+    w.collections.push(Some(Collection {
+        name,
+        items: Vec::new(),
+    }));
     Ok(vec![Value::Int(
         FIRST_COLLECTION_HANDLE + w.collections.len() as i64 - 1,
     )])
+}
+
+/// `sim.getCollectionHandle(name)` (V-REP 3, 4.0-4.2) → the handle of the collection
+/// created with that name; with the `@silentError` suffix, -1 when there is none.
+pub(super) fn get_collection_handle(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let raw = a.str(0)?;
+    let (name, silent) = match raw.strip_suffix("@silentError") {
+        Some(n) => (n, true),
+        None => (raw, false),
+    };
+    match w.collection_named(name) {
+        Some(h) => Ok(vec![Value::Int(h)]),
+        None if silent => Ok(vec![Value::Int(-1)]),
+        None => Err(SimError::no_such_item(format!("collection does not exist: '{name}'"))),
+    }
+}
+
+/// `sim.getCollectionName(collectionHandle)` (V-REP 3, 4.0-4.2) → the collection's
+/// name; an unnamed collection (`sim.createCollection(options)`) has the empty name.
+pub(super) fn get_collection_name(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    match w.collection(h) {
+        Some(c) => Ok(vec![Value::Str(c.name.clone())]),
+        None => Err(SimError::no_such_item(format!("collection {h} does not exist"))),
+    }
 }
 
 /// `sim.destroyCollection(h)`.

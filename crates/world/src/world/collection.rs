@@ -35,6 +35,9 @@ pub struct CollectionItem {
 /// A collection: its items, applied in order.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Collection {
+    /// The name V-REP 3's `sim.createCollection(name, options)` gave it, by which
+    /// `sim.getCollectionHandle` finds it; empty for the unnamed collections of 4.x.
+    pub name: String,
     /// Items in the order they were added.
     pub items: Vec<CollectionItem>,
 }

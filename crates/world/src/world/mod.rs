@@ -6,11 +6,14 @@
 //! signals) lives on the floors above, and [`crate::sim::Sim`] owns both.
 
 mod collection;
+mod contacts;
 mod containment;
 mod custom_data;
 mod edit;
 mod edit_state;
+mod group;
 mod log;
+mod mass;
 mod object;
 pub mod object_path;
 mod particles;
@@ -29,10 +32,12 @@ mod urdf_robot;
 mod world;
 
 pub use collection::{Collection, CollectionItem, FIRST_COLLECTION_HANDLE, ItemKind};
+pub use contacts::Contact;
 pub use custom_data::CustomData;
 pub use edit::MIN_SHAPE_MASS;
 pub use edit_state::{ColorComponent, EditCounters};
 pub use log::{LOG_CAPACITY, Log, LogLine};
+pub use mass::MassProperties;
 pub use object::{Detection, ForceReading, Handle, Joint, KinematicMotion, Object, ObjectKind, ProximitySensor};
 pub use particles::{
     FIRST_PARTICLE_HANDLE, MAX_LIVE_PARTICLES, MAX_PARTICLE_ITEMS, MAX_PARTICLE_OBJECTS, MAX_PARTICLE_SIZE,

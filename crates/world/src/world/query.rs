@@ -4,7 +4,7 @@
 use rapier3d::parry::query;
 use rapier3d::prelude::*;
 
-use super::collection::{FIRST_COLLECTION_HANDLE, ItemKind};
+use super::collection::{Collection, FIRST_COLLECTION_HANDLE, ItemKind};
 use super::object::{Handle, ObjectKind};
 use super::object_path::ObjectTree;
 use super::world::World;
@@ -54,6 +54,24 @@ impl World {
         };
         out.retain(|h| !exclude.contains(h));
         Ok(out)
+    }
+
+    /// The handle of the live collection named `name` (never an unnamed one).
+    pub fn collection_named(&self, name: &str) -> Option<Handle> {
+        if name.is_empty() {
+            return None;
+        }
+        let at = self
+            .collections
+            .iter()
+            .position(|c| c.as_ref().is_some_and(|c| c.name == name))?;
+        Some(FIRST_COLLECTION_HANDLE + at as Handle)
+    }
+
+    /// The live collection behind a handle, if any.
+    pub fn collection(&self, h: Handle) -> Option<&Collection> {
+        let at = usize::try_from(h.checked_sub(FIRST_COLLECTION_HANDLE)?).ok()?;
+        self.collections.get(at)?.as_ref()
     }
 
     /// The objects of a collection, applying its items in order.
