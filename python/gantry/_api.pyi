@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 302 functions, 278 constants."""
+    """`sim`: 304 functions, 278 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -346,6 +346,8 @@ class Sim:
     def createCollection(self, *args: Any) -> Any:
         """V-REP 3's `sim.createCollection(name, options)` is accepted beside the 4.x `sim.createCollection(options)`; names are unique among live collections. `options` is accepted and ignored."""
     def createDummy(self, *args: Any) -> Any: ...
+    def createMeshShape(self, *args: Any) -> Any:
+        """the mesh is one shape, static and not respondable like CoppeliaSim's; culling, edges and the shading angle only change CoppeliaSim's drawing and are ignored; at most 1,000,000 vertices."""
     def createPath(self, *args: Any) -> Any:
         """the 4.3+ form makes a dummy whose points (7 values each, in its frame) are also its custom data blocks `PATHCTRLPTS` and `PATH`; without smoothness the points are the control points, with one the `subdiv` points are resampled along the corners rounded as `quadraticBezier` of that strength; options bit 2 closes the path, the display and shape bits are ignored; orientation modes 1-6 put x, x, y, y, z, z along the path with y, z, x, z, x, y up. The V-REP 3 form (a number first) makes an empty path for `sim.insertPathCtrlPoints`. Copies of a path object are plain dummies."""
     def createPointCloud(self, *args: Any) -> Any:
@@ -363,6 +365,8 @@ class Sim:
     def floatingViewAdd(self, *args: Any) -> Any:
         """the view is an overlay on the viewer's 3D view; position (its centre) and size are relative to it, 0..1 from the bottom left; `options` are kept and not used."""
     def floatingViewRemove(self, *args: Any) -> Any: ...
+    def getApiFunc(self, *args: Any) -> Any:
+        """every module's functions and their older names, qualified and sorted; `scriptHandle` is accepted (every script sees the same API)."""
     def getArrayParam(self, *args: Any) -> Any: ...
     def getArrayParameter(self, *args: Any) -> Any: ...
     def getBoolParam(self, *args: Any) -> Any: ...

@@ -876,3 +876,54 @@ function report() return freed, done end
     }
     assert_eq!(sc.call("report", &[]), vec![Value::Int(1), Value::Bool(true)]);
 }
+
+/// `sim.createMeshShape` builds a shape from a script's triangles (checked indices),
+/// and `sim.getApiFunc` lists the API's functions by prefix or part of a name.
+#[test]
+fn mesh_shapes_from_script_triangles_and_the_api_listing() {
+    let scene = r#"
+[[object]]
+name = "probe"
+kind = "dummy"
+script = "probe.lua"
+"#;
+    let probe = r#"
+function sysCall_init()
+    local h = sim.createMeshShape(0, 0, {0, 0, 0, 0.5, 0, 0, 0, 0.25, 0, 0, 0, 0.1}, {0, 1, 2, 0, 1, 3})
+    size = sim.getShapeBB(h)
+    kind = sim.getObjectType(h)
+    ok1, badIndex = pcall(sim.createMeshShape, 0, 0, {0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 3})
+    ok2, badVertices = pcall(sim.createMeshShape, 0, 0, {0, 0}, {0, 1, 2})
+    prefixed = sim.getApiFunc(-1, '+sim.getObjectPos')
+    containing = sim.getApiFunc(-1, 'ObjectPosition')
+end
+function report() return size, kind, badIndex, badVertices, prefixed, containing end
+"#;
+    let mut sc = Scene::new(
+        "mesh-shape",
+        scene,
+        &[("probe.lua", probe)],
+        gantry_script::ScriptLimits::default(),
+    );
+    sc.sim.start();
+    sc.sim.step();
+    let r = sc.call("report", &[]);
+    assert_close(&util::floats(&r[0]), &[0.5, 0.25, 0.1], 1e-6);
+    assert_eq!(r[1], Value::Int(0), "a shape");
+    assert_contains(util::text(&r[2]), &["createMeshShape", "index 3 is not a vertex"]);
+    assert_contains(util::text(&r[3]), &["createMeshShape", "triples"]);
+    let names = |v: &Value| -> Vec<String> {
+        let Value::Array(items) = v else { panic!("{v:?}") };
+        items.iter().map(|s| util::text(s).to_owned()).collect()
+    };
+    assert_eq!(names(&r[4]), ["sim.getObjectPose", "sim.getObjectPosition"]);
+    let containing = names(&r[5]);
+    assert!(
+        containing.contains(&"sim.setObjectPosition".to_owned()),
+        "{containing:?}"
+    );
+    assert!(
+        containing.contains(&"sim.getObjectPosition".to_owned()),
+        "{containing:?}"
+    );
+}

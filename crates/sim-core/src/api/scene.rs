@@ -69,6 +69,10 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         call: ApiFn::World(create_dummy),
     },
     ApiFunction {
+        name: "createMeshShape",
+        call: ApiFn::World(create_mesh_shape),
+    },
+    ApiFunction {
         name: "createPrimitiveShape",
         call: ApiFn::World(create_primitive_shape),
     },
@@ -373,6 +377,81 @@ fn revolved_mesh(name: &str, profile: &[(f64, f64)], size: [f64; 3]) -> Geometry
         indices,
         parts: Vec::new(),
     }))
+}
+
+/// The most vertices `sim.createMeshShape` takes (a mesh beyond that belongs in a file).
+const MAX_MESH_VERTICES: usize = 1_000_000;
+
+/// `sim.createMeshShape(options, shadingAngle, vertices, indices)` → handle: a shape
+/// from a triangle mesh, vertices as x, y, z triples (m) and triangles as 0-based index
+/// triples, at the world origin, static and not respondable, white, as CoppeliaSim
+/// creates it. Options bit 0 (culling) and bit 1 (edges) and the shading angle only
+/// change how CoppeliaSim draws it and are accepted and ignored.
+fn create_mesh_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    a.int(0)?;
+    a.f64(1)?;
+    let numbers = |i: usize| -> Result<Vec<f64>, SimError> {
+        let Value::Array(items) = a.get(i) else {
+            return Err(SimError::bad_argument(format!(
+                "argument {}: expected a table of numbers",
+                i + 1
+            )));
+        };
+        items
+            .iter()
+            .map(|v| {
+                v.as_f64()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| SimError::bad_argument(format!("argument {}: expected finite numbers", i + 1)))
+            })
+            .collect()
+    };
+    let v = numbers(2)?;
+    let idx = numbers(3)?;
+    if v.is_empty() || !v.len().is_multiple_of(3) || v.len() / 3 > MAX_MESH_VERTICES {
+        return Err(SimError::bad_argument(format!(
+            "argument 3: vertices come as x, y, z triples (1 to {MAX_MESH_VERTICES} of them), got {} numbers",
+            v.len()
+        )));
+    }
+    if idx.is_empty() || !idx.len().is_multiple_of(3) || idx.len() > 6 * MAX_MESH_VERTICES {
+        return Err(SimError::bad_argument(format!(
+            "argument 4: triangles come as index triples, got {} indices",
+            idx.len()
+        )));
+    }
+    let n = v.len() / 3;
+    let index = |x: f64| -> Result<u32, SimError> {
+        if x.fract() == 0.0 && x >= 0.0 && (x as usize) < n {
+            Ok(x as u32)
+        } else {
+            Err(SimError::bad_argument(format!(
+                "argument 4: index {x} is not a vertex (0 to {})",
+                n - 1
+            )))
+        }
+    };
+    let vertices = v
+        .chunks_exact(3)
+        .map(|c| [c[0] as f32, c[1] as f32, c[2] as f32])
+        .collect();
+    let indices = idx
+        .chunks_exact(3)
+        .map(|c| Ok([index(c[0])?, index(c[1])?, index(c[2])?]))
+        .collect::<Result<Vec<_>, SimError>>()?;
+    let geometry = Geometry::Mesh(Arc::new(MeshData {
+        source: PathBuf::from("<sim.createMeshShape>"),
+        vertices,
+        indices,
+        parts: Vec::new(),
+    }));
+    let shape = ShapeModel {
+        respondable: false,
+        dynamic: false,
+        ..ShapeModel::single(geometry, [1.0, 1.0, 1.0])
+    };
+    let h = w.add_object("Shape", ObjectKind::Shape(Box::new(shape)), None, Pose::identity())?;
+    Ok(vec![Value::Int(h)])
 }
 
 /// `sim.createDummy(size)` → handle, at the world origin. The size (m) only sets how
