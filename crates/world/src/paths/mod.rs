@@ -10,7 +10,7 @@
 //! The curve: without smoothing it is the polyline through the control points; with a
 //! smoothness in (0, 1] it is `subdiv` points resampled, at equal lengths, along the
 //! polyline whose corners are rounded by quadratic Bezier curves of that strength
-//! ([`config`], the method `sim.getPathInterpolatedConfig` calls `quadraticBezier`). A
+//! (`config.rs`, the method `sim.getPathInterpolatedConfig` calls `quadraticBezier`). A
 //! closed path returns to its first control point. An orientation mode other than 0
 //! replaces the points' orientations by a frame with one axis along the path and one as
 //! close to the up vector as the tangent allows.
