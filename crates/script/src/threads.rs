@@ -264,12 +264,10 @@ pub(crate) fn install(lua: &Lua, sim: &Table) -> mlua::Result<()> {
             Ok(i64::from(!ptr.is_null() && ptr == state::<Threads>(lua).running.get()))
         })?,
     )?;
-    lua.load(MOTION_LUA)
-        .set_name("@gantry/motion.lua")
-        .call::<()>(sim.clone())?;
+    let motion_helpers: Table = lua.load(MOTION_LUA).set_name("@gantry/motion.lua").call(sim.clone())?;
     lua.load(PATH_MOTION_LUA)
         .set_name("@gantry/path_motion.lua")
-        .call::<()>(sim.clone())?;
+        .call::<()>((sim.clone(), motion_helpers))?;
     lua.load(THREADS_LUA).set_name("@gantry/threads.lua").call::<()>((
         sim.clone(),
         host,

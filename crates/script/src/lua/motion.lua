@@ -4,9 +4,10 @@
 -- How to load: run this chunk once, with the shared `sim` table as its only argument,
 -- where lua/threads.lua is loaded (before the scripts' environments are copied), e.g.
 --
---     lua.load(include_str!("lua/motion.lua")).set_name("@gantry/motion.lua").call::<()>(sim.clone())
+--     let helpers: Table = lua.load(include_str!("lua/motion.lua")).call(sim.clone())?
 --
--- It adds functions to that table and returns nothing. The sim.* functions it uses are
+-- It adds functions to that table and returns its error and thread helpers, which
+-- lua/path_motion.lua shares. The sim.* functions it uses are
 -- looked up in that table when called, not when loaded, so the load order against
 -- threads.lua does not matter, and a script replacing sim.ruckigStep in its own copy of
 -- `sim` cannot change how sim.moveToConfig moves. The Lua builtins are captured when
@@ -585,3 +586,6 @@ sim.moveToPose_init = public(pose_init)
 sim.moveToPose_step = public(pose_step)
 sim.moveToPose_cleanup = public(pose_cleanup)
 sim.moveToPose = public(move_to_pose)
+
+-- The error and thread helpers, for the other motion file (lua/path_motion.lua).
+return {fail = fail, public = public, need_thread = need_thread}

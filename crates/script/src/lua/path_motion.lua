@@ -3,47 +3,19 @@
 -- written on the path functions (Rust, api/paths.rs), the object pose functions and
 -- sim.step.
 --
--- How to load: as lua/motion.lua, run this chunk once with the shared `sim` table as its
--- only argument; it adds the two functions and returns nothing. The sim.* functions it
+-- How to load: as lua/motion.lua, run this chunk once with the shared `sim` table and
+-- the helpers lua/motion.lua returns (errors, public entry points, the thread check);
+-- it adds the two functions and returns nothing. The sim.* functions it
 -- uses are looked up when called; the Lua builtins are captured when loaded.
 --
 -- Each motion step places the object and is followed by one sim.step(); the object is
 -- placed at its target in the last step. Both return the part of that last step the
 -- motion did not need, s (V-REP's deltaTimeLeft; gantry does not carry it over into the
 -- next blocking call).
-local sim = ...
-local type, error, pcall, setmetatable, getmetatable, tostring =
-    type, error, pcall, setmetatable, getmetatable, tostring
-local math, string, table, coroutine = math, string, table, coroutine
+local sim, helpers = ...
+local type, error, pcall, tostring, math = type, error, pcall, tostring, math
 
--- Errors of this file: raised as tables and turned into messages at the public entry
--- points, so the position reported is the calling script's line.
-local PathMotionError = {}
-local function fail(fname, fmt, ...)
-    error(setmetatable({message = string.format(fmt, ...) .. " (in function 'sim." .. fname .. "')"}, PathMotionError), 0)
-end
-
-local function public(f)
-    return function(...)
-        local r = table.pack(pcall(f, ...))
-        if r[1] then
-            return table.unpack(r, 2, r.n)
-        end
-        local e = r[2]
-        if getmetatable(e) == PathMotionError then
-            error(e.message, 2)
-        end
-        error(e, 0)
-    end
-end
-
-local function need_thread(fname)
-    if not coroutine.isyieldable() then
-        fail(fname, "sim.%s blocks, and blocking calls need a threaded script: call it from "
-            .. "sysCall_thread or sysCall_threadmain (or a coroutine), not from a non-threaded hook "
-            .. "such as sysCall_actuation", fname)
-    end
-end
+local fail, public, need_thread = helpers.fail, helpers.public, helpers.need_thread
 
 local function integer(fname, what, x)
     local i = type(x) == 'number' and math.tointeger(x) or nil
