@@ -12,18 +12,9 @@ use util::{Scene, assert_contains};
 /// flange, a target dummy on the tip, and an IK group driving the tip onto the target,
 /// flagged explicit as `explicit` says. `script` is attached to the target.
 fn arm_scene(explicit: bool, script: &str) -> String {
-    let urdf = util::repo("assets/robots/arm6/arm6.urdf");
-    format!(
-        r#"
-[simulation]
-dt = 0.05
-
-[[robot]]
-name = "arm6"
-urdf = "{}"
-joint_mode = "kinematic"
-initial = {{ joint5 = -90 }}
-
+    util::arm6_scene_head(None)
+        + &format!(
+            r#"
 [[object]]
 name = "tip_frame"
 alias = "ik_tip"
@@ -49,9 +40,8 @@ tip = "tip_frame"
 target = "target"
 base = "arm6"
 constraints = "pose"
-"#,
-        urdf.display()
-    )
+"#
+        )
 }
 
 /// A non-threaded V-REP 3.x style script: it moves the target each step; on odd steps

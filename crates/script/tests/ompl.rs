@@ -10,19 +10,8 @@ use util::{Scene, assert_contains};
 /// The paper's arm, kinematic, with two boxes at the tool's height on either side, so
 /// that turning the base half a turn with the arm stretched out hits one of them.
 fn arm_scene() -> String {
-    let urdf = util::repo("assets/robots/arm6/arm6.urdf");
-    format!(
-        r#"
-[simulation]
-dt = 0.05
-
-[[robot]]
-name = "arm6"
-urdf = "{}"
-joint_mode = "kinematic"
-initial = {{ joint5 = -90 }}
-script = "planner.lua"
-
+    util::arm6_scene_head(Some("planner.lua"))
+        + r#"
 [[object]]
 name = "left"
 kind = "shape"
@@ -36,9 +25,7 @@ kind = "shape"
 shape = "box"
 size = [0.2, 0.2, 0.2]
 position = [0, -0.45, 0.65]
-"#,
-        urdf.display()
-    )
+"#
 }
 
 /// The planning script, in the form of the public ones: spaces, task, algorithm,

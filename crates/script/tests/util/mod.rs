@@ -56,6 +56,18 @@ pub fn load(path: &Path) -> SceneModel {
     load_scene(&DiskFiles, path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{} loads: {e}", path.display()))
 }
 
+/// The head of a scene with the paper's six-axis arm (`assets/robots/arm6/arm6.urdf`,
+/// kinematic, in its start pose with the tool down) as `arm6`, `script` attached to it;
+/// the caller appends its own objects.
+pub fn arm6_scene_head(script: Option<&str>) -> String {
+    let urdf = repo("assets/robots/arm6/arm6.urdf");
+    let script = script.map(|s| format!("script = \"{s}\"\n")).unwrap_or_default();
+    format!(
+        "[simulation]\ndt = 0.05\n\n[[robot]]\nname = \"arm6\"\nurdf = \"{}\"\njoint_mode = \"kinematic\"\ninitial = {{ joint5 = -90 }}\n{script}",
+        urdf.display()
+    )
+}
+
 /// The text of `assets/scenes/bubble_rob.toml` with the rover's script replaced by
 /// `script` (a file name relative to the scene), or removed for `None`. The camera's
 /// edge-detection script is left out: these tests are about the controller.
