@@ -153,6 +153,42 @@ impl<'a> Args<'a> {
         Ok(out)
     }
 
+    /// An optional table of finite numbers: `None` for nil (item data, parameter
+    /// lists), every element checked.
+    pub fn opt_numbers(&self, i: usize) -> Result<Option<Vec<f64>>, SimError> {
+        match self.get(i) {
+            Value::Nil => Ok(None),
+            Value::Array(items) => items
+                .iter()
+                .enumerate()
+                .map(|(k, v)| {
+                    v.as_f64().filter(|f| f.is_finite()).ok_or_else(|| {
+                        SimError::bad_argument(format!(
+                            "argument {}: element {} must be a finite number, got {}",
+                            i + 1,
+                            k + 1,
+                            match v.as_f64() {
+                                Some(f) => f.to_string(),
+                                None => v.type_name().to_owned(),
+                            }
+                        ))
+                    })
+                })
+                .collect::<Result<Vec<f64>, SimError>>()
+                .map(Some),
+            other => Err(SimError::bad_argument(format!(
+                "argument {}: expected table of numbers or nil, got {}",
+                i + 1,
+                other.type_name()
+            ))),
+        }
+    }
+
+    /// A required table of finite numbers (see [`Args::opt_numbers`]).
+    pub fn numbers(&self, i: usize) -> Result<Vec<f64>, SimError> {
+        self.opt_numbers(i)?.ok_or_else(|| self.bad(i, "table of numbers"))
+    }
+
     /// A required 3-vector.
     pub fn vec3(&self, i: usize) -> Result<Vec3, SimError> {
         self.floats::<3>(i).map(Vec3::from)

@@ -133,36 +133,6 @@ fn add_drawing_object(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Res
     Ok(vec![Value::Int(h)])
 }
 
-/// The item data argument: `None` for nil, else every number of the table.
-fn item_data(a: &Args<'_>, i: usize) -> Result<Option<Vec<f64>>, SimError> {
-    match a.get(i) {
-        Value::Nil => Ok(None),
-        Value::Array(items) => items
-            .iter()
-            .enumerate()
-            .map(|(k, v)| {
-                v.as_f64().filter(|f| f.is_finite()).ok_or_else(|| {
-                    SimError::bad_argument(format!(
-                        "argument {}: element {} must be a finite number, got {}",
-                        i + 1,
-                        k + 1,
-                        match v.as_f64() {
-                            Some(f) => f.to_string(),
-                            None => v.type_name().to_owned(),
-                        }
-                    ))
-                })
-            })
-            .collect::<Result<Vec<f64>, SimError>>()
-            .map(Some),
-        other => Err(SimError::bad_argument(format!(
-            "argument {}: expected table of numbers or nil, got {}",
-            i + 1,
-            other.type_name()
-        ))),
-    }
-}
-
 /// `sim.addDrawingObjectItem(handle, itemData)` → 1 if the item was added, else 0.
 ///
 /// `itemData` holds 3 numbers per vertex (points 3, lines 6, triangles 9, line strip 3
@@ -175,7 +145,7 @@ fn add_drawing_object_item(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> 
     let raw = a.handle(0)?;
     let multiple = raw > 0 && raw & HANDLEFLAG_ADD_MULTIPLE != 0;
     let h = if multiple { raw & !HANDLEFLAG_ADD_MULTIPLE } else { raw };
-    let data = item_data(a, 1)?;
+    let data = a.opt_numbers(1)?;
     let frame = sim.drawings.object(h)?.frame(&sim.world);
     let object = sim.drawings.object_mut(h)?;
     let added = match data {

@@ -91,18 +91,6 @@ const fn f(
     }
 }
 
-/// A list of finite numbers, argument `i`.
-fn numbers(a: &Args<'_>, i: usize) -> Result<Vec<f64>, SimError> {
-    let bad = || SimError::bad_argument(format!("argument {}: expected a table of numbers", i + 1));
-    let Value::Array(items) = a.get(i) else {
-        return Err(bad());
-    };
-    items
-        .iter()
-        .map(|v| v.as_f64().filter(|x| x.is_finite()).ok_or_else(bad))
-        .collect()
-}
-
 /// A list of handles, argument `i`.
 fn handles(a: &Args<'_>, i: usize) -> Result<Vec<Handle>, SimError> {
     let bad = || SimError::bad_argument(format!("argument {}: expected a table of handles", i + 1));
@@ -133,7 +121,7 @@ fn create_state_space(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Resul
             sim.world.object(object)?;
         }
     }
-    let (low, high) = (numbers(a, 3)?, numbers(a, 4)?);
+    let (low, high) = (a.numbers(3)?, a.numbers(4)?);
     let weight = a.opt_f64(6, 1.0)?;
     let reference = a.opt_int(7, -1)?;
     if reference >= 0 {
@@ -227,7 +215,7 @@ fn set_collision_pairs(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Resu
 
 /// `simOMPL.setStartState(task, state)`.
 fn set_start_state(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
-    let state = numbers(a, 1)?;
+    let state = a.numbers(1)?;
     let t = sim.planning.task_mut(a.handle(0)?)?;
     t.check_state(&state)?;
     t.start = Some(state);
@@ -236,7 +224,7 @@ fn set_start_state(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 
 /// `simOMPL.setGoalState(task, state)`: the only goal.
 fn set_goal_state(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
-    let state = numbers(a, 1)?;
+    let state = a.numbers(1)?;
     let t = sim.planning.task_mut(a.handle(0)?)?;
     t.check_state(&state)?;
     t.goals = vec![state];
@@ -246,7 +234,7 @@ fn set_goal_state(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 /// `simOMPL.addGoalState(task, state)`: one more goal; the path ends at whichever goal
 /// the planner reaches first.
 fn add_goal_state(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
-    let state = numbers(a, 1)?;
+    let state = a.numbers(1)?;
     let t = sim.planning.task_mut(a.handle(0)?)?;
     t.check_state(&state)?;
     t.goals.push(state);
@@ -367,7 +355,7 @@ fn has_solution(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 /// `simOMPL.isStateValid(task, state)` → whether the state is within bounds and free
 /// of the collision pairs' contacts (the scene is put back after the check).
 fn is_state_valid(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
-    let state = numbers(a, 1)?;
+    let state = a.numbers(1)?;
     let valid = with_task(sim, a.handle(0)?, |t, w| t.is_valid(w, &state))?;
     Ok(vec![Value::Bool(valid)])
 }
@@ -385,7 +373,7 @@ fn read_state(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, S
 /// `simOMPL.writeState(task, state)`: puts the scene in the state (objects placed,
 /// joints set), as replaying a path does.
 fn write_state(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
-    let state = numbers(a, 1)?;
+    let state = a.numbers(1)?;
     let t = sim.planning.task(a.handle(0)?)?;
     t.check_state(&state)?;
     let mut at = 0;

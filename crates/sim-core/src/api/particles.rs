@@ -54,33 +54,6 @@ const HANDLE_ALL: Handle = -2;
 /// CoppeliaSim's default particle colour when none is given.
 const DEFAULT_COLOR: [f64; 3] = [0.5, 0.5, 0.5];
 
-/// The numbers of a table argument (`None` for nil).
-fn numbers(a: &Args<'_>, i: usize) -> Result<Option<Vec<f64>>, SimError> {
-    match a.get(i) {
-        Value::Nil => Ok(None),
-        Value::Array(items) => items
-            .iter()
-            .enumerate()
-            .map(|(k, v)| {
-                v.as_f64().ok_or_else(|| {
-                    SimError::bad_argument(format!(
-                        "argument {}: element {} must be a number, got {}",
-                        i + 1,
-                        k + 1,
-                        v.type_name()
-                    ))
-                })
-            })
-            .collect::<Result<Vec<f64>, SimError>>()
-            .map(Some),
-        other => Err(SimError::bad_argument(format!(
-            "argument {}: expected table of numbers or nil, got {}",
-            i + 1,
-            other.type_name()
-        ))),
-    }
-}
-
 /// `sim.addParticleObject(objectType, size, density, params, lifeTime, maxItemCount,
 /// color)` → particle object handle.
 ///
@@ -102,7 +75,7 @@ fn add_particle_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Resu
     let object_type = a.int(0)?;
     let size = a.finite(1)?;
     let density = a.finite(2)?;
-    let material = match numbers(a, 3)? {
+    let material = match a.opt_numbers(3)? {
         None => ParticleMaterial::default(),
         Some(p) => ParticleMaterial::from_params(&p).map_err(|e| e.prefixed("argument 4: "))?,
     };
@@ -141,7 +114,7 @@ fn add_particle_object(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Resu
 /// is drawn from the next step on.
 fn add_particle_object_item(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
-    match numbers(a, 1)? {
+    match a.opt_numbers(1)? {
         None => sim.particles.clear(&mut sim.world, h)?,
         Some(data) => {
             sim.particles.add_item(&mut sim.world, h, &data)?;

@@ -390,24 +390,8 @@ const MAX_MESH_VERTICES: usize = 1_000_000;
 fn create_mesh_shape(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     a.int(0)?;
     a.f64(1)?;
-    let numbers = |i: usize| -> Result<Vec<f64>, SimError> {
-        let Value::Array(items) = a.get(i) else {
-            return Err(SimError::bad_argument(format!(
-                "argument {}: expected a table of numbers",
-                i + 1
-            )));
-        };
-        items
-            .iter()
-            .map(|v| {
-                v.as_f64()
-                    .filter(|x| x.is_finite())
-                    .ok_or_else(|| SimError::bad_argument(format!("argument {}: expected finite numbers", i + 1)))
-            })
-            .collect()
-    };
-    let v = numbers(2)?;
-    let idx = numbers(3)?;
+    let v = a.numbers(2)?;
+    let idx = a.numbers(3)?;
     if v.is_empty() || !v.len().is_multiple_of(3) || v.len() / 3 > MAX_MESH_VERTICES {
         return Err(SimError::bad_argument(format!(
             "argument 3: vertices come as x, y, z triples (1 to {MAX_MESH_VERTICES} of them), got {} numbers",
