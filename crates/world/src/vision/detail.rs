@@ -74,7 +74,7 @@ pub(crate) fn levels(geometry: &Geometry, full: &TriMesh) -> Vec<Level> {
     for fraction in CELL_FRACTIONS {
         let cell = full.radius * fraction;
         let (clustered, max_shift) = cluster(data, cell);
-        let mesh = TriMesh::from_geometry(&Geometry::Mesh(Arc::new(clustered)));
+        let mesh = TriMesh::coarse_copy(Arc::new(clustered));
         if mesh.triangles.is_empty() {
             break;
         }
@@ -83,11 +83,6 @@ pub(crate) fn levels(geometry: &Geometry, full: &TriMesh) -> Vec<Level> {
             out.push(Level { cell, max_shift, mesh });
         }
     }
-    eprintln!(
-        "levels of {} tris: {:?}",
-        full.triangles.len(),
-        out.iter().map(|l| (l.cell, l.mesh.triangles.len())).collect::<Vec<_>>()
-    );
     out
 }
 

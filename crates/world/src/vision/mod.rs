@@ -41,6 +41,7 @@
 
 mod blobs;
 mod bytes;
+mod closure;
 mod detail;
 mod raster;
 #[cfg(test)]
@@ -69,14 +70,24 @@ pub struct VisionStates {
     sensors: BTreeMap<Handle, SensorImage>,
     shapes: raster::ShapeCache,
     scratch: raster::Scratch,
-    /// Buffers of the threads other than the caller's in [`handle_all_vision_sensors`].
+    /// Buffers of the threads other than the caller's when sensors are drawn on
+    /// several ([`VisionStates::render_many`]).
     extra_scratch: Vec<raster::Scratch>,
+    /// Drawing buffers of the sensors of one call, reused from call to call.
+    frames: Vec<raster::FrameBuffers>,
     /// Draw every chunk, culling nothing: only for the test that culling changes no
     /// image (false, culling on, otherwise).
     no_cull: bool,
     /// Draw every mesh in full: only for the test that coarser levels stay within
     /// their error (false otherwise).
     full_detail: bool,
+    /// Cut images of any size into bands: only for the test that bands change no
+    /// image, whose sensors are small (false: see [`BandSizes`]).
+    band_every_size: bool,
+    /// Draw both faces of every imported mesh: only for the test that culling the back
+    /// faces of their closed parts changes no pixel away from silhouettes (false
+    /// otherwise).
+    two_sided_meshes: bool,
 }
 
 /// The image state of one vision sensor.
@@ -202,6 +213,12 @@ impl SensorImage {
     fn size(&self) -> (usize, usize) {
         (self.resolution[0] as usize, self.resolution[1] as usize)
     }
+
+    /// Whether a render with `cam` draws the mask: once one was asked for, and for a
+    /// colour-coded image, which draws the handles anyway (its mask costs one copy).
+    fn mask_wanted_now(&self, cam: &raster::Camera) -> bool {
+        self.mask_wanted || cam.colour == raster::ColourWork::Coded
+    }
 }
 
 impl VisionStates {
@@ -248,13 +265,13 @@ impl VisionStates {
 
     fn render(&mut self, world: &World, h: Handle) -> Result<(), SimError> {
         // One handle in, one outcome out.
-        self.render_many(world, &[h], 1).pop().unwrap_or(Ok(()))
+        self.render_many(world, &[h], cores()).pop().unwrap_or(Ok(()))
     }
 
     /// Renders the sensors `handles` on up to `threads` threads (the calling one
-    /// included) and returns each one's outcome, in order. Each sensor's image depends
-    /// only on the world and the sensor, never on the thread or the order it was drawn
-    /// in, so the images are the same bits however many threads draw them.
+    /// included) and returns each one's outcome, in order. Each pixel depends only on
+    /// the world and the sensor, never on the thread, the band of rows or the order it
+    /// was drawn in, so the images are the same bits however many threads draw them.
     fn render_many(&mut self, world: &World, handles: &[Handle], threads: usize) -> Vec<Result<(), SimError>> {
         self.shapes.refresh(world);
         let VisionStates {
@@ -262,12 +279,16 @@ impl VisionStates {
             shapes,
             scratch,
             extra_scratch,
+            frames,
             no_cull,
             full_detail,
+            band_every_size,
+            two_sided_meshes,
         } = self;
         let shortcuts = raster::Shortcuts {
             cull: !*no_cull,
             coarse: !*full_detail,
+            mesh_back_faces: !*two_sided_meshes,
         };
         // Each job owns its sensor's image while it is drawn: taken out of the map here,
         // put back below.
@@ -294,25 +315,45 @@ impl VisionStates {
             }
         }
         let items = raster::draw_list(world, shapes);
-        let threads = threads.clamp(1, jobs.len().max(1));
+        // What each thread takes from the queue: a whole sensor, or a band of one.
+        frames.resize_with(jobs.len(), raster::FrameBuffers::default);
+        let sizes = if *band_every_size {
+            BandSizes::ANY
+        } else {
+            BandSizes::DEFAULT
+        };
+        let bands = bands_per_sensor(&jobs, threads, sizes);
+        let mut units = Vec::new();
+        for ((job, buffers), &count) in jobs.iter_mut().zip(frames.iter_mut()).zip(&bands) {
+            let job = &*job.prepare();
+            units.extend(
+                buffers
+                    .bands(&job.cam, job.image.mask_wanted_now(&job.cam), count)
+                    .into_iter()
+                    .map(|band| (job, band)),
+            );
+        }
+        let threads = threads.clamp(1, units.len().max(1));
+        let draw = |(job, band): (&Job, raster::Band<'_>), scratch: &mut raster::Scratch| {
+            raster::draw_band(&items, &job.cam, &job.pose, scratch, band, shortcuts);
+        };
         if threads == 1 {
-            for job in &mut jobs {
-                job.draw(&items, scratch, shortcuts);
+            for unit in units {
+                draw(unit, scratch);
             }
         } else {
-            // Each thread takes the next sensor not yet drawn, this one included: views
+            // Each thread takes the next unit not yet drawn, this one included: views
             // of one scene can differ several-fold in cost (a camera close to a mesh
             // arm against one far away), and dealing them out in fixed runs left one
-            // core idle while the other drew three. A thread costs 20-50 us to start on
-            // the 2-core VM, less than one 128 x 128 frame of a scene with a mesh arm
-            // in view.
+            // core idle while the other drew three. The bands come last, so that they
+            // even out the end. A thread costs 20-50 us to start on the 2-core VM,
+            // less than one 128 x 128 frame of a scene with a mesh arm in view.
             extra_scratch.resize_with(threads - 1, raster::Scratch::default);
-            let queue = std::sync::Mutex::new(jobs.iter_mut());
+            let queue = std::sync::Mutex::new(units.into_iter());
             let next = || queue.lock().ok().and_then(|mut q| q.next());
-            let items = &items;
             let draw_queue = |scratch: &mut raster::Scratch| {
-                while let Some(job) = next() {
-                    job.draw(items, scratch, shortcuts);
+                while let Some(unit) = next() {
+                    draw(unit, scratch);
                 }
             };
             std::thread::scope(|scope| {
@@ -321,6 +362,9 @@ impl VisionStates {
                 }
                 draw_queue(scratch);
             });
+        }
+        for (job, buffers) in jobs.iter_mut().zip(frames.iter_mut()) {
+            job.finish(buffers);
         }
         for job in jobs {
             let mut s = job.image;
@@ -351,21 +395,76 @@ struct Job {
 }
 
 impl Job {
-    fn draw(&mut self, items: &[raster::DrawItem<'_>], scratch: &mut raster::Scratch, shortcuts: raster::Shortcuts) {
-        let image = &mut self.image;
-        // A colour-coded image draws the handles anyway: its mask costs one copy.
-        let with_mask = image.mask_wanted || self.cam.colour == raster::ColourWork::Coded;
-        if with_mask {
-            image.mask.resize(image.depth.len(), -1);
+    /// Sizes the mask buffer when this frame draws one.
+    fn prepare(&mut self) -> &Self {
+        if self.image.mask_wanted_now(&self.cam) {
+            self.image.mask.resize(self.image.depth.len(), -1);
         }
+        self
+    }
+
+    /// The sensor image and packet 1 from the drawn `buffers`.
+    fn finish(&mut self, buffers: &mut raster::FrameBuffers) {
+        let image = &mut self.image;
+        let with_mask = image.mask_wanted_now(&self.cam);
         let frame = raster::Frame {
             rgb: &mut image.rgb,
             depth: &mut image.depth,
             mask: with_mask.then_some(image.mask.as_mut_slice()),
         };
-        self.packet1 = raster::render(items, &self.cam, &self.pose, scratch, frame, shortcuts);
+        self.packet1 = raster::finish(&self.cam, buffers, frame);
         image.mask_current = with_mask;
     }
+}
+
+/// How many bands of rows each of `jobs` is cut into for `threads` threads: as many
+/// whole sensors as share out evenly, and the rest (the last `jobs % threads`) in
+/// `threads` bands each, when a band still has `min.band` pixels. A band costs its
+/// share of the fill but all the culling and vertex work of the geometry in its rows,
+/// so whole sensors are the cheaper unit where they balance. A sensor drawn alone is
+/// cut only from `min.alone` pixels on.
+fn bands_per_sensor(jobs: &[Job], threads: usize, min: BandSizes) -> Vec<usize> {
+    let threads = threads.max(1);
+    let whole = jobs.len() - jobs.len() % threads;
+    let alone = if jobs.len() == 1 { min.alone } else { 0 };
+    jobs.iter()
+        .enumerate()
+        .map(|(k, job)| {
+            let pixels = job.cam.width * job.cam.height;
+            if k < whole || pixels < min.band * threads || pixels < alone {
+                1
+            } else {
+                threads
+            }
+        })
+        .collect()
+}
+
+/// The smallest images [`bands_per_sensor`] cuts into bands.
+#[derive(Debug, Clone, Copy)]
+struct BandSizes {
+    /// Pixels of a band, when threads are started anyway for several sensors.
+    band: usize,
+    /// Pixels of a sensor drawn alone.
+    alone: usize,
+}
+
+impl BandSizes {
+    /// A thread costs 20-50 us to start on the 2-core VM and a 256 x 256 frame of a
+    /// simple scene takes 0.1-0.25 ms: measured (vision bench, BubbleRob), two bands of
+    /// it alone were slower than one, while a 640 x 480 frame with a mesh arm (4-5 ms)
+    /// gains.
+    const DEFAULT: BandSizes = BandSizes {
+        band: 64 * 64,
+        alone: 1 << 17,
+    };
+    /// Any image: for the test that bands change no bit.
+    const ANY: BandSizes = BandSizes { band: 1, alone: 0 };
+}
+
+/// The cores rendering may use.
+fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, usize::from)
 }
 
 /// The vision model and world pose of sensor `h`.
@@ -433,10 +532,9 @@ pub fn handle_all_vision_sensors(
         .filter(|&h| matches!(world.object(h).map(|o| &o.kind), Ok(ObjectKind::VisionSensor(_))))
         .filter(|h| !except_explicit || !states.sensors.get(h).is_some_and(|s| s.explicit))
         .collect();
-    let threads = std::thread::available_parallelism().map_or(1, usize::from);
     let mut first_error = None;
     let mut count = 0;
-    for outcome in states.render_many(world, &sensors, threads) {
+    for outcome in states.render_many(world, &sensors, cores()) {
         match outcome {
             Ok(()) => count += 1,
             Err(e) => {

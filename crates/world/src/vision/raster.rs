@@ -22,8 +22,16 @@
 //! drawing it would. The chunks that stay are drawn in the mesh's order, which the
 //! z-buffer's "first of two equal depths wins" needs. A test renders random views with
 //! and without culling and compares the bits.
+//!
+//! # Bands of rows
+//! An image may be drawn in bands of whole rows, on several threads ([`draw_band`]).
+//! A band culls against the pyramid through its own rows' centres and fills only its
+//! rows, but clips against the whole view, so each of its pixels gets the same
+//! triangles in the same order, with the same arithmetic, as when the image is drawn
+//! at once: the bits do not depend on the bands.
 
 use std::collections::BTreeMap;
+use std::ops::Range;
 
 use super::bytes::round_byte;
 use super::detail;
@@ -65,6 +73,11 @@ pub(crate) struct Camera {
     pub tan_x: f32,
     /// Vertical half extent of the view, as `tan_x`.
     pub tan_y: f32,
+    /// Where the bottom and top frustum planes are, as `tan_x` but signed: `-tan_y`
+    /// and `tan_y` for the whole image; a band of rows culls against its own
+    /// ([`Camera::sampled`]).
+    y_lo: f32,
+    y_hi: f32,
     /// Near clipping distance along +Z, metres.
     pub near: f32,
     /// Far clipping distance along +Z, metres.
@@ -130,6 +143,8 @@ impl Camera {
             ortho,
             tan_x: tx as f32,
             tan_y: ty as f32,
+            y_lo: -ty as f32,
+            y_hi: ty as f32,
             near: m.near as f32,
             far: m.far as f32,
             colour,
@@ -149,8 +164,10 @@ impl Camera {
             1 => self.far - z,
             2 => self.tan_x * depth + x,
             3 => self.tan_x * depth - x,
-            4 => self.tan_y * depth - y,
-            _ => self.tan_y * depth + y,
+            // For the whole image, `y_hi = tan_y` and `y_lo = -tan_y`: the same bits as
+            // `tan_y * depth + y` (negation and the subtraction of a negated value are exact).
+            4 => self.y_hi * depth - y,
+            _ => y - self.y_lo * depth,
         }
     }
 
@@ -158,15 +175,20 @@ impl Camera {
         (0..6).fold(0, |acc, k| acc | (u8::from(self.plane(k, p) < 0.0) << k))
     }
 
-    /// The pyramid (a box, orthographic) through the outermost pixel centres, widened
-    /// by [`CULL_MARGIN_PX`]: nothing outside it can be drawn (see the module docs).
-    fn sampled(&self) -> Camera {
+    /// The pyramid (a box, orthographic) through the outermost pixel centres of the
+    /// image's `rows`, widened by [`CULL_MARGIN_PX`]: nothing outside it can be drawn in
+    /// those rows (see the module docs). Only for culling: triangles are clipped
+    /// against the whole view, so a band of rows draws the bits the whole image would.
+    fn sampled(&self, rows: &Range<usize>) -> Camera {
         // A pixel centre at screen x (pixels from the left) sees x/z = tan_x (1 - 2x/W)
-        // in the sensor frame; the outermost centres are at 0.5 and W - 0.5.
+        // in the sensor frame, and one at screen y (from the bottom) y/z = tan_y (2y/H
+        // - 1); the outermost centres of the image are at 0.5 and W - 0.5.
         let shrink = |n: usize| 1.0 - (1.0 - 2.0 * CULL_MARGIN_PX) / n as f32;
+        let y_at = |screen_y: f32| self.tan_y * (2.0 * screen_y / self.height as f32 - 1.0);
         Camera {
             tan_x: self.tan_x * shrink(self.width),
-            tan_y: self.tan_y * shrink(self.height),
+            y_lo: y_at(rows.start as f32 + 0.5 - CULL_MARGIN_PX),
+            y_hi: y_at(rows.end as f32 - 0.5 + CULL_MARGIN_PX),
             ..*self
         }
     }
@@ -270,10 +292,18 @@ struct ChunkVertex {
     screen: [f32; 3],
 }
 
-/// Buffers reused from frame to frame.
+/// One drawing thread's buffers, reused from frame to frame.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Scratch {
     vertices: Vec<ChunkVertex>,
+    /// What the last band this thread drew culled and drew.
+    pub stats: RenderStats,
+}
+
+/// The buffers one frame is drawn into, reused from frame to frame. One set per sensor
+/// being drawn, so that bands of rows of one image can be drawn on several threads.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct FrameBuffers {
     /// Planar depth in metres per pixel, `INFINITY` where nothing was drawn.
     zbuf: Vec<f32>,
     /// Colour per pixel as `0x00BBGGRR`: one word per pixel lets the fill loop blend
@@ -283,8 +313,68 @@ pub(crate) struct Scratch {
     /// Handle of the shape seen per pixel ([`NO_SHAPE`] where none), when a mask or a
     /// colour-coded image is drawn; padded as the others.
     ids: Vec<u32>,
-    /// What the last frame culled and drew.
-    pub stats: RenderStats,
+}
+
+/// Rows `rows` of a frame's buffers (each slice starts at the band's first row): what
+/// one thread draws. Only the image's last band holds the buffers' padding.
+pub(crate) struct Band<'a> {
+    rows: Range<usize>,
+    zbuf: &'a mut [f32],
+    color: &'a mut [u32],
+    ids: &'a mut [u32],
+}
+
+impl FrameBuffers {
+    /// Clears the buffers for a frame of `cam` (with the id buffer when `mask` is
+    /// drawn) and cuts them into `bands` bands of whole rows (at least one, at most
+    /// one per row; rows shared out evenly, bottom first).
+    pub fn bands(&mut self, cam: &Camera, mask: bool, bands: usize) -> Vec<Band<'_>> {
+        let n = cam.width * cam.height;
+        // CHUNK - 1 pixels of padding, which the last chunk of the last row may cover.
+        self.zbuf.clear();
+        self.zbuf.resize(n + CHUNK - 1, f32::INFINITY);
+        self.color.clear();
+        if cam.colour == ColourWork::Shaded {
+            self.color.resize(n + CHUNK - 1, pack(BACKGROUND.map(to_byte)));
+        }
+        self.ids.clear();
+        if with_ids(cam, mask) {
+            self.ids.resize(n + CHUNK - 1, NO_SHAPE);
+        }
+        let count = bands.clamp(1, cam.height);
+        let rows: Vec<Range<usize>> = (0..count)
+            .map(|k| k * cam.height / count..(k + 1) * cam.height / count)
+            .collect();
+        let (mut zbuf, mut color, mut ids) = (&mut self.zbuf[..], &mut self.color[..], &mut self.ids[..]);
+        let mut out = Vec::with_capacity(count);
+        for (k, r) in rows.into_iter().enumerate() {
+            // The band's pixels; the last band takes the rest, padding included.
+            let len = if k + 1 == count {
+                usize::MAX
+            } else {
+                r.len() * cam.width
+            };
+            let z;
+            (z, zbuf) = zbuf.split_at_mut(len.min(zbuf.len()));
+            let c;
+            (c, color) = color.split_at_mut(len.min(color.len()));
+            let i;
+            (i, ids) = ids.split_at_mut(len.min(ids.len()));
+            out.push(Band {
+                rows: r,
+                zbuf: z,
+                color: c,
+                ids: i,
+            });
+        }
+        out
+    }
+}
+
+/// Whether a frame of `cam` draws the id buffer: for a mask, or as the colour-coded
+/// image.
+fn with_ids(cam: &Camera, mask: bool) -> bool {
+    cam.colour == ColourWork::Coded || mask
 }
 
 /// Counts of one frame, for tests (that culling is exercised) and profiling.
@@ -296,6 +386,8 @@ pub(crate) struct RenderStats {
     pub drawn_chunks: usize,
     /// Visuals drawn at a coarser level.
     pub coarse_visuals: usize,
+    /// Triangles skipped as back faces.
+    pub back_faces: usize,
 }
 
 /// Where a frame goes: `rgb` (3 bytes per pixel), `depth` (normalised) and, when
@@ -343,57 +435,48 @@ pub(crate) fn draw_list<'a>(world: &World, shapes: &'a ShapeCache) -> Vec<DrawIt
     items
 }
 
-/// How much [`render`] may skip: `cull` false draws every chunk (for the test that
+/// How much [`draw_band`] may skip: `cull` false draws every chunk (for the test that
 /// culling changes nothing), `coarse` false always draws the full meshes (for the test
 /// that coarser levels stay within their error).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Shortcuts {
     pub cull: bool,
     pub coarse: bool,
+    /// Skip the back faces of imported meshes' closed parts (false: for the test that
+    /// this changes no pixel away from silhouettes).
+    pub mesh_back_faces: bool,
 }
 
-/// Renders `items` as seen from `sensor` (the sensor's world pose) and returns packet
-/// 1 of the image. `frame` must hold exactly `width * height` pixels of `cam`.
-pub(crate) fn render(
+/// Draws the rows of `band` of the frame `items` make as seen from `sensor` (the
+/// sensor's world pose). Each pixel gets the bits it gets when the whole image is drawn
+/// at once: triangles are clipped against the whole view, and the band only culls and
+/// limits the rows filled.
+pub(crate) fn draw_band(
     items: &[DrawItem<'_>],
     cam: &Camera,
     sensor: &Pose,
     scratch: &mut Scratch,
-    frame: Frame<'_>,
+    band: Band<'_>,
     shortcuts: Shortcuts,
-) -> Packet1 {
-    let cull = shortcuts.cull;
-    let n = cam.width * cam.height;
-    let shaded = cam.colour == ColourWork::Shaded;
-    let with_ids = cam.colour == ColourWork::Coded || frame.mask.is_some();
-    // CHUNK - 1 pixels of padding, which the last chunk of the last row may cover.
-    scratch.zbuf.clear();
-    scratch.zbuf.resize(n + CHUNK - 1, f32::INFINITY);
-    scratch.color.clear();
-    if shaded {
-        scratch.color.resize(n + CHUNK - 1, pack(BACKGROUND.map(to_byte)));
-    }
-    scratch.ids.clear();
-    if with_ids {
-        scratch.ids.resize(n + CHUNK - 1, NO_SHAPE);
-    }
+) {
     let cam_from_world = sensor.inverse();
+    let sampled = shortcuts.cull.then(|| cam.sampled(&band.rows));
     let mut target = Target {
         width: cam.width,
         height: cam.height,
-        zbuf: &mut scratch.zbuf,
-        color: &mut scratch.color,
-        ids: &mut scratch.ids,
-        shaded,
-        with_ids,
+        shaded: !band.color.is_empty(),
+        with_ids: !band.ids.is_empty(),
+        rows: band.rows,
+        zbuf: band.zbuf,
+        color: band.color,
+        ids: band.ids,
     };
-    let sampled = cull.then(|| cam.sampled());
     scratch.stats = RenderStats::default();
     for item in items {
         draw_visual(
             cam,
             sampled.as_ref(),
-            shortcuts.coarse,
+            shortcuts,
             &cam_from_world,
             item,
             &mut scratch.vertices,
@@ -401,7 +484,13 @@ pub(crate) fn render(
             &mut scratch.stats,
         );
     }
-    let ids = &scratch.ids[..if with_ids { n } else { 0 }];
+}
+
+/// The last pass of a frame whose bands are all drawn: the mask, the colour-coded
+/// colours and the sensor image with its packet 1 ([`resolve::resolve`]).
+pub(crate) fn finish(cam: &Camera, buffers: &mut FrameBuffers, frame: Frame<'_>) -> Packet1 {
+    let n = cam.width * cam.height;
+    let ids = &buffers.ids[..if with_ids(cam, frame.mask.is_some()) { n } else { 0 }];
     if let Some(mask) = frame.mask {
         for (m, &id) in mask.iter_mut().zip(ids) {
             // NO_SHAPE is -1; handles are below 2^31.
@@ -409,23 +498,23 @@ pub(crate) fn render(
         }
     }
     let colour = match cam.colour {
-        ColourWork::Shaded => Some(&scratch.color[..n]),
+        ColourWork::Shaded => Some(&buffers.color[..n]),
         ColourWork::Coded => {
-            scratch.color.clear();
-            scratch.color.extend(ids.iter().map(|&id| {
+            buffers.color.clear();
+            buffers.color.extend(ids.iter().map(|&id| {
                 if id == NO_SHAPE {
                     CODED_BACKGROUND
                 } else {
                     id & CODED_BACKGROUND
                 }
             }));
-            Some(&scratch.color[..n])
+            Some(&buffers.color[..n])
         }
         ColourWork::Skipped => None,
     };
     resolve::resolve(
         colour,
-        &scratch.zbuf[..n],
+        &buffers.zbuf[..n],
         cam.near,
         cam.far,
         frame.rgb,
@@ -438,10 +527,12 @@ fn pack([r, g, b]: [u8; 3]) -> u32 {
     u32::from(r) | u32::from(g) << 8 | u32::from(b) << 16
 }
 
-/// The buffers triangles are drawn into, and which of them are (`zbuf` always).
+/// The buffers triangles are drawn into, and which of them are (`zbuf` always): rows
+/// `rows` of an image `width` x `height`, each buffer starting at the first of them.
 struct Target<'a> {
     width: usize,
     height: usize,
+    rows: Range<usize>,
     zbuf: &'a mut [f32],
     color: &'a mut [u32],
     ids: &'a mut [u32],
@@ -458,8 +549,10 @@ fn rows(p: &Pose) -> ([[f32; 3]; 3], [f32; 3]) {
 }
 
 /// Draws one visual. `sampled`: the frustum to cull chunks against (`None`: cull
-/// nothing, beyond what the per-triangle outcodes reject). `coarse`: a dense mesh may be
-/// drawn at a coarser level where this view's pixels allow ([`detail::pick`]).
+/// nothing, beyond what the per-triangle outcodes reject). `shortcuts`: whether a dense
+/// mesh may be drawn at a coarser level where this view's pixels allow
+/// ([`detail::pick`]), and whether the back faces of an imported mesh's closed parts
+/// may be skipped.
 #[expect(
     clippy::too_many_arguments,
     reason = "the frame's shared state, passed rather than bundled per call"
@@ -467,7 +560,7 @@ fn rows(p: &Pose) -> ([[f32; 3]; 3], [f32; 3]) {
 fn draw_visual(
     cam: &Camera,
     sampled: Option<&Camera>,
-    coarse: bool,
+    shortcuts: Shortcuts,
     cam_from_world: &Pose,
     item: &DrawItem<'_>,
     vertices: &mut Vec<ChunkVertex>,
@@ -485,7 +578,7 @@ fn draw_visual(
         stats.culled_chunks += mesh.chunks.len();
         return;
     }
-    if coarse && !v.levels.is_empty() {
+    if shortcuts.coarse && !v.levels.is_empty() {
         // A pixel's side (metres) at the visual's nearest point in view.
         let per_pixel = (2.0 * cam.tan_x / cam.width as f32).min(2.0 * cam.tan_y / cam.height as f32);
         let footprint = if cam.ortho {
@@ -510,6 +603,12 @@ fn draw_visual(
         Normals::Vertex(n) => (Some(n.as_slice()), None),
         Normals::Face(n) => (None, Some(n.as_slice())),
     };
+    // The closed parts of an imported mesh hide their back faces only when the eye is
+    // outside them and the near plane cuts none of them open: so only when the whole
+    // visual lies beyond the near plane (a primitive's back faces are always culled).
+    // The full mesh's sphere holds its coarser levels too (their vertices are means of
+    // its vertices).
+    let beyond_near = center[2] - v.mesh.radius * (1.0 + 1e-4) > cam.near;
     for chunk in &mesh.chunks {
         if let Some(s) = sampled
             && s.sphere_outside(xf(chunk.center), chunk.radius)
@@ -518,6 +617,7 @@ fn draw_visual(
             continue;
         }
         stats.drawn_chunks += 1;
+        let cull_back = chunk.closed && (mesh.closed || (shortcuts.mesh_back_faces && beyond_near));
         // Each vertex once: camera frame, light (Gouraud), outcode, screen position.
         let first = chunk.first_vertex as usize;
         vertices.clear();
@@ -550,8 +650,8 @@ fn draw_visual(
             let [xa, ya, _] = a.screen;
             let [xb, yb, _] = b.screen;
             let [xc, yc, _] = c.screen;
-            let covers = may_cover(xa.min(xb).min(xc), xa.max(xb).max(xc), target.width)
-                & may_cover(ya.min(yb).min(yc), ya.max(yb).max(yc), target.height);
+            let covers = may_cover(xa.min(xb).min(xc), xa.max(xb).max(xc), 0..target.width)
+                & may_cover(ya.min(yb).min(yc), ya.max(yb).max(yc), target.rows.clone());
             if (oa & ob & oc != 0) | ((oa | ob | oc == 0) & !covers) {
                 continue;
             }
@@ -560,13 +660,14 @@ fn draw_visual(
                 let l = light(n);
                 (a.cam.light, b.cam.light, c.cam.light) = (l, l, l);
             }
-            if mesh.closed {
+            if cull_back {
                 // Outward normal pointing away from the camera: a back face. The view
                 // ray runs from the eye at the origin, or along +Z in an orthographic
                 // view.
                 let n = cross(sub(b.cam.p, a.cam.p), sub(c.cam.p, a.cam.p));
                 let ray = if cam.ortho { [0.0, 0.0, 1.0] } else { a.cam.p };
                 if dot(n, ray) >= 0.0 {
+                    stats.back_faces += 1;
                     continue;
                 }
             }
@@ -590,17 +691,19 @@ fn draw_visual(
     }
 }
 
-/// Whether `fill`'s span of pixel centres `k + 0.5` (`0 <= k < n`) between `lo` and
-/// `hi` (pixels) is not empty: `ceil(max(lo - 0.5, 0)) <= floor(min(hi - 0.5, n - 1))`
-/// with `hi - 0.5 >= 0`, computed without branches and with casts (`ceil` and `floor`
-/// are library calls on baseline x86-64; the truncation of a non-negative number is
-/// its floor, and an integer at least `a` is at least `ceil(a)`). Any answer is right
-/// for a triangle with a NaN coordinate: its area is NaN, and `fill` draws nothing.
+/// Whether `fill`'s span of pixel centres `k + 0.5` (`k` in `range`, not empty)
+/// between `lo` and `hi` (pixels) is not empty: `ceil(max(lo - 0.5, start)) <=
+/// floor(min(hi - 0.5, end - 1))` with `hi - 0.5 >= start`, computed without branches
+/// and with casts (`ceil` and `floor` are library calls on baseline x86-64; the
+/// truncation of a non-negative number is its floor, and an integer at least `a` is at
+/// least `ceil(a)`). Any answer is right for a triangle with a NaN coordinate: its area
+/// is NaN, and `fill` draws nothing.
 #[inline(always)]
-fn may_cover(lo: f32, hi: f32, n: usize) -> bool {
-    let a = (lo - 0.5).max(0.0);
-    let b = (hi - 0.5).min((n - 1) as f32);
-    (hi - 0.5 >= 0.0) & (b as i32 as f32 >= a)
+fn may_cover(lo: f32, hi: f32, range: Range<usize>) -> bool {
+    let start = range.start as f32;
+    let a = (lo - 0.5).max(start);
+    let b = (hi - 0.5).min((range.end - 1) as f32);
+    (hi - 0.5 >= start) & (b as i32 as f32 >= a)
 }
 
 /// A chunk vertex's screen vertex, exactly as [`project`] computes it from the camera
@@ -624,7 +727,8 @@ fn plane_scale(cam: &Camera, k: usize) -> f32 {
         _ if cam.ortho => 1.0,
         0 | 1 => 1.0,
         2 | 3 => (1.0 + cam.tan_x * cam.tan_x).sqrt(),
-        _ => (1.0 + cam.tan_y * cam.tan_y).sqrt(),
+        4 => (1.0 + cam.y_hi * cam.y_hi).sqrt(),
+        _ => (1.0 + cam.y_lo * cam.y_lo).sqrt(),
     }
 }
 
@@ -736,6 +840,8 @@ multiversion! {
         };
         let (x0, x1) = span(a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x), w);
         let (y0, y1) = span(a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y), h);
+        // Only the band's rows.
+        let (y0, y1) = (y0.max(target.rows.start), y1.min(target.rows.end));
         if x0 >= x1 || y0 >= y1 {
             return;
         }
@@ -778,7 +884,7 @@ multiversion! {
                 continue;
             }
             let span = Span {
-                start: row * w,
+                start: (row - target.rows.start) * w,
                 first,
                 end,
                 iz0: (e[0] * iz[0] + e[1] * iz[1] + e[2] * iz[2]) * inv_area,

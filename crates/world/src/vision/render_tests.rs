@@ -1,6 +1,7 @@
 //! The renderer's contracts that span its files: culling (per visual and per mesh
 //! chunk, against the sampled frustum) never changes a bit of an image, and sensors
-//! drawn on several threads give the bits they give one after the other.
+//! drawn on several threads, whole or in bands of rows, give the bits they give one
+//! after the other.
 
 use std::path::PathBuf;
 
@@ -336,4 +337,108 @@ fn sensors_drawn_in_parallel_give_the_same_images() {
     let all: Vec<_> = handles.iter().map(|&h| image(&states, h)).collect();
     assert!(all == one_by_one);
     assert!(one_by_one.iter().filter(|(rgb, _)| rgb.iter().any(|&c| c != 0)).count() >= 3);
+}
+
+#[test]
+fn images_drawn_in_bands_of_rows_are_the_same_bits() {
+    let mut w = scene();
+    let shapes: Vec<Pose> = (0..40)
+        .map(|k| w.world.object(sensor(&w, &format!("s{k}"))).expect("shape").world)
+        .collect();
+    let handles: Vec<Handle> = SENSORS.iter().map(|s| sensor(&w, s.0)).collect();
+    let mut rng = Rng(0x0ba2_d5ee);
+    // RGB, depth and mask of each sensor rendered alone on `threads` threads: one
+    // sensor on several threads is cut into bands (`threads` of them, or one per row).
+    // One renderer per thread count, kept from round to round.
+    let mut renderers: Vec<VisionStates> = (0..4)
+        .map(|_| VisionStates {
+            band_every_size: true,
+            ..VisionStates::default()
+        })
+        .collect();
+    let draw = |w: &Sim, states: &mut VisionStates, threads: usize| {
+        handles
+            .iter()
+            .map(|&h| {
+                super::read_mask(&w.world, states, h).expect("mask on");
+                assert!(states.render_many(&w.world, &[h], threads)[0].is_ok());
+                let img = states.image(h).expect("rendered");
+                let mask = img.mask().expect("a mask").to_vec();
+                (image(&states, h), mask)
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut seen = 0;
+    for _ in 0..12 {
+        for &h in &handles {
+            w.world.set_world_pose(h, random_pose(&mut rng, &shapes)).expect("pose");
+        }
+        let [one, more @ ..] = &mut renderers[..] else {
+            unreachable!("four renderers")
+        };
+        let whole = draw(&w, one, 1);
+        seen += whole.iter().filter(|((rgb, _), _)| rgb.iter().any(|&c| c != 0)).count();
+        // 2 and 3 bands; 64 is more than any sensor's rows (one band per row).
+        for (states, threads) in more.iter_mut().zip([2, 3, 64]) {
+            assert!(draw(&w, states, threads) == whole, "{threads} bands");
+        }
+    }
+    assert!(seen >= 20, "only {seen} images saw anything");
+}
+
+#[test]
+fn culling_the_back_faces_of_closed_meshes_changes_only_silhouette_pixels() {
+    let mut w = scene();
+    let shapes: Vec<Pose> = (0..40)
+        .map(|k| w.world.object(sensor(&w, &format!("s{k}"))).expect("shape").world)
+        .collect();
+    let handles: Vec<Handle> = SENSORS.iter().map(|s| sensor(&w, s.0)).collect();
+    // One renderer culling them, one drawing every face; masks on in both.
+    let mut culling = VisionStates::default();
+    let mut two_sided = VisionStates {
+        two_sided_meshes: true,
+        ..VisionStates::default()
+    };
+    let mut rng = Rng(0xbacf_ace5);
+    let (mut compared, mut differing, mut back_faces) = (0usize, 0usize, 0usize);
+    for round in 0..40 {
+        for &h in &handles {
+            w.world.set_world_pose(h, random_pose(&mut rng, &shapes)).expect("pose");
+        }
+        for (&h, spec) in handles.iter().zip(SENSORS) {
+            let [width, height] = spec.1.map(|v| v as usize);
+            let draw = |states: &mut VisionStates| {
+                super::read_mask(&w.world, states, h).expect("mask on");
+                handle_vision_sensor(&w.world, states, h).expect("render");
+                let mask = states.image(h).and_then(SensorImage::mask).expect("a mask").to_vec();
+                (image(states, h), mask, states.scratch.stats.back_faces)
+            };
+            let ((rgb, depth), mask, culled) = draw(&mut culling);
+            let ((rgb2, depth2), mask2, _) = draw(&mut two_sided);
+            back_faces += culled;
+            for i in 0..width * height {
+                compared += 1;
+                if rgb[3 * i..3 * i + 3] == rgb2[3 * i..3 * i + 3] && depth[i] == depth2[i] && mask[i] == mask2[i] {
+                    continue;
+                }
+                differing += 1;
+                // Only where a front and a back face meet: a silhouette of the shape
+                // seen (two-sided), so a neighbour shows something else.
+                let (x, y) = (i % width, i / width);
+                let edge = [(0, 1), (2, 1), (1, 0), (1, 2)].iter().any(|&(dx, dy)| {
+                    let (nx, ny) = ((x + dx).wrapping_sub(1), (y + dy).wrapping_sub(1));
+                    nx < width && ny < height && mask2[ny * width + nx] != mask2[i]
+                });
+                assert!(
+                    edge,
+                    "round {round}, {}, pixel ({x}, {y}) differs away from a silhouette",
+                    spec.0
+                );
+            }
+        }
+    }
+    assert!(back_faces > 10_000, "only {back_faces} back faces culled");
+    assert!(compared > 100_000, "{compared} pixels compared");
+    // Ties at silhouettes are rare.
+    assert!(differing * 1000 <= compared, "{differing} of {compared} pixels differ");
 }

@@ -18,6 +18,7 @@
 
 use std::collections::HashMap;
 
+use super::closure;
 use crate::scene::{Geometry, MeshData};
 
 /// Segments around the axis of cylinders, spheres and capsules: a chord error of
@@ -58,6 +59,10 @@ pub(crate) struct Chunk {
     /// Bounding sphere of the chunk's vertices, in the visual's frame (metres).
     pub center: [f32; 3],
     pub radius: f32,
+    /// Whether every triangle of the chunk lies on a closed surface wound outwards
+    /// (every primitive's; an imported mesh's closed components, see
+    /// [`super::closure`]), so its back faces may be culled.
+    pub closed: bool,
 }
 
 /// One visual as triangles, in the visual's own frame (metres), in chunks.
@@ -72,8 +77,10 @@ pub(crate) struct TriMesh {
     pub triangles: Vec<[u32; 3]>,
     /// The chunks, in drawing order, covering every triangle once.
     pub chunks: Vec<Chunk>,
-    /// Whether the surface is closed with outward winding, so back faces may be culled.
-    /// Imported meshes are not trusted to be and are drawn two-sided.
+    /// Whether the surface is a primitive's, closed with outward winding, so back faces
+    /// may be culled however it is seen. Imported meshes are not trusted to be: only
+    /// their chunks on closed components ([`Chunk::closed`]) may be culled, and only
+    /// when the eye is outside them.
     pub closed: bool,
     /// Centre of the bounding sphere, for frustum culling.
     pub center: [f32; 3],
@@ -91,8 +98,21 @@ struct Soup {
 
 impl TriMesh {
     /// Tessellates a geometry. Invalid sizes (non-finite, or not positive) give an
-    /// empty mesh rather than an error: the object is then simply not seen.
+    /// empty mesh rather than an error: the object is then simply not seen. An
+    /// imported mesh's closed parts are found ([`super::closure`]).
     pub fn from_geometry(geometry: &Geometry) -> TriMesh {
+        Self::tessellate(geometry, true)
+    }
+
+    /// An imported mesh as a coarser copy of another ([`super::detail`]), all of it
+    /// drawn two-sided: clustering vertices pinches closed surfaces into edges shared
+    /// by more than two triangles, so its copies are (almost) never closed, and judging
+    /// them took longer than the full mesh's first frame.
+    pub fn coarse_copy(data: std::sync::Arc<MeshData>) -> TriMesh {
+        Self::tessellate(&Geometry::Mesh(data), false)
+    }
+
+    fn tessellate(geometry: &Geometry, judge_closure: bool) -> TriMesh {
         let mut m = Soup::default();
         match geometry {
             Geometry::Box { half_extents } => {
@@ -118,7 +138,14 @@ impl TriMesh {
             Geometry::Mesh(data) => m.add_mesh(data),
         }
         let flat = matches!(geometry, Geometry::Mesh(_));
-        let mut out = m.into_chunks(flat);
+        let closed = if !flat {
+            vec![true; m.triangles.len()]
+        } else if judge_closure {
+            closure::closed_triangles(&m.positions, &m.triangles)
+        } else {
+            vec![false; m.triangles.len()]
+        };
+        let mut out = m.into_chunks(flat, &closed);
         out.closed = !flat;
         let (center, radius) = bound(&out.positions);
         (out.center, out.radius) = (center, radius);
@@ -146,12 +173,18 @@ impl Soup {
     /// for bit) are one, and each triangle keeps its face normal (its first vertex's:
     /// [`Soup::add_mesh`] gives all three the face's); otherwise the builders' vertices
     /// are kept as they are, with their normals.
-    fn into_chunks(self, flat: bool) -> TriMesh {
+    /// `closed` tells, per triangle, whether it lies on a closed, outward-wound
+    /// surface; a chunk is closed when all its triangles are.
+    fn into_chunks(self, flat: bool, closed: &[bool]) -> TriMesh {
         let mut out = TriMesh::default();
         let mut vertex_normals = Vec::new();
         let mut face_normals = Vec::new();
         let mut local: HashMap<[u32; 3], u32> = HashMap::new();
-        for tris in self.triangles.chunks(CHUNK_TRIANGLES) {
+        for (tris, closed) in self
+            .triangles
+            .chunks(CHUNK_TRIANGLES)
+            .zip(closed.chunks(CHUNK_TRIANGLES))
+        {
             local.clear();
             let first_vertex = out.positions.len();
             let first_triangle = out.triangles.len();
@@ -186,6 +219,7 @@ impl Soup {
                 end_triangle: out.triangles.len() as u32,
                 center,
                 radius,
+                closed: closed.iter().all(|&c| c),
             });
         }
         out.normals = if flat {
