@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""gantry against MuJoCo (and PyBullet) on the public mesh arms (issue 33).
+"""gantry against MuJoCo (and PyBullet) on the public mesh arms and a wheeled robot (issue 33).
 
 The arms, their trajectory and the error measure are tools/bench/public_robots.py's
 (imported, not copied): the same URDF files from `pybullet_data` and
@@ -59,12 +59,26 @@ contype 1 and conaffinity 0, so no geom pair of the arm collides, as in the othe
 `--mujoco-self-collision` keeps MuJoCo's default instead. The mean number of contacts
 per step is reported.
 
+The wheeled robot is pybullet_data's Clearpath Husky (box and cylinder collision
+shapes, four continuous wheel joints) with a free base, starting at rest at the origin on
+a floor (gantry: `[floor]` 20 x 20 m, joint_mode = "velocity", the script
+tools/bench/wheel_tracking.lua; MuJoCo: a free joint on the root body and a plane;
+PyBullet: pybullet_data's plane.urdf). The left wheels' target velocity is 3 sin(2 pi
+0.1 t) rad/s, the right ones' 2 sin(2 pi 0.1 t), so it drives an arc forth and back; the
+error is each wheel's velocity error (rad/s) after the step. gantry's velocity
+controller is force = kd (target - qdot) with its default kd = 10 N m s/rad in velocity
+mode and the URDF's effort (none: 100 N m); MuJoCo gets the same as a velocity actuator
+(kv 10, forcerange +-100), PyBullet its VELOCITY_CONTROL with forces 100. Each simulator
+keeps its own default friction. MuJoCo's URDF reader refuses the Husky's xacro leftovers
+("$(optenv HUSKY_IMU_XYZ 0.19 0 0.149)", the IMU link's origin); they are replaced by
+their defaults in the in-memory copy, as xacro would with the variable unset.
+
 Prints one JSON object on stdout (tools/bench/report.py --mujoco-only turns it into
 tables) and one progress line per run on stderr. GANTRY_BIN selects the binary (default
 target/release/gantry); the in-process package is the installed `gantry` wheel.
 
-    .venv/bin/python tools/bench/mujoco_bench.py [--arms xarm7,ur5] [--steps 10000] [--repeat 3] \\
-        > target/bench/mujoco.json
+    .venv/bin/python tools/bench/mujoco_bench.py [--arms xarm7,ur5] [--mobile husky] [--steps 10000] \\
+        [--repeat 3] > target/bench/mujoco.json
 """
 
 from __future__ import annotations
@@ -73,6 +87,7 @@ import argparse
 import json
 import math
 import os
+import re
 import statistics
 import sys
 import time
@@ -96,6 +111,16 @@ function benchErrors()
     return {sumSq, maxErr, k}
 end
 """
+# Wheeled robots: name -> (PyPI package, URDF path in its robot folder, what it is).
+MOBILE: dict[str, tuple[str, str, str]] = {
+    "husky": ("pybullet_data", "husky/husky.urdf", "Clearpath Husky, 4 driven wheels"),
+}
+WHEEL_SPEED = {"left": 3.0, "right": 2.0}  # rad/s, amplitude of a wheel's target velocity
+WHEEL_FREQUENCY = 0.1  # Hz: the robot drives an arc forth and back, within a metre of the start
+KV_VELOCITY = 10.0  # N m s/rad: gantry's damping in velocity mode, the whole controller
+FLOOR_SIZE = 20.0  # m
+WHEEL_SCRIPT = pr.ROOT / "tools/bench/wheel_tracking.lua"
+OPTENV = re.compile(r"\$\(optenv \S+ ([^)]*)\)")
 MODES = ("gantry_lua", "gantry_python", "gantry_advance", "mujoco_python", "mujoco_rollout", "pybullet")
 
 
@@ -107,12 +132,19 @@ class Unsupported(Exception):
 # MuJoCo
 
 
-def mujoco_model(urdf: pr.Urdf, self_collision: bool) -> tuple[Any, list[int]]:
-    """The arm as a MuJoCo model with a position actuator per benchmark joint, and each
-    joint's index in qpos (benchmark order)."""
+def mujoco_model(urdf: pr.Urdf, self_collision: bool, mobile: bool = False) -> tuple[Any, list[int]]:
+    """The robot as a MuJoCo model with an actuator per benchmark joint (position for an
+    arm; velocity for a wheeled robot, which also gets a free base and a floor), and
+    each joint's index in qpos (benchmark order)."""
     import mujoco
 
     root = ET.parse(urdf.path).getroot()
+    # xacro leftovers (the Husky's IMU origin is "$(optenv HUSKY_IMU_XYZ 0.19 0 0.149)"):
+    # what xacro would write with the variable unset, the default.
+    for element in root.iter():
+        for key, value in element.attrib.items():
+            if "$(" in value:
+                element.set(key, OPTENV.sub(r"\1", value))
     for link in root.findall("link"):
         for visual in link.findall("visual"):
             link.remove(visual)
@@ -132,9 +164,17 @@ def mujoco_model(urdf: pr.Urdf, self_collision: bool) -> tuple[Any, list[int]]:
     if not self_collision:
         for geom in spec.geoms:
             geom.contype, geom.conaffinity = 1, 0
+    if mobile:
+        spec.worldbody.first_body().add_freejoint()
+        # contype 0 / conaffinity 1: touches the robot's geoms (contype 1) in either case
+        spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[FLOOR_SIZE / 2, FLOOR_SIZE / 2, 0.1],
+                                contype=0, conaffinity=1)
     for j in urdf.joints:
         actuator = spec.add_actuator(name=j.name, target=j.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
-        actuator.set_to_position(kp=KP, kv=KV)
+        if mobile:
+            actuator.set_to_velocity(kv=KV_VELOCITY)
+        else:
+            actuator.set_to_position(kp=KP, kv=KV)
         actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
         actuator.forcerange = [-j.effort, j.effort]
     model = spec.compile()
@@ -157,22 +197,26 @@ class Servo:
         return out
 
 
-def mujoco_start(urdf: pr.Urdf, self_collision: bool) -> tuple[Any, Any, list[int], float]:
-    """Model, data at the trajectory's start, qpos indices, and the load time (s)."""
+def mujoco_start(urdf: pr.Urdf, self_collision: bool, mobile: bool) -> tuple[Any, Any, list[int], float]:
+    """Model, data at the trajectory's start, the benchmark joints' indices in qpos (in
+    qvel for a wheeled robot), and the load time (s)."""
     import mujoco
 
     t0 = time.perf_counter()
-    model, qpos = mujoco_model(urdf, self_collision)
+    model, qpos = mujoco_model(urdf, self_collision, mobile)
     data = mujoco.MjData(model)
     load_s = time.perf_counter() - t0
+    dofs = [int(model.jnt_dofadr[model.joint(j.name).id]) for j in urdf.joints]
+    if mobile:  # at rest at the origin, as in the other two
+        mujoco.mj_forward(model, data)
+        return model, data, dofs, load_s
     # Moving at the trajectory's velocity (see the module's docstring): started at rest,
     # the servo's velocity term saturates a light wrist's effort on the first step, and
     # MuJoCo's clamped actuator, explicit, then chatters at its limit for the whole run.
     speed = [j.amplitude * 2 * math.pi * j.frequency for j in urdf.joints]
     for i, (j, a) in enumerate(zip(urdf.joints, qpos)):
         data.qpos[a] = j.start(urdf.joints)
-        dof = model.jnt_dofadr[model.joint(j.name).id]
-        data.qvel[dof] = speed[i] if j.mimic is None else j.mimic[1] * speed[j.mimic[0]]
+        data.qvel[dofs[i]] = speed[i] if j.mimic is None else j.mimic[1] * speed[j.mimic[0]]
     mujoco.mj_forward(model, data)
     return model, data, qpos, load_s
 
@@ -184,14 +228,14 @@ def flag_unstable(result: dict) -> dict:
     return result
 
 
-def run_mujoco_python(urdf: pr.Urdf, steps: int, self_collision: bool) -> dict:
+def run_mujoco_python(urdf: pr.Urdf, steps: int, self_collision: bool, mobile: bool = False) -> dict:
     """MuJoCo with a Python loop: targets into data.ctrl, mj_step, joints read back."""
     import mujoco
 
-    model, data, qpos, load_s = mujoco_start(urdf, self_collision)
+    model, data, qpos, load_s = mujoco_start(urdf, self_collision, mobile)
     targets_at, step, clock = pr.Trajectory(urdf).targets, mujoco.mj_step, time.perf_counter
-    controls = Servo(urdf).controls
-    ctrl, q = data.ctrl, data.qpos
+    controls = (lambda targets: targets) if mobile else Servo(urdf).controls
+    ctrl, q = data.ctrl, (data.qvel if mobile else data.qpos)
     n = len(qpos)
     sum_sq, largest, in_step, contacts = [0.0] * n, [0.0] * n, 0.0, 0
     t0 = clock()
@@ -220,24 +264,25 @@ def run_mujoco_python(urdf: pr.Urdf, steps: int, self_collision: bool) -> dict:
     })
 
 
-def run_mujoco_rollout(urdf: pr.Urdf, steps: int, self_collision: bool) -> dict:
+def run_mujoco_rollout(urdf: pr.Urdf, steps: int, self_collision: bool, mobile: bool = False) -> dict:
     """MuJoCo's engine alone: one rollout over the precomputed targets."""
     import mujoco
     from mujoco import rollout
 
-    model, data, qpos, load_s = mujoco_start(urdf, self_collision)
+    model, data, qpos, load_s = mujoco_start(urdf, self_collision, mobile)
     full = mujoco.mjtState.mjSTATE_FULLPHYSICS
     state0 = np.empty(mujoco.mj_stateSize(model, full))
     mujoco.mj_getState(model, data, state0, full)
-    targets_at, controls = pr.Trajectory(urdf).targets, Servo(urdf).controls
+    targets_at = pr.Trajectory(urdf).targets
+    controls = (lambda targets: targets) if mobile else Servo(urdf).controls
     targets = np.array([targets_at(k * pr.DT) for k in range(1, steps + 1)])
     control = np.array([[controls(list(row)) for row in targets]])
     states = np.empty((1, steps, state0.size))
     t0 = time.perf_counter()
     rollout.rollout(model, data, state0[None], control, state=states)
     wall = time.perf_counter() - t0
-    # A full-physics state is time, then qpos, then the rest (mjtState's bit order).
-    q = states[0][:, 1 + np.array(qpos)]
+    # A full-physics state is time, qpos, qvel, then the rest (mjtState's bit order).
+    q = states[0][:, 1 + (model.nq if mobile else 0) + np.array(qpos)]
     e = np.abs(q - targets)
     return flag_unstable({
         "steps": steps,
@@ -265,9 +310,11 @@ def joint_handles(sim: Any, robot: str, urdf: pr.Urdf) -> list[int]:
     return [by_name[j.name] for j in urdf.joints]
 
 
-def run_gantry_python(robot: str, scene: Path, urdf: pr.Urdf, steps: int, package_paths: list[Path]) -> dict:
+def run_gantry_python(
+    robot: str, scene: Path, urdf: pr.Urdf, steps: int, package_paths: list[Path], mobile: bool = False
+) -> dict:
     """gantry in-process with a Python loop: setJointTargetPosition per joint,
-    advance(1), getJointPosition per joint."""
+    advance(1), getJointPosition per joint (the velocity calls for a wheeled robot)."""
     t0 = time.perf_counter()
     with gantry_client(scene, package_paths, scripts=False) as client:
         sim = client.require("sim")
@@ -277,7 +324,10 @@ def run_gantry_python(robot: str, scene: Path, urdf: pr.Urdf, steps: int, packag
         if any(abs(q - j.start(urdf.joints)) > 1e-6 for q, j in zip(start, urdf.joints)):
             return {"error": f"joints start at {start}, not at the trajectory's centres"}
         targets_at, advance, clock = pr.Trajectory(urdf).targets, client.advance, time.perf_counter
-        set_target, get_position = sim.setJointTargetPosition, sim.getJointPosition
+        set_target, get_position = (
+            (sim.setJointTargetVelocity, sim.getJointVelocity) if mobile
+            else (sim.setJointTargetPosition, sim.getJointPosition)
+        )
         n = len(handles)
         sum_sq, largest = [0.0] * n, [0.0] * n
         t0 = clock()
@@ -328,6 +378,55 @@ def run_gantry_advance(robot: str, scene: Path, urdf: pr.Urdf, steps: int, packa
 
 
 # ---------------------------------------------------------------------------------------
+# The wheeled robot
+
+
+def read_mobile(path: Path) -> pr.Urdf:
+    """A wheeled robot's URDF with the wheels' velocity trajectory in place of the arms'
+    (Joint.centre, amplitude and frequency are then rad/s, rad/s and Hz): the left
+    wheels at WHEEL_SPEED["left"] sin(2 pi f t), the right ones at WHEEL_SPEED["right"],
+    so the robot drives an arc forth and back."""
+    urdf = pr.read_urdf(path)
+    for j in urdf.joints:
+        side = "left" if "left" in j.name else "right"
+        j.centre, j.amplitude, j.frequency = 0.0, WHEEL_SPEED[side], WHEEL_FREQUENCY
+    return urdf
+
+
+def write_mobile_scene(name: str, urdf: pr.Urdf, origin: str) -> Path:
+    """The wheeled robot's gantry scene (free base on a floor, velocity mode) and its
+    script: tools/bench/wheel_tracking.lua preceded by the joints' trajectory."""
+    pr.OUT.mkdir(parents=True, exist_ok=True)
+    scene = pr.OUT / f"{name}.toml"
+    script = pr.OUT / f"{name}_wheels.lua"
+    joints = ", ".join(
+        f"{{name = {json.dumps(j.name)}, c = {j.centre!r}, a = {j.amplitude!r}, f = {j.frequency!r}}}"
+        for j in urdf.joints
+    )
+    script.write_text(
+        f"-- Generated by tools/bench/mujoco_bench.py: {WHEEL_SCRIPT.name} with {name}'s wheels.\n"
+        f"JOINTS = {{ {joints} }}\n\n" + WHEEL_SCRIPT.read_text()
+    )
+    rel = lambda p: os.path.relpath(p, pr.OUT)  # noqa: E731
+    scene.write_text(
+        f"# Generated by tools/bench/mujoco_bench.py (issue 33): {origin} on a floor, its wheels\n"
+        f"# tracking velocity targets. Regenerated at every run.\n\n"
+        f"[simulation]\n"
+        f"dt = {pr.DT!r}   # s, 1/240: PyBullet's default step\n"
+        f"substeps = 1\n\n"
+        f"[floor]\n"
+        f"size = [{FLOOR_SIZE!r}, {FLOOR_SIZE!r}]\n\n"
+        f"[[robot]]\n"
+        f"name = {pr.toml_str(name)}\n"
+        f"urdf = {pr.toml_str(rel(urdf.path))}\n"
+        f"fixed_base = false\n"
+        f'joint_mode = "velocity"\n'
+        f"script = {pr.toml_str(rel(script))}\n"
+    )
+    return scene
+
+
+# ---------------------------------------------------------------------------------------
 
 
 def paired(a: list[dict], b: list[dict]) -> tuple[float | None, list[float]]:
@@ -349,6 +448,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     default = [a for a in pr.ARMS if a != "kinova"]  # the Kinova's meshes are DAE (see above)
     ap.add_argument("--arms", default=",".join(default), help=f"comma-separated, from: {', '.join(pr.ARMS)}")
+    ap.add_argument("--mobile", default=",".join(MOBILE),
+                    help=f"wheeled robots, comma-separated, from: {', '.join(MOBILE)} ('' for none)")
     ap.add_argument("--steps", type=int, default=10_000)
     ap.add_argument("--repeat", type=int, default=1, help="rounds; steps/s are medians over them")
     ap.add_argument("--timeout", type=float, default=600, help="seconds before a gantry binary run is given up")
@@ -356,50 +457,59 @@ def main() -> None:
                     help="keep MuJoCo's default contacts (all but parent-child pairs) instead of none")
     args = ap.parse_args()
     names = [a.strip() for a in args.arms.split(",") if a.strip()]
-    unknown = [a for a in names if a not in pr.ARMS]
+    mobile_names = [a.strip() for a in args.mobile.split(",") if a.strip()]
+    unknown = [a for a in names if a not in pr.ARMS] + [a for a in mobile_names if a not in MOBILE]
     if unknown:
-        ap.error(f"unknown arm(s) {', '.join(unknown)}; known: {', '.join(pr.ARMS)}")
+        ap.error(f"unknown robot(s) {', '.join(unknown)}; arms: {', '.join(pr.ARMS)}; wheeled: {', '.join(MOBILE)}")
     binary = os.environ.get("GANTRY_BIN", str(pr.ROOT / "target/release/gantry"))
     # PyBullet's C code and gantry's in-process scripts print to stdout: send file
     # descriptor 1 to stderr, and keep the real stdout for the JSON.
     sys.stdout.flush()
     json_out = os.fdopen(os.dup(1), "w")
     os.dup2(2, 1)
+    # MuJoCo appends its warnings (an unstable simulation) to MUJOCO_LOG.TXT in the
+    # working directory: keep it with the generated scenes, out of the source tree.
+    pr.OUT.mkdir(parents=True, exist_ok=True)
+    os.chdir(pr.OUT)
     import gantry
     import mujoco
     import pybullet as p
 
-    arms: list[dict] = []
-    skipped: list[dict] = []
-    for name in names:
-        package, rel, title = pr.ARMS[name]
-        base = pr.robots_dir(package)
-        urdf = pr.read_urdf(base / rel)
-        try:
-            mujoco_model(urdf, args.mujoco_self_collision)
-        except Unsupported as e:
-            print(f"{name}: skipped, {e}", file=sys.stderr, flush=True)
-            skipped.append({"arm": name, "reason": str(e)})
-            continue
-        scene = pr.write_scene(name, urdf, f"{package} {rel}", SCRIPT_TAIL)
-        package_paths = [base.parent.parent] if package == "example-robot-data" else []
-        arms.append({"name": name, "title": title, "package": package, "path": rel, "urdf": urdf,
-                     "scene": scene, "package_paths": package_paths, "runs": {m: [] for m in MODES}})
-
     collide = args.mujoco_self_collision
+    robots: list[dict] = []
+    skipped: list[dict] = []
+    for mobile, table in ((False, {n: pr.ARMS[n] for n in names}), (True, {n: MOBILE[n] for n in mobile_names})):
+        for name, (package, rel, title) in table.items():
+            base = pr.robots_dir(package)
+            urdf = read_mobile(base / rel) if mobile else pr.read_urdf(base / rel)
+            try:
+                mujoco_model(urdf, collide, mobile)
+            except Unsupported as e:
+                print(f"{name}: skipped, {e}", file=sys.stderr, flush=True)
+                skipped.append({"arm": name, "reason": str(e)})
+                continue
+            origin = f"{package} {rel}"
+            scene = write_mobile_scene(name, urdf, origin) if mobile else pr.write_scene(name, urdf, origin,
+                                                                                          SCRIPT_TAIL)
+            package_paths = [base.parent.parent] if package == "example-robot-data" else []
+            robots.append({"name": name, "title": title, "package": package, "path": rel, "urdf": urdf,
+                           "mobile": mobile, "scene": scene, "package_paths": package_paths,
+                           "runs": {m: [] for m in MODES}})
+
+    steps = args.steps
     runners: dict[str, Callable[[dict], dict]] = {
-        "gantry_lua": lambda a: pr.run_gantry(binary, a["scene"], a["urdf"], args.steps, a["package_paths"],
+        "gantry_lua": lambda a: pr.run_gantry(binary, a["scene"], a["urdf"], steps, a["package_paths"],
                                               args.timeout),
-        "gantry_python": lambda a: run_gantry_python(a["name"], a["scene"], a["urdf"], args.steps,
-                                                     a["package_paths"]),
-        "gantry_advance": lambda a: run_gantry_advance(a["name"], a["scene"], a["urdf"], args.steps,
+        "gantry_python": lambda a: run_gantry_python(a["name"], a["scene"], a["urdf"], steps,
+                                                     a["package_paths"], a["mobile"]),
+        "gantry_advance": lambda a: run_gantry_advance(a["name"], a["scene"], a["urdf"], steps,
                                                        a["package_paths"]),
-        "mujoco_python": lambda a: run_mujoco_python(a["urdf"], args.steps, collide),
-        "mujoco_rollout": lambda a: run_mujoco_rollout(a["urdf"], args.steps, collide),
-        "pybullet": lambda a: pr.run_pybullet(a["urdf"], args.steps),
+        "mujoco_python": lambda a: run_mujoco_python(a["urdf"], steps, collide, a["mobile"]),
+        "mujoco_rollout": lambda a: run_mujoco_rollout(a["urdf"], steps, collide, a["mobile"]),
+        "pybullet": lambda a: pr.run_pybullet(a["urdf"], steps, a["mobile"]),
     }
     for r in range(args.repeat):
-        for a in arms:  # round-robin: every arm in every mode, then the next round
+        for a in robots:  # round-robin: every robot in every mode, then the next round
             line = []
             for mode in MODES:
                 result = runners[mode](a)
@@ -414,14 +524,16 @@ def main() -> None:
         "mujoco": mujoco.__version__,
         "pybullet": p.getAPIVersion(),
         "dt": pr.DT,
-        "steps": args.steps,
+        "steps": steps,
         "repeat": args.repeat,
-        "mujoco_gains": {"kp": KP, "kv": KV, "integrator": "implicitfast"},
+        "mujoco_gains": {"kp": KP, "kv": KV, "kv_velocity": KV_VELOCITY, "integrator": "implicitfast"},
         "mujoco_self_collision": collide,
+        "wheels": {"speed_rad_s": WHEEL_SPEED, "frequency_hz": WHEEL_FREQUENCY},
         "skipped": skipped,
         "arms": [],
+        "mobile": [],
     }
-    for a in arms:
+    for a in robots:
         runs = a["runs"]
         entry: dict[str, Any] = {
             "arm": a["name"], "title": a["title"], "package": a["package"], "path": a["path"],
@@ -438,7 +550,7 @@ def main() -> None:
         }
         for key, (x, y) in ratios.items():
             entry[f"ratio_{key}"], entry[f"ratio_{key}_runs"] = paired(runs[x], runs[y])
-        out["arms"].append(entry)
+        out["mobile" if a["mobile"] else "arms"].append(entry)
     print(json.dumps(out, indent=2), file=json_out, flush=True)
 
 

@@ -405,13 +405,21 @@ def errors(urdf: Urdf, steps: int, sum_sq: list[float], largest: list[float]) ->
 # PyBullet
 
 
-def run_pybullet(urdf: Urdf, steps: int) -> dict:
+def run_pybullet(urdf: Urdf, steps: int, mobile: bool = False) -> dict:
+    """PyBullet tracking the trajectory in position mode; with `mobile`
+    (tools/bench/mujoco_bench.py's wheeled robot) the base is free on pybullet_data's
+    plane.urdf at the origin, the targets are joint velocities (VELOCITY_CONTROL) and the
+    error is the joints' velocity error."""
     import pybullet as p
 
     client = p.connect(p.DIRECT)
     try:
         p.setGravity(0, 0, -9.81, physicsClientId=client)
         p.setTimeStep(DT, physicsClientId=client)
+        if mobile:
+            import pybullet_data
+
+            p.loadURDF(str(Path(pybullet_data.getDataPath()) / "plane.urdf"), physicsClientId=client)
         with tempfile.TemporaryFile("w+") as log:
             # PyBullet's importer writes its warnings to file descriptor 1: keep them.
             sys.stdout.flush()
@@ -420,7 +428,8 @@ def run_pybullet(urdf: Urdf, steps: int) -> dict:
             try:
                 t0 = time.perf_counter()
                 robot = p.loadURDF(
-                    str(urdf.path), useFixedBase=True, flags=p.URDF_USE_INERTIA_FROM_FILE, physicsClientId=client
+                    str(urdf.path), useFixedBase=not mobile, flags=p.URDF_USE_INERTIA_FROM_FILE,
+                    physicsClientId=client,
                 )
                 load_s = time.perf_counter() - t0
             finally:
@@ -440,19 +449,22 @@ def run_pybullet(urdf: Urdf, steps: int) -> dict:
         # <mimic> followers get their leader's target (PyBullet has no mimic).
         trajectory = Trajectory(urdf)
         targets_at, clock = trajectory.targets, time.perf_counter
+        mode, target_key, read = (
+            (p.VELOCITY_CONTROL, "targetVelocities", 1) if mobile else (p.POSITION_CONTROL, "targetPositions", 0)
+        )
         n = len(joints)
         sum_sq, largest, in_step = [0.0] * n, [0.0] * n, 0.0
         t0 = time.perf_counter()
         for k in range(1, steps + 1):
             targets = targets_at(k * DT)
             p.setJointMotorControlArray(
-                robot, joints, p.POSITION_CONTROL, targetPositions=targets, forces=forces, physicsClientId=client
+                robot, joints, mode, **{target_key: targets}, forces=forces, physicsClientId=client
             )
             ts = clock()
             p.stepSimulation(physicsClientId=client)
             in_step += clock() - ts
-            for i, (q, *_) in enumerate(p.getJointStates(robot, joints, physicsClientId=client)):
-                e = abs(q - targets[i])
+            for i, state in enumerate(p.getJointStates(robot, joints, physicsClientId=client)):
+                e = abs(state[read] - targets[i])
                 sum_sq[i] += e * e
                 if e > largest[i]:
                     largest[i] = e

@@ -285,6 +285,22 @@ def mujoco_section(mj: dict) -> str:
         ga, mr, mp = a["gantry_advance"], a["mujoco_rollout"], a["mujoco_python"]
         alone = "" if "error" in mp else f"{mp['step_only_steps_per_s']:,.0f}"
         w(f"| {a['arm']} | {rate(ga)} | {rate(mr)} | {ratio(a['ratio_engine'])} | {alone} |")
+    for a in mj.get("mobile", []):
+        wheels = mj["wheels"]
+        speeds = " and ".join(f"{side} {v:g}" for side, v in wheels["speed_rad_s"].items())
+        w(f"\nWheeled robot: {a['arm']} ({a['package']}: {a['path']}), free base on a floor, every wheel in "
+          f"velocity mode tracking {speeds} rad/s × sin(2π {wheels['frequency_hz']:g} Hz t) (gantry's velocity "
+          f"controller, kv {mj['mujoco_gains']['kv_velocity']:g} N·m·s/rad, in gantry and MuJoCo; PyBullet's "
+          f"VELOCITY_CONTROL); RMS / largest wheel-velocity error in rad/s:\n")
+        w("| mode | gantry steps/s | MuJoCo steps/s | gantry / MuJoCo | gantry RMS / max | MuJoCo RMS / max |")
+        w("|---|---|---|---|---|---|")
+        w(f"| Lua loop (gantry) | {rate(a['gantry_lua'])} | | | {err(a['gantry_lua'])} | |")
+        w(f"| Python loop | {rate(a['gantry_python'])} | {rate(a['mujoco_python'])} | "
+          f"{ratio(a['ratio_python_loop'])} | {err(a['gantry_python'])} | {err(a['mujoco_python'])} |")
+        w(f"| engine only (`advance(n)` with Lua targets / `rollout`) | {rate(a['gantry_advance'])} | "
+          f"{rate(a['mujoco_rollout'])} | {ratio(a['ratio_engine'])} | {err(a['gantry_advance'])} | "
+          f"{err(a['mujoco_rollout'])} |")
+        w(f"\nPyBullet, Python loop: {rate(a['pybullet'])} steps/s, error {err(a['pybullet'])} rad/s.")
     stable = [a for a in mj["arms"] if not a["mujoco_python"].get("unstable") and "error" not in a["mujoco_python"]]
     loop_ok = [a for a in stable if (a["ratio_python_loop"] or 0) >= 1.0
                and a["gantry_python"]["rms_error"] <= 1.25 * a["mujoco_python"]["rms_error"]]
