@@ -461,7 +461,8 @@ def main() -> None:
     unknown = [a for a in names if a not in pr.ARMS] + [a for a in mobile_names if a not in MOBILE]
     if unknown:
         ap.error(f"unknown robot(s) {', '.join(unknown)}; arms: {', '.join(pr.ARMS)}; wheeled: {', '.join(MOBILE)}")
-    binary = os.environ.get("GANTRY_BIN", str(pr.ROOT / "target/release/gantry"))
+    # absolute: the working directory changes below
+    binary = str(Path(os.environ.get("GANTRY_BIN", pr.ROOT / "target/release/gantry")).resolve())
     # PyBullet's C code and gantry's in-process scripts print to stdout: send file
     # descriptor 1 to stderr, and keep the real stdout for the JSON.
     sys.stdout.flush()
