@@ -260,6 +260,8 @@ def run_mujoco_python(urdf: pr.Urdf, steps: int, self_collision: bool, mobile: b
         # mj_step alone, without the Python around it
         "step_only_steps_per_s": steps / in_step,
         "contacts_per_step": contacts / steps,
+        # the root body's position at the end (the free joint's), to compare with gantry's
+        **({"base_end_m": [float(x) for x in data.qpos[:3]]} if mobile else {}),
         **pr.errors(urdf, steps, sum_sq, largest),
     })
 
@@ -343,6 +345,8 @@ def run_gantry_python(
                     largest[i] = e
         wall = clock() - t0
         simulated = sim.getSimulationTime()
+        # where the root link (the model base's first child) ended, to compare with MuJoCo's
+        end = sim.getObjectPosition(sim.getObjectChild(sim.getObject("/" + robot), 0), sim.handle_world)
     if abs(simulated - steps * pr.DT) > 1e-6:
         return {"error": f"{simulated} s simulated, expected {steps * pr.DT}"}
     return {
@@ -351,6 +355,7 @@ def run_gantry_python(
         "wall_s": wall,
         "load_s": load_s,
         **pr.errors(urdf, steps, sum_sq, largest),
+        **({"base_end_m": list(end)} if mobile else {}),
     }
 
 

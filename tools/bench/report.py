@@ -301,14 +301,20 @@ def mujoco_section(mj: dict) -> str:
           f"{rate(a['mujoco_rollout'])} | {ratio(a['ratio_engine'])} | {err(a['gantry_advance'])} | "
           f"{err(a['mujoco_rollout'])} |")
         w(f"\nPyBullet, Python loop: {rate(a['pybullet'])} steps/s, error {err(a['pybullet'])} rad/s.")
+        ends = [(who, a[mode].get("base_end_m")) for who, mode in (("gantry", "gantry_python"),
+                                                                   ("MuJoCo", "mujoco_python"))]
+        if all(end for _, end in ends):
+            w("Where the base ended (x, y, z in m): " + "; ".join(
+                f"{who} ({', '.join(f'{v:.3f}' for v in end)})" for who, end in ends) + ".")
     stable = [a for a in mj["arms"] if not a["mujoco_python"].get("unstable") and "error" not in a["mujoco_python"]]
     loop_ok = [a for a in stable if (a["ratio_python_loop"] or 0) >= 1.0
                and a["gantry_python"]["rms_error"] <= 1.25 * a["mujoco_python"]["rms_error"]]
     engine_ok = [a for a in stable if (a["ratio_engine"] or 0) >= 0.75]
-    w(f"\nIssue 33's targets, over the {len(stable)} arms MuJoCo simulates stably: gantry's Python loop ≥ 1.0x "
-      f"MuJoCo's with an RMS error ≤ 1.25x: {verdict(len(loop_ok) == len(stable))} ({len(loop_ok)} of "
-      f"{len(stable)}); engine only ≥ 0.75x MuJoCo's rollout: {verdict(len(engine_ok) == len(stable))} "
-      f"({len(engine_ok)} of {len(stable)}).")
+    if stable:
+        w(f"\nIssue 33's targets, over the {len(stable)} arms MuJoCo simulates stably: gantry's Python loop ≥ 1.0x "
+          f"MuJoCo's with an RMS error ≤ 1.25x: {verdict(len(loop_ok) == len(stable))} ({len(loop_ok)} of "
+          f"{len(stable)}); engine only ≥ 0.75x MuJoCo's rollout: {verdict(len(engine_ok) == len(stable))} "
+          f"({len(engine_ok)} of {len(stable)}).")
     gains = mj["mujoco_gains"]
     w(f"MuJoCo {mj['mujoco']} (position actuators kp {gains['kp']:g}, kv {gains['kv']:g}, gantry's servo law, "
       f"force limited to the URDF effort, integrator {gains['integrator']}; self-collision "
