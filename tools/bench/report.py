@@ -325,7 +325,8 @@ def mujoco_section(mj: dict) -> str:
         w("Skipped: " + "; ".join(f"{s['arm']}: {s['reason']}" for s in mj["skipped"]) + ".")
     contacts = ", ".join(f"{a['arm']} {a['mujoco_python']['contacts_per_step']:.2f}" for a in mj["arms"]
                          if "error" not in a["mujoco_python"])
-    w(f"MuJoCo contacts per step: {contacts}.")
+    if contacts:
+        w(f"MuJoCo contacts per step: {contacts}.")
     w("")
     return "\n".join(out)
 
