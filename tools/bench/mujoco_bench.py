@@ -26,9 +26,11 @@ The MuJoCo model is the URDF itself, read by MuJoCo's URDF compiler from a copy 
 memory: visual elements dropped, mesh references resolved to absolute paths as gantry
 resolves them (`package://`), and `<mujoco><compiler strippath="false"
 discardvisual="true" balanceinertia="true"/></mujoco>` added. MuJoCo reads STL, OBJ and
-MSH meshes but not COLLADA: an arm with DAE collision meshes (the Kinova) is skipped with
-its reason printed. MuJoCo takes an OBJ file as one mesh and collides with its convex
-hull, where gantry and PyBullet take one hull per OBJ part (the xArm6's decompositions).
+MSH meshes but not COLLADA: the Kinova's DAE collision meshes are converted to STL at
+run time with trimesh (and pycollada) into a temporary directory; without trimesh the
+arm is skipped with its reason printed. MuJoCo takes a mesh file as one mesh and collides
+with its convex hull, where gantry and PyBullet take one hull per OBJ part or DAE
+geometry (the xArm6's convex decompositions, the Kinova's multi-part links).
 
 Every joint gets a MuJoCo position actuator (`set_to_position(kp, kv)`, gain kp, bias
 -kp q - kv qdot) with gantry's default gains for URDF robots, kp = 2000 N m/rad (N/m) and
@@ -90,6 +92,7 @@ import os
 import re
 import statistics
 import sys
+import tempfile
 import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -153,7 +156,9 @@ def mujoco_model(urdf: pr.Urdf, self_collision: bool, mobile: bool = False) -> t
             if geometry.tag != "mesh":
                 continue
             file = pr.mesh_file(urdf.path, geometry.get("filename"))
-            if file.suffix.lower() not in (".stl", ".obj", ".msh"):
+            if file.suffix.lower() == ".dae":
+                file = dae_as_stl(file)
+            elif file.suffix.lower() not in (".stl", ".obj", ".msh"):
                 raise Unsupported(f"MuJoCo reads STL, OBJ and MSH meshes, not {file.suffix} ({file.name})")
             geometry.set("filename", str(file))
     extension = ET.SubElement(root, "mujoco")
@@ -179,6 +184,31 @@ def mujoco_model(urdf: pr.Urdf, self_collision: bool, mobile: bool = False) -> t
         actuator.forcerange = [-j.effort, j.effort]
     model = spec.compile()
     return model, [int(model.jnt_qposadr[model.joint(j.name).id]) for j in urdf.joints]
+
+
+_converted: dict[Path, Path] = {}
+_convert_dir: tempfile.TemporaryDirectory | None = None
+
+
+def dae_as_stl(file: Path) -> Path:
+    """A COLLADA mesh, which MuJoCo cannot read, as an STL file in a temporary directory
+    (removed when the process exits; never in the repository), converted once per run by
+    trimesh (with pycollada): every part of the file with its node transform applied,
+    in one mesh."""
+    global _convert_dir
+    if file in _converted:
+        return _converted[file]
+    try:
+        import trimesh
+    except ImportError as e:
+        raise Unsupported(f"MuJoCo does not read COLLADA ({file.name}), and trimesh is not installed "
+                          "to convert it: pip install -r tools/bench/requirements.txt") from e
+    if _convert_dir is None:
+        _convert_dir = tempfile.TemporaryDirectory(prefix="gantry-bench-dae-")
+    out = Path(_convert_dir.name) / f"{len(_converted)}_{file.stem}.stl"
+    trimesh.load(file, force="mesh").export(out)
+    _converted[file] = out
+    return out
 
 
 class Servo:
@@ -451,8 +481,7 @@ def summary(mode: str, r: dict) -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    default = [a for a in pr.ARMS if a != "kinova"]  # the Kinova's meshes are DAE (see above)
-    ap.add_argument("--arms", default=",".join(default), help=f"comma-separated, from: {', '.join(pr.ARMS)}")
+    ap.add_argument("--arms", default=",".join(pr.ARMS), help=f"comma-separated, from: {', '.join(pr.ARMS)}")
     ap.add_argument("--mobile", default=",".join(MOBILE),
                     help=f"wheeled robots, comma-separated, from: {', '.join(MOBILE)} ('' for none)")
     ap.add_argument("--steps", type=int, default=10_000)
