@@ -41,7 +41,7 @@ forward, force = kp (r - q) + kv (v - qdot) with v = (r_k - r_(k-1)) / dt for a 
 with a <limit velocity> (every joint here; crates/world/src/world/object.rs,
 advance_reference). MuJoCo is given the same law through the control: ctrl = r + (kv /
 kp) v, so that kp ctrl - kp q - kv qdot is gantry's force (class Servo); without it,
-MuJoCo lags the sinusoids and tracks about 3x worse. MuJoCo's joints start at the
+MuJoCo lags the sinusoids and tracks 3-10x worse. MuJoCo's joints start at the
 centres moving at the trajectory's initial velocity, gantry's and PyBullet's at rest:
 started at rest, the velocity term asks for more than the effort limit at the first
 step, and on a light wrist (the xArm7's joint 7, 1.3e-4 kg m^2 against 20 N m) MuJoCo's
