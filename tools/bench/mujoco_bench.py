@@ -56,8 +56,9 @@ its RMS error exceeds 1 rad or is not finite (its steps/s then mean nothing).
 Contacts: gantry and PyBullet never let links of one robot collide (the default of
 both); MuJoCo by default leaves out only parent-child pairs, and the public meshes'
 overlapping hulls then press on each other (4 contacts per step on the xArm6 and the
-KUKA, 55 on the SO-101, with errors up to 20x larger). By default every geom here gets
-contype 1 and conaffinity 0, so no geom pair of the arm collides, as in the other two;
+KUKA, 46 on the SO-101; the xArm6 then tracks 50x worse). By default every geom of the
+robot gets contype 1 and conaffinity 0, so no pair of them collides, as in the other two
+(a wheeled robot's floor, contype 0 and conaffinity 1, still touches them);
 `--mujoco-self-collision` keeps MuJoCo's default instead. The mean number of contacts
 per step is reported.
 
