@@ -13,6 +13,10 @@
 # The public robots alone, with a given binary (the report's section 6):
 #   GANTRY_BIN=target/release/gantry .venv/bin/python tools/bench/public_robots.py \
 #       --repeat 3 > target/bench/public.json && .venv/bin/python tools/bench/report.py --public-only
+# gantry against MuJoCo on the public arms alone (the report's section 9; the in-process
+# package from tools/python-wheel.sh):
+#   GANTRY_BIN=target/release/gantry .venv/bin/python tools/bench/mujoco_bench.py \
+#       --repeat 3 > target/bench/mujoco.json && .venv/bin/python tools/bench/report.py --mujoco-only
 # The vision section alone, with the installed wheel (source tools/python-wheel.sh first):
 #   .venv/bin/python tools/bench/vision.py --json target/bench/vision.json && \
 #       .venv/bin/python tools/bench/report.py --vision-only
@@ -46,6 +50,8 @@ source tools/python-wheel.sh
 "$venv/bin/python" tools/bench/python_inproc.py --repeat 3 --json target/bench/python.json
 # The batch benchmark exits 1 below its target speed-up; the report says so too.
 "$venv/bin/python" tools/bench/ray_batch.py --json target/bench/ray.json || true
+echo "== MuJoCo: the public arms in gantry (Lua loop, Python loop, advance(n)), MuJoCo (Python loop, rollout) and PyBullet, interleaved (issue 33)"
+GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/mujoco_bench.py --repeat 3 > target/bench/mujoco.json
 echo "== vision: gantry's vision sensors against PyBullet's TinyRenderer, same scenes, interleaved (issue 30)"
 "$venv/bin/python" tools/bench/vision.py --rounds 5 --json target/bench/vision.json
 echo "== script debugger: step rate with and without --debug"

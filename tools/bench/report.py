@@ -5,13 +5,15 @@ Reads, from target/bench/: gantry.json (`cargo bench --bench sim`), pybullet.jso
 (tools/bench/pybullet_bench.py), zmq.json (tests/python/bench_zmq.py --json),
 startup.json (tools/bench/startup.py) and, if present, public.json
 (tools/bench/public_robots.py), python.json (tools/bench/python_inproc.py), ray.json
-(tools/bench/ray_batch.py) and vision.json (tools/bench/vision.py); prints one Markdown
+(tools/bench/ray_batch.py), vision.json (tools/bench/vision.py) and mujoco.json
+(tools/bench/mujoco_bench.py); prints one Markdown
 report with ratios and the targets, writes it to target/bench/report.md, and draws
 steps/s against the number of rovers to docs/rovers.png. `bash tools/bench.sh` runs everything in order.
 
     python3 tools/bench/report.py                 # the whole report
     python3 tools/bench/report.py --public-only   # only the public robots' table
     python3 tools/bench/report.py --vision-only   # only the vision section
+    python3 tools/bench/report.py --mujoco-only   # only the MuJoCo section
 """
 
 from __future__ import annotations
@@ -249,6 +251,86 @@ def public_robots(pub: dict) -> str:
     return "\n".join(out)
 
 
+def mujoco_section(mj: dict) -> str:
+    """Section 9: gantry against MuJoCo (and PyBullet) on the public arms (issue 33)."""
+    out = []
+    w = out.append
+
+    def rate(r: dict) -> str:
+        if "error" in r:
+            return "failed"
+        return f"{r['steps_per_s']:,.0f}" + (" (unstable)" if r.get("unstable") else "")
+
+    def err(r: dict) -> str:
+        return "" if "error" in r else f"{r['rms_error']:.4f} / {r['max_error']:.4f}"
+
+    def ratio(x: float | None) -> str:
+        return "" if x is None else f"**{x:.2f}x**"
+
+    w(f"### 9. MuJoCo: public arms, dt 1/240 s, new position targets every step, {mj['steps']:,} steps\n")
+    w("Per-step user loop (steps/s; RMS / largest joint error, rad):\n")
+    w("| arm | gantry, Lua | gantry, Python | MuJoCo, Python | PyBullet | gantry Python / MuJoCo | "
+      "gantry Lua / MuJoCo | gantry RMS / max | MuJoCo RMS / max | PyBullet RMS / max |")
+    w("|---|---|---|---|---|---|---|---|---|---|")
+    for a in mj["arms"]:
+        gl, gp, mp, pb = a["gantry_lua"], a["gantry_python"], a["mujoco_python"], a["pybullet"]
+        w(f"| {a['arm']} ({a['package']}) | {rate(gl)} | {rate(gp)} | {rate(mp)} | {rate(pb)} | "
+          f"{ratio(a['ratio_python_loop'])} | {ratio(a['ratio_lua_vs_mujoco_python'])} | {err(gl)} | {err(mp)} | "
+          f"{err(pb)} |")
+    w("\nEngine only (steps/s):\n")
+    w("| arm | gantry `advance(n)`, Lua targets | MuJoCo `rollout` | gantry / MuJoCo | MuJoCo `mj_step` alone "
+      "(inside the Python loop) |")
+    w("|---|---|---|---|---|")
+    for a in mj["arms"]:
+        ga, mr, mp = a["gantry_advance"], a["mujoco_rollout"], a["mujoco_python"]
+        alone = "" if "error" in mp else f"{mp['step_only_steps_per_s']:,.0f}"
+        w(f"| {a['arm']} | {rate(ga)} | {rate(mr)} | {ratio(a['ratio_engine'])} | {alone} |")
+    for a in mj.get("mobile", []):
+        wheels = mj["wheels"]
+        speeds = " and ".join(f"{side} {v:g}" for side, v in wheels["speed_rad_s"].items())
+        w(f"\nWheeled robot: {a['arm']} ({a['package']}: {a['path']}), free base on a floor, every wheel in "
+          f"velocity mode tracking {speeds} rad/s × sin(2π {wheels['frequency_hz']:g} Hz t) (gantry's velocity "
+          f"controller, kv {mj['mujoco_gains']['kv_velocity']:g} N·m·s/rad, in gantry and MuJoCo; PyBullet's "
+          f"VELOCITY_CONTROL); RMS / largest wheel-velocity error in rad/s:\n")
+        w("| mode | gantry steps/s | MuJoCo steps/s | gantry / MuJoCo | gantry RMS / max | MuJoCo RMS / max |")
+        w("|---|---|---|---|---|---|")
+        w(f"| Lua loop (gantry) | {rate(a['gantry_lua'])} | | | {err(a['gantry_lua'])} | |")
+        w(f"| Python loop | {rate(a['gantry_python'])} | {rate(a['mujoco_python'])} | "
+          f"{ratio(a['ratio_python_loop'])} | {err(a['gantry_python'])} | {err(a['mujoco_python'])} |")
+        w(f"| engine only (`advance(n)` with Lua targets / `rollout`) | {rate(a['gantry_advance'])} | "
+          f"{rate(a['mujoco_rollout'])} | {ratio(a['ratio_engine'])} | {err(a['gantry_advance'])} | "
+          f"{err(a['mujoco_rollout'])} |")
+        w(f"\nPyBullet, Python loop: {rate(a['pybullet'])} steps/s, error {err(a['pybullet'])} rad/s.")
+        ends = [(who, a[mode].get("base_end_m")) for who, mode in (("gantry", "gantry_python"),
+                                                                   ("MuJoCo", "mujoco_python"))]
+        if all(end for _, end in ends):
+            w("Where the base ended (x, y, z in m): " + "; ".join(
+                f"{who} ({', '.join(f'{v:.3f}' for v in end)})" for who, end in ends) + ".")
+    stable = [a for a in mj["arms"] if not a["mujoco_python"].get("unstable") and "error" not in a["mujoco_python"]]
+    loop_ok = [a for a in stable if (a["ratio_python_loop"] or 0) >= 1.0
+               and a["gantry_python"]["rms_error"] <= 1.25 * a["mujoco_python"]["rms_error"]]
+    engine_ok = [a for a in stable if (a["ratio_engine"] or 0) >= 0.75]
+    if stable:
+        w(f"\nIssue 33's targets, over the {len(stable)} arms MuJoCo simulates stably: gantry's Python loop ≥ 1.0x "
+          f"MuJoCo's with an RMS error ≤ 1.25x: {verdict(len(loop_ok) == len(stable))} ({len(loop_ok)} of "
+          f"{len(stable)}); engine only ≥ 0.75x MuJoCo's rollout: {verdict(len(engine_ok) == len(stable))} "
+          f"({len(engine_ok)} of {len(stable)}).")
+    gains = mj["mujoco_gains"]
+    w(f"MuJoCo {mj['mujoco']} (position actuators kp {gains['kp']:g}, kv {gains['kv']:g}, gantry's servo law, "
+      f"force limited to the URDF effort, integrator {gains['integrator']}; self-collision "
+      f"{'MuJoCo default' if mj['mujoco_self_collision'] else 'off, as in gantry and PyBullet'}); "
+      f"PyBullet API {mj['pybullet']}; gantry binary `{mj['gantry_bin']}`, package `{mj['gantry_package']}`. "
+      f"Medians of {mj['repeat']} interleaved round(s); ratios are medians of same-round ratios.")
+    if mj["skipped"]:
+        w("Skipped: " + "; ".join(f"{s['arm']}: {s['reason']}" for s in mj["skipped"]) + ".")
+    contacts = ", ".join(f"{a['arm']} {a['mujoco_python']['contacts_per_step']:.2f}" for a in mj["arms"]
+                         if "error" not in a["mujoco_python"])
+    if contacts:
+        w(f"MuJoCo contacts per step: {contacts}.")
+    w("")
+    return "\n".join(out)
+
+
 def plot(g: dict, pb: dict) -> Path | None:
     try:
         import matplotlib
@@ -285,7 +367,11 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--public-only", action="store_true", help="print only the public robots' table")
     ap.add_argument("--vision-only", action="store_true", help="print only the vision section")
+    ap.add_argument("--mujoco-only", action="store_true", help="print only the MuJoCo section")
     args = ap.parse_args()
+    if args.mujoco_only:
+        print(mujoco_section(load("mujoco.json")))
+        return
     if args.public_only:
         print(public_robots(load("public.json")))
         return
@@ -301,6 +387,8 @@ def main() -> None:
         text += "\n" + public_robots(load("public.json"))
     if (BENCH / "vision.json").exists():
         text += "\n" + vision_section(load("vision.json"))
+    if (BENCH / "mujoco.json").exists():
+        text += "\n" + mujoco_section(load("mujoco.json"))
     if (BENCH / "ros2.json").exists():
         text += "\n" + ros2_section(load("ros2.json"))
     (BENCH / "report.md").write_text(text + "\n")
