@@ -65,7 +65,7 @@ per step is reported.
 The wheeled robot is pybullet_data's Clearpath Husky (box and cylinder collision
 shapes, four continuous wheel joints) with a free base, starting at rest at the origin on
 a floor (gantry: `[floor]` 20 x 20 m, joint_mode = "velocity", the script
-tools/bench/wheel_tracking.lua; MuJoCo: a free joint on the root body and a plane;
+scripts/bench/wheel_tracking.lua; MuJoCo: a free joint on the root body and a plane;
 PyBullet: pybullet_data's plane.urdf). The left wheels' target velocity is 3 sin(2 pi
 0.1 t) rad/s, the right ones' 2 sin(2 pi 0.1 t), so it drives an arc forth and back; the
 error is each wheel's velocity error (rad/s) after the step. gantry's velocity
@@ -123,7 +123,7 @@ WHEEL_SPEED = {"left": 3.0, "right": 2.0}  # rad/s, amplitude of a wheel's targe
 WHEEL_FREQUENCY = 0.1  # Hz: the robot drives an arc forth and back, within a metre of the start
 KV_VELOCITY = 10.0  # N m s/rad: gantry's damping in velocity mode, the whole controller
 FLOOR_SIZE = 20.0  # m
-WHEEL_SCRIPT = pr.ROOT / "tools/bench/wheel_tracking.lua"
+WHEEL_SCRIPT = pr.ROOT / "scripts/bench/wheel_tracking.lua"
 OPTENV = re.compile(r"\$\(optenv \S+ ([^)]*)\)")
 MODES = ("gantry_lua", "gantry_python", "gantry_advance", "mujoco_python", "mujoco_rollout", "pybullet")
 
@@ -431,7 +431,7 @@ def read_mobile(path: Path) -> pr.Urdf:
 
 def write_mobile_scene(name: str, urdf: pr.Urdf, origin: str) -> Path:
     """The wheeled robot's gantry scene (free base on a floor, velocity mode) and its
-    script: tools/bench/wheel_tracking.lua preceded by the joints' trajectory."""
+    script: scripts/bench/wheel_tracking.lua preceded by the joints' trajectory."""
     pr.OUT.mkdir(parents=True, exist_ok=True)
     scene = pr.OUT / f"{name}.toml"
     script = pr.OUT / f"{name}_wheels.lua"
