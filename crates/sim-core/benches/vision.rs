@@ -330,6 +330,9 @@ fn scenes() {
     println!("| UR5 in view, 5 cameras 128 x 128 + masks (one core) | {masked_one_core} | | |");
 }
 
+/// A fixed camera: name, eye, target and the world direction up in its image (m).
+type View = (&'static str, [f64; 3], [f64; 3], [f64; 3]);
+
 /// RLBench's five views (front, over each shoulder, overhead, close to the hand) as fixed
 /// 128 x 128 cameras around pybullet_data's Panda, RGB + depth + mask: the scene of
 /// `tools/bench/vision.py`'s `5x128` case (and of the PyBullet referee's Panda: its joint
@@ -346,7 +349,7 @@ fn rlbench_views() {
         }
     };
     // (name, eye, target, up), as in tools/bench/vision.py.
-    let views: [(&str, [f64; 3], [f64; 3], [f64; 3]); 5] = [
+    let views: [View; 5] = [
         ("front", [1.35, 0.0, 0.75], [0.2, 0.0, 0.35], [0.0, 0.0, 1.0]),
         ("left_shoulder", [0.3, 0.75, 0.9], [0.35, -0.1, 0.2], [0.0, 0.0, 1.0]),
         ("right_shoulder", [0.3, -0.75, 0.9], [0.35, 0.1, 0.2], [0.0, 0.0, 1.0]),

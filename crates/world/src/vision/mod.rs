@@ -55,6 +55,7 @@ mod tessellate;
 mod work_image;
 
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::error::SimError;
 use crate::scene::VisionModel;
@@ -112,6 +113,9 @@ pub struct SensorImage {
     mask_wanted: bool,
     /// Whether `mask` belongs to the last render.
     mask_current: bool,
+    /// How long the last render took to draw (ns, all its bands): what the next
+    /// schedules sensors by ([`VisionStates::render_many`]).
+    draw_nanos: u64,
 }
 
 /// When a sensor last rendered.
@@ -151,6 +155,7 @@ impl SensorImage {
             mask: Vec::new(),
             mask_wanted: false,
             mask_current: false,
+            draw_nanos: 0,
         }
     }
 
@@ -308,6 +313,7 @@ impl VisionStates {
                         pose,
                         image: s,
                         packet1: [0.0; 15],
+                        nanos: AtomicU64::new(0),
                     });
                     outcomes.push(Ok(()));
                 }
@@ -315,7 +321,12 @@ impl VisionStates {
             }
         }
         let items = raster::draw_list(world, shapes);
-        // What each thread takes from the queue: a whole sensor, or a band of one.
+        // What each thread takes from the queue: a whole sensor, or a band of one. The
+        // costliest sensors of the last frame first, and the cheapest cut into bands
+        // (see `bands_per_sensor`), so that the threads finish together: the longest
+        // processing time first, then the small pieces. Only the schedule depends on
+        // these timings, never a pixel.
+        jobs.sort_by_key(|job| std::cmp::Reverse(job.image.draw_nanos));
         frames.resize_with(jobs.len(), raster::FrameBuffers::default);
         let sizes = if *band_every_size {
             BandSizes::ANY
@@ -325,7 +336,7 @@ impl VisionStates {
         let bands = bands_per_sensor(&jobs, threads, sizes);
         let mut units = Vec::new();
         for ((job, buffers), &count) in jobs.iter_mut().zip(frames.iter_mut()).zip(&bands) {
-            let job = &*job.prepare();
+            let job = job.prepare();
             units.extend(
                 buffers
                     .bands(&job.cam, job.image.mask_wanted_now(&job.cam), count)
@@ -335,7 +346,10 @@ impl VisionStates {
         }
         let threads = threads.clamp(1, units.len().max(1));
         let draw = |(job, band): (&Job, raster::Band<'_>), scratch: &mut raster::Scratch| {
+            let start = std::time::Instant::now();
             raster::draw_band(&items, &job.cam, &job.pose, scratch, band, shortcuts);
+            let nanos = u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
+            job.nanos.fetch_add(nanos, Ordering::Relaxed);
         };
         if threads == 1 {
             for unit in units {
@@ -347,7 +361,8 @@ impl VisionStates {
             // arm against one far away), and dealing them out in fixed runs left one
             // core idle while the other drew three. The bands come last, so that they
             // even out the end. A thread costs 20-50 us to start on the 2-core VM,
-            // less than one 128 x 128 frame of a scene with a mesh arm in view.
+            // less than one 128 x 128 frame of a scene with a mesh arm in view (a
+            // lone small sensor is not cut, and so starts none: `BandSizes`).
             extra_scratch.resize_with(threads - 1, raster::Scratch::default);
             let queue = std::sync::Mutex::new(units.into_iter());
             let next = || queue.lock().ok().and_then(|mut q| q.next());
@@ -365,6 +380,7 @@ impl VisionStates {
         }
         for (job, buffers) in jobs.iter_mut().zip(frames.iter_mut()) {
             job.finish(buffers);
+            job.image.draw_nanos = *job.nanos.get_mut();
         }
         for job in jobs {
             let mut s = job.image;
@@ -392,6 +408,8 @@ struct Job {
     pose: crate::math::Pose,
     image: SensorImage,
     packet1: resolve::Packet1,
+    /// Time spent drawing its bands (ns), summed over the threads.
+    nanos: AtomicU64,
 }
 
 impl Job {
@@ -418,7 +436,8 @@ impl Job {
 }
 
 /// How many bands of rows each of `jobs` is cut into for `threads` threads: as many
-/// whole sensors as share out evenly, and the rest (the last `jobs % threads`) in
+/// whole sensors as share out evenly, and the rest (the last `jobs % threads`, the
+/// cheapest as [`VisionStates::render_many`] orders them) in
 /// `threads` bands each, when a band still has `min.band` pixels. A band costs its
 /// share of the fill but all the culling and vertex work of the geometry in its rows,
 /// so whole sensors are the cheaper unit where they balance. A sensor drawn alone is
@@ -462,9 +481,12 @@ impl BandSizes {
     const ANY: BandSizes = BandSizes { band: 1, alone: 0 };
 }
 
-/// The cores rendering may use.
+/// The cores rendering may use, asked once per process: on Linux
+/// `available_parallelism` reads the cgroup files in `/proc` and `/sys` each time,
+/// 20-40 us, as long as a 1 x 1 frame.
 fn cores() -> usize {
-    std::thread::available_parallelism().map_or(1, usize::from)
+    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, usize::from))
 }
 
 /// The vision model and world pose of sensor `h`.

@@ -364,7 +364,7 @@ fn images_drawn_in_bands_of_rows_are_the_same_bits() {
                 assert!(states.render_many(&w.world, &[h], threads)[0].is_ok());
                 let img = states.image(h).expect("rendered");
                 let mask = img.mask().expect("a mask").to_vec();
-                (image(&states, h), mask)
+                (image(states, h), mask)
             })
             .collect::<Vec<_>>()
     };
