@@ -548,147 +548,165 @@ fn rows(p: &Pose) -> ([[f32; 3]; 3], [f32; 3]) {
     ([row(0), row(1), row(2)], [t.x as f32, t.y as f32, t.z as f32])
 }
 
-/// Draws one visual. `sampled`: the frustum to cull chunks against (`None`: cull
-/// nothing, beyond what the per-triangle outcodes reject). `shortcuts`: whether a dense
-/// mesh may be drawn at a coarser level where this view's pixels allow
-/// ([`detail::pick`]), and whether the back faces of an imported mesh's closed parts
-/// may be skipped.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "the frame's shared state, passed rather than bundled per call"
-)]
-fn draw_visual(
-    cam: &Camera,
-    sampled: Option<&Camera>,
-    shortcuts: Shortcuts,
-    cam_from_world: &Pose,
-    item: &DrawItem<'_>,
-    vertices: &mut Vec<ChunkVertex>,
-    target: &mut Target<'_>,
-    stats: &mut RenderStats,
-) {
-    let (world_pose, v) = (&item.pose, item.visual);
-    let (r, t) = rows(&(cam_from_world * world_pose));
-    let xf = |p: [f32; 3]| [dot(r[0], p) + t[0], dot(r[1], p) + t[1], dot(r[2], p) + t[2]];
-    let mut mesh = &v.mesh;
-    let center = xf(mesh.center);
-    if let Some(s) = sampled
-        && s.sphere_outside(center, mesh.radius)
-    {
-        stats.culled_chunks += mesh.chunks.len();
-        return;
-    }
-    if shortcuts.coarse && !v.levels.is_empty() {
-        // A pixel's side (metres) at the visual's nearest point in view.
-        let per_pixel = (2.0 * cam.tan_x / cam.width as f32).min(2.0 * cam.tan_y / cam.height as f32);
-        let footprint = if cam.ortho {
-            per_pixel
-        } else {
-            per_pixel * (center[2] - mesh.radius).max(cam.near)
-        };
-        if let Some(level) = detail::pick(&v.levels, footprint) {
-            mesh = &level.mesh;
-            stats.coarse_visuals += 1;
-        }
-    }
-    // Light directions in the visual's frame: the camera's Z axis (row 2 of the
-    // camera-from-visual rotation) and the world's Z axis.
-    let head = r[2];
-    let up = rows(world_pose).0[2];
-    let light = |n: [f32; 3]| (AMBIENT + HEADLIGHT * dot(head, n).abs() + TOPLIGHT * dot(up, n).max(0.0)).min(1.0);
-    let color = v.color.map(|c| c * 255.0);
-    // Handles are never negative.
-    let id = item.handle as u32;
-    let (vertex_normals, face_normals) = match &mesh.normals {
-        Normals::Vertex(n) => (Some(n.as_slice()), None),
-        Normals::Face(n) => (None, Some(n.as_slice())),
-    };
-    // The closed parts of an imported mesh hide their back faces only when the eye is
-    // outside them and the near plane cuts none of them open: so only when the whole
-    // visual lies beyond the near plane (a primitive's back faces are always culled).
-    // The full mesh's sphere holds its coarser levels too (their vertices are means of
-    // its vertices).
-    let beyond_near = center[2] - v.mesh.radius * (1.0 + 1e-4) > cam.near;
-    for chunk in &mesh.chunks {
+multiversion! {
+    /// Draws one visual. `sampled`: the frustum to cull chunks against (`None`: cull
+    /// nothing, beyond what the per-triangle outcodes reject). `shortcuts`: whether a dense
+    /// mesh may be drawn at a coarser level where this view's pixels allow
+    /// ([`detail::pick`]), and whether the back faces of an imported mesh's closed parts
+    /// may be skipped.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "the frame's shared state, passed rather than bundled per call"
+    )]
+    fn draw_visual(
+        cam: &Camera,
+        sampled: Option<&Camera>,
+        shortcuts: Shortcuts,
+        cam_from_world: &Pose,
+        item: &DrawItem<'_>,
+        vertices: &mut Vec<ChunkVertex>,
+        target: &mut Target<'_>,
+        stats: &mut RenderStats,
+    ) {
+        let (world_pose, v) = (&item.pose, item.visual);
+        let (r, t) = rows(&(cam_from_world * world_pose));
+        let xf = |p: [f32; 3]| [dot(r[0], p) + t[0], dot(r[1], p) + t[1], dot(r[2], p) + t[2]];
+        let mut mesh = &v.mesh;
+        let center = xf(mesh.center);
         if let Some(s) = sampled
-            && s.sphere_outside(xf(chunk.center), chunk.radius)
+            && s.sphere_outside(center, mesh.radius)
         {
-            stats.culled_chunks += 1;
-            continue;
+            stats.culled_chunks += mesh.chunks.len();
+            return;
         }
-        stats.drawn_chunks += 1;
-        let cull_back = chunk.closed && (mesh.closed || (shortcuts.mesh_back_faces && beyond_near));
-        // Each vertex once: camera frame, light (Gouraud), outcode, screen position.
-        let first = chunk.first_vertex as usize;
-        vertices.clear();
-        vertices.extend(mesh.chunk_positions(chunk).iter().enumerate().map(|(k, &p)| {
-            let cam_v = CamVertex {
-                p: xf(p),
-                // Face-shaded meshes set the light per triangle below.
-                light: vertex_normals.and_then(|n| n.get(first + k)).map_or(0.0, |&n| light(n)),
+        if shortcuts.coarse && !v.levels.is_empty() {
+            // A pixel's side (metres) at the visual's nearest point in view.
+            let per_pixel = (2.0 * cam.tan_x / cam.width as f32).min(2.0 * cam.tan_y / cam.height as f32);
+            let footprint = if cam.ortho {
+                per_pixel
+            } else {
+                per_pixel * (center[2] - mesh.radius).max(cam.near)
             };
-            let code = cam.outcode(cam_v.p);
-            // Only read for triangles wholly inside, whose z >= near > 0.
-            let s = project(cam, cam_v);
-            ChunkVertex {
-                cam: cam_v,
-                code,
-                screen: [s.x, s.y, s.inv_z],
+            if let Some(level) = detail::pick(&v.levels, footprint) {
+                mesh = &level.mesh;
+                stats.coarse_visuals += 1;
             }
-        }));
-        let faces = face_normals.and_then(|n| n.get(chunk.first_triangle as usize..chunk.end_triangle as usize));
-        for (k, tri) in mesh.chunk_triangles(chunk).iter().enumerate() {
-            let Some([mut a, mut b, mut c]) = fetch(vertices, *tri) else {
+        }
+        // Light directions in the visual's frame: the camera's Z axis (row 2 of the
+        // camera-from-visual rotation) and the world's Z axis.
+        let head = r[2];
+        let up = rows(world_pose).0[2];
+        let light = |n: [f32; 3]| (AMBIENT + HEADLIGHT * dot(head, n).abs() + TOPLIGHT * dot(up, n).max(0.0)).min(1.0);
+        let color = v.color.map(|c| c * 255.0);
+        // Handles are never negative.
+        let id = item.handle as u32;
+        let (vertex_normals, face_normals) = match &mesh.normals {
+            Normals::Vertex(n) => (Some(n.as_slice()), None),
+            Normals::Face(n) => (None, Some(n.as_slice())),
+        };
+        // The closed parts of an imported mesh hide their back faces only when the eye is
+        // outside them and the near plane cuts none of them open: so only when the whole
+        // visual lies beyond the near plane (a primitive's back faces are always culled).
+        // The full mesh's sphere holds its coarser levels too (their vertices are means of
+        // its vertices).
+        let beyond_near = center[2] - v.mesh.radius * (1.0 + 1e-4) > cam.near;
+        for chunk in &mesh.chunks {
+            if let Some(s) = sampled
+                && s.sphere_outside(xf(chunk.center), chunk.radius)
+            {
+                stats.culled_chunks += 1;
                 continue;
-            };
-            let (oa, ob, oc) = (a.code, b.code, c.code);
-            // Skipped: wholly outside one plane, or wholly inside and covering no
-            // pixel centre (most triangles of a vendor mesh in a small image), where
-            // `fill` would draw nothing (the same test as its bounding box, on the same
-            // values). One branch for all of it: separate ones were mispredicted often
-            // enough to be a third of a frame.
-            let [xa, ya, _] = a.screen;
-            let [xb, yb, _] = b.screen;
-            let [xc, yc, _] = c.screen;
-            let covers = may_cover(xa.min(xb).min(xc), xa.max(xb).max(xc), 0..target.width)
-                & may_cover(ya.min(yb).min(yc), ya.max(yb).max(yc), target.rows.clone());
-            if (oa & ob & oc != 0) | ((oa | ob | oc == 0) & !covers) {
-                continue;
             }
-            // Flat shading: the face's light at all three corners.
-            if let Some(&n) = faces.and_then(|f| f.get(k)) {
-                let l = light(n);
-                (a.cam.light, b.cam.light, c.cam.light) = (l, l, l);
-            }
-            if cull_back {
-                // Outward normal pointing away from the camera: a back face. The view
-                // ray runs from the eye at the origin, or along +Z in an orthographic
-                // view.
-                let n = cross(sub(b.cam.p, a.cam.p), sub(c.cam.p, a.cam.p));
-                let ray = if cam.ortho { [0.0, 0.0, 1.0] } else { a.cam.p };
-                if dot(n, ray) >= 0.0 {
-                    stats.back_faces += 1;
+            stats.drawn_chunks += 1;
+            let cull_back = chunk.closed && (mesh.closed || (shortcuts.mesh_back_faces && beyond_near));
+            // Each vertex once: camera frame, light (Gouraud), outcode, screen position.
+            let first = chunk.first_vertex as usize;
+            vertices.clear();
+            vertices.extend(mesh.chunk_positions(chunk).iter().enumerate().map(|(k, &p)| {
+                let cam_v = CamVertex {
+                    p: xf(p),
+                    // Face-shaded meshes set the light per triangle below.
+                    light: vertex_normals.and_then(|n| n.get(first + k)).map_or(0.0, |&n| light(n)),
+                };
+                let code = cam.outcode(cam_v.p);
+                // Only read for triangles wholly inside, whose z >= near > 0.
+                let s = project(cam, cam_v);
+                ChunkVertex {
+                    cam: cam_v,
+                    code,
+                    screen: [s.x, s.y, s.inv_z],
+                }
+            }));
+            let faces = face_normals.and_then(|n| n.get(chunk.first_triangle as usize..chunk.end_triangle as usize));
+            for (k, tri) in mesh.chunk_triangles(chunk).iter().enumerate() {
+                let Some([mut a, mut b, mut c]) = fetch(vertices, *tri) else {
+                    continue;
+                };
+                let (oa, ob, oc) = (a.code, b.code, c.code);
+                // Skipped: wholly outside one plane, or wholly inside and covering no
+                // pixel centre (most triangles of a vendor mesh in a small image), where
+                // `fill` would draw nothing (the same test as its bounding box, on the same
+                // values). One branch for all of it: separate ones were mispredicted often
+                // enough to be a third of a frame.
+                let [xa, ya, _] = a.screen;
+                let [xb, yb, _] = b.screen;
+                let [xc, yc, _] = c.screen;
+                let covers = may_cover(min3(xa, xb, xc), max3(xa, xb, xc), 0..target.width)
+                    & may_cover(min3(ya, yb, yc), max3(ya, yb, yc), target.rows.clone());
+                if (oa & ob & oc != 0) | ((oa | ob | oc == 0) & !covers) {
                     continue;
                 }
-            }
-            if oa | ob | oc == 0 {
-                fill(cam, target, [a, b, c].map(|v| screen(cam, v)), color, id);
-                continue;
-            }
-            let mut poly = [CamVertex::default(); MAX_POLY];
-            poly[..3].copy_from_slice(&[a.cam, b.cam, c.cam]);
-            let n = clip(cam, &mut poly, 3, oa | ob | oc);
-            for k in 1..n.saturating_sub(1) {
-                fill(
-                    cam,
-                    target,
-                    [poly[0], poly[k], poly[k + 1]].map(|v| project(cam, v)),
-                    color,
-                    id,
-                );
+                // Flat shading: the face's light at all three corners.
+                if let Some(&n) = faces.and_then(|f| f.get(k)) {
+                    let l = light(n);
+                    (a.cam.light, b.cam.light, c.cam.light) = (l, l, l);
+                }
+                if cull_back {
+                    // Outward normal pointing away from the camera: a back face. The view
+                    // ray runs from the eye at the origin, or along +Z in an orthographic
+                    // view.
+                    let n = cross(sub(b.cam.p, a.cam.p), sub(c.cam.p, a.cam.p));
+                    let ray = if cam.ortho { [0.0, 0.0, 1.0] } else { a.cam.p };
+                    if dot(n, ray) >= 0.0 {
+                        stats.back_faces += 1;
+                        continue;
+                    }
+                }
+                if oa | ob | oc == 0 {
+                    fill(cam, target, [a, b, c].map(|v| screen(cam, v)), color, id);
+                    continue;
+                }
+                let mut poly = [CamVertex::default(); MAX_POLY];
+                poly[..3].copy_from_slice(&[a.cam, b.cam, c.cam]);
+                let n = clip(cam, &mut poly, 3, oa | ob | oc);
+                for k in 1..n.saturating_sub(1) {
+                    fill(
+                        cam,
+                        target,
+                        [poly[0], poly[k], poly[k + 1]].map(|v| project(cam, v)),
+                        color,
+                        id,
+                    );
+                }
             }
         }
     }
+}
+
+/// The least of three numbers, as one `minss` each (`f32::min` also orders NaNs, in
+/// several more instructions, on a path where a NaN makes any answer right: see
+/// [`may_cover`]).
+#[inline(always)]
+fn min3(a: f32, b: f32, c: f32) -> f32 {
+    let ab = if a < b { a } else { b };
+    if ab < c { ab } else { c }
+}
+
+/// The greatest of three numbers, as [`min3`].
+#[inline(always)]
+fn max3(a: f32, b: f32, c: f32) -> f32 {
+    let ab = if a > b { a } else { b };
+    if ab > c { ab } else { c }
 }
 
 /// Whether `fill`'s span of pixel centres `k + 0.5` (`k` in `range`, not empty)
