@@ -622,7 +622,9 @@ multiversion! {
             // Each vertex once: camera frame, light (Gouraud), outcode, screen position.
             let first = chunk.first_vertex as usize;
             vertices.clear();
-            vertices.extend(mesh.chunk_positions(chunk).iter().enumerate().map(|(k, &p)| {
+            // A plain loop rather than `extend(map(..))`: the iterator's fold stayed a
+            // function of its own, compiled for the baseline only.
+            for (k, &p) in mesh.chunk_positions(chunk).iter().enumerate() {
                 let cam_v = CamVertex {
                     p: xf(p),
                     // Face-shaded meshes set the light per triangle below.
@@ -631,12 +633,12 @@ multiversion! {
                 let code = cam.outcode(cam_v.p);
                 // Only read for triangles wholly inside, whose z >= near > 0.
                 let s = project(cam, cam_v);
-                ChunkVertex {
+                vertices.push(ChunkVertex {
                     cam: cam_v,
                     code,
                     screen: [s.x, s.y, s.inv_z],
-                }
-            }));
+                });
+            }
             let faces = face_normals.and_then(|n| n.get(chunk.first_triangle as usize..chunk.end_triangle as usize));
             for (k, tri) in mesh.chunk_triangles(chunk).iter().enumerate() {
                 let Some([mut a, mut b, mut c]) = fetch(vertices, *tri) else {
