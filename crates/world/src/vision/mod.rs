@@ -336,20 +336,42 @@ impl VisionStates {
         let bands = bands_per_sensor(&jobs, threads, sizes);
         let mut units = Vec::new();
         for ((job, buffers), &count) in jobs.iter_mut().zip(frames.iter_mut()).zip(&bands) {
-            let job = job.prepare();
-            units.extend(
-                buffers
-                    .bands(&job.cam, job.image.mask_wanted_now(&job.cam), count)
-                    .into_iter()
-                    .map(|band| (job, band)),
-            );
+            job.prepare();
+            if count == 1 {
+                units.push(Unit::Whole(job, buffers));
+            } else {
+                let job = &*job;
+                let mask = job.image.mask_wanted_now(&job.cam);
+                units.extend(
+                    buffers
+                        .bands(&job.cam, mask, count)
+                        .into_iter()
+                        .map(|band| Unit::Band(job, band)),
+                );
+            }
         }
         let threads = threads.clamp(1, units.len().max(1));
-        let draw = |(job, band): (&Job, raster::Band<'_>), scratch: &mut raster::Scratch| {
+        let draw = |unit: Unit<'_>, scratch: &mut raster::Scratch| {
             let start = std::time::Instant::now();
-            raster::draw_band(&items, &job.cam, &job.pose, scratch, band, shortcuts);
-            let nanos = u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
-            job.nanos.fetch_add(nanos, Ordering::Relaxed);
+            let draw_band = |job: &Job, band, scratch: &mut raster::Scratch| {
+                raster::draw_band(&items, &job.cam, &job.pose, scratch, band, shortcuts);
+            };
+            let nanos = |start: std::time::Instant| u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
+            match unit {
+                Unit::Whole(job, buffers) => {
+                    let mask = job.image.mask_wanted_now(&job.cam);
+                    for band in buffers.bands(&job.cam, mask, 1) {
+                        draw_band(job, band, scratch);
+                    }
+                    job.image.draw_nanos = nanos(start);
+                    // The last pass too, on this thread.
+                    job.finish(buffers);
+                }
+                Unit::Band(job, band) => {
+                    draw_band(job, band, scratch);
+                    job.nanos.fetch_add(nanos(start), Ordering::Relaxed);
+                }
+            }
         };
         if threads == 1 {
             for unit in units {
@@ -378,9 +400,12 @@ impl VisionStates {
                 draw_queue(scratch);
             });
         }
-        for (job, buffers) in jobs.iter_mut().zip(frames.iter_mut()) {
-            job.finish(buffers);
-            job.image.draw_nanos = *job.nanos.get_mut();
+        // The sensors drawn in bands: their last pass, now that every band is drawn.
+        for ((job, buffers), &count) in jobs.iter_mut().zip(frames.iter_mut()).zip(&bands) {
+            if count > 1 {
+                job.finish(buffers);
+                job.image.draw_nanos = *job.nanos.get_mut();
+            }
         }
         for job in jobs {
             let mut s = job.image;
@@ -412,13 +437,20 @@ struct Job {
     nanos: AtomicU64,
 }
 
+/// What one thread takes from the queue in [`VisionStates::render_many`]: a whole
+/// sensor, drawn and finished there, or a band of one, finished once all its bands are
+/// drawn.
+enum Unit<'a> {
+    Whole(&'a mut Job, &'a mut raster::FrameBuffers),
+    Band(&'a Job, raster::Band<'a>),
+}
+
 impl Job {
     /// Sizes the mask buffer when this frame draws one.
-    fn prepare(&mut self) -> &Self {
+    fn prepare(&mut self) {
         if self.image.mask_wanted_now(&self.cam) {
             self.image.mask.resize(self.image.depth.len(), -1);
         }
-        self
     }
 
     /// The sensor image and packet 1 from the drawn `buffers`.
