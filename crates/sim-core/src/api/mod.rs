@@ -52,6 +52,7 @@ mod tubes;
 mod ui;
 mod views;
 mod vision;
+mod vision_buffers;
 
 pub use args::Args;
 pub use error::CallError;
@@ -415,7 +416,11 @@ pub const MODULES: &[Module] = &[
     },
     Module {
         name: "simVision",
-        functions: &[vision::SIM_VISION_FUNCTIONS, scan::SIM_VISION_FUNCTIONS],
+        functions: &[
+            vision::SIM_VISION_FUNCTIONS,
+            scan::SIM_VISION_FUNCTIONS,
+            vision_buffers::SIM_VISION_FUNCTIONS,
+        ],
         constants: Constants(&[]),
         aliases: &[],
     },

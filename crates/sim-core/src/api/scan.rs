@@ -207,12 +207,15 @@ fn counts(a: &Args<'_>, i: usize) -> Result<[usize; 2], SimError> {
     }
 }
 
-/// The packet as CoppeliaSim returns it: `false` (never a trigger) and the floats packed.
-fn packet_values(packet: &[f32]) -> Ret {
-    vec![
+/// The scan as CoppeliaSim returns it: `false` (never a trigger), the floats packed and,
+/// when colours were returned, their bytes (`sim.unpackUInt8Table` reads them).
+fn scan_values(scan: scan::Scan) -> Ret {
+    let mut out = vec![
         Value::Bool(false),
-        Value::Bytes(packet.iter().flat_map(|v| v.to_le_bytes()).collect()),
-    ]
+        Value::Bytes(scan.packet.iter().flat_map(|v| v.to_le_bytes()).collect()),
+    ];
+    out.extend(scan.colours.map(Value::Bytes));
+    out
 }
 
 /// `simVision.coordinatesFromWorkImg(h [| sim.handleflag_abscoords], {nx, ny},
@@ -222,15 +225,16 @@ fn packet_values(packet: &[f32]) -> Ret {
 /// flag). Packed floats: `nx, ny`, then `x, y, z, distance` per point, x varying fastest,
 /// from image right to left and bottom to top. Distance is the point's range (its depth
 /// for an orthographic sensor); a direction with nothing nearer than the far clipping
-/// plane gives the point at the far distance along it, with distance = far. gantry has
-/// no work-image buffer 1, so `returnRgb` returns no colours.
+/// plane gives the point at the far distance along it, with distance = far. With
+/// `returnRgb`, a third value holds R, G, B bytes per point from buffer 1
+/// (`simVision.workImgToBuffer1` of the colour image), when it holds an image.
 fn coordinates_from_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (h, frame) = scan_sensor(ctx, a)?;
     let counts = counts(a, 1)?;
     let angular = a.bool(2)?;
-    a.opt_bool(3, false)?;
-    let packet = scan::coordinates_from_work(&sim.world, &sim.vision, h, counts, angular, frame)?;
-    Ok(packet_values(&packet))
+    let rgb = a.opt_bool(3, false)?;
+    let scan = scan::coordinates_from_work(&sim.world, &sim.vision, h, counts, angular, frame, rgb)?;
+    Ok(scan_values(scan))
 }
 
 /// `simVision.velodyneDataFromWorkImg(h [| sim.handleflag_abscoords], {nx, ny},
@@ -238,12 +242,13 @@ fn coordinates_from_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>)
 /// in angle across the view, each with `ny` beams evenly spaced in elevation over
 /// `verticalAngle` (rad), read from the depth work image of a perspective sensor. The
 /// packet is `coordinatesFromWorkImg`'s with y (the beams of one azimuth) varying
-/// fastest. The beams at the view's sides must stay inside the image.
+/// fastest. The beams at the view's sides must stay inside the image. `returnRgb` as
+/// for `coordinatesFromWorkImg`.
 fn velodyne_data_from_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let (h, frame) = scan_sensor(ctx, a)?;
     let counts = counts(a, 1)?;
     let vertical = a.finite(2)?;
-    a.opt_bool(3, false)?;
-    let packet = scan::velodyne_from_work(&sim.world, &sim.vision, h, counts, vertical, frame)?;
-    Ok(packet_values(&packet))
+    let rgb = a.opt_bool(3, false)?;
+    let scan = scan::velodyne_from_work(&sim.world, &sim.vision, h, counts, vertical, frame, rgb)?;
+    Ok(scan_values(scan))
 }

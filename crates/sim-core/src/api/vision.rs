@@ -206,7 +206,7 @@ fn portion(a: &Args<'_>, pos_i: usize, res: [u32; 2]) -> Result<Portion, SimErro
 }
 
 /// Argument `i` as a sensor handle, `sim.handle_self` meaning the calling script's object.
-fn sensor_handle(ctx: &CallContext<'_>, a: &Args<'_>, i: usize) -> Result<Handle, SimError> {
+pub(super) fn sensor_handle(ctx: &CallContext<'_>, a: &Args<'_>, i: usize) -> Result<Handle, SimError> {
     self_or(ctx, a.handle(i)?)
 }
 
@@ -469,19 +469,20 @@ fn vertical_flip_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) ->
 /// `simVision.selectiveColorOnWorkImg(h, color, colorTolerance, rgb, keep,
 /// removedPartToBuffer1)`: with `keep`, pixels whose colour is not within
 /// `colorTolerance` of `color` (per component, in RGB when `rgb` is true, else in HSL
-/// with the hue wrapping around) turn black; without `keep`, those within do.
-/// gantry has no buffer 1, so `removedPartToBuffer1` must be false.
+/// with the hue wrapping around) turn black; without `keep`, those within do. With
+/// `removedPartToBuffer1`, the removed pixels are copied to buffer 1 and the others are
+/// black there.
 fn selective_color_on_work_img(sim: &mut Sim, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = sensor_handle(ctx, a, 0)?;
     let color = a.floats::<3>(1)?.map(|c| c as f32);
     let tolerance = a.floats::<3>(2)?.map(|c| c as f32);
     let (rgb, keep, to_buffer1) = (a.bool(3)?, a.bool(4)?, a.bool(5)?);
+    let mut work = vision::work(&sim.world, &mut sim.vision, h)?;
     if to_buffer1 {
-        return Err(SimError::bad_argument(
-            "argument 6: removedPartToBuffer1 is not supported (gantry has no buffer 1); pass false",
-        ));
+        work.selective_color_to_buffer1(color, tolerance, rgb, keep);
+    } else {
+        work.selective_color(color, tolerance, rgb, keep);
     }
-    vision::work(&sim.world, &mut sim.vision, h)?.selective_color(color, tolerance, rgb, keep);
     Ok(Vec::new())
 }
 

@@ -28,11 +28,20 @@ const PALETTE: [[f32; 3]; 7] = [
 /// each component is within `tolerance` of `color`, in RGB, or in HSL (hue wrapping
 /// around 1) when `rgb` is false. With `keep`, pixels that do not match turn black;
 /// without, pixels that match do.
-pub(crate) fn selective_color(work: &mut [f32], color: [f32; 3], tolerance: [f32; 3], rgb: bool, keep: bool) {
+/// With `removed` (buffer 1, the work image's size), each pixel removed is copied there
+/// and each kept one is black there, as the plugin's `removedPartToBuffer1` does.
+pub(crate) fn selective_color(
+    work: &mut [f32],
+    color: [f32; 3],
+    tolerance: [f32; 3],
+    rgb: bool,
+    keep: bool,
+    mut removed: Option<&mut [f32]>,
+) {
     let low: [f32; 3] = std::array::from_fn(|k| color[k] - tolerance[k]);
     let high: [f32; 3] = std::array::from_fn(|k| color[k] + tolerance[k]);
     let within = |k: usize, v: f32| v >= low[k] && v <= high[k];
-    for px in work.as_chunks_mut::<3>().0 {
+    for (i, px) in work.as_chunks_mut::<3>().0.iter_mut().enumerate() {
         let matches = if rgb {
             (0..3).all(|k| within(k, px[k]))
         } else {
@@ -42,7 +51,11 @@ pub(crate) fn selective_color(work: &mut [f32], color: [f32; 3], tolerance: [f32
                 high[0] - low[0] >= 1.0 || within(0, hsl[0]) || within(0, hsl[0] + 1.0) || within(0, hsl[0] - 1.0);
             hue_ok && within(1, hsl[1]) && within(2, hsl[2])
         };
-        if matches != keep {
+        let remove = matches != keep;
+        if let Some(to) = removed.as_deref_mut().and_then(|b| b.get_mut(3 * i..3 * i + 3)) {
+            to.copy_from_slice(if remove { px.as_slice() } else { &[0.0; 3] });
+        }
+        if remove {
             *px = [0.0; 3];
         }
     }
@@ -424,7 +437,7 @@ mod tests {
     fn hue_windows_wrap_around_red() {
         // Pure red has hue 0; a window centred on hue 0.98 still takes it.
         let mut px = vec![1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
-        selective_color(&mut px, [0.98, 1.0, 0.5], [0.05, 0.1, 0.1], false, true);
+        selective_color(&mut px, [0.98, 1.0, 0.5], [0.05, 0.1, 0.1], false, true, None);
         assert_eq!(px, vec![1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
     }
 }

@@ -40,6 +40,9 @@
 //! other scripts read until the sensor is handled again.
 
 mod blobs;
+// Public as a module (not re-exported), as `scan` below: it works on this module's work
+// images.
+pub mod buffers;
 mod bytes;
 mod closure;
 mod detail;
@@ -105,6 +108,9 @@ pub struct SensorImage {
     work: Option<Work>,
     /// Scratch image of the 3x3 filters, kept to avoid an allocation per call.
     filter_scratch: Vec<f32>,
+    /// simVision's buffers 1 and 2 (float RGB like the work image; empty until
+    /// written, and read as black): see `buffers.rs`.
+    buffers: [Vec<f32>; 2],
     result: Option<VisionResult>,
     /// Handle of the shape seen per pixel, -1 where none, bottom row first: empty until
     /// a mask is first asked for ([`read_mask`]), then drawn with every render.
@@ -151,6 +157,7 @@ impl SensorImage {
             explicit: false,
             work: None,
             filter_scratch: Vec::new(),
+            buffers: [Vec::new(), Vec::new()],
             result: None,
             mask: Vec::new(),
             mask_wanted: false,
@@ -695,6 +702,7 @@ pub fn work<'a>(world: &World, states: &'a mut VisionStates, h: Handle) -> Resul
             height,
             work,
             scratch: &mut s.filter_scratch,
+            buffers: &mut s.buffers,
         }),
         None => Err(no_work_image(h)),
     }
@@ -805,6 +813,7 @@ pub struct WorkImage<'a> {
     height: usize,
     work: &'a mut Work,
     scratch: &'a mut Vec<f32>,
+    buffers: &'a mut [Vec<f32>; 2],
 }
 
 impl WorkImage<'_> {
@@ -839,8 +848,9 @@ impl WorkImage<'_> {
     /// `simVision.selectiveColorOnWorkImg`: blacks out the pixels that do not match
     /// `color` within `tolerance` (with `keep`), or those that do (without); in RGB, or
     /// in HSL when `rgb` is false. See `blobs::selective_color`.
+    /// (`removedPartToBuffer1` is in `buffers.rs`.)
     pub fn selective_color(&mut self, color: [f32; 3], tolerance: [f32; 3], rgb: bool, keep: bool) {
-        blobs::selective_color(self.work.floats_mut(), color, tolerance, rgb, keep);
+        blobs::selective_color(self.work.floats_mut(), color, tolerance, rgb, keep, None);
     }
 
     /// `simVision.blobDetectionOnWorkImg`: the packet of the blobs of pixels whose mean
@@ -952,6 +962,7 @@ mod tests {
                     height: h,
                     work: &mut work,
                     scratch: &mut scratch,
+                    buffers: &mut Default::default(),
                 }
                 .edge_detection(0.2);
                 assert!(matches!(work, Work::Binary(_)));

@@ -29,8 +29,10 @@
 //!   within a pixel of a silhouette or of a corner (two faces of a box, a pillar's foot
 //!   on the floor) may give a point up to a pixel's footprint off the surface: about
 //!   1 % of a 3-D scan of the bundled scanners scene (crates/sim-core/tests/scanner.rs).
-//! - Colours (`returnRgb`, from the plugin's buffer 1) are not returned: gantry has no
-//!   buffer 1, and the plugin returns none either when that buffer is empty.
+//! - Colours (`returnRgb`) come from buffer 1 (`simVision.workImgToBuffer1` of the
+//!   colour image, as CoppeliaSim's models do it) at the pixel nearest each direction,
+//!   as bytes `v * 255.1` (the plugin's rounding). Without a buffer 1 of the sensor's
+//!   size none are returned, as the plugin returns none when that buffer is empty.
 //! - The depth of the work image must be a depth map: grey levels in 0..1, as
 //!   `sensorDepthMapToWorkImg` makes it. A colour image or an edge mask is refused
 //!   rather than read as depth.
@@ -50,6 +52,16 @@ pub const MAX_POINTS: usize = 2048 * 2048;
 /// from its normal differ by 3.5 % in a 342-pixel, 120° scan; silhouettes differ by far
 /// more.
 pub const EDGE_RATIO: f64 = 1.05;
+
+/// What a scan returns: CoppeliaSim's packet of points and, when colours were asked for
+/// and buffer 1 holds an image, three bytes (R, G, B) per point in the packet's order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scan {
+    /// The counts, then `x, y, z, distance` per point.
+    pub packet: Vec<f32>,
+    /// `3 * points` bytes, or `None`.
+    pub colours: Option<Vec<u8>>,
+}
 
 /// The frame the points of a packet are expressed in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -75,8 +87,9 @@ pub fn coordinates_from_work(
     counts: [usize; 2],
     angular: bool,
     frame: PointFrame,
-) -> Result<Vec<f32>, SimError> {
-    let depth = DepthMap::new(world, states, h, counts)?;
+    rgb: bool,
+) -> Result<Scan, SimError> {
+    let depth = DepthMap::new(world, states, h, counts, rgb)?;
     let [nx, ny] = counts;
     // Image-plane coordinates of each column and row of samples, worked out once: the
     // tangents cost more than reading a pixel.
@@ -92,7 +105,7 @@ pub fn coordinates_from_work(
             .collect()
     };
     let (us, vs) = (along(nx, depth.extent_x), along(ny, depth.extent_y));
-    let mut out = packet(counts);
+    let mut out = depth.scan(counts);
     for &v in &vs {
         for &u in &us {
             depth.push_point(u, v, frame, &mut out)?;
@@ -119,8 +132,9 @@ pub fn velodyne_from_work(
     counts: [usize; 2],
     vertical_angle: f64,
     frame: PointFrame,
-) -> Result<Vec<f32>, SimError> {
-    let depth = DepthMap::new(world, states, h, counts)?;
+    rgb: bool,
+) -> Result<Scan, SimError> {
+    let depth = DepthMap::new(world, states, h, counts, rgb)?;
     if depth.model.projection == Projection::Orthographic {
         return Err(SimError::bad_argument(format!(
             "vision sensor {h} is orthographic: velodyneDataFromWorkImg needs a perspective sensor"
@@ -153,7 +167,7 @@ pub fn velodyne_from_work(
             }
         })
         .collect();
-    let mut out = packet(counts);
+    let mut out = depth.scan(counts);
     for i in 0..nx {
         let azimuth = spread(i, nx, half_azimuth);
         let (u, secant) = (azimuth.tan(), 1.0 / azimuth.cos());
@@ -164,13 +178,6 @@ pub fn velodyne_from_work(
         }
     }
     Ok(out)
-}
-
-/// The packet's header: the two counts.
-fn packet(counts: [usize; 2]) -> Vec<f32> {
-    let mut out = Vec::with_capacity(2 + 4 * counts[0] * counts[1]);
-    out.extend([counts[0] as f32, counts[1] as f32]);
-    out
 }
 
 /// Sample `k` of `n` spread evenly over `-half..=half` (0 for a single sample).
@@ -190,6 +197,9 @@ struct DepthMap<'a> {
     height: usize,
     /// The work image: RGB floats, R = G = B = normalised depth.
     work: &'a [f32],
+    /// Buffer 1 (float RGB) when point colours were asked for and it holds an image of
+    /// the sensor's size.
+    colours: Option<&'a [f32]>,
     /// Where the outermost pixel centres are: the image-plane coordinate X/Z (Y/Z) of a
     /// perspective sensor, or X (Y) in metres for an orthographic one.
     extent_x: f64,
@@ -206,6 +216,7 @@ impl<'a> DepthMap<'a> {
         states: &'a VisionStates,
         h: Handle,
         counts: [usize; 2],
+        rgb: bool,
     ) -> Result<DepthMap<'a>, SimError> {
         let points = counts[0].saturating_mul(counts[1]);
         if counts.contains(&0) || points > MAX_POINTS {
@@ -222,7 +233,11 @@ impl<'a> DepthMap<'a> {
                 "vision sensor {h} has no depth work image: call simVision.sensorDepthMapToWorkImg first"
             ))
         };
-        let work = match states.sensors.get(&h).and_then(|s| s.work.as_ref()) {
+        let state = states.sensors.get(&h);
+        let colours = state
+            .map(|s| s.buffers[0].as_slice())
+            .filter(|b| rgb && b.len() == 3 * w * hgt);
+        let work = match state.and_then(|s| s.work.as_ref()) {
             None => return Err(no_work()),
             Some(Work::Float(f)) if f.len() == 3 * w * hgt => f.as_slice(),
             Some(Work::Float(_)) => return Err(no_work()),
@@ -250,6 +265,7 @@ impl<'a> DepthMap<'a> {
             width: w,
             height: hgt,
             work,
+            colours,
             extent_x: half_x * (1.0 - 1.0 / wf),
             extent_y: half_y * (1.0 - 1.0 / hf),
             half_x,
@@ -278,13 +294,14 @@ impl<'a> DepthMap<'a> {
     /// The planar depth seen along image-plane coordinates `(u, v)`: inverse depth (depth,
     /// orthographic) interpolated between the pixel centres around it when they see one
     /// surface, the nearest pixel's depth otherwise (see the module docs).
-    fn depth(&self, u: f64, v: f64) -> Result<f64, SimError> {
+    fn depth(&self, u: f64, v: f64) -> Result<(f64, usize), SimError> {
         // Continuous pixel coordinates, pixel centres at integers; image right is -X.
         let sx = self.width as f64 / 2.0 * (1.0 - u / self.half_x) - 0.5;
         let sy = self.height as f64 / 2.0 * (1.0 + v / self.half_y) - 0.5;
         let cols = taps(sx, self.width);
         let rows = taps(sy, self.height);
-        let mut nearest = (f64::NEG_INFINITY, 0.0);
+        // (weight, depth, pixel index) of the pixel nearest the direction.
+        let mut nearest = (f64::NEG_INFINITY, 0.0, 0);
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
         let mut all_hit = true;
         let mut sum = 0.0;
@@ -294,7 +311,7 @@ impl<'a> DepthMap<'a> {
                 let (z, hit) = self.pixel(col, row)?;
                 let weight = wc * wr;
                 if weight > nearest.0 {
-                    nearest = (weight, z);
+                    nearest = (weight, z, col + row * self.width);
                 }
                 lo = lo.min(z);
                 hi = hi.max(z);
@@ -302,16 +319,34 @@ impl<'a> DepthMap<'a> {
                 sum += if perspective { weight / z } else { weight * z };
             }
         }
-        if all_hit && hi <= lo * EDGE_RATIO {
-            Ok(if perspective { 1.0 / sum } else { sum })
+        let z = if all_hit && hi <= lo * EDGE_RATIO {
+            if perspective { 1.0 / sum } else { sum }
         } else {
-            Ok(nearest.1)
+            nearest.1
+        };
+        Ok((z, nearest.2))
+    }
+
+    /// An empty scan of `counts` points: the packet's header (the two counts), and room
+    /// for colours when they are returned.
+    fn scan(&self, counts: [usize; 2]) -> Scan {
+        let points = counts[0] * counts[1];
+        let mut packet = Vec::with_capacity(2 + 4 * points);
+        packet.extend([counts[0] as f32, counts[1] as f32]);
+        Scan {
+            packet,
+            colours: self.colours.map(|_| Vec::with_capacity(3 * points)),
         }
     }
 
-    /// Appends the point seen along `(u, v)`: `x, y, z, distance`.
-    fn push_point(&self, u: f64, v: f64, frame: PointFrame, out: &mut Vec<f32>) -> Result<(), SimError> {
-        let z = self.depth(u, v)?;
+    /// Appends the point seen along `(u, v)`: `x, y, z, distance`, and its colour.
+    fn push_point(&self, u: f64, v: f64, frame: PointFrame, out: &mut Scan) -> Result<(), SimError> {
+        let (z, pixel) = self.depth(u, v)?;
+        if let (Some(colours), Some(buffer)) = (out.colours.as_mut(), self.colours) {
+            let rgb = buffer.get(3 * pixel..3 * pixel + 3).unwrap_or(&[0.0; 3]);
+            // The plugin's `(unsigned char)(v * 255.1)`, clamped.
+            colours.extend(rgb.iter().map(|&c| (c * 255.1).clamp(0.0, 255.0) as u8));
+        }
         let far = self.model.far;
         let (p, distance) = match self.model.projection {
             Projection::Perspective => {
@@ -327,7 +362,7 @@ impl<'a> DepthMap<'a> {
             PointFrame::Sensor => p,
             PointFrame::World => self.pose.transform_point(&p.into()).coords,
         };
-        out.extend([p.x as f32, p.y as f32, p.z as f32, distance as f32]);
+        out.packet.extend([p.x as f32, p.y as f32, p.z as f32, distance as f32]);
         Ok(())
     }
 }
