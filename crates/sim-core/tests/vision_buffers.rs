@@ -68,27 +68,32 @@ fn assert_uniform(work: &[f32], c: [f32; 3], what: &str) {
     }
 }
 
+/// The camera image as the work image (rendered first).
+fn camera_to_work(w: &mut Sim, cam: Handle) -> Vec<f32> {
+    ok(w, "sim.handleVisionSensor", &[Value::Int(cam)]);
+    vision(w, "sensorImgToWorkImg", cam, &[]);
+    work(w, cam)
+}
+
+/// `selectiveColorOnWorkImg` keeping the cube's red (the floor turns black), the removed
+/// part to buffer 1 or not.
+fn keep_red(w: &mut Sim, cam: Handle, to_buffer1: bool) {
+    let args = [
+        colour([1.0, 0.0, 0.0]),
+        colour([0.1, 0.1, 0.1]),
+        Value::Bool(true),
+        Value::Bool(true),
+        Value::Bool(to_buffer1),
+    ];
+    vision(w, "selectiveColorOnWorkImg", cam, &args);
+}
+
 #[test]
 fn buffer_1_keeps_the_camera_image_while_the_work_image_is_filtered() {
     let (mut w, cam) = scene();
-    ok(&mut w, "sim.handleVisionSensor", &[Value::Int(cam)]);
-    vision(&mut w, "sensorImgToWorkImg", cam, &[]);
-    let original = work(&w, cam);
+    let original = camera_to_work(&mut w, cam);
     vision(&mut w, "workImgToBuffer1", cam, &[]);
-    // Keep the red: the floor turns black.
-    let tolerance = colour([0.1, 0.1, 0.1]);
-    vision(
-        &mut w,
-        "selectiveColorOnWorkImg",
-        cam,
-        &[
-            colour([1.0, 0.0, 0.0]),
-            tolerance,
-            Value::Bool(true),
-            Value::Bool(true),
-            Value::Bool(false),
-        ],
-    );
+    keep_red(&mut w, cam, false);
     let filtered = work(&w, cam);
     assert_ne!(filtered, original);
     let red = filtered.chunks_exact(3).filter(|p| p[0] > 0.9).count();
@@ -101,22 +106,8 @@ fn buffer_1_keeps_the_camera_image_while_the_work_image_is_filtered() {
 #[test]
 fn removed_parts_go_to_buffer_1() {
     let (mut w, cam) = scene();
-    ok(&mut w, "sim.handleVisionSensor", &[Value::Int(cam)]);
-    vision(&mut w, "sensorImgToWorkImg", cam, &[]);
-    let original = work(&w, cam);
-    let tolerance = colour([0.1, 0.1, 0.1]);
-    vision(
-        &mut w,
-        "selectiveColorOnWorkImg",
-        cam,
-        &[
-            colour([1.0, 0.0, 0.0]),
-            tolerance,
-            Value::Bool(true),
-            Value::Bool(true),
-            Value::Bool(true),
-        ],
-    );
+    let original = camera_to_work(&mut w, cam);
+    keep_red(&mut w, cam, true);
     let kept = work(&w, cam);
     vision(&mut w, "buffer1ToWorkImg", cam, &[]);
     let removed = work(&w, cam);
