@@ -19,6 +19,9 @@ Importing this module registers two ready environments with Gymnasium:
 * ``gantry/BubbleRobAvoid-v0`` (:class:`BubbleRobAvoid`): BubbleRob, without its Lua
   controller, drives around its arena without running into obstacles.
 
+``gymnasium.make_vec`` on either gives a :class:`VectorEnv` (:mod:`gantry.vector`): many
+simulations stepped together on a pool of threads in this process.
+
 Units are SI (metres, seconds) and angles are radians, as in the ``sim`` API. Actions of
 the ready tasks are normalised to [-1, 1] and scaled by the task (as Gymnasium advises);
 observations are ``float32``.
@@ -38,7 +41,15 @@ from gymnasium import spaces
 
 from . import Client
 
-__all__ = ["GantryEnv", "Task", "ArmReach", "BubbleRobAvoid", "arm_reach_env", "bubble_rob_avoid_env"]
+__all__ = [
+    "GantryEnv",
+    "Task",
+    "ArmReach",
+    "BubbleRobAvoid",
+    "VectorEnv",
+    "arm_reach_env",
+    "bubble_rob_avoid_env",
+]
 
 
 class Task(abc.ABC):
@@ -151,7 +162,11 @@ class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if self._steps is None:
             raise RuntimeError("call reset() before step()")
-        action = self._checked_action(action)
+        return self._step_checked(self._checked_action(action))
+
+    def _step_checked(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """``step()`` on an action already checked and clipped (as :class:`VectorEnv`
+        does for all its envs at once)."""
         self.task.act(self.sim, action)
         for _ in range(self.task.steps_per_action):
             self.sim.step()
@@ -247,6 +262,9 @@ class ArmReach(Task):
         )
         self.target_config = np.zeros(6)
         self.target = np.zeros(3)
+        self._target_list = [0.0, 0.0, 0.0]
+        self._measured: Optional[np.ndarray] = None
+        self._measured_distance = math.inf
 
     def setup(self, sim: Any) -> None:
         self.joints = [sim.getObject(f"/arm6/joint{i}") for i in range(1, 7)]
@@ -254,7 +272,10 @@ class ArmReach(Task):
         self.target_dummy = sim.getObject("/target")
 
     def _config(self, sim: Any) -> np.ndarray:
-        return np.array([sim.getJointPosition(j) for j in self.joints])
+        return np.array(self._config_list(sim))
+
+    def _config_list(self, sim: Any) -> list[float]:
+        return [sim.getJointPosition(j) for j in self.joints]
 
     def _set_config(self, sim: Any, config: np.ndarray) -> None:
         for joint, q in zip(self.joints, config):
@@ -274,20 +295,28 @@ class ArmReach(Task):
             raise ValueError(f"no target found at least {self.min_target_height} m above the floor")
         self._set_config(sim, start)
         self.target_config, self.target = config, tip
+        self._target_list = tip.tolist()
         # Only to show the target in the viewer.
         sim.setObjectPosition(self.target_dummy, tip.tolist(), sim.handle_world)
 
+    # Per step, plain lists rather than small numpy arrays: this Python runs with the GIL
+    # held, the part of a step that threads (gantry.vector) cannot overlap.
+
     def act(self, sim: Any, action: np.ndarray) -> None:
         # The simulator clamps limited joints and wraps the continuous ones.
-        for joint, q, dq in zip(self.joints, self._config(sim), action):
-            sim.setJointTargetPosition(joint, float(q + dq * self.max_joint_step))
+        increments = (action * self.max_joint_step).tolist()
+        for joint, q, dq in zip(self.joints, self._config_list(sim), increments):
+            sim.setJointTargetPosition(joint, q + dq)
 
     def observe(self, sim: Any) -> np.ndarray:
         tip = sim.getObjectPosition(self.tip, sim.handle_world)
-        return np.concatenate([self._config(sim), tip, self.target])
+        return np.array(self._config_list(sim) + tip + self._target_list)
 
     def _distance(self, obs: np.ndarray) -> float:
-        return float(np.linalg.norm(obs[6:9] - obs[9:12]))
+        # reward, terminated and info ask in turn about the same observation.
+        if obs is not self._measured:
+            self._measured, self._measured_distance = obs, float(np.linalg.norm(obs[6:9] - obs[9:12]))
+        return self._measured_distance
 
     def reward(self, sim: Any, obs: np.ndarray, action: np.ndarray) -> float:
         distance = self._distance(obs)
@@ -422,11 +451,31 @@ def bubble_rob_avoid_env(render_mode: Optional[str] = None, **options: Any) -> G
 
 # The TimeLimit wrapper that make() adds truncates registered envs (so that
 # make(id, max_episode_steps=n) can change the limit); their tasks do not.
-for _id, _entry, _limit in (
-    ("gantry/ArmReach-v0", "gantry.gym:arm_reach_env", _ARM_REACH_STEPS),
-    ("gantry/BubbleRobAvoid-v0", "gantry.gym:bubble_rob_avoid_env", _BUBBLE_ROB_STEPS),
+# make_vec() builds a gantry.vector.VectorEnv (its vector_entry_point), which applies the
+# registered limit itself, as make_vec adds no TimeLimit.
+for _id, _entry, _vector_entry, _limit in (
+    ("gantry/ArmReach-v0", "gantry.gym:arm_reach_env", "gantry.vector:arm_reach_vector_env", _ARM_REACH_STEPS),
+    (
+        "gantry/BubbleRobAvoid-v0",
+        "gantry.gym:bubble_rob_avoid_env",
+        "gantry.vector:bubble_rob_avoid_vector_env",
+        _BUBBLE_ROB_STEPS,
+    ),
 ):
     if _id not in gymnasium.registry:
         gymnasium.register(
-            _id, entry_point=_entry, max_episode_steps=_limit, kwargs={"max_episode_steps": None}
+            _id,
+            entry_point=_entry,
+            vector_entry_point=_vector_entry,
+            max_episode_steps=_limit,
+            kwargs={"max_episode_steps": None},
         )
+
+
+def __getattr__(name: str) -> Any:
+    # gantry.gym.VectorEnv, imported on first use: gantry.vector imports this module.
+    if name == "VectorEnv":
+        from .vector import VectorEnv
+
+        return VectorEnv
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

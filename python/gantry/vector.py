@@ -1,0 +1,445 @@
+"""Many gantry environments in one process: a Gymnasium vector environment.
+
+A :class:`VectorEnv` runs ``num_envs`` :class:`gantry.gym.GantryEnv` simulations of one
+task on a pool of ``num_threads`` worker threads and steps them all in one call:
+``step(actions)`` takes a ``(num_envs, *action_shape)`` batch and returns the
+observations as one ``(num_envs, *observation_shape)`` ``float32`` array, with the
+rewards, terminations and truncations as arrays, as Gymnasium's vector API
+(``gymnasium.vector.VectorEnv``) has it.
+
+Why threads, and why these: a :class:`gantry.Client` belongs to the thread that made it
+(its Lua state cannot move between threads), so each worker makes its own envs, in its
+own thread, and keeps them for its life; the envs are split into contiguous blocks, one
+per worker. The physics steps release the GIL, so the workers' simulations advance in
+parallel; the task's Python code (``act``, ``observe``, ``reward``) holds it, so that
+part runs one worker at a time. To keep the serial part small, the batch's actions are
+checked and clipped once, in numpy, for all envs, and each worker writes its
+observations, rewards and flags straight into the shared batch arrays (disjoint rows)
+and merges its own envs' infos; the caller's thread only hands out the work and
+collects one reply per worker.
+
+Results are those of ``num_envs`` separate ``GantryEnv``s given the same seeds and
+actions, bit for bit, whatever ``num_threads``: each env is an independent simulation
+with its own random generator, and the physics is deterministic.
+
+Gymnasium's conventions are kept: ``reset(seed=s)`` seeds env ``i`` with ``s + i`` (a
+list gives one seed per env); ``autoreset_mode`` is ``NEXT_STEP`` by default (an env that
+ended is reset by the *next* ``step()``, which ignores its action and reports the reset
+observation, reward 0 and no ending), or ``SAME_STEP`` (reset at once, the ending
+observation and info in ``info["final_obs"]`` and ``info["final_info"]``), or
+``DISABLED`` (reset ended envs with ``reset(options={"reset_mask": mask})``). An
+exception in a worker (a task's bug, a failing ``sim`` call) is raised by the call that
+caused it, naming the env. ``close()`` closes every env in its own thread and joins the
+workers.
+
+Importing :mod:`gantry.gym` registers ``vector_entry_point``\\ s, so that::
+
+    gymnasium.make_vec("gantry/BubbleRobAvoid-v0", num_envs=4)
+    gymnasium.make_vec("gantry/ArmReach-v0", num_envs=8, vectorization_mode="vector_entry_point",
+                       num_threads=2)
+
+return a :class:`VectorEnv` (``num_threads`` defaults to the number of cores, at most
+``num_envs``). Episodes are truncated after the registered limit, as ``make`` does with
+its ``TimeLimit``, unless ``max_episode_steps`` says otherwise.
+"""
+
+from __future__ import annotations
+
+import os
+import queue
+import threading
+import traceback
+from typing import Any, Callable, Optional, Sequence
+
+import gymnasium
+import numpy as np
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+
+from .gym import _ARM_REACH_STEPS, _BUBBLE_ROB_STEPS, ArmReach, BubbleRobAvoid, GantryEnv, Task
+
+__all__ = ["VectorEnv", "arm_reach_vector_env", "bubble_rob_avoid_vector_env"]
+
+# How long the caller waits for a worker before checking that it is still alive (s).
+_POLL = 1.0
+
+
+class _WorkerError(Exception):
+    """A failure in a block of envs, carried back to the caller's thread."""
+
+    def __init__(self, env: Optional[int], error: BaseException):
+        super().__init__(env, error)
+        self.env = env
+        self.error = error
+
+
+class _Block:
+    """Contiguous envs made and driven by one thread; its methods run in that thread.
+    Results go straight into the vector env's batch arrays (each block its own rows);
+    infos come back as ``(env, info)`` pairs, batched by the caller."""
+
+    def __init__(self, index: int, envs: range, vec: "VectorEnv"):
+        self.index = index
+        self.indices = envs
+        self.envs: list[GantryEnv] = []
+        self._vec = vec
+
+    def make(self, make: Callable[[], GantryEnv]) -> None:
+        for i in self.indices:
+            try:
+                self.envs.append(make())
+            except Exception as e:
+                raise _WorkerError(i, e) from e
+
+    def close(self) -> None:
+        for env in self.envs:
+            try:
+                env.close()
+            except Exception:  # noqa: BLE001 - the others still close
+                pass
+        self.envs.clear()
+
+    def reset(
+        self, seeds: Sequence[Optional[int]], options: Optional[dict], mask: Optional[np.ndarray]
+    ) -> list[tuple[int, dict]]:
+        vec, infos = self._vec, []
+        for env, i in zip(self.envs, self.indices):
+            if mask is not None and not mask[i]:
+                continue
+            try:
+                vec._obs[i], info = env.reset(seed=seeds[i], options=options)
+            except Exception as e:
+                raise _WorkerError(i, e) from e
+            infos.append((i, info))
+        return infos
+
+    def step(self, actions: np.ndarray) -> list[tuple[int, dict]]:
+        vec, infos = self._vec, []
+        same_step, ended = vec.autoreset_mode == AutoresetMode.SAME_STEP, vec._autoreset
+        next_step = vec.autoreset_mode == AutoresetMode.NEXT_STEP
+        for env, i in zip(self.envs, self.indices):
+            try:
+                if next_step and ended[i]:
+                    obs, info = env.reset()
+                    reward, terminated, truncated = 0.0, False, False
+                else:
+                    obs, reward, terminated, truncated, info = env._step_checked(actions[i])
+                    if same_step and (terminated or truncated):
+                        final = {"final_obs": obs, "final_info": info}
+                        obs, info = env.reset()
+                        info = {**final, **info}
+            except Exception as e:
+                raise _WorkerError(i, e) from e
+            vec._obs[i] = obs
+            vec._rewards[i] = reward
+            vec._terminations[i] = terminated
+            vec._truncations[i] = truncated
+            infos.append((i, info))
+        return infos
+
+    def call(self, name: str, args: tuple, kwargs: dict) -> list[Any]:
+        out = []
+        for env, i in zip(self.envs, self.indices):
+            try:
+                attr = env.get_wrapper_attr(name)
+                out.append(attr(*args, **kwargs) if callable(attr) else attr)
+            except Exception as e:
+                raise _WorkerError(i, e) from e
+        return out
+
+
+class _Worker:
+    """A thread that runs the methods of its block it is sent (the first makes the
+    envs) until told to close."""
+
+    def __init__(self, block: _Block):
+        self.block = block
+        self.inbox: queue.SimpleQueue = queue.SimpleQueue()
+        self.outbox: queue.SimpleQueue = queue.SimpleQueue()
+        self.thread = threading.Thread(target=self._run, name=f"gantry-vector-{block.index}", daemon=True)
+        self.thread.start()
+
+    def _run(self) -> None:
+        while True:
+            command, args = self.inbox.get()
+            if command == "close":
+                self.block.close()
+                self.outbox.put(("ok", None))
+                return
+            try:
+                self.outbox.put(("ok", getattr(self.block, command)(*args)))
+            except BaseException as e:  # noqa: BLE001 - reported to the caller
+                error = e if isinstance(e, _WorkerError) else _WorkerError(None, e)
+                _forget_locals(error)
+                self.outbox.put(("error", error))
+
+    def reply(self) -> tuple[str, Any]:
+        """The answer to the last command; an error if the thread has died."""
+        while True:
+            try:
+                return self.outbox.get(timeout=_POLL)
+            except queue.Empty:
+                if not self.thread.is_alive():
+                    return "error", _WorkerError(None, RuntimeError("the worker thread has died"))
+
+
+def _forget_locals(error: BaseException) -> None:
+    """Drops the local variables of the frames in ``error``'s tracebacks (its causes'
+    too), keeping their lines. Those locals hold this thread's envs: freed later by the
+    caller's thread, their clients would end outside the thread they belong to."""
+    seen: set[int] = set()
+    e: Optional[BaseException] = error
+    while e is not None and id(e) not in seen:
+        seen.add(id(e))
+        traceback.clear_frames(e.__traceback__)
+        e = e.__cause__ or e.__context__
+
+
+class VectorEnv(gymnasium.vector.VectorEnv):
+    """``num_envs`` simulations of ``task_factory()``'s task stepped together by
+    ``num_threads`` threads (default: the number of cores; never more than
+    ``num_envs``): the caller's thread, which drives the first block of envs, and
+    ``num_threads - 1`` workers. ``task_factory`` is called once per env, in the thread
+    that drives it: a task keeps per-episode state, so each env needs its own. Like a
+    ``GantryEnv``, the vector env belongs to the thread that made it. See the module's
+    docs for the design and the conventions."""
+
+    metadata: dict[str, Any] = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
+
+    def __init__(
+        self,
+        task_factory: Callable[[], Task],
+        num_envs: int,
+        num_threads: Optional[int] = None,
+        *,
+        autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+        copy: bool = True,
+    ):
+        if not (isinstance(num_envs, int) and num_envs >= 1):
+            raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
+        if num_threads is None:
+            num_threads = os.cpu_count() or 1
+        if not (isinstance(num_threads, int) and num_threads >= 1):
+            raise ValueError(f"num_threads must be a positive integer, got {num_threads!r}")
+        self.num_envs = num_envs
+        self.num_threads = min(num_threads, num_envs)  # an idle thread would only cost
+        self.autoreset_mode = AutoresetMode(autoreset_mode)
+        self.copy = copy
+        self.metadata = {"autoreset_mode": self.autoreset_mode, "render_modes": []}
+        self.render_mode = None
+        self.closed = False
+        self._workers: list[_Worker] = []
+
+        # The spaces from a task made here: making a task is cheap; its env is not.
+        probe = task_factory()
+        self.single_observation_space = probe.observation_space
+        self.single_action_space = probe.action_space
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self.action_space = batch_space(self.single_action_space, num_envs)
+
+        self._obs = np.zeros((num_envs, *self.single_observation_space.shape), dtype=np.float32)
+        self._rewards = np.zeros(num_envs, dtype=np.float64)
+        self._terminations = np.zeros(num_envs, dtype=np.bool_)
+        self._truncations = np.zeros(num_envs, dtype=np.bool_)
+        self._autoreset = np.zeros(num_envs, dtype=np.bool_)
+        self._started = False
+
+        def make() -> GantryEnv:
+            return GantryEnv(task_factory())
+
+        # Contiguous blocks, sizes differing by at most one; the first is the caller's.
+        bounds = [num_envs * w // self.num_threads for w in range(self.num_threads + 1)]
+        blocks = [_Block(w, range(bounds[w], bounds[w + 1]), self) for w in range(self.num_threads)]
+        self._local = blocks[0]
+        try:
+            # The workers make their envs while this thread makes its own.
+            self._workers = [_Worker(b) for b in blocks[1:]]
+            self._run(self._workers, self._local.make, make)
+        except BaseException:
+            self.close()
+            raise
+
+    # --- the vector API ----------------------------------------------------------
+
+    def reset(
+        self, *, seed: int | Sequence[Optional[int]] | None = None, options: Optional[dict[str, Any]] = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Resets every env (or those of ``options["reset_mask"]``); ``seed`` as
+        Gymnasium's vector envs take it: ``s`` seeds env ``i`` with ``s + i``."""
+        self._check_open()
+        if seed is None:
+            seeds: list[Optional[int]] = [None] * self.num_envs
+        elif isinstance(seed, (int, np.integer)):
+            seeds = [int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"reset: {len(seeds)} seeds for {self.num_envs} envs")
+        options = dict(options) if options is not None else None
+        mask = None
+        if options is not None and "reset_mask" in options:
+            mask = options.pop("reset_mask")
+            if not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.shape == (self.num_envs,)):
+                raise ValueError(f"options['reset_mask'] must be a bool numpy array of shape ({self.num_envs},)")
+            if not mask.any():
+                raise ValueError("options['reset_mask'] resets no env")
+        for flags in (self._terminations, self._truncations, self._autoreset):
+            if mask is None:
+                flags[:] = False
+            else:
+                flags[mask] = False
+        infos = self._infos(self._run(self._workers, self._local.reset, seeds, options, mask))
+        self._started = True
+        return self._observations(), infos
+
+    def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """Steps every env with its row of ``actions`` (checked and clipped to
+        ``single_action_space`` as ``GantryEnv.step`` does), in parallel."""
+        self._check_open()
+        if not self._started:
+            raise RuntimeError("call reset() before step()")
+        if self.autoreset_mode == AutoresetMode.DISABLED and self._autoreset.any():
+            ended = np.flatnonzero(self._autoreset).tolist()
+            raise RuntimeError(
+                f"envs {ended} have ended: with autoreset_mode DISABLED, reset them "
+                "(reset(options={'reset_mask': mask})) before stepping"
+            )
+        space = self.single_action_space
+        a = np.asarray(actions, dtype=np.float64)
+        if a.shape != (self.num_envs, *space.shape):
+            raise ValueError(f"actions must have shape {(self.num_envs, *space.shape)}, got {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"actions must be finite, got {a}")
+        # Checked and clipped once for all envs, as each GantryEnv.step would one by one.
+        a = np.clip(a, space.low, space.high).astype(space.dtype)
+        infos = self._infos(self._run(self._workers, self._local.step, a))
+        np.logical_or(self._terminations, self._truncations, out=self._autoreset)
+        return (
+            self._observations(),
+            self._rewards.copy(),
+            self._terminations.copy(),
+            self._truncations.copy(),
+            infos,
+        )
+
+    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
+        """Calls each env's method ``name`` (in its own thread), or reads its attribute."""
+        self._check_open()
+        parts = self._run(self._workers, self._local.call, name, args, kwargs)
+        return tuple(x for part in parts for x in part)
+
+    def get_attr(self, name: str) -> tuple[Any, ...]:
+        """Each env's attribute ``name``."""
+        return self.call(name)
+
+    def close_extras(self, **kwargs: Any) -> None:
+        """Closes every env in its own thread and joins the workers."""
+        for w in self._workers:
+            if w.thread.is_alive():
+                w.inbox.put(("close", ()))
+        if hasattr(self, "_local"):
+            self._local.close()
+        for w in self._workers:
+            w.thread.join()
+        self._workers = []
+
+    # --- internals ---------------------------------------------------------------
+
+    def _check_open(self) -> None:
+        if self.closed:
+            raise RuntimeError("this VectorEnv is closed")
+
+    def _observations(self) -> np.ndarray:
+        return self._obs.copy() if self.copy else self._obs
+
+    def _run(self, workers: list[_Worker], local: Callable[..., Any], *args: Any) -> list[Any]:
+        """``local(*args)`` in this thread and the same method of each worker's block in
+        its thread, in parallel; the replies in block order. A failure is raised once
+        every block has answered (so that none is left mid-command), naming the env."""
+        name = local.__name__
+        for w in workers:
+            w.inbox.put((name, args))
+        failure: Optional[tuple[_Block, _WorkerError]] = None
+        try:
+            replies = [local(*args)]
+        except _WorkerError as e:
+            # Its frames' envs are this thread's, but the error may be freed elsewhere.
+            _forget_locals(e)
+            replies, failure = [None], (self._local, e)
+        for w in workers:
+            status, value = w.reply()
+            if status == "error" and failure is None:
+                failure = (w.block, value)
+            replies.append(value if status == "ok" else None)
+        if failure is not None:
+            block, e = failure
+            last = block.indices.stop - 1
+            where = f"env {e.env}" if e.env is not None else f"the thread of envs {block.indices.start}-{last}"
+            raise RuntimeError(f"gantry VectorEnv: {where} failed: {type(e.error).__name__}: {e.error}") from e.error
+        return replies
+
+    def _infos(self, parts: list[list[tuple[int, dict[str, Any]]]]) -> dict[str, Any]:
+        """The blocks' ``(env, info)`` pairs as one vector info (Gymnasium's layout: one
+        array per key, with a ``_key`` mask of the envs that have it)."""
+        pairs = [pair for part in parts for pair in part]
+        if not pairs:
+            return {}
+        first = pairs[0][1]
+        kinds = {k: type(v) for k, v in first.items()}
+        # Fast path, the usual case: every env gave the same keys with scalar values of
+        # the same types; one array per key, built at once.
+        if len(pairs) == self.num_envs and all(
+            t in _SCALARS and all(type(info.get(k)) is t for _, info in pairs) for k, t in kinds.items()
+        ) and all(len(info) == len(first) for _, info in pairs):
+            everyone = np.ones(self.num_envs, dtype=np.bool_)
+            out: dict[str, Any] = {}
+            for k, t in kinds.items():
+                out[k] = np.array([info[k] for _, info in pairs], dtype=t)
+                out[f"_{k}"] = everyone.copy()
+            return out
+        infos: dict[str, Any] = {}
+        for i, info in pairs:
+            infos = self._add_info(infos, info, i)
+        return infos
+
+
+# The info values that the fast path batches (as Gymnasium's _add_info types them).
+_SCALARS = (bool, int, float, np.bool_, np.float32, np.float64, np.int32, np.int64)
+
+
+# --- registration (gantry.gym registers these as vector_entry_point) -----------------
+
+
+def arm_reach_vector_env(
+    num_envs: int = 1,
+    num_threads: Optional[int] = None,
+    autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+    max_episode_steps: Optional[int] = None,
+    **options: Any,
+) -> VectorEnv:
+    """A :class:`VectorEnv` of :class:`ArmReach` (``options`` are its arguments);
+    episodes truncated after ``max_episode_steps`` actions, by default the registered
+    limit."""
+    limit = _ARM_REACH_STEPS if max_episode_steps is None else max_episode_steps
+    return VectorEnv(
+        lambda: ArmReach(max_episode_steps=limit, **options), num_envs, num_threads, autoreset_mode=autoreset_mode
+    )
+
+
+def bubble_rob_avoid_vector_env(
+    num_envs: int = 1,
+    num_threads: Optional[int] = None,
+    autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+    max_episode_steps: Optional[int] = None,
+    **options: Any,
+) -> VectorEnv:
+    """A :class:`VectorEnv` of :class:`BubbleRobAvoid` (``options`` are its arguments);
+    episodes truncated after ``max_episode_steps`` actions, by default the registered
+    limit."""
+    limit = _BUBBLE_ROB_STEPS if max_episode_steps is None else max_episode_steps
+    return VectorEnv(
+        lambda: BubbleRobAvoid(max_episode_steps=limit, **options),
+        num_envs,
+        num_threads,
+        autoreset_mode=autoreset_mode,
+    )
