@@ -46,6 +46,10 @@ source tools/python-wheel.sh
 "$venv/bin/python" tools/bench/python_inproc.py --repeat 3 --json target/bench/python.json
 # The batch benchmark exits 1 below its target speed-up; the report says so too.
 "$venv/bin/python" tools/bench/ray_batch.py --json target/bench/ray.json || true
+# --- vector environments (issue 33, item 3): gantry.vector.VectorEnv, 1 against 2 threads, with the wheel above
+echo "== vector environments: 1 against 2 threads on BubbleRobAvoid and ArmReach, with the machine's ceiling"
+"$venv/bin/python" tools/bench/vector_env.py --json target/bench/vector_env.json
+# --- end of vector environments
 echo "== vision: gantry's vision sensors against PyBullet's TinyRenderer, same scenes, interleaved (issue 30)"
 "$venv/bin/python" tools/bench/vision.py --rounds 5 --json target/bench/vision.json
 echo "== script debugger: step rate with and without --debug"

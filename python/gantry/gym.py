@@ -40,6 +40,7 @@ import numpy as np
 from gymnasium import spaces
 
 from . import Client
+from ._gantry import StepPlan
 
 __all__ = [
     "GantryEnv",
@@ -82,6 +83,23 @@ class Task(abc.ABC):
 
     def reset(self, sim: Any, rng: np.random.Generator) -> None:
         """Randomises the initial state of an episode, drawing only from ``rng``."""
+
+    def plan(self, sim: Any) -> Optional[StepPlan]:
+        """Optionally, what :meth:`act`, the steps and :meth:`observe` do, as a
+        :class:`StepPlan` of ``sim`` calls (asked after :meth:`setup`; ``None``, the
+        default, for none). An in-process env then runs each action in one call with the
+        GIL released, so that threads (:class:`gantry.vector.VectorEnv`) overlap the whole
+        step, not just the physics; :meth:`observation` turns its numbers into the
+        observation. The plan must do exactly what ``act`` and ``observe`` do (a test
+        should compare the two): served simulations, and the first observation of an
+        episode, still use them. Needs a ``float32`` action space."""
+        return None
+
+    def observation(self, values: np.ndarray) -> np.ndarray:
+        """The observation from the numbers a :meth:`plan` observed (``float64``, in the
+        order of its observe calls), as :meth:`observe` would return it; like ``observe``,
+        it may keep measurements for :meth:`reward` and the others. Default: as they are."""
+        return values
 
     @abc.abstractmethod
     def act(self, sim: Any, action: np.ndarray) -> None:
@@ -140,6 +158,7 @@ class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self.metadata = {"render_modes": render_modes, "render_fps": 1.0 / (dt * task.steps_per_action)}
         self._camera = -1
         self._steps: Optional[int] = None  # actions since the last reset; None before the first
+        self._plan: Optional[StepPlan] = None
 
     def reset(
         self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
@@ -154,6 +173,12 @@ class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         if self.task.camera is not None:
             self._camera = self.sim.getObject(self.task.camera)
         self.task.setup(self.sim)
+        self._plan = self.task.plan(self.sim) if self.client.in_process else None
+        if self._plan is not None and self._plan.steps != self.task.steps_per_action:
+            raise ValueError(
+                f"{type(self.task).__name__}.plan() takes {self._plan.steps} steps per action, "
+                f"not steps_per_action={self.task.steps_per_action}"
+            )
         self.task.reset(self.sim, self.np_random)
         self._steps = 0
         obs = self._observe()
@@ -167,11 +192,21 @@ class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def _step_checked(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """``step()`` on an action already checked and clipped (as :class:`VectorEnv`
         does for all its envs at once)."""
+        if self._plan is not None:
+            # act, the steps and observe's calls in one call, with the GIL released.
+            return self._planned(action, self.client._engine_here.run_plan(self._plan, action))
         self.task.act(self.sim, action)
         for _ in range(self.task.steps_per_action):
             self.sim.step()
+        return self._outcome(action, self._observe())
+
+    def _planned(self, action: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """The rest of ``step()`` once the plan has run (here or, for a vector env's
+        block, together with its neighbours')."""
+        return self._outcome(action, self._shaped(self.task.observation(values)))
+
+    def _outcome(self, action: np.ndarray, obs: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         self._steps += 1
-        obs = self._observe()
         reward = float(self.task.reward(self.sim, obs, action))
         terminated = bool(self.task.terminated(self.sim, obs))
         limit = self.task.max_episode_steps
@@ -199,7 +234,10 @@ class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         return np.clip(a, space.low, space.high).astype(space.dtype)
 
     def _observe(self) -> np.ndarray:
-        obs = np.asarray(self.task.observe(self.sim), dtype=np.float32)
+        return self._shaped(self.task.observe(self.sim))
+
+    def _shaped(self, observation: Any) -> np.ndarray:
+        obs = np.asarray(observation, dtype=np.float32)
         if obs.shape != self.observation_space.shape:
             raise ValueError(
                 f"{type(self.task).__name__}.observe returned shape {obs.shape}, "
@@ -262,9 +300,7 @@ class ArmReach(Task):
         )
         self.target_config = np.zeros(6)
         self.target = np.zeros(3)
-        self._target_list = [0.0, 0.0, 0.0]
-        self._measured: Optional[np.ndarray] = None
-        self._measured_distance = math.inf
+        self.distance = math.inf  # tip to target (m), as of the last observation
 
     def setup(self, sim: Any) -> None:
         self.joints = [sim.getObject(f"/arm6/joint{i}") for i in range(1, 7)]
@@ -295,8 +331,7 @@ class ArmReach(Task):
             raise ValueError(f"no target found at least {self.min_target_height} m above the floor")
         self._set_config(sim, start)
         self.target_config, self.target = config, tip
-        self._target_list = tip.tolist()
-        # Only to show the target in the viewer.
+        # The target dummy shows it in the viewer, and the observation reads it back.
         sim.setObjectPosition(self.target_dummy, tip.tolist(), sim.handle_world)
 
     # Per step, plain lists rather than small numpy arrays: this Python runs with the GIL
@@ -310,24 +345,38 @@ class ArmReach(Task):
 
     def observe(self, sim: Any) -> np.ndarray:
         tip = sim.getObjectPosition(self.tip, sim.handle_world)
-        return np.array(self._config_list(sim) + tip + self._target_list)
+        target = sim.getObjectPosition(self.target_dummy, sim.handle_world)
+        return self.observation(np.array(self._config_list(sim) + tip + target))
 
-    def _distance(self, obs: np.ndarray) -> float:
-        # reward, terminated and info ask in turn about the same observation.
-        if obs is not self._measured:
-            self._measured, self._measured_distance = obs, float(np.linalg.norm(obs[6:9] - obs[9:12]))
-        return self._measured_distance
+    def plan(self, sim: Any) -> StepPlan:
+        # act and observe above, call for call.
+        world = sim.handle_world
+        return StepPlan(
+            act=[
+                ("sim.setJointTargetPosition", joint, "sim.getJointPosition", k, self.max_joint_step)
+                for k, joint in enumerate(self.joints)
+            ],
+            steps=self.steps_per_action,
+            observe=[
+                *(("sim.getJointPosition", [joint]) for joint in self.joints),
+                ("sim.getObjectPosition", [self.tip, world]),
+                ("sim.getObjectPosition", [self.target_dummy, world]),
+            ],
+        )
+
+    def observation(self, values: np.ndarray) -> np.ndarray:
+        # Kept for reward, terminated and info, which follow (in double precision).
+        self.distance = math.dist(values[6:9], values[9:12])
+        return values
 
     def reward(self, sim: Any, obs: np.ndarray, action: np.ndarray) -> float:
-        distance = self._distance(obs)
-        return -distance + (self.success_bonus if distance < self.tolerance else 0.0)
+        return -self.distance + (self.success_bonus if self.distance < self.tolerance else 0.0)
 
     def terminated(self, sim: Any, obs: np.ndarray) -> bool:
-        return self._distance(obs) < self.tolerance
+        return self.distance < self.tolerance
 
     def info(self, sim: Any, obs: np.ndarray) -> dict[str, Any]:
-        distance = self._distance(obs)
-        return {"distance": distance, "is_success": distance < self.tolerance}
+        return {"distance": self.distance, "is_success": self.distance < self.tolerance}
 
 
 # --- BubbleRobAvoid ------------------------------------------------------------------

@@ -1,26 +1,35 @@
 """Many gantry environments in one process: a Gymnasium vector environment.
 
 A :class:`VectorEnv` runs ``num_envs`` :class:`gantry.gym.GantryEnv` simulations of one
-task on a pool of ``num_threads`` worker threads and steps them all in one call:
-``step(actions)`` takes a ``(num_envs, *action_shape)`` batch and returns the
-observations as one ``(num_envs, *observation_shape)`` ``float32`` array, with the
-rewards, terminations and truncations as arrays, as Gymnasium's vector API
-(``gymnasium.vector.VectorEnv``) has it.
+task on ``num_threads`` threads and steps them all in one call: ``step(actions)`` takes a
+``(num_envs, *action_shape)`` batch and returns the observations as one
+``(num_envs, *observation_shape)`` ``float32`` array, with the rewards, terminations and
+truncations as arrays, as Gymnasium's vector API (``gymnasium.vector.VectorEnv``) has it.
 
-Why threads, and why these: a :class:`gantry.Client` belongs to the thread that made it
-(its Lua state cannot move between threads), so each worker makes its own envs, in its
-own thread, and keeps them for its life; the envs are split into contiguous blocks, one
-per worker. The physics steps release the GIL, so the workers' simulations advance in
-parallel; the task's Python code (``act``, ``observe``, ``reward``) holds it, so that
-part runs one worker at a time. To keep the serial part small, the batch's actions are
-checked and clipped once, in numpy, for all envs, and each worker writes its
-observations, rewards and flags straight into the shared batch arrays (disjoint rows)
-and merges its own envs' infos; the caller's thread only hands out the work and
-collects one reply per worker.
+The design, and why:
+
+* A :class:`gantry.Client` belongs to the thread that made it (its Lua state cannot move
+  between threads), so the envs are split into contiguous blocks, one per thread, and
+  each thread makes its block's envs and drives them for its whole life: persistent
+  workers, fed through queues, rather than a pool that would hand an env to any thread.
+  The caller's thread drives the first block itself (one thread fewer to wake, and one
+  thread means no worker at all).
+* Only what runs without the GIL overlaps. The physics steps release it; the task's
+  Python (``act``, ``observe``, ``reward``) holds it, so that part runs one thread at a
+  time and bounds the speed-up at (Python + physics) / Python. For BubbleRob the physics
+  dominates; for the kinematic arm of ArmReach a step is a few microseconds and its
+  dozen ``sim`` calls from Python cost more. So a task may give its ``act`` / steps /
+  ``observe`` as a step plan (:meth:`gantry.gym.Task.plan`: the same registry calls, made
+  by the extension), and a block whose envs all have one runs them all in one call with
+  the GIL released once: two GIL hand-overs per block and step, not two per env.
+* What stays in Python is kept small: actions are checked and clipped once for the
+  batch, each thread writes its observations, rewards and flags straight into the
+  batch arrays (its own rows), and the infos are batched per key in one go.
 
 Results are those of ``num_envs`` separate ``GantryEnv``s given the same seeds and
 actions, bit for bit, whatever ``num_threads``: each env is an independent simulation
-with its own random generator, and the physics is deterministic.
+with its own random generator, the physics is deterministic, and a single ``GantryEnv``
+runs the same step plan. tools/bench/vector_env.py measures the speed-up.
 
 Gymnasium's conventions are kept: ``reset(seed=s)`` seeds env ``i`` with ``s + i`` (a
 list gives one seed per env); ``autoreset_mode`` is ``NEXT_STEP`` by default (an env that
@@ -56,6 +65,7 @@ import numpy as np
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
+from ._gantry import Engine
 from .gym import _ARM_REACH_STEPS, _BUBBLE_ROB_STEPS, ArmReach, BubbleRobAvoid, GantryEnv, Task
 
 __all__ = ["VectorEnv", "arm_reach_vector_env", "bubble_rob_avoid_vector_env"]
@@ -117,13 +127,18 @@ class _Block:
         vec, infos = self._vec, []
         same_step, ended = vec.autoreset_mode == AutoresetMode.SAME_STEP, vec._autoreset
         next_step = vec.autoreset_mode == AutoresetMode.NEXT_STEP
-        for env, i in zip(self.envs, self.indices):
+        planned = self._run_plans(actions, next_step)
+        for k, (env, i) in enumerate(zip(self.envs, self.indices)):
             try:
                 if next_step and ended[i]:
                     obs, info = env.reset()
                     reward, terminated, truncated = 0.0, False, False
                 else:
-                    obs, reward, terminated, truncated, info = env._step_checked(actions[i])
+                    if planned is not None:
+                        outcome = env._planned(actions[i], planned[k])
+                    else:
+                        outcome = env._step_checked(actions[i])
+                    obs, reward, terminated, truncated, info = outcome
                     if same_step and (terminated or truncated):
                         final = {"final_obs": obs, "final_info": info}
                         obs, info = env.reset()
@@ -136,6 +151,30 @@ class _Block:
             vec._truncations[i] = truncated
             infos.append((i, info))
         return infos
+
+    def _run_plans(self, actions: np.ndarray, next_step: bool) -> Optional[dict[int, np.ndarray]]:
+        """When every env of the block has a step plan, runs those of the envs that act
+        this step in one call with the GIL released once (two GIL hand-overs per block
+        and step rather than two per env); their observed numbers by position in the
+        block. None when the envs step one by one."""
+        if not self.envs or any(env._plan is None for env in self.envs):
+            return None
+        ended = self._vec._autoreset
+        acting = [k for k, i in enumerate(self.indices) if not (next_step and ended[i])]
+        if not acting:
+            return {}
+        try:
+            values = Engine.run_plans(
+                [self.envs[k].client._engine_here for k in acting],
+                [self.envs[k]._plan for k in acting],
+                actions[[self.indices[k] for k in acting]],
+            )
+        except Exception as e:
+            # The extension names the failing plan by its position: (message, position).
+            if len(e.args) == 2 and isinstance(e.args[1], int):
+                raise _WorkerError(self.indices[acting[e.args[1]]], Exception(e.args[0])) from None
+            raise
+        return dict(zip(acting, values))
 
     def call(self, name: str, args: tuple, kwargs: dict) -> list[Any]:
         out = []
@@ -200,7 +239,8 @@ class VectorEnv(gymnasium.vector.VectorEnv):
     ``num_threads`` threads (default: the number of cores; never more than
     ``num_envs``): the caller's thread, which drives the first block of envs, and
     ``num_threads - 1`` workers. ``task_factory`` is called once per env, in the thread
-    that drives it: a task keeps per-episode state, so each env needs its own. Like a
+    that drives it (a task keeps per-episode state, so each env needs its own), and once
+    more here for the spaces. Like a
     ``GantryEnv``, the vector env belongs to the thread that made it. See the module's
     docs for the design and the conventions."""
 
@@ -384,18 +424,22 @@ class VectorEnv(gymnasium.vector.VectorEnv):
         pairs = [pair for part in parts for pair in part]
         if not pairs:
             return {}
-        first = pairs[0][1]
-        kinds = {k: type(v) for k, v in first.items()}
-        # Fast path, the usual case: every env gave the same keys with scalar values of
-        # the same types; one array per key, built at once.
-        if len(pairs) == self.num_envs and all(
-            t in _SCALARS and all(type(info.get(k)) is t for _, info in pairs) for k, t in kinds.items()
-        ) and all(len(info) == len(first) for _, info in pairs):
-            everyone = np.ones(self.num_envs, dtype=np.bool_)
+        keys = pairs[0][1].keys()
+        if len(pairs) == self.num_envs and all(info.keys() == keys for _, info in pairs):
+            # The usual case: every env gave the same keys. A key whose values are all
+            # scalars of one type becomes one array, built at once.
             out: dict[str, Any] = {}
-            for k, t in kinds.items():
-                out[k] = np.array([info[k] for _, info in pairs], dtype=t)
-                out[f"_{k}"] = everyone.copy()
+            rest: dict[str, Any] = {}
+            for k in keys:
+                values = [info[k] for _, info in pairs]
+                kind = type(values[0])
+                if kind in _SCALARS and all(type(v) is kind for v in values):
+                    out[k] = np.array(values, dtype=kind)
+                    out[f"_{k}"] = np.ones(self.num_envs, dtype=np.bool_)
+                else:
+                    for i, v in enumerate(values):
+                        rest = self._add_info(rest, {k: v}, i)
+            out.update(rest)
             return out
         infos: dict[str, Any] = {}
         for i, info in pairs:

@@ -214,6 +214,9 @@ class Failing(gg.ArmReach):
         super().__init__(max_episode_steps=LIMIT)
         self.fail, self.acted = False, 0
 
+    def plan(self, sim: Any) -> None:
+        return None  # act in Python, where it fails
+
     def act(self, sim: Any, action: np.ndarray) -> None:
         self.acted += 1
         if self.fail and self.acted == 3:
@@ -269,3 +272,35 @@ def test_bad_actions_give_clear_errors(closing):
         vec.step(np.array([[0.0, np.nan], [0.0, 0.0]]))
     with pytest.raises(ValueError, match="2 seeds for 2 envs|seeds"):
         vec.reset(seed=[1, 2, 3])
+
+
+class ArmReachInPython(gg.ArmReach):
+    """ArmReach without its step plan: act and observe in Python, call by call."""
+
+    def plan(self, sim: Any) -> None:
+        return None
+
+
+@pytest.mark.parametrize("num_threads", [1, 2])
+def test_arm_reach_step_plan_gives_what_its_python_gives(closing, num_threads):
+    """The plan (run in one call with the GIL released) and the task's Python make the
+    same calls: the same trajectories, bit for bit, one env and a vector env alike."""
+    planned = closing(VectorEnv(TASKS["ArmReach"], 3, num_threads))
+    python = closing(VectorEnv(lambda: ArmReachInPython(max_episode_steps=LIMIT), 3, num_threads))
+    actions = random_actions(planned.single_action_space, 3, 2 * LIMIT, seed=2)
+    for g, w in zip(vector_rollout(planned, 4, actions), vector_rollout(python, 4, actions)):
+        np.testing.assert_array_equal(g, w)
+    assert planned.get_attr("_plan")[0] is not None and python.get_attr("_plan")[0] is None
+    one = closing(gg.GantryEnv(gg.ArmReach(max_episode_steps=LIMIT)))
+    other = closing(gg.GantryEnv(ArmReachInPython(max_episode_steps=LIMIT)))
+    for env in (one, other):
+        env.reset(seed=8)
+    for a in actions[:, 0]:
+        assert data_equivalence(one.step(a), other.step(a), exact=True)
+
+
+def test_step_plans_take_registry_functions_only():
+    with pytest.raises(ValueError, match="not a registry function"):
+        gg.StepPlan(act=[], steps=1, observe=[("sim.step", [])])
+    with pytest.raises(ValueError, match="no such function"):
+        gg.StepPlan(act=[("sim.setNothing", 1, None, 0, 1.0)], steps=1, observe=[])
