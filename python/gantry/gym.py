@@ -47,6 +47,7 @@ __all__ = [
     "Task",
     "ArmReach",
     "BubbleRobAvoid",
+    "StepPlan",
     "VectorEnv",
     "arm_reach_env",
     "bubble_rob_avoid_env",

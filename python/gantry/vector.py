@@ -58,6 +58,7 @@ import os
 import queue
 import threading
 import traceback
+import weakref
 from typing import Any, Callable, Optional, Sequence
 
 import gymnasium
@@ -92,7 +93,9 @@ class _Block:
         self.index = index
         self.indices = envs
         self.envs: list[GantryEnv] = []
-        self._vec = vec
+        # Weak: the vector env owns its blocks, and without a cycle it is freed (and
+        # closes) in the thread that drops it, not in whichever runs the collector.
+        self._vec: "VectorEnv" = weakref.proxy(vec)
 
     def make(self, make: Callable[[], GantryEnv]) -> None:
         for i in self.indices:
@@ -127,7 +130,8 @@ class _Block:
         vec, infos = self._vec, []
         same_step, ended = vec.autoreset_mode == AutoresetMode.SAME_STEP, vec._autoreset
         next_step = vec.autoreset_mode == AutoresetMode.NEXT_STEP
-        planned = self._run_plans(actions, next_step)
+        all_obs, rewards, terminations, truncations = vec._obs, vec._rewards, vec._terminations, vec._truncations
+        planned = self._run_plans(actions, ended, next_step)
         for k, (env, i) in enumerate(zip(self.envs, self.indices)):
             try:
                 if next_step and ended[i]:
@@ -145,21 +149,22 @@ class _Block:
                         info = {**final, **info}
             except Exception as e:
                 raise _WorkerError(i, e) from e
-            vec._obs[i] = obs
-            vec._rewards[i] = reward
-            vec._terminations[i] = terminated
-            vec._truncations[i] = truncated
+            all_obs[i] = obs
+            rewards[i] = reward
+            terminations[i] = terminated
+            truncations[i] = truncated
             infos.append((i, info))
         return infos
 
-    def _run_plans(self, actions: np.ndarray, next_step: bool) -> Optional[dict[int, np.ndarray]]:
+    def _run_plans(
+        self, actions: np.ndarray, ended: np.ndarray, next_step: bool
+    ) -> Optional[dict[int, np.ndarray]]:
         """When every env of the block has a step plan, runs those of the envs that act
         this step in one call with the GIL released once (two GIL hand-overs per block
         and step rather than two per env); their observed numbers by position in the
         block. None when the envs step one by one."""
         if not self.envs or any(env._plan is None for env in self.envs):
             return None
-        ended = self._vec._autoreset
         acting = [k for k, i in enumerate(self.indices) if not (next_step and ended[i])]
         if not acting:
             return {}
@@ -374,14 +379,20 @@ class VectorEnv(gymnasium.vector.VectorEnv):
 
     def close_extras(self, **kwargs: Any) -> None:
         """Closes every env in its own thread and joins the workers."""
-        for w in self._workers:
+        workers = getattr(self, "_workers", [])  # none if the constructor failed early
+        for w in workers:
             if w.thread.is_alive():
                 w.inbox.put(("close", ()))
         if hasattr(self, "_local"):
             self._local.close()
-        for w in self._workers:
+        for w in workers:
             w.thread.join()
         self._workers = []
+
+    def __del__(self) -> None:
+        # Dropped without close(): the workers would otherwise wait for ever.
+        if not getattr(self, "closed", True):
+            self.close()
 
     # --- internals ---------------------------------------------------------------
 

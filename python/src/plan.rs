@@ -59,17 +59,16 @@ fn core_function(name: &str) -> PyResult<Target> {
     }
 }
 
+/// One act call as Python gives it: `(set, handle, read or None, index, scale)`.
+type ActArgs<'py> = (String, Bound<'py, PyAny>, Option<String>, usize, f64);
+
 #[pymethods]
 impl StepPlan {
     /// `act`: `(set, handle, read or None, index, scale)` tuples; `steps`: simulation
     /// steps per action; `observe`: `(get, [args...])` pairs. Names as `client.call`
     /// takes them (`"sim.setJointTargetPosition"`).
     #[new]
-    fn new(
-        act: Vec<(String, Bound<'_, PyAny>, Option<String>, usize, f64)>,
-        steps: u64,
-        observe: Vec<(String, Vec<Bound<'_, PyAny>>)>,
-    ) -> PyResult<Self> {
+    fn new(act: Vec<ActArgs<'_>>, steps: u64, observe: Vec<(String, Vec<Bound<'_, PyAny>>)>) -> PyResult<Self> {
         let act = act
             .into_iter()
             .map(|(set, handle, read, index, scale)| {

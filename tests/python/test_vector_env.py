@@ -304,3 +304,13 @@ def test_step_plans_take_registry_functions_only():
         gg.StepPlan(act=[], steps=1, observe=[("sim.step", [])])
     with pytest.raises(ValueError, match="no such function"):
         gg.StepPlan(act=[("sim.setNothing", 1, None, 0, 1.0)], steps=1, observe=[])
+
+
+def test_a_dropped_vector_env_closes_its_workers():
+    """No reference cycle: dropping the last reference closes it at once, in this thread."""
+    vec = VectorEnv(TASKS["ArmReach"], 2, 2)
+    vec.reset(seed=0)
+    workers = [t for t in threading.enumerate() if t.name.startswith("gantry-vector-")]
+    assert workers
+    del vec
+    assert not any(t.is_alive() for t in workers)
