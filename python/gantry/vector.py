@@ -20,8 +20,9 @@ The design, and why:
   dominates; for the kinematic arm of ArmReach a step is a few microseconds and its
   dozen ``sim`` calls from Python cost more. So a task may give its ``act`` / steps /
   ``observe`` as a step plan (:meth:`gantry.gym.Task.plan`: the same registry calls, made
-  by the extension), and a block whose envs all have one runs them all in one call with
-  the GIL released once: two GIL hand-overs per block and step, not two per env.
+  by the extension), and a block whose envs all have one runs them a few envs at a time
+  (``_CHUNK``) in one call with the GIL released: few hand-overs of the GIL, and one
+  thread's Python overlaps the others' plans.
 * What stays in Python is kept small: actions are checked and clipped once for the
   batch, each thread writes its observations, rewards and flags straight into the
   batch arrays (its own rows), and the infos are batched per key in one go.
@@ -73,6 +74,12 @@ __all__ = ["VectorEnv", "arm_reach_vector_env", "bubble_rob_avoid_vector_env"]
 
 # How long the caller waits for a worker before checking that it is still alive (s).
 _POLL = 1.0
+# Envs whose step plans run in one call. Then come their Python parts (observation,
+# reward), with the GIL held; meanwhile the other threads' plans run. Per env, both a
+# hand-over of the GIL each way (too many for ArmReach's few-microsecond steps); per
+# block, a thread's Python waits for its whole block and the threads' Python parts
+# pile up at the end of the step instead of overlapping the others' plans.
+_CHUNK = 4
 
 
 class _WorkerError(Exception):
@@ -127,12 +134,21 @@ class _Block:
         return infos
 
     def step(self, actions: np.ndarray) -> list[tuple[int, dict]]:
-        vec, infos = self._vec, []
+        infos: list[tuple[int, dict]] = []
+        for start in range(0, len(self.envs), _CHUNK):
+            self._step_chunk(range(start, min(start + _CHUNK, len(self.envs))), actions, infos)
+        return infos
+
+    def _step_chunk(self, chunk: range, actions: np.ndarray, infos: list[tuple[int, dict]]) -> None:
+        """Steps the envs at positions ``chunk`` of the block: their plans together (or
+        each env in turn), then their Python (observation, reward, resets)."""
+        vec = self._vec
         same_step, ended = vec.autoreset_mode == AutoresetMode.SAME_STEP, vec._autoreset
         next_step = vec.autoreset_mode == AutoresetMode.NEXT_STEP
         all_obs, rewards, terminations, truncations = vec._obs, vec._rewards, vec._terminations, vec._truncations
-        planned = self._run_plans(actions, ended, next_step)
-        for k, (env, i) in enumerate(zip(self.envs, self.indices)):
+        planned = self._run_plans(chunk, actions, ended, next_step)
+        for k in chunk:
+            env, i = self.envs[k], self.indices[k]
             try:
                 if next_step and ended[i]:
                     obs, info = env.reset()
@@ -154,18 +170,16 @@ class _Block:
             terminations[i] = terminated
             truncations[i] = truncated
             infos.append((i, info))
-        return infos
 
     def _run_plans(
-        self, actions: np.ndarray, ended: np.ndarray, next_step: bool
+        self, chunk: range, actions: np.ndarray, ended: np.ndarray, next_step: bool
     ) -> Optional[dict[int, np.ndarray]]:
-        """When every env of the block has a step plan, runs those of the envs that act
-        this step in one call with the GIL released once (two GIL hand-overs per block
-        and step rather than two per env); their observed numbers by position in the
-        block. None when the envs step one by one."""
-        if not self.envs or any(env._plan is None for env in self.envs):
+        """When every env of the block has a step plan, runs those of the envs of
+        ``chunk`` that act this step in one call, with the GIL released once; their
+        observed numbers by position in the block. None when the envs step one by one."""
+        if any(env._plan is None for env in self.envs):
             return None
-        acting = [k for k, i in enumerate(self.indices) if not (next_step and ended[i])]
+        acting = [k for k in chunk if not (next_step and ended[self.indices[k]])]
         if not acting:
             return {}
         try:
