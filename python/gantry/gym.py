@@ -367,7 +367,8 @@ class ArmReach(Task):
 
     def observation(self, values: np.ndarray) -> np.ndarray:
         # Kept for reward, terminated and info, which follow (in double precision).
-        self.distance = math.dist(values[6:9], values[9:12])
+        v = values.tolist()
+        self.distance = math.dist(v[6:9], v[9:12])
         return values
 
     def reward(self, sim: Any, obs: np.ndarray, action: np.ndarray) -> float:
