@@ -219,26 +219,32 @@ class _Worker:
 
     def _run(self) -> None:
         while True:
-            command, args = self.inbox.get()
+            seq, command, args = self.inbox.get()
             if command == "close":
                 self.block.close()
-                self.outbox.put(("ok", None))
                 return
             try:
-                self.outbox.put(("ok", getattr(self.block, command)(*args)))
+                self.outbox.put((seq, "ok", getattr(self.block, command)(*args)))
             except BaseException as e:  # noqa: BLE001 - reported to the caller
                 error = e if isinstance(e, _WorkerError) else _WorkerError(None, e)
                 _forget_locals(error)
-                self.outbox.put(("error", error))
+                self.outbox.put((seq, "error", error))
 
-    def reply(self) -> tuple[str, Any]:
-        """The answer to the last command; an error if the thread has died."""
+    def send(self, seq: int, command: str, args: tuple) -> None:
+        self.inbox.put((seq, command, args))
+
+    def reply(self, seq: int) -> tuple[str, Any]:
+        """The answer to command ``seq``; an error if the thread has died. Answers to
+        earlier commands (whose caller was interrupted, by Ctrl-C say) are dropped."""
         while True:
             try:
-                return self.outbox.get(timeout=_POLL)
+                got, status, value = self.outbox.get(timeout=_POLL)
             except queue.Empty:
                 if not self.thread.is_alive():
                     return "error", _WorkerError(None, RuntimeError("the worker thread has died"))
+                continue
+            if got == seq:
+                return status, value
 
 
 def _forget_locals(error: BaseException) -> None:
@@ -288,6 +294,7 @@ class VectorEnv(gymnasium.vector.VectorEnv):
         self.render_mode = None
         self.closed = False
         self._workers: list[_Worker] = []
+        self._seq = 0  # commands sent to the workers
 
         # The spaces from a task made here: making a task is cheap; its env is not.
         probe = task_factory()
@@ -396,7 +403,7 @@ class VectorEnv(gymnasium.vector.VectorEnv):
         workers = getattr(self, "_workers", [])  # none if the constructor failed early
         for w in workers:
             if w.thread.is_alive():
-                w.inbox.put(("close", ()))
+                w.send(-1, "close", ())
         if hasattr(self, "_local"):
             self._local.close()
         for w in workers:
@@ -422,8 +429,9 @@ class VectorEnv(gymnasium.vector.VectorEnv):
         its thread, in parallel; the replies in block order. A failure is raised once
         every block has answered (so that none is left mid-command), naming the env."""
         name = local.__name__
+        self._seq += 1
         for w in workers:
-            w.inbox.put((name, args))
+            w.send(self._seq, name, args)
         failure: Optional[tuple[_Block, _WorkerError]] = None
         try:
             replies = [local(*args)]
@@ -432,7 +440,7 @@ class VectorEnv(gymnasium.vector.VectorEnv):
             _forget_locals(e)
             replies, failure = [None], (self._local, e)
         for w in workers:
-            status, value = w.reply()
+            status, value = w.reply(self._seq)
             if status == "error" and failure is None:
                 failure = (w.block, value)
             replies.append(value if status == "ok" else None)

@@ -314,3 +314,30 @@ def test_a_dropped_vector_env_closes_its_workers():
     assert workers
     del vec
     assert not any(t.is_alive() for t in workers)
+
+
+class Interrupted(BaseException):
+    """What Ctrl-C is to the caller's thread: not an Exception."""
+
+
+def test_an_interrupted_step_leaves_no_stale_reply(closing):
+    """A step interrupted in the caller's thread leaves the worker's answer unread; the
+    next command must get its own answer, not that one."""
+
+    class Interrupting(ArmReachInPython):
+        interrupt = False
+
+        def act(self, sim: Any, action: np.ndarray) -> None:
+            if self.interrupt:
+                self.interrupt = False
+                raise Interrupted()
+            super().act(sim, action)
+
+    vec = closing(VectorEnv(lambda: Interrupting(max_episode_steps=None), 4, 2))
+    vec.reset(seed=0)
+    vec.get_attr("task")[0].interrupt = True
+    with pytest.raises(Interrupted):
+        vec.step(np.zeros((4, 6)))
+    tasks = vec.get_attr("task")
+    assert [type(t) for t in tasks] == [Interrupting] * 4
+    assert vec.step(np.zeros((4, 6)))[0].shape == (4, 12)
