@@ -331,6 +331,13 @@ impl Direct {
             }
             self.engine.call(&op.set, &[op.handle.clone(), Value::Float(value)])?;
         }
+        if plan.steps > 0 && self.engine.holds_lock(ME) {
+            // As sim.step() refuses: the lock holds the simulation.
+            return Err(CallError::failed(
+                "sim.step",
+                SimError::refused("this client holds sim.acquireLock: release it before stepping"),
+            ));
+        }
         for _ in 0..plan.steps {
             if self.engine.state() != SimulationState::Running {
                 break;

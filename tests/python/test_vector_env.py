@@ -341,3 +341,14 @@ def test_an_interrupted_step_leaves_no_stale_reply(closing):
     tasks = vec.get_attr("task")
     assert [type(t) for t in tasks] == [Interrupting] * 4
     assert vec.step(np.zeros((4, 6)))[0].shape == (4, 12)
+
+
+def test_a_step_plan_does_not_step_through_the_clients_lock(closing):
+    """As sim.step() refuses while the client holds sim.acquireLock, so does a plan."""
+    env = closing(gg.GantryEnv(gg.ArmReach()))
+    env.reset(seed=0)
+    env.sim.acquireLock()
+    with pytest.raises(Exception, match="acquireLock"):
+        env.step(np.zeros(6))
+    env.sim.releaseLock()
+    env.step(np.zeros(6))
