@@ -398,6 +398,18 @@ class VectorEnv(gymnasium.vector.VectorEnv):
         """Each env's attribute ``name``."""
         return self.call(name)
 
+    def set_attr(self, name: str, values: Any) -> None:
+        """Sets each env's attribute ``name``: to ``values[i]`` for a list or tuple (one
+        per env), else to ``values`` for all. Plain Python objects, so set from here."""
+        self._check_open()
+        if not isinstance(values, (list, tuple)):
+            values = [values] * self.num_envs
+        if len(values) != self.num_envs:
+            raise ValueError(f"set_attr: {len(values)} values for {self.num_envs} envs")
+        envs = [env for block in (self._local, *(w.block for w in self._workers)) for env in block.envs]
+        for env, value in zip(envs, values):
+            env.set_wrapper_attr(name, value)
+
     def close_extras(self, **kwargs: Any) -> None:
         """Closes every env in its own thread and joins the workers."""
         workers = getattr(self, "_workers", [])  # none if the constructor failed early

@@ -352,3 +352,15 @@ def test_a_step_plan_does_not_step_through_the_clients_lock(closing):
         env.step(np.zeros(6))
     env.sim.releaseLock()
     env.step(np.zeros(6))
+
+
+def test_get_attr_call_and_set_attr_reach_every_env(closing):
+    vec = closing(VectorEnv(TASKS["ArmReach"], 3, 2))
+    vec.reset(seed=0)
+    assert vec.call("_checked_action", np.full(6, 3.0))[2].tolist() == [1.0] * 6
+    vec.set_attr("marker", [1, 2, 3])
+    assert vec.get_attr("marker") == (1, 2, 3)
+    vec.set_attr("marker", 7)
+    assert vec.get_attr("marker") == (7, 7, 7)
+    with pytest.raises(ValueError, match="2 values for 3 envs"):
+        vec.set_attr("marker", [1, 2])
