@@ -451,20 +451,51 @@ class BubbleRobAvoid(Task):
         sim.setObjectOrientation(self.body, [0.0, 0.0, float(heading)], sim.handle_world)
 
     def act(self, sim: Any, action: np.ndarray) -> None:
-        for motor, a in zip(self.motors, action):
-            sim.setJointTargetVelocity(motor, float(a) * self.max_wheel_speed)
+        # Scaled in single precision, as the step plan does.
+        for motor, speed in zip(self.motors, (action * self.max_wheel_speed).tolist()):
+            sim.setJointTargetVelocity(motor, speed)
+
+    def _queries(self, sim: Any) -> list[tuple[str, list[Any]]]:
+        """What an observation reads, in order: the nose sensor (9 numbers), the body's
+        matrix (12), its velocity (6) and its clearance (10)."""
+        world = sim.handle_world
+        return [
+            # Sensed explicitly so that the observation after reset() reflects the new pose.
+            ("sim.handleProximitySensor", [self.nose]),
+            ("sim.getObjectMatrix", [self.body, world]),
+            ("sim.getObjectVelocity", [self.body]),
+            ("sim.checkDistance", [self.rover, sim.handle_all]),
+        ]
 
     def observe(self, sim: Any) -> np.ndarray:
-        # Sensed explicitly so that the observation after reset() reflects the new pose.
-        detected, distance, *_ = sim.handleProximitySensor(self.nose)
+        values: list[float] = []
+        for name, args in self._queries(sim):
+            for v in _as_tuple(getattr(sim, name[4:])(*args)):
+                values.extend(v if isinstance(v, list) else [v])
+        return self.observation(np.array(values, dtype=np.float64))
+
+    def plan(self, sim: Any) -> StepPlan:
+        # act and observe above, call for call.
+        return StepPlan(
+            act=[
+                ("sim.setJointTargetVelocity", motor, None, k, self.max_wheel_speed)
+                for k, motor in enumerate(self.motors)
+            ],
+            steps=self.steps_per_action,
+            observe=self._queries(sim),
+        )
+
+    def observation(self, values: np.ndarray) -> np.ndarray:
+        v = values.tolist()
+        detected, distance = v[0], v[1]
         if detected <= 0:
             distance = _NOSE_RANGE
-        m = sim.getObjectMatrix(self.body, sim.handle_world)
+        m = v[9:21]
         heading = math.atan2(m[4], m[0])  # of the body's x axis, its forward direction
-        (vx, vy, _), (_, _, yaw_rate) = sim.getObjectVelocity(self.body)
+        vx, vy, yaw_rate = v[21], v[22], v[26]
         forward = vx * math.cos(heading) + vy * math.sin(heading)
-        result, data, _ = sim.checkDistance(self.rover, sim.handle_all)
-        self.clearance = data[6] if result > 0 else math.inf
+        # checkDistance: result, then [p1, p2, distance]
+        self.clearance = v[34] if v[27] > 0 else math.inf
         obs = np.array(
             [detected > 0, distance, m[3], m[7], math.cos(heading), math.sin(heading), forward, yaw_rate],
             dtype=np.float32,
@@ -485,6 +516,11 @@ class BubbleRobAvoid(Task):
 
     def info(self, sim: Any, obs: np.ndarray) -> dict[str, Any]:
         return {"clearance": self.clearance, "collision": self._collided()}
+
+
+def _as_tuple(reply: Any) -> tuple[Any, ...]:
+    """A ``sim`` call's results as a tuple (one result comes as itself)."""
+    return reply if isinstance(reply, tuple) else (reply,)
 
 
 # --- registration --------------------------------------------------------------------

@@ -364,3 +364,20 @@ def test_get_attr_call_and_set_attr_reach_every_env(closing):
     assert vec.get_attr("marker") == (7, 7, 7)
     with pytest.raises(ValueError, match="2 values for 3 envs"):
         vec.set_attr("marker", [1, 2])
+
+
+class BubbleRobInPython(gg.BubbleRobAvoid):
+    """BubbleRobAvoid without its step plan."""
+
+    def plan(self, sim: Any) -> None:
+        return None
+
+
+def test_bubble_rob_step_plan_gives_what_its_python_gives(closing):
+    planned = closing(VectorEnv(TASKS["BubbleRobAvoid"], 3, 2))
+    python = closing(VectorEnv(lambda: BubbleRobInPython(max_episode_steps=LIMIT), 3, 2))
+    actions = random_actions(planned.single_action_space, 3, 2 * LIMIT, seed=5)
+    for g, w in zip(vector_rollout(planned, 9, actions), vector_rollout(python, 9, actions)):
+        np.testing.assert_array_equal(g, w)
+    assert planned.get_attr("_plan")[0] is not None and python.get_attr("_plan")[0] is None
+    assert planned.get_attr("task")[0].clearance == python.get_attr("task")[0].clearance
