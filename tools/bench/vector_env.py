@@ -1,5 +1,5 @@
 """Vector environments in one process (issue 33, item 3): steps per second of
-``gantry.gym.VectorEnv`` with 1 and 2 worker threads, on ``gantry/BubbleRobAvoid-v0``
+``gantry.gym.VectorEnv`` with 1 and 2 threads, on ``gantry/BubbleRobAvoid-v0``
 and ``gantry/ArmReach-v0``, in one run on one machine.
 
 For each task and each number of envs, the 1-thread and 2-thread vector envs are timed
@@ -13,10 +13,10 @@ Two figures say what the speed-up can be. The *ceiling*: two bare simulations of
 task's scene advancing in two threads (``Client.advance``, no Python between steps)
 against one after the other, timed in the same rounds: what the machine's free cores
 give (2.0 on an idle two-core machine; less when other work shares them). The *bound*:
-the task's Python (``act``, ``observe``, ``reward``: GIL held) against the physics steps
-(GIL released) of one env step; Python runs one thread at a time, so two threads give
-at most (held + released) / held. With a step plan (``Task.plan``: ArmReach), the whole
-action (act calls, steps, observe calls) runs with the GIL released.
+in a one-thread vector env, the time per env step with the GIL held (the task's Python,
+the envs' bookkeeping) against the time with it released (the step plans: act calls,
+steps and observe calls; or, for a task without a plan, its physics steps); Python runs
+one thread at a time, so two threads give at most (held + released) / held.
 
 Target: 2 threads at least 1.8x one thread on both tasks. Needs a quiet machine with two
 free cores (a ceiling near 2).
@@ -49,8 +49,8 @@ TARGET_SPEEDUP = 1.8
 
 
 def actions(env_id: str, num_envs: int, steps: int, seed: int = 0) -> np.ndarray:
-    space = gymnasium.spec(env_id)
-    probe = gymnasium.make(space.id)
+    """``steps`` rows of ``num_envs`` random actions, the same on every call."""
+    probe = gymnasium.make(env_id)
     probe.action_space.seed(seed)
     out = np.array([[probe.action_space.sample() for _ in range(num_envs)] for _ in range(steps)])
     probe.close()
