@@ -21,8 +21,8 @@ The design, and why:
   dozen ``sim`` calls from Python cost more. So a task may give its ``act`` / steps /
   ``observe`` as a step plan (:meth:`gantry.gym.Task.plan`: the same registry calls, made
   by the extension), and a block whose envs all have one runs them a few envs at a time
-  (``_CHUNK``) in one call with the GIL released: few hand-overs of the GIL, and one
-  thread's Python overlaps the others' plans.
+  (about ``_PLAN_SLICE`` of work) in one call with the GIL released: few hand-overs of
+  the GIL, and one thread's Python overlaps the others' plans.
 * What stays in Python is kept small: actions are checked and clipped once for the
   batch, each thread writes its observations, rewards and flags straight into the
   batch arrays (its own rows), and the infos are batched per key in one go.
@@ -58,6 +58,7 @@ from __future__ import annotations
 import os
 import queue
 import threading
+import time
 import traceback
 import weakref
 from typing import Any, Callable, Optional, Sequence
@@ -74,12 +75,14 @@ __all__ = ["VectorEnv", "arm_reach_vector_env", "bubble_rob_avoid_vector_env"]
 
 # How long the caller waits for a worker before checking that it is still alive (s).
 _POLL = 1.0
-# Envs whose step plans run in one call. Then come their Python parts (observation,
-# reward), with the GIL held; meanwhile the other threads' plans run. Per env, both a
-# hand-over of the GIL each way (too many for ArmReach's few-microsecond steps); per
-# block, a thread's Python waits for its whole block and the threads' Python parts
-# pile up at the end of the step instead of overlapping the others' plans.
-_CHUNK = 4
+# How long one call of step plans should last (s): a block runs its envs' plans a few
+# envs at a time, as many as take about this long, then their Python parts
+# (observation, reward) with the GIL held, while the other threads' plans run. One env
+# per call would hand the GIL over twice per env, too often for ArmReach's
+# few-microsecond steps (a hand-over wakes a thread: tens of microseconds); the whole
+# block per call would leave the threads' Python parts to pile up at the end of the
+# step instead of overlapping the others' plans.
+_PLAN_SLICE = 200e-6
 
 
 class _WorkerError(Exception):
@@ -100,6 +103,8 @@ class _Block:
         self.index = index
         self.indices = envs
         self.envs: list[GantryEnv] = []
+        self._chunk = 1  # envs per call of step plans (see _PLAN_SLICE)
+        self._plan_time = _PLAN_SLICE  # running mean of one env's plan (s)
         # Weak: the vector env owns its blocks, and without a cycle it is freed (and
         # closes) in the thread that drops it, not in whichever runs the collector.
         self._vec: "VectorEnv" = weakref.proxy(vec)
@@ -135,8 +140,11 @@ class _Block:
 
     def step(self, actions: np.ndarray) -> list[tuple[int, dict]]:
         infos: list[tuple[int, dict]] = []
-        for start in range(0, len(self.envs), _CHUNK):
-            self._step_chunk(range(start, min(start + _CHUNK, len(self.envs))), actions, infos)
+        start = 0
+        while start < len(self.envs):
+            stop = min(start + self._chunk, len(self.envs))
+            self._step_chunk(range(start, stop), actions, infos)
+            start = stop
         return infos
 
     def _step_chunk(self, chunk: range, actions: np.ndarray, infos: list[tuple[int, dict]]) -> None:
@@ -183,11 +191,16 @@ class _Block:
         if not acting:
             return {}
         try:
+            # This thread's CPU time: the wall clock would count the wait for the GIL too.
+            t0 = time.thread_time()
             values = Engine.run_plans(
                 [self.envs[k].client._engine_here for k in acting],
                 [self.envs[k]._plan for k in acting],
                 actions[[self.indices[k] for k in acting]],
             )
+            # The next chunks' size, from a running mean of a plan's duration.
+            self._plan_time += 0.25 * ((time.thread_time() - t0) / len(acting) - self._plan_time)
+            self._chunk = max(1, min(len(self.envs), round(_PLAN_SLICE / max(self._plan_time, 1e-7))))
         except Exception as e:
             # The extension names the failing plan by its position: (message, position).
             if len(e.args) == 2 and isinstance(e.args[1], int):
