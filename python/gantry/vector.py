@@ -279,7 +279,7 @@ class VectorEnv(gymnasium.vector.VectorEnv):
     ``num_threads - 1`` workers. ``task_factory`` is called once per env, in the thread
     that drives it (a task keeps per-episode state, so each env needs its own), and once
     more here for the spaces. Like a ``GantryEnv``, the vector env belongs to the thread
-    that made it. ``copy=False`` returns the batch arrays themselves, overwritten by the
+    that made it. ``copy=False`` returns the observation batch itself, overwritten by the
     next call. See the module's docs for the design and the conventions."""
 
     metadata: dict[str, Any] = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
