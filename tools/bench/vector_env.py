@@ -21,7 +21,7 @@ one thread at a time, so two threads give at most (held + released) / held.
 Target: 2 threads at least 1.8x one thread on both tasks. Needs a quiet machine with two
 free cores (a ceiling near 2).
 
-    .venv/bin/python tools/bench/vector_env.py [--envs 4 8 16] [--steps 300] [--rounds 5] \
+    .venv/bin/python tools/bench/vector_env.py [--envs 4 16 64] [--steps 300] [--rounds 5] \
         [--ceiling-steps 1000] [--json target/bench/vector_env.json]
 """
 
@@ -154,7 +154,7 @@ def released_share(env_id: str, num_envs: int, batch: np.ndarray) -> dict[str, f
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--envs", type=int, nargs="+", default=[4, 8, 16])
+    parser.add_argument("--envs", type=int, nargs="+", default=[4, 16, 64])
     parser.add_argument("--steps", type=int, default=300, help="vector steps per timed run")
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--ceiling-steps", type=int, default=1000, help="steps per bare simulation for the ceiling")
