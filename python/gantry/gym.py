@@ -19,6 +19,9 @@ Importing this module registers two ready environments with Gymnasium:
 * ``gantry/BubbleRobAvoid-v0`` (:class:`BubbleRobAvoid`): BubbleRob, without its Lua
   controller, drives around its arena without running into obstacles.
 
+``gymnasium.make_vec`` on either gives a :class:`VectorEnv` (:mod:`gantry.vector`): many
+simulations stepped together on a pool of threads in this process.
+
 Units are SI (metres, seconds) and angles are radians, as in the ``sim`` API. Actions of
 the ready tasks are normalised to [-1, 1] and scaled by the task (as Gymnasium advises);
 observations are ``float32``.
@@ -37,8 +40,18 @@ import numpy as np
 from gymnasium import spaces
 
 from . import Client
+from ._gantry import StepPlan
 
-__all__ = ["GantryEnv", "Task", "ArmReach", "BubbleRobAvoid", "arm_reach_env", "bubble_rob_avoid_env"]
+__all__ = [
+    "GantryEnv",
+    "Task",
+    "ArmReach",
+    "BubbleRobAvoid",
+    "StepPlan",
+    "VectorEnv",
+    "arm_reach_env",
+    "bubble_rob_avoid_env",
+]
 
 
 class Task(abc.ABC):
@@ -71,6 +84,23 @@ class Task(abc.ABC):
 
     def reset(self, sim: Any, rng: np.random.Generator) -> None:
         """Randomises the initial state of an episode, drawing only from ``rng``."""
+
+    def plan(self, sim: Any) -> Optional[StepPlan]:
+        """Optionally, what :meth:`act`, the steps and :meth:`observe` do, as a
+        :class:`StepPlan` of ``sim`` calls (asked after :meth:`setup`; ``None``, the
+        default, for none). An in-process env then runs each action in one call with the
+        GIL released, so that threads (:class:`gantry.vector.VectorEnv`) overlap the whole
+        step, not just the physics; :meth:`observation` turns its numbers into the
+        observation. The plan must do exactly what ``act`` and ``observe`` do (a test
+        should compare the two): served simulations, and the first observation of an
+        episode, still use them. Needs a ``float32`` action space."""
+        return None
+
+    def observation(self, values: np.ndarray) -> np.ndarray:
+        """The observation from the numbers a :meth:`plan` observed (``float64``, in the
+        order of its observe calls), as :meth:`observe` would return it; like ``observe``,
+        it may keep measurements for :meth:`reward` and the others. Default: as they are."""
+        return values
 
     @abc.abstractmethod
     def act(self, sim: Any, action: np.ndarray) -> None:
@@ -129,6 +159,7 @@ class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self.metadata = {"render_modes": render_modes, "render_fps": 1.0 / (dt * task.steps_per_action)}
         self._camera = -1
         self._steps: Optional[int] = None  # actions since the last reset; None before the first
+        self._plan: Optional[StepPlan] = None
 
     def reset(
         self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
@@ -143,6 +174,12 @@ class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         if self.task.camera is not None:
             self._camera = self.sim.getObject(self.task.camera)
         self.task.setup(self.sim)
+        self._plan = self.task.plan(self.sim) if self.client.in_process else None
+        if self._plan is not None and self._plan.steps != self.task.steps_per_action:
+            raise ValueError(
+                f"{type(self.task).__name__}.plan() takes {self._plan.steps} steps per action, "
+                f"not steps_per_action={self.task.steps_per_action}"
+            )
         self.task.reset(self.sim, self.np_random)
         self._steps = 0
         obs = self._observe()
@@ -151,12 +188,26 @@ class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if self._steps is None:
             raise RuntimeError("call reset() before step()")
-        action = self._checked_action(action)
+        return self._step_checked(self._checked_action(action))
+
+    def _step_checked(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """``step()`` on an action already checked and clipped (as :class:`VectorEnv`
+        does for all its envs at once)."""
+        if self._plan is not None:
+            # act, the steps and observe's calls in one call, with the GIL released.
+            return self._planned(action, self.client._engine_here.run_plan(self._plan, action))
         self.task.act(self.sim, action)
         for _ in range(self.task.steps_per_action):
             self.sim.step()
+        return self._outcome(action, self._observe())
+
+    def _planned(self, action: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        """The rest of ``step()`` once the plan has run (here or, for a vector env's
+        block, together with its neighbours')."""
+        return self._outcome(action, self._shaped(self.task.observation(values)))
+
+    def _outcome(self, action: np.ndarray, obs: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         self._steps += 1
-        obs = self._observe()
         reward = float(self.task.reward(self.sim, obs, action))
         terminated = bool(self.task.terminated(self.sim, obs))
         limit = self.task.max_episode_steps
@@ -184,7 +235,10 @@ class GantryEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         return np.clip(a, space.low, space.high).astype(space.dtype)
 
     def _observe(self) -> np.ndarray:
-        obs = np.asarray(self.task.observe(self.sim), dtype=np.float32)
+        return self._shaped(self.task.observe(self.sim))
+
+    def _shaped(self, observation: Any) -> np.ndarray:
+        obs = np.asarray(observation, dtype=np.float32)
         if obs.shape != self.observation_space.shape:
             raise ValueError(
                 f"{type(self.task).__name__}.observe returned shape {obs.shape}, "
@@ -247,6 +301,7 @@ class ArmReach(Task):
         )
         self.target_config = np.zeros(6)
         self.target = np.zeros(3)
+        self.distance = math.inf  # tip to target (m), as of the last observation
 
     def setup(self, sim: Any) -> None:
         self.joints = [sim.getObject(f"/arm6/joint{i}") for i in range(1, 7)]
@@ -254,7 +309,10 @@ class ArmReach(Task):
         self.target_dummy = sim.getObject("/target")
 
     def _config(self, sim: Any) -> np.ndarray:
-        return np.array([sim.getJointPosition(j) for j in self.joints])
+        return np.array(self._config_list(sim))
+
+    def _config_list(self, sim: Any) -> list[float]:
+        return [sim.getJointPosition(j) for j in self.joints]
 
     def _set_config(self, sim: Any, config: np.ndarray) -> None:
         for joint, q in zip(self.joints, config):
@@ -274,31 +332,53 @@ class ArmReach(Task):
             raise ValueError(f"no target found at least {self.min_target_height} m above the floor")
         self._set_config(sim, start)
         self.target_config, self.target = config, tip
-        # Only to show the target in the viewer.
+        # The target dummy shows it in the viewer, and the observation reads it back.
         sim.setObjectPosition(self.target_dummy, tip.tolist(), sim.handle_world)
+
+    # Per step, plain lists rather than small numpy arrays: this Python runs with the GIL
+    # held, the part of a step that threads (gantry.vector) cannot overlap.
 
     def act(self, sim: Any, action: np.ndarray) -> None:
         # The simulator clamps limited joints and wraps the continuous ones.
-        for joint, q, dq in zip(self.joints, self._config(sim), action):
-            sim.setJointTargetPosition(joint, float(q + dq * self.max_joint_step))
+        increments = (action * self.max_joint_step).tolist()
+        for joint, q, dq in zip(self.joints, self._config_list(sim), increments):
+            sim.setJointTargetPosition(joint, q + dq)
 
     def observe(self, sim: Any) -> np.ndarray:
         tip = sim.getObjectPosition(self.tip, sim.handle_world)
-        return np.concatenate([self._config(sim), tip, self.target])
+        target = sim.getObjectPosition(self.target_dummy, sim.handle_world)
+        return self.observation(np.array(self._config_list(sim) + tip + target))
 
-    def _distance(self, obs: np.ndarray) -> float:
-        return float(np.linalg.norm(obs[6:9] - obs[9:12]))
+    def plan(self, sim: Any) -> StepPlan:
+        # act and observe above, call for call.
+        world = sim.handle_world
+        return StepPlan(
+            act=[
+                ("sim.setJointTargetPosition", joint, "sim.getJointPosition", k, self.max_joint_step)
+                for k, joint in enumerate(self.joints)
+            ],
+            steps=self.steps_per_action,
+            observe=[
+                *(("sim.getJointPosition", [joint]) for joint in self.joints),
+                ("sim.getObjectPosition", [self.tip, world]),
+                ("sim.getObjectPosition", [self.target_dummy, world]),
+            ],
+        )
+
+    def observation(self, values: np.ndarray) -> np.ndarray:
+        # Kept for reward, terminated and info, which follow (in double precision).
+        v = values.tolist()
+        self.distance = math.dist(v[6:9], v[9:12])
+        return values
 
     def reward(self, sim: Any, obs: np.ndarray, action: np.ndarray) -> float:
-        distance = self._distance(obs)
-        return -distance + (self.success_bonus if distance < self.tolerance else 0.0)
+        return -self.distance + (self.success_bonus if self.distance < self.tolerance else 0.0)
 
     def terminated(self, sim: Any, obs: np.ndarray) -> bool:
-        return self._distance(obs) < self.tolerance
+        return self.distance < self.tolerance
 
     def info(self, sim: Any, obs: np.ndarray) -> dict[str, Any]:
-        distance = self._distance(obs)
-        return {"distance": distance, "is_success": distance < self.tolerance}
+        return {"distance": self.distance, "is_success": self.distance < self.tolerance}
 
 
 # --- BubbleRobAvoid ------------------------------------------------------------------
@@ -371,20 +451,51 @@ class BubbleRobAvoid(Task):
         sim.setObjectOrientation(self.body, [0.0, 0.0, float(heading)], sim.handle_world)
 
     def act(self, sim: Any, action: np.ndarray) -> None:
-        for motor, a in zip(self.motors, action):
-            sim.setJointTargetVelocity(motor, float(a) * self.max_wheel_speed)
+        # Scaled in single precision, as the step plan does.
+        for motor, speed in zip(self.motors, (action * self.max_wheel_speed).tolist()):
+            sim.setJointTargetVelocity(motor, speed)
+
+    def _queries(self, sim: Any) -> list[tuple[str, list[Any]]]:
+        """What an observation reads, in order: the nose sensor (9 numbers), the body's
+        matrix (12), its velocity (6) and its clearance (10)."""
+        world = sim.handle_world
+        return [
+            # Sensed explicitly so that the observation after reset() reflects the new pose.
+            ("sim.handleProximitySensor", [self.nose]),
+            ("sim.getObjectMatrix", [self.body, world]),
+            ("sim.getObjectVelocity", [self.body]),
+            ("sim.checkDistance", [self.rover, sim.handle_all]),
+        ]
 
     def observe(self, sim: Any) -> np.ndarray:
-        # Sensed explicitly so that the observation after reset() reflects the new pose.
-        detected, distance, *_ = sim.handleProximitySensor(self.nose)
+        values: list[float] = []
+        for name, args in self._queries(sim):
+            for v in _as_tuple(getattr(sim, name[4:])(*args)):
+                values.extend(v if isinstance(v, list) else [v])
+        return self.observation(np.array(values, dtype=np.float64))
+
+    def plan(self, sim: Any) -> StepPlan:
+        # act and observe above, call for call.
+        return StepPlan(
+            act=[
+                ("sim.setJointTargetVelocity", motor, None, k, self.max_wheel_speed)
+                for k, motor in enumerate(self.motors)
+            ],
+            steps=self.steps_per_action,
+            observe=self._queries(sim),
+        )
+
+    def observation(self, values: np.ndarray) -> np.ndarray:
+        v = values.tolist()
+        detected, distance = v[0], v[1]
         if detected <= 0:
             distance = _NOSE_RANGE
-        m = sim.getObjectMatrix(self.body, sim.handle_world)
+        m = v[9:21]
         heading = math.atan2(m[4], m[0])  # of the body's x axis, its forward direction
-        (vx, vy, _), (_, _, yaw_rate) = sim.getObjectVelocity(self.body)
+        vx, vy, yaw_rate = v[21], v[22], v[26]
         forward = vx * math.cos(heading) + vy * math.sin(heading)
-        result, data, _ = sim.checkDistance(self.rover, sim.handle_all)
-        self.clearance = data[6] if result > 0 else math.inf
+        # checkDistance: result, then [p1, p2, distance]
+        self.clearance = v[34] if v[27] > 0 else math.inf
         obs = np.array(
             [detected > 0, distance, m[3], m[7], math.cos(heading), math.sin(heading), forward, yaw_rate],
             dtype=np.float32,
@@ -407,6 +518,11 @@ class BubbleRobAvoid(Task):
         return {"clearance": self.clearance, "collision": self._collided()}
 
 
+def _as_tuple(reply: Any) -> tuple[Any, ...]:
+    """A ``sim`` call's results as a tuple (one result comes as itself)."""
+    return reply if isinstance(reply, tuple) else (reply,)
+
+
 # --- registration --------------------------------------------------------------------
 
 
@@ -422,11 +538,31 @@ def bubble_rob_avoid_env(render_mode: Optional[str] = None, **options: Any) -> G
 
 # The TimeLimit wrapper that make() adds truncates registered envs (so that
 # make(id, max_episode_steps=n) can change the limit); their tasks do not.
-for _id, _entry, _limit in (
-    ("gantry/ArmReach-v0", "gantry.gym:arm_reach_env", _ARM_REACH_STEPS),
-    ("gantry/BubbleRobAvoid-v0", "gantry.gym:bubble_rob_avoid_env", _BUBBLE_ROB_STEPS),
+# make_vec() builds a gantry.vector.VectorEnv (its vector_entry_point), which applies the
+# registered limit itself, as make_vec adds no TimeLimit.
+for _id, _entry, _vector_entry, _limit in (
+    ("gantry/ArmReach-v0", "gantry.gym:arm_reach_env", "gantry.vector:arm_reach_vector_env", _ARM_REACH_STEPS),
+    (
+        "gantry/BubbleRobAvoid-v0",
+        "gantry.gym:bubble_rob_avoid_env",
+        "gantry.vector:bubble_rob_avoid_vector_env",
+        _BUBBLE_ROB_STEPS,
+    ),
 ):
     if _id not in gymnasium.registry:
         gymnasium.register(
-            _id, entry_point=_entry, max_episode_steps=_limit, kwargs={"max_episode_steps": None}
+            _id,
+            entry_point=_entry,
+            vector_entry_point=_vector_entry,
+            max_episode_steps=_limit,
+            kwargs={"max_episode_steps": None},
         )
+
+
+def __getattr__(name: str) -> Any:
+    # gantry.gym.VectorEnv, imported on first use: gantry.vector imports this module.
+    if name == "VectorEnv":
+        from .vector import VectorEnv
+
+        return VectorEnv
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -23,6 +23,8 @@ use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::{Control, SimulationState};
 use pyo3::Python;
 
+use crate::plan::{StepPlan, push_numbers};
+
 /// The one client of an in-process simulation, for the stepping rules shared with the
 /// remote API.
 const ME: ClientId = ClientId(0);
@@ -33,21 +35,23 @@ pub struct Direct {
     engine: Engine,
 }
 
-/// A `&mut` crossing [`Python::detach`], whose `Send` bound is there to keep
+/// A `&mut` to a simulation (or to several: a vector environment's block, all made
+/// by this thread) crossing [`Python::detach`], whose `Send` bound is there to keep
 /// GIL-bound Python references out of the closure. The simulation holds none (its Lua
 /// state and world are plain Rust), and `detach` runs the closure at once on this same
 /// thread, so the value never actually moves to another thread: that is what makes
 /// the assertion sound. The pyclass that owns the simulation is `unsendable`, so
 /// no other thread can reach it while the GIL is released.
-struct OnThisThread<'a>(&'a mut Direct);
+struct OnThisThread<'a, T: ?Sized>(&'a mut T);
 
 // SAFETY: see the type's comment: the closure runs synchronously on the owning thread.
-unsafe impl Send for OnThisThread<'_> {}
+// Only `Direct` and slices of `&mut Direct` are wrapped (the functions below).
+unsafe impl<T: ?Sized> Send for OnThisThread<'_, T> {}
 
-impl OnThisThread<'_> {
+impl<T: ?Sized> OnThisThread<'_, T> {
     /// The wrapped value. A method, not a field access, so that closures capture the
     /// whole (Send) wrapper rather than its non-Send field.
-    fn get(&mut self) -> &mut Direct {
+    fn get(&mut self) -> &mut T {
         self.0
     }
 }
@@ -274,6 +278,80 @@ impl Direct {
         // Steps taken outside the real-time schedule: it starts afresh from now.
         self.engine.restart_pacing(Instant::now());
         Ok(taken)
+    }
+
+    /// One action of a step plan with the GIL released throughout: the act calls, up to
+    /// `plan.steps` steps (fewer if the simulation stops), the observe calls. Returns the
+    /// observation's numbers. The calls and steps are those the task's own `sim.*` calls
+    /// and `sim.step()` would make, without the Python between them.
+    ///
+    /// # Errors
+    /// A call's error (CoppeliaSim-style message), or an observe call whose reply is
+    /// not numbers.
+    pub fn run_plan(&mut self, py: Python<'_>, plan: &StepPlan, action: &[f32]) -> Result<Vec<f64>, CallError> {
+        self.before_call(py);
+        self.detached(py, |d| d.plan_step(plan, action))
+    }
+
+    /// [`Direct::run_plan`] on several simulations of this thread, one after the other,
+    /// with the GIL released once for all: a vector environment's worker hands the GIL
+    /// over twice per batch instead of twice per environment. `work[k]` is the plan and
+    /// action of `sims[k]`. Stops at the first error, returned with its position.
+    ///
+    /// # Errors
+    /// As [`Direct::run_plan`], with the index of the simulation that failed.
+    pub fn run_plans(
+        py: Python<'_>,
+        sims: &mut [&mut Direct],
+        work: &[(&StepPlan, &[f32])],
+    ) -> Result<Vec<Vec<f64>>, (usize, CallError)> {
+        for d in sims.iter_mut() {
+            d.before_call(py);
+        }
+        let mut all = OnThisThread(sims);
+        py.detach(move || {
+            let sims = all.get();
+            sims.iter_mut()
+                .zip(work)
+                .enumerate()
+                .map(|(k, (d, (plan, action)))| d.plan_step(plan, action).map_err(|e| (k, e)))
+                .collect()
+        })
+    }
+
+    /// One action of `plan`, the GIL already released.
+    fn plan_step(&mut self, plan: &StepPlan, action: &[f32]) -> Result<Vec<f64>, CallError> {
+        for op in &plan.act {
+            let mut value = f64::from(action[op.index] * op.scale);
+            if let Some(read) = &op.read {
+                let reply = self.engine.call(read, std::slice::from_ref(&op.handle))?;
+                value += reply.first().and_then(Value::as_f64).ok_or_else(|| {
+                    CallError::failed(read.qualified(), SimError::refused("the plan reads a number here"))
+                })?;
+            }
+            self.engine.call(&op.set, &[op.handle.clone(), Value::Float(value)])?;
+        }
+        if plan.steps > 0 && self.engine.holds_lock(ME) {
+            // As sim.step() refuses: the lock holds the simulation.
+            return Err(CallError::failed(
+                "sim.step",
+                SimError::refused("this client holds sim.acquireLock: release it before stepping"),
+            ));
+        }
+        for _ in 0..plan.steps {
+            if self.engine.state() != SimulationState::Running {
+                break;
+            }
+            self.engine.step();
+        }
+        let mut values = Vec::new();
+        for op in &plan.observe {
+            let reply = self.engine.call(&op.get, &op.args)?;
+            push_numbers(&reply, &mut values).ok_or_else(|| {
+                CallError::failed(op.get.qualified(), SimError::refused("the plan observes numbers only"))
+            })?;
+        }
+        Ok(values)
     }
 
     /// Cleanup hooks, once, when the client closes.

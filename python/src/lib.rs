@@ -9,6 +9,7 @@
 
 mod convert;
 mod direct;
+mod plan;
 mod served;
 
 use std::net::IpAddr;
@@ -28,13 +29,14 @@ use gantry_sim_core::scene::{
     BUNDLED_SCENES, DiskFiles, EmbeddedFiles, Files, LoadOptions, LoggedFiles, bundled_files, load_client_scene,
     load_scene, normalize_path,
 };
-use numpy::{PyArray1, PyArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::convert::{results, to_value};
 use crate::direct::Direct;
+use crate::plan::StepPlan;
 use crate::served::Served;
 
 /// A function resolved once, when its function object is made (or per call of
@@ -352,6 +354,96 @@ impl Engine {
         }
     }
 
+    /// One action of a step plan (see `StepPlan`): `action` is the task's `float32`
+    /// action; returns the observation's numbers as a `float64` array. The whole call
+    /// runs with the GIL released. In-process only.
+    fn run_plan<'py>(
+        &mut self,
+        py: Python<'py>,
+        plan: &StepPlan,
+        action: PyReadonlyArray1<'py, f32>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let action = action.as_slice()?;
+        if action.len() < plan.action_size {
+            return Err(PyValueError::new_err(format!(
+                "run_plan: the plan reads {} action values, got {}",
+                plan.action_size,
+                action.len()
+            )));
+        }
+        let values = match self.backend()? {
+            Backend::Direct(d) => d
+                .run_plan(py, plan, action)
+                .map_err(|e| PyException::new_err(e.to_string()))?,
+            Backend::Served(_) => {
+                return Err(PyRuntimeError::new_err(
+                    "run_plan() is for in-process clients; a served simulation steps with sim.step()",
+                ));
+            }
+        };
+        Ok(PyArray1::from_vec(py, values))
+    }
+
+    /// `run_plan` on several in-process clients of this thread, row `k` of `actions`
+    /// for `engines[k]` with `plans[k]`, the GIL released once for all (a vector
+    /// environment's block). Returns the observations as a `(n, m)` `float64` array
+    /// (every plan must observe `m` numbers). A failing call raises an `Exception`
+    /// whose `args` are `(message, k)`.
+    #[staticmethod]
+    fn run_plans<'py>(
+        py: Python<'py>,
+        engines: Vec<Bound<'py, Engine>>,
+        plans: Vec<PyRef<'py, StepPlan>>,
+        actions: PyReadonlyArray2<'py, f32>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let [n, width] = [actions.shape()[0], actions.shape()[1]];
+        if engines.len() != n || plans.len() != n {
+            return Err(PyValueError::new_err(format!(
+                "run_plans: {} engines, {} plans and {n} action rows",
+                engines.len(),
+                plans.len()
+            )));
+        }
+        if let Some(p) = plans.iter().find(|p| p.action_size > width) {
+            return Err(PyValueError::new_err(format!(
+                "run_plans: a plan reads {} action values, got {width}",
+                p.action_size
+            )));
+        }
+        let actions = actions.as_slice()?;
+        let mut borrowed = engines
+            .iter()
+            .map(|e| {
+                e.try_borrow_mut()
+                    .map_err(|_| PyRuntimeError::new_err("run_plans: a client is busy or given twice"))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let mut sims = Vec::with_capacity(n);
+        for engine in &mut borrowed {
+            match engine.backend()? {
+                Backend::Direct(d) => sims.push(&mut **d),
+                Backend::Served(_) => {
+                    return Err(PyRuntimeError::new_err("run_plans() is for in-process clients"));
+                }
+            }
+        }
+        let work: Vec<(&StepPlan, &[f32])> = plans
+            .iter()
+            .zip(actions.chunks(width.max(1)))
+            .map(|(p, a)| (&**p, a))
+            .collect();
+        let rows =
+            Direct::run_plans(py, &mut sims, &work).map_err(|(k, e)| PyException::new_err((e.to_string(), k)))?;
+        let m = rows.first().map_or(0, Vec::len);
+        if rows.iter().any(|r| r.len() != m) {
+            return Err(PyValueError::new_err(
+                "run_plans: the plans observe different numbers of values",
+            ));
+        }
+        let flat: Vec<f64> = rows.into_iter().flatten().collect();
+        Ok(PyArray1::from_vec(py, flat).reshape([n, m])?.into_any())
+    }
+
     /// A vision sensor's image as a numpy array `(height, width, channels)` of `uint8`
     /// (channels 3, 1 with `options` bit 0, 4 with `rgba_cutoff`), without copying the
     /// pixels; `top_first` flips the rows (a view, no copy) so that row 0 is the top,
@@ -542,6 +634,7 @@ fn log_to_stderr(level: &str) -> PyResult<bool> {
 fn _gantry(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Engine>()?;
     m.add_class::<Function>()?;
+    m.add_class::<StepPlan>()?;
     m.add_function(wrap_pyfunction!(log_to_stderr, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
