@@ -7,6 +7,7 @@ by tools/bench/vector_env.py."""
 
 from __future__ import annotations
 
+import os
 import threading
 from typing import Any, Callable
 
@@ -159,6 +160,15 @@ def test_disabled_autoreset_needs_a_masked_reset(closing):
         vec.step(np.zeros((3, 6)))
     vec.reset(options={"reset_mask": ~mask})
     vec.step(np.zeros((3, 6)))
+
+
+def test_cheap_arm_steps_stay_on_one_thread_by_default(closing):
+    # ArmReach's steps cost less than handing them to a thread (measured in
+    # tools/bench/vector_env.py): one thread per 64 envs unless asked.
+    assert closing(gymnasium.make_vec("gantry/ArmReach-v0", num_envs=4)).num_threads == 1
+    assert closing(gymnasium.make_vec("gantry/ArmReach-v0", num_envs=4, num_threads=2)).num_threads == 2
+    expected = max(1, min(os.cpu_count() or 1, 128 // 64))
+    assert closing(gymnasium.make_vec("gantry/ArmReach-v0", num_envs=128)).num_threads == expected
 
 
 def test_make_vec_gives_a_vector_env_with_the_registered_limit(closing):
