@@ -16,7 +16,6 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::convert::to_value;
-use crate::resolve;
 
 /// Sets `set(handle, value)` where `value` is `action[index] * scale`, multiplied in
 /// single precision (as numpy multiplies a `float32` action by a Python float), plus,
@@ -50,8 +49,8 @@ pub struct StepPlan {
 /// A registry function by name; host functions (`sim.step`, simulation control) and
 /// script code are refused: the plan's own steps are the only stepping.
 fn core_function(name: &str) -> PyResult<Target> {
-    match resolve(name) {
-        Some(f) if matches!(f.target, Target::Core { .. }) => Ok(f.target),
+    match Target::resolve(name) {
+        Some(target @ Target::Core { .. }) => Ok(target),
         Some(_) => Err(PyValueError::new_err(format!(
             "StepPlan: {name} is not a registry function (no stepping, control or script calls in a plan)"
         ))),
