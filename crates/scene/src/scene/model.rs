@@ -563,8 +563,9 @@ pub const VISION_BYTES_PER_PIXEL: u64 = 7;
 /// together, bytes (1 GiB: 36 sensors of 2048 x 2048, or 500 of 640 x 480). A scene
 /// or a run-time resolution change beyond it is refused with the total, rather than
 /// left to fail on allocation, or to swap, at the first render. The renderer's own
-/// scratch buffers (two words per pixel of the largest sensor) and simVision work
-/// images come on top.
+/// buffers (up to three words per pixel: depth, colour and, for masks, handles) come
+/// on top, for the largest sensor once per core and once per sensor drawn in bands
+/// (fewer than the cores), as do simVision work images and buffers.
 pub const MAX_VISION_IMAGE_BYTES: u64 = 1 << 30;
 
 /// Image memory of one sensor of `resolution`, bytes (RGB and depth).

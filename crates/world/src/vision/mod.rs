@@ -74,10 +74,14 @@ pub struct VisionStates {
     sensors: BTreeMap<Handle, SensorImage>,
     shapes: raster::ShapeCache,
     scratch: raster::Scratch,
+    /// The calling thread's frame buffers, for the sensors it draws whole.
+    frame: raster::FrameBuffers,
     /// Buffers of the threads other than the caller's when sensors are drawn on
     /// several ([`VisionStates::render_many`]).
-    extra_scratch: Vec<raster::Scratch>,
-    /// Drawing buffers of the sensors of one call, reused from call to call.
+    extra_scratch: Vec<(raster::Scratch, raster::FrameBuffers)>,
+    /// Frame buffers of the sensors drawn in bands (at most one fewer than the
+    /// threads): with the threads' own, memory follows the threads and the largest
+    /// sensor, not the number of sensors.
     frames: Vec<raster::FrameBuffers>,
     /// Draw every chunk, culling nothing: only for the test that culling changes no
     /// image (false, culling on, otherwise).
@@ -290,6 +294,7 @@ impl VisionStates {
             sensors,
             shapes,
             scratch,
+            frame,
             extra_scratch,
             frames,
             no_cull,
@@ -334,19 +339,23 @@ impl VisionStates {
         // processing time first, then the small pieces. Only the schedule depends on
         // these timings, never a pixel.
         jobs.sort_by_key(|job| std::cmp::Reverse(job.image.draw_nanos));
-        frames.resize_with(jobs.len(), raster::FrameBuffers::default);
         let sizes = if *band_every_size {
             BandSizes::ANY
         } else {
             BandSizes::DEFAULT
         };
         let bands = bands_per_sensor(&jobs, threads, sizes);
+        frames.resize_with(
+            bands.iter().filter(|&&count| count > 1).count(),
+            raster::FrameBuffers::default,
+        );
         let mut units = Vec::new();
-        for ((job, buffers), &count) in jobs.iter_mut().zip(frames.iter_mut()).zip(&bands) {
+        let mut banded_frames = frames.iter_mut();
+        for (job, &count) in jobs.iter_mut().zip(&bands) {
             job.prepare();
             if count == 1 {
-                units.push(Unit::Whole(job, buffers));
-            } else {
+                units.push(Unit::Whole(job));
+            } else if let Some(buffers) = banded_frames.next() {
                 let job = &*job;
                 let mask = job.image.mask_wanted_now(&job.cam);
                 units.extend(
@@ -358,21 +367,21 @@ impl VisionStates {
             }
         }
         let threads = threads.clamp(1, units.len().max(1));
-        let draw = |unit: Unit<'_>, scratch: &mut raster::Scratch| {
+        let draw = |unit: Unit<'_>, scratch: &mut raster::Scratch, frame: &mut raster::FrameBuffers| {
             let start = std::time::Instant::now();
             let draw_band = |job: &Job, band, scratch: &mut raster::Scratch| {
                 raster::draw_band(&items, &job.cam, &job.pose, scratch, band, shortcuts);
             };
             let nanos = |start: std::time::Instant| u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
             match unit {
-                Unit::Whole(job, buffers) => {
+                Unit::Whole(job) => {
+                    // In this thread's own buffers, and finished here too.
                     let mask = job.image.mask_wanted_now(&job.cam);
-                    for band in buffers.bands(&job.cam, mask, 1) {
+                    for band in frame.bands(&job.cam, mask, 1) {
                         draw_band(job, band, scratch);
                     }
                     job.image.draw_nanos = nanos(start);
-                    // The last pass too, on this thread.
-                    job.finish(buffers);
+                    job.finish(frame);
                 }
                 Unit::Band(job, band) => {
                     draw_band(job, band, scratch);
@@ -382,7 +391,7 @@ impl VisionStates {
         };
         if threads == 1 {
             for unit in units {
-                draw(unit, scratch);
+                draw(unit, scratch, frame);
             }
         } else {
             // Each thread takes the next unit not yet drawn, this one included: views
@@ -392,24 +401,27 @@ impl VisionStates {
             // even out the end. A thread costs 20-50 us to start on the 2-core VM,
             // less than one 128 x 128 frame of a scene with a mesh arm in view (a
             // lone small sensor is not cut, and so starts none: `BandSizes`).
-            extra_scratch.resize_with(threads - 1, raster::Scratch::default);
+            extra_scratch.resize_with(threads - 1, Default::default);
             let queue = std::sync::Mutex::new(units.into_iter());
             let next = || queue.lock().ok().and_then(|mut q| q.next());
-            let draw_queue = |scratch: &mut raster::Scratch| {
+            let draw_queue = |scratch: &mut raster::Scratch, frame: &mut raster::FrameBuffers| {
                 while let Some(unit) = next() {
-                    draw(unit, scratch);
+                    draw(unit, scratch, frame);
                 }
             };
             std::thread::scope(|scope| {
-                for scratch in extra_scratch.iter_mut() {
-                    scope.spawn(|| draw_queue(scratch));
+                for (scratch, frame) in extra_scratch.iter_mut() {
+                    scope.spawn(|| draw_queue(scratch, frame));
                 }
-                draw_queue(scratch);
+                draw_queue(scratch, frame);
             });
         }
         // The sensors drawn in bands: their last pass, now that every band is drawn.
-        for ((job, buffers), &count) in jobs.iter_mut().zip(frames.iter_mut()).zip(&bands) {
-            if count > 1 {
+        let mut banded_frames = frames.iter_mut();
+        for (job, &count) in jobs.iter_mut().zip(&bands) {
+            if count > 1
+                && let Some(buffers) = banded_frames.next()
+            {
                 job.finish(buffers);
                 job.image.draw_nanos = *job.nanos.get_mut();
             }
@@ -445,10 +457,10 @@ struct Job {
 }
 
 /// What one thread takes from the queue in [`VisionStates::render_many`]: a whole
-/// sensor, drawn and finished there, or a band of one, finished once all its bands are
-/// drawn.
+/// sensor, drawn in the thread's own frame buffers and finished there, or a band of one
+/// (in buffers of its sensor's), finished once all its bands are drawn.
 enum Unit<'a> {
-    Whole(&'a mut Job, &'a mut raster::FrameBuffers),
+    Whole(&'a mut Job),
     Band(&'a Job, raster::Band<'a>),
 }
 

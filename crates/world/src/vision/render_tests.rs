@@ -323,6 +323,9 @@ fn sensors_drawn_in_parallel_give_the_same_images() {
         let mut states = VisionStates::default();
         let outcomes = states.render_many(&w.world, &handles, threads);
         assert!(outcomes.iter().all(Result::is_ok));
+        // Frame buffers follow the threads, not the sensors: one set per thread, and
+        // one per sensor drawn in bands (fewer than the threads).
+        assert!(states.extra_scratch.len() < threads && states.frames.len() < threads.max(2));
         handles.iter().map(|&h| image(&states, h)).collect::<Vec<_>>()
     };
     let one_by_one = run(1);
