@@ -523,16 +523,14 @@ def arm_reach_vector_env(
     """A :class:`VectorEnv` of :class:`ArmReach` (``options`` are its arguments);
     episodes truncated after ``max_episode_steps`` actions, by default the registered
     limit."""
-    limit = _ARM_REACH_STEPS if max_episode_steps is None else max_episode_steps
     if num_threads is None:
         # An ArmReach step is about 21 us (13 of them without the GIL), less than
         # handing a vector step to another thread costs: measured on 2 cores
         # (tools/bench/vector_env.py), 2 threads gave 0.56x one thread with 4 envs, 0.97x
         # with 16 and 1.17x with 64. So one thread per 64 envs.
         num_threads = max(1, min(os.cpu_count() or 1, num_envs // _ARM_REACH_ENVS_PER_THREAD))
-    return VectorEnv(
-        lambda: ArmReach(max_episode_steps=limit, **options), num_envs, num_threads, autoreset_mode=autoreset_mode
-    )
+    limit = _ARM_REACH_STEPS if max_episode_steps is None else max_episode_steps
+    return _vector_env(ArmReach, limit, num_envs, num_threads, autoreset_mode, options)
 
 
 # ArmReach envs worth a thread of their own by default (see arm_reach_vector_env).
@@ -550,9 +548,19 @@ def bubble_rob_avoid_vector_env(
     episodes truncated after ``max_episode_steps`` actions, by default the registered
     limit."""
     limit = _BUBBLE_ROB_STEPS if max_episode_steps is None else max_episode_steps
+    return _vector_env(BubbleRobAvoid, limit, num_envs, num_threads, autoreset_mode, options)
+
+
+def _vector_env(
+    task: Callable[..., Task],
+    limit: Optional[int],
+    num_envs: int,
+    num_threads: Optional[int],
+    autoreset_mode: AutoresetMode | str,
+    options: dict[str, Any],
+) -> VectorEnv:
+    """The registered entry points' vector env: ``task(max_episode_steps=limit,
+    **options)`` per env."""
     return VectorEnv(
-        lambda: BubbleRobAvoid(max_episode_steps=limit, **options),
-        num_envs,
-        num_threads,
-        autoreset_mode=autoreset_mode,
+        lambda: task(max_episode_steps=limit, **options), num_envs, num_threads, autoreset_mode=autoreset_mode
     )

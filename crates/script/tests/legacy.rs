@@ -806,12 +806,6 @@ end
 /// folder and other formats are refused.
 #[test]
 fn images_are_saved_and_loaded_as_png_in_the_scene_folder() {
-    let scene = r#"
-[[object]]
-name = "probe"
-kind = "dummy"
-script = "probe.lua"
-"#;
     let probe = r#"
 function sysCall_init()
     local img = string.char(255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30)
@@ -829,7 +823,7 @@ end
 "#;
     let mut sc = Scene::new(
         "save-image",
-        scene,
+        util::PROBE_ONLY_SCENE,
         &[("probe.lua", probe)],
         gantry_script::ScriptLimits::default(),
     );
@@ -849,12 +843,6 @@ end
 /// coroutines whose blocking calls yield) and the thread goes on.
 #[test]
 fn a_free_thread_goes_on() {
-    let scene = r#"
-[[object]]
-name = "probe"
-kind = "dummy"
-script = "probe.lua"
-"#;
     let probe = r#"
 function sysCall_threadmain()
     freed = sim.setThreadIsFree(true)
@@ -866,7 +854,7 @@ function report() return freed, done end
 "#;
     let mut sc = Scene::new(
         "free-thread",
-        scene,
+        util::PROBE_ONLY_SCENE,
         &[("probe.lua", probe)],
         gantry_script::ScriptLimits::default(),
     );
@@ -881,12 +869,6 @@ function report() return freed, done end
 /// and `sim.getApiFunc` lists the API's functions by prefix or part of a name.
 #[test]
 fn mesh_shapes_from_script_triangles_and_the_api_listing() {
-    let scene = r#"
-[[object]]
-name = "probe"
-kind = "dummy"
-script = "probe.lua"
-"#;
     let probe = r#"
 function sysCall_init()
     local h = sim.createMeshShape(0, 0, {0, 0, 0, 0.5, 0, 0, 0, 0.25, 0, 0, 0, 0.1}, {0, 1, 2, 0, 1, 3})
@@ -901,7 +883,7 @@ function report() return size, kind, badIndex, badVertices, prefixed, containing
 "#;
     let mut sc = Scene::new(
         "mesh-shape",
-        scene,
+        util::PROBE_ONLY_SCENE,
         &[("probe.lua", probe)],
         gantry_script::ScriptLimits::default(),
     );

@@ -7,9 +7,8 @@
 
 mod util;
 
-use gantry_script::ScriptLimits;
 use gantry_sim_core::Value;
-use util::{LUA_ERR, Scene, assert_close, assert_contains, floats, int, num, text};
+use util::{Scene, assert_close, assert_contains, floats, int, num, text};
 
 /// Two 0.2 m cubes of 1 kg on the X axis (`a` at x = 0, `b` at x = 1), a 0.2 × 0.4 ×
 /// 0.6 m box of 6 kg at (0, 2, 0.5), a sphere and a graph.
@@ -155,10 +154,7 @@ end
 "#;
 
 fn scene(tag: &str) -> Scene {
-    let probe = format!("{PROBE}\n{LUA_ERR}");
-    let mut sc = Scene::new(tag, SCENE, &[("probe.lua", &probe)], ScriptLimits::default());
-    sc.sim.start();
-    sc
+    Scene::probe(tag, SCENE, PROBE)
 }
 
 #[test]
@@ -372,14 +368,7 @@ end
 
 #[test]
 fn contact_info_lists_the_last_steps_contacts_of_an_object() {
-    let probe = format!("{CONTACT_PROBE}\n{LUA_ERR}");
-    let mut sc = Scene::new(
-        "old-contacts",
-        RESTING,
-        &[("probe.lua", &probe)],
-        ScriptLimits::default(),
-    );
-    sc.sim.start();
+    let mut sc = Scene::probe("old-contacts", RESTING, CONTACT_PROBE);
     for _ in 0..40 {
         sc.sim.step();
     }

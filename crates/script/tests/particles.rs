@@ -8,7 +8,7 @@ mod util;
 use gantry_script::ScriptLimits;
 use gantry_sim_core::Value;
 use gantry_sim_core::drawing::DrawingKind;
-use util::{LUA_ERR, Scene, assert_contains, assert_running, int, text, world_position};
+use util::{Scene, assert_contains, assert_running, int, text, world_position};
 
 /// A 2 kg box resting on the floor at the origin, and a nozzle 0.6 m behind it (-x)
 /// whose script fires a jet along +x.
@@ -128,10 +128,7 @@ script = "probe.lua"
 "#;
 
 fn probe(tag: &str, body: &str) -> Scene {
-    let source = format!("{body}\n{LUA_ERR}");
-    let mut sc = Scene::new(tag, PROBE_SCENE, &[("probe.lua", &source)], ScriptLimits::default());
-    sc.sim.start();
-    sc
+    Scene::probe(tag, PROBE_SCENE, body)
 }
 
 #[test]

@@ -6,9 +6,8 @@
 
 mod util;
 
-use gantry_script::ScriptLimits;
 use gantry_sim_core::Value;
-use util::{LUA_ERR, Scene, assert_close, assert_contains, floats, int, num, text};
+use util::{Scene, assert_close, assert_contains, floats, int, num, text};
 
 const SCENE: &str = r#"
 [[object]]
@@ -62,10 +61,7 @@ end
 "#;
 
 fn scene(tag: &str) -> Scene {
-    let probe = format!("{PROBE}\n{LUA_ERR}");
-    let mut sc = Scene::new(tag, SCENE, &[("probe.lua", &probe)], ScriptLimits::default());
-    sc.sim.start();
-    sc
+    Scene::probe(tag, SCENE, PROBE)
 }
 
 #[test]

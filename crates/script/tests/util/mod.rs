@@ -119,6 +119,15 @@ impl Scene {
         s
     }
 
+    /// `toml` with `body` plus [`LUA_ERR`] as `probe.lua`, default limits, started (so
+    /// `sysCall_init` has run).
+    pub fn probe(tag: &str, toml: &str, body: &str) -> Self {
+        let source = format!("{body}\n{LUA_ERR}");
+        let mut s = Self::new(tag, toml, &[("probe.lua", &source)], ScriptLimits::default());
+        s.sim.start();
+        s
+    }
+
     /// Calls the script function `f` (see [`call`]).
     pub fn call(&mut self, f: &str, args: &[Value]) -> Vec<Value> {
         call(&mut self.sim, f, args)
@@ -151,6 +160,15 @@ pub fn call(sim: &mut Simulation, f: &str, args: &[Value]) -> Vec<Value> {
 pub fn find(sim: &Simulation, path: &str) -> Handle {
     sim.world().find(path, None, 0).expect(path)
 }
+
+/// A scene of one dummy, `/probe`, carrying `probe.lua`: for tests that only run a
+/// script against the API.
+pub const PROBE_ONLY_SCENE: &str = r#"
+[[object]]
+name = "probe"
+kind = "dummy"
+script = "probe.lua"
+"#;
 
 /// Lua source of `err(f, ...)`: calls `f` in protected mode, fails if it succeeds and
 /// returns the error message otherwise. Append it to probe scripts.
