@@ -446,8 +446,9 @@ impl Engine {
 
     /// A vision sensor's image as a numpy array `(height, width, channels)` of `uint8`
     /// (channels 3, 1 with `options` bit 0, 4 with `rgba_cutoff`), without copying the
-    /// pixels; `top_first` flips the rows (a view, no copy) so that row 0 is the top,
-    /// as numpy, OpenCV and PIL expect (CoppeliaSim stores the bottom row first).
+    /// pixels again; `top_first` reorders the rows so that row 0 is the top, as numpy,
+    /// OpenCV, PIL and PyBullet have it (CoppeliaSim stores the bottom row first). The
+    /// array is the caller's own and C-contiguous either way.
     #[pyo3(signature = (sensor, options=0, rgba_cutoff=0.0, top_first=true))]
     fn image<'py>(
         &mut self,
@@ -458,10 +459,10 @@ impl Engine {
         top_first: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
         let args = [Value::Int(sensor), Value::Int(options), Value::Float(rgba_cutoff)];
-        let (bytes, [w, h]) = self.sensor_bytes(py, "getVisionSensorImg", &args)?;
+        let (mut bytes, [w, h]) = self.sensor_bytes(py, "getVisionSensorImg", &args)?;
         let channels = bytes.len().checked_div(w * h).unwrap_or(3);
-        let array = PyArray1::from_vec(py, bytes).reshape([h, w, channels])?.into_any();
-        flip(array, top_first)
+        flip_rows(&mut bytes, h, top_first);
+        Ok(PyArray1::from_vec(py, bytes).reshape([h, w, channels])?.into_any())
     }
 
     /// A vision sensor's depth map as a numpy array `(height, width)` of `float32`:
@@ -476,11 +477,11 @@ impl Engine {
         top_first: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
         let args = [Value::Int(sensor), Value::Int(i64::from(metres))];
-        let (bytes, [w, h]) = self.sensor_bytes(py, "getVisionSensorDepth", &args)?;
+        let (mut bytes, [w, h]) = self.sensor_bytes(py, "getVisionSensorDepth", &args)?;
+        flip_rows(&mut bytes, h, top_first);
         let bytes = PyArray1::from_vec(py, bytes);
         let floats = bytes.call_method1("view", ("<f4",))?;
-        let array = floats.call_method1("reshape", ((h, w),))?;
-        flip(array, top_first)
+        floats.call_method1("reshape", ((h, w),))
     }
 
     /// A vision sensor's segmentation mask as a numpy array `(height, width)` of
@@ -489,11 +490,11 @@ impl Engine {
     /// reinterpreted in place, not copied; `top_first` as for `image`.
     #[pyo3(signature = (sensor, top_first=true))]
     fn mask<'py>(&mut self, py: Python<'py>, sensor: i64, top_first: bool) -> PyResult<Bound<'py, PyAny>> {
-        let (bytes, [w, h]) = self.sensor_bytes(py, "getVisionSensorMask", &[Value::Int(sensor)])?;
+        let (mut bytes, [w, h]) = self.sensor_bytes(py, "getVisionSensorMask", &[Value::Int(sensor)])?;
+        flip_rows(&mut bytes, h, top_first);
         let bytes = PyArray1::from_vec(py, bytes);
         let handles = bytes.call_method1("view", ("<i4",))?;
-        let array = handles.call_method1("reshape", ((h, w),))?;
-        flip(array, top_first)
+        handles.call_method1("reshape", ((h, w),))
     }
 
     /// The listeners' addresses (`{"http": "127.0.0.1:8080", ...}`) of a served
@@ -559,14 +560,23 @@ fn ros2_setup(graph: bool) -> PyResult<gantry_ros2::RosSetup> {
         .map_err(|e| PyRuntimeError::new_err(format!("ros2=True: {e}")))
 }
 
-/// Rows reversed (a view) when `top_first`.
-fn flip(array: Bound<'_, PyAny>, top_first: bool) -> PyResult<Bound<'_, PyAny>> {
-    if top_first {
-        let py = array.py();
-        let rows = pyo3::types::PySlice::new(py, isize::MAX, isize::MIN, -1);
-        array.get_item(rows)
-    } else {
-        Ok(array)
+/// Reverses the order of an image's `rows` in place when `top_first`, so that the
+/// array handed to Python is C-contiguous with row 0 at the top. A reversed view
+/// (negative strides) was free here but cost its readers: `torch.from_numpy` refuses
+/// it and `np.array` copies it a second time.
+fn flip_rows(bytes: &mut [u8], rows: usize, top_first: bool) {
+    let Some(row_bytes) = bytes.len().checked_div(rows) else {
+        return;
+    };
+    if !top_first || row_bytes == 0 {
+        return;
+    }
+    let (mut low, mut high) = (0, rows - 1);
+    while low < high {
+        let (head, tail) = bytes.split_at_mut(high * row_bytes);
+        head[low * row_bytes..(low + 1) * row_bytes].swap_with_slice(&mut tail[..row_bytes]);
+        low += 1;
+        high -= 1;
     }
 }
 

@@ -31,6 +31,9 @@ def test_images_are_numpy_arrays_over_the_same_pixels():
         assert img.shape == (h, w, 3) and img.dtype == np.uint8
         # Not a copy: a view over the buffer the simulator filled.
         assert not img.flags["OWNDATA"] and img.base is not None
+        # C-contiguous, rows in place rather than a reversed view: torch.from_numpy
+        # refuses negative strides, and np.ascontiguousarray would copy again.
+        assert img.flags["C_CONTIGUOUS"] and img.strides[0] > 0
         # Row 0 is the top: the bytes (bottom row first, CoppeliaSim's order) flipped.
         bottom_first = np.frombuffer(raw, np.uint8).reshape(h, w, 3)
         assert np.array_equal(img, bottom_first[::-1])
@@ -41,6 +44,7 @@ def test_images_are_numpy_arrays_over_the_same_pixels():
 
         depth = client.depth(sensor, metres=True)
         assert depth.shape == (h, w) and depth.dtype == np.float32
+        assert depth.flags["C_CONTIGUOUS"] and client.depth(sensor, top_first=False).flags["C_CONTIGUOUS"]
         raw_depth, _ = sim.getVisionSensorDepth(sensor, 1)
         assert np.array_equal(depth, np.frombuffer(raw_depth, "<f4").reshape(h, w)[::-1])
         near, far = 0.01, 1.0  # the scene's clipping planes
@@ -49,7 +53,7 @@ def test_images_are_numpy_arrays_over_the_same_pixels():
         # The segmentation mask: handles of shapes, -1 where nothing is seen, from the
         # same render as the image (the first call renders again, with a mask).
         mask = client.mask(sensor)
-        assert mask.shape == (h, w) and mask.dtype == np.int32
+        assert mask.shape == (h, w) and mask.dtype == np.int32 and mask.flags["C_CONTIGUOUS"]
         raw_mask, _ = sim.getVisionSensorMask(sensor)
         assert np.array_equal(mask, np.frombuffer(raw_mask, "<i4").reshape(h, w)[::-1])
         seen = {int(v) for v in np.unique(mask)} - {-1}

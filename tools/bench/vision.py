@@ -7,8 +7,8 @@ in gantry in-process and in PyBullet's TinyRenderer (DIRECT mode,
 
 * ``640x480``: one 640 x 480 camera, RGB + depth, a public UR5 (example-robot-data) in
   view; frames/s. gantry: ``client.call("sim.handleVisionSensor", [h])`` then the RGB
-  image and the depth in metres, each copied into a numpy array of its own (PyBullet
-  returns fresh arrays too). Targets: at least 60 frames/s, on one core.
+  image and the depth in metres, each a fresh C-contiguous numpy array of the caller's
+  own, top row first (as PyBullet returns them). Targets: at least 60 frames/s, on one core.
 * ``5x128``: five 128 x 128 cameras around a Panda (pybullet_data), RGB + depth, plus
   the mask where gantry has ``client.mask`` (PyBullet's segmentation buffer is then
   asked for too, otherwise turned off with ``ER_NO_SEGMENTATION_MASK``); ms per step
@@ -77,15 +77,16 @@ class GantrySide:
 
     def frame(self, names: list[str], mask: bool) -> None:
         """Renders ``names`` (one call: a single handle, or ``sim.handle_all`` for several)
-        and copies each one's RGB, depth (m) and, with ``mask``, mask out."""
+        and copies each one's RGB, depth (m) and, with ``mask``, mask out: each comes as a
+        fresh C-contiguous array of the caller's own, top row first, as PyBullet's do."""
         target = self.handles[names[0]] if len(names) == 1 else self.sim.handle_all
         self.client.call("sim.handleVisionSensor", [target])
         for n in names:
             h = self.handles[n]
-            np.array(self.client.image(h))
-            np.array(self.client.depth(h, metres=True))
+            arrays = [self.client.image(h), self.client.depth(h, metres=True)]
             if mask:
-                np.array(self.client.mask(h, top_first=True))
+                arrays.append(self.client.mask(h, top_first=True))
+            assert all(a.flags["C_CONTIGUOUS"] for a in arrays)
 
     def close(self) -> None:
         self.client.close()

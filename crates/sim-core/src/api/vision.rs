@@ -298,6 +298,11 @@ pub(super) fn get_vision_sensor_img(sim: &mut Sim, _: &CallContext<'_>, a: &Args
         let (Some(px), Some(d)) = (rgb.get(3 * row.start..3 * row.end), depth.get(row)) else {
             continue;
         };
+        if !grey && !alpha {
+            // The common case, RGB as stored: one copy per row, not three bytes at a time.
+            out.extend_from_slice(px);
+            continue;
+        }
         for (c, &dv) in px.chunks_exact(3).zip(d) {
             if grey {
                 // Integer mean, rounded, of three bytes: at most 255.
@@ -326,14 +331,16 @@ pub(super) fn get_vision_sensor_depth(sim: &mut Sim, _: &CallContext<'_>, a: &Ar
     let s = vision::read(&sim.world, &mut sim.vision, h)?;
     let metres = options & 1 != 0;
     let (near, far) = (model.near as f32, model.far as f32);
-    let mut out = Vec::with_capacity(4 * p.w * p.h);
-    for row in p.rows(width) {
+    let mut out = vec![0; 4 * p.w * p.h];
+    for (row, bytes) in p.rows(width).zip(out.chunks_exact_mut(4 * p.w)) {
         let Some(ds) = s.depth().get(row) else {
             continue;
         };
-        for &d in ds {
+        // Written in place, four bytes per float, so that the loop compiles to vector
+        // stores (a push per float was a third of reading a 128 x 128 map).
+        for (b, &d) in bytes.chunks_exact_mut(4).zip(ds) {
             let v = if metres { near + d * (far - near) } else { d };
-            out.extend_from_slice(&v.to_le_bytes());
+            b.copy_from_slice(&v.to_le_bytes());
         }
     }
     Ok(vec![Value::Bytes(out), p.size_value()])
@@ -353,10 +360,12 @@ fn get_vision_sensor_mask(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> R
     let width = model.resolution[0] as usize;
     let s = vision::read_mask(&sim.world, &mut sim.vision, h)?;
     let mask = s.mask().unwrap_or_default();
-    let mut out = Vec::with_capacity(4 * p.w * p.h);
-    for row in p.rows(width) {
-        for &id in mask.get(row).unwrap_or_default() {
-            out.extend_from_slice(&id.to_le_bytes());
+    // 0xff bytes are -1, nothing seen: what a sensor without a mask (an image written by
+    // `sim.setVisionSensorImg`) reads.
+    let mut out = vec![0xff; 4 * p.w * p.h];
+    for (row, bytes) in p.rows(width).zip(out.chunks_exact_mut(4 * p.w)) {
+        for (b, &id) in bytes.chunks_exact_mut(4).zip(mask.get(row).unwrap_or_default()) {
+            b.copy_from_slice(&id.to_le_bytes());
         }
     }
     Ok(vec![Value::Bytes(out), p.size_value()])
