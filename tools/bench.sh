@@ -53,7 +53,7 @@ source tools/python-wheel.sh
 echo "== MuJoCo: the public arms in gantry (Lua loop, Python loop, advance(n)), MuJoCo (Python loop, rollout) and PyBullet, interleaved (issue 33)"
 GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/mujoco_bench.py --repeat 3 > target/bench/mujoco.json
 echo "== vector environments: 1 against 2 threads on BubbleRobAvoid and ArmReach, with the machine's ceiling"
-"$venv/bin/python" tools/bench/vector_env.py --json target/bench/vector_env.json
+"$venv/bin/python" tools/bench/vector_env.py --envs 4 16 32 64 128 --json target/bench/vector_env.json
 echo "== vision: gantry's vision sensors against PyBullet's TinyRenderer, same scenes, interleaved (issue 30)"
 "$venv/bin/python" tools/bench/vision.py --rounds 5 --json target/bench/vision.json
 echo "== script debugger: step rate with and without --debug"

@@ -50,7 +50,7 @@ Importing :mod:`gantry.gym` registers ``vector_entry_point``\\ s, so that::
 
 return a :class:`VectorEnv` (``num_threads`` defaults to the number of cores, at most
 ``num_envs``; for ArmReach, whose steps are cheaper than handing them to another thread,
-one thread per 64 envs). Episodes are truncated after the registered limit, as ``make`` does with
+one thread per 32 envs). Episodes are truncated after the registered limit, as ``make`` does with
 its ``TimeLimit``, unless ``max_episode_steps`` says otherwise.
 """
 
@@ -62,7 +62,7 @@ import threading
 import time
 import traceback
 import weakref
-from typing import Any, Callable, Optional, Sequence
+from typing import Any, Callable, NamedTuple, Optional, Sequence, Union
 
 import gymnasium
 import numpy as np
@@ -82,8 +82,24 @@ _POLL = 1.0
 # per call would hand the GIL over twice per env, too often for ArmReach's
 # few-microsecond steps (a hand-over wakes a thread: tens of microseconds); the whole
 # block per call would leave the threads' Python parts to pile up at the end of the
-# step instead of overlapping the others' plans.
+# step instead of overlapping the others' plans. A task that gives its outcomes as arrays
+# (Task.outcomes) has a Python part that hardly grows with the envs (a few numpy
+# operations per call): its blocks run whole, one call each (ArmReach, 64 envs on 2
+# threads: 79,000 env steps/s whole, 76,000 in slices of 200 us, 56,500 of 100 us).
 _PLAN_SLICE = 200e-6
+
+
+class _Infos(NamedTuple):
+    """The infos of several envs at once (from :meth:`gantry.gym.Task.outcomes`): each
+    key's values for the envs ``envs`` (vector env indices), as arrays."""
+
+    envs: np.ndarray
+    values: dict[str, np.ndarray]
+
+
+# What a block's step or reset reports of its envs' infos: ``(env, info)`` pairs, and
+# ``_Infos`` for those whose task gave them as arrays.
+_InfoPiece = Union[tuple[int, dict[str, Any]], _Infos]
 
 
 class _WorkerError(Exception):
@@ -95,6 +111,26 @@ class _WorkerError(Exception):
         self.error = error
 
 
+def _check_outcomes(task: Task, out: Any, obs_shape: tuple[int, ...], env: int) -> None:
+    """That ``task.outcomes`` gave arrays of the batch's shapes and types; a clear error
+    (naming the first env of the batch) otherwise."""
+    n = obs_shape[0]
+    wanted = (
+        ("observations", out.observations, obs_shape, np.float32),
+        ("rewards", out.rewards, (n,), np.float64),
+        ("terminated", out.terminated, (n,), np.bool_),
+    )
+    for name, array, shape, dtype in wanted:
+        if not isinstance(array, np.ndarray) or array.shape != shape or array.dtype != dtype:
+            got = f"{array.shape} {array.dtype}" if isinstance(array, np.ndarray) else type(array).__name__
+            problem = f"{name} must be a {shape} {np.dtype(dtype)} array, got {got}"
+            raise _WorkerError(env, ValueError(f"{type(task).__name__}.outcomes: {problem}"))
+    for key, array in out.infos.items():
+        if not isinstance(array, np.ndarray) or array.shape != (n,):
+            problem = f"info {key!r} must be an ({n},) array"
+            raise _WorkerError(env, ValueError(f"{type(task).__name__}.outcomes: {problem}"))
+
+
 class _Block:
     """Contiguous envs made and driven by one thread; its methods run in that thread.
     Results go straight into the vector env's batch arrays (each block its own rows);
@@ -104,7 +140,11 @@ class _Block:
         self.index = index
         self.indices = envs
         self.envs: list[GantryEnv] = []
+        self._engines: list[Any] = []  # the envs' engines, for Engine.run_plans
         self._chunk = 1  # envs per call of step plans (see _PLAN_SLICE)
+        # Whether the task gives its outcomes as arrays (Task.outcomes): then the whole
+        # block's plans run in one call, followed by one numpy pass over the block.
+        self._batching = False
         self._plan_time = _PLAN_SLICE  # running mean of one env's plan (s)
         # Weak: the vector env owns its blocks, and without a cycle it is freed (and
         # closes) in the thread that drops it, not in whichever runs the collector.
@@ -116,8 +156,12 @@ class _Block:
                 self.envs.append(make())
             except Exception as e:
                 raise _WorkerError(i, e) from e
+        # Taken once, in this thread (which owns them): a client's engine is its for life.
+        self._engines = [env.client._engine_here for env in self.envs]
 
     def close(self) -> None:
+        # Dropped here, in their thread: an engine freed by another thread is an error.
+        self._engines.clear()
         for env in self.envs:
             try:
                 env.close()
@@ -139,24 +183,35 @@ class _Block:
             infos.append((i, info))
         return infos
 
-    def step(self, actions: np.ndarray) -> list[tuple[int, dict]]:
-        infos: list[tuple[int, dict]] = []
+    def step(self, actions: np.ndarray) -> list[_InfoPiece]:
+        infos: list[_InfoPiece] = []
+        # Plans are made at reset: all envs have one, or they step one by one.
+        planning = all(env._plan is not None for env in self.envs)
         start = 0
         while start < len(self.envs):
-            stop = min(start + self._chunk, len(self.envs))
-            self._step_chunk(range(start, stop), actions, infos)
+            stop = min(start + (len(self.envs) if self._batching else self._chunk), len(self.envs))
+            self._step_chunk(range(start, stop), actions, planning, infos)
             start = stop
         return infos
 
-    def _step_chunk(self, chunk: range, actions: np.ndarray, infos: list[tuple[int, dict]]) -> None:
+    def _step_chunk(self, chunk: range, actions: np.ndarray, planning: bool, infos: list[_InfoPiece]) -> None:
         """Steps the envs at positions ``chunk`` of the block: their plans together (or
-        each env in turn), then their Python (observation, reward, resets)."""
+        each env in turn), then their Python (observation, reward, resets): for all of
+        them at once where the task gives its outcomes as arrays."""
         vec = self._vec
         same_step, ended = vec.autoreset_mode == AutoresetMode.SAME_STEP, vec._autoreset
         next_step = vec.autoreset_mode == AutoresetMode.NEXT_STEP
         all_obs, rewards, terminations, truncations = vec._obs, vec._rewards, vec._terminations, vec._truncations
-        planned = self._run_plans(chunk, actions, ended, next_step)
+        planned = self._run_plans(chunk, actions, ended, next_step) if planning else None
+        done: set[int] = set()
+        if planned is not None and planned[0]:
+            done = self._batched(*planned, actions, same_step, infos)
+            self._batching = bool(done)
+        # Where each env's numbers are, for the envs not done at once above.
+        row_of = {k: r for r, k in enumerate(planned[0])} if planned is not None and not done else {}
         for k in chunk:
+            if k in done:
+                continue
             env, i = self.envs[k], self.indices[k]
             try:
                 if next_step and ended[i]:
@@ -164,7 +219,7 @@ class _Block:
                     reward, terminated, truncated = 0.0, False, False
                 else:
                     if planned is not None:
-                        outcome = env._planned(actions[i], planned[k])
+                        outcome = env._planned(actions[i], planned[1][row_of[k]])
                     else:
                         outcome = env._step_checked(actions[i])
                     obs, reward, terminated, truncated, info = outcome
@@ -180,24 +235,78 @@ class _Block:
             truncations[i] = truncated
             infos.append((i, info))
 
+    def _batched(
+        self,
+        acting: list[int],
+        values: np.ndarray,
+        actions: np.ndarray,
+        same_step: bool,
+        infos: list[_InfoPiece],
+    ) -> set[int]:
+        """Observations, rewards, endings and infos of the envs whose plans ran
+        (``acting``, by position in the block; ``values``, one row each) in a few numpy
+        operations, when their
+        task gives them (:meth:`gantry.gym.Task.outcomes`); the positions done, none if
+        the task does not. What ``GantryEnv`` does per env around them (counting the
+        actions, truncating, a same-step reset) is done here too."""
+        task = self.envs[acting[0]].task
+        first = self.indices.start
+        rows = [first + k for k in acting]
+        out = task.outcomes(values, actions[rows])
+        if out is None:
+            return set()
+        vec, n = self._vec, len(acting)
+        _check_outcomes(task, out, (n, *vec.single_observation_space.shape), rows[0])
+        truncated = np.zeros(n, dtype=np.bool_)
+        for r, k in enumerate(acting):
+            env = self.envs[k]
+            env._steps += 1
+            limit = env.task.max_episode_steps
+            truncated[r] = limit is not None and env._steps >= limit
+        # Usually the acting envs are a run of rows (all but those reset this step).
+        at: slice | list[int] = slice(rows[0], rows[-1] + 1) if rows[-1] - rows[0] + 1 == n else rows
+        vec._obs[at] = out.observations
+        vec._rewards[at] = out.rewards
+        vec._terminations[at] = out.terminated
+        vec._truncations[at] = truncated
+        ended = np.flatnonzero(out.terminated | truncated).tolist() if same_step else []
+        for r in ended:
+            # SAME_STEP: reset at once, as GantryEnv's caller would, the ending in the info.
+            k, i = acting[r], rows[r]
+            final = {
+                "final_obs": out.observations[r].copy(),
+                "final_info": {key: v[r].item() for key, v in out.infos.items()},
+            }
+            try:
+                vec._obs[i], info = self.envs[k].reset()
+            except Exception as e:
+                raise _WorkerError(i, e) from e
+            infos.append((i, {**final, **info}))
+        if ended:
+            kept = np.ones(n, dtype=np.bool_)
+            kept[ended] = False
+            infos.append(_Infos(np.array(rows)[kept], {key: v[kept] for key, v in out.infos.items()}))
+        else:
+            infos.append(_Infos(np.array(rows), out.infos))
+        return set(acting)
+
     def _run_plans(
         self, chunk: range, actions: np.ndarray, ended: np.ndarray, next_step: bool
-    ) -> Optional[dict[int, np.ndarray]]:
-        """When every env of the block has a step plan, runs those of the envs of
-        ``chunk`` that act this step in one call, with the GIL released once; their
-        observed numbers by position in the block. None when the envs step one by one."""
-        if any(env._plan is None for env in self.envs):
-            return None
+    ) -> tuple[list[int], np.ndarray]:
+        """Runs the step plans of the envs of ``chunk`` that act this step (every env
+        of the block has one) in one call, with the GIL released once: their
+        positions in the block and their observed numbers, one row each."""
         acting = [k for k in chunk if not (next_step and ended[self.indices[k]])]
         if not acting:
-            return {}
+            return [], np.empty((0, 0))
+        first = self.indices.start
         try:
             # This thread's CPU time: the wall clock would count the wait for the GIL too.
             t0 = time.thread_time()
             values = Engine.run_plans(
-                [self.envs[k].client._engine_here for k in acting],
+                [self._engines[k] for k in acting],
                 [self.envs[k]._plan for k in acting],
-                actions[[self.indices[k] for k in acting]],
+                actions[[first + k for k in acting]],
             )
             # The next chunks' size, from a running mean of a plan's duration.
             self._plan_time += 0.25 * ((time.thread_time() - t0) / len(acting) - self._plan_time)
@@ -207,7 +316,7 @@ class _Block:
             if len(e.args) == 2 and isinstance(e.args[1], int):
                 raise _WorkerError(self.indices[acting[e.args[1]]], Exception(e.args[0])) from None
             raise
-        return dict(zip(acting, values))
+        return acting, values
 
     def call(self, name: str, args: tuple, kwargs: dict) -> list[Any]:
         out = []
@@ -477,33 +586,59 @@ class VectorEnv(gymnasium.vector.VectorEnv):
             raise RuntimeError(f"gantry VectorEnv: {where} failed: {type(e.error).__name__}: {e.error}") from e.error
         return replies
 
-    def _infos(self, parts: list[list[tuple[int, dict[str, Any]]]]) -> dict[str, Any]:
-        """The blocks' ``(env, info)`` pairs as one vector info (Gymnasium's layout: one
-        array per key, with a ``_key`` mask of the envs that have it)."""
-        pairs = [pair for part in parts for pair in part]
-        if not pairs:
+    def _infos(self, parts: list[list[_InfoPiece]]) -> dict[str, Any]:
+        """The blocks' infos as one vector info (Gymnasium's layout: one array per key,
+        with a ``_key`` mask of the envs that have it)."""
+        pieces = [piece for part in parts for piece in part]
+        if not pieces:
             return {}
-        keys = pairs[0][1].keys()
-        if len(pairs) == self.num_envs and all(info.keys() == keys for _, info in pairs):
-            # The usual case: every env gave the same keys. A key whose values are all
-            # scalars of one type becomes one array, built at once.
-            out: dict[str, Any] = {}
-            rest: dict[str, Any] = {}
-            for k in keys:
-                values = [info[k] for _, info in pairs]
-                kind = type(values[0])
-                if kind in _SCALARS and all(type(v) is kind for v in values):
-                    out[k] = np.array(values, dtype=kind)
-                    out[f"_{k}"] = np.ones(self.num_envs, dtype=np.bool_)
-                else:
-                    for i, v in enumerate(values):
-                        rest = self._add_info(rest, {k: v}, i)
-            out.update(rest)
-            return out
+        batched = self._batched_infos(pieces)
+        if batched is not None:
+            return batched
         infos: dict[str, Any] = {}
-        for i, info in pairs:
-            infos = self._add_info(infos, info, i)
+        for piece in pieces:
+            if isinstance(piece, _Infos):
+                for r, i in enumerate(piece.envs.tolist()):
+                    infos = self._add_info(infos, {k: v[r].item() for k, v in piece.values.items()}, i)
+            else:
+                infos = self._add_info(infos, piece[1], piece[0])
         return infos
+
+    def _batched_infos(self, pieces: list[_InfoPiece]) -> Optional[dict[str, Any]]:
+        """The usual case at once: every env reported, all with the same keys, and each
+        key's values scalars of one type (as Gymnasium's ``_add_info`` types them), so
+        that each becomes one array. None otherwise."""
+        first = pieces[0]
+        keys = first.values.keys() if isinstance(first, _Infos) else first[1].keys()
+        dtypes: dict[str, np.dtype] = {}
+        count = 0
+        for piece in pieces:
+            values = piece.values if isinstance(piece, _Infos) else piece[1]
+            if values.keys() != keys:
+                return None
+            for k, v in values.items():
+                if isinstance(piece, _Infos):
+                    dtype = v.dtype
+                elif type(v) in _SCALARS:
+                    dtype = np.dtype(type(v))
+                else:
+                    return None
+                if dtypes.setdefault(k, dtype) != dtype:
+                    return None
+            count += len(piece.envs) if isinstance(piece, _Infos) else 1
+        if count != self.num_envs:
+            return None
+        out: dict[str, Any] = {}
+        for k in keys:
+            array = np.empty(self.num_envs, dtype=dtypes[k])
+            for piece in pieces:
+                if isinstance(piece, _Infos):
+                    array[piece.envs] = piece.values[k]
+                else:
+                    array[piece[0]] = piece[1][k]
+            out[k] = array
+            out[f"_{k}"] = np.ones(self.num_envs, dtype=np.bool_)
+        return out
 
 
 # The info values that the fast path batches (as Gymnasium's _add_info types them).
@@ -524,17 +659,18 @@ def arm_reach_vector_env(
     episodes truncated after ``max_episode_steps`` actions, by default the registered
     limit."""
     if num_threads is None:
-        # An ArmReach step is about 21 us (13 of them without the GIL), less than
-        # handing a vector step to another thread costs: measured on 2 cores
-        # (tools/bench/vector_env.py), 2 threads gave 0.56x one thread with 4 envs, 0.97x
-        # with 16 and 1.17x with 64. So one thread per 64 envs.
+        # An ArmReach step is about 16 us in a vector env (13 of them without the GIL),
+        # less than handing a vector step to another thread costs (a few hundred us on
+        # the 2-core VM): measured (tools/bench/vector_env.py), 2 threads gave 0.44x one
+        # thread with 4 envs, 0.80x with 16, 1.06x with 32, 1.32x with 64 and 2.06x
+        # with 128. So one thread per 32 envs.
         num_threads = max(1, min(os.cpu_count() or 1, num_envs // _ARM_REACH_ENVS_PER_THREAD))
     limit = _ARM_REACH_STEPS if max_episode_steps is None else max_episode_steps
     return _vector_env(ArmReach, limit, num_envs, num_threads, autoreset_mode, options)
 
 
 # ArmReach envs worth a thread of their own by default (see arm_reach_vector_env).
-_ARM_REACH_ENVS_PER_THREAD = 64
+_ARM_REACH_ENVS_PER_THREAD = 32
 
 
 def bubble_rob_avoid_vector_env(
