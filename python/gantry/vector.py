@@ -134,7 +134,8 @@ def _check_outcomes(task: Task, out: Any, obs_shape: tuple[int, ...], env: int) 
 class _Block:
     """Contiguous envs made and driven by one thread; its methods run in that thread.
     Results go straight into the vector env's batch arrays (each block its own rows);
-    infos come back as ``(env, info)`` pairs, batched by the caller."""
+    infos come back as ``(env, info)`` pairs, or as arrays (``_Infos``) from a task's
+    ``outcomes``, batched by the caller."""
 
     def __init__(self, index: int, envs: range, vec: "VectorEnv"):
         self.index = index
@@ -245,14 +246,17 @@ class _Block:
     ) -> set[int]:
         """Observations, rewards, endings and infos of the envs whose plans ran
         (``acting``, by position in the block; ``values``, one row each) in a few numpy
-        operations, when their
-        task gives them (:meth:`gantry.gym.Task.outcomes`); the positions done, none if
-        the task does not. What ``GantryEnv`` does per env around them (counting the
-        actions, truncating, a same-step reset) is done here too."""
+        operations, when their task gives them (:meth:`gantry.gym.Task.outcomes`); the
+        positions done, none if the task does not. What ``GantryEnv`` does per env around
+        them (counting the actions, truncating, a same-step reset) is done here too."""
         task = self.envs[acting[0]].task
         first = self.indices.start
         rows = [first + k for k in acting]
-        out = task.outcomes(values, actions[rows])
+        try:
+            out = task.outcomes(values, actions[rows])
+        except Exception as e:
+            # A task's bug: named by the batch's first env, as a check below would be.
+            raise _WorkerError(rows[0], e) from e
         if out is None:
             return set()
         vec, n = self._vec, len(acting)
