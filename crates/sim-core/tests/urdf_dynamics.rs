@@ -1,6 +1,7 @@
 //! URDF robots as users bring them (issue 15): free joints under gravity against the
 //! analytic pendulum, `<dynamics>` damping, `<mimic>`, `<limit velocity>`, self-collision
-//! off by default, and each unsupported element reported once.
+//! off by default, each unsupported element reported once, and links welded by fixed
+//! joints fused into the link above (issue 33).
 //!
 //! The robots are written here as small URDF texts, so each test isolates one rule; the
 //! public robots (pybullet_data, example-robot-data) are checked against Pinocchio in
@@ -10,9 +11,9 @@ mod util;
 
 use std::path::PathBuf;
 
-use gantry_sim_core::Sim;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
-use util::{find, step};
+use gantry_sim_core::{Sim, Value};
+use util::{call, find, step};
 
 /// A scratch folder with a scene and its URDF, removed on drop.
 struct Scratch(PathBuf);
@@ -402,5 +403,188 @@ fn concave_meshes_are_hulled_on_dynamic_links_and_warned_about_once() {
         !w.world.warnings().iter().any(|m| m.contains("not convex")),
         "{:#?}",
         w.world.warnings()
+    );
+}
+
+/// The pendulum's angle after `t` seconds from rest at q = 0 for any rigid bob: moment
+/// of inertia `inertia` about the axis (kg·m²) and `mgl` = m g times the distance of its
+/// centre of mass from the axis (N·m), by RK4 at 0.1 ms, no damping.
+fn rigid_pendulum_angle(t: f64, inertia: f64, mgl: f64) -> f64 {
+    let acc = |q: f64| mgl * q.cos() / inertia;
+    let (mut q, mut v) = (0.0f64, 0.0f64);
+    let h = 1e-4;
+    for _ in 0..(t / h).round() as usize {
+        let (k1q, k1v) = (v, acc(q));
+        let (k2q, k2v) = (v + 0.5 * h * k1v, acc(q + 0.5 * h * k1q));
+        let (k3q, k3v) = (v + 0.5 * h * k2v, acc(q + 0.5 * h * k2q));
+        let (k4q, k4v) = (v + h * k3v, acc(q + h * k3q));
+        q += h / 6.0 * (k1q + 2.0 * k2q + 2.0 * k3q + k4q);
+        v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+    }
+    q
+}
+
+/// The pendulum with a `tip` link welded to the bob 0.6 m out by a fixed joint (a
+/// tool, a flange, a hand on a wrist): 0.5 kg whose centre of mass is 0.05 m further
+/// out, and `tip_collision` inside its link element.
+fn welded_pendulum(tip_collision: &str) -> String {
+    let bob = bob_link();
+    format!(
+        r#"<robot name="welded">
+  <link name="base">
+    <inertial><mass value="2"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  {bob}
+  <joint name="swing" type="continuous">
+    <origin xyz="0 0 1"/><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/>
+  </joint>
+  <link name="tip">
+    <inertial><origin xyz="0.05 0 0"/><mass value="0.5"/>
+      <inertia ixx="0.002" iyy="0.002" izz="0.002" ixy="0" ixz="0" iyz="0"/></inertial>
+    {tip_collision}
+  </link>
+  <joint name="weld" type="fixed">
+    <origin xyz="0.6 0 0"/><parent link="bob"/><child link="tip"/>
+  </joint>
+</robot>"#
+    )
+}
+
+/// The same pendulum with bob and tip as one link: the inertial that fusing must give.
+/// Mass 1.5 kg; centre of mass (1 x 0.5 + 0.5 x 0.65) / 1.5 = 0.55 m out; about it, Iyy =
+/// Izz = 0.01 + 1 x 0.05² + 0.002 + 0.5 x 0.1² = 0.0195 and Ixx = 0.012 kg·m².
+const ONE_PIECE_PENDULUM: &str = r#"<robot name="one_piece">
+  <link name="base">
+    <inertial><mass value="2"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="bob">
+    <inertial><origin xyz="0.55 0 0"/><mass value="1.5"/>
+      <inertia ixx="0.012" iyy="0.0195" izz="0.0195" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <joint name="swing" type="continuous">
+    <origin xyz="0 0 1"/><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/>
+  </joint>
+</robot>"#;
+
+/// Links of all rapier multibodies of a simulation.
+fn multibody_links(w: Sim) -> usize {
+    let (physics, _) = w.world.into_rapier();
+    physics.multibody_joints.multibodies().map(|mb| mb.num_links()).sum()
+}
+
+#[test]
+fn a_welded_link_is_fused_into_its_parent_and_swings_as_one_body() {
+    let dir = Scratch::new("welded");
+    let dt = 1.0 / 1000.0;
+    let swing_after = |w: &mut Sim, steps: usize| {
+        let swing = find(w, "/r/swing");
+        step(w, steps);
+        w.world.joint(swing).expect("joint").position
+    };
+    let mut fused = dir.world(&welded_pendulum(""), "joint_mode = \"free\"", dt);
+    let mut whole = dir.world(ONE_PIECE_PENDULUM, "joint_mode = \"free\"", dt);
+    let (q, want) = (swing_after(&mut fused, 500), swing_after(&mut whole, 500));
+    assert!((q - want).abs() < 1e-4, "welded {q:.6} rad, one piece {want:.6} rad");
+    let analytic = rigid_pendulum_angle(0.5, 0.0195 + 1.5 * 0.55 * 0.55, 1.5 * G * 0.55);
+    assert!(
+        (q - analytic).abs() < 5e-3,
+        "q(0.5 s) = {q:.5} rad, the equation says {analytic:.5}"
+    );
+    // The tip rides on the bob's body, where the tree has it.
+    let tip = find(&fused, "/r/tip");
+    let (tree, body) = (
+        fused.world.object(tip).expect("tip").world,
+        fused.world.physics_pose(tip).expect("the tip rides on a body"),
+    );
+    assert!((tree.translation.vector - body.translation.vector).norm() < 1e-5);
+    // Fused: the multibody has the base and the bob, no link for the weld.
+    assert_eq!(multibody_links(fused), 2);
+    assert_eq!(multibody_links(whole), 2);
+}
+
+#[test]
+fn a_fused_link_keeps_its_own_forces_mass_and_removal() {
+    let dir = Scratch::new("welded-edits");
+    let dt = 1.0 / 1000.0;
+    let run = |urdf: &str, edit: &dyn Fn(&mut Sim)| {
+        let mut w = dir.world(urdf, "joint_mode = \"free\"", dt);
+        edit(&mut w);
+        let swing = find(&w, "/r/swing");
+        for _ in 0..300 {
+            // A push on the tip's centre of mass, along -Z (down), at every step: on the
+            // tip (at its centre of mass), or at that point of the one-piece bob.
+            let push = Value::floats(&[0.0, 0.0, -3.0]);
+            match w.world.find("/r/tip", None, 0) {
+                Ok(tip) => call(&mut w, "sim.addForceAndTorque", &[Value::Int(tip), push]),
+                Err(_) => {
+                    let bob = find(&w, "/r/bob");
+                    let at = Value::floats(&tip_centre(&w, bob));
+                    call(&mut w, "sim.addForce", &[Value::Int(bob), at, push])
+                }
+            }
+            .expect("a force");
+            w.step();
+        }
+        w.world.joint(swing).expect("joint").position
+    };
+    // A force on the fused tip acts at the tip's own centre of mass, not the body's:
+    // the same as that force applied at that point of the one-piece bob.
+    let fused = run(&welded_pendulum(""), &|_| {});
+    let whole = run(ONE_PIECE_PENDULUM, &|_| {});
+    assert!(
+        (fused - whole).abs() < 1e-4,
+        "pushed tip: welded {fused:.6}, one piece {whole:.6}"
+    );
+    // The tip's mass, changed, changes the body it is fused into.
+    let heavier = run(&welded_pendulum(""), &|w| {
+        let tip = find(w, "/r/tip");
+        call(w, "sim.setShapeMass", &[Value::Int(tip), Value::Float(2.0)]).expect("setShapeMass");
+    });
+    assert!(
+        (heavier - fused).abs() > 1e-3,
+        "a 2 kg tip swings like a 0.5 kg one: {heavier:.5}"
+    );
+    // Removed, it takes its mass along: the plain pendulum again.
+    let mut w = dir.world(&welded_pendulum(""), "joint_mode = \"free\"", dt);
+    let tip = find(&w, "/r/tip");
+    call(&mut w, "sim.removeObjects", &[Value::Array(vec![Value::Int(tip)])]).expect("remove");
+    let swing = find(&w, "/r/swing");
+    step(&mut w, 500);
+    let q = w.world.joint(swing).expect("joint").position;
+    let plain = pendulum_angle(0.5, 0.0);
+    assert!(
+        (q - plain).abs() < 5e-3,
+        "without its tip: {q:.5} rad, the plain pendulum {plain:.5}"
+    );
+}
+
+/// Where the welded tip's centre of mass is, world frame, on the one-piece bob: 0.65 m
+/// along the bob's +X from the swing axis.
+fn tip_centre(w: &Sim, bob: gantry_sim_core::Handle) -> [f64; 3] {
+    let pose = w.world.object(bob).expect("bob").world;
+    let p = pose.transform_point(&nalgebra::Point3::new(0.65, 0.0, 0.0));
+    [p.x, p.y, p.z]
+}
+
+#[test]
+fn a_welded_link_thinner_than_its_parent_stays_a_link_of_its_own() {
+    // A 1 cm box on the bob's 10 cm one: fused, it would make rapier's automatic CCD
+    // judge the whole bob by the box's thickness.
+    let dir = Scratch::new("welded-thin");
+    let bob_box = r#"<collision><origin xyz="0.5 0 0"/><geometry><box size="0.1 0.1 0.1"/></geometry></collision>"#;
+    let urdf = welded_pendulum(r#"<collision><geometry><box size="0.01 0.01 0.01"/></geometry></collision>"#).replace(
+        "</inertial>\n  </link>\n  <joint name=\"swing\"",
+        &format!("</inertial>\n    {bob_box}\n  </link>\n  <joint name=\"swing\""),
+    );
+    assert!(urdf.contains(bob_box), "the bob got its box");
+    let thin = dir.world(&urdf, "joint_mode = \"free\"", 1.0 / 1000.0);
+    assert_eq!(multibody_links(thin), 3);
+    let thick = welded_pendulum(r#"<collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>"#).replace(
+        "</inertial>\n  </link>\n  <joint name=\"swing\"",
+        &format!("</inertial>\n    {bob_box}\n  </link>\n  <joint name=\"swing\""),
+    );
+    assert_eq!(
+        multibody_links(dir.world(&thick, "joint_mode = \"free\"", 1.0 / 1000.0)),
+        2
     );
 }

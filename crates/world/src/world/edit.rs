@@ -654,18 +654,15 @@ impl World {
                 bodies.extend(col.parent());
             }
         }
-        if let Some(&(bi, _)) = self.physics.body_of.get(&h)
-            && self.physics.bodies[bi].object == h
-            && let Some(props) = inertial_properties(&model)
-            && let Some(rb) = world.bodies.get_mut(self.physics.bodies[bi].handle)
-        {
-            rb.set_additional_mass_properties(props, true);
-            bodies.push(self.physics.bodies[bi].handle);
-        }
         for b in bodies {
             if let Some(rb) = world.bodies.get_mut(b) {
                 rb.recompute_mass_properties_from_colliders(&world.colliders);
             }
+        }
+        // An explicit inertial: that of the body's owner, or of a shape fused into the
+        // body, which sums them.
+        if let Some(props) = inertial_properties(&model) {
+            self.physics.set_inertial(h, Some(props));
         }
         Ok(())
     }
@@ -719,19 +716,50 @@ impl World {
         Ok(())
     }
 
-    /// The rapier body a dynamic shape owns.
-    fn dynamic_body(&self, h: Handle) -> Result<RigidBodyHandle, SimError> {
+    /// The rapier body a dynamic shape owns, or is fused into (see `physics`), with, for
+    /// a fused shape, its own centre of mass in the world frame: where a force given
+    /// without a point acts on it.
+    fn dynamic_body(&self, h: Handle) -> Result<(RigidBodyHandle, Option<Vec3>), SimError> {
         self.shape(h)?;
+        let fused = self.physics.fused.contains_key(&h);
         match self.physics.body_of.get(&h) {
             Some(&(bi, _))
-                if self.physics.bodies[bi].object == h
+                if (self.physics.bodies[bi].object == h || fused)
                     && matches!(self.physics.bodies[bi].role, BodyRole::Free | BodyRole::Link) =>
             {
-                Ok(self.physics.bodies[bi].handle)
+                let com = fused.then(|| self.fused_centre_of_mass(h));
+                Ok((self.physics.bodies[bi].handle, com))
             }
             _ => Err(invalid(format!(
                 "shape {h} is not dynamically simulated (make it dynamic with sim.setObjectInt32Param(h, sim.shapeintparam_static, 0))"
             ))),
+        }
+    }
+
+    /// A fused shape's own centre of mass, world frame: that of its explicit inertial,
+    /// else of its colliders' masses, else its origin.
+    fn fused_centre_of_mass(&self, h: Handle) -> Vec3 {
+        let world = self.objects[h as usize].world;
+        if let Ok(ShapeModel {
+            mass: MassModel::Inertial { com, .. },
+            ..
+        }) = self.shape(h)
+        {
+            return world.transform_point(&Vec3::from(*com).into()).coords;
+        }
+        let (mut mass, mut moment) = (0.0, Vec3::zeros());
+        for c in self.colliders_of(h) {
+            if let Some(col) = self.physics.world.colliders.get(*c) {
+                let m = f64::from(col.mass());
+                let local = math::vec_from_physics(col.mass_properties().local_com);
+                moment += m * math::from_physics(col.position()).transform_point(&local.into()).coords;
+                mass += m;
+            }
+        }
+        if mass > 0.0 {
+            moment / mass
+        } else {
+            world.translation.vector
         }
     }
 
@@ -748,12 +776,14 @@ impl World {
         if !(finite(&force) && finite(&torque) && at.as_ref().is_none_or(finite)) {
             return Err(invalid("force, torque and position must be finite"));
         }
-        let b = self.dynamic_body(h)?;
+        let (b, own_com) = self.dynamic_body(h)?;
         let Some(rb) = self.physics.world.bodies.get_mut(b) else {
             return Err(SimError::NoSuchObject(h));
         };
         let mut moment = torque;
-        if let Some(p) = at {
+        // A shape fused into a larger body is pushed at its own centre of mass, as it
+        // was when it was a body of its own.
+        if let Some(p) = at.or(own_com) {
             let com = math::vec_from_physics(rb.center_of_mass());
             moment += (p - com).cross(&force);
         }
@@ -771,7 +801,7 @@ impl World {
     /// # Errors
     /// No such object, not a shape, or not dynamically simulated.
     pub fn reset_force(&mut self, h: Handle, force: bool, torque: bool) -> Result<(), SimError> {
-        let b = self.dynamic_body(h)?;
+        let (b, _) = self.dynamic_body(h)?;
         if let Some(rb) = self.physics.world.bodies.get_mut(b) {
             if force {
                 rb.reset_forces(true);

@@ -9,6 +9,12 @@
 //!   by an impulse fixed joint whose impulses give the sensor reading; otherwise it moves
 //!   freely (a dynamic child of a shape without a joint is simulated on its own, as in
 //!   CoppeliaSim).
+//! - A dynamic shape welded by a **fixed joint** to a dynamic body is **fused** into that
+//!   body: its colliders and its inertial join the body's, as MuJoCo's compiler fuses
+//!   static bodies. A multibody link without a degree of freedom would cost rapier as
+//!   much as a moving one at every step (its share of the mass matrix, its Jacobian, its
+//!   forward kinematics), and URDF robots are full of them: tool frames, flanges, a hand
+//!   on its wrist.
 //! - A **non-dynamic shape** is a collider of the nearest shape above it when nothing
 //!   movable lies in between (so it moves with that shape); below a joint or force sensor
 //!   it is a *kinematic* body whose pose the tree dictates every step (kinematic-mode
@@ -56,6 +62,10 @@ pub(crate) struct BodyEntry {
     pub handle: RigidBodyHandle,
     pub object: Handle,
     pub role: BodyRole,
+    /// The owner's explicit inertial in the body frame (URDF `<inertial>`), which the
+    /// body's mass adds to those of the shapes fused into it; `None` when its mass comes
+    /// from its colliders.
+    pub inertial: Option<MassProperties>,
 }
 
 /// A joint object bound to a multibody link.
@@ -86,6 +96,10 @@ pub(crate) struct Physics {
     pub collider_object: HashMap<ColliderHandle, Handle>,
     /// Colliders of each shape object, in creation order (deterministic iteration).
     pub object_colliders: HashMap<Handle, Vec<ColliderHandle>>,
+    /// Dynamic shapes fused into the body of the shape they are welded to (a fixed
+    /// joint between them), with their explicit inertial in that body's frame; they
+    /// also ride on it in `body_of`.
+    pub fused: HashMap<Handle, Option<MassProperties>>,
     /// rapier steps per simulation step (1 unless collisions run at every substep).
     pub rapier_steps: u32,
     /// Index in `bodies` of the fixed body at the world origin, once one was needed.
@@ -145,6 +159,7 @@ impl Physics {
             dummy_links: HashMap::new(),
             collider_object: HashMap::new(),
             object_colliders: HashMap::new(),
+            fused: HashMap::new(),
             rapier_steps,
             anchor: None,
         };
@@ -202,10 +217,15 @@ impl Physics {
                     let ObjectKind::Joint(joint) = (tree.kind)(j) else {
                         unreachable!("above() returned a joint")
                     };
-                    // A fixed joint has nothing to drive: its dynamic child is a rigid
-                    // multibody link whatever the mode says.
+                    // A fixed joint has nothing to drive: its dynamic child is fused into
+                    // the dynamic body above, or else a rigid multibody link, whatever
+                    // the mode says.
                     if !joint.mode.is_dynamic() && joint.joint_type != JointType::Fixed {
                         self.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
+                    } else if let Some((s, mount)) = self.weld_target(tree, j)
+                        && self.fuse(tree, h, s, mount, shape, warnings)
+                    {
+                        // Fused into the body above.
                     } else {
                         let parent_body = self.parent_body(tree, j);
                         let child = self.new_body(h, &pose, BodyRole::Link, shape, warnings);
@@ -325,6 +345,106 @@ impl Physics {
         self.add_colliders(h, bi, &rel, shape, warnings);
     }
 
+    /// The dynamic body that fixed joint `j` welds its child to: the shape directly
+    /// above it and its place on its body, when that body is simulated.
+    fn weld_target(&self, tree: &TreeView<'_>, j: Handle) -> Option<(Handle, (usize, Pose))> {
+        if !matches!((tree.kind)(j), ObjectKind::Joint(joint) if joint.joint_type == JointType::Fixed) {
+            return None;
+        }
+        let Above::Shape(s) = above(tree, j) else {
+            return None;
+        };
+        let &(bi, offset) = self.body_of.get(&s)?;
+        matches!(self.bodies[bi].role, BodyRole::Free | BodyRole::Link).then_some((s, (bi, offset)))
+    }
+
+    /// Fuses dynamic shape `h` into the body of shape `s` (at `offset` in body `bi`),
+    /// to which a fixed joint welds it: it rides on that body, and its colliders and its
+    /// inertial join the body's. Returns false, with nothing done, when its colliders are
+    /// thinner than the body's: rapier's automatic CCD judges a body fast by its thinnest
+    /// collider and then, at every step, recomputes the mass properties of all its
+    /// colliders (mesh hulls: microseconds each), so a tool's 1 cm box fused into the
+    /// UR5's wrist made the arm 12 % slower where it was to gain.
+    fn fuse(
+        &mut self,
+        tree: &TreeView<'_>,
+        h: Handle,
+        s: Handle,
+        (bi, offset): (usize, Pose),
+        shape: &ShapeModel,
+        warnings: &mut Vec<String>,
+    ) -> bool {
+        let rel = offset * (tree.world)(s).inverse() * (tree.world)(h);
+        let pieces = collider_pieces(&rel, shape, true, warnings);
+        let thinnest = |shapes: &mut dyn Iterator<Item = &dyn Shape>| {
+            shapes.map(Shape::ccd_thickness).fold(Real::INFINITY, Real::min)
+        };
+        let own = thinnest(&mut pieces.iter().map(|(p, _)| &**p));
+        let body = self
+            .world
+            .bodies
+            .get(self.bodies[bi].handle)
+            .map_or(Real::INFINITY, |rb| {
+                let colliders = &self.world.colliders;
+                thinnest(
+                    &mut rb
+                        .colliders()
+                        .iter()
+                        .filter_map(|&c| colliders.get(c))
+                        .map(|c| c.shape()),
+                )
+            });
+        if own < body {
+            return false;
+        }
+        let inertial = inertial_properties(&shape.mass).map(|p| p.transform_by(&math::to_physics(&rel)));
+        self.fused.insert(h, inertial);
+        self.body_of.insert(h, (bi, rel));
+        self.insert_colliders(h, bi, shape, pieces);
+        self.compose_mass(bi);
+        true
+    }
+
+    /// Sets the explicit inertial of shape `h` (a body's owner or a shape fused into
+    /// one), in its own frame, and the body's mass that sums them.
+    pub fn set_inertial(&mut self, h: Handle, inertial: Option<MassProperties>) {
+        let Some(&(bi, rel)) = self.body_of.get(&h) else {
+            return;
+        };
+        if self.bodies[bi].object == h {
+            self.bodies[bi].inertial = inertial;
+        } else if let Some(fused) = self.fused.get_mut(&h) {
+            *fused = inertial.map(|p| p.transform_by(&math::to_physics(&rel)));
+        } else {
+            return;
+        }
+        self.compose_mass(bi);
+    }
+
+    /// Gives body `bi` the sum of its owner's explicit inertial and those of the shapes
+    /// fused into it (their colliders' masses rapier adds itself). Summed in handle
+    /// order, so that the f32 result does not depend on a hash map's order.
+    fn compose_mass(&mut self, bi: usize) {
+        let entry = &self.bodies[bi];
+        if entry.object == REMOVED_BODY {
+            return;
+        }
+        let mut riders: Vec<(Handle, MassProperties)> = self
+            .fused
+            .iter()
+            .filter(|(h, _)| self.body_of.get(h).is_some_and(|&(b, _)| b == bi))
+            .filter_map(|(&h, p)| p.map(|p| (h, p)))
+            .collect();
+        riders.sort_by_key(|&(h, _)| h);
+        let total = riders
+            .into_iter()
+            .fold(entry.inertial, |sum, (_, p)| Some(sum.map_or(p, |s| s + p)));
+        if let Some(rb) = self.world.bodies.get_mut(entry.handle) {
+            rb.set_additional_mass_properties(total.unwrap_or_default(), true);
+            rb.recompute_mass_properties_from_colliders(&self.world.colliders);
+        }
+    }
+
     /// The body index on the parent side of joint or force sensor `j`.
     fn parent_body(&mut self, tree: &TreeView<'_>, j: Handle) -> usize {
         match above(tree, j) {
@@ -361,6 +481,7 @@ impl Physics {
             handle,
             object: -1,
             role: BodyRole::Fixed,
+            inertial: None,
         });
         self.anchor = Some(a);
         a
@@ -386,7 +507,8 @@ impl Physics {
     /// every side-table entry that names it. Objects that depended on it (riders,
     /// mechanisms hanging from it) must be removed and re-inserted by the caller.
     pub fn remove_object(&mut self, h: Handle) {
-        if let Some((bi, _)) = self.body_of.remove(&h)
+        let body = self.body_of.remove(&h);
+        if let Some((bi, _)) = body
             && self.bodies[bi].object == h
         {
             self.world.remove_body(self.bodies[bi].handle);
@@ -398,6 +520,12 @@ impl Physics {
         for c in self.object_colliders.remove(&h).unwrap_or_default() {
             self.world.remove_collider(c);
             self.collider_object.remove(&c);
+        }
+        if self.fused.remove(&h).is_some()
+            && let Some((bi, _)) = body
+        {
+            // The body it was fused into carries its mass no more.
+            self.compose_mass(bi);
         }
         self.joints.remove(&h);
         if let Some(j) = self.force_joints.remove(&h) {
@@ -516,7 +644,8 @@ impl Physics {
             BodyRole::Free | BodyRole::Link => RigidBodyBuilder::dynamic().can_sleep(false),
         };
         let mut builder = builder.pose(math::to_physics(pose));
-        if let Some(props) = inertial_properties(&shape.mass) {
+        let inertial = inertial_properties(&shape.mass);
+        if let Some(props) = inertial {
             builder = builder.additional_mass_properties(props);
         }
         let handle = self.world.insert_body(builder);
@@ -524,6 +653,7 @@ impl Physics {
             handle,
             object: h,
             role,
+            inertial,
         });
         self.body_of.insert(h, (bi, Pose::identity()));
         self.add_colliders(h, bi, &Pose::identity(), shape, warnings);
@@ -534,6 +664,13 @@ impl Physics {
     /// several: its convex parts), placed at `rel` in the body frame.
     fn add_colliders(&mut self, h: Handle, bi: usize, rel: &Pose, shape: &ShapeModel, warnings: &mut Vec<String>) {
         let dynamic = matches!(self.bodies[bi].role, BodyRole::Free | BodyRole::Link);
+        let pieces = collider_pieces(rel, shape, dynamic, warnings);
+        self.insert_colliders(h, bi, shape, pieces);
+    }
+
+    /// Adds colliders of `pieces` (shapes at their poses in the body frame) to body
+    /// `bi` for shape `h`, with the shape's material, groups and mass.
+    fn insert_colliders(&mut self, h: Handle, bi: usize, shape: &ShapeModel, pieces: Vec<(SharedShape, Pose)>) {
         let volume: f64 = shape.geoms.iter().map(|g| geometry_volume(&g.geometry)).sum();
         let density = match shape.mass {
             MassModel::Density(d) => d,
@@ -547,28 +684,6 @@ impl Physics {
             Group::from_bits_retain(shape.collision_mask),
             InteractionTestMode::And,
         );
-        // The convex parts of every mesh of a dynamic shape go into one compound, even
-        // when there is one: parry bounds a convex polyhedron by visiting all its points
-        // (the hulls of vendor STL meshes have hundreds) whenever the body moves, which
-        // was a third of a mesh arm's step, while a compound keeps its local bounding box
-        // and only transforms it (Bullet caches hull bounds the same way). One collider
-        // per link also leaves the broad phase fewer pairs between a robot's links.
-        let mut hulls: Vec<(rapier3d::math::Pose, SharedShape)> = Vec::new();
-        let mut pieces: Vec<(SharedShape, Pose)> = Vec::new();
-        for g in &shape.geoms {
-            let merge = dynamic && matches!(g.geometry, Geometry::Mesh(_));
-            for (shared, fix) in collision_shapes(&g.geometry, dynamic, warnings) {
-                let local = rel * g.local * fix;
-                if merge {
-                    hulls.push((math::to_physics(&local), shared));
-                } else {
-                    pieces.push((shared, local));
-                }
-            }
-        }
-        if !hulls.is_empty() {
-            pieces.push((SharedShape::compound(hulls), Pose::identity()));
-        }
         for (shared, local) in pieces {
             let collider = ColliderBuilder::new(shared)
                 .position(math::to_physics(&local))
@@ -583,6 +698,14 @@ impl Physics {
             let ch = self.world.insert_collider(collider, Some(body));
             self.collider_object.insert(ch, h);
             self.object_colliders.entry(h).or_default().push(ch);
+        }
+        // rapier sums a body's mass from its colliders at the next step; until then its
+        // centre of mass reads as the world origin, and `sim.addForce` before the first
+        // step (or after a rebuild) turned the body about that point.
+        if matches!(self.bodies[bi].role, BodyRole::Free | BodyRole::Link)
+            && let Some(rb) = self.world.bodies.get_mut(self.bodies[bi].handle)
+        {
+            rb.recompute_mass_properties_from_colliders(&self.world.colliders);
         }
     }
 
@@ -807,6 +930,40 @@ pub(crate) fn configure_motor(data: &mut GenericJoint, axis: JointAxis, joint: &
 /// The collision shapes of a geometry on a body: one for a primitive, one triangle mesh
 /// for a mesh on a static or kinematic body, and on a dynamic body one convex hull per
 /// part of the mesh (PyBullet's rule), with a warning when a one-part mesh is not convex.
+/// The collision shapes of `shape` at their poses in the frame of its body, of which
+/// `rel` is the shape's pose.
+///
+/// The convex parts of every mesh of a dynamic shape go into one compound, even when
+/// there is one: parry bounds a convex polyhedron by visiting all its points (the hulls
+/// of vendor STL meshes have hundreds) whenever the body moves, which was a third of a
+/// mesh arm's step, while a compound keeps its local bounding box and only transforms
+/// it (Bullet caches hull bounds the same way). One collider per link also leaves the
+/// broad phase fewer pairs between a robot's links.
+fn collider_pieces(
+    rel: &Pose,
+    shape: &ShapeModel,
+    dynamic: bool,
+    warnings: &mut Vec<String>,
+) -> Vec<(SharedShape, Pose)> {
+    let mut hulls: Vec<(rapier3d::math::Pose, SharedShape)> = Vec::new();
+    let mut pieces: Vec<(SharedShape, Pose)> = Vec::new();
+    for g in &shape.geoms {
+        let merge = dynamic && matches!(g.geometry, Geometry::Mesh(_));
+        for (shared, fix) in collision_shapes(&g.geometry, dynamic, warnings) {
+            let local = rel * g.local * fix;
+            if merge {
+                hulls.push((math::to_physics(&local), shared));
+            } else {
+                pieces.push((shared, local));
+            }
+        }
+    }
+    if !hulls.is_empty() {
+        pieces.push((SharedShape::compound(hulls), Pose::identity()));
+    }
+    pieces
+}
+
 fn collision_shapes(g: &Geometry, dynamic: bool, warnings: &mut Vec<String>) -> Vec<(SharedShape, Pose)> {
     let Geometry::Mesh(m) = g else {
         return vec![shared_shape(g)];
