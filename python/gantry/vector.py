@@ -23,6 +23,15 @@ The design, and why:
   by the extension), and a block whose envs all have one runs them a few envs at a time
   (about ``_PLAN_SLICE`` of work) in one call with the GIL released: few hand-overs of
   the GIL, and one thread's Python overlaps the others' plans.
+* A task may also give its observations, rewards, endings and infos for many envs at
+  once, as arrays (:meth:`gantry.gym.Task.outcomes`). Then a block's Python part is a
+  few numpy operations, whatever its size, and the worker threads need no Python at all
+  between resets: each is parked outside Python (``PlanServer``, ``Engine.serve_plans``),
+  takes the batch of actions for its block from a channel, runs its plans and sends the
+  numbers back, while the caller's thread runs its own block; the caller then does every
+  block's numpy part. No GIL hand-over and no Python thread wake-up per step (together a
+  few hundred microseconds on a 2-core VM, more than a block of ArmReach's steps). A
+  step that resets an env, and any other command, brings the workers back to Python.
 * What stays in Python is kept small: actions are checked and clipped once for the
   batch, each thread writes its observations, rewards and flags straight into the
   batch arrays (its own rows), and the infos are batched per key in one go.
@@ -50,7 +59,7 @@ Importing :mod:`gantry.gym` registers ``vector_entry_point``\\ s, so that::
 
 return a :class:`VectorEnv` (``num_threads`` defaults to the number of cores, at most
 ``num_envs``; for ArmReach, whose steps are cheaper than handing them to another thread,
-one thread per 32 envs). Episodes are truncated after the registered limit, as ``make`` does with
+one thread per 8 envs). Episodes are truncated after the registered limit, as ``make`` does with
 its ``TimeLimit``, unless ``max_episode_steps`` says otherwise.
 """
 
@@ -69,7 +78,7 @@ import numpy as np
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
-from ._gantry import Engine
+from ._gantry import Engine, PlanServer
 from .gym import _ARM_REACH_STEPS, _BUBBLE_ROB_STEPS, ArmReach, BubbleRobAvoid, GantryEnv, Task
 
 __all__ = ["VectorEnv", "arm_reach_vector_env", "bubble_rob_avoid_vector_env"]
@@ -200,10 +209,27 @@ class _Block:
         each env in turn), then their Python (observation, reward, resets): for all of
         them at once where the task gives its outcomes as arrays."""
         vec = self._vec
+        next_step = vec.autoreset_mode == AutoresetMode.NEXT_STEP
+        planned = self._run_plans(chunk, actions, vec._autoreset, next_step) if planning else None
+        self._finish(planned, actions, infos, chunk)
+
+    def _finish(
+        self,
+        planned: Optional[tuple[list[int], np.ndarray]],
+        actions: np.ndarray,
+        infos: list[_InfoPiece],
+        chunk: Optional[range] = None,
+    ) -> None:
+        """The Python part of stepping the envs at positions ``chunk`` of the block (all
+        of them by default), once their plans have run (``planned``: their positions and
+        numbers) or, without plans, stepping them one by one. Runs in the block's thread,
+        or in the caller's while the block's thread is parked outside Python (then only
+        for plans whose task gives its outcomes as arrays)."""
+        vec = self._vec
+        chunk = range(len(self.envs)) if chunk is None else chunk
         same_step, ended = vec.autoreset_mode == AutoresetMode.SAME_STEP, vec._autoreset
         next_step = vec.autoreset_mode == AutoresetMode.NEXT_STEP
         all_obs, rewards, terminations, truncations = vec._obs, vec._rewards, vec._terminations, vec._truncations
-        planned = self._run_plans(chunk, actions, ended, next_step) if planning else None
         done: set[int] = set()
         if planned is not None and planned[0]:
             done = self._batched(*planned, actions, same_step, infos)
@@ -341,6 +367,10 @@ class _Worker:
         self.block = block
         self.inbox: queue.SimpleQueue = queue.SimpleQueue()
         self.outbox: queue.SimpleQueue = queue.SimpleQueue()
+        # Where the thread waits outside Python for batches of plans (``serve``), and
+        # whether it was sent there and not yet released.
+        self.server = PlanServer()
+        self.parked = False
         self.thread = threading.Thread(target=self._run, name=f"gantry-vector-{block.index}", daemon=True)
         self.thread.start()
 
@@ -350,6 +380,15 @@ class _Worker:
             if command == "close":
                 self.block.close()
                 return
+            if command == "serve":
+                # Until released (PlanServer.release): batches of plans, without the GIL.
+                # A refusal is answered to the batches, so nothing is reported here.
+                block = self.block
+                try:
+                    Engine.serve_plans(self.server, block._engines, [env._plan for env in block.envs])
+                except Exception as e:  # noqa: BLE001 - answered to the batches instead
+                    self.server.refuse(f"{type(e).__name__}: {e}")
+                continue
             try:
                 self.outbox.put((seq, "ok", getattr(self.block, command)(*args)))
             except BaseException as e:  # noqa: BLE001 - reported to the caller
@@ -372,6 +411,13 @@ class _Worker:
                 continue
             if got == seq:
                 return status, value
+
+
+def _raise(block: _Block, e: _WorkerError) -> None:
+    """Raises a block's failure in the caller's thread, naming the env (or the thread)."""
+    last = block.indices.stop - 1
+    where = f"env {e.env}" if e.env is not None else f"the thread of envs {block.indices.start}-{last}"
+    raise RuntimeError(f"gantry VectorEnv: {where} failed: {type(e.error).__name__}: {e.error}") from e.error
 
 
 def _forget_locals(error: BaseException) -> None:
@@ -505,7 +551,10 @@ class VectorEnv(gymnasium.vector.VectorEnv):
             raise ValueError(f"actions must be finite, got {a}")
         # Checked and clipped once for all envs, as each GantryEnv.step would one by one.
         a = np.clip(a, space.low, space.high).astype(space.dtype)
-        infos = self._infos(self._run(self._workers, self._local.step, a))
+        parts = self._parked_step(a)
+        if parts is None:
+            parts = self._run(self._workers, self._local.step, a)
+        infos = self._infos(parts)
         np.logical_or(self._terminations, self._truncations, out=self._autoreset)
         return (
             self._observations(),
@@ -540,6 +589,7 @@ class VectorEnv(gymnasium.vector.VectorEnv):
     def close_extras(self, **kwargs: Any) -> None:
         """Closes every env in its own thread and joins the workers."""
         workers = getattr(self, "_workers", [])  # none if the constructor failed early
+        self._unpark(workers)
         for w in workers:
             if w.thread.is_alive():
                 w.send(-1, "close", ())
@@ -568,6 +618,7 @@ class VectorEnv(gymnasium.vector.VectorEnv):
         its thread, in parallel; the replies in block order. A failure is raised once
         every block has answered (so that none is left mid-command), naming the env."""
         name = local.__name__
+        self._unpark(workers)
         self._seq += 1
         for w in workers:
             w.send(self._seq, name, args)
@@ -584,11 +635,76 @@ class VectorEnv(gymnasium.vector.VectorEnv):
                 failure = (w.block, value)
             replies.append(value if status == "ok" else None)
         if failure is not None:
-            block, e = failure
-            last = block.indices.stop - 1
-            where = f"env {e.env}" if e.env is not None else f"the thread of envs {block.indices.start}-{last}"
-            raise RuntimeError(f"gantry VectorEnv: {where} failed: {type(e.error).__name__}: {e.error}") from e.error
+            _raise(*failure)
         return replies
+
+    def _parked_step(self, a: np.ndarray) -> Optional[list[list[_InfoPiece]]]:
+        """The step with the workers kept outside Python (see ``PlanServer``): each
+        worker runs its block's plans on a batch of actions sent to it, without the GIL,
+        while this thread runs its own block's; this thread then does every block's
+        Python part. For blocks whose envs all have plans and whose task gives its
+        outcomes as arrays, when no env is reset by this step; None otherwise (the
+        workers then take the step as Python commands). The blocks' infos, in order."""
+        if not self._workers or self.autoreset_mode == AutoresetMode.SAME_STEP or self._autoreset.any():
+            return None
+        blocks = [self._local, *(w.block for w in self._workers)]
+        if not all(b._batching and all(env._plan is not None for env in b.envs) for b in blocks):
+            return None
+        self._seq += 1
+        seq = self._seq
+        for w in self._workers:
+            if not w.parked:
+                w.send(seq, "serve", ())
+                w.parked = True
+            w.server.step(seq, a[w.block.indices.start : w.block.indices.stop])
+        parts: list[list[_InfoPiece]] = []
+        failure: Optional[tuple[_Block, _WorkerError]] = None
+        local = self._local
+        try:
+            infos: list[_InfoPiece] = []
+            local._finish(local._run_plans(range(len(local.envs)), a, self._autoreset, False), a, infos)
+            parts.append(infos)
+        except _WorkerError as e:
+            _forget_locals(e)
+            parts.append([])
+            failure = (local, e)
+        # Every worker answers before anything is raised: no reply is left for later.
+        for w in self._workers:
+            try:
+                infos = []
+                w.block._finish((list(range(len(w.block.envs))), self._collect(w, seq)), a, infos)
+                parts.append(infos)
+            except _WorkerError as e:
+                _forget_locals(e)
+                parts.append([])
+                failure = failure or (w.block, e)
+        if failure is not None:
+            _raise(*failure)
+        return parts
+
+    def _collect(self, w: _Worker, seq: int) -> np.ndarray:
+        """Worker ``w``'s numbers for batch ``seq``; a failed plan as a ``_WorkerError``
+        naming its env."""
+        while True:
+            try:
+                values = w.server.collect(seq, _POLL)
+            except Exception as e:
+                # The extension names the failing plan by its position: (message, position).
+                if len(e.args) == 2 and isinstance(e.args[1], int):
+                    raise _WorkerError(w.block.indices.start + e.args[1], Exception(e.args[0])) from None
+                raise _WorkerError(None, e) from e
+            if values is not None:
+                return values
+            if not w.thread.is_alive():
+                raise _WorkerError(None, RuntimeError("the worker thread has died"))
+
+    @staticmethod
+    def _unpark(workers: list[_Worker]) -> None:
+        """Sends parked workers back to Python, where the next command finds them."""
+        for w in workers:
+            if w.parked:
+                w.server.release()
+                w.parked = False
 
     def _infos(self, parts: list[list[_InfoPiece]]) -> dict[str, Any]:
         """The blocks' infos as one vector info (Gymnasium's layout: one array per key,
@@ -663,18 +779,18 @@ def arm_reach_vector_env(
     episodes truncated after ``max_episode_steps`` actions, by default the registered
     limit."""
     if num_threads is None:
-        # An ArmReach step is about 16 us in a vector env (13 of them without the GIL),
-        # less than handing a vector step to another thread costs (a few hundred us on
-        # the 2-core VM): measured (tools/bench/vector_env.py), 2 threads gave 0.44x one
-        # thread with 4 envs, 0.80x with 16, 1.06x with 32, 1.32x with 64 and 2.06x
-        # with 128. So one thread per 32 envs.
+        # An ArmReach step is about 16 us in a vector env (13 of them without the GIL):
+        # a few envs cost less than handing their step to another thread. Measured
+        # (tools/bench/vector_env.py, workers parked outside Python), 2 threads gave
+        # 0.83x one thread with 4 envs, 1.22x with 16, 1.43x with 32, 1.59x with 64 and
+        # 1.78x with 128. So one thread per 8 envs.
         num_threads = max(1, min(os.cpu_count() or 1, num_envs // _ARM_REACH_ENVS_PER_THREAD))
     limit = _ARM_REACH_STEPS if max_episode_steps is None else max_episode_steps
     return _vector_env(ArmReach, limit, num_envs, num_threads, autoreset_mode, options)
 
 
 # ArmReach envs worth a thread of their own by default (see arm_reach_vector_env).
-_ARM_REACH_ENVS_PER_THREAD = 32
+_ARM_REACH_ENVS_PER_THREAD = 8
 
 
 def bubble_rob_avoid_vector_env(

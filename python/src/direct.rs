@@ -225,7 +225,16 @@ impl Direct {
     fn before_call(&mut self, py: Python<'_>) {
         match self.engine.state() {
             SimulationState::Running => self.catch_up(py),
-            _ => self.engine.tick(Instant::now()),
+            _ => self.settle(),
+        }
+    }
+
+    /// What a call does first on a simulation that is not running (the engine's
+    /// housekeeping: recording requests, changed scripts, `sysCall_nonSimulation`); no
+    /// GIL needed.
+    pub(crate) fn settle(&mut self) {
+        if self.engine.state() != SimulationState::Running {
+            self.engine.tick(Instant::now());
         }
     }
 
@@ -233,7 +242,7 @@ impl Direct {
     /// a simulated second's worth: a simulation slower than real time then falls
     /// behind instead of stalling the caller).
     fn catch_up(&mut self, py: Python<'_>) {
-        if !self.engine.realtime() || self.engine.on_demand() {
+        if !self.paced() {
             return;
         }
         let n = self.engine.due_steps(Instant::now());
@@ -308,15 +317,41 @@ impl Direct {
         for d in sims.iter_mut() {
             d.before_call(py);
         }
+        Self::detached_all(py, sims, |sims| Self::plans_detached(sims, work))
+    }
+
+    /// `f` on several simulations of this thread with the GIL released.
+    pub(crate) fn detached_all<R: Send>(
+        py: Python<'_>,
+        sims: &mut [&mut Direct],
+        f: impl FnOnce(&mut [&mut Direct]) -> R + Send,
+    ) -> R {
         let mut all = OnThisThread(sims);
-        py.detach(move || {
-            let sims = all.get();
-            sims.iter_mut()
-                .zip(work)
-                .enumerate()
-                .map(|(k, (d, (plan, action)))| d.plan_step(plan, action).map_err(|e| (k, e)))
-                .collect()
-        })
+        py.detach(move || f(all.get()))
+    }
+
+    /// [`Direct::run_plans`] for a caller that has released the GIL already (a parked
+    /// vector-env worker, `plan_server`), which has done what `before_call` does: it
+    /// checked that none of its simulations paces itself ([`Direct::paced`]), and settles
+    /// each ([`Direct::settle`]).
+    ///
+    /// # Errors
+    /// As [`Direct::run_plans`].
+    pub(crate) fn plans_detached(
+        sims: &mut [&mut Direct],
+        work: &[(&StepPlan, &[f32])],
+    ) -> Result<Vec<Vec<f64>>, (usize, CallError)> {
+        sims.iter_mut()
+            .zip(work)
+            .enumerate()
+            .map(|(k, (d, (plan, action)))| d.plan_step(plan, action).map_err(|e| (k, e)))
+            .collect()
+    }
+
+    /// Whether this simulation follows the wall clock (free running in real time), so
+    /// that a call must first take the steps that are due.
+    pub(crate) fn paced(&self) -> bool {
+        self.engine.realtime() && !self.engine.on_demand()
     }
 
     /// One action of `plan`, the GIL already released.

@@ -10,6 +10,7 @@
 mod convert;
 mod direct;
 mod plan;
+mod plan_server;
 mod served;
 
 use std::net::IpAddr;
@@ -37,6 +38,7 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::convert::{results, to_value};
 use crate::direct::Direct;
 use crate::plan::StepPlan;
+use crate::plan_server::PlanServer;
 use crate::served::Served;
 
 /// A function resolved once, when its function object is made (or per call of
@@ -411,22 +413,8 @@ impl Engine {
             )));
         }
         let actions = actions.as_slice()?;
-        let mut borrowed = engines
-            .iter()
-            .map(|e| {
-                e.try_borrow_mut()
-                    .map_err(|_| PyRuntimeError::new_err("run_plans: a client is busy or given twice"))
-            })
-            .collect::<PyResult<Vec<_>>>()?;
-        let mut sims = Vec::with_capacity(n);
-        for engine in &mut borrowed {
-            match engine.backend()? {
-                Backend::Direct(d) => sims.push(&mut **d),
-                Backend::Served(_) => {
-                    return Err(PyRuntimeError::new_err("run_plans() is for in-process clients"));
-                }
-            }
-        }
+        let mut borrowed = borrow_all(&engines, "run_plans")?;
+        let mut sims = in_process(&mut borrowed, "run_plans")?;
         let work: Vec<(&StepPlan, &[f32])> = plans
             .iter()
             .zip(actions.chunks(width.max(1)))
@@ -434,14 +422,48 @@ impl Engine {
             .collect();
         let rows =
             Direct::run_plans(py, &mut sims, &work).map_err(|(k, e)| PyException::new_err((e.to_string(), k)))?;
-        let m = rows.first().map_or(0, Vec::len);
-        if rows.iter().any(|r| r.len() != m) {
-            return Err(PyValueError::new_err(
-                "run_plans: the plans observe different numbers of values",
-            ));
-        }
-        let flat: Vec<f64> = rows.into_iter().flatten().collect();
-        Ok(PyArray1::from_vec(py, flat).reshape([n, m])?.into_any())
+        plan::rows_array(py, rows)
+    }
+
+    /// Parks this thread in `server` (see `plan_server`) until it is released: for each
+    /// batch of actions the server is sent, runs `plans[k]` on `engines[k]` with the GIL
+    /// released throughout, and sends back the observations. For a vector environment's
+    /// worker thread; the clients are in-process clients of this thread that do not
+    /// pace themselves (`realtime=False`).
+    #[staticmethod]
+    fn serve_plans(
+        py: Python<'_>,
+        server: Bound<'_, PlanServer>,
+        engines: Vec<Bound<'_, Engine>>,
+        plans: Vec<PyRef<'_, StepPlan>>,
+    ) -> PyResult<()> {
+        let server = server.get();
+        let mut borrowed = borrow_all(&engines, "serve_plans");
+        let found = borrowed
+            .as_mut()
+            .map_err(|e| e.to_string())
+            .and_then(|b| in_process(b, "serve_plans").map_err(|e| e.to_string()));
+        // Served even when the plans cannot run: each batch is then answered with the
+        // refusal, so that the caller, which has sent it already, hears of it.
+        let mut sims = Vec::new();
+        let refusal = match found {
+            _ if engines.len() != plans.len() => Some(format!(
+                "serve_plans: {} engines and {} plans",
+                engines.len(),
+                plans.len()
+            )),
+            Ok(found) if found.iter().any(|d| d.paced()) => {
+                Some("serve_plans: a client runs in real time; its calls must catch up with the clock".to_owned())
+            }
+            Ok(found) => {
+                sims = found;
+                None
+            }
+            Err(e) => Some(e),
+        };
+        let plans: Vec<&StepPlan> = plans.iter().map(|p| &**p).collect();
+        Direct::detached_all(py, &mut sims, |sims| server.serve(sims, &plans, refusal.as_deref()));
+        Ok(())
     }
 
     /// A vision sensor's image as a numpy array `(height, width, channels)` of `uint8`
@@ -560,6 +582,30 @@ fn ros2_setup(graph: bool) -> PyResult<gantry_ros2::RosSetup> {
         .map_err(|e| PyRuntimeError::new_err(format!("ros2=True: {e}")))
 }
 
+/// Each engine borrowed for a call of several (`what`): an error if one is busy or
+/// given twice.
+fn borrow_all<'py>(engines: &[Bound<'py, Engine>], what: &str) -> PyResult<Vec<PyRefMut<'py, Engine>>> {
+    engines
+        .iter()
+        .map(|e| {
+            e.try_borrow_mut()
+                .map_err(|_| PyRuntimeError::new_err(format!("{what}: a client is busy or given twice")))
+        })
+        .collect()
+}
+
+/// The in-process simulations of borrowed engines; an error for a served one.
+fn in_process<'a>(borrowed: &'a mut [PyRefMut<'_, Engine>], what: &str) -> PyResult<Vec<&'a mut Direct>> {
+    let mut sims = Vec::with_capacity(borrowed.len());
+    for engine in borrowed {
+        match engine.backend()? {
+            Backend::Direct(d) => sims.push(&mut **d),
+            Backend::Served(_) => return Err(PyRuntimeError::new_err(format!("{what}() is for in-process clients"))),
+        }
+    }
+    Ok(sims)
+}
+
 /// Reverses the order of an image's `rows` in place when `top_first`, so that the
 /// array handed to Python is C-contiguous with row 0 at the top. A reversed view
 /// (negative strides) was free here but cost its readers: `torch.from_numpy` refuses
@@ -645,6 +691,7 @@ fn _gantry(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Engine>()?;
     m.add_class::<Function>()?;
     m.add_class::<StepPlan>()?;
+    m.add_class::<PlanServer>()?;
     m.add_function(wrap_pyfunction!(log_to_stderr, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

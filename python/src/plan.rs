@@ -12,6 +12,7 @@
 
 use gantry_sim_core::Value;
 use gantry_sim_core::api::Target;
+use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -129,4 +130,16 @@ pub(crate) fn push_numbers(reply: &[Value], out: &mut Vec<f64>) -> Option<()> {
         }
     }
     Some(())
+}
+
+/// Plans' observations, one row each, as a `(n, m)` `float64` array; an error if the
+/// rows differ in length.
+pub(crate) fn rows_array(py: Python<'_>, rows: Vec<Vec<f64>>) -> PyResult<Bound<'_, PyAny>> {
+    let m = rows.first().map_or(0, Vec::len);
+    if rows.iter().any(|r| r.len() != m) {
+        return Err(PyValueError::new_err("the plans observe different numbers of values"));
+    }
+    let n = rows.len();
+    let flat: Vec<f64> = rows.into_iter().flatten().collect();
+    Ok(PyArray1::from_vec(py, flat).reshape([n, m])?.into_any())
 }
