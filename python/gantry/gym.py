@@ -525,22 +525,45 @@ class BubbleRobAvoid(Task):
             observe=self._queries(sim),
         )
 
+    # Observation and outcomes use only +, -, *, / and sqrt (the heading's cosine and
+    # sine from the body's x axis, not trigonometry), so that the per-env methods and the
+    # batched `outcomes` agree to the bit: numpy's and libm's cos and atan2 need not.
+
     def observation(self, values: np.ndarray) -> np.ndarray:
         v = values.tolist()
         detected, distance = v[0], v[1]
         if detected <= 0:
             distance = _NOSE_RANGE
         m = v[9:21]
-        heading = math.atan2(m[4], m[0])  # of the body's x axis, its forward direction
+        # The heading: the body's x axis (its forward direction) in the floor plane.
+        cx, cy = m[0], m[4]
+        norm = math.sqrt(cx * cx + cy * cy)
+        cos_h, sin_h = (cx / norm, cy / norm) if norm > 0 else (1.0, 0.0)
         vx, vy, yaw_rate = v[21], v[22], v[26]
-        forward = vx * math.cos(heading) + vy * math.sin(heading)
+        forward = vx * cos_h + vy * sin_h
         # checkDistance: result, then [p1, p2, distance]
         self.clearance = v[34] if v[27] > 0 else math.inf
-        obs = np.array(
-            [detected > 0, distance, m[3], m[7], math.cos(heading), math.sin(heading), forward, yaw_rate],
-            dtype=np.float32,
-        )
+        obs = np.array([detected > 0, distance, m[3], m[7], cos_h, sin_h, forward, yaw_rate], dtype=np.float32)
         return np.clip(obs, self.observation_space.low, self.observation_space.high)
+
+    def outcomes(self, values: np.ndarray, actions: np.ndarray) -> Outcomes:
+        detected = values[:, 0] > 0
+        distance = np.where(detected, values[:, 1], _NOSE_RANGE)
+        cx, cy = values[:, 9], values[:, 13]
+        norm = np.sqrt(cx * cx + cy * cy)
+        level = norm > 0
+        safe = np.where(level, norm, 1.0)
+        cos_h, sin_h = np.where(level, cx / safe, 1.0), np.where(level, cy / safe, 0.0)
+        forward = values[:, 21] * cos_h + values[:, 22] * sin_h
+        clearance = np.where(values[:, 27] > 0, values[:, 34], math.inf)
+        columns = (detected.astype(np.float64), distance, values[:, 12], values[:, 16], cos_h, sin_h, forward, values[:, 26])
+        obs = np.clip(np.stack(columns, axis=1).astype(np.float32), self.observation_space.low, self.observation_space.high)
+        o = obs.astype(np.float64)
+        collided = clearance < self.collision_clearance
+        rewards = o[:, 6] / self.top_speed
+        rewards = np.where(o[:, 0] > 0, rewards - self.proximity_penalty * (1.0 - o[:, 1] / _NOSE_RANGE), rewards)
+        rewards = rewards - np.where(collided, self.collision_penalty, 0.0)
+        return Outcomes(obs, rewards, collided, {"clearance": clearance, "collision": collided})
 
     def _collided(self) -> bool:
         return self.clearance < self.collision_clearance

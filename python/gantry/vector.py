@@ -782,8 +782,8 @@ def arm_reach_vector_env(
         # An ArmReach step is about 16 us in a vector env (13 of them without the GIL):
         # a few envs cost less than handing their step to another thread. Measured
         # (tools/bench/vector_env.py, workers parked outside Python), 2 threads gave
-        # 0.83x one thread with 4 envs, 1.22x with 16, 1.43x with 32, 1.59x with 64 and
-        # 1.78x with 128. So one thread per 8 envs.
+        # 0.84x one thread with 4 envs, 1.24x with 16, 1.43x with 32, 1.62x with 64 and
+        # 1.95x with 128. So one thread per 8 envs.
         num_threads = max(1, min(os.cpu_count() or 1, num_envs // _ARM_REACH_ENVS_PER_THREAD))
     limit = _ARM_REACH_STEPS if max_episode_steps is None else max_episode_steps
     return _vector_env(ArmReach, limit, num_envs, num_threads, autoreset_mode, options)

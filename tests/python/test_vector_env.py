@@ -390,7 +390,42 @@ def test_bubble_rob_step_plan_gives_what_its_python_gives(closing):
     for g, w in zip(vector_rollout(planned, 9, actions), vector_rollout(python, 9, actions)):
         np.testing.assert_array_equal(g, w)
     assert planned.get_attr("_plan")[0] is not None and python.get_attr("_plan")[0] is None
-    assert planned.get_attr("task")[0].clearance == python.get_attr("task")[0].clearance
+    # The measurement behind the reward, as the infos report it.
+    got, want = planned.step(actions[0])[4], python.step(actions[0])[4]
+    np.testing.assert_array_equal(got["clearance"], want["clearance"])
+    np.testing.assert_array_equal(got["collision"], want["collision"])
+
+
+def test_bubble_rob_outcomes_are_its_methods_row_by_row(closing):
+    """BubbleRobAvoid's batched outcomes give, bit for bit, what its per-env methods
+    give, on the numbers its plan observes along a rollout (the rover driving and
+    turning) and on rows made from them: tipped over, no distance found, the nose
+    seeing something, a collision."""
+    env = closing(gg.GantryEnv(gg.BubbleRobAvoid()))
+    env.reset(seed=2)
+    rows = []
+    for a in random_actions(env.action_space, 1, 60, seed=6)[:, 0]:
+        a = env._checked_action(a)
+        rows.append(env.client._engine_here.run_plan(env._plan, a))
+    values = np.array(rows)
+    tipped = values[:3].copy()
+    tipped[:, 9] = tipped[:, 13] = 0.0  # the body's x axis straight up: no heading
+    tipped[:, 27] = 0  # no distance found
+    near = values[-3:].copy()
+    near[:, 0], near[:, 1] = 1.0, [0.02, 0.1, 0.149]  # the nose sees something
+    near[:, 27], near[:, 34] = 1.0, [0.001, 0.005, 0.2]  # touching, at, beyond the clearance
+    values = np.vstack([values, tipped, near])
+    actions = np.zeros((len(values), 2), dtype=np.float32)
+    task = env.task
+    out = task.outcomes(values, actions)
+    one = gg.BubbleRobAvoid()
+    for r in range(len(values)):
+        obs = one.observation(values[r])
+        np.testing.assert_array_equal(out.observations[r], obs)
+        assert out.rewards[r] == one.reward(None, obs, actions[r])
+        assert out.terminated[r] == one.terminated(None, obs)
+        assert {k: v[r].item() for k, v in out.infos.items()} == one.info(None, obs)
+    assert out.observations[:, 0].any() and out.terminated.any() and not out.terminated.all()
 
 
 def test_arm_reach_outcomes_are_its_methods_row_by_row():
