@@ -428,17 +428,8 @@ fn rigid_pendulum_angle(t: f64, inertia: f64, mgl: f64) -> f64 {
 /// tool, a flange, a hand on a wrist): 0.5 kg whose centre of mass is 0.05 m further
 /// out, and `tip_collision` inside its link element.
 fn welded_pendulum(tip_collision: &str) -> String {
-    let bob = bob_link();
-    format!(
-        r#"<robot name="welded">
-  <link name="base">
-    <inertial><mass value="2"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
-  </link>
-  {bob}
-  <joint name="swing" type="continuous">
-    <origin xyz="0 0 1"/><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/>
-  </joint>
-  <link name="tip">
+    let tip = format!(
+        r#"<link name="tip">
     <inertial><origin xyz="0.05 0 0"/><mass value="0.5"/>
       <inertia ixx="0.002" iyy="0.002" izz="0.002" ixy="0" ixz="0" iyz="0"/></inertial>
     {tip_collision}
@@ -447,7 +438,8 @@ fn welded_pendulum(tip_collision: &str) -> String {
     <origin xyz="0.6 0 0"/><parent link="bob"/><child link="tip"/>
   </joint>
 </robot>"#
-    )
+    );
+    pendulum(false, "").replace("</robot>", &tip)
 }
 
 /// The same pendulum with bob and tip as one link: the inertial that fusing must give.
@@ -466,6 +458,13 @@ const ONE_PIECE_PENDULUM: &str = r#"<robot name="one_piece">
   </joint>
 </robot>"#;
 
+/// The pendulum's angle (rad) after `steps` more steps.
+fn swing_after(w: &mut Sim, steps: usize) -> f64 {
+    let swing = find(w, "/r/swing");
+    step(w, steps);
+    w.world.joint(swing).expect("joint").position
+}
+
 /// Links of all rapier multibodies of a simulation.
 fn multibody_links(w: Sim) -> usize {
     let (physics, _) = w.world.into_rapier();
@@ -476,11 +475,6 @@ fn multibody_links(w: Sim) -> usize {
 fn a_welded_link_is_fused_into_its_parent_and_swings_as_one_body() {
     let dir = Scratch::new("welded");
     let dt = 1.0 / 1000.0;
-    let swing_after = |w: &mut Sim, steps: usize| {
-        let swing = find(w, "/r/swing");
-        step(w, steps);
-        w.world.joint(swing).expect("joint").position
-    };
     let mut fused = dir.world(&welded_pendulum(""), "joint_mode = \"free\"", dt);
     let mut whole = dir.world(ONE_PIECE_PENDULUM, "joint_mode = \"free\"", dt);
     let (q, want) = (swing_after(&mut fused, 500), swing_after(&mut whole, 500));
@@ -548,9 +542,7 @@ fn a_fused_link_keeps_its_own_forces_mass_and_removal() {
     let mut w = dir.world(&welded_pendulum(""), "joint_mode = \"free\"", dt);
     let tip = find(&w, "/r/tip");
     call(&mut w, "sim.removeObjects", &[Value::Array(vec![Value::Int(tip)])]).expect("remove");
-    let swing = find(&w, "/r/swing");
-    step(&mut w, 500);
-    let q = w.world.joint(swing).expect("joint").position;
+    let q = swing_after(&mut w, 500);
     let plain = pendulum_angle(0.5, 0.0);
     assert!(
         (q - plain).abs() < 5e-3,

@@ -222,8 +222,8 @@ impl Physics {
                     // the mode says.
                     if !joint.mode.is_dynamic() && joint.joint_type != JointType::Fixed {
                         self.new_body(h, &pose, BodyRole::Kinematic, shape, warnings);
-                    } else if let Some((s, mount)) = self.weld_target(tree, j)
-                        && self.fuse(tree, h, s, mount, shape, warnings)
+                    } else if let Some((s, (bi, offset))) = self.weld_target(tree, j)
+                        && self.fuse(h, bi, offset * (tree.world)(s).inverse() * pose, shape, warnings)
                     {
                         // Fused into the body above.
                     } else {
@@ -358,23 +358,13 @@ impl Physics {
         matches!(self.bodies[bi].role, BodyRole::Free | BodyRole::Link).then_some((s, (bi, offset)))
     }
 
-    /// Fuses dynamic shape `h` into the body of shape `s` (at `offset` in body `bi`),
-    /// to which a fixed joint welds it: it rides on that body, and its colliders and its
-    /// inertial join the body's. Returns false, with nothing done, when its colliders are
+    /// Fuses dynamic shape `h` into body `bi`, where a fixed joint welds it at `rel`: it
+    /// rides on that body, and its colliders and its inertial join the body's. Returns false, with nothing done, when its colliders are
     /// thinner than the body's: rapier's automatic CCD judges a body fast by its thinnest
     /// collider and then, at every step, recomputes the mass properties of all its
     /// colliders (mesh hulls: microseconds each), so a tool's 1 cm box fused into the
     /// UR5's wrist made the arm 12 % slower where it was to gain.
-    fn fuse(
-        &mut self,
-        tree: &TreeView<'_>,
-        h: Handle,
-        s: Handle,
-        (bi, offset): (usize, Pose),
-        shape: &ShapeModel,
-        warnings: &mut Vec<String>,
-    ) -> bool {
-        let rel = offset * (tree.world)(s).inverse() * (tree.world)(h);
+    fn fuse(&mut self, h: Handle, bi: usize, rel: Pose, shape: &ShapeModel, warnings: &mut Vec<String>) -> bool {
         let pieces = collider_pieces(&rel, shape, true, warnings);
         let thinnest = |shapes: &mut dyn Iterator<Item = &dyn Shape>| {
             shapes.map(Shape::ccd_thickness).fold(Real::INFINITY, Real::min)
