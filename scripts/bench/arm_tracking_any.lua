@@ -25,18 +25,41 @@
 --                    @track-result joints=<n> samples=<count> rms=<all joints> max=<all joints>
 -- The per-joint sums let the caller leave joints out (URDF <mimic> followers, which the
 -- simulator moves from their leader whatever target they get).
+--
+-- The same controller drives a wheeled robot's wheels (issue 33): tools/bench/mujoco_bench.py
+-- prepends TRACK = 'velocity' and the joints in its benchmark order with their trajectory,
+--   JOINTS = { {name = "<URDF joint name>", c = <rad/s>, a = <rad/s>, f = <Hz>}, ... }
+-- and the targets are then velocities, c_i + a_i sin(2 pi f_i t), the error
+-- |qdot_i - target_i|.
 
 local sin, abs, sqrt, min = math.sin, math.abs, math.sqrt, math.min
-local setTarget, getPosition = sim.setJointTargetPosition, sim.getJointPosition
+local velocity = TRACK == 'velocity'
+local setTarget = velocity and sim.setJointTargetVelocity or sim.setJointTargetPosition
+local getPosition = sim.getJointPosition
+local getTracked = velocity and sim.getJointVelocity or getPosition
 
 local n = 0
 local handles, names, centre, amplitude, omega, targets = {}, {}, {}, {}, {}, {}
 local sumSq, maxErr = {}, {}
 local dt, k = 0, 0
 
-function sysCall_init()
-    local base = sim.getObject(':')
-    dt = sim.getSimulationTimeStep()
+-- The joints of JOINTS, by name, with their trajectories.
+local function listedJoints(base)
+    local byName = {}
+    for _, h in ipairs(sim.getObjectsInTree(base, sim.object_joint_type)) do
+        byName[sim.getObjectAlias(h, -1)] = h
+    end
+    local out = {}
+    for i, j in ipairs(JOINTS) do
+        local h = byName[j.name]
+        if not h then error('no joint named ' .. j.name) end
+        out[i] = {h = h, name = j.name, c = j.c, a = j.a, f = j.f}
+    end
+    return out
+end
+
+-- Every movable joint, in the order and with the trajectories described above.
+local function movableJoints(base)
     local found = {}
     for _, h in ipairs(sim.getObjectsInTree(base, sim.object_joint_type)) do
         if sim.getJointType(h) ~= sim.joint_fixed_subtype then
@@ -53,8 +76,7 @@ function sysCall_init()
         return a.name < b.name
     end)
     for i, f in ipairs(found) do
-        local h = f.h
-        local cyclic, interval = sim.getJointInterval(h)
+        local cyclic, interval = sim.getJointInterval(f.h)
         local lo, range = interval[1], interval[2]
         local c, a = 0, 0.5
         -- Unlimited non-cyclic joints report a huge interval (-1e5, range 2e5).
@@ -62,13 +84,23 @@ function sysCall_init()
             c = lo + range / 2
             a = min(0.5, range / 4)
         end
-        n = i
-        omega[i] = 2 * math.pi * (0.25 + 0.05 * (i - 1))
+        f.f = 0.25 + 0.05 * (i - 1)
         local limit = VELOCITY_LIMIT and VELOCITY_LIMIT[f.name]
-        if limit then a = min(a, VELOCITY_MARGIN * limit / omega[i]) end
-        handles[i], names[i], centre[i], amplitude[i] = h, f.name, c, a
-        targets[i], sumSq[i], maxErr[i] = c, 0, 0
-        print(string.format('@track-joint i=%d name=%s c=%.17g a=%.17g q0=%.17g', i, f.name, c, a, getPosition(h)))
+        if limit then a = min(a, VELOCITY_MARGIN * limit / (2 * math.pi * f.f)) end
+        f.c, f.a = c, a
+    end
+    return found
+end
+
+function sysCall_init()
+    local base = sim.getObject(':')
+    dt = sim.getSimulationTimeStep()
+    for i, j in ipairs(JOINTS and listedJoints(base) or movableJoints(base)) do
+        n = i
+        handles[i], names[i], centre[i], amplitude[i] = j.h, j.name, j.c, j.a
+        omega[i] = 2 * math.pi * j.f
+        targets[i], sumSq[i], maxErr[i] = j.c, 0, 0
+        print(string.format('@track-joint i=%d name=%s c=%.17g a=%.17g q0=%.17g', i, j.name, j.c, j.a, getPosition(j.h)))
     end
 end
 
@@ -84,7 +116,7 @@ end
 
 function sysCall_sensing()
     for i = 1, n do
-        local e = abs(getPosition(handles[i]) - targets[i])
+        local e = abs(getTracked(handles[i]) - targets[i])
         sumSq[i] = sumSq[i] + e * e
         if e > maxErr[i] then maxErr[i] = e end
     end
