@@ -12,7 +12,7 @@ use std::net::{SocketAddr, TcpStream};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use gantry_script::{ScriptLimits, Simulation};
+use gantry_lua::{ScriptLimits, Simulation};
 use gantry_server::{ServeConfig, Shutdown, SimConfig};
 use gantry_sim_core::World;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene, load_scene_text};

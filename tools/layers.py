@@ -58,7 +58,7 @@ FLOORS = {
         ({"sim"}, False),
     ],
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.
-    "crates/script/src": [
+    "crates/lua/src": [
         ({"limits", "convert", "listeners", "lua_error", "app_state"}, False),
         ({"sandbox", "running", "directory", "core_cell", "hooks"}, False),
         ({"threads", "control", "recording", "models", "luasocket", "ros", "launch"}, False),

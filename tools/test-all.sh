@@ -107,7 +107,7 @@ fi
 # The recording format (issue 31) is data: no simulation, Lua, runtime or physics, so
 # its reader and codecs are fuzzed on their own. The recorder sits on the engine (a
 # Tap) and writes on a thread of its own: no transport.
-if cargo tree -p gantry-mcap -e normal --prefix none | grep -E '^(tokio|mlua|rapier3d|parry3d|gantry-world|gantry-sim-core|gantry-script|gantry-engine|gantry-server) ' ; then
+if cargo tree -p gantry-mcap -e normal --prefix none | grep -E '^(tokio|mlua|rapier3d|parry3d|gantry-world|gantry-sim-core|gantry-lua|gantry-engine|gantry-server) ' ; then
     echo "gantry-mcap must not depend on the simulation, the Lua host, a runtime or physics" >&2
     exit 1
 fi
@@ -117,8 +117,8 @@ if cargo tree -p gantry-record -e normal --prefix none | grep -E '^(axum|zeromq|
 fi
 # ROS 2 (issue 29): the Lua host knows the network only as a trait; DDS lives in
 # gantry-ros2, which is a transport beside the others, not under them.
-if cargo tree -p gantry-script -e normal --prefix none | grep -E '^(rustdds|gantry-ros2) ' ; then
-    echo "gantry-script must not depend on a DDS implementation" >&2
+if cargo tree -p gantry-lua -e normal --prefix none | grep -E '^(rustdds|gantry-ros2) ' ; then
+    echo "gantry-lua must not depend on a DDS implementation" >&2
     exit 1
 fi
 if cargo tree -p gantry-ros2 -e normal --prefix none | grep -E '^(axum|zeromq|gantry-server) ' ; then

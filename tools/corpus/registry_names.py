@@ -7,7 +7,7 @@ Sources (relative to the repository root):
 * crates/sim-core/src/api/*.rs: `name: "..."` entries of each `FUNCTIONS`
   table; which module a table belongs to is read from `MODULES` in
   api/mod.rs (`functions: &[FUNCTIONS, drawing::FUNCTIONS, ...]`).
-* crates/script/src/simulation.rs: functions the Lua state adds to `sim`
+* crates/lua/src/simulation.rs: functions the Lua state adds to `sim`
   (`sim.set("name", ...)`).
 * crates/server/src/zmq.rs: `SIMULATION_FUNCTIONS` (both languages) and
   `HOST_FUNCTIONS` (remote API only, written with the `python` tag).

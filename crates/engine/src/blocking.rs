@@ -1,8 +1,8 @@
 //! Remote clients' blocking calls in progress (`sim.wait`, `sim.moveToConfig`, ...):
 //! what the engine keeps while the Lua host's coroutine waits for steps
-//! ([`gantry_script::Simulation::start_blocking`]).
+//! ([`gantry_lua::Simulation::start_blocking`]).
 
-use gantry_script::BlockingId;
+use gantry_lua::BlockingId;
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, ScriptHostFn};
 use tokio::sync::oneshot;

@@ -14,8 +14,8 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use gantry_script::ros::RosNetwork;
-use gantry_script::{
+use gantry_lua::ros::RosNetwork;
+use gantry_lua::{
     DebugLink, HookError, Listeners, RecordingRequest, ScriptError, ScriptLimits, Simulation, StepBoundary,
 };
 use gantry_sim_core::Value;
@@ -308,12 +308,12 @@ impl Engine {
         self.tap_input(EngineInput::Call { target: &target, args });
         let before = self.sim.state();
         self.blocking_ids += 1;
-        let id = gantry_script::BlockingId(self.blocking_ids);
+        let id = gantry_lua::BlockingId(self.blocking_ids);
         match self.sim.start_blocking(id, f, args) {
-            gantry_script::Blocking::Done(answer) => {
+            gantry_lua::Blocking::Done(answer) => {
                 let _ = reply.send(answer);
             }
-            gantry_script::Blocking::Waiting => {
+            gantry_lua::Blocking::Waiting => {
                 self.blocking.push(BlockingCall { id, client, f, reply });
                 self.want_steps();
             }

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use gantry_script::{HookError, Simulation, StepBoundary};
+use gantry_lua::{HookError, Simulation, StepBoundary};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, Target};
 

@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::path::Path;
 
 use gantry_engine::{EngineInput, InputAt, LoopControl, RecorderFactory, Tap};
-use gantry_script::Simulation;
+use gantry_lua::Simulation;
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::Control;
 

@@ -42,7 +42,7 @@ end
 
 /// A folder of its own in the temporary folder, for the test `name`.
 fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gantry-script-recording-{}-{name}", std::process::id()));
+    let d = std::env::temp_dir().join(format!("gantry-lua-recording-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&d).expect("temp dir");
     d
 }

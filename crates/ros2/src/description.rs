@@ -26,7 +26,7 @@ use std::sync::Arc;
 
 use gantry_record::msg;
 use gantry_record::snapshot::{FrameNames, Snapshot};
-use gantry_script::ros::{Direction, EndpointId, NetworkError, RosNetwork, RosQos};
+use gantry_lua::ros::{Direction, EndpointId, NetworkError, RosNetwork, RosQos};
 use gantry_sim_core::Handle;
 use gantry_sim_core::World;
 use gantry_sim_core::world::ObjectKind;

@@ -4,7 +4,7 @@
 //!
 //! This module only translates: frames are decoded by `gantry_protocol::dap` (pure,
 //! bounded, fuzzed), requests become [`DebugRequest`]s for the debugger inside the Lua
-//! host (`gantry_script::debugger`), its answers and events become DAP JSON.
+//! host (`gantry_lua::debugger`), its answers and events become DAP JSON.
 //!
 //! One client at a time: two editors stepping the same simulation would fight. DAP
 //! threads: there is one, "simulation" (id 1), because every script runs on the one
@@ -14,8 +14,8 @@
 use std::path::PathBuf;
 
 use gantry_protocol::dap::{self, Command, FrameError, MessageError, Outgoing};
-use gantry_script::debugger::{BreakpointSpec, StopReason};
-use gantry_script::{DebugEvent, DebugReply, DebugRequest};
+use gantry_lua::debugger::{BreakpointSpec, StopReason};
+use gantry_lua::{DebugEvent, DebugReply, DebugRequest};
 use serde_json::{Value as Json, json};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};

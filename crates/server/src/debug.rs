@@ -11,7 +11,7 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use gantry_script::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, DebuggerError};
+use gantry_lua::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, DebuggerError};
 use tokio::sync::{broadcast, oneshot, watch};
 
 use crate::sim_thread::{Request, SimHandle};
@@ -42,7 +42,7 @@ pub struct DebugHub {
 }
 
 impl DebugHub {
-    /// The hub for transports and the link for [`gantry_script::Simulation::with_debugger`].
+    /// The hub for transports and the link for [`gantry_lua::Simulation::with_debugger`].
     /// `release` is the process's shutdown flag: once set, a stopped script resumes
     /// and nothing stops again, so the simulation thread can clean up and end.
     pub fn new(sim: SimHandle, release: Arc<AtomicBool>) -> (Self, DebugLink) {

@@ -78,7 +78,7 @@ pub enum ServerError {
     Runtime(std::io::Error),
     /// The simulation could not be created.
     #[error(transparent)]
-    Script(#[from] gantry_script::ScriptError),
+    Script(#[from] gantry_lua::ScriptError),
     /// The simulation thread panicked.
     #[error("the simulation thread panicked: {0}")]
     Panic(String),
@@ -149,7 +149,7 @@ pub struct Running {
     rt: tokio::runtime::Runtime,
     handle: SimHandle,
     bound: BoundAddrs,
-    sim_thread: std::thread::JoinHandle<Result<RunSummary, gantry_script::ScriptError>>,
+    sim_thread: std::thread::JoinHandle<Result<RunSummary, gantry_lua::ScriptError>>,
     stop_tx: watch::Sender<bool>,
     shutdown: Shutdown,
 }

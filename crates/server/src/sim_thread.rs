@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 
 use gantry_engine::{ClientId, Due, Engine, EngineConfig, MidStep};
 pub use gantry_engine::{LoopControl, RemoteOp};
-use gantry_script::{ScriptLimits, Simulation, StepBoundary};
+use gantry_lua::{ScriptLimits, Simulation, StepBoundary};
 use gantry_sim_core::Handle;
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, StepSafety, Target};
@@ -142,7 +142,7 @@ pub struct SimHandle {
     tx: SyncSender<Request>,
     /// Set when a request that stops the simulation is queued, so that a script blocked
     /// in a LuaSocket call gives up and the request is served (see
-    /// [`gantry_script::NetworkParams::interrupt`]); the Lua host clears it.
+    /// [`gantry_lua::NetworkParams::interrupt`]); the Lua host clears it.
     interrupt: Option<Arc<AtomicBool>>,
 }
 
@@ -164,7 +164,7 @@ fn stops_the_simulation(req: &Request) -> bool {
 impl SimHandle {
     /// This handle, and its clones, set `flag` when they queue a request that stops the
     /// simulation (see [`SimHandle::send`]); the runner passes the same flag to the Lua
-    /// host as [`gantry_script::NetworkParams::interrupt`].
+    /// host as [`gantry_lua::NetworkParams::interrupt`].
     #[must_use]
     pub fn interrupting(mut self, flag: Arc<AtomicBool>) -> Self {
         self.interrupt = Some(flag);
@@ -246,7 +246,7 @@ pub struct SimConfig {
     pub load_options: gantry_sim_core::scene::LoadOptions,
     /// The front end's listeners, for scripts' `simRemoteApi.start` (none: scripts
     /// cannot start servers).
-    pub listeners: Option<std::sync::Arc<dyn gantry_script::Listeners>>,
+    pub listeners: Option<std::sync::Arc<dyn gantry_lua::Listeners>>,
     /// Record the run into an MCAP file (`gantry run --record`); [`crate::start`]
     /// creates the file before anything runs.
     pub record: Option<gantry_record::RecordParams>,
@@ -351,7 +351,7 @@ pub fn run_sim_thread(
     config: SimConfig,
     rx: Receiver<Request>,
     should_stop: impl Fn() -> bool,
-) -> Result<RunSummary, gantry_script::ScriptError> {
+) -> Result<RunSummary, gantry_lua::ScriptError> {
     run_sim_thread_observed(model, config, rx, should_stop, &mut ())
 }
 
@@ -366,7 +366,7 @@ pub fn run_sim_thread_observed(
     rx: Receiver<Request>,
     should_stop: impl Fn() -> bool,
     observer: &mut impl Observer,
-) -> Result<RunSummary, gantry_script::ScriptError> {
+) -> Result<RunSummary, gantry_lua::ScriptError> {
     run_sim_thread_debugged(model, config, rx, should_stop, observer, None, None)
 }
 
@@ -382,9 +382,9 @@ pub fn run_sim_thread_debugged(
     rx: Receiver<Request>,
     should_stop: impl Fn() -> bool,
     observer: &mut impl Observer,
-    debug: Option<gantry_script::DebugLink>,
+    debug: Option<gantry_lua::DebugLink>,
     recorder: Option<gantry_record::Recorder>,
-) -> Result<RunSummary, gantry_script::ScriptError> {
+) -> Result<RunSummary, gantry_lua::ScriptError> {
     let mut engine = Engine::new(
         model,
         EngineConfig {
@@ -396,7 +396,7 @@ pub fn run_sim_thread_debugged(
             ros: config
                 .ros2
                 .as_ref()
-                .map(|r| r.network.clone() as std::sync::Arc<dyn gantry_script::ros::RosNetwork>),
+                .map(|r| r.network.clone() as std::sync::Arc<dyn gantry_lua::ros::RosNetwork>),
         },
         debug,
     )?;
@@ -608,7 +608,7 @@ fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
 }
 
 /// What the scripts' `sysCall_packet` did with a packet, for the transport.
-fn packet_outcome(result: Result<Option<Vec<Value>>, gantry_script::HookError>) -> PacketOutcome {
+fn packet_outcome(result: Result<Option<Vec<Value>>, gantry_lua::HookError>) -> PacketOutcome {
     match result {
         Ok(None) => PacketOutcome::NoHandler,
         Ok(Some(values)) => match values.into_iter().next() {

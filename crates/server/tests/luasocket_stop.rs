@@ -9,7 +9,7 @@ use std::net::{TcpListener, TcpStream};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use gantry_script::{NetworkParams, ScriptLimits};
+use gantry_lua::{NetworkParams, ScriptLimits};
 use gantry_server::{LoopControl, Request, ServeConfig, Shutdown, Signals, SimConfig, SimHandle, start};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::sim::{Control, SimulationState};

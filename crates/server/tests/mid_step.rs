@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use gantry_script::ScriptLimits;
+use gantry_lua::ScriptLimits;
 use gantry_server::{ClientId, LoopControl, RemoteOp, Request, SimConfig, SimHandle, channel, run_sim_thread};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, Target};

@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 
 use gantry_record::{RecordParams, Recorder, Recording};
-use gantry_script::{ScriptLimits, Simulation};
+use gantry_lua::{ScriptLimits, Simulation};
 use gantry_server::http::replay::{apply_at, frame_handles};
 use gantry_sim_core::Sim;
 use gantry_sim_core::math::Pose;

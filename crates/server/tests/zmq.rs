@@ -473,7 +473,7 @@ async fn joint_state(c: &mut Client, joint: &Value) -> Vec<Value> {
 }
 
 /// Issue #9: NaN and infinite joint targets and positions are refused by the shared API
-/// (the same check Lua scripts get, see crates/script/tests/api.rs) before they reach
+/// (the same check Lua scripts get, see crates/lua/tests/api.rs) before they reach
 /// the world, so nothing is moved and the simulation keeps stepping with finite poses.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn nan_and_inf_targets_and_positions_are_refused_and_the_world_steps() {

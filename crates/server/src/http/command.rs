@@ -154,7 +154,7 @@ pub enum DebugAction {
     Pause,
 }
 
-impl From<DebugAction> for gantry_script::DebugRequest {
+impl From<DebugAction> for gantry_lua::DebugRequest {
     fn from(a: DebugAction) -> Self {
         match a {
             DebugAction::Continue => Self::Continue,

@@ -17,7 +17,7 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use gantry_script::Simulation;
+use gantry_lua::Simulation;
 use gantry_sim_core::Sim;
 use gantry_sim_core::drawing::DrawingKind;
 use gantry_sim_core::math::euler_from_quat;

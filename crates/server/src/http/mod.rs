@@ -261,8 +261,8 @@ async fn ros2_topics(State(st): State<AppState>) -> Response {
                 "topic": gantry_protocol::ros::ros_topic_name(&s.dds_topic).unwrap_or(s.dds_topic),
                 "type": ros_type_name(&s.dds_type),
                 "direction": match s.direction {
-                    gantry_script::ros::Direction::Publish => "publish",
-                    gantry_script::ros::Direction::Subscribe => "subscribe",
+                    gantry_lua::ros::Direction::Publish => "publish",
+                    gantry_lua::ros::Direction::Subscribe => "subscribe",
                 },
                 "messages": s.messages,
                 "dropped": s.dropped,

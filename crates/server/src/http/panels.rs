@@ -7,7 +7,7 @@
 
 use std::collections::BTreeMap;
 
-use gantry_script::{ScriptState, Simulation};
+use gantry_lua::{ScriptState, Simulation};
 use gantry_sim_core::Handle;
 use gantry_sim_core::Sim;
 use gantry_sim_core::graph::GraphStream;

@@ -6,7 +6,7 @@ use std::sync::mpsc;
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use gantry_script::ScriptLimits;
+use gantry_lua::ScriptLimits;
 use gantry_server::{BoundAddrs, RunSummary, ServeConfig, ServerError, Shutdown, SimConfig};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene};
 

@@ -5,7 +5,7 @@ mod util;
 
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
-use gantry_script::ScriptLimits;
+use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;
 use util::{LUA_ERR, Scene, assert_close, assert_contains, floats, int, ints, num, text, world_position};
 

@@ -16,7 +16,7 @@ use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::path::PathBuf;
 
-use gantry_script::{NetworkParams, ScriptLimits, ScriptState, Simulation};
+use gantry_lua::{NetworkParams, ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::Value;
 use util::{assert_close, floats, int, load, num};
 

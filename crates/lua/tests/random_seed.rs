@@ -4,7 +4,7 @@
 
 mod util;
 
-use gantry_script::ScriptLimits;
+use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;
 use util::Scene;
 

@@ -10,7 +10,7 @@ mod util;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use gantry_script::{ScriptLimits, ScriptState, Simulation, uses_luasocket};
+use gantry_lua::{ScriptLimits, ScriptState, Simulation, uses_luasocket};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 
 /// Simulated time each scene runs, s (the measure).

@@ -8,7 +8,7 @@ use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::time::Duration;
 
-use gantry_script::{NetworkParams, ScriptLimits, ScriptState};
+use gantry_lua::{NetworkParams, ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use util::{Scene, text};
 

@@ -3,7 +3,7 @@
 
 mod util;
 
-use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_lua::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::Value;
 use util::{find, int, load, repo, world_position};
 

@@ -7,7 +7,7 @@
 
 mod util;
 
-use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_lua::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::math::Vec3;
 use gantry_sim_core::scene::{LoadOptions, load_bundled};
 use gantry_sim_core::{Handle, Value};

@@ -8,7 +8,7 @@
 
 mod util;
 
-use gantry_script::{ScriptLimits, ScriptState};
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use util::{LUA_ERR, Scene, assert_close, assert_contains, int32_signal, script_error, script_state, world_position};
 

@@ -11,7 +11,7 @@ mod util;
 
 use std::time::Duration;
 
-use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_lua::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::SimulationState;
 use util::{Scene, assert_contains, log_lines, script_error, script_state};

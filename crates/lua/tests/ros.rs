@@ -10,7 +10,7 @@ mod util;
 
 use std::sync::Arc;
 
-use gantry_script::{ScriptLimits, ScriptState};
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use util::loopback::Loopback;
 use util::{Scene, assert_contains, assert_running, int32_signal, script_error, script_state};
@@ -278,8 +278,8 @@ end
     );
     sc.sim.start();
     for (module, listed) in [
-        ("simROS2", gantry_script::ros::FUNCTIONS),
-        ("simROS", gantry_script::ros::ROS1_FUNCTIONS),
+        ("simROS2", gantry_lua::ros::FUNCTIONS),
+        ("simROS", gantry_lua::ros::ROS1_FUNCTIONS),
     ] {
         let seen = sc.call("names", &[Value::Str(module.into())]);
         let registry = gantry_sim_core::api::HOST_MODULES

@@ -5,7 +5,7 @@
 
 mod util;
 
-use gantry_script::ScriptLimits;
+use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;
 use gantry_sim_core::drawing::DrawingKind;
 use util::{Scene, assert_contains, assert_running, int, text, world_position};

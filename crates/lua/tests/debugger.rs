@@ -10,8 +10,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::time::Duration;
 
-use gantry_script::debugger::{BreakpointSpec, StopReason, VariableInfo};
-use gantry_script::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, ScriptLimits, Simulation};
+use gantry_lua::debugger::{BreakpointSpec, StopReason, VariableInfo};
+use gantry_lua::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, ScriptLimits, Simulation};
 use util::{TempDir, load};
 
 /// `a.lua`: line numbers matter to the tests below.
@@ -101,7 +101,7 @@ impl Client {
             .value
     }
 
-    fn frames(&self) -> Vec<gantry_script::debugger::FrameInfo> {
+    fn frames(&self) -> Vec<gantry_lua::debugger::FrameInfo> {
         match self.ok(DebugRequest::StackTrace) {
             DebugReply::Frames(f) => f,
             other => panic!("stackTrace answered {other:?}"),

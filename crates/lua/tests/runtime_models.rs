@@ -6,7 +6,7 @@
 
 mod util;
 
-use gantry_script::{ScriptLimits, Simulation};
+use gantry_lua::{ScriptLimits, Simulation};
 use gantry_sim_core::Value;
 use util::{Scene, assert_contains, find, int, int32_signal, repo, text};
 

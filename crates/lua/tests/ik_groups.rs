@@ -100,7 +100,7 @@ fn an_explicit_group_moves_the_tip_onto_the_target_only_when_handled() {
         "ikgroups-explicit",
         &arm_scene(true, "ik.lua"),
         &[("ik.lua", EXPLICIT)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     for _ in 0..6 {
@@ -171,7 +171,7 @@ fn an_automatic_group_is_handled_every_step_after_the_scripts_actuation() {
         "ikgroups-automatic",
         &arm_scene(true, "ik.lua"),
         &[("ik.lua", AUTOMATIC)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     for _ in 0..6 {
@@ -234,7 +234,7 @@ fn group_and_element_properties_change_the_solve() {
         "ikgroups-properties",
         &arm_scene(true, "ik.lua"),
         &[("ik.lua", PROPERTIES)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     util::assert_running(&sc.sim, "ik.lua");

@@ -5,7 +5,7 @@ mod util;
 
 use std::time::{Duration, Instant, SystemTime};
 
-use gantry_script::{ScriptLimits, ScriptState, Simulation, check_syntax};
+use gantry_lua::{ScriptLimits, ScriptState, Simulation, check_syntax};
 use gantry_sim_core::Value;
 use util::{
     Scene, TempDir, assert_close, assert_contains, floats, int, load, log_lines, messages_from, script_error,

@@ -8,8 +8,8 @@ mod util;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use gantry_script::sandbox::{REMOVED_GLOBALS, REMOVED_OS};
-use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_lua::sandbox::{REMOVED_GLOBALS, REMOVED_OS};
+use gantry_lua::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::Value;
 use util::{LUA_ERR, Scene, TempDir, assert_contains, load, script_error, script_state, text};
 

@@ -8,7 +8,7 @@ mod util;
 
 use std::sync::{Arc, Mutex};
 
-use gantry_script::{ListenerError, ListenerStatus, Listeners, ScriptLimits, ScriptState};
+use gantry_lua::{ListenerError, ListenerStatus, Listeners, ScriptLimits, ScriptState};
 use util::{Scene, assert_contains, int32_signal, script_error, script_state};
 
 #[derive(Debug, Default)]
@@ -150,5 +150,5 @@ end
         .expect("simRemoteApi in the registry");
     let listed: Vec<&str> = module.functions.iter().map(|f| f.name).collect();
     assert_eq!(seen, [gantry_sim_core::Value::Str(listed.join(","))]);
-    assert_eq!(listed, gantry_script::listeners::FUNCTIONS);
+    assert_eq!(listed, gantry_lua::listeners::FUNCTIONS);
 }

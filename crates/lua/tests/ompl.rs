@@ -84,7 +84,7 @@ fn a_plan_for_the_arm_goes_around_the_obstacles_and_replays_without_collision() 
         "ompl-arm",
         &arm_scene(),
         &[("planner.lua", PLANNER)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     sc.sim.step();
@@ -119,7 +119,7 @@ fn plans_are_the_same_in_every_run() {
             "ompl-repeat",
             &arm_scene(),
             &[("planner.lua", PLANNER)],
-            gantry_script::ScriptLimits::default(),
+            gantry_lua::ScriptLimits::default(),
         );
         sc.sim.start();
         sc.sim.step();

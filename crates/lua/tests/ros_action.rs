@@ -11,7 +11,7 @@ mod util;
 use std::sync::Arc;
 
 use gantry_protocol::ros::message_type;
-use gantry_script::ScriptLimits;
+use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;
 use util::loopback::Loopback;
 use util::{Scene, assert_contains, assert_running};

@@ -46,7 +46,7 @@ fn a_v_rep_3_threaded_script_follows_a_path_with_follow_path() {
         "paths-follow",
         SCENE,
         &[("mover.lua", &script)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     let dummy = sc.find("/Dummy");
     sc.sim.start();
@@ -116,7 +116,7 @@ fn move_to_position_moves_straight_then_turns() {
         "paths-move",
         SCENE,
         &[("mover.lua", MOVER)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     let dummy = sc.find("/Dummy");
     sc.sim.start();
@@ -163,7 +163,7 @@ end
         "paths-unthreaded",
         SCENE,
         &[("mover.lua", script)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     let e = script_error(&sc.sim, "mover.lua");
@@ -180,7 +180,7 @@ end
         "paths-bad-velocity",
         SCENE,
         &[("mover.lua", bad)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     sc.sim.step();
@@ -225,7 +225,7 @@ fn a_4_3_script_interpolates_along_a_created_path() {
         "paths-4-3",
         SCENE,
         &[("mover.lua", ALONG_4_3)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     let dummy = sc.find("/Dummy");
     sc.sim.start();

@@ -10,7 +10,7 @@ mod util;
 
 use std::time::{Duration, Instant};
 
-use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_lua::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::SimulationState;
 use util::{Scene, assert_contains, int32_signal, messages_from, script_error, script_state};

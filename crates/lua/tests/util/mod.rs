@@ -7,7 +7,7 @@ pub mod loopback;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_lua::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene};
 use gantry_sim_core::{Handle, Value};
 
@@ -21,7 +21,7 @@ impl TempDir {
     pub fn new(tag: &str) -> Self {
         static NEXT: AtomicUsize = AtomicUsize::new(0);
         let n = NEXT.fetch_add(1, Ordering::Relaxed);
-        let path = std::env::temp_dir().join(format!("gantry-script-test-{tag}-{}-{n}", std::process::id()));
+        let path = std::env::temp_dir().join(format!("gantry-lua-test-{tag}-{}-{n}", std::process::id()));
         let _ = std::fs::remove_dir_all(&path);
         std::fs::create_dir_all(&path).expect("create the temp dir");
         Self { path }

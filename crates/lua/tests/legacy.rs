@@ -5,7 +5,7 @@
 
 mod util;
 
-use gantry_script::ScriptState;
+use gantry_lua::ScriptState;
 use gantry_sim_core::Value;
 use util::{Scene, assert_close, assert_contains, log_lines, script_state};
 
@@ -48,7 +48,7 @@ fn a_coppeliasim_4_2_threaded_script_runs_unmodified() {
         "legacy-4-2",
         &util::bubble_rob_toml(Some("probe.lua")),
         &[("probe.lua", SCRIPT_4_2)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     let mut steps = 0;
     while sc.sim.state() != gantry_sim_core::sim::SimulationState::Stopped || steps == 0 {
@@ -74,7 +74,7 @@ fn the_rover_moves_under_the_4_2_script() {
         "legacy-4-2-moves",
         &util::bubble_rob_toml(Some("probe.lua")),
         &[("probe.lua", SCRIPT_4_2)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     let body = sc.find("/bubbleRob");
     let start = util::world_position(&sc.sim, body);
@@ -111,7 +111,7 @@ end
         "module-4-6",
         &util::bubble_rob_toml(Some("probe.lua")),
         &[("probe.lua", script)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     for _ in 0..12 {
         sc.sim.step();
@@ -180,7 +180,7 @@ fn v_rep_3_scripts_run_after_the_import_rewrite() {
         "legacy-3-2",
         &util::bubble_rob_toml(Some("probe.lua")),
         &[("probe.lua", &pass_script)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     let x0 = sc.remote("sim.getFloatSignal", &[Value::Str("x".into())]);
@@ -205,7 +205,7 @@ fn v_rep_3_scripts_run_after_the_import_rewrite() {
         "legacy-3-thread",
         &util::bubble_rob_toml(Some("probe.lua")),
         &[("probe.lua", &thread_script)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     for _ in 0..20 {
@@ -357,14 +357,14 @@ end
         "tubes",
         scene,
         &[("gyro.lua", gyro), ("reader.lua", reader)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     for _ in 0..8 {
         sc.sim.step();
     }
     for f in ["gyro.lua", "reader.lua"] {
-        assert_eq!(script_state(&sc.sim, f), gantry_script::ScriptState::Running, "{f}");
+        assert_eq!(script_state(&sc.sim, f), gantry_lua::ScriptState::Running, "{f}");
     }
     let r = sc.call("report", &[]);
     let Value::Str(got) = &r[0] else { panic!("{r:?}") };
@@ -400,9 +400,9 @@ function report() return touched, refused, sleeper end
         dir.display()
     );
     let scene = "[[object]]\nname = \"node\"\nkind = \"dummy\"\nscript = \"launch.lua\"\n";
-    let limits = gantry_script::ScriptLimits {
+    let limits = gantry_lua::ScriptLimits {
         allow_launch: vec!["touch".into(), "sleep".into()],
-        ..gantry_script::ScriptLimits::default()
+        ..gantry_lua::ScriptLimits::default()
     };
     let mut sc = Scene::new("launch", scene, &[("launch.lua", &script)], limits);
     sc.sim.start();
@@ -474,7 +474,7 @@ function report() return note, notModel, removed, left, stopping end
         "remove-model",
         scene,
         &[("probe.lua", probe)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     sc.sim.step();
@@ -613,7 +613,7 @@ function report() return table.concat(steps, '|'), err end
         "selection",
         scene,
         &[("probe.lua", probe)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     let r = sc.call("report", &[]);
@@ -695,7 +695,7 @@ end
         "model-property",
         scene,
         &[("probe.lua", probe)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     for _ in 0..20 {
@@ -769,7 +769,7 @@ end
         "pure-shape",
         scene,
         &[("probe.lua", probe)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     for _ in 0..10 {
@@ -825,7 +825,7 @@ end
         "save-image",
         util::PROBE_ONLY_SCENE,
         &[("probe.lua", probe)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     sc.sim.step();
@@ -856,7 +856,7 @@ function report() return freed, done end
         "free-thread",
         util::PROBE_ONLY_SCENE,
         &[("probe.lua", probe)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     for _ in 0..3 {
@@ -885,7 +885,7 @@ function report() return size, kind, badIndex, badVertices, prefixed, containing
         "mesh-shape",
         util::PROBE_ONLY_SCENE,
         &[("probe.lua", probe)],
-        gantry_script::ScriptLimits::default(),
+        gantry_lua::ScriptLimits::default(),
     );
     sc.sim.start();
     sc.sim.step();

@@ -7,7 +7,7 @@
 
 mod util;
 
-use gantry_script::{ScriptLimits, ScriptState};
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Handle;
 use util::{Scene, int32_signal, script_state, world_position};
 

@@ -5,7 +5,7 @@
 
 mod util;
 
-use gantry_script::{ScriptLimits, ScriptState, Simulation};
+use gantry_lua::{ScriptLimits, ScriptState, Simulation};
 use gantry_sim_core::Value;
 use gantry_sim_core::math::Pose;
 use util::{find, floats, int, load, repo};
