@@ -12,10 +12,12 @@ use std::net::{SocketAddr, TcpStream};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use gantry_lua::{ScriptLimits, Simulation};
+use gantry_engine::{Engine, EngineConfig, Input, LoopControl};
+use gantry_lua::ScriptLimits;
 use gantry_server::{ServeConfig, Shutdown, SimConfig};
 use gantry_sim_core::World;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene, load_scene_text};
+use gantry_sim_core::sim::Control;
 use serde_json::{Value as Json, json};
 
 fn root() -> PathBuf {
@@ -26,10 +28,20 @@ fn scene(rel: &str) -> SceneModel {
     load_scene(&DiskFiles, &root().join(rel), &LoadOptions::default()).expect("scene loads")
 }
 
+/// The engine of `model`, started: what every front end steps.
+fn engine(model: &SceneModel) -> Engine {
+    let config = EngineConfig {
+        limits: ScriptLimits::default(),
+        ..EngineConfig::default()
+    };
+    let mut e = Engine::new(model.clone(), config, None).expect("simulation");
+    e.serve(Input::Control(LoopControl::Control(Control::Start)));
+    e
+}
+
 /// Steps per second of the full simulation (scripts, sensors, physics).
 fn gantry_rate(model: &SceneModel, seconds: f64) -> f64 {
-    let mut sim = Simulation::new(model.clone(), ScriptLimits::default()).expect("simulation");
-    sim.start();
+    let mut sim = engine(model);
     for _ in 0..10 {
         sim.step();
     }
@@ -268,15 +280,14 @@ fn arm_rapier_rate(model: &SceneModel, steps: u64) -> f64 {
 /// joint every step from scripts/bench/arm_tracking.lua, 10,000 steps.
 fn arm(steps: u64) -> Json {
     let model = scene("assets/scenes/bench/arm_tracking.toml");
-    let mut sim = Simulation::new(model.clone(), ScriptLimits::default()).expect("simulation");
-    sim.start();
+    let mut sim = engine(&model);
     let t = Instant::now();
     for _ in 0..steps {
         sim.step();
     }
     let rate = steps as f64 / t.elapsed().as_secs_f64();
     let err = sim
-        .call_hook_function("trackingError", &[])
+        .call_script_function("trackingError", &[])
         .expect("trackingError runs")
         .expect("the benchmark script defines trackingError");
     let num = |i: usize| err.get(i).and_then(gantry_sim_core::Value::as_f64).expect("a number");

@@ -60,14 +60,14 @@ FLOORS = {
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.
     "crates/lua/src": [
         ({"limits", "convert", "listeners", "lua_error", "app_state"}, False),
-        ({"sandbox", "running", "directory", "core_cell", "hooks"}, False),
+        ({"sandbox", "running", "directory", "sim_cell", "hooks"}, False),
         ({"threads", "control", "recording", "models", "luasocket", "ros", "launch"}, False),
         ({"messages"}, False),
         ({"debugger"}, False),
         ({"budget", "host_api"}, False),
         ({"scripts"}, False),
-        ({"simulation"}, False),
-        ({"step", "remote", "remote_blocking", "ros_dispatch"}, False),
+        ({"host"}, False),
+        ({"host_step", "remote", "remote_blocking", "ros_dispatch"}, False),
         ({"ros_action_dispatch"}, False),
     ],
 }

@@ -14,9 +14,9 @@ use gantry_sim_core::SimError;
 use std::path::Path;
 use std::time::Instant;
 
-use gantry_engine::{ClientId, Due, Engine, EngineConfig, HostCall, RemoteOp};
-use gantry_record::{RecordTap, Recorder};
+use gantry_engine::{ClientId, Due, Engine, EngineConfig, HostCall, Input, LoopControl, RemoteOp};
 use gantry_lua::ScriptError;
+use gantry_record::{RecordTap, Recorder};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, ScriptHostFn, Target};
 use gantry_sim_core::scene::SceneModel;
@@ -76,12 +76,14 @@ impl Direct {
         }
         if let Some(r) = recorder {
             // Before the start, so that the start is the recording's first input.
-            let tap = RecordTap::new(r, engine.sim());
-            engine.set_tap(Box::new(tap));
+            let tap = RecordTap::new(r, &engine.sim());
+            engine.set_recorder(Box::new(tap));
         }
         let mut d = Self { engine };
         if autostart {
-            d.detached(py, |d| d.engine.control(Control::Start));
+            d.detached(py, |d| {
+                d.engine.serve(Input::Control(LoopControl::Control(Control::Start)))
+            });
         }
         Ok(d)
     }
@@ -114,9 +116,9 @@ impl Direct {
             return self.call_blocking(py, f, args);
         }
         if release_gil {
-            self.detached(py, |d| d.engine.call(target, args))
+            self.detached(py, |d| d.engine.serve(Input::Call { target, args }).into_values())
         } else {
-            self.engine.call(target, args)
+            self.engine.serve(Input::Call { target, args }).into_values()
         }
     }
 
@@ -140,7 +142,14 @@ impl Direct {
             return Ok(vec![Value::Float((dt - start.elapsed().as_secs_f64()).min(0.0))]);
         }
         let (reply, mut answer) = tokio::sync::oneshot::channel();
-        self.detached(py, |d| d.engine.call_blocking(None, f, args, reply));
+        self.detached(py, |d| {
+            d.engine.serve(Input::Blocking {
+                client: None,
+                f,
+                args,
+                reply,
+            })
+        });
         loop {
             match answer.try_recv() {
                 Ok(out) => return out,
@@ -193,8 +202,10 @@ impl Direct {
                 Ok(Vec::new())
             }
             HostCall::LoadScene(path) => self.load_scene(py, path.as_deref()).map(|()| Vec::new()),
-            HostCall::Remote(op @ RemoteOp::Control(_)) => self.detached(py, |d| d.engine.remote(ME, op)),
-            HostCall::Remote(op) => self.engine.remote(ME, op),
+            HostCall::Remote(op @ RemoteOp::Control(_)) => {
+                self.detached(py, |d| d.engine.serve(Input::Remote { client: ME, op }).into_values())
+            }
+            HostCall::Remote(op) => self.engine.serve(Input::Remote { client: ME, op }).into_values(),
         }
     }
 
@@ -217,7 +228,7 @@ impl Direct {
 
     /// Replaces the scene; one that does not load leaves the current one as it was.
     fn load_scene(&mut self, py: Python<'_>, path: Option<&Path>) -> Result<(), CallError> {
-        self.detached(py, |d| d.engine.load_scene(path))
+        self.detached(py, |d| d.engine.serve(Input::LoadScene(path)).into_values().map(|_| ()))
     }
 
     /// What happens between calls: the steps real time says are due, or the stopped
@@ -276,7 +287,9 @@ impl Direct {
         /// Steps between checks for a signal: a few milliseconds of bubble_rob.
         const BATCH: u64 = 16;
         if self.engine.state() != SimulationState::Running {
-            self.detached(py, |d| d.engine.control(Control::Start));
+            self.detached(py, |d| {
+                d.engine.serve(Input::Control(LoopControl::Control(Control::Start)))
+            });
         }
         let mut taken = 0;
         while taken < n && self.engine.state() == SimulationState::Running {
@@ -359,12 +372,23 @@ impl Direct {
         for op in &plan.act {
             let mut value = f64::from(action[op.index] * op.scale);
             if let Some(read) = &op.read {
-                let reply = self.engine.call(read, std::slice::from_ref(&op.handle))?;
+                let reply = self
+                    .engine
+                    .serve(Input::Call {
+                        target: read,
+                        args: std::slice::from_ref(&op.handle),
+                    })
+                    .into_values()?;
                 value += reply.first().and_then(Value::as_f64).ok_or_else(|| {
                     CallError::failed(read.qualified(), SimError::refused("the plan reads a number here"))
                 })?;
             }
-            self.engine.call(&op.set, &[op.handle.clone(), Value::Float(value)])?;
+            self.engine
+                .serve(Input::Call {
+                    target: &op.set,
+                    args: &[op.handle.clone(), Value::Float(value)],
+                })
+                .into_values()?;
         }
         if plan.steps > 0 && self.engine.holds_lock(ME) {
             // As sim.step() refuses: the lock holds the simulation.
@@ -381,7 +405,13 @@ impl Direct {
         }
         let mut values = Vec::new();
         for op in &plan.observe {
-            let reply = self.engine.call(&op.get, &op.args)?;
+            let reply = self
+                .engine
+                .serve(Input::Call {
+                    target: &op.get,
+                    args: &op.args,
+                })
+                .into_values()?;
             push_numbers(&reply, &mut values).ok_or_else(|| {
                 CallError::failed(op.get.qualified(), SimError::refused("the plan observes numbers only"))
             })?;

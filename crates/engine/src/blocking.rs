@@ -1,6 +1,6 @@
 //! Remote clients' blocking calls in progress (`sim.wait`, `sim.moveToConfig`, ...):
 //! what the engine keeps while the Lua host's coroutine waits for steps
-//! ([`gantry_lua::Simulation::start_blocking`]).
+//! ([`gantry_lua::LuaHost::start_blocking`]).
 
 use gantry_lua::BlockingId;
 use gantry_sim_core::Value;

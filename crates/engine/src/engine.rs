@@ -1,34 +1,35 @@
-//! The engine: the one owner of a running simulation's loop rules.
+//! The engine: the one owner of a simulation.
 //!
-//! Every front end reaches the simulation through an [`Engine`]: the server's
-//! simulation thread (for the text channel, ZMQ, the legacy remote API, the viewer and
-//! the debugger) and the in-process Python client. It decides when a step may be
-//! taken (stepping levels, locks, real-time pacing), carries out start, pause and stop
-//! with what follows from them for the stepping clients, replaces the scene, runs the
-//! stopped simulation's `sysCall_nonSimulation` and reloads edited scripts. It owns no
-//! socket, channel or thread and reads the clock only where a caller asks it to: the
-//! front end decides how to wait and how to answer.
+//! An [`Engine`] owns the [`Sim`] (the world and its subsystems), the scene model a stop
+//! rebuilds it from, and the Lua host that runs the scene's scripts (none for a scene
+//! without scripts until a client needs one). It carries out every input through one
+//! entry, [`Engine::serve`]; takes steps in CoppeliaSim's order (`step.rs`), calling the
+//! host's hooks between the physics and sensing phases; starts, pauses and stops the
+//! simulation itself (`lifecycle.rs`); decides when a step may be taken (stepping levels,
+//! locks, real-time pacing); and tells its observers. It owns no socket, channel or
+//! thread and reads the clock only where a caller asks it to: the front end decides how
+//! to wait and how to answer.
 
-use gantry_sim_core::SimError;
-use std::path::Path;
+use std::cell::{Ref, RefMut};
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use gantry_lua::ros::RosNetwork;
-use gantry_lua::{
-    DebugLink, HookError, Listeners, RecordingRequest, ScriptError, ScriptLimits, Simulation, StepBoundary,
-};
-use gantry_sim_core::Value;
-use gantry_sim_core::api::{CallError, ScriptHostFn, Target};
+use gantry_lua::{DebugLink, HookError, Listeners, LuaHost, ScriptError, ScriptLimits, ScriptState, SimCell};
+use gantry_sim_core::api::{Args, CallContext, CallError, ScriptHostFn, Target};
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
 use gantry_sim_core::sim::{Control, SimulationState};
+use gantry_sim_core::{Handle, Sim, SimError, Value, World};
 use tokio::sync::oneshot;
 
 use crate::blocking::{BlockingCall, BlockingReply, ended_error, stopped_error};
 use crate::host_call::{LoopControl, RemoteOp};
+use crate::input::{Input, Output};
+use crate::lifecycle::build_sim;
+use crate::observer::{InputAt, Observer, RecorderFactory};
 use crate::pacing::Pacing;
 use crate::stepping::{ClientId, Stepping, SteppingError};
-use crate::tap::{EngineInput, InputAt, MidStep, RecorderFactory, Tap};
 
 /// How often scripts' `sysCall_nonSimulation` runs while the simulation is stopped:
 /// about 20 times a second, as in CoppeliaSim.
@@ -39,6 +40,12 @@ const VERBOSITY_ERRORS: i64 = 200;
 
 /// How often script files are checked for changes (hot reload).
 pub const RELOAD_PERIOD: Duration = Duration::from_millis(500);
+
+/// What a remote client's call runs as: no emitting object.
+const REMOTE: CallContext<'static> = CallContext {
+    script_object: None,
+    source: "remote",
+};
 
 /// What an engine is built with, and keeps for every scene it loads later.
 #[derive(Clone, Default)]
@@ -71,22 +78,27 @@ pub enum Due {
     Held,
 }
 
-/// A simulation with its loop rules.
+/// A simulation with its scripts and its loop rules.
 pub struct Engine {
-    sim: Simulation,
+    /// The simulation, lent to the Lua host's `sim.*` functions through the cell.
+    pub(crate) sim: SimCell,
+    /// The scene as loaded, plus models loaded since: what a stop rebuilds.
+    pub(crate) model: SceneModel,
+    /// The scene's scripts; none until a script or a client needs Lua.
+    pub(crate) host: Option<LuaHost>,
     /// Steps taken since the engine was made; never reset (a stop does not rewind it),
     /// so remote clients' step targets stay comparable across a stop and start.
-    steps: u64,
-    stepping: Stepping,
+    pub(crate) steps: u64,
+    pub(crate) stepping: Stepping,
     pacing: Pacing,
-    config: EngineConfig,
+    pub(crate) config: EngineConfig,
     last_reload: Instant,
     last_idle: Instant,
-    /// Looks at every input and step (the recorder), when set.
-    tap: Option<Box<dyn Tap>>,
-    /// Look at every step and the end of the run (the ROS 2 graph's publisher), for
-    /// the engine's whole life.
-    observers: Vec<Box<dyn Tap>>,
+    /// The recording in progress (`--record`, a script's `sim.startRecording`): an
+    /// observer scripts may replace or end.
+    pub(crate) recorder: Option<Box<dyn Observer>>,
+    /// The other observers, for the engine's whole life.
+    pub(crate) observers: Vec<Box<dyn Observer>>,
     /// Remote clients' blocking calls in progress, oldest first.
     blocking: Vec<BlockingCall>,
     /// The last blocking call's number.
@@ -95,91 +107,184 @@ pub struct Engine {
 
 impl Engine {
     /// The simulation of `model`, stopped, with the debugger on `debug` when given.
+    /// A scene with scripts (or a debugger) gets its Lua host now; one without gets it
+    /// when a client first needs it.
     ///
     /// # Errors
     /// The Lua state could not be created.
     pub fn new(model: SceneModel, config: EngineConfig, debug: Option<DebugLink>) -> Result<Self, ScriptError> {
-        let sim = Self::simulation(model, &config, debug)?;
+        let sim = SimCell::new(build_sim(&model));
+        for w in sim.borrow().world.warnings() {
+            tracing::warn!("{w}");
+        }
+        let host = if model.scripts.is_empty() && debug.is_none() {
+            None
+        } else {
+            Some(Self::lua_host(&sim, &model, &config, debug)?)
+        };
         let now = Instant::now();
         Ok(Self {
             sim,
+            model,
+            host,
             steps: 0,
             stepping: Stepping::default(),
             pacing: Pacing::new(now),
             config,
             last_reload: now,
             last_idle: now,
-            tap: None,
+            recorder: None,
             observers: Vec::new(),
             blocking: Vec::new(),
             blocking_ids: 0,
         })
     }
 
-    /// Has `tap` look at every input and step from now on (see [`Tap`]); the tap
-    /// already set, if any, is returned.
-    pub fn set_tap(&mut self, tap: Box<dyn Tap>) -> Option<Box<dyn Tap>> {
-        self.tap.replace(tap)
+    /// A Lua host over `sim` for `model`'s scripts, with the engine's options,
+    /// listeners and debugger: one recipe for the first scene, every scene loaded
+    /// later and a host made on demand.
+    fn lua_host(
+        sim: &SimCell,
+        model: &SceneModel,
+        config: &EngineConfig,
+        debug: Option<DebugLink>,
+    ) -> Result<LuaHost, ScriptError> {
+        let mut host = LuaHost::new(
+            sim.clone(),
+            &model.scripts,
+            model.settings.seed,
+            config.limits.clone(),
+            debug,
+        )?;
+        host.set_load_options(config.load_options.clone());
+        if let Some(l) = &config.listeners {
+            host.set_listeners(l.clone());
+        }
+        if let Some(n) = &config.ros {
+            host.set_ros_network(n.clone());
+        }
+        Ok(host)
     }
 
-    /// Has `observer` see every step and the end of the run, after the tap, for the
-    /// engine's whole life (its inputs are not shown to it).
-    pub fn add_observer(&mut self, observer: Box<dyn Tap>) {
+    /// The Lua host, made now if the scene had none (a client calls a function only
+    /// Lua serves, such as `sim.callScriptFunction` or a blocking `sim.wait`).
+    ///
+    /// # Errors
+    /// The Lua state could not be created.
+    fn host_mut(&mut self) -> Result<&mut LuaHost, ScriptError> {
+        if self.host.is_none() {
+            self.host = Some(Self::lua_host(&self.sim, &self.model, &self.config, None)?);
+        }
+        Ok(self.host.as_mut().expect("made above"))
+    }
+
+    /// Lets scripts join a ROS 2 graph (`simROS2`, `simROS`) through `network`, in this
+    /// scene and those loaded later.
+    pub fn set_ros_network(&mut self, network: Arc<dyn RosNetwork>) {
+        if let Some(host) = self.host.as_mut() {
+            host.set_ros_network(network.clone());
+        }
+        self.config.ros = Some(network);
+    }
+
+    /// Lets scripts start legacy remote API servers (`simRemoteApi.start`) through
+    /// `listeners`, in this scene and those loaded later.
+    pub fn set_listeners(&mut self, listeners: Arc<dyn Listeners>) {
+        if let Some(host) = self.host.as_mut() {
+            host.set_listeners(listeners.clone());
+        }
+        self.config.listeners = Some(listeners);
+    }
+
+    /// Has `observer` see every input, step and the end of the run as the recorder
+    /// (see [`Observer`]); the recorder already set, if any, is returned.
+    pub fn set_recorder(&mut self, observer: Box<dyn Observer>) -> Option<Box<dyn Observer>> {
+        self.recorder.replace(observer)
+    }
+
+    /// Stops recording: the recorder is returned, not finished.
+    pub fn take_recorder(&mut self) -> Option<Box<dyn Observer>> {
+        self.recorder.take()
+    }
+
+    /// Has `observer` see every input, step and the end of the run, after the
+    /// recorder, for the engine's whole life.
+    pub fn add_observer(&mut self, observer: Box<dyn Observer>) {
         self.observers.push(observer);
     }
 
-    /// Stops tapping: the tap is returned, not finished.
-    pub fn take_tap(&mut self) -> Option<Box<dyn Tap>> {
-        self.tap.take()
-    }
-
-    /// Tells the tap about an input served between steps.
-    fn tap_input(&mut self, input: EngineInput<'_>) {
-        if let Some(t) = &mut self.tap {
-            let at = InputAt {
-                step: self.steps,
-                boundary: 0,
-            };
-            t.input(&self.sim, at, input);
+    /// Tells the observers about an input served between steps.
+    fn observe_input(&mut self, input: &Input<'_>) {
+        if self.recorder.is_none() && self.observers.is_empty() {
+            return;
         }
-    }
-
-    /// A scene's simulation with the engine's options, listeners and debugger: one
-    /// recipe for the first scene and every scene loaded later.
-    fn simulation(
-        model: SceneModel,
-        config: &EngineConfig,
-        debug: Option<DebugLink>,
-    ) -> Result<Simulation, ScriptError> {
-        let mut sim = match debug {
-            Some(link) => Simulation::with_debugger(model, config.limits.clone(), link)?,
-            None => Simulation::new(model, config.limits.clone())?,
+        let at = InputAt {
+            step: self.steps,
+            boundary: 0,
         };
-        sim.set_load_options(config.load_options.clone());
-        if let Some(l) = &config.listeners {
-            sim.set_listeners(l.clone());
+        let sim = self.sim.borrow();
+        for o in self.recorder.iter_mut().chain(self.observers.iter_mut()) {
+            o.input(&sim, at, input);
         }
-        if let Some(n) = &config.ros {
-            sim.set_ros_network(n.clone());
-        }
-        Ok(sim)
     }
 
-    /// The simulation, to read.
-    pub fn sim(&self) -> &Simulation {
-        &self.sim
+    /// The front end served requests or waited without taking a step: the observers'
+    /// idle tick (the viewer's frames of a paused simulation).
+    pub fn idle(&mut self) {
+        let sim = self.sim.borrow();
+        for o in self.recorder.iter_mut().chain(self.observers.iter_mut()) {
+            o.idle(&sim, self.steps);
+        }
     }
 
-    /// The simulation, for front ends that act on it directly (the viewer's closures,
-    /// the debugger). A start, pause or stop made through it bypasses the stepping
-    /// rules: use [`Engine::control`] for those.
-    pub fn sim_mut(&mut self) -> &mut Simulation {
-        &mut self.sim
+    /// The simulation (the world and its subsystems), borrowed for reading.
+    ///
+    /// # Panics
+    /// A script or a `sim.*` function holds it (never between two engine calls).
+    pub fn sim(&self) -> Ref<'_, Sim> {
+        self.sim.borrow()
+    }
+
+    /// The simulation, borrowed for writing: for front ends that change it between
+    /// steps (the viewer's drag, a replay). Starting, pausing and stopping go through
+    /// [`Engine::serve`].
+    pub fn sim_mut(&self) -> RefMut<'_, Sim> {
+        self.sim.borrow_mut()
+    }
+
+    /// The world (objects and physics), borrowed for reading.
+    pub fn world(&self) -> Ref<'_, World> {
+        Ref::map(self.sim.borrow(), |s| &s.world)
+    }
+
+    /// The world, borrowed for writing.
+    pub fn world_mut(&self) -> RefMut<'_, World> {
+        RefMut::map(self.sim.borrow_mut(), |s| &mut s.world)
+    }
+
+    /// The scene model a stop rebuilds the world from.
+    pub fn model(&self) -> &SceneModel {
+        &self.model
+    }
+
+    /// Each script's file, object and state (none without a Lua host).
+    pub fn scripts(&self) -> Vec<(PathBuf, Handle, ScriptState)> {
+        self.host.as_ref().map(LuaHost::scripts).unwrap_or_default()
+    }
+
+    /// The addresses scripts listen on now through LuaSocket (`socket.bind`).
+    pub fn script_listeners(&self) -> Vec<std::net::SocketAddr> {
+        self.host.as_ref().map(LuaHost::script_listeners).unwrap_or_default()
+    }
+
+    /// Whether this simulation runs with the script debugger.
+    pub fn debugging(&self) -> bool {
+        self.host.as_ref().is_some_and(LuaHost::debugging)
     }
 
     /// The simulation's state.
     pub fn state(&self) -> SimulationState {
-        self.sim.state()
+        self.sim.borrow().state
     }
 
     /// Steps taken since the engine was made.
@@ -189,7 +294,7 @@ impl Engine {
 
     /// The time step, s.
     pub fn dt(&self) -> f64 {
-        self.sim.world().settings().dt
+        self.sim.borrow().world.settings().dt
     }
 
     /// Whether real-time pacing is on (see [`EngineConfig::realtime`]).
@@ -199,7 +304,7 @@ impl Engine {
 
     /// Running, and no stepping client or lock holds the simulation.
     pub fn may_advance(&self) -> bool {
-        self.sim.state() == SimulationState::Running && self.stepping.may_advance(self.steps)
+        self.state() == SimulationState::Running && self.stepping.may_advance(self.steps)
     }
 
     /// Whether some client is stepping: steps are then taken as soon as they are asked
@@ -244,72 +349,76 @@ impl Engine {
         self.pacing.restart(now);
     }
 
-    /// Takes one step (scripts' hooks in CoppeliaSim's order) and does what follows
-    /// from it: the schedule moves on, parked clients whose step it was are answered,
-    /// and a start, pause or stop a script asked for is followed by the stepping rules.
-    pub fn step(&mut self) {
-        self.sim.step();
-        self.after_step();
+    /// A step was taken at `now` on the real-time schedule.
+    pub(crate) fn pacing_taken(&mut self, now: Instant) {
+        let dt = self.dt();
+        self.pacing.taken(now, dt);
     }
 
-    /// [`Engine::step`], letting `between` serve requests at the step's phase
-    /// boundaries (see [`Simulation::step_with`]) through a [`MidStep`], which the tap
-    /// sees too.
-    pub fn step_with(&mut self, between: &mut dyn FnMut(&mut MidStep<'_>)) {
-        let step = self.steps;
-        let mut boundary = 0u32;
-        let tap = &mut self.tap;
-        self.sim.step_with(&mut |sim: &mut Simulation, at: StepBoundary| {
-            boundary += 1;
-            let mut mid = MidStep {
-                sim,
-                tap: tap.as_deref_mut(),
-                at: InputAt { step, boundary },
-                boundary: at,
-            };
-            between(&mut mid);
-        });
-        self.after_step();
+    /// Carries out `input` (see [`Input`] for each kind and its [`Output`]): the one
+    /// way into the simulation from outside it. The observers see the input first.
+    pub fn serve(&mut self, input: Input<'_>) -> Output {
+        self.observe_input(&input);
+        match input {
+            Input::Call { target, args } => Output::Values(self.call(target, args)),
+            Input::Blocking { client, f, args, reply } => {
+                self.call_blocking(client, f, args, reply);
+                Output::Pending
+            }
+            Input::Packet(packet) => Output::Packet(self.packet(packet)),
+            Input::Control(action) => Output::State(self.loop_control(action)),
+            Input::Remote { client, op } => Output::Values(self.remote(client, op)),
+            Input::Step { client, done } => {
+                self.request_step(client, done);
+                Output::Pending
+            }
+            Input::DropClient(client) => {
+                self.drop_client(client);
+                Output::Done
+            }
+            Input::LoadScene(path) => Output::Values(self.load_scene(path).map(|()| Vec::new())),
+        }
     }
 
-    fn after_step(&mut self) {
-        self.steps += 1;
-        if let Some(t) = &mut self.tap {
-            t.stepped(&self.sim, self.steps);
+    /// Calls a resolved function for a remote client: a core function straight on the
+    /// simulation, a function of the Lua host through it (script code it runs may
+    /// start, pause or stop the simulation; that is carried out once it returns).
+    fn call(&mut self, target: &Target, args: &[Value]) -> Result<Vec<Value>, CallError> {
+        match *target {
+            Target::Core { function, .. } => {
+                let mut sim = self
+                    .sim
+                    .try_borrow_mut()
+                    .map_err(|_| CallError::failed(target.qualified(), SimError::refused("the world is busy")))?;
+                function
+                    .invoke(&mut sim, &REMOTE, &Args::new(args))
+                    .map_err(|e| CallError::failed(target.qualified(), e))
+            }
+            Target::ScriptHost(f) => {
+                let host = self.host_mut().map_err(|e| no_host(f, &e))?;
+                let out = host.call_script_host(f, args);
+                self.carry_out_requests();
+                self.serve_recording_request();
+                out
+            }
+            Target::FrontEnd(_) => Err(CallError::NoSuchFunction(target.qualified())),
         }
-        for o in &mut self.observers {
-            o.stepped(&self.sim, self.steps);
-        }
-        self.serve_recording_request();
-        let now = Instant::now();
-        if self.on_demand() || !self.config.realtime {
-            // Stepping on demand: real time resumes from the last step taken.
-            self.pacing.restart(now);
-        } else {
-            self.pacing.taken(now, self.dt());
-        }
-        self.resume_blocking();
-        self.stepping.stepped(self.steps);
-        self.follow_state(SimulationState::Running);
     }
 
-    /// A remote client's blocking call (`sim.wait`, `sim.waitForSignal`,
-    /// `sim.moveToConfig`, `sim.moveToPose`): run up to its first wait now, then
-    /// resumed after each step until it returns, when `reply` gets its answer. While
-    /// `client` steps the simulation, its call takes the steps it needs, as its own
-    /// `sim.step()` calls would. Refused while the simulation is stopped (the steps it
-    /// waits for would never come); while paused, it waits.
-    pub fn call_blocking(&mut self, client: Option<ClientId>, f: ScriptHostFn, args: &[Value], reply: BlockingReply) {
-        if self.sim.state() == SimulationState::Stopped {
+    /// See [`Input::Blocking`].
+    fn call_blocking(&mut self, client: Option<ClientId>, f: ScriptHostFn, args: &[Value], reply: BlockingReply) {
+        if self.state() == SimulationState::Stopped {
             let _ = reply.send(Err(stopped_error(f)));
             return;
         }
-        let target = Target::ScriptHost(f);
-        self.tap_input(EngineInput::Call { target: &target, args });
-        let before = self.sim.state();
         self.blocking_ids += 1;
         let id = gantry_lua::BlockingId(self.blocking_ids);
-        match self.sim.start_blocking(id, f, args) {
+        let started = match self.host_mut() {
+            Ok(host) => host.start_blocking(id, f, args),
+            Err(e) => gantry_lua::Blocking::Done(Err(no_host(f, &e))),
+        };
+        self.carry_out_requests();
+        match started {
             gantry_lua::Blocking::Done(answer) => {
                 let _ = reply.send(answer);
             }
@@ -318,7 +427,6 @@ impl Engine {
                 self.want_steps();
             }
         }
-        self.follow_state(before);
     }
 
     /// Whether a blocking call is in progress.
@@ -327,23 +435,28 @@ impl Engine {
     }
 
     /// Resumes the blocking calls after a step and answers those that returned.
-    fn resume_blocking(&mut self) {
-        if self.blocking.is_empty() || self.sim.state() != SimulationState::Running {
+    pub(crate) fn resume_blocking(&mut self) {
+        if self.blocking.is_empty() || self.state() != SimulationState::Running {
             return;
         }
+        let Some(host) = self.host.as_mut() else {
+            return;
+        };
         // A call nobody waits for any more (its client left) goes no further.
         let (gone, kept): (Vec<_>, Vec<_>) = std::mem::take(&mut self.blocking)
             .into_iter()
             .partition(|c| c.reply.is_closed());
         self.blocking = kept;
         for c in gone {
-            self.sim.cancel_blocking(c.id);
+            host.cancel_blocking(c.id);
         }
-        for (id, answer) in self.sim.resume_blocking() {
+        let answers = host.resume_blocking();
+        for (id, answer) in answers {
             if let Some(k) = self.blocking.iter().position(|c| c.id == id) {
                 let _ = self.blocking.remove(k).reply.send(answer);
             }
         }
+        self.carry_out_requests();
         self.want_steps();
     }
 
@@ -358,83 +471,39 @@ impl Engine {
     }
 
     /// The simulation stopped or changed scene: the blocking calls end with an error.
-    fn end_blocking(&mut self) {
-        self.sim.abort_blocking();
+    pub(crate) fn end_blocking(&mut self) {
+        if let Some(host) = self.host.as_mut() {
+            host.abort_blocking();
+        }
         for c in self.blocking.drain(..) {
             let _ = c.reply.send(Err(ended_error(c.f)));
         }
     }
 
-    /// After something that may have started, paused or stopped the simulation (a
-    /// control call, a script's `sim.stopSimulation()`, a called script function), given
-    /// the state `before` it: the stepping clients follow a change, and only a change
-    /// (a call made while stopped must not reset their levels).
-    fn follow_state(&mut self, before: SimulationState) {
-        let now = self.sim.state();
-        if now == before {
-            return;
-        }
-        match now {
-            SimulationState::Stopped => {
-                self.stepping.stopped();
-                self.end_blocking();
-            }
-            SimulationState::Paused => self.stepping.release_waiters(),
-            SimulationState::Running => self.pacing.restart(Instant::now()),
-        }
-    }
-
-    /// Start (or resume), pause or stop, whoever asks: a remote client, the viewer, the
-    /// command line. A stop runs the cleanup hooks, restores the initial scene and
-    /// resets every client's stepping level (as CoppeliaSim's add-on does, so a stopped
-    /// client cannot hold the next run), even when the simulation was stopped already.
-    pub fn control(&mut self, c: Control) {
-        self.tap_input(EngineInput::Control(LoopControl::Control(c)));
-        self.control_untapped(c);
-    }
-
-    /// [`Engine::control`] without telling the tap (part of an input it was told of).
-    fn control_untapped(&mut self, c: Control) {
-        let before = self.sim.state();
-        match c {
-            Control::Start => self.sim.start(),
-            Control::Pause => {
-                self.sim.pause();
-                self.stepping.release_waiters();
-            }
-            Control::Stop => {
-                self.sim.stop();
-                self.stepping.stopped();
-            }
-        }
-        self.follow_state(before);
-    }
-
     /// The viewer's and the command line's control, [`LoopControl::Step`] included (a
     /// step whatever the state: a stopped or paused simulation starts, steps once and
     /// pauses). Returns the state afterwards.
-    pub fn loop_control(&mut self, action: LoopControl) -> SimulationState {
-        self.tap_input(EngineInput::Control(action));
+    fn loop_control(&mut self, action: LoopControl) -> SimulationState {
         match action {
-            LoopControl::Control(c) => self.control_untapped(c),
+            LoopControl::Control(c) => self.control(c),
             LoopControl::Step => {
-                if self.sim.state() == SimulationState::Running {
+                if self.state() == SimulationState::Running {
                     self.step();
                 } else {
-                    self.control_untapped(Control::Start);
+                    self.control(Control::Start);
                     self.step();
-                    self.control_untapped(Control::Pause);
+                    self.control(Control::Pause);
                 }
             }
         }
-        self.sim.state()
+        self.state()
     }
 
     /// A remote client's simulation control or stepping call.
     ///
     /// # Errors
     /// Nesting too deep, in CoppeliaSim's words with the function's name.
-    pub fn remote(&mut self, client: ClientId, op: RemoteOp) -> Result<Vec<Value>, CallError> {
+    fn remote(&mut self, client: ClientId, op: RemoteOp) -> Result<Vec<Value>, CallError> {
         let in_function =
             |e: SteppingError, f: &str| CallError::failed(format!("sim.{f}"), SimError::refused(e.to_string()));
         match op {
@@ -454,22 +523,23 @@ impl Engine {
         Ok(Vec::new())
     }
 
-    /// `sim.step()` of `client`: `done` is answered once the simulation has taken the
-    /// next step, at once if it is stopped or paused (see [`Stepping::request_step`]).
-    pub fn request_step(&mut self, client: ClientId, done: oneshot::Sender<()>) {
-        let advancing = self.sim.state() == SimulationState::Running;
+    /// See [`Input::Step`].
+    fn request_step(&mut self, client: ClientId, done: oneshot::Sender<()>) {
+        let advancing = self.state() == SimulationState::Running;
         self.stepping.request_step(client, self.steps, advancing, done);
     }
 
-    /// A client left or timed out: it can no longer hold the simulation.
-    pub fn drop_client(&mut self, client: ClientId) {
+    /// See [`Input::DropClient`].
+    fn drop_client(&mut self, client: ClientId) {
         self.stepping.drop_client(client);
         let (gone, kept) = std::mem::take(&mut self.blocking)
             .into_iter()
             .partition(|c| c.client == Some(client));
         self.blocking = kept;
-        for c in gone {
-            self.sim.cancel_blocking(c.id);
+        if let Some(host) = self.host.as_mut() {
+            for c in gone {
+                host.cancel_blocking(c.id);
+            }
         }
     }
 
@@ -478,31 +548,13 @@ impl Engine {
         self.stepping.clear();
     }
 
-    /// Calls a resolved function for a remote client. Script code it runs may start,
-    /// pause or stop the simulation; the stepping clients follow.
-    ///
-    /// # Errors
-    /// The function's error, with its qualified name.
-    pub fn call(&mut self, target: &Target, args: &[Value]) -> Result<Vec<Value>, CallError> {
-        self.tap_input(EngineInput::Call { target, args });
-        let before = self.sim.state();
-        let out = self.sim.call_target(target, args);
-        self.follow_state(before);
-        self.serve_recording_request();
-        out
-    }
-
     /// `sim.loadScene(path)` (`Some`) or `sim.closeScene()` (`None`): the running
     /// simulation stops (its cleanup hooks run) and the new scene waits, stopped, for a
     /// start. The debugger's link and the listeners move to the new scene (the debug
     /// client sets its breakpoints again per file). A file that does not load leaves
     /// the current scene as it was (a Lua state that cannot be created leaves it
     /// stopped).
-    ///
-    /// # Errors
-    /// The scene does not load, in CoppeliaSim's words with the function's name.
-    pub fn load_scene(&mut self, path: Option<&Path>) -> Result<(), CallError> {
-        self.tap_input(EngineInput::LoadScene(path));
+    fn load_scene(&mut self, path: Option<&Path>) -> Result<(), CallError> {
         let function = if path.is_some() {
             "sim.loadScene"
         } else {
@@ -510,98 +562,169 @@ impl Engine {
         };
         let refused = |e: &dyn std::fmt::Display| CallError::failed(function, SimError::refused(e.to_string()));
         let model = load_client_scene(path, &self.config.load_options).map_err(|e| refused(&e))?;
-        let debug = self.sim.take_debug_link();
+        let debug = self.host.as_mut().and_then(LuaHost::take_debug_link);
         // The old scene stops and its scripts release their ports before the new
         // scene's scripts bind theirs: a scene loaded again binds the same ones.
-        self.control_untapped(Control::Stop);
-        self.sim.close_sockets();
-        let sim = Self::simulation(model, &self.config, debug).map_err(|e| refused(&e))?;
+        self.control(Control::Stop);
+        if let Some(host) = &self.host {
+            host.close_sockets();
+        }
+        let sim = SimCell::new(build_sim(&model));
+        let host = if model.scripts.is_empty() && debug.is_none() {
+            None
+        } else {
+            Some(Self::lua_host(&sim, &model, &self.config, debug).map_err(|e| refused(&e))?)
+        };
         self.end_blocking();
+        // The old host goes before the new simulation takes its place: its scripts'
+        // cell is the old one.
+        self.host = host;
         self.sim = sim;
+        self.model = model;
         Ok(())
     }
 
-    /// A text packet to the scripts' `sysCall_packet(packet)`, between steps: the first
-    /// running script that defines it answers (`None`: none does). Script code it runs
-    /// may start, pause or stop the simulation; the stepping clients follow.
+    /// See [`Input::Packet`].
+    fn packet(&mut self, packet: &Value) -> Result<Option<Vec<Value>>, HookError> {
+        self.call_script_function("sysCall_packet", std::slice::from_ref(packet))
+    }
+
+    /// Calls the global function `name` of the first running script (in hook order)
+    /// that defines it, as a client outside the scene: the text channel's
+    /// `sysCall_packet`, an embedder's or a test's own functions. Script code it runs
+    /// may start, pause or stop the simulation; that is carried out once it returns.
+    /// `None`: no script defines it.
     ///
     /// # Errors
-    /// The handling script raised an error, or the values did not convert.
-    pub fn packet(&mut self, packet: &Value) -> Result<Option<Vec<Value>>, HookError> {
-        self.tap_input(EngineInput::Packet(packet));
-        let before = self.sim.state();
-        let out = self
-            .sim
-            .call_hook_function("sysCall_packet", std::slice::from_ref(packet));
-        self.follow_state(before);
+    /// The function raised an error (its script is then marked errored), or the values
+    /// did not convert.
+    pub fn call_script_function(&mut self, name: &str, args: &[Value]) -> Result<Option<Vec<Value>>, HookError> {
+        let Some(host) = self.host.as_mut() else {
+            return Ok(None);
+        };
+        let out = host.call_hook_function(name, args);
+        self.carry_out_requests();
         self.serve_recording_request();
         out
     }
 
     /// Starts or stops the recording a script asked for, if one did. A recording
     /// that cannot start is an error line in the log (the script's call has returned).
-    fn serve_recording_request(&mut self) {
-        let Some(req) = self.sim.take_recording_request() else {
+    pub(crate) fn serve_recording_request(&mut self) {
+        let Some(req) = self.host.as_ref().and_then(LuaHost::take_recording_request) else {
             return;
         };
         match req {
-            RecordingRequest::Stop => {
-                if let Some(mut t) = self.tap.take() {
-                    t.finish(&self.sim, self.steps);
+            gantry_lua::RecordingRequest::Stop => {
+                if let Some(mut r) = self.recorder.take() {
+                    r.finish(&self.sim.borrow(), self.steps);
                 }
             }
-            RecordingRequest::Start { path, rate_hz, images } => {
+            gantry_lua::RecordingRequest::Start { path, rate_hz, images } => {
                 let started = match &self.config.recorder {
-                    Some(f) => f.start(&self.sim, self.steps, &path, rate_hz, &images),
-                    None => Err("this front end cannot record".to_owned()),
+                    Some(f) => f.start(&self.sim.borrow(), self.steps, &path, rate_hz, &images),
+                    None => Err(crate::observer::RecordingRefused(
+                        "this front end cannot record".to_owned(),
+                    )),
                 };
                 match started {
-                    Ok(tap) => {
-                        if let Some(mut old) = self.tap.replace(tap) {
-                            old.finish(&self.sim, self.steps);
+                    Ok(r) => {
+                        if let Some(mut old) = self.recorder.replace(r) {
+                            old.finish(&self.sim.borrow(), self.steps);
                         }
                     }
                     Err(e) => {
                         let msg = format!("sim.startRecording: cannot record to {}: {e}", path.display());
                         tracing::error!("{msg}");
-                        let mut core = self.sim.core_mut();
-                        let t = core.world.time();
-                        core.world.log.push(t, VERBOSITY_ERRORS, "recorder", &msg);
+                        self.sim.log(VERBOSITY_ERRORS, "recorder", &msg);
                     }
                 }
             }
         }
     }
 
+    /// Serves the debugger's requests that arrived while no script is stopped (a
+    /// stopped script serves them itself).
+    pub fn debug_poll(&mut self) {
+        if let Some(host) = self.host.as_mut() {
+            host.debug_poll();
+        }
+    }
+
     /// What happens between steps with time: edited scripts reload (every
-    /// [`RELOAD_PERIOD`]) and, while stopped, scripts' `sysCall_nonSimulation` runs
-    /// (every [`NON_SIMULATION_PERIOD`]).
+    /// [`RELOAD_PERIOD`]) and, while stopped,
+    /// scripts' `sysCall_nonSimulation` runs (every [`NON_SIMULATION_PERIOD`]).
     pub fn tick(&mut self, now: Instant) {
         self.serve_recording_request();
         if now.saturating_duration_since(self.last_reload) >= RELOAD_PERIOD {
             self.last_reload = now;
-            self.sim.reload_changed();
+            self.reload_changed();
         }
-        if self.sim.state() == SimulationState::Stopped
+        if self.state() == SimulationState::Stopped
             && now.saturating_duration_since(self.last_idle) >= NON_SIMULATION_PERIOD
         {
             self.last_idle = now;
-            self.sim.non_simulation();
+            self.non_simulation();
         }
     }
 
-    /// Ends the run: cleanup hooks run (once; a second call does nothing) and every
-    /// parked client is answered.
-    pub fn finish(&mut self) {
-        self.sim.cleanup();
-        self.stepping.stopped();
-        if let Some(mut t) = self.tap.take() {
-            t.finish(&self.sim, self.steps);
-        }
-        for o in &mut self.observers {
-            o.finish(&self.sim, self.steps);
+    /// Reloads the scripts whose files changed on disk: the old version's cleanup runs
+    /// (if the simulation runs), then the new one loads and initialises, with the world
+    /// left as it is; one that fails to compile keeps the old version running and the
+    /// error is logged. The scene model keeps the new source for the next stop.
+    pub fn reload_changed(&mut self) {
+        let Some(host) = self.host.as_mut() else {
+            return;
+        };
+        for i in host.changed_on_disk() {
+            self.reload(i);
         }
     }
+
+    /// Reloads script `i` from its file (see [`Engine::reload_changed`]).
+    pub fn reload(&mut self, i: usize) {
+        let running = self.state() != SimulationState::Stopped;
+        let Some(host) = self.host.as_mut() else {
+            return;
+        };
+        if let Some(source) = host.reload(i, running)
+            && let Some(s) = self.model.scripts.get_mut(i)
+        {
+            s.source = source;
+        }
+        self.carry_out_requests();
+    }
+
+    /// `sysCall_nonSimulation` of every script, if the simulation is stopped (see
+    /// [`Engine::tick`]).
+    pub fn non_simulation(&mut self) {
+        if self.state() != SimulationState::Stopped {
+            return;
+        }
+        if let Some(host) = self.host.as_mut() {
+            host.non_simulation();
+            self.carry_out_requests();
+        }
+    }
+
+    /// Ends the run: cleanup hooks run (once; a second call does nothing), every
+    /// parked client is answered, and the observers finish.
+    pub fn finish(&mut self) {
+        self.cleanup();
+        self.stepping.stopped();
+        let sim = self.sim.borrow();
+        if let Some(mut r) = self.recorder.take() {
+            r.finish(&sim, self.steps);
+        }
+        for o in &mut self.observers {
+            o.finish(&sim, self.steps);
+        }
+    }
+}
+
+/// A function of the Lua host called while no Lua state can be made.
+fn no_host(f: ScriptHostFn, e: &ScriptError) -> CallError {
+    CallError::failed(format!("sim.{}", f.name()), SimError::refused(e.to_string()))
 }
 
 #[cfg(test)]
@@ -625,15 +748,28 @@ mod tests {
 
     const ME: ClientId = ClientId(1);
 
+    fn control(e: &mut Engine, c: Control) {
+        e.serve(Input::Control(LoopControl::Control(c)));
+    }
+
+    fn remote(e: &mut Engine, op: RemoteOp) -> Result<Vec<Value>, CallError> {
+        e.serve(Input::Remote { client: ME, op }).into_values()
+    }
+
+    fn request_step(e: &mut Engine) -> oneshot::Receiver<()> {
+        let (done, rx) = oneshot::channel();
+        assert_eq!(e.serve(Input::Step { client: ME, done }), Output::Pending);
+        rx
+    }
+
     #[test]
     fn a_stepping_client_holds_the_simulation_until_it_steps() {
         let mut e = engine(true);
-        e.control(Control::Start);
+        control(&mut e, Control::Start);
         assert_eq!(e.due(Instant::now()), Due::Now);
-        e.remote(ME, RemoteOp::SetStepping(true)).expect("stepping");
+        remote(&mut e, RemoteOp::SetStepping(true)).expect("stepping");
         assert_eq!(e.due(Instant::now()), Due::Held);
-        let (done, mut rx) = oneshot::channel();
-        e.request_step(ME, done);
+        let mut rx = request_step(&mut e);
         assert_eq!(e.due_steps(Instant::now()), 1);
         e.step();
         assert!(rx.try_recv().is_ok(), "the parked step is answered");
@@ -643,14 +779,13 @@ mod tests {
     #[test]
     fn stop_resets_levels_and_pause_releases_waiters() {
         let mut e = engine(true);
-        e.control(Control::Start);
-        e.remote(ME, RemoteOp::SetStepping(true)).expect("stepping");
-        let (done, mut rx) = oneshot::channel();
-        e.request_step(ME, done);
-        e.control(Control::Pause);
+        control(&mut e, Control::Start);
+        remote(&mut e, RemoteOp::SetStepping(true)).expect("stepping");
+        let mut rx = request_step(&mut e);
+        control(&mut e, Control::Pause);
         assert!(rx.try_recv().is_ok());
-        e.control(Control::Stop);
-        e.control(Control::Start);
+        control(&mut e, Control::Stop);
+        control(&mut e, Control::Start);
         // The level went back to 0 with the stop: the new run is not held.
         assert_eq!(e.due(Instant::now()), Due::Now);
     }
@@ -658,7 +793,7 @@ mod tests {
     #[test]
     fn free_running_follows_the_wall_clock() {
         let mut e = engine(true);
-        e.control(Control::Start);
+        control(&mut e, Control::Start);
         let now = Instant::now();
         assert_eq!(e.due_steps(now), 1);
         e.step();
@@ -667,7 +802,7 @@ mod tests {
             other => panic!("expected a later step, got {other:?}"),
         }
         let mut fast = engine(false);
-        fast.control(Control::Start);
+        control(&mut fast, Control::Start);
         fast.step();
         assert_eq!(fast.due(Instant::now()), Due::Now);
     }
@@ -675,25 +810,53 @@ mod tests {
     #[test]
     fn a_loop_step_from_stopped_starts_steps_and_pauses() {
         let mut e = engine(true);
-        assert_eq!(e.loop_control(LoopControl::Step), SimulationState::Paused);
+        assert_eq!(
+            e.serve(Input::Control(LoopControl::Step)),
+            Output::State(SimulationState::Paused)
+        );
         assert_eq!(e.steps(), 1);
     }
 
     #[test]
     fn a_scene_that_does_not_load_leaves_the_current_one() {
         let mut e = engine(true);
-        e.control(Control::Start);
-        let err = e.load_scene(Some(Path::new("/nonexistent/scene.toml"))).unwrap_err();
+        control(&mut e, Control::Start);
+        let err = e
+            .serve(Input::LoadScene(Some(Path::new("/nonexistent/scene.toml"))))
+            .into_values()
+            .unwrap_err();
         assert!(err.to_string().ends_with("(in function 'sim.loadScene')"), "{err}");
         assert_eq!(e.state(), SimulationState::Running);
-        e.load_scene(None).expect("empty scene");
+        e.serve(Input::LoadScene(None)).into_values().expect("empty scene");
         assert_eq!(e.state(), SimulationState::Stopped);
     }
 
     #[test]
     fn loop_functions_are_not_scene_calls() {
         let mut e = engine(true);
-        let err = e.call(&Target::FrontEnd(FrontEndFn::Step), &[]).unwrap_err();
+        let target = Target::FrontEnd(FrontEndFn::Step);
+        let err = e
+            .serve(Input::Call {
+                target: &target,
+                args: &[],
+            })
+            .into_values()
+            .unwrap_err();
         assert!(matches!(err, CallError::NoSuchFunction(_)), "{err}");
+    }
+
+    #[test]
+    fn a_scene_without_scripts_has_no_lua_until_a_client_needs_it() {
+        let mut e = engine(false);
+        assert!(e.host.is_none(), "no scripts, no Lua state");
+        control(&mut e, Control::Start);
+        e.step();
+        assert!(e.host.is_none(), "stepping needs no Lua");
+        let get_script = Target::resolve("sim.getScript").expect("resolves");
+        let out = e.serve(Input::Call {
+            target: &get_script,
+            args: &[Value::Int(1)],
+        });
+        assert!(e.host.is_some(), "a function only Lua serves made the host: {out:?}");
     }
 }

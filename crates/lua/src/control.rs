@@ -8,7 +8,7 @@ use gantry_sim_core::sim::{Advancing, Control, SimulationState};
 use mlua::{Lua, Table};
 
 use crate::app_state::state;
-use crate::core_cell::CoreCell;
+use crate::sim_cell::SimCell;
 
 /// A start, pause or stop asked for by a script, carried out once no script runs.
 #[derive(Default)]
@@ -39,7 +39,7 @@ pub(crate) fn install(lua: &Lua, sim: &Table) -> mlua::Result<()> {
                 state::<PendingControl>(lua).0.set(Some(control));
                 // Scripts see the request in `sim.getSimulationState` for the rest of
                 // the step, as CoppeliaSim's "last before pause" / "about to stop".
-                if let Ok(mut w) = state::<CoreCell>(lua).try_borrow_mut()
+                if let Ok(mut w) = state::<SimCell>(lua).try_borrow_mut()
                     && w.state == SimulationState::Running
                 {
                     match control {

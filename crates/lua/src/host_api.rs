@@ -19,7 +19,6 @@ use smallvec::SmallVec;
 use crate::app_state::state;
 use crate::control;
 use crate::convert::{to_lua, to_multi, to_value};
-use crate::core_cell::CoreCell;
 use crate::directory::{Directory, HANDLE_SELF};
 use crate::listeners::{self, ListenerState};
 use crate::lua_error::error_text;
@@ -27,6 +26,7 @@ use crate::messages;
 use crate::models;
 use crate::recording;
 use crate::running::{Caller, Running};
+use crate::sim_cell::SimCell;
 use crate::threads;
 
 /// Creates the API's global tables (`sim`, and `simIK`, `simUI`, `simVision` as they
@@ -71,7 +71,7 @@ pub(crate) fn install(lua: &Lua, listeners: &Rc<RefCell<ListenerState>>) -> mlua
                     source: &source,
                 };
                 let result = {
-                    let core = state::<CoreCell>(lua);
+                    let core = state::<SimCell>(lua);
                     let mut sim = core
                         .try_borrow_mut()
                         .map_err(|_| mlua::Error::runtime(format!("the world is busy (in function '{qualified}')")))?;
@@ -121,7 +121,7 @@ pub(crate) fn install(lua: &Lua, listeners: &Rc<RefCell<ListenerState>>) -> mlua
     // `simRemoteApi.start` needs to know whether the simulation runs; the state lives
     // in the core, which the closure reaches through a weak reference (the Lua state
     // owns the closure, the simulation owns both).
-    let core = Rc::downgrade(&state::<CoreCell>(lua).0);
+    let core = Rc::downgrade(&state::<SimCell>(lua).0);
     let remote_api = listeners::install(
         lua,
         listeners,
@@ -272,7 +272,7 @@ pub(crate) fn script_handle(lua: &Lua, args: &[Value]) -> Result<Handle, SimErro
                 script_object: caller,
                 source: "getScript",
             };
-            let core = state::<CoreCell>(lua);
+            let core = state::<SimCell>(lua);
             let mut world = core
                 .try_borrow_mut()
                 .map_err(|_| SimError::refused("the world is busy"))?;

@@ -14,8 +14,8 @@ use std::process::{Child, Command, Stdio};
 use mlua::{Function, Lua, Table, Value as LuaValue};
 
 use crate::app_state::state;
-use crate::core_cell::CoreCell;
 use crate::running::Running;
+use crate::sim_cell::SimCell;
 
 /// CoppeliaSim's "could not launch".
 const FAILED: i64 = -1;
@@ -120,7 +120,7 @@ pub(crate) fn install(lua: &Lua, sim: &Table, wrap: &Function) -> mlua::Result<(
                     let source = state::<Running>(lua).name.borrow().clone();
                     tracing::warn!("{source}: sim.launchExecutable: {why}");
                     // The same warning in the scene's log, where scripts and clients read it.
-                    if let Ok(core) = state::<CoreCell>(lua).try_borrow_mut() {
+                    if let Ok(core) = state::<SimCell>(lua).try_borrow_mut() {
                         let mut core = core;
                         let t = core.world.time();
                         core.world

@@ -1,22 +1,25 @@
 //! gantry's Lua host: per-object scripts with CoppeliaSim's hooks over the shared
-//! `sim` API, and the step order that ties scripts to the world.
+//! `sim` API, driven by the engine, which owns the simulation and calls the hooks in
+//! CoppeliaSim's order. What is Lua lives here: the bindings of the registry, the
+//! sandbox, script threads, the debugger, LuaSocket, and the simROS/simROS2 bindings.
 //!
 //! Files by role, lowest floor first (docs/architecture.md draws them; tools/layers.py
 //! checks that imports point down and never circle): errors and conversions; the state
 //! each role owns (`running`, `directory`, `threads`, `messages`, `control`, `models`,
 //! kept in the Lua state's app data, and the LuaSocket subset's sockets); the debugger; the budget hook and the `sim.*`
-//! functions (`host_api`); hooks and scripts; the simulation's life, its step and its
-//! remote calls.
+//! functions (`host_api`); hooks and scripts; the host ([`LuaHost`]), its part of a
+//! step and its remote calls.
 
 mod app_state;
 mod budget;
 mod control;
 mod convert;
-mod core_cell;
 pub mod debugger;
 mod directory;
 mod hooks;
+mod host;
 mod host_api;
+mod host_step;
 mod launch;
 mod limits;
 pub mod listeners;
@@ -33,21 +36,22 @@ mod ros_dispatch;
 mod running;
 pub mod sandbox;
 mod scripts;
-mod simulation;
-mod step;
+mod sim_cell;
 mod threads;
 
 pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, DebuggerError};
 
 pub use hooks::Hook;
+pub use host::{LuaHost, ScriptRequests, check_syntax};
+pub use host_step::StepBoundary;
 pub use limits::{NetworkParams, ScriptLimits};
 pub use listeners::{ListenerError, ListenerStatus, Listeners};
 pub use lua_error::ScriptError;
 pub use luasocket::uses_luasocket;
+pub use models::LoadedModel;
 pub use models::ModelLoadError;
 pub use recording::RecordingRequest;
 pub use remote::HookError;
 pub use remote_blocking::{Blocking, BlockingId};
 pub use scripts::ScriptState;
-pub use simulation::{Simulation, check_syntax};
-pub use step::StepBoundary;
+pub use sim_cell::SimCell;

@@ -12,7 +12,7 @@ use gantry_sim_core::{Handle, SimError};
 use mlua::{Function, Lua, Table, Value as LuaValue};
 
 use crate::app_state::state;
-use crate::core_cell::CoreCell;
+use crate::sim_cell::SimCell;
 
 /// How model files are read, and the models loaded whose scripts wait to load.
 #[derive(Default)]
@@ -25,19 +25,14 @@ pub(crate) struct Models {
 }
 
 /// A model `sim.loadModel` put into the world, waiting for its scripts to load.
-pub(crate) struct LoadedModel {
+pub struct LoadedModel {
     /// The model file as loaded.
-    pub(crate) model: SceneModel,
+    pub model: SceneModel,
     /// The world handle of each of its objects.
-    pub(crate) handles: Vec<Handle>,
+    pub handles: Vec<Handle>,
 }
 
 impl Models {
-    /// Whether models wait for their scripts to load.
-    pub(crate) fn pending(&self) -> bool {
-        !self.loaded.borrow().is_empty()
-    }
-
     /// The models waiting, now to be attached.
     pub(crate) fn take_loaded(&self) -> Vec<LoadedModel> {
         std::mem::take(&mut *self.loaded.borrow_mut())
@@ -45,7 +40,7 @@ impl Models {
 
     /// Reads the model file `path` and adds its objects to `core`'s world; returns the
     /// model base's handle. `confined`: only inside the scene's folder (for scripts).
-    pub(crate) fn load(&self, core: &CoreCell, path: &Path, confined: bool) -> Result<Handle, ModelLoadError> {
+    pub(crate) fn load(&self, core: &SimCell, path: &Path, confined: bool) -> Result<Handle, ModelLoadError> {
         let path = if confined {
             core.borrow().graphs.export_scope().resolve(path).map_err(|e| match e {
                 gantry_sim_core::graph::ExportDenied::NoFolder => ModelLoadError::NoFolder,
@@ -112,20 +107,6 @@ impl From<ModelLoadError> for SimError {
     }
 }
 
-/// Appends a loaded model's objects and scripts to `scene` (indices moved past the
-/// scene's), so that a stop rebuilds them; returns the offset.
-pub(crate) fn merge_into(scene: &mut SceneModel, mut model: SceneModel) -> usize {
-    let offset = scene.objects.len();
-    model.offset_indices(offset);
-    scene.objects.extend(model.objects);
-    scene.scripts.extend(model.scripts);
-    scene.dummy_links.extend(model.dummy_links);
-    // A URDF model keeps its text and link names through a stop and restart too
-    // (`/robot_description` and its TF frames on the ROS 2 graph).
-    scene.urdf_robots.extend(model.urdf_robots);
-    offset
-}
-
 /// Installs `sim.loadModel` into `sim`, its failures raised through `wrap` (see
 /// [`crate::host_api`]).
 pub(crate) fn install(lua: &Lua, sim: &Table, wrap: &Function) -> mlua::Result<()> {
@@ -134,7 +115,7 @@ pub(crate) fn install(lua: &Lua, sim: &Table, wrap: &Function) -> mlua::Result<(
         lua.create_function(move |lua, path: LuaValue| {
             let loaded = match &path {
                 LuaValue::String(p) => {
-                    state::<Models>(lua).load(&state::<CoreCell>(lua), Path::new(&*p.to_str()?), true)
+                    state::<Models>(lua).load(&state::<SimCell>(lua), Path::new(&*p.to_str()?), true)
                 }
                 other => Err(ModelLoadError::NotAPath(other.type_name())),
             };

@@ -1,51 +1,26 @@
-//! What clients outside the scene call: `sim.*` functions by name or already resolved
-//! (the transports, the Python binding, the engine), the functions only the Lua host
-//! serves, and named script functions such as `sysCall_packet`. A remote client has no
-//! emitting object; script code it runs gets a hook's time budget.
+//! What clients outside the scene call of the Lua host, through the engine: the
+//! functions only the Lua host serves (`sim.callScriptFunction`, `sim.getScript`, ...)
+//! and named script functions such as `sysCall_packet`. A remote client has no
+//! emitting object; script code it runs gets a hook's time budget. What it asks of the
+//! simulation (a stop, a model loaded) waits in [`LuaHost::take_requests`].
 
 use gantry_sim_core::SimError;
 use std::borrow::Cow;
 
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{self, Args, CallContext, CallError};
+use gantry_sim_core::api::{self, CallError};
 use mlua::{Function, MultiValue};
 
 use crate::app_state::state;
 use crate::convert::{to_multi, to_value};
 use crate::directory::{Directory, HANDLE_SELF};
+use crate::host::LuaHost;
 use crate::host_api::{call_script_function, script_handle};
 use crate::lua_error::error_text;
 use crate::running::Running;
 use crate::scripts::ScriptState;
-use crate::simulation::Simulation;
 
-impl Simulation {
-    /// Calls a `sim.*` function for a remote client (no emitting object), by name: the
-    /// name is resolved here, once (see [`api::Target`]).
-    ///
-    /// # Errors
-    /// The CoppeliaSim-style error message.
-    pub fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, CallError> {
-        let target = api::Target::resolve_or_error(name)?;
-        self.call_target(&target, args)
-    }
-
-    /// Calls a resolved function for a remote client (no emitting object). Functions of
-    /// the simulation loop ([`api::Target::FrontEnd`]) are the engine's, not the
-    /// scene's: they are refused here.
-    ///
-    /// # Errors
-    /// The CoppeliaSim-style error message.
-    pub fn call_target(&mut self, target: &api::Target, args: &[Value]) -> Result<Vec<Value>, CallError> {
-        match *target {
-            api::Target::Core { function, .. } => self
-                .call_function(function, args)
-                .map_err(|e| CallError::failed(target.qualified(), e)),
-            api::Target::ScriptHost(f) => self.call_script_host(f, args),
-            api::Target::FrontEnd(_) => Err(CallError::NoSuchFunction(target.qualified())),
-        }
-    }
-
+impl LuaHost {
     /// A function the Lua host serves for remote clients (it needs the scripts).
     ///
     /// # Errors
@@ -94,7 +69,7 @@ impl Simulation {
             | ScriptHostFn::WaitForSignal
             | ScriptHostFn::MoveToConfig
             | ScriptHostFn::MoveToPose => {
-                // The engine runs these over several steps (`Simulation::start_blocking`).
+                // The engine runs these over several steps (`LuaHost::start_blocking`).
                 Err(in_function(SimError::refused(
                     "this call blocks across steps and is served by the engine, not as a single call",
                 )))
@@ -106,24 +81,9 @@ impl Simulation {
                 state::<Running>(&self.lua).restart_budget();
                 let r = call_script_function(&self.lua, args);
                 self.scripts.leave();
-                self.apply_control();
                 r.map_err(|e| in_function(SimError::refused(error_text(&e))))
             }
         }
-    }
-
-    /// Calls one registry function for a client outside the scene (no emitting object),
-    /// already looked up: what an in-process client does on every call, so that no
-    /// name is searched for per call. The error is the function's own, unqualified.
-    ///
-    /// # Errors
-    /// The function's error.
-    pub fn call_function(&mut self, f: &api::ApiFunction, args: &[Value]) -> Result<Vec<Value>, SimError> {
-        let ctx = CallContext {
-            script_object: None,
-            source: "remote",
-        };
-        f.invoke(&mut self.core.borrow_mut(), &ctx, &Args::new(args))
     }
 
     /// Calls a named global function of the scripts attached to `object` (or of every
@@ -160,14 +120,13 @@ impl Simulation {
                     Err(HookError::Raised(text))
                 }
             };
-            self.apply_control();
             return out;
         }
         Ok(None)
     }
 }
 
-/// Why a script function called by a transport ([`Simulation::call_hook_function`],
+/// Why a script function called by a transport ([`LuaHost::call_hook_function`],
 /// e.g. `sysCall_packet`) failed. The text is what the transport sends back.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum HookError {

@@ -18,9 +18,9 @@ use mlua::{Function, MultiValue, Table, Thread};
 
 use crate::app_state::state;
 use crate::convert::{to_multi, to_value};
+use crate::host::LuaHost;
 use crate::lua_error::error_text;
 use crate::running::Running;
-use crate::simulation::Simulation;
 pub use crate::threads::BlockingId;
 
 /// What starting or resuming a blocking call gave.
@@ -32,7 +32,7 @@ pub enum Blocking {
     Waiting,
 }
 
-impl Simulation {
+impl LuaHost {
     /// Starts blocking call `id` of `f` with `args` and runs it up to its first wait.
     pub fn start_blocking(&mut self, id: BlockingId, f: ScriptHostFn, args: &[Value]) -> Blocking {
         let qualified = format!("sim.{}", f.name());
@@ -92,7 +92,6 @@ impl Simulation {
         state::<Running>(&self.lua).restart_budget();
         let r = thread.resume::<MultiValue>(args);
         self.scripts.leave();
-        self.apply_control();
         let qualified = format!("sim.{}", f.name());
         match r {
             Err(e) => {

@@ -14,6 +14,7 @@ use gantry_sim_core::Handle;
 use mlua::{Function, Value as LuaValue};
 
 use crate::app_state::state;
+use crate::host::LuaHost;
 use crate::ros::action::{
     ActionClient, ActionServer, CANCEL_ACCEPT, GOAL_ACCEPT_AND_DEFER, GOAL_ACCEPT_AND_EXECUTE, GOAL_REJECT, GoalId,
     MAX_WAITING, ServerGoal, cancel_code, cancel_service, goal_id_of, goal_id_string, key, result_code, status,
@@ -24,7 +25,6 @@ use crate::ros::lua_api::sim_time;
 use crate::ros::wire::{read_header, request_header, time_value};
 use crate::ros::{RosNetwork, RosSample};
 use crate::ros_dispatch::{MAX_PER_STEP, resolve};
-use crate::simulation::Simulation;
 
 /// One thing for a script to handle.
 enum Event {
@@ -245,7 +245,7 @@ fn take_pending(pending: &std::cell::RefCell<Vec<(i64, GoalId)>>, seq: i64) -> O
     Some(p.remove(i).1)
 }
 
-impl Simulation {
+impl LuaHost {
     /// Handles every action request, reply and feedback received (see the module docs).
     pub(crate) fn dispatch_ros_actions(&mut self) {
         let events = {

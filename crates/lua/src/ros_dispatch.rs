@@ -12,12 +12,12 @@ use mlua::{Function, MultiValue, Value as LuaValue};
 
 use crate::app_state::state;
 use crate::convert::{to_lua, to_value};
+use crate::host::LuaHost;
 use crate::ros::EndpointId;
 use crate::ros::callback::Callback;
 use crate::ros::host::{Kind, RosHost};
 use crate::ros::wire::{read_header, request_header};
 use crate::scripts::ScriptState;
-use crate::simulation::Simulation;
 
 /// Messages delivered per subscription and step, at most: a flood waits for the next
 /// steps (and the inbox's depth drops the oldest) instead of stalling one step.
@@ -38,7 +38,7 @@ struct Delivery {
     reply: Option<Reply>,
 }
 
-impl Simulation {
+impl LuaHost {
     /// Calls the callbacks of every message and request received (see the module docs).
     pub(crate) fn dispatch_ros(&mut self) {
         let deliveries = {

@@ -27,9 +27,6 @@
 //! memory by the state's cap set in `new_state`. Non-goal: protecting against a malicious Rust host or
 //! against the scene's author, who chose the scripts.
 
-use gantry_sim_core::Sim;
-use gantry_sim_core::graph::ExportScope;
-use gantry_sim_core::scene::{EmbeddedFiles, SceneModel};
 use mlua::chunk::ChunkMode;
 use mlua::{Lua, LuaOptions, StdLib, Table, Value as LuaValue};
 
@@ -341,16 +338,4 @@ setmetatable(env, {
         g.get::<mlua::Function>("rawget")?,
         string.get::<mlua::Function>("lower")?,
     ))
-}
-
-/// Confines the API's file exports (`sim.exportGraphStreams`) to the scene's folder, or
-/// forbids them for a scene embedded in the binary, which has no folder on disk. Remote
-/// clients call the same functions on the same world, so they are confined too.
-pub(crate) fn confine(sim: &mut Sim, model: &SceneModel) {
-    let scope = if model.base_dir.starts_with(EmbeddedFiles::ROOT) {
-        ExportScope::Nowhere
-    } else {
-        ExportScope::Within(model.base_dir.clone())
-    };
-    sim.graphs.set_export_scope(scope);
 }

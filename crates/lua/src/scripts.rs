@@ -16,7 +16,6 @@ use mlua::thread::ThreadStatus;
 use mlua::{Function, Lua, MultiValue, Table, Thread, Value as LuaValue};
 
 use crate::app_state::state;
-use crate::core_cell::CoreCell;
 use crate::debugger::DebugHost;
 use crate::directory::{Directory, Entry};
 use crate::hooks::{Hook, HookCaller, SUPPORTED_HOOKS, hook_order};
@@ -25,6 +24,7 @@ use crate::luasocket::Sockets;
 use crate::messages::Mailboxes;
 use crate::running::Running;
 use crate::sandbox::{self, SOURCE_MODE};
+use crate::sim_cell::SimCell;
 use crate::threads::Threads;
 
 /// A script's state, as the viewer and `gantry check` report it.
@@ -62,7 +62,7 @@ pub(crate) struct Script {
 /// Every script of the scene, by index (aligned with the scene model's scripts).
 pub(crate) struct ScriptSet {
     lua: Lua,
-    core: CoreCell,
+    core: SimCell,
     caller: HookCaller,
     pub(crate) list: Vec<Script>,
     /// Script indices in hook order: children's scripts before their parents'.
@@ -74,7 +74,7 @@ pub(crate) struct ScriptSet {
 
 impl ScriptSet {
     /// No scripts yet; they call into Lua through `caller`.
-    pub(crate) fn new(lua: Lua, core: CoreCell, caller: HookCaller) -> Self {
+    pub(crate) fn new(lua: Lua, core: SimCell, caller: HookCaller) -> Self {
         Self {
             lua,
             core,
@@ -170,7 +170,7 @@ impl ScriptSet {
         let source = name.clone();
         let print = self.lua.create_function(move |lua, args: MultiValue| {
             let text: Vec<String> = args.iter().map(display).collect();
-            state::<CoreCell>(lua).log(450, &source, &text.join("\t"));
+            state::<SimCell>(lua).log(450, &source, &text.join("\t"));
             Ok(())
         })?;
         env.set("print", print)?;

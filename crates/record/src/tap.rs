@@ -1,4 +1,4 @@
-//! The recorder on the engine: a [`Tap`] that snapshots the world after each step and
+//! The recorder on the engine: an [`Observer`] that snapshots the world after each step and
 //! writes down every input with the step it arrived at, for the server's simulation
 //! thread (`gantry run --record`) and the in-process Python client alike.
 
@@ -7,10 +7,12 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use std::path::Path;
 
-use gantry_engine::{EngineInput, InputAt, LoopControl, RecorderFactory, Tap};
-use gantry_lua::Simulation;
-use gantry_sim_core::Value;
+use gantry_engine::{
+    Input as EngineInput, InputAt, LoopControl, Observer, RecorderFactory, RecordingRefused, RemoteOp,
+};
+use gantry_sim_core::api::Target;
 use gantry_sim_core::sim::Control;
+use gantry_sim_core::{Sim, Value};
 
 use crate::recorder::{RecordParams, RecordReport, Recorder, RunDescription, with_causes};
 use crate::snapshot::ImageStream;
@@ -29,9 +31,9 @@ pub struct RecordTap {
 
 impl RecordTap {
     /// Taps with `recorder`; the state the simulation is in now is its first snapshot.
-    pub fn new(recorder: Recorder, sim: &Simulation) -> Self {
+    pub fn new(recorder: Recorder, sim: &Sim) -> Self {
         let mut recorder = recorder;
-        recorder.record(&sim.core());
+        recorder.record(sim);
         Self {
             recorder: Some(recorder),
             logged: true,
@@ -53,27 +55,29 @@ impl RecordTap {
     }
 }
 
-impl Tap for RecordTap {
-    fn input(&mut self, sim: &Simulation, at: InputAt, input: EngineInput<'_>) {
-        if let Some(r) = &mut self.recorder {
-            r.input(&sim.core(), to_input(at, input));
+impl Observer for RecordTap {
+    fn input(&mut self, sim: &Sim, at: InputAt, input: &EngineInput<'_>) {
+        if let Some(r) = &mut self.recorder
+            && let Some(input) = to_input(at, input)
+        {
+            r.input(sim, input);
         }
     }
 
-    fn stepped(&mut self, sim: &Simulation, steps: u64) {
+    fn stepped(&mut self, sim: &Sim, steps: u64) {
         if let Some(r) = &mut self.recorder
             && r.is_writing()
-            && r.record(&sim.core())
+            && r.record(sim)
             && let Some(s) = &self.snapshot_steps
         {
             s.lock().unwrap_or_else(PoisonError::into_inner).push(steps);
         }
     }
 
-    fn finish(&mut self, sim: &Simulation, steps: u64) {
+    fn finish(&mut self, sim: &Sim, steps: u64) {
         if let Some(r) = self.recorder.take() {
             let end = BTreeMap::from([("steps".to_owned(), steps.to_string())]);
-            let r = r.finish(Some(&sim.core()), end);
+            let r = r.finish(Some(sim), end);
             if self.logged {
                 report(&r);
             }
@@ -108,12 +112,12 @@ impl RunRecorder {
 impl RecorderFactory for RunRecorder {
     fn start(
         &self,
-        sim: &Simulation,
+        sim: &Sim,
         steps: u64,
         path: &Path,
         rate_hz: Option<f64>,
         images: &[(String, f64)],
-    ) -> Result<Box<dyn Tap>, String> {
+    ) -> Result<Box<dyn Observer>, RecordingRefused> {
         let images = images
             .iter()
             .map(|(sensor, rate_hz)| ImageStream {
@@ -123,7 +127,7 @@ impl RecorderFactory for RunRecorder {
             .collect();
         let mut params = RecordParams::for_run(path.to_path_buf(), rate_hz, self.run.clone()).with_images(images);
         params.metadata.insert("started_at_step".to_owned(), steps.to_string());
-        let recorder = Recorder::create(params).map_err(|e| with_causes(&e))?;
+        let recorder = Recorder::create(params).map_err(|e| RecordingRefused(with_causes(&e)))?;
         tracing::info!("recording to {} (sim.startRecording at step {steps})", path.display());
         Ok(Box::new(RecordTap::new(recorder, sim)))
     }
@@ -139,23 +143,32 @@ pub fn control_name(c: LoopControl) -> &'static str {
     }
 }
 
-/// An engine input as it is recorded.
-fn to_input(at: InputAt, input: EngineInput<'_>) -> Input {
-    let (kind, name, args) = match input {
+/// An engine input as it is recorded: what a re-run must carry out at the same point
+/// (`gantry verify`). A blocking call is recorded as the call it is; stepping levels,
+/// locks, `sim.step()` and clients leaving change no simulation state by themselves
+/// and are not recorded.
+fn to_input(at: InputAt, input: &EngineInput<'_>) -> Option<Input> {
+    let (kind, name, args) = match *input {
         EngineInput::Call { target, args } => ("call", target.qualified(), args.to_vec()),
+        EngineInput::Blocking { f, args, .. } => ("call", Target::ScriptHost(f).qualified(), args.to_vec()),
         EngineInput::Packet(p) => ("packet", String::new(), vec![p.clone()]),
         EngineInput::Control(c) => ("control", control_name(c).to_owned(), Vec::new()),
+        EngineInput::Remote {
+            op: RemoteOp::Control(c),
+            ..
+        } => ("control", control_name(LoopControl::Control(c)).to_owned(), Vec::new()),
         EngineInput::LoadScene(Some(p)) => ("load_scene", p.display().to_string(), Vec::<Value>::new()),
         EngineInput::LoadScene(None) => ("close_scene", String::new(), Vec::new()),
+        EngineInput::Remote { .. } | EngineInput::Step { .. } | EngineInput::DropClient(_) => return None,
     };
-    Input {
+    Some(Input {
         step: at.step,
         boundary: at.boundary,
         kind: kind.to_owned(),
         name,
         client: 0,
         args,
-    }
+    })
 }
 
 /// Logs how a recording went: a warning with the count when snapshots were dropped,

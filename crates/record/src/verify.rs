@@ -21,7 +21,7 @@ use std::io::{Cursor, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
 
-use gantry_engine::{Engine, EngineConfig, LoopControl, MidStep};
+use gantry_engine::{Engine, EngineConfig, Input as EngineInput, LoopControl, MidStep};
 use gantry_mcap::AttachedFile;
 use gantry_mcap::reader::scene_from_files;
 use gantry_sim_core::Value;
@@ -304,8 +304,8 @@ impl RecordedRun {
         let recorder =
             Recorder::with_writer(buf.clone(), params).map_err(|e| VerifyError::Incomplete(e.to_string()))?;
         let snapshot_steps = Arc::new(Mutex::new(Vec::new()));
-        let tap = RecordTap::new(recorder, engine.sim()).counting_steps(snapshot_steps.clone());
-        engine.set_tap(Box::new(tap));
+        let tap = RecordTap::new(recorder, &engine.sim()).counting_steps(snapshot_steps.clone());
+        engine.set_recorder(Box::new(tap));
 
         let mut next = 0;
         while engine.steps() < self.steps {
@@ -409,17 +409,23 @@ fn apply(engine: &mut Engine, i: &Input) -> Result<(), VerifyError> {
         ("call", name) => {
             // A function this gantry does not know failed in the run as it fails now.
             if let Ok(target) = Target::resolve_or_error(name) {
-                let _ = engine.call(&target, &i.args);
+                engine.serve(EngineInput::Call {
+                    target: &target,
+                    args: &i.args,
+                });
             }
         }
         ("packet", _) => {
-            let _ = engine.packet(i.args.first().unwrap_or(&Value::Nil));
+            engine.serve(EngineInput::Packet(i.args.first().unwrap_or(&Value::Nil)));
         }
-        ("control", "start") => engine.control(Control::Start),
-        ("control", "pause") => engine.control(Control::Pause),
-        ("control", "stop") => engine.control(Control::Stop),
-        ("control", "step") => {
-            engine.loop_control(LoopControl::Step);
+        ("control", name @ ("start" | "pause" | "stop" | "step")) => {
+            let action = match name {
+                "start" => LoopControl::Control(Control::Start),
+                "pause" => LoopControl::Control(Control::Pause),
+                "stop" => LoopControl::Control(Control::Stop),
+                _ => LoopControl::Step,
+            };
+            engine.serve(EngineInput::Control(action));
         }
         ("load_scene" | "close_scene", _) => return Err(VerifyError::LoadsScene(i.step)),
         (kind, name) => {

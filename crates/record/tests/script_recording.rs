@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use gantry_engine::{Engine, EngineConfig};
+use gantry_engine::{Engine, EngineConfig, Input, LoopControl};
 use gantry_record::{RecordedRun, RunDescription, RunRecorder, VerifyError};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, LoggedFiles, load_scene};
 use gantry_sim_core::sim::Control;
@@ -70,12 +70,12 @@ fn a_script_records_part_of_a_run_which_verify_then_refuses() {
         ..EngineConfig::default()
     };
     let mut engine = Engine::new(model, config, None).expect("engine");
-    engine.control(Control::Start);
+    engine.serve(Input::Control(LoopControl::Control(Control::Start)));
     for _ in 0..40 {
         engine.step();
     }
     engine.finish();
-    let log: Vec<String> = engine.sim().world().log.lines().map(|l| l.message.clone()).collect();
+    let log: Vec<String> = engine.world().log.lines().map(|l| l.message.clone()).collect();
     assert!(
         log.iter()
             .any(|l| l.contains("the folder /no/such/folder does not exist (in function 'sim.startRecording')")),
@@ -113,11 +113,11 @@ fn without_a_recorder_a_scripts_request_is_a_logged_error() {
         ..EngineConfig::default()
     };
     let mut engine = Engine::new(model, config, None).expect("engine");
-    engine.control(Control::Start);
+    engine.serve(Input::Control(LoopControl::Control(Control::Start)));
     for _ in 0..15 {
         engine.step();
     }
-    let log: Vec<String> = engine.sim().world().log.lines().map(|l| l.message.clone()).collect();
+    let log: Vec<String> = engine.world().log.lines().map(|l| l.message.clone()).collect();
     assert!(
         log.iter().any(|l| l.contains("this front end cannot record")),
         "{log:?}"

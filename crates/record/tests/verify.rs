@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use gantry_engine::{Engine, EngineConfig, LoopControl, MidStep};
+use gantry_engine::{Engine, EngineConfig, Input, LoopControl, MidStep};
 use gantry_record::{RecordParams, RecordTap, RecordedRun, Recorder, RunDescription, Verdict, VerifyError};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::Target;
@@ -19,7 +19,13 @@ fn temp_file(name: &str) -> PathBuf {
 
 fn call(engine: &mut Engine, name: &str, args: Vec<Value>) -> Vec<Value> {
     let target = Target::resolve_or_error(name).expect("known function");
-    engine.call(&target, &args).expect("call succeeds")
+    engine
+        .serve(Input::Call {
+            target: &target,
+            args: &args,
+        })
+        .into_values()
+        .expect("call succeeds")
 }
 
 /// Records bubble_rob driven by a remote client's kind of inputs into `path`.
@@ -44,9 +50,9 @@ fn record_driven_run(path: &std::path::Path) {
         ..EngineConfig::default()
     };
     let mut engine = Engine::new(model, config, None).expect("engine");
-    let tap = RecordTap::new(recorder, engine.sim());
-    engine.set_tap(Box::new(tap));
-    engine.control(Control::Start);
+    let tap = RecordTap::new(recorder, &engine.sim());
+    engine.set_recorder(Box::new(tap));
+    engine.serve(Input::Control(LoopControl::Control(Control::Start)));
     let left = call(&mut engine, "sim.getObject", vec![Value::from("/bubbleRob/leftMotor")])[0].clone();
     let rover = call(&mut engine, "sim.getObject", vec![Value::from("/bubbleRob")])[0].clone();
     for k in 0..120 {
@@ -64,16 +70,16 @@ fn record_driven_run(path: &std::path::Path) {
                 call(&mut engine, "sim.setObjectPosition", vec![rover.clone(), world, moved]);
             }
             30 => {
-                engine.control(Control::Pause);
-                engine.loop_control(LoopControl::Step);
-                engine.control(Control::Start);
+                engine.serve(Input::Control(LoopControl::Control(Control::Pause)));
+                engine.serve(Input::Control(LoopControl::Step));
+                engine.serve(Input::Control(LoopControl::Control(Control::Start)));
             }
             60 => {
-                let _ = engine.packet(&Value::from("<FK#J1=0.1>"));
+                let _ = engine.serve(Input::Packet(&Value::from("<FK#J1=0.1>")));
             }
             80 => {
-                engine.control(Control::Stop);
-                engine.control(Control::Start);
+                engine.serve(Input::Control(LoopControl::Control(Control::Stop)));
+                engine.serve(Input::Control(LoopControl::Control(Control::Start)));
             }
             _ => {}
         }

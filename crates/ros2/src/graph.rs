@@ -36,17 +36,18 @@ use std::sync::Arc;
 use std::sync::mpsc::{Receiver, SyncSender};
 use std::thread::JoinHandle;
 
-use gantry_engine::{EngineInput, InputAt, Tap};
+use gantry_engine::Observer;
+use gantry_lua::ros::{Direction, EndpointId, NetworkError, RosNetwork, RosQos};
 use gantry_record::cdr::CdrWriter;
 use gantry_record::msg::{self, Time, nanos_from_secs};
 use gantry_record::snapshot::{Sampler, Snapshot};
 use gantry_record::tf_frames::TfFrames;
-use gantry_lua::Simulation;
-use gantry_lua::ros::{Direction, EndpointId, NetworkError, RosNetwork, RosQos};
-use gantry_sim_core::Handle;
+use gantry_sim_core::api::Target;
 use gantry_sim_core::scene::{JointType, Projection};
 use gantry_sim_core::vision;
+use gantry_sim_core::vision::VisionStates;
 use gantry_sim_core::world::ObjectKind;
+use gantry_sim_core::{Handle, Sim, Value};
 
 use crate::description::{Descriptions, RosNames};
 pub use crate::topics::topic_token;
@@ -224,6 +225,11 @@ pub struct RosGraph {
     names: Arc<RosNames>,
     /// The URDF robots' `/robot_description` topics.
     descriptions: Descriptions,
+    /// The cameras' renders: the graph's own, so that publishing an image never
+    /// changes what the scripts' sensors hold.
+    vision: VisionStates,
+    /// The joint commands received since the last step, as calls for the engine.
+    commands: Vec<(Target, Vec<Value>)>,
 }
 
 impl RosGraph {
@@ -251,6 +257,8 @@ impl RosGraph {
             tree: None,
             names: Arc::default(),
             descriptions: Descriptions::default(),
+            vision: VisionStates::default(),
+            commands: Vec::new(),
         })
     }
 
@@ -259,9 +267,9 @@ impl RosGraph {
     }
 
     /// Publishes the state after a step (nothing when simulation time has not moved).
-    pub fn after_step(&mut self, sim: &Simulation) {
+    pub fn after_step(&mut self, sim: &Sim) {
         let snapshot = {
-            let core = sim.core();
+            let core = sim;
             let now = nanos_from_secs(core.world.time());
             if self.last_ns.is_some_and(|t| t == now) {
                 return;
@@ -271,7 +279,7 @@ impl RosGraph {
         };
         let Some(mut s) = snapshot else { return };
         {
-            let core = sim.core();
+            let core = sim;
             s.joints.retain(|j| movable(&core.world, j.handle));
         }
         // The frame names are shared until the object tree changes (a scene or model
@@ -282,7 +290,7 @@ impl RosGraph {
         if !self.tree.as_ref().is_some_and(|t| Arc::ptr_eq(t, &frames)) {
             self.tree = Some(frames.clone());
             self.close_tree_topics();
-            let core = sim.core();
+            let core = sim;
             self.names = Arc::new(RosNames::new(&core.world, &frames));
             self.descriptions.refresh(self.net.as_ref(), &core.world, &frames);
         }
@@ -305,7 +313,7 @@ impl RosGraph {
         if self.robots.is_none() {
             self.robots = Some(self.open_robots(sim, &frames));
         }
-        self.apply_commands(sim);
+        self.read_commands();
     }
 
     /// Closes the topics opened for the objects of the tree (cameras and robots).
@@ -322,8 +330,8 @@ impl RosGraph {
     }
 
     /// Opens the command topics of every model base with joints below it.
-    fn open_robots(&self, sim: &Simulation, frames: &[String]) -> Vec<Robot> {
-        let core = sim.core();
+    fn open_robots(&self, sim: &Sim, frames: &[String]) -> Vec<Robot> {
+        let core = sim;
         let world = &core.world;
         let mut robots = Vec::new();
         for &h in world.handles() {
@@ -378,8 +386,9 @@ impl RosGraph {
         robots
     }
 
-    /// Sets the joint targets the latest commands ask for.
-    fn apply_commands(&mut self, sim: &Simulation) {
+    /// Reads the latest commands into the joint-target calls they ask for, which the
+    /// engine carries out before the next step ([`Observer::calls`]).
+    fn read_commands(&mut self) {
         let Some(robots) = self.robots.as_mut() else { return };
         let ty = match gantry_protocol::ros::message_type("std_msgs/msg/Float64MultiArray") {
             Ok(t) => t,
@@ -420,26 +429,22 @@ impl RosGraph {
                         continue;
                     }
                 };
-                let mut core = sim.core_mut();
-                let ctx = gantry_sim_core::api::CallContext {
-                    script_object: None,
-                    source: "ROS 2",
+                let Some(target) = Target::resolve(function) else {
+                    continue;
                 };
                 for (&j, &v) in r.joints.iter().zip(&values) {
-                    let args = [gantry_protocol::Value::Int(j), gantry_protocol::Value::Float(v)];
-                    if let Err(e) = gantry_sim_core::api::call(&mut core, &ctx, function, &args) {
-                        tracing::debug!("ROS 2: {e}");
-                    }
+                    self.commands
+                        .push((target.clone(), vec![Value::Int(j), Value::Float(v)]));
                 }
             }
         }
     }
 
     /// Renders (when stale) and publishes the vision sensors whose period has passed.
-    fn cameras_after_step(&mut self, sim: &Simulation, frames: &[String], stamp_ns: u64) {
+    fn cameras_after_step(&mut self, sim: &Sim, frames: &[String], stamp_ns: u64) {
         // Each sensor's rate: its scene's `ros2_rate`, else the run's; 0 is none.
         let sensors: Vec<(Handle, f64)> = {
-            let core = sim.core();
+            let core = sim;
             core.world
                 .handles()
                 .iter()
@@ -474,11 +479,7 @@ impl RosGraph {
             if !due {
                 continue;
             }
-            let messages = {
-                let mut core = sim.core_mut();
-                let core = &mut *core;
-                camera_messages(&core.world, &mut core.vision, h, &frame, Time::from_nanos(stamp_ns))
-            };
+            let messages = camera_messages(&sim.world, &mut self.vision, h, &frame, Time::from_nanos(stamp_ns));
             match messages {
                 Ok([image, depth, info]) => {
                     let c = &self.cameras[&h];
@@ -529,15 +530,16 @@ impl RosGraph {
     }
 }
 
-/// The graph publishes after each step the engine takes.
-impl Tap for RosGraph {
-    fn input(&mut self, _: &Simulation, _: InputAt, _: EngineInput<'_>) {}
-
-    fn stepped(&mut self, sim: &Simulation, _steps: u64) {
+/// The graph publishes after each step the engine takes, and hands it the joint
+/// commands it received, as a front end's calls.
+impl Observer for RosGraph {
+    fn stepped(&mut self, sim: &Sim, _steps: u64) {
         self.after_step(sim);
     }
 
-    fn finish(&mut self, _: &Simulation, _: u64) {}
+    fn calls(&mut self) -> Vec<(Target, Vec<Value>)> {
+        std::mem::take(&mut self.commands)
+    }
 }
 
 /// Whether `h` is a revolute or prismatic joint (fixed joints are frames on `/tf`, as

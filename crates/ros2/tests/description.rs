@@ -17,12 +17,14 @@ mod util;
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use gantry_ros2::{GraphOptions, RosGraph};
+use gantry_engine::{Engine, EngineConfig, Input, LoopControl};
 use gantry_lua::ros::Direction;
-use gantry_lua::{ScriptLimits, Simulation};
+use gantry_ros2::{GraphOptions, RosGraph};
 use gantry_sim_core::Value;
+use gantry_sim_core::api::Target;
 use gantry_sim_core::math::{Pose, quat_from_array};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_sim_core::sim::Control;
 use util::{Memory, TempDir, decode, items, number, repo, text};
 
 const URDF: &str = "assets/robots/arm6/arm6.urdf";
@@ -32,7 +34,7 @@ const LINKS: [&str; 8] = ["base_link", "link1", "link2", "link3", "link4", "link
 
 /// A scene of `robots` (`(name, x)`: arm6 at `x` m) and `extra` TOML, in a folder of
 /// its own, and its simulation, started.
-fn scene(tag: &str, robots: &[(&str, f64)], extra: &str) -> (TempDir, Simulation) {
+fn scene(tag: &str, robots: &[(&str, f64)], extra: &str) -> (TempDir, Engine) {
     let urdf = repo(URDF);
     let mut toml = String::from("[simulation]\ndt = 0.05\n");
     for (name, x) in robots {
@@ -44,16 +46,22 @@ fn scene(tag: &str, robots: &[(&str, f64)], extra: &str) -> (TempDir, Simulation
     let dir = TempDir::new(tag);
     let path = dir.write("scene.toml", &toml);
     let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("the scene loads");
-    let mut sim = Simulation::new(model, ScriptLimits::default()).expect("the simulation builds");
-    sim.start();
+    let mut sim = Engine::new(model, EngineConfig::default(), None).expect("the simulation builds");
+    sim.serve(Input::Control(LoopControl::Control(Control::Start)));
     (dir, sim)
 }
 
+/// Calls `name` as a remote client.
+fn call(sim: &mut Engine, name: &str, args: &[Value]) -> Result<Vec<Value>, gantry_sim_core::api::CallError> {
+    let target = Target::resolve_or_error(name)?;
+    sim.serve(Input::Call { target: &target, args }).into_values()
+}
+
 /// Steps `sim` `n` times, the graph publishing after each step.
-fn run(sim: &mut Simulation, graph: &mut RosGraph, n: usize) {
+fn run(sim: &mut Engine, graph: &mut RosGraph, n: usize) {
     for _ in 0..n {
         sim.step();
-        graph.after_step(sim);
+        graph.after_step(&sim.sim());
     }
 }
 
@@ -109,7 +117,7 @@ fn resolve(tf: &HashMap<String, (String, Pose)>, frame: &str) -> Pose {
 }
 
 /// The URDF link `link`'s object's world pose in `sim`, of the `i`-th URDF robot.
-fn link_pose(sim: &Simulation, i: usize, link: &str) -> Pose {
+fn link_pose(sim: &Engine, i: usize, link: &str) -> Pose {
     let world = sim.world();
     let r = &world.urdf_robots()[i];
     let h = r.links.iter().find(|(_, n)| n == link).expect("the link").0;
@@ -142,8 +150,7 @@ fn one_urdf_robot_is_described_and_framed_by_link() {
         .find(|(_, n)| n == "joint1")
         .expect("joint1")
         .0;
-    sim.call("setJointPosition", &[Value::Int(j1), Value::Float(0.7)])
-        .expect("the joint moves");
+    call(&mut sim, "sim.setJointPosition", &[Value::Int(j1), Value::Float(0.7)]).expect("the joint moves");
     run(&mut sim, &mut graph, 2);
     drop(graph);
 
@@ -236,7 +243,8 @@ fn a_model_loaded_while_running_moves_the_description_to_per_robot_topics() {
     let (net, mut graph) = graph();
     run(&mut sim, &mut graph, 2);
     assert!(net.open_topics().contains(&"rt/robot_description".to_owned()));
-    sim.load_model(&repo(URDF)).expect("the model loads");
+    let path = repo(URDF).display().to_string();
+    call(&mut sim, "sim.loadModel", &[Value::Str(path)]).expect("the model loads");
     run(&mut sim, &mut graph, 2);
     let open = net.open_topics();
     let described: Vec<&String> = open.iter().filter(|t| t.ends_with("/robot_description")).collect();

@@ -19,11 +19,11 @@ pub mod zmtp_reply;
 
 pub use auth::{AccessToken, TokenError};
 pub use debug::{DebugHub, PausedAt};
-pub use gantry_engine::{ClientId, HostCall, stepping};
+pub use gantry_engine::{ClientId, HostCall, Observer, stepping};
 pub use runner::{BoundAddrs, Running, ServeConfig, ServerError, Shutdown, Signals, run, start};
 pub use sim_thread::{
-    LoopControl, Observer, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig,
-    SimHandle, channel, run_sim_thread, run_sim_thread_debugged, run_sim_thread_observed,
+    LoopControl, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig, SimHandle,
+    channel, run_sim_thread, run_sim_thread_debugged, run_sim_thread_observed,
 };
 pub use text::TextConfig;
 pub use zmq::ZmqConfig;

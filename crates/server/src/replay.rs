@@ -76,7 +76,7 @@ pub fn replay(
                 fast: true,
                 ..SimConfig::default()
             };
-            run_sim_thread_observed(model, config, rx, || sim_shutdown.is_triggered(), &mut ())
+            run_sim_thread_observed(model, config, rx, || sim_shutdown.is_triggered(), Vec::new())
         })
         .map_err(ServerError::Runtime)?;
     let (stop_tx, stop_rx) = watch::channel(false);

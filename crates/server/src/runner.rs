@@ -403,8 +403,11 @@ pub fn start(
         .name("gantry-sim".into())
         .spawn(move || {
             let should_stop = || sim_shutdown.is_triggered();
-            let mut publisher = publisher;
-            run_sim_thread_debugged(model, sim, rx, should_stop, &mut publisher, debug_link, recorder)
+            let observers: Vec<Box<dyn gantry_engine::Observer>> = match publisher {
+                Some(p) => vec![Box::new(p)],
+                None => Vec::new(),
+            };
+            run_sim_thread_debugged(model, sim, rx, should_stop, observers, debug_link, recorder)
         })
         .map_err(ServerError::Runtime)?;
     Ok(Running {

@@ -12,9 +12,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::time::{Duration, Instant};
 
-use gantry_engine::{ClientId, Due, Engine, EngineConfig, MidStep};
+use gantry_engine::{ClientId, Due, Engine, EngineConfig, Input, MidStep, Observer, Output, StepBoundary};
 pub use gantry_engine::{LoopControl, RemoteOp};
-use gantry_lua::{ScriptLimits, Simulation, StepBoundary};
+use gantry_lua::ScriptLimits;
 use gantry_sim_core::Handle;
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, StepSafety, Target};
@@ -96,8 +96,9 @@ pub enum Request {
         /// Empty results, or a CoppeliaSim-style error message.
         reply: oneshot::Sender<Result<Vec<Value>, CallError>>,
     },
-    /// Run a closure on the simulation thread (for viewer snapshots and tests).
-    With(Box<dyn FnOnce(&mut Simulation) + Send>),
+    /// Run a closure on the simulation thread with the engine, between steps (the
+    /// viewer's snapshots and edits, tests).
+    With(Box<dyn FnOnce(&mut Engine) + Send>),
 }
 
 /// What the scripts did with a packet.
@@ -215,7 +216,7 @@ impl SimHandle {
     /// Why it could not be delivered.
     pub async fn with<R: Send + 'static>(
         &self,
-        f: impl FnOnce(&mut Simulation) -> R + Send + 'static,
+        f: impl FnOnce(&mut Engine) -> R + Send + 'static,
     ) -> Result<R, SendError> {
         let (reply, rx) = oneshot::channel();
         self.send(Request::With(Box::new(move |sim| {
@@ -284,51 +285,6 @@ impl RunSummary {
     }
 }
 
-/// Watches the simulation from its own thread, between steps: how the viewer publishes
-/// its pose stream without a request per frame.
-///
-/// [`Observer::observe`] runs on the simulation thread at every turn of its loop (after
-/// each step, after each batch of served requests, and at least every 50 ms while
-/// paused), so it must be cheap and decide quickly when it has nothing to do.
-pub trait Observer {
-    /// Looks at the simulation. `run_steps` counts the steps of this run (never reset).
-    fn observe(&mut self, sim: &Simulation, run_steps: u64);
-
-    /// The run is over: its cleanup hooks ran. Nothing by default.
-    fn finish(&mut self, _sim: &Simulation) {}
-}
-
-/// No observer: what [`run_sim_thread`] uses.
-impl Observer for () {
-    fn observe(&mut self, _: &Simulation, _: u64) {}
-}
-
-/// An observer that may be absent (no viewer, no recording).
-impl<T: Observer> Observer for Option<T> {
-    fn observe(&mut self, sim: &Simulation, run_steps: u64) {
-        if let Some(o) = self {
-            o.observe(sim, run_steps);
-        }
-    }
-    fn finish(&mut self, sim: &Simulation) {
-        if let Some(o) = self {
-            o.finish(sim);
-        }
-    }
-}
-
-/// Two observers, in order (the viewer's publisher and the recorder).
-impl<A: Observer, B: Observer> Observer for (A, B) {
-    fn observe(&mut self, sim: &Simulation, run_steps: u64) {
-        self.0.observe(sim, run_steps);
-        self.1.observe(sim, run_steps);
-    }
-    fn finish(&mut self, sim: &Simulation) {
-        self.0.finish(sim);
-        self.1.finish(sim);
-    }
-}
-
 /// Creates the request channel: the handle for transports and the receiver for
 /// [`run_sim_thread`].
 pub fn channel() -> (SimHandle, Receiver<Request>) {
@@ -352,11 +308,11 @@ pub fn run_sim_thread(
     rx: Receiver<Request>,
     should_stop: impl Fn() -> bool,
 ) -> Result<RunSummary, gantry_lua::ScriptError> {
-    run_sim_thread_observed(model, config, rx, should_stop, &mut ())
+    run_sim_thread_observed(model, config, rx, should_stop, Vec::new())
 }
 
-/// [`run_sim_thread`], with `observer` looking at the simulation at every turn of the
-/// loop (see [`Observer`]).
+/// [`run_sim_thread`], with `observers` looking at the simulation after every step and
+/// at every turn of the loop that took none (the viewer's frames; see [`Observer`]).
 ///
 /// # Errors
 /// The simulation could not be created (Lua state).
@@ -365,9 +321,9 @@ pub fn run_sim_thread_observed(
     config: SimConfig,
     rx: Receiver<Request>,
     should_stop: impl Fn() -> bool,
-    observer: &mut impl Observer,
+    observers: Vec<Box<dyn Observer>>,
 ) -> Result<RunSummary, gantry_lua::ScriptError> {
-    run_sim_thread_debugged(model, config, rx, should_stop, observer, None, None)
+    run_sim_thread_debugged(model, config, rx, should_stop, observers, None, None)
 }
 
 /// [`run_sim_thread_observed`], with the script debugger on `debug` when given
@@ -381,7 +337,7 @@ pub fn run_sim_thread_debugged(
     config: SimConfig,
     rx: Receiver<Request>,
     should_stop: impl Fn() -> bool,
-    observer: &mut impl Observer,
+    observers: Vec<Box<dyn Observer>>,
     debug: Option<gantry_lua::DebugLink>,
     recorder: Option<gantry_record::Recorder>,
 ) -> Result<RunSummary, gantry_lua::ScriptError> {
@@ -400,25 +356,30 @@ pub fn run_sim_thread_debugged(
         },
         debug,
     )?;
+    for o in observers {
+        engine.add_observer(o);
+    }
     if let Some(g) = config.ros2.as_ref().and_then(gantry_ros2::RosSetup::graph) {
         engine.add_observer(Box::new(g));
     }
     if let Some(r) = recorder {
-        let tap = gantry_record::RecordTap::new(r, engine.sim());
-        engine.set_tap(Box::new(tap));
+        let tap = gantry_record::RecordTap::new(r, &engine.sim());
+        engine.set_recorder(Box::new(tap));
     }
     let mut lp = SimLoop {
         engine,
         deferred: VecDeque::new(),
     };
     if config.autostart {
-        lp.engine.control(gantry_sim_core::sim::Control::Start);
+        lp.engine.serve(Input::Control(LoopControl::Control(
+            gantry_sim_core::sim::Control::Start,
+        )));
     }
     let start = Instant::now();
     let mut last_served = start.checked_sub(SPIN_AFTER_ACTIVITY).unwrap_or(start);
     let mut has_run = false;
     loop {
-        observer.observe(lp.engine.sim(), lp.engine.steps());
+        lp.engine.idle();
         if should_stop() || config.steps.is_some_and(|n| lp.engine.steps() >= n) {
             break;
         }
@@ -484,21 +445,19 @@ pub fn run_sim_thread_debugged(
         lp.engine.tick(Instant::now());
     }
     lp.engine.finish();
-    observer.finish(lp.engine.sim());
     if let Some(dir) = &config.export_graphs {
         // Cleanup hooks ran first: their last values are part of the export.
-        export_graphs(lp.engine.sim(), dir);
+        export_graphs(&lp.engine.sim(), dir);
     }
     Ok(RunSummary {
         steps: lp.engine.steps(),
-        sim_time: lp.engine.sim().world().time(),
+        sim_time: lp.engine.world().time(),
         wall_s: start.elapsed().as_secs_f64(),
     })
 }
 
 /// Every graph stream as CSV into `dir` (`--export-graphs`).
-fn export_graphs(sim: &Simulation, dir: &std::path::Path) {
-    let core = sim.core();
+fn export_graphs(core: &gantry_sim_core::Sim, dir: &std::path::Path) {
     let w = &core.world;
     let alias = |h: Handle| {
         w.object(h)
@@ -553,7 +512,10 @@ impl SimLoop {
         }
     }
 
+    /// Serves `req` between steps: the engine's one entry for every input, the
+    /// viewer's closures on the engine itself.
     fn serve(&mut self, req: Request) {
+        let e = &mut self.engine;
         match req {
             // A blocking function called without a client's session (the in-process
             // client on the simulation thread, the legacy remote API).
@@ -561,26 +523,55 @@ impl SimLoop {
                 target: Target::ScriptHost(f),
                 args,
                 reply,
-            } if f.blocks() => self.engine.call_blocking(None, f, &args, reply),
-            Request::Call { target, args, reply } => {
-                let _ = reply.send(self.engine.call(&target, &args));
+            } if f.blocks() => {
+                e.serve(Input::Blocking {
+                    client: None,
+                    f,
+                    args: &args,
+                    reply,
+                });
             }
-            Request::Blocking { client, f, args, reply } => self.engine.call_blocking(Some(client), f, &args, reply),
+            Request::Call { target, args, reply } => {
+                let _ = reply.send(
+                    e.serve(Input::Call {
+                        target: &target,
+                        args: &args,
+                    })
+                    .into_values(),
+                );
+            }
+            Request::Blocking { client, f, args, reply } => {
+                e.serve(Input::Blocking {
+                    client: Some(client),
+                    f,
+                    args: &args,
+                    reply,
+                });
+            }
             Request::Packet { packet, reply } => {
-                let _ = reply.send(packet_outcome(self.engine.packet(&packet)));
+                let out = match e.serve(Input::Packet(&packet)) {
+                    Output::Packet(r) => r,
+                    _ => Ok(None),
+                };
+                let _ = reply.send(packet_outcome(out));
             }
             Request::Control { action, reply } => {
-                let _ = reply.send(self.engine.loop_control(action));
+                e.serve(Input::Control(action));
+                let _ = reply.send(e.state());
             }
             Request::Remote { client, op, reply } => {
-                let _ = reply.send(self.engine.remote(client, op));
+                let _ = reply.send(e.serve(Input::Remote { client, op }).into_values());
             }
-            Request::Step { client, done } => self.engine.request_step(client, done),
-            Request::DropClient(client) => self.engine.drop_client(client),
+            Request::Step { client, done } => {
+                e.serve(Input::Step { client, done });
+            }
+            Request::DropClient(client) => {
+                e.serve(Input::DropClient(client));
+            }
             Request::LoadScene { path, reply } => {
-                let _ = reply.send(self.engine.load_scene(path.as_deref()).map(|()| Vec::new()));
+                let _ = reply.send(e.serve(Input::LoadScene(path.as_deref())).into_values());
             }
-            Request::With(f) => f(self.engine.sim_mut()),
+            Request::With(f) => f(e),
         }
     }
 }

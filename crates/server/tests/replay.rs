@@ -5,8 +5,8 @@
 
 use std::collections::BTreeMap;
 
+use gantry_engine::{Engine, EngineConfig};
 use gantry_record::{RecordParams, Recorder, Recording};
-use gantry_lua::{ScriptLimits, Simulation};
 use gantry_server::http::replay::{apply_at, frame_handles};
 use gantry_sim_core::Sim;
 use gantry_sim_core::math::Pose;
@@ -64,8 +64,8 @@ fn every_object_is_where_the_run_had_it() {
 
     let mut replay_model = recording.scene_model().expect("the scene rebuilds");
     replay_model.scripts.clear();
-    let mut replay = Simulation::new(replay_model, ScriptLimits::default()).expect("built");
-    let map = frame_handles(&recording, &replay.core().world);
+    let mut replay = Engine::new(replay_model, EngineConfig::default(), None).expect("built");
+    let map = frame_handles(&recording, &replay.sim().world);
     let missing: Vec<&String> = recording
         .frames()
         .iter()
@@ -78,15 +78,15 @@ fn every_object_is_where_the_run_had_it() {
     for (t, want) in run.iter().rev().chain(run.iter().step_by(7)) {
         for at in [*t, t + 1] {
             let frame = apply_at(&recording, &map, at, &mut replay);
-            let got = world_poses(&replay.core().world);
+            let got = world_poses(&replay.sim().world);
             assert_eq!(got.len(), want.len());
             for (name, pose) in want {
                 assert!(close(&got[name], pose), "{name} at {at} ns: {} vs {}", got[name], pose);
             }
-            assert_eq!(frame.poses.len(), replay.core().world.handles().len());
+            assert_eq!(frame.poses.len(), replay.sim().world.handles().len());
             // The joints are where /joint_states had them (rad or m).
             let js = recording.joints_at(at).expect("joint states");
-            let core = replay.core();
+            let core = replay.sim();
             for (&name, &q) in js.names.iter().zip(&js.position) {
                 let h = map[name.0 as usize].expect("a joint of the scene");
                 match &core.world.object(h).expect("object").kind {

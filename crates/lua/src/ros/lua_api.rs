@@ -20,8 +20,8 @@ use super::network::{Direction, EndpointId, RosQos};
 use super::wire::{encode, read_header, request_header, time_value};
 use crate::app_state::state;
 use crate::convert::{to_lua, to_value};
-use crate::core_cell::CoreCell;
 use crate::running::Running;
+use crate::sim_cell::SimCell;
 
 /// How long `simROS2.call` waits for a reply, s.
 pub const CALL_TIMEOUT_S: f64 = 5.0;
@@ -168,7 +168,7 @@ pub(super) fn running_object(lua: &Lua) -> Option<gantry_sim_core::Handle> {
 
 /// Simulation time, s.
 pub(crate) fn sim_time(lua: &Lua) -> f64 {
-    state::<CoreCell>(lua)
+    state::<SimCell>(lua)
         .try_borrow()
         .map(|s| s.world.time())
         .unwrap_or(0.0)

@@ -17,15 +17,13 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use gantry_lua::Simulation;
+use gantry_engine::Observer;
 use gantry_sim_core::Sim;
 use gantry_sim_core::drawing::DrawingKind;
 use gantry_sim_core::math::euler_from_quat;
 use gantry_sim_core::world::{ObjectKind, PointCloud};
 use serde_json::json;
 use tokio::sync::watch;
-
-use crate::sim_thread::Observer;
 
 /// Most frames per second while the simulation advances (the browser's display rate;
 /// more would only cost the simulation thread).
@@ -319,8 +317,21 @@ impl FramePublisher {
     }
 }
 
+/// Frames at each step and, while nothing steps, at the loop's idle ticks (a paused
+/// simulation still changes: the viewer moves objects, scripts' non-simulation hooks).
 impl Observer for FramePublisher {
-    fn observe(&mut self, sim: &Simulation, run_steps: u64) {
+    fn stepped(&mut self, sim: &Sim, run_steps: u64) {
+        self.observe(sim, run_steps);
+    }
+
+    fn idle(&mut self, sim: &Sim, run_steps: u64) {
+        self.observe(sim, run_steps);
+    }
+}
+
+impl FramePublisher {
+    /// Publishes a frame if a viewer watches and the frame rate allows one now.
+    fn observe(&mut self, sim: &Sim, run_steps: u64) {
         if self.tx.receiver_count() == 0 {
             // Nobody watches: forget the rate window so a new viewer starts afresh.
             self.window = None;
@@ -335,7 +346,7 @@ impl Observer for FramePublisher {
         {
             return;
         }
-        let core = sim.core();
+        let core = sim;
         let world = &core.world;
         match self.window {
             Some((t0, s0, time0)) if now.duration_since(t0) >= RATE_WINDOW => {

@@ -10,7 +10,7 @@
 //! reloads.
 //!
 //! Nothing here touches the world directly: poses come from the [`FramePublisher`]
-//! that the simulation thread runs as its [`Observer`](crate::sim_thread::Observer),
+//! that the simulation thread runs as its [`Observer`](gantry_engine::Observer),
 //! everything else goes through [`SimHandle`] requests. Viewers are capped
 //! ([`HttpConfig::max_viewers`]), every incoming message is bounded, a malformed one
 //! gets an error reply, and a browser that stops reading is dropped after
@@ -229,7 +229,7 @@ async fn status(State(st): State<AppState>) -> Response {
     let result = st
         .sim
         .with(|sim| {
-            let s = sim.core();
+            let s = sim.sim();
             (s.world.time(), s.world.steps(), s.state.code())
         })
         .await;
@@ -285,7 +285,7 @@ async fn graph_csv(Path(file): Path<String>, State(st): State<AppState>) -> Resp
     let result = st
         .sim
         .with(move |sim| {
-            let s = sim.core();
+            let s = sim.sim();
             let alias = s.world.object(handle).map(|o| o.alias.clone()).ok()?;
             s.graphs
                 .graphs()

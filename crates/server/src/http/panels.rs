@@ -7,7 +7,8 @@
 
 use std::collections::BTreeMap;
 
-use gantry_lua::{ScriptState, Simulation};
+use gantry_engine::Engine;
+use gantry_lua::ScriptState;
 use gantry_sim_core::Handle;
 use gantry_sim_core::Sim;
 use gantry_sim_core::graph::GraphStream;
@@ -67,9 +68,9 @@ pub struct PanelUpdate {
 }
 
 /// Gathers what is new since `cursor` and advances it. Runs on the simulation thread.
-pub fn collect(sim: &Simulation, cursor: &mut PanelCursor) -> PanelUpdate {
+pub fn collect(sim: &Engine, cursor: &mut PanelCursor) -> PanelUpdate {
     let scripts = scripts_json(sim);
-    let core = sim.core();
+    let core = sim.sim();
     let world = &core.world;
     if world.steps() < cursor.steps {
         cursor.ui_revision = None;
@@ -150,7 +151,7 @@ pub(super) fn truncate(s: &str, max: usize) -> String {
     format!("{}…", &s[..end])
 }
 
-fn scripts_json(sim: &Simulation) -> Json {
+fn scripts_json(sim: &Engine) -> Json {
     let world = sim.world();
     let list: Vec<Json> = sim
         .scripts()

@@ -20,10 +20,10 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use gantry_engine::Engine;
 use gantry_record::Recording;
 use gantry_record::format::{WORLD_FRAME, topic_name};
 use gantry_record::reader::FrameId;
-use gantry_lua::Simulation;
 use gantry_sim_core::Handle;
 use gantry_sim_core::math::{Pose, Vec3, quat_from_array};
 use gantry_sim_core::world::ObjectKind;
@@ -125,7 +125,7 @@ impl ReplayHub {
             .collect();
         let (map, graphs, images) = sim
             .with(move |s| {
-                let core = s.core();
+                let core = s.sim();
                 let world = &core.world;
                 let by_name = object_names(world);
                 let map: Vec<Option<Handle>> = names.iter().map(|n| by_name.get(n).copied()).collect();
@@ -441,9 +441,9 @@ async fn show(
 /// time (`world` is the identity) and set parents before children, so that each is
 /// exactly the recorded one. Frames the scene does not have (objects scripts created
 /// during the run) are skipped.
-pub fn apply_at(rec: &Recording, map: &[Option<Handle>], t_ns: u64, sim: &mut Simulation) -> Frame {
+pub fn apply_at(rec: &Recording, map: &[Option<Handle>], t_ns: u64, sim: &mut Engine) -> Frame {
     let handle = |id: FrameId| map.get(id.0 as usize).copied().flatten();
-    let mut core = sim.core_mut();
+    let mut core = sim.sim_mut();
     let world = &mut core.world;
     if let Some(js) = rec.joints_at(t_ns) {
         for (&name, &q) in js.names.iter().zip(&js.position) {
@@ -499,7 +499,7 @@ pub fn apply_at(rec: &Recording, map: &[Option<Handle>], t_ns: u64, sim: &mut Si
         }
     }
     drop(core);
-    Frame::capture(&sim.core())
+    Frame::capture(&sim.sim())
 }
 
 /// What a session of a replay has sent of the panels.

@@ -456,7 +456,7 @@ async fn execute(
             .map(|_| String::new())
             .map_err(ViewerCommandError::Call),
         Command::Key { key, mods } => sim
-            .with(move |s| s.core_mut().messages.post_key(key, mods))
+            .with(move |s| s.sim_mut().messages.post_key(key, mods))
             .await
             .map(|()| String::new())
             .map_err(ViewerCommandError::from),

@@ -4,12 +4,13 @@
 //! script keeps receiving hooks and the world keeps stepping.
 
 mod util;
+use util::Drive;
 
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use gantry_lua::sandbox::{REMOVED_GLOBALS, REMOVED_OS};
-use gantry_lua::{ScriptLimits, ScriptState, Simulation};
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use util::{LUA_ERR, Scene, TempDir, assert_contains, load, script_error, script_state, text};
 
@@ -203,7 +204,7 @@ fn graph_export_refusals_write_nothing_and_inside_the_scene_folder_works() {
             .expect("csv")
             .starts_with("time,x [m]")
     );
-    // The same call from a remote client (ZMQ goes through Simulation::call) is
+    // The same call from a remote client (ZMQ goes through Engine::call) is
     // confined the same way.
     let abs = outside.display().to_string();
     for dir in [
@@ -225,7 +226,7 @@ fn an_embedded_scene_cannot_export_from_scripts() {
     let mut model = load(&dir.write("scene.toml", PROBE_SCENE));
     // What the loader gives the scene compiled into the binary.
     model.base_dir = "/embedded/assets/scenes".into();
-    let mut sim = Simulation::new(model, ScriptLimits::default()).expect("builds");
+    let mut sim = util::engine(model, ScriptLimits::default()).expect("builds");
     sim.start();
     let e = sim.call("exportGraphStreams", &[s("out")]).expect_err("no folder");
     assert_contains(&e, &["no folder on disk", "--export-graphs"]);

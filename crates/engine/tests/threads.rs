@@ -8,10 +8,12 @@
 //! non-stepping threads are pre-empted instead of freezing the simulator.
 
 mod util;
+use util::Drive;
 
 use std::time::Duration;
 
-use gantry_lua::{ScriptLimits, ScriptState, Simulation};
+use gantry_engine::Engine;
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::SimulationState;
 use util::{Scene, assert_contains, log_lines, script_error, script_state};
@@ -41,14 +43,14 @@ fn scene(tag: &str, toml: &str, files: &[(&str, &str)]) -> Scene {
     Scene::new(tag, toml, files, ScriptLimits::default())
 }
 
-fn steps(sim: &mut Simulation, n: usize) {
+fn steps(sim: &mut Engine, n: usize) {
     for _ in 0..n {
         sim.step();
     }
 }
 
 /// The `print` lines of `file` (information, not errors), in order.
-fn printed(sim: &Simulation, file: &str) -> Vec<String> {
+fn printed(sim: &Engine, file: &str) -> Vec<String> {
     log_lines(sim)
         .into_iter()
         .filter(|(src, v, _)| src == file && *v == 450)
@@ -545,7 +547,7 @@ fn every_sim_function_a_script_sees_is_in_the_registry_or_the_host_list() {
 #[test]
 fn the_default_scene_starts_and_runs_without_a_warning() {
     let path = util::repo("assets/scenes/bubble_rob.toml");
-    let mut sim = Simulation::new(util::load(&path), ScriptLimits::default()).expect("builds");
+    let mut sim = util::engine(util::load(&path), ScriptLimits::default()).expect("builds");
     steps(&mut sim, 40);
     let warnings: Vec<(String, i64, String)> = log_lines(&sim).into_iter().filter(|(_, v, _)| *v <= 300).collect();
     assert!(warnings.is_empty(), "{warnings:?}");

@@ -2,10 +2,12 @@
 //! and memory budgets, the sandbox, hot reload, `check_syntax` and `print`.
 
 mod util;
+use util::Drive;
 
 use std::time::{Duration, Instant, SystemTime};
 
-use gantry_lua::{ScriptLimits, ScriptState, Simulation, check_syntax};
+use gantry_engine::Engine;
+use gantry_lua::{ScriptLimits, ScriptState, check_syntax};
 use gantry_sim_core::Value;
 use util::{
     Scene, TempDir, assert_close, assert_contains, floats, int, load, log_lines, messages_from, script_error,
@@ -17,7 +19,7 @@ fn s(v: &str) -> Value {
 }
 
 /// The value of an Int32 signal, `None` when unset.
-fn signal(sim: &mut Simulation, name: &str) -> Option<i64> {
+fn signal(sim: &mut Engine, name: &str) -> Option<i64> {
     match sim.call("getInt32Signal", &[s(name)]).expect("signal")[0] {
         Value::Int(v) => Some(v),
         Value::Nil => None,
@@ -243,7 +245,7 @@ function sysCall_actuation() n = n + 1; sim.setInt32Signal('good.actuation', n) 
         "the error is logged with file and line: {logged:?}"
     );
     // Errored scripts receive no hooks but cleanup, and no calls from transports.
-    assert_eq!(sim.call_hook_function("sysCall_sensing", &[]), Ok(None));
+    assert_eq!(sim.call_script_function("sysCall_sensing", &[]), Ok(None));
     sim.stop();
     assert!(messages_from(sim, "bad.lua").contains(&"bad cleanup".to_owned()));
 }
@@ -638,7 +640,7 @@ fn check_syntax_reports_file_and_line() {
         errors[0].contains("broken.lua:4:") || errors[0].contains("broken.lua:5:"),
         "{errors:?}"
     );
-    let mut sim = Simulation::new(model, ScriptLimits::default()).expect("builds");
+    let mut sim = util::engine(model, ScriptLimits::default()).expect("builds");
     assert_contains(script_error(&sim, "broken.lua"), &["broken.lua:"]);
     sim.step();
     assert_eq!(signal(&mut sim, "good"), Some(1));

@@ -6,8 +6,10 @@
 //! against analytic distances in crates/sim-core/tests/scanner.rs).
 
 mod util;
+use util::Drive;
 
-use gantry_lua::{ScriptLimits, ScriptState, Simulation};
+use gantry_engine::Engine;
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::math::Vec3;
 use gantry_sim_core::scene::{LoadOptions, load_bundled};
 use gantry_sim_core::{Handle, Value};
@@ -19,7 +21,7 @@ const PILLAR: (f64, [f64; 2]) = (0.2, [-0.8, -1.6]);
 const PILLAR_SAGITTA: f64 = 0.2 * (1.0 - 0.995_184_726_672_196_9);
 
 /// The points a scanner's script published: x, y, z in its frame.
-fn published(sim: &mut Simulation, signal: &str) -> Vec<Vec3> {
+fn published(sim: &mut Engine, signal: &str) -> Vec<Vec3> {
     let reply = sim
         .call("sim.getStringSignal", &[Value::Str(signal.into())])
         .unwrap_or_else(|e| panic!("{signal}: {e}"));
@@ -39,7 +41,7 @@ fn published(sim: &mut Simulation, signal: &str) -> Vec<Vec3> {
 
 /// `sim.castRays` from `scanner` towards each point (in its frame), passing through the
 /// scanner's own model: the distances and the shapes hit.
-fn rays(sim: &mut Simulation, scanner: Handle, points: &[Vec3], max: f64) -> (Vec<f64>, Vec<i64>) {
+fn rays(sim: &mut Engine, scanner: Handle, points: &[Vec3], max: f64) -> (Vec<f64>, Vec<i64>) {
     let dirs = Value::Array(points.iter().flat_map(|p| [p.x, p.y, p.z]).map(Value::Float).collect());
     let reply = sim
         .call(
@@ -61,7 +63,7 @@ fn the_scanner_scripts_publish_the_ranges_the_rays_measure() {
     let sources =
         |m: &gantry_sim_core::scene::SceneModel| m.scripts.iter().map(|s| s.source.clone()).collect::<Vec<_>>();
     assert_eq!(sources(&bundled), sources(&file));
-    let mut sim = Simulation::new(bundled, ScriptLimits::default()).expect("the scanners scene builds");
+    let mut sim = util::engine(bundled, ScriptLimits::default()).expect("the scanners scene builds");
     sim.start();
     for _ in 0..3 {
         sim.step();
@@ -70,7 +72,7 @@ fn the_scanner_scripts_publish_the_ranges_the_rays_measure() {
         assert_eq!(state, ScriptState::Running, "{}", path.display());
     }
     let pillar = find(&sim, "/pillar");
-    let world = |sim: &Simulation, h: Handle| sim.world().object(h).expect("object").world;
+    let world = |sim: &Engine, h: Handle| sim.world().object(h).expect("object").world;
 
     // The 2-D scanner: every published point within 1 mm of the ray cast, except on the
     // pillar, whose drawing is a prism inside the cylinder the rays hit.

@@ -6,6 +6,7 @@
 //! the IK joints copied onto the scene's. The scene's tip must follow the goal dummy.
 
 mod util;
+use util::Drive;
 
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Handle;

@@ -3,6 +3,7 @@
 //! path that stays collision-free when replayed state by state.
 
 mod util;
+use util::Drive;
 
 use gantry_sim_core::Value;
 use util::{Scene, assert_contains};

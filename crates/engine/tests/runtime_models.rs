@@ -5,8 +5,10 @@
 //! across a stop. `sim.removeScript` takes a script out until a stop restores it.
 
 mod util;
+use util::Drive;
 
-use gantry_lua::{ScriptLimits, Simulation};
+use gantry_engine::Engine;
+use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;
 use util::{Scene, assert_contains, find, int, int32_signal, repo, text};
 
@@ -14,7 +16,7 @@ fn s(v: &str) -> Value {
     Value::Str(v.to_owned())
 }
 
-fn step(sim: &mut Simulation, n: usize) {
+fn step(sim: &mut Engine, n: usize) {
     for _ in 0..n {
         sim.step();
     }

@@ -4,6 +4,7 @@
 //! (`sim = require 'sim'`, `sysCall_thread`).
 
 mod util;
+use util::Drive;
 
 use gantry_lua::ScriptState;
 use gantry_sim_core::Value;

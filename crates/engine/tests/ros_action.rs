@@ -7,11 +7,12 @@
 //! the other side of each, in tests/python/test_ros2.py.)
 
 mod util;
+use util::Drive;
 
 use std::sync::Arc;
 
-use gantry_protocol::ros::message_type;
 use gantry_lua::ScriptLimits;
+use gantry_protocol::ros::message_type;
 use gantry_sim_core::Value;
 use util::loopback::Loopback;
 use util::{Scene, assert_contains, assert_running};

@@ -4,23 +4,25 @@
 //! and an edge image.
 
 mod util;
+use util::Drive;
 
-use gantry_lua::{ScriptLimits, ScriptState, Simulation};
+use gantry_engine::Engine;
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use gantry_sim_core::math::Pose;
 use util::{find, floats, int, load, repo};
 
-fn bubble_rob() -> Simulation {
+fn bubble_rob() -> Engine {
     let model = load(&repo("assets/scenes/bubble_rob.toml"));
-    Simulation::new(model, ScriptLimits::default()).expect("builds")
+    util::engine(model, ScriptLimits::default()).expect("builds")
 }
 
 /// Calls an API function as a remote client would.
-fn call(sim: &mut Simulation, name: &str, args: &[Value]) -> Vec<Value> {
+fn call(sim: &mut Engine, name: &str, args: &[Value]) -> Vec<Value> {
     sim.call(name, args).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn drawing(sim: &mut Simulation, handle: i64) -> (i64, Vec<f64>) {
+fn drawing(sim: &mut Engine, handle: i64) -> (i64, Vec<f64>) {
     let r = call(sim, "getDrawingObjectItems", &[Value::Int(handle)]);
     (int(&r[0]), floats(&r[3]))
 }

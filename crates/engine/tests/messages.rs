@@ -7,6 +7,7 @@
 //! `simUI.getKeyboardModifiers` reports no key held in a headless run.
 
 mod util;
+use util::Drive;
 
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;

@@ -7,10 +7,12 @@
 //! failure cannot hide behind a script that already ran.
 
 mod util;
+use util::Drive;
 
 use std::time::{Duration, Instant};
 
-use gantry_lua::{ScriptLimits, ScriptState, Simulation};
+use gantry_engine::Engine;
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::SimulationState;
 use util::{Scene, assert_contains, int32_signal, messages_from, script_error, script_state};
@@ -38,7 +40,7 @@ const DUMMY: &str = "kind = \"dummy\"";
 /// Asserts that `good.lua` ran every hook of the `steps` steps so far, that simulation
 /// time followed (50 ms steps) and that `good.lua` is still running.
 #[track_caller]
-fn good_carried_on(sim: &mut Simulation, steps: i64) {
+fn good_carried_on(sim: &mut Engine, steps: i64) {
     assert_eq!(int32_signal(sim, "acted"), Some(steps), "good.lua's actuation");
     assert_eq!(int32_signal(sim, "sensed"), Some(steps), "good.lua's sensing");
     assert!((sim.world().time() - 0.05 * steps as f64).abs() < 1e-9);
@@ -47,7 +49,7 @@ fn good_carried_on(sim: &mut Simulation, steps: i64) {
 
 /// The error is the script's state and is logged, both with file and line.
 #[track_caller]
-fn reported(sim: &Simulation, place: &str, what: &str) {
+fn reported(sim: &Engine, place: &str, what: &str) {
     assert_contains(script_error(sim, "rogue.lua"), &[place, what]);
     let logged = messages_from(sim, "rogue.lua");
     assert!(
@@ -144,7 +146,7 @@ end
     // The transport gets the error, with file and line, to send back to the client.
     let e = sc
         .sim
-        .call_hook_function("sysCall_packet", std::slice::from_ref(&packet))
+        .call_script_function("sysCall_packet", std::slice::from_ref(&packet))
         .expect_err("the handler fails");
     assert_contains(
         &e,
@@ -153,7 +155,7 @@ end
     reported(&sc.sim, "rogue.lua:2:", "attempt to concatenate");
     // The errored handler is skipped from then on: the next script that handles
     // packets answers.
-    let reply = sc.sim.call_hook_function("sysCall_packet", &[packet]);
+    let reply = sc.sim.call_script_function("sysCall_packet", &[packet]);
     assert_eq!(reply, Ok(Some(vec![Value::from("good got FK")])));
     sc.sim.step();
     good_carried_on(&mut sc.sim, 2);

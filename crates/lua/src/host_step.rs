@@ -1,27 +1,27 @@
-//! One simulation step in CoppeliaSim's order, and the points inside it where the
-//! caller may serve requests.
+//! The scripts' part of a step: the hooks the engine calls between the phases of its
+//! step (`gantry_engine`'s `step.rs` holds CoppeliaSim's order), and the points inside
+//! the vision phase where the engine may serve requests.
 //!
-//! One step: UI callbacks, every script thread resumed, every script's
-//! `sysCall_actuation` (children before parents), the physics substeps and proximity
-//! sensors, vision sensors with their `sysCall_vision`, every script's
-//! `sysCall_sensing`, then simulation time advances and what scripts asked for (a stop,
-//! a removal, a model) is carried out. Scripts see the step's start time throughout the
-//! step, as in CoppeliaSim.
+//! The engine's step: [`LuaHost::begin_step`] (UI callbacks, ROS messages, every script
+//! thread resumed), [`LuaHost::actuation`] (children's scripts before their parents'),
+//! the physics substeps and proximity sensors, [`LuaHost::vision`] (vision sensors with
+//! their `sysCall_vision`), [`LuaHost::sensing`], then simulation time advances and
+//! what scripts asked for is carried out. Scripts see the step's start time throughout
+//! the step, as in CoppeliaSim.
 
 use std::borrow::Cow;
 
-use gantry_sim_core::sim::SimulationState;
 use gantry_sim_core::world::ObjectKind;
 use gantry_sim_core::{Handle, Value, vision};
 use mlua::{Function, Table};
 
 use crate::convert::to_multi;
 use crate::hooks::Hook;
+use crate::host::LuaHost;
 use crate::scripts::ScriptState;
-use crate::simulation::Simulation;
 
-/// A point inside a step where [`Simulation::step_with`] lets its caller serve
-/// requests, and what may be observed there.
+/// A point inside a step where the engine lets its caller serve requests, and what
+/// may be observed there.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StepBoundary {
     /// Between two phases: anything may be read or called.
@@ -33,53 +33,34 @@ pub enum StepBoundary {
     VisionUnprocessed,
 }
 
-impl Simulation {
-    /// One simulation step in CoppeliaSim's order. Starts the simulation if stopped;
-    /// does nothing while paused.
-    pub fn step(&mut self) {
-        self.step_with(&mut |_, _| {});
-    }
-
-    /// [`Simulation::step`], calling `between` at each boundary between its phases:
-    /// after actuation, after physics and proximity sensing, and for each vision
-    /// sensor with a `sysCall_vision`, after its render and after its callback. No
-    /// script is running at those points, so `between` may call [`Simulation::call`]
-    /// and script functions, as CoppeliaSim serves remote clients between its scripts;
-    /// the [`StepBoundary`] says what is safe to observe there. The server uses it to
-    /// answer requests during a long step instead of after it. `between` must not
-    /// start, stop, pause or step the simulation.
-    pub fn step_with(&mut self, between: &mut dyn FnMut(&mut Simulation, StepBoundary)) {
-        match self.state() {
-            SimulationState::Stopped => self.start(),
-            SimulationState::Paused => return,
-            SimulationState::Running => {}
-        }
-        // A script's sysCall_init may have stopped or paused the simulation.
-        if self.state() != SimulationState::Running {
-            return;
-        }
+impl LuaHost {
+    /// The start of a step, before actuation: the callbacks of UI events and ROS 2
+    /// messages that arrived since the last step, then every script thread resumed
+    /// (CoppeliaSim resumes threads at the start of actuation).
+    pub fn begin_step(&mut self) {
         self.dispatch_ui_events();
         self.dispatch_ros();
-        // CoppeliaSim resumes threads at the start of actuation.
         self.scripts.resume_threads();
+    }
+
+    /// Every script's `sysCall_actuation`, children's before their parents'.
+    pub fn actuation(&mut self) {
         for k in 0..self.scripts.order.len() {
             let i = self.scripts.order[k];
             if self.scripts.list[i].actuation.is_some() {
                 self.scripts.call_hook(i, Hook::Actuation);
             }
         }
-        between(self, StepBoundary::Phase);
-        self.core.borrow_mut().step_dynamics();
-        between(self, StepBoundary::Phase);
-        self.handle_vision(between);
+    }
+
+    /// Every script's `sysCall_sensing`, children's before their parents'.
+    pub fn sensing(&mut self) {
         for k in 0..self.scripts.order.len() {
             let i = self.scripts.order[k];
             if self.scripts.list[i].sensing.is_some() {
                 self.scripts.call_hook(i, Hook::Sensing);
             }
         }
-        self.core.borrow_mut().finish_step();
-        self.apply_control();
     }
 
     /// Runs the callbacks of UI events (a slider moved in the viewer, `simUI.interact`)
@@ -121,7 +102,9 @@ impl Simulation {
     /// Renders the vision sensors whose scripts define `sysCall_vision`, then calls it
     /// with `inData.handle` (CoppeliaSim handles vision sensors after proximity sensors,
     /// before `sysCall_sensing`). Sensors without such a script render only when read.
-    fn handle_vision(&mut self, between: &mut dyn FnMut(&mut Simulation, StepBoundary)) {
+    /// `between` is called after each render ([`StepBoundary::VisionUnprocessed`]) and
+    /// after each callback ([`StepBoundary::Phase`]); no script runs then.
+    pub fn vision(&mut self, between: &mut dyn FnMut(&mut LuaHost, StepBoundary)) {
         for k in 0..self.scripts.order.len() {
             let i = self.scripts.order[k];
             let Some(f) = self.scripts.list[i].vision.clone() else {

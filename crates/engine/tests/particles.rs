@@ -4,6 +4,7 @@
 //! item limits, lifetimes, removal and bad arguments behave as in CoppeliaSim.
 
 mod util;
+use util::Drive;
 
 use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;

@@ -6,11 +6,12 @@
 //! rises. Where the folder is absent the test says so and passes.
 
 mod util;
+use util::Drive;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use gantry_lua::{ScriptLimits, ScriptState, Simulation, uses_luasocket};
+use gantry_lua::{ScriptLimits, ScriptState, uses_luasocket};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 
 /// Simulated time each scene runs, s (the measure).
@@ -56,7 +57,7 @@ fn run_file(path: &Path, served: &mut Vec<String>) -> Vec<(String, Outcome)> {
     let sources: Vec<String> = model.scripts.iter().map(|s| s.source.clone()).collect();
     let paths: Vec<PathBuf> = model.scripts.iter().map(|s| s.path.clone()).collect();
     let dt = model.settings.dt;
-    let mut sim = Simulation::new(model, ScriptLimits::default()).unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = util::engine(model, ScriptLimits::default()).unwrap_or_else(|e| panic!("{e}"));
     // Customization scripts see the scene before the run, as in CoppeliaSim.
     sim.non_simulation();
     sim.start();

@@ -4,6 +4,7 @@
 //! clears its explicit flag. The bundled six-axis arm's tool tip follows the target.
 
 mod util;
+use util::Drive;
 
 use gantry_sim_core::Value;
 use util::{Scene, assert_contains};

@@ -3,6 +3,7 @@
 //! and a recorded run could not be re-run identically), another seed draws others.
 
 mod util;
+use util::Drive;
 
 use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;

@@ -11,7 +11,7 @@ use std::sync::mpsc::{self, Receiver, Sender};
 use std::time::Duration;
 
 use gantry_lua::debugger::{BreakpointSpec, StopReason, VariableInfo};
-use gantry_lua::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, ScriptLimits, Simulation};
+use gantry_lua::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, ScriptLimits};
 use util::{TempDir, load};
 
 /// `a.lua`: line numbers matter to the tests below.
@@ -148,7 +148,7 @@ fn debug_session(files: &[(&str, &str)], limits: ScriptLimits, client: impl FnOn
         }),
         release: release.clone(),
     };
-    let mut sim = Simulation::with_debugger(load(&scene), limits, link).expect("the simulation starts");
+    let mut sim = util::engine_debugged(load(&scene), limits, link).expect("the simulation starts");
     let script = dir.path().join("a.lua");
     let done = Arc::new(AtomicBool::new(false));
     let flag = done.clone();

@@ -10,13 +10,15 @@
 //! `--script-port` on the command line), so the test runs beside a gantry on 6000.
 
 mod util;
+use util::Drive;
 
 use std::f64::consts::{PI, TAU};
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::path::PathBuf;
 
-use gantry_lua::{NetworkParams, ScriptLimits, ScriptState, Simulation};
+use gantry_engine::Engine;
+use gantry_lua::{NetworkParams, ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use util::{assert_close, floats, int, load, num};
 
@@ -45,20 +47,20 @@ fn send_packet(addr: SocketAddr, packet: &'static str) -> std::thread::JoinHandl
 }
 
 /// Sends `packet`, takes the one step whose actuation serves it, returns the reply.
-fn exchange(sim: &mut Simulation, addr: SocketAddr, packet: &'static str) -> String {
+fn exchange(sim: &mut Engine, addr: SocketAddr, packet: &'static str) -> String {
     let client = send_packet(addr, packet);
     sim.step();
     client.join().expect("client thread")
 }
 
-fn handle(sim: &mut Simulation, name: &str) -> i64 {
+fn handle(sim: &mut Engine, name: &str) -> i64 {
     let r = sim
         .call("getObjectHandle", &[Value::Str(name.to_owned())])
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     int(&r[0])
 }
 
-fn joints(sim: &mut Simulation) -> Vec<f64> {
+fn joints(sim: &mut Engine) -> Vec<f64> {
     (1..=6)
         .map(|i| {
             let h = handle(sim, &format!("RobotB_joint{i}"));
@@ -96,7 +98,7 @@ fn blue_robot_serves_the_papers_packets_and_moves_its_joints() {
         ..ScriptLimits::default()
     };
     // The script binds when it loads, as CoppeliaSim runs its top-level code.
-    let mut sim = Simulation::new(load(&path), limits).expect("the scene's simulation");
+    let mut sim = util::engine(load(&path), limits).expect("the scene's simulation");
     let addr = SocketAddr::from(([127, 0, 0, 1], port));
     assert_eq!(
         sim.script_listeners(),

@@ -2,8 +2,10 @@
 //! rover of `bubble_rob.toml` for 2 simulated minutes without getting stuck.
 
 mod util;
+use util::Drive;
 
-use gantry_lua::{ScriptLimits, ScriptState, Simulation};
+use gantry_engine::Engine;
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use util::{find, int, load, repo, world_position};
 
@@ -30,7 +32,7 @@ struct Run {
     height: (f64, f64),
 }
 
-fn drive(sim: &mut Simulation) -> Run {
+fn drive(sim: &mut Engine) -> Run {
     let rob = find(sim, "/bubbleRob");
     let nose = find(sim, "/bubbleRob/sensingNose");
     let left = find(sim, "/bubbleRob/leftMotor");
@@ -99,7 +101,7 @@ fn assert_roams(run: &Run) {
 #[test]
 fn the_shipped_bubble_rob_roams_for_two_minutes() {
     let model = load(&repo("assets/scenes/bubble_rob.toml"));
-    let mut sim = Simulation::new(model, ScriptLimits::default()).expect("builds");
+    let mut sim = util::engine(model, ScriptLimits::default()).expect("builds");
     let run = drive(&mut sim);
     eprintln!(
         "bubble_rob (shipped script): travelled {:.2} m, {} backups, {} detections (rising edges), \

@@ -4,6 +4,7 @@
 //! created path's points from its custom data to interpolate along it.
 
 mod util;
+use util::Drive;
 
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::SimulationState;

@@ -1,5 +1,7 @@
-//! Helpers shared by the Lua host's integration tests: temporary scene folders with
-//! inline scripts, the BubbleRob scene with a replacement script, and value accessors.
+//! Helpers shared by the tests of scenes with scripts (the Lua host driven by the
+//! engine): temporary scene folders with inline scripts, the BubbleRob scene with a
+//! replacement script, the engine driven as a front end drives it ([`Drive`]), and
+//! value accessors.
 #![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
 
 pub mod loopback;
@@ -7,9 +9,85 @@ pub mod loopback;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use gantry_lua::{ScriptLimits, ScriptState, Simulation};
+use std::cell::Ref;
+
+use gantry_engine::{Engine, EngineConfig, Input, LoopControl};
+use gantry_lua::{DebugLink, HookError, ScriptError, ScriptLimits, ScriptState};
+use gantry_sim_core::api::{CallError, Target};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene};
-use gantry_sim_core::{Handle, Value};
+use gantry_sim_core::sim::Control;
+use gantry_sim_core::{Handle, Sim, Value};
+
+/// The engine of `model` with `limits`, stopped, stepped only when a test says so.
+pub fn engine(model: SceneModel, limits: ScriptLimits) -> Result<Engine, ScriptError> {
+    Engine::new(
+        model,
+        EngineConfig {
+            limits,
+            ..EngineConfig::default()
+        },
+        None,
+    )
+}
+
+/// [`engine`] with the script debugger on `link`.
+pub fn engine_debugged(model: SceneModel, limits: ScriptLimits, link: DebugLink) -> Result<Engine, ScriptError> {
+    Engine::new(
+        model,
+        EngineConfig {
+            limits,
+            ..EngineConfig::default()
+        },
+        Some(link),
+    )
+}
+
+/// What the tests do to an engine, each as a front end does it: through
+/// [`Engine::serve`].
+pub trait Drive {
+    /// Starts (or resumes) the simulation.
+    fn start(&mut self);
+    /// Pauses it.
+    fn pause(&mut self);
+    /// Stops it: cleanup hooks, the scene rebuilt.
+    fn stop(&mut self);
+    /// Calls `sim.<name>` (or a qualified name) as a remote client.
+    ///
+    /// # Errors
+    /// The call's error.
+    fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, CallError>;
+    /// The simulation, to read.
+    fn core(&self) -> Ref<'_, Sim>;
+    /// Ends the run (cleanup hooks).
+    fn cleanup(&mut self);
+}
+
+impl Drive for Engine {
+    fn start(&mut self) {
+        self.serve(Input::Control(LoopControl::Control(Control::Start)));
+    }
+    fn pause(&mut self) {
+        self.serve(Input::Control(LoopControl::Control(Control::Pause)));
+    }
+    fn stop(&mut self) {
+        self.serve(Input::Control(LoopControl::Control(Control::Stop)));
+    }
+    fn call(&mut self, name: &str, args: &[Value]) -> Result<Vec<Value>, CallError> {
+        let target = Target::resolve_or_error(name)?;
+        self.serve(Input::Call { target: &target, args }).into_values()
+    }
+    fn core(&self) -> Ref<'_, Sim> {
+        self.sim()
+    }
+    fn cleanup(&mut self) {
+        self.finish();
+    }
+}
+
+/// Calls the global function `f` of the first running script that defines it.
+pub fn call_hook(sim: &mut Engine, f: &str, args: &[Value]) -> Result<Option<Vec<Value>>, HookError> {
+    sim.call_script_function(f, args)
+}
 
 /// A folder under the system temp dir, removed when dropped.
 pub struct TempDir {
@@ -86,7 +164,7 @@ pub fn bubble_rob_toml(script: Option<&str>) -> String {
 /// A scene written to a temporary folder, and its simulation.
 pub struct Scene {
     /// The simulation (dropped before the folder).
-    pub sim: Simulation,
+    pub sim: Engine,
     /// The scene file.
     pub path: PathBuf,
     /// The folder holding the scene and its scripts.
@@ -102,7 +180,7 @@ impl Scene {
             dir.write(name, text);
         }
         let path = dir.write("scene.toml", toml);
-        let sim = Simulation::new(load(&path), limits).expect("the simulation builds");
+        let sim = engine(load(&path), limits).expect("the simulation builds");
         Self { sim, path, dir }
     }
 
@@ -148,8 +226,8 @@ impl Scene {
 
 /// Calls the global function `f` of the scripts, expecting a script to define it and
 /// the call to succeed.
-pub fn call(sim: &mut Simulation, f: &str, args: &[Value]) -> Vec<Value> {
-    match sim.call_hook_function(f, args) {
+pub fn call(sim: &mut Engine, f: &str, args: &[Value]) -> Vec<Value> {
+    match sim.call_script_function(f, args) {
         Ok(Some(v)) => v,
         Ok(None) => panic!("no running script defines {f}; scripts: {:?}", sim.scripts()),
         Err(e) => panic!("{f} raised: {e}"),
@@ -157,7 +235,7 @@ pub fn call(sim: &mut Simulation, f: &str, args: &[Value]) -> Vec<Value> {
 }
 
 /// A handle by absolute path, resolved by the world directly.
-pub fn find(sim: &Simulation, path: &str) -> Handle {
+pub fn find(sim: &Engine, path: &str) -> Handle {
     sim.world().find(path, None, 0).expect(path)
 }
 
@@ -236,7 +314,7 @@ pub fn assert_contains(message: impl std::fmt::Display, parts: &[&str]) {
 }
 
 /// Every log line as `(source, verbosity, message)`.
-pub fn log_lines(sim: &Simulation) -> Vec<(String, i64, String)> {
+pub fn log_lines(sim: &Engine) -> Vec<(String, i64, String)> {
     sim.world()
         .log
         .lines()
@@ -245,7 +323,7 @@ pub fn log_lines(sim: &Simulation) -> Vec<(String, i64, String)> {
 }
 
 /// The messages logged by `source`, oldest first.
-pub fn messages_from(sim: &Simulation, source: &str) -> Vec<String> {
+pub fn messages_from(sim: &Engine, source: &str) -> Vec<String> {
     log_lines(sim)
         .into_iter()
         .filter(|(s, _, _)| s == source)
@@ -254,7 +332,7 @@ pub fn messages_from(sim: &Simulation, source: &str) -> Vec<String> {
 }
 
 /// The state of the script whose file name is `file`.
-pub fn script_state(sim: &Simulation, file: &str) -> ScriptState {
+pub fn script_state(sim: &Engine, file: &str) -> ScriptState {
     sim.scripts()
         .into_iter()
         .find(|(p, _, _)| p.file_name().and_then(|n| n.to_str()) == Some(file))
@@ -263,7 +341,7 @@ pub fn script_state(sim: &Simulation, file: &str) -> ScriptState {
 }
 
 /// Fails with the script's error unless script `file` is running.
-pub fn assert_running(sim: &Simulation, file: &str) {
+pub fn assert_running(sim: &Engine, file: &str) {
     assert_eq!(
         script_state(sim, file),
         ScriptState::Running,
@@ -273,7 +351,7 @@ pub fn assert_running(sim: &Simulation, file: &str) {
 }
 
 /// The error text of an errored script, or a panic if it is running.
-pub fn script_error(sim: &Simulation, file: &str) -> String {
+pub fn script_error(sim: &Engine, file: &str) -> String {
     match script_state(sim, file) {
         ScriptState::Errored(e) => e,
         ScriptState::Running => panic!("script {file} is still running"),
@@ -283,7 +361,7 @@ pub fn script_error(sim: &Simulation, file: &str) -> String {
 
 /// The value of the Int32 signal `name` (set by scripts with `sim.setInt32Signal`),
 /// `None` when unset.
-pub fn int32_signal(sim: &mut Simulation, name: &str) -> Option<i64> {
+pub fn int32_signal(sim: &mut Engine, name: &str) -> Option<i64> {
     match sim.call("getInt32Signal", &[Value::Str(name.to_owned())]) {
         Ok(v) => match v.first() {
             Some(Value::Int(i)) => Some(*i),
@@ -295,7 +373,7 @@ pub fn int32_signal(sim: &mut Simulation, name: &str) -> Option<i64> {
 }
 
 /// Position of `h` in the world frame, read from the world directly.
-pub fn world_position(sim: &Simulation, h: Handle) -> [f64; 3] {
+pub fn world_position(sim: &Engine, h: Handle) -> [f64; 3] {
     let w = sim.world();
     let p = w.object(h).expect("object exists").world.translation.vector;
     [p.x, p.y, p.z]

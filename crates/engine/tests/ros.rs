@@ -7,6 +7,7 @@
 //! close when the simulation stops.
 
 mod util;
+use util::Drive;
 
 use std::sync::Arc;
 

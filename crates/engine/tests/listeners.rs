@@ -5,6 +5,7 @@
 //! cannot work; `require 'simRemoteApi'` returns the module; bad ports are refused.
 
 mod util;
+use util::Drive;
 
 use std::sync::{Arc, Mutex};
 
