@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""File-level imports in every crate of the workspace: no circle, and no import up a floor.
+"""File-level imports in every crate of the workspace and every first-party Python
+package: no circle, and no import up a floor.
 
-A file imports another when its production code names a path that resolves into it:
+A Rust file imports another when its production code names a path that resolves into it:
 `use crate::a::b::Item` (or `crate::a::b::f(..)` inline) is an import of `a/b.rs` (or
 `a/b/mod.rs`); `super::`, `self::` and a file's own child modules resolve the same way,
 and `use` groups (`use crate::{a::X, b::{self, Y}}`) are expanded. A name that a module
@@ -9,16 +10,33 @@ re-exports (`pub use inner::Item;` in a `mod.rs` or `lib.rs`) is followed to the
 that defines it (through `pub use inner::*` too), so a facade does not hide a circle.
 `mod x;` declarations are not imports.
 
-Two rules, checked for every crate (`crates/*/src`, `python/src`, `src`):
+A Python file imports another when an `import` or `from ... import` statement names it,
+at module level or inside a function (a deferred import only hides a circle until the
+function runs): `import p.a`, `from p import a` (a submodule) and `from .a import X`
+(relative imports resolved against the file's package) all import `p/a.py`, and
+`from p import X` of a name imports `p/__init__.py`. A name is not followed to where it
+is defined, unlike Rust's re-exports: importing from a facade runs the facade, and all
+it imports. Not imports: the packages above the named module, which Python runs first
+but only to define the package (a package's `__init__.py` importing its submodules
+would otherwise make a circle with each of them), module names in strings (Gymnasium
+entry points, `importlib`), and imports under `if TYPE_CHECKING:`, which never run: they
+name types for the reader and the type checker, and are how a file annotates with a
+type of a module that imports it. The packages are the directories with an
+`__init__.py` (`python/gantry`); directories of scripts are not checked: tests/python
+and tools/bench import each other's files through the `sys.path` entries each script
+adds when it runs (both have a `public_robots.py`), so which file a name means is known
+only then, and nothing imports a test or a benchmark but another script.
+
+Two rules, checked for every crate (`crates/*/src`, `python/src`, `src`) and package:
 
 1. No circle among files. A circle means neither file can be read, tested or moved
    without the other; it is printed file by file. The few circles other engineers are
    untangling right now are listed in KNOWN_CIRCLES, by name, and are allowed only as
    listed (the same set of files, no more).
-2. Where a crate declares floors (FLOORS, lowest first), a file may import files of
-   lower floors only; a floor marked `peers` lets its files import each other (still
-   without a circle, by rule 1). Files in one directory module (`debugger/*`) are one
-   unit for the floors.
+2. Where a crate or package declares floors (FLOORS, lowest first), a file may import
+   files of lower floors only; a floor marked `peers` lets its files import each other
+   (still without a circle, by rule 1). Files in one directory module (`debugger/*`) are
+   one unit for the floors.
 
 Unit tests (`#[cfg(test)]` to the end of a file, and modules declared under
 `#[cfg(test)]`) may drive the crate from the top, as the integration tests do, so
@@ -33,6 +51,8 @@ has no tokio or mlua). docs/architecture.md draws the same floors.
 
 from __future__ import annotations
 
+import ast
+import os
 import re
 import sys
 import tempfile
@@ -69,6 +89,15 @@ FLOORS = {
         ({"host"}, False),
         ({"host_step", "remote", "remote_blocking", "ros_dispatch"}, False),
         ({"ros_action_dispatch"}, False),
+    ],
+    # The Python package: the Gymnasium tasks, the env that runs one, the vector env that
+    # runs many, and gantry.gym gathering and registering them (issue 47). The package's
+    # own __init__.py (Client) is below every floor, as a crate root is.
+    "python/gantry": [
+        ({"tasks", "batch"}, False),
+        ({"env"}, False),
+        ({"vector"}, False),
+        ({"gym"}, False),
     ],
 }
 
@@ -262,6 +291,122 @@ class Crate:
         return graph
 
 
+# Directories never searched for Python packages: build output, virtual environments
+# and installed dependencies.
+SKIP_DIRS = {"target", "node_modules", "site-packages", "__pycache__"}
+
+
+class PyPackage:
+    """One first-party Python package's files and what each imports (the module
+    docstring says what counts), shaped like `Crate` for `check`: modules are tuples of
+    names under the package (`()` for its `__init__.py`)."""
+
+    def __init__(self, top: Path, root: Path):
+        self.top, self.root, self.name = top, root, top.name
+        self.files: dict[tuple[str, ...], Path] = {}
+        for path in sorted(top.rglob("*.py")):
+            rel = path.relative_to(top).with_suffix("").parts
+            if any(part in SKIP_DIRS for part in rel):
+                continue
+            if rel[-1] == "__init__":
+                # Only a directory with an __init__.py is a subpackage.
+                self.files[rel[:-1]] = path
+            elif (path.parent / "__init__.py").is_file():
+                self.files[rel] = path
+
+    def rel(self, mod) -> str:
+        return str(self.files[mod].relative_to(self.root))
+
+    def is_package(self, mod) -> bool:
+        return self.files[mod].name == "__init__.py"
+
+    def module(self, dotted: str):
+        """The module a dotted absolute name means, or None outside this package."""
+        parts = tuple(dotted.split("."))
+        if parts[0] != self.name:
+            return None
+        return parts[1:]
+
+    def base(self, mod, level: int):
+        """The package that a relative import of `level` dots in `mod` starts from."""
+        package = mod if self.is_package(mod) else mod[:-1]
+        if level - 1 > len(package):
+            return None  # above the top package: Python refuses it too
+        return package[: len(package) - (level - 1)]
+
+    def named(self, mod) -> set[tuple[str, ...]]:
+        """The file of `mod`, or of its nearest enclosing module that is a file (a name
+        such as `p.a.X` written as a module path)."""
+        while mod not in self.files and mod:
+            mod = mod[:-1]
+        return {mod} if mod in self.files else set()
+
+    def imports(self) -> dict[tuple[str, ...], set[tuple[str, ...]]]:
+        graph = {}
+        for m, path in self.files.items():
+            tree = ast.parse(path.read_text(), str(path))
+            out = set()
+            for node in runtime_imports(tree):
+                if isinstance(node, ast.Import):
+                    for alias in node.names:
+                        target = self.module(alias.name)
+                        if target is not None:
+                            out |= self.named(target)
+                    continue
+                if node.level:
+                    start = self.base(m, node.level)
+                    if start is None:
+                        continue
+                    target = start + (tuple(node.module.split(".")) if node.module else ())
+                else:
+                    target = self.module(node.module)
+                    if target is None:
+                        continue
+                for alias in node.names:
+                    sub = target + (alias.name,)
+                    # `from p import a` of a submodule imports it; of a name, imports p.
+                    out |= {sub} if sub in self.files else self.named(target)
+            out.discard(m)
+            graph[m] = out
+        return graph
+
+
+def runtime_imports(tree: ast.AST):
+    """Every import statement of a module that can run: at any depth (functions,
+    classes, `try`), but not under `if TYPE_CHECKING:` (nor its `else:` opposite, which
+    runs)."""
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            yield node
+            continue
+        if isinstance(node, ast.If) and type_checking(node.test):
+            stack.extend(node.orelse)
+            continue
+        stack.extend(ast.iter_child_nodes(node))
+
+
+def type_checking(test: ast.expr) -> bool:
+    """Whether an `if` tests `TYPE_CHECKING` (or `typing.TYPE_CHECKING`)."""
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"
+    )
+
+
+def packages(root: Path) -> list[Path]:
+    """The top directories of first-party Python packages: an `__init__.py` in a
+    directory whose parent has none, outside hidden directories and SKIP_DIRS."""
+    found = []
+    for here, dirs, files in os.walk(root):
+        dirs[:] = sorted(d for d in dirs if not d.startswith(".") and d not in SKIP_DIRS)
+        path = Path(here)
+        if "__init__.py" in files and not (path.parent / "__init__.py").is_file():
+            found.append(path)
+            dirs[:] = []  # its subpackages are its own
+    return found
+
+
 def circles(graph) -> list[list]:
     """Each strongly connected set of more than one file, as one circle through it."""
     index, low, stack, on, sccs, counter = {}, {}, [], set(), [], [0]
@@ -374,9 +519,10 @@ def crates(root: Path) -> list[Path]:
 
 def run(root: Path, floors_by_src, known, out=sys.stderr) -> int:
     problems, notes = [], []
-    for src in crates(root):
-        rel = str(src.relative_to(root))
-        p, n = check(Crate(src, root), floors_by_src.get(rel), known)
+    units = [Crate(src, root) for src in crates(root)] + [PyPackage(top, root) for top in packages(root)]
+    for unit in units:
+        rel = str((unit.src if isinstance(unit, Crate) else unit.top).relative_to(root))
+        p, n = check(unit, floors_by_src.get(rel), known)
         problems += p
         notes += n
     for name in sorted(set(known) - {n.split("'")[1] for n in notes}):
@@ -468,11 +614,42 @@ def self_test() -> int:
     expect("glob facade", code == 0, out)
     code, out = outcome(clean, known={"old": {"crates/x/src/a.rs", "crates/x/src/b.rs"}})
     expect("stale known circle", code == 1 and "known circle 'old' is gone" in out, out)
+    # Python: a facade and a module importing each other, the facade deferring its
+    # import to a function, as gantry.gym and gantry.vector did (issue 47). The
+    # vector module names the facade absolutely, the facade names it relatively.
+    py_circle = {
+        "python/p/__init__.py": "from p._ext import Client\n",
+        "python/p/tasks.py": "class T:\n    pass\n",
+        "python/p/gym.py": "from .tasks import T\n\ndef __getattr__(name):\n    from .vector import V\n    return V\n",
+        "python/p/vector.py": "import os\nimport p.gym as gg\n\nclass V:\n    task = gg.T\n",
+    }
+    code, out = outcome(py_circle)
+    expect("python circle", code == 1 and "circle: python/p/gym.py -> python/p/vector.py -> python/p/gym.py" in out, out)
+    # Importing a name through the facade runs the facade: still a circle.
+    code, out = outcome({**py_circle, "python/p/vector.py": "from .gym import T\n\nclass V:\n    pass\n"})
+    expect("python facade", code == 1 and "circle: python/p/gym.py -> python/p/vector.py -> python/p/gym.py" in out, out)
+    # Broken as in gantry: vector builds on tasks, gym gathers both. Not imports: the
+    # package above (p/__init__.py, whose Client every module may use), names in
+    # strings and comments, and TYPE_CHECKING imports; a floor keeps tasks at the bottom.
+    py_floors = {"python/p": [({"tasks"}, False), ({"vector"}, False), ({"gym"}, False)]}
+    py_clean = {
+        "python/p/__init__.py": "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from .gym import V\n",
+        "python/p/tasks.py": "from . import Client\nfrom typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from p.vector import V\nclass T:\n    pass\n",
+        "python/p/gym.py": "from .tasks import T\nfrom .vector import V\nENTRY = 'p.vector:V'\n",
+        "python/p/vector.py": "# from .gym import T\nfrom p import tasks\n\nclass V:\n    task = tasks.T\n",
+    }
+    code, out = outcome(py_clean, floors=py_floors)
+    expect("python clean", code == 0, out)
+    code, out = outcome({**py_clean, "python/p/tasks.py": "def f():\n    from . import vector\n"}, floors=py_floors)
+    expect("python upward", code == 1 and "python/p/tasks.py (floor 1) imports python/p/vector.py (floor 2)" in out, out)
     for f in failures:
         print(f"layers self-test failed: {f}", file=sys.stderr)
     if failures:
         return 1
-    print("layers self-test: circle, super, known circle, upward import, clean tree, glob facade: ok")
+    print(
+        "layers self-test: circle, super, known circle, upward import, clean tree, glob facade;"
+        " Python circle, facade, clean package, upward import: ok"
+    )
     return 0
 
 

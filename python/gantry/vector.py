@@ -79,7 +79,8 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from ._gantry import Engine, PlanServer
-from .gym import _ARM_REACH_STEPS, _BUBBLE_ROB_STEPS, ArmReach, BubbleRobAvoid, GantryEnv, Task
+from .env import GantryEnv
+from .tasks import _ARM_REACH_STEPS, _BUBBLE_ROB_STEPS, ArmReach, BubbleRobAvoid, Task
 
 __all__ = ["VectorEnv", "arm_reach_vector_env", "bubble_rob_avoid_vector_env"]
 

@@ -14,9 +14,14 @@ def test_move_to_config_and_pose_block_until_done_in_stepping_mode(client):
     sim = client.require("sim")
     joints = [sim.getObject(f"/arm6/joint{i}") for i in range(1, 7)]
     target = sim.getObject("/target")
+    # gantry runs its scene at once, and free (--fast, or in real time in process) until
+    # setStepping holds it wherever it got to: stop it first, so that the run starts
+    # at step 0 every time rather than at a step that depends on the wall clock.
+    sim.stopSimulation()
     client.setStepping(True)
     sim.startSimulation()
     t0 = sim.getSimulationTime()
+    assert t0 == 0.0
 
     goal = [0.5, -0.3, 0.4, 0.0, -math.pi / 2 + 0.2, 0.1]
     params = {
@@ -73,3 +78,22 @@ def test_blocking_calls_are_refused_while_stopped_and_bad_arguments_are_named(cl
     with pytest.raises(Exception, match=r"moveToConfig"):
         sim.moveToConfig({"joints": [sim.getObject("/arm6/joint1")], "targetPos": [1, 2]})
     sim.stopSimulation()
+
+
+@pytest.mark.scene("assets/scenes/fk_arm.toml")
+def test_wait_takes_and_returns_the_same_whatever_step_it_starts_at(client):
+    """Issue 47: ``sim.wait`` returned ``(t0 + dt) - t1`` of two simulation times, 0 or a
+    few 1e-16 either side of it depending on the step it started at (+8.9e-16 once)."""
+    sim = client.require("sim")
+    sim.stopSimulation()  # from step 0, as in the test above
+    client.setStepping(True)
+    sim.startSimulation()
+    dt = sim.getSimulationTimeStep()
+    assert dt == 0.05
+    for _ in range(25):
+        # Each wait starts 11 steps after the last one, at steps 0 to 264, where the
+        # old difference of times came out above, below and on zero.
+        t = sim.getSimulationTime()
+        assert sim.wait(0.5) == 0.0
+        assert round((sim.getSimulationTime() - t) / dt) == 10
+        client.step()

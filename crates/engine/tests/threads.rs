@@ -114,6 +114,80 @@ fn sim_wait_blocks_in_simulation_time_and_returns_the_overshoot() {
     );
 }
 
+/// Issue 47: `sim.wait` returned `(t0 + dt) - t1` of two simulation times, so the same
+/// wait returned 0, a few 1e-16 below or above it, depending on the step it started at
+/// (a Python test saw +8.9e-16 from `sim.wait(0.5)`, asserting <= 0).
+#[test]
+fn sim_wait_takes_and_returns_the_same_whatever_step_it_starts_at() {
+    // Five waits, then one step, forty times over: 200 waits starting at steps 0 to
+    // 919, where the old difference of times came out above, below and on zero (and
+    // where 0.5 s at step 20 or 40 took the same ten steps as at step 0). `steps` counts
+    // the actuations, the steps the thread saw pass. `%.17g` prints a double exactly.
+    let a = "steps = 0
+    function sysCall_actuation() steps = steps + 1 end
+    function sysCall_thread()
+        sim.setStepping(true)
+        for round = 1, 40 do
+            for _, dt in ipairs({0.5, 0.3, 0.12, 0.05, 0.1}) do
+                local s0 = steps
+                local left = sim.wait(dt)
+                print(string.format('%g %d %.17g', dt, steps - s0, left))
+            end
+            sim.step()
+        end
+        print('done')
+    end";
+    let mut sc = scene("wait-start", ONE, &[("a.lua", a)]);
+    steps(&mut sc.sim, 40 * 23 + 2);
+    let lines = printed(&sc.sim, "a.lua");
+    assert_eq!(lines.last().map(String::as_str), Some("done"), "{lines:?}");
+    // dt = 0.05 s: a wait of a whole number of steps is on time (0 left, not a rounding
+    // residue of either sign); 0.12 s takes three steps and is 0.15 - 0.12 s late, the
+    // same number every time.
+    let expected: [(f64, u32, f64); 5] = [
+        (0.5, 10, 0.0),
+        (0.3, 6, 0.0),
+        (0.12, 3, 0.12 - 3.0 * 0.05),
+        (0.05, 1, 0.0),
+        (0.1, 2, 0.0),
+    ];
+    let waits = &lines[..lines.len() - 1];
+    assert_eq!(waits.len(), 40 * expected.len());
+    for (line, (dt, n, left)) in waits.iter().zip(expected.iter().cycle()) {
+        let fields: Vec<&str> = line.split(' ').collect();
+        assert_eq!(fields[..2], [dt.to_string(), n.to_string()], "steps taken: {line}");
+        let got: f64 = fields[2].parse().expect("a number");
+        // Bit for bit: 0.0 and -0.0 differ, and so do two overshoots an ulp apart.
+        assert!(
+            got.to_bits() == left.to_bits(),
+            "sim.wait({dt}) left {got:e}, not {left:e} ({line})"
+        );
+    }
+}
+
+#[test]
+fn sim_wait_of_whole_steps_takes_as_many_when_the_division_rounds_up() {
+    // At 0.01 s steps, 0.07 / 0.01 is 7.000000000000001 in doubles (0.14, 0.28 and 0.56
+    // likewise): rounded up as it is, the wait would take an eighth step.
+    let a = "steps = 0
+    function sysCall_actuation() steps = steps + 1 end
+    function sysCall_thread()
+        sim.setStepping(true)
+        for _, dt in ipairs({0.07, 0.14, 0.28, 0.56}) do
+            local s0 = steps
+            local left = sim.wait(dt)
+            print(string.format('%g %d %.17g', dt, steps - s0, left))
+        end
+    end";
+    let toml = format!("[simulation]\ndt = 0.01\n{ONE}");
+    let mut sc = scene("wait-round", &toml, &[("a.lua", a)]);
+    steps(&mut sc.sim, 7 + 14 + 28 + 56 + 2);
+    assert_eq!(
+        printed(&sc.sim, "a.lua"),
+        ["0.07 7 0", "0.14 14 0", "0.28 28 0", "0.56 56 0"]
+    );
+}
+
 #[test]
 fn a_thread_waits_for_a_signal_set_by_another_script() {
     let a = "function sysCall_thread()

@@ -46,18 +46,46 @@ function sim.switchThread()
     yield()
 end
 
--- Scripts see the step's start time for the whole step, so the wait ends at the first
--- step that starts at least dt after the call, and returns the overshoot (<= 0).
--- The 1e-9 s slack absorbs rounding in the accumulated time (dt = 0.05 is not exact).
+-- Scripts see the step's start time for the whole step, so a wait of dt in simulation
+-- time ends at the first step that starts at least dt after the call: after
+-- n = ceil(dt / step) steps, fixed when the call starts. It returns what CoppeliaSim
+-- documents, the time left, which is minus the overshoot: dt - n * step (<= 0).
+--
+-- Both are computed from step counts, never from differences of simulation times: the
+-- time of step k is k * step in floating point, so (t0 + dt) - t1 rounds differently at
+-- each start time (0.5 s at 0.05 s steps returned 0, -1.1e-16 or +4.4e-16 depending on
+-- the step it began at, and +8.9e-16 in a test asserting <= 0). The step index is read
+-- back from the time by rounding, which is exact: times are k * step, far from the
+-- half-way points. WAIT_SLACK, in steps, absorbs the rounding in dt / step (0.07 / 0.01
+-- is 7.000000000000001): a wait within a millionth of a step of n steps takes n steps,
+-- and is on time.
+local WAIT_SLACK = 1e-6
+local floor, ceil = math.floor, math.ceil
+local getStep = sim.getSimulationTimeStep
+
 function sim.wait(dt, simTime)
     number_arg(dt, 1, 'wait')
     need_thread('wait')
-    local now = (simTime == false) and getSystemTime or getTime
-    local t0 = now()
-    while now() - t0 < dt - 1e-9 do
+    if simTime == false then
+        -- Wall-clock time has no steps to count; it is not reproducible anyway.
+        local t0 = getSystemTime()
+        while getSystemTime() - t0 < dt do
+            yield()
+        end
+        return (t0 + dt) - getSystemTime()
+    end
+    local step = getStep()
+    local function index() return floor(getTime() / step + 0.5) end
+    local n = ceil(dt / step - WAIT_SLACK)
+    if not (n > 0) then n = 0 end -- dt <= 0 (or NaN): nothing to wait for
+    local last = index() + n
+    while index() < last do
         yield()
     end
-    return (t0 + dt) - now()
+    local left = dt - n * step
+    -- The rounding residue of a wait of a whole number of steps is no overshoot.
+    if left > -WAIT_SLACK * step then left = 0.0 end
+    return left
 end
 
 -- Waits until a signal of any type exists and returns its value. Accepts the signal
