@@ -12,6 +12,7 @@ use super::path::Path;
 use super::primitive::Primitive;
 use super::registry::MAX_DEPTH;
 use super::registry::nested;
+use super::typed::pad;
 use crate::Value;
 
 /// Appends one message body to a buffer.
@@ -35,9 +36,7 @@ impl<'a> Encoder<'a> {
 
     /// Pads with zeros to a multiple of `n` from the body's start.
     fn align(&mut self, n: usize) {
-        let pos = self.out.len().saturating_sub(self.origin);
-        let pad = (n - pos % n) % n;
-        self.out.resize(self.out.len() + pad, 0);
+        pad(self.out, self.origin, n);
     }
 
     fn wrong(&self, path: &Path, expected: &'static str, got: &Value) -> EncodeError {

@@ -2,6 +2,10 @@
 //! CDR bytes DDS carries, for the types in gantry's catalog, plus ROS 2 names to DDS
 //! topic names.
 //!
+//! [`typed`] holds the messages gantry makes itself (`/tf`, `/joint_states`, images...),
+//! encoded straight from Rust values on the same CDR rules, for the recorder and the
+//! ROS 2 graph.
+//!
 //! Pure: the DDS transport lives elsewhere and hands this module bytes. Like every
 //! decoder in this crate, [`MsgType::decode`] is total (never panics) and bounded (a
 //! length read from the input never reserves more than the input can back), and is
@@ -66,6 +70,7 @@ mod path;
 mod primitive;
 mod registry;
 mod srv_type;
+pub mod typed;
 
 pub use action_type::ActionType;
 pub use codec::CDR_LE_HEADER;
