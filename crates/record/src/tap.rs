@@ -9,11 +9,11 @@ use std::path::Path;
 
 use gantry_engine::{EngineInput, InputAt, LoopControl, RecorderFactory, Tap};
 use gantry_lua::Simulation;
+use gantry_ros::ImageStream;
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::Control;
 
 use crate::recorder::{RecordParams, RecordReport, Recorder, RunDescription, with_causes};
-use crate::snapshot::ImageStream;
 use gantry_mcap::input::Input;
 
 /// Records a run through the engine (see the module docs).

@@ -17,9 +17,9 @@ mod util;
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use gantry_ros2::{GraphOptions, RosGraph};
-use gantry_lua::ros::Direction;
 use gantry_lua::{ScriptLimits, Simulation};
+use gantry_ros::Direction;
+use gantry_ros2::{GraphOptions, RosGraph};
 use gantry_sim_core::Value;
 use gantry_sim_core::math::{Pose, quat_from_array};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};

@@ -6,8 +6,8 @@
 
 use std::time::{Duration, Instant};
 
+use gantry_ros::{Direction, EndpointSpec, RosNetwork, RosQos};
 use gantry_ros2::{DdsNetwork, DiscoveryRange, RosConfig};
-use gantry_lua::ros::{Direction, EndpointSpec, RosNetwork, RosQos};
 
 fn config(domain: u16) -> RosConfig {
     RosConfig {

@@ -5,6 +5,7 @@
 //! given as [`Value::Bytes`] or [`Value::Str`] are copied in one go.
 
 use super::EncodeError;
+use super::cdr::pad;
 use super::definition::Arity;
 use super::field::{Field, Kind};
 use super::msg_type::MsgType;
@@ -12,7 +13,6 @@ use super::path::Path;
 use super::primitive::Primitive;
 use super::registry::MAX_DEPTH;
 use super::registry::nested;
-use super::typed::pad;
 use crate::Value;
 
 /// Appends one message body to a buffer.

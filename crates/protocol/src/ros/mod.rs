@@ -58,6 +58,7 @@
 
 mod action_type;
 mod catalog;
+mod cdr;
 mod codec;
 mod decode;
 mod definition;
@@ -73,10 +74,13 @@ mod srv_type;
 pub mod typed;
 
 pub use action_type::ActionType;
-pub use codec::CDR_LE_HEADER;
+pub use cdr::CDR_LE_HEADER;
 pub use error::{DecodeError, EncodeError, NameError, RosTypeError};
 pub use msg_type::MsgType;
-pub use names::{ActionTopics, action_topics, ros_topic_name, service_reply_topic, service_request_topic, topic_name};
+pub use names::{
+    ActionTopics, action_topics, ros_topic_name, service_reply_topic, service_request_topic, topic_from_parts,
+    topic_name,
+};
 pub use srv_type::SrvType;
 
 pub use registry::MAX_DEPTH;

@@ -4,7 +4,9 @@
 //! gantry's vision sensors hold their pixels bottom row first (OpenGL's order); ROS
 //! images are top row first, so the rows are written in reverse order.
 
-use super::{CdrWriter, Time, header};
+use super::cdr_writer::CdrWriter;
+use super::header::header;
+use super::time::Time;
 
 /// `sensor_msgs/msg/Image` of an RGB image `width` x `height` in frame `frame_id`,
 /// from bottom-row-first pixels `rgb` (3 bytes each).

@@ -1,17 +1,8 @@
 //! The one CDR writer: the primitives of plain little-endian CDR (XCDR1) appended to a
-//! buffer, for the typed messages of this module. The dynamic encoder
-//! (`super::super::encode`) aligns with the same [`pad`].
+//! buffer, for the typed messages of this module, aligned by the same rule
+//! (`ros/cdr.rs`) as the dynamic encoder.
 
-use super::super::CDR_LE_HEADER;
-
-/// Pads `out` with zeros to a multiple of `n` bytes counted from `origin`, the index of
-/// the body's first byte (the end of the encapsulation header): CDR aligns each
-/// primitive to its own size from there, not from the start of the buffer.
-pub(crate) fn pad(out: &mut Vec<u8>, origin: usize, n: usize) {
-    let offset = out.len().saturating_sub(origin);
-    let pad = (n - offset % n) % n;
-    out.resize(out.len() + pad, 0);
-}
+use crate::ros::cdr::{CDR_LE_HEADER, pad};
 
 /// Appends one CDR message to a byte buffer.
 ///

@@ -1,6 +1,8 @@
 //! `sensor_msgs/msg/JointState` (`/joint_states`).
 
-use super::{CdrWriter, Time, header};
+use super::cdr_writer::CdrWriter;
+use super::header::header;
+use super::time::Time;
 
 /// `sensor_msgs/msg/JointState`: one entry per name, in rad (rad/s, N·m) for revolute
 /// joints and m (m/s, N) for prismatic ones. `velocity` and `effort` are either empty

@@ -1,6 +1,7 @@
 //! `rcl_interfaces/msg/Log` (`/rosout`): scripts' log lines.
 
-use super::{CdrWriter, Time};
+use super::cdr_writer::CdrWriter;
+use super::time::Time;
 
 /// Levels of `rcl_interfaces/msg/Log`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -20,6 +20,7 @@
 
 mod camera;
 mod cdr_writer;
+mod header;
 mod joint_state;
 mod log;
 mod range;
@@ -29,16 +30,9 @@ mod time;
 
 pub use camera::{camera_info, depth_image, image};
 pub use cdr_writer::CdrWriter;
-pub(crate) use cdr_writer::pad;
 pub use joint_state::joint_state;
 pub use log::{LogLevel, log};
 pub use range::range;
 pub use scalar::{clock, float64, int32, string};
-pub use tf::{TransformStamped, tf_message};
+pub use tf::{TransformStamped, WORLD_FRAME, tf_message};
 pub use time::{Time, nanos_from_secs};
-
-/// `std_msgs/msg/Header`: a stamp and a frame id, first in most sensor messages.
-fn header(w: &mut CdrWriter, stamp: Time, frame_id: &str) {
-    stamp.encode(w);
-    w.string(frame_id);
-}

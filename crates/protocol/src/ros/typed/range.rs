@@ -1,6 +1,8 @@
 //! `sensor_msgs/msg/Range`: a proximity sensor's reading.
 
-use super::{CdrWriter, Time, header};
+use super::cdr_writer::CdrWriter;
+use super::header::header;
+use super::time::Time;
 
 /// `sensor_msgs/msg/Range` of a proximity sensor in frame `frame_id`: `range` in m,
 /// `+inf` when nothing is detected (REP 117), between `min_range` and `max_range`.

@@ -1,7 +1,8 @@
 //! The one-field messages: `std_msgs` scalars (graph streams, signals, robot
 //! descriptions) and `rosgraph_msgs/msg/Clock`.
 
-use super::{CdrWriter, Time};
+use super::cdr_writer::CdrWriter;
+use super::time::Time;
 
 /// `std_msgs/msg/Float64`.
 pub fn float64(v: f64) -> Vec<u8> {

@@ -1,7 +1,13 @@
 //! `tf2_msgs/msg/TFMessage`: frames' poses in their parents' frames (`/tf`,
 //! `/tf_static`).
 
-use super::{CdrWriter, Time, header};
+use super::cdr_writer::CdrWriter;
+use super::header::header;
+use super::time::Time;
+
+/// The frame of the world, parent of every root object (REP 105's fixed frame, as
+/// gantry names it on `/tf` and in recordings).
+pub const WORLD_FRAME: &str = "world";
 
 /// One `geometry_msgs/msg/TransformStamped`: the pose of `child_frame_id` in
 /// `frame_id` (translation in m, rotation as a unit quaternion x, y, z, w).

@@ -1,7 +1,7 @@
 //! `builtin_interfaces/msg/Time`, the stamp of every typed message, and simulation
 //! seconds as the nanoseconds it is made from.
 
-use super::CdrWriter;
+use super::cdr_writer::CdrWriter;
 
 /// `builtin_interfaces/msg/Time`: a simulation time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
