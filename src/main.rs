@@ -18,8 +18,8 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
-use gantry_record::{ImageStream, RecordParams, RecordedRun, RunDescription, RunRecorder, Verdict};
 use gantry_lua::{NetworkParams, ScriptLimits, check_syntax, uses_luasocket};
+use gantry_record::{ImageStream, RecordParams, RecordedRun, RunDescription, RunRecorder, Verdict};
 use gantry_server::http::HttpConfig;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, SimConfig, TextConfig};
 use gantry_sim_core::scene::{

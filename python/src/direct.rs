@@ -15,8 +15,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use gantry_engine::{ClientId, Due, Engine, EngineConfig, HostCall, RemoteOp};
-use gantry_record::{RecordTap, Recorder};
 use gantry_lua::ScriptError;
+use gantry_record::{RecordTap, Recorder};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, ScriptHostFn, Target};
 use gantry_sim_core::scene::SceneModel;

@@ -19,8 +19,8 @@ use std::sync::Arc;
 
 use gantry_engine::HostCall;
 use gantry_engine::{EngineConfig, RecorderFactory};
-use gantry_record::{RecordParams, Recorder, RunDescription, RunRecorder};
 use gantry_lua::ScriptLimits;
+use gantry_record::{RecordParams, Recorder, RunDescription, RunRecorder};
 use gantry_server::sim_thread::SimConfig;
 use gantry_server::zmq::no_module;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, Signals};

@@ -10,8 +10,8 @@ mod util;
 
 use std::sync::Arc;
 
-use gantry_protocol::ros::message_type;
 use gantry_lua::ScriptLimits;
+use gantry_protocol::ros::message_type;
 use gantry_sim_core::Value;
 use util::loopback::Loopback;
 use util::{Scene, assert_contains, assert_running};

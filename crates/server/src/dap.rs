@@ -13,9 +13,9 @@
 
 use std::path::PathBuf;
 
-use gantry_protocol::dap::{self, Command, FrameError, MessageError, Outgoing};
 use gantry_lua::debugger::{BreakpointSpec, StopReason};
 use gantry_lua::{DebugEvent, DebugReply, DebugRequest};
+use gantry_protocol::dap::{self, Command, FrameError, MessageError, Outgoing};
 use serde_json::{Value as Json, json};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};

@@ -18,10 +18,10 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use gantry_engine::ClientId;
+use gantry_lua::{ListenerError, ListenerStatus, Listeners};
 use gantry_protocol::legacy_remote_api::{
     self as wire, Command, LegacyError, MessageHeader, PacketReader, SplitAssembler, opmode,
 };
-use gantry_lua::{ListenerError, ListenerStatus, Listeners};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::watch;

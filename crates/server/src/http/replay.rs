@@ -20,10 +20,10 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use gantry_lua::Simulation;
 use gantry_record::Recording;
 use gantry_record::format::{WORLD_FRAME, topic_name};
 use gantry_record::reader::FrameId;
-use gantry_lua::Simulation;
 use gantry_sim_core::Handle;
 use gantry_sim_core::math::{Pose, Vec3, quat_from_array};
 use gantry_sim_core::world::ObjectKind;
