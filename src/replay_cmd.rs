@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use gantry_record::Recording;
+use gantry_record::{RecordedScene, Recording};
 use gantry_server::http::HttpConfig;
 use gantry_server::replay::{ReplayConfig, replay};
 use gantry_server::{AccessToken, Shutdown};

@@ -79,7 +79,7 @@ stage "API docs (cargo doc -D warnings: no broken or private links)"
 # docs are the Python package's).
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --exclude gantry-python --no-deps --profile ci --quiet
 
-stage "dependency direction: protocol, coppelia-file and the scene model stay pure (no tokio runtime, rapier or mlua); no circle among files; floors inside the simulation crates and the Lua host"
+stage "dependency direction: protocol, coppelia-file and the scene model stay pure (no tokio runtime, rapier or mlua); ROS 2 over the world below the recorder, the graph and the Lua host; no circle among files; floors inside the simulation crates and the Lua host"
 if cargo tree -p gantry-protocol -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d) ' ; then
     echo "gantry-protocol must not depend on the crates listed above" >&2
     exit 1
@@ -107,8 +107,9 @@ fi
 # The recording format (issue 31) is data: no simulation, Lua, runtime or physics, so
 # its reader and codecs are fuzzed on their own. The recorder sits on the engine (a
 # Tap) and writes on a thread of its own: no transport.
-if cargo tree -p gantry-mcap -e normal --prefix none | grep -E '^(tokio|mlua|rapier3d|parry3d|gantry-world|gantry-sim-core|gantry-lua|gantry-engine|gantry-server) ' ; then
-    echo "gantry-mcap must not depend on the simulation, the Lua host, a runtime or physics" >&2
+# Rebuilding a recording's scene is the recorder's: the format does not load scenes.
+if cargo tree -p gantry-mcap -e normal --prefix none | grep -E '^(tokio|mlua|rapier3d|parry3d|gantry-scene|gantry-world|gantry-sim-core|gantry-ros|gantry-lua|gantry-engine|gantry-server) ' ; then
+    echo "gantry-mcap must not depend on the simulation, the scene loader, the Lua host, a runtime or physics" >&2
     exit 1
 fi
 if cargo tree -p gantry-record -e normal --prefix none | grep -E '^(axum|zeromq|gantry-server) ' ; then
@@ -123,6 +124,18 @@ if cargo tree -p gantry-lua -e normal --prefix none | grep -E '^(rustdds|gantry-
 fi
 if cargo tree -p gantry-ros2 -e normal --prefix none | grep -E '^(axum|zeromq|gantry-server) ' ; then
     echo "gantry-ros2 must not depend on the server's transports" >&2
+    exit 1
+fi
+# ROS 2 over the world (issue 47): the sampler, the tf frames and the network trait
+# that the recorder, the graph and the Lua host share sit below all three: no runtime,
+# no Lua, no transport, no recording format. The graph takes them from there, not
+# from the recorder.
+if cargo tree -p gantry-ros -e normal --prefix none | grep -E '^(tokio|mio|mlua|rustdds|axum|zeromq|mcap|gantry-lua|gantry-engine|gantry-server|gantry-mcap|gantry-record|gantry-ros2) ' ; then
+    echo "gantry-ros must not depend on a runtime, the Lua host, a transport or the recording" >&2
+    exit 1
+fi
+if cargo tree -p gantry-ros2 -e normal --prefix none | grep -E '^gantry-record ' ; then
+    echo "gantry-ros2 must not depend on the recorder (its messages and sampler are gantry-ros's)" >&2
     exit 1
 fi
 # Inside the crates: no circle among files in any crate, and sim-core's and the Lua

@@ -7,7 +7,8 @@
 
 use std::path::Path;
 
-use gantry_mcap::{Input, Recording, decode, msg};
+use gantry_mcap::{Input, Recording, decode};
+use gantry_protocol::ros::typed as msg;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -10,6 +10,7 @@
 
 use gantry_protocol::Value;
 use gantry_protocol::ros::MsgType;
+use gantry_ros::{RosNetwork, RosSample};
 use gantry_sim_core::Handle;
 use mlua::{Function, Value as LuaValue};
 
@@ -23,7 +24,6 @@ use crate::ros::action::{
 use crate::ros::host::{Kind, RosHost};
 use crate::ros::lua_api::sim_time;
 use crate::ros::wire::{read_header, request_header, time_value};
-use crate::ros::{RosNetwork, RosSample};
 use crate::ros_dispatch::{MAX_PER_STEP, resolve};
 
 /// One thing for a script to handle.

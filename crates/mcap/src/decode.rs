@@ -1,4 +1,5 @@
-//! CDR *decoding* of the messages gantry records (the inverse of [`crate::msg`]), for
+//! CDR *decoding* of the messages gantry records (the inverse of gantry-protocol's
+//! typed encoders, [`gantry_protocol::ros::typed`]), for
 //! reading recordings back: `gantry replay` and `gantry verify`.
 //!
 //! Pure and total: bytes in, a borrowed message or a [`DecodeError`] out. Nothing here
@@ -6,10 +7,16 @@
 //! checked against the bytes that are left before anything is reserved, so a hostile
 //! message costs at most its own size. Only little-endian plain CDR (encapsulation
 //! `00 01`, what every ROS 2 middleware and gantry write) is read; alignment counts from
-//! the end of the 4-byte encapsulation header, as in [`crate::cdr`].
+//! the end of the 4-byte encapsulation header, as in [`CdrWriter`].
+//!
+//! Typed like the encoders, not the catalog's dynamic decoder: reading a recording
+//! decodes every `/tf` message of it, and borrowed strings and plain numbers keep that
+//! to a copy of the poses.
+//!
+//! [`CdrWriter`]: gantry_protocol::ros::typed::CdrWriter
 
-use crate::cdr::ENCAPSULATION_LE;
-use crate::msg::{LogLevel, Time};
+use gantry_protocol::ros::CDR_LE_HEADER;
+use gantry_protocol::ros::typed::{LogLevel, Time};
 
 /// Why a message could not be decoded.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -56,28 +63,28 @@ impl<'a> CdrReader<'a> {
     /// # Errors
     /// Shorter than the header, or not little-endian plain CDR.
     pub fn new(buf: &'a [u8]) -> Result<Self, DecodeError> {
-        let Some(header) = buf.get(..ENCAPSULATION_LE.len()) else {
+        let Some(header) = buf.get(..CDR_LE_HEADER.len()) else {
             return Err(DecodeError::Truncated {
                 at: 0,
-                need: ENCAPSULATION_LE.len(),
+                need: CDR_LE_HEADER.len(),
                 len: buf.len(),
             });
         };
         // The last two bytes are options, which CDR readers ignore.
-        if header[..2] != ENCAPSULATION_LE[..2] {
+        if header[..2] != CDR_LE_HEADER[..2] {
             let mut h = [0; 4];
             h.copy_from_slice(header);
             return Err(DecodeError::Encapsulation(h));
         }
         Ok(Self {
             buf,
-            pos: ENCAPSULATION_LE.len(),
+            pos: CDR_LE_HEADER.len(),
         })
     }
 
     /// Skips the padding before a primitive of `n` bytes.
     fn align(&mut self, n: usize) {
-        let offset = self.pos - ENCAPSULATION_LE.len();
+        let offset = self.pos - CDR_LE_HEADER.len();
         self.pos = self.pos.saturating_add((n - offset % n) % n);
     }
 
@@ -306,12 +313,7 @@ pub struct Log<'a> {
 impl Log<'_> {
     /// The level as gantry writes it (anything above 40 counts as an error).
     pub fn level(&self) -> LogLevel {
-        match self.level {
-            ..=10 => LogLevel::Debug,
-            11..=20 => LogLevel::Info,
-            21..=30 => LogLevel::Warn,
-            _ => LogLevel::Error,
-        }
+        LogLevel::from_number(self.level)
     }
 }
 
@@ -391,8 +393,7 @@ pub fn image(bytes: &[u8]) -> Result<Image<'_>, DecodeError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cdr::CdrWriter;
-    use crate::msg::{self, TransformStamped};
+    use gantry_protocol::ros::typed::{self as msg, CdrWriter, TransformStamped};
 
     #[test]
     fn a_tf_message_decodes_to_what_was_encoded() {

@@ -7,7 +7,7 @@
 pub const FORMAT_VERSION: u32 = 1;
 
 /// The frame of the world, parent of every root object.
-pub const WORLD_FRAME: &str = "world";
+pub use gantry_protocol::ros::typed::WORLD_FRAME;
 
 /// `/tf`.
 pub const TF_TOPIC: &str = "/tf";
@@ -29,33 +29,6 @@ pub struct AttachedFile {
     pub data: Vec<u8>,
 }
 
-/// A ROS topic name from parts: `/a/b/c`, with every character other than ASCII
-/// letters, digits and `_` replaced by `_` inside a part.
-pub fn topic_name(parts: &[&str]) -> String {
-    let mut out = String::new();
-    for p in parts {
-        out.push('/');
-        if p.is_empty() {
-            out.push('_');
-        }
-        out.extend(
-            p.chars()
-                .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }),
-        );
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn topic_names_keep_to_ros_characters() {
-        assert_eq!(
-            topic_name(&["graph", "robot/graph[1]", "speed (m/s)"]),
-            "/graph/robot_graph_1_/speed__m_s_"
-        );
-        assert_eq!(topic_name(&["proximity", ""]), "/proximity/_");
-    }
-}
+/// A ROS topic name from parts (`/graph/<graph>/<stream>`), as gantry-protocol
+/// makes it for the live ROS 2 graph too.
+pub use gantry_protocol::ros::topic_from_parts as topic_name;

@@ -15,8 +15,8 @@
 
 use gantry_protocol::Value;
 use gantry_protocol::cbor;
-
-use crate::cdr::{CdrWriter, ENCAPSULATION_LE};
+use gantry_protocol::ros::CDR_LE_HEADER;
+use gantry_protocol::ros::typed::CdrWriter;
 
 /// `/gantry/input`.
 pub const INPUT_TOPIC: &str = "/gantry/input";
@@ -86,7 +86,7 @@ impl Input {
         if bytes.len() > MAX_INPUT_BYTES {
             return Err(InputDecodeError::TooLarge);
         }
-        let Some(body) = bytes.strip_prefix(&ENCAPSULATION_LE[..]) else {
+        let Some(body) = bytes.strip_prefix(&CDR_LE_HEADER[..]) else {
             return Err(InputDecodeError::Encapsulation);
         };
         let mut r = Reader { buf: body, at: 0 };

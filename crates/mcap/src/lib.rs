@@ -1,14 +1,19 @@
 //! gantry's recordings as data: what an MCAP recording of a run holds and how it is
-//! encoded, with no simulation in it (the recorder, which samples a running
-//! simulation, is gantry-record, above). Pure codecs, so they are fuzzed on their own.
+//! read back, with no simulation in it. Pure, so it is fuzzed on its own
+//! (`fuzz/fuzz_targets/recording.rs`).
 //!
-//! - [`cdr`] and [`msg`]: the CDR encoding of the ROS 2 messages (byte-exact tests),
-//!   and [`decode`]: their decoding (total, bounded), for reading recordings back;
-//! - [`schema`]: their `ros2msg` schema text, with every type they use;
-//! - [`input`]: what reached the simulation from outside (`/gantry/input`);
 //! - [`format`](mod@format): the format's version, fixed topics, topic naming, attachments;
+//! - [`schema`]: the `ros2msg` schema text of every message recorded;
+//! - [`input`]: what reached the simulation from outside (`/gantry/input`);
 //! - [`decode`] and [`reader`]: reading a recording back (`gantry replay`, `gantry
 //!   verify`), damaged and cut-short files included.
+//!
+//! Where the line is: the messages are *encoded* by gantry-protocol's typed encoders
+//! ([`gantry_protocol::ros::typed`], pure like this crate, so the fuzz target can
+//! check that what [`decode`] reads re-encodes), from the world that gantry-ros
+//! samples; the recorder (gantry-record, above both) writes them into MCAP and
+//! rebuilds a recording's scene from its attachments. Nothing here knows the
+//! simulation, the scene loader, Lua, a runtime or physics.
 //!
 //! Topics: `/tf` (`tf2_msgs/msg/TFMessage`: every moving object's pose in its parent's
 //! frame, frame ids the object paths without the leading `/`, roots in `world`),
@@ -19,11 +24,9 @@
 //! (`sensor_msgs/msg/Image`) and `/gantry/input`. Stamps are simulation time. See
 //! docs/recording.md.
 
-pub mod cdr;
 pub mod decode;
 pub mod format;
 pub mod input;
-pub mod msg;
 pub mod reader;
 pub mod schema;
 

@@ -1,6 +1,8 @@
 //! Reading a recording back: [`Recording::open`] reads a file `gantry run --record`
 //! wrote into an in-memory index that answers "what was the state at time t" in
-//! microseconds, for `gantry replay` (scrubbing) and `gantry verify`.
+//! microseconds, for `gantry replay` (scrubbing) and `gantry verify`. It reads the
+//! recording only: rebuilding the recorded scene from the attachments and the metadata
+//! is gantry-record's (`gantry_record::scene`), which knows the scene loader.
 //!
 //! The whole file is read once, record by record, from the start: every complete chunk
 //! is decompressed, CRC-checked and its messages decoded ([`crate::decode`]). That is
@@ -36,9 +38,6 @@ use std::collections::{BTreeMap, HashMap};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use gantry_scene::scene::{
-    Files, LoadError, LoadOptions, MapFiles, SceneModel, load_bundled, load_client_scene, load_scene,
-};
 use mcap::records::op;
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
@@ -111,25 +110,6 @@ pub enum ReadError {
         path: PathBuf,
         /// Why: damaged or empty, and where.
         reason: String,
-    },
-    /// The recording does not hold the files its scene needs.
-    #[error("{path}: the scene cannot be rebuilt from the recording: {reason}")]
-    SceneMissing {
-        /// The file.
-        path: PathBuf,
-        /// What is missing.
-        reason: String,
-    },
-    /// The recorded scene files do not load.
-    #[error("{path}: the recorded scene {scene} does not load")]
-    Scene {
-        /// The file.
-        path: PathBuf,
-        /// The scene's path in the recording.
-        scene: String,
-        /// The loader's error (boxed: it is large, and this is not a hot path).
-        #[source]
-        source: Box<LoadError>,
     },
 }
 
@@ -865,110 +845,6 @@ impl Recording {
             }
         }
     }
-
-    /// The recorded scene, loaded from the attachments as the run loaded it, with the
-    /// recorded time step and substeps (see [`scene_from_files`]).
-    ///
-    /// # Errors
-    /// The scene file is not attached, or does not load.
-    pub fn scene_model(&self) -> Result<SceneModel, ReadError> {
-        scene_from_files(&self.path, &self.metadata, &self.attachments)
-    }
-}
-
-/// The scene of a recording from its `gantry` metadata record and its attachments:
-/// every file the loader read, at the path it read it (`scene_path` names the scene;
-/// an empty one is the empty scene of `gantry.Client()`), with the recorded package
-/// paths, `free_base`, time step and substeps, and without its scripts when the run had
-/// none (`scripts = false`). Older recordings name no `scene_path`: the bundled
-/// showroom, or the first attachment with the scripts named relative to it. `path`
-/// names the recording in errors.
-///
-/// # Errors
-/// The scene file is not attached, or does not load.
-pub fn scene_from_files(
-    path: &Path,
-    meta: &BTreeMap<String, String>,
-    attachments: &[AttachedFile],
-) -> Result<SceneModel, ReadError> {
-    let opts = LoadOptions {
-        package_paths: meta
-            .get("package_paths")
-            .map(|p| p.lines().filter(|l| !l.is_empty()).map(PathBuf::from).collect())
-            .unwrap_or_default(),
-        free_base: meta.get("free_base").is_some_and(|v| v == "true"),
-    };
-    let scene_error = |scene: String, source: LoadError| ReadError::Scene {
-        path: path.to_path_buf(),
-        scene,
-        source: Box::new(source),
-    };
-    let (files, scene) = match meta.get("scene_path") {
-        Some(scene) if scene.is_empty() => {
-            let model = load_client_scene(None, &opts).map_err(|e| scene_error("(empty scene)".into(), e))?;
-            return Ok(with_settings(meta, model));
-        }
-        Some(scene) => (
-            MapFiles::new(attachments.iter().map(|a| (PathBuf::from(&a.name), a.data.clone()))),
-            PathBuf::from(scene),
-        ),
-        None if meta.get("scene_file").is_some_and(|f| f == "(bundled showroom)") => {
-            let model = load_bundled("showroom", &opts)
-                .ok_or_else(|| ReadError::SceneMissing {
-                    path: path.to_path_buf(),
-                    reason: "it was recorded on the bundled showroom, which this gantry does not have".into(),
-                })?
-                .map_err(|e| scene_error("showroom".into(), e))?;
-            return Ok(with_settings(meta, model));
-        }
-        None => {
-            // Older recordings: the scene file first, then its scripts named
-            // relative to it; put them under one made-up folder.
-            let root = Path::new("/recording");
-            let first = attachments.first().ok_or_else(|| ReadError::SceneMissing {
-                path: path.to_path_buf(),
-                reason: "it has no attachments (the scene file is missing)".into(),
-            })?;
-            (
-                MapFiles::new(attachments.iter().map(|a| (root.join(&a.name), a.data.clone()))),
-                root.join(&first.name),
-            )
-        }
-    };
-    if !files.is_file(&scene) {
-        return Err(ReadError::SceneMissing {
-            path: path.to_path_buf(),
-            reason: format!("the scene file {} is not attached", scene.display()),
-        });
-    }
-    let model = load_scene(&files, &scene, &opts).map_err(|e| scene_error(scene.display().to_string(), e))?;
-    Ok(with_settings(meta, model))
-}
-
-/// `model` with the recorded time step, substeps and seed (command-line overrides of
-/// the run included), and without scripts when the run had none.
-fn with_settings(meta: &BTreeMap<String, String>, mut model: SceneModel) -> SceneModel {
-    if let Some(dt) = meta
-        .get("dt")
-        .and_then(|v| v.parse::<f64>().ok())
-        .filter(|d| d.is_finite() && *d > 0.0)
-    {
-        model.settings.dt = dt;
-    }
-    if let Some(n) = meta
-        .get("substeps")
-        .and_then(|v| v.parse::<u32>().ok())
-        .filter(|n| *n > 0)
-    {
-        model.settings.substeps = n;
-    }
-    if let Some(seed) = meta.get("seed").and_then(|v| v.parse::<i64>().ok()) {
-        model.settings.seed = seed;
-    }
-    if meta.get("scripts").is_some_and(|v| v == "false") {
-        model.scripts.clear();
-    }
-    model
 }
 
 /// Where the messages being read come from, for [`ImageAt`].
@@ -1141,7 +1017,7 @@ fn latest<T>(list: &[T], t: u64, time: impl Fn(&T) -> u64) -> Option<&T> {
 }
 
 /// A message stamp in nanoseconds (negative times count as 0).
-fn stamp_ns(t: crate::msg::Time) -> u64 {
+fn stamp_ns(t: gantry_protocol::ros::typed::Time) -> u64 {
     u64::try_from(t.sec).unwrap_or(0) * 1_000_000_000 + u64::from(t.nanosec)
 }
 

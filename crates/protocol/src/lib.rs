@@ -14,7 +14,8 @@
 //! * [`dap`]: the Debug Adapter Protocol: `Content-Length` frames, typed requests, and the
 //!   adapter's responses and events.
 //! * [`ros`]: ROS 2 messages as CDR to and from [`Value`] for the known message and
-//!   service types, and ROS 2 names to DDS topic names.
+//!   service types, typed encoders of the messages gantry publishes and records
+//!   ([`ros::typed`]), and ROS 2 names to DDS topic names.
 
 pub mod cbor;
 pub mod dap;

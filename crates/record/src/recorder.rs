@@ -16,9 +16,9 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
 use std::thread::JoinHandle;
 
+use gantry_ros::{ImageStream, LogSample, Sampler, Snapshot};
 use gantry_sim_core::Sim;
 
-use crate::snapshot::{ImageStream, LogSample, Sampler, Snapshot};
 use crate::writer::McapSink;
 use gantry_mcap::format::{AttachedFile, FORMAT_VERSION};
 use gantry_mcap::input::Input;

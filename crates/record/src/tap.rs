@@ -10,12 +10,12 @@ use std::path::Path;
 use gantry_engine::{
     Input as EngineInput, InputAt, LoopControl, Observer, RecorderFactory, RecordingRefused, RemoteOp,
 };
+use gantry_ros::ImageStream;
 use gantry_sim_core::api::Target;
 use gantry_sim_core::sim::Control;
 use gantry_sim_core::{Sim, Value};
 
 use crate::recorder::{RecordParams, RecordReport, Recorder, RunDescription, with_causes};
-use crate::snapshot::ImageStream;
 use gantry_mcap::input::Input;
 
 /// Records a run through the engine (see the module docs).

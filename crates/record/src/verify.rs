@@ -23,14 +23,14 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use gantry_engine::{Engine, EngineConfig, Input as EngineInput, LoopControl, MidStep};
 use gantry_mcap::AttachedFile;
-use gantry_mcap::reader::scene_from_files;
+use gantry_ros::ImageStream;
 use gantry_sim_core::Value;
 use gantry_sim_core::api::Target;
 use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::Control;
 
 use crate::recorder::{RecordParams, Recorder, with_causes};
-use crate::snapshot::ImageStream;
+use crate::scene::scene_from_files;
 use crate::tap::RecordTap;
 use gantry_mcap::format::FORMAT_VERSION;
 use gantry_mcap::input::{INPUT_TOPIC, Input};
@@ -238,8 +238,8 @@ impl RecordedRun {
         })
     }
 
-    /// The recorded scene, loaded from the attachments as the run loaded it (the
-    /// reader's [`scene_from_files`], which `gantry replay` uses too).
+    /// The recorded scene, loaded from the attachments as the run loaded it
+    /// ([`scene_from_files`], which `gantry replay` uses too).
     ///
     /// # Errors
     /// The scene file is not attached, or does not load.

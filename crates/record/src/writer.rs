@@ -12,12 +12,11 @@ use std::sync::Arc;
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, Compression, McapError, WriteOptions, Writer};
 
-use crate::snapshot::{LogSample, SignalSample, Snapshot};
-use crate::tf_frames::TfFrames;
 use gantry_mcap::format::{AttachedFile, JOINT_STATES_TOPIC, ROSOUT_TOPIC, TF_STATIC_TOPIC, TF_TOPIC, topic_name};
 use gantry_mcap::input::{INPUT_TOPIC, Input};
-use gantry_mcap::msg::{self, LogLevel, Time};
 use gantry_mcap::schema::{self, MessageType};
+use gantry_ros::msg::{self, LogLevel, Time};
+use gantry_ros::{LogSample, SignalSample, Snapshot, TfFrames};
 
 /// An MCAP file being written: the channels so far and their message counts.
 pub struct McapSink<W: Write + Seek> {

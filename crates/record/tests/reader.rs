@@ -7,11 +7,11 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 
 use gantry_record::format::WORLD_FRAME;
-use gantry_record::msg::{self, Time, TransformStamped};
-use gantry_record::reader::{METADATA_NAME, scene_from_files};
-use gantry_record::snapshot::{Sampler, Snapshot};
+use gantry_record::reader::METADATA_NAME;
 use gantry_record::writer::McapSink;
 use gantry_record::{AttachedFile, ReadError, Recording};
+use gantry_ros::msg::{self, Time, TransformStamped};
+use gantry_ros::{Sampler, Snapshot};
 use gantry_sim_core::Sim;
 use gantry_sim_core::scene::{LoadOptions, load_bundled};
 
@@ -427,33 +427,6 @@ fn a_recording_from_a_newer_gantry_is_refused_naming_both_versions() {
     // No format_version: version 1.
     let (bytes, _) = record_showroom(2, &gantry_metadata(&[]));
     assert!(open(&bytes).is_ok());
-}
-
-#[test]
-fn the_scene_is_rebuilt_from_the_attachments() {
-    let scene_of = |metadata: BTreeMap<String, String>, attachments: Vec<AttachedFile>| {
-        scene_from_files(Path::new("test.mcap"), &metadata, &attachments)
-    };
-    // The bundled showroom of an older recording.
-    let model = scene_of(gantry_metadata(&[("dt", "0.02")]), Vec::new()).expect("loads");
-    assert_eq!(model.settings.dt, 0.02);
-    assert!(model.objects.len() > 20);
-    // A scene named by the path it was read at, with its files.
-    let scene = "[[object]]\nname = \"crate\"\nkind = \"shape\"\nshape = \"box\"\nsize = [1, 1, 1]\n";
-    let files = vec![AttachedFile {
-        name: "/home/u/sim/s.toml".into(),
-        media_type: "application/toml".into(),
-        data: scene.as_bytes().to_vec(),
-    }];
-    let model = scene_of(gantry_metadata(&[("scene_path", "/home/u/sim/s.toml")]), files.clone()).expect("loads");
-    assert!(
-        model.objects.iter().any(|o| o.alias == "crate"),
-        "{:?}",
-        model.objects.len()
-    );
-    // A scene file that is not attached.
-    let e = scene_of(gantry_metadata(&[("scene_path", "/elsewhere.toml")]), files).expect_err("missing");
-    assert!(e.to_string().contains("is not attached"), "{e}");
 }
 
 #[test]

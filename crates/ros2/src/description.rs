@@ -24,9 +24,8 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use gantry_lua::ros::{Direction, EndpointId, NetworkError, RosNetwork, RosQos};
-use gantry_record::msg;
-use gantry_record::snapshot::{FrameNames, Snapshot};
+use gantry_ros::msg;
+use gantry_ros::{Direction, EndpointId, FrameNames, NetworkError, RosNetwork, RosQos, Snapshot};
 use gantry_sim_core::Handle;
 use gantry_sim_core::World;
 use gantry_sim_core::world::ObjectKind;

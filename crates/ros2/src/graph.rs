@@ -37,11 +37,8 @@ use std::sync::mpsc::{Receiver, SyncSender};
 use std::thread::JoinHandle;
 
 use gantry_engine::Observer;
-use gantry_lua::ros::{Direction, EndpointId, NetworkError, RosNetwork, RosQos};
-use gantry_record::cdr::CdrWriter;
-use gantry_record::msg::{self, Time, nanos_from_secs};
-use gantry_record::snapshot::{Sampler, Snapshot};
-use gantry_record::tf_frames::TfFrames;
+use gantry_ros::msg::{self, Time, nanos_from_secs};
+use gantry_ros::{Direction, EndpointId, FrameNames, NetworkError, RosNetwork, RosQos, Sampler, Snapshot, TfFrames};
 use gantry_sim_core::api::Target;
 use gantry_sim_core::scene::{JointType, Projection};
 use gantry_sim_core::vision;
@@ -168,10 +165,7 @@ impl Encoder {
 
     fn publish(&mut self, s: &Snapshot) {
         let stamp = Time::from_nanos(s.stamp_ns);
-        let mut clock = CdrWriter::new();
-        clock.i32(stamp.sec);
-        clock.u32(stamp.nanosec);
-        self.write(self.clock, clock.as_bytes());
+        self.write(self.clock, &msg::clock(stamp));
         let (statics, tf) = self.frames.messages(s);
         if let Some(m) = statics {
             self.write(self.tf_static, &m);
@@ -220,7 +214,7 @@ pub struct RosGraph {
     last_ns: Option<u64>,
     /// The frame names (object paths) of the tree the cameras', robots' and
     /// descriptions' topics were opened for.
-    tree: Option<gantry_record::snapshot::FrameNames>,
+    tree: Option<FrameNames>,
     /// How that tree is named on the graph (URDF links by link name).
     names: Arc<RosNames>,
     /// The URDF robots' `/robot_description` topics.
@@ -585,35 +579,22 @@ fn camera_messages(
     let img = vision::read(world, states, h)?;
     let [w, hgt] = img.resolution();
     let image = msg::image(stamp, frame, w, hgt, img.rgb());
-    // 32FC1 in metres, top row first; +inf where nothing is seen (REP 118).
-    let mut d = CdrWriter::with_capacity(64 + frame.len() + img.depth().len() * 4);
-    d.i32(stamp.sec);
-    d.u32(stamp.nanosec);
-    d.string(frame);
-    d.u32(hgt);
-    d.u32(w);
-    d.string("32FC1");
-    d.u8(0);
-    d.u32(4 * w);
-    d.sequence_len(img.depth().len() * 4);
-    let row = w as usize;
-    if row > 0 {
-        let mut bytes = Vec::with_capacity(row * 4);
-        for r in img.depth().chunks_exact(row).rev() {
-            bytes.clear();
-            for &v in r {
-                let m = if v >= 1.0 {
-                    f32::INFINITY
-                } else {
-                    (near + f64::from(v) * (far - near)) as f32
-                };
-                bytes.extend_from_slice(&m.to_le_bytes());
+    // The sensor's depth buffer holds 0..1 between the near and far planes; ROS wants
+    // metres, +inf where nothing is seen within the far plane (REP 118).
+    let depth_m: Vec<f32> = img
+        .depth()
+        .iter()
+        .map(|&v| {
+            if v >= 1.0 {
+                f32::INFINITY
+            } else {
+                (near + f64::from(v) * (far - near)) as f32
             }
-            d.raw(&bytes);
-        }
-    }
+        })
+        .collect();
+    let depth = msg::depth_image(stamp, frame, w, hgt, &depth_m);
     let info = camera_info(stamp, frame, w, hgt, projection, fov, ortho);
-    Ok([image, d.into_bytes(), info])
+    Ok([image, depth, info])
 }
 
 /// `sensor_msgs/CameraInfo` of a pinhole camera whose view angle `fov` (rad) spans the
@@ -627,29 +608,5 @@ fn camera_info(stamp: Time, frame: &str, w: u32, h: u32, projection: Projection,
         }
         Projection::Orthographic => (0.0, 0.0, 0.0),
     };
-    let mut c = CdrWriter::with_capacity(400 + frame.len());
-    c.i32(stamp.sec);
-    c.u32(stamp.nanosec);
-    c.string(frame);
-    c.u32(h);
-    c.u32(w);
-    c.string("plumb_bob");
-    c.f64_sequence(&[0.0; 5]);
-    for v in [fx, 0.0, cx, 0.0, fx, cy, 0.0, 0.0, 1.0] {
-        c.f64(v);
-    }
-    for v in [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0] {
-        c.f64(v);
-    }
-    for v in [fx, 0.0, cx, 0.0, 0.0, fx, cy, 0.0, 0.0, 0.0, 1.0, 0.0] {
-        c.f64(v);
-    }
-    // binning_x, binning_y, then the region of interest (all of the image).
-    c.u32(0);
-    c.u32(0);
-    for _ in 0..4 {
-        c.u32(0);
-    }
-    c.u8(0);
-    c.into_bytes()
+    msg::camera_info(stamp, frame, w, h, fx, cx, cy)
 }

@@ -6,7 +6,7 @@
 //!
 //! - [`config`]: the domain and discovery range, from ROS's environment variables;
 //! - [`node`]: the DDS participant on its own thread, which carries CDR bodies for the
-//!   Lua host's `simROS2` module (the [`gantry_lua::ros::RosNetwork`] it
+//!   Lua host's `simROS2` module (the [`gantry_ros::RosNetwork`] it
 //!   implements) and for the graph;
 //! - [`graph`]: `/clock`, `/tf`, `/joint_states` and camera topics after each step;
 //! - [`description`]: URDF robots as robot_state_publisher presents them

@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 use std::time::Duration as StdDuration;
 
-use gantry_lua::ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos, RosSample};
+use gantry_ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos, RosSample};
 use rustdds::mio1::{Events, Interest, Poll, Token, Waker};
 use rustdds::no_key::{DataReader, DataWriter};
 use rustdds::policy::{Durability, History, Reliability};

@@ -2,7 +2,7 @@
 //! graph's own topics ([`crate::graph`]) and the robot descriptions
 //! ([`crate::description`]).
 
-use gantry_lua::ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos};
+use gantry_ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos};
 
 /// Opens `topic` of `ros_type`, with ROS 2's DDS names (the codec's mangling).
 pub(crate) fn open(

@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use gantry_engine::{Engine, EngineConfig, Input, LoopControl};
-use gantry_lua::ros::Direction;
+use gantry_ros::Direction;
 use gantry_ros2::{GraphOptions, RosGraph};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::Target;

@@ -6,7 +6,7 @@
 
 use std::time::{Duration, Instant};
 
-use gantry_lua::ros::{Direction, EndpointSpec, RosNetwork, RosQos};
+use gantry_ros::{Direction, EndpointSpec, RosNetwork, RosQos};
 use gantry_ros2::{DdsNetwork, DiscoveryRange, RosConfig};
 
 fn config(domain: u16) -> RosConfig {

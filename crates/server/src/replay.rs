@@ -1,6 +1,7 @@
 //! `gantry replay FILE`: serves the viewer over a recording, with nothing simulated.
 //!
-//! The scene is the one the recording carries ([`Recording::scene_model`]), built on a
+//! The scene is the one the recording carries
+//! ([`RecordedScene::scene_model`](gantry_record::RecordedScene::scene_model)), built on a
 //! simulation thread of its own that is never started: its scripts are removed before
 //! the world is built, so none of them runs, and nothing steps. The only listener is
 //! the viewer's ([`crate::http::serve_replay`]); the replay's clock and what it shows are

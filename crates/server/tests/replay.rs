@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 
 use gantry_engine::{Engine, EngineConfig};
-use gantry_record::{RecordParams, Recorder, Recording};
+use gantry_record::{RecordParams, RecordedScene, Recorder, Recording};
 use gantry_server::http::replay::{apply_at, frame_handles};
 use gantry_sim_core::Sim;
 use gantry_sim_core::math::Pose;

@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 use std::sync::Mutex;
 
-use gantry_lua::ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosSample};
+use gantry_ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosSample};
 
 /// Delivers writes to the subscriptions of the same topic, in memory.
 #[derive(Debug, Default)]

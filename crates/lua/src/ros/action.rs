@@ -21,9 +21,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use gantry_protocol::Value;
 use gantry_protocol::ros::{ActionType, MsgType, message_type, service_type};
+use gantry_ros::{EndpointId, RosNetwork, RosQos};
 
 use super::callback::Callback;
-use super::network::{EndpointId, RosNetwork, RosQos};
 use super::wire::{encode, request_header, time_value};
 
 /// A goal's id: 16 bytes, `unique_identifier_msgs/UUID`.

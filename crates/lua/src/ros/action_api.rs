@@ -5,6 +5,7 @@ use std::cell::{Cell, RefCell};
 
 use gantry_protocol::Value;
 use gantry_protocol::ros::{ActionType, action_topics, action_type};
+use gantry_ros::{Direction, EndpointId, RosNetwork, RosQos};
 use mlua::{Lua, MultiValue, Table, Value as LuaValue};
 
 use super::action::{
@@ -18,7 +19,6 @@ use super::lua_api::{
     CALL_TIMEOUT_S, Res, arg, callback_arg, handle_arg, next_guid, open_service_topics, running_object, string_arg,
     table_value, wait_matched,
 };
-use super::network::{Direction, EndpointId, RosNetwork, RosQos};
 use super::wire::{encode, request_header, time_value};
 use crate::app_state::state;
 

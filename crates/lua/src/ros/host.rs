@@ -8,11 +8,11 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use gantry_protocol::ros::{MsgType, SrvType};
+use gantry_ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos};
 use gantry_sim_core::Handle;
 
 use super::action::{ActionClient, ActionServer};
 use super::callback::Callback;
-use super::network::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosQos};
 
 /// What an endpoint handle stands for.
 pub(crate) enum Kind {

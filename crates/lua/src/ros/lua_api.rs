@@ -12,11 +12,11 @@ use gantry_protocol::Value;
 use gantry_protocol::ros::{
     MsgType, SrvType, message_type, service_reply_topic, service_request_topic, service_type, topic_name,
 };
+use gantry_ros::{Direction, EndpointId, RosQos};
 use mlua::{Lua, MultiValue, Value as LuaValue};
 
 use super::callback::Callback;
 use super::host::{Endpoint, Kind, RosHost};
-use super::network::{Direction, EndpointId, RosQos};
 use super::wire::{encode, read_header, request_header, time_value};
 use crate::app_state::state;
 use crate::convert::{to_lua, to_value};
@@ -455,11 +455,7 @@ pub(super) fn call(lua: &Lua, args: &MultiValue) -> Res {
 
 /// Waits (wall time, until `deadline`) for publisher `id` to match a subscription;
 /// whether it did.
-pub(super) fn wait_matched(
-    net: &dyn super::network::RosNetwork,
-    id: super::network::EndpointId,
-    deadline: std::time::Instant,
-) -> bool {
+pub(super) fn wait_matched(net: &dyn gantry_ros::RosNetwork, id: EndpointId, deadline: std::time::Instant) -> bool {
     loop {
         if net.matched(id) > 0 {
             return true;

@@ -3,6 +3,7 @@
 //! types through the registry.
 
 use super::action_type::ActionType;
+use super::cdr::CDR_LE_HEADER;
 use super::decode::Decoder;
 use super::definition::Arity;
 use super::encode::Encoder;
@@ -13,10 +14,6 @@ use super::registry::{nested, registry};
 use super::srv_type::SrvType;
 use super::{DecodeError, EncodeError};
 use crate::Value;
-
-/// The 4-byte encapsulation header of little-endian plain CDR (`CDR_LE`, no options),
-/// which [`MsgType::encode`] writes.
-pub const CDR_LE_HEADER: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
 
 impl MsgType {
     /// A [`Value::Map`] with every field at ROS's default: 0, false, "", empty sequences,

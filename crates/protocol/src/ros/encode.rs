@@ -5,6 +5,7 @@
 //! given as [`Value::Bytes`] or [`Value::Str`] are copied in one go.
 
 use super::EncodeError;
+use super::cdr::pad;
 use super::definition::Arity;
 use super::field::{Field, Kind};
 use super::msg_type::MsgType;
@@ -35,9 +36,7 @@ impl<'a> Encoder<'a> {
 
     /// Pads with zeros to a multiple of `n` from the body's start.
     fn align(&mut self, n: usize) {
-        let pos = self.out.len().saturating_sub(self.origin);
-        let pad = (n - pos % n) % n;
-        self.out.resize(self.out.len() + pad, 0);
+        pad(self.out, self.origin, n);
     }
 
     fn wrong(&self, path: &Path, expected: &'static str, got: &Value) -> EncodeError {

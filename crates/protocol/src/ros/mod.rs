@@ -2,6 +2,10 @@
 //! CDR bytes DDS carries, for the types in gantry's catalog, plus ROS 2 names to DDS
 //! topic names.
 //!
+//! [`typed`] holds the messages gantry makes itself (`/tf`, `/joint_states`, images...),
+//! encoded straight from Rust values on the same CDR rules, for the recorder and the
+//! ROS 2 graph.
+//!
 //! Pure: the DDS transport lives elsewhere and hands this module bytes. Like every
 //! decoder in this crate, [`MsgType::decode`] is total (never panics) and bounded (a
 //! length read from the input never reserves more than the input can back), and is
@@ -54,6 +58,7 @@
 
 mod action_type;
 mod catalog;
+mod cdr;
 mod codec;
 mod decode;
 mod definition;
@@ -66,12 +71,16 @@ mod path;
 mod primitive;
 mod registry;
 mod srv_type;
+pub mod typed;
 
 pub use action_type::ActionType;
-pub use codec::CDR_LE_HEADER;
+pub use cdr::CDR_LE_HEADER;
 pub use error::{DecodeError, EncodeError, NameError, RosTypeError};
 pub use msg_type::MsgType;
-pub use names::{ActionTopics, action_topics, ros_topic_name, service_reply_topic, service_request_topic, topic_name};
+pub use names::{
+    ActionTopics, action_topics, ros_topic_name, service_reply_topic, service_request_topic, topic_from_parts,
+    topic_name,
+};
 pub use srv_type::SrvType;
 
 pub use registry::MAX_DEPTH;

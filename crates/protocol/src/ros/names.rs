@@ -19,6 +19,24 @@ pub fn topic_name(ros_name: &str) -> Result<String, NameError> {
     Ok(format!("rt/{}", validate(ros_name)?))
 }
 
+/// A ROS topic name from parts, for topics named after objects and streams
+/// (`/graph/<graph>/<stream>`): `/a/b/c`, with every character other than ASCII
+/// letters, digits and `_` replaced by `_` inside a part, and an empty part as `_`.
+pub fn topic_from_parts(parts: &[&str]) -> String {
+    let mut out = String::new();
+    for p in parts {
+        out.push('/');
+        if p.is_empty() {
+            out.push('_');
+        }
+        out.extend(
+            p.chars()
+                .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }),
+        );
+    }
+    out
+}
+
 /// The DDS topic a service's requests travel on: `/set_flag` -> `rq/set_flagRequest`.
 ///
 /// # Errors
@@ -134,4 +152,18 @@ fn validate(name: &str) -> Result<&str, NameError> {
         return Err(invalid("a token must not start with a digit"));
     }
     Ok(rest)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn topic_names_from_parts_keep_to_ros_characters() {
+        assert_eq!(
+            topic_from_parts(&["graph", "robot/graph[1]", "speed (m/s)"]),
+            "/graph/robot_graph_1_/speed__m_s_"
+        );
+        assert_eq!(topic_from_parts(&["proximity", ""]), "/proximity/_");
+    }
 }

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use gantry_lua::ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosSample};
+use gantry_ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosSample};
 use gantry_sim_core::Value;
 
 /// A network that only remembers: what was opened (with its QoS), what is still open

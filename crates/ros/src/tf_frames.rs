@@ -7,8 +7,7 @@
 
 use std::collections::{BTreeMap, HashSet};
 
-use gantry_mcap::format::WORLD_FRAME;
-use gantry_mcap::msg::{self, Time, TransformStamped};
+use gantry_protocol::ros::typed::{self as msg, Time, TransformStamped, WORLD_FRAME};
 
 use crate::snapshot::Snapshot;
 

@@ -1,7 +1,7 @@
-//! The front end's side of `simROS2`: a network that carries CDR-encoded messages to and
-//! from a ROS 2 graph. The Lua host encodes and decodes (gantry-protocol's `ros`
-//! codec); the network moves bytes. gantry's implementation speaks DDS (`gantry-ros2`);
-//! tests may give a loopback.
+//! A network that carries CDR-encoded messages to and from a ROS 2 graph, for the Lua
+//! host's `simROS2` module and the graph's topics. They encode and decode
+//! (gantry-protocol's `ros` codec); the network moves bytes. gantry's implementation
+//! speaks DDS (gantry-ros2); tests may give a loopback.
 
 use std::fmt;
 
@@ -62,17 +62,11 @@ pub struct RosSample {
 /// An endpoint's identity in a network.
 pub type EndpointId = u64;
 
-/// Why the network refused something.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// Why the network refused something: the implementation's own words (a DDS error, a
+/// closed endpoint), passed on to the script or the log as they are.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
 pub struct NetworkError(pub String);
-
-impl fmt::Display for NetworkError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for NetworkError {}
 
 /// A ROS 2 network (see the module docs). Its calls never wait on the network: writes
 /// are queued (and dropped, counted, when the queue is full), reads return what has

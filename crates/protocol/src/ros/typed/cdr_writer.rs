@@ -1,18 +1,15 @@
-//! CDR, the serialization ROS 2 messages travel in (OMG XCDR1, little endian), as far
-//! as the recorder needs it: primitives, strings and sequences.
-//!
-//! A message is a 4-byte encapsulation header (`00 01 00 00`: plain CDR, little
-//! endian) followed by its fields in declaration order. Each primitive is aligned to
-//! its own size (8 for `float64`), counted from the end of the header, not from the
-//! start of the buffer. A string is a `uint32` length that counts a terminating NUL,
-//! the bytes, then the NUL; a sequence is a `uint32` element count, then the elements.
-//! Nested messages add no alignment of their own. Pure: bytes are appended to a
-//! `Vec<u8>`, nothing is written anywhere.
+//! The one CDR writer: the primitives of plain little-endian CDR (XCDR1) appended to a
+//! buffer, for the typed messages of this module, aligned by the same rule
+//! (`ros/cdr.rs`) as the dynamic encoder.
 
-/// The encapsulation header of little-endian plain CDR.
-pub const ENCAPSULATION_LE: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
+use crate::ros::cdr::{CDR_LE_HEADER, pad};
 
 /// Appends one CDR message to a byte buffer.
+///
+/// A message is the encapsulation header [`CDR_LE_HEADER`] followed by its fields in
+/// declaration order. A string is a `uint32` length that counts a terminating NUL, the
+/// bytes, then the NUL; a sequence is a `uint32` element count, then the elements.
+/// Nested messages add no alignment of their own.
 #[derive(Debug, Clone)]
 pub struct CdrWriter {
     /// The message so far, header included.
@@ -33,16 +30,13 @@ impl CdrWriter {
 
     /// [`CdrWriter::new`] with room for `capacity` bytes before it reallocates.
     pub fn with_capacity(capacity: usize) -> Self {
-        let mut buf = Vec::with_capacity(capacity.max(ENCAPSULATION_LE.len()));
-        buf.extend_from_slice(&ENCAPSULATION_LE);
+        let mut buf = Vec::with_capacity(capacity.max(CDR_LE_HEADER.len()));
+        buf.extend_from_slice(&CDR_LE_HEADER);
         Self { buf }
     }
 
-    /// Pads with zeros to a multiple of `n` bytes after the header.
     fn align(&mut self, n: usize) {
-        let offset = self.buf.len() - ENCAPSULATION_LE.len();
-        let pad = (n - offset % n) % n;
-        self.buf.resize(self.buf.len() + pad, 0);
+        pad(&mut self.buf, CDR_LE_HEADER.len(), n);
     }
 
     /// A `uint8` (or `byte`, `char`, `bool`).
@@ -99,7 +93,7 @@ impl CdrWriter {
     }
 
     /// A `string`: length with the NUL, bytes, NUL. A string longer than `u32::MAX - 1`
-    /// bytes cannot be encoded and is cut there (no recorded text comes near).
+    /// bytes cannot be encoded and is cut there (no published text comes near).
     pub fn string(&mut self, s: &str) {
         let bytes = &s.as_bytes()[..s.len().min(u32::MAX as usize - 1)];
         // Cannot truncate: the length was capped just above.
