@@ -138,6 +138,15 @@ if cargo tree -p gantry-ros2 -e normal --prefix none | grep -E '^gantry-record '
     echo "gantry-ros2 must not depend on the recorder (its messages and sampler are gantry-ros's)" >&2
     exit 1
 fi
+# The engine owns the simulation and drives the Lua host (issue 47): the observers
+# (the recorder, the ROS 2 graph) see the simulation through the engine's Observer
+# trait over &Sim and name no type of the Lua host, so neither depends on it directly.
+for crate in gantry-record gantry-ros2; do
+    if cargo tree -p "$crate" -e normal --prefix none --depth 1 | grep -E '^gantry-lua ' ; then
+        echo "$crate must not depend on the Lua host (gantry-lua); observe through gantry_engine::Observer" >&2
+        exit 1
+    fi
+done
 # Inside the crates: no circle among files in any crate, and sim-core's and the Lua
 # host's floors; the self-test first shows the checker still catches both.
 python3 tools/layers.py --self-test

@@ -26,9 +26,9 @@ use tokio::sync::oneshot;
 use crate::blocking::{BlockingCall, BlockingReply, ended_error, stopped_error};
 use crate::host_call::{LoopControl, RemoteOp};
 use crate::input::{Input, Output};
-use crate::lifecycle::build_sim;
 use crate::observer::{InputAt, Observer, RecorderFactory};
 use crate::pacing::Pacing;
+use crate::scene::build_sim;
 use crate::stepping::{ClientId, Stepping, SteppingError};
 
 /// How often scripts' `sysCall_nonSimulation` runs while the simulation is stopped:

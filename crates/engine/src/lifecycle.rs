@@ -9,27 +9,12 @@
 use std::time::Instant;
 
 use gantry_lua::{LoadedModel, LuaHost};
-use gantry_sim_core::graph::ExportScope;
-use gantry_sim_core::scene::{EmbeddedFiles, SceneModel};
+use gantry_sim_core::Handle;
+use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::{Advancing, Control, SimulationState};
-use gantry_sim_core::{Handle, Sim};
 
 use crate::engine::Engine;
-
-/// The world of `model`, with the API's file exports (`sim.exportGraphStreams`)
-/// confined to the scene's folder, or forbidden for a scene embedded in the binary,
-/// which has no folder on disk. Remote clients call the same functions on the same
-/// world, so they are confined too.
-pub(crate) fn build_sim(model: &SceneModel) -> Sim {
-    let mut sim = Sim::new(model);
-    let scope = if model.base_dir.starts_with(EmbeddedFiles::ROOT) {
-        ExportScope::Nowhere
-    } else {
-        ExportScope::Within(model.base_dir.clone())
-    };
-    sim.graphs.set_export_scope(scope);
-    sim
-}
+use crate::scene::build_sim;
 
 /// Appends a loaded model's objects and scripts to `scene` (indices moved past the
 /// scene's), so that a stop rebuilds them.

@@ -269,7 +269,7 @@ impl RosGraph {
                 return;
             }
             self.last_ns = Some(now);
-            self.sampler.sample(&core)
+            self.sampler.sample(core)
         };
         let Some(mut s) = snapshot else { return };
         {
@@ -427,8 +427,7 @@ impl RosGraph {
                     continue;
                 };
                 for (&j, &v) in r.joints.iter().zip(&values) {
-                    self.commands
-                        .push((target.clone(), vec![Value::Int(j), Value::Float(v)]));
+                    self.commands.push((target, vec![Value::Int(j), Value::Float(v)]));
                 }
             }
         }

@@ -360,7 +360,7 @@ impl FramePublisher {
             None => self.window = Some((now, run_steps, world.time())),
         }
         let previous = self.tx.borrow().clone();
-        let mut frame = Frame::capture_after(&core, Some(&previous));
+        let mut frame = Frame::capture_after(core, Some(&previous));
         (frame.steps_per_s, frame.rtf) = self.rates;
         self.tx.send_replace(Arc::new(frame));
         self.last = Some(now);
