@@ -9,7 +9,7 @@ use gantry_sim_core::api::{Args, CallError, FrontEndFn};
 use gantry_sim_core::sim::Control;
 
 /// A remote client's simulation control or stepping call, carried out by
-/// [`crate::Engine::remote`].
+/// [`crate::Input::Remote`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RemoteOp {
     /// `sim.setStepping(enable)`: returns the client's previous stepping level.

@@ -42,7 +42,7 @@ pub struct DebugHub {
 }
 
 impl DebugHub {
-    /// The hub for transports and the link for [`gantry_lua::Simulation::with_debugger`].
+    /// The hub for transports and the link for [`gantry_engine::Engine::new`].
     /// `release` is the process's shutdown flag: once set, a stopped script resumes
     /// and nothing stops again, so the simulation thread can clean up and end.
     pub fn new(sim: SimHandle, release: Arc<AtomicBool>) -> (Self, DebugLink) {

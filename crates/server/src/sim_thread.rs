@@ -43,7 +43,7 @@ pub enum Request {
         reply: oneshot::Sender<Result<Vec<Value>, CallError>>,
     },
     /// A remote API client's blocking call (`sim.wait`, `sim.moveToConfig`, ...): run
-    /// over as many steps as it needs, then answered (see `Engine::call_blocking`).
+    /// over as many steps as it needs, then answered (see `Input::Blocking`).
     Blocking {
         /// The client, whose stepping level the call's steps go through.
         client: ClientId,

@@ -21,7 +21,7 @@
 //! * `sim.setStepping`, `sim.step`, `sim.start/pause/stopSimulation`,
 //!   `sim.acquireLock`/`sim.releaseLock`: they concern clients and the simulation loop,
 //!   so they go to the simulation thread as [`Request::Remote`] and [`Request::Step`].
-//! * Every other `sim.*` function: [`Request::Call`] with the resolved [`Target`], i.e. `Engine::call`, the one
+//! * Every other `sim.*` function: [`Request::Call`] with the resolved [`Target`], i.e. `Engine::serve(Input::Call)`, the one
 //!   implementation shared with Lua scripts.
 //! * Control words: `_*executed*_` (the client's answer to `_*wait*_`) and `_*end*_`.
 //!
