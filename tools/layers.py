@@ -73,9 +73,17 @@ FLOORS = {
         ({"math", "signals", "tubes"}, False),
         ({"paths"}, False),
         ({"world"}, False),
-        ({"sensor", "vision", "ik", "drawing", "graph", "ui", "motion", "planning"}, False),
+        ({"sensor", "vision", "ik", "drawing", "graph", "motion", "planning"}, False),
         ({"ik_groups"}, False),
         ({"sim"}, False),
+    ],
+    # simUI's model, below the world: the limits and plain data, then the XML parser,
+    # then the owner of every UI.
+    "crates/ui/src": [
+        ({"limits", "messages", "views", "widget"}, False),
+        ({"error", "window"}, False),
+        ({"parse"}, False),
+        ({"uis"}, False),
     ],
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.
     "crates/lua/src": [

@@ -1,6 +1,7 @@
 //! gantry's simulated world: the object tree on rapier (`world`), the subsystems that
-//! read and drive it (`sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`,
+//! read and drive it (`sensor`, `vision`, `ik`, `drawing`, `graph`, `motion`,
 //! `planning`) and [`Sim`], which owns them all and steps them in CoppeliaSim's order.
+//! simUI's widget model is the crate `gantry-ui` below, re-exported here as [`ui`].
 //!
 //! These floors share one crate because they share the world's private parts: which
 //! collider belongs to which object, where a sensor's detection is stored, and the two
@@ -17,6 +18,8 @@
 pub use gantry_protocol::Value;
 // The floors below, under the names the modules here use (`crate::scene::...`).
 pub use gantry_scene::{error, handle, scene};
+// The subsystems that are crates of their own, under their old names here.
+pub use gantry_ui as ui;
 
 // Leaves of this crate.
 pub mod math;
@@ -32,7 +35,6 @@ pub mod ik;
 pub mod motion;
 pub mod planning;
 pub mod sensor;
-pub mod ui;
 pub mod vision;
 // The scene's IK groups, on the IK subsystem.
 pub mod ik_groups;

@@ -1,7 +1,7 @@
 //! Why a `simUI` operation was refused.
 
-use super::{MAX_UIS, MAX_XML_LEN};
-use crate::error::SimError;
+use crate::{MAX_UIS, MAX_XML_LEN};
+use gantry_scene::SimError;
 
 /// A refused `simUI` operation. Messages follow simUI's wording where it has one
 /// ("invalid ui handle", "invalid widget id: 3"), so ported scripts see familiar errors;
