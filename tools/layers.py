@@ -85,6 +85,14 @@ FLOORS = {
         ({"parse"}, False),
         ({"uis"}, False),
     ],
+    # Motion planning, below the world: the random numbers, the spaces and their metric,
+    # the planner over any problem, then the task.
+    "crates/planning/src": [
+        ({"rng"}, False),
+        ({"space"}, False),
+        ({"metric", "rrt_connect"}, False),
+        ({"task"}, False),
+    ],
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.
     "crates/lua/src": [
         ({"limits", "convert", "listeners", "lua_error", "app_state"}, False),
