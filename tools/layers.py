@@ -93,6 +93,15 @@ FLOORS = {
         ({"metric", "rrt_connect"}, False),
         ({"task"}, False),
     ],
+    # Inverse kinematics without a scene, below the world: the error, an environment's
+    # own objects, the environments, the chain snapshot, then the solver on it.
+    "crates/ik/src": [
+        ({"error"}, False),
+        ({"objects"}, False),
+        ({"environment"}, False),
+        ({"chain"}, False),
+        ({"solver"}, False),
+    ],
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.
     "crates/lua/src": [
         ({"limits", "convert", "listeners", "lua_error", "app_state"}, False),

@@ -93,8 +93,8 @@ if cargo tree -p gantry-scene -e normal --prefix none | grep -E '^(tokio|rapier3
     echo "gantry-scene must not depend on the crates listed above" >&2
     exit 1
 fi
-# The subsystems below the world (simUI's model, planning, ...) know no physics either.
-for crate in gantry-ui gantry-planning; do
+# The subsystems below the world (simUI's model, planning, IK) know no physics either.
+for crate in gantry-ui gantry-planning gantry-ik; do
     if cargo tree -p "$crate" -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d) ' ; then
         echo "$crate must not depend on the crates listed above" >&2
         exit 1
