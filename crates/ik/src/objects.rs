@@ -17,10 +17,11 @@
 
 use std::collections::BTreeMap;
 
-use crate::error::IkError;
 use gantry_scene::Handle;
 use gantry_scene::math::{Pose, Vec3};
 use gantry_scene::scene::JointType;
+
+use crate::error::IkError;
 
 /// The first handle of an environment's own objects. Scene handles (indices into the
 /// world's objects) never get this far, so the ranges cannot overlap.

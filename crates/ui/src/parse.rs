@@ -19,6 +19,7 @@
 
 use std::collections::BTreeSet;
 
+use gantry_scene::Handle;
 use roxmltree::{Document, Node, ParsingOptions};
 
 use crate::error::UiError;
@@ -28,7 +29,6 @@ use crate::widget::{
 };
 use crate::window::{Placement, Ui};
 use crate::{MAX_DEPTH, MAX_WIDGETS, MAX_XML_LEN};
-use gantry_scene::Handle;
 
 /// XML nodes of any kind (elements, text, comments) the parser builds at most. Bounds
 /// memory before widgets are even counted; generous for [`MAX_WIDGETS`] elements with

@@ -3,13 +3,14 @@
 
 use std::collections::{BTreeMap, VecDeque};
 
+use gantry_protocol::Value;
+use gantry_scene::Handle;
+
 use crate::error::UiError;
 use crate::parse::{self, Diagnostics};
 use crate::widget::{Container, Widget, WidgetKind};
 use crate::window::Ui;
 use crate::{FIRST_UI_HANDLE, MAX_EVENTS, MAX_TEXT_LEN, MAX_UIS};
-use gantry_protocol::Value;
-use gantry_scene::Handle;
 
 /// A callback a widget asks its script to run: `callback(ui, widget, value)`.
 ///

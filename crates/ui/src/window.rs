@@ -1,7 +1,8 @@
 //! One custom UI: a window with its attributes and its widget tree.
 
-use crate::widget::{Container, Widget};
 use gantry_scene::Handle;
+
+use crate::widget::{Container, Widget};
 
 /// Where the window opens (`placement`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
