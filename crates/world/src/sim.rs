@@ -9,8 +9,10 @@
 //! 1. `handle`, `math`, `error`, `signals`, `tubes`: leaves; `paths` on `math`.
 //! 2. `scene`: the model read from files.
 //! 3. `world`: objects and physics.
-//! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `motion`: subsystems, each
-//!    taking the world as an argument.
+//! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `motion`, `planning`: subsystems,
+//!    each taking the world as an argument. What of `ik` and `planning` needs no world,
+//!    and simUI's model (`ui`), are crates below this one (`gantry-ik`,
+//!    `gantry-planning`, `gantry-ui`), so that this aggregate can own their state.
 //! 5. `ik_groups`: the scene's IK groups, on `ik`.
 //! 6. `sim`: this aggregate.
 //! 7. `api`: the `sim.*` registry over [`Sim`].
