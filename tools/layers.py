@@ -73,9 +73,34 @@ FLOORS = {
         ({"math", "signals", "tubes"}, False),
         ({"paths"}, False),
         ({"world"}, False),
-        ({"sensor", "vision", "ik", "drawing", "graph", "ui", "motion", "planning"}, False),
+        ({"sensor", "vision", "ik", "drawing", "graph", "motion", "planning"}, False),
         ({"ik_groups"}, False),
         ({"sim"}, False),
+    ],
+    # simUI's model, below the world: the limits and plain data, then the XML parser,
+    # then the owner of every UI.
+    "crates/ui/src": [
+        ({"limits", "messages", "views", "widget"}, False),
+        ({"error", "window"}, False),
+        ({"parse"}, False),
+        ({"uis"}, False),
+    ],
+    # Motion planning, below the world: the random numbers, the spaces and their metric,
+    # the planner over any problem, then the task.
+    "crates/planning/src": [
+        ({"rng"}, False),
+        ({"space"}, False),
+        ({"metric", "rrt_connect"}, False),
+        ({"task"}, False),
+    ],
+    # Inverse kinematics without a scene, below the world: the error, an environment's
+    # own objects, the environments, the chain snapshot, then the solver on it.
+    "crates/ik/src": [
+        ({"error"}, False),
+        ({"objects"}, False),
+        ({"environment"}, False),
+        ({"chain"}, False),
+        ({"solver"}, False),
     ],
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.
     "crates/lua/src": [

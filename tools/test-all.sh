@@ -93,6 +93,13 @@ if cargo tree -p gantry-scene -e normal --prefix none | grep -E '^(tokio|rapier3
     echo "gantry-scene must not depend on the crates listed above" >&2
     exit 1
 fi
+# The subsystems below the world (simUI's model, planning, IK) know no physics either.
+for crate in gantry-ui gantry-planning gantry-ik; do
+    if cargo tree -p "$crate" -e normal --prefix none | grep -E '^(tokio|rapier3d|mlua|parry3d) ' ; then
+        echo "$crate must not depend on the crates listed above" >&2
+        exit 1
+    fi
+done
 for crate in gantry-world gantry-sim-core; do
     if cargo tree -p "$crate" -e normal --prefix none | grep -E '^(tokio|mlua) ' ; then
         echo "$crate must not depend on tokio or mlua" >&2

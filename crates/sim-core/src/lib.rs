@@ -6,9 +6,12 @@
 //! The modules are floors; each imports only from the floors below it (see
 //! [`sim`] for the picture, and docs/architecture.md):
 //! leaves (`handle`, `math`, `error`, `signals`) → `scene` → `world` → subsystems
-//! (`sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`) → [`Sim`] → `api`.
-//! The first two are the crate `gantry-scene`, the next three `gantry-world`; cargo
-//! enforces the direction between crates and `tools/layers.py` within them.
+//! (`sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`, `planning`) → [`Sim`]
+//! → `api`. The first two are the crate `gantry-scene`, the next three `gantry-world`,
+//! except the parts of subsystems that need no world, crates below it that `Sim` owns:
+//! `ui` is the crate `gantry-ui`, and `ik` and `planning` re-export `gantry-ik` and
+//! `gantry-planning` beside what reads the scene. Cargo enforces the direction between
+//! crates and `tools/layers.py` within them.
 //!
 //! Units are SI and angles radians throughout the API; poses are in the world frame
 //! unless a function says otherwise.

@@ -16,7 +16,7 @@ use nalgebra::DMatrix;
 use crate::handle::Handle;
 use crate::ik::{
     Apply, ConfigSearch, Constraints, ElementTarget, IkElement, IkEnvironments, IkError, IkGroup, IkMethod, IkResult,
-    KinematicModel, Trees, find_config, handle_groups,
+    KinematicModel, Trees, build_model, find_config, handle_groups,
 };
 use crate::scene::{IkGroupModel, IkMethodModel};
 use crate::world::World;
@@ -196,6 +196,6 @@ impl SceneIkGroups {
         let group = self.get(handle).ok_or(IkError::NoSuchGroup(handle))?.group;
         let environment = self.envs.get(self.env)?;
         let g = environment.group(group)?;
-        KinematicModel::build(&Trees::new(world, &environment.objects), &g.elements)
+        build_model(&Trees::new(world, &environment.objects), &g.elements)
     }
 }

@@ -9,13 +9,17 @@
 //! 1. `handle`, `math`, `error`, `signals`, `tubes`: leaves; `paths` on `math`.
 //! 2. `scene`: the model read from files.
 //! 3. `world`: objects and physics.
-//! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `ui`, `motion`: subsystems, each
-//!    taking the world as an argument.
+//! 4. `sensor`, `vision`, `ik`, `drawing`, `graph`, `motion`, `planning`: subsystems,
+//!    each taking the world as an argument. What of `ik` and `planning` needs no world,
+//!    and simUI's model (`ui`), are crates below this one (`gantry-ik`,
+//!    `gantry-planning`, `gantry-ui`), so that this aggregate can own their state.
 //! 5. `ik_groups`: the scene's IK groups, on `ik`.
 //! 6. `sim`: this aggregate.
 //! 7. `api`: the `sim.*` registry over [`Sim`].
 
 use std::collections::BTreeMap;
+
+use gantry_ui::{FloatingViews, SimulatorMessages, Uis};
 
 use crate::drawing::{DrawingObject, DrawingParams, Drawings, MAX_DRAWING_ITEMS};
 use crate::error::SimError;
@@ -29,7 +33,6 @@ use crate::planning::Planning;
 use crate::scene::SceneModel;
 use crate::signals::Signals;
 use crate::tubes::Tubes;
-use crate::ui::{FloatingViews, SimulatorMessages, Uis};
 use crate::vision::VisionStates;
 use crate::world::{PARTICLE_INVISIBLE, PARTICLE_POINTS1, PARTICLE_POINTS2, PARTICLE_POINTS4, Particles, World};
 

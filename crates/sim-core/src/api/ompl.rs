@@ -290,7 +290,7 @@ fn with_task<T>(
 /// (shortened for up to 5 s more).
 fn solve(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let max_time = a.f64(1)?;
-    let found = with_task(sim, a.handle(0)?, |t, w| t.solve(w, max_time, -1.0))?;
+    let found = with_task(sim, a.handle(0)?, |t, w| crate::planning::solve(t, w, max_time, -1.0))?;
     Ok(vec![Value::Bool(found)])
 }
 
@@ -304,7 +304,7 @@ fn compute(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimE
     let simplify = a.opt_f64(2, -1.0)?;
     let count = usize::try_from(a.opt_int(3, 0)?)
         .map_err(|_| SimError::bad_argument("argument 4: stateCnt must be 0 or more"))?;
-    let found = with_task(sim, h, |t, w| t.solve(w, max_time, simplify))?;
+    let found = with_task(sim, h, |t, w| crate::planning::solve(t, w, max_time, simplify))?;
     let path = sim
         .planning
         .task(h)?
@@ -356,7 +356,7 @@ fn has_solution(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret,
 /// of the collision pairs' contacts (the scene is put back after the check).
 fn is_state_valid(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let state = a.numbers(1)?;
-    let valid = with_task(sim, a.handle(0)?, |t, w| t.is_valid(w, &state))?;
+    let valid = with_task(sim, a.handle(0)?, |t, w| crate::planning::is_valid(t, w, &state))?;
     Ok(vec![Value::Bool(valid)])
 }
 
@@ -365,7 +365,7 @@ fn read_state(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, S
     let t = sim.planning.task(a.handle(0)?)?;
     let mut out = Vec::new();
     for s in &t.spaces {
-        s.read(&sim.world, &mut out)?;
+        crate::planning::read_state(s, &sim.world, &mut out)?;
     }
     Ok(vec![Value::floats(&out)])
 }
@@ -379,7 +379,7 @@ fn write_state(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
     let mut at = 0;
     for s in t.spaces.clone() {
         let n = s.kind.dimension();
-        s.write(&mut sim.world, &state[at..at + n])?;
+        crate::planning::write_state(&s, &mut sim.world, &state[at..at + n])?;
         at += n;
     }
     Ok(Vec::new())

@@ -17,36 +17,23 @@
 //!   live in that tree (`objects`), which is the IK world: solves read and write its
 //!   joints, and a script copies values to the scene itself.
 //!
-//! Layout: `environment` holds the handles and settings, `objects` an environment's own
-//! tree, `trees` reads either tree, `chain` snapshots a base→tip path into pure data
-//! (forward kinematics, analytic Jacobian, errors), `solver` iterates on that snapshot, and
-//! this file ties them to the trees. `crate::ik_groups` keeps the scene's own IK groups
-//! (the built-in kinematics of V-REP 3 and CoppeliaSim 4.0-4.2) on this machinery. Non-goals: spherical joints, joint dependencies, joint
-//! IK weights and the `generatePath` family.
+//! Layout: the environments, their own objects, the chain snapshot (forward kinematics,
+//! analytic Jacobian, errors) and the solver that iterates on it need no scene, and are
+//! the crate `gantry-ik`, re-exported here. This module is what reads the scene: `trees`
+//! reads either tree, `snapshot` folds a base→tip path of one into the solver's pure
+//! data, and this file ties environments, groups and solves to the scene (solving,
+//! writing solutions back, syncing). `crate::ik_groups` keeps the scene's own IK groups
+//! (the built-in kinematics of V-REP 3 and CoppeliaSim 4.0-4.2) on this machinery.
+//! Non-goals: spherical joints, joint dependencies, joint IK weights and the
+//! `generatePath` family.
 
-mod chain;
-mod environment;
-mod error;
-mod objects;
-mod solver;
+mod snapshot;
 mod trees;
 
 use std::collections::BTreeMap;
 
-pub use chain::{
-    ChainPose, Distance, ElementChain, ElementModel, JointSlot, KinematicModel, Linearization, chain_path,
-};
-pub use environment::{
-    Constraints, ElementTarget, GroupFlags, IkElement, IkEnvironment, IkEnvironments, IkGroup, IkMethod,
-};
-pub use error::IkError;
-pub use objects::{
-    FIRST_OBJECT, HANDLE_PARENT, HANDLE_WORLD, IkJoint, IkJointMode, IkObject, IkObjectKind, IkObjects, is_own_object,
-};
-pub use solver::{
-    CALC_CANNOT_INVERT, CALC_LIMIT_HIT, CALC_NOT_PERFORMED, CALC_NOT_WITHIN_TOLERANCE, IkResult, STOP_TOLERANCE,
-    Solution, SolveParams, solve,
-};
+pub use gantry_ik::*;
+pub use snapshot::{build_model, chain_path};
 pub use trees::{JointView, NodeView, Trees};
 
 use crate::world::{Handle, World};
@@ -119,7 +106,7 @@ pub fn add_element_from_scene(
         weights: [1.0; 3],
     };
     // Building the model runs every check the solver relies on.
-    KinematicModel::build(&trees, std::slice::from_ref(&probe))?;
+    build_model(&trees, std::slice::from_ref(&probe))?;
     let mut objects = chain_path(&trees, base, tip)?;
     if base != -1 {
         objects.insert(0, base);
@@ -253,7 +240,7 @@ pub fn handle_groups(
     let own_before = environment.objects.clone();
     let mut failure = None;
     for (i, g) in enabled.iter().enumerate() {
-        let model = match KinematicModel::build(&Trees::new(world, &environment.objects), &g.elements) {
+        let model = match build_model(&Trees::new(world, &environment.objects), &g.elements) {
             Ok(m) => m,
             Err(e) => {
                 failure = Some(e);
@@ -405,7 +392,7 @@ pub fn find_config(
 ) -> Result<Option<BTreeMap<Handle, f64>>, IkError> {
     let environment = envs.get(env)?;
     let g = environment.group(group)?;
-    let mut model = KinematicModel::build(&Trees::new(world, &environment.objects), &g.elements)?;
+    let mut model = build_model(&Trees::new(world, &environment.objects), &g.elements)?;
     let params = SolveParams {
         method: g.method,
         damping: g.damping,
@@ -530,7 +517,7 @@ fn group_joints(world: &World, envs: &IkEnvironments, env: Handle, groups: &[Han
     for &g in groups {
         let elements = &environment.group(g)?.elements;
         // A chain broken since just contributes nothing.
-        if let Ok(model) = KinematicModel::build(&trees, elements) {
+        if let Ok(model) = build_model(&trees, elements) {
             for s in model.slots {
                 if !is_own_object(s.handle) && !out.contains(&s.handle) {
                     out.push(s.handle);

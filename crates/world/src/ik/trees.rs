@@ -3,8 +3,8 @@
 //! ([`is_own_object`]); building a kinematic model only needs each object's parent, local
 //! pose and, for a joint, what the solver may do with it.
 
-use super::error::IkError;
-use super::objects::{IkJointMode, IkObjectKind, IkObjects, is_own_object};
+use gantry_ik::{IkError, IkJointMode, IkObjectKind, IkObjects, is_own_object};
+
 use crate::handle::Handle;
 use crate::math::Pose;
 use crate::scene::JointType;

@@ -2,11 +2,10 @@
 //! how (an object's position or pose, a joint's position), with the metric, sampling and
 //! interpolation OMPL gives the same spaces.
 
-use crate::error::SimError;
-use crate::math::{self, Pose, Quat, Vec3};
-use crate::world::{Handle, World};
+use gantry_scene::math::{self, Pose, Quat, Vec3};
+use gantry_scene::{Handle, SimError};
 
-use super::rng::Rng;
+use crate::rng::Rng;
 
 /// What a state space moves, `simOMPL.StateSpaceType`'s values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -226,16 +225,16 @@ impl StateSpace {
         }
     }
 
-    /// This space's part of the scene's current configuration.
-    ///
-    /// # Errors
-    /// The object or joint is gone.
-    pub fn read(&self, world: &World, out: &mut Vec<f64>) -> Result<(), SimError> {
-        if matches!(self.kind, SpaceKind::JointPosition | SpaceKind::CyclicJointPosition) {
-            out.push(world.joint(self.object)?.position);
-            return Ok(());
-        }
-        let p = self.local_pose(world)?;
+    /// Whether this space moves a joint (its state is the joint's position) rather than
+    /// an object (its state is read from the object's pose, [`StateSpace::pose_state`]).
+    pub fn moves_joint(&self) -> bool {
+        matches!(self.kind, SpaceKind::JointPosition | SpaceKind::CyclicJointPosition)
+    }
+
+    /// This space's part of a state for an object at pose `p` in the space's reference
+    /// frame, appended to `out`. A joint's space appends nothing: its state is the
+    /// joint's position.
+    pub fn pose_state(&self, p: &Pose, out: &mut Vec<f64>) {
         let t = p.translation.vector;
         match self.kind {
             SpaceKind::Position2d => out.extend([t.x, t.y]),
@@ -245,20 +244,14 @@ impl StateSpace {
                 out.extend([t.x, t.y, t.z]);
                 out.extend(math::quat_to_array(&p.rotation));
             }
-            SpaceKind::JointPosition | SpaceKind::CyclicJointPosition => unreachable!("handled above"),
+            SpaceKind::JointPosition | SpaceKind::CyclicJointPosition => {}
         }
-        Ok(())
     }
 
-    /// Puts the scene in this space's part of a state.
-    ///
-    /// # Errors
-    /// The object or joint is gone.
-    pub fn write(&self, world: &mut World, s: &[f64]) -> Result<(), SimError> {
-        if matches!(self.kind, SpaceKind::JointPosition | SpaceKind::CyclicJointPosition) {
-            return world.set_joint_position(self.object, s[0]);
-        }
-        let mut p = self.local_pose(world)?;
+    /// Moves pose `p` (in the space's reference frame) to this space's part of a
+    /// state, `s`; what the space does not move (the height and tilt of a 2D pose) is
+    /// kept. A joint's space leaves `p` alone.
+    pub fn set_pose_state(&self, p: &mut Pose, s: &[f64]) {
         match self.kind {
             SpaceKind::Position2d => {
                 p.translation.vector.x = s[0];
@@ -271,23 +264,9 @@ impl StateSpace {
                 let (roll, pitch, _) = p.rotation.euler_angles();
                 p.rotation = Quat::from_euler_angles(roll, pitch, s[2]);
             }
-            SpaceKind::Pose3d => p = Pose::from_parts(Vec3::new(s[0], s[1], s[2]).into(), quat(&s[3..7])),
-            SpaceKind::JointPosition | SpaceKind::CyclicJointPosition => unreachable!("handled above"),
+            SpaceKind::Pose3d => *p = Pose::from_parts(Vec3::new(s[0], s[1], s[2]).into(), quat(&s[3..7])),
+            SpaceKind::JointPosition | SpaceKind::CyclicJointPosition => {}
         }
-        let frame = self.reference_frame(world)?;
-        world.set_world_pose(self.object, frame * p)
-    }
-
-    fn reference_frame(&self, world: &World) -> Result<Pose, SimError> {
-        Ok(if self.reference < 0 {
-            Pose::identity()
-        } else {
-            world.object(self.reference)?.world
-        })
-    }
-
-    fn local_pose(&self, world: &World) -> Result<Pose, SimError> {
-        Ok(self.reference_frame(world)?.inverse() * world.object(self.object)?.world)
     }
 }
 

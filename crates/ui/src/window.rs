@@ -1,7 +1,8 @@
 //! One custom UI: a window with its attributes and its widget tree.
 
-use super::widget::{Container, Widget};
-use crate::handle::Handle;
+use gantry_scene::Handle;
+
+use crate::widget::{Container, Widget};
 
 /// Where the window opens (`placement`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -18,7 +19,7 @@ pub enum Placement {
 
 /// A custom UI created by `simUI.create`.
 ///
-/// Read-only outside this module: [`Uis`](super::Uis) hands out only shared references,
+/// Read-only outside this module: [`Uis`](crate::Uis) hands out only shared references,
 /// and every change goes through its methods so that events are queued consistently.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ui {

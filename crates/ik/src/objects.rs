@@ -17,10 +17,11 @@
 
 use std::collections::BTreeMap;
 
-use super::error::IkError;
-use crate::handle::Handle;
-use crate::math::{Pose, Vec3};
-use crate::scene::JointType;
+use gantry_scene::Handle;
+use gantry_scene::math::{Pose, Vec3};
+use gantry_scene::scene::JointType;
+
+use crate::error::IkError;
 
 /// The first handle of an environment's own objects. Scene handles (indices into the
 /// world's objects) never get this far, so the ranges cannot overlap.
@@ -100,9 +101,9 @@ impl IkJoint {
     }
 
     /// `q` wrapped (cyclic) or clamped to the interval, as the joint will hold it
-    /// (the one rule for scene and IK joints, [`crate::math::constrain_joint`]).
+    /// (the one rule for scene and IK joints, [`gantry_scene::math::constrain_joint`]).
     pub fn constrain(&self, q: f64) -> f64 {
-        crate::math::constrain_joint(q, self.cyclic, Some((self.min, self.min + self.range)))
+        gantry_scene::math::constrain_joint(q, self.cyclic, Some((self.min, self.min + self.range)))
     }
 
     /// `(min, max)` limits, `None` for a cyclic joint.

@@ -1,6 +1,6 @@
 //! The widgets of a custom UI and the layout tree that holds them.
 //!
-//! These are plain data: the parser builds them, [`Uis`](super::Uis) changes their values,
+//! These are plain data: the parser builds them, [`Uis`](crate::Uis) changes their values,
 //! and the viewer reads them to draw the window. Field names follow simUI's XML
 //! attributes (`on-change` becomes `on_change`).
 

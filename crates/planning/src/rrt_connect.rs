@@ -3,10 +3,10 @@
 //! towards the new state until they meet. Probabilistically complete, and the planner
 //! OMPL's users reach for first.
 //!
-//! The algorithm only sees states as flat `f64` slices, through [`Problem`]; the task
-//! (`task.rs`) answers with the scene.
+//! The algorithm only sees states as flat `f64` slices, through [`Problem`]; the world
+//! answers with the scene (`gantry_world::planning`), the tests with a toy square.
 
-use super::rng::Rng;
+use crate::rng::Rng;
 
 /// What the planner asks of the problem.
 pub trait Problem {

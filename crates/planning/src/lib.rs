@@ -1,6 +1,12 @@
 //! Motion planning as CoppeliaSim's `simOMPL` plugin offers it: state spaces over the
 //! scene's objects and joints, tasks with collision pairs, start and goal states, and a
-//! sampling-based planner checked against the scene's own collision geometry.
+//! sampling-based planner ([`rrt_connect`]) over any [`rrt_connect::Problem`].
+//!
+//! It sits below the world (`gantry-world`), whose `Sim` owns the [`Planning`] store,
+//! and knows no physics: checking states against the scene's collision geometry, and
+//! reading and writing the scene's configuration, are the world's part
+//! (`gantry_world::planning`, which re-exports this crate, as `gantry_sim_core::planning`
+//! does).
 //!
 //! gantry writes its planner rather than binding OMPL (a C++ library) or the `rrt`
 //! crate (openrr's): the crate's path smoothing draws from the thread's random
@@ -8,17 +14,18 @@
 //! metric, not rotations or cyclic joints. The planner here is RRT-Connect, seeded per
 //! task, with shortcut simplification; docs/api-notes.md lists what `simOMPL` serves.
 
+mod metric;
 mod rng;
-mod rrt_connect;
+pub mod rrt_connect;
 mod space;
 mod task;
 
+pub use metric::Metric;
 pub use rng::Rng;
 pub use space::{SpaceKind, StateSpace};
 pub use task::{ALGORITHMS, RRT_CONNECT, Task};
 
-use crate::error::SimError;
-use crate::world::Handle;
+use gantry_scene::{Handle, SimError};
 
 /// The first handle of a state space (beyond object handles, as CoppeliaSim's plugin
 /// keeps its own handles).

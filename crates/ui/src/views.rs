@@ -3,7 +3,7 @@
 //! viewable object sees. In gantry they are overlays on the viewer's 3D view showing a
 //! vision sensor's image; the viewer draws them, this module keeps them.
 
-use crate::handle::Handle;
+use gantry_scene::Handle;
 
 /// Most floating views at once (each is drawn on every viewer page).
 pub const MAX_VIEWS: usize = 32;

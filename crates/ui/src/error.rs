@@ -1,7 +1,8 @@
 //! Why a `simUI` operation was refused.
 
-use super::{MAX_UIS, MAX_XML_LEN};
-use crate::error::SimError;
+use gantry_scene::SimError;
+
+use crate::{MAX_UIS, MAX_XML_LEN};
 
 /// A refused `simUI` operation. Messages follow simUI's wording where it has one
 /// ("invalid ui handle", "invalid widget id: 3"), so ported scripts see familiar errors;

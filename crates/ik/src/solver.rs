@@ -22,8 +22,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::chain::{Distance, KinematicModel};
-use super::environment::IkMethod;
+use crate::chain::{Distance, KinematicModel};
+use crate::environment::IkMethod;
 
 /// Iteration stops early once every element is within this linear (m) and angular (rad)
 /// distance of its target.
@@ -204,7 +204,7 @@ fn stack(model: &KinematicModel, q: &[f64]) -> (DMatrix<f64>, DVector<f64>, Vec<
 }
 
 /// Whether a limited, non-cyclic joint sits on one of its limits.
-fn at_limit(slot: &super::chain::JointSlot, q: f64) -> bool {
+fn at_limit(slot: &crate::chain::JointSlot, q: f64) -> bool {
     match slot.limits {
         Some((lo, hi)) if !slot.cyclic => q <= lo || q >= hi,
         _ => false,
@@ -269,9 +269,9 @@ fn step(
                 dq[i] = d;
                 continue;
             }
-            if slot.joint_type == crate::scene::JointType::Revolute {
+            if slot.joint_type == gantry_scene::scene::JointType::Revolute {
                 // A revolute step beyond half a turn is the same step the short way round.
-                dq[i] = crate::math::wrap_angle(dq[i]);
+                dq[i] = gantry_scene::math::wrap_angle(dq[i]);
             }
             if let (Some((lo, hi)), false) = (slot.limits, slot.cyclic) {
                 let target = q[i] + dq[i];
@@ -307,10 +307,10 @@ fn dls(j: &DMatrix<f64>, e: &DVector<f64>, damping: f64) -> Option<DVector<f64>>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ik::chain::{ElementChain, ElementModel, JointSlot};
-    use crate::ik::environment::Constraints;
-    use crate::math::Pose;
-    use crate::scene::JointType;
+    use crate::chain::{ElementChain, ElementModel, JointSlot};
+    use crate::environment::Constraints;
+    use gantry_scene::math::Pose;
+    use gantry_scene::scene::JointType;
 
     /// A planar three-link arm in the XY plane (links 0.5, 0.4, 0.3 m, joints about Z),
     /// position-only in X and Y, with joint 1 limited to `limits`.

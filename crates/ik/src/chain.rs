@@ -1,6 +1,7 @@
 //! A snapshot of kinematic chains (in the scene or an environment's own tree) as pure
 //! data: forward kinematics, the analytic Jacobian and the tip-to-target error, with no
-//! reference to the trees they were read from.
+//! reference to the trees they were read from (the world reads them:
+//! `gantry_world::ik::build_model`).
 //!
 //! Building the snapshot folds every rigid part of a base→tip path (links, dummies, fixed
 //! joints) into one constant transform per movable joint, so a solver iteration costs a
@@ -16,12 +17,11 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::environment::{Constraints, ElementTarget, IkElement};
-use super::error::IkError;
-use super::trees::{JointView, Trees};
-use crate::math::{Pose, Vec3};
-use crate::scene::JointType;
-use crate::world::Handle;
+use gantry_scene::Handle;
+use gantry_scene::math::{Pose, Vec3};
+use gantry_scene::scene::JointType;
+
+use crate::environment::Constraints;
 
 /// One movable joint of the problem (shared by every element whose path crosses it).
 #[derive(Debug, Clone, PartialEq)]
@@ -38,9 +38,9 @@ pub struct JointSlot {
 
 impl JointSlot {
     /// Clamps to the limits, or wraps a cyclic joint, as the scene will when the
-    /// solution is applied ([`crate::math::constrain_joint`]).
+    /// solution is applied ([`gantry_scene::math::constrain_joint`]).
     pub fn constrain(&self, q: f64) -> f64 {
-        crate::math::constrain_joint(q, self.cyclic, self.limits)
+        gantry_scene::math::constrain_joint(q, self.cyclic, self.limits)
     }
 
     /// The joint's motion at position `q`: rotation about, or translation along, local Z.
@@ -80,7 +80,8 @@ impl ElementChain {
     /// A chain from its parts: per movable joint, the constant transform from the previous
     /// joint's moving frame (the first: from the world) to the joint's fixed frame and the
     /// joint's slot; the transform from the last moving frame to the tip; the world pose of
-    /// the constraint frame. [`KinematicModel::build`] builds these from the trees.
+    /// the constraint frame. The world builds these from the trees
+    /// (`gantry_world::ik::build_model`).
     pub fn new(links: Vec<(Pose, usize)>, tip_offset: Pose, base_frame: Pose) -> Self {
         Self {
             links,
@@ -210,7 +211,7 @@ impl ElementModel {
 
 /// The orientation error as a tip-frame rotation vector, the indices of the rows it
 /// contributes, and the angular distance, for rotation `rel` = tip⁻¹ · target.
-fn orientation_error(c: Constraints, rel: &crate::math::Quat) -> (Vec3, Vec<usize>, f64) {
+fn orientation_error(c: Constraints, rel: &gantry_scene::math::Quat) -> (Vec3, Vec<usize>, f64) {
     let ab = c.contains(Constraints::ALPHA_BETA);
     let g = c.contains(Constraints::GAMMA);
     match (ab, g) {
@@ -237,7 +238,7 @@ fn orientation_error(c: Constraints, rel: &crate::math::Quat) -> (Vec3, Vec<usiz
         }
         (false, true) => {
             // Only the twist about Z: the twist part of a swing-twist split of `rel`.
-            let twist = crate::math::wrap_angle(2.0 * rel.k.atan2(rel.w));
+            let twist = gantry_scene::math::wrap_angle(2.0 * rel.k.atan2(rel.w));
             (Vec3::z() * twist, vec![2], twist.abs())
         }
         (false, false) => (Vec3::zeros(), Vec::new(), 0.0),
@@ -255,128 +256,10 @@ pub struct KinematicModel {
     pub elements: Vec<ElementModel>,
 }
 
-impl KinematicModel {
-    /// Snapshots the chains and targets of `elements` from their trees (the scene, or the
-    /// environment's own objects), reading the joints' current values: a scene solve
-    /// starts from the scene as it is now, an own-object solve from the environment's
-    /// joints.
-    ///
-    /// # Errors
-    /// Unknown base, tip or target, a tip not below its base, a path without a movable
-    /// joint, or a tip whose target is its linked dummy and that has none.
-    pub fn build(trees: &Trees<'_>, elements: &[IkElement]) -> Result<Self, IkError> {
-        let mut model = KinematicModel {
-            slots: Vec::new(),
-            start: Vec::new(),
-            elements: Vec::with_capacity(elements.len()),
-        };
-        for e in elements {
-            let chain = model.add_chain(trees, e.base, e.tip)?;
-            let target = match e.target {
-                ElementTarget::Object(t) => t,
-                ElementTarget::LinkedDummy => trees.linked_dummy(e.tip)?.ok_or(IkError::NoTarget { tip: e.tip })?,
-            };
-            let target = trees.world(target, "target")?;
-            model.elements.push(ElementModel {
-                chain,
-                target,
-                constraints: e.constraints,
-                precision: e.precision,
-                weights: e.weights,
-            });
-        }
-        Ok(model)
-    }
-
-    fn add_chain(&mut self, trees: &Trees<'_>, base: Handle, tip: Handle) -> Result<ElementChain, IkError> {
-        let path = chain_path(trees, base, tip)?;
-        let top = path.first().copied().unwrap_or(tip);
-        let mut acc = trees.parent_frame(top)?;
-        let mut links = Vec::new();
-        for &h in &path {
-            let node = trees.node(h, "chain")?;
-            acc *= node.local;
-            if h == tip {
-                break;
-            }
-            match node.joint {
-                Some(j) if j.movable => {
-                    let slot = self.slot_of(h, &j);
-                    links.push((acc, slot));
-                    acc = Pose::identity();
-                }
-                // A joint the solver may not move is a rigid link at its position.
-                Some(j) => acc *= j.motion(),
-                None => {}
-            }
-        }
-        if links.is_empty() {
-            return Err(IkError::NoJoints { tip, base });
-        }
-        let base_frame = if base == -1 {
-            Pose::identity()
-        } else {
-            trees.world(base, "base")?
-        };
-        Ok(ElementChain {
-            links,
-            tip_offset: acc,
-            base_frame,
-        })
-    }
-
-    fn slot_of(&mut self, handle: Handle, j: &JointView) -> usize {
-        if let Some(i) = self.slots.iter().position(|s| s.handle == handle) {
-            return i;
-        }
-        self.slots.push(JointSlot {
-            handle,
-            joint_type: j.joint_type,
-            cyclic: j.cyclic,
-            limits: j.limits,
-        });
-        self.start.push(j.position);
-        self.slots.len() - 1
-    }
-}
-
-/// The objects from just below `base` down to `tip` (inclusive), top first. Both live in
-/// the same tree: the scene's, or the environment's own.
-///
-/// # Errors
-/// Unknown base or tip, `tip == base`, or a tip not below the base.
-pub fn chain_path(trees: &Trees<'_>, base: Handle, tip: Handle) -> Result<Vec<Handle>, IkError> {
-    trees.node(tip, "tip")?;
-    if base != -1 {
-        trees.node(base, "base")?;
-    }
-    let mut path = vec![tip];
-    let mut cur = tip;
-    // No tree has more levels than objects; the bound guards against a corrupt cycle.
-    for _ in 0..=trees.depth_bound() {
-        match trees.node(cur, "chain")?.parent {
-            Some(p) if p == base => {
-                path.reverse();
-                return Ok(path);
-            }
-            Some(p) => {
-                path.push(p);
-                cur = p;
-            }
-            None if base == -1 => {
-                path.reverse();
-                return Ok(path);
-            }
-            None => break,
-        }
-    }
-    Err(IkError::TipNotBelowBase { tip, base })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Quat;
+    use gantry_scene::math::Quat;
 
     /// A three-joint toy chain (revolute Z, revolute Y-ish, prismatic) with offsets, built
     /// by hand so the tests do not depend on scene loading.

@@ -9,7 +9,7 @@
 
 use std::collections::{HashMap, VecDeque};
 
-use crate::handle::Handle;
+use gantry_scene::Handle;
 
 /// Messages kept for readers that have not read them yet.
 pub const MESSAGE_CAPACITY: usize = 256;

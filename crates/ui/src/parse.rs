@@ -19,16 +19,16 @@
 
 use std::collections::BTreeSet;
 
+use gantry_scene::Handle;
 use roxmltree::{Document, Node, ParsingOptions};
 
-use super::error::UiError;
-use super::widget::{
+use crate::error::UiError;
+use crate::widget::{
     Button, Checkbox, Container, Edit, Group, Label, Layout, Orientation, Radiobutton, Slider, Spinbox, Stretch,
     TickPosition, Widget, WidgetKind,
 };
-use super::window::{Placement, Ui};
-use super::{MAX_DEPTH, MAX_WIDGETS, MAX_XML_LEN};
-use crate::handle::Handle;
+use crate::window::{Placement, Ui};
+use crate::{MAX_DEPTH, MAX_WIDGETS, MAX_XML_LEN};
 
 /// XML nodes of any kind (elements, text, comments) the parser builds at most. Bounds
 /// memory before widgets are even counted; generous for [`MAX_WIDGETS`] elements with

@@ -3,13 +3,14 @@
 
 use std::collections::{BTreeMap, VecDeque};
 
-use super::error::UiError;
-use super::parse::{self, Diagnostics};
-use super::widget::{Container, Widget, WidgetKind};
-use super::window::Ui;
-use super::{FIRST_UI_HANDLE, MAX_EVENTS, MAX_TEXT_LEN, MAX_UIS};
-use crate::Value;
-use crate::handle::Handle;
+use gantry_protocol::Value;
+use gantry_scene::Handle;
+
+use crate::error::UiError;
+use crate::parse::{self, Diagnostics};
+use crate::widget::{Container, Widget, WidgetKind};
+use crate::window::Ui;
+use crate::{FIRST_UI_HANDLE, MAX_EVENTS, MAX_TEXT_LEN, MAX_UIS};
 
 /// A callback a widget asks its script to run: `callback(ui, widget, value)`.
 ///
@@ -421,14 +422,14 @@ impl Uis {
 
     /// `simUI.setPosition`: moves the window to `position` in screen pixels. simUI moves
     /// the Qt window to absolute coordinates, so the placement becomes
-    /// [`Placement::Absolute`](super::Placement::Absolute) whatever the XML said.
+    /// [`Placement::Absolute`](crate::Placement::Absolute) whatever the XML said.
     ///
     /// # Errors
     /// [`UiError::NoSuchUi`].
     pub fn set_position(&mut self, ui: i64, position: [i64; 2]) -> Result<(), UiError> {
         let window = self.uis.get_mut(&ui).ok_or(UiError::NoSuchUi(ui))?;
         window.position = position;
-        window.placement = super::Placement::Absolute;
+        window.placement = crate::Placement::Absolute;
         self.touch();
         Ok(())
     }

@@ -1,6 +1,12 @@
-//! Custom UIs (`simUI`): the widget model built from CoppeliaSim's XML, its values, and
-//! the callback events queued for scripts. The viewer renders it; tests drive it through
-//! the API.
+//! simUI's widget model: windows, widgets, their values and the callback events queued
+//! for scripts, built from CoppeliaSim's XML (`simUI`), plus the floating views and the
+//! simulator messages the viewer feeds back. No rendering: the viewer draws it, and
+//! tests drive it through the API.
+//!
+//! It sits below the world (`gantry-world`), whose `Sim` owns a [`Uis`], a
+//! [`FloatingViews`] and a [`SimulatorMessages`]: it knows object handles and the
+//! world's error type (`gantry-scene`) and the registry's [`Value`](gantry_protocol::Value),
+//! and no physics. `gantry_sim_core::ui` re-exports it under its old path.
 //!
 //! * [`Uis`] owns every UI. `simUI.create(xml)` parses the XML (following simUI's
 //!   rules and leniency) into a [`Ui`]: the window's attributes and a [`Container`] tree of

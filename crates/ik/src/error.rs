@@ -1,8 +1,8 @@
 //! Why an IK call was refused: the one error of the IK subsystem, shared by the
 //! environments, their objects and the tree views.
 
-use crate::error::SimError;
-use crate::handle::Handle;
+use gantry_scene::Handle;
+use gantry_scene::SimError;
 
 /// Why an IK call was refused. Messages name the offending handle and say what is expected.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

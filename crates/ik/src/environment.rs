@@ -4,9 +4,10 @@
 
 use std::collections::BTreeMap;
 
-use super::error::IkError;
-use super::objects::IkObjects;
-use crate::handle::Handle;
+use gantry_scene::Handle;
+
+use crate::error::IkError;
+use crate::objects::IkObjects;
 
 /// How a group turns the Jacobian into joint steps (`simIK.method_*`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
