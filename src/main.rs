@@ -502,6 +502,8 @@ fn run(args: &RunArgs) -> Result<()> {
         export_graphs: args.export_graphs.clone(),
         load_options: opts.clone(),
         listeners: None,
+        // The viewer's pose stream: the server sets it when the viewer listens.
+        frames: None,
         record: args
             .record
             .as_ref()

@@ -104,7 +104,7 @@ FLOORS = {
     ],
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.
     "crates/lua/src": [
-        ({"limits", "convert", "listeners", "lua_error", "app_state"}, False),
+        ({"limits", "convert", "listeners", "lua_error", "app_state", "waiting"}, False),
         ({"sandbox", "running", "directory", "sim_cell", "hooks"}, False),
         ({"threads", "control", "recording", "models", "luasocket", "ros", "launch"}, False),
         ({"messages"}, False),

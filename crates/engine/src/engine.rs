@@ -10,13 +10,16 @@
 //! thread and reads the clock only where a caller asks it to: the front end decides how
 //! to wait and how to answer.
 
-use std::cell::{Ref, RefMut};
+use std::cell::{Ref, RefCell, RefMut};
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use gantry_lua::ros::RosNetwork;
-use gantry_lua::{DebugLink, HookError, Listeners, LuaHost, ScriptError, ScriptLimits, ScriptState, SimCell};
+use gantry_lua::{
+    DebugLink, HookError, Listeners, LuaHost, ScriptError, ScriptLimits, ScriptState, SimCell, WaitService,
+};
 use gantry_sim_core::api::{Args, CallContext, CallError, ScriptHostFn, Target};
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
 use gantry_sim_core::sim::{Control, SimulationState};
@@ -66,6 +69,13 @@ pub struct EngineConfig {
     pub ros: Option<Arc<dyn RosNetwork>>,
 }
 
+/// What the front end does while a script holds the simulation thread in a blocking
+/// call (a LuaSocket `accept` waiting for its client): called again and again with the
+/// simulation and a slice of time, it serves what needs no step to finish (the scene,
+/// the poses, the log) and returns when the slice is over. It may only read the
+/// simulation (`RefCell::try_borrow`): the step it waits in is not finished.
+pub type WhileWaiting = Rc<dyn Fn(&RefCell<Sim>, Duration)>;
+
 /// When the next step may be taken (see [`Engine::due`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Due {
@@ -103,6 +113,8 @@ pub struct Engine {
     blocking: Vec<BlockingCall>,
     /// The last blocking call's number.
     blocking_ids: u64,
+    /// What the front end does while a script waits (given to every Lua host).
+    while_waiting: Option<WhileWaiting>,
 }
 
 impl Engine {
@@ -120,7 +132,7 @@ impl Engine {
         let host = if model.scripts.is_empty() && debug.is_none() {
             None
         } else {
-            Some(Self::lua_host(&sim, &model, &config, debug)?)
+            Some(Self::lua_host(&sim, &model, &config, debug, None)?)
         };
         let now = Instant::now();
         Ok(Self {
@@ -137,6 +149,7 @@ impl Engine {
             observers: Vec::new(),
             blocking: Vec::new(),
             blocking_ids: 0,
+            while_waiting: None,
         })
     }
 
@@ -148,6 +161,7 @@ impl Engine {
         model: &SceneModel,
         config: &EngineConfig,
         debug: Option<DebugLink>,
+        while_waiting: Option<&WhileWaiting>,
     ) -> Result<LuaHost, ScriptError> {
         let mut host = LuaHost::new(
             sim.clone(),
@@ -163,7 +177,17 @@ impl Engine {
         if let Some(n) = &config.ros {
             host.set_ros_network(n.clone());
         }
+        host.set_wait_service(while_waiting.map(|w| wait_service(sim, w)));
         Ok(host)
+    }
+
+    /// Has scripts' blocking calls serve the front end through `while_waiting` (see
+    /// [`WhileWaiting`]), in this scene and those loaded later.
+    pub fn set_while_waiting(&mut self, while_waiting: WhileWaiting) {
+        if let Some(host) = self.host.as_mut() {
+            host.set_wait_service(Some(wait_service(&self.sim, &while_waiting)));
+        }
+        self.while_waiting = Some(while_waiting);
     }
 
     /// The Lua host, made now if the scene had none (a client calls a function only
@@ -173,7 +197,13 @@ impl Engine {
     /// The Lua state could not be created.
     fn host_mut(&mut self) -> Result<&mut LuaHost, ScriptError> {
         if self.host.is_none() {
-            self.host = Some(Self::lua_host(&self.sim, &self.model, &self.config, None)?);
+            self.host = Some(Self::lua_host(
+                &self.sim,
+                &self.model,
+                &self.config,
+                None,
+                self.while_waiting.as_ref(),
+            )?);
         }
         Ok(self.host.as_mut().expect("made above"))
     }
@@ -573,7 +603,10 @@ impl Engine {
         let host = if model.scripts.is_empty() && debug.is_none() {
             None
         } else {
-            Some(Self::lua_host(&sim, &model, &self.config, debug).map_err(|e| refused(&e))?)
+            Some(
+                Self::lua_host(&sim, &model, &self.config, debug, self.while_waiting.as_ref())
+                    .map_err(|e| refused(&e))?,
+            )
         };
         self.end_blocking();
         // The old host goes before the new simulation takes its place: its scripts'
@@ -720,6 +753,12 @@ impl Engine {
             o.finish(&sim, self.steps);
         }
     }
+}
+
+/// The Lua host's view of `while_waiting`: the engine's simulation bound in.
+fn wait_service(sim: &SimCell, while_waiting: &WhileWaiting) -> WaitService {
+    let (sim, f) = (sim.clone(), while_waiting.clone());
+    Rc::new(move |slice| f(&sim, slice))
 }
 
 /// A function of the Lua host called while no Lua state can be made.

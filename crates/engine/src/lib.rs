@@ -32,7 +32,7 @@ mod step;
 pub mod stepping;
 
 pub use blocking::BlockingReply;
-pub use engine::{Due, Engine, EngineConfig, NON_SIMULATION_PERIOD, RELOAD_PERIOD};
+pub use engine::{Due, Engine, EngineConfig, NON_SIMULATION_PERIOD, RELOAD_PERIOD, WhileWaiting};
 pub use gantry_lua::StepBoundary;
 pub use host_call::{HostCall, LoopControl, RemoteOp};
 pub use input::{Input, Output};

@@ -45,6 +45,7 @@ use crate::sandbox::{SOURCE_MODE, new_debuggable_state, new_state};
 use crate::scripts::{ScriptSet, ScriptState};
 use crate::sim_cell::SimCell;
 use crate::threads::Threads;
+use crate::waiting::{WaitService, Waiting};
 
 /// The scene's scripts in one Lua state, over a simulation the engine owns.
 pub struct LuaHost {
@@ -118,6 +119,7 @@ impl LuaHost {
         let sockets = Sockets::new(limits.network.clone());
         sockets.clear_interrupt();
         app_state::install(&lua, sockets);
+        app_state::install(&lua, Waiting::default());
         let debugging = debugger.is_some();
         if let Some(host) = debugger {
             app_state::install(&lua, host);
@@ -153,6 +155,12 @@ impl LuaHost {
     /// network.
     pub fn set_ros_network(&mut self, network: Arc<dyn RosNetwork>) {
         *state::<RosHost>(&self.lua).network.borrow_mut() = Some(network);
+    }
+
+    /// Has blocking LuaSocket calls serve the front end through `service` while they
+    /// wait, instead of sleeping (see [`crate::waiting`]).
+    pub fn set_wait_service(&mut self, service: Option<WaitService>) {
+        state::<Waiting>(&self.lua).set(service);
     }
 
     /// Sets how model files are read (`sim.loadModel`); the engine passes the options its

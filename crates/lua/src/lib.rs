@@ -38,6 +38,7 @@ pub mod sandbox;
 mod scripts;
 mod sim_cell;
 mod threads;
+mod waiting;
 
 pub use debugger::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, DebuggerError};
 
@@ -55,3 +56,4 @@ pub use remote::HookError;
 pub use remote_blocking::{Blocking, BlockingId};
 pub use scripts::ScriptState;
 pub use sim_cell::SimCell;
+pub use waiting::WaitService;

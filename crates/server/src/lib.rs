@@ -23,7 +23,7 @@ pub use gantry_engine::{ClientId, HostCall, Observer, stepping};
 pub use runner::{BoundAddrs, Running, ServeConfig, ServerError, Shutdown, Signals, run, start};
 pub use sim_thread::{
     LoopControl, PacketOutcome, QUEUE_CAPACITY, RemoteOp, Request, RunSummary, SendError, SimConfig, SimHandle,
-    channel, run_sim_thread, run_sim_thread_debugged, run_sim_thread_observed,
+    SimView, channel, run_sim_thread, run_sim_thread_debugged, run_sim_thread_observed,
 };
 pub use text::TextConfig;
 pub use zmq::ZmqConfig;

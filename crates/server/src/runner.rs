@@ -10,7 +10,7 @@ use tokio::net::TcpListener;
 use tokio::sync::watch;
 
 use crate::auth::AccessToken;
-use crate::http::{FramePublisher, HttpConfig};
+use crate::http::HttpConfig;
 use crate::sim_thread::{RunSummary, SimConfig, SimHandle, channel, run_sim_thread_debugged};
 
 /// Which listeners to open. A port of `None` disables that listener; `Some(0)` lets
@@ -246,7 +246,6 @@ pub fn start(
 
     // The viewer's pose stream: published by the simulation thread, only when a page
     // is connected.
-    let mut publisher = None;
     let bound = rt.block_on(async {
         let mut bound = BoundAddrs::default();
         if let Some(port) = serve.text_port {
@@ -323,8 +322,8 @@ pub fn start(
                 None => tracing::info!("viewer at http://{local}/"),
             }
             bound.http = Some(local);
-            let (p, frames) = FramePublisher::new();
-            publisher = Some(p);
+            let frames = crate::http::frame_channel();
+            sim.frames = Some(frames.clone());
             tokio::spawn(crate::http::serve(
                 listener,
                 handle.clone(),
@@ -403,11 +402,7 @@ pub fn start(
         .name("gantry-sim".into())
         .spawn(move || {
             let should_stop = || sim_shutdown.is_triggered();
-            let observers: Vec<Box<dyn gantry_engine::Observer>> = match publisher {
-                Some(p) => vec![Box::new(p)],
-                None => Vec::new(),
-            };
-            run_sim_thread_debugged(model, sim, rx, should_stop, observers, debug_link, recorder)
+            run_sim_thread_debugged(model, sim, rx, should_stop, Vec::new(), debug_link, recorder)
         })
         .map_err(ServerError::Runtime)?;
     Ok(Running {

@@ -6,20 +6,25 @@
 //! tick — serves every request as soon as it arrives, so a reply never waits for the
 //! next 50 ms step.
 
+use std::cell::RefCell;
 use std::collections::VecDeque;
+use std::path::PathBuf;
+use std::rc::Rc;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::time::{Duration, Instant};
 
-use gantry_engine::{ClientId, Due, Engine, EngineConfig, Input, MidStep, Observer, Output, StepBoundary};
+use gantry_engine::{
+    ClientId, Due, Engine, EngineConfig, Input, MidStep, Observer, Output, StepBoundary, WhileWaiting,
+};
 pub use gantry_engine::{LoopControl, RemoteOp};
-use gantry_lua::ScriptLimits;
-use gantry_sim_core::Handle;
+use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, StepSafety, Target};
 use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::SimulationState;
+use gantry_sim_core::{Handle, Sim};
 use tokio::sync::oneshot;
 
 /// Most requests queued for the simulation thread; beyond this, transports answer
@@ -97,8 +102,21 @@ pub enum Request {
         reply: oneshot::Sender<Result<Vec<Value>, CallError>>,
     },
     /// Run a closure on the simulation thread with the engine, between steps (the
-    /// viewer's snapshots and edits, tests).
+    /// viewer's edits, tests).
     With(Box<dyn FnOnce(&mut Engine) + Send>),
+    /// Run a closure that only reads the simulation (the viewer's scene, status and
+    /// panels): served between steps, and also while a script holds the step in a
+    /// blocking call (see [`SimView`]).
+    Read(Box<dyn FnOnce(&SimView<'_>) + Send>),
+}
+
+/// What a [`Request::Read`] sees.
+pub struct SimView<'a> {
+    /// The simulation.
+    pub sim: &'a Sim,
+    /// Each script's file, object and state; `None` while a script holds the step (the
+    /// Lua host is busy running it).
+    pub scripts: Option<&'a [(PathBuf, Handle, ScriptState)]>,
 }
 
 /// What the scripts did with a packet.
@@ -210,6 +228,22 @@ impl SimHandle {
         rx.await.map_err(|_| SendError::Closed)
     }
 
+    /// Runs `f` on the simulation thread with a read-only view and awaits its result:
+    /// answered even while a script holds the step in a blocking call.
+    ///
+    /// # Errors
+    /// Why it could not be delivered.
+    pub async fn read<R: Send + 'static>(
+        &self,
+        f: impl FnOnce(&SimView<'_>) -> R + Send + 'static,
+    ) -> Result<R, SendError> {
+        let (reply, rx) = oneshot::channel();
+        self.send(Request::Read(Box::new(move |view| {
+            let _ = reply.send(f(view));
+        })))?;
+        rx.await.map_err(|_| SendError::Closed)
+    }
+
     /// Runs `f` on the simulation thread and awaits its result.
     ///
     /// # Errors
@@ -257,6 +291,9 @@ pub struct SimConfig {
     /// ROS 2: the network of scripts' `simROS2`, and the graph's topics when asked for
     /// (`--ros2`).
     pub ros2: Option<gantry_ros2::RosSetup>,
+    /// The viewer's pose stream: frames go out after each step, at the loop's idle
+    /// ticks, and while a script holds the step in a blocking call.
+    pub frames: Option<crate::http::FrameSender>,
 }
 
 /// What a finished run reports.
@@ -366,10 +403,15 @@ pub fn run_sim_thread_debugged(
         let tap = gantry_record::RecordTap::new(r, &engine.sim());
         engine.set_recorder(Box::new(tap));
     }
-    let mut lp = SimLoop {
-        engine,
-        deferred: VecDeque::new(),
-    };
+    let frames = config.frames.as_ref().map(|tx| {
+        let p = crate::http::SharedPublisher(Rc::new(RefCell::new(crate::http::FramePublisher::on(tx.clone()))));
+        engine.add_observer(Box::new(p.clone()));
+        p
+    });
+    let rx = Rc::new(rx);
+    let deferred = Rc::new(RefCell::new(VecDeque::new()));
+    engine.set_while_waiting(while_waiting(rx.clone(), deferred.clone(), frames));
+    let mut lp = SimLoop { engine, deferred };
     if config.autostart {
         lp.engine.serve(Input::Control(LoopControl::Control(
             gantry_sim_core::sim::Control::Start,
@@ -456,6 +498,43 @@ pub fn run_sim_thread_debugged(
     })
 }
 
+/// What the simulation thread does while a script holds the step in a blocking call
+/// (see [`WhileWaiting`]): the viewer's reads are answered and its frames go out; every
+/// other request waits for the end of the step, in arrival order (a stop also ends the
+/// script's wait: [`SimHandle::send`] raises the interrupt).
+fn while_waiting(
+    rx: Rc<Receiver<Request>>,
+    deferred: Rc<RefCell<VecDeque<Request>>>,
+    frames: Option<crate::http::SharedPublisher>,
+) -> WhileWaiting {
+    Rc::new(move |sim: &RefCell<Sim>, slice: Duration| {
+        let until = Instant::now() + slice;
+        loop {
+            let left = until.saturating_duration_since(Instant::now());
+            match rx.recv_timeout(left) {
+                Ok(Request::Read(f)) if deferred.borrow().is_empty() => match sim.try_borrow() {
+                    Ok(s) => f(&SimView { sim: &s, scripts: None }),
+                    Err(_) => deferred.borrow_mut().push_back(Request::Read(f)),
+                },
+                Ok(other) => deferred.borrow_mut().push_back(other),
+                Err(RecvTimeoutError::Timeout) => break,
+                Err(RecvTimeoutError::Disconnected) => {
+                    std::thread::sleep(left);
+                    break;
+                }
+            }
+            if Instant::now() >= until {
+                break;
+            }
+        }
+        if let Some(p) = &frames
+            && let Ok(s) = sim.try_borrow()
+        {
+            p.0.borrow_mut().observe_waiting(&s);
+        }
+    })
+}
+
 /// Every graph stream as CSV into `dir` (`--export-graphs`).
 fn export_graphs(core: &gantry_sim_core::Sim, dir: &std::path::Path) {
     let w = &core.world;
@@ -477,8 +556,9 @@ fn export_graphs(core: &gantry_sim_core::Sim, dir: &std::path::Path) {
 /// The engine and the requests waiting for the end of a step.
 struct SimLoop {
     engine: Engine,
-    /// Requests that arrived during a step and wait for its end, in arrival order.
-    deferred: VecDeque<Request>,
+    /// Requests that arrived during a step (or while a script waited) and wait for its
+    /// end, in arrival order.
+    deferred: Rc<RefCell<VecDeque<Request>>>,
 }
 
 impl SimLoop {
@@ -491,30 +571,50 @@ impl SimLoop {
     /// levels, viewer closures) waits for the end of the step, and so does every
     /// request behind a waiting one, so replies keep arrival order.
     fn step_serving(&mut self, rx: &Receiver<Request>) {
-        let deferred = &mut self.deferred;
+        let deferred = self.deferred.clone();
         self.engine.step_with(&mut |mid: &mut MidStep<'_>| {
             let at = mid.boundary();
             while let Ok(req) = rx.try_recv() {
+                let waiting = !deferred.borrow().is_empty();
                 match req {
-                    req if !deferred.is_empty() || !may_serve_mid_step(&req, at) => deferred.push_back(req),
+                    req if waiting || !may_serve_mid_step(&req, at) => deferred.borrow_mut().push_back(req),
                     Request::Call { target, args, reply } => {
                         let _ = reply.send(mid.call(&target, &args));
                     }
                     Request::Packet { packet, reply } => {
                         let _ = reply.send(packet_outcome(mid.packet(&packet)));
                     }
-                    other => deferred.push_back(other),
+                    Request::Read(f) => f(&SimView {
+                        sim: &mid.sim(),
+                        scripts: None,
+                    }),
+                    other => deferred.borrow_mut().push_back(other),
                 }
             }
         });
-        while let Some(req) = self.deferred.pop_front() {
-            self.serve(req);
+        self.serve_deferred();
+    }
+
+    /// Serves the requests that waited for the end of a step or of a script's wait.
+    fn serve_deferred(&mut self) {
+        loop {
+            let next = self.deferred.borrow_mut().pop_front();
+            match next {
+                Some(req) => self.serve_now(req),
+                None => break,
+            }
         }
+    }
+
+    /// Serves `req` between steps, then what waited meanwhile.
+    fn serve(&mut self, req: Request) {
+        self.serve_now(req);
+        self.serve_deferred();
     }
 
     /// Serves `req` between steps: the engine's one entry for every input, the
     /// viewer's closures on the engine itself.
-    fn serve(&mut self, req: Request) {
+    fn serve_now(&mut self, req: Request) {
         let e = &mut self.engine;
         match req {
             // A blocking function called without a client's session (the in-process
@@ -572,6 +672,13 @@ impl SimLoop {
                 let _ = reply.send(e.serve(Input::LoadScene(path.as_deref())).into_values());
             }
             Request::With(f) => f(e),
+            Request::Read(f) => {
+                let scripts = e.scripts();
+                f(&SimView {
+                    sim: &e.sim(),
+                    scripts: Some(&scripts),
+                });
+            }
         }
     }
 }
@@ -587,7 +694,7 @@ fn may_serve_mid_step(req: &Request, at: StepBoundary) -> bool {
             // remove a script: never inside a step.
             StepSafety::BetweenSteps => false,
         },
-        Request::Packet { .. } => at == StepBoundary::Phase,
+        Request::Packet { .. } | Request::Read(_) => at == StepBoundary::Phase,
         Request::Control { .. }
         | Request::Blocking { .. }
         | Request::Remote { .. }

@@ -19,6 +19,7 @@ fn lua_with(params: NetworkParams) -> Lua {
     let lua = Lua::new();
     app_state::install(&lua, Running::new(Duration::from_secs(1)));
     app_state::install(&lua, Sockets::new(params));
+    app_state::install(&lua, crate::waiting::Waiting::default());
     install(&lua).expect("install the socket table");
     lua
 }
@@ -309,6 +310,25 @@ fn time_spent_waiting_is_given_back_to_the_budget() {
         moved >= Duration::from_millis(200),
         "deadline moved by {moved:?} after waiting {waited:?}"
     );
+}
+
+#[test]
+fn a_wait_spends_its_slices_in_the_front_ends_service() {
+    let lua = lua();
+    serve(&lua);
+    let slices = std::rc::Rc::new(std::cell::Cell::new(Duration::ZERO));
+    let seen = slices.clone();
+    let service: crate::waiting::WaitService = std::rc::Rc::new(move |slice| {
+        seen.set(seen.get() + slice);
+        std::thread::sleep(slice);
+    });
+    state::<crate::waiting::Waiting>(&lua).set(Some(service));
+    assert_eq!(
+        run(&lua, "server:settimeout(0.1); return server:accept()", ()),
+        ["nil", "timeout"]
+    );
+    // Every slice of the 0.1 s wait went to the service (the last one may be cut).
+    assert!(slices.get() >= Duration::from_millis(90), "{:?}", slices.get());
 }
 
 #[test]

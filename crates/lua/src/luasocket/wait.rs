@@ -21,6 +21,7 @@ use mlua::Lua;
 use super::sockets::Sockets;
 use crate::app_state::state;
 use crate::running::Running;
+use crate::waiting::Waiting;
 
 /// How long one wait lasts before the call retries and looks at the stop flag: short
 /// enough that a client is served within it and Ctrl-C is felt at once, long enough
@@ -73,7 +74,8 @@ pub(crate) fn wait_for<T>(
             break Ok(Waited::Stopping("the simulation is stopping"));
         }
         let slice = until.map_or(SLICE, |u| u.saturating_duration_since(now).min(SLICE));
-        std::thread::sleep(slice);
+        // The front end is served meanwhile (see `crate::waiting`).
+        state::<Waiting>(lua).pause(slice);
         slept = true;
     };
     if slept {

@@ -304,16 +304,40 @@ pub struct FramePublisher {
 impl FramePublisher {
     /// A publisher and the sender the HTTP server subscribes viewers through.
     pub fn new() -> (FramePublisher, FrameSender) {
-        let (tx, _) = watch::channel(Arc::new(Frame::default()));
-        let tx = Arc::new(tx);
-        let publisher = FramePublisher {
-            tx: tx.clone(),
+        let tx = frame_channel();
+        (FramePublisher::on(tx.clone()), tx)
+    }
+
+    /// A publisher sending on `tx` (made by [`frame_channel`]).
+    pub fn on(tx: FrameSender) -> FramePublisher {
+        FramePublisher {
+            tx,
             last: None,
             last_run_steps: 0,
             window: None,
             rates: (0.0, 0.0),
-        };
-        (publisher, tx)
+        }
+    }
+}
+
+/// A new pose stream, with no frame yet.
+pub fn frame_channel() -> FrameSender {
+    Arc::new(watch::channel(Arc::new(Frame::default())).0)
+}
+
+/// One publisher shared by the engine (an observer after each step and at idle ticks)
+/// and the simulation thread's wait service (while a script holds the step in a
+/// blocking call), so that the frame rate and the rate window are one.
+#[derive(Clone)]
+pub struct SharedPublisher(pub std::rc::Rc<std::cell::RefCell<FramePublisher>>);
+
+impl Observer for SharedPublisher {
+    fn stepped(&mut self, sim: &Sim, run_steps: u64) {
+        self.0.borrow_mut().observe(sim, run_steps);
+    }
+
+    fn idle(&mut self, sim: &Sim, run_steps: u64) {
+        self.0.borrow_mut().observe(sim, run_steps);
     }
 }
 
@@ -330,8 +354,15 @@ impl Observer for FramePublisher {
 }
 
 impl FramePublisher {
+    /// [`FramePublisher::observe`] while the run's step count cannot move (a script
+    /// holds the step): the simulation still changes under the viewer's eyes.
+    pub fn observe_waiting(&mut self, sim: &Sim) {
+        let steps = self.last_run_steps;
+        self.observe(sim, steps);
+    }
+
     /// Publishes a frame if a viewer watches and the frame rate allows one now.
-    fn observe(&mut self, sim: &Sim, run_steps: u64) {
+    pub fn observe(&mut self, sim: &Sim, run_steps: u64) {
         if self.tx.receiver_count() == 0 {
             // Nobody watches: forget the rate window so a new viewer starts afresh.
             self.window = None;

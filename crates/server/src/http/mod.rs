@@ -64,7 +64,7 @@ pub use config::HttpConfig;
 pub use frame::{
     DRAWING_REMOVED, DeltaMessages, DrawingFrame, Frame, FrameDelta, FramePublisher, FrameSender, IDLE_FRAME_RATE,
     MAX_CLOUD_POINTS, MAX_DRAWING_VERTICES, MAX_FRAME_CLOUD_POINTS, MAX_FRAME_RATE, MAX_FRAME_VERTICES, MSG_FRAME,
-    PointCloudFrame, SelectedOrientation,
+    PointCloudFrame, SelectedOrientation, SharedPublisher, frame_channel,
 };
 pub use panels::{
     MAX_GRAPH_SAMPLES, MAX_LOG_LINES, MAX_LOG_MESSAGE, MAX_POLL_SAMPLES, MSG_IMAGE, PanelCursor, PanelUpdate, collect,
@@ -228,8 +228,8 @@ async fn status(State(st): State<AppState>) -> Response {
     let viewers = st.cfg.max_viewers - st.viewers.available_permits();
     let result = st
         .sim
-        .with(|sim| {
-            let s = sim.sim();
+        .read(|v| {
+            let s = v.sim;
             (s.world.time(), s.world.steps(), s.state.code())
         })
         .await;
@@ -284,8 +284,8 @@ async fn graph_csv(Path(file): Path<String>, State(st): State<AppState>) -> Resp
     };
     let result = st
         .sim
-        .with(move |sim| {
-            let s = sim.sim();
+        .read(move |v| {
+            let s = v.sim;
             let alias = s.world.object(handle).map(|o| o.alias.clone()).ok()?;
             s.graphs
                 .graphs()

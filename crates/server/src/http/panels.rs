@@ -7,8 +7,11 @@
 
 use std::collections::BTreeMap;
 
-use gantry_engine::Engine;
+use std::path::PathBuf;
+
 use gantry_lua::ScriptState;
+
+use crate::sim_thread::SimView;
 use gantry_sim_core::Handle;
 use gantry_sim_core::Sim;
 use gantry_sim_core::graph::GraphStream;
@@ -68,9 +71,11 @@ pub struct PanelUpdate {
 }
 
 /// Gathers what is new since `cursor` and advances it. Runs on the simulation thread.
-pub fn collect(sim: &Engine, cursor: &mut PanelCursor) -> PanelUpdate {
-    let scripts = scripts_json(sim);
-    let core = sim.sim();
+/// Without the scripts (`view.scripts` is `None` while a script holds the step), the
+/// script panel keeps what it showed.
+pub fn collect(view: &SimView<'_>, cursor: &mut PanelCursor) -> PanelUpdate {
+    let scripts = view.scripts.map(|s| scripts_json(view.sim, s));
+    let core = view.sim;
     let world = &core.world;
     if world.steps() < cursor.steps {
         cursor.ui_revision = None;
@@ -80,7 +85,9 @@ pub fn collect(sim: &Engine, cursor: &mut PanelCursor) -> PanelUpdate {
     }
     cursor.steps = world.steps();
     let mut msg = serde_json::Map::new();
-    if cursor.scripts.as_ref() != Some(&scripts) {
+    if let Some(scripts) = scripts
+        && cursor.scripts.as_ref() != Some(&scripts)
+    {
         msg.insert("scripts".into(), scripts.clone());
         cursor.scripts = Some(scripts);
     }
@@ -127,11 +134,11 @@ pub fn collect(sim: &Engine, cursor: &mut PanelCursor) -> PanelUpdate {
         cursor.selection_revision = Some(world.selection.revision());
         msg.insert("selection".into(), json!(world.selection.handles()));
     }
-    let graphs = graph_updates(&core, &mut cursor.graphs);
+    let graphs = graph_updates(core, &mut cursor.graphs);
     if !graphs.is_empty() {
         msg.insert("graphs".into(), Json::Array(graphs));
     }
-    let images = image_updates(&core, &mut cursor.images);
+    let images = image_updates(core, &mut cursor.images);
     let json = (!msg.is_empty()).then(|| {
         msg.insert("t".into(), json!("panels"));
         Json::Object(msg)
@@ -151,14 +158,13 @@ pub(super) fn truncate(s: &str, max: usize) -> String {
     format!("{}…", &s[..end])
 }
 
-fn scripts_json(sim: &Engine) -> Json {
-    let world = sim.world();
-    let list: Vec<Json> = sim
-        .scripts()
-        .into_iter()
+fn scripts_json(sim: &Sim, scripts: &[(PathBuf, Handle, ScriptState)]) -> Json {
+    let world = &sim.world;
+    let list: Vec<Json> = scripts
+        .iter()
         .enumerate()
         .map(|(i, (path, object, state))| {
-            let alias = world.object(object).map(|o| o.alias.clone()).unwrap_or_default();
+            let alias = world.object(*object).map(|o| o.alias.clone()).unwrap_or_default();
             let (state, error) = match state {
                 ScriptState::Running => ("running", None),
                 ScriptState::Errored(e) => ("errored", Some(e)),

@@ -302,7 +302,7 @@ async fn send_frame(
 /// Sends the scene description and its meshes; returns the number of objects and the
 /// scene and structure revisions it describes.
 async fn send_scene(socket: &mut WebSocket, sim: &SimHandle, cfg: &HttpConfig) -> Result<(usize, u64, u64), Gone> {
-    let desc = match sim.with(|s| scene::describe(&s.world())).await {
+    let desc = match sim.read(|v| scene::describe(&v.sim.world)).await {
         Ok(d) => d,
         Err(e) => {
             let msg = json!({"t": "error", "text": e.to_string()});
@@ -322,8 +322,8 @@ async fn send_scene(socket: &mut WebSocket, sim: &SimHandle, cfg: &HttpConfig) -
 
 async fn send_panels(socket: &mut WebSocket, st: &AppState, cursor: &mut PanelCursor) -> Result<(), Gone> {
     let mut next = cursor.clone();
-    let collect = st.sim.with(move |sim| {
-        let u = panels::collect(sim, &mut next);
+    let collect = st.sim.read(move |view| {
+        let u = panels::collect(view, &mut next);
         (next, u)
     });
     // A stopped script holds the simulation: give up this refresh (the request runs
