@@ -25,7 +25,7 @@ use gantry_server::sim_thread::SimConfig;
 use gantry_server::zmq::no_module;
 use gantry_server::{AccessToken, ServeConfig, Shutdown, Signals};
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{self, Target};
+use gantry_sim_core::api::{self, Cost, Target};
 use gantry_sim_core::scene::{
     BUNDLED_SCENES, DiskFiles, EmbeddedFiles, Files, LoadOptions, LoggedFiles, bundled_files, load_client_scene,
     load_scene, normalize_path,
@@ -60,23 +60,12 @@ fn resolve(name: &str) -> Option<Resolved> {
     })
 }
 
-/// Whether a function may take long enough to be worth releasing the GIL for: script
-/// code, and the registry's functions that render, solve IK or query geometry. Decided
-/// here, once per function object, from the function's name as the registry spells
-/// it; the quick ones (a pose, a signal) keep the GIL, since releasing and retaking it
-/// costs more than they do.
+/// Whether an in-process call of `target` releases the GIL: when the registry says it
+/// may run long (renders, IK solves, planning, geometric queries, script code). The
+/// quick ones (a pose, a signal) keep it, since releasing and retaking it costs more
+/// than they do. Decided once per function object.
 fn releases_gil(target: &Target) -> bool {
-    match target {
-        Target::ScriptHost(_) => true,
-        Target::FrontEnd(_) => false,
-        Target::Core { module, function, .. } => {
-            *module == "simIK"
-                || *module == "simVision"
-                || ["Vision", "handle", "check", "IK"]
-                    .iter()
-                    .any(|k| function.name.contains(k))
-        }
-    }
+    target.cost() == Cost::Long
 }
 
 /// Where the simulation runs.

@@ -3,7 +3,7 @@
 //! Starting programs (`sim.launchExecutable`) is the Lua
 //! host's, which knows what the command line allows.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::world::World;
@@ -13,10 +13,12 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getApiFunc",
         call: ApiFn::World(get_api_func),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getModuleName",
         call: ApiFn::World(get_module_name),
+        cost: Cost::Quick,
     },
 ];
 

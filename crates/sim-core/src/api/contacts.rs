@@ -1,7 +1,7 @@
 //! `sim.getContactInfo`: the contact points of the last simulation step
 //! ([`crate::world::World::contacts`]).
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::world::World;
@@ -10,6 +10,7 @@ use crate::world::World;
 pub const FUNCTIONS: &[ApiFunction] = &[ApiFunction {
     name: "getContactInfo",
     call: ApiFn::World(get_contact_info),
+    cost: Cost::Quick,
 }];
 
 /// `sim.handle_all`.

@@ -7,7 +7,7 @@
 //! parameters. Data are text or bytes and read back as written. Blocks of a removed
 //! object go with it.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::world::{Handle, World};
@@ -20,22 +20,27 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getBufferProperty",
         call: ApiFn::World(get_buffer_property),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "readCustomDataBlock",
         call: ApiFn::World(read_custom_data_block),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "readCustomDataBlockTags",
         call: ApiFn::World(read_custom_data_block_tags),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setBufferProperty",
         call: ApiFn::World(set_buffer_property),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "writeCustomDataBlock",
         call: ApiFn::World(write_custom_data_block),
+        cost: Cost::Quick,
     },
 ];
 

@@ -7,7 +7,7 @@ use crate::error::SimError;
 use crate::sim::Sim;
 use std::path::Path;
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::drawing::{DrawingKind, DrawingParams, HANDLEFLAG_ADD_MULTIPLE, MAX_DRAWING_ITEMS};
 use crate::graph::StreamParams;
@@ -18,34 +18,42 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addDrawingObject",
         call: ApiFn::Sim(add_drawing_object),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "addDrawingObjectItem",
         call: ApiFn::Sim(add_drawing_object_item),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "addGraphStream",
         call: ApiFn::Sim(add_graph_stream),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "exportGraphStreams",
         call: ApiFn::Sim(export_graph_streams),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getDrawingObjectItems",
         call: ApiFn::Sim(get_drawing_object_items),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getGraphStreamValues",
         call: ApiFn::Sim(get_graph_stream_values),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "removeDrawingObject",
         call: ApiFn::Sim(remove_drawing_object),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setGraphStreamValue",
         call: ApiFn::Sim(set_graph_stream_value),
+        cost: Cost::Quick,
     },
 ];
 

@@ -38,6 +38,17 @@ pub enum ApiFn {
     Sim(SimFn),
 }
 
+/// How long a function may take, for front ends that must decide whether to let other
+/// work run meanwhile (the in-process Python client releases the GIL for the long
+/// ones; for the quick ones releasing and retaking it costs more than the call).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cost {
+    /// Microseconds: reads and writes of poses, parameters, signals.
+    Quick,
+    /// May render, solve, plan or query geometry: up to milliseconds and more.
+    Long,
+}
+
 /// One entry of the registry.
 #[derive(Clone, Copy)]
 pub struct ApiFunction {
@@ -45,6 +56,8 @@ pub struct ApiFunction {
     pub name: &'static str,
     /// The implementation.
     pub call: ApiFn,
+    /// How long it may take.
+    pub cost: Cost,
 }
 
 impl ApiFunction {

@@ -3,7 +3,7 @@
 
 use super::drawing::{graph, opt_color};
 use super::scene::handle_list;
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::graph::CurveParams;
@@ -15,14 +15,17 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addGraphCurve",
         call: ApiFn::Sim(add_graph_curve),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "handleGraph",
         call: ApiFn::Sim(handle_graph),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "resetGraph",
         call: ApiFn::Sim(reset_graph),
+        cost: Cost::Quick,
     },
 ];
 

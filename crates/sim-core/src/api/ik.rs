@@ -8,7 +8,7 @@
 //! so `addElementFromScene`'s `simToIkMap`/`ikToSimMap` are identity maps over the
 //! chain's objects.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::ik::{self, Apply, Constraints, GroupFlags, GroupsOutcome, IkMethod};
@@ -20,106 +20,132 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addElement",
         call: ApiFn::Sim(add_element_to_group),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "addElementFromScene",
         call: ApiFn::Sim(add_element_from_scene),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "addIkElementFromScene",
         call: ApiFn::Sim(add_ik_element_from_scene),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "applyIkEnvironmentToScene",
         call: ApiFn::Sim(apply_ik_environment_to_scene),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "applySceneToIkEnvironment",
         call: ApiFn::Sim(apply_scene_to_ik_environment),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "createEnvironment",
         call: ApiFn::Sim(create_environment),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "createGroup",
         call: ApiFn::Sim(create_group),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "eraseEnvironment",
         call: ApiFn::Sim(erase_environment),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "findConfig",
         call: ApiFn::Sim(find_config),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getElementConstraints",
         call: ApiFn::Sim(get_element_constraints),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getElementPrecision",
         call: ApiFn::Sim(get_element_precision),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getElementWeights",
         call: ApiFn::Sim(get_element_weights),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getGroupCalculation",
         call: ApiFn::Sim(get_group_calculation),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getGroupFlags",
         call: ApiFn::Sim(get_group_flags),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getGroupHandle",
         call: ApiFn::Sim(get_group_handle),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getGroupJoints",
         call: ApiFn::Sim(get_group_joints),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "handleGroup",
         call: ApiFn::Sim(handle_group),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "handleGroups",
         call: ApiFn::Sim(handle_groups),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "handleIkGroup",
         call: ApiFn::Sim(handle_ik_group),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setElementConstraints",
         call: ApiFn::Sim(set_element_constraints),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setElementPrecision",
         call: ApiFn::Sim(set_element_precision),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setElementWeights",
         call: ApiFn::Sim(set_element_weights),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setGroupCalculation",
         call: ApiFn::Sim(set_group_calculation),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setGroupFlags",
         call: ApiFn::Sim(set_group_flags),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "syncFromSim",
         call: ApiFn::Sim(sync_from_sim),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "syncToSim",
         call: ApiFn::Sim(sync_to_sim),
+        cost: Cost::Long,
     },
 ];
 

@@ -4,7 +4,7 @@
 //! by the same solver as `simIK`; those not flagged explicit are handled every step after
 //! the scripts' actuation.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::ik::{self, Constraints, IkMethod};
@@ -16,34 +16,42 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getConfigForTipPose",
         call: ApiFn::Sim(get_config_for_tip_pose),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getExplicitHandling",
         call: ApiFn::Sim(get_explicit_handling),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getIkGroupHandle",
         call: ApiFn::Sim(get_ik_group_handle),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getIkGroupMatrix",
         call: ApiFn::Sim(get_ik_group_matrix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "handleIkGroup",
         call: ApiFn::Sim(handle_ik_group),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setExplicitHandling",
         call: ApiFn::Sim(set_explicit_handling),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setIkElementProperties",
         call: ApiFn::Sim(set_ik_element_properties),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setIkGroupProperties",
         call: ApiFn::Sim(set_ik_group_properties),
+        cost: Cost::Quick,
     },
 ];
 

@@ -6,7 +6,7 @@
 //! functions on objects, the environment's own (`createDummy`, `createJoint`, ...) and
 //! the scene's, are in [`super::ik_objects`].
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::ik::{self, Trees};
@@ -18,14 +18,17 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getConfigForTipPose",
         call: ApiFn::Sim(get_config_for_tip_pose),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getElementBase",
         call: ApiFn::Sim(get_element_base),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setElementBase",
         call: ApiFn::Sim(set_element_base),
+        cost: Cost::Long,
     },
 ];
 

@@ -10,7 +10,7 @@
 //! erasing, joint modes and intervals) is refused with the `sim.*` function to use
 //! instead. A reference frame (`relativeTo`) must belong to the same tree as the object.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret, joints, objects};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret, joints, objects};
 use crate::Value;
 use crate::error::SimError;
 use crate::ik::{HANDLE_PARENT, HANDLE_WORLD, IkJointMode, IkObjects, is_own_object};
@@ -24,86 +24,107 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "createDummy",
         call: ApiFn::Sim(create_dummy),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "createJoint",
         call: ApiFn::Sim(create_joint),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "doesObjectExist",
         call: ApiFn::Sim(does_object_exist),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "eraseObject",
         call: ApiFn::Sim(erase_object),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getJointInterval",
         call: ApiFn::Sim(get_joint_interval),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getJointMode",
         call: ApiFn::Sim(get_joint_mode),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getJointPosition",
         call: ApiFn::Sim(get_joint_position),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getJointType",
         call: ApiFn::Sim(get_joint_type),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getObjectHandle",
         call: ApiFn::Sim(get_object_handle),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getObjectMatrix",
         call: ApiFn::Sim(get_object_matrix),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getObjectParent",
         call: ApiFn::Sim(get_object_parent),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getObjectPose",
         call: ApiFn::Sim(get_object_pose),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getObjectType",
         call: ApiFn::Sim(get_object_type),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getTargetDummy",
         call: ApiFn::Sim(get_target_dummy),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setJointInterval",
         call: ApiFn::Sim(set_joint_interval),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setJointMode",
         call: ApiFn::Sim(set_joint_mode),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setJointPosition",
         call: ApiFn::Sim(set_joint_position),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setObjectMatrix",
         call: ApiFn::Sim(set_object_matrix),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setObjectParent",
         call: ApiFn::Sim(set_object_parent),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setObjectPose",
         call: ApiFn::Sim(set_object_pose),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setTargetDummy",
         call: ApiFn::Sim(set_target_dummy),
+        cost: Cost::Long,
     },
 ];
 

@@ -2,7 +2,7 @@
 //! sensor's image before publishing it (a vision sensor's rows start at the bottom, ROS
 //! images' at the top).
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::world::World;
@@ -11,6 +11,7 @@ use crate::world::World;
 pub const FUNCTIONS: &[ApiFunction] = &[ApiFunction {
     name: "transformImage",
     call: ApiFn::World(transform_image),
+    cost: Cost::Quick,
 }];
 
 /// `options` bits of `sim.transformImage`, CoppeliaSim's values.

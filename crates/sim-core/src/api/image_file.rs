@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::sim::Sim;
@@ -17,10 +17,12 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "loadImage",
         call: ApiFn::Sim(load_image),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "saveImage",
         call: ApiFn::Sim(save_image),
+        cost: Cost::Quick,
     },
 ];
 

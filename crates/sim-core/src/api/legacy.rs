@@ -10,7 +10,7 @@ use crate::error::SimError;
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::sim::{Advancing, Sim};
 use crate::world::object_path::ObjectTree;
@@ -54,138 +54,172 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addObjectToSelection",
         call: ApiFn::World(add_object_to_selection),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "addStatusbarMessage",
         call: ApiFn::World(add_statusbar_message),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "announceSceneContentChange",
         call: ApiFn::World(announce_scene_content_change),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "auxiliaryConsoleClose",
         call: ApiFn::World(auxiliary_console_close),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "auxiliaryConsoleOpen",
         call: ApiFn::World(auxiliary_console_open),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "auxiliaryConsolePrint",
         call: ApiFn::World(auxiliary_console_print),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "auxiliaryConsoleShow",
         call: ApiFn::World(auxiliary_console_show),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "boolAnd32",
         call: ApiFn::World(|_, _, a| bool32(a, |x, y| x & y)),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "boolOr32",
         call: ApiFn::World(|_, _, a| bool32(a, |x, y| x | y)),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "boolXor32",
         call: ApiFn::World(|_, _, a| bool32(a, |x, y| x ^ y)),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "copyMatrix",
         call: ApiFn::World(copy_matrix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "displayDialog",
         call: ApiFn::World(display_dialog),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "endDialog",
         call: ApiFn::World(end_dialog),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getDialogResult",
         call: ApiFn::World(get_dialog_result),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getNameSuffix",
         call: ApiFn::World(get_name_suffix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getNamedInt32Param",
         call: ApiFn::World(get_named_int32_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectAssociatedWithScript",
         call: ApiFn::World(get_object_associated_with_script),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectFloatParameter",
         call: ApiFn::World(get_object_float_parameter),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectHandle",
         call: ApiFn::World(get_object_handle),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectInt32Parameter",
         call: ApiFn::World(get_object_int32_parameter),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectSelection",
         call: ApiFn::World(get_object_selection),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectSizeFactor",
         call: ApiFn::World(get_object_size_factor),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getScriptHandle",
         call: ApiFn::World(get_script_handle),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getScriptSimulationParameter",
         call: ApiFn::World(get_script_simulation_parameter),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getShapeBB",
         call: ApiFn::World(get_shape_bb),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getSimulationStopping",
         call: ApiFn::Sim(get_simulation_stopping),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getSystemTimeInMs",
         call: ApiFn::World(get_system_time_in_ms),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "isDynamicallyEnabled",
         call: ApiFn::World(is_dynamically_enabled),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "isHandle",
         call: ApiFn::World(is_handle),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "isHandleValid",
         call: ApiFn::World(is_handle_valid),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "msgBox",
         call: ApiFn::World(msg_box),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "removeModel",
         call: ApiFn::Sim(remove_model),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "removeObjectFromSelection",
         call: ApiFn::World(remove_object_from_selection),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setScriptSimulationParameter",
         call: ApiFn::World(set_script_simulation_parameter),
+        cost: Cost::Quick,
     },
 ];
 

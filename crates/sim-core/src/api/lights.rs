@@ -3,7 +3,7 @@
 //! are imported as dummies), so no handle names a light and both functions say so
 //! instead of pretending.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::error::SimError;
 use crate::world::World;
 
@@ -12,10 +12,12 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getLightParameters",
         call: ApiFn::World(light_parameters),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setLightParameters",
         call: ApiFn::World(light_parameters),
+        cost: Cost::Quick,
     },
 ];
 

@@ -2,7 +2,7 @@
 //! together, CoppeliaSim's dynamic loop closure (suction pads, attachments, closed
 //! chains).
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::world::World;
@@ -12,10 +12,12 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getLinkDummy",
         call: ApiFn::World(get_link_dummy),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setLinkDummy",
         call: ApiFn::World(set_link_dummy),
+        cost: Cost::Quick,
     },
 ];
 

@@ -18,7 +18,7 @@
 use crate::error::SimError;
 use nalgebra::{Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::math::{self, Pose, Quat, Vec3};
 use crate::world::World;
@@ -28,78 +28,97 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "alphaBetaGammaToYawPitchRoll",
         call: ApiFn::World(alpha_beta_gamma_to_yaw_pitch_roll),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "buildIdentityMatrix",
         call: ApiFn::World(build_identity_matrix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "buildMatrix",
         call: ApiFn::World(build_matrix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "buildMatrixQ",
         call: ApiFn::World(build_matrix_q),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "buildPose",
         call: ApiFn::World(build_pose),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getEulerAnglesFromMatrix",
         call: ApiFn::World(get_euler_angles_from_matrix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getMatrixInverse",
         call: ApiFn::World(get_matrix_inverse),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getPoseInverse",
         call: ApiFn::World(get_pose_inverse),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getQuaternionFromMatrix",
         call: ApiFn::World(get_quaternion_from_matrix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getRotationAxis",
         call: ApiFn::World(get_rotation_axis),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "interpolateMatrices",
         call: ApiFn::World(interpolate_matrices),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "interpolatePoses",
         call: ApiFn::World(interpolate_poses),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "matrixToPose",
         call: ApiFn::World(matrix_to_pose),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "multiplyMatrices",
         call: ApiFn::World(multiply_matrices),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "multiplyPoses",
         call: ApiFn::World(multiply_poses),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "multiplyVector",
         call: ApiFn::World(multiply_vector),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "poseToMatrix",
         call: ApiFn::World(pose_to_matrix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "rotateAroundAxis",
         call: ApiFn::World(rotate_around_axis),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "yawPitchRollToAlphaBetaGamma",
         call: ApiFn::World(yaw_pitch_roll_to_alpha_beta_gamma),
+        cost: Cost::Quick,
     },
 ];
 

@@ -56,7 +56,7 @@ mod vision_buffers;
 
 pub use args::Args;
 pub use error::CallError;
-pub use function::{ApiFn, ApiFunction, CallContext, Ret, SimFn, WorldFn};
+pub use function::{ApiFn, ApiFunction, CallContext, Cost, Ret, SimFn, WorldFn};
 pub use host::{
     FrontEndFn, HOST_FUNCTIONS, HOST_MODULES, HostFunction, HostModule, InScripts, Remote, ScriptHostFn, Touches,
     host_function,
@@ -71,214 +71,267 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addItemToCollection",
         call: ApiFn::World(sensing::add_item_to_collection),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "addLog",
         call: ApiFn::World(log::add_log),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "checkCollision",
         call: ApiFn::World(sensing::check_collision),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "checkDistance",
         call: ApiFn::World(sensing::check_distance),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "clearFloatSignal",
         call: ApiFn::Sim(signals::clear_float_signal),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "clearInt32Signal",
         call: ApiFn::Sim(signals::clear_int32_signal),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "clearStringSignal",
         call: ApiFn::Sim(signals::clear_string_signal),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "createCollection",
         call: ApiFn::World(sensing::create_collection),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "destroyCollection",
         call: ApiFn::World(sensing::destroy_collection),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getCollectionHandle",
         call: ApiFn::World(sensing::get_collection_handle),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getCollectionName",
         call: ApiFn::World(sensing::get_collection_name),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getCollectionObjects",
         call: ApiFn::World(sensing::get_collection_objects),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getFloatSignal",
         call: ApiFn::Sim(signals::get_float_signal),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getInt32Signal",
         call: ApiFn::Sim(signals::get_int32_signal),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointForce",
         call: ApiFn::World(joints::get_joint_force),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointInterval",
         call: ApiFn::World(joints::get_joint_interval),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointPosition",
         call: ApiFn::World(joints::get_joint_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointTargetPosition",
         call: ApiFn::World(joints::get_joint_target_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointTargetVelocity",
         call: ApiFn::World(joints::get_joint_target_velocity),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointType",
         call: ApiFn::World(joints::get_joint_type),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointVelocity",
         call: ApiFn::World(joints::get_joint_velocity),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObject",
         call: ApiFn::World(objects::get_object),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectAlias",
         call: ApiFn::World(objects::get_object_alias),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectMatrix",
         call: ApiFn::World(objects::get_object_matrix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectOrientation",
         call: ApiFn::World(objects::get_object_orientation),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectParent",
         call: ApiFn::World(objects::get_object_parent),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectPose",
         call: ApiFn::World(objects::get_object_pose),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectPosition",
         call: ApiFn::World(objects::get_object_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectQuaternion",
         call: ApiFn::World(objects::get_object_quaternion),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectType",
         call: ApiFn::World(objects::get_object_type),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectVelocity",
         call: ApiFn::World(objects::get_object_velocity),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectsInTree",
         call: ApiFn::World(objects::get_objects_in_tree),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getSimulationState",
         call: ApiFn::Sim(simulation::get_simulation_state),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getSimulationTime",
         call: ApiFn::World(simulation::get_simulation_time),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getSimulationTimeStep",
         call: ApiFn::World(simulation::get_simulation_time_step),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getSimulatorMessage",
         call: ApiFn::Sim(simulator_messages::get_simulator_message),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getStringSignal",
         call: ApiFn::Sim(signals::get_string_signal),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getSystemTime",
         call: ApiFn::World(simulation::get_system_time),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "handleProximitySensor",
         call: ApiFn::World(sensing::handle_proximity_sensor),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "readForceSensor",
         call: ApiFn::World(sensing::read_force_sensor),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "readProximitySensor",
         call: ApiFn::World(sensing::read_proximity_sensor),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setFloatSignal",
         call: ApiFn::Sim(signals::set_float_signal),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setInt32Signal",
         call: ApiFn::Sim(signals::set_int32_signal),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setJointPosition",
         call: ApiFn::World(joints::set_joint_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setJointTargetForce",
         call: ApiFn::World(joints::set_joint_target_force),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setJointTargetPosition",
         call: ApiFn::World(joints::set_joint_target_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setJointTargetVelocity",
         call: ApiFn::World(joints::set_joint_target_velocity),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectMatrix",
         call: ApiFn::World(objects::set_object_matrix),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectOrientation",
         call: ApiFn::World(objects::set_object_orientation),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectPose",
         call: ApiFn::World(objects::set_object_pose),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectPosition",
         call: ApiFn::World(objects::set_object_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectQuaternion",
         call: ApiFn::World(objects::set_object_quaternion),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setStringSignal",
         call: ApiFn::Sim(signals::set_string_signal),
+        cost: Cost::Quick,
     },
 ];
 

@@ -5,7 +5,7 @@
 //! States are flat lists, the spaces' values in the order the task lists the spaces
 //! (pose3d: x, y, z, qx, qy, qz, qw); paths are the states one after the other.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::planning::{ALGORITHMS, RRT_CONNECT, SpaceKind, StateSpace};
@@ -81,13 +81,16 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     f("writeState", write_state),
 ];
 
+/// A simOMPL function: planning (`compute`, `solve`) runs long, the rest is setting up.
 const fn f(
     name: &'static str,
     call: fn(&mut Sim, &CallContext<'_>, &Args<'_>) -> Result<Ret, SimError>,
 ) -> ApiFunction {
+    let long = matches!(name.as_bytes(), b"compute" | b"solve");
     ApiFunction {
         name,
         call: ApiFn::Sim(call),
+        cost: if long { Cost::Long } else { Cost::Quick },
     }
 }
 

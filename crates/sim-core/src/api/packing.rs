@@ -12,7 +12,7 @@
 use crate::error::SimError;
 use gantry_protocol::cbor;
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::world::World;
 
@@ -21,58 +21,72 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "packDoubleTable",
         call: ApiFn::World(pack_double_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "packFloatTable",
         call: ApiFn::World(pack_float_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "packInt32Table",
         call: ApiFn::World(pack_int32_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "packTable",
         call: ApiFn::World(pack_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "packUInt16Table",
         call: ApiFn::World(pack_uint16_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "packUInt32Table",
         call: ApiFn::World(pack_uint32_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "packUInt8Table",
         call: ApiFn::World(pack_uint8_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "unpackDoubleTable",
         call: ApiFn::World(unpack_double_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "unpackFloatTable",
         call: ApiFn::World(unpack_float_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "unpackInt32Table",
         call: ApiFn::World(unpack_int32_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "unpackTable",
         call: ApiFn::World(unpack_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "unpackUInt16Table",
         call: ApiFn::World(unpack_uint16_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "unpackUInt32Table",
         call: ApiFn::World(unpack_uint32_table),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "unpackUInt8Table",
         call: ApiFn::World(unpack_uint8_table),
+        cost: Cost::Quick,
     },
 ];
 

@@ -7,7 +7,7 @@
 //! gantry does not have, or cannot set, is an error. A handle that names no object is
 //! always an error.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::scene::{JointMode, Projection, ProximityModel, RenderMode};
@@ -169,54 +169,67 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getArrayParam",
         call: ApiFn::World(get_array_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getBoolParam",
         call: ApiFn::World(get_bool_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getFloatParam",
         call: ApiFn::World(get_float_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getInt32Param",
         call: ApiFn::World(get_int32_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectFloatParam",
         call: ApiFn::World(get_object_float_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectInt32Param",
         call: ApiFn::World(get_object_int32_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getStringParam",
         call: ApiFn::World(get_string_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setArrayParam",
         call: ApiFn::World(set_array_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setBoolParam",
         call: ApiFn::World(set_bool_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setFloatParam",
         call: ApiFn::Sim(set_float_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setInt32Param",
         call: ApiFn::World(set_int32_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectFloatParam",
         call: ApiFn::World(set_object_float_param),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectInt32Param",
         call: ApiFn::World(set_object_int32_param),
+        cost: Cost::Quick,
     },
 ];
 

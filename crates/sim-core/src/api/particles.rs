@@ -3,7 +3,7 @@
 //! simulation ([`crate::world::Particles`] has the model and what is not simulated);
 //! the viewer shows them through drawing objects ([`Sim::draw_particles`]).
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::sim::{Sim, SimulationState};
@@ -14,14 +14,17 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addParticleObject",
         call: ApiFn::Sim(add_particle_object),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "addParticleObjectItem",
         call: ApiFn::Sim(add_particle_object_item),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "removeParticleObject",
         call: ApiFn::Sim(remove_particle_object),
+        cost: Cost::Quick,
     },
 ];
 

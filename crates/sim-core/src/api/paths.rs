@@ -9,7 +9,7 @@
 //! and `PATH` (packed doubles, 7 per point, in the path's frame), where 4.3+ scripts
 //! read them with `sim.readCustomDataBlock` and `sim.unpackDoubleTable`.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::math::{Pose, euler_from_quat, quat_from_euler, quat_to_array};
@@ -22,50 +22,62 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "createPath",
         call: ApiFn::Sim(create_path),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "cutPathCtrlPoints",
         call: ApiFn::Sim(cut_path_ctrl_points),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getOrientationOnPath",
         call: ApiFn::Sim(get_orientation_on_path),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getPathInterpolatedConfig",
         call: ApiFn::World(get_path_interpolated_config),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getPathLength",
         call: ApiFn::Sim(get_path_length),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getPathLengths",
         call: ApiFn::World(get_path_lengths),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getPathPosition",
         call: ApiFn::Sim(get_path_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getPositionOnPath",
         call: ApiFn::Sim(get_position_on_path),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "insertPathCtrlPoints",
         call: ApiFn::Sim(insert_path_ctrl_points),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "resamplePath",
         call: ApiFn::World(resample_path),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setPathPosition",
         call: ApiFn::Sim(set_path_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setPathTargetNominalVelocity",
         call: ApiFn::Sim(set_path_target_nominal_velocity),
+        cost: Cost::Quick,
     },
 ];
 

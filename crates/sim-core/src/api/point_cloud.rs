@@ -3,7 +3,7 @@
 //! and `get/setPointCloudOptions`, with CoppeliaSim 4.x's arguments and results. The
 //! model (voxels, tolerances, limits) lives in `world::point_cloud`.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::math::{Pose, Vec3};
@@ -14,30 +14,37 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "createPointCloud",
         call: ApiFn::World(create_point_cloud),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getPointCloudOptions",
         call: ApiFn::World(get_point_cloud_options),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getPointCloudPoints",
         call: ApiFn::World(get_point_cloud_points),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "insertPointsIntoPointCloud",
         call: ApiFn::World(insert_points_into_point_cloud),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "intersectPointsWithPointCloud",
         call: ApiFn::World(intersect_points_with_point_cloud),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "removePointsFromPointCloud",
         call: ApiFn::World(remove_points_from_point_cloud),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setPointCloudOptions",
         call: ApiFn::World(set_point_cloud_options),
+        cost: Cost::Quick,
     },
 ];
 

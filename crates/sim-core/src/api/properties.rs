@@ -3,7 +3,7 @@
 //! `sim.setObjectSpecialProperty`: CoppeliaSim's property flags on objects
 //! ([`crate::world::model_property`] says which of them gantry acts on).
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::world::World;
@@ -13,26 +13,32 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getModelProperty",
         call: ApiFn::World(get_model_property),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectProperty",
         call: ApiFn::World(get_object_property),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectSpecialProperty",
         call: ApiFn::World(get_object_special_property),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setModelProperty",
         call: ApiFn::World(set_model_property),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectProperty",
         call: ApiFn::World(set_object_property),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectSpecialProperty",
         call: ApiFn::World(set_object_special_property),
+        cost: Cost::Quick,
     },
 ];
 

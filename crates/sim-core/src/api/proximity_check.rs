@@ -1,6 +1,6 @@
 //! `sim.checkProximitySensor`: a proximity sensor's detection restricted to one entity.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::sensor;
@@ -10,6 +10,7 @@ use crate::world::{FIRST_COLLECTION_HANDLE, Handle, ObjectKind, World};
 pub(super) const FUNCTIONS: &[ApiFunction] = &[ApiFunction {
     name: "checkProximitySensor",
     call: ApiFn::World(check_proximity_sensor),
+    cost: Cost::Long,
 }];
 
 /// `sim.handle_all`.

@@ -5,7 +5,7 @@
 //! imported model's scripts find what they were saved with. Stored with the world's
 //! other per-object data ([`CustomData`](crate::world::CustomData)).
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::world::{Handle, World};
@@ -15,18 +15,22 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getReferencedHandle",
         call: ApiFn::World(get_referenced_handle),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getReferencedHandles",
         call: ApiFn::World(get_referenced_handles),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getReferencedHandlesTags",
         call: ApiFn::World(get_referenced_handles_tags),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setReferencedHandles",
         call: ApiFn::World(set_referenced_handles),
+        cost: Cost::Quick,
     },
 ];
 

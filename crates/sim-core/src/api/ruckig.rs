@@ -21,7 +21,7 @@ use rsruckig::prelude::{
     ControlInterface, DataArrayOrVec, InputParameter, OutputParameter, Ruckig, RuckigError, Synchronization,
 };
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::motion::RuckigObject;
 use crate::sim::Sim;
@@ -31,18 +31,22 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "ruckigPos",
         call: ApiFn::Sim(ruckig_pos),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "ruckigRemove",
         call: ApiFn::Sim(ruckig_remove),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "ruckigStep",
         call: ApiFn::Sim(ruckig_step),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "ruckigVel",
         call: ApiFn::Sim(ruckig_vel),
+        cost: Cost::Quick,
     },
 ];
 

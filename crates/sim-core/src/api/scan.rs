@@ -9,7 +9,7 @@
 //! [`crate::vision::scan`] for the geometry.
 
 use super::vision::self_or;
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::sensor::{self, RayCastParams, RayHit};
@@ -30,6 +30,7 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[ApiFunction {
     // gantry's own: CoppeliaSim has no batch ray cast.
     name: "castRays",
     call: ApiFn::World(cast_rays),
+    cost: Cost::Long,
 }];
 
 /// The `simVision.*` scanner functions, in alphabetical order.
@@ -37,10 +38,12 @@ pub(super) const SIM_VISION_FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "coordinatesFromWorkImg",
         call: ApiFn::Sim(coordinates_from_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "velodyneDataFromWorkImg",
         call: ApiFn::Sim(velodyne_data_from_work_img),
+        cost: Cost::Long,
     },
 ];
 

@@ -10,7 +10,7 @@ use std::f64::consts::PI;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::math::{Pose, Vec3};
 use crate::scene::{Geometry, JointMode, MassModel, MeshData, ShapeModel};
@@ -55,110 +55,137 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addForce",
         call: ApiFn::World(add_force),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "addForceAndTorque",
         call: ApiFn::World(add_force_and_torque),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "copyPasteObjects",
         call: ApiFn::World(copy_paste_objects),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "createDummy",
         call: ApiFn::World(create_dummy),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "createMeshShape",
         call: ApiFn::World(create_mesh_shape),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "createPrimitiveShape",
         call: ApiFn::World(create_primitive_shape),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "createPureShape",
         call: ApiFn::World(create_pure_shape),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointMaxForce",
         call: ApiFn::World(get_joint_max_force),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointMode",
         call: ApiFn::World(get_joint_mode),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getJointTargetForce",
         call: ApiFn::World(get_joint_target_force),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectChild",
         call: ApiFn::World(get_object_child),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectColor",
         call: ApiFn::World(get_object_color),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjects",
         call: ApiFn::World(get_objects),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getShapeColor",
         call: ApiFn::World(get_shape_color),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getShapeMass",
         call: ApiFn::World(get_shape_mass),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "removeObject",
         call: ApiFn::Sim(remove_object),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "removeObjects",
         call: ApiFn::Sim(remove_objects),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "resetDynamicObject",
         call: ApiFn::World(reset_dynamic_object),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "scaleObject",
         call: ApiFn::World(scale_object),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setJointMaxForce",
         call: ApiFn::World(set_joint_max_force),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setJointMode",
         call: ApiFn::World(set_joint_mode),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectAlias",
         call: ApiFn::World(set_object_alias),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectColor",
         call: ApiFn::World(set_object_color),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectParent",
         call: ApiFn::World(set_object_parent),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setShapeBB",
         call: ApiFn::World(set_shape_bb),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setShapeColor",
         call: ApiFn::World(set_shape_color),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setShapeMass",
         call: ApiFn::World(set_shape_mass),
+        cost: Cost::Quick,
     },
 ];
 

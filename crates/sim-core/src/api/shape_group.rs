@@ -2,7 +2,7 @@
 //! splitting it again ([`crate::world::World::group_shapes`]).
 
 use super::scene::handle_list;
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::sim::Sim;
@@ -12,10 +12,12 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "groupShapes",
         call: ApiFn::Sim(group_shapes),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "ungroupShape",
         call: ApiFn::Sim(ungroup_shape),
+        cost: Cost::Quick,
     },
 ];
 

@@ -3,7 +3,7 @@
 
 use nalgebra::Matrix3;
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::math::{self, Pose};
@@ -15,14 +15,17 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getShapeGeomInfo",
         call: ApiFn::World(get_shape_geom_info),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getShapeInertia",
         call: ApiFn::World(get_shape_inertia),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getShapeMassAndInertia",
         call: ApiFn::World(get_shape_mass_and_inertia),
+        cost: Cost::Quick,
     },
 ];
 

@@ -7,7 +7,7 @@
 //! is scheduled (inside a step or only between steps) is decided from the target's
 //! type, by what the function touches, never from its spelling.
 
-use super::function::{ApiFn, ApiFunction};
+use super::function::{ApiFn, ApiFunction, Cost};
 use super::host::{FrontEndFn, ScriptHostFn};
 
 /// What serves a remote client's call.
@@ -86,6 +86,53 @@ impl Target {
                 ApiFn::Sim(_) => StepSafety::PhaseBoundary,
             },
             Target::ScriptHost(_) | Target::FrontEnd(_) => StepSafety::BetweenSteps,
+        }
+    }
+
+    /// How long a call of this target may take: the registry's [`Cost`] for a core
+    /// function; script code (a function of the Lua host) may run long; the loop's
+    /// functions are quick (a front end that waits for a step does so itself).
+    pub fn cost(&self) -> Cost {
+        match self {
+            Target::Core { function, .. } => function.cost,
+            Target::ScriptHost(_) => Cost::Long,
+            Target::FrontEnd(_) => Cost::Quick,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn what_may_run_long_comes_from_the_registry() {
+        let cost = |name: &str| Target::resolve(name).expect(name).cost();
+        for name in Target::accepted_names() {
+            let c = cost(&name);
+            // Every IK solve and image operation may run long.
+            if name.starts_with("simIK.") || name.starts_with("simVision.") {
+                assert_eq!(c, Cost::Long, "{name}");
+            }
+        }
+        for long in [
+            "sim.getVisionSensorImg",
+            "sim.handleVisionSensor",
+            "sim.checkDistance",
+            "sim.castRays",
+            "simOMPL.compute",
+            "sim.callScriptFunction",
+        ] {
+            assert_eq!(cost(long), Cost::Long, "{long}");
+        }
+        for quick in [
+            "sim.getObjectPosition",
+            "sim.setJointTargetPosition",
+            "sim.getInt32Signal",
+            "simOMPL.createStateSpace",
+            "sim.step",
+        ] {
+            assert_eq!(cost(quick), Cost::Quick, "{quick}");
         }
     }
 }

@@ -2,7 +2,7 @@
 //! V-REP's pipes between scripts ([`crate::tubes`]). `sim.tubeRead`'s blocking form is
 //! the Lua host's (`lua/threads.lua`): it waits a step at a time in a threaded script.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::sim::Sim;
@@ -12,22 +12,27 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "tubeClose",
         call: ApiFn::Sim(tube_close),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "tubeOpen",
         call: ApiFn::Sim(tube_open),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "tubeRead",
         call: ApiFn::Sim(tube_read),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "tubeStatus",
         call: ApiFn::Sim(tube_status),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "tubeWrite",
         call: ApiFn::Sim(tube_write),
+        cost: Cost::Quick,
     },
 ];
 

@@ -5,7 +5,7 @@
 //! values (slider positions) are rounded to the nearest integer, so a script computing
 //! `100*(speed-min)/(max-min)` gets 50 even when the float is 49.999999.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::sim::Sim;
@@ -22,118 +22,147 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "create",
         call: ApiFn::Sim(create),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "destroy",
         call: ApiFn::Sim(destroy),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getCheckboxValue",
         call: ApiFn::Sim(get_checkbox_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getEditValue",
         call: ApiFn::Sim(get_edit_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getEnabled",
         call: ApiFn::Sim(get_enabled),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getKeyboardModifiers",
         call: ApiFn::Sim(get_keyboard_modifiers),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getLabelText",
         call: ApiFn::Sim(get_label_text),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getPosition",
         call: ApiFn::Sim(get_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getRadiobuttonValue",
         call: ApiFn::Sim(get_radiobutton_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getSliderValue",
         call: ApiFn::Sim(get_slider_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getSpinboxValue",
         call: ApiFn::Sim(get_spinbox_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getTitle",
         call: ApiFn::Sim(get_title),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getWidgetVisibility",
         call: ApiFn::Sim(get_widget_visibility),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "hide",
         call: ApiFn::Sim(hide),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "interact",
         call: ApiFn::Sim(interact),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "isVisible",
         call: ApiFn::Sim(is_visible),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "msgBox",
         call: ApiFn::World(super::legacy::msg_box),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setButtonText",
         call: ApiFn::Sim(set_button_text),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setCheckboxValue",
         call: ApiFn::Sim(set_checkbox_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setEditValue",
         call: ApiFn::Sim(set_edit_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setEnabled",
         call: ApiFn::Sim(set_enabled),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setLabelText",
         call: ApiFn::Sim(set_label_text),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setPosition",
         call: ApiFn::Sim(set_position),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setRadiobuttonValue",
         call: ApiFn::Sim(set_radiobutton_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setSliderValue",
         call: ApiFn::Sim(set_slider_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setSpinboxValue",
         call: ApiFn::Sim(set_spinbox_value),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setTitle",
         call: ApiFn::Sim(set_title),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setWidgetVisibility",
         call: ApiFn::Sim(set_widget_visibility),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "show",
         call: ApiFn::Sim(show),
+        cost: Cost::Quick,
     },
 ];
 

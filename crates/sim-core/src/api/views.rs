@@ -3,7 +3,7 @@
 //! [`crate::ui::FloatingViews`]) and the object selection (`sim.getObjectSel`,
 //! `sim.setObjectSel`; see [`crate::world::Selection`]).
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::sim::Sim;
@@ -14,22 +14,27 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "adjustView",
         call: ApiFn::Sim(adjust_view),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "floatingViewAdd",
         call: ApiFn::Sim(floating_view_add),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "floatingViewRemove",
         call: ApiFn::Sim(floating_view_remove),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "getObjectSel",
         call: ApiFn::Sim(get_object_sel),
+        cost: Cost::Quick,
     },
     ApiFunction {
         name: "setObjectSel",
         call: ApiFn::Sim(set_object_sel),
+        cost: Cost::Quick,
     },
 ];
 

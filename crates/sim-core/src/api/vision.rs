@@ -8,7 +8,7 @@
 //! the defaults `{0, 0}`, `{0, 0}` mean the whole image. Functions returning an image
 //! also return the portion's `{width, height}`.
 
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
 use crate::sim::Sim;
@@ -28,60 +28,73 @@ pub(super) const FUNCTIONS: &[ApiFunction] = &[
         // CoppeliaSim 4.0-4.5's byte image.
         name: "getVisionSensorCharImage",
         call: ApiFn::Sim(get_vision_sensor_char_image),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getVisionSensorDepth",
         call: ApiFn::Sim(get_vision_sensor_depth),
+        cost: Cost::Long,
     },
     ApiFunction {
         // V-REP 3 to CoppeliaSim 4.5's depth as a table.
         name: "getVisionSensorDepthBuffer",
         call: ApiFn::Sim(get_vision_sensor_depth_buffer),
+        cost: Cost::Long,
     },
     ApiFunction {
         // CoppeliaSim 4.0-4.5's float image.
         name: "getVisionSensorImage",
         call: ApiFn::Sim(get_vision_sensor_image),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getVisionSensorImg",
         call: ApiFn::Sim(get_vision_sensor_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         // gantry's own: the segmentation mask.
         name: "getVisionSensorMask",
         call: ApiFn::Sim(get_vision_sensor_mask),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "getVisionSensorRes",
         call: ApiFn::Sim(get_vision_sensor_res),
+        cost: Cost::Long,
     },
     ApiFunction {
         // CoppeliaSim 4.1's name of getVisionSensorRes.
         name: "getVisionSensorResolution",
         call: ApiFn::Sim(get_vision_sensor_res),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "handleVisionSensor",
         call: ApiFn::Sim(handle_vision_sensor),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "readVisionSensor",
         call: ApiFn::Sim(read_vision_sensor),
+        cost: Cost::Long,
     },
     ApiFunction {
         // CoppeliaSim 4.0-4.5's byte image setter.
         name: "setVisionSensorCharImage",
         call: ApiFn::Sim(set_vision_sensor_char_image),
+        cost: Cost::Long,
     },
     ApiFunction {
         // V-REP 3 to CoppeliaSim 4.5's float image setter.
         name: "setVisionSensorImage",
         call: ApiFn::Sim(set_vision_sensor_image),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "setVisionSensorImg",
         call: ApiFn::Sim(set_vision_sensor_img),
+        cost: Cost::Long,
     },
 ];
 
@@ -90,42 +103,52 @@ pub(super) const SIM_VISION_FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "blobDetectionOnWorkImg",
         call: ApiFn::Sim(blob_detection_on_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "edgeDetectionOnWorkImg",
         call: ApiFn::Sim(edge_detection_on_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "horizontalFlipWorkImg",
         call: ApiFn::Sim(horizontal_flip_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "selectiveColorOnWorkImg",
         call: ApiFn::Sim(selective_color_on_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "sensorDepthMapToWorkImg",
         call: ApiFn::Sim(sensor_depth_map_to_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "sensorImgToWorkImg",
         call: ApiFn::Sim(sensor_img_to_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "sharpenWorkImg",
         call: ApiFn::Sim(sharpen_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "uniformImgToWorkImg",
         call: ApiFn::Sim(uniform_img_to_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "verticalFlipWorkImg",
         call: ApiFn::Sim(vertical_flip_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "workImgToSensorImg",
         call: ApiFn::Sim(work_img_to_sensor_img),
+        cost: Cost::Long,
     },
 ];
 

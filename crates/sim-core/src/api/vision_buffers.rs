@@ -5,7 +5,7 @@
 //! first), and returns nothing.
 
 use super::vision::sensor_handle;
-use super::{ApiFn, ApiFunction, Args, CallContext, Ret};
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::error::SimError;
 use crate::sim::Sim;
 use crate::vision::buffers::{Buffer, BufferOp};
@@ -16,46 +16,57 @@ pub(super) const SIM_VISION_FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "addBuffer1ToWorkImg",
         call: ApiFn::Sim(add_buffer1_to_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "addWorkImgToBuffer1",
         call: ApiFn::Sim(add_work_img_to_buffer1),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "buffer1ToWorkImg",
         call: ApiFn::Sim(buffer1_to_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "buffer2ToWorkImg",
         call: ApiFn::Sim(buffer2_to_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "multiplyWorkImgWithBuffer1",
         call: ApiFn::Sim(multiply_work_img_with_buffer1),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "subtractBuffer1FromWorkImg",
         call: ApiFn::Sim(subtract_buffer1_from_work_img),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "subtractWorkImgFromBuffer1",
         call: ApiFn::Sim(subtract_work_img_from_buffer1),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "swapBuffers",
         call: ApiFn::Sim(swap_buffers),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "swapWorkImgWithBuffer1",
         call: ApiFn::Sim(swap_work_img_with_buffer1),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "workImgToBuffer1",
         call: ApiFn::Sim(work_img_to_buffer1),
+        cost: Cost::Long,
     },
     ApiFunction {
         name: "workImgToBuffer2",
         call: ApiFn::Sim(work_img_to_buffer2),
+        cost: Cost::Long,
     },
 ];
 
