@@ -231,6 +231,57 @@ fn scenes(secs: f64) -> Json {
     Json::Array(out)
 }
 
+/// The engine's own cost: a scene without scripts stepped through `Engine::step` (what
+/// every front end does) against the bare `Sim::step` of the same scene, in
+/// alternating rounds so that both see the same host. Issue 47's target: within 3 %.
+fn engine_overhead(secs: f64) -> Json {
+    println!("\n### The engine's cost without scripts: Engine::step against bare Sim::step\n");
+    println!("| scene | Sim::step steps/s | Engine::step steps/s | engine / bare |");
+    println!("|---|---|---|---|");
+    let rounds = 5;
+    let per_round = secs / rounds as f64;
+    let mut out = Vec::new();
+    for (name, model) in [
+        (
+            "bubble_rob (no script)",
+            without_scripts(scene("assets/scenes/bubble_rob.toml")),
+        ),
+        (
+            "fk_arm (no script)",
+            without_scripts(scene("assets/scenes/fk_arm.toml")),
+        ),
+        ("empty", scene("assets/scenes/bench/empty.toml")),
+    ] {
+        let mut bare = gantry_sim_core::Sim::new(&model);
+        bare.state = gantry_sim_core::sim::SimulationState::Running;
+        let mut eng = engine(&model);
+        let (mut b, mut e) = (Vec::new(), Vec::new());
+        for _ in 0..rounds {
+            b.push(rate_for(per_round, || bare.step()));
+            e.push(rate_for(per_round, || eng.step()));
+        }
+        b.sort_by(f64::total_cmp);
+        e.sort_by(f64::total_cmp);
+        let (b, e) = (b[rounds / 2], e[rounds / 2]);
+        println!("| {name} | {b:.0} | {e:.0} | {:.3} |", e / b);
+        out.push(json!({"scene": name, "sim_steps_per_s": b, "engine_steps_per_s": e, "ratio": e / b}));
+    }
+    Json::Array(out)
+}
+
+/// Steps per second of `step` called for `secs`, in batches of 10.
+fn rate_for(secs: f64, mut step: impl FnMut()) -> f64 {
+    let t = Instant::now();
+    let mut n = 0u64;
+    while t.elapsed().as_secs_f64() < secs {
+        for _ in 0..10 {
+            step();
+        }
+        n += 10;
+    }
+    n as f64 / t.elapsed().as_secs_f64()
+}
+
 /// The arm's floor: the same rapier world given the same targets straight through
 /// rapier's multibody API (no Lua, no tree, no read-back), so that both move alike.
 fn arm_rapier_rate(model: &SceneModel, steps: u64) -> f64 {
@@ -468,6 +519,9 @@ fn main() {
     }
     if want("arm") {
         report.insert("arm".into(), arm(10_000));
+    }
+    if want("engine") {
+        report.insert("engine".into(), engine_overhead(secs * 2.0));
     }
     if want("rovers") {
         report.insert("rovers".into(), rover_scaling(secs));
