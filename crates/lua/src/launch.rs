@@ -22,6 +22,17 @@ const FAILED: i64 = -1;
 /// `sim.verbosity_warnings`.
 const WARNING: i64 = 300;
 
+/// Why `sim.launchExecutable` started nothing (logged as a warning; the script gets -1).
+#[derive(Debug, thiserror::Error)]
+enum LaunchError {
+    /// The program is not one of the `--allow-launch` programs.
+    #[error("scripts start no programs unless gantry is run with --allow-launch {0}")]
+    NotAllowed(String),
+    /// The operating system could not start it.
+    #[error("{program} could not be started: {source}")]
+    Spawn { program: String, source: std::io::Error },
+}
+
 /// What scripts may start, and what they started.
 #[derive(Debug, Default)]
 pub(crate) struct Launcher {
@@ -49,17 +60,18 @@ impl Launcher {
     }
 
     /// Starts `program` with `arguments`: its process id, or why not.
-    fn launch(&self, program: &str, arguments: &str) -> Result<u32, String> {
+    fn launch(&self, program: &str, arguments: &str) -> Result<u32, LaunchError> {
         if !self.allows(program) {
-            return Err(format!(
-                "scripts start no programs unless gantry is run with --allow-launch {program}"
-            ));
+            return Err(LaunchError::NotAllowed(program.to_owned()));
         }
         let child = Command::new(resolve(Path::new(program)))
             .args(arguments.split_whitespace())
             .stdin(Stdio::null())
             .spawn()
-            .map_err(|e| format!("{program} could not be started: {e}"))?;
+            .map_err(|source| LaunchError::Spawn {
+                program: program.to_owned(),
+                source,
+            })?;
         let pid = child.id();
         self.children.borrow_mut().push(child);
         Ok(pid)

@@ -42,36 +42,56 @@ impl PendingRecording {
     }
 }
 
+/// Why `sim.startRecording` refused its arguments (the script sees this text).
+#[derive(Debug, thiserror::Error)]
+enum StartError {
+    /// The path is not a Lua string.
+    #[error("the path must be a string, got {0}")]
+    PathType(&'static str),
+    /// The path is not UTF-8.
+    #[error("the path is not UTF-8")]
+    PathNotUtf8,
+    /// The file's folder is missing.
+    #[error("the folder {} does not exist", .0.display())]
+    NoFolder(PathBuf),
+    /// A rate that is not a positive number of Hz.
+    #[error("{what} must be a positive number of Hz, got {value}")]
+    Rate { what: String, value: f64 },
+    /// `images` is not a table of sensor paths to rates.
+    #[error("images must map sensor paths to rates in Hz")]
+    Images,
+}
+
 /// Reads `sim.startRecording`'s arguments.
-fn start_request(path: &LuaValue, options: Option<&Table>) -> Result<RecordingRequest, String> {
+fn start_request(path: &LuaValue, options: Option<&Table>) -> Result<RecordingRequest, StartError> {
     let LuaValue::String(p) = path else {
-        return Err(format!("the path must be a string, got {}", path.type_name()));
+        return Err(StartError::PathType(path.type_name()));
     };
-    let path = PathBuf::from(p.to_str().map_err(|_| "the path is not UTF-8".to_owned())?.to_string());
+    let path = PathBuf::from(p.to_str().map_err(|_| StartError::PathNotUtf8)?.to_string());
     let folder = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     if !folder.is_dir() {
-        return Err(format!("the folder {} does not exist", folder.display()));
+        return Err(StartError::NoFolder(folder.to_path_buf()));
     }
-    let positive = |what: &str, v: f64| {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
+    let positive = |what: String, value: f64| {
+        if value.is_finite() && value > 0.0 {
+            Ok(value)
         } else {
-            Err(format!("{what} must be a positive number of Hz, got {v}"))
+            Err(StartError::Rate { what, value })
         }
     };
     let mut rate_hz = None;
     let mut images = Vec::new();
     if let Some(o) = options {
         if let Ok(Some(r)) = o.get::<Option<f64>>("rate") {
-            rate_hz = Some(positive("rate", r)?);
+            rate_hz = Some(positive("rate".to_owned(), r)?);
         }
         if let Ok(Some(t)) = o.get::<Option<Table>>("images") {
             for pair in t.pairs::<String, f64>() {
-                let (sensor, hz) = pair.map_err(|_| "images must map sensor paths to rates in Hz".to_owned())?;
-                images.push((sensor.clone(), positive(&format!("the image rate of {sensor}"), hz)?));
+                let (sensor, hz) = pair.map_err(|_| StartError::Images)?;
+                images.push((sensor.clone(), positive(format!("the image rate of {sensor}"), hz)?));
             }
             // Lua's table order is not defined: a stable order keeps runs identical.
             images.sort_by(|a, b| a.0.cmp(&b.0));

@@ -12,19 +12,19 @@ use gantry_protocol::Value;
 use gantry_protocol::ros::MsgType;
 use gantry_ros::{RosNetwork, RosSample};
 use gantry_sim_core::Handle;
-use mlua::{Function, Value as LuaValue};
+use mlua::Value as LuaValue;
 
 use crate::app_state::state;
 use crate::host::LuaHost;
 use crate::ros::action::{
-    ActionClient, ActionServer, CANCEL_ACCEPT, GOAL_ACCEPT_AND_DEFER, GOAL_ACCEPT_AND_EXECUTE, GOAL_REJECT, GoalId,
-    MAX_WAITING, ServerGoal, cancel_code, cancel_service, goal_id_of, goal_id_string, key, result_code, status,
-    time_of, uuid_value,
+    ActionClient, ActionServer, CANCEL_ACCEPT, GOAL_ACCEPT_AND_DEFER, GOAL_ACCEPT_AND_EXECUTE, GOAL_REJECT,
+    MAX_WAITING, ServerGoal, cancel_code, cancel_service, goal_id_of, key, result_code, time_of, uuid_value,
 };
+use crate::ros::goal::{GoalId, goal_id_string, status};
 use crate::ros::host::{Kind, RosHost};
 use crate::ros::lua_api::sim_time;
 use crate::ros::wire::{read_header, request_header, time_value};
-use crate::ros_dispatch::{MAX_PER_STEP, resolve};
+use crate::ros_dispatch::{MAX_PER_STEP, Resolved, resolve};
 
 /// One thing for a script to handle.
 enum Event {
@@ -32,8 +32,8 @@ enum Event {
     Goal {
         server: i64,
         script: Option<Handle>,
-        handle_goal: Result<Function, String>,
-        handle_accepted: Result<Function, String>,
+        handle_goal: mlua::Result<Resolved>,
+        handle_accepted: mlua::Result<Resolved>,
         header: (u64, i64),
         id: GoalId,
         goal: Value,
@@ -42,7 +42,7 @@ enum Event {
     Cancel {
         server: i64,
         script: Option<Handle>,
-        handle_cancel: Result<Function, String>,
+        handle_cancel: mlua::Result<Resolved>,
         header: (u64, i64),
         id: GoalId,
         stamp: f64,
@@ -50,7 +50,7 @@ enum Event {
     /// A client callback with its arguments.
     Client {
         script: Option<Handle>,
-        callback: Result<Function, String>,
+        callback: mlua::Result<Resolved>,
         args: Vec<Value>,
     },
 }
@@ -298,7 +298,7 @@ impl LuaHost {
         &mut self,
         server: i64,
         script: Option<Handle>,
-        (handle_goal, handle_accepted): (Result<Function, String>, Result<Function, String>),
+        (handle_goal, handle_accepted): (mlua::Result<Resolved>, mlua::Result<Resolved>),
         header: (u64, i64),
         id: GoalId,
         goal: Value,
@@ -355,7 +355,7 @@ impl LuaHost {
         &mut self,
         server: i64,
         script: Option<Handle>,
-        handle_cancel: Result<Function, String>,
+        handle_cancel: mlua::Result<Resolved>,
         header: (u64, i64),
         id: GoalId,
         stamp: f64,

@@ -33,7 +33,7 @@ struct Reply {
 /// One callback to call.
 struct Delivery {
     script: Option<Handle>,
-    callback: Result<Function, String>,
+    callback: mlua::Result<Resolved>,
     message: Value,
     reply: Option<Reply>,
 }
@@ -134,14 +134,14 @@ impl LuaHost {
         }
     }
 
-    /// Calls a `simROS2` callback (a function, or `Err(name)` of a global of the script)
-    /// in the running script of object `script` with `args`; its first return value
-    /// and the script's name. `None` when the script is gone or stopped, the name is not
-    /// a function (logged), or the call failed (the script fails, as from any hook).
+    /// Calls a `simROS2` callback (as [`resolve`] found it) in the running script of
+    /// object `script` with `args`; its first return value and the script's name. `None`
+    /// when the script is gone or stopped, the callback is not a function (logged), or
+    /// the call failed (the script fails, as from any hook).
     pub(crate) fn call_ros_callback(
         &mut self,
         script: Option<Handle>,
-        callback: Result<Function, String>,
+        callback: mlua::Result<Resolved>,
         args: &[Value],
     ) -> Option<(LuaValue, String)> {
         let scripts = &mut self.scripts;
@@ -151,8 +151,8 @@ impl LuaHost {
             .position(|s| Some(s.object) == script && s.state == ScriptState::Running)?;
         let name = scripts.list[i].name.clone();
         let (f, label) = match callback {
-            Ok(f) => (f, "ROS callback".to_owned()),
-            Err(fname) => match scripts.list[i].env.get::<Option<Function>>(fname.as_str()) {
+            Ok(Resolved::Function(f)) => (f, "ROS callback".to_owned()),
+            Ok(Resolved::Global(fname)) => match scripts.list[i].env.get::<Option<Function>>(fname.as_str()) {
                 Ok(Some(f)) => (f, fname),
                 _ => {
                     let msg = format!("simROS2 callback '{fname}' is not a function of this script");
@@ -160,6 +160,10 @@ impl LuaHost {
                     return None;
                 }
             },
+            Err(e) => {
+                self.core.log(300, &name, &format!("simROS2 callback not found: {e}"));
+                return None;
+            }
         };
         let mut lua_args = MultiValue::new();
         for a in args {
@@ -184,11 +188,19 @@ impl LuaHost {
     }
 }
 
-/// The function a callback names: a registry function, or `Err(name)` to look up in the
-/// script's environment when called.
-pub(crate) fn resolve(lua: &mlua::Lua, callback: &Callback) -> Result<Function, String> {
-    match callback {
-        Callback::Function(key) => lua.registry_value::<Function>(key).map_err(|e| e.to_string()),
-        Callback::Name(n) => Err(n.clone()),
-    }
+/// A [`Callback`] ready to call once the endpoints are no longer borrowed.
+#[derive(Clone)]
+pub(crate) enum Resolved {
+    /// The function, taken from the registry.
+    Function(Function),
+    /// The name of a global of the owning script, looked up when called.
+    Global(String),
+}
+
+/// What `callback` calls; an error only if its registry entry cannot be read.
+pub(crate) fn resolve(lua: &mlua::Lua, callback: &Callback) -> mlua::Result<Resolved> {
+    Ok(match callback {
+        Callback::Function(key) => Resolved::Function(lua.registry_value::<Function>(key)?),
+        Callback::Name(n) => Resolved::Global(n.clone()),
+    })
 }

@@ -23,6 +23,42 @@ pub(crate) trait OpenSocket {
     fn listening_on(&self) -> Option<SocketAddr>;
 }
 
+/// Why the sandbox refuses a `bind` or a `connect`. The text is LuaSocket-style (scripts
+/// test `err` against LuaSocket's strings, hence the `permission denied` and
+/// `connection refused` prefixes) and goes to the script as the call's error value.
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum SandboxError {
+    /// gantry runs with `--no-listen`.
+    #[error("permission denied: gantry runs with --no-listen, so scripts may not listen either")]
+    NoListen,
+    /// `bind` to a host name other than `localhost`.
+    #[error("permission denied: gantry's scripts listen on an IP address, '*' or 'localhost', not '{0}'")]
+    ListenHost(String),
+    /// `bind` to an address that is neither gantry's bind address nor loopback.
+    #[error(
+        "permission denied: gantry's scripts may listen only on its bind address {ours} or on loopback, \
+         not {ip} (ask for '*'; `gantry run --bind ADDR` moves gantry and its scripts)"
+    )]
+    ListenAddress {
+        /// gantry's bind address.
+        ours: IpAddr,
+        /// The address asked for.
+        ip: IpAddr,
+    },
+    /// Outgoing connections are not allowed.
+    #[error(
+        "connection refused: gantry's sandbox does not let scripts open connections (to {host}:{port}); \
+         run gantry with --allow-script-connect to allow it"
+    )]
+    NoConnect { host: String, port: u16 },
+    /// The host name does not resolve.
+    #[error("host not found: {host} ({source})")]
+    Resolve { host: String, source: io::Error },
+    /// The host name resolves to no address.
+    #[error("host not found: {host}")]
+    NoAddress { host: String },
+}
+
 /// A socket and the index of the script that opened it.
 type Opened = (Option<usize>, Weak<RefCell<dyn OpenSocket>>);
 
@@ -91,9 +127,9 @@ impl Sockets {
 
     /// Where `bind(host, port)` may listen, or why it may not (a LuaSocket-style
     /// message: scripts test `err` against LuaSocket's strings, hence the prefix).
-    pub(crate) fn listen_address(&self, host: &str, port: u16) -> Result<SocketAddr, String> {
+    pub(crate) fn listen_address(&self, host: &str, port: u16) -> Result<SocketAddr, SandboxError> {
         let Some(ours) = self.params.listen else {
-            return Err("permission denied: gantry runs with --no-listen, so scripts may not listen either".into());
+            return Err(SandboxError::NoListen);
         };
         let port = self.params.mapped_port(port);
         let ip = match host {
@@ -103,36 +139,32 @@ impl Sockets {
                 IpAddr::V6(_) => IpAddr::V6(Ipv6Addr::LOCALHOST),
                 IpAddr::V4(_) => IpAddr::V4(Ipv4Addr::LOCALHOST),
             },
-            other => other.parse().map_err(|_| {
-                format!(
-                    "permission denied: gantry's scripts listen on an IP address, '*' or 'localhost', not '{other}'"
-                )
-            })?,
+            other => other.parse().map_err(|_| SandboxError::ListenHost(other.to_owned()))?,
         };
         if ip.is_loopback() || ip == ours || ours.is_unspecified() {
             Ok(SocketAddr::new(ip, port))
         } else {
-            Err(format!(
-                "permission denied: gantry's scripts may listen only on its bind address {ours} or on loopback, \
-                 not {ip} (ask for '*'; `gantry run --bind ADDR` moves gantry and its scripts)"
-            ))
+            Err(SandboxError::ListenAddress { ours, ip })
         }
     }
 
     /// The address `connect(host, port)` may reach, or why not.
-    pub(crate) fn connect_address(&self, host: &str, port: u16) -> Result<SocketAddr, String> {
+    pub(crate) fn connect_address(&self, host: &str, port: u16) -> Result<SocketAddr, SandboxError> {
         if !self.params.allow_connect {
-            return Err(format!(
-                "connection refused: gantry's sandbox does not let scripts open connections (to {host}:{port}); \
-                 run gantry with --allow-script-connect to allow it"
-            ));
+            return Err(SandboxError::NoConnect {
+                host: host.to_owned(),
+                port,
+            });
         }
         let port = self.params.mapped_port(port);
         (host, port)
             .to_socket_addrs()
-            .map_err(|e| format!("host not found: {host} ({e})"))?
+            .map_err(|source| SandboxError::Resolve {
+                host: host.to_owned(),
+                source,
+            })?
             .next()
-            .ok_or_else(|| format!("host not found: {host}"))
+            .ok_or_else(|| SandboxError::NoAddress { host: host.to_owned() })
     }
 
     /// LuaSocket's message for `e` from `bind` on `addr`, with what holds the port when

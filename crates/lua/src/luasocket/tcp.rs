@@ -282,7 +282,7 @@ impl UserData for TcpObject {
             let sockets = state::<Sockets>(lua);
             let addr = match sockets.listen_address(&host, port) {
                 Ok(a) => a,
-                Err(e) => return fail(lua, &e),
+                Err(e) => return fail(lua, &e.to_string()),
             };
             let listener = TcpListener::bind(addr).and_then(|l| l.set_nonblocking(true).map(|()| l));
             match listener {
@@ -320,7 +320,7 @@ impl UserData for TcpObject {
             }
             let addr = match state::<Sockets>(lua).connect_address(&host, port) {
                 Ok(a) => a,
-                Err(e) => return fail(lua, &e),
+                Err(e) => return fail(lua, &e.to_string()),
             };
             let limit = this.0.borrow().timeout.map_or(CONNECT_CAP, |t| t.min(CONNECT_CAP));
             let started = Instant::now();

@@ -17,33 +17,15 @@
 //! whose callbacks run on the same thread.
 
 use std::cell::{Cell, RefCell};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use gantry_protocol::Value;
 use gantry_protocol::ros::{ActionType, MsgType, message_type, service_type};
 use gantry_ros::{EndpointId, RosNetwork, RosQos};
 
 use super::callback::Callback;
+use super::error::RosError;
+use super::goal::{GoalId, status};
 use super::wire::{encode, request_header, time_value};
-
-/// A goal's id: 16 bytes, `unique_identifier_msgs/UUID`.
-pub(crate) type GoalId = [u8; 16];
-
-/// rcl_action's goal states (`action_msgs/msg/GoalStatus`).
-pub(crate) mod status {
-    pub(crate) const UNKNOWN: i8 = 0;
-    pub(crate) const ACCEPTED: i8 = 1;
-    pub(crate) const EXECUTING: i8 = 2;
-    pub(crate) const CANCELING: i8 = 3;
-    pub(crate) const SUCCEEDED: i8 = 4;
-    pub(crate) const CANCELED: i8 = 5;
-    pub(crate) const ABORTED: i8 = 6;
-
-    /// Whether a goal in state `s` has ended.
-    pub(crate) fn terminal(s: i8) -> bool {
-        s >= SUCCEEDED
-    }
-}
 
 /// simROS2's `goal_response` values (CoppeliaSim's enum numbers).
 pub(crate) const GOAL_REJECT: i64 = 12856;
@@ -81,39 +63,6 @@ pub(crate) fn result_code(s: i8) -> i64 {
         status::CANCELED => RESULT_CANCELED,
         _ => RESULT_UNKNOWN,
     }
-}
-
-/// `goal_id` as simROS2 writes it: 32 lowercase hex digits.
-pub(crate) fn goal_id_string(id: &GoalId) -> String {
-    id.iter().map(|b| format!("{b:02x}")).collect()
-}
-
-/// A goal id from its 32 hex digits.
-pub(crate) fn parse_goal_id(s: &str) -> Result<GoalId, String> {
-    let bytes = s.as_bytes();
-    if bytes.len() != 32 || !s.chars().all(|c| c.is_ascii_hexdigit()) {
-        return Err(format!("goal id {s:?} is not 32 hex digits"));
-    }
-    let mut id = [0u8; 16];
-    for (i, b) in id.iter_mut().enumerate() {
-        *b = u8::from_str_radix(&s[2 * i..2 * i + 2], 16).map_err(|e| e.to_string())?;
-    }
-    Ok(id)
-}
-
-/// A fresh goal id: unique in this process, random across processes (ids only need to
-/// differ, not to be secret).
-pub(crate) fn new_goal_id() -> GoalId {
-    use std::hash::{BuildHasher, Hasher};
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let mut id = [0u8; 16];
-    for half in id.chunks_mut(8) {
-        let mut h = std::collections::hash_map::RandomState::new().build_hasher();
-        h.write_u64(COUNTER.fetch_add(1, Ordering::Relaxed));
-        h.write_u32(std::process::id());
-        half.copy_from_slice(&h.finish().to_le_bytes());
-    }
-    id
 }
 
 pub(crate) fn key(k: &str) -> Value {
@@ -214,7 +163,7 @@ impl ActionServer {
     }
 
     /// Publishes every held goal's status (`action_msgs/msg/GoalStatusArray`).
-    pub(crate) fn publish_status(&self, net: &dyn RosNetwork) -> Result<(), String> {
+    pub(crate) fn publish_status(&self, net: &dyn RosNetwork) -> Result<(), RosError> {
         let list = self
             .goals
             .borrow()
@@ -234,7 +183,7 @@ impl ActionServer {
             .collect();
         let msg = Value::Map(vec![(key("status_list"), Value::Array(list))]);
         let body = encode(status_array_type(), &msg)?;
-        net.write(self.status, body).map_err(|e| e.to_string())
+        Ok(net.write(self.status, body)?)
     }
 
     /// Replies to result request `header` for a goal in state `st` with `result`.
@@ -244,7 +193,7 @@ impl ActionServer {
         header: (u64, i64),
         st: i8,
         result: Option<&Value>,
-    ) -> Result<(), String> {
+    ) -> Result<(), RosError> {
         let srv = self.ty.get_result();
         let mut body = request_header(header.0, header.1);
         let msg = Value::Map(vec![
@@ -253,40 +202,40 @@ impl ActionServer {
         ]);
         srv.response()
             .encode_into(&msg, &mut body, 0)
-            .map_err(|e| format!("the result is not valid: {e}"))?;
-        net.write(self.get_result.1, body).map_err(|e| e.to_string())
+            .map_err(RosError::InvalidResult)?;
+        Ok(net.write(self.get_result.1, body)?)
     }
 
     /// Ends goal `id` in state `end` with `result`: answers its waiting result requests,
     /// forgets the oldest ended goals beyond [`MAX_ENDED_GOALS`], publishes the status.
-    pub(crate) fn finish(&self, net: &dyn RosNetwork, id: &GoalId, end: i8, result: Value) -> Result<(), String> {
+    pub(crate) fn finish(&self, net: &dyn RosNetwork, id: &GoalId, end: i8, result: Value) -> Result<(), RosError> {
         let mut body = Vec::new();
         self.ty
             .result()
             .encode_into(&result, &mut body, 0)
-            .map_err(|e| format!("argument 3: {e}"))?;
+            .map_err(|source| RosError::BadField { arg: 3, source })?;
         let waiting = {
             let mut goals = self.goals.borrow_mut();
             let g = goals
                 .iter_mut()
                 .find(|g| &g.id == id)
-                .ok_or_else(|| format!("goal {} does not exist", goal_id_string(id)))?;
+                .ok_or(RosError::NoGoalToEnd(*id))?;
             let allowed = match end {
                 status::CANCELED => g.status == status::CANCELING,
                 _ => matches!(g.status, status::EXECUTING | status::CANCELING),
             };
             if !allowed {
-                return Err(format!(
-                    "goal {} is {}: {}",
-                    goal_id_string(id),
-                    state_name(g.status),
-                    match end {
+                return Err(RosError::GoalState {
+                    id: *id,
+                    state: g.status,
+                    rule: match end {
                         status::CANCELED => "only a goal being canceled can be marked canceled",
-                        _ if g.status == status::ACCEPTED =>
-                            "it was deferred; call simROS2.actionServerActionExecute first",
+                        _ if g.status == status::ACCEPTED => {
+                            "it was deferred; call simROS2.actionServerActionExecute first"
+                        }
                         _ => "only an executing goal can succeed or abort",
-                    }
-                ));
+                    },
+                });
             }
             g.status = end;
             g.result = Some(result.clone());
@@ -323,19 +272,6 @@ impl ActionClient {
     }
 }
 
-/// A goal state's name, for errors.
-pub(crate) fn state_name(s: i8) -> &'static str {
-    match s {
-        status::ACCEPTED => "accepted (deferred)",
-        status::EXECUTING => "executing",
-        status::CANCELING => "canceling",
-        status::SUCCEEDED => "succeeded",
-        status::CANCELED => "canceled",
-        status::ABORTED => "aborted",
-        _ => "unknown",
-    }
-}
-
 pub(crate) fn status_array_type() -> &'static MsgType {
     // Known to the codec: a missing entry is a bug caught by the tests.
     message_type("action_msgs/msg/GoalStatusArray").expect("action_msgs/msg/GoalStatusArray is a known type")
@@ -353,22 +289,5 @@ pub(crate) fn status_qos() -> RosQos {
         reliable: true,
         transient_local: true,
         depth: 1,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn goal_ids_print_as_simros2_does_and_parse_back() {
-        let id: GoalId = [0, 1, 2, 0xab, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 0xff];
-        let s = goal_id_string(&id);
-        assert_eq!(s, "000102ab0405060708090a0b0c0d0eff");
-        assert_eq!(parse_goal_id(&s).unwrap(), id);
-        assert_eq!(parse_goal_id(&s.to_uppercase()).unwrap(), id);
-        assert!(parse_goal_id("00").is_err());
-        assert!(parse_goal_id(&"zz".repeat(16)).is_err());
-        assert_ne!(new_goal_id(), new_goal_id());
     }
 }

@@ -10,10 +10,12 @@ use mlua::{Lua, MultiValue, Table, Value as LuaValue};
 
 use super::action::{
     ActionClient, ActionServer, CANCEL_ACCEPT, CANCEL_REJECT, GOAL_ACCEPT_AND_DEFER, GOAL_ACCEPT_AND_EXECUTE,
-    GOAL_REJECT, GoalId, Pair, RESULT_ABORTED, RESULT_CANCELED, RESULT_SUCCEEDED, RESULT_UNKNOWN, cancel_service,
-    goal_id_string, key, new_goal_id, parse_goal_id, state_name, status, status_array_type, status_qos, uuid_value,
+    GOAL_REJECT, Pair, RESULT_ABORTED, RESULT_CANCELED, RESULT_SUCCEEDED, RESULT_UNKNOWN, cancel_service, key,
+    status_array_type, status_qos, uuid_value,
 };
 use super::callback::Callback;
+use super::error::RosError;
+use super::goal::{GoalId, new_goal_id, parse_goal_id, status};
 use super::host::{Endpoint, Kind, RosHost};
 use super::lua_api::{
     CALL_TIMEOUT_S, Res, arg, callback_arg, handle_arg, next_guid, open_service_topics, running_object, string_arg,
@@ -28,11 +30,11 @@ fn open_action(
     name: &str,
     ty: &ActionType,
     serving: bool,
-) -> Result<(Pair, Pair, Pair, EndpointId, Option<EndpointId>), String> {
-    let topics = action_topics(name).map_err(|e| e.to_string())?;
+) -> Result<(Pair, Pair, Pair, EndpointId, Option<EndpointId>), RosError> {
+    let topics = action_topics(name)?;
     let mut opened: Vec<EndpointId> = Vec::new();
     let result = (|| {
-        let mut pair = |t: (String, String), srv| -> Result<Pair, String> {
+        let mut pair = |t: (String, String), srv| -> Result<Pair, RosError> {
             let p = open_service_topics(host, t, srv, serving)?;
             opened.extend([p.0, p.1]);
             Ok(p)
@@ -45,26 +47,22 @@ fn open_action(
         } else {
             Direction::Subscribe
         };
-        let feedback = host
-            .open(
-                direction,
-                topics.feedback,
-                ty.feedback_message().dds_type_name(),
-                RosQos::default(),
-            )
-            .map_err(|e| e.to_string())?;
+        let feedback = host.open(
+            direction,
+            topics.feedback,
+            ty.feedback_message().dds_type_name(),
+            RosQos::default(),
+        )?;
         opened.push(feedback);
         // Only the server writes the status list; gantry's client follows goals through
         // their result requests instead.
         let status = if serving {
-            let id = host
-                .open(
-                    Direction::Publish,
-                    topics.status,
-                    status_array_type().dds_type_name(),
-                    status_qos(),
-                )
-                .map_err(|e| e.to_string())?;
+            let id = host.open(
+                Direction::Publish,
+                topics.status,
+                status_array_type().dds_type_name(),
+                status_qos(),
+            )?;
             opened.push(id);
             Some(id)
         } else {
@@ -82,16 +80,19 @@ fn open_action(
     result
 }
 
-fn action_type_arg(args: &MultiValue) -> Result<(String, &'static ActionType), String> {
+fn action_type_arg(args: &MultiValue) -> Result<(String, &'static ActionType), RosError> {
     let name = string_arg(args, 0, "the action name")?;
     let type_name = string_arg(args, 1, "the action type")?;
-    let ty = action_type(&type_name).map_err(|e| e.to_string())?;
+    let ty = action_type(&type_name)?;
     Ok((name, ty))
 }
 
-fn callbacks(lua: &Lua, args: &MultiValue) -> Result<[Callback; 3], String> {
-    let one = |i: usize| callback_arg(lua, arg(args, i)).map_err(|e| format!("argument {}: {e}", i + 1));
-    Ok([one(2)?, one(3)?, one(4)?])
+fn callbacks(lua: &Lua, args: &MultiValue) -> Result<[Callback; 3], RosError> {
+    Ok([
+        callback_arg(lua, args, 2)?,
+        callback_arg(lua, args, 3)?,
+        callback_arg(lua, args, 4)?,
+    ])
 }
 
 /// `simROS2.createActionServer(name, type, handleGoal, handleCancel, handleAccepted)`.
@@ -155,39 +156,44 @@ pub(super) fn create_action_client(lua: &Lua, args: &MultiValue) -> Res {
 fn with_server<T>(
     lua: &Lua,
     h: i64,
-    f: impl FnOnce(&ActionServer, &dyn RosNetwork) -> Result<T, String>,
-) -> Result<T, String> {
+    f: impl FnOnce(&ActionServer, &dyn RosNetwork) -> Result<T, RosError>,
+) -> Result<T, RosError> {
     let host = state::<RosHost>(lua);
-    host.network().map_err(|e| e.to_string())?;
-    host.with_action_server(h, f)
-        .unwrap_or_else(|| Err(format!("argument 1: {h} is not an action server handle")))
+    host.network()?;
+    host.with_action_server(h, f).unwrap_or(Err(RosError::WrongHandle {
+        handle: h,
+        expected: "an action server",
+    }))
 }
 
 /// Runs `f` on action client `h`, or says why not.
 fn with_client<T>(
     lua: &Lua,
     h: i64,
-    f: impl FnOnce(&ActionClient, &dyn RosNetwork) -> Result<T, String>,
-) -> Result<T, String> {
+    f: impl FnOnce(&ActionClient, &dyn RosNetwork) -> Result<T, RosError>,
+) -> Result<T, RosError> {
     let host = state::<RosHost>(lua);
-    host.network().map_err(|e| e.to_string())?;
-    host.with_action_client(h, f)
-        .unwrap_or_else(|| Err(format!("argument 1: {h} is not an action client handle")))
+    host.network()?;
+    host.with_action_client(h, f).unwrap_or(Err(RosError::WrongHandle {
+        handle: h,
+        expected: "an action client",
+    }))
 }
 
-fn goal_arg(args: &MultiValue) -> Result<GoalId, String> {
-    parse_goal_id(&string_arg(args, 1, "the goal id")?).map_err(|e| format!("argument 2: {e}"))
+fn goal_arg(args: &MultiValue) -> Result<GoalId, RosError> {
+    let s = string_arg(args, 1, "the goal id")?;
+    parse_goal_id(&s).ok_or(RosError::GoalIdFormat(s))
 }
 
 /// The state of goal `id` of a server.
-fn goal_status(server: &ActionServer, id: &GoalId) -> Result<i8, String> {
+fn goal_status(server: &ActionServer, id: &GoalId) -> Result<i8, RosError> {
     server
         .goals
         .borrow()
         .iter()
         .find(|g| &g.id == id)
         .map(|g| g.status)
-        .ok_or_else(|| format!("argument 2: goal {} does not exist", goal_id_string(id)))
+        .ok_or(RosError::NoSuchGoal(*id))
 }
 
 /// `actionServerPublishFeedback(server, goalId, feedback)`: while the goal runs.
@@ -198,15 +204,15 @@ pub(super) fn publish_feedback(lua: &Lua, args: &MultiValue) -> Res {
     with_server(lua, h, |s, net| {
         let st = goal_status(s, &id)?;
         if !matches!(st, status::EXECUTING | status::CANCELING) {
-            return Err(format!(
-                "goal {} is {}: feedback is for executing goals",
-                goal_id_string(&id),
-                state_name(st)
-            ));
+            return Err(RosError::GoalState {
+                id,
+                state: st,
+                rule: "feedback is for executing goals",
+            });
         }
         let msg = Value::Map(vec![(key("goal_id"), uuid_value(&id)), (key("feedback"), feedback)]);
         let body = encode(s.ty.feedback_message(), &msg)?;
-        net.write(s.feedback, body).map_err(|e| e.to_string())
+        Ok(net.write(s.feedback, body)?)
     })?;
     Ok(vec![])
 }
@@ -244,16 +250,13 @@ pub(super) fn execute(lua: &Lua, args: &MultiValue) -> Res {
     with_server(lua, h, |s, net| {
         {
             let mut goals = s.goals.borrow_mut();
-            let g = goals
-                .iter_mut()
-                .find(|g| g.id == id)
-                .ok_or_else(|| format!("argument 2: goal {} does not exist", goal_id_string(&id)))?;
+            let g = goals.iter_mut().find(|g| g.id == id).ok_or(RosError::NoSuchGoal(id))?;
             if g.status != status::ACCEPTED {
-                return Err(format!(
-                    "goal {} is {}: only a deferred goal can be executed",
-                    goal_id_string(&id),
-                    state_name(g.status)
-                ));
+                return Err(RosError::GoalState {
+                    id,
+                    state: g.status,
+                    rule: "only a deferred goal can be executed",
+                });
             }
             g.status = status::EXECUTING;
         }
@@ -305,7 +308,7 @@ pub(super) fn send_goal(lua: &Lua, args: &MultiValue) -> Res {
         c.ty.send_goal()
             .request()
             .encode_into(&msg, &mut body, 0)
-            .map_err(|e| format!("argument 2: {e}"))?;
+            .map_err(|source| RosError::BadField { arg: 2, source })?;
         if !server_ready(c, net) {
             tracing::warn!(
                 "simROS2.sendGoal: no server of action {} answered within {CALL_TIMEOUT_S} s",
@@ -313,7 +316,7 @@ pub(super) fn send_goal(lua: &Lua, args: &MultiValue) -> Res {
             );
             return Ok(false);
         }
-        net.write(c.send_goal.0, body).map_err(|e| e.to_string())?;
+        net.write(c.send_goal.0, body)?;
         c.sent.borrow_mut().push((seq, id));
         c.last_goal.set(Some(id));
         Ok(true)
@@ -327,7 +330,7 @@ pub(super) fn cancel_last_goal(lua: &Lua, args: &MultiValue) -> Res {
     let h = handle_arg(args, 0)?;
     let sent = with_client(lua, h, |c, net| {
         let Some(id) = c.last_goal.get() else {
-            return Err("this action client has sent no goal".to_owned());
+            return Err(RosError::NoGoalSent);
         };
         let seq = c.next_seq();
         let mut body = request_header(c.guid, seq);
@@ -335,11 +338,8 @@ pub(super) fn cancel_last_goal(lua: &Lua, args: &MultiValue) -> Res {
             key("goal_info"),
             Value::Map(vec![(key("goal_id"), uuid_value(&id)), (key("stamp"), time_value(0.0))]),
         )]);
-        cancel_service()
-            .request()
-            .encode_into(&msg, &mut body, 0)
-            .map_err(|e| e.to_string())?;
-        net.write(c.cancel_goal.0, body).map_err(|e| e.to_string())?;
+        cancel_service().request().encode_into(&msg, &mut body, 0)?;
+        net.write(c.cancel_goal.0, body)?;
         c.canceling.borrow_mut().push(seq);
         Ok(true)
     })?;

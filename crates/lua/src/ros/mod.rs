@@ -7,6 +7,8 @@
 pub(crate) mod action;
 mod action_api;
 pub(crate) mod callback;
+mod error;
+pub(crate) mod goal;
 pub(crate) mod host;
 pub(crate) mod lua_api;
 pub(crate) mod module;

@@ -85,7 +85,9 @@ pub const ROS1_FUNCTIONS: &[&str] = &[
     "subscriberTreatUInt8ArrayAsString",
 ];
 
-/// Adds `f` to `table` as `name`, reporting its errors through `wrap`.
+/// Adds `f` to `table` as `name`, reporting its errors through `wrap`: the one place a
+/// `RosError` (`error.rs`) becomes the text a script sees, `(false, message)`
+/// for the wrapper, which raises it from the caller's line.
 fn add(
     lua: &Lua,
     table: &Table,

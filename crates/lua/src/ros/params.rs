@@ -7,19 +7,18 @@
 
 use mlua::{Lua, MultiValue, Value as LuaValue};
 
-use super::lua_api::{Res, arg, lua_type, string_arg};
+use super::error::RosError;
+use super::lua_api::{Res, arg, lua_type, missing, string_arg};
 use super::param_store::{MAX_PARAMS, Param};
 use crate::app_state::state;
 use crate::ros::host::RosHost;
 
 /// A parameter name made global: relative names are taken in the root namespace, as a
 /// node without a namespace would; `~` (a node's private names) has no node here.
-fn full_name(args: &MultiValue) -> Result<String, String> {
+fn full_name(args: &MultiValue) -> Result<String, RosError> {
     let name = string_arg(args, 0, "the parameter name")?;
     if name.is_empty() || name.contains('~') {
-        return Err(format!(
-            "argument 1: parameter name {name:?} is not valid here (no node namespace)"
-        ));
+        return Err(RosError::ParamName(name));
     }
     Ok(if name.starts_with('/') {
         name
@@ -33,23 +32,26 @@ fn set(lua: &Lua, args: &MultiValue, value: Param) -> Res {
     let host = state::<RosHost>(lua);
     let mut params = host.params.borrow_mut();
     if params.len() >= MAX_PARAMS && !params.contains_key(&name) {
-        return Err(format!(
-            "more than {MAX_PARAMS} parameters; delete some with simROS.deleteParam"
-        ));
+        return Err(RosError::TooManyParams);
     }
     params.insert(name, value);
     Ok(vec![])
 }
 
-fn value_arg(args: &MultiValue) -> Result<&LuaValue, String> {
-    arg(args, 1).ok_or_else(|| "argument 2: the value is missing".to_owned())
+fn value_arg(args: &MultiValue) -> Result<&LuaValue, RosError> {
+    arg(args, 1).ok_or_else(|| missing(1, "the value"))
 }
 
-fn number(args: &MultiValue) -> Result<f64, String> {
+/// [`RosError::Expected`] of the value (argument 2).
+fn expected(expected: &'static str, got: String) -> RosError {
+    RosError::Expected { arg: 2, expected, got }
+}
+
+fn number(args: &MultiValue) -> Result<f64, RosError> {
     match value_arg(args)? {
         LuaValue::Integer(i) => Ok(*i as f64),
         LuaValue::Number(n) => Ok(*n),
-        v => Err(format!("argument 2: expected a number, got {}", lua_type(v))),
+        v => Err(expected("a number", lua_type(v).to_owned())),
     }
 }
 
@@ -61,7 +63,7 @@ pub(super) fn set_double(lua: &Lua, a: &MultiValue) -> Res {
 pub(super) fn set_int(lua: &Lua, a: &MultiValue) -> Res {
     let v = number(a)?;
     if v.fract() != 0.0 || !v.is_finite() {
-        return Err(format!("argument 2: expected an integer, got {v}"));
+        return Err(expected("an integer", v.to_string()));
     }
     set(lua, a, Param::Int(v as i64))
 }
@@ -69,7 +71,7 @@ pub(super) fn set_int(lua: &Lua, a: &MultiValue) -> Res {
 pub(super) fn set_bool(lua: &Lua, a: &MultiValue) -> Res {
     let v = match value_arg(a)? {
         LuaValue::Boolean(b) => *b,
-        v => return Err(format!("argument 2: expected a boolean, got {}", lua_type(v))),
+        v => return Err(expected("a boolean", lua_type(v).to_owned())),
     };
     set(lua, a, Param::Bool(v))
 }

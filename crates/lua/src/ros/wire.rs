@@ -1,9 +1,9 @@
 //! The bytes around ROS 2 messages that more than one `simROS2` feature writes: the
 //! request header of rmw_cyclonedds' services, times as `builtin_interfaces/Time`, and
-//! encoding with errors as text for Lua.
+//! encoding a whole message.
 
 use gantry_protocol::Value;
-use gantry_protocol::ros::MsgType;
+use gantry_protocol::ros::{EncodeError, MsgType};
 
 /// `builtin_interfaces/Time` of `t` seconds (negative and non-finite times are 0).
 pub(crate) fn time_value(t: f64) -> Value {
@@ -25,9 +25,9 @@ pub(crate) fn time_value(t: f64) -> Value {
 }
 
 /// `v` encoded as `ty` (the CDR body, little-endian).
-pub(crate) fn encode(ty: &MsgType, v: &Value) -> Result<Vec<u8>, String> {
+pub(crate) fn encode(ty: &MsgType, v: &Value) -> Result<Vec<u8>, EncodeError> {
     let mut body = Vec::new();
-    ty.encode_into(v, &mut body, 0).map_err(|e| e.to_string())?;
+    ty.encode_into(v, &mut body, 0)?;
     Ok(body)
 }
 
