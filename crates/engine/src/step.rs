@@ -114,7 +114,9 @@ impl Engine {
     /// No script runs at those points, as CoppeliaSim serves remote clients between its
     /// scripts; the [`MidStep::boundary`] says what may be observed there.
     pub fn step_with(&mut self, between: &mut dyn FnMut(&mut MidStep<'_>)) {
-        self.serve_observers_calls();
+        if !self.observers.is_empty() {
+            self.serve_observers_calls();
+        }
         self.take_step(between);
         self.after_step();
     }
@@ -192,12 +194,16 @@ impl Engine {
             }
         }
         self.serve_recording_request();
-        let now = Instant::now();
-        if self.on_demand() || !self.config.realtime {
-            // Stepping on demand: real time resumes from the last step taken.
-            self.restart_pacing(now);
-        } else {
-            self.pacing_taken(now);
+        // Without real time there is no schedule to keep (and no clock to read: a
+        // step of a small scene costs less than a microsecond).
+        if self.config.realtime {
+            let now = Instant::now();
+            if self.on_demand() {
+                // Stepping on demand: real time resumes from the last step taken.
+                self.restart_pacing(now);
+            } else {
+                self.pacing_taken(now);
+            }
         }
         self.resume_blocking();
         self.stepping.stepped(self.steps);

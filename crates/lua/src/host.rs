@@ -158,7 +158,7 @@ impl LuaHost {
     }
 
     /// Has blocking LuaSocket calls serve the front end through `service` while they
-    /// wait, instead of sleeping (see [`crate::waiting`]).
+    /// wait, instead of sleeping (see [`WaitService`](crate::WaitService)).
     pub fn set_wait_service(&mut self, service: Option<WaitService>) {
         state::<Waiting>(&self.lua).set(service);
     }
