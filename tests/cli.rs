@@ -212,6 +212,14 @@ fn bad_scene_files_fail_with_their_place_and_unknown_keys_only_warn() {
         .expect("runs");
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(summary(&out.stdout)[0], ("steps".to_owned(), 5.0));
+    // Each warning once: the loader's are the front end's to report, the engine
+    // reports only what building the world added.
+    for key in [
+        "unknown key 'simulation.substep'",
+        "unknown key 'object[0] ('a').parnet'",
+    ] {
+        assert_eq!(stderr(&out).matches(key).count(), 1, "run: {}", stderr(&out));
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 

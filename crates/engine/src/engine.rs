@@ -126,9 +126,8 @@ impl Engine {
     /// The Lua state could not be created.
     pub fn new(model: SceneModel, config: EngineConfig, debug: Option<DebugLink>) -> Result<Self, ScriptError> {
         let sim = SimCell::new(build_sim(&model));
-        for w in sim.borrow().world.warnings() {
-            tracing::warn!("{w}");
-        }
+        // The loader's warnings are the front end's to report, with the scene it loaded.
+        report_warnings(&model, &sim.borrow(), false);
         let host = if model.scripts.is_empty() && debug.is_none() {
             None
         } else {
@@ -600,6 +599,8 @@ impl Engine {
             host.close_sockets();
         }
         let sim = SimCell::new(build_sim(&model));
+        // A client loaded this scene: nobody else reports its warnings.
+        report_warnings(&model, &sim.borrow(), true);
         let host = if model.scripts.is_empty() && debug.is_none() {
             None
         } else {
@@ -751,6 +752,16 @@ impl Engine {
         }
         for o in &mut self.observers {
             o.finish(&sim, self.steps);
+        }
+    }
+}
+
+/// Logs what building `sim` from `model` warned of (unsupported features), and the
+/// loader's own warnings too with `loader` (unknown keys, URDF features), each once.
+fn report_warnings(model: &SceneModel, sim: &Sim, loader: bool) {
+    for w in sim.world.warnings() {
+        if loader || !model.warnings.contains(w) {
+            tracing::warn!("{w}");
         }
     }
 }
