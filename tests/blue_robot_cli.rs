@@ -188,3 +188,43 @@ fn a_text_channel_asked_for_on_the_scripts_port_is_named_in_its_bind_error() {
         "{last}"
     );
 }
+
+/// `GET path` on the viewer at `addr`, with a read timeout: the body of a 200 answer,
+/// or why there is none.
+fn http_get(addr: &str, path: &str) -> Result<String, String> {
+    let mut s = TcpStream::connect(addr).map_err(|e| e.to_string())?;
+    s.set_read_timeout(Some(Duration::from_secs(10)))
+        .map_err(|e| e.to_string())?;
+    write!(s, "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").map_err(|e| e.to_string())?;
+    let mut reply = String::new();
+    s.read_to_string(&mut reply).map_err(|e| format!("no answer: {e}"))?;
+    match reply.split_once("\r\n\r\n") {
+        Some((head, body)) if head.starts_with("HTTP/1.1 200") => Ok(body.to_owned()),
+        _ => Err(reply),
+    }
+}
+
+#[test]
+fn the_viewer_answers_while_the_script_waits_for_its_client() {
+    let Some(scene) = scene() else { return };
+    let port = free_port();
+    let mapping = format!("6000={port}");
+    let run = Run::start(&scene, &["--script-port", &mapping]);
+    let lines = run.lines_until("listening http=");
+    let addr = lines
+        .last()
+        .and_then(|l| l.split("listening http=").nth(1))
+        .expect("the viewer's address")
+        .trim()
+        .to_owned();
+    // No client comes: the first step begins within one 50 ms time step and waits in
+    // the script's accept. The viewer is answered all the same (it showed an empty
+    // grid before: its requests waited for the step).
+    std::thread::sleep(Duration::from_millis(500));
+    let status = http_get(&addr, "/api/status").expect("the viewer answers while the script waits");
+    assert!(status.contains("\"state\":17"), "running: {status}");
+    // The client comes, the step ends, and the scene goes on as before.
+    let packet = "<FK#J1=0.1,J2=0,J3=0,J4=0,J5=0,J6=0>\r\n";
+    assert_eq!(exchange(port, packet), format!("{}\n", packet.trim_end()));
+    assert!(http_get(&addr, "/api/status").is_ok());
+}
