@@ -7,8 +7,6 @@
 //! is absent each test prints a line and passes. The script's 6000 is mapped to a free
 //! port with `--script-port`, so the tests run beside anything on 6000.
 
-mod common;
-
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::path::PathBuf;

@@ -11,13 +11,10 @@
 //! copy's run is the one `gantry` shows: its clearance stream equals the embedded default
 //! scene's, sample for sample.
 
-mod common;
-
 use std::path::Path;
 use std::process::{Command, Output};
 
-use common::root;
-use gantry_test_support::TempDir;
+use gantry_test_support::{TempDir, repo};
 
 /// 200 s of 50 ms steps: the old scene was pinned from 17 s on, and a rover that roams
 /// meets every obstacle of the arena several times in that time.
@@ -122,7 +119,7 @@ fn column<'a>(cols: &'a [(String, Vec<(f64, f64)>)], name: &str) -> &'a [(f64, f
 #[test]
 fn the_showroom_rover_keeps_roaming() {
     let dir = TempDir::new("roams");
-    let scenes = root().join("assets/scenes");
+    let scenes = repo("assets/scenes");
     let shipped = std::fs::read_to_string(scenes.join("showroom.toml")).expect("the showroom is readable");
     // The copy lives elsewhere, so its file references must point back at the repository.
     let reference = "\"../";
