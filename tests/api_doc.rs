@@ -7,13 +7,12 @@
 //! The tests fail when a file and the registry disagree. To regenerate after adding a
 //! function: `GANTRY_BLESS=1 cargo test --test api_doc`.
 
-mod common;
-
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
 use gantry_sim_core::api::MODULES;
 use gantry_sim_core::api::{ApiFn, HOST_FUNCTIONS, HOST_MODULES, InScripts, Remote, Touches};
+use gantry_test_support::repo;
 
 /// What one row says.
 struct Row {
@@ -148,14 +147,13 @@ fn generate(notes_text: &str) -> (String, Vec<String>) {
 
 #[test]
 fn api_reference_matches_the_registry() {
-    let root = common::root();
-    let notes_text = std::fs::read_to_string(root.join("docs/api-notes.md")).expect("docs/api-notes.md");
+    let notes_text = std::fs::read_to_string(repo("docs/api-notes.md")).expect("docs/api-notes.md");
     let (generated, unknown) = generate(&notes_text);
     assert!(
         unknown.is_empty(),
         "docs/api-notes.md has notes for functions that do not exist: {unknown:?}"
     );
-    let path = root.join("docs/api.md");
+    let path = repo("docs/api.md");
     if std::env::var_os("GANTRY_BLESS").is_some() {
         std::fs::write(&path, &generated).expect("write docs/api.md");
         return;
@@ -253,10 +251,9 @@ fn generate_stubs(notes_text: &str) -> String {
 
 #[test]
 fn python_stubs_match_the_registry() {
-    let root = common::root();
-    let notes_text = std::fs::read_to_string(root.join("docs/api-notes.md")).expect("docs/api-notes.md");
+    let notes_text = std::fs::read_to_string(repo("docs/api-notes.md")).expect("docs/api-notes.md");
     let generated = generate_stubs(&notes_text);
-    let path = root.join("python/gantry/_api.pyi");
+    let path = repo("python/gantry/_api.pyi");
     if std::env::var_os("GANTRY_BLESS").is_some() {
         std::fs::write(&path, &generated).expect("write python/gantry/_api.pyi");
         return;

@@ -7,20 +7,17 @@
 //! is absent each test prints a line and passes. The script's 6000 is mapped to a free
 //! port with `--script-port`, so the tests run beside anything on 6000.
 
-mod common;
-
 use std::io::{BufRead, BufReader, Read, Write};
-use std::net::{TcpListener, TcpStream};
+use std::net::TcpStream;
 use std::path::PathBuf;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+use gantry_test_support::{coppelia_files, free_port};
+
 fn scene() -> Option<PathBuf> {
-    let dir = match std::env::var_os("GANTRY_COPPELIA_FILES") {
-        Some(d) => PathBuf::from(d),
-        None => common::root().join("../shared/coppelia-files"),
-    };
+    let dir = coppelia_files();
     let path = dir.join("paper__Blue_Robot.ttt");
     if path.is_file() {
         Some(path)
@@ -31,13 +28,6 @@ fn scene() -> Option<PathBuf> {
         );
         None
     }
-}
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .expect("a free port")
-        .port()
 }
 
 /// A gantry on the scene with `args`; killed on drop. Its stderr lines arrive on `lines`.

@@ -6,7 +6,7 @@ mod common;
 
 use std::process::Command;
 
-use common::root;
+use gantry_test_support::repo;
 
 fn gantry() -> Command {
     Command::new(env!("CARGO_BIN_EXE_gantry"))
@@ -34,7 +34,7 @@ fn every_scene_runs_200_steps_headless() {
     ] {
         let out = gantry()
             .args(["run", "--steps", "200", "--fast", "--no-listen"])
-            .arg(root().join(scene))
+            .arg(repo(scene))
             .output()
             .expect("runs");
         assert!(
@@ -130,7 +130,7 @@ fn check_reports_file_line_and_column() {
 
     let ok = gantry()
         .arg("check")
-        .arg(root().join("assets/scenes/showroom.toml"))
+        .arg(repo("assets/scenes/showroom.toml"))
         .output()
         .expect("runs");
     assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
@@ -256,7 +256,7 @@ fn coppelia_files() -> Option<std::path::PathBuf> {
     if let Some(dir) = std::env::var_os("GANTRY_COPPELIA_FILES") {
         return Some(dir.into());
     }
-    root()
+    repo("")
         .ancestors()
         .map(|a| a.join("shared/coppelia-files"))
         .find(|d| d.join("SOURCES.md").is_file())
@@ -284,7 +284,7 @@ fn convert_writes_a_scene_that_checks_and_refuses_to_overwrite_without_force() {
     let dir = std::env::temp_dir().join(format!("gantry-cli-convert-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     // Any scene gantry loads converts: a URDF robot, on any clone.
-    let urdf = root().join("assets/robots/arm6/arm6.urdf");
+    let urdf = repo("assets/robots/arm6/arm6.urdf");
     let stdout = convert_and_check(&urdf, &dir.join("arm6"), "arm6");
     assert!(
         stdout.contains("converted to") && stdout.contains("(17 objects"),

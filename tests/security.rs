@@ -7,7 +7,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::root;
+use gantry_test_support::repo;
 
 const TOKEN: &str = "cli-token-abcdef123456";
 
@@ -21,7 +21,7 @@ fn gantry() -> Command {
 /// `gantry run fk_arm` with every listener on a free port, a few fast steps, plus `extra`.
 fn run_briefly(cmd: &mut Command, extra: &[&str]) -> Output {
     cmd.arg("run")
-        .arg(root().join("assets/scenes/fk_arm.toml"))
+        .arg(repo("assets/scenes/fk_arm.toml"))
         .args([
             "--text-port",
             "0",

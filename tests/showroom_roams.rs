@@ -11,12 +11,10 @@
 //! copy's run is the one `gantry` shows: its clearance stream equals the embedded default
 //! scene's, sample for sample.
 
-mod common;
-
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-use common::root;
+use gantry_test_support::{TempDir, repo};
 
 /// 200 s of 50 ms steps: the old scene was pinned from 17 s on, and a rover that roams
 /// meets every obstacle of the arena several times in that time.
@@ -51,24 +49,6 @@ function sysCall_sensing()
     sim.setGraphStreamValue(graph, ys, p[2])
 end
 ";
-
-/// A folder under the system temp dir, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let path = std::env::temp_dir().join(format!("gantry-showroom-{tag}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).expect("create the temp dir");
-        Self(path)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// `gantry run [SCENE] --fast --no-listen --steps STEPS --export-graphs GRAPHS`; no scene
 /// runs the embedded showroom.
@@ -139,7 +119,7 @@ fn column<'a>(cols: &'a [(String, Vec<(f64, f64)>)], name: &str) -> &'a [(f64, f
 #[test]
 fn the_showroom_rover_keeps_roaming() {
     let dir = TempDir::new("roams");
-    let scenes = root().join("assets/scenes");
+    let scenes = repo("assets/scenes");
     let shipped = std::fs::read_to_string(scenes.join("showroom.toml")).expect("the showroom is readable");
     // The copy lives elsewhere, so its file references must point back at the repository.
     let reference = "\"../";
@@ -149,12 +129,11 @@ fn the_showroom_rover_keeps_roaming() {
     );
     let copy = shipped.replace(reference, &format!("\"{}/../", scenes.display()))
         + "\n[[script]]\nobject = \"Floor\"\nfile = \"observer.lua\"\n";
-    std::fs::write(dir.0.join("observer.lua"), OBSERVER).expect("write the observer");
-    let scene = dir.0.join("showroom.toml");
-    std::fs::write(&scene, copy).expect("write the scene copy");
+    dir.write("observer.lua", OBSERVER);
+    let scene = dir.write("showroom.toml", copy);
 
     // The observed copy and the embedded default scene, side by side.
-    let (observed, default) = (dir.0.join("observed"), dir.0.join("default"));
+    let (observed, default) = (dir.path().join("observed"), dir.path().join("default"));
     std::thread::scope(|s| {
         let embedded = s.spawn(|| run(None, &default));
         run(Some(&scene), &observed);

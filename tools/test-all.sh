@@ -154,6 +154,12 @@ for crate in gantry-record gantry-ros2; do
         exit 1
     fi
 done
+# The tests' shared helpers (issue 47) sit on the scene model and the codecs only, so
+# every crate from the world up takes them as a dev-dependency without a cycle.
+if cargo tree -p gantry-test-support -e normal --prefix none | grep -E '^(rapier3d|mlua|tokio|gantry-world|gantry-sim-core|gantry-ros|gantry-lua|gantry-engine|gantry-record|gantry-ros2|gantry-server) ' ; then
+    echo "gantry-test-support must depend only on gantry-scene and gantry-protocol among the workspace's crates" >&2
+    exit 1
+fi
 # Inside the crates: no circle among files in any crate, and sim-core's and the Lua
 # host's floors; the self-test first shows the checker still catches both.
 python3 tools/layers.py --self-test

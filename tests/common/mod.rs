@@ -5,10 +5,11 @@
 
 use std::io::{BufRead, BufReader};
 use std::net::SocketAddr;
-use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
+
+use gantry_test_support::repo;
 
 /// A running gantry; killed on drop.
 pub struct Gantry {
@@ -25,16 +26,11 @@ impl Drop for Gantry {
     }
 }
 
-/// Repository root.
-pub fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).to_owned()
-}
-
 /// Starts `gantry run SCENE` with the text channel on a free port, plus `extra` args.
 pub fn start(scene: &str, extra: &[&str]) -> Gantry {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_gantry"));
     cmd.arg("run")
-        .arg(root().join(scene))
+        .arg(repo(scene))
         .args(["--text-port", "0", "--zmq-port", "0"])
         .args(extra);
     cmd.stdout(Stdio::null()).stderr(Stdio::piped()).stdin(Stdio::null());

@@ -8,7 +8,8 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;
-use util::{LUA_ERR, Scene, assert_close, assert_contains, floats, int, ints, num, text, world_position};
+use gantry_test_support::{assert_close, assert_contains, floats, int, ints, num, text};
+use util::{LUA_ERR, Scene, world_position};
 
 /// A probe script that also defines `err(f, ...)`, `lua_call(name, ...)` (calls
 /// `sim[name]`) and `lua_err(name, ...)` (the error message of that call).

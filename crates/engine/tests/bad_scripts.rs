@@ -15,7 +15,8 @@ use gantry_engine::Engine;
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::SimulationState;
-use util::{Scene, assert_contains, int32_signal, messages_from, script_error, script_state};
+use gantry_test_support::assert_contains;
+use util::{Scene, int32_signal, messages_from, script_error, script_state};
 
 /// The well-behaved neighbour: counts its hooks in signals and answers packets.
 const GOOD: &str = "acted, sensed = 0, 0

@@ -14,20 +14,12 @@ use util::Drive;
 
 use std::f64::consts::{PI, TAU};
 use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpListener, TcpStream};
-use std::path::PathBuf;
+use std::net::{SocketAddr, TcpStream};
 
 use gantry_engine::Engine;
 use gantry_lua::{NetworkParams, ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
-use util::{assert_close, floats, int, load, num};
-
-fn folder() -> PathBuf {
-    match std::env::var_os("GANTRY_COPPELIA_FILES") {
-        Some(dir) => PathBuf::from(dir),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/coppelia-files"),
-    }
-}
+use gantry_test_support::{assert_close, coppelia_files, floats, free_port, int, load, num};
 
 /// One exchange as the C# client does it: connect, write the packet one byte per
 /// write, read the reply until the server closes.
@@ -71,21 +63,13 @@ fn joints(sim: &mut Engine) -> Vec<f64> {
         .collect()
 }
 
-/// A port no one listens on now.
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .expect("a free port")
-        .port()
-}
-
 #[test]
 fn blue_robot_serves_the_papers_packets_and_moves_its_joints() {
-    let path = folder().join("paper__Blue_Robot.ttt");
+    let path = coppelia_files().join("paper__Blue_Robot.ttt");
     if !path.is_file() {
         println!(
             "paper__Blue_Robot.ttt not found in {}; skipped (set GANTRY_COPPELIA_FILES)",
-            folder().display()
+            coppelia_files().display()
         );
         return;
     }

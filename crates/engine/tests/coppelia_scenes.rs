@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 
 use gantry_lua::{ScriptLimits, ScriptState, uses_luasocket};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_test_support::coppelia_files;
 
 /// Simulated time each scene runs, s (the measure).
 const RUN_TIME: f64 = 10.0;
@@ -20,13 +21,6 @@ const RUN_TIME: f64 = 10.0;
 /// Distinct scripts that ran clean when this floor was set, per cent; raise it as the
 /// figure rises.
 const FLOOR_PERCENT: f64 = 80.0;
-
-fn folder() -> PathBuf {
-    match std::env::var_os("GANTRY_COPPELIA_FILES") {
-        Some(dir) => PathBuf::from(dir),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/coppelia-files"),
-    }
-}
 
 /// Scripts CoppeliaSim writes itself rather than a user: the force sensors'
 /// customization scripts that break the sensor on a trigger.
@@ -94,7 +88,7 @@ fn run_file(path: &Path, served: &mut Vec<String>) -> Vec<(String, Outcome)> {
 
 #[test]
 fn embedded_scripts_of_the_shared_files_run() {
-    let dir = folder();
+    let dir = coppelia_files();
     if !dir.join("SOURCES.md").is_file() {
         println!(
             "coppelia-files not found at {}; skipped (set GANTRY_COPPELIA_FILES)",

@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use gantry_lua::debugger::{BreakpointSpec, StopReason, VariableInfo};
 use gantry_lua::{DebugCommand, DebugEvent, DebugLink, DebugReply, DebugRequest, ScriptLimits};
-use util::{TempDir, load};
+use gantry_test_support::{TempDir, load};
 
 /// `a.lua`: line numbers matter to the tests below.
 const A: &str = "count = 0

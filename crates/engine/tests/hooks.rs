@@ -9,10 +9,8 @@ use std::time::{Duration, Instant, SystemTime};
 use gantry_engine::Engine;
 use gantry_lua::{ScriptLimits, ScriptState, check_syntax};
 use gantry_sim_core::Value;
-use util::{
-    Scene, TempDir, assert_close, assert_contains, floats, int, load, log_lines, messages_from, script_error,
-    script_state, world_position,
-};
+use gantry_test_support::{TempDir, assert_close, assert_contains, floats, int, load, repo};
+use util::{Scene, log_lines, messages_from, script_error, script_state, world_position};
 
 fn s(v: &str) -> Value {
     Value::Str(v.to_owned())
@@ -644,7 +642,7 @@ fn check_syntax_reports_file_and_line() {
     assert_contains(script_error(&sim, "broken.lua"), &["broken.lua:"]);
     sim.step();
     assert_eq!(signal(&mut sim, "good"), Some(1));
-    let clean = load(&util::repo("assets/scenes/bubble_rob.toml"));
+    let clean = load(&repo("assets/scenes/bubble_rob.toml"));
     assert_eq!(check_syntax(&clean), Vec::<String>::new());
 }
 

@@ -7,7 +7,8 @@ mod util;
 use util::Drive;
 
 use gantry_sim_core::Value;
-use util::{Scene, assert_contains};
+use gantry_test_support::{TempDir, assert_contains, floats, int, ints, num, text};
+use util::Scene;
 
 /// The paper's arm, kinematic, in its start pose (tool down), its tip dummy on the
 /// flange, a target dummy on the tip, and an IK group driving the tip onto the target,
@@ -111,29 +112,22 @@ fn an_explicit_group_moves_the_tip_onto_the_target_only_when_handled() {
     let r = sc.call("report", &[]);
     assert_eq!(r[0], Value::Int(1), "the scene flags the group explicit");
     let success = r[4].clone();
-    assert_eq!(
-        util::ints(&r[1]),
-        vec![util::int(&success); 2],
-        "sim.handleIkGroup succeeds"
-    );
-    for d in util::floats(&r[2]) {
+    assert_eq!(ints(&r[1]), vec![int(&success); 2], "sim.handleIkGroup succeeds");
+    for d in floats(&r[2]) {
         assert!(d < 1e-3, "after sim.handleIkGroup the tip is on the target: {d} m");
     }
     // The target moved by about 5.8 cm on those steps and nothing solved the group.
-    for d in util::floats(&r[3]) {
+    for d in floats(&r[3]) {
         assert!(d > 0.05, "an explicit group is not handled by the main script: {d} m");
     }
-    assert_contains(util::text(&r[5]), &["sim.getIkGroupHandle", "no_such_group"]);
-    assert_contains(
-        util::text(&r[6]),
-        &["sim.handleIkGroup", "IK group 12345 does not exist"],
-    );
-    assert_contains(util::text(&r[7]), &["sim.setExplicitHandling", "987654"]);
-    assert_contains(util::text(&r[8]), &["sim.getIkGroupMatrix", "options"]);
+    assert_contains(text(&r[5]), &["sim.getIkGroupHandle", "no_such_group"]);
+    assert_contains(text(&r[6]), &["sim.handleIkGroup", "IK group 12345 does not exist"]);
+    assert_contains(text(&r[7]), &["sim.setExplicitHandling", "987654"]);
+    assert_contains(text(&r[8]), &["sim.getIkGroupMatrix", "options"]);
     // Six constrained components (pose), six joints between the base and the tip.
-    assert_eq!(util::ints(&r[9]), vec![6, 6]);
+    assert_eq!(ints(&r[9]), vec![6, 6]);
     assert_eq!(r[10], Value::Int(36));
-    assert!(util::num(&r[11]) > 0.0, "the arm is not singular here");
+    assert!(num(&r[11]) > 0.0, "the arm is not singular here");
 }
 
 /// A threaded V-REP 3.x style script: it makes the group automatic, then moves the
@@ -186,7 +180,7 @@ fn an_automatic_group_is_handled_every_step_after_the_scripts_actuation() {
         Value::Int(0),
         "sim.setExplicitHandling(h, 0) made the group automatic"
     );
-    let d = util::floats(&r[2]);
+    let d = floats(&r[2]);
     assert_eq!(d.len(), 3);
     for d in d {
         assert!(d < 1e-3, "the main script put the tip on the target: {d} m");
@@ -242,14 +236,11 @@ fn group_and_element_properties_change_the_solve() {
     let r = sc.call("report", &[]);
     assert_eq!(r[0], Value::Int(2), "one iteration: sim.ikresult_fail");
     assert_eq!(r[1], Value::Int(1), "position only: sim.ikresult_success");
-    assert!(util::num(&r[2]) < 1e-3, "the tip reached the target's position");
-    assert_eq!(util::ints(&r[3]), vec![6, 3], "three position rows, six joints");
-    assert_contains(util::text(&r[4]), &["sim.setIkGroupProperties", "resolution method 9"]);
-    assert_contains(
-        util::text(&r[5]),
-        &["sim.setIkElementProperties", "no element whose tip"],
-    );
-    assert_eq!(util::floats(&r[6]).len(), 6, "a configuration for the six joints");
+    assert!(num(&r[2]) < 1e-3, "the tip reached the target's position");
+    assert_eq!(ints(&r[3]), vec![6, 3], "three position rows, six joints");
+    assert_contains(text(&r[4]), &["sim.setIkGroupProperties", "resolution method 9"]);
+    assert_contains(text(&r[5]), &["sim.setIkElementProperties", "no element whose tip"]);
+    assert_eq!(floats(&r[6]).len(), 6, "a configuration for the six joints");
 }
 
 /// The loader checks `[[ik_group]]` tables: elements' tips and targets are dummies,
@@ -257,7 +248,7 @@ fn group_and_element_properties_change_the_solve() {
 #[test]
 fn bad_ik_group_tables_are_load_errors() {
     use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
-    let dir = util::TempDir::new("ikgroups-load");
+    let dir = TempDir::new("ikgroups-load");
     let path = dir.path().join("scene.toml");
     let load = |text: &str| {
         load_scene_text(&DiskFiles, text, &path, &LoadOptions::default())

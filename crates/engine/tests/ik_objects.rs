@@ -10,12 +10,13 @@ use util::Drive;
 
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Handle;
+use gantry_test_support::repo;
 use util::{Scene, int32_signal, script_state, world_position};
 
 /// The arm (kinematic joints, the paper's start pose), a tip dummy on its flange and a
 /// free goal dummy; `robot.lua` is attached to the arm.
 fn scene(tag: &str, script: &str) -> Scene {
-    let urdf = util::repo("assets/robots/arm6/arm6.urdf");
+    let urdf = repo("assets/robots/arm6/arm6.urdf");
     let toml = format!(
         r#"
 [simulation]

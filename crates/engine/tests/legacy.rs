@@ -8,7 +8,8 @@ use util::Drive;
 
 use gantry_lua::ScriptState;
 use gantry_sim_core::Value;
-use util::{Scene, assert_close, assert_contains, log_lines, script_state};
+use gantry_test_support::{assert_close, assert_contains, floats, int, ints, num, text};
+use util::{Scene, log_lines, script_state};
 
 /// The rover of the BubbleRob scene with a 4.2-style threaded script: the old lookup,
 /// signals, status bar, console and user parameters, driving the motors for 1 s.
@@ -196,7 +197,7 @@ fn v_rep_3_scripts_run_after_the_import_rewrite() {
         x0 == [Value::Nil] || x0.is_empty(),
         "sensing ran only after a step: {x0:?}"
     );
-    assert!(util::num(&x[0]) > 0.05, "the rover drove forward: {x:?}");
+    assert!(num(&x[0]) > 0.05, "the rover drove forward: {x:?}");
     let lines = log_lines(&sc.sim);
     assert!(lines.iter().any(|(_, _, m)| m == "init bubbleRob"), "{lines:?}");
 
@@ -717,13 +718,13 @@ end
     );
     assert_eq!(r[4], Value::Int(0));
     assert_eq!(r[5], Value::Int(0x20));
-    assert_contains(util::text(&r[6]), &["setModelProperty", "does not define"]);
-    assert_close(&[util::num(&r[7])], &[1.0], 1e-9);
+    assert_contains(text(&r[6]), &["setModelProperty", "does not define"]);
+    assert_close(&[num(&r[7])], &[1.0], 1e-9);
     sc.call("release", &[]);
     for _ in 0..10 {
         sc.sim.step();
     }
-    let z = util::num(&sc.call("report", &[])[7]);
+    let z = num(&sc.call("report", &[])[7]);
     assert!(z < 0.9, "the box falls once the model is dynamic again: z = {z}");
 }
 
@@ -777,26 +778,26 @@ end
         sc.sim.step();
     }
     let r = sc.call("report", &[]);
-    let z = util::num(&r[1]);
+    let z = num(&r[1]);
     assert!(
         z < 0.95,
         "a pure shape without option bit 4 is dynamic and falls: z = {z}"
     );
-    assert_contains(util::text(&r[2]), &["createPureShape", "invalid primitive type 7"]);
-    assert!(util::text(&r[3]).ends_with(".toml"), "{:?}", r[3]);
-    assert!(!util::text(&r[4]).is_empty());
+    assert_contains(text(&r[2]), &["createPureShape", "invalid primitive type 7"]);
+    assert!(text(&r[3]).ends_with(".toml"), "{:?}", r[3]);
+    assert!(!text(&r[4]).is_empty());
     assert_eq!(r[5], Value::Int(2), "a yes/no box is answered yes");
     assert_eq!(r[6], Value::Int(3), "an OK box is answered OK");
     assert_close(
-        &util::floats(&r[7]),
+        &floats(&r[7]),
         &[1.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0, -2.0, 0.0, 0.0, 1.0, -3.0],
         1e-12,
     );
     assert_eq!(r[8], Value::Int(1));
     assert_eq!(r[9], Value::Bool(true));
-    assert_close(&util::floats(&r[10]), &[1.0, 0.0, 0.0], 1e-12);
+    assert_close(&floats(&r[10]), &[1.0, 0.0, 0.0], 1e-12);
     assert_eq!(r[11], Value::Bool(false), "a vision sensor has no colour 0");
-    assert_eq!(util::ints(&r[12]), vec![util::int(&r[0])]);
+    assert_eq!(ints(&r[12]), vec![int(&r[0])]);
     assert_eq!(r[13], Value::Bytes(vec![255, 0, 0, 0, 128, 255]));
     let log = log_lines(&sc.sim);
     assert!(log.iter().any(|(_, _, m)| m == "Quit?: Really?"), "{log:?}");
@@ -832,12 +833,12 @@ end
     sc.sim.step();
     let r = sc.call("report", &[]);
     assert_eq!(r[0], Value::Bytes(vec![255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30]));
-    assert_eq!(util::ints(&r[1]), vec![2, 2]);
+    assert_eq!(ints(&r[1]), vec![2, 2]);
     assert_eq!(r[2], Value::Int(16));
-    assert_eq!(util::text(&r[3]), "PNG");
-    assert_contains(util::text(&r[4]), &["saveImage", "PNG"]);
-    assert_contains(util::text(&r[5]), &["saveImage", "outside the scene's folder"]);
-    assert_contains(util::text(&r[6]), &["saveImage", "18 bytes"]);
+    assert_eq!(text(&r[3]), "PNG");
+    assert_contains(text(&r[4]), &["saveImage", "PNG"]);
+    assert_contains(text(&r[5]), &["saveImage", "outside the scene's folder"]);
+    assert_contains(text(&r[6]), &["saveImage", "18 bytes"]);
 }
 
 /// V-REP 3's free threads: `sim.setThreadIsFree` is accepted (gantry's threads are
@@ -891,13 +892,13 @@ function report() return size, kind, badIndex, badVertices, prefixed, containing
     sc.sim.start();
     sc.sim.step();
     let r = sc.call("report", &[]);
-    assert_close(&util::floats(&r[0]), &[0.5, 0.25, 0.1], 1e-6);
+    assert_close(&floats(&r[0]), &[0.5, 0.25, 0.1], 1e-6);
     assert_eq!(r[1], Value::Int(0), "a shape");
-    assert_contains(util::text(&r[2]), &["createMeshShape", "index 3 is not a vertex"]);
-    assert_contains(util::text(&r[3]), &["createMeshShape", "triples"]);
+    assert_contains(text(&r[2]), &["createMeshShape", "index 3 is not a vertex"]);
+    assert_contains(text(&r[3]), &["createMeshShape", "triples"]);
     let names = |v: &Value| -> Vec<String> {
         let Value::Array(items) = v else { panic!("{v:?}") };
-        items.iter().map(|s| util::text(s).to_owned()).collect()
+        items.iter().map(|s| text(s).to_owned()).collect()
     };
     assert_eq!(names(&r[4]), ["sim.getObjectPose", "sim.getObjectPosition"]);
     let containing = names(&r[5]);

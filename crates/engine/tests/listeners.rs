@@ -10,7 +10,8 @@ use util::Drive;
 use std::sync::{Arc, Mutex};
 
 use gantry_lua::{ListenerError, ListenerStatus, Listeners, ScriptLimits, ScriptState};
-use util::{Scene, assert_contains, int32_signal, script_error, script_state};
+use gantry_test_support::assert_contains;
+use util::{Scene, int32_signal, script_error, script_state};
 
 #[derive(Debug, Default)]
 struct Recorder {

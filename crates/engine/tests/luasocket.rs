@@ -10,7 +10,8 @@ use std::time::Duration;
 
 use gantry_lua::{NetworkParams, ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
-use util::{Scene, text};
+use gantry_test_support::text;
+use util::Scene;
 
 const SCENE: &str = r#"
 [[object]]

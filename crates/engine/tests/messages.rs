@@ -11,7 +11,8 @@ use util::Drive;
 
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
-use util::{LUA_ERR, Scene, assert_close, assert_contains, int32_signal, script_error, script_state, world_position};
+use gantry_test_support::{assert_close, assert_contains};
+use util::{LUA_ERR, Scene, int32_signal, script_error, script_state, world_position};
 
 const SCENE: &str = r#"
 [simulation]

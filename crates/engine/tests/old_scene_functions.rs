@@ -8,7 +8,8 @@
 mod util;
 
 use gantry_sim_core::Value;
-use util::{Scene, assert_close, assert_contains, floats, int, num, text};
+use gantry_test_support::{assert_close, assert_contains, floats, int, ints, num, text};
+use util::Scene;
 
 /// Two 0.2 m cubes of 1 kg on the X axis (`a` at x = 0, `b` at x = 1), a 0.2 × 0.4 ×
 /// 0.6 m box of 6 kg at (0, 2, 0.5), a sphere and a graph.
@@ -170,7 +171,7 @@ fn a_named_collection_is_found_by_its_name() {
     assert_eq!(text(&r[2]), "", "a 4.x collection has no name");
     assert_eq!(int(&r[3]), -1, "@silentError gives -1 for a missing collection");
     let brick = sc.find("/brick");
-    assert_eq!(util::ints(&r[4]), vec![brick]);
+    assert_eq!(ints(&r[4]), vec![brick]);
 }
 
 #[test]

@@ -6,7 +6,8 @@ mod util;
 use util::Drive;
 
 use gantry_sim_core::Value;
-use util::{Scene, assert_contains};
+use gantry_test_support::{assert_close, assert_contains, floats, text};
+use util::Scene;
 
 /// The paper's arm, kinematic, with two boxes at the tool's height on either side, so
 /// that turning the base half a turn with the arm stretched out hits one of them.
@@ -96,20 +97,20 @@ fn a_plan_for_the_arm_goes_around_the_obstacles_and_replays_without_collision() 
     assert_eq!(r[2], Value::Int(0), "no state of the replayed path collides");
     assert_eq!(r[3], Value::Bool(false), "turning the base alone hits a box");
     assert_eq!(r[4], Value::Bool(true));
-    let path = util::floats(&r[5]);
-    let (start, goal) = (util::floats(&r[6]), util::floats(&r[7]));
-    util::assert_close(&path[..3], &start, 1e-9);
-    util::assert_close(&path[path.len() - 3..], &goal, 1e-9);
+    let path = floats(&r[5]);
+    let (start, goal) = (floats(&r[6]), floats(&r[7]));
+    assert_close(&path[..3], &start, 1e-9);
+    assert_close(&path[path.len() - 3..], &goal, 1e-9);
     // Going around means leaving the stretched-out posture on the way.
     let bends = path
         .chunks(3)
         .any(|s| (s[1] - start[1]).abs() > 0.1 || (s[2] - start[2]).abs() > 0.1);
     assert!(bends, "the path lifts or folds the arm: {path:?}");
-    util::assert_close(&util::floats(&r[8]), &[goal[0], goal[1]], 1e-9);
-    assert_contains(util::text(&r[9]), &["simOMPL.createStateSpace", "Dubins"]);
-    assert_contains(util::text(&r[10]), &["simOMPL.setStartState", "3 values"]);
-    assert_contains(util::text(&r[11]), &["simOMPL.setCollisionPairs", "two by two"]);
-    assert_contains(util::text(&r[12]), &["simOMPL.solve", "task 12345 does not exist"]);
+    assert_close(&floats(&r[8]), &[goal[0], goal[1]], 1e-9);
+    assert_contains(text(&r[9]), &["simOMPL.createStateSpace", "Dubins"]);
+    assert_contains(text(&r[10]), &["simOMPL.setStartState", "3 values"]);
+    assert_contains(text(&r[11]), &["simOMPL.setCollisionPairs", "two by two"]);
+    assert_contains(text(&r[12]), &["simOMPL.solve", "task 12345 does not exist"]);
 }
 
 /// Two runs of the same script plan the same path: planners are seeded per task.
@@ -124,7 +125,7 @@ fn plans_are_the_same_in_every_run() {
         );
         sc.sim.start();
         sc.sim.step();
-        util::floats(&sc.call("report", &[])[5])
+        floats(&sc.call("report", &[])[5])
     };
     assert_eq!(run(), run());
 }

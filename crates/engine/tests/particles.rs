@@ -9,7 +9,8 @@ use util::Drive;
 use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;
 use gantry_sim_core::drawing::DrawingKind;
-use util::{Scene, assert_contains, assert_running, int, text, world_position};
+use gantry_test_support::{assert_contains, int, text};
+use util::{Scene, assert_running, world_position};
 
 /// A 2 kg box resting on the floor at the origin, and a nozzle 0.6 m behind it (-x)
 /// whose script fires a jet along +x.

@@ -8,7 +8,8 @@ use util::Drive;
 
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::SimulationState;
-use util::{Scene, assert_contains, assert_running, int32_signal, script_error, world_position};
+use gantry_test_support::{assert_contains, floats, num};
+use util::{Scene, assert_running, int32_signal, script_error, world_position};
 
 /// One dummy carrying the script `mover.lua`, at dt = 0.05 s.
 const SCENE: &str = r#"
@@ -71,7 +72,7 @@ fn a_v_rep_3_threaded_script_follows_a_path_with_follow_path() {
     let end = trace[n - 1];
     assert!((end[0] - 1.0).abs() < 1e-9 && (end[1] - 1.0).abs() < 1e-9, "{end:?}");
     let e = sc.remote("sim.getObjectOrientation", &[Value::Int(dummy), Value::Int(-1)]);
-    let gamma = util::floats(&e[0])[2];
+    let gamma = floats(&e[0])[2];
     assert!((gamma - std::f64::consts::FRAC_PI_2).abs() < 1e-9, "{e:?}");
     // Every step on the L, moving forward along it, through both legs.
     let along = |p: [f64; 3]| if p[1].abs() < 1e-9 { p[0] } else { 1.0 + p[1] };
@@ -91,7 +92,7 @@ fn a_v_rep_3_threaded_script_follows_a_path_with_follow_path() {
     // Accelerating at first: 0.5 * 1 * 0.05^2 after one step, then faster.
     assert!((trace[0][0] - 0.00125).abs() < 1e-9, "{:?}", trace[0]);
     let left = sc.remote("sim.getFloatSignal", &[Value::from("left")]);
-    let left = util::num(&left[0]);
+    let left = num(&left[0]);
     assert!((0.0..0.05).contains(&left), "time left in the last step: {left}");
 }
 
@@ -132,9 +133,9 @@ fn move_to_position_moves_straight_then_turns() {
     assert_running(&sc.sim, "mover.lua");
     assert_eq!(int32_signal(&mut sc.sim, "done"), Some(1));
     // sqrt(5) m at 1 m/s: 45 steps of 0.05 s; a quarter turn at 1 rad/s: 32 steps more.
-    let moved = util::num(&sc.remote("sim.getFloatSignal", &[Value::from("moved")])[0]);
+    let moved = num(&sc.remote("sim.getFloatSignal", &[Value::from("moved")])[0]);
     assert!((moved - 2.25).abs() < 1e-9, "{moved}");
-    let turned = util::num(&sc.remote("sim.getFloatSignal", &[Value::from("turned")])[0]);
+    let turned = num(&sc.remote("sim.getFloatSignal", &[Value::from("turned")])[0]);
     assert!((turned - 2.25 - 1.6).abs() < 1e-9, "{turned}");
     // On the straight line from the origin, at 0.05 m a step.
     for p in &trace {
@@ -145,10 +146,7 @@ fn move_to_position_moves_straight_then_turns() {
     let end = world_position(&sc.sim, dummy);
     assert!((end[0] - 1.0).abs() < 1e-9 && (end[1] - 2.0).abs() < 1e-9, "{end:?}");
     let e = sc.remote("sim.getObjectOrientation", &[Value::Int(dummy), Value::Int(-1)]);
-    assert!(
-        (util::floats(&e[0])[2] - std::f64::consts::FRAC_PI_2).abs() < 1e-9,
-        "{e:?}"
-    );
+    assert!((floats(&e[0])[2] - std::f64::consts::FRAC_PI_2).abs() < 1e-9, "{e:?}");
 }
 
 #[test]

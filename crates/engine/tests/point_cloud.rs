@@ -7,7 +7,8 @@
 mod util;
 
 use gantry_sim_core::Value;
-use util::{Scene, assert_close, assert_contains, floats, int, num, text};
+use gantry_test_support::{assert_close, assert_contains, floats, int, num, text};
+use util::Scene;
 
 const SCENE: &str = r#"
 [[object]]

@@ -13,8 +13,9 @@ use std::sync::Arc;
 
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
+use gantry_test_support::assert_contains;
 use util::loopback::Loopback;
-use util::{Scene, assert_contains, assert_running, int32_signal, script_error, script_state};
+use util::{Scene, assert_running, int32_signal, script_error, script_state};
 
 const SCENE: &str = r#"
 [simulation]

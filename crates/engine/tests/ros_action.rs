@@ -14,8 +14,9 @@ use std::sync::Arc;
 use gantry_lua::ScriptLimits;
 use gantry_protocol::ros::message_type;
 use gantry_sim_core::Value;
+use gantry_test_support::assert_contains;
 use util::loopback::Loopback;
-use util::{Scene, assert_contains, assert_running};
+use util::{Scene, assert_running};
 
 const SCENE: &str = r#"
 [simulation]

@@ -7,7 +7,8 @@ use util::Drive;
 use gantry_engine::Engine;
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
-use util::{find, int, load, repo, world_position};
+use gantry_test_support::{int, load, repo};
+use util::{find, world_position};
 
 /// 2 simulated minutes of 50 ms steps.
 const STEPS: usize = 2400;

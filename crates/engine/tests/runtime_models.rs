@@ -10,7 +10,8 @@ use util::Drive;
 use gantry_engine::Engine;
 use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;
-use util::{Scene, assert_contains, find, int, int32_signal, repo, text};
+use gantry_test_support::{assert_contains, int, repo, text};
+use util::{Scene, find, int32_signal};
 
 fn s(v: &str) -> Value {
     Value::Str(v.to_owned())

@@ -12,7 +12,8 @@ use std::time::{Duration, Instant};
 use gantry_lua::sandbox::{REMOVED_GLOBALS, REMOVED_OS};
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
-use util::{LUA_ERR, Scene, TempDir, assert_contains, load, script_error, script_state, text};
+use gantry_test_support::{TempDir, assert_contains, load, text};
+use util::{LUA_ERR, Scene, script_error, script_state};
 
 /// One dummy carrying `probe.lua`, and a graph for the export tests.
 const PROBE_SCENE: &str = r#"

@@ -13,7 +13,8 @@ use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::math::Vec3;
 use gantry_sim_core::scene::{LoadOptions, load_bundled};
 use gantry_sim_core::{Handle, Value};
-use util::{find, floats, ints, load, repo};
+use gantry_test_support::{floats, ints, load, repo};
+use util::find;
 
 /// The pillar's radius and axis (x, y) in scanners.toml, and how far inside the true
 /// cylinder its 32-sided drawing lies, m.

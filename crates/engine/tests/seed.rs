@@ -10,7 +10,8 @@ use gantry_engine::Engine;
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use gantry_sim_core::math::Pose;
-use util::{find, floats, int, load, repo};
+use gantry_test_support::{floats, int, ints, load, repo};
+use util::find;
 
 fn bubble_rob() -> Engine {
     let model = load(&repo("assets/scenes/bubble_rob.toml"));
@@ -128,7 +129,7 @@ fn vision_script_produces_an_edge_image_of_an_obstacle() {
     let Value::Bytes(img) = &r[0] else {
         panic!("image bytes")
     };
-    let res = util::ints(&r[1]);
+    let res = ints(&r[1]);
     assert_eq!(res, [256, 256]);
     let px = |x: usize, y: usize| img[(y * 256 + x) * 3];
     // The middle row crosses the obstacle: its two silhouette edges are white, its

@@ -16,7 +16,8 @@ use gantry_engine::Engine;
 use gantry_lua::{ScriptLimits, ScriptState};
 use gantry_sim_core::Value;
 use gantry_sim_core::sim::SimulationState;
-use util::{Scene, assert_contains, log_lines, script_error, script_state};
+use gantry_test_support::{assert_contains, int, load, num, repo, text};
+use util::{Scene, log_lines, script_error, script_state};
 
 /// Two dummies, each with a script: `a.lua` on `/a`, `b.lua` on `/b`.
 const TWO: &str = r#"
@@ -266,9 +267,9 @@ fn non_stepping_threads_are_preempted_and_stepping_ones_hit_the_budget() {
     };
     let mut sc = Scene::new("preempt", ONE, &[("a.lua", a)], limits.clone());
     steps(&mut sc.sim, 3);
-    let after3 = util::int(&sc.call("count", &[])[0]);
+    let after3 = int(&sc.call("count", &[])[0]);
     steps(&mut sc.sim, 3);
-    let after6 = util::int(&sc.call("count", &[])[0]);
+    let after6 = int(&sc.call("count", &[])[0]);
     assert!(after3 > 0 && after6 > after3, "{after3} then {after6}");
     assert_eq!(script_state(&sc.sim, "a.lua"), ScriptState::Running);
 
@@ -432,7 +433,7 @@ fn require_returns_the_api_and_refuses_anything_else_by_name() {
     let r = sc.call("other", &[Value::Str("lfs".into())]);
     assert_eq!(r[0], Value::Bool(false));
     assert_contains(
-        util::text(&r[1]),
+        text(&r[1]),
         &[
             "module 'lfs' is not available in gantry",
             "Matrix, sim, simIK, simOMPL, simROS, simROS2, simRemoteApi, simUI, simVision, socket",
@@ -460,7 +461,7 @@ fn a_loop_in_a_coroutine_of_a_non_threaded_hook_is_interrupted() {
 /// The arm of the paper's scene with kinematic joints, a pick-and-place thread on it
 /// and a non-threaded script that gives the start signal.
 fn pick_and_place_scene(thread: &str, starter: &str) -> Scene {
-    let urdf = util::repo("assets/robots/arm6/arm6.urdf");
+    let urdf = repo("assets/robots/arm6/arm6.urdf");
     let toml = format!(
         r#"
 [simulation]
@@ -575,7 +576,7 @@ fn pick_and_place_with_move_to_config_in_a_thread() {
             log_lines(&sc.sim)
         );
     }
-    let float = |sc: &mut Scene, name: &str| util::num(&sc.remote("getFloatSignal", &[Value::Str(name.into())])[0]);
+    let float = |sc: &mut Scene, name: &str| num(&sc.remote("getFloatSignal", &[Value::Str(name.into())])[0]);
     // Joint 1 moves 0.5 rad at <= 1 rad/s with accel <= 2 rad/s^2: at least
     // 0.5 s + ramp time; jerk-limited, so a little more.
     let pick_time = float(&mut sc, "pickTime");
@@ -605,10 +606,8 @@ fn every_sim_function_a_script_sees_is_in_the_registry_or_the_host_list() {
     end";
     let mut sc = scene("names", ONE, &[("a.lua", a)]);
     sc.sim.start();
-    let seen: std::collections::BTreeSet<String> = util::text(&sc.call("names", &[])[0])
-        .split(',')
-        .map(str::to_owned)
-        .collect();
+    let seen: std::collections::BTreeSet<String> =
+        text(&sc.call("names", &[])[0]).split(',').map(str::to_owned).collect();
     let module = gantry_sim_core::api::module("sim").expect("sim");
     let mut listed: std::collections::BTreeSet<String> = module.callable().map(|(n, _)| n.to_owned()).collect();
     listed.extend(gantry_sim_core::api::host::script_host_names().map(str::to_owned));
@@ -620,8 +619,8 @@ fn every_sim_function_a_script_sees_is_in_the_registry_or_the_host_list() {
 
 #[test]
 fn the_default_scene_starts_and_runs_without_a_warning() {
-    let path = util::repo("assets/scenes/bubble_rob.toml");
-    let mut sim = util::engine(util::load(&path), ScriptLimits::default()).expect("builds");
+    let path = repo("assets/scenes/bubble_rob.toml");
+    let mut sim = util::engine(load(&path), ScriptLimits::default()).expect("builds");
     steps(&mut sim, 40);
     let warnings: Vec<(String, i64, String)> = log_lines(&sim).into_iter().filter(|(_, v, _)| *v <= 300).collect();
     assert!(warnings.is_empty(), "{warnings:?}");
@@ -739,7 +738,7 @@ fn rml_move_to_joint_positions_in_a_4_2_thread() {
         n += 1;
         assert!(n < 200, "did not finish in 10 s; log: {:?}", log_lines(&sc.sim));
     }
-    let float = |sc: &mut Scene, name: &str| util::num(&sc.remote("getFloatSignal", &[Value::Str(name.into())])[0]);
+    let float = |sc: &mut Scene, name: &str| num(&sc.remote("getFloatSignal", &[Value::Str(name.into())])[0]);
     assert_eq!(util::int32_signal(&mut sc.sim, "rmlResult"), Some(1));
     assert!(float(&mut sc, "rmlError") < 1e-9);
     // 0.5 rad at <= 1 rad/s and <= 2 rad/s^2: more than 0.5 s, not instantaneous.

@@ -3,11 +3,11 @@
 //! disk stops the recording, not the simulation.
 
 use std::io::{Cursor, Seek, SeekFrom, Write};
-use std::path::PathBuf;
 
 use gantry_record::{RecordError, RecordParams, Recorder};
 use gantry_sim_core::Sim;
 use gantry_sim_core::scene::{LoadOptions, load_bundled};
+use gantry_test_support::TempDir;
 
 fn showroom() -> Sim {
     let model = load_bundled("showroom", &LoadOptions::default())
@@ -16,14 +16,10 @@ fn showroom() -> Sim {
     Sim::new(&model)
 }
 
-/// A file in the temporary folder, unique to this test process.
-fn temp_file(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("gantry-record-{}-{name}", std::process::id()))
-}
-
 #[test]
 fn a_recording_reads_back_indexed_with_every_channel_and_message() {
-    let path = temp_file("ok.mcap");
+    let dir = TempDir::new("record");
+    let path = dir.path().join("ok.mcap");
     let mut sim = showroom();
     let mut rec = Recorder::create(RecordParams {
         path: path.clone(),
@@ -46,7 +42,6 @@ fn a_recording_reads_back_indexed_with_every_channel_and_message() {
     assert_eq!(report.snapshots, 21);
     assert_eq!(report.dropped, 0, "a queue of 64 batches holds 21 snapshots");
     let bytes = std::fs::read(&path).expect("file");
-    let _ = std::fs::remove_file(&path);
     let summary = mcap::Summary::read(&bytes).expect("reads").expect("has a summary");
     assert!(!summary.chunk_indexes.is_empty(), "chunks are indexed");
     let stats = summary.stats.expect("statistics");
@@ -77,7 +72,8 @@ fn a_recording_reads_back_indexed_with_every_channel_and_message() {
 
 #[test]
 fn a_folder_that_does_not_exist_is_refused_before_the_run_naming_the_file() {
-    let path = temp_file("missing-folder").join("run.mcap");
+    let dir = TempDir::new("record");
+    let path = dir.path().join("missing-folder").join("run.mcap");
     let err = match Recorder::create(RecordParams {
         path: path.clone(),
         ..RecordParams::default()

@@ -3,13 +3,14 @@
 //! steps between the two calls; `gantry verify` refuses it (it did not begin with the
 //! run); a folder that does not exist is the script's error.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use gantry_engine::{Engine, EngineConfig, Input, LoopControl};
 use gantry_record::{RecordedRun, RunDescription, RunRecorder, VerifyError};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, LoggedFiles, load_scene};
 use gantry_sim_core::sim::Control;
+use gantry_test_support::{TempDir, load};
 
 const SCENE: &str = r#"
 [simulation]
@@ -40,24 +41,17 @@ end
     )
 }
 
-/// A folder of its own in the temporary folder, for the test `name`.
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gantry-lua-recording-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
-}
-
 #[test]
 fn a_script_records_part_of_a_run_which_verify_then_refuses() {
-    let dir = temp_dir("part");
-    let file = dir.join("part.mcap");
-    std::fs::write(dir.join("scene.toml"), SCENE).expect("scene");
-    std::fs::write(dir.join("recorder.lua"), script(&file)).expect("script");
+    let dir = TempDir::new("lua-recording-part");
+    let file = dir.path().join("part.mcap");
+    dir.write("scene.toml", SCENE);
+    dir.write("recorder.lua", script(&file));
     let logged = LoggedFiles::new(&DiskFiles);
-    let model = load_scene(&logged, &dir.join("scene.toml"), &LoadOptions::default()).expect("loads");
+    let model = load_scene(&logged, &dir.path().join("scene.toml"), &LoadOptions::default()).expect("loads");
     let run = RunDescription {
         scene_name: model.name.clone(),
-        scene_path: dir.join("scene.toml"),
+        scene_path: dir.path().join("scene.toml"),
         files: logged.into_read(),
         scripts: true,
         dt: model.settings.dt,
@@ -99,15 +93,14 @@ fn a_script_records_part_of_a_run_which_verify_then_refuses() {
     assert_eq!(run.metadata["started_at_step"], "11");
     let e = run.verify().expect_err("not from the start");
     assert!(matches!(e, VerifyError::StartedMidRun(11)), "{e}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn without_a_recorder_a_scripts_request_is_a_logged_error() {
-    let dir = temp_dir("none");
-    std::fs::write(dir.join("scene.toml"), SCENE).expect("scene");
-    std::fs::write(dir.join("recorder.lua"), script(&dir.join("x.mcap"))).expect("script");
-    let model = load_scene(&DiskFiles, &dir.join("scene.toml"), &LoadOptions::default()).expect("loads");
+    let dir = TempDir::new("lua-recording-none");
+    dir.write("scene.toml", SCENE);
+    dir.write("recorder.lua", script(&dir.path().join("x.mcap")));
+    let model = load(&dir.path().join("scene.toml"));
     let config = EngineConfig {
         realtime: false,
         ..EngineConfig::default()
@@ -122,6 +115,5 @@ fn without_a_recorder_a_scripts_request_is_a_logged_error() {
         log.iter().any(|l| l.contains("this front end cannot record")),
         "{log:?}"
     );
-    assert!(!dir.join("x.mcap").exists());
-    let _ = std::fs::remove_dir_all(&dir);
+    assert!(!dir.path().join("x.mcap").exists());
 }

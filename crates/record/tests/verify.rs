@@ -3,19 +3,13 @@
 //! restart. The re-run is identical; changing one recorded input makes it part at the
 //! step after that input.
 
-use std::path::PathBuf;
-
 use gantry_engine::{Engine, EngineConfig, Input, LoopControl, MidStep};
 use gantry_record::{RecordParams, RecordTap, RecordedRun, Recorder, RunDescription, Verdict, VerifyError};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::Target;
 use gantry_sim_core::scene::{EmbeddedFiles, LoadOptions, LoggedFiles, bundled_files, load_scene};
 use gantry_sim_core::sim::Control;
-
-/// A file in the temporary folder, unique to this test process.
-fn temp_file(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("gantry-verify-{}-{name}", std::process::id()))
-}
+use gantry_test_support::TempDir;
 
 fn call(engine: &mut Engine, name: &str, args: Vec<Value>) -> Vec<Value> {
     let target = Target::resolve_or_error(name).expect("known function");
@@ -100,10 +94,10 @@ fn record_driven_run(path: &std::path::Path) {
 
 #[test]
 fn a_driven_run_re_runs_identically_and_a_changed_input_parts_at_its_step() {
-    let path = temp_file("driven.mcap");
+    let dir = TempDir::new("verify");
+    let path = dir.path().join("driven.mcap");
     record_driven_run(&path);
     let run = RecordedRun::open(&path).expect("reads");
-    let _ = std::fs::remove_file(&path);
     assert_eq!(run.steps, 121, "120 steps and the single step while paused");
     let kinds: Vec<(u64, u32, &str, &str)> = run
         .inputs
@@ -150,10 +144,10 @@ fn a_driven_run_re_runs_identically_and_a_changed_input_parts_at_its_step() {
 
 #[test]
 fn files_that_are_not_complete_gantry_recordings_are_refused_clearly() {
-    let path = temp_file("cut.mcap");
+    let dir = TempDir::new("verify");
+    let path = dir.path().join("cut.mcap");
     record_driven_run(&path);
     let bytes = std::fs::read(&path).expect("recorded");
-    let _ = std::fs::remove_file(&path);
 
     let text = |r: Result<RecordedRun, VerifyError>| r.expect_err("refused").to_string();
     let e = text(RecordedRun::from_bytes(b"{\"not\": \"mcap\"}"));

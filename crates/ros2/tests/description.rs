@@ -25,7 +25,8 @@ use gantry_sim_core::api::Target;
 use gantry_sim_core::math::{Pose, quat_from_array};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::sim::Control;
-use util::{Memory, TempDir, decode, items, number, repo, text};
+use gantry_test_support::{TempDir, repo};
+use util::{Memory, decode, items, number, text};
 
 const URDF: &str = "assets/robots/arm6/arm6.urdf";
 

@@ -5,14 +5,14 @@
 //! Without the interrupt the stop request would wait for a client that never comes.
 
 use std::io::{Read, Write};
-use std::net::{TcpListener, TcpStream};
+use std::net::TcpStream;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use gantry_lua::{NetworkParams, ScriptLimits};
 use gantry_server::{LoopControl, Request, ServeConfig, Shutdown, Signals, SimConfig, SimHandle, start};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::sim::{Control, SimulationState};
+use gantry_test_support::{TempDir, free_port, load};
 use tokio::sync::oneshot;
 
 const SERVER: &str = r#"
@@ -27,13 +27,6 @@ function sysCall_actuation()
     c:close()
 end
 "#;
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .expect("a free port")
-        .port()
-}
 
 fn exchange(port: u16, packet: &str) -> String {
     let started = Instant::now();
@@ -70,15 +63,13 @@ fn control(sim: &SimHandle, action: LoopControl) -> SimulationState {
 
 #[test]
 fn a_stop_ends_a_blocking_accept_and_the_next_run_binds_the_port_again() {
-    let dir = std::env::temp_dir().join(format!("gantry-luasocket-stop-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    std::fs::write(
-        dir.join("scene.toml"),
+    let dir = TempDir::new("luasocket-stop");
+    dir.write(
+        "scene.toml",
         "[[object]]\nname = \"server\"\nkind = \"dummy\"\nscript = \"server.lua\"\n",
-    )
-    .expect("scene");
-    std::fs::write(dir.join("server.lua"), SERVER).expect("script");
-    let model = load_scene(&DiskFiles, &dir.join("scene.toml"), &LoadOptions::default()).expect("scene loads");
+    );
+    dir.write("server.lua", SERVER);
+    let model = load(&dir.path().join("scene.toml"));
 
     let port = free_port();
     let config = SimConfig {
@@ -122,7 +113,7 @@ fn a_stop_ends_a_blocking_accept_and_the_next_run_binds_the_port_again() {
     std::thread::sleep(Duration::from_millis(300));
     let (reply, rx) = oneshot::channel();
     sim.send(Request::LoadScene {
-        path: Some(dir.join("scene.toml")),
+        path: Some(dir.path().join("scene.toml")),
         reply,
     })
     .expect("queued");
@@ -141,5 +132,4 @@ fn a_stop_ends_a_blocking_accept_and_the_next_run_binds_the_port_again() {
     running.stop();
     // The simulation thread notices the shutdown in its blocked accept too.
     running.wait().expect("a clean end");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -2,7 +2,6 @@
 //! world call that arrives while a long phase runs is served as soon as that phase
 //! ends, and requests that control the simulation wait for the end of the step.
 
-use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
@@ -11,23 +10,21 @@ use gantry_lua::ScriptLimits;
 use gantry_server::{ClientId, LoopControl, RemoteOp, Request, SimConfig, SimHandle, channel, run_sim_thread};
 use gantry_sim_core::Value;
 use gantry_sim_core::api::{CallError, Target};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::sim::Control;
+use gantry_test_support::{TempDir, load};
 use tokio::sync::oneshot;
 
 /// A scene whose one script spends 1 s in actuation and 0.5 s in sensing (so that the
 /// step is still running when the test looks; wide margins for a loaded machine), and
 /// records, in actuation and in sensing, whether the signal `mid` was set yet.
-fn slow_scene() -> (PathBuf, gantry_sim_core::scene::SceneModel) {
-    let dir = std::env::temp_dir().join(format!("gantry-mid-step-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    std::fs::write(
-        dir.join("scene.toml"),
+fn slow_scene() -> (TempDir, gantry_sim_core::scene::SceneModel) {
+    let dir = TempDir::new("mid-step");
+    dir.write(
+        "scene.toml",
         "[simulation]\ndt = 0.05\n\n[[object]]\nname = \"slow\"\nkind = \"dummy\"\nscript = \"slow.lua\"\n",
-    )
-    .expect("scene");
-    std::fs::write(
-        dir.join("slow.lua"),
+    );
+    dir.write(
+        "slow.lua",
         r#"
 function sysCall_actuation()
     sim.setInt32Signal('actuation_saw', sim.getInt32Signal('mid') or 0)
@@ -40,9 +37,8 @@ function sysCall_sensing()
     while sim.getSystemTime() - t < 0.5 do end
 end
 "#,
-    )
-    .expect("script");
-    let model = load_scene(&DiskFiles, &dir.join("scene.toml"), &LoadOptions::default()).expect("scene loads");
+    );
+    let model = load(&dir.path().join("scene.toml"));
     (dir, model)
 }
 
@@ -67,7 +63,7 @@ fn signal(sim: &SimHandle, name: &str) -> Value {
 
 #[test]
 fn a_world_call_during_a_long_phase_is_answered_before_the_step_ends() {
-    let (dir, model) = slow_scene();
+    let (_dir, model) = slow_scene();
     let (sim, rx) = channel();
     let stop = Arc::new(AtomicBool::new(false));
     let stop_flag = stop.clone();
@@ -134,5 +130,4 @@ fn a_world_call_during_a_long_phase_is_answered_before_the_step_ends() {
     drop(sim);
     let summary = thread.join().expect("sim thread").expect("run");
     assert_eq!(summary.steps, 1);
-    let _ = std::fs::remove_dir_all(dir);
 }

@@ -6,23 +6,20 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use gantry_server::{SimConfig, channel, run_sim_thread};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_test_support::{TempDir, load};
 
 #[test]
 fn a_script_stop_ends_a_run_that_quits_when_stopped() {
-    let dir = std::env::temp_dir().join(format!("gantry-quit-when-stopped-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    std::fs::write(
-        dir.join("scene.toml"),
+    let dir = TempDir::new("quit-when-stopped");
+    dir.write(
+        "scene.toml",
         "[simulation]\ndt = 0.05\n\n[[object]]\nname = \"node\"\nkind = \"dummy\"\nscript = \"stop.lua\"\n",
-    )
-    .expect("scene");
-    std::fs::write(
-        dir.join("stop.lua"),
+    );
+    dir.write(
+        "stop.lua",
         "function sysCall_actuation()\n    if sim.getSimulationTime() >= 0.2 then sim.stopSimulation() end\nend\n",
-    )
-    .expect("script");
-    let model = load_scene(&DiskFiles, &dir.join("scene.toml"), &LoadOptions::default()).expect("scene loads");
+    );
+    let model = load(&dir.path().join("scene.toml"));
     // The handle stays alive: the run must end because of the stop, not because every
     // transport went away.
     let (_handle, rx) = channel();
@@ -43,5 +40,4 @@ fn a_script_stop_ends_a_run_that_quits_when_stopped() {
     // Steps at t = 0.05 .. 0.25 s: the stop requested in the step that reaches 0.2 s
     // takes effect after it.
     assert!((4..=6).contains(&summary.steps), "{summary:?}");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use gantry_record::RecordParams;
 use gantry_server::{ServeConfig, Shutdown, SimConfig};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
+use gantry_test_support::{TempDir, load};
 
 const SCENE: &str = r#"
 [simulation]
@@ -33,12 +33,11 @@ function sysCall_cleanup() print("cleanup line") end
 
 #[test]
 fn the_sim_thread_records_every_step_script_errors_and_cleanup_lines() {
-    let dir = std::env::temp_dir().join(format!("gantry-server-record-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    std::fs::write(dir.join("scene.toml"), SCENE).expect("scene");
-    std::fs::write(dir.join("logger.lua"), SCRIPT).expect("script");
-    let model = load_scene(&DiskFiles, &dir.join("scene.toml"), &LoadOptions::default()).expect("loads");
-    let file: PathBuf = dir.join("run.mcap");
+    let dir = TempDir::new("server-record");
+    dir.write("scene.toml", SCENE);
+    dir.write("logger.lua", SCRIPT);
+    let model = load(&dir.path().join("scene.toml"));
+    let file: PathBuf = dir.path().join("run.mcap");
     let sim = SimConfig {
         steps: Some(20),
         fast: true,
@@ -52,7 +51,6 @@ fn the_sim_thread_records_every_step_script_errors_and_cleanup_lines() {
     let summary = gantry_server::run(model, sim, ServeConfig::default(), Shutdown::default(), |_| {}).expect("runs");
     assert_eq!(summary.steps, 20, "the run went on after the script error");
     let bytes = std::fs::read(&file).expect("recorded");
-    let _ = std::fs::remove_dir_all(&dir);
 
     let mcap_summary = mcap::Summary::read(&bytes)
         .expect("reads")

@@ -8,8 +8,9 @@ mod util;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use gantry_sim_core::{Sim, Value};
+use gantry_test_support::{assert_close, floats, num};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
-use util::{err, floats, num, ok};
+use util::{err, ok};
 
 /// An empty scene: these functions never touch the world.
 fn world() -> Sim {
@@ -25,15 +26,6 @@ fn bytes(v: &Value) -> Vec<u8> {
         Value::Bytes(b) => b.clone(),
         other => panic!("not bytes: {other:?}"),
     }
-}
-
-fn close(a: &[f64], b: &[f64], tol: f64) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol)
-}
-
-#[track_caller]
-fn assert_close(a: &[f64], b: &[f64], tol: f64) {
-    assert!(close(a, b, tol), "{a:?}\n  != {b:?}");
 }
 
 /// CoppeliaSim's `R = Rx(a) Ry(b) Rz(g)`, built from axis-angle rotations.

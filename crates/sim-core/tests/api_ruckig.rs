@@ -5,7 +5,8 @@
 mod util;
 
 use gantry_sim_core::{Sim, Value};
-use util::{err, floats, ok};
+use gantry_test_support::floats;
+use util::{err, ok};
 
 /// `sim.ruckig_nosync`, `sim.ruckig_minvel`, `sim.ruckig_minaccel`.
 const NOSYNC: i64 = 3;

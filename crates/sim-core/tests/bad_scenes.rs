@@ -5,39 +5,10 @@
 //! Every test ends by loading a good scene, to show that a failed load leaves nothing
 //! behind that could break the next one (the loader keeps no state between loads).
 
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
 use gantry_sim_core::scene::{DiskFiles, LoadError, LoadOptions, SceneModel, load_scene, load_scene_text};
-
-/// A folder under the system temp dir, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    /// A fresh folder whose name holds `tag`, the process id and a counter, so parallel
-    /// tests and concurrent test runs never share one.
-    fn new(tag: &str) -> Self {
-        static NEXT: AtomicUsize = AtomicUsize::new(0);
-        let n = NEXT.fetch_add(1, Ordering::Relaxed);
-        let path = std::env::temp_dir().join(format!("gantry-bad-scenes-{tag}-{}-{n}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).expect("create the temp dir");
-        Self(path)
-    }
-
-    /// Writes `bytes` to `name` in the folder and returns the file's path.
-    fn write(&self, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
-        let p = self.0.join(name);
-        std::fs::write(&p, bytes).expect("write a temp file");
-        p
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+use gantry_test_support::{TempDir, assert_contains, repo};
 
 fn load(path: &Path) -> Result<SceneModel, LoadError> {
     load_scene(&DiskFiles, path, &LoadOptions::default())
@@ -56,18 +27,10 @@ fn load_err(path: &Path) -> String {
     }
 }
 
-#[track_caller]
-fn assert_contains(message: &str, parts: &[&str]) {
-    for p in parts {
-        assert!(message.contains(p), "{message:?} does not contain {p:?}");
-    }
-}
-
 /// The shipped BubbleRob scene still loads: a failed load poisoned nothing.
 #[track_caller]
 fn good_scene_still_loads() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/bubble_rob.toml");
-    let model = load(&path).expect("the shipped scene loads after a failed one");
+    let model = load(&repo("assets/scenes/bubble_rob.toml")).expect("the shipped scene loads after a failed one");
     assert!(model.objects.len() > 5);
 }
 
@@ -91,24 +54,21 @@ const INCLUDES_URDF: &str = "[[robot]]\nname = \"bot\"\nurdf = \"r.urdf\"\n";
 #[test]
 fn a_missing_scene_file_is_an_error_naming_the_path() {
     let dir = TempDir::new("missing");
-    let path = dir.0.join("no-such-scene.toml");
+    let path = dir.path().join("no-such-scene.toml");
     let e = load_err(&path);
     assert_contains(&e, &[&path.display().to_string(), "cannot read"]);
     // The same for a bare URDF, which goes through the URDF importer.
-    let urdf_path = dir.0.join("no-such-robot.urdf");
-    assert_contains(&load_err(&urdf_path), &["no-such-robot.urdf", "cannot read"]);
+    let urdf_path = dir.path().join("no-such-robot.urdf");
+    assert_contains(load_err(&urdf_path), &["no-such-robot.urdf", "cannot read"]);
     // Files a scene refers to: the error points at the reference in the scene.
     let scene = dir.write("scene.toml", "[[robot]]\nurdf = \"gone.urdf\"\n");
-    assert_contains(
-        &load_err(&scene),
-        &["scene.toml:2:8:", "URDF", "gone.urdf", "not found"],
-    );
+    assert_contains(load_err(&scene), &["scene.toml:2:8:", "URDF", "gone.urdf", "not found"]);
     let scene = dir.write(
         "scene.toml",
         "[[object]]\nname = \"a\"\nkind = \"dummy\"\nscript = \"gone.lua\"\n",
     );
     assert_contains(
-        &load_err(&scene),
+        load_err(&scene),
         &["scene.toml:4:10:", "cannot read script", "gone.lua"],
     );
     good_scene_still_loads();
@@ -122,7 +82,7 @@ fn a_missing_mesh_is_an_error_naming_the_mesh_and_where_it_is_used() {
         "scene.toml",
         "[[object]]\nname = \"rock\"\nkind = \"shape\"\nshape = \"mesh\"\nmesh = \"meshes/rock.stl\"\n",
     );
-    assert_contains(&load_err(&scene), &["scene.toml:5:8:", "rock.stl", "cannot read mesh"]);
+    assert_contains(load_err(&scene), &["scene.toml:5:8:", "rock.stl", "cannot read mesh"]);
     // In a URDF: the link and every path tried, with the fix for package:// references.
     let robot = dir.write(
         "r.urdf",
@@ -142,7 +102,7 @@ fn a_missing_mesh_is_an_error_naming_the_mesh_and_where_it_is_used() {
     );
     // The same URDF included from a scene reports the URDF, where the problem is.
     let scene = dir.write("scene.toml", INCLUDES_URDF);
-    assert_contains(&load_err(&scene), &["r.urdf", "link 'tool'", "gripper.stl"]);
+    assert_contains(load_err(&scene), &["r.urdf", "link 'tool'", "gripper.stl"]);
     good_scene_still_loads();
 }
 
@@ -157,7 +117,7 @@ fn a_urdf_joint_cycle_is_refused_naming_its_joints() {
          <joint name=\"ba\" type=\"fixed\"><parent link=\"b\"/><child link=\"a\"/></joint>\n</robot>\n",
     );
     assert_contains(
-        &load_err(&robot),
+        load_err(&robot),
         &[
             "loop.urdf:4:1:",
             "the joints 'ab' -> 'ba' form a cycle",
@@ -178,7 +138,7 @@ fn a_urdf_joint_cycle_is_refused_naming_its_joints() {
     assert_contains(&e, &["r.urdf:10:1:", "'j1' -> 'j2' form a cycle", "link 'elbow'"]);
     // Included from a scene, the error still names the URDF's line, not the scene's.
     let scene = dir.write("scene.toml", INCLUDES_URDF);
-    assert_contains(&load_err(&scene), &["r.urdf:10:1:", "cycle"]);
+    assert_contains(load_err(&scene), &["r.urdf:10:1:", "cycle"]);
     good_scene_still_loads();
 }
 
@@ -190,7 +150,7 @@ fn a_urdf_link_with_two_parents_is_refused_at_the_second_joint() {
         urdf("<joint name=\"again\" type=\"fixed\"><parent link=\"base\"/><child link=\"arm\"/></joint>\n"),
     );
     assert_contains(
-        &load_err(&robot),
+        load_err(&robot),
         &[
             "r.urdf:8:1:",
             "link 'arm' is the child of two joints ('shoulder' and 'again')",
@@ -203,7 +163,7 @@ fn a_urdf_link_with_two_parents_is_refused_at_the_second_joint() {
         urdf("<joint name=\"stray\" type=\"fixed\"><parent link=\"arm\"/><child link=\"ghost\"/></joint>\n"),
     );
     assert_contains(
-        &load_err(&robot),
+        load_err(&robot),
         &[
             "r.urdf:8:1:",
             "joint 'stray' names child link 'ghost', which does not exist",
@@ -220,18 +180,18 @@ fn duplicate_names_are_refused_at_the_second_one() {
         "scene.toml",
         "[[object]]\nname = \"box\"\nkind = \"dummy\"\n\n[[object]]\nname = \"box\"\nkind = \"dummy\"\n",
     );
-    assert_contains(&load_err(&scene), &["scene.toml:6:8:", "duplicate name 'box'"]);
+    assert_contains(load_err(&scene), &["scene.toml:6:8:", "duplicate name 'box'"]);
     // An object and a robot share one namespace, since both can be parents.
     dir.write("r.urdf", urdf(""));
     let scene = dir.write(
         "scene.toml",
         "[[object]]\nname = \"bot\"\nkind = \"dummy\"\n\n[[robot]]\nname = \"bot\"\nurdf = \"r.urdf\"\n",
     );
-    assert_contains(&load_err(&scene), &["scene.toml:", "duplicate name 'bot'"]);
+    assert_contains(load_err(&scene), &["scene.toml:", "duplicate name 'bot'"]);
     // URDF links.
     let robot = dir.write("r.urdf", urdf("<link name=\"arm\"/>\n"));
     assert_contains(
-        &load_err(&robot),
+        load_err(&robot),
         &["r.urdf:8:1:", "two links are named 'arm'; link names must be unique"],
     );
     // Regression: duplicate joint names used to load, the second joint shadowing the first
@@ -243,7 +203,7 @@ fn duplicate_names_are_refused_at_the_second_one() {
         ),
     );
     assert_contains(
-        &load_err(&robot),
+        load_err(&robot),
         &[
             "r.urdf:9:1:",
             "two joints are named 'shoulder'; joint names must be unique",
@@ -309,7 +269,7 @@ fn malformed_toml_is_an_error_with_file_line_and_column() {
         assert_eq!(from_text, e, "{text:?}");
     }
     let scene = dir.write("scene.toml", b"name = \"caf\xe9\"\n");
-    assert_contains(&load_err(&scene), &["scene.toml:1:1:", "not UTF-8"]);
+    assert_contains(load_err(&scene), &["scene.toml:1:1:", "not UTF-8"]);
     good_scene_still_loads();
 }
 
@@ -338,20 +298,17 @@ fn malformed_urdf_xml_is_an_error_with_file_line_and_column() {
     ];
     for (text, place, what) in &cases {
         let robot = dir.write("r.urdf", text);
-        assert_contains(&load_err(&robot), &[place, what]);
+        assert_contains(load_err(&robot), &[place, what]);
         // Included from a scene, the URDF's own position is reported.
         let scene = dir.write("scene.toml", INCLUDES_URDF);
-        assert_contains(&load_err(&scene), &[place, what]);
+        assert_contains(load_err(&scene), &[place, what]);
     }
     // Well-formed XML that is not a valid URDF keeps urdf-rs's explanation.
     let robot = dir.write("r.urdf", urdf("<link/>\n"));
-    assert_contains(
-        &load_err(&robot),
-        &["r.urdf:", "malformed URDF", "missing field `name`"],
-    );
+    assert_contains(load_err(&robot), &["r.urdf:", "malformed URDF", "missing field `name`"]);
     // A robot without links.
     let robot = dir.write("r.urdf", "<robot name=\"empty\"></robot>\n");
-    assert_contains(&load_err(&robot), &["r.urdf", "no <link>"]);
+    assert_contains(load_err(&robot), &["r.urdf", "no <link>"]);
     good_scene_still_loads();
 }
 
@@ -362,7 +319,7 @@ fn solver_iterations_are_read_and_bounded() {
     assert_eq!(load(&scene).expect("loads").settings.solver_iterations, 4);
     let scene = dir.write("zero.toml", "[simulation]\nsolver_iterations = 0\n");
     assert_contains(
-        &load_err(&scene),
+        load_err(&scene),
         &["zero.toml:2:1:", "solver_iterations = 0: use 1 to 100"],
     );
     good_scene_still_loads();

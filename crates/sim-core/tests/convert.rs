@@ -16,6 +16,7 @@ use gantry_sim_core::scene::{
     ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
     VisualModel, load_coppelia, load_scene, write_scene,
 };
+use gantry_test_support::repo;
 
 /// The shared CoppeliaSim files, or `None` (with a note) where they are absent.
 fn shared_folder() -> Option<PathBuf> {
@@ -275,7 +276,7 @@ fn every_shared_coppelia_file_converts_and_loads_back_the_same() {
 
 #[test]
 fn a_urdf_robot_converts_with_its_separate_collision_and_visual_parts() {
-    let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/robots/arm6/arm6.urdf");
+    let urdf = repo("assets/robots/arm6/arm6.urdf");
     let model = load_scene(&DiskFiles, &urdf, &LoadOptions::default()).expect("loads");
     assert_same_model(&model, &round_trip(&model, "arm6"), "arm6.urdf");
 }

@@ -4,22 +4,16 @@
 //! file gives it), that library robots keep their IK tip on their target, and that the
 //! simulation stays finite. Where the folder is absent the test prints a note and passes.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, JointMode, LoadOptions, ObjectModelKind, load_coppelia, load_scene};
 use gantry_sim_core::{Sim, Value};
-
-fn folder() -> PathBuf {
-    match std::env::var_os("GANTRY_COPPELIA_FILES") {
-        Some(dir) => PathBuf::from(dir),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/coppelia-files"),
-    }
-}
+use gantry_test_support::{coppelia_files, repo};
 
 #[test]
 fn shared_files_import_build_and_step() {
-    let dir = folder();
+    let dir = coppelia_files();
     if !dir.join("SOURCES.md").is_file() {
         println!(
             "coppelia-files not found at {}; skipped (set GANTRY_COPPELIA_FILES)",
@@ -92,7 +86,7 @@ fn shared_files_import_build_and_step() {
 /// import links each pair, and the physics keeps the two frames together.
 #[test]
 fn loop_closure_dummies_are_linked_and_held_together() {
-    let dir = folder();
+    let dir = coppelia_files();
     let name = "Libro-Copp__cap20_abrir_cerrar_pinza.ttt";
     let Ok(bytes) = std::fs::read(dir.join(name)) else {
         println!(
@@ -159,7 +153,7 @@ fn loop_closure_dummies_are_linked_and_held_together() {
 /// target reaches it.
 #[test]
 fn library_arms_hold_their_pose_and_follow_targets() {
-    let dir = folder();
+    let dir = coppelia_files();
     if !dir.join("SOURCES.md").is_file() {
         println!("coppelia-files not found at {}; skipped", dir.display());
         return;
@@ -224,7 +218,7 @@ fn library_arms_hold_their_pose_and_follow_targets() {
 /// pendulum computed from the imported mass, inertia and geometry, within 1 %.
 #[test]
 fn a_pendulum_swings_with_the_period_its_geometry_gives() {
-    let dir = folder();
+    let dir = coppelia_files();
     let name = "modulabs_c__pendulumn_1d_control.ttt";
     let Ok(bytes) = std::fs::read(dir.join(name)) else {
         println!("{name} not found in {}; skipped", dir.display());
@@ -329,7 +323,7 @@ fn wrap(a: f64) -> f64 {
 /// for 6 rad/s drive it straight ahead.
 #[test]
 fn a_turtlebot_drives_when_its_wheels_turn() {
-    let dir = folder();
+    let dir = coppelia_files();
     let file = dir.join("PyRep__turtlebot.ttm");
     if !file.is_file() {
         println!("{} not found; skipped", file.display());
@@ -384,7 +378,7 @@ fn a_turtlebot_drives_when_its_wheels_turn() {
 /// the tip in the base's frame is in the same place.
 #[test]
 fn blue_robot_and_the_fk_arm_put_the_tip_in_the_same_place() {
-    let dir = folder();
+    let dir = coppelia_files();
     let file = dir.join("paper__Blue_Robot.ttt");
     if !file.is_file() {
         println!("{} not found; skipped", file.display());
@@ -392,7 +386,7 @@ fn blue_robot_and_the_fk_arm_put_the_tip_in_the_same_place() {
     }
     let mut blue = load_scene(&DiskFiles, &file, &LoadOptions::default()).expect("loads");
     blue.scripts.clear();
-    let arm_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/fk_arm.toml");
+    let arm_path = repo("assets/scenes/fk_arm.toml");
     let mut arm = load_scene(&DiskFiles, &arm_path, &LoadOptions::default()).expect("loads");
     arm.scripts.clear();
     let mut blue = Sim::new(&blue);
@@ -442,7 +436,7 @@ fn blue_robot_and_the_fk_arm_put_the_tip_in_the_same_place() {
 /// gives a model, each sees the floor straight below it, at its own height.
 #[test]
 fn thymio_ground_sensors_see_the_floor_below_them() {
-    let file = folder().join("coppeliasi__thymio.ttm");
+    let file = coppelia_files().join("coppeliasi__thymio.ttm");
     if !file.is_file() {
         println!("{} not found; skipped", file.display());
         return;
@@ -536,7 +530,7 @@ fn thymio_ground_sensors_see_the_floor_below_them() {
 /// IK script finds its base, tip and target through them.
 #[test]
 fn referenced_handles_are_imported() {
-    let file = folder().join("Libro-Copp__cap20_abrir_cerrar_pinza.ttt");
+    let file = coppelia_files().join("Libro-Copp__cap20_abrir_cerrar_pinza.ttt");
     if !file.is_file() {
         println!("{} not found; skipped", file.display());
         return;

@@ -2,7 +2,7 @@
 //! (`../shared/coppelia-files/` from the repository root, or `$GANTRY_COPPELIA_FILES`;
 //! where a file is absent the test prints a note and passes, as `coppelia_import.rs`).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{
@@ -10,17 +10,11 @@ use gantry_sim_core::scene::{
     load_scene,
 };
 use gantry_sim_core::{Sim, Value};
-
-fn folder() -> PathBuf {
-    match std::env::var_os("GANTRY_COPPELIA_FILES") {
-        Some(dir) => PathBuf::from(dir),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/coppelia-files"),
-    }
-}
+use gantry_test_support::coppelia_files;
 
 /// The file's import, or `None` (with a note) when the shared folder lacks it.
 fn import(name: &str) -> Option<(SceneModel, ImportReport)> {
-    let dir = folder();
+    let dir = coppelia_files();
     let Ok(bytes) = std::fs::read(dir.join(name)) else {
         println!(
             "{name} not found in {}; skipped (set GANTRY_COPPELIA_FILES)",
@@ -68,7 +62,7 @@ fn line_tracer_keeps_its_three_orthographic_sensors() {
     // depth, as an orthographic sensor above a flat floor sees it.
     let model = load_scene(
         &DiskFiles,
-        &folder().join("PyRep__LineTracer.ttm"),
+        &coppelia_files().join("PyRep__LineTracer.ttm"),
         &LoadOptions::default(),
     )
     .expect("loads");
@@ -140,7 +134,12 @@ fn baxter_and_sawyer_keep_their_640_pixel_cameras() {
         );
     }
     // Baxter's head camera renders its 640 x 480 image.
-    let model = load_scene(&DiskFiles, &folder().join("PyRep__Baxter.ttm"), &LoadOptions::default()).expect("loads");
+    let model = load_scene(
+        &DiskFiles,
+        &coppelia_files().join("PyRep__Baxter.ttm"),
+        &LoadOptions::default(),
+    )
+    .expect("loads");
     let mut sim = Sim::new(&model);
     let h = sim.world.find("/Baxter_camera", None, 0).expect("camera");
     let reply = api::call(

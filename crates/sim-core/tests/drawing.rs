@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use gantry_sim_core::drawing::{FIRST_DRAWING_HANDLE, HANDLEFLAG_ADD_MULTIPLE};
 use gantry_sim_core::graph::MAX_STREAM_SAMPLES;
 use gantry_sim_core::{Handle, Sim, Value};
-use util::{err, find, floats, int, ok};
+use gantry_test_support::{assert_close, floats, int};
+use util::{err, find, ok};
 
 // sim.* constants the seed uses.
 const DRAWING_LINES: i64 = 1;
@@ -43,13 +44,6 @@ fn items(w: &mut Sim, d: Handle) -> (i64, f64, Vec<f64>, Vec<f64>) {
 
 fn add_item(w: &mut Sim, d: Handle, data: Value) -> i64 {
     int(&ok(w, "addDrawingObjectItem", &[h(d), data])[0])
-}
-
-fn assert_close(a: &[f64], b: &[f64], tol: f64) {
-    assert_eq!(a.len(), b.len(), "{a:?} vs {b:?}");
-    for (x, y) in a.iter().zip(b) {
-        assert!((x - y).abs() <= tol, "{a:?} vs {b:?}");
-    }
 }
 
 /// A fresh directory under the system temp dir, removed first if a previous run left it.

@@ -10,7 +10,8 @@ use std::f64::consts::PI;
 use gantry_sim_core::ik::{self, Apply, IkResult};
 use gantry_sim_core::math::Pose;
 use gantry_sim_core::{Handle, Sim, Value};
-use util::{Arm, arm, call, int, ints};
+use gantry_test_support::int;
+use util::{Arm, arm, call, int_values};
 
 const DEG: f64 = PI / 180.0;
 /// The acceptance bounds of issue 4.
@@ -38,7 +39,7 @@ fn setup(a: &mut Arm, constraints: i64) -> (i64, i64, i64) {
     let r = call(
         &mut a.sim,
         "simIK.addElementFromScene",
-        &ints(&[env, group, a.base, a.tip, a.target, constraints]),
+        &int_values(&[env, group, a.base, a.tip, a.target, constraints]),
     )
     .expect("addElementFromScene");
     (env, group, int(&r[0]))
@@ -161,7 +162,7 @@ fn campaign(seed: u64, start: impl Fn(&Sim, &[Handle; 6], &mut Rng) -> [f64; 6])
                 q0,
                 "a failed solve must leave the scene alone"
             );
-            let joints = Value::Array(ints(&a.joints));
+            let joints = Value::Array(int_values(&a.joints));
             let r = call(
                 &mut a.sim,
                 "simIK.findConfig",
@@ -288,16 +289,21 @@ fn handle_group_through_the_api_moves_the_scene_joints() {
 
     // handleIkGroup (4.1) and applyIkEnvironmentToScene (4.2) solve and write back too.
     set_joints(&mut a.sim, &a.joints, &START);
-    let r = call(&mut a.sim, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
+    let r = call(&mut a.sim, "simIK.handleIkGroup", &int_values(&[env, group])).expect("handleIkGroup");
     assert_eq!(int(&r[0]), 1);
     assert!(pose_error(&pose(&a.sim, a.tip), &goal).0 < POS_TOL);
     set_joints(&mut a.sim, &a.joints, &START);
-    let r = call(&mut a.sim, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
+    let r = call(
+        &mut a.sim,
+        "simIK.applyIkEnvironmentToScene",
+        &int_values(&[env, group]),
+    )
+    .expect("apply");
     assert_eq!(int(&r[0]), 1);
     assert!(pose_error(&pose(&a.sim, a.tip), &goal).0 < POS_TOL);
 
-    call(&mut a.sim, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
-    let e = call(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect_err("erased");
+    call(&mut a.sim, "simIK.eraseEnvironment", &int_values(&[env])).expect("erase");
+    let e = call(&mut a.sim, "simIK.handleGroup", &int_values(&[env, group])).expect_err("erased");
     assert!(e.contains("simIK.handleGroup") && e.contains("environment"), "{e}");
 }
 
@@ -334,7 +340,12 @@ fn every_solve_starts_from_the_current_scene() {
 fn position_only_constraint_ignores_orientation() {
     let mut a = arm();
     let (env, group, element) = setup(&mut a, 7);
-    let r = call(&mut a.sim, "simIK.getElementConstraints", &ints(&[env, group, element])).expect("get");
+    let r = call(
+        &mut a.sim,
+        "simIK.getElementConstraints",
+        &int_values(&[env, group, element]),
+    )
+    .expect("get");
     assert_eq!(int(&r[0]), 7);
     let mut rng = Rng(7);
     for _ in 0..10 {
@@ -344,7 +355,7 @@ fn position_only_constraint_ignores_orientation() {
         goal.rotation = gantry_sim_core::math::quat_from_euler([rng.range(-PI, PI), 0.3, 1.0]);
         a.sim.world.set_world_pose(a.target, goal).expect("target");
         set_joints(&mut a.sim, &a.joints, &START);
-        let r = call(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
+        let r = call(&mut a.sim, "simIK.handleGroup", &int_values(&[env, group])).expect("solve");
         assert_eq!(int(&r[0]), 1, "{r:?}");
         let (dp, _) = pose_error(&pose(&a.sim, a.tip), &goal);
         assert!(dp < POS_TOL, "{dp}");
@@ -360,7 +371,7 @@ fn unreachable_target_fails_without_nan_and_leaves_the_scene() {
     a.sim.world.set_world_pose(a.target, far).expect("target");
     set_joints(&mut a.sim, &a.joints, &START);
     let before = joint_values(&a.sim, &a.joints);
-    let r = call(&mut a.sim, "simIK.handleGroup", &ints(&[env, group])).expect("solve");
+    let r = call(&mut a.sim, "simIK.handleGroup", &int_values(&[env, group])).expect("solve");
     assert_eq!(int(&r[0]), 2, "result_fail: {r:?}");
     assert_ne!(int(&r[1]) & 4, 0, "calc_notwithintolerance");
     let Value::Array(prec) = &r[2] else { panic!("precision") };
@@ -401,7 +412,7 @@ fn without_sync_the_solution_waits_for_sync_to_sim() {
     .expect("solve");
     assert_eq!(int(&r[0]), 1);
     assert_eq!(joint_values(&a.sim, &a.joints), START);
-    let j1 = call(&mut a.sim, "simIK.getJointPosition", &ints(&[env, a.joints[0]])).expect("get");
+    let j1 = call(&mut a.sim, "simIK.getJointPosition", &int_values(&[env, a.joints[0]])).expect("get");
     assert!(
         (j1[0].as_f64().expect("q") - START[0]).abs() > 0.1,
         "pending value differs from the scene"
@@ -409,7 +420,7 @@ fn without_sync_the_solution_waits_for_sync_to_sim() {
     call(
         &mut a.sim,
         "simIK.syncToSim",
-        &[Value::Int(env), Value::Array(ints(&[group]))],
+        &[Value::Int(env), Value::Array(int_values(&[group]))],
     )
     .expect("sync");
     assert!(pose_error(&pose(&a.sim, a.tip), &goal).0 < POS_TOL);
@@ -419,7 +430,7 @@ fn without_sync_the_solution_waits_for_sync_to_sim() {
 fn group_settings_round_trip() {
     let mut a = arm();
     let (env, group, element) = setup(&mut a, 31);
-    let r = call(&mut a.sim, "simIK.getGroupCalculation", &ints(&[env, group])).expect("get");
+    let r = call(&mut a.sim, "simIK.getGroupCalculation", &int_values(&[env, group])).expect("get");
     assert_eq!((int(&r[0]), r[1].as_f64(), int(&r[2])), (1, Some(0.3), 100));
     let args = [
         Value::Int(env),
@@ -428,19 +439,24 @@ fn group_settings_round_trip() {
         Value::floats(&[1e-4, 0.01]),
     ];
     call(&mut a.sim, "simIK.setElementPrecision", &args).expect("set");
-    let r = call(&mut a.sim, "simIK.getElementPrecision", &ints(&[env, group, element])).expect("get");
+    let r = call(
+        &mut a.sim,
+        "simIK.getElementPrecision",
+        &int_values(&[env, group, element]),
+    )
+    .expect("get");
     assert_eq!(r[0], Value::floats(&[1e-4, 0.01]));
     let named = int(&call(&mut a.sim, "simIK.createGroup", &[Value::Int(env), "second".into()]).expect("g")[0]);
     let r = call(&mut a.sim, "simIK.getGroupHandle", &[Value::Int(env), "second".into()]).expect("h");
     assert_eq!(int(&r[0]), named);
     // An empty group has nothing to do.
-    let r = call(&mut a.sim, "simIK.handleGroup", &ints(&[env, named])).expect("empty");
+    let r = call(&mut a.sim, "simIK.handleGroup", &int_values(&[env, named])).expect("empty");
     assert_eq!(int(&r[0]), 0, "result_not_performed");
     // The element map is the identity over the chain.
     let r = call(
         &mut a.sim,
         "simIK.addElementFromScene",
-        &ints(&[env, named, a.base, a.tip, a.target, 31]),
+        &int_values(&[env, named, a.base, a.tip, a.target, 31]),
     )
     .expect("add");
     let Value::Map(pairs) = &r[1] else { panic!("map") };
@@ -456,17 +472,21 @@ fn bad_arguments_raise_errors_naming_the_function() {
     let (env, group, _) = setup(&mut a, 31);
     let tip_link = a.sim.world.parent(a.tip).expect("tip").expect("has parent");
     let cases: Vec<(&str, Vec<Value>, &str)> = vec![
-        ("simIK.handleGroup", ints(&[99, group]), "environment 99"),
-        ("simIK.handleGroup", ints(&[env, 12345]), "group 12345"),
+        ("simIK.handleGroup", int_values(&[99, group]), "environment 99"),
+        ("simIK.handleGroup", int_values(&[env, 12345]), "group 12345"),
         (
             "simIK.handleGroup",
             vec![Value::Int(env), Value::Int(group), Value::Int(3)],
             "options",
         ),
         ("simIK.handleGroup", vec!["x".into(), Value::Int(group)], "argument 1"),
-        ("simIK.handleGroups", ints(&[env, group]), "array of group handles"),
-        ("simIK.createGroup", ints(&[42]), "environment 42"),
-        ("simIK.eraseEnvironment", ints(&[42]), "environment 42"),
+        (
+            "simIK.handleGroups",
+            int_values(&[env, group]),
+            "array of group handles",
+        ),
+        ("simIK.createGroup", int_values(&[42]), "environment 42"),
+        ("simIK.eraseEnvironment", int_values(&[42]), "environment 42"),
         (
             "simIK.setGroupCalculation",
             vec![
@@ -502,32 +522,36 @@ fn bad_arguments_raise_errors_naming_the_function() {
         ),
         (
             "simIK.addElementFromScene",
-            ints(&[env, group, a.base, a.tip, a.target, 0]),
+            int_values(&[env, group, a.base, a.tip, a.target, 0]),
             "constraints",
         ),
         (
             "simIK.addElementFromScene",
-            ints(&[env, group, a.base, 9999, a.target, 31]),
+            int_values(&[env, group, a.base, 9999, a.target, 31]),
             "tip object",
         ),
         (
             "simIK.addElementFromScene",
-            ints(&[env, group, a.base, a.tip, 9999, 31]),
+            int_values(&[env, group, a.base, a.tip, 9999, 31]),
             "target object",
         ),
         // The target dummy is not an ancestor of the tip.
         (
             "simIK.addElementFromScene",
-            ints(&[env, group, a.target, a.tip, a.target, 31]),
+            int_values(&[env, group, a.target, a.tip, a.target, 31]),
             "not below",
         ),
         // Between the tip link and the tip dummy there is no joint.
         (
             "simIK.addElementFromScene",
-            ints(&[env, group, tip_link, a.tip, a.target, 31]),
+            int_values(&[env, group, tip_link, a.tip, a.target, 31]),
             "no revolute",
         ),
-        ("simIK.setElementPrecision", ints(&[env, group, 777, 0]), "argument 4"),
+        (
+            "simIK.setElementPrecision",
+            int_values(&[env, group, 777, 0]),
+            "argument 4",
+        ),
         (
             "simIK.setElementPrecision",
             vec![
@@ -538,7 +562,7 @@ fn bad_arguments_raise_errors_naming_the_function() {
             ],
             "element 777",
         ),
-        ("simIK.getJointPosition", ints(&[env, a.tip]), "not a joint"),
+        ("simIK.getJointPosition", int_values(&[env, a.tip]), "not a joint"),
     ];
     for (name, args, needle) in cases {
         let e = call(&mut a.sim, name, &args).expect_err(name);
@@ -550,7 +574,7 @@ fn bad_arguments_raise_errors_naming_the_function() {
     let r = call(
         &mut a.sim,
         "simIK.addElementFromScene",
-        &ints(&[env, group, mid, a.tip, a.target, 31]),
+        &int_values(&[env, group, mid, a.tip, a.target, 31]),
     )
     .expect("sub-chain");
     let Value::Map(pairs) = &r[1] else { panic!("map") };

@@ -9,7 +9,8 @@ use std::f64::consts::PI;
 
 use gantry_sim_core::math::Pose;
 use gantry_sim_core::{Handle, Sim, Value};
-use util::{Arm, arm, call, int, ints};
+use gantry_test_support::int;
+use util::{Arm, arm, call, int_values};
 
 const DEG: f64 = PI / 180.0;
 const POS_TOL: f64 = 1e-3;
@@ -44,7 +45,7 @@ fn pose_error(a: &Pose, b: &Pose) -> (f64, f64) {
 /// arm is put back at `START`.
 fn goal_matrix(a: &mut Arm) -> (Value, Pose) {
     set_joints(a, &GOAL);
-    let m = call(&mut a.sim, "sim.getObjectMatrix", &ints(&[a.tip, a.base])).expect("matrix");
+    let m = call(&mut a.sim, "sim.getObjectMatrix", &int_values(&[a.tip, a.base])).expect("matrix");
     let goal = pose(&a.sim, a.tip);
     set_joints(a, &START);
     (m[0].clone(), goal)
@@ -73,13 +74,13 @@ fn setup_42(a: &mut Arm) -> (i64, i64, i64) {
     let r = call(
         w,
         "simIK.addIkElementFromScene",
-        &ints(&[env, group, a.base, a.tip, a.target, 31]),
+        &int_values(&[env, group, a.base, a.tip, a.target, 31]),
     )
     .expect("addIkElementFromScene");
     let element = int(&r[0]);
     let ege = [env, group, element];
     let with = |extra: Value| {
-        let mut v = ints(&ege);
+        let mut v = int_values(&ege);
         v.push(extra);
         v
     };
@@ -94,7 +95,7 @@ fn setup_42(a: &mut Arm) -> (i64, i64, i64) {
     let mut base_args = with(Value::Int(a.base));
     base_args.push(Value::Int(-1));
     call(w, "simIK.setIkElementBase", &base_args).expect("setIkElementBase");
-    let r = call(w, "simIK.getElementBase", &ints(&ege)).expect("getElementBase");
+    let r = call(w, "simIK.getElementBase", &int_values(&ege)).expect("getElementBase");
     assert_eq!((int(&r[0]), int(&r[1])), (a.base, -1));
     (env, group, element)
 }
@@ -122,7 +123,12 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
         dp < 1e-12 && da < 1e-9,
         "target placed at {dp} m, {da} rad from the goal"
     );
-    let back = call(&mut a.sim, "simIK.getObjectMatrix", &ints(&[env, a.target, a.base])).expect("getObjectMatrix");
+    let back = call(
+        &mut a.sim,
+        "simIK.getObjectMatrix",
+        &int_values(&[env, a.target, a.base]),
+    )
+    .expect("getObjectMatrix");
     let (Value::Array(x), Value::Array(y)) = (&back[0], &goal_m) else {
         panic!("matrices: {back:?}")
     };
@@ -130,14 +136,14 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
         assert!((p.as_f64().expect("number") - q.as_f64().expect("number")).abs() < 1e-9);
     }
 
-    let r = call(&mut a.sim, "simIK.handleIkGroup", &ints(&[env, group])).expect("handleIkGroup");
+    let r = call(&mut a.sim, "simIK.handleIkGroup", &int_values(&[env, group])).expect("handleIkGroup");
     assert_eq!(int(&r[0]), 1, "result_success: {r:?}");
     let (dp, da) = pose_error(&pose(&a.sim, a.tip), &goal);
     assert!(dp < POS_TOL && da < ANG_TOL, "tip {dp} m, {da} rad from the goal");
     let q42 = joint_values(&a);
     // A 4.2 script then copies the IK joints onto the scene; here they are the same.
     for &j in &a.joints {
-        let q = call(&mut a.sim, "simIK.getJointPosition", &ints(&[env, j])).expect("getJointPosition");
+        let q = call(&mut a.sim, "simIK.getJointPosition", &int_values(&[env, j])).expect("getJointPosition");
         assert_eq!(q[0].as_f64(), Some(a.sim.world.joint(j).expect("joint").position));
     }
 
@@ -161,10 +167,10 @@ fn a_42_setup_reaches_the_target_like_the_43_calls() {
     call(
         w,
         "simIK.addElementFromScene",
-        &ints(&[env43, g43, a.base, a.tip, a.target, 31]),
+        &int_values(&[env43, g43, a.base, a.tip, a.target, 31]),
     )
     .expect("addElementFromScene");
-    let r = call(w, "simIK.handleGroup", &ints(&[env43, g43])).expect("handleGroup");
+    let r = call(w, "simIK.handleGroup", &int_values(&[env43, g43])).expect("handleGroup");
     assert_eq!(int(&r[0]), 1);
     let q43 = joint_values(&a);
     for (x, y) in q42.iter().zip(&q43) {
@@ -183,7 +189,12 @@ fn the_45_argument_order_of_set_object_matrix_works_too() {
         &[Value::Int(env), Value::Int(a.target), goal_m, Value::Int(a.base)],
     )
     .expect("setObjectMatrix");
-    let r = call(&mut a.sim, "simIK.applyIkEnvironmentToScene", &ints(&[env, group])).expect("apply");
+    let r = call(
+        &mut a.sim,
+        "simIK.applyIkEnvironmentToScene",
+        &int_values(&[env, group]),
+    )
+    .expect("apply");
     assert_eq!(int(&r[0]), 1);
     let (dp, da) = pose_error(&pose(&a.sim, a.tip), &goal);
     assert!(dp < POS_TOL && da < ANG_TOL);
@@ -201,7 +212,7 @@ fn set_joint_position_writes_the_scene_joint() {
     )
     .expect("setJointPosition");
     assert!((a.sim.world.joint(j).expect("joint").position - 0.25).abs() < 1e-12);
-    let q = call(&mut a.sim, "simIK.getJointPosition", &ints(&[env, j])).expect("get");
+    let q = call(&mut a.sim, "simIK.getJointPosition", &int_values(&[env, j])).expect("get");
     assert!((q[0].as_f64().expect("number") - 0.25).abs() < 1e-12);
 }
 
@@ -209,11 +220,11 @@ fn set_joint_position_writes_the_scene_joint() {
 fn unsupported_uses_fail_loudly_and_name_the_function() {
     let mut a = arm();
     let (env, group, element) = setup_42(&mut a);
-    let ege = ints(&[env, group, element]);
+    let ege = int_values(&[env, group, element]);
 
     // Constraints relative to another frame than the base.
     let mut args = ege.clone();
-    args.extend(ints(&[a.base, a.target]));
+    args.extend(int_values(&[a.base, a.target]));
     let e = call(&mut a.sim, "simIK.setIkElementBase", &args).expect_err("other frame");
     assert!(e.contains("simIK.setIkElementBase") && e.contains("argument 5"), "{e}");
 
@@ -226,7 +237,7 @@ fn unsupported_uses_fail_loudly_and_name_the_function() {
     assert_eq!(int(&r[0]), a.base);
 
     // Moving a joint object would reshape the robot in the scene.
-    let m = call(&mut a.sim, "sim.getObjectMatrix", &ints(&[a.joints[0], -1])).expect("matrix");
+    let m = call(&mut a.sim, "sim.getObjectMatrix", &int_values(&[a.joints[0], -1])).expect("matrix");
     let e = call(
         &mut a.sim,
         "simIK.setObjectMatrix",
@@ -236,8 +247,8 @@ fn unsupported_uses_fail_loudly_and_name_the_function() {
     assert!(e.contains("simIK.setObjectMatrix") && e.contains("joint"), "{e}");
 
     // A stale environment.
-    call(&mut a.sim, "simIK.eraseEnvironment", &ints(&[env])).expect("erase");
-    let e = call(&mut a.sim, "simIK.getObjectMatrix", &ints(&[env, a.target, -1])).expect_err("erased");
+    call(&mut a.sim, "simIK.eraseEnvironment", &int_values(&[env])).expect("erase");
+    let e = call(&mut a.sim, "simIK.getObjectMatrix", &int_values(&[env, a.target, -1])).expect_err("erased");
     assert!(e.contains("environment"), "{e}");
 
     // The 4.2 functions that build an IK world object by object (tests/ik_objects.rs)
@@ -245,10 +256,10 @@ fn unsupported_uses_fail_loudly_and_name_the_function() {
     // the scene's tree are refused, saying what to use instead.
     let env = int(&call(&mut a.sim, "simIK.createEnvironment", &[]).expect("env")[0]);
     for (f, args) in [
-        ("simIK.setObjectParent", ints(&[env, a.joints[1], -1])),
-        ("simIK.setJointMode", ints(&[env, a.joints[1], 0])),
-        ("simIK.setLinkedDummy", ints(&[env, a.tip, a.target])),
-        ("simIK.eraseObject", ints(&[env, a.target])),
+        ("simIK.setObjectParent", int_values(&[env, a.joints[1], -1])),
+        ("simIK.setJointMode", int_values(&[env, a.joints[1], 0])),
+        ("simIK.setLinkedDummy", int_values(&[env, a.tip, a.target])),
+        ("simIK.eraseObject", int_values(&[env, a.target])),
     ] {
         let e = call(&mut a.sim, f, &args).expect_err(f);
         assert!(e.contains(f) && e.contains("scene object") && e.contains("use "), "{e}");

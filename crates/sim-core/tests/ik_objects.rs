@@ -10,8 +10,9 @@ mod util;
 use std::f64::consts::PI;
 
 use gantry_sim_core::{Handle, Sim, Value};
+use gantry_test_support::{floats, int, num};
 use nalgebra::{Rotation3, Vector3};
-use util::{call, floats, int, num};
+use util::{call, int_values};
 
 /// A scene with one dummy, so that mixing scene and IK objects can be tried.
 fn sim() -> Sim {
@@ -37,12 +38,8 @@ fn err(s: &mut Sim, name: &str, args: &[Value]) -> String {
     }
 }
 
-fn ints(v: &[i64]) -> Vec<Value> {
-    v.iter().map(|&i| Value::Int(i)).collect()
-}
-
 fn args(head: &[i64], tail: Value) -> Vec<Value> {
-    let mut v = ints(head);
+    let mut v = int_values(head);
     v.push(tail);
     v
 }
@@ -98,7 +95,7 @@ struct Arm {
 fn arm() -> Arm {
     let mut s = sim();
     let env = int(&ok(&mut s, "simIK.createEnvironment", &[])[0]);
-    let base = int(&ok(&mut s, "simIK.createDummy", &ints(&[env]))[0]);
+    let base = int(&ok(&mut s, "simIK.createDummy", &int_values(&[env]))[0]);
     ok(
         &mut s,
         "simIK.setObjectMatrix",
@@ -127,8 +124,8 @@ fn arm() -> Arm {
     let mut parent = base;
     let mut joints = [0; 3];
     for (k, (kind, r, p)) in frames.into_iter().enumerate() {
-        let j = int(&ok(&mut s, "simIK.createJoint", &ints(&[env, kind]))[0]);
-        ok(&mut s, "simIK.setJointMode", &ints(&[env, j, 2]));
+        let j = int(&ok(&mut s, "simIK.createJoint", &int_values(&[env, kind]))[0]);
+        ok(&mut s, "simIK.setJointMode", &int_values(&[env, j, 2]));
         if kind == 11 {
             ok(
                 &mut s,
@@ -159,7 +156,7 @@ fn arm() -> Arm {
         parent = j;
         joints[k] = j;
     }
-    let tip = int(&ok(&mut s, "simIK.createDummy", &ints(&[env]))[0]);
+    let tip = int(&ok(&mut s, "simIK.createDummy", &int_values(&[env]))[0]);
     ok(
         &mut s,
         "simIK.setObjectMatrix",
@@ -175,9 +172,9 @@ fn arm() -> Arm {
         "simIK.setObjectParent",
         &[Value::Int(env), Value::Int(tip), Value::Int(parent), Value::Bool(true)],
     );
-    let target = int(&ok(&mut s, "simIK.createDummy", &ints(&[env]))[0]);
-    ok(&mut s, "simIK.setLinkedDummy", &ints(&[env, tip, target]));
-    let group = int(&ok(&mut s, "simIK.createIkGroup", &ints(&[env]))[0]);
+    let target = int(&ok(&mut s, "simIK.createDummy", &int_values(&[env]))[0]);
+    ok(&mut s, "simIK.setLinkedDummy", &int_values(&[env, tip, target]));
+    let group = int(&ok(&mut s, "simIK.createIkGroup", &int_values(&[env]))[0]);
     ok(
         &mut s,
         "simIK.setIkGroupCalculation",
@@ -189,12 +186,16 @@ fn arm() -> Arm {
             Value::Int(100),
         ],
     );
-    let element = int(&ok(&mut s, "simIK.addIkElement", &ints(&[env, group, tip]))[0]);
-    ok(&mut s, "simIK.setIkElementBase", &ints(&[env, group, element, base]));
+    let element = int(&ok(&mut s, "simIK.addIkElement", &int_values(&[env, group, tip]))[0]);
+    ok(
+        &mut s,
+        "simIK.setIkElementBase",
+        &int_values(&[env, group, element, base]),
+    );
     ok(
         &mut s,
         "simIK.setIkElementConstraints",
-        &ints(&[env, group, element, 7]),
+        &int_values(&[env, group, element, 7]),
     );
     Arm {
         s,
@@ -210,7 +211,7 @@ fn arm() -> Arm {
 impl Arm {
     fn q(&mut self) -> [f64; 3] {
         let (env, joints) = (self.env, self.joints);
-        joints.map(|j| num(&ok(&mut self.s, "simIK.getJointPosition", &ints(&[env, j]))[0]))
+        joints.map(|j| num(&ok(&mut self.s, "simIK.getJointPosition", &int_values(&[env, j]))[0]))
     }
 
     fn set_q(&mut self, q: [f64; 3]) {
@@ -238,12 +239,18 @@ impl Arm {
 
     /// The tip's world position as the environment reports it.
     fn tip(&mut self) -> Vector3<f64> {
-        let m = floats(&ok(&mut self.s, "simIK.getObjectMatrix", &ints(&[self.env, self.tip, -1]))[0]);
+        let m = floats(
+            &ok(
+                &mut self.s,
+                "simIK.getObjectMatrix",
+                &int_values(&[self.env, self.tip, -1]),
+            )[0],
+        );
         Vector3::new(m[3], m[7], m[11])
     }
 
     fn handle(&mut self) -> i64 {
-        int(&ok(&mut self.s, "simIK.handleIkGroup", &ints(&[self.env, self.group]))[0])
+        int(&ok(&mut self.s, "simIK.handleIkGroup", &int_values(&[self.env, self.group]))[0])
     }
 }
 
@@ -256,7 +263,7 @@ fn the_built_arm_matches_forward_kinematics_at_any_configuration() {
         assert!(d < 1e-12, "q {q:?}: tip {} m from forward kinematics", d);
     }
     // The base is at the origin, and the tip relative to the base is the same.
-    let m = floats(&ok(&mut a.s, "simIK.getObjectMatrix", &ints(&[a.env, a.tip, a.base]))[0]);
+    let m = floats(&ok(&mut a.s, "simIK.getObjectMatrix", &int_values(&[a.env, a.tip, a.base]))[0]);
     let q = a.q();
     assert!((Vector3::new(m[3], m[7], m[11]) - forward(q)).norm() < 1e-12);
 }
@@ -279,7 +286,7 @@ fn handle_ik_group_drives_the_tip_onto_the_linked_target() {
 
     // The 4.3 call reads the same: result, flags, precision.
     a.place_target(forward([-0.3, 0.2, 0.2]));
-    let r = ok(&mut a.s, "simIK.handleGroup", &ints(&[a.env, a.group]));
+    let r = ok(&mut a.s, "simIK.handleGroup", &int_values(&[a.env, a.group]));
     assert_eq!(int(&r[0]), 1, "{r:?}");
     assert!(floats(&r[2])[0] < 5e-4);
 }
@@ -296,7 +303,7 @@ fn get_config_for_tip_pose_finds_a_configuration_without_moving_the_joints() {
         &[
             Value::Int(a.env),
             Value::Int(a.group),
-            Value::Array(ints(&a.joints)),
+            Value::Array(int_values(&a.joints)),
             Value::Float(0.65),
             Value::Int(100),
             Value::floats(&[1.0, 1.0, 1.0, 0.1]),
@@ -314,7 +321,11 @@ fn get_config_for_tip_pose_finds_a_configuration_without_moving_the_joints() {
     let r = ok(
         &mut a.s,
         "simIK.getConfigForTipPose",
-        &[Value::Int(a.env), Value::Int(a.group), Value::Array(ints(&a.joints))],
+        &[
+            Value::Int(a.env),
+            Value::Int(a.group),
+            Value::Array(int_values(&a.joints)),
+        ],
     );
     assert_eq!(r, vec![Value::Nil]);
 }
@@ -333,7 +344,7 @@ fn joint_intervals_and_modes_are_honoured() {
             Value::floats(&[-0.2, 0.4]),
         ],
     );
-    let r = ok(&mut a.s, "simIK.getJointInterval", &ints(&[a.env, a.joints[1]]));
+    let r = ok(&mut a.s, "simIK.getJointInterval", &int_values(&[a.env, a.joints[1]]));
     assert_eq!((&r[0], floats(&r[1])), (&Value::Bool(false), vec![-0.2, 0.4]));
     a.place_target(forward([0.3, -0.8, 0.1]));
     assert_eq!(a.handle(), 2, "result_fail: the shoulder cannot reach -0.8 rad");
@@ -343,8 +354,8 @@ fn joint_intervals_and_modes_are_honoured() {
 
     // A passive joint stays where it is: reachable with it fixed...
     let mut a = arm();
-    ok(&mut a.s, "simIK.setJointMode", &ints(&[a.env, a.joints[0], 0]));
-    let r = ok(&mut a.s, "simIK.getJointMode", &ints(&[a.env, a.joints[0]]));
+    ok(&mut a.s, "simIK.setJointMode", &int_values(&[a.env, a.joints[0], 0]));
+    let r = ok(&mut a.s, "simIK.getJointMode", &int_values(&[a.env, a.joints[0]]));
     assert_eq!(int(&r[0]), 0);
     a.set_q([0.7, 0.0, 0.0]);
     let target = forward([0.7, 0.5, 0.2]);
@@ -374,7 +385,7 @@ fn group_flags_restore_the_joints_when_the_target_is_missed() {
     a.place_target(far);
     // Default flags (enabled, ignore max steps): a failed solve still moves the arm.
     assert_eq!(
-        int(&ok(&mut a.s, "simIK.getGroupFlags", &ints(&[a.env, a.group]))[0]),
+        int(&ok(&mut a.s, "simIK.getGroupFlags", &int_values(&[a.env, a.group]))[0]),
         3
     );
     assert_eq!(a.handle(), 2);
@@ -384,12 +395,12 @@ fn group_flags_restore_the_joints_when_the_target_is_missed() {
     ok(
         &mut a.s,
         "simIK.setIkGroupFlags",
-        &ints(&[a.env, a.group, 1 + 2 + 4 + 8]),
+        &int_values(&[a.env, a.group, 1 + 2 + 4 + 8]),
     );
     assert_eq!(a.handle(), 2);
     assert_eq!(a.q(), start);
     // A disabled group is not performed.
-    ok(&mut a.s, "simIK.setGroupFlags", &ints(&[a.env, a.group, 0]));
+    ok(&mut a.s, "simIK.setGroupFlags", &int_values(&[a.env, a.group, 0]));
     assert_eq!(a.handle(), 0, "result_not_performed");
 }
 
@@ -417,32 +428,35 @@ fn environments_have_their_own_namespaces() {
             matrix(Rotation3::identity(), [5.0, 0.0, 0.0]),
         ],
     );
-    let m = floats(&ok(&mut a.s, "simIK.getObjectMatrix", &ints(&[a.env, a.base]))[0]);
+    let m = floats(&ok(&mut a.s, "simIK.getObjectMatrix", &int_values(&[a.env, a.base]))[0]);
     assert_eq!((m[3], m[7], m[11]), (0.0, 0.0, 0.0));
-    let pose = floats(&ok(&mut a.s, "simIK.getObjectPose", &ints(&[other, d]))[0]);
+    let pose = floats(&ok(&mut a.s, "simIK.getObjectPose", &int_values(&[other, d]))[0]);
     assert_eq!(pose, vec![5.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
     // The parent, type and link read back.
-    let r = ok(&mut a.s, "simIK.getObjectParent", &ints(&[a.env, a.tip]));
+    let r = ok(&mut a.s, "simIK.getObjectParent", &int_values(&[a.env, a.tip]));
     assert_eq!(int(&r[0]), a.joints[2]);
-    assert_eq!(int(&ok(&mut a.s, "simIK.getObjectType", &ints(&[a.env, a.tip]))[0]), 4);
     assert_eq!(
-        int(&ok(&mut a.s, "simIK.getObjectType", &ints(&[a.env, a.joints[0]]))[0]),
+        int(&ok(&mut a.s, "simIK.getObjectType", &int_values(&[a.env, a.tip]))[0]),
+        4
+    );
+    assert_eq!(
+        int(&ok(&mut a.s, "simIK.getObjectType", &int_values(&[a.env, a.joints[0]]))[0]),
         1
     );
     assert_eq!(
-        int(&ok(&mut a.s, "simIK.getJointType", &ints(&[a.env, a.joints[2]]))[0]),
+        int(&ok(&mut a.s, "simIK.getJointType", &int_values(&[a.env, a.joints[2]]))[0]),
         11
     );
     assert_eq!(
-        int(&ok(&mut a.s, "simIK.getLinkedDummy", &ints(&[a.env, a.target]))[0]),
+        int(&ok(&mut a.s, "simIK.getLinkedDummy", &int_values(&[a.env, a.target]))[0]),
         a.tip
     );
     // Erasing the tip removes its element: the group has nothing left to do.
-    ok(&mut a.s, "simIK.eraseObject", &ints(&[a.env, a.tip]));
+    ok(&mut a.s, "simIK.eraseObject", &int_values(&[a.env, a.tip]));
     assert_eq!(a.handle(), 0);
     // Erasing the environment erases its objects.
-    ok(&mut a.s, "simIK.eraseEnvironment", &ints(&[a.env]));
-    let e = err(&mut a.s, "simIK.getJointPosition", &ints(&[a.env, a.joints[0]]));
+    ok(&mut a.s, "simIK.eraseEnvironment", &int_values(&[a.env]));
+    let e = err(&mut a.s, "simIK.getJointPosition", &int_values(&[a.env, a.joints[0]]));
     assert!(e.contains("environment"), "{e}");
 }
 
@@ -453,34 +467,54 @@ fn bad_input_is_refused_with_a_clear_message() {
     let s = &mut a.s;
     let scene_dummy: Handle = s.world.find("/ref", None, 0).expect("ref");
     let checks: Vec<(&str, Vec<Value>, &[&str])> = vec![
-        ("simIK.createDummy", ints(&[99]), &["environment 99 does not exist"]),
-        ("simIK.createJoint", ints(&[env, 12]), &["spherical"]),
-        ("simIK.createJoint", ints(&[env, 7]), &["unknown joint type 7"]),
+        (
+            "simIK.createDummy",
+            int_values(&[99]),
+            &["environment 99 does not exist"],
+        ),
+        ("simIK.createJoint", int_values(&[env, 12]), &["spherical"]),
+        ("simIK.createJoint", int_values(&[env, 7]), &["unknown joint type 7"]),
         (
             "simIK.getJointPosition",
-            ints(&[env, 10_000_999]),
+            int_values(&[env, 10_000_999]),
             &["IK object 10000999 does not exist"],
         ),
-        ("simIK.setJointMode", ints(&[env, tip, 2]), &["is not a joint"]),
-        ("simIK.setJointMode", ints(&[env, j, 4]), &["unsupported joint mode 4"]),
-        ("simIK.setLinkedDummy", ints(&[env, j, tip]), &["is not a dummy"]),
-        ("simIK.setLinkedDummy", ints(&[env, tip, tip]), &["itself"]),
-        ("simIK.addIkElement", ints(&[env, a.group, j]), &["is not a dummy"]),
+        ("simIK.setJointMode", int_values(&[env, tip, 2]), &["is not a joint"]),
+        (
+            "simIK.setJointMode",
+            int_values(&[env, j, 4]),
+            &["unsupported joint mode 4"],
+        ),
+        ("simIK.setLinkedDummy", int_values(&[env, j, tip]), &["is not a dummy"]),
+        ("simIK.setLinkedDummy", int_values(&[env, tip, tip]), &["itself"]),
+        (
+            "simIK.addIkElement",
+            int_values(&[env, a.group, j]),
+            &["is not a dummy"],
+        ),
         (
             "simIK.setObjectParent",
-            ints(&[env, a.base, tip]),
+            int_values(&[env, a.base, tip]),
             &["cannot become the parent"],
         ),
         (
             "simIK.setObjectParent",
-            ints(&[env, tip, scene_dummy]),
+            int_values(&[env, tip, scene_dummy]),
             &["scene object"],
         ),
-        ("simIK.getObjectMatrix", ints(&[env, tip, scene_dummy]), &["same tree"]),
-        ("simIK.getObjectPose", ints(&[env, scene_dummy, tip]), &["same tree"]),
+        (
+            "simIK.getObjectMatrix",
+            int_values(&[env, tip, scene_dummy]),
+            &["same tree"],
+        ),
+        (
+            "simIK.getObjectPose",
+            int_values(&[env, scene_dummy, tip]),
+            &["same tree"],
+        ),
         (
             "simIK.setIkGroupFlags",
-            ints(&[env, a.group, 16]),
+            int_values(&[env, a.group, 16]),
             &["unsupported group flags 16"],
         ),
         (
@@ -490,7 +524,7 @@ fn bad_input_is_refused_with_a_clear_message() {
         ),
         (
             "simIK.addElementFromScene",
-            ints(&[env, a.group, -1, tip, a.target, 31]),
+            int_values(&[env, a.group, -1, tip, a.target, 31]),
             &["not of the scene", "simIK.addElement"],
         ),
         (
@@ -521,16 +555,20 @@ fn bad_input_is_refused_with_a_clear_message() {
         }
     }
     // An element's base must be in its tip's tree.
-    let el = int(&ok(s, "simIK.addIkElement", &ints(&[env, a.group, tip]))[0]);
-    let e = err(s, "simIK.setIkElementBase", &ints(&[env, a.group, el, scene_dummy]));
+    let el = int(&ok(s, "simIK.addIkElement", &int_values(&[env, a.group, tip]))[0]);
+    let e = err(
+        s,
+        "simIK.setIkElementBase",
+        &int_values(&[env, a.group, el, scene_dummy]),
+    );
     assert!(e.contains("is not below base"), "{e}");
     // A name can only be used once.
     ok(s, "simIK.createDummy", &args(&[env], "named".into()));
     let e = err(s, "simIK.createDummy", &args(&[env], "named".into()));
     assert!(e.contains("already exists"), "{e}");
     // A tip with no linked dummy has no target: the solve says so.
-    ok(s, "simIK.setLinkedDummy", &ints(&[env, tip, -1]));
-    let e = err(s, "simIK.handleIkGroup", &ints(&[env, a.group]));
+    ok(s, "simIK.setLinkedDummy", &int_values(&[env, tip, -1]));
+    let e = err(s, "simIK.handleIkGroup", &int_values(&[env, a.group]));
     assert!(e.contains("has no target") && e.contains("simIK.setLinkedDummy"), "{e}");
     // Nothing above changed the arm.
     assert_eq!(a.q(), [0.0; 3]);

@@ -10,6 +10,7 @@ use std::f64::consts::PI;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::{Handle, Sim, Value};
+use gantry_test_support::{assert_close, floats};
 use util::find;
 
 const SCENE: &str = r#"
@@ -209,8 +210,8 @@ fn a_joint_reference_frame_without_its_motion() {
         "sim.setJointPosition",
         &[Value::Int(hinge), Value::Float(PI / 4.0)],
     );
-    let moving = util::floats(&call(&mut w, "sim.getObjectPosition", &[Value::Int(tip), Value::Int(hinge)])[0]);
-    let base = util::floats(
+    let moving = floats(&call(&mut w, "sim.getObjectPosition", &[Value::Int(tip), Value::Int(hinge)])[0]);
+    let base = floats(
         &call(
             &mut w,
             "sim.getObjectPosition",
@@ -219,9 +220,9 @@ fn a_joint_reference_frame_without_its_motion() {
     );
     // In the moving frame the tip is where the scene put it; in the base frame it has
     // turned 45 degrees about the joint's z axis.
-    close(&moving, &[0.5, 0.0, 0.0]);
+    assert_close(&moving, &[0.5, 0.0, 0.0], 1e-9);
     let c = 0.5 * (PI / 4.0).cos();
-    close(&base, &[c, c, 0.0]);
+    assert_close(&base, &[c, c, 0.0], 1e-9);
     // Setting in the base frame: the tip lands at 0 degrees in the base frame, so -45
     // degrees in the moving one.
     call(
@@ -233,15 +234,6 @@ fn a_joint_reference_frame_without_its_motion() {
             Value::floats(&[0.5, 0.0, 0.0]),
         ],
     );
-    let moving = util::floats(&call(&mut w, "sim.getObjectPosition", &[Value::Int(tip), Value::Int(hinge)])[0]);
-    close(&moving, &[c, -c, 0.0]);
-}
-
-fn close(actual: &[f64], expected: &[f64]) {
-    let d = actual
-        .iter()
-        .zip(expected)
-        .map(|(a, e)| (a - e).abs())
-        .fold(0.0, f64::max);
-    assert!(d < 1e-9, "{actual:?} vs {expected:?}");
+    let moving = floats(&call(&mut w, "sim.getObjectPosition", &[Value::Int(tip), Value::Int(hinge)])[0]);
+    assert_close(&moving, &[c, -c, 0.0], 1e-9);
 }

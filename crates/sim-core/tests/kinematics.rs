@@ -4,11 +4,11 @@
 mod util;
 
 use std::f64::consts::{FRAC_PI_2, PI};
-use std::path::Path;
 
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::world::ObjectKind;
 use gantry_sim_core::{Handle, Sim};
+use gantry_test_support::repo;
 use util::{asset, find};
 
 // ---------------------------------------------------------------------------------------
@@ -376,7 +376,7 @@ fn doc_example(doc: &str) -> String {
 
 #[test]
 fn scene_format_doc_example_loads() {
-    let doc_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/scene-format.md");
+    let doc_path = repo("docs/scene-format.md");
     let doc = std::fs::read_to_string(&doc_path).expect("docs/scene-format.md is readable");
     let text = doc_example(&doc);
     // The document says the example is meant to be saved in assets/scenes/, so its relative

@@ -6,17 +6,11 @@ mod util;
 
 use gantry_sim_core::Value;
 use gantry_sim_core::math::Pose;
-use util::{err, floats, num, ok};
+use gantry_test_support::{assert_close, floats, num};
+use util::{err, ok};
 
 fn scene() -> gantry_sim_core::Sim {
     util::asset_scene("scenes/bubble_rob.toml")
-}
-
-fn close(actual: &[f64], expected: &[f64]) {
-    assert_eq!(actual.len(), expected.len(), "{actual:?} vs {expected:?}");
-    for (a, e) in actual.iter().zip(expected) {
-        assert!((a - e).abs() < 1e-9, "{actual:?} vs {expected:?}");
-    }
 }
 
 fn map(pairs: &[(&str, Value)]) -> Value {
@@ -31,7 +25,7 @@ fn path_lengths_and_interpolated_configs() {
     let h = std::f64::consts::FRAC_1_SQRT_2;
     let path = Value::floats(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 3.0, 4.0, 0.0, 0.0, 0.0, h, h]);
     let r = ok(&mut w, "sim.getPathLengths", &[path.clone(), Value::Int(7)]);
-    close(&floats(&r[0]), &[0.0, 5.0]);
+    assert_close(&floats(&r[0]), &[0.0, 5.0], 1e-9);
     assert_eq!(num(&r[1]), 5.0);
     // At 2 m of 5: 40 % of the way, the quaternion slerped 40 % of 90 degrees about z.
     let types = Value::floats(&[0.0, 0.0, 0.0, 2.0, 2.0, 2.0, 2.0]);
@@ -41,7 +35,7 @@ fn path_lengths_and_interpolated_configs() {
         &[path.clone(), r[0].clone(), Value::Float(2.0), Value::Nil, types],
     );
     let half = 0.4 * std::f64::consts::FRAC_PI_4;
-    close(&floats(&c[0]), &[1.2, 1.6, 0.0, 0.0, 0.0, half.sin(), half.cos()]);
+    assert_close(&floats(&c[0]), &[1.2, 1.6, 0.0, 0.0, 0.0, half.sin(), half.cos()], 1e-9);
     // A 2pi-cyclic value takes the short way: from 3 to -3 rad through pi.
     let c = ok(
         &mut w,
@@ -54,7 +48,7 @@ fn path_lengths_and_interpolated_configs() {
             Value::floats(&[1.0]),
         ],
     );
-    close(&floats(&c[0]), &[std::f64::consts::PI]);
+    assert_close(&floats(&c[0]), &[std::f64::consts::PI], 1e-9);
     // Quadratic Bezier: the corner of (0,0) (2,0) (2,1) is rounded from (1,0) to
     // (2,0.5); at length 1.75, half way: 0.25 (1,0) + 0.5 (2,0) + 0.25 (2,0.5).
     let l = Value::floats(&[0.0, 2.0, 3.0]);
@@ -68,16 +62,16 @@ fn path_lengths_and_interpolated_configs() {
         "sim.getPathInterpolatedConfig",
         &[corner.clone(), l.clone(), Value::Float(1.75), bezier.clone()],
     );
-    close(&floats(&c[0]), &[1.75, 0.125]);
+    assert_close(&floats(&c[0]), &[1.75, 0.125], 1e-9);
     let linear = ok(
         &mut w,
         "sim.getPathInterpolatedConfig",
         &[corner.clone(), l.clone(), Value::Float(1.75)],
     );
-    close(&floats(&linear[0]), &[1.75, 0.0]);
+    assert_close(&floats(&linear[0]), &[1.75, 0.0], 1e-9);
     // Resampled to 4 configurations at lengths 0, 1, 2, 3.
     let r = ok(&mut w, "sim.resamplePath", &[corner.clone(), l.clone(), Value::Int(4)]);
-    close(&floats(&r[0]), &[0.0, 0.0, 1.0, 0.0, 2.0, 0.0, 2.0, 1.0]);
+    assert_close(&floats(&r[0]), &[0.0, 0.0, 1.0, 0.0, 2.0, 0.0, 2.0, 1.0], 1e-9);
 
     let e = err(
         &mut w,
@@ -128,8 +122,8 @@ fn created_paths_read_as_dummies_and_carry_their_points() {
     let at = |w: &mut gantry_sim_core::Sim, h: &Value, rel: f64| {
         floats(&ok(w, "sim.getPositionOnPath", &[h.clone(), Value::Float(rel)])[0])
     };
-    close(&at(&mut w, &sp, 0.25), &[0.5, 0.0, 0.0]);
-    close(&at(&mut w, &sp, 0.75), &[1.0, 0.5, 0.0]);
+    assert_close(&at(&mut w, &sp, 0.25), &[0.5, 0.0, 0.0], 1e-9);
+    assert_close(&at(&mut w, &sp, 0.75), &[1.0, 0.5, 0.0], 1e-9);
     // The points are the path's custom data, 7 doubles each, as 4.3+ scripts read them.
     let block = ok(&mut w, "sim.readCustomDataBlock", &[sp.clone(), Value::from("PATH")]);
     let unpacked = ok(&mut w, "sim.unpackDoubleTable", &[block[0].clone()]);
@@ -145,7 +139,7 @@ fn created_paths_read_as_dummies_and_carry_their_points() {
     let pts = floats(&ok(&mut w, "sim.unpackDoubleTable", &[block[0].clone()])[0]);
     assert_eq!(pts.len(), 50 * 7);
     // Closed: back to the start; smoothed: the corner at (1,0) is cut.
-    close(&pts[..3], &pts[pts.len() - 7..pts.len() - 4]);
+    assert_close(&pts[..3], &pts[pts.len() - 7..pts.len() - 4], 1e-9);
     assert!(pts.chunks(7).all(|p| (p[0] - 1.0).abs() + p[1].abs() > 1e-3));
     let len = num(&ok(&mut w, "sim.getPathLength", std::slice::from_ref(&h))[0]);
     // Shorter than the triangle (2 + sqrt 2), longer than the triangle through its
@@ -209,9 +203,9 @@ fn v_rep_3_paths_from_control_points() {
     );
     assert_eq!(num(&ok(&mut w, "sim.getPathLength", std::slice::from_ref(&h))[0]), 3.0);
     let pos = floats(&ok(&mut w, "sim.getPositionOnPath", &[h.clone(), Value::Float(0.5)])[0]);
-    close(&pos, &[0.0, 0.0, 1.5]);
+    assert_close(&pos, &[0.0, 0.0, 1.5], 1e-9);
     let end = floats(&ok(&mut w, "sim.getOrientationOnPath", &[h.clone(), Value::Float(1.0)])[0]);
-    close(&end, &[0.0, 0.0, std::f64::consts::FRAC_PI_2]);
+    assert_close(&end, &[0.0, 0.0, std::f64::consts::FRAC_PI_2], 1e-9);
     // V-REP's path position stays on an open path.
     ok(&mut w, "sim.setPathPosition", &[h.clone(), Value::Float(7.0)]);
     assert_eq!(

@@ -11,7 +11,7 @@ use gantry_sim_core::SimError;
 use gantry_sim_core::api::{CallContext, call};
 use gantry_sim_core::world::{MAX_POINT_CLOUD_POINTS, ObjectKind};
 use gantry_sim_core::{Handle, Sim, Value};
-use util::{floats, int, num};
+use gantry_test_support::{assert_close, floats, int, num};
 
 /// `sim.insertPointsIntoPointCloud` option: points in the cloud's frame.
 const RELATIVE: i64 = 1;
@@ -65,14 +65,6 @@ fn list(v: &[f64]) -> Value {
 
 fn bytes(v: &[i64]) -> Value {
     Value::Array(v.iter().map(|&b| Value::Int(b)).collect())
-}
-
-#[track_caller]
-fn assert_close(actual: &[f64], expected: &[f64]) {
-    assert_eq!(actual.len(), expected.len(), "{actual:?} vs {expected:?}");
-    for (a, e) in actual.iter().zip(expected) {
-        assert!((a - e).abs() < 1e-9, "{actual:?} vs {expected:?}");
-    }
 }
 
 /// `sim.createPointCloud(voxel, perVoxel, options, pointSize)`.
@@ -141,6 +133,7 @@ fn insertion_returns_the_total_and_points_read_back_with_their_colours() {
         &[
             0.1, 0.2, 0.3, -0.1, 0.0, 0.05, 1.0, 0.0, 0.0, 2.0, 0.0, 0.0, 3.0, 0.0, 0.0,
         ],
+        1e-9,
     );
     let ObjectKind::PointCloud(cloud) = &s.world.object(c).expect("cloud").kind else {
         panic!("not a point cloud");
@@ -166,7 +159,7 @@ fn a_full_voxel_splits_and_keeps_every_point() {
     let c = create(&mut s, 0.01, 2, 0, 2.0);
     let pts: Vec<f64> = (0..50).flat_map(|k| [0.0001 * f64::from(k), 0.0005, 0.0005]).collect();
     assert_eq!(insert(&mut s, c, RELATIVE, &pts, &[]), 50);
-    assert_close(&points(&mut s, c), &pts);
+    assert_close(&points(&mut s, c), &pts, 1e-9);
     // The same points again with a duplicate tolerance are all duplicates.
     assert_eq!(insert(&mut s, c, RELATIVE, &pts, &[Value::Nil, f(0.00005)]), 50);
 }
@@ -181,7 +174,7 @@ fn duplicates_within_the_tolerance_are_not_inserted() {
     // third a duplicate of the second (inserted in the same call).
     let batch = [0.004, 0.0, 0.0, 0.0, 0.009, 0.0, 0.0, 0.013, 0.0];
     assert_eq!(insert(&mut s, c, RELATIVE, &batch, &[Value::Nil, f(0.005)]), 2);
-    assert_close(&points(&mut s, c), &[0.0, 0.0, 0.0, 0.0, 0.009, 0.0]);
+    assert_close(&points(&mut s, c), &[0.0, 0.0, 0.0, 0.0, 0.009, 0.0], 1e-9);
     // Strictly closer: at exactly the tolerance a point is inserted.
     assert_eq!(
         insert(&mut s, c, RELATIVE, &[0.0, 0.0, 0.005], &[Value::Nil, f(0.005)]),
@@ -206,19 +199,19 @@ fn world_frame_points_are_stored_relative_to_a_moved_rotated_cloud() {
     );
     // World (1, 1, 0) is (1, 0, 0) in a frame at x = 1 turned 90 degrees about z.
     insert(&mut s, c, 0, &[1.0, 1.0, 0.0], &[]);
-    assert_close(&points(&mut s, c), &[1.0, 0.0, 0.0]);
+    assert_close(&points(&mut s, c), &[1.0, 0.0, 0.0], 1e-9);
     // Relative points are stored as given.
     insert(&mut s, c, RELATIVE, &[0.0, 0.0, 0.5], &[]);
-    assert_close(&points(&mut s, c), &[1.0, 0.0, 0.0, 0.0, 0.0, 0.5]);
+    assert_close(&points(&mut s, c), &[1.0, 0.0, 0.0, 0.0, 0.0, 0.5], 1e-9);
 
     // The points follow the cloud: moved under a parent, the stored points are the same
     // and their world position is the new pose applied to them.
     let base = s.world.find("/base", None, 0).expect("base");
     ok(&mut s, "setObjectParent", &[h(c), h(base), Value::Bool(false)]);
-    assert_close(&points(&mut s, c), &[1.0, 0.0, 0.0, 0.0, 0.0, 0.5]);
+    assert_close(&points(&mut s, c), &[1.0, 0.0, 0.0, 0.0, 0.0, 0.5], 1e-9);
     let pose = s.world.object(c).expect("cloud").world;
     let w = pose.transform_point(&[1.0, 0.0, 0.0].into());
-    assert_close(&[w.x, w.y, w.z], &[2.0, 3.0, 0.5]);
+    assert_close(&[w.x, w.y, w.z], &[2.0, 3.0, 0.5], 1e-9);
     // And world-frame removal and insertion use the new pose: world (2, 3, 0.5) is the
     // first stored point.
     assert_eq!(
@@ -229,7 +222,7 @@ fn world_frame_points_are_stored_relative_to_a_moved_rotated_cloud() {
         )[0]),
         1
     );
-    assert_close(&points(&mut s, c), &[0.0, 0.0, 0.5]);
+    assert_close(&points(&mut s, c), &[0.0, 0.0, 0.5], 1e-9);
 }
 
 #[test]
@@ -252,7 +245,7 @@ fn removal_intersection_and_clearing() {
         &[h(c), i(RELATIVE), list(&[0.0, 0.0, 0.0, 0.9, 0.0, 0.01]), f(0.05)],
     );
     assert_eq!(int(&kept[0]), 2);
-    assert_close(&points(&mut s, c), &[0.0, 0.0, 0.0, 0.9, 0.0, 0.0]);
+    assert_close(&points(&mut s, c), &[0.0, 0.0, 0.0, 0.9, 0.0, 0.0], 1e-9);
     // nil points remove everything, whatever the tolerance (CoppeliaSim's idiom passes 0).
     assert_eq!(remove(&mut s, Value::Nil, 0.0), 0);
     assert!(points(&mut s, c).is_empty());
@@ -285,7 +278,7 @@ fn options_are_clamped_read_back_and_changed() {
     let o = ok(&mut s, "getPointCloudOptions", &[h(c)]);
     assert_eq!((num(&o[0]), int(&o[1]), int(&o[2]), num(&o[3])), (0.2, 5, 1, 3.0));
     // The points stay, and the new voxel size still finds them.
-    assert_close(&points(&mut s, c), &[0.0, 0.0, 0.0, 0.5, 0.5, 0.5]);
+    assert_close(&points(&mut s, c), &[0.0, 0.0, 0.0, 0.5, 0.5, 0.5], 1e-9);
     let left = ok(
         &mut s,
         "removePointsFromPointCloud",
@@ -302,7 +295,7 @@ fn clouds_are_removed_and_copied_like_other_objects() {
     let copies = ok(&mut s, "copyPasteObjects", &[Value::Array(vec![h(c)])]);
     let copy = floats(&copies[0])[0] as Handle;
     assert_ne!(copy, c);
-    assert_close(&points(&mut s, copy), &[0.1, 0.2, 0.3]);
+    assert_close(&points(&mut s, copy), &[0.1, 0.2, 0.3], 1e-9);
     // The copy is independent.
     insert(&mut s, copy, RELATIVE, &[1.0, 1.0, 1.0], &[]);
     assert_eq!(points(&mut s, c).len(), 3);

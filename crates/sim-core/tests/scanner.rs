@@ -8,7 +8,8 @@ mod util;
 
 use gantry_sim_core::math::{Pose, Vec3};
 use gantry_sim_core::{Handle, Sim, Value};
-use util::{asset_scene, err, find, floats, int, ok};
+use gantry_test_support::{floats, int};
+use util::{asset_scene, err, find, ok};
 
 /// `sim.handleflag_abscoords`.
 const ABSCOORDS: i64 = 0x0080_0000;

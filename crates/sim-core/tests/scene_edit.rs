@@ -6,7 +6,8 @@ mod util;
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
-use util::{find, floats, int, step};
+use gantry_test_support::{floats, int};
+use util::{find, step};
 
 /// A floor, a rotated dummy, a box carrying a kinematic hinge with a dynamic link, and a
 /// vision sensor.

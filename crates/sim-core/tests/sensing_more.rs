@@ -5,7 +5,8 @@
 mod util;
 
 use gantry_sim_core::{Handle, Sim, Value};
-use util::{call, int};
+use gantry_test_support::int;
+use util::call;
 
 fn bubble_rob() -> Sim {
     util::asset_scene("scenes/bubble_rob.toml")

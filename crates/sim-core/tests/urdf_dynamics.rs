@@ -9,26 +9,22 @@
 
 mod util;
 
-use std::path::PathBuf;
-
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Sim, Value};
+use gantry_test_support::{TempDir, load};
 use util::{call, find, step};
 
 /// A scratch folder with a scene and its URDF, removed on drop.
-struct Scratch(PathBuf);
+struct Scratch(TempDir);
 
 impl Scratch {
     fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("gantry-urdf-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("tmp dir");
-        Self(dir)
+        Self(TempDir::new(&format!("urdf-{tag}")))
     }
 
     /// Writes `robot.urdf` and a scene that includes it with `robot_keys`, at `dt`
     /// seconds and one substep, and loads the scene.
     fn world(&self, urdf: &str, robot_keys: &str, dt: f64) -> Sim {
-        std::fs::write(self.0.join("robot.urdf"), urdf).expect("write urdf");
+        self.0.write("robot.urdf", urdf);
         self.scene(&format!(
             "[simulation]\ndt = {dt}\nsubsteps = 1\n\n[[robot]]\nname = \"r\"\nurdf = \"robot.urdf\"\n{robot_keys}\n"
         ))
@@ -36,21 +32,12 @@ impl Scratch {
 
     /// Writes `name` (a URDF, OBJ, ...) into the folder.
     fn file(&self, name: &str, text: &str) {
-        std::fs::write(self.0.join(name), text).expect("write file");
+        self.0.write(name, text);
     }
 
     /// Loads a scene file with this text from the folder.
     fn scene(&self, text: &str) -> Sim {
-        let path = self.0.join("scene.toml");
-        std::fs::write(&path, text).expect("write scene");
-        let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-        Sim::new(&model)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        std::fs::remove_dir_all(&self.0).ok();
+        Sim::new(&load(&self.0.write("scene.toml", text)))
     }
 }
 

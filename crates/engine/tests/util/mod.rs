@@ -1,22 +1,22 @@
 //! Helpers shared by the tests of scenes with scripts (the Lua host driven by the
 //! engine): temporary scene folders with inline scripts, the BubbleRob scene with a
 //! replacement script, the engine driven as a front end drives it ([`Drive`]), and
-//! value accessors.
+//! what scripts logged and signalled. Helpers other crates' tests need too (temp dirs,
+//! repository paths, value accessors, assertions) are `gantry_test_support`'s.
 #![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
 
 pub mod loopback;
 
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use std::cell::Ref;
+use std::path::PathBuf;
 
 use gantry_engine::{Engine, EngineConfig, Input, LoopControl};
 use gantry_lua::{DebugLink, HookError, ScriptError, ScriptLimits, ScriptState};
 use gantry_sim_core::api::{CallError, Target};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene};
+use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::Control;
 use gantry_sim_core::{Handle, Sim, Value};
+use gantry_test_support::{TempDir, load, repo};
 
 /// The engine of `model` with `limits`, stopped, stepped only when a test says so.
 pub fn engine(model: SceneModel, limits: ScriptLimits) -> Result<Engine, ScriptError> {
@@ -87,51 +87,6 @@ impl Drive for Engine {
 /// Calls the global function `f` of the first running script that defines it.
 pub fn call_hook(sim: &mut Engine, f: &str, args: &[Value]) -> Result<Option<Vec<Value>>, HookError> {
     sim.call_script_function(f, args)
-}
-
-/// A folder under the system temp dir, removed when dropped.
-pub struct TempDir {
-    path: PathBuf,
-}
-
-impl TempDir {
-    /// A fresh, empty folder whose name contains `tag`, the process id and a counter.
-    pub fn new(tag: &str) -> Self {
-        static NEXT: AtomicUsize = AtomicUsize::new(0);
-        let n = NEXT.fetch_add(1, Ordering::Relaxed);
-        let path = std::env::temp_dir().join(format!("gantry-lua-test-{tag}-{}-{n}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).expect("create the temp dir");
-        Self { path }
-    }
-
-    /// The folder.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
-    /// Writes `text` to `name` inside the folder and returns the file's path.
-    pub fn write(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.path.join(name);
-        std::fs::write(&p, text).expect("write a temp file");
-        p
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.path);
-    }
-}
-
-/// A file of the repository, given relative to its root.
-pub fn repo(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel)
-}
-
-/// Loads a scene file from disk.
-pub fn load(path: &Path) -> SceneModel {
-    load_scene(&DiskFiles, path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{} loads: {e}", path.display()))
 }
 
 /// The head of a scene with the paper's six-axis arm (`assets/robots/arm6/arm6.urdf`,
@@ -257,61 +212,6 @@ function err(f, ...)
     return tostring(e)
 end
 ";
-
-/// A number.
-pub fn num(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("expected a number, got {v:?}"))
-}
-
-/// An integer.
-pub fn int(v: &Value) -> i64 {
-    match v {
-        Value::Int(i) => *i,
-        other => panic!("expected an integer, got {other:?}"),
-    }
-}
-
-/// A string.
-pub fn text(v: &Value) -> &str {
-    v.as_str().unwrap_or_else(|| panic!("expected a string, got {v:?}"))
-}
-
-/// An array of numbers.
-pub fn floats(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(items) => items.iter().map(num).collect(),
-        other => panic!("expected an array of numbers, got {other:?}"),
-    }
-}
-
-/// An array of integers.
-pub fn ints(v: &Value) -> Vec<i64> {
-    match v {
-        Value::Array(items) => items.iter().map(int).collect(),
-        other => panic!("expected an array of integers, got {other:?}"),
-    }
-}
-
-/// Asserts that `actual` and `expected` have the same length and agree within `tol`.
-#[track_caller]
-pub fn assert_close(actual: &[f64], expected: &[f64], tol: f64) {
-    assert_eq!(actual.len(), expected.len(), "{actual:?} vs expected {expected:?}");
-    for (a, e) in actual.iter().zip(expected) {
-        assert!(
-            (a - e).abs() <= tol,
-            "{actual:?} vs expected {expected:?} (tolerance {tol})"
-        );
-    }
-}
-
-/// Asserts that `message` (as printed: an error's text) contains every one of `parts`.
-#[track_caller]
-pub fn assert_contains(message: impl std::fmt::Display, parts: &[&str]) {
-    let message = message.to_string();
-    for p in parts {
-        assert!(message.contains(p), "{message:?} does not contain {p:?}");
-    }
-}
 
 /// Every log line as `(source, verbosity, message)`.
 pub fn log_lines(sim: &Engine) -> Vec<(String, i64, String)> {

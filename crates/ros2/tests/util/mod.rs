@@ -1,9 +1,9 @@
 //! Helpers for the graph's tests: an in-memory ROS network that keeps every endpoint
-//! ever opened and every sample written, and decoding of what was written.
+//! ever opened and every sample written, and decoding of what was written. Temp dirs and
+//! repository paths are `gantry_test_support`'s.
 #![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use gantry_ros::{Direction, EndpointId, EndpointSpec, NetworkError, RosNetwork, RosSample};
@@ -119,36 +119,5 @@ pub fn items<'a>(v: &'a Value, field: &str) -> &'a [Value] {
     match v.get(field) {
         Some(Value::Array(a)) => a,
         other => panic!("no array {field} in {v:?}: {other:?}"),
-    }
-}
-
-/// A file of the repository, given relative to its root.
-pub fn repo(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel)
-}
-
-/// A folder under the system temp dir, removed when dropped.
-pub struct TempDir(PathBuf);
-
-impl TempDir {
-    /// A fresh, empty folder whose name contains `tag` and the process id.
-    pub fn new(tag: &str) -> Self {
-        let path = std::env::temp_dir().join(format!("gantry-ros2-test-{tag}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).expect("create the temp dir");
-        Self(path)
-    }
-
-    /// Writes `text` to `name` inside the folder and returns the file's path.
-    pub fn write(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).expect("write a temp file");
-        p
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
     }
 }

@@ -1,14 +1,14 @@
 //! Shared helper for the server's end-to-end tests: a real `gantry_server::run` on a
 //! shipped scene, in this process, on free ports; stopped when dropped.
 
-use std::path::PathBuf;
 use std::sync::mpsc;
 use std::thread::JoinHandle;
 use std::time::Duration;
 
 use gantry_lua::ScriptLimits;
 use gantry_server::{BoundAddrs, RunSummary, ServeConfig, ServerError, Shutdown, SimConfig};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, SceneModel, load_scene};
+use gantry_sim_core::scene::SceneModel;
+use gantry_test_support::{load, repo};
 
 /// A running server; the simulation steps as fast as it can (`--fast`).
 pub struct InProcess {
@@ -21,9 +21,7 @@ pub struct InProcess {
 impl InProcess {
     /// Runs `assets/scenes/<scene>.toml` with the listeners of `serve`.
     pub fn start(scene: &str, serve: ServeConfig) -> Self {
-        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../assets/scenes/{scene}.toml"));
-        let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
-        Self::start_model(model, serve)
+        Self::start_model(load(&repo(&format!("assets/scenes/{scene}.toml"))), serve)
     }
 
     /// Runs a loaded scene (e.g. one a test wrote) with the listeners of `serve`.

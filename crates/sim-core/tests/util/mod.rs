@@ -1,23 +1,24 @@
 //! Helpers shared by sim-core's integration tests: simulations of the repository's
-//! scenes or of inline scene text, `sim.*` calls as a remote client makes them, and value
-//! accessors that fail the test with what they got.
+//! scenes or of inline scene text, `sim.*` calls as a remote client makes them, and the
+//! `fk_arm` scene's arm. The value accessors and assertions other crates' tests use too
+//! are `gantry_test_support`'s.
 #![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
 
 use std::path::{Path, PathBuf};
 
 use gantry_sim_core::api::{self, CallContext};
-use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene, load_scene_text};
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};
 use gantry_sim_core::{Handle, Sim, Value};
+use gantry_test_support::{load, repo};
 
 /// A file of the repository's `assets/`, e.g. `scenes/bubble_rob.toml`.
 pub fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(rel)
+    repo("assets").join(rel)
 }
 
 /// A simulation of the repository's scene `assets/<rel>`.
 pub fn asset_scene(rel: &str) -> Sim {
-    let model = load_scene(&DiskFiles, &asset(rel), &LoadOptions::default()).expect("scene loads");
-    Sim::new(&model)
+    Sim::new(&load(&asset(rel)))
 }
 
 /// A simulation of the scene `text`, read as if from `path` (relative to this crate's
@@ -69,24 +70,6 @@ pub fn err(w: &mut Sim, name: &str, args: &[Value]) -> String {
     }
 }
 
-/// A number.
-pub fn num(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v:?}"))
-}
-
-/// An integer.
-pub fn int(v: &Value) -> i64 {
-    v.as_i64().unwrap_or_else(|| panic!("not an integer: {v:?}"))
-}
-
-/// A table of numbers.
-pub fn floats(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(items) => items.iter().map(num).collect(),
-        other => panic!("not an array: {other:?}"),
-    }
-}
-
 /// The `fk_arm` scene's six-joint arm, as the IK tests drive it.
 pub struct Arm {
     /// The simulation of the scene.
@@ -116,6 +99,6 @@ pub fn arm() -> Arm {
 }
 
 /// Integers as a list of values.
-pub fn ints(v: &[i64]) -> Vec<Value> {
+pub fn int_values(v: &[i64]) -> Vec<Value> {
     v.iter().map(|&i| Value::Int(i)).collect()
 }
