@@ -6,7 +6,7 @@
 //! connected.
 
 use std::io::{Read, Write};
-use std::net::{TcpListener, TcpStream};
+use std::net::TcpStream;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
@@ -17,6 +17,7 @@ use gantry_sim_core::Value;
 use gantry_sim_core::api::Target;
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::sim::{Control, SimulationState};
+use gantry_test_support::{TempDir, free_port};
 use tokio::sync::oneshot;
 
 /// Counts its steps in a signal, then waits in `accept` in every actuation.
@@ -44,13 +45,6 @@ name = "marker"
 kind = "dummy"
 position = [1.0, 2.0, 3.0]
 "#;
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .expect("a free port")
-        .port()
-}
 
 /// One line to the script's server and its echo.
 fn exchange(port: u16, packet: &str) -> String {
@@ -85,11 +79,10 @@ fn read_scene(sim: &SimHandle) -> oneshot::Receiver<(usize, bool, [f64; 3])> {
 
 #[test]
 fn the_viewer_is_served_while_a_script_waits_in_accept() {
-    let dir = std::env::temp_dir().join(format!("gantry-served-while-waiting-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    std::fs::write(dir.join("scene.toml"), SCENE).expect("scene");
-    std::fs::write(dir.join("server.lua"), SERVER).expect("script");
-    let model = load_scene(&DiskFiles, &dir.join("scene.toml"), &LoadOptions::default()).expect("scene loads");
+    let dir = TempDir::new("served-while-waiting");
+    let scene = dir.write("scene.toml", SCENE);
+    dir.write("server.lua", SERVER);
+    let model = load_scene(&DiskFiles, &scene, &LoadOptions::default()).expect("scene loads");
 
     let port = free_port();
     let frames = frame_channel();
@@ -182,5 +175,4 @@ fn the_viewer_is_served_while_a_script_waits_in_accept() {
 
     running.stop();
     running.wait().expect("a clean end");
-    let _ = std::fs::remove_dir_all(&dir);
 }
