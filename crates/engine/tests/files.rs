@@ -165,7 +165,7 @@ fn an_embedded_scene_reaches_no_file() {
     dir.write("data.txt", "x");
     dir.write(
         "probe.lua",
-        &format!("function probe() return err(io.open, 'data.txt') end\n{LUA_ERR}"),
+        format!("function probe() return err(io.open, 'data.txt') end\n{LUA_ERR}"),
     );
     let mut model = load(&dir.write("scene.toml", PROBE_ONLY_SCENE));
     // What the loader gives the scene compiled into the binary.

@@ -159,7 +159,7 @@ fn an_embedded_scene_finds_modules_only_in_lua_path_folders() {
     dir.write("utils.lua", "return 1");
     dir.write(
         "probe.lua",
-        &format!("function probe() return err(require, 'utils') end\n{LUA_ERR}"),
+        format!("function probe() return err(require, 'utils') end\n{LUA_ERR}"),
     );
     let mut model = load(&dir.write("scene.toml", PROBE_ONLY_SCENE));
     // What the loader gives the scene compiled into the binary.

@@ -288,7 +288,9 @@ impl UserData for LuaFile {
                 let mut slot = this.0.borrow_mut();
                 let r = slot.as_mut().ok_or_else(closed)?;
                 // Drop what the reader buffered, so writing starts where reading stopped.
-                r.seek(SeekFrom::Current(0)).map_err(io_err)?;
+                // (`seek` to an absolute position empties the buffer and moves the file.)
+                let at = r.stream_position().map_err(io_err)?;
+                r.seek(SeekFrom::Start(at)).map_err(io_err)?;
                 for v in values.iter() {
                     let bytes = match v {
                         LuaValue::String(s) => s.as_bytes().to_vec(),
