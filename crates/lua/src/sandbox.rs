@@ -3,7 +3,8 @@
 //! Scripts are student or downloaded code running inside the user's process, so they get
 //! computation and the `sim` API, and nothing that reaches the machine:
 //!
-//! * no process, file or environment access: `io`, `package`, `debug` (but for
+//! * no process or environment access, and files only through the confined `io`
+//!   (`crate::script_io`): Lua's own `io`, `package`, `debug` (but for
 //!   `debug.traceback`) and the `os` functions listed in [`REMOVED_OS`] are not loaded;
 //!   `os.time`, `os.clock`, `os.date` and `os.difftime` remain;
 //! * no loading of code other than the script's own file: the globals in
@@ -273,7 +274,7 @@ pub const REQUIRE_ALIASES: &[(&str, &str)] = &[("socket.core", "socket"), ("matr
 /// and its file (`crate::modules::finder`).
 pub(crate) fn add_require(lua: &Lua, env: &Table, find: mlua::Function) -> mlua::Result<()> {
     const REQUIRE: &str = r#"
-local allowed, aliases, error, type, tostring, concat, find = ...
+local allowed, aliases, error, type, tostring, find = ...
 local loaded, loading = {}, {}
 function require(name)
     if type(name) ~= 'string' then
@@ -307,7 +308,6 @@ end
         aliases.raw_set(*name, *global)?;
     }
     let g = lua.globals();
-    let concat = g.get::<Table>("table")?.get::<mlua::Function>("concat")?;
     lua.load(REQUIRE)
         .set_name("@gantry/require.lua")
         .set_environment(env.clone())
@@ -317,7 +317,6 @@ end
             g.get::<mlua::Function>("error")?,
             g.get::<mlua::Function>("type")?,
             g.get::<mlua::Function>("tostring")?,
-            concat,
             find,
         ))
 }
