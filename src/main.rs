@@ -169,6 +169,15 @@ struct RunArgs {
     /// simulation stops. By default scripts start nothing.
     #[arg(long = "allow-launch", value_name = "PROGRAM")]
     allow_launch: Vec<std::path::PathBuf>,
+    /// Let scripts `require` their own Lua modules from DIR too (repeatable), after the
+    /// scene's folder: `require 'utils'` loads DIR/utils.lua or DIR/utils/init.lua, as
+    /// Lua source in the requiring script's sandbox.
+    #[arg(long = "lua-path", value_name = "DIR")]
+    lua_path: Vec<std::path::PathBuf>,
+    /// Let scripts read and write files in DIR with `io.open` (repeatable). Without it
+    /// scripts may only read files in the scene's folder.
+    #[arg(long = "allow-files", value_name = "DIR")]
+    allow_files: Vec<std::path::PathBuf>,
     /// A script that binds or connects to port ASKED gets port USED instead, e.g.
     /// `--script-port 6000=6001` to run two scenes that both hard-code 6000 (USED 0 = any
     /// free port; repeatable).
@@ -495,6 +504,8 @@ fn run(args: &RunArgs) -> Result<()> {
                 ..NetworkParams::default()
             },
             allow_launch: args.allow_launch.clone(),
+            lua_path: args.lua_path.clone(),
+            allow_files: args.allow_files.clone(),
             ..ScriptLimits::default()
         },
         autostart: true,

@@ -104,9 +104,9 @@ FLOORS = {
     ],
     # docs/architecture.md, "Floors inside the Lua host", explains each floor.
     "crates/lua/src": [
-        ({"limits", "convert", "listeners", "lua_error", "app_state", "waiting"}, False),
+        ({"limits", "convert", "listeners", "lua_error", "app_state", "waiting", "file_rules"}, False),
         ({"sandbox", "running", "directory", "sim_cell", "hooks"}, False),
-        ({"threads", "control", "recording", "models", "luasocket", "ros", "launch"}, False),
+        ({"threads", "control", "recording", "models", "luasocket", "ros", "launch", "modules", "script_io"}, False),
         ({"messages"}, False),
         ({"debugger"}, False),
         ({"budget", "host_api"}, False),

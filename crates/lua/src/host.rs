@@ -28,6 +28,7 @@ use crate::budget;
 use crate::control::PendingControl;
 use crate::debugger::{self, DebugHost, DebugLink};
 use crate::directory::Directory;
+use crate::file_rules::FileRoots;
 use crate::hooks::{Hook, HookCaller};
 use crate::host_api;
 use crate::launch::Launcher;
@@ -116,6 +117,13 @@ impl LuaHost {
         app_state::install(&lua, Models::default());
         app_state::install(&lua, RosHost::default());
         app_state::install(&lua, Launcher::new(limits.allow_launch.clone()));
+        app_state::install(
+            &lua,
+            FileRoots {
+                lua_path: limits.lua_path.clone(),
+                allow_files: limits.allow_files.clone(),
+            },
+        );
         let sockets = Sockets::new(limits.network.clone());
         sockets.clear_interrupt();
         app_state::install(&lua, sockets);

@@ -22,6 +22,12 @@ pub struct ScriptLimits {
     /// Programs `sim.launchExecutable` may start (`gantry run --allow-launch`); none by
     /// default.
     pub allow_launch: Vec<std::path::PathBuf>,
+    /// Folders `require` searches for the user's modules after the scene's folder
+    /// (`gantry run --lua-path DIR`, repeatable).
+    pub lua_path: Vec<std::path::PathBuf>,
+    /// Folders scripts may read and write with `io.open` (`gantry run --allow-files DIR`,
+    /// repeatable); the scene's own folder is readable without it, never writable.
+    pub allow_files: Vec<std::path::PathBuf>,
 }
 
 impl Default for ScriptLimits {
@@ -31,6 +37,8 @@ impl Default for ScriptLimits {
             memory: 512 << 20,
             network: NetworkParams::default(),
             allow_launch: Vec::new(),
+            lua_path: Vec::new(),
+            allow_files: Vec::new(),
         }
     }
 }

@@ -3,12 +3,14 @@
 //! Scripts are student or downloaded code running inside the user's process, so they get
 //! computation and the `sim` API, and nothing that reaches the machine:
 //!
-//! * no process, file or environment access: `io`, `package`, `debug` (but for
+//! * no process or environment access, and files only through the confined `io`
+//!   (`crate::script_io`): Lua's own `io`, `package`, `debug` (but for
 //!   `debug.traceback`) and the `os` functions listed in [`REMOVED_OS`] are not loaded;
 //!   `os.time`, `os.clock`, `os.date` and `os.difftime` remain;
 //! * no loading of code other than the script's own file: the globals in
-//!   [`REMOVED_GLOBALS`] are gone (so no bytecode; `require` returns only the API's
-//!   namespaces, [`REQUIRABLE`]), and script
+//!   [`REMOVED_GLOBALS`] are gone (so no bytecode; `require` returns the API's
+//!   namespaces, [`REQUIRABLE`], or loads the user's modules as text from the scene's
+//!   folder and the `--lua-path` folders, `crate::modules`), and script
 //!   files themselves are compiled as text only ([`SOURCE_MODE`]), because Lua does not
 //!   verify binary chunks and a crafted one can corrupt memory;
 //! * no way to change what other scripts see: every script gets its own copy of the
@@ -19,7 +21,9 @@
 //!   (they would run at the collector's convenience, inside whichever script happens
 //!   to allocate, or outside any time budget) and `collectgarbage` cannot stop or retune
 //!   the collector;
-//! * files written through the API only inside the scene's folder (`confine`);
+//! * files written through the API only inside the scene's folder (`confine`); files
+//!   opened with `io.open` read only from the scene's folder and the `--allow-files`
+//!   folders, written only in the latter (`crate::script_io`);
 //! * the network only through LuaSocket's TCP subset, listening where gantry listens
 //!   and connecting out only when the user allows it (`crate::luasocket`).
 //!
@@ -259,12 +263,19 @@ pub const REQUIRABLE: &[&str] = &[
 pub const REQUIRE_ALIASES: &[(&str, &str)] = &[("socket.core", "socket"), ("matrix", "Matrix")];
 
 /// Gives a script's environment a `require` that returns the script's own copy of an
-/// API namespace (or of the LuaSocket subset) and refuses everything else by name: there is no file or C module to
-/// load in the sandbox. Written in Lua and compiled with the script's environment so
-/// that it closes over that environment only through Lua (collectable with it).
-pub(crate) fn add_require(lua: &Lua, env: &Table) -> mlua::Result<()> {
+/// API namespace (or of the LuaSocket subset) and otherwise loads the user's module of
+/// that name with `find` (see `crate::modules`), once per script: what the module
+/// returns is cached (`true` when it returns nothing), and a module required again while
+/// it is still loading (a cycle) is refused as Lua's `package.loaded` sentinel would,
+/// instead of recursing until the stack overflows. Written in Lua and compiled with the
+/// script's environment so that it closes over that environment only through Lua
+/// (collectable with it).
+/// `find(name, env)` returns the chunk of the user's module `name` compiled into `env`,
+/// and its file (`crate::modules::finder`).
+pub(crate) fn add_require(lua: &Lua, env: &Table, find: mlua::Function) -> mlua::Result<()> {
     const REQUIRE: &str = r#"
-local allowed, aliases, error, type, tostring, concat = ...
+local allowed, aliases, error, type, tostring, find = ...
+local loaded, loading = {}, {}
 function require(name)
     if type(name) ~= 'string' then
         error("bad argument #1 to 'require' (string expected, got " .. type(name) .. ")", 2)
@@ -272,8 +283,19 @@ function require(name)
     -- CoppeliaSim 4.6 also accepts versioned names such as 'sim-2'.
     local base = aliases[name] or name:match('^([%w_]+)%-%d+$') or name
     if allowed[base] then return _ENV[base] end
-    error("module '" .. tostring(name) .. "' is not available in gantry: scripts may require "
-        .. concat(allowed, ', ') .. " (loading files and C modules is not allowed in the sandbox)", 2)
+    local done = loaded[name]
+    if done ~= nil then return done end
+    if loading[name] then
+        error("loop or previous error loading module '" .. name .. "'", 2)
+    end
+    loading[name] = true
+    -- A module that fails stays marked, so requiring it again names the earlier error.
+    local chunk, path = find(name, _ENV)
+    local value = chunk(name, path)
+    if value == nil then value = true end
+    loaded[name] = value
+    loading[name] = nil
+    return value
 end
 "#;
     let allowed = lua.create_table()?;
@@ -286,7 +308,6 @@ end
         aliases.raw_set(*name, *global)?;
     }
     let g = lua.globals();
-    let concat = g.get::<Table>("table")?.get::<mlua::Function>("concat")?;
     lua.load(REQUIRE)
         .set_name("@gantry/require.lua")
         .set_environment(env.clone())
@@ -296,7 +317,7 @@ end
             g.get::<mlua::Function>("error")?,
             g.get::<mlua::Function>("type")?,
             g.get::<mlua::Function>("tostring")?,
-            concat,
+            find,
         ))
 }
 

@@ -10,6 +10,7 @@ use std::rc::Rc;
 use std::time::SystemTime;
 
 use gantry_sim_core::Handle;
+use gantry_sim_core::graph::ExportScope;
 use gantry_sim_core::scene::ScriptModel;
 use gantry_sim_core::world::object_path::object_alias;
 use mlua::thread::ThreadStatus;
@@ -18,6 +19,7 @@ use mlua::{Function, Lua, MultiValue, Table, Thread, Value as LuaValue};
 use crate::app_state::state;
 use crate::debugger::DebugHost;
 use crate::directory::{Directory, Entry};
+use crate::file_rules::{FileRoots, Folders};
 use crate::hooks::{Hook, HookCaller, SUPPORTED_HOOKS, hook_order};
 use crate::lua_error::error_text;
 use crate::luasocket::Sockets;
@@ -174,9 +176,26 @@ impl ScriptSet {
             Ok(())
         })?;
         env.set("print", print)?;
-        sandbox::add_require(&self.lua, &env)?;
+        let folders = Rc::new(self.folders());
+        sandbox::add_require(&self.lua, &env, crate::modules::finder(&self.lua, folders.clone())?)?;
+        crate::script_io::add_io(&self.lua, &env, folders)?;
         sandbox::add_vrep3_names(&self.lua, &env)?;
         Ok(env)
+    }
+
+    /// The folders a script may reach (modules and files): the scene's folder, unless
+    /// the scene is embedded in gantry, and the user's `--lua-path`/`--allow-files`.
+    fn folders(&self) -> Folders {
+        let scene = match self.core.borrow().graphs.export_scope() {
+            ExportScope::Within(dir) => Some(dir.clone()),
+            ExportScope::Anywhere | ExportScope::Nowhere => None,
+        };
+        let roots = state::<FileRoots>(&self.lua);
+        Folders {
+            scene,
+            lua_path: roots.lua_path.clone(),
+            writable: roots.allow_files.clone(),
+        }
     }
 
     fn exec_chunk(&self, i: usize, source: &str) -> mlua::Result<()> {
