@@ -419,7 +419,9 @@ pub fn run_sim_thread_debugged(
     }
     let start = Instant::now();
     let mut last_served = start.checked_sub(SPIN_AFTER_ACTIVITY).unwrap_or(start);
-    let mut has_run = false;
+    // An autostarted run has run once its scripts initialised, even when one of them
+    // stopped the simulation in `sysCall_init` (a headless run then ends at once).
+    let mut has_run = config.autostart;
     loop {
         lp.engine.idle();
         if should_stop() || config.steps.is_some_and(|n| lp.engine.steps() >= n) {

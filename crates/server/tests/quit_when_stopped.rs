@@ -41,3 +41,30 @@ fn a_script_stop_ends_a_run_that_quits_when_stopped() {
     // takes effect after it.
     assert!((4..=6).contains(&summary.steps), "{summary:?}");
 }
+
+#[test]
+fn a_stop_in_sys_call_init_ends_a_run_that_quits_when_stopped() {
+    let dir = TempDir::new("quit-in-init");
+    dir.write(
+        "scene.toml",
+        "[[object]]\nname = \"node\"\nkind = \"dummy\"\nscript = \"stop.lua\"\n",
+    );
+    dir.write("stop.lua", "function sysCall_init()\n    sim.stopSimulation()\nend\n");
+    let model = load(&dir.path().join("scene.toml"));
+    let (_handle, rx) = channel();
+    let (done_tx, done) = mpsc::channel();
+    std::thread::spawn(move || {
+        let config = SimConfig {
+            fast: true,
+            autostart: true,
+            quit_when_stopped: true,
+            ..SimConfig::default()
+        };
+        let _ = done_tx.send(run_sim_thread(model, config, rx, || false));
+    });
+    let summary = done
+        .recv_timeout(Duration::from_secs(60))
+        .expect("the run ended: the script stopped the simulation as it started")
+        .expect("the run succeeded");
+    assert_eq!(summary.steps, 0, "{summary:?}");
+}
