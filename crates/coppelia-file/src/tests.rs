@@ -30,6 +30,7 @@ fn common(p: Precision, handle: i32, parent: i32, name: &str, pose: [f64; 7], om
         .chunk("Ali", &Payload::new().str(&format!("{name}Alias")).done())
         .chunk("Nme", &Payload::new().str(name).done())
         .chunk("Omp", &Payload::new().i32(omp).done())
+        .chunk("Rst", &Payload::new().str(&format!("open_{name}();linear")).done())
         .chunk("Va3", &[var])
         .chunk(
             "Cr2",
@@ -240,6 +241,7 @@ fn reads_every_kind_in_both_precisions() {
         assert_eq!((base.handle, base.parent), (10, None));
         assert_eq!(base.alias.as_deref(), Some("baseAlias"));
         assert_eq!(base.referenced, [("self.parent".to_owned(), vec![10, -1])]);
+        assert_eq!(base.extension, "open_base();linear");
         assert!(base.collidable && base.measurable && base.detectable && base.model_base);
         assert_eq!(base.local_pose.position, [0.5, 0.0, 0.0]);
         let ObjectKind::Shape(s) = &base.kind else {
@@ -437,6 +439,18 @@ fn truncated_and_corrupt_bodies_are_errors() {
                 )
                 .bytes(),
             "-3 referenced handles",
+        ),
+        // An extension string longer than its chunk.
+        (
+            Stream::new()
+                .nested(
+                    "DMY",
+                    Stream::new()
+                        .chunk("Rst", &Payload::new().i32(50).raw(b"short").done())
+                        .marker("NXT"),
+                )
+                .bytes(),
+            "too short",
         ),
         // A short pose.
         (

@@ -213,8 +213,8 @@ fn assert_same_model(a: &SceneModel, b: &SceneModel, tag: &str) {
     for (k, (x, y)) in a.objects.iter().zip(&b.objects).enumerate() {
         let what = format!("{tag}: object {k} '{}'", x.alias);
         assert_eq!(
-            (&x.alias, x.parent, x.model_base),
-            (&y.alias, y.parent, y.model_base),
+            (&x.alias, x.parent, x.model_base, &x.extension),
+            (&y.alias, y.parent, y.model_base, &y.extension),
             "{what}"
         );
         assert_pose(&x.local, &y.local, &what);
@@ -314,6 +314,7 @@ fn object(alias: &str, parent: Option<usize>, local: Pose, kind: ObjectModelKind
         parent,
         local,
         model_base: false,
+        extension: String::new(),
         kind,
     }
 }
@@ -431,7 +432,11 @@ fn everything() -> SceneModel {
             ObjectModelKind::Joint(joint(JointType::Fixed, JointMode::Free)),
         ),
         object("", Some(2), Pose::identity(), ObjectModelKind::Shape(visual_only)),
-        object("tip", Some(5), tilted, ObjectModelKind::Dummy),
+        ObjectModel {
+            // An RLBench waypoint's commands, with what TOML must escape.
+            extension: "open_gripper();ignore_collisions;linear \"q\"\n\\ povray {x {1}}".into(),
+            ..object("tip", Some(5), tilted, ObjectModelKind::Dummy)
+        },
         object("target", None, gimbal, ObjectModelKind::Dummy),
         object(
             "ray",

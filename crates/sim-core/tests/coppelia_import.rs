@@ -568,3 +568,57 @@ fn referenced_handles_are_imported() {
         assert!(h >= 0, "{tag}: {got:?}");
     }
 }
+
+/// Objects keep their extension strings (`Rst`), and `sim.getExtensionString` serves
+/// them whole or by key: the Sawyer's cameras carry POV-Ray settings.
+#[test]
+fn extension_strings_are_imported_and_served() {
+    let file = coppelia_files().join("PyRep__Sawyer.ttm");
+    if !file.is_file() {
+        println!("{} not found; skipped", file.display());
+        return;
+    }
+    let model = load_scene(&DiskFiles, &file, &LoadOptions::default()).expect("loads");
+    let camera = model
+        .objects
+        .iter()
+        .position(|o| o.alias == "Sawyer_wristCamera")
+        .expect("the wrist camera");
+    let whole = "povray {focalBlur {false} focalDist {2.000} aperture {0.050} blurSamples {10}}";
+    assert_eq!(model.objects[camera].extension, whole);
+    let with_strings = model.objects.iter().filter(|o| !o.extension.is_empty()).count();
+    assert_eq!(with_strings, 2, "the two cameras, nothing else");
+
+    let mut sim = Sim::new(&model);
+    let ctx = CallContext::default();
+    let mut get = |h: i64, key: Value| {
+        let got = api::call(
+            &mut sim,
+            &ctx,
+            "sim.getExtensionString",
+            &[Value::Int(h), Value::Int(-1), key],
+        )
+        .expect("a string");
+        let [Value::Str(s)] = &got[..] else { panic!("{got:?}") };
+        s.clone()
+    };
+    let h = camera as i64;
+    assert_eq!(get(h, Value::Nil), whole);
+    assert_eq!(get(h, Value::Str(String::new())), whole);
+    assert_eq!(get(h, Value::Str("focalDist@povray".into())), "2.000");
+    assert_eq!(
+        get(h, Value::Str("povray".into())).split_whitespace().next(),
+        Some("focalBlur")
+    );
+    assert_eq!(get(h, Value::Str("nothing@povray".into())), "");
+    // The environment's string is not kept; an object without one reads empty.
+    assert_eq!(get(-1, Value::Nil), "");
+    assert_eq!(get(0, Value::Nil), "");
+    let bad = api::call(
+        &mut sim,
+        &ctx,
+        "sim.getExtensionString",
+        &[Value::Int(9999), Value::Int(-1)],
+    );
+    assert!(bad.is_err(), "no such object: {bad:?}");
+}

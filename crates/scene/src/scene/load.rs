@@ -615,6 +615,7 @@ impl Resolver<'_> {
                 o.quaternion,
             )?,
             model_base: o.model_base.unwrap_or(false),
+            extension: o.extension_string.clone().unwrap_or_default(),
             kind,
         });
         if let Some(s) = &o.script {

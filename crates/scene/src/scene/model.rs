@@ -230,6 +230,10 @@ pub struct ObjectModel {
     pub local: Pose,
     /// Whether `:` in paths stops at this object.
     pub model_base: bool,
+    /// Extension string (`sim.getExtensionString`), empty when none: free text that
+    /// plugins and task code read, such as RLBench's waypoint commands
+    /// (`open_gripper()`, `ignore_collisions;linear`).
+    pub extension: String,
     /// What the object is.
     pub kind: ObjectModelKind,
 }

@@ -99,6 +99,8 @@ pub struct RawObject {
     pub quaternion: Option<[f64; 4]>,
     /// Marks the object as a model base (for `:` in paths).
     pub model_base: Option<bool>,
+    /// Extension string (`sim.getExtensionString`); none by default.
+    pub extension_string: Option<String>,
     /// Lua script file attached to this object, relative to the scene file.
     pub script: Option<Spanned<String>>,
 
@@ -376,6 +378,7 @@ const OBJECT_KEYS: &[&str] = &[
     "orientation_deg",
     "quaternion",
     "model_base",
+    "extension_string",
     "script",
     "shape",
     "size",

@@ -213,6 +213,9 @@ impl Writer {
         if o.model_base {
             self.out.push_str("model_base = true\n");
         }
+        if !o.extension.is_empty() {
+            let _ = writeln!(self.out, "extension_string = {}", quote(&o.extension));
+        }
         self.pose(&o.local)?;
         match &o.kind {
             ObjectModelKind::Shape(s) => self.shape(s),
@@ -664,6 +667,7 @@ mod tests {
             parent: None,
             local: Pose::identity(),
             model_base: false,
+            extension: String::new(),
             kind: ObjectModelKind::Dummy,
         }
     }

@@ -108,6 +108,7 @@ impl World {
             local,
             world: Pose::identity(),
             model_base: false,
+            extension: String::new(),
             kind,
         });
         self.refresh_subtree(h);
@@ -175,6 +176,7 @@ impl World {
                 local: Pose::identity(),
                 world: Pose::identity(),
                 model_base: false,
+                extension: String::new(),
                 kind: ObjectKind::Dummy,
             };
             self.edit.removed[h as usize] = true;

@@ -121,6 +121,7 @@ impl World {
                 local: o.local,
                 world: Pose::identity(),
                 model_base: o.model_base,
+                extension: o.extension.clone(),
                 kind: match &o.kind {
                     ObjectModelKind::Shape(s) => ObjectKind::Shape(Box::new(s.clone())),
                     ObjectModelKind::Joint(j) => {

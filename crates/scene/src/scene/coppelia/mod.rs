@@ -6,7 +6,7 @@
 //!
 //! | CoppeliaSim | gantry |
 //! |---|---|
-//! | tree, local poses, aliases, model bases | [`ObjectModel`] as is (4.3+ aliases, else names) |
+//! | tree, local poses, aliases, model bases, extension strings | [`ObjectModel`] as is (4.3+ aliases, else names) |
 //! | shapes | [`ShapeModel`] (see `shape.rs`): primitives where exact, else triangles |
 //! | revolute/prismatic joints | [`JointModel`]; passive, IK and motion modes kinematic |
 //! | dynamic joints: free, force, velocity, position | the same modes; spring and callback as position |
@@ -139,6 +139,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
             parent: o.parent.and_then(|p| index.get(&p).copied()),
             local: to_pose(&o.local_pose),
             model_base: o.model_base,
+            extension: o.extension.clone(),
             kind,
         });
     }
@@ -447,6 +448,7 @@ mod vision_tests {
             parent: None,
             local: crate::math::Pose::identity(),
             model_base: false,
+            extension: String::new(),
             kind: ObjectModelKind::VisionSensor(convert_vision(&sensor(true, [2048, 2048], 0.1)).expect("kept")),
         };
         // 36 fit in 1 GiB (28 MiB each); the 37th does not.
@@ -877,6 +879,7 @@ mod tests {
     fn dummy(handle: i32, parent: Option<i32>) -> cf::SceneObject {
         cf::SceneObject {
             referenced: Vec::new(),
+            extension: String::new(),
             handle,
             parent,
             name: format!("d{handle}"),
