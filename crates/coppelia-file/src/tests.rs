@@ -213,8 +213,26 @@ pub(crate) fn sample_body(p: Precision) -> Vec<u8> {
         .nested("SIM", sim)
         .nested("DYN", dynamics)
         .nested("LST", main)
+        .nested("GRP", collection())
         .marker("EOF")
         .bytes()
+}
+
+/// A collection as PyRep's arms have: the tree from the base, less one loose object.
+fn collection() -> Stream {
+    let item = |object: i32, kind: u8, var: u8| {
+        Stream::new()
+            .chunk("Obj", &Payload::new().i32(object).i32(0).done())
+            .chunk("Gty", &[kind])
+            .chunk("Var", &[var])
+    };
+    Stream::new()
+        .chunk("Grn", &Payload::new().str("base_arm").done())
+        .chunk("Gix", &Payload::new().i32(2_000_002).done())
+        .chunk("Par", &[0])
+        .chunk("Uis", &Payload::new().str("A5401EBDDE1E2F77").done())
+        .nested("Asg", item(10, 1, 1))
+        .nested("Asg", item(11, 0, 0))
 }
 
 pub(crate) fn sample_file(p: Precision) -> Vec<u8> {
@@ -242,6 +260,25 @@ fn reads_every_kind_in_both_precisions() {
         assert_eq!(base.alias.as_deref(), Some("baseAlias"));
         assert_eq!(base.referenced, [("self.parent".to_owned(), vec![10, -1])]);
         assert_eq!(base.extension, "open_base();linear");
+        assert_eq!(
+            f.collections,
+            [Collection {
+                handle: 2_000_002,
+                name: "base_arm".into(),
+                items: vec![
+                    CollectionItem {
+                        object: 10,
+                        kind: CollectionItemKind::Tree { include_base: true },
+                        additive: true,
+                    },
+                    CollectionItem {
+                        object: 11,
+                        kind: CollectionItemKind::Object,
+                        additive: false,
+                    },
+                ],
+            }]
+        );
         assert!(base.collidable && base.measurable && base.detectable && base.model_base);
         assert_eq!(base.local_pose.position, [0.5, 0.0, 0.0]);
         let ObjectKind::Shape(s) = &base.kind else {
@@ -451,6 +488,19 @@ fn truncated_and_corrupt_bodies_are_errors() {
                 )
                 .bytes(),
             "too short",
+        ),
+        // A collection item without its object, and one whose object is cut short.
+        (
+            Stream::new()
+                .nested("GRP", Stream::new().nested("Asg", Stream::new().chunk("Gty", &[1])))
+                .bytes(),
+            "names no object",
+        ),
+        (
+            Stream::new()
+                .nested("GRP", Stream::new().nested("Asg", Stream::new().chunk("Obj", &[1, 0])))
+                .bytes(),
+            "GRP/Asg/Obj",
         ),
         // A short pose.
         (

@@ -11,10 +11,10 @@ use std::sync::Arc;
 
 use gantry_sim_core::math::{Pose, pose_from_euler};
 use gantry_sim_core::scene::{
-    CameraModel, DiskFiles, GeomModel, Geometry, IkElementModel, IkGroupModel, IkMethodModel, JointMode, JointModel,
-    JointType, LoadOptions, MassModel, MeshData, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel,
-    ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
-    VisualModel, load_coppelia, load_scene, write_scene,
+    CameraModel, CollectionItemModel, CollectionModel, CollectionScope, DiskFiles, GeomModel, Geometry, IkElementModel,
+    IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, LoadOptions, MassModel, MeshData, MimicModel,
+    ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode, SceneModel, ScriptModel,
+    ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel, load_coppelia, load_scene, write_scene,
 };
 use gantry_test_support::repo;
 
@@ -229,6 +229,7 @@ fn assert_same_model(a: &SceneModel, b: &SceneModel, tag: &str) {
     assert_eq!(a.ball_links, b.ball_links, "{tag}: ball links");
     assert_eq!(a.referenced_handles, b.referenced_handles, "{tag}: referenced handles");
     assert_eq!(a.ik_groups, b.ik_groups, "{tag}: IK groups");
+    assert_eq!(a.collections, b.collections, "{tag}: collections");
 }
 
 #[test]
@@ -557,6 +558,40 @@ fn everything() -> SceneModel {
             tag: "ik.tip".into(),
             targets: vec![7, 6],
         }],
+        collections: vec![
+            CollectionModel {
+                name: "arm".into(),
+                items: vec![
+                    CollectionItemModel {
+                        scope: CollectionScope::Tree,
+                        object: Some(0),
+                        remove: false,
+                        exclude_base: false,
+                    },
+                    CollectionItemModel {
+                        scope: CollectionScope::Object,
+                        object: Some(5),
+                        remove: true,
+                        exclude_base: false,
+                    },
+                    CollectionItemModel {
+                        scope: CollectionScope::Chain,
+                        object: Some(6),
+                        remove: false,
+                        exclude_base: true,
+                    },
+                ],
+            },
+            CollectionModel {
+                name: "everything \"quoted\"".into(),
+                items: vec![CollectionItemModel {
+                    scope: CollectionScope::All,
+                    object: None,
+                    remove: false,
+                    exclude_base: false,
+                }],
+            },
+        ],
         urdf_robots: Vec::new(),
         warnings: vec!["line one\nline two".into()],
     }

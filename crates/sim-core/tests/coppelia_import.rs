@@ -622,3 +622,53 @@ fn extension_strings_are_imported_and_served() {
     );
     assert!(bad.is_err(), "no such object: {bad:?}");
 }
+
+/// Collections (`GRP`) are imported: PyRep's arms find `<Name>_arm` with
+/// `sim.getCollectionHandle`, and the Panda's holds the tree below its base.
+#[test]
+fn collections_are_imported() {
+    let file = coppelia_files().join("PyRep__Panda.ttm");
+    if !file.is_file() {
+        println!("{} not found; skipped", file.display());
+        return;
+    }
+    let model = load_scene(&DiskFiles, &file, &LoadOptions::default()).expect("loads");
+    let names: Vec<&str> = model.collections.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["Panda_arm"]);
+    let base = model.objects.iter().position(|o| o.alias == "Panda").expect("the base");
+    let mut sim = Sim::new(&model);
+    let ctx = CallContext::default();
+    let got = api::call(
+        &mut sim,
+        &ctx,
+        "sim.getCollectionHandle",
+        &[Value::Str("Panda_arm".into())],
+    )
+    .expect("found");
+    let Value::Int(h) = got[0] else { panic!("{got:?}") };
+    let got = api::call(&mut sim, &ctx, "sim.getCollectionObjects", &[Value::Int(h)]).expect("objects");
+    let Value::Array(objects) = &got[0] else {
+        panic!("{got:?}")
+    };
+    let objects: Vec<i64> = objects.iter().filter_map(Value::as_i64).collect();
+    // The base and everything below it: every object of the model except the floor the
+    // loader puts a model on, and whatever else hangs at the root.
+    let mut tree = vec![base];
+    let mut k = 0;
+    while k < tree.len() {
+        let p = tree[k];
+        tree.extend((0..model.objects.len()).filter(|&c| model.objects[c].parent == Some(p)));
+        k += 1;
+    }
+    tree.sort_unstable();
+    let tree: Vec<i64> = tree.into_iter().map(|i| i as i64).collect();
+    assert_eq!(objects, tree);
+    assert!(objects.len() > 20, "{} objects", objects.len());
+    let missing = api::call(
+        &mut sim,
+        &ctx,
+        "sim.getCollectionHandle",
+        &[Value::Str("Panda_ik@silentError".into())],
+    );
+    assert_eq!(missing.expect("silent"), [Value::Int(-1)]);
+}

@@ -19,8 +19,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::model::{
-    Geometry, IkGroupModel, IkMethodModel, JointMode, JointType, MassModel, MeshData, ObjectModel, ObjectModelKind,
-    Projection, ProximityModel, RenderMode, SceneModel, ShapeModel, VisionModel,
+    CollectionModel, CollectionScope, Geometry, IkGroupModel, IkMethodModel, JointMode, JointType, MassModel, MeshData,
+    ObjectModel, ObjectModelKind, Projection, ProximityModel, RenderMode, SceneModel, ShapeModel, VisionModel,
 };
 use super::obj_write::write_obj;
 use crate::math::{Pose, Quat, euler_from_quat, quat_from_euler, quat_to_array};
@@ -91,6 +91,9 @@ pub fn write_scene(model: &SceneModel, stem: &str, source: &str) -> Result<Scene
     }
     for g in &model.ik_groups {
         w.ik_group(g, &names)?;
+    }
+    for c in &model.collections {
+        w.collection(c, &names);
     }
     for s in &model.scripts {
         let name = &names[s.object];
@@ -167,6 +170,31 @@ impl Writer {
             let _ = writeln!(self.out, "constraints = {}", quote(&parts.join("+")));
         }
         Ok(())
+    }
+
+    /// One `[[collection]]` with its `[[collection.item]]` tables.
+    fn collection(&mut self, c: &CollectionModel, names: &[String]) {
+        self.out.push_str("\n[[collection]]\n");
+        let _ = writeln!(self.out, "name = {}", quote(&c.name));
+        for i in &c.items {
+            self.out.push_str("\n[[collection.item]]\n");
+            let scope = match i.scope {
+                CollectionScope::Object => "object",
+                CollectionScope::Tree => "tree",
+                CollectionScope::Chain => "chain",
+                CollectionScope::All => "all",
+            };
+            let _ = writeln!(self.out, "scope = \"{scope}\"");
+            if let Some(o) = i.object {
+                let _ = writeln!(self.out, "object = {}", quote(&names[o]));
+            }
+            if i.remove {
+                self.out.push_str("remove = true\n");
+            }
+            if i.exclude_base {
+                self.out.push_str("exclude_base = true\n");
+            }
+        }
     }
 
     fn settings(&mut self, model: &SceneModel) -> Result<(), WriteError> {
@@ -700,6 +728,7 @@ mod tests {
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
             ik_groups: Vec::new(),
+            collections: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
         }
@@ -750,6 +779,7 @@ mod tests {
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
             ik_groups: Vec::new(),
+            collections: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
         };

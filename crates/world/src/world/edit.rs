@@ -355,6 +355,19 @@ impl World {
             let targets = r.targets.iter().map(|&t| map[t]).collect();
             self.custom.set_referenced(map[r.object], &r.tag, targets);
         }
+        // Collection names stay unique among live collections: a model's collection whose
+        // name is taken (a second copy of the same robot) is left out, with a warning.
+        for c in &model.collections {
+            if self.collection_named(&c.name).is_some() {
+                warnings.push(format!(
+                    "collection '{}' already exists; the model's is not added",
+                    c.name
+                ));
+                continue;
+            }
+            self.collections
+                .push(Some(super::Collection::from_model(c, |i| map[i])));
+        }
         self.urdf_robots.extend(
             model
                 .urdf_robots

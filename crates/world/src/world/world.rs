@@ -211,7 +211,11 @@ impl World {
             warnings,
             selection: Default::default(),
             custom: super::CustomData::default(),
-            collections: Vec::new(),
+            collections: model
+                .collections
+                .iter()
+                .map(|c| Some(Collection::from_model(c, |i| i as Handle)))
+                .collect(),
             log: Log::default(),
             queries_stale: true,
             edit: super::edit_state::EditState::new(objects_len, model.settings.seed),
