@@ -8,7 +8,7 @@
 //! verified on the public files (a mobile base's collection lists its objects with 0, an
 //! arm's names its base with 1); 2 to 5 follow the order of CoppeliaSim's collection
 //! element kinds (tree without its base, chain to the root with and without its tip,
-//! everything) [inferred].
+//! everything), which is inferred, not seen.
 
 use crate::chunk::{At, Chunk, Chunks, show};
 use crate::error::ReadError;
