@@ -795,6 +795,18 @@ fn the_keys_added_for_conversion_are_checked() {
             "shape 's': `inertia` needs `mass` (and no `density`)",
         ),
         (
+            format!("{dummy}[[collection]]\nname = \"c\"\n[[collection.item]]\nscope = \"branch\"\nobject = \"d\"\n"),
+            "collection 'c': unknown scope 'branch' (use object, tree, chain or all)",
+        ),
+        (
+            format!("{dummy}[[collection]]\nname = \"c\"\n[[collection.item]]\nscope = \"tree\"\n"),
+            "collection 'c': an item needs its object",
+        ),
+        (
+            format!("{dummy}[[collection]]\nname = \"c\"\n[[collection]]\nname = \"c\"\n"),
+            "collection: name 'c' is empty or used twice",
+        ),
+        (
             format!("{joint}mimic = {{ leader = \"d\" }}\n{dummy}"),
             "mimic leader 'd' must be another joint",
         ),
