@@ -12,8 +12,8 @@
 //! Bullet friction and restitution, primitive type and size, meshes with their vertex
 //! frame and colour, compounds as their leaves), joints, dummies, proximity, vision and
 //! force sensors, scripts (main, child, customization; Lua or Python; the text decoded),
-//! the extension strings, collections, and the time step, engine, gravity and engine step.
-//! What is not: textures, thumbnails, old IK/collision/distance objects, custom data, graphs' streams, lights'
+//! the extension strings, collections, IK groups (not yet imported), and the time step, engine, gravity and engine step.
+//! What is not: textures, thumbnails, old collision/distance objects, custom data, graphs' streams, lights'
 //! and cameras' parameters, engine-specific joint and material arrays beyond Bullet
 //! friction and restitution. Unknown chunks are skipped whole; values that do not apply
 //! are ignored.
@@ -37,6 +37,7 @@ mod error;
 mod field;
 pub mod header;
 pub mod huffman;
+pub mod ik_group;
 pub mod joint;
 pub mod mesh;
 mod object;
@@ -55,6 +56,7 @@ pub use collection::{Collection, CollectionItem, CollectionItemKind};
 pub use dummy::{Dummy, DummyLink};
 pub use error::ReadError;
 pub use header::{FileType, Header};
+pub use ik_group::{IkElement, IkGroup};
 pub use joint::{DynamicControl, Joint, JointDependency, JointMode, JointType};
 pub use mesh::MeshBuffers;
 pub use object::{ObjectKind, SceneObject};
@@ -72,6 +74,8 @@ pub const MAX_BODY_LEN: usize = 512 * 1024 * 1024;
 pub const MAX_OBJECTS: usize = 1 << 20;
 /// Most collections in one file.
 pub const MAX_COLLECTIONS: usize = 1 << 16;
+/// Most IK groups in one file.
+pub const MAX_IK_GROUPS: usize = 1 << 16;
 /// Most scripts in one file.
 pub const MAX_SCRIPTS: usize = 1 << 16;
 
@@ -90,6 +94,8 @@ pub struct CoppeliaFile {
     pub settings: Settings,
     /// Collections (`GRP`), in file order.
     pub collections: Vec<Collection>,
+    /// IK groups (`IKO`), in file order (read, not yet imported by gantry's loader).
+    pub ik_groups: Vec<IkGroup>,
 }
 
 impl CoppeliaFile {
@@ -236,6 +242,7 @@ fn read_body(header: Header, body: &[u8]) -> Result<CoppeliaFile, ReadError> {
         scripts: Vec::new(),
         settings: Settings::default(),
         collections: Vec::new(),
+        ik_groups: Vec::new(),
     };
     let mut buffers = MeshBuffers::default();
     let mut stream = Chunks::new(body, &top);
@@ -262,6 +269,15 @@ fn read_body(header: Header, body: &[u8]) -> Result<CoppeliaFile, ReadError> {
                     });
                 }
                 file.collections.push(collection::read(&c, &top)?);
+            }
+            b"IKO" => {
+                if file.ik_groups.len() == MAX_IK_GROUPS {
+                    return Err(ReadError::TooMany {
+                        what: "IK groups",
+                        max: MAX_IK_GROUPS,
+                    });
+                }
+                file.ik_groups.push(ik_group::read(&c, &top)?);
             }
             t if object::is_object_tag(t) => {
                 if file.objects.len() == MAX_OBJECTS {

@@ -214,6 +214,23 @@ pub(crate) fn sample_body(p: Precision) -> Vec<u8> {
         .nested("DYN", dynamics)
         .nested("LST", main)
         .nested("GRP", collection())
+        .nested(
+            "IKO",
+            Stream::new()
+                .chunk("Oid", &Payload::new().i32(2_031_029).done())
+                .chunk("Nme", &Payload::new().str("base_ik").done())
+                .chunk("Mit", &Payload::new().i32(6).done())
+                .chunk("Dpg", &Payload::new().f32s(&[0.25]).done())
+                .chunk("Cmt", &Payload::new().i32(1).done())
+                .chunk("Var", &[0x59])
+                .nested(
+                    "Ike",
+                    Stream::new()
+                        .chunk("Ik2", &Payload::new().i32(12).i32(10).done())
+                        .chunk("Ctr", &Payload::new().i32(7).done())
+                        .chunk("Var", &[1]),
+                ),
+        )
         .marker("EOF")
         .bytes()
 }
@@ -260,6 +277,23 @@ fn reads_every_kind_in_both_precisions() {
         assert_eq!(base.alias.as_deref(), Some("baseAlias"));
         assert_eq!(base.referenced, [("self.parent".to_owned(), vec![10, -1])]);
         assert_eq!(base.extension, "open_base();linear");
+        assert_eq!(
+            f.ik_groups,
+            [IkGroup {
+                handle: 2_031_029,
+                name: "base_ik".into(),
+                max_iterations: 6,
+                method: 1,
+                damping: 0.25,
+                flags: 0x59,
+                elements: vec![IkElement {
+                    tip: 12,
+                    base: 10,
+                    constraints: 7,
+                    active: true,
+                }],
+            }]
+        );
         assert_eq!(
             f.collections,
             [Collection {
@@ -501,6 +535,16 @@ fn truncated_and_corrupt_bodies_are_errors() {
                 .nested("GRP", Stream::new().nested("Asg", Stream::new().chunk("Obj", &[1, 0])))
                 .bytes(),
             "GRP/Asg/Obj",
+        ),
+        // An IK element without its tip.
+        (
+            Stream::new()
+                .nested(
+                    "IKO",
+                    Stream::new().nested("Ike", Stream::new().chunk("Ctr", &[7, 0, 0, 0])),
+                )
+                .bytes(),
+            "names no tip",
         ),
         // A short pose.
         (

@@ -968,6 +968,7 @@ mod tests {
             },
             objects,
             collections: Vec::new(),
+            ik_groups: Vec::new(),
             scripts: Vec::new(),
             settings: cf::Settings::default(),
         }
