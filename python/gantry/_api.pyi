@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 304 functions, 278 constants."""
+    """`sim`: 305 functions, 278 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -387,6 +387,8 @@ class Sim:
     def getEulerAnglesFromMatrix(self, *args: Any) -> Any: ...
     def getExplicitHandling(self, *args: Any) -> Any:
         """0 for a scene object (see `sim.setExplicitHandling`)."""
+    def getExtensionString(self, *args: Any) -> Any:
+        """one string per object, loaded from CoppeliaSim files (`Rst`) and the scene's `extension_string` key, carried by copies and model imports; `index` (a compound's component) is ignored, the environment's string (handle -1) is empty, and a key names nested `name {value}` entries innermost first (`shadow@povray`), an absent one giving an empty string."""
     def getFloatParam(self, *args: Any) -> Any:
         """`floatparam_rand` is a fixed, deterministic sequence."""
     def getFloatParameter(self, *args: Any) -> Any: ...

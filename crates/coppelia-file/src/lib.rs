@@ -12,16 +12,17 @@
 //! Bullet friction and restitution, primitive type and size, meshes with their vertex
 //! frame and colour, compounds as their leaves), joints, dummies, proximity, vision and
 //! force sensors, scripts (main, child, customization; Lua or Python; the text decoded),
-//! and the time step, engine, gravity and engine step. What is not: textures, thumbnails,
-//! collections, old IK/collision/distance objects, custom data, graphs' streams, lights'
+//! the extension strings, collections, IK groups (not yet imported), and the time step, engine, gravity and engine step.
+//! What is not: textures, thumbnails, old collision/distance objects, custom data, graphs' streams, lights'
 //! and cameras' parameters, engine-specific joint and material arrays beyond Bullet
 //! friction and restitution. Unknown chunks are skipped whole; values that do not apply
 //! are ignored.
 //!
 //! Bounds: the decoded body is capped at [`MAX_BODY_LEN`] and can be no longer than the
 //! coded bits allow; every length is checked against the bytes that remain before any
-//! allocation; nesting is capped at [`chunk::MAX_DEPTH`]; objects, scripts, mesh leaves
-//! and buffer elements have caps too ([`MAX_OBJECTS`], [`MAX_SCRIPTS`],
+//! allocation; nesting is capped at [`chunk::MAX_DEPTH`]; objects, scripts, mesh leaves,
+//! buffer elements, collections and their items have caps too ([`MAX_OBJECTS`], [`MAX_SCRIPTS`],
+//! [`MAX_COLLECTIONS`], [`collection::MAX_ITEMS`],
 //! [`shape::MAX_LEAVES`], [`mesh::MAX_BUFFER_ELEMENTS`]). Shared mesh buffers are
 //! reference-counted, never copied per mesh. The reader never panics; it is fuzzed
 //! (`fuzz/fuzz_targets/coppelia_file.rs`).
@@ -30,11 +31,13 @@
 
 pub mod camera;
 pub mod chunk;
+pub mod collection;
 pub mod dummy;
 mod error;
 mod field;
 pub mod header;
 pub mod huffman;
+pub mod ik_group;
 pub mod joint;
 pub mod mesh;
 mod object;
@@ -49,9 +52,11 @@ mod tests;
 mod testutil;
 
 pub use camera::Camera;
+pub use collection::{Collection, CollectionItem, CollectionItemKind};
 pub use dummy::{Dummy, DummyLink};
 pub use error::ReadError;
 pub use header::{FileType, Header};
+pub use ik_group::{IkElement, IkGroup};
 pub use joint::{DynamicControl, Joint, JointDependency, JointMode, JointType};
 pub use mesh::MeshBuffers;
 pub use object::{ObjectKind, SceneObject};
@@ -67,6 +72,10 @@ use chunk::{At, Chunk, Chunks, Item};
 pub const MAX_BODY_LEN: usize = 512 * 1024 * 1024;
 /// Most objects in one file.
 pub const MAX_OBJECTS: usize = 1 << 20;
+/// Most collections in one file.
+pub const MAX_COLLECTIONS: usize = 1 << 16;
+/// Most IK groups in one file.
+pub const MAX_IK_GROUPS: usize = 1 << 16;
 /// Most scripts in one file.
 pub const MAX_SCRIPTS: usize = 1 << 16;
 
@@ -83,6 +92,10 @@ pub struct CoppeliaFile {
     pub scripts: Vec<Script>,
     /// Simulation settings.
     pub settings: Settings,
+    /// Collections (`GRP`), in file order.
+    pub collections: Vec<Collection>,
+    /// IK groups (`IKO`), in file order (read, not yet imported by gantry's loader).
+    pub ik_groups: Vec<IkGroup>,
 }
 
 impl CoppeliaFile {
@@ -228,6 +241,8 @@ fn read_body(header: Header, body: &[u8]) -> Result<CoppeliaFile, ReadError> {
         objects: Vec::new(),
         scripts: Vec::new(),
         settings: Settings::default(),
+        collections: Vec::new(),
+        ik_groups: Vec::new(),
     };
     let mut buffers = MeshBuffers::default();
     let mut stream = Chunks::new(body, &top);
@@ -246,6 +261,24 @@ fn read_body(header: Header, body: &[u8]) -> Result<CoppeliaFile, ReadError> {
             b"LST" => list_scripts.push(script::read(&c, &top, ScriptOrigin::List)?),
             b"SIM" => settings::read_simulation(&c, &top, &mut file.settings)?,
             b"DYN" => settings::read_dynamics(&c, &top, &mut file.settings)?,
+            b"GRP" => {
+                if file.collections.len() == MAX_COLLECTIONS {
+                    return Err(ReadError::TooMany {
+                        what: "collections",
+                        max: MAX_COLLECTIONS,
+                    });
+                }
+                file.collections.push(collection::read(&c, &top)?);
+            }
+            b"IKO" => {
+                if file.ik_groups.len() == MAX_IK_GROUPS {
+                    return Err(ReadError::TooMany {
+                        what: "IK groups",
+                        max: MAX_IK_GROUPS,
+                    });
+                }
+                file.ik_groups.push(ik_group::read(&c, &top)?);
+            }
             t if object::is_object_tag(t) => {
                 if file.objects.len() == MAX_OBJECTS {
                     return Err(ReadError::TooMany {

@@ -6,6 +6,8 @@
 //! 4.3+), `Omp` (object special properties), the model-base bit in `Var`/`Va2`/`Va3` and,
 //! from 4.7, `Cr2`: one per tag of the object's referenced handles
 //! (`sim.setReferencedHandles`), a string then an i32 count and that many handles.
+//! `Rst` (serialization 18+) is the extension string (`sim.getExtensionString`): a
+//! string, empty when the object has none.
 
 use crate::camera::{self, Camera};
 use crate::chunk::{At, Chunk, Chunks, Item, show};
@@ -52,6 +54,9 @@ pub struct SceneObject {
     /// Referenced handles (4.7+, `Cr2`) by tag, in file order: the objects a model's
     /// scripts find with `sim.getReferencedHandle(s)`.
     pub referenced: Vec<(String, Vec<i32>)>,
+    /// Extension string (`Rst`), empty when none: free text plugins and task models read
+    /// with `sim.getExtensionString` (RLBench's waypoints: `open_gripper()`, ...).
+    pub extension: String,
     /// The type and its own part.
     pub kind: ObjectKind,
     /// Offset of the object's chunk payload in the decoded body.
@@ -138,6 +143,7 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
         detectable: false,
         model_base: false,
         referenced: Vec::new(),
+        extension: String::new(),
         kind: ObjectKind::Other(c.tag),
         offset: c.offset,
     };
@@ -153,6 +159,7 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
             }
             b"Nme" => o.name = f.string()?,
             b"Ali" => o.alias = Some(f.string()?),
+            b"Rst" => o.extension = f.string()?,
             b"Omp" => {
                 let p = f.i32()?;
                 o.collidable = p & COLLIDABLE != 0;

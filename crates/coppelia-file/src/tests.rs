@@ -30,6 +30,7 @@ fn common(p: Precision, handle: i32, parent: i32, name: &str, pose: [f64; 7], om
         .chunk("Ali", &Payload::new().str(&format!("{name}Alias")).done())
         .chunk("Nme", &Payload::new().str(name).done())
         .chunk("Omp", &Payload::new().i32(omp).done())
+        .chunk("Rst", &Payload::new().str(&format!("open_{name}();linear")).done())
         .chunk("Va3", &[var])
         .chunk(
             "Cr2",
@@ -212,8 +213,43 @@ pub(crate) fn sample_body(p: Precision) -> Vec<u8> {
         .nested("SIM", sim)
         .nested("DYN", dynamics)
         .nested("LST", main)
+        .nested("GRP", collection())
+        .nested(
+            "IKO",
+            Stream::new()
+                .chunk("Oid", &Payload::new().i32(2_031_029).done())
+                .chunk("Nme", &Payload::new().str("base_ik").done())
+                .chunk("Mit", &Payload::new().i32(6).done())
+                .chunk("Dpg", &Payload::new().f32s(&[0.25]).done())
+                .chunk("Cmt", &Payload::new().i32(1).done())
+                .chunk("Var", &[0x59])
+                .nested(
+                    "Ike",
+                    Stream::new()
+                        .chunk("Ik2", &Payload::new().i32(12).i32(10).done())
+                        .chunk("Ctr", &Payload::new().i32(7).done())
+                        .chunk("Var", &[1]),
+                ),
+        )
         .marker("EOF")
         .bytes()
+}
+
+/// A collection as PyRep's arms have: the tree from the base, less one loose object.
+fn collection() -> Stream {
+    let item = |object: i32, kind: u8, var: u8| {
+        Stream::new()
+            .chunk("Obj", &Payload::new().i32(object).i32(0).done())
+            .chunk("Gty", &[kind])
+            .chunk("Var", &[var])
+    };
+    Stream::new()
+        .chunk("Grn", &Payload::new().str("base_arm").done())
+        .chunk("Gix", &Payload::new().i32(2_000_002).done())
+        .chunk("Par", &[0])
+        .chunk("Uis", &Payload::new().str("A5401EBDDE1E2F77").done())
+        .nested("Asg", item(10, 1, 1))
+        .nested("Asg", item(11, 0, 0))
 }
 
 pub(crate) fn sample_file(p: Precision) -> Vec<u8> {
@@ -240,6 +276,43 @@ fn reads_every_kind_in_both_precisions() {
         assert_eq!((base.handle, base.parent), (10, None));
         assert_eq!(base.alias.as_deref(), Some("baseAlias"));
         assert_eq!(base.referenced, [("self.parent".to_owned(), vec![10, -1])]);
+        assert_eq!(base.extension, "open_base();linear");
+        assert_eq!(
+            f.ik_groups,
+            [IkGroup {
+                handle: 2_031_029,
+                name: "base_ik".into(),
+                max_iterations: 6,
+                method: 1,
+                damping: 0.25,
+                flags: 0x59,
+                elements: vec![IkElement {
+                    tip: 12,
+                    base: 10,
+                    constraints: 7,
+                    active: true,
+                }],
+            }]
+        );
+        assert_eq!(
+            f.collections,
+            [Collection {
+                handle: 2_000_002,
+                name: "base_arm".into(),
+                items: vec![
+                    CollectionItem {
+                        object: 10,
+                        kind: CollectionItemKind::Tree { include_base: true },
+                        additive: true,
+                    },
+                    CollectionItem {
+                        object: 11,
+                        kind: CollectionItemKind::Object,
+                        additive: false,
+                    },
+                ],
+            }]
+        );
         assert!(base.collidable && base.measurable && base.detectable && base.model_base);
         assert_eq!(base.local_pose.position, [0.5, 0.0, 0.0]);
         let ObjectKind::Shape(s) = &base.kind else {
@@ -437,6 +510,41 @@ fn truncated_and_corrupt_bodies_are_errors() {
                 )
                 .bytes(),
             "-3 referenced handles",
+        ),
+        // An extension string longer than its chunk.
+        (
+            Stream::new()
+                .nested(
+                    "DMY",
+                    Stream::new()
+                        .chunk("Rst", &Payload::new().i32(50).raw(b"short").done())
+                        .marker("NXT"),
+                )
+                .bytes(),
+            "too short",
+        ),
+        // A collection item without its object, and one whose object is cut short.
+        (
+            Stream::new()
+                .nested("GRP", Stream::new().nested("Asg", Stream::new().chunk("Gty", &[1])))
+                .bytes(),
+            "names no object",
+        ),
+        (
+            Stream::new()
+                .nested("GRP", Stream::new().nested("Asg", Stream::new().chunk("Obj", &[1, 0])))
+                .bytes(),
+            "GRP/Asg/Obj",
+        ),
+        // An IK element without its tip.
+        (
+            Stream::new()
+                .nested(
+                    "IKO",
+                    Stream::new().nested("Ike", Stream::new().chunk("Ctr", &[7, 0, 0, 0])),
+                )
+                .bytes(),
+            "names no tip",
         ),
         // A short pose.
         (

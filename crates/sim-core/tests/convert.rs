@@ -11,10 +11,10 @@ use std::sync::Arc;
 
 use gantry_sim_core::math::{Pose, pose_from_euler};
 use gantry_sim_core::scene::{
-    CameraModel, DiskFiles, GeomModel, Geometry, IkElementModel, IkGroupModel, IkMethodModel, JointMode, JointModel,
-    JointType, LoadOptions, MassModel, MeshData, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel,
-    ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel,
-    VisualModel, load_coppelia, load_scene, write_scene,
+    CameraModel, CollectionItemModel, CollectionModel, CollectionScope, DiskFiles, GeomModel, Geometry, IkElementModel,
+    IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, LoadOptions, MassModel, MeshData, MimicModel,
+    ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode, SceneModel, ScriptModel,
+    ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel, load_coppelia, load_scene, write_scene,
 };
 use gantry_test_support::repo;
 
@@ -213,8 +213,8 @@ fn assert_same_model(a: &SceneModel, b: &SceneModel, tag: &str) {
     for (k, (x, y)) in a.objects.iter().zip(&b.objects).enumerate() {
         let what = format!("{tag}: object {k} '{}'", x.alias);
         assert_eq!(
-            (&x.alias, x.parent, x.model_base),
-            (&y.alias, y.parent, y.model_base),
+            (&x.alias, x.parent, x.model_base, &x.extension),
+            (&y.alias, y.parent, y.model_base, &y.extension),
             "{what}"
         );
         assert_pose(&x.local, &y.local, &what);
@@ -229,6 +229,7 @@ fn assert_same_model(a: &SceneModel, b: &SceneModel, tag: &str) {
     assert_eq!(a.ball_links, b.ball_links, "{tag}: ball links");
     assert_eq!(a.referenced_handles, b.referenced_handles, "{tag}: referenced handles");
     assert_eq!(a.ik_groups, b.ik_groups, "{tag}: IK groups");
+    assert_eq!(a.collections, b.collections, "{tag}: collections");
 }
 
 #[test]
@@ -314,6 +315,7 @@ fn object(alias: &str, parent: Option<usize>, local: Pose, kind: ObjectModelKind
         parent,
         local,
         model_base: false,
+        extension: String::new(),
         kind,
     }
 }
@@ -431,7 +433,11 @@ fn everything() -> SceneModel {
             ObjectModelKind::Joint(joint(JointType::Fixed, JointMode::Free)),
         ),
         object("", Some(2), Pose::identity(), ObjectModelKind::Shape(visual_only)),
-        object("tip", Some(5), tilted, ObjectModelKind::Dummy),
+        ObjectModel {
+            // An RLBench waypoint's commands, with what TOML must escape.
+            extension: "open_gripper();ignore_collisions;linear \"q\"\n\\ povray {x {1}}".into(),
+            ..object("tip", Some(5), tilted, ObjectModelKind::Dummy)
+        },
         object("target", None, gimbal, ObjectModelKind::Dummy),
         object(
             "ray",
@@ -552,6 +558,40 @@ fn everything() -> SceneModel {
             tag: "ik.tip".into(),
             targets: vec![7, 6],
         }],
+        collections: vec![
+            CollectionModel {
+                name: "arm".into(),
+                items: vec![
+                    CollectionItemModel {
+                        scope: CollectionScope::Tree,
+                        object: Some(0),
+                        remove: false,
+                        exclude_base: false,
+                    },
+                    CollectionItemModel {
+                        scope: CollectionScope::Object,
+                        object: Some(5),
+                        remove: true,
+                        exclude_base: false,
+                    },
+                    CollectionItemModel {
+                        scope: CollectionScope::Chain,
+                        object: Some(6),
+                        remove: false,
+                        exclude_base: true,
+                    },
+                ],
+            },
+            CollectionModel {
+                name: "everything \"quoted\"".into(),
+                items: vec![CollectionItemModel {
+                    scope: CollectionScope::All,
+                    object: None,
+                    remove: false,
+                    exclude_base: false,
+                }],
+            },
+        ],
         urdf_robots: Vec::new(),
         warnings: vec!["line one\nline two".into()],
     }
@@ -753,6 +793,18 @@ fn the_keys_added_for_conversion_are_checked() {
         (
             "[[object]]\nname = \"s\"\nkind = \"shape\"\nshape = \"sphere\"\nradius = 1.0\ninertia = [1, 0, 0, 1, 0, 1]\n".into(),
             "shape 's': `inertia` needs `mass` (and no `density`)",
+        ),
+        (
+            format!("{dummy}[[collection]]\nname = \"c\"\n[[collection.item]]\nscope = \"branch\"\nobject = \"d\"\n"),
+            "collection 'c': unknown scope 'branch' (use object, tree, chain or all)",
+        ),
+        (
+            format!("{dummy}[[collection]]\nname = \"c\"\n[[collection.item]]\nscope = \"tree\"\n"),
+            "collection 'c': an item needs its object",
+        ),
+        (
+            format!("{dummy}[[collection]]\nname = \"c\"\n[[collection]]\nname = \"c\"\n"),
+            "collection: name 'c' is empty or used twice",
         ),
         (
             format!("{joint}mimic = {{ leader = \"d\" }}\n{dummy}"),

@@ -568,3 +568,107 @@ fn referenced_handles_are_imported() {
         assert!(h >= 0, "{tag}: {got:?}");
     }
 }
+
+/// Objects keep their extension strings (`Rst`), and `sim.getExtensionString` serves
+/// them whole or by key: the Sawyer's cameras carry POV-Ray settings.
+#[test]
+fn extension_strings_are_imported_and_served() {
+    let file = coppelia_files().join("PyRep__Sawyer.ttm");
+    if !file.is_file() {
+        println!("{} not found; skipped", file.display());
+        return;
+    }
+    let model = load_scene(&DiskFiles, &file, &LoadOptions::default()).expect("loads");
+    let camera = model
+        .objects
+        .iter()
+        .position(|o| o.alias == "Sawyer_wristCamera")
+        .expect("the wrist camera");
+    let whole = "povray {focalBlur {false} focalDist {2.000} aperture {0.050} blurSamples {10}}";
+    assert_eq!(model.objects[camera].extension, whole);
+    let with_strings = model.objects.iter().filter(|o| !o.extension.is_empty()).count();
+    assert_eq!(with_strings, 2, "the two cameras, nothing else");
+
+    let mut sim = Sim::new(&model);
+    let ctx = CallContext::default();
+    let mut get = |h: i64, key: Value| {
+        let got = api::call(
+            &mut sim,
+            &ctx,
+            "sim.getExtensionString",
+            &[Value::Int(h), Value::Int(-1), key],
+        )
+        .expect("a string");
+        let [Value::Str(s)] = &got[..] else { panic!("{got:?}") };
+        s.clone()
+    };
+    let h = camera as i64;
+    assert_eq!(get(h, Value::Nil), whole);
+    assert_eq!(get(h, Value::Str(String::new())), whole);
+    assert_eq!(get(h, Value::Str("focalDist@povray".into())), "2.000");
+    assert_eq!(
+        get(h, Value::Str("povray".into())).split_whitespace().next(),
+        Some("focalBlur")
+    );
+    assert_eq!(get(h, Value::Str("nothing@povray".into())), "");
+    // The environment's string is not kept; an object without one reads empty.
+    assert_eq!(get(-1, Value::Nil), "");
+    assert_eq!(get(0, Value::Nil), "");
+    let bad = api::call(
+        &mut sim,
+        &ctx,
+        "sim.getExtensionString",
+        &[Value::Int(9999), Value::Int(-1)],
+    );
+    assert!(bad.is_err(), "no such object: {bad:?}");
+}
+
+/// Collections (`GRP`) are imported: PyRep's arms find `<Name>_arm` with
+/// `sim.getCollectionHandle`, and the Panda's holds the tree below its base.
+#[test]
+fn collections_are_imported() {
+    let file = coppelia_files().join("PyRep__Panda.ttm");
+    if !file.is_file() {
+        println!("{} not found; skipped", file.display());
+        return;
+    }
+    let model = load_scene(&DiskFiles, &file, &LoadOptions::default()).expect("loads");
+    let names: Vec<&str> = model.collections.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["Panda_arm"]);
+    let base = model.objects.iter().position(|o| o.alias == "Panda").expect("the base");
+    let mut sim = Sim::new(&model);
+    let ctx = CallContext::default();
+    let got = api::call(
+        &mut sim,
+        &ctx,
+        "sim.getCollectionHandle",
+        &[Value::Str("Panda_arm".into())],
+    )
+    .expect("found");
+    let Value::Int(h) = got[0] else { panic!("{got:?}") };
+    let got = api::call(&mut sim, &ctx, "sim.getCollectionObjects", &[Value::Int(h)]).expect("objects");
+    let Value::Array(objects) = &got[0] else {
+        panic!("{got:?}")
+    };
+    let objects: Vec<i64> = objects.iter().filter_map(Value::as_i64).collect();
+    // The base and everything below it: every object of the model except the floor the
+    // loader puts a model on, and whatever else hangs at the root.
+    let mut tree = vec![base];
+    let mut k = 0;
+    while k < tree.len() {
+        let p = tree[k];
+        tree.extend((0..model.objects.len()).filter(|&c| model.objects[c].parent == Some(p)));
+        k += 1;
+    }
+    tree.sort_unstable();
+    let tree: Vec<i64> = tree.into_iter().map(|i| i as i64).collect();
+    assert_eq!(objects, tree);
+    assert!(objects.len() > 20, "{} objects", objects.len());
+    let missing = api::call(
+        &mut sim,
+        &ctx,
+        "sim.getCollectionHandle",
+        &[Value::Str("Panda_ik@silentError".into())],
+    );
+    assert_eq!(missing.expect("silent"), [Value::Int(-1)]);
+}

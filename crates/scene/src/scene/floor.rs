@@ -19,6 +19,7 @@ pub(super) fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> Ob
         parent: None,
         local: Pose::identity(),
         model_base: true,
+        extension: String::new(),
         kind: ObjectModelKind::Shape(ShapeModel {
             geoms: vec![GeomModel {
                 geometry: geometry.clone(),

@@ -14,10 +14,11 @@ use super::error::{LoadError, line_col};
 use super::files::{Files, normalize, stem};
 use super::floor::{floor_object, put_on_floor};
 use super::model::{
-    CameraModel, GeomModel, Geometry, IkElementModel, IkGroupModel, IkMethodModel, JointMode, JointModel, JointType,
-    MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION, MassModel, MimicModel, ObjectModel, ObjectModelKind, Projection,
-    ProximityModel, ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings,
-    UrdfRobotModel, VISION_BYTES_PER_PIXEL, VisionModel, VisualModel, vision_image_bytes,
+    CameraModel, CollectionItemModel, CollectionModel, CollectionScope, GeomModel, Geometry, IkElementModel,
+    IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION,
+    MassModel, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode,
+    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, UrdfRobotModel, VISION_BYTES_PER_PIXEL,
+    VisionModel, VisualModel, vision_image_bytes,
 };
 use super::raw::{RawObject, RawPart, RawRobot, RawScene, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
@@ -106,6 +107,7 @@ pub(super) fn load_urdf_model(files: &dyn Files, path: &Path, opts: &LoadOptions
         ball_links: Vec::new(),
         referenced_handles: Vec::new(),
         ik_groups: Vec::new(),
+        collections: Vec::new(),
         urdf_robots: vec![robot],
         warnings,
     })
@@ -199,6 +201,7 @@ pub fn load_scene_text(
     let (dummy_links, ball_links) = r.dummy_links(&raw)?;
     let referenced_handles = r.references(&raw)?;
     let ik_groups = r.ik_groups(&raw)?;
+    let collections = r.collections(&raw)?;
     Ok(SceneModel {
         name: stem(path),
         base_dir: base_dir.clone(),
@@ -211,6 +214,7 @@ pub fn load_scene_text(
         ball_links,
         referenced_handles,
         ik_groups,
+        collections,
         urdf_robots: r.urdf_robots,
         warnings: dedup(r.warnings),
     })
@@ -615,6 +619,7 @@ impl Resolver<'_> {
                 o.quaternion,
             )?,
             model_base: o.model_base.unwrap_or(false),
+            extension: o.extension_string.clone().unwrap_or_default(),
             kind,
         });
         if let Some(s) = &o.script {
@@ -1257,6 +1262,58 @@ impl Resolver<'_> {
                 damping,
                 max_iterations,
                 explicit: g.explicit.unwrap_or(false),
+            });
+        }
+        Ok(out)
+    }
+
+    /// The `[[collection]]` tables: unique names, items of a known scope, each naming an
+    /// object except `all`.
+    fn collections(&self, raw: &RawScene) -> Result<Vec<CollectionModel>, LoadError> {
+        let mut out: Vec<CollectionModel> = Vec::with_capacity(raw.collection.len());
+        for c in &raw.collection {
+            let name = c.name.get_ref();
+            if name.is_empty() || out.iter().any(|o| &o.name == name) {
+                return self.err_at(
+                    c.name.span(),
+                    format!("collection: name '{name}' is empty or used twice"),
+                );
+            }
+            let mut items = Vec::with_capacity(c.item.len());
+            for i in &c.item {
+                let scope = match i.scope.as_ref().map(|s| s.get_ref().as_str()) {
+                    None | Some("object") => CollectionScope::Object,
+                    Some("tree") => CollectionScope::Tree,
+                    Some("chain") => CollectionScope::Chain,
+                    Some("all") => CollectionScope::All,
+                    Some(other) => {
+                        let span = i.scope.as_ref().map_or(c.name.span(), Spanned::span);
+                        return self.err_at(
+                            span,
+                            format!("collection '{name}': unknown scope '{other}' (use object, tree, chain or all)"),
+                        );
+                    }
+                };
+                let object = match (&i.object, scope) {
+                    (None, CollectionScope::All) => None,
+                    (Some(o), CollectionScope::All) => {
+                        return self.err_at(o.span(), format!("collection '{name}': an 'all' item names no object"));
+                    }
+                    (Some(o), _) => Some(self.reference(o)?),
+                    (None, _) => {
+                        return self.err_at(c.name.span(), format!("collection '{name}': an item needs its object"));
+                    }
+                };
+                items.push(CollectionItemModel {
+                    scope,
+                    object,
+                    remove: i.remove.unwrap_or(false),
+                    exclude_base: i.exclude_base.unwrap_or(false),
+                });
+            }
+            out.push(CollectionModel {
+                name: name.clone(),
+                items,
             });
         }
         Ok(out)

@@ -43,6 +43,8 @@ pub struct SceneModel {
     /// The scene's IK groups (V-REP 3 / CoppeliaSim 4.0-4.2 built-in kinematics, reached
     /// with `sim.getIkGroupHandle`), in file order.
     pub ik_groups: Vec<IkGroupModel>,
+    /// Named collections (`sim.getCollectionHandle`), in file order; names are unique.
+    pub collections: Vec<CollectionModel>,
     /// The robots loaded from URDF files, in load order: which objects each file's links
     /// and joints became, and the file's text (ROS 2's `/robot_description`).
     pub urdf_robots: Vec<UrdfRobotModel>,
@@ -80,6 +82,11 @@ impl SceneModel {
                 e.tip += by;
                 e.target += by;
                 e.base = e.base.map(|b| b + by);
+            }
+        }
+        for c in &mut self.collections {
+            for i in &mut c.items {
+                i.object = i.object.map(|o| o + by);
             }
         }
         for r in &mut self.urdf_robots {
@@ -158,6 +165,42 @@ pub struct IkElementModel {
     pub constraints: u8,
 }
 
+/// A named collection (`[[collection]]`): a set of objects built from items applied in
+/// order, evaluated against the tree when queried, as CoppeliaSim's collections are.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CollectionModel {
+    /// The name `sim.getCollectionHandle` finds it by.
+    pub name: String,
+    /// The items, in order.
+    pub items: Vec<CollectionItemModel>,
+}
+
+/// One item of a collection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CollectionItemModel {
+    /// What the item covers.
+    pub scope: CollectionScope,
+    /// Index of the object it starts from; `None` only for [`CollectionScope::All`].
+    pub object: Option<usize>,
+    /// The item removes its objects instead of adding them.
+    pub remove: bool,
+    /// Leave out the object itself (a tree's base, a chain's tip).
+    pub exclude_base: bool,
+}
+
+/// What a collection item covers (`sim.handle_single`, `_tree`, `_chain`, `_all`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CollectionScope {
+    /// The object alone.
+    Object,
+    /// The object and everything below it.
+    Tree,
+    /// The object and its ancestors.
+    Chain,
+    /// Every object.
+    All,
+}
+
 /// One tag of an object's referenced handles.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ReferencedHandles {
@@ -230,6 +273,10 @@ pub struct ObjectModel {
     pub local: Pose,
     /// Whether `:` in paths stops at this object.
     pub model_base: bool,
+    /// Extension string (`sim.getExtensionString`), empty when none: free text that
+    /// plugins and task code read, such as RLBench's waypoint commands
+    /// (`open_gripper()`, `ignore_collisions;linear`).
+    pub extension: String,
     /// What the object is.
     pub kind: ObjectModelKind,
 }

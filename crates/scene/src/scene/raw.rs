@@ -35,6 +35,9 @@ pub struct RawScene {
     /// `[[ik_group]]`: IK groups (V-REP 3's built-in kinematics).
     #[serde(default)]
     pub ik_group: Vec<RawIkGroup>,
+    /// `[[collection]]`: named collections (`sim.getCollectionHandle`).
+    #[serde(default)]
+    pub collection: Vec<RawCollection>,
 }
 
 /// `[simulation]`.
@@ -99,6 +102,8 @@ pub struct RawObject {
     pub quaternion: Option<[f64; 4]>,
     /// Marks the object as a model base (for `:` in paths).
     pub model_base: Option<bool>,
+    /// Extension string (`sim.getExtensionString`); none by default.
+    pub extension_string: Option<String>,
     /// Lua script file attached to this object, relative to the scene file.
     pub script: Option<Spanned<String>>,
 
@@ -304,6 +309,29 @@ pub struct RawIkElement {
     pub constraints: Option<Spanned<String>>,
 }
 
+/// One `[[collection]]`.
+#[derive(Debug, Deserialize)]
+pub struct RawCollection {
+    /// The name `sim.getCollectionHandle` finds it by.
+    pub name: Spanned<String>,
+    /// `[[collection.item]]`: the items, applied in order.
+    #[serde(default)]
+    pub item: Vec<RawCollectionItem>,
+}
+
+/// One `[[collection.item]]`.
+#[derive(Debug, Deserialize)]
+pub struct RawCollectionItem {
+    /// `object` (default), `tree`, `chain` or `all`.
+    pub scope: Option<Spanned<String>>,
+    /// The object it starts from, by name (not with `all`).
+    pub object: Option<Spanned<String>>,
+    /// Removes the objects instead of adding them (default false).
+    pub remove: Option<bool>,
+    /// Leaves out the object itself, a tree's base or a chain's tip (default false).
+    pub exclude_base: Option<bool>,
+}
+
 /// One `[[robot]]`: a URDF include.
 #[derive(Debug, Deserialize)]
 pub struct RawRobot {
@@ -356,6 +384,7 @@ const SCENE_KEYS: &[&str] = &[
     "dummy_link",
     "reference",
     "ik_group",
+    "collection",
 ];
 const SIMULATION_KEYS: &[&str] = &[
     "dt",
@@ -376,6 +405,7 @@ const OBJECT_KEYS: &[&str] = &[
     "orientation_deg",
     "quaternion",
     "model_base",
+    "extension_string",
     "script",
     "shape",
     "size",
@@ -466,6 +496,8 @@ const DUMMY_LINK_KEYS: &[&str] = &["dummies", "free_rotation"];
 const REFERENCE_KEYS: &[&str] = &["object", "tag", "objects"];
 const IK_GROUP_KEYS: &[&str] = &["name", "method", "damping", "max_iterations", "explicit", "element"];
 const IK_ELEMENT_KEYS: &[&str] = &["tip", "target", "base", "constraints"];
+const COLLECTION_KEYS: &[&str] = &["name", "item"];
+const COLLECTION_ITEM_KEYS: &[&str] = &["scope", "object", "remove", "exclude_base"];
 
 /// Lists keys of the document that the scene format does not define, as
 /// `"table.key"` paths with a suggestion when a known key is close.
@@ -482,13 +514,14 @@ pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
             check_table(t, name, keys, &mut out);
         }
     }
-    let arrays: [(&str, &[&str]); 6] = [
+    let arrays: [(&str, &[&str]); 7] = [
         ("object", OBJECT_KEYS),
         ("robot", ROBOT_KEYS),
         ("script", SCRIPT_KEYS),
         ("dummy_link", DUMMY_LINK_KEYS),
         ("reference", REFERENCE_KEYS),
         ("ik_group", IK_GROUP_KEYS),
+        ("collection", COLLECTION_KEYS),
     ];
     for (name, keys) in arrays {
         if let Some(toml::Value::Array(items)) = doc.get(name) {
@@ -506,6 +539,13 @@ pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
                         for (j, e) in elements.iter().enumerate() {
                             if let toml::Value::Table(e) = e {
                                 check_table(e, &format!("{label}.element[{j}]"), IK_ELEMENT_KEYS, &mut out);
+                            }
+                        }
+                    }
+                    if let Some(toml::Value::Array(items)) = t.get("item") {
+                        for (j, e) in items.iter().enumerate() {
+                            if let toml::Value::Table(e) = e {
+                                check_table(e, &format!("{label}.item[{j}]"), COLLECTION_ITEM_KEYS, &mut out);
                             }
                         }
                     }

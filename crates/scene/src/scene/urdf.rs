@@ -341,6 +341,7 @@ pub fn import_urdf(
         parent: include.parent,
         local: include.pose,
         model_base: true,
+        extension: String::new(),
         kind: ObjectModelKind::Dummy,
     });
     let mut index = UrdfIndex {
@@ -368,6 +369,7 @@ pub fn import_urdf(
             parent: Some(parent_obj),
             local,
             model_base: false,
+            extension: String::new(),
             kind: ObjectModelKind::Shape(shape),
         });
         index.links.insert(link.name.clone(), link_obj);
@@ -446,6 +448,7 @@ pub fn import_urdf(
                 parent: Some(link_obj),
                 local: origin * UnitQuaternion::from(align),
                 model_base: false,
+                extension: String::new(),
                 kind: ObjectModelKind::Joint(JointModel {
                     joint_type,
                     mode,

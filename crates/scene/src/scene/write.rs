@@ -19,8 +19,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::model::{
-    Geometry, IkGroupModel, IkMethodModel, JointMode, JointType, MassModel, MeshData, ObjectModel, ObjectModelKind,
-    Projection, ProximityModel, RenderMode, SceneModel, ShapeModel, VisionModel,
+    CollectionModel, CollectionScope, Geometry, IkGroupModel, IkMethodModel, JointMode, JointType, MassModel, MeshData,
+    ObjectModel, ObjectModelKind, Projection, ProximityModel, RenderMode, SceneModel, ShapeModel, VisionModel,
 };
 use super::obj_write::write_obj;
 use crate::math::{Pose, Quat, euler_from_quat, quat_from_euler, quat_to_array};
@@ -91,6 +91,9 @@ pub fn write_scene(model: &SceneModel, stem: &str, source: &str) -> Result<Scene
     }
     for g in &model.ik_groups {
         w.ik_group(g, &names)?;
+    }
+    for c in &model.collections {
+        w.collection(c, &names);
     }
     for s in &model.scripts {
         let name = &names[s.object];
@@ -169,6 +172,31 @@ impl Writer {
         Ok(())
     }
 
+    /// One `[[collection]]` with its `[[collection.item]]` tables.
+    fn collection(&mut self, c: &CollectionModel, names: &[String]) {
+        self.out.push_str("\n[[collection]]\n");
+        let _ = writeln!(self.out, "name = {}", quote(&c.name));
+        for i in &c.items {
+            self.out.push_str("\n[[collection.item]]\n");
+            let scope = match i.scope {
+                CollectionScope::Object => "object",
+                CollectionScope::Tree => "tree",
+                CollectionScope::Chain => "chain",
+                CollectionScope::All => "all",
+            };
+            let _ = writeln!(self.out, "scope = \"{scope}\"");
+            if let Some(o) = i.object {
+                let _ = writeln!(self.out, "object = {}", quote(&names[o]));
+            }
+            if i.remove {
+                self.out.push_str("remove = true\n");
+            }
+            if i.exclude_base {
+                self.out.push_str("exclude_base = true\n");
+            }
+        }
+    }
+
     fn settings(&mut self, model: &SceneModel) -> Result<(), WriteError> {
         let s = &model.settings;
         self.object = "[simulation]".into();
@@ -212,6 +240,9 @@ impl Writer {
         }
         if o.model_base {
             self.out.push_str("model_base = true\n");
+        }
+        if !o.extension.is_empty() {
+            let _ = writeln!(self.out, "extension_string = {}", quote(&o.extension));
         }
         self.pose(&o.local)?;
         match &o.kind {
@@ -664,6 +695,7 @@ mod tests {
             parent: None,
             local: Pose::identity(),
             model_base: false,
+            extension: String::new(),
             kind: ObjectModelKind::Dummy,
         }
     }
@@ -696,6 +728,7 @@ mod tests {
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
             ik_groups: Vec::new(),
+            collections: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
         }
@@ -746,6 +779,7 @@ mod tests {
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
             ik_groups: Vec::new(),
+            collections: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
         };

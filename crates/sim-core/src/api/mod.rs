@@ -12,6 +12,7 @@ mod contacts;
 mod custom_data;
 mod drawing;
 mod error;
+mod extension;
 mod function;
 mod graph_curves;
 pub mod host;
@@ -433,6 +434,7 @@ pub const MODULES: &[Module] = &[
             lights::FUNCTIONS,
             graph_curves::FUNCTIONS,
             contacts::FUNCTIONS,
+            extension::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,

@@ -2,6 +2,7 @@
 //! evaluated against the current tree when queried.
 
 use super::object::Handle;
+use crate::scene::{CollectionModel, CollectionScope};
 
 /// The first collection handle; collections and objects never share handles.
 pub const FIRST_COLLECTION_HANDLE: Handle = 2_000_000;
@@ -40,4 +41,28 @@ pub struct Collection {
     pub name: String,
     /// Items in the order they were added.
     pub items: Vec<CollectionItem>,
+}
+
+impl Collection {
+    /// A scene's collection, its object indices mapped to handles by `handle`.
+    pub fn from_model(model: &CollectionModel, handle: impl Fn(usize) -> Handle) -> Self {
+        Collection {
+            name: model.name.clone(),
+            items: model
+                .items
+                .iter()
+                .map(|i| CollectionItem {
+                    kind: match i.scope {
+                        CollectionScope::Object => ItemKind::Single,
+                        CollectionScope::Tree => ItemKind::Tree,
+                        CollectionScope::Chain => ItemKind::Chain,
+                        CollectionScope::All => ItemKind::All,
+                    },
+                    object: i.object.map_or(-1, &handle),
+                    remove: i.remove,
+                    exclude_base: i.exclude_base,
+                })
+                .collect(),
+        }
+    }
 }

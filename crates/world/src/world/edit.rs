@@ -108,6 +108,7 @@ impl World {
             local,
             world: Pose::identity(),
             model_base: false,
+            extension: String::new(),
             kind,
         });
         self.refresh_subtree(h);
@@ -175,6 +176,7 @@ impl World {
                 local: Pose::identity(),
                 world: Pose::identity(),
                 model_base: false,
+                extension: String::new(),
                 kind: ObjectKind::Dummy,
             };
             self.edit.removed[h as usize] = true;
@@ -352,6 +354,19 @@ impl World {
         for r in &model.referenced_handles {
             let targets = r.targets.iter().map(|&t| map[t]).collect();
             self.custom.set_referenced(map[r.object], &r.tag, targets);
+        }
+        // Collection names stay unique among live collections: a model's collection whose
+        // name is taken (a second copy of the same robot) is left out, with a warning.
+        for c in &model.collections {
+            if self.collection_named(&c.name).is_some() {
+                warnings.push(format!(
+                    "collection '{}' already exists; the model's is not added",
+                    c.name
+                ));
+                continue;
+            }
+            self.collections
+                .push(Some(super::Collection::from_model(c, |i| map[i])));
         }
         self.urdf_robots.extend(
             model

@@ -22,6 +22,8 @@ pub struct Object {
     pub world: Pose,
     /// Whether `:` in paths stops at this object.
     pub model_base: bool,
+    /// Extension string (`sim.getExtensionString`), empty when none.
+    pub extension: String,
     /// What the object is, with its state.
     pub kind: ObjectKind,
 }

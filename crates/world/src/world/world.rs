@@ -121,6 +121,7 @@ impl World {
                 local: o.local,
                 world: Pose::identity(),
                 model_base: o.model_base,
+                extension: o.extension.clone(),
                 kind: match &o.kind {
                     ObjectModelKind::Shape(s) => ObjectKind::Shape(Box::new(s.clone())),
                     ObjectModelKind::Joint(j) => {
@@ -210,7 +211,11 @@ impl World {
             warnings,
             selection: Default::default(),
             custom: super::CustomData::default(),
-            collections: Vec::new(),
+            collections: model
+                .collections
+                .iter()
+                .map(|c| Some(Collection::from_model(c, |i| i as Handle)))
+                .collect(),
             log: Log::default(),
             queries_stale: true,
             edit: super::edit_state::EditState::new(objects_len, model.settings.seed),

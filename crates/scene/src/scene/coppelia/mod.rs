@@ -6,7 +6,7 @@
 //!
 //! | CoppeliaSim | gantry |
 //! |---|---|
-//! | tree, local poses, aliases, model bases | [`ObjectModel`] as is (4.3+ aliases, else names) |
+//! | tree, local poses, aliases, model bases, extension strings | [`ObjectModel`] as is (4.3+ aliases, else names) |
 //! | shapes | [`ShapeModel`] (see `shape.rs`): primitives where exact, else triangles |
 //! | revolute/prismatic joints | [`JointModel`]; passive, IK and motion modes kinematic |
 //! | dynamic joints: free, force, velocity, position | the same modes; spring and callback as position |
@@ -21,6 +21,7 @@
 //! | Lua child and customization scripts | [`ScriptModel`] on their object, old ones updated (`old_scripts.rs`) |
 //! | main scripts | dropped (gantry runs its own loop; a custom one is warned) |
 //! | Python, disabled scripts | dropped (warned) |
+//! | collections (`GRP`) | [`CollectionModel`] (`sim.getCollectionHandle`) |
 //! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
 //!
 //! Joint motors keep CoppeliaSim's targets, limits and maximum forces. Position
@@ -139,6 +140,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
             parent: o.parent.and_then(|p| index.get(&p).copied()),
             local: to_pose(&o.local_pose),
             model_base: o.model_base,
+            extension: o.extension.clone(),
             kind,
         });
     }
@@ -156,6 +158,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
 
     let (dummy_links, ball_links) = loop_closures(&file, &index);
     let referenced_handles = referenced_handles(&file, &index, &mut warnings);
+    let collections = convert_collections(&file, &index, &mut warnings);
     let scripts = convert_scripts(&file, path, &index, &mut report, &mut warnings);
     let settings = convert_settings(&file.settings, &mut warnings);
     report.warnings = warnings.clone();
@@ -171,6 +174,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         ball_links,
         referenced_handles,
         ik_groups: Vec::new(),
+        collections,
         urdf_robots: Vec::new(),
         warnings,
     };
@@ -447,6 +451,7 @@ mod vision_tests {
             parent: None,
             local: crate::math::Pose::identity(),
             model_base: false,
+            extension: String::new(),
             kind: ObjectModelKind::VisionSensor(convert_vision(&sensor(true, [2048, 2048], 0.1)).expect("kept")),
         };
         // 36 fit in 1 GiB (28 MiB each); the 37th does not.
@@ -674,6 +679,61 @@ fn referenced_handles(
     out
 }
 
+/// The file's collections (`GRP`), with object indices. A collection without a name or
+/// with a name taken before is dropped, and so is an item of an unknown kind or naming
+/// no object of the file; each with a warning.
+fn convert_collections(
+    file: &cf::CoppeliaFile,
+    index: &HashMap<i32, usize>,
+    warnings: &mut Vec<String>,
+) -> Vec<CollectionModel> {
+    let mut out: Vec<CollectionModel> = Vec::new();
+    for c in &file.collections {
+        if c.name.is_empty() || out.iter().any(|o| o.name == c.name) {
+            warnings.push(format!(
+                "collection '{}': no name or a name used twice; dropped",
+                c.name
+            ));
+            continue;
+        }
+        let mut items = Vec::with_capacity(c.items.len());
+        for i in &c.items {
+            let (scope, exclude_base) = match i.kind {
+                cf::CollectionItemKind::Object => (CollectionScope::Object, false),
+                cf::CollectionItemKind::Tree { include_base } => (CollectionScope::Tree, !include_base),
+                cf::CollectionItemKind::Chain { include_tip } => (CollectionScope::Chain, !include_tip),
+                cf::CollectionItemKind::Everything => (CollectionScope::All, false),
+                cf::CollectionItemKind::Unknown(k) => {
+                    warnings.push(format!("collection '{}': an item of unknown kind {k}; dropped", c.name));
+                    continue;
+                }
+            };
+            let object = if scope == CollectionScope::All {
+                None
+            } else if let Some(&k) = index.get(&i.object) {
+                Some(k)
+            } else {
+                warnings.push(format!(
+                    "collection '{}': item object {} is not in the file; dropped",
+                    c.name, i.object
+                ));
+                continue;
+            };
+            items.push(CollectionItemModel {
+                scope,
+                object,
+                remove: !i.additive,
+                exclude_base,
+            });
+        }
+        out.push(CollectionModel {
+            name: c.name.clone(),
+            items,
+        });
+    }
+    out
+}
+
 /// Lua child and customization scripts, on their objects.
 fn convert_scripts(
     file: &cf::CoppeliaFile,
@@ -877,6 +937,7 @@ mod tests {
     fn dummy(handle: i32, parent: Option<i32>) -> cf::SceneObject {
         cf::SceneObject {
             referenced: Vec::new(),
+            extension: String::new(),
             handle,
             parent,
             name: format!("d{handle}"),
@@ -906,6 +967,8 @@ mod tests {
                 file_type: cf::FileType::Scene,
             },
             objects,
+            collections: Vec::new(),
+            ik_groups: Vec::new(),
             scripts: Vec::new(),
             settings: cf::Settings::default(),
         }
