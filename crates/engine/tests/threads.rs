@@ -435,8 +435,9 @@ fn require_returns_the_api_and_refuses_anything_else_by_name() {
     assert_contains(
         text(&r[1]),
         &[
-            "module 'lfs' is not available in gantry",
+            "module 'lfs' not found: it is none of gantry's modules",
             "Matrix, sim, simIK, simOMPL, simROS, simROS2, simRemoteApi, simUI, simVision, socket",
+            "--lua-path",
         ],
     );
 }

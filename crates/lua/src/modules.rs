@@ -15,14 +15,23 @@ use std::rc::Rc;
 use mlua::{Function, Lua, Table};
 
 use crate::file_rules::{Folders, confine, list};
-use crate::sandbox::SOURCE_MODE;
+use crate::sandbox::{REQUIRABLE, SOURCE_MODE};
 
 /// The `find(name, env)` function the sandbox's `require` calls (see [`find`]).
 ///
 /// # Errors
 /// Out of memory.
 pub(crate) fn finder(lua: &Lua, folders: Rc<Folders>) -> mlua::Result<Function> {
-    lua.create_function(move |lua, (name, env): (String, Table)| find(lua, &folders, &name, env))
+    lua.create_function(move |lua, (name, env): (String, Table)| {
+        // A refusal goes back as a message for `require` to raise as a plain string,
+        // as Lua's own `require` does, so that `pcall(require, x)` gives text.
+        Ok(match find(lua, &folders, &name, env) {
+            Ok((chunk, path)) => (Some(chunk), path),
+            Err(mlua::Error::RuntimeError(message)) => (None, message),
+            Err(mlua::Error::SyntaxError { message, .. }) => (None, message),
+            Err(e) => (None, e.to_string()),
+        })
+    })
 }
 
 /// The module `name`'s chunk, compiled with `env` as its environment, and its file.
@@ -64,7 +73,9 @@ fn find(lua: &Lua, folders: &Folders, name: &str, env: Table) -> mlua::Result<(F
         )
     };
     Err(mlua::Error::runtime(format!(
-        "module '{name}' not found ({searched}; add a folder with --lua-path DIR)"
+        "module '{name}' not found: it is none of gantry's modules ({}) and no file \
+         provides it ({searched}; add a folder with --lua-path DIR)",
+        REQUIRABLE.join(", ")
     )))
 }
 

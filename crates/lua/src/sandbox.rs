@@ -290,7 +290,9 @@ function require(name)
     end
     loading[name] = true
     -- A module that fails stays marked, so requiring it again names the earlier error.
+    -- The finder's refusals come back as a message, raised here as Lua's own are.
     local chunk, path = find(name, _ENV)
+    if not chunk then error(path, 2) end
     local value = chunk(name, path)
     if value == nil then value = true end
     loaded[name] = value
