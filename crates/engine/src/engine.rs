@@ -20,7 +20,7 @@ use gantry_lua::ros::RosNetwork;
 use gantry_lua::{
     DebugLink, HookError, Listeners, LuaHost, ScriptError, ScriptLimits, ScriptState, SimCell, WaitService,
 };
-use gantry_sim_core::api::{Args, CallContext, CallError, ScriptHostFn, Target};
+use gantry_sim_core::api::{ApiFunction, Args, CallContext, CallError, ScriptHostFn, Target};
 use gantry_sim_core::scene::{LoadOptions, SceneModel, load_client_scene};
 use gantry_sim_core::sim::{Control, SimulationState};
 use gantry_sim_core::{Handle, Sim, SimError, Value, World};
@@ -414,15 +414,7 @@ impl Engine {
     /// start, pause or stop the simulation; that is carried out once it returns).
     fn call(&mut self, target: &Target, args: &[Value]) -> Result<Vec<Value>, CallError> {
         match *target {
-            Target::Core { function, .. } => {
-                let mut sim = self
-                    .sim
-                    .try_borrow_mut()
-                    .map_err(|_| CallError::failed(target.qualified(), SimError::refused("the world is busy")))?;
-                function
-                    .invoke(&mut sim, &REMOTE, &Args::new(args))
-                    .map_err(|e| CallError::failed(target.qualified(), e))
-            }
+            Target::Core { function, .. } => call_core(&self.sim, target, function, args),
             Target::ScriptHost(f) => {
                 let host = self.host_mut().map_err(|e| no_host(f, &e))?;
                 let out = host.call_script_host(f, args);
@@ -770,6 +762,22 @@ fn report_warnings(model: &SceneModel, sim: &Sim, loader: bool) {
 fn wait_service(sim: &SimCell, while_waiting: &WhileWaiting) -> WaitService {
     let (sim, f) = (sim.clone(), while_waiting.clone());
     Rc::new(move |slice| f(&sim, slice))
+}
+
+/// A core registry function called by a remote client (no emitting object), between
+/// steps or at a phase boundary inside one: the world is borrowed for the call only.
+pub(crate) fn call_core(
+    sim: &SimCell,
+    target: &Target,
+    function: &ApiFunction,
+    args: &[Value],
+) -> Result<Vec<Value>, CallError> {
+    let mut sim = sim
+        .try_borrow_mut()
+        .map_err(|_| CallError::failed(target.qualified(), SimError::refused("the world is busy")))?;
+    function
+        .invoke(&mut sim, &REMOTE, &Args::new(args))
+        .map_err(|e| CallError::failed(target.qualified(), e))
 }
 
 /// A function of the Lua host called while no Lua state can be made.

@@ -13,11 +13,11 @@ use std::time::Instant;
 
 use gantry_lua::{HookError, LuaHost, SimCell, StepBoundary};
 use gantry_sim_core::Value;
-use gantry_sim_core::api::{Args, CallContext, CallError, Target};
+use gantry_sim_core::api::{CallError, Target};
 use gantry_sim_core::sim::SimulationState;
 use gantry_sim_core::{Sim, SimError};
 
-use crate::engine::Engine;
+use crate::engine::{Engine, call_core};
 use crate::input::Input;
 use crate::observer::{InputAt, Observer};
 
@@ -64,19 +64,7 @@ impl MidStep<'_> {
     pub fn call(&mut self, target: &Target, args: &[Value]) -> Result<Vec<Value>, CallError> {
         self.observe(&Input::Call { target, args });
         match *target {
-            Target::Core { function, .. } => {
-                let mut sim = self
-                    .sim
-                    .try_borrow_mut()
-                    .map_err(|_| CallError::failed(target.qualified(), SimError::refused("the world is busy")))?;
-                let remote = CallContext {
-                    script_object: None,
-                    source: "remote",
-                };
-                function
-                    .invoke(&mut sim, &remote, &Args::new(args))
-                    .map_err(|e| CallError::failed(target.qualified(), e))
-            }
+            Target::Core { function, .. } => call_core(self.sim, target, function, args),
             Target::ScriptHost(_) | Target::FrontEnd(_) => Err(CallError::failed(
                 target.qualified(),
                 SimError::refused("this function is served between steps, not inside one"),
