@@ -35,6 +35,9 @@ pub const QUEUE_CAPACITY: usize = 4096;
 /// idle simulator burns nothing and a busy client saves a thread wake-up per call.
 const SPIN_FOR: Duration = Duration::from_micros(200);
 const SPIN_AFTER_ACTIVITY: Duration = Duration::from_millis(20);
+/// The longest the simulation thread keeps serving a calling client between two steps
+/// of a free-running (`--fast`) simulation; see [`serve_share`].
+const MAX_CALL_SHARE: Duration = Duration::from_millis(5);
 
 /// A request to the simulation thread.
 pub enum Request {
@@ -437,10 +440,18 @@ pub fn run_sim_thread_debugged(
         let now = Instant::now();
         let wait = match lp.engine.due(now) {
             Due::Now => {
-                lp.step_serving(&rx);
+                let began = Instant::now();
+                if lp.step_serving(&rx) {
+                    last_served = Instant::now();
+                }
+                let step_took = began.elapsed();
                 // Serve what arrived during the step before the next one.
                 while let Ok(req) = rx.try_recv() {
+                    last_served = Instant::now();
                     lp.serve(req);
+                }
+                if last_served.elapsed() < SPIN_AFTER_ACTIVITY && serve_share(&mut lp, &rx, step_took) {
+                    last_served = Instant::now();
                 }
                 continue;
             }
@@ -498,6 +509,35 @@ pub fn run_sim_thread_debugged(
         sim_time: lp.engine.world().time(),
         wall_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// A free-running simulation shares its thread fairly with a client that is calling:
+/// after a step that took `step_took`, requests are served as they come for up to as
+/// long again (at most [`MAX_CALL_SHARE`]), and the next step starts as soon as the
+/// client has been quiet for [`SPIN_FOR`]. Without this, a client calling in a loop
+/// (`sim.getObjectPosition` from a GUI or a controller) would find a step under way at
+/// almost every call and wait for a phase of it; with it, most of its calls are
+/// answered at once, and the simulation keeps at least half of the thread however fast
+/// the client calls. Whether anything was served is returned.
+fn serve_share(lp: &mut SimLoop, rx: &Receiver<Request>, step_took: Duration) -> bool {
+    let began = Instant::now();
+    let share_ends = began + step_took.min(MAX_CALL_SHARE);
+    let mut quiet_since = began;
+    let mut served = false;
+    loop {
+        let now = Instant::now();
+        if now >= share_ends || now.duration_since(quiet_since) >= SPIN_FOR {
+            return served;
+        }
+        match rx.try_recv() {
+            Ok(req) => {
+                served = true;
+                lp.serve(req);
+                quiet_since = Instant::now();
+            }
+            Err(_) => std::thread::yield_now(),
+        }
+    }
 }
 
 /// What the simulation thread does while a script holds the step in a blocking call
@@ -572,11 +612,14 @@ impl SimLoop {
     /// the simulation or the stepping clients (start, stop, `sim.step`, stepping
     /// levels, viewer closures) waits for the end of the step, and so does every
     /// request behind a waiting one, so replies keep arrival order.
-    fn step_serving(&mut self, rx: &Receiver<Request>) {
+    /// Whether any request arrived during the step is returned.
+    fn step_serving(&mut self, rx: &Receiver<Request>) -> bool {
         let deferred = self.deferred.clone();
+        let mut arrived = false;
         self.engine.step_with(&mut |mid: &mut MidStep<'_>| {
             let at = mid.boundary();
             while let Ok(req) = rx.try_recv() {
+                arrived = true;
                 let waiting = !deferred.borrow().is_empty();
                 match req {
                     req if waiting || !may_serve_mid_step(&req, at) => deferred.borrow_mut().push_back(req),
@@ -595,6 +638,7 @@ impl SimLoop {
             }
         });
         self.serve_deferred();
+        arrived
     }
 
     /// Serves the requests that waited for the end of a step or of a script's wait.
