@@ -33,4 +33,13 @@ echo "python-tests: gantry at $GANTRY_BIN"
 
 source "$root/tools/python-wheel.sh"
 
-exec "$venv/bin/python" -m pytest tests/python -q "$@"
+# PyRep's API on gantry (issue 50): a pure-Python package beside the wheel.
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps --no-build-isolation \
+    --force-reinstall "$root/python/gantry-pyrep"
+
+status=0
+"$venv/bin/python" -m pytest tests/python -q "$@" || status=$?
+# PyRep's own unit tests, unchanged, from ../shared/pyrep/tests: the acceptance suite
+# of the `pyrep` package, with the issue's bar (tests/pyrep/run_suite.py).
+"$venv/bin/python" tests/pyrep/run_suite.py || status=$?
+exit $status

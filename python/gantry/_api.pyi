@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 305 functions, 278 constants."""
+    """`sim`: 305 functions, 285 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -127,9 +127,11 @@ class Sim:
     jointintparam_ctrl_enabled: int
     jointintparam_dynctrlmode: int
     jointintparam_motor_enabled: int
+    jointintparam_velocity_lock: int
     jointmode_dependent: int
     jointmode_dynamic: int
     jointmode_force: int
+    jointmode_ik: int
     jointmode_kinematic: int
     jointmode_passive: int
     message_keypress: int
@@ -233,6 +235,8 @@ class Sim:
     proximitysensor_ray_subtype: int
     proxintparam_volume_type: int
     rendermode_colorcoded: int
+    rendermode_opengl3: int
+    rendermode_opengl3windowed: int
     rendermode_opengl: int
     ruckig_minaccel: int
     ruckig_minvel: int
@@ -276,11 +280,14 @@ class Sim:
     visionfloatparam_ortho_size: int
     visionfloatparam_perspective_angle: int
     visionintparam_depthignored: int
+    visionintparam_entity_to_render: int
     visionintparam_perspective_operation: int
     visionintparam_render_mode: int
     visionintparam_resolution_x: int
     visionintparam_resolution_y: int
     visionintparam_rgbignored: int
+    visionintparam_windowed_size_x: int
+    visionintparam_windowed_size_y: int
     volume_cone: int
     volume_cylinder: int
     volume_disc: int

@@ -111,8 +111,22 @@ fn assert_geometry(a: &Geometry, b: &Geometry, what: &str) {
 
 fn assert_shape(a: &ShapeModel, b: &ShapeModel, what: &str) {
     assert_eq!(
-        (a.dynamic, a.respondable, a.detectable, a.measurable, a.self_collision),
-        (b.dynamic, b.respondable, b.detectable, b.measurable, b.self_collision),
+        (
+            a.dynamic,
+            a.respondable,
+            a.detectable,
+            a.measurable,
+            a.collidable,
+            a.self_collision
+        ),
+        (
+            b.dynamic,
+            b.respondable,
+            b.detectable,
+            b.measurable,
+            b.collidable,
+            b.self_collision
+        ),
         "{what}: flags"
     );
     assert_eq!(
@@ -388,6 +402,7 @@ fn everything() -> SceneModel {
         respondable: false,
         detectable: false,
         measurable: true,
+        collidable: false,
         self_collision: false,
     };
     let visual_only = ShapeModel {

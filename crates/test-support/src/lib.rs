@@ -26,7 +26,7 @@ mod value;
 
 pub use assert::{assert_close, assert_contains};
 pub use net::free_port;
-pub use paths::{coppelia_files, repo};
+pub use paths::{coppelia_files, pyrep_assets, repo};
 pub use scene::load;
 pub use temp_dir::TempDir;
 pub use value::{floats, int, ints, num, text};

@@ -20,6 +20,23 @@ pub fn coppelia_files() -> PathBuf {
     }
 }
 
+/// The assets of PyRep's own test suite (`test_scene.ttt`, `loadable_model.ttm`, meshes,
+/// a texture): `GANTRY_PYREP_ASSETS` when set, else `shared/pyrep/tests/assets` beside
+/// the repository. Tests that need them fail when they are absent: the suite's
+/// acceptance material is part of the test command's inputs.
+pub fn pyrep_assets() -> PathBuf {
+    let dir = match std::env::var_os("GANTRY_PYREP_ASSETS") {
+        Some(dir) => PathBuf::from(dir),
+        None => repo("../shared/pyrep/tests/assets"),
+    };
+    assert!(
+        dir.join("test_scene.ttt").is_file(),
+        "PyRep's test assets are not at {} (set GANTRY_PYREP_ASSETS)",
+        dir.display()
+    );
+    dir
+}
+
 #[cfg(test)]
 mod tests {
     use super::repo;

@@ -35,6 +35,7 @@ pub(super) fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> Ob
             respondable: true,
             detectable: false,
             measurable: false,
+            collidable: true,
             self_collision: true,
         }),
     }

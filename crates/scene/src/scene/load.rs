@@ -723,6 +723,7 @@ impl Resolver<'_> {
             respondable: o.respondable.unwrap_or(true),
             detectable: o.detectable.unwrap_or(true),
             measurable: o.measurable.unwrap_or(true),
+            collidable: o.collidable.unwrap_or(true),
             // Scene-file mechanisms keep CoppeliaSim's rule: their parts collide unless
             // collision groups or a joint between them say otherwise.
             self_collision: o.self_collision.unwrap_or(true),

@@ -327,6 +327,9 @@ pub struct ShapeModel {
     pub detectable: bool,
     /// Seen by distance queries.
     pub measurable: bool,
+    /// Seen by collision checks against `sim.handle_all` or a collection
+    /// (`sim.objectspecialproperty_collidable`).
+    pub collidable: bool,
     /// Whether this shape, as a link of a simulated mechanism (a rapier multibody),
     /// collides with the other links of that mechanism. `false` for URDF robots unless
     /// their `self_collision` is set; pairs joined directly by a joint never collide.
@@ -357,6 +360,7 @@ impl ShapeModel {
             respondable: true,
             detectable: true,
             measurable: true,
+            collidable: true,
             self_collision: true,
         }
     }

@@ -142,6 +142,9 @@ pub struct RawObject {
     pub detectable: Option<bool>,
     /// Shape: seen by `sim.checkDistance` (default true).
     pub measurable: Option<bool>,
+    /// Shape: seen by collision checks against everything or a collection (default
+    /// true).
+    pub collidable: Option<bool>,
     /// Shape: collides with the other links of its own mechanism (default true).
     pub self_collision: Option<bool>,
     /// Shape: centre of mass in the shape frame, metres (with `mass` and `inertia`).
@@ -424,6 +427,7 @@ const OBJECT_KEYS: &[&str] = &[
     "respondable",
     "detectable",
     "measurable",
+    "collidable",
     "self_collision",
     "center_of_mass",
     "inertia",

@@ -758,6 +758,7 @@ impl Ctx<'_> {
             respondable: true,
             detectable: true,
             measurable: true,
+            collidable: true,
             self_collision: self.self_collision,
         })
     }

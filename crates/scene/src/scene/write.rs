@@ -411,6 +411,9 @@ impl Writer {
         let _ = writeln!(self.out, "respondable = {}", s.respondable);
         let _ = writeln!(self.out, "detectable = {}", s.detectable);
         let _ = writeln!(self.out, "measurable = {}", s.measurable);
+        if !s.collidable {
+            let _ = writeln!(self.out, "collidable = false");
+        }
         let _ = writeln!(self.out, "self_collision = {}", s.self_collision);
 
         // A mesh without triangles is refused by the mesh loader (a file with nothing

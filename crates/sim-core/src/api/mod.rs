@@ -550,6 +550,8 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("jointmode_dynamic", 5),
     // CoppeliaSim 4.4's name for the dynamic mode.
     ("jointmode_force", 5),
+    // CoppeliaSim 4.1's IK mode: kinematic, moved by IK groups (PyRep sets it).
+    ("jointmode_ik", 2),
     ("proximitysensor_pyramid_subtype", 30),
     ("proximitysensor_cylinder_subtype", 31),
     ("proximitysensor_disc_subtype", 32),

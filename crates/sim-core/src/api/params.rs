@@ -30,12 +30,22 @@ const VISION_RES_X: i64 = 1002;
 const VISION_RES_Y: i64 = 1003;
 const VISION_ANGLE: i64 = 1004;
 const VISION_ORTHO_SIZE: i64 = 1005;
+/// The object or collection a vision sensor renders; -1 = everything.
+const VISION_ENTITY_TO_RENDER: i64 = 1008;
+/// The window a sensor renders in with a windowed render mode (gantry renders
+/// off-screen: kept to read back).
+const VISION_WINDOWED_SIZE_X: i64 = 1009;
+const VISION_WINDOWED_SIZE_Y: i64 = 1010;
 const VISION_RENDER_MODE: i64 = 1017;
 const VISION_PERSPECTIVE: i64 = 1018;
 const VISION_RGB_IGNORED: i64 = 1020;
 const VISION_DEPTH_IGNORED: i64 = 1021;
 /// `sim.rendermode_opengl`: the shapes' colours.
 const RENDERMODE_OPENGL: i64 = 0;
+/// `sim.rendermode_opengl3` and its windowed twin: the same visible image from
+/// CoppeliaSim's newer renderer (gantry has one renderer; the choice reads back).
+const RENDERMODE_OPENGL3: i64 = 6;
+const RENDERMODE_OPENGL3_WINDOWED: i64 = 7;
 /// `sim.rendermode_colorcoded`: each pixel the handle of the shape seen.
 const RENDERMODE_COLORCODED: i64 = 2;
 const JOINT_MOTOR_ENABLED: i64 = 2000;
@@ -46,6 +56,7 @@ const JOINT_PID_D: i64 = 2004;
 const JOINT_VELOCITY: i64 = 2012;
 const JOINT_UPPER_LIMIT: i64 = 2017;
 const JOINT_MAXVEL: i64 = 2036;
+const JOINT_VELOCITY_LOCK: i64 = 2030;
 const JOINT_DYNCTRLMODE: i64 = 2039;
 const SHAPE_STATIC: i64 = 3003;
 const SHAPE_RESPONDABLE: i64 = 3004;
@@ -138,8 +149,14 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("visionintparam_depthignored", VISION_DEPTH_IGNORED),
     ("rendermode_opengl", RENDERMODE_OPENGL),
     ("rendermode_colorcoded", RENDERMODE_COLORCODED),
+    ("rendermode_opengl3", RENDERMODE_OPENGL3),
+    ("rendermode_opengl3windowed", RENDERMODE_OPENGL3_WINDOWED),
+    ("visionintparam_entity_to_render", VISION_ENTITY_TO_RENDER),
+    ("visionintparam_windowed_size_x", VISION_WINDOWED_SIZE_X),
+    ("visionintparam_windowed_size_y", VISION_WINDOWED_SIZE_Y),
     ("jointintparam_motor_enabled", JOINT_MOTOR_ENABLED),
     ("jointintparam_ctrl_enabled", JOINT_CTRL_ENABLED),
+    ("jointintparam_velocity_lock", JOINT_VELOCITY_LOCK),
     ("jointfloatparam_pid_p", JOINT_PID_P),
     ("jointfloatparam_pid_i", JOINT_PID_I),
     ("jointfloatparam_pid_d", JOINT_PID_D),
@@ -233,6 +250,9 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     },
 ];
 
+/// The largest window side `sim.visionintparam_windowed_size_x`/`_y` accept, pixels.
+const MAX_WINDOW_SIDE: i64 = 16384;
+
 /// A parameter value, or nothing when the parameter does not apply.
 fn found(v: Option<Value>) -> Ret {
     v.into_iter().collect()
@@ -252,9 +272,14 @@ pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (VISION_RES_Y, ObjectKind::VisionSensor(v)) => Some(i64::from(v.resolution[1])),
         (VISION_PERSPECTIVE, ObjectKind::VisionSensor(v)) => Some(i64::from(v.projection == Projection::Perspective)),
         (VISION_RENDER_MODE, ObjectKind::VisionSensor(v)) => Some(match v.render_mode {
-            RenderMode::Visible => RENDERMODE_OPENGL,
+            RenderMode::Visible => w.stored_param(h, VISION_RENDER_MODE)?.unwrap_or(RENDERMODE_OPENGL),
             RenderMode::ColorCoded => RENDERMODE_COLORCODED,
         }),
+        (VISION_WINDOWED_SIZE_X | VISION_WINDOWED_SIZE_Y, ObjectKind::VisionSensor(_)) => {
+            Some(w.stored_param(h, id)?.unwrap_or(0))
+        }
+        (VISION_ENTITY_TO_RENDER, ObjectKind::VisionSensor(_)) => Some(-1),
+        (JOINT_VELOCITY_LOCK, ObjectKind::Joint(j)) => Some(i64::from(j.velocity_lock)),
         (VISION_RGB_IGNORED, ObjectKind::VisionSensor(v)) => Some(i64::from(v.ignore_rgb)),
         (VISION_DEPTH_IGNORED, ObjectKind::VisionSensor(v)) => Some(i64::from(v.ignore_depth)),
         (PROX_VOLUME_TYPE, ObjectKind::ProximitySensor(p)) => Some(match p.volume {
@@ -316,16 +341,55 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
         (VISION_RENDER_MODE, ObjectKind::VisionSensor(m)) => {
             let mut m = *m;
             m.render_mode = match v {
-                RENDERMODE_OPENGL => RenderMode::Visible,
+                RENDERMODE_OPENGL | RENDERMODE_OPENGL3 | RENDERMODE_OPENGL3_WINDOWED => RenderMode::Visible,
                 RENDERMODE_COLORCODED => RenderMode::ColorCoded,
                 _ => {
                     return Err(SimError::bad_argument(format!(
-                        "argument 3: gantry's vision sensors render the visible colours (sim.rendermode_opengl, 0) or \
-                         colour-coded handles (sim.rendermode_colorcoded, 2), not render mode {v}"
+                        "argument 3: gantry's vision sensors render the visible colours (sim.rendermode_opengl, 0, \
+                         or sim.rendermode_opengl3, 6 and 7) or colour-coded handles (sim.rendermode_colorcoded, 2), \
+                         not render mode {v}"
                     )));
                 }
             };
             w.set_vision_model(h, m)?;
+            let newer = matches!(v, RENDERMODE_OPENGL3 | RENDERMODE_OPENGL3_WINDOWED);
+            w.set_stored_param(h, VISION_RENDER_MODE, newer.then_some(v))?;
+        }
+        (VISION_WINDOWED_SIZE_X | VISION_WINDOWED_SIZE_Y, ObjectKind::VisionSensor(_)) => {
+            if !(0..=MAX_WINDOW_SIDE).contains(&v) {
+                return Err(SimError::bad_argument(format!(
+                    "argument 3: a window side is 0 (full screen) to {MAX_WINDOW_SIDE} pixels, not {v}"
+                )));
+            }
+            w.set_stored_param(h, id, Some(v))?;
+        }
+        (VISION_ENTITY_TO_RENDER, ObjectKind::VisionSensor(_)) if v != -1 => {
+            return Err(SimError::refused(format!(
+                "gantry's vision sensors render every renderable object (sim.visionintparam_entity_to_render -1), \
+                 not only entity {v}; hide what the sensor should not see with sim.setObjectInt32Param \
+                 (sim.objintparam_visibility_layer) instead"
+            )));
+        }
+        (JOINT_VELOCITY_LOCK, ObjectKind::Joint(_)) => w.set_joint_velocity_lock(h, v != 0)?,
+        // CoppeliaSim's motor and controller switches, onto gantry's one joint mode:
+        // motor off is free, motor on without the controller velocity, with it position.
+        (JOINT_MOTOR_ENABLED, ObjectKind::Joint(j)) if j.mode.is_dynamic() && j.mimic.is_none() => {
+            let mode = match (v != 0, j.mode) {
+                (false, _) => JointMode::Free,
+                (true, JointMode::Free) => JointMode::Velocity,
+                (true, mode) => mode,
+            };
+            w.set_joint_mode(h, mode)?;
+        }
+        (JOINT_CTRL_ENABLED, ObjectKind::Joint(j))
+            if matches!(j.mode, JointMode::Velocity | JointMode::Position) && j.mimic.is_none() =>
+        {
+            let mode = if v != 0 {
+                JointMode::Position
+            } else {
+                JointMode::Velocity
+            };
+            w.set_joint_mode(h, mode)?;
         }
         (VISION_RGB_IGNORED | VISION_DEPTH_IGNORED, ObjectKind::VisionSensor(m)) => {
             let mut m = *m;

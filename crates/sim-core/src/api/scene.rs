@@ -726,8 +726,9 @@ fn reset_dynamic_object(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Res
     Ok(Vec::new())
 }
 
-/// `sim.setJointMode(jointHandle, jointMode, options=0)`: `sim.jointmode_kinematic` (0)
-/// or `sim.jointmode_dynamic` (5; a joint that was kinematic becomes position-controlled
+/// `sim.setJointMode(jointHandle, jointMode, options=0)`: `sim.jointmode_kinematic` (0),
+/// CoppeliaSim 4.1's `sim.jointmode_ik` (2: kinematic, moved by IK groups) or
+/// `sim.jointmode_dynamic` (5; a joint that was kinematic becomes position-controlled
 /// and holds where it is). `sim.jointmode_dependent` (4) exists only for URDF `<mimic>`
 /// followers, which already are.
 fn set_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
@@ -736,7 +737,7 @@ fn set_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
     a.opt_int(2, 0)?;
     let joint = w.joint(h)?;
     let new = match mode {
-        0 => JointMode::Kinematic,
+        0 | 2 => JointMode::Kinematic,
         5 if joint.mode.is_dynamic() => joint.mode,
         5 => JointMode::Position,
         4 if joint.mimic.is_some() => joint.mode,
@@ -747,20 +748,24 @@ fn set_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
         }
         _ => {
             return Err(SimError::bad_argument(format!(
-                "argument 2: invalid joint mode {mode} (sim.jointmode_kinematic or sim.jointmode_dynamic)"
+                "argument 2: invalid joint mode {mode} (sim.jointmode_kinematic, sim.jointmode_ik or sim.jointmode_dynamic)"
             )));
         }
     };
     w.set_joint_mode(h, new)?;
+    if mode == 2 {
+        w.set_joint_ik_mode(h, true)?;
+    }
     Ok(Vec::new())
 }
 
-/// `sim.getJointMode(jointHandle)` → `jointMode, options`: 0 kinematic, 4 a `<mimic>`
-/// follower, 5 dynamic; options are always 0.
+/// `sim.getJointMode(jointHandle)` → `jointMode, options`: 0 kinematic, 2 kinematic in
+/// CoppeliaSim 4.1's IK mode, 4 a `<mimic>` follower, 5 dynamic; options are always 0.
 fn get_joint_mode(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let j = w.joint(a.handle(0)?)?;
     let mode = match j.mode {
         _ if j.mimic.is_some() => 4,
+        JointMode::Kinematic if j.ik_mode => 2,
         JointMode::Kinematic => 0,
         _ => 5,
     };

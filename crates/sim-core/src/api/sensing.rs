@@ -212,8 +212,8 @@ pub(super) fn check_distance(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -
 /// `sim.checkCollision(e1, e2)` → `result, [obj1, obj2]`.
 pub(super) fn check_collision(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     w.refresh_queries();
-    let set1 = w.entity_shapes(a.handle(0)?, &[])?;
-    let set2 = w.entity_shapes(a.handle(1)?, &set1)?;
+    let set1 = w.entity_collidables(a.handle(0)?, &[])?;
+    let set2 = w.entity_collidables(a.handle(1)?, &set1)?;
     Ok(match w.collision(&set1, &set2) {
         Some([x, y]) => vec![Value::Int(1), Value::Array(vec![Value::Int(x), Value::Int(y)])],
         None => vec![Value::Int(0), Value::Array(vec![Value::Int(-1), Value::Int(-1)])],

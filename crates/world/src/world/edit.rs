@@ -846,6 +846,7 @@ impl World {
     /// No such object, or not a joint.
     pub fn set_joint_mode(&mut self, h: Handle, mode: JointMode) -> Result<(), SimError> {
         let j = self.joint_mut(h)?;
+        j.ik_mode = false;
         if j.mode == mode {
             return Ok(());
         }
@@ -856,6 +857,32 @@ impl World {
         j.motion = super::object::KinematicMotion::Still;
         j.reference = j.position;
         j.reference_velocity = 0.0;
+        self.rebuild_physics(&[h]);
+        self.bump();
+        Ok(())
+    }
+
+    /// Marks a kinematic joint as in CoppeliaSim 4.1's IK mode, or not (see
+    /// [`Joint::ik_mode`](super::object::Joint::ik_mode)).
+    ///
+    /// # Errors
+    /// No such object, or not a joint.
+    pub fn set_joint_ik_mode(&mut self, h: Handle, on: bool) -> Result<(), SimError> {
+        self.joint_mut(h)?.ik_mode = on;
+        Ok(())
+    }
+
+    /// Locks a velocity-controlled joint at zero target velocity, or not (see
+    /// [`Joint::velocity_lock`](super::object::Joint::velocity_lock)).
+    ///
+    /// # Errors
+    /// No such object, or not a joint.
+    pub fn set_joint_velocity_lock(&mut self, h: Handle, on: bool) -> Result<(), SimError> {
+        let j = self.joint_mut(h)?;
+        if j.velocity_lock == on {
+            return Ok(());
+        }
+        j.velocity_lock = on;
         self.rebuild_physics(&[h]);
         self.bump();
         Ok(())

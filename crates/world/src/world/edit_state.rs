@@ -87,6 +87,11 @@ pub(crate) struct EditState {
     /// Object special properties (`sim.setObjectSpecialProperty`) that differ from the
     /// object type's default.
     pub(super) special_props: HashMap<Handle, i64>,
+    /// Object parameters CoppeliaSim has that change nothing in gantry's simulation (a
+    /// vision sensor's window size: gantry renders off-screen; the OpenGL version it
+    /// renders with), by (object, parameter id), kept so that what a client sets reads
+    /// back.
+    pub(super) stored_params: HashMap<(Handle, i64), i64>,
     /// Shape colour components gantry does not render, as set by `sim.setShapeColor`.
     pub(super) colors: HashMap<(Handle, ColorComponent), Vec<f64>>,
     /// Bodies given a force or torque for the coming step (`sim.addForce`).

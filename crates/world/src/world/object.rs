@@ -131,6 +131,13 @@ pub struct Joint {
     /// A kinematic joint's motion from step to step (CoppeliaSim's motion profile for
     /// kinematic joints, `sim.setJointTargetPosition`/`setJointTargetVelocity`).
     pub motion: KinematicMotion,
+    /// CoppeliaSim 4.1's IK mode (`sim.jointmode_ik`, 2): a kinematic joint that IK
+    /// groups move. gantry's IK moves kinematic joints alike; the flag is kept so that
+    /// `sim.getJointMode` reports the mode a 4.1 client set.
+    pub ik_mode: bool,
+    /// A velocity-controlled joint whose target velocity is zero holds its position with
+    /// an unbounded force (`sim.jointintparam_velocity_lock`, Bullet's locked motor).
+    pub velocity_lock: bool,
 }
 
 /// How a kinematic joint moves from step to step.

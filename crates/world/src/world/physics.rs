@@ -912,6 +912,8 @@ pub(crate) fn configure_motor(data: &mut GenericJoint, axis: JointAxis, joint: &
     let max_force = match mode {
         JointMode::Free => 0.0,
         JointMode::Force => joint.target_force.abs(),
+        // Locked at zero velocity: the motor holds whatever it takes.
+        JointMode::Velocity if joint.velocity_lock && joint.commanded_velocity() == 0.0 => f64::from(f32::MAX),
         _ => joint.max_force,
     };
     data.set_motor_max_force(axis, max_force as f32);

@@ -95,17 +95,23 @@ impl World {
     }
 
     /// An object's special property flags (`sim.getObjectSpecialProperty`): what it was
-    /// given, else collidable, measurable, detectable and renderable for a shape and
-    /// nothing for other objects.
+    /// given, else for a shape its scene flags (collidable, measurable, detectable) and
+    /// renderable, and nothing for other objects.
     ///
     /// # Errors
     /// No such object.
     pub fn special_property(&self, h: Handle) -> Result<i64, SimError> {
+        use object_special_property::{COLLIDABLE, DETECTABLE_ALL, MEASURABLE, RENDERABLE};
         let o = self.object(h)?;
-        let default = if matches!(o.kind, ObjectKind::Shape(_)) {
-            object_special_property::SHAPE_DEFAULT
-        } else {
-            0
+        let default = match &o.kind {
+            ObjectKind::Shape(s) => {
+                let flag = |on: bool, bit: i64| if on { bit } else { 0 };
+                flag(s.collidable, COLLIDABLE)
+                    | flag(s.measurable, MEASURABLE)
+                    | flag(s.detectable, DETECTABLE_ALL)
+                    | RENDERABLE
+            }
+            _ => 0,
         };
         Ok(self.edit.special_props.get(&h).copied().unwrap_or(default))
     }
@@ -122,6 +128,32 @@ impl World {
             )));
         }
         self.edit.special_props.insert(h, property);
+        Ok(())
+    }
+}
+
+impl World {
+    /// A parameter kept only to be read back (see `EditState::stored_params`): what
+    /// [`World::set_stored_param`] last set, if anything.
+    ///
+    /// # Errors
+    /// No such object.
+    pub fn stored_param(&self, h: Handle, id: i64) -> Result<Option<i64>, SimError> {
+        self.object(h)?;
+        Ok(self.edit.stored_params.get(&(h, id)).copied())
+    }
+
+    /// Keeps a parameter that changes nothing in gantry's simulation, so that it reads
+    /// back; `None` forgets it.
+    ///
+    /// # Errors
+    /// No such object.
+    pub fn set_stored_param(&mut self, h: Handle, id: i64, value: Option<i64>) -> Result<(), SimError> {
+        self.object(h)?;
+        match value {
+            Some(v) => self.edit.stored_params.insert((h, id), v),
+            None => self.edit.stored_params.remove(&(h, id)),
+        };
         Ok(())
     }
 }

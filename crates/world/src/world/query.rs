@@ -7,6 +7,7 @@ use rapier3d::prelude::*;
 use super::collection::{Collection, FIRST_COLLECTION_HANDLE, ItemKind};
 use super::object::{Handle, ObjectKind};
 use super::object_path::ObjectTree;
+use super::property_flags::object_special_property;
 use super::world::World;
 use crate::error::SimError;
 use crate::math::{self, Vec3};
@@ -24,9 +25,20 @@ pub struct DistanceResult {
     pub objects: [Handle; 2],
 }
 
-/// Whether a shape takes part in measurements selected by a wildcard or a collection.
+/// Whether a shape takes part in distance queries against everything or a collection:
+/// its special property if one was set, else its scene flag.
 fn measurable(w: &World, h: Handle) -> bool {
-    matches!(w.object(h).map(|o| &o.kind), Ok(ObjectKind::Shape(s)) if s.measurable)
+    has_special(w, h, object_special_property::MEASURABLE)
+}
+
+/// Whether a shape takes part in collision checks against everything or a collection.
+fn collidable(w: &World, h: Handle) -> bool {
+    has_special(w, h, object_special_property::COLLIDABLE)
+}
+
+fn has_special(w: &World, h: Handle, bit: i64) -> bool {
+    matches!(w.object(h).map(|o| &o.kind), Ok(ObjectKind::Shape(_)))
+        && w.special_property(h).is_ok_and(|p| p & bit != 0)
 }
 
 impl World {
@@ -37,16 +49,30 @@ impl World {
     /// # Errors
     /// An unknown object or collection.
     pub fn entity_shapes(&self, entity: Handle, exclude: &[Handle]) -> Result<Vec<Handle>, SimError> {
+        self.entity_objects(entity, exclude, measurable)
+    }
+
+    /// As [`World::entity_shapes`] for collision checks: `sim.handle_all` and
+    /// collections resolve to their collidable shapes.
+    ///
+    /// # Errors
+    /// An unknown object or collection.
+    pub fn entity_collidables(&self, entity: Handle, exclude: &[Handle]) -> Result<Vec<Handle>, SimError> {
+        self.entity_objects(entity, exclude, collidable)
+    }
+
+    fn entity_objects(
+        &self,
+        entity: Handle,
+        exclude: &[Handle],
+        keep: fn(&World, Handle) -> bool,
+    ) -> Result<Vec<Handle>, SimError> {
         let mut out: Vec<Handle> = if entity == -2 {
-            self.handles()
-                .iter()
-                .copied()
-                .filter(|&h| measurable(self, h))
-                .collect()
+            self.handles().iter().copied().filter(|&h| keep(self, h)).collect()
         } else if entity >= FIRST_COLLECTION_HANDLE {
             self.collection_objects(entity)?
                 .into_iter()
-                .filter(|&h| measurable(self, h))
+                .filter(|&h| keep(self, h))
                 .collect()
         } else {
             self.object(entity)?;
@@ -124,7 +150,8 @@ impl World {
         Ok(set)
     }
 
-    /// Minimum distance between two sets of shapes, or `None` if either has no geometry
+    /// Minimum distance between two sets of objects (shapes, and dummies as points), or
+    /// `None` if either has no geometry
     /// or, with `threshold > 0`, nothing is closer than the threshold.
     ///
     /// Exact queries are expensive (GJK on every pair), and a rover measuring its distance
@@ -136,6 +163,68 @@ impl World {
     /// pairs are visited nearest bounding box first, and the exact query runs only while a
     /// pair's bounding-box gap (a lower bound) can still beat the best distance.
     pub fn distance(&self, a: &[Handle], b: &[Handle], threshold: f64) -> Option<DistanceResult> {
+        let shapes = self.shape_distance(a, b, threshold);
+        // A dummy is a point to distance queries, as in CoppeliaSim.
+        let limit = shapes.map_or(if threshold > 0.0 { threshold } else { f64::INFINITY }, |r| r.distance);
+        match self.point_distance(a, b, limit) {
+            Some(p) => Some(p),
+            None => shapes,
+        }
+    }
+
+    /// The closest pair in which one side or both are dummies (points), if any is
+    /// closer than `limit`.
+    fn point_distance(&self, a: &[Handle], b: &[Handle], limit: f64) -> Option<DistanceResult> {
+        let point = |h: Handle| match self.object(h) {
+            Ok(o) if matches!(o.kind, ObjectKind::Dummy) => Some(o.world.translation.vector),
+            _ => None,
+        };
+        let colliders = &self.physics().world.colliders;
+        // The closest point of `shape` to `p`, and the distance.
+        let nearest_on = |shape: Handle, p: &Vec3| -> Option<(Vec3, f64)> {
+            self.colliders_of(shape)
+                .iter()
+                .filter_map(|&c| colliders.get(c))
+                .map(|c| {
+                    let proj = c.shape().project_point(c.position(), math::vec_to_physics(p), true);
+                    let q = if proj.is_inside {
+                        *p
+                    } else {
+                        math::vec_from_physics(proj.point)
+                    };
+                    (q, (q - p).norm())
+                })
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+        };
+        let mut best: Option<DistanceResult> = None;
+        for &ha in a {
+            for &hb in b {
+                if ha == hb {
+                    continue;
+                }
+                let pair = match (point(ha), point(hb)) {
+                    (None, None) => continue,
+                    (Some(pa), Some(pb)) => Some((pa, pb)),
+                    (Some(pa), None) => nearest_on(hb, &pa).map(|(q, _)| (pa, q)),
+                    (None, Some(pb)) => nearest_on(ha, &pb).map(|(q, _)| (q, pb)),
+                };
+                let Some((p1, p2)) = pair else { continue };
+                let d = (p2 - p1).norm();
+                if d < best.map_or(limit, |r| r.distance) {
+                    best = Some(DistanceResult {
+                        p1,
+                        p2,
+                        distance: d,
+                        objects: [ha, hb],
+                    });
+                }
+            }
+        }
+        best
+    }
+
+    /// The closest pair of shapes, searched as [`World::distance`] explains.
+    fn shape_distance(&self, a: &[Handle], b: &[Handle], threshold: f64) -> Option<DistanceResult> {
         let physics = self.physics();
         let colliders = &physics.world.colliders;
         let sa: Vec<(Handle, &Collider, Aabb)> = a

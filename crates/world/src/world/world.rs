@@ -150,6 +150,8 @@ impl World {
                             reference: 0.0,
                             reference_velocity: 0.0,
                             motion: KinematicMotion::Still,
+                            ik_mode: false,
+                            velocity_lock: false,
                         };
                         joint.position = joint.constrain(j.initial);
                         // A speed-limited controller starts where the joint is and moves

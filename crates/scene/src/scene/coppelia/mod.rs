@@ -68,7 +68,8 @@ pub const COPPELIA_SOLVER_ITERATIONS: u32 = 4;
 pub struct ImportReport {
     /// The CoppeliaSim version that wrote the file, e.g. `4.1.0`.
     pub program_version: String,
-    /// Whether the file is a model (`.ttm`) rather than a scene.
+    /// Whether the file is a model (`.ttm`) rather than a scene: the header says, or for
+    /// files whose header does not, the extension.
     pub is_model: bool,
     /// Objects imported, all kinds.
     pub objects: usize,
@@ -118,7 +119,13 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
     })?;
     let mut report = ImportReport {
         program_version: file.header.program_version_text(),
-        is_model: file.header.file_type == cf::FileType::Model,
+        // V-REP 3.5 and older leave the header's file type at 0 (PyRep's test model
+        // `loadable_model.ttm`): then the extension says, as it did for V-REP.
+        is_model: match file.header.file_type {
+            cf::FileType::Model => true,
+            cf::FileType::Scene => false,
+            cf::FileType::Unspecified(_) => path.extension().is_some_and(|e| e.eq_ignore_ascii_case("ttm")),
+        },
         ..ImportReport::default()
     };
     let mut warnings = Vec::new();
@@ -243,7 +250,9 @@ fn convert_kind(
     };
     match &o.kind {
         cf::ObjectKind::Shape(s) => {
-            ObjectModelKind::Shape(shape::convert(s, label, path, o.detectable, o.measurable, warnings))
+            let mut shape = shape::convert(s, label, path, o.detectable, o.measurable, warnings);
+            shape.collidable = o.collidable;
+            ObjectModelKind::Shape(shape)
         }
         cf::ObjectKind::Joint(j) => ObjectModelKind::Joint(convert_joint(j, label, index, warnings)),
         cf::ObjectKind::Dummy(_) => ObjectModelKind::Dummy,

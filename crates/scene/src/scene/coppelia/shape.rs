@@ -90,6 +90,8 @@ pub fn convert(
         respondable: shape.respondable,
         detectable,
         measurable,
+        // The object's flag, set by the caller with the other object-level ones.
+        collidable: true,
         self_collision: local_bits != 0,
     }
 }
