@@ -34,7 +34,7 @@ echo "python-tests: gantry at $GANTRY_BIN"
 source "$root/tools/python-wheel.sh"
 
 # PyRep's API on gantry (issue 50): a pure-Python package beside the wheel.
-"$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps --no-build-isolation \
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps \
     --force-reinstall "$root/python/gantry-pyrep"
 
 status=0

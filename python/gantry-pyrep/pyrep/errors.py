@@ -31,3 +31,9 @@ class GripperError(Exception):
 
 class IKError(Exception):
     """Inverse kinematics failed to reach the target."""
+
+
+class CallError(PyRepError, RuntimeError):
+    """A simulator function refused a call (bad input, an object that is gone, ...),
+    with gantry's reason. PyRep raises a bare RuntimeError for these (the C API's
+    failure); this is both, so code catching either works."""

@@ -32,6 +32,8 @@ class PyRep:
     def __init__(self) -> None:
         self.running = False
         self._session: Optional[session.Session] = None
+        # With `launch(headless=False)`: the address of gantry's browser viewer.
+        self.viewer_address: Optional[str] = None
 
     def _launched(self) -> session.Session:
         if self._session is None:
@@ -58,8 +60,9 @@ class PyRep:
         except Exception as e:
             raise PyRepError(f"could not load {scene_file}: {e}") from e
         if not headless:
-            log.warning("gantry's viewer for %s: %s", scene_file or "the empty scene", client.addresses().get("http"))
+            log.warning("gantry's viewer for %s: %s", scene_file or "the empty scene", "http://" + client.addresses.get("http", "?"))
         self._session = session.Session(client)
+        self.viewer_address = None if headless else "http://" + client.addresses.get("http", "")
         session.bind(self._session)
         self.step()
 

@@ -2,15 +2,14 @@
 an empty scene, torn down after each test."""
 
 import os
-import sys
 
 import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
-sys.path.insert(0, os.path.join(REPO, "python", "gantry-pyrep"))
 
-SHARED = os.environ.get("GANTRY_SHARED", "/work/shared")
+# The shared test material beside the repository (PyRep's assets, public models).
+SHARED = os.environ.get("GANTRY_SHARED", os.path.join(REPO, "..", "shared"))
 TEST_SCENE = os.path.join(SHARED, "pyrep", "tests", "assets", "test_scene.ttt")
 MODELS = os.path.join(SHARED, "coppelia-files")
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import threading
 from typing import Any, Optional
 
-from pyrep.errors import PyRepError
+from pyrep.errors import CallError, PyRepError
 
 _local = threading.local()
 
@@ -45,3 +45,18 @@ def bind(session: Optional[Session]) -> None:
 def active() -> Optional[Session]:
     """The calling thread's session, or None."""
     return getattr(_local, "session", None)
+
+
+def call(name: str, *args: Any) -> Any:
+    """`sim.<name>(*args)` in the calling thread's simulation. A failure raises
+    `CallError`: a RuntimeError, as the C API's -1 makes PyRep raise, and a
+    PyRepError, with gantry's reason."""
+    f = getattr(current().sim, name, None)
+    if f is None:
+        raise CallError(f"sim.{name} is not available in gantry")
+    try:
+        return f(*args)
+    except CallError:
+        raise
+    except Exception as e:  # gantry's errors are plain Exceptions with the reason
+        raise CallError(str(e)) from e

@@ -25,6 +25,8 @@ import numpy as np
 
 from gantry._gantry import Engine as _Engine
 from pyrep.backend import session as _session
+from pyrep.backend.session import call as _call
+from pyrep.errors import CallError
 
 # --- constants -------------------------------------------------------------------
 
@@ -127,20 +129,6 @@ def _sim() -> Any:
     return _session.current().sim
 
 
-def _call(name: str, *args: Any) -> Any:
-    """`sim.<name>(*args)` in this thread's simulation; a failure as RuntimeError, as
-    the C API's -1 makes PyRep raise."""
-    f = getattr(_sim(), name, None)
-    if f is None:
-        raise RuntimeError(f"sim.{name} is not available in gantry")
-    try:
-        return f(*args)
-    except RuntimeError:
-        raise
-    except Exception as e:  # gantry's errors are plain Exceptions with the reason
-        raise RuntimeError(str(e)) from e
-
-
 def _lua_name(c_name: str) -> str:
     rest = c_name[3:]
     return rest[:1].lower() + rest[1:]
@@ -175,7 +163,7 @@ def simExtStep(stepIfRunning: bool = True) -> None:
         try:
             s.client.step()
         except Exception as e:
-            raise RuntimeError(str(e)) from e
+            raise CallError(str(e)) from e
 
 
 def simExtCallScriptFunction(
@@ -221,7 +209,7 @@ def simGetObjectType(objectHandle: int) -> int:
 def simGetObjectParent(objectHandle: int) -> int:
     parent = _call("getObjectParent", objectHandle)
     if parent == -1:
-        raise RuntimeError(f"object {objectHandle} has no parent")
+        raise CallError(f"object {objectHandle} has no parent")
     return parent
 
 
@@ -454,7 +442,7 @@ def simCheckDistance(entity1Handle: int, entity2Handle: int, threshold: float) -
     ret = _call("checkDistance", entity1Handle, entity2Handle, threshold)
     ret = ret if isinstance(ret, tuple) else (ret,)
     if not ret[0]:
-        raise RuntimeError("no distance below the threshold")
+        raise CallError("no distance below the threshold")
     return list(ret[1])
 
 

@@ -26,6 +26,8 @@ from typing import Any, Dict, List, Sequence, Tuple
 import numpy as np
 
 from pyrep.backend import session as _session
+from pyrep.backend.session import call as _call
+from pyrep.errors import CallError
 
 __all__ = [
     "simGetIkGroupHandle", "simHandleIkGroup", "simCheckIkGroup", "simGetIkGroupMatrix",
@@ -42,19 +44,6 @@ def _sim() -> Any:
 
 def _has(name: str) -> bool:
     return getattr(_sim(), name, None) is not None
-
-
-def _call(name: str, *args: Any) -> Any:
-    """`sim.<name>(*args)` in this thread's simulation; failures as RuntimeError."""
-    f = getattr(_sim(), name, None)
-    if f is None:
-        raise RuntimeError(f"sim.{name} is not available in gantry")
-    try:
-        return f(*args)
-    except RuntimeError:
-        raise
-    except Exception as e:  # gantry's errors are plain Exceptions with the reason
-        raise RuntimeError(str(e)) from e
 
 
 def _floats(values: Any) -> List[float]:
@@ -111,7 +100,7 @@ def simCheckIkGroup(ikGroupHandle: int, jointHandles: Sequence[int], jointOption
     element = _ik_elements.get(_world_key(ikGroupHandle))
     group_joints = list(element[2]) if element and element[2] else handles
     if set(handles) != set(group_joints):
-        raise RuntimeError("sim.checkIkGroup is not available in gantry, and its stand-in (sim.handleIkGroup) "
+        raise CallError("sim.checkIkGroup is not available in gantry, and its stand-in (sim.handleIkGroup) "
                            "cannot lock joints: pass all the group's joints")
     saved = _joint_positions(group_joints)
     try:
@@ -132,7 +121,7 @@ def simGetIkGroupMatrix(ikGroupHandle: int, options: int) -> Tuple[List[float], 
     values, size = (ret[0], ret[1]) if isinstance(ret, tuple) and len(ret) > 1 else (ret, None)
     flat = _floats(values)
     if size is None or len(size) != 2 or int(size[0]) * int(size[1]) != len(flat):
-        raise RuntimeError(f"sim.getIkGroupMatrix gave {len(flat)} values and the size {size}")
+        raise CallError(f"sim.getIkGroupMatrix gave {len(flat)} values and the size {size}")
     return flat, [int(size[0]), int(size[1])]
 
 
@@ -206,13 +195,13 @@ def simGenerateIkPath(ikGroupHandle: int, jointHandles: Sequence[int], ptCnt: in
     handles = [int(h) for h in jointHandles]
     pairs = [int(h) for h in (collisionPairs or [])]
     if ptCnt < 2:
-        raise RuntimeError("a path needs at least 2 points")
+        raise CallError("a path needs at least 2 points")
     if _has("generateIkPath"):
         ret = _call("generateIkPath", ikGroupHandle, handles, int(ptCnt), pairs or None, jointOptions)
         return _floats(ret) if ret else []
     element = _ik_elements.get(_world_key(ikGroupHandle))
     if element is None:
-        raise RuntimeError(
+        raise CallError(
             "sim.generateIkPath is not available in gantry, and the tip and target of IK group "
             f"{ikGroupHandle} are unknown (register_ik_element)")
     tip, target = element[0], element[1]
@@ -261,7 +250,7 @@ def simRMLPos(dofs: int, smallestTimeStep: float, flags: int, currentPosVelAccel
     """A position-based online trajectory: its handle, for `simRMLStep`."""
     current, limits, target = _floats(currentPosVelAccel), _floats(maxVelAccelJerk), _floats(targetPosVel)
     if len(current) != 3 * dofs or len(limits) != 3 * dofs or len(target) != 2 * dofs:
-        raise RuntimeError(f"simRMLPos: {dofs} dofs need 3x{dofs} current values, 3x{dofs} limits and "
+        raise CallError(f"simRMLPos: {dofs} dofs need 3x{dofs} current values, 3x{dofs} limits and "
                            f"2x{dofs} target values")
     sel = [int(s) for s in selection]
     if _has("rmlPos"):
@@ -320,5 +309,5 @@ def simRemoveDrawingObject(objectHandle: int) -> None:
 def simGetCollectionHandle(collectionName: str) -> int:
     handle = _call("getCollectionHandle", collectionName)
     if handle is None or handle < 0:
-        raise RuntimeError(f"collection '{collectionName}' does not exist")
+        raise CallError(f"collection '{collectionName}' does not exist")
     return handle

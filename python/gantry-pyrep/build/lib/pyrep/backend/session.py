@@ -1,0 +1,62 @@
+"""Which gantry simulation the `pyrep` API talks to, per thread.
+
+PyRep's objects find their simulator through a module (`pyrep.backend.sim`), not
+through the `PyRep` instance: `Shape('cube')` names no instance. CoppeliaSim allows one
+simulator per process; gantry allows one per thread, so the simulation a call reaches
+is the one the calling thread launched (`PyRep.launch`), and several `PyRep` instances
+run side by side in several threads.
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import Any, Optional
+
+from pyrep.errors import CallError, PyRepError
+
+_local = threading.local()
+
+
+class Session:
+    """One launched simulation: the gantry client and its `sim` module."""
+
+    def __init__(self, client: Any):
+        self.client = client
+        self.sim = client.require("sim")
+        self.running = False
+
+
+def current() -> Session:
+    """The session of the calling thread; an error naming the fix if there is none."""
+    session: Optional[Session] = getattr(_local, "session", None)
+    if session is None:
+        raise PyRepError(
+            "no simulation is launched in this thread: call PyRep().launch(scene) first "
+            "(gantry runs one simulation per thread)"
+        )
+    return session
+
+
+def bind(session: Optional[Session]) -> None:
+    """Makes `session` the calling thread's (None: the thread has none)."""
+    _local.session = session
+
+
+def active() -> Optional[Session]:
+    """The calling thread's session, or None."""
+    return getattr(_local, "session", None)
+
+
+def call(name: str, *args: Any) -> Any:
+    """`sim.<name>(*args)` in the calling thread's simulation. A failure raises
+    `CallError`: a RuntimeError, as the C API's -1 makes PyRep raise, and a
+    PyRepError, with gantry's reason."""
+    f = getattr(current().sim, name, None)
+    if f is None:
+        raise CallError(f"sim.{name} is not available in gantry")
+    try:
+        return f(*args)
+    except CallError:
+        raise
+    except Exception as e:  # gantry's errors are plain Exceptions with the reason
+        raise CallError(str(e)) from e

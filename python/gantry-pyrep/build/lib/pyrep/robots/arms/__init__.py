@@ -1,0 +1,1 @@
+"""PyRep's arms, one module each."""

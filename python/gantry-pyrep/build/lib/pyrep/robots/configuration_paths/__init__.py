@@ -1,0 +1,1 @@
+"""Paths in a robot's configuration space, and how robots follow them."""

@@ -1,0 +1,1 @@
+"""PyRep's end effectors: grippers and suction cups."""

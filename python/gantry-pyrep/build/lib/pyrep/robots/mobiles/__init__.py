@@ -1,0 +1,1 @@
+"""PyRep's mobile bases."""

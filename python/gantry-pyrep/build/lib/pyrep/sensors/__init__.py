@@ -1,0 +1,1 @@
+"""PyRep's composite sensors: accelerometer, gyroscope, spherical vision sensor."""
