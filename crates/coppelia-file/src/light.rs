@@ -204,13 +204,23 @@ mod tests {
         let ext = "povray {shadow {true} fadeXDist {0.00}} openGL3 {lightProjection {nearPlane {0.1}}}";
         assert_eq!(extension_value(ext, &["povray", "shadow"]), Some("true"));
         assert_eq!(extension_value(ext, &["povray", "fadeXDist"]), Some("0.00"));
-        assert_eq!(extension_value(ext, &["openGL3", "lightProjection", "nearPlane"]), Some("0.1"));
+        assert_eq!(
+            extension_value(ext, &["openGL3", "lightProjection", "nearPlane"]),
+            Some("0.1")
+        );
         assert_eq!(extension_value(ext, &["shadow"]), None);
         assert!(pov_casts_shadows(ext));
         assert!(!pov_casts_shadows("povray {shadow {false}}"));
         assert!(!pov_casts_shadows(""));
         // Malformed text is absent, never a panic.
-        for bad in ["povray {shadow {true}", "povray", "{", "}", "a {b} c", "povray {shadow {tr}ue}}}"] {
+        for bad in [
+            "povray {shadow {true}",
+            "povray",
+            "{",
+            "}",
+            "a {b} c",
+            "povray {shadow {tr}ue}}}",
+        ] {
             let _ = extension_value(bad, &["povray", "shadow"]);
         }
     }

@@ -206,8 +206,14 @@ pub(crate) fn sample_body(p: Precision) -> Vec<u8> {
     };
     let light = light
         .chunk("Cas", &[0x02])
-        .nested("Cl1", Stream::new().chunk("Cl3", &Payload::new().f32s(&[0.9; 15]).done()))
-        .nested("Cl2", Stream::new().chunk("Cl2", &colours(0.2)).chunk("Cl3", &colours(0.0)));
+        .nested(
+            "Cl1",
+            Stream::new().chunk("Cl3", &Payload::new().f32s(&[0.9; 15]).done()),
+        )
+        .nested(
+            "Cl2",
+            Stream::new().chunk("Cl2", &colours(0.2)).chunk("Cl3", &colours(0.0)),
+        );
     // An old path: two control points, closed.
     let point = |x: f64, q: [f64; 4]| {
         let s = Stream::new();
@@ -437,7 +443,10 @@ fn reads_every_kind_in_both_precisions() {
         assert!(close(light.spot_cutoff, 0.75) && close(light.size, 0.1));
         assert_eq!(light.attenuation, [0.5, 0.125, 0.25]);
         // The last colour chunk wins; diffuse and specular are the second and third RGB.
-        assert_eq!((light.diffuse, light.specular), ([0.25, 0.5, 0.75], [0.125, 0.375, 0.625]));
+        assert_eq!(
+            (light.diffuse, light.specular),
+            ([0.25, 0.5, 0.75], [0.125, 0.375, 0.625])
+        );
         let ObjectKind::Path(path) = &by_name("path").kind else {
             panic!("path")
         };

@@ -65,11 +65,17 @@ fn test_scene_lights_and_old_path_read() {
     for (k, pt) in p.points.iter().enumerate() {
         let angle = k as f64 * std::f64::consts::PI / 8.0;
         let [x, y, z] = pt.position;
-        assert!(close(x, 0.05098 * angle.cos()) || (x - 0.05098 * angle.cos()).abs() < 1e-4, "{k}: {x}");
+        assert!(
+            close(x, 0.05098 * angle.cos()) || (x - 0.05098 * angle.cos()).abs() < 1e-4,
+            "{k}: {x}"
+        );
         assert!((y - 0.05098 * angle.sin()).abs() < 1e-4 && z == 0.0, "{k}: {y}");
         // A half turn about a horizontal axis: w and z near zero, a unit quaternion.
         let [w, qx, qy, qz] = pt.rotation;
-        assert!(w.abs() < 1e-6 && qz.abs() < 1e-6 && close(qx * qx + qy * qy, 1.0), "{k}");
+        assert!(
+            w.abs() < 1e-6 && qz.abs() < 1e-6 && close(qx * qx + qy * qy, 1.0),
+            "{k}"
+        );
         assert!(close(pt.bezier_factors[0], 0.95) && pt.bezier_points == 15);
     }
     assert!(close(o.local_pose.position[2], 0.55));

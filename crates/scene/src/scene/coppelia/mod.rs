@@ -16,8 +16,9 @@
 //! | perspective and orthographic vision sensors up to 2048 px a side | [`VisionModel`] |
 //! | cameras | [`CameraModel`] (a viewpoint for the viewer, with its view angle) |
 //! | force sensors, graphs, dummies | the same kinds |
-//! | lights | dummies (warned once: gantry's renderers light scenes their own way) |
-//! | paths, point cloud, script objects, others | dummies (warned) |
+//! | lights | [`LightModel`] (parameters for the light API; gantry's renderers keep their own lighting) |
+//! | old path objects (`PAT`) | [`PathModel`]: the control points' poses; Bézier corners approximated (`convert_path`) |
+//! | point clouds, script objects, others | dummies (warned) |
 //! | Lua child and customization scripts | [`ScriptModel`] on their object, old ones updated (`old_scripts.rs`) |
 //! | main scripts | dropped (gantry runs its own loop; a custom one is warned) |
 //! | Python, disabled scripts | dropped (warned) |
@@ -145,14 +146,6 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         });
     }
     cap_vision_memory(&mut objects, &mut report, &mut warnings);
-    let lights = report
-        .as_dummies
-        .iter()
-        .filter(|(_, why)| why == LIGHTS_IGNORED)
-        .count();
-    if lights > 0 {
-        warnings.push(format!("{lights} light(s): {LIGHTS_IGNORED}; imported as dummies"));
-    }
     report.objects = objects.len();
     report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
 
@@ -301,13 +294,12 @@ fn convert_kind(
         cf::ObjectKind::ForceSensor(_) => ObjectModelKind::ForceSensor,
         cf::ObjectKind::Graph => ObjectModelKind::Graph,
         cf::ObjectKind::Camera(c) => ObjectModelKind::Camera(convert_camera(c, label, warnings)),
-        // Warned once for the file, in `load_coppelia`.
-        cf::ObjectKind::Light => {
-            report.as_dummies.push((label.to_owned(), LIGHTS_IGNORED.into()));
-            ObjectModelKind::Dummy
-        }
+        cf::ObjectKind::Light(l) => match convert_light(l, &o.extension) {
+            Some(m) => ObjectModelKind::Light(m),
+            None => as_dummy(format!("light type {} is not known", l.light_type.code())),
+        },
         cf::ObjectKind::Script => ObjectModelKind::Dummy,
-        cf::ObjectKind::Path => as_dummy("old path objects are not supported".into()),
+        cf::ObjectKind::Path(p) => ObjectModelKind::Path(convert_path(p)),
         cf::ObjectKind::PointCloud => as_dummy("point clouds are not imported".into()),
         cf::ObjectKind::Other(tag) => {
             as_dummy(format!("object type {} is not supported", String::from_utf8_lossy(tag)))
@@ -315,9 +307,70 @@ fn convert_kind(
     }
 }
 
-/// Why lights become dummies (their light is not used: gantry's renderers have fixed
-/// lighting, see the `vision` module).
-const LIGHTS_IGNORED: &str = "lights are not imported (gantry lights scenes its own way)";
+/// A light's parameters, or `None` for a light type CoppeliaSim does not define. The
+/// POV-Ray shadow flag is read from the extension string, where CoppeliaSim keeps it.
+/// Gantry's renderers keep their own lighting: the parameters are for the light API.
+fn convert_light(l: &cf::Light, extension: &str) -> Option<LightModel> {
+    let light_type = match l.light_type {
+        cf::LightType::Omnidirectional => LightType::Omnidirectional,
+        cf::LightType::Spot => LightType::Spot,
+        cf::LightType::Directional => LightType::Directional,
+        cf::LightType::Other(_) => return None,
+    };
+    let unit = |c: [f64; 3]| c.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
+    let non_negative = |v: f64| if v.is_finite() { v.max(0.0) } else { 0.0 };
+    Some(LightModel {
+        light_type,
+        on: l.on,
+        diffuse: unit(l.diffuse),
+        specular: unit(l.specular),
+        spot_exponent: l.spot_exponent.clamp(0, LightModel::MAX_SPOT_EXPONENT),
+        spot_cutoff: if l.spot_cutoff.is_finite() {
+            l.spot_cutoff
+                .clamp(LightModel::MIN_SPOT_CUTOFF, LightModel::MAX_SPOT_CUTOFF)
+        } else {
+            LightModel::MAX_SPOT_CUTOFF
+        },
+        attenuation: l.attenuation.map(non_negative),
+        casts_shadows: cf::light::pov_casts_shadows(extension),
+    })
+}
+
+/// An old path's curve. The control points keep their poses. CoppeliaSim rounds each
+/// corner by its own Bézier point count and factors; gantry rounds every corner with one
+/// strength, so a path whose points have Bézier points (a count above 1) gets the mean
+/// of their factors as its smoothness and their total count as its number of curve
+/// points, and a path without any stays the polyline through its points.
+fn convert_path(p: &cf::OldPath) -> PathModel {
+    let ctrl_points = p
+        .points
+        .iter()
+        .filter(|c| c.position.iter().chain(&c.rotation).all(|v| v.is_finite()))
+        .map(|c| {
+            let [x, y, z] = c.position;
+            let [w, qx, qy, qz] = c.rotation;
+            [x, y, z, qx, qy, qz, w]
+        })
+        .collect();
+    let curved: Vec<&cf::PathPoint> = p.points.iter().filter(|c| c.bezier_points > 1).collect();
+    let (smoothness, subdiv) = if curved.is_empty() {
+        (0.0, 2)
+    } else {
+        let factors: f64 = curved
+            .iter()
+            .flat_map(|c| c.bezier_factors)
+            .map(|f| if f.is_finite() { f.clamp(0.0, 1.0) } else { 0.5 })
+            .sum();
+        let count: usize = p.points.iter().map(|c| c.bezier_points.clamp(1, 1000) as usize).sum();
+        (factors / (2 * curved.len()) as f64, count.clamp(2, 1_000_000))
+    };
+    PathModel {
+        ctrl_points,
+        closed: p.closed(),
+        smoothness,
+        subdiv,
+    }
+}
 
 /// A vision sensor as CoppeliaSim has it, or why it cannot be one. Both the view
 /// angle and the ortho size are kept, as CoppeliaSim keeps them, so that
