@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 305 functions, 278 constants."""
+    """`sim`: 305 functions, 289 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -132,6 +132,15 @@ class Sim:
     jointmode_force: int
     jointmode_kinematic: int
     jointmode_passive: int
+    light_directional_subtype: int
+    light_omnidirectional_subtype: int
+    light_spot_subtype: int
+    lightfloatparam_const_attenuation: int
+    lightfloatparam_lin_attenuation: int
+    lightfloatparam_quad_attenuation: int
+    lightfloatparam_spot_cutoff: int
+    lightfloatparam_spot_exponent: int
+    lightintparam_pov_casts_shadows: int
     message_keypress: int
     modelproperty_not_collidable: int
     modelproperty_not_cuttable: int
@@ -163,6 +172,8 @@ class Sim:
     object_forcesensor_type: int
     object_graph_type: int
     object_joint_type: int
+    object_light_type: int
+    object_path_type: int
     object_pointcloud_type: int
     object_proximitysensor_type: int
     object_shape_type: int
@@ -349,7 +360,7 @@ class Sim:
     def createMeshShape(self, *args: Any) -> Any:
         """the mesh is one shape, static and not respondable like CoppeliaSim's; culling, edges and the shading angle only change CoppeliaSim's drawing and are ignored; at most 1,000,000 vertices."""
     def createPath(self, *args: Any) -> Any:
-        """the 4.3+ form makes a dummy whose points (7 values each, in its frame) are also its custom data blocks `PATHCTRLPTS` and `PATH`; without smoothness the points are the control points, with one the `subdiv` points are resampled along the corners rounded as `quadraticBezier` of that strength; options bit 2 closes the path, the display and shape bits are ignored; orientation modes 1-6 put x, x, y, y, z, z along the path with y, z, x, z, x, y up. The V-REP 3 form (a number first) makes an empty path for `sim.insertPathCtrlPoints`. Copies of a path object are plain dummies."""
+        """the 4.3+ form makes a dummy whose points (7 values each, in its frame) are also its custom data blocks `PATHCTRLPTS` and `PATH`; without smoothness the points are the control points, with one the `subdiv` points are resampled along the corners rounded as `quadraticBezier` of that strength; options bit 2 closes the path, the display and shape bits are ignored; orientation modes 1-6 put x, x, y, y, z, z along the path with y, z, x, z, x, y up. The V-REP 3 form (a number first) makes an empty old path object (`sim.object_path_type`) for `sim.insertPathCtrlPoints`, as do a 4.1 scene's `PAT` paths and `kind = "path"` in a TOML scene. Copies of a path object have no curve."""
     def createPointCloud(self, *args: Any) -> Any:
         """the cloud is a scene object (`sim.object_pointcloud_type`, 16) at the world origin, alias `PointCloud`, with white points. As in CoppeliaSim, sizes are clamped (voxel 0.001-1 m, 1-100 points per voxel, 1-8 pixels; the point size is rounded); negative or non-finite ones are an error. `maxVoxelSize` and `maxPtCntPerVoxel` only shape the calculation structure: a full voxel splits (as the manual says), no point is ever dropped for them. Option bits 1 (show OC tree) and 4 (emissive) are kept and reported, not drawn; bit 0 makes the viewer show random colours; bit 3 (no calculation structure) turns the insertion duplicate check off, as in CoppeliaSim. Point clouds are not collidable, measurable or detectable, and vision sensors do not render them; the viewer draws them as points of their colour and size."""
     def createPrimitiveShape(self, *args: Any) -> Any:
@@ -415,7 +426,7 @@ class Sim:
     def getJointType(self, *args: Any) -> Any: ...
     def getJointVelocity(self, *args: Any) -> Any: ...
     def getLightParameters(self, *args: Any) -> Any:
-        """always an error, for the same reason as `sim.setLightParameters`."""
+        """state (1 on, 0 off), `{0, 0, 0}` (the reserved ambient part), diffuse, specular, as 4.1+."""
     def getLinkDummy(self, *args: Any) -> Any: ...
     def getMatrixInverse(self, *args: Any) -> Any:
         """a 3x3 block that is not a rotation gives some rotation, not an error (read by the closed-form method)."""
@@ -644,7 +655,7 @@ class Sim:
     def setJointTargetVelocity(self, *args: Any) -> Any:
         """a kinematic joint turns at that speed from the next step until a limit stops it (0 stops it)."""
     def setLightParameters(self, *args: Any) -> Any:
-        """always an error naming the object: gantry scenes have no light objects (its renderers use fixed lighting, and a CoppeliaSim scene's lights are imported as dummies)."""
+        """`(h, state, reserved, diffuse, specular)`: state bit 0 (or a boolean) on, the reserved ambient part ignored, a nil colour unchanged, colours 0..1; the values are kept for the API only, gantry's renderers keep their own lighting."""
     def setLinkDummy(self, *args: Any) -> Any:
         """every link is a dynamic loop closure (CoppeliaSim's default link type): a fixed joint between the bodies the two dummies ride on pulls their frames together (two dummies on the same body, or on none, are linked without effect). A link does not survive a physics rebuild of either body (re-parenting, a static/dynamic switch): link again after one."""
     def setModelProperty(self, *args: Any) -> Any:
