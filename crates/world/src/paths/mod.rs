@@ -387,6 +387,27 @@ mod tests {
     }
 
     #[test]
+    fn a_scene_path_is_built_from_its_model() {
+        let m = PathModel {
+            ctrl_points: vec![pt(0.0, 0.0, 0.0), pt(1.0, 0.0, 0.0), [f64::NAN; 7], pt(1.0, 1.0, 0.0)],
+            closed: false,
+            smoothness: 0.0,
+            subdiv: 10,
+        };
+        let p = PathObject::from_model(&m);
+        assert_eq!(p.ctrl_points().len(), 3, "the NaN point is left out");
+        assert!((p.length() - 2.0).abs() < 1e-12);
+        // Out-of-range shaping from code is held in range, not a panic.
+        let p = PathObject::from_model(&PathModel {
+            smoothness: 7.0,
+            subdiv: 0,
+            closed: true,
+            ..m
+        });
+        assert!(p.is_closed() && p.points().len() >= 2 && p.length().is_finite());
+    }
+
+    #[test]
     fn a_polyline_path_and_its_position() {
         let mut p = PathObject::new(vec![pt(0.0, 0.0, 0.0), pt(2.0, 0.0, 0.0)], false, Shaping::POLYLINE).unwrap();
         assert_eq!(p.length(), 2.0);

@@ -469,6 +469,73 @@ fn cap_vision_memory(objects: &mut [ObjectModel], report: &mut ImportReport, war
 /// The vision and camera mapping on values built here, so it is covered where the
 /// shared files are absent.
 #[cfg(test)]
+mod light_and_path_tests {
+    use super::*;
+
+    #[test]
+    fn lights_keep_their_parameters_within_coppeliasims_ranges() {
+        let l = cf::Light {
+            light_type: cf::LightType::Spot,
+            on: false,
+            spot_exponent: 300,
+            spot_cutoff: 2.0,
+            attenuation: [0.5, -1.0, f64::NAN],
+            diffuse: [0.25, 1.5, -0.5],
+            specular: [0.1, 0.2, 0.3],
+            ..cf::Light::default()
+        };
+        let m = convert_light(&l, "povray {shadow {true}}").unwrap();
+        assert_eq!((m.light_type, m.on, m.casts_shadows), (LightType::Spot, false, true));
+        assert_eq!(m.spot_exponent, 128);
+        assert_eq!(m.spot_cutoff, LightModel::MAX_SPOT_CUTOFF);
+        assert_eq!(m.attenuation, [0.5, 0.0, 0.0]);
+        assert_eq!((m.diffuse, m.specular), ([0.25, 1.0, 0.0], [0.1, 0.2, 0.3]));
+        assert!(!convert_light(&l, "").unwrap().casts_shadows);
+        let other = cf::Light {
+            light_type: cf::LightType::Other(7),
+            ..l
+        };
+        assert!(convert_light(&other, "").is_none());
+    }
+
+    #[test]
+    fn old_paths_keep_their_poses_and_round_corners_by_their_factors() {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let point = |x: f64, rotation: [f64; 4], bezier_points: i32, f: [f64; 2]| cf::PathPoint {
+            position: [x, 0.0, 0.0],
+            rotation,
+            bezier_factors: f,
+            bezier_points,
+            max_relative_velocity: 1.0,
+            on_spot_distance: 0.0,
+        };
+        let p = cf::OldPath {
+            points: vec![
+                point(0.0, [1.0, 0.0, 0.0, 0.0], 1, [0.5, 0.5]),
+                point(1.0, [h, 0.0, 0.0, h], 10, [0.8, 0.6]),
+                point(2.0, [1.0, 0.0, 0.0, 0.0], 20, [0.4, 0.2]),
+                point(f64::NAN, [1.0, 0.0, 0.0, 0.0], 1, [0.5, 0.5]),
+            ],
+            attributes: cf::path::CLOSED,
+        };
+        let m = convert_path(&p);
+        // w, x, y, z in the file; x, y, z, w in the model; the NaN point left out.
+        assert_eq!(m.ctrl_points.len(), 3);
+        assert_eq!(m.ctrl_points[1], [1.0, 0.0, 0.0, 0.0, 0.0, h, h]);
+        assert!(m.closed);
+        // The mean factor of the two curved points, their counts plus the sharp ones.
+        assert!((m.smoothness - 0.5).abs() < 1e-12);
+        assert_eq!(m.subdiv, 1 + 10 + 20 + 1);
+        let sharp = cf::OldPath {
+            points: vec![point(0.0, [1.0, 0.0, 0.0, 0.0], 1, [0.5, 0.5])],
+            attributes: 0,
+        };
+        let m = convert_path(&sharp);
+        assert_eq!((m.smoothness, m.closed), (0.0, false));
+    }
+}
+
+#[cfg(test)]
 mod vision_tests {
     use super::*;
 
