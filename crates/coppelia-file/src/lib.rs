@@ -185,7 +185,7 @@ impl CoppeliaFile {
 
     /// Checks the guarantees [`read`] gives about what it returns: every mesh's indices
     /// form whole triangles within its vertices, normals (when present) number one per
-    /// index, and the caps hold. The fuzz target asserts this on every file that reads.
+    /// index, and the caps (objects, scripts, path points) hold. The fuzz target asserts this on every file that reads.
     ///
     /// # Errors
     /// A description of the first broken guarantee.
@@ -194,6 +194,11 @@ impl CoppeliaFile {
             return Err("object or script cap exceeded".into());
         }
         for o in &self.objects {
+            if let ObjectKind::Path(p) = &o.kind
+                && p.points.len() > path::MAX_POINTS
+            {
+                return Err(format!("{}: {} path points", o.name, p.points.len()));
+            }
             let ObjectKind::Shape(s) = &o.kind else { continue };
             for leaf in &s.leaves {
                 if !leaf.indices.len().is_multiple_of(3) {

@@ -756,7 +756,8 @@ fn write_fuzz_seeds() {
         ("old_version.ttt", file(17, 30005, 1, b"EOF")),
     ];
     for (name, bytes) in seeds {
-        assert!(bytes.len() < 4096, "{name} is {} bytes", bytes.len());
+        // Small seeds keep the fuzzer fast (libFuzzer sizes its inputs from the largest seed).
+        assert!(bytes.len() < 8192, "{name} is {} bytes", bytes.len());
         std::fs::write(dir.join(name), bytes).unwrap();
     }
 }
