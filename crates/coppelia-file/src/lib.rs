@@ -185,7 +185,8 @@ impl CoppeliaFile {
 
     /// Checks the guarantees [`read`] gives about what it returns: every mesh's indices
     /// form whole triangles within its vertices, normals (when present) number one per
-    /// index, and the caps (objects, scripts, path points) hold. The fuzz target asserts this on every file that reads.
+    /// index, and the caps (objects, scripts, path points) hold. The fuzz target asserts
+    /// this on every file that reads.
     ///
     /// # Errors
     /// A description of the first broken guarantee.
