@@ -12,16 +12,20 @@
 //! Bullet friction and restitution, primitive type and size, meshes with their vertex
 //! frame and colour, compounds as their leaves), joints, dummies, proximity, vision and
 //! force sensors, scripts (main, child, customization; Lua or Python; the text decoded),
-//! the extension strings, collections, IK groups (not yet imported), and the time step, engine, gravity and engine step.
-//! What is not: textures, thumbnails, old collision/distance objects, custom data, graphs' streams, lights'
-//! and cameras' parameters, engine-specific joint and material arrays beyond Bullet
+//! the extension strings, collections, IK groups (not yet imported), lights (type, on/off,
+//! spot exponent and cutoff, attenuation, diffuse and specular colours: [`light`]), old
+//! path objects' control points and attributes ([`path`]), and the time step, engine,
+//! gravity and engine step.
+//! What is not: textures, thumbnails, old collision/distance objects, custom data, graphs' streams,
+//! cameras' display settings, engine-specific joint and material arrays beyond Bullet
 //! friction and restitution. Unknown chunks are skipped whole; values that do not apply
 //! are ignored.
 //!
 //! Bounds: the decoded body is capped at [`MAX_BODY_LEN`] and can be no longer than the
 //! coded bits allow; every length is checked against the bytes that remain before any
 //! allocation; nesting is capped at [`chunk::MAX_DEPTH`]; objects, scripts, mesh leaves,
-//! buffer elements, collections and their items have caps too ([`MAX_OBJECTS`], [`MAX_SCRIPTS`],
+//! buffer elements, collections and their items, path points have caps too ([`MAX_OBJECTS`], [`MAX_SCRIPTS`],
+//! [`path::MAX_POINTS`],
 //! [`MAX_COLLECTIONS`], [`collection::MAX_ITEMS`],
 //! [`shape::MAX_LEAVES`], [`mesh::MAX_BUFFER_ELEMENTS`]). Shared mesh buffers are
 //! reference-counted, never copied per mesh. The reader never panics; it is fuzzed
@@ -39,8 +43,10 @@ pub mod header;
 pub mod huffman;
 pub mod ik_group;
 pub mod joint;
+pub mod light;
 pub mod mesh;
 mod object;
+pub mod path;
 mod pose;
 pub mod script;
 pub mod sensor;
@@ -58,8 +64,10 @@ pub use error::ReadError;
 pub use header::{FileType, Header};
 pub use ik_group::{IkElement, IkGroup};
 pub use joint::{DynamicControl, Joint, JointDependency, JointMode, JointType};
+pub use light::{Light, LightType};
 pub use mesh::MeshBuffers;
 pub use object::{ObjectKind, SceneObject};
+pub use path::{OldPath, PathPoint};
 pub use pose::Pose;
 pub use script::{Script, ScriptLanguage, ScriptOrigin, ScriptType};
 pub use sensor::{ForceSensor, ProximitySensor, ProximityVolume, VisionSensor};
@@ -177,7 +185,8 @@ impl CoppeliaFile {
 
     /// Checks the guarantees [`read`] gives about what it returns: every mesh's indices
     /// form whole triangles within its vertices, normals (when present) number one per
-    /// index, and the caps hold. The fuzz target asserts this on every file that reads.
+    /// index, and the caps (objects, scripts, path points) hold. The fuzz target asserts
+    /// this on every file that reads.
     ///
     /// # Errors
     /// A description of the first broken guarantee.
@@ -186,6 +195,11 @@ impl CoppeliaFile {
             return Err("object or script cap exceeded".into());
         }
         for o in &self.objects {
+            if let ObjectKind::Path(p) = &o.kind
+                && p.points.len() > path::MAX_POINTS
+            {
+                return Err(format!("{}: {} path points", o.name, p.points.len()));
+            }
             let ObjectKind::Shape(s) = &o.kind else { continue };
             for leaf in &s.leaves {
                 if !leaf.indices.len().is_multiple_of(3) {

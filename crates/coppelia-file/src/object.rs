@@ -15,7 +15,9 @@ use crate::dummy::{self, Dummy};
 use crate::error::ReadError;
 use crate::field::{Fields, is_double};
 use crate::joint::{self, Joint};
+use crate::light::{self, Light};
 use crate::mesh::MeshBuffers;
+use crate::path::{self, OldPath};
 use crate::pose::Pose;
 use crate::script::{self, Script, ScriptOrigin};
 use crate::sensor::{self, ForceSensor, ProximitySensor, VisionSensor};
@@ -83,13 +85,13 @@ pub enum ObjectKind {
     /// A camera (`CMA`).
     Camera(Camera),
     /// A light (`LGT`).
-    Light,
+    Light(Light),
     /// A script object (`SCT`, 4.7+); its script is in
     /// [`CoppeliaFile::scripts`](crate::CoppeliaFile::scripts) with origin
     /// [`ScriptOrigin::Object`] of this handle.
     Script,
     /// An old path object (`PAT`).
-    Path,
+    Path(OldPath),
     /// A point cloud (`PTC`).
     PointCloud,
     /// Another object type (`OCT` octree, `MIR` mirror, `MIL` mill, ...), with its tag.
@@ -196,8 +198,8 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
         b"FSE" => ObjectKind::ForceSensor(sensor::read_force(&own, &at)?),
         b"GRH" => ObjectKind::Graph,
         b"CMA" => ObjectKind::Camera(camera::read(&own, &at)?),
-        b"LGT" => ObjectKind::Light,
-        b"PAT" => ObjectKind::Path,
+        b"LGT" => ObjectKind::Light(light::read(&own, &at)?),
+        b"PAT" => ObjectKind::Path(path::read(&own, &at)?),
         b"PTC" => ObjectKind::PointCloud,
         b"SCT" => {
             for soo in own.iter().filter(|c| &c.tag == b"Soo") {

@@ -193,6 +193,49 @@ pub(crate) fn sample_body(p: Precision) -> Vec<u8> {
         Precision::Double => reals(dynamics, p, "Stp", "_tp", &[], &[0.005]),
     };
 
+    // A spot light, off, with its colours in a colour object as 4.x writes it.
+    let light = common(p, 19, -1, "light", [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0], 0, 0);
+    let light = reals(light, p, "Cp2", "_p2", &Payload::new().i32(2).i32(7).done(), &[0.1]);
+    let light = reals(light, p, "Cp3", "_p3", &[], &[0.75]);
+    let light = reals(light, p, "Caf", "_af", &[], &[0.5, 0.125, 0.25]);
+    let colours = |ambient: f32| {
+        Payload::new()
+            .f32s(&[ambient, ambient, ambient, 0.25, 0.5, 0.75, 0.125, 0.375, 0.625])
+            .f32s(&[0.0; 6])
+            .done()
+    };
+    let light = light
+        .chunk("Cas", &[0x02])
+        .nested(
+            "Cl1",
+            Stream::new().chunk("Cl3", &Payload::new().f32s(&[0.9; 15]).done()),
+        )
+        .nested(
+            "Cl2",
+            Stream::new().chunk("Cl2", &colours(0.2)).chunk("Cl3", &colours(0.0)),
+        );
+    // An old path: two control points, closed.
+    let point = |x: f64, q: [f64; 4]| {
+        let s = Stream::new();
+        let v = [x, 0.5, 0.0, q[0], q[1], q[2], q[3], 0.25, 0.75];
+        let s = match p {
+            Precision::Single => {
+                let v: Vec<f32> = v.iter().map(|&v| v as f32).collect();
+                s.chunk("At2", &Payload::new().f32s(&v).i32(9).f32s(&[0.5]).done())
+            }
+            Precision::Double => s.chunk("_t2", &Payload::new().f64s(&v).i32(9).f64s(&[0.5]).done()),
+        };
+        reals(s, p, "At3", "_t3", &[], &[0.0])
+    };
+    let ntp = Stream::new()
+        .nested("Pat", point(0.0, [1.0, 0.0, 0.0, 0.0]))
+        .nested("Pat", point(1.0, [h, 0.0, 0.0, h]))
+        .chunk("Si2", &Payload::new().i32(1).f32s(&[0.01]).done())
+        .chunk("At2", &Payload::new().i32(4 | 1).done());
+    let path = common(p, 21, -1, "path", [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], 0, 0)
+        .chunk("Var", &[4])
+        .nested("Ntp", ntp);
+
     Stream::new()
         .nested("MTC", Stream::new().chunk("Tm2", &[0; 16]))
         .nested("VIN", vin)
@@ -206,10 +249,8 @@ pub(crate) fn sample_body(p: Precision) -> Vec<u8> {
         .nested("FSE", force)
         .nested("SCT", script_object)
         .nested("CMA", camera)
-        .nested(
-            "LGT",
-            common(p, 19, -1, "light", [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0], 0, 0),
-        )
+        .nested("LGT", light)
+        .nested("PAT", path)
         .nested("SIM", sim)
         .nested("DYN", dynamics)
         .nested("LST", main)
@@ -269,7 +310,7 @@ fn reads_every_kind_in_both_precisions() {
     for p in [Precision::Single, Precision::Double] {
         let f = read(&sample_file(p)).unwrap();
         assert_eq!(f.header.file_type, FileType::Scene);
-        assert_eq!(f.objects.len(), 11);
+        assert_eq!(f.objects.len(), 12);
         let by_name = |n: &str| f.objects.iter().find(|o| o.name == n).unwrap();
 
         let base = by_name("base");
@@ -394,7 +435,28 @@ fn reads_every_kind_in_both_precisions() {
         };
         assert!(close(fs.force_threshold, 100.0) && fs.consecutive_violations == 3);
         assert!(fs.filter_samples == 5 && fs.filter_type == 1);
-        assert_eq!(by_name("light").kind, ObjectKind::Light);
+        let ObjectKind::Light(light) = &by_name("light").kind else {
+            panic!("light")
+        };
+        assert_eq!((light.light_type, light.spot_exponent), (LightType::Spot, 7));
+        assert!(!light.on && light.local);
+        assert!(close(light.spot_cutoff, 0.75) && close(light.size, 0.1));
+        assert_eq!(light.attenuation, [0.5, 0.125, 0.25]);
+        // The last colour chunk wins; diffuse and specular are the second and third RGB.
+        assert_eq!(
+            (light.diffuse, light.specular),
+            ([0.25, 0.5, 0.75], [0.125, 0.375, 0.625])
+        );
+        let ObjectKind::Path(path) = &by_name("path").kind else {
+            panic!("path")
+        };
+        assert!(path.closed() && path.attributes == 5 && path.points.len() == 2);
+        let b = path.points[1];
+        assert!(close(b.position[0], 1.0) && close(b.position[1], 0.5));
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        assert!(close(b.rotation[0], h) && close(b.rotation[3], h));
+        assert!(close(b.bezier_factors[0], 0.25) && close(b.bezier_factors[1], 0.75));
+        assert!(b.bezier_points == 9 && close(b.max_relative_velocity, 0.5));
         let ObjectKind::Camera(cam) = &by_name("view").kind else {
             panic!("camera")
         };
@@ -694,7 +756,8 @@ fn write_fuzz_seeds() {
         ("old_version.ttt", file(17, 30005, 1, b"EOF")),
     ];
     for (name, bytes) in seeds {
-        assert!(bytes.len() < 4096, "{name} is {} bytes", bytes.len());
+        // Small seeds keep the fuzzer fast (libFuzzer sizes its inputs from the largest seed).
+        assert!(bytes.len() < 8192, "{name} is {} bytes", bytes.len());
         std::fs::write(dir.join(name), bytes).unwrap();
     }
 }

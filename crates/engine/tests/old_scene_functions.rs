@@ -3,7 +3,8 @@
 //! options)`, `sim.getCollectionHandle`, `sim.getCollectionName`), compound shapes
 //! (`sim.groupShapes`, `sim.ungroupShape`), shape information (`sim.getShapeGeomInfo`,
 //! `sim.getShapeInertia`, `sim.getShapeMassAndInertia`), graph curves, the contacts of
-//! the last step (`sim.getContactInfo`) and the light functions that gantry refuses.
+//! the last step (`sim.getContactInfo`) and the light functions' refusals of objects
+//! that are not lights.
 
 mod util;
 
@@ -394,13 +395,10 @@ fn contact_info_lists_the_last_steps_contacts_of_an_object() {
 }
 
 #[test]
-fn light_functions_say_there_are_no_lights() {
+fn light_functions_refuse_objects_that_are_not_lights() {
     let mut sc = scene("old-lights");
     let r = sc.call("lights", &[]);
-    assert_contains(
-        text(&r[0]),
-        &["not a light", "no light objects", "sim.setLightParameters"],
-    );
+    assert_contains(text(&r[0]), &["not a light", "sim.setLightParameters"]);
     assert_contains(text(&r[1]), &["not a light", "sim.getLightParameters"]);
     assert_contains(text(&r[2]), &["does not exist", "sim.getLightParameters"]);
 }

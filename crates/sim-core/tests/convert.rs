@@ -12,9 +12,10 @@ use std::sync::Arc;
 use gantry_sim_core::math::{Pose, pose_from_euler};
 use gantry_sim_core::scene::{
     CameraModel, CollectionItemModel, CollectionModel, CollectionScope, DiskFiles, GeomModel, Geometry, IkElementModel,
-    IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, LoadOptions, MassModel, MeshData, MimicModel,
-    ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode, SceneModel, ScriptModel,
-    ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel, load_coppelia, load_scene, write_scene,
+    IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, LightModel, LightType, LoadOptions, MassModel,
+    MeshData, MimicModel, ObjectModel, ObjectModelKind, PathModel, Projection, ProximityModel, ReferencedHandles,
+    RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel,
+    load_coppelia, load_scene, write_scene,
 };
 use gantry_test_support::repo;
 
@@ -207,6 +208,16 @@ fn assert_kind(a: &ObjectModelKind, b: &ObjectModelKind, what: &str) {
             ),
             _ => assert_eq!(x, y, "{what}"),
         },
+        (ObjectModelKind::Light(x), ObjectModelKind::Light(y)) => {
+            // The cutoff is written in degrees.
+            assert!(close(x.spot_cutoff, y.spot_cutoff, 1e-12), "{what}: spot cutoff");
+            assert_eq!(
+                LightModel { spot_cutoff: 0.0, ..*x },
+                LightModel { spot_cutoff: 0.0, ..*y },
+                "{what}"
+            );
+        }
+        (ObjectModelKind::Path(x), ObjectModelKind::Path(y)) => assert_eq!(x, y, "{what}"),
         (ObjectModelKind::VisionSensor(x), ObjectModelKind::VisionSensor(y)) => {
             assert!(close(x.fov, y.fov, 1e-12), "{what}: fov");
             assert_eq!(VisionModel { fov: 0.0, ..*x }, VisionModel { fov: 0.0, ..*y }, "{what}");
@@ -515,6 +526,44 @@ fn everything() -> SceneModel {
             None,
             Pose::translation(1.0, 2.0, 3.0),
             ObjectModelKind::Camera(CameraModel { fov: 0.9 }),
+        ),
+        object(
+            "spot",
+            Some(0),
+            Pose::translation(0.0, 0.0, 2.0),
+            ObjectModelKind::Light(LightModel {
+                on: false,
+                diffuse: [0.25, 0.5, 0.75],
+                specular: [0.1, 0.2, 0.3],
+                spot_exponent: 9,
+                spot_cutoff: 0.6,
+                attenuation: [0.5, 0.125, 0.25],
+                casts_shadows: true,
+                ..LightModel::new(LightType::Spot)
+            }),
+        ),
+        object(
+            "old_path",
+            None,
+            Pose::translation(0.5, 0.0, 0.0),
+            ObjectModelKind::Path(PathModel {
+                ctrl_points: vec![
+                    [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],
+                    [
+                        1.0,
+                        0.0,
+                        0.5,
+                        0.0,
+                        0.0,
+                        std::f64::consts::FRAC_1_SQRT_2,
+                        std::f64::consts::FRAC_1_SQRT_2,
+                    ],
+                    [1.0, 1.0, 0.5, 0.0, 0.0, 0.0, 1.0],
+                ],
+                closed: true,
+                smoothness: 0.95,
+                subdiv: 45,
+            }),
         ),
     ];
     SceneModel {

@@ -28,9 +28,9 @@ use crate::handle::Handle;
 use crate::ik::IkEnvironments;
 use crate::ik_groups::SceneIkGroups;
 use crate::motion::RuckigObjects;
-use crate::paths::Paths;
+use crate::paths::{PathObject, Paths};
 use crate::planning::Planning;
-use crate::scene::SceneModel;
+use crate::scene::{ObjectModelKind, SceneModel};
 use crate::signals::Signals;
 use crate::tubes::Tubes;
 use crate::vision::VisionStates;
@@ -84,6 +84,13 @@ impl Sim {
     pub fn new(model: &SceneModel) -> Self {
         let mut sim = Self::from_world(World::new(model));
         sim.ik_groups = SceneIkGroups::build(&model.ik_groups);
+        // Old path objects: the world has their frames (handle = model index), the
+        // curves live here.
+        for (i, o) in model.objects.iter().enumerate() {
+            if let ObjectModelKind::Path(p) = &o.kind {
+                sim.paths.insert(i as Handle, PathObject::from_model(p));
+            }
+        }
         sim
     }
 

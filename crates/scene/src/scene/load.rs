@@ -15,10 +15,10 @@ use super::files::{Files, normalize, stem};
 use super::floor::{floor_object, put_on_floor};
 use super::model::{
     CameraModel, CollectionItemModel, CollectionModel, CollectionScope, GeomModel, Geometry, IkElementModel,
-    IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION,
-    MassModel, MimicModel, ObjectModel, ObjectModelKind, Projection, ProximityModel, ReferencedHandles, RenderMode,
-    SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, UrdfRobotModel, VISION_BYTES_PER_PIXEL,
-    VisionModel, VisualModel, vision_image_bytes,
+    IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, LightModel, LightType, MAX_VISION_IMAGE_BYTES,
+    MAX_VISION_RESOLUTION, MassModel, MimicModel, ObjectModel, ObjectModelKind, PathModel, Projection, ProximityModel,
+    ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, UrdfRobotModel,
+    VISION_BYTES_PER_PIXEL, VisionModel, VisualModel, vision_image_bytes,
 };
 use super::raw::{RawObject, RawPart, RawRobot, RawScene, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
@@ -600,10 +600,12 @@ impl Resolver<'_> {
             "force_sensor" => ObjectModelKind::ForceSensor,
             "graph" => ObjectModelKind::Graph,
             "camera" => ObjectModelKind::Camera(self.camera(o)?),
+            "light" => ObjectModelKind::Light(self.light(o)?),
+            "path" => ObjectModelKind::Path(self.path_object(o)?),
             other => {
                 return self.err_at(
                     o.kind.span(),
-                    format!("unknown kind '{other}'; use shape, joint, dummy, proximity_sensor, vision_sensor, force_sensor, graph or camera"),
+                    format!("unknown kind '{other}'; use shape, joint, dummy, proximity_sensor, vision_sensor, force_sensor, graph, camera, light or path"),
                 );
             }
         };
@@ -1354,6 +1356,84 @@ impl Resolver<'_> {
             );
         }
         Ok(CameraModel { fov: fov.to_radians() })
+    }
+
+    fn light(&self, o: &RawObject) -> Result<LightModel, LoadError> {
+        let name = o.name.get_ref();
+        let light_type = match o.light.as_ref().map(|t| (t.get_ref().as_str(), t.span())) {
+            None | Some(("omnidirectional", _)) => LightType::Omnidirectional,
+            Some(("spot", _)) => LightType::Spot,
+            Some(("directional", _)) => LightType::Directional,
+            Some((other, span)) => {
+                return self.err_at(
+                    span,
+                    format!("light '{name}': unknown light '{other}'; use omnidirectional, spot or directional"),
+                );
+            }
+        };
+        let mut l = LightModel::new(light_type);
+        let colour = |v: [f64; 3]| v.iter().all(|c| (0.0..=1.0).contains(c));
+        for (key, v) in [("diffuse", o.diffuse), ("specular", o.specular)] {
+            if v.is_some_and(|v| !colour(v)) {
+                return self.err_at(
+                    o.name.span(),
+                    format!("light '{name}': {key} components must be from 0 to 1"),
+                );
+            }
+        }
+        l.on = o.on.unwrap_or(true);
+        l.diffuse = o.diffuse.unwrap_or(l.diffuse);
+        l.specular = o.specular.unwrap_or(l.specular);
+        l.casts_shadows = o.casts_shadows.unwrap_or(false);
+        if let Some(e) = o.spot_exponent {
+            match i32::try_from(e) {
+                Ok(e) if (0..=LightModel::MAX_SPOT_EXPONENT).contains(&e) => l.spot_exponent = e,
+                _ => return self.err_at(o.name.span(), format!("light '{name}': spot_exponent must be 0 to 128")),
+            }
+        }
+        if let Some(deg) = o.spot_cutoff_deg {
+            // A cutoff written from a 4.1 file's single-precision pi/2 may exceed 90
+            // degrees in its last digits; it is pi/2.
+            if !(5.0..=90.0 + 1e-4).contains(&deg) {
+                return self.err_at(
+                    o.name.span(),
+                    format!("light '{name}': spot_cutoff_deg must be 5 to 90"),
+                );
+            }
+            l.spot_cutoff = deg.to_radians().min(LightModel::MAX_SPOT_CUTOFF);
+        }
+        if let Some(a) = o.attenuation {
+            if !a.iter().all(|v| v.is_finite() && *v >= 0.0) {
+                return self.err_at(
+                    o.name.span(),
+                    format!("light '{name}': attenuation factors must be finite and >= 0"),
+                );
+            }
+            l.attenuation = a;
+        }
+        Ok(l)
+    }
+
+    fn path_object(&self, o: &RawObject) -> Result<PathModel, LoadError> {
+        let name = o.name.get_ref();
+        let ctrl_points = o.ctrl_points.clone().unwrap_or_default();
+        if ctrl_points.iter().flatten().any(|v| !v.is_finite()) {
+            return self.err_at(o.name.span(), format!("path '{name}': ctrl_points must be finite"));
+        }
+        let smoothness = o.smoothness.unwrap_or(0.0);
+        if !(0.0..=1.0).contains(&smoothness) {
+            return self.err_at(o.name.span(), format!("path '{name}': smoothness must be from 0 to 1"));
+        }
+        let subdiv = o.subdiv.unwrap_or(100) as usize;
+        if !(2..=1_000_000).contains(&subdiv) {
+            return self.err_at(o.name.span(), format!("path '{name}': subdiv must be 2 to 1000000"));
+        }
+        Ok(PathModel {
+            ctrl_points,
+            closed: o.closed.unwrap_or(false),
+            smoothness,
+            subdiv,
+        })
     }
 
     fn robot(&mut self, r: &RawRobot, parent: Option<usize>, name: &str) -> Result<UrdfIndex, LoadError> {

@@ -300,6 +300,14 @@ pub enum ObjectModelKind {
     Graph,
     /// A viewpoint for the viewer (CoppeliaSim's camera object).
     Camera(CameraModel),
+    /// A light: a frame with lighting parameters, no physics. Gantry's renderers keep
+    /// their own lighting; the parameters are what `sim.getLightParameters` and the
+    /// light object parameters read and write.
+    Light(LightModel),
+    /// An old path object (V-REP 3 to CoppeliaSim 4.2, `sim.object_path_type`): a frame
+    /// and a curve through control points in it, for `sim.getPositionOnPath` and the
+    /// other old-path functions.
+    Path(PathModel),
 }
 
 /// A shape: collision geometry, visual geometry and physical properties.
@@ -690,6 +698,89 @@ pub struct VisionModel {
 pub struct CameraModel {
     /// Perspective view angle, rad (CoppeliaSim's, of the larger side of the view).
     pub fov: f64,
+}
+
+/// The kind of a light, as CoppeliaSim's light subtypes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LightType {
+    /// From a point in every direction (`sim.light_omnidirectional_subtype`, 1).
+    Omnidirectional,
+    /// A cone along the light's +Z axis (`sim.light_spot_subtype`, 2).
+    Spot,
+    /// Parallel rays along the light's +Z axis (`sim.light_directional_subtype`, 3).
+    Directional,
+}
+
+impl LightType {
+    /// CoppeliaSim's subtype number.
+    pub fn code(self) -> i64 {
+        match self {
+            LightType::Omnidirectional => 1,
+            LightType::Spot => 2,
+            LightType::Directional => 3,
+        }
+    }
+}
+
+/// A light's parameters, CoppeliaSim's (colours 0..1, angles in rad).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightModel {
+    /// Omnidirectional, spot or directional.
+    pub light_type: LightType,
+    /// Lit.
+    pub on: bool,
+    /// Diffuse RGB.
+    pub diffuse: [f64; 3],
+    /// Specular RGB.
+    pub specular: [f64; 3],
+    /// Spot exponent, 0 to 128: how fast a spot's light falls off towards its edge.
+    pub spot_exponent: i32,
+    /// Spot cutoff, rad: half the cone's opening, up to pi/2.
+    pub spot_cutoff: f64,
+    /// Constant, linear and quadratic attenuation factors.
+    pub attenuation: [f64; 3],
+    /// Casts shadows in POV-Ray renderings (`sim.lightintparam_pov_casts_shadows`).
+    pub casts_shadows: bool,
+}
+
+impl LightModel {
+    /// Most spot exponent (OpenGL's limit, which CoppeliaSim keeps).
+    pub const MAX_SPOT_EXPONENT: i32 = 128;
+    /// Largest spot cutoff: pi/2 as CoppeliaSim 4.1 stores it, in single precision, so
+    /// that a cutoff read from a 4.1 file is kept as it is.
+    pub const MAX_SPOT_CUTOFF: f64 = std::f32::consts::FRAC_PI_2 as f64;
+    /// Smallest spot cutoff (CoppeliaSim's, 5 degrees).
+    pub const MIN_SPOT_CUTOFF: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+    /// A new light of this type as CoppeliaSim makes one: on, grey diffuse and
+    /// specular, a 90-degree cutoff and exponent 5, constant attenuation only.
+    pub fn new(light_type: LightType) -> Self {
+        Self {
+            light_type,
+            on: true,
+            diffuse: [0.5; 3],
+            specular: [0.5; 3],
+            spot_exponent: 5,
+            spot_cutoff: Self::MAX_SPOT_CUTOFF,
+            attenuation: [1.0, 0.0, 0.0],
+            casts_shadows: false,
+        }
+    }
+}
+
+/// An old path object's curve: control points in the path's frame, each
+/// `x, y, z, qx, qy, qz, qw`, and how the curve goes through them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathModel {
+    /// The control points, in order.
+    pub ctrl_points: Vec<[f64; 7]>,
+    /// The last control point links back to the first.
+    pub closed: bool,
+    /// 0 for the polyline through the control points, up to 1 for corners rounded by
+    /// quadratic Bézier curves of that strength.
+    pub smoothness: f64,
+    /// Points of a rounded curve (at least 2; unused for a polyline).
+    pub subdiv: usize,
 }
 
 /// A script attached to an object.

@@ -220,6 +220,34 @@ pub struct RawObject {
     pub ignore_depth: Option<bool>,
     /// Vision sensor: images per simulated second on the ROS 2 graph (default: the run's).
     pub ros2_rate: Option<f64>,
+
+    /// Light: `omnidirectional`, `spot` or `directional`. It shines along its local +Z
+    /// axis (spot, directional).
+    pub light: Option<Spanned<String>>,
+    /// Light: lit (default true).
+    pub on: Option<bool>,
+    /// Light: diffuse RGB, each 0..1 (default 0.5 grey).
+    pub diffuse: Option<[f64; 3]>,
+    /// Light: specular RGB, each 0..1 (default 0.5 grey).
+    pub specular: Option<[f64; 3]>,
+    /// Light: spot exponent, 0 to 128 (default 5).
+    pub spot_exponent: Option<i64>,
+    /// Light: spot cutoff, half the cone's opening, degrees, 5 to 90 (default 90).
+    pub spot_cutoff_deg: Option<f64>,
+    /// Light: constant, linear and quadratic attenuation factors (default `[1, 0, 0]`).
+    pub attenuation: Option<[f64; 3]>,
+    /// Light: casts shadows in POV-Ray renderings (default false).
+    pub casts_shadows: Option<bool>,
+
+    /// Path: control points `[x, y, z, qx, qy, qz, qw]` in the path's frame (metres).
+    pub ctrl_points: Option<Vec<[f64; 7]>>,
+    /// Path: the last control point links back to the first (default false).
+    pub closed: Option<bool>,
+    /// Path: 0 (default) for the polyline through the control points, up to 1 for the
+    /// roundest corners.
+    pub smoothness: Option<f64>,
+    /// Path: points of a rounded curve (default 100).
+    pub subdiv: Option<u32>,
 }
 
 /// One `[[object.part]]` of a shape: a primitive or mesh placed in the shape frame.
@@ -464,6 +492,18 @@ const OBJECT_KEYS: &[&str] = &[
     "ignore_rgb",
     "ignore_depth",
     "ros2_rate",
+    "light",
+    "on",
+    "diffuse",
+    "specular",
+    "spot_exponent",
+    "spot_cutoff_deg",
+    "attenuation",
+    "casts_shadows",
+    "ctrl_points",
+    "closed",
+    "smoothness",
+    "subdiv",
 ];
 const ROBOT_KEYS: &[&str] = &[
     "urdf",

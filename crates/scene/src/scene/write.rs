@@ -19,8 +19,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::model::{
-    CollectionModel, CollectionScope, Geometry, IkGroupModel, IkMethodModel, JointMode, JointType, MassModel, MeshData,
-    ObjectModel, ObjectModelKind, Projection, ProximityModel, RenderMode, SceneModel, ShapeModel, VisionModel,
+    CollectionModel, CollectionScope, Geometry, IkGroupModel, IkMethodModel, JointMode, JointType, LightModel,
+    LightType, MassModel, MeshData, ObjectModel, ObjectModelKind, PathModel, Projection, ProximityModel, RenderMode,
+    SceneModel, ShapeModel, VisionModel,
 };
 use super::obj_write::write_obj;
 use crate::math::{Pose, Quat, euler_from_quat, quat_from_euler, quat_to_array};
@@ -293,6 +294,8 @@ impl Writer {
             ObjectModelKind::ProximitySensor(p) => self.proximity(p),
             ObjectModelKind::VisionSensor(v) => self.vision(v),
             ObjectModelKind::Camera(c) => self.key("fov_deg", c.fov.to_degrees()),
+            ObjectModelKind::Light(l) => self.light(l),
+            ObjectModelKind::Path(p) => self.path_object(p),
             ObjectModelKind::Dummy | ObjectModelKind::ForceSensor | ObjectModelKind::Graph => Ok(()),
         }
     }
@@ -352,6 +355,40 @@ impl Writer {
                 self.key("thickness", thickness)
             }
         }
+    }
+
+    /// The light's keys, all of them (a light has few).
+    fn light(&mut self, l: &LightModel) -> Result<(), WriteError> {
+        let t = match l.light_type {
+            LightType::Omnidirectional => "omnidirectional",
+            LightType::Spot => "spot",
+            LightType::Directional => "directional",
+        };
+        let _ = writeln!(self.out, "light = \"{t}\"\non = {}", l.on);
+        self.key3("diffuse", l.diffuse)?;
+        self.key3("specular", l.specular)?;
+        let _ = writeln!(self.out, "spot_exponent = {}", l.spot_exponent);
+        self.key("spot_cutoff_deg", l.spot_cutoff.to_degrees())?;
+        self.key3("attenuation", l.attenuation)?;
+        let _ = writeln!(self.out, "casts_shadows = {}", l.casts_shadows);
+        Ok(())
+    }
+
+    /// The old path's keys: its control points one per line.
+    fn path_object(&mut self, p: &PathModel) -> Result<(), WriteError> {
+        self.out.push_str("ctrl_points = [\n");
+        for c in &p.ctrl_points {
+            let items = c
+                .iter()
+                .map(|x| self.num("ctrl_points", *x))
+                .collect::<Result<Vec<_>, _>>()?;
+            let _ = writeln!(self.out, "    [{}],", items.join(", "));
+        }
+        self.out.push_str("]\n");
+        let _ = writeln!(self.out, "closed = {}", p.closed);
+        self.key("smoothness", p.smoothness)?;
+        let _ = writeln!(self.out, "subdiv = {}", p.subdiv);
+        Ok(())
     }
 
     /// The vision sensor's keys.
@@ -627,6 +664,8 @@ fn kind_name(kind: &ObjectModelKind) -> &'static str {
         ObjectModelKind::ForceSensor => "force_sensor",
         ObjectModelKind::Graph => "graph",
         ObjectModelKind::Camera(_) => "camera",
+        ObjectModelKind::Light(_) => "light",
+        ObjectModelKind::Path(_) => "path",
     }
 }
 

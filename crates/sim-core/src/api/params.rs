@@ -10,7 +10,7 @@
 use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
-use crate::scene::{JointMode, Projection, ProximityModel, RenderMode};
+use crate::scene::{JointMode, LightModel, Projection, ProximityModel, RenderMode};
 use crate::sim::Sim;
 use crate::world::{ObjectKind, World};
 
@@ -62,6 +62,11 @@ const SHAPE_STATIC: i64 = 3003;
 const SHAPE_RESPONDABLE: i64 = 3004;
 const SHAPE_MASS: i64 = 3005;
 const PROX_VOLUME_TYPE: i64 = 4001;
+const LIGHT_POV_CASTS_SHADOWS: i64 = 8000;
+const LIGHT_SPOT_EXPONENT: i64 = 8001;
+const LIGHT_SPOT_CUTOFF: i64 = 8002;
+const LIGHT_CONST_ATTENUATION: i64 = 8003;
+const LIGHT_QUAD_ATTENUATION: i64 = 8005;
 
 // `sim.jointdynctrl_*`.
 const DYNCTRL_FREE: i64 = 0;
@@ -147,6 +152,12 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("visionintparam_render_mode", VISION_RENDER_MODE),
     ("visionintparam_rgbignored", VISION_RGB_IGNORED),
     ("visionintparam_depthignored", VISION_DEPTH_IGNORED),
+    ("lightintparam_pov_casts_shadows", LIGHT_POV_CASTS_SHADOWS),
+    ("lightfloatparam_spot_exponent", LIGHT_SPOT_EXPONENT),
+    ("lightfloatparam_spot_cutoff", LIGHT_SPOT_CUTOFF),
+    ("lightfloatparam_const_attenuation", LIGHT_CONST_ATTENUATION),
+    ("lightfloatparam_lin_attenuation", LIGHT_CONST_ATTENUATION + 1),
+    ("lightfloatparam_quad_attenuation", LIGHT_QUAD_ATTENUATION),
     ("rendermode_opengl", RENDERMODE_OPENGL),
     ("rendermode_colorcoded", RENDERMODE_COLORCODED),
     ("rendermode_opengl3", RENDERMODE_OPENGL3),
@@ -282,6 +293,7 @@ pub(super) fn get_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (JOINT_VELOCITY_LOCK, ObjectKind::Joint(j)) => Some(i64::from(j.velocity_lock)),
         (VISION_RGB_IGNORED, ObjectKind::VisionSensor(v)) => Some(i64::from(v.ignore_rgb)),
         (VISION_DEPTH_IGNORED, ObjectKind::VisionSensor(v)) => Some(i64::from(v.ignore_depth)),
+        (LIGHT_POV_CASTS_SHADOWS, ObjectKind::Light(l)) => Some(i64::from(l.casts_shadows)),
         (PROX_VOLUME_TYPE, ObjectKind::ProximitySensor(p)) => Some(match p.volume {
             ProximityModel::Pyramid { .. } => 0,
             ProximityModel::Cylinder { .. } => 1,
@@ -400,6 +412,13 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
             }
             w.set_vision_model(h, m)?;
         }
+        (LIGHT_POV_CASTS_SHADOWS, ObjectKind::Light(l)) => {
+            let l = LightModel {
+                casts_shadows: v != 0,
+                ..*l
+            };
+            w.set_light(h, l)?;
+        }
         (JOINT_DYNCTRLMODE, ObjectKind::Joint(_)) => {
             let mode = match v {
                 DYNCTRL_FREE => JointMode::Free,
@@ -422,7 +441,9 @@ fn set_object_int32_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 /// `sim.getObjectFloatParam(objectHandle, parameterID)` → value, or nothing (`nil`) when
 /// the parameter does not apply. Velocities are m/s and rad/s in the world frame, the
 /// bounding box in m in the object's frame, angles in rad, a vision sensor's clipping
-/// planes and ortho size (its view's extent along the larger image side) in m.
+/// planes and ortho size (its view's extent along the larger image side) in m. A
+/// light's spot exponent reads as a number with no fraction, its cutoff in rad (half
+/// the cone's opening).
 pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
@@ -445,6 +466,11 @@ pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (VISION_FAR, ObjectKind::VisionSensor(v)) => Some(v.far),
         (VISION_ANGLE, ObjectKind::VisionSensor(v)) => Some(v.fov),
         (VISION_ORTHO_SIZE, ObjectKind::VisionSensor(v)) => Some(v.ortho_size),
+        (LIGHT_SPOT_EXPONENT, ObjectKind::Light(l)) => Some(f64::from(l.spot_exponent)),
+        (LIGHT_SPOT_CUTOFF, ObjectKind::Light(l)) => Some(l.spot_cutoff),
+        (LIGHT_CONST_ATTENUATION..=LIGHT_QUAD_ATTENUATION, ObjectKind::Light(l)) => {
+            Some(l.attenuation[(id - LIGHT_CONST_ATTENUATION) as usize])
+        }
         (JOINT_PID_P, ObjectKind::Joint(j)) => Some(j.kp),
         (JOINT_PID_I, ObjectKind::Joint(_)) => Some(0.0),
         (JOINT_PID_D, ObjectKind::Joint(j)) => Some(j.kd),
@@ -457,7 +483,9 @@ pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Arg
 }
 
 /// `sim.setObjectFloatParam(objectHandle, parameterID, value)`; a parameter that does
-/// not apply, or is read-only, is ignored.
+/// not apply, or is read-only, is ignored. A light's spot exponent is rounded and held
+/// in 0..=128 and its spot cutoff in 5 degrees..pi/2, as CoppeliaSim holds them; its
+/// attenuation factors are read-only, as in CoppeliaSim (whose setter ignores them).
 fn set_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
@@ -474,6 +502,27 @@ fn set_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
                 _ => m.fov = v,
             }
             w.set_vision_model(h, m)?;
+        }
+        (LIGHT_SPOT_EXPONENT, ObjectKind::Light(l)) => {
+            // CoppeliaSim keeps an integer exponent from 0 to 128: the value is rounded
+            // and held in range, as its setter does.
+            let e = if v.is_finite() {
+                v.round().clamp(0.0, 128.0) as i32
+            } else {
+                l.spot_exponent
+            };
+            let l = LightModel { spot_exponent: e, ..*l };
+            w.set_light(h, l)?;
+        }
+        (LIGHT_SPOT_CUTOFF, ObjectKind::Light(l)) => {
+            // Held between 5 degrees and pi/2, as CoppeliaSim's setter holds it.
+            let c = if v.is_finite() {
+                v.clamp(LightModel::MIN_SPOT_CUTOFF, LightModel::MAX_SPOT_CUTOFF)
+            } else {
+                l.spot_cutoff
+            };
+            let l = LightModel { spot_cutoff: c, ..*l };
+            w.set_light(h, l)?;
         }
         (JOINT_PID_P, ObjectKind::Joint(_)) => w.set_joint_gains(h, Some(v), None)?,
         (JOINT_PID_D, ObjectKind::Joint(_)) => w.set_joint_gains(h, None, Some(v))?,

@@ -5,7 +5,8 @@
 //! [`crate::paths`]). The blocking `sim.followPath` and `sim.moveToPosition` are the Lua
 //! host's (`lua/path_motion.lua`), written on these.
 //!
-//! A path object is a dummy; its points also go to its custom data blocks `PATHCTRLPTS`
+//! A path object is a dummy (4.3+) or an old path object (V-REP 3's `sim.createPath`, or
+//! a 4.1 scene's `PAT` object); its points also go to its custom data blocks `PATHCTRLPTS`
 //! and `PATH` (packed doubles, 7 per point, in the path's frame), where 4.3+ scripts
 //! read them with `sim.readCustomDataBlock` and `sim.unpackDoubleTable`.
 
@@ -260,16 +261,19 @@ fn resample_path(_: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret
 /// Most points `sim.createPath` makes, and most control points a path takes.
 const MAX_POINTS: usize = 1_000_000;
 
-/// `sim.createPath` → the path's handle, a dummy at the world origin. Two forms:
+/// `sim.createPath` → the path's handle, an object at the world origin. Two forms:
 /// * 4.3+: `(ctrlPts, options=0, subdiv=100, smoothness=1.0, orientationMode=0,
 ///   upVector={0,0,1})`, 7 values per control point (`x, y, z, qx, qy, qz, qw` in the
 ///   path's frame); options bit 2 (4): closed. The other option bits (display, an
 ///   extruded shape) have nothing to act on in gantry.
-/// * V-REP 3: `(attributes, intParams, floatParams, color)`, an empty path that
-///   `sim.insertPathCtrlPoints` fills; the arguments only concern display.
+/// * V-REP 3 (CoppeliaSim 4.1's): `(attributes, intParams, floatParams, color)`, an
+///   empty old path object (`sim.object_path_type`, 8) that `sim.insertPathCtrlPoints`
+///   fills; the arguments only concern display. The 4.3+ form makes a dummy, as 4.3+
+///   does.
 fn create_path(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
-    let (ctrl, closed, shaping) = if a.get(0).as_f64().is_some() {
-        (Vec::new(), false, Shaping::POLYLINE)
+    let (ctrl, closed, shaping, kind) = if a.get(0).as_f64().is_some() {
+        // V-REP 3's form makes an old path object (`sim.object_path_type`).
+        (Vec::new(), false, Shaping::POLYLINE, ObjectKind::Path)
     } else {
         let flat = numbers(a, 0, "ctrlPts")?;
         let n = count(&flat, 7).map_err(|e| SimError::bad_argument(format!("argument 1 (ctrlPts): {e}")))?;
@@ -313,12 +317,10 @@ fn create_path(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, 
             orientation,
             up,
         };
-        (points7(&flat), options & 4 != 0, shaping)
+        (points7(&flat), options & 4 != 0, shaping, ObjectKind::Dummy)
     };
     let path = PathObject::new(ctrl, closed, shaping)?;
-    let h = sim
-        .world
-        .add_object("Path", ObjectKind::Dummy, None, Pose::identity())?;
+    let h = sim.world.add_object("Path", kind, None, Pose::identity())?;
     sim.paths.insert(h, path);
     publish(sim, h);
     Ok(vec![Value::Int(h)])
@@ -349,7 +351,9 @@ fn path_of<'s>(sim: &'s Sim, a: &Args<'_>, i: usize) -> Result<(Handle, &'s Path
 }
 
 fn not_a_path(h: Handle) -> SimError {
-    SimError::bad_argument(format!("object {h} is not a path (paths are made by sim.createPath)"))
+    SimError::bad_argument(format!(
+        "object {h} is not a path (paths are made by sim.createPath or loaded with a scene; a copy of one is not)"
+    ))
 }
 
 /// The path object of argument `i`, to change.

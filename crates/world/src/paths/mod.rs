@@ -28,6 +28,7 @@ pub use config::{DofType, Method, PathRef, count, lengths};
 use crate::error::SimError;
 use crate::handle::Handle;
 use crate::math::{Quat, Vec3, quat_from_array, quat_to_array};
+use crate::scene::PathModel;
 
 /// One path point: `x, y, z, qx, qy, qz, qw` in the path's frame.
 pub type PathPoint = [f64; 7];
@@ -129,6 +130,41 @@ impl PathObject {
         };
         path.insert_ctrl_points(0, ctrl)?;
         Ok(path)
+    }
+
+    /// The curve of a scene's old path object. A model built in code may hold what a
+    /// loader refuses: a smoothness out of 0..1 is clamped and points that are not
+    /// finite are left out, so this cannot fail.
+    pub fn from_model(m: &PathModel) -> Self {
+        let ctrl: Vec<PathPoint> = m
+            .ctrl_points
+            .iter()
+            .filter(|p| p.iter().all(|v| v.is_finite()))
+            .copied()
+            .collect();
+        let smoothness = if m.smoothness.is_finite() {
+            m.smoothness.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let shaping = Shaping {
+            subdiv: m.subdiv.clamp(2, 1_000_000),
+            smoothness,
+            orientation: 0,
+            up: [0.0, 0.0, 1.0],
+        };
+        let mut path = Self {
+            ctrl: Vec::new(),
+            closed: m.closed,
+            shaping,
+            points: Vec::new(),
+            lengths: Vec::new(),
+            position: 0.0,
+            target_velocity: 0.0,
+        };
+        // Finite points in, so this cannot fail.
+        let _ = path.insert_ctrl_points(0, ctrl);
+        path
     }
 
     /// The control points.
@@ -348,6 +384,27 @@ mod tests {
 
     fn pt(x: f64, y: f64, z: f64) -> PathPoint {
         [x, y, z, I[0], I[1], I[2], I[3]]
+    }
+
+    #[test]
+    fn a_scene_path_is_built_from_its_model() {
+        let m = PathModel {
+            ctrl_points: vec![pt(0.0, 0.0, 0.0), pt(1.0, 0.0, 0.0), [f64::NAN; 7], pt(1.0, 1.0, 0.0)],
+            closed: false,
+            smoothness: 0.0,
+            subdiv: 10,
+        };
+        let p = PathObject::from_model(&m);
+        assert_eq!(p.ctrl_points().len(), 3, "the NaN point is left out");
+        assert!((p.length() - 2.0).abs() < 1e-12);
+        // Out-of-range shaping from code is held in range, not a panic.
+        let p = PathObject::from_model(&PathModel {
+            smoothness: 7.0,
+            subdiv: 0,
+            closed: true,
+            ..m
+        });
+        assert!(p.is_closed() && p.points().len() >= 2 && p.length().is_finite());
     }
 
     #[test]

@@ -32,7 +32,7 @@ use super::physics::{BodyRole, TreeView, configure_integration, geometry_volume,
 use super::world::World;
 use crate::error::SimError;
 use crate::math::{self, Pose, Vec3};
-use crate::scene::{Geometry, JointMode, MassModel, SceneModel, ShapeModel, VisionModel};
+use crate::scene::{Geometry, JointMode, LightModel, MassModel, SceneModel, ShapeModel, VisionModel};
 
 /// Smallest shape mass, kg (CoppeliaSim clamps `sim.setShapeMass` to the same).
 pub const MIN_SHAPE_MASS: f64 = 1e-7;
@@ -1050,6 +1050,38 @@ impl World {
                 return Err(SimError::WrongKind {
                     handle: h,
                     expected: "vision sensor",
+                    actual: other.name(),
+                });
+            }
+        }
+        self.bump();
+        Ok(())
+    }
+
+    /// Replaces a light's parameters.
+    ///
+    /// # Errors
+    /// No such object, not a light, or a value out of CoppeliaSim's ranges: colours 0..1,
+    /// spot exponent 0..=128, spot cutoff 5 degrees to pi/2, attenuation factors
+    /// finite and >= 0.
+    pub fn set_light(&mut self, h: Handle, model: LightModel) -> Result<(), SimError> {
+        let unit = |c: [f64; 3]| c.iter().all(|v| (0.0..=1.0).contains(v));
+        let ok = unit(model.diffuse)
+            && unit(model.specular)
+            && (0..=LightModel::MAX_SPOT_EXPONENT).contains(&model.spot_exponent)
+            && (LightModel::MIN_SPOT_CUTOFF..=LightModel::MAX_SPOT_CUTOFF).contains(&model.spot_cutoff)
+            && model.attenuation.iter().all(|v| v.is_finite() && *v >= 0.0);
+        if !ok {
+            return Err(invalid(format!(
+                "light {h}: settings out of range: colours 0..1, spot exponent 0..=128, spot cutoff 5 degrees to pi/2 rad, attenuation factors >= 0"
+            )));
+        }
+        match &mut self.object_mut(h)?.kind {
+            ObjectKind::Light(l) => *l = model,
+            other => {
+                return Err(SimError::WrongKind {
+                    handle: h,
+                    expected: "light",
                     actual: other.name(),
                 });
             }

@@ -2,7 +2,7 @@
 
 use super::point_cloud::PointCloud;
 use crate::math::{Pose, Vec3};
-use crate::scene::{CameraModel, JointMode, JointType, ProximityModel, ShapeModel, VisionModel};
+use crate::scene::{CameraModel, JointMode, JointType, LightModel, ProximityModel, ShapeModel, VisionModel};
 
 pub use crate::handle::Handle;
 
@@ -49,6 +49,12 @@ pub enum ObjectKind {
     PointCloud(Box<PointCloud>),
     /// A camera: a viewpoint for the viewer.
     Camera(CameraModel),
+    /// A light: a frame with lighting parameters and no physics (gantry's renderers
+    /// keep their own lighting).
+    Light(LightModel),
+    /// An old path object (V-REP 3 to 4.2): a frame whose curve is kept in
+    /// [`crate::sim::Sim::paths`] by its handle.
+    Path,
 }
 
 impl ObjectKind {
@@ -61,6 +67,8 @@ impl ObjectKind {
             ObjectKind::Camera(_) => 3,
             ObjectKind::Dummy => 4,
             ObjectKind::ProximitySensor(_) => 5,
+            ObjectKind::Path => 8,
+            ObjectKind::Light(_) => 13,
             ObjectKind::VisionSensor(_) => 9,
             ObjectKind::ForceSensor(_) => 12,
             ObjectKind::PointCloud(_) => 16,
@@ -79,6 +87,8 @@ impl ObjectKind {
             ObjectKind::VisionSensor(_) => "vision sensor",
             ObjectKind::ForceSensor(_) => "force sensor",
             ObjectKind::PointCloud(_) => "point cloud",
+            ObjectKind::Light(_) => "light",
+            ObjectKind::Path => "path",
         }
     }
 }

@@ -171,6 +171,9 @@ impl World {
                     ObjectModelKind::ForceSensor => ObjectKind::ForceSensor(ForceReading::default()),
                     ObjectModelKind::Graph => ObjectKind::Graph,
                     ObjectModelKind::Camera(c) => ObjectKind::Camera(*c),
+                    ObjectModelKind::Light(l) => ObjectKind::Light(*l),
+                    // The curve goes to `Sim::paths` (`Sim::new`).
+                    ObjectModelKind::Path(_) => ObjectKind::Path,
                 },
             })
             .collect();

@@ -16,8 +16,9 @@
 //! | perspective and orthographic vision sensors up to 2048 px a side | [`VisionModel`] |
 //! | cameras | [`CameraModel`] (a viewpoint for the viewer, with its view angle) |
 //! | force sensors, graphs, dummies | the same kinds |
-//! | lights | dummies (warned once: gantry's renderers light scenes their own way) |
-//! | paths, point cloud, script objects, others | dummies (warned) |
+//! | lights | [`LightModel`] (parameters for the light API; gantry's renderers keep their own lighting) |
+//! | old path objects (`PAT`) | [`PathModel`]: the control points' poses; Bézier corners approximated (`convert_path`) |
+//! | point clouds, script objects, others | dummies (warned) |
 //! | Lua child and customization scripts | [`ScriptModel`] on their object, old ones updated (`old_scripts.rs`) |
 //! | main scripts | dropped (gantry runs its own loop; a custom one is warned) |
 //! | Python, disabled scripts | dropped (warned) |
@@ -152,14 +153,6 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         });
     }
     cap_vision_memory(&mut objects, &mut report, &mut warnings);
-    let lights = report
-        .as_dummies
-        .iter()
-        .filter(|(_, why)| why == LIGHTS_IGNORED)
-        .count();
-    if lights > 0 {
-        warnings.push(format!("{lights} light(s): {LIGHTS_IGNORED}; imported as dummies"));
-    }
     report.objects = objects.len();
     report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
 
@@ -310,13 +303,12 @@ fn convert_kind(
         cf::ObjectKind::ForceSensor(_) => ObjectModelKind::ForceSensor,
         cf::ObjectKind::Graph => ObjectModelKind::Graph,
         cf::ObjectKind::Camera(c) => ObjectModelKind::Camera(convert_camera(c, label, warnings)),
-        // Warned once for the file, in `load_coppelia`.
-        cf::ObjectKind::Light => {
-            report.as_dummies.push((label.to_owned(), LIGHTS_IGNORED.into()));
-            ObjectModelKind::Dummy
-        }
+        cf::ObjectKind::Light(l) => match convert_light(l, &o.extension) {
+            Some(m) => ObjectModelKind::Light(m),
+            None => as_dummy(format!("light type {} is not known", l.light_type.code())),
+        },
         cf::ObjectKind::Script => ObjectModelKind::Dummy,
-        cf::ObjectKind::Path => as_dummy("old path objects are not supported".into()),
+        cf::ObjectKind::Path(p) => ObjectModelKind::Path(convert_path(p)),
         cf::ObjectKind::PointCloud => as_dummy("point clouds are not imported".into()),
         cf::ObjectKind::Other(tag) => {
             as_dummy(format!("object type {} is not supported", String::from_utf8_lossy(tag)))
@@ -324,9 +316,70 @@ fn convert_kind(
     }
 }
 
-/// Why lights become dummies (their light is not used: gantry's renderers have fixed
-/// lighting, see the `vision` module).
-const LIGHTS_IGNORED: &str = "lights are not imported (gantry lights scenes its own way)";
+/// A light's parameters, or `None` for a light type CoppeliaSim does not define. The
+/// POV-Ray shadow flag is read from the extension string, where CoppeliaSim keeps it.
+/// Gantry's renderers keep their own lighting: the parameters are for the light API.
+fn convert_light(l: &cf::Light, extension: &str) -> Option<LightModel> {
+    let light_type = match l.light_type {
+        cf::LightType::Omnidirectional => LightType::Omnidirectional,
+        cf::LightType::Spot => LightType::Spot,
+        cf::LightType::Directional => LightType::Directional,
+        cf::LightType::Other(_) => return None,
+    };
+    let unit = |c: [f64; 3]| c.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
+    let non_negative = |v: f64| if v.is_finite() { v.max(0.0) } else { 0.0 };
+    Some(LightModel {
+        light_type,
+        on: l.on,
+        diffuse: unit(l.diffuse),
+        specular: unit(l.specular),
+        spot_exponent: l.spot_exponent.clamp(0, LightModel::MAX_SPOT_EXPONENT),
+        spot_cutoff: if l.spot_cutoff.is_finite() {
+            l.spot_cutoff
+                .clamp(LightModel::MIN_SPOT_CUTOFF, LightModel::MAX_SPOT_CUTOFF)
+        } else {
+            LightModel::MAX_SPOT_CUTOFF
+        },
+        attenuation: l.attenuation.map(non_negative),
+        casts_shadows: cf::light::pov_casts_shadows(extension),
+    })
+}
+
+/// An old path's curve. The control points keep their poses. CoppeliaSim rounds each
+/// corner by its own Bézier point count and factors; gantry rounds every corner with one
+/// strength, so a path whose points have Bézier points (a count above 1) gets the mean
+/// of their factors as its smoothness and their total count as its number of curve
+/// points, and a path without any stays the polyline through its points.
+fn convert_path(p: &cf::OldPath) -> PathModel {
+    let ctrl_points = p
+        .points
+        .iter()
+        .filter(|c| c.position.iter().chain(&c.rotation).all(|v| v.is_finite()))
+        .map(|c| {
+            let [x, y, z] = c.position;
+            let [w, qx, qy, qz] = c.rotation;
+            [x, y, z, qx, qy, qz, w]
+        })
+        .collect();
+    let curved: Vec<&cf::PathPoint> = p.points.iter().filter(|c| c.bezier_points > 1).collect();
+    let (smoothness, subdiv) = if curved.is_empty() {
+        (0.0, 2)
+    } else {
+        let factors: f64 = curved
+            .iter()
+            .flat_map(|c| c.bezier_factors)
+            .map(|f| if f.is_finite() { f.clamp(0.0, 1.0) } else { 0.5 })
+            .sum();
+        let count: usize = p.points.iter().map(|c| c.bezier_points.clamp(1, 1000) as usize).sum();
+        (factors / (2 * curved.len()) as f64, count.clamp(2, 1_000_000))
+    };
+    PathModel {
+        ctrl_points,
+        closed: p.closed(),
+        smoothness,
+        subdiv,
+    }
+}
 
 /// A vision sensor as CoppeliaSim has it, or why it cannot be one. Both the view
 /// angle and the ortho size are kept, as CoppeliaSim keeps them, so that
@@ -424,6 +477,73 @@ fn cap_vision_memory(objects: &mut [ObjectModel], report: &mut ImportReport, war
 
 /// The vision and camera mapping on values built here, so it is covered where the
 /// shared files are absent.
+#[cfg(test)]
+mod light_and_path_tests {
+    use super::*;
+
+    #[test]
+    fn lights_keep_their_parameters_within_coppeliasims_ranges() {
+        let l = cf::Light {
+            light_type: cf::LightType::Spot,
+            on: false,
+            spot_exponent: 300,
+            spot_cutoff: 2.0,
+            attenuation: [0.5, -1.0, f64::NAN],
+            diffuse: [0.25, 1.5, -0.5],
+            specular: [0.1, 0.2, 0.3],
+            ..cf::Light::default()
+        };
+        let m = convert_light(&l, "povray {shadow {true}}").unwrap();
+        assert_eq!((m.light_type, m.on, m.casts_shadows), (LightType::Spot, false, true));
+        assert_eq!(m.spot_exponent, 128);
+        assert_eq!(m.spot_cutoff, LightModel::MAX_SPOT_CUTOFF);
+        assert_eq!(m.attenuation, [0.5, 0.0, 0.0]);
+        assert_eq!((m.diffuse, m.specular), ([0.25, 1.0, 0.0], [0.1, 0.2, 0.3]));
+        assert!(!convert_light(&l, "").unwrap().casts_shadows);
+        let other = cf::Light {
+            light_type: cf::LightType::Other(7),
+            ..l
+        };
+        assert!(convert_light(&other, "").is_none());
+    }
+
+    #[test]
+    fn old_paths_keep_their_poses_and_round_corners_by_their_factors() {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let point = |x: f64, rotation: [f64; 4], bezier_points: i32, f: [f64; 2]| cf::PathPoint {
+            position: [x, 0.0, 0.0],
+            rotation,
+            bezier_factors: f,
+            bezier_points,
+            max_relative_velocity: 1.0,
+            on_spot_distance: 0.0,
+        };
+        let p = cf::OldPath {
+            points: vec![
+                point(0.0, [1.0, 0.0, 0.0, 0.0], 1, [0.5, 0.5]),
+                point(1.0, [h, 0.0, 0.0, h], 10, [0.8, 0.6]),
+                point(2.0, [1.0, 0.0, 0.0, 0.0], 20, [0.4, 0.2]),
+                point(f64::NAN, [1.0, 0.0, 0.0, 0.0], 1, [0.5, 0.5]),
+            ],
+            attributes: cf::path::CLOSED,
+        };
+        let m = convert_path(&p);
+        // w, x, y, z in the file; x, y, z, w in the model; the NaN point left out.
+        assert_eq!(m.ctrl_points.len(), 3);
+        assert_eq!(m.ctrl_points[1], [1.0, 0.0, 0.0, 0.0, 0.0, h, h]);
+        assert!(m.closed);
+        // The mean factor of the two curved points, their counts plus the sharp ones.
+        assert!((m.smoothness - 0.5).abs() < 1e-12);
+        assert_eq!(m.subdiv, 1 + 10 + 20 + 1);
+        let sharp = cf::OldPath {
+            points: vec![point(0.0, [1.0, 0.0, 0.0, 0.0], 1, [0.5, 0.5])],
+            attributes: 0,
+        };
+        let m = convert_path(&sharp);
+        assert_eq!((m.smoothness, m.closed), (0.0, false));
+    }
+}
+
 #[cfg(test)]
 mod vision_tests {
     use super::*;

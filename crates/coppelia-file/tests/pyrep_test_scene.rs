@@ -1,0 +1,82 @@
+//! Lights and the old path of PyRep's `test_scene.ttt` (CoppeliaSim 4.1), the scene
+//! PyRep's own tests open (`../shared/pyrep/tests/assets/` from the repository root, or
+//! `$GANTRY_PYREP_TEST_SCENE`). Where the file is absent the test prints a note and
+//! passes, since it is not part of the repository.
+
+use std::path::PathBuf;
+
+use gantry_coppelia_file::{LightType, ObjectKind, read};
+
+fn scene() -> Option<Vec<u8>> {
+    let path = match std::env::var_os("GANTRY_PYREP_TEST_SCENE") {
+        Some(p) => PathBuf::from(p),
+        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/pyrep/tests/assets/test_scene.ttt"),
+    };
+    match std::fs::read(&path) {
+        Ok(b) => Some(b),
+        Err(_) => {
+            println!("{} not found; skipped (set GANTRY_PYREP_TEST_SCENE)", path.display());
+            None
+        }
+    }
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() < 1e-6
+}
+
+#[test]
+fn test_scene_lights_and_old_path_read() {
+    let Some(bytes) = scene() else { return };
+    let f = read(&bytes).unwrap();
+    let by_name = |n: &str| f.objects.iter().find(|o| o.name == n).unwrap_or_else(|| panic!("{n}"));
+
+    // PyRep's three test lights: off, of the three kinds, with the 4.1 defaults.
+    for (name, kind) in [
+        ("spot_light", LightType::Spot),
+        ("omni_light", LightType::Omnidirectional),
+        ("directed_light", LightType::Directional),
+    ] {
+        let o = by_name(name);
+        let ObjectKind::Light(l) = &o.kind else {
+            panic!("{name} is not a light: {:?}", o.kind)
+        };
+        assert_eq!(l.light_type, kind, "{name}");
+        assert!(!l.on && !l.local, "{name}");
+        assert_eq!(l.spot_exponent, 5);
+        assert!(close(l.spot_cutoff, std::f64::consts::FRAC_PI_2));
+        assert!(close(l.attenuation[0], 0.25) && l.attenuation[1] == 0.0 && close(l.attenuation[2], 0.1));
+        assert_eq!((l.diffuse, l.specular), ([0.5; 3], [0.5; 3]));
+        assert!(gantry_coppelia_file::light::pov_casts_shadows(&o.extension), "{name}");
+    }
+    // A default scene light: on, directional, grey.
+    let ObjectKind::Light(b) = &by_name("DefaultLightB").kind else {
+        panic!("DefaultLightB")
+    };
+    assert!(b.on && b.light_type == LightType::Directional);
+    assert!(close(b.diffuse[0], 0.4) && close(b.specular[2], 0.9));
+
+    // The old path: three control points on a 0.051 m arc, open.
+    let o = by_name("cartesian_path");
+    let ObjectKind::Path(p) = &o.kind else {
+        panic!("cartesian_path is not a path: {:?}", o.kind)
+    };
+    assert_eq!((p.points.len(), p.attributes, p.closed()), (3, 1187, false));
+    for (k, pt) in p.points.iter().enumerate() {
+        let angle = k as f64 * std::f64::consts::PI / 8.0;
+        let [x, y, z] = pt.position;
+        assert!(
+            close(x, 0.05098 * angle.cos()) || (x - 0.05098 * angle.cos()).abs() < 1e-4,
+            "{k}: {x}"
+        );
+        assert!((y - 0.05098 * angle.sin()).abs() < 1e-4 && z == 0.0, "{k}: {y}");
+        // A half turn about a horizontal axis: w and z near zero, a unit quaternion.
+        let [w, qx, qy, qz] = pt.rotation;
+        assert!(
+            w.abs() < 1e-6 && qz.abs() < 1e-6 && close(qx * qx + qy * qy, 1.0),
+            "{k}"
+        );
+        assert!(close(pt.bezier_factors[0], 0.95) && pt.bezier_points == 15);
+    }
+    assert!(close(o.local_pose.position[2], 0.55));
+}
