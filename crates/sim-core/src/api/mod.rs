@@ -8,6 +8,7 @@
 
 mod application;
 mod args;
+mod configuration;
 mod contacts;
 mod custom_data;
 mod drawing;
@@ -435,6 +436,7 @@ pub const MODULES: &[Module] = &[
             graph_curves::FUNCTIONS,
             contacts::FUNCTIONS,
             extension::FUNCTIONS,
+            configuration::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,

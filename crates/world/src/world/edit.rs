@@ -507,7 +507,7 @@ impl World {
     }
 
     /// Every live object of the subtrees rooted at `tops`, parents first, each once.
-    fn subtrees(&self, tops: &[Handle]) -> Vec<Handle> {
+    pub(super) fn subtrees(&self, tops: &[Handle]) -> Vec<Handle> {
         let mut seen = HashSet::new();
         let mut out = Vec::new();
         for &t in tops {

@@ -6,6 +6,7 @@
 //! signals) lives on the floors above, and [`crate::sim::Sim`] owns both.
 
 mod collection;
+mod configuration;
 mod contacts;
 mod containment;
 mod custom_data;
