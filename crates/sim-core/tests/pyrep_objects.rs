@@ -145,3 +145,143 @@ fn configuration_tree_refuses_foreign_or_damaged_bytes_and_changes_nothing() {
     assert_contains(&e, &[&format!("object {link} does not exist")]);
     assert_contains(err(&mut s, "getConfigurationTree", &[h(999)]), &["999"]);
 }
+
+/// `sim.createVisionSensor`'s arguments as PyRep's `VisionSensor.create` passes them.
+fn vision_args(options: i64, res: [i64; 2], near: f64, far: f64, angle: f64) -> Vec<Value> {
+    vec![
+        h(options),
+        Value::Array(vec![h(res[0]), h(res[1]), h(0), h(0)]),
+        Value::floats(&[near, far, angle, 0.01, 0.01, 0.03, 0.0, 0.0, 0.0, 0.0, 0.0]),
+        Value::Nil,
+    ]
+}
+
+/// Points a sensor (which looks along its +Z) straight down from `at`.
+fn look_down(s: &mut Sim, sensor: i64, at: [f64; 3]) {
+    ok(s, "setObjectPosition", &[h(sensor), h(-1), Value::floats(&at)]);
+    ok(
+        s,
+        "setObjectOrientation",
+        &[h(sensor), h(-1), Value::floats(&[std::f64::consts::PI, 0.0, 0.0])],
+    );
+}
+
+fn rgb_sum(s: &mut Sim, sensor: i64) -> (u64, usize) {
+    let (img, [w, hgt]) = util::image_reply(&ok(s, "getVisionSensorImg", &[h(sensor)]));
+    assert_eq!(img.len(), 3 * w * hgt);
+    (img.iter().map(|&b| u64::from(b)).sum(), w * hgt)
+}
+
+#[test]
+fn created_vision_sensor_has_its_settings_and_renders() {
+    let mut s = sim();
+    let angle = 35f64.to_radians();
+    let cam = int(&ok(
+        &mut s,
+        "createVisionSensor",
+        &vision_args(2, [64, 48], 0.25, 5.0, angle),
+    )[0]);
+    assert_eq!(int(&ok(&mut s, "getObjectType", &[h(cam)])[0]), 9);
+    let param = |s: &mut Sim, p: i64, f: &str| num(&ok(s, f, &[h(cam), h(p)])[0]);
+    assert_eq!(param(&mut s, 1002, "getObjectInt32Param"), 64.0);
+    assert_eq!(param(&mut s, 1003, "getObjectInt32Param"), 48.0);
+    assert_eq!(param(&mut s, 1018, "getObjectInt32Param"), 1.0, "perspective");
+    assert_eq!(param(&mut s, 1000, "getObjectFloatParam"), 0.25);
+    assert_eq!(param(&mut s, 1001, "getObjectFloatParam"), 5.0);
+    assert!((param(&mut s, 1004, "getObjectFloatParam") - angle).abs() < 1e-12);
+    look_down(&mut s, cam, [0.3, 0.2, 2.0]);
+    let (sum, pixels) = rgb_sum(&mut s, cam);
+    assert_eq!(pixels, 64 * 48);
+    assert!(sum > 0, "the sensor sees the floor and the cube");
+    // Orthographic: the third float is the ortho size.
+    let ortho = int(&ok(&mut s, "createVisionSensor", &vision_args(0, [16, 16], 0.01, 3.0, 0.7))[0]);
+    assert_eq!(num(&ok(&mut s, "getObjectInt32Param", &[h(ortho), h(1018)])[0]), 0.0);
+    assert_eq!(num(&ok(&mut s, "getObjectFloatParam", &[h(ortho), h(1005)])[0]), 0.7);
+}
+
+#[test]
+fn created_explicit_vision_sensor_renders_only_when_handled() {
+    let mut s = sim();
+    let cam = int(&ok(
+        &mut s,
+        "createVisionSensor",
+        &vision_args(1 | 2, [32, 32], 0.01, 5.0, 1.0),
+    )[0]);
+    assert_eq!(int(&ok(&mut s, "getExplicitHandling", &[h(cam)])[0]), 1);
+    look_down(&mut s, cam, [0.3, 0.2, 2.0]);
+    assert_eq!(rgb_sum(&mut s, cam).0, 0, "not handled yet: black");
+    ok(&mut s, "handleVisionSensor", &[h(cam)]);
+    assert!(rgb_sum(&mut s, cam).0 > 0);
+    // PyRep's set_explicit_handling(0): back to rendering when read.
+    ok(&mut s, "setExplicitHandling", &[h(cam), h(0)]);
+    assert_eq!(int(&ok(&mut s, "getExplicitHandling", &[h(cam)])[0]), 0);
+}
+
+#[test]
+fn create_vision_sensor_refuses_what_it_cannot_do() {
+    let mut s = sim();
+    let n = s.world.handles().len();
+    let cases: Vec<(Vec<Value>, &[&str])> = vec![
+        (vision_args(2, [0, 16], 0.01, 1.0, 1.0), &["resolution 0"]),
+        (vision_args(2, [16, 16], 1.0, 0.5, 1.0), &["0 < near < far"]),
+        (vision_args(2, [16, 16], 0.01, 1.0, 4.0), &["view angle"]),
+        (vision_args(2 | 16, [16, 16], 0.01, 1.0, 1.0), &["passive"]),
+        (
+            vec![
+                h(2),
+                Value::Array(vec![h(16)]),
+                Value::floats(&[0.01, 1.0, 1.0]),
+                Value::Nil,
+            ],
+            &["at least 2 numbers"],
+        ),
+    ];
+    for (args, parts) in cases {
+        let e = err(&mut s, "createVisionSensor", &args);
+        assert_contains(&e, parts);
+        assert_contains(&e, &["sim.createVisionSensor"]);
+    }
+    let mut coloured = vision_args(2 | 128, [16, 16], 0.01, 1.0, 1.0);
+    coloured[2] = Value::floats(&[0.01, 1.0, 1.0, 0.01, 0.01, 0.01, 0.5, 0.5, 0.5, 0.0, 0.0]);
+    assert_contains(err(&mut s, "createVisionSensor", &coloured), &["null-pixel colour"]);
+    assert_eq!(s.world.handles().len(), n, "nothing created");
+}
+
+#[test]
+fn created_force_sensor_weighs_what_hangs_from_it() {
+    let mut s = sim();
+    let cube = find(&s, "/cube");
+    // PyRep's ForceSensor.create: options 0, five zero ints, the size then zeros.
+    let args = [
+        h(0),
+        Value::Array(vec![h(0); 5]),
+        Value::floats(&[0.01, 0.0, 0.0, 0.0, 0.0]),
+        Value::Nil,
+    ];
+    let fs = int(&ok(&mut s, "createForceSensor", &args)[0]);
+    assert_eq!(int(&ok(&mut s, "getObjectType", &[h(fs)])[0]), 12);
+    ok(
+        &mut s,
+        "setObjectPosition",
+        &[h(fs), h(-1), Value::floats(&[0.3, 0.2, 0.8])],
+    );
+    ok(&mut s, "setObjectParent", &[h(cube), h(fs), Value::Bool(true)]);
+    step(&mut s, 20);
+    let r = ok(&mut s, "readForceSensor", &[h(fs)]);
+    assert_eq!(int(&r[0]) & 1, 1, "a reading: {r:?}");
+    let f = floats(&r[1]);
+    let magnitude = f.iter().map(|v| v * v).sum::<f64>().sqrt();
+    assert!((magnitude - 0.5 * 9.81).abs() < 0.1, "{f:?}");
+    ok(&mut s, "removeObjects", &[Value::Array(vec![h(fs)])]);
+    // Thresholds and filters gantry does not have are refused.
+    let mut thresholds = args.clone();
+    thresholds[0] = h(1);
+    assert_contains(
+        err(&mut s, "createForceSensor", &thresholds),
+        &["thresholds", "never break"],
+    );
+    let mut filtered = args.clone();
+    filtered[1] = Value::Array(vec![h(0), h(5), h(0), h(0), h(0)]);
+    assert_contains(err(&mut s, "createForceSensor", &filtered), &["5 samples"]);
+    assert_contains(err(&mut s, "createForceSensor", &[h(0)]), &["argument 2"]);
+}

@@ -10,6 +10,7 @@ mod application;
 mod args;
 mod configuration;
 mod contacts;
+mod create_sensors;
 mod custom_data;
 mod drawing;
 mod error;
@@ -437,6 +438,7 @@ pub const MODULES: &[Module] = &[
             contacts::FUNCTIONS,
             extension::FUNCTIONS,
             configuration::FUNCTIONS,
+            create_sensors::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
