@@ -285,3 +285,115 @@ fn created_force_sensor_weighs_what_hangs_from_it() {
     assert_contains(err(&mut s, "createForceSensor", &filtered), &["5 samples"]);
     assert_contains(err(&mut s, "createForceSensor", &[h(0)]), &["argument 2"]);
 }
+
+#[test]
+fn joint_interval_set_reads_back_and_clamps_the_position() {
+    let mut s = sim();
+    let hinge = find(&s, "/stand/hinge");
+    ok(&mut s, "setJointPosition", &[h(hinge), Value::Float(1.0)]);
+    // PyRep's test: not cyclic, min -2, range 2.
+    ok(
+        &mut s,
+        "setJointInterval",
+        &[h(hinge), Value::Bool(false), Value::floats(&[-2.0, 2.0])],
+    );
+    let r = ok(&mut s, "getJointInterval", &[h(hinge)]);
+    assert_eq!(r[0], Value::Bool(false));
+    assert_eq!(floats(&r[1]), vec![-2.0, 2.0]);
+    assert_eq!(
+        num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]),
+        0.0,
+        "clamped to the new max"
+    );
+    ok(&mut s, "setJointPosition", &[h(hinge), Value::Float(-3.0)]);
+    assert_eq!(num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]), -2.0);
+    // Cyclic: no limits, positions wrap.
+    ok(
+        &mut s,
+        "setJointInterval",
+        &[h(hinge), Value::Bool(true), Value::floats(&[0.0, 0.0])],
+    );
+    let r = ok(&mut s, "getJointInterval", &[h(hinge)]);
+    assert_eq!(r[0], Value::Bool(true));
+    ok(&mut s, "setJointPosition", &[h(hinge), Value::Float(4.0)]);
+    let q = num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]);
+    assert!((q - (4.0 - 2.0 * std::f64::consts::PI)).abs() < 1e-12, "{q}");
+    let cube = find(&s, "/cube");
+    assert_contains(
+        err(
+            &mut s,
+            "setJointInterval",
+            &[h(cube), Value::Bool(false), Value::floats(&[0.0, 1.0])],
+        ),
+        &["joint"],
+    );
+    assert_contains(
+        err(
+            &mut s,
+            "setJointInterval",
+            &[h(hinge), Value::Bool(false), Value::floats(&[0.0, -1.0])],
+        ),
+        &["range >= 0"],
+    );
+}
+
+#[test]
+fn double_signals_have_their_own_names() {
+    let mut s = sim();
+    let name = || Value::Str("my_signal".into());
+    assert_eq!(ok(&mut s, "getDoubleSignal", &[name()])[0], Value::Nil);
+    ok(&mut s, "setDoubleSignal", &[name(), Value::Float(22.2)]);
+    assert_eq!(num(&ok(&mut s, "getDoubleSignal", &[name()])[0]), 22.2);
+    // Apart from the float signal of the same name, as in CoppeliaSim 4.1.
+    assert_eq!(ok(&mut s, "getFloatSignal", &[name()])[0], Value::Nil);
+    ok(&mut s, "clearDoubleSignal", &[name()]);
+    assert_eq!(ok(&mut s, "getDoubleSignal", &[name()])[0], Value::Nil);
+    assert_contains(
+        err(&mut s, "setDoubleSignal", &[name(), Value::Str("x".into())]),
+        &["argument 2"],
+    );
+}
+
+#[test]
+fn engine_friction_and_restitution_reach_the_shape() {
+    let mut s = sim();
+    let cube = find(&s, "/cube");
+    const BULLET_FRICTION: i64 = 6003;
+    // PyRep's set_bullet_friction / get_bullet_friction, by their 4.1 names.
+    ok(
+        &mut s,
+        "setEngineFloatParameter",
+        &[h(BULLET_FRICTION), h(cube), Value::Float(0.7)],
+    );
+    assert_eq!(
+        num(&ok(&mut s, "getEngineFloatParameter", &[h(BULLET_FRICTION), h(cube)])[0]),
+        0.7
+    );
+    // One coefficient whatever the engine's name for it.
+    assert_eq!(num(&ok(&mut s, "getEngineFloatParam", &[h(15001), h(cube)])[0]), 0.7);
+    ok(&mut s, "setEngineFloatParam", &[h(6001), h(cube), Value::Float(0.25)]);
+    assert_eq!(num(&ok(&mut s, "getEngineFloatParam", &[h(33003), h(cube)])[0]), 0.25);
+    assert_eq!(s.world.shape(cube).unwrap().friction, 0.7);
+    assert_contains(
+        err(&mut s, "getEngineFloatParam", &[h(6004), h(cube)]),
+        &["6004", "not one gantry's physics has"],
+    );
+    assert_contains(
+        err(&mut s, "setEngineFloatParam", &[h(6003), h(cube), Value::Float(-1.0)]),
+        &["friction"],
+    );
+    let hinge = find(&s, "/stand/hinge");
+    assert_contains(err(&mut s, "getEngineFloatParam", &[h(6003), h(hinge)]), &["shape"]);
+}
+
+#[test]
+fn model_bounding_box_spans_the_object_and_what_hangs_below() {
+    let mut s = sim();
+    let stand = find(&s, "/stand");
+    let bb: Vec<f64> = (21..=26)
+        .map(|p| num(&ok(&mut s, "getObjectFloatParam", &[h(stand), h(p)])[0]))
+        .collect();
+    // The stand's 0.2 m cube around its origin, and the link (0.3 x 0.05 x 0.05, its
+    // centre at x 0.3, z 0.3 in the stand's frame) on the hinge above it.
+    gantry_test_support::assert_close(&bb, &[-0.1, -0.1, -0.1, 0.45, 0.1, 0.325], 1e-9);
+}

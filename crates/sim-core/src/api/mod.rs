@@ -13,6 +13,7 @@ mod contacts;
 mod create_sensors;
 mod custom_data;
 mod drawing;
+mod engine_params;
 mod error;
 mod extension;
 mod function;
@@ -92,6 +93,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         cost: Cost::Long,
     },
     ApiFunction {
+        name: "clearDoubleSignal",
+        call: ApiFn::Sim(signals::clear_double_signal),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
         name: "clearFloatSignal",
         call: ApiFn::Sim(signals::clear_float_signal),
         cost: Cost::Quick,
@@ -129,6 +135,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getCollectionObjects",
         call: ApiFn::World(sensing::get_collection_objects),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
+        name: "getDoubleSignal",
+        call: ApiFn::Sim(signals::get_double_signal),
         cost: Cost::Quick,
     },
     ApiFunction {
@@ -277,6 +288,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         cost: Cost::Quick,
     },
     ApiFunction {
+        name: "setDoubleSignal",
+        call: ApiFn::Sim(signals::set_double_signal),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
         name: "setFloatSignal",
         call: ApiFn::Sim(signals::set_float_signal),
         cost: Cost::Quick,
@@ -284,6 +300,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "setInt32Signal",
         call: ApiFn::Sim(signals::set_int32_signal),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
+        name: "setJointInterval",
+        call: ApiFn::World(joints::set_joint_interval),
         cost: Cost::Quick,
     },
     ApiFunction {
@@ -439,6 +460,7 @@ pub const MODULES: &[Module] = &[
             extension::FUNCTIONS,
             configuration::FUNCTIONS,
             create_sensors::FUNCTIONS,
+            engine_params::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
@@ -452,6 +474,7 @@ pub const MODULES: &[Module] = &[
             paths::CONSTANTS,
             particles::CONSTANTS,
             ik_groups::CONSTANTS,
+            engine_params::CONSTANTS,
         ]),
         aliases: legacy::ALIASES,
     },

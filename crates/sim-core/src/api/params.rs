@@ -24,6 +24,8 @@ const OBJ_ABS_X_VELOCITY: i64 = 11;
 const OBJ_ABS_ROT_VELOCITY: i64 = 14;
 const OBJ_BBOX_MIN_X: i64 = 15;
 const OBJ_BBOX_MAX_Z: i64 = 20;
+const OBJ_MODEL_BBOX_MIN_X: i64 = 21;
+const OBJ_MODEL_BBOX_MAX_Z: i64 = 26;
 const VISION_NEAR: i64 = 1000;
 const VISION_FAR: i64 = 1001;
 const VISION_RES_X: i64 = 1002;
@@ -126,6 +128,12 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("objfloatparam_objbbox_max_x", OBJ_BBOX_MIN_X + 3),
     ("objfloatparam_objbbox_max_y", OBJ_BBOX_MIN_X + 4),
     ("objfloatparam_objbbox_max_z", OBJ_BBOX_MAX_Z),
+    ("objfloatparam_modelbbox_min_x", OBJ_MODEL_BBOX_MIN_X),
+    ("objfloatparam_modelbbox_min_y", OBJ_MODEL_BBOX_MIN_X + 1),
+    ("objfloatparam_modelbbox_min_z", OBJ_MODEL_BBOX_MIN_X + 2),
+    ("objfloatparam_modelbbox_max_x", OBJ_MODEL_BBOX_MIN_X + 3),
+    ("objfloatparam_modelbbox_max_y", OBJ_MODEL_BBOX_MIN_X + 4),
+    ("objfloatparam_modelbbox_max_z", OBJ_MODEL_BBOX_MAX_Z),
     ("visionfloatparam_near_clipping", VISION_NEAR),
     ("visionfloatparam_far_clipping", VISION_FAR),
     ("visionintparam_resolution_x", VISION_RES_X),
@@ -374,6 +382,13 @@ pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (OBJ_BBOX_MIN_X..=OBJ_BBOX_MAX_Z, _) => {
             let (lo, hi) = w.bounding_box(h)?;
             let i = (id - OBJ_BBOX_MIN_X) as usize;
+            Some(if i < 3 { lo[i] } else { hi[i - 3] })
+        }
+        // The whole model's box (the object and everything below it), in the object's
+        // frame: min x, y, z, then max x, y, z, as the object box above.
+        (OBJ_MODEL_BBOX_MIN_X..=OBJ_MODEL_BBOX_MAX_Z, _) => {
+            let (lo, hi) = w.model_bounding_box(h)?;
+            let i = (id - OBJ_MODEL_BBOX_MIN_X) as usize;
             Some(if i < 3 { lo[i] } else { hi[i - 3] })
         }
         (SHAPE_MASS, ObjectKind::Shape(_)) => Some(w.shape_mass(h)?),

@@ -25,6 +25,7 @@ mod property_flags;
 mod query;
 mod scale;
 mod selection;
+mod tuning;
 mod urdf_robot;
 #[expect(
     clippy::module_inception,
