@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 305 functions, 278 constants."""
+    """`sim`: 317 functions, 292 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -14,6 +14,9 @@ class Sim:
     boolparam_proximity_sensor_handling_enabled: int
     boolparam_realtime_simulation: int
     boolparam_vision_sensor_handling_enabled: int
+    bullet_body_friction: int
+    bullet_body_oldfriction: int
+    bullet_body_restitution: int
     colorcomponent_ambient: int
     colorcomponent_ambient_diffuse: int
     colorcomponent_auxiliary: int
@@ -158,6 +161,9 @@ class Sim:
     msgbox_type_info: int
     msgbox_type_question: int
     msgbox_type_warning: int
+    newton_body_kineticfriction: int
+    newton_body_restitution: int
+    newton_body_staticfriction: int
     object_camera_type: int
     object_dummy_type: int
     object_forcesensor_type: int
@@ -193,6 +199,12 @@ class Sim:
     objfloatparam_abs_x_velocity: int
     objfloatparam_abs_y_velocity: int
     objfloatparam_abs_z_velocity: int
+    objfloatparam_modelbbox_max_x: int
+    objfloatparam_modelbbox_max_y: int
+    objfloatparam_modelbbox_max_z: int
+    objfloatparam_modelbbox_min_x: int
+    objfloatparam_modelbbox_min_y: int
+    objfloatparam_modelbbox_min_z: int
     objfloatparam_objbbox_max_x: int
     objfloatparam_objbbox_max_y: int
     objfloatparam_objbbox_max_z: int
@@ -200,6 +212,7 @@ class Sim:
     objfloatparam_objbbox_min_y: int
     objfloatparam_objbbox_min_z: int
     objintparam_visibility_layer: int
+    ode_body_friction: int
     particle_cyclic: int
     particle_emissioncolor: int
     particle_ignoresgravity: int
@@ -286,6 +299,7 @@ class Sim:
     volume_disc: int
     volume_pyramid: int
     volume_ray: int
+    vortex_body_restitution: int
     def getScriptFunctions(self, scriptHandle: int) -> Any: ...
     def copyTable(self, table: Any) -> Any: ...
     def acquireLock(self, *args: Any) -> Any:
@@ -334,6 +348,7 @@ class Sim:
     def checkDistance(self, *args: Any) -> Any: ...
     def checkProximitySensor(self, *args: Any) -> Any:
         """returns all five values even when nothing is detected (0, 0, zeros, -1, zeros); the sensor's stored reading is not changed; other objects do not hide the entity; a named shape is detected even if not marked detectable; the sensor's own body is never detected."""
+    def clearDoubleSignal(self, *args: Any) -> Any: ...
     def clearFloatSignal(self, *args: Any) -> Any: ...
     def clearInt32Signal(self, *args: Any) -> Any: ...
     def clearIntegerSignal(self, *args: Any) -> Any: ...
@@ -346,6 +361,7 @@ class Sim:
     def createCollection(self, *args: Any) -> Any:
         """V-REP 3's `sim.createCollection(name, options)` is accepted beside the 4.x `sim.createCollection(options)`; names are unique among live collections. `options` is accepted and ignored."""
     def createDummy(self, *args: Any) -> Any: ...
+    def createForceSensor(self, *args: Any) -> Any: ...
     def createMeshShape(self, *args: Any) -> Any:
         """the mesh is one shape, static and not respondable like CoppeliaSim's; culling, edges and the shading angle only change CoppeliaSim's drawing and are ignored; at most 1,000,000 vertices."""
     def createPath(self, *args: Any) -> Any:
@@ -356,6 +372,7 @@ class Sim:
         """the shape is static, non-respondable, white, 1000 kg/m^3, at the origin; option bits 0-2 are accepted and ignored; non-round spheroids, elliptic cylinders and cones are tessellated meshes (their density-based mass uses the bounding box)."""
     def createPureShape(self, *args: Any) -> Any:
         """V-REP 3's primitive (0 cuboid, 1 sphere, 2 cylinder, 3 cone) with a mass in kg; options bit 3 respondable, bit 4 static (else dynamic); the drawing bits (culling, edges, smoothing, open ends) and `precision` are accepted and ignored (round shapes are exact primitives)."""
+    def createVisionSensor(self, *args: Any) -> Any: ...
     def cutPathCtrlPoints(self, *args: Any) -> Any: ...
     def destroyCollection(self, *args: Any) -> Any: ...
     def displayDialog(self, *args: Any) -> Any:
@@ -380,10 +397,14 @@ class Sim:
     def getCollectionObjects(self, *args: Any) -> Any: ...
     def getConfigForTipPose(self, *args: Any) -> Any:
         """the search of `simIK.getConfigForTipPose` (10,000 configurations from a fixed seed instead of for `maxTimeInMs`); collision pairs, joint options and custom limits are ignored."""
+    def getConfigurationTree(self, *args: Any) -> Any: ...
     def getContactInfo(self, *args: Any) -> Any:
         """the touching contact points of the last step from the physics engine, pair by pair; the object asked for comes first, the force is the one the contact applied to it over the step (N) and the normal points from it to the other object; `dynamicPass` must be `sim.handle_all` or 0 (one pass per step)."""
     def getDialogResult(self, *args: Any) -> Any: ...
+    def getDoubleSignal(self, *args: Any) -> Any: ...
     def getDrawingObjectItems(self, *args: Any) -> Any: ...
+    def getEngineFloatParam(self, *args: Any) -> Any: ...
+    def getEngineFloatParameter(self, *args: Any) -> Any: ...
     def getEulerAnglesFromMatrix(self, *args: Any) -> Any: ...
     def getExplicitHandling(self, *args: Any) -> Any:
         """0 for a scene object (see `sim.setExplicitHandling`)."""
@@ -617,6 +638,10 @@ class Sim:
     def setBoolParameter(self, *args: Any) -> Any: ...
     def setBufferProperty(self, *args: Any) -> Any:
         """CoppeliaSim 4.7's property API for the custom data blocks only (`customData.<tag>`, the blocks of `sim.writeCustomDataBlock`)."""
+    def setConfigurationTree(self, *args: Any) -> Any: ...
+    def setDoubleSignal(self, *args: Any) -> Any: ...
+    def setEngineFloatParam(self, *args: Any) -> Any: ...
+    def setEngineFloatParameter(self, *args: Any) -> Any: ...
     def setExplicitHandling(self, *args: Any) -> Any:
         """serves IK groups (bit 0: explicit); for any scene object (sensors, joints, graphs...) it is accepted and does nothing, because gantry handles those every step or when read; a handle that names neither is an error."""
     def setFloatParam(self, *args: Any) -> Any:
@@ -633,6 +658,7 @@ class Sim:
     def setInt32Signal(self, *args: Any) -> Any: ...
     def setIntegerSignal(self, *args: Any) -> Any: ...
     def setJointForce(self, *args: Any) -> Any: ...
+    def setJointInterval(self, *args: Any) -> Any: ...
     def setJointMaxForce(self, *args: Any) -> Any: ...
     def setJointMode(self, *args: Any) -> Any:
         """`jointmode_dependent` exists only for URDF `<mimic>` followers; a kinematic joint made dynamic holds its position."""
