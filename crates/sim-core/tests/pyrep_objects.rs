@@ -5,6 +5,7 @@
 
 mod util;
 
+use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Sim, Value};
 use gantry_test_support::{assert_contains, floats, int, num};
 use util::{err, find, ok, step};
@@ -396,4 +397,143 @@ fn model_bounding_box_spans_the_object_and_what_hangs_below() {
     // The stand's 0.2 m cube around its origin, and the link (0.3 x 0.05 x 0.05, its
     // centre at x 0.3, z 0.3 in the stand's frame) on the hinge above it.
     gantry_test_support::assert_close(&bb, &[-0.1, -0.1, -0.1, 0.45, 0.1, 0.325], 1e-9);
+}
+
+/// The scene above with a script on the stand and the stand flagged as a model base,
+/// in a folder of its own (the script is a file beside the scene).
+fn scene_on_disk(dir: &gantry_test_support::TempDir) -> Sim {
+    dir.write("stand.lua", "function sysCall_init() end\n");
+    let text = SCENE.replace(
+        "name = \"stand\"\nkind = \"shape\"",
+        "name = \"stand\"\nkind = \"shape\"\nmodel_base = true\nscript = \"stand.lua\"",
+    );
+    let path = dir.write("scene.toml", text);
+    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("scene loads");
+    assert_eq!(model.scripts.len(), 1);
+    Sim::new(&model)
+}
+
+fn load_back(path: &std::path::Path) -> gantry_sim_core::scene::SceneModel {
+    load_scene(&DiskFiles, path, &LoadOptions::default()).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e}\n{}",
+            path.display(),
+            std::fs::read_to_string(path).unwrap_or_default()
+        )
+    })
+}
+
+#[test]
+fn saved_scene_loads_back_as_the_scene_was_when_saved() {
+    let dir = gantry_test_support::TempDir::new("pyrep_save_scene");
+    let mut s = scene_on_disk(&dir);
+    let (cube, hinge) = (find(&s, "/cube"), find(&s, "/stand/hinge"));
+    step(&mut s, 5);
+    ok(&mut s, "setJointPosition", &[h(hinge), Value::Float(0.5)]);
+    ok(&mut s, "setEngineFloatParam", &[h(6003), h(cube), Value::Float(0.9)]);
+    let fs = int(&ok(
+        &mut s,
+        "createForceSensor",
+        &[h(0), Value::Array(vec![h(0); 5]), Value::floats(&[0.01]), Value::Nil],
+    )[0]);
+    let out = dir.path().join("saved/again.toml");
+    ok(&mut s, "saveScene", &[Value::Str(out.to_string_lossy().into())]);
+    let back = load_back(&out);
+    let live: Vec<i64> = s.world.handles().to_vec();
+    assert_eq!(back.objects.len(), live.len());
+    for (o, &handle) in back.objects.iter().zip(&live) {
+        let now = s.world.object(handle).expect("live");
+        assert_eq!(o.alias, now.alias);
+        assert_eq!(o.parent.map(|p| live[p]), now.parent, "{}", o.alias);
+        let (a, b) = (o.local.translation.vector, now.local.translation.vector);
+        assert!((a - b).norm() < 1e-12, "{}: {a:?} vs {b:?}", o.alias);
+        assert!(o.local.rotation.angle_to(&now.local.rotation) < 1e-9, "{}", o.alias);
+        assert_eq!(o.model_base, now.model_base);
+    }
+    // Joint positions, object settings and the script come back.
+    let hinge_model = &back.objects[hinge as usize];
+    match &hinge_model.kind {
+        gantry_sim_core::scene::ObjectModelKind::Joint(j) => assert!((j.initial - 0.5).abs() < 1e-12),
+        other => panic!("{other:?}"),
+    }
+    match &back.objects[cube as usize].kind {
+        gantry_sim_core::scene::ObjectModelKind::Shape(sh) => assert_eq!(sh.friction, 0.9),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        back.objects[fs as usize].kind,
+        gantry_sim_core::scene::ObjectModelKind::ForceSensor
+    ));
+    assert_eq!(back.scripts.len(), 1);
+    assert_eq!(back.scripts[0].object, find(&s, "/stand") as usize);
+    assert_eq!(back.scripts[0].source, "function sysCall_init() end\n");
+    // The scene it saved runs.
+    let mut again = Sim::new(&back);
+    step(&mut again, 2);
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path().join("saved"))
+        .expect("folder")
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains("gantry-tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+}
+
+#[test]
+fn saved_model_holds_its_subtree_where_it_stands() {
+    let dir = gantry_test_support::TempDir::new("pyrep_save_model");
+    let mut s = scene_on_disk(&dir);
+    let stand = find(&s, "/stand");
+    ok(
+        &mut s,
+        "setObjectPosition",
+        &[h(stand), h(-1), Value::floats(&[2.0, 1.0, 0.1])],
+    );
+    let out = dir.path().join("stand_model.toml");
+    ok(
+        &mut s,
+        "saveModel",
+        &[h(stand), Value::Str(out.to_string_lossy().into())],
+    );
+    let back = load_back(&out);
+    let aliases: Vec<&str> = back.objects.iter().map(|o| o.alias.as_str()).collect();
+    assert_eq!(aliases, ["stand", "hinge", "link"]);
+    assert_eq!(back.objects[0].parent, None);
+    assert_eq!(back.objects[0].local.translation.vector.as_slice(), &[2.0, 1.0, 0.1]);
+    assert_eq!(back.scripts.len(), 1);
+    assert_eq!(back.scripts[0].object, 0);
+    // Not a model base: refused.
+    let cube = find(&s, "/cube");
+    assert_contains(
+        err(
+            &mut s,
+            "saveModel",
+            &[h(cube), Value::Str(out.to_string_lossy().into())],
+        ),
+        &["not a model base"],
+    );
+}
+
+#[test]
+fn save_refuses_coppelia_formats_and_leaves_them_alone() {
+    let dir = gantry_test_support::TempDir::new("pyrep_save_ttt");
+    let mut s = scene_on_disk(&dir);
+    let ttt = dir.write("scene.ttt", b"CoppeliaSim's bytes");
+    let e = err(&mut s, "saveScene", &[Value::Str(ttt.to_string_lossy().into())]);
+    assert_contains(&e, &["TOML", "never in CoppeliaSim's formats", "sim.saveScene"]);
+    assert_eq!(std::fs::read(&ttt).expect("still there"), b"CoppeliaSim's bytes");
+    let stand = find(&s, "/stand");
+    let ttm = dir.path().join("stand.ttm");
+    assert_contains(
+        err(
+            &mut s,
+            "saveModel",
+            &[h(stand), Value::Str(ttm.to_string_lossy().into())],
+        ),
+        &["TOML"],
+    );
+    assert!(!ttm.exists());
+    assert_contains(
+        err(&mut s, "saveScene", &[Value::Str("scene.txt".into())]),
+        &["'.toml'"],
+    );
 }

@@ -45,6 +45,7 @@ mod resolve;
 pub(crate) mod ruckig;
 mod scan;
 mod scene;
+mod scene_file;
 mod sensing;
 mod shape_group;
 mod shape_info;
@@ -461,6 +462,7 @@ pub const MODULES: &[Module] = &[
             configuration::FUNCTIONS,
             create_sensors::FUNCTIONS,
             engine_params::FUNCTIONS,
+            scene_file::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,

@@ -374,6 +374,11 @@ impl World {
                 .iter()
                 .map(|r| super::UrdfRobot::from_model(r, |i| map[i])),
         );
+        self.scripts
+            .extend(model.scripts.iter().map(|s| crate::scene::ScriptModel {
+                object: map[s.object] as usize,
+                ..s.clone()
+            }));
         self.edit.counters.created += map.len() as u64;
         self.bump();
         (map, warnings)

@@ -52,6 +52,10 @@ pub struct World {
     pub(super) urdf_robots: Vec<super::UrdfRobot>,
     /// Where the scene was read from.
     source: SceneSource,
+    /// The scripts the scene and the models imported into it came with, each attached
+    /// to an object by handle (`object` holds the handle): what `sim.saveScene` writes
+    /// back. The script host runs them; this is only their text.
+    pub(super) scripts: Vec<crate::scene::ScriptModel>,
 }
 
 /// Where a world's scene was read from (`sim.stringparam_scene_*`).
@@ -232,6 +236,8 @@ impl World {
                 dir: model.base_dir.clone(),
                 path: model.path.clone(),
             },
+            // Handles are model indices at load.
+            scripts: model.scripts.clone(),
         };
         world.refresh_caches();
         world.link_loop_closures(
