@@ -537,3 +537,25 @@ fn save_refuses_coppelia_formats_and_leaves_them_alone() {
         &["'.toml'"],
     );
 }
+
+#[test]
+fn object_uids_are_unique_across_scenes_and_read_as_a_string_param() {
+    let mut s = sim();
+    let cube = find(&s, "/cube");
+    let uid = int(&ok(&mut s, "getObjectUid", &[h(cube)])[0]);
+    assert_eq!(int(&ok(&mut s, "getObjectUid", &[h(cube)])[0]), uid, "stable");
+    let stand = find(&s, "/stand");
+    assert_ne!(int(&ok(&mut s, "getObjectUid", &[h(stand)])[0]), uid);
+    // A scene loaded later gives the same handle out again, not the same uid.
+    let mut other = sim();
+    assert_eq!(find(&other, "/cube"), cube);
+    assert_ne!(int(&ok(&mut other, "getObjectUid", &[h(cube)])[0]), uid);
+    // 4.1's name too.
+    let text = ok(&mut s, "getObjectStringParameter", &[h(cube), h(35)]);
+    assert_eq!(text[0], Value::Str(uid.to_string()));
+    assert_contains(
+        err(&mut s, "getObjectStringParam", &[h(cube), h(33)]),
+        &["33", "unique_id"],
+    );
+    assert_contains(err(&mut s, "getObjectUid", &[h(999)]), &["999"]);
+}

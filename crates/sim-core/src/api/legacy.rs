@@ -29,6 +29,7 @@ pub const ALIASES: &[(&str, &str)] = &[
     // V-REP 3's name (`simGetInvertedMatrix`).
     ("getInvertedMatrix", "getMatrixInverse"),
     ("getObjectName", "getObjectAlias"),
+    ("getObjectStringParameter", "getObjectStringParam"),
     // 4.0-4.2 customization scripts address the same user parameters by object.
     ("getUserParameter", "getScriptSimulationParameter"),
     ("getVelocity", "getObjectVelocity"),

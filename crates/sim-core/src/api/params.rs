@@ -26,6 +26,7 @@ const OBJ_BBOX_MIN_X: i64 = 15;
 const OBJ_BBOX_MAX_Z: i64 = 20;
 const OBJ_MODEL_BBOX_MIN_X: i64 = 21;
 const OBJ_MODEL_BBOX_MAX_Z: i64 = 26;
+const OBJ_STRING_UNIQUE_ID: i64 = 35;
 const VISION_NEAR: i64 = 1000;
 const VISION_FAR: i64 = 1001;
 const VISION_RES_X: i64 = 1002;
@@ -128,6 +129,7 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("objfloatparam_objbbox_max_x", OBJ_BBOX_MIN_X + 3),
     ("objfloatparam_objbbox_max_y", OBJ_BBOX_MIN_X + 4),
     ("objfloatparam_objbbox_max_z", OBJ_BBOX_MAX_Z),
+    ("objstringparam_unique_id", OBJ_STRING_UNIQUE_ID),
     ("objfloatparam_modelbbox_min_x", OBJ_MODEL_BBOX_MIN_X),
     ("objfloatparam_modelbbox_min_y", OBJ_MODEL_BBOX_MIN_X + 1),
     ("objfloatparam_modelbbox_min_z", OBJ_MODEL_BBOX_MIN_X + 2),
@@ -205,6 +207,16 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         cost: Cost::Quick,
     },
     ApiFunction {
+        name: "getObjectStringParam",
+        call: ApiFn::World(get_object_string_param),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
+        name: "getObjectUid",
+        call: ApiFn::World(get_object_uid),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
         name: "getStringParam",
         call: ApiFn::World(get_string_param),
         cost: Cost::Quick,
@@ -244,6 +256,28 @@ pub const FUNCTIONS: &[ApiFunction] = &[
 /// A parameter value, or nothing when the parameter does not apply.
 fn found(v: Option<Value>) -> Ret {
     v.into_iter().collect()
+}
+
+/// `sim.getObjectUid(objectHandle)` → the object's unique id: no other object of this
+/// process gets it, even in a scene loaded later (handles start again with each scene).
+fn get_object_uid(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    Ok(vec![Value::Int(w.object_uid(a.handle(0)?)?)])
+}
+
+/// `sim.getObjectStringParam(objectHandle, parameterID)` → text. gantry's objects have
+/// one string parameter, `sim.objstringparam_unique_id` (the unique id of
+/// `sim.getObjectUid` as decimal text); any other is an error naming it.
+fn get_object_string_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    match a.int(1)? {
+        OBJ_STRING_UNIQUE_ID => Ok(vec![Value::Str(w.object_uid(h)?.to_string())]),
+        other => {
+            w.object(h)?;
+            Err(SimError::refused(format!(
+                "object string parameter {other} is not one gantry has: it has sim.objstringparam_unique_id ({OBJ_STRING_UNIQUE_ID}) only"
+            )))
+        }
+    }
 }
 
 /// `sim.getObjectInt32Param(objectHandle, parameterID)` → value, or nothing (`nil`) when
