@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 317 functions, 292 constants."""
+    """`sim`: 322 functions, 293 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -212,6 +212,7 @@ class Sim:
     objfloatparam_objbbox_min_y: int
     objfloatparam_objbbox_min_z: int
     objintparam_visibility_layer: int
+    objstringparam_unique_id: int
     ode_body_friction: int
     particle_cyclic: int
     particle_emissioncolor: int
@@ -361,7 +362,8 @@ class Sim:
     def createCollection(self, *args: Any) -> Any:
         """V-REP 3's `sim.createCollection(name, options)` is accepted beside the 4.x `sim.createCollection(options)`; names are unique among live collections. `options` is accepted and ignored."""
     def createDummy(self, *args: Any) -> Any: ...
-    def createForceSensor(self, *args: Any) -> Any: ...
+    def createForceSensor(self, *args: Any) -> Any:
+        """CoppeliaSim 4.1's arguments; the sensor is a root at the origin named `Force_sensor` and measures once a body hangs from it; thresholds (options bits 0, 1) and filters over more than one sample are refused (gantry's force sensors never break and report each step's reading)."""
     def createMeshShape(self, *args: Any) -> Any:
         """the mesh is one shape, static and not respondable like CoppeliaSim's; culling, edges and the shading angle only change CoppeliaSim's drawing and are ignored; at most 1,000,000 vertices."""
     def createPath(self, *args: Any) -> Any:
@@ -372,7 +374,8 @@ class Sim:
         """the shape is static, non-respondable, white, 1000 kg/m^3, at the origin; option bits 0-2 are accepted and ignored; non-round spheroids, elliptic cylinders and cones are tessellated meshes (their density-based mass uses the bounding box)."""
     def createPureShape(self, *args: Any) -> Any:
         """V-REP 3's primitive (0 cuboid, 1 sphere, 2 cylinder, 3 cone) with a mass in kg; options bit 3 respondable, bit 4 static (else dynamic); the drawing bits (culling, edges, smoothing, open ends) and `precision` are accepted and ignored (round shapes are exact primitives)."""
-    def createVisionSensor(self, *args: Any) -> Any: ...
+    def createVisionSensor(self, *args: Any) -> Any:
+        """CoppeliaSim 4.1's arguments; the sensor is a root at the origin named `Vision_sensor`; the drawn size and the display, light and fog options are accepted and ignored; option bit 4 (passive) and bit 7 with a null-pixel colour other than black are refused (gantry's pixels that see nothing are black)."""
     def cutPathCtrlPoints(self, *args: Any) -> Any: ...
     def destroyCollection(self, *args: Any) -> Any: ...
     def displayDialog(self, *args: Any) -> Any:
@@ -397,17 +400,19 @@ class Sim:
     def getCollectionObjects(self, *args: Any) -> Any: ...
     def getConfigForTipPose(self, *args: Any) -> Any:
         """the search of `simIK.getConfigForTipPose` (10,000 configurations from a fixed seed instead of for `maxTimeInMs`); collision pairs, joint options and custom limits are ignored."""
-    def getConfigurationTree(self, *args: Any) -> Any: ...
+    def getConfigurationTree(self, *args: Any) -> Any:
+        """the blob is gantry's own (local poses and joint positions, with a check sum); only a round trip through the same running scene is promised."""
     def getContactInfo(self, *args: Any) -> Any:
         """the touching contact points of the last step from the physics engine, pair by pair; the object asked for comes first, the force is the one the contact applied to it over the step (N) and the normal points from it to the other object; `dynamicPass` must be `sim.handle_all` or 0 (one pass per step)."""
     def getDialogResult(self, *args: Any) -> Any: ...
     def getDoubleSignal(self, *args: Any) -> Any: ...
     def getDrawingObjectItems(self, *args: Any) -> Any: ...
-    def getEngineFloatParam(self, *args: Any) -> Any: ...
+    def getEngineFloatParam(self, *args: Any) -> Any:
+        """gantry's engine has one friction coefficient and one restitution per shape: every engine's name for them (`sim.bullet_body_friction`, `sim.ode_body_friction`, `sim.newton_body_*`, `sim.bullet_body_restitution`, ...) reads the same value; any other parameter is an error naming it."""
     def getEngineFloatParameter(self, *args: Any) -> Any: ...
     def getEulerAnglesFromMatrix(self, *args: Any) -> Any: ...
     def getExplicitHandling(self, *args: Any) -> Any:
-        """0 for a scene object (see `sim.setExplicitHandling`)."""
+        """0 for a scene object other than a vision sensor (see `sim.setExplicitHandling`)."""
     def getExtensionString(self, *args: Any) -> Any:
         """one string per object, loaded from CoppeliaSim files (`Rst`) and the scene's `extension_string` key, carried by copies and model imports; `index` (a compound's component) is ignored, the environment's string (handle -1) is empty, and a key names nested `name {value}` entries innermost first (`shadow@povray`), an absent one giving an empty string."""
     def getFloatParam(self, *args: Any) -> Any:
@@ -453,7 +458,8 @@ class Sim:
         """a script's handle is its object's handle, so this returns its argument (or the calling script's object for `sim.handle_self`)."""
     def getObjectChild(self, *args: Any) -> Any: ...
     def getObjectColor(self, *args: Any) -> Any: ...
-    def getObjectFloatParam(self, *args: Any) -> Any: ...
+    def getObjectFloatParam(self, *args: Any) -> Any:
+        """`sim.objfloatparam_modelbbox_*` is the box of the object and all objects below it (shapes' geometry, other objects' origins), in the object's frame."""
     def getObjectFloatParameter(self, *args: Any) -> Any: ...
     def getObjectHandle(self, *args: Any) -> Any:
         """`name#` is the original, `name#k` the (k+1)-th object of that name (CoppeliaSim's copy suffixes); `name@silentError` returns -1 when there is none; a path is resolved as `sim.getObject` does."""
@@ -475,7 +481,12 @@ class Sim:
     def getObjectSizeFactor(self, *args: Any) -> Any:
         """always 1: scaling a shape (`sim.setShapeBB`, `sim.scaleObject`) changes its geometry rather than a factor."""
     def getObjectSpecialProperty(self, *args: Any) -> Any: ...
+    def getObjectStringParam(self, *args: Any) -> Any:
+        """only `sim.objstringparam_unique_id` (the uid of `sim.getObjectUid` as text); other parameters are an error naming them."""
+    def getObjectStringParameter(self, *args: Any) -> Any: ...
     def getObjectType(self, *args: Any) -> Any: ...
+    def getObjectUid(self, *args: Any) -> Any:
+        """the id is unique among all the objects of every scene loaded in the process (the world's number times 2^32 plus the handle)."""
     def getObjectVelocity(self, *args: Any) -> Any: ...
     def getObjects(self, *args: Any) -> Any: ...
     def getObjectsInTree(self, *args: Any) -> Any: ...
@@ -629,6 +640,10 @@ class Sim:
     def ruckigVel(self, *args: Any) -> Any: ...
     def saveImage(self, *args: Any) -> Any:
         """PNG only (lossless; `quality` ignored), written inside the scene's folder like every file the API writes; a bare extension (`'.png'`) returns the encoded file. Rows go in buffer order, so a vision sensor's image (bottom row first) is upside down in the file, as in CoppeliaSim."""
+    def saveModel(self, *args: Any) -> Any:
+        """as `sim.saveScene`, for the object (which must be flagged as model base) and everything below it; the base keeps its pose in the world."""
+    def saveScene(self, *args: Any) -> Any:
+        """writes gantry's TOML scene (meshes as OBJ, scripts as Lua beside it) with `gantry convert`'s writer, never CoppeliaSim's formats: a `.ttt`/`.ttm` path is refused; the scene is saved as it is now (poses, joint positions as initial positions, object settings, the scripts the scene and its models came with); point clouds' points, dynamic loop closures, IK groups, URDF descriptions and model property overrides are not saved (the file's header lists what was left out); paths are confined like other API writes; each file is written to a temporary name and renamed."""
     def scaleObject(self, *args: Any) -> Any:
         """shapes only (as `sim.setShapeBB`, by factors); other objects are refused; `options` is ignored."""
     def setArrayParam(self, *args: Any) -> Any: ...
@@ -638,12 +653,15 @@ class Sim:
     def setBoolParameter(self, *args: Any) -> Any: ...
     def setBufferProperty(self, *args: Any) -> Any:
         """CoppeliaSim 4.7's property API for the custom data blocks only (`customData.<tag>`, the blocks of `sim.writeCustomDataBlock`)."""
-    def setConfigurationTree(self, *args: Any) -> Any: ...
-    def setDoubleSignal(self, *args: Any) -> Any: ...
-    def setEngineFloatParam(self, *args: Any) -> Any: ...
+    def setConfigurationTree(self, *args: Any) -> Any:
+        """bytes that are not a configuration tree, are damaged, or name an object removed or of another kind since, are an error and change nothing; the restored part's dynamics restart at rest and joint velocities are zeroed; joint targets are kept."""
+    def setDoubleSignal(self, *args: Any) -> Any:
+        """CoppeliaSim 4.1's double signals, in their own namespace apart from the float signals."""
+    def setEngineFloatParam(self, *args: Any) -> Any:
+        """as `sim.getEngineFloatParam`; friction must be >= 0 and restitution in 0..1."""
     def setEngineFloatParameter(self, *args: Any) -> Any: ...
     def setExplicitHandling(self, *args: Any) -> Any:
-        """serves IK groups (bit 0: explicit); for any scene object (sensors, joints, graphs...) it is accepted and does nothing, because gantry handles those every step or when read; a handle that names neither is an error."""
+        """serves IK groups and vision sensors (bit 0: explicit; an explicit vision sensor renders only when handled, its readers get its last image, black before the first); for any other scene object (proximity sensors, joints, graphs...) it is accepted and does nothing, because gantry handles those every step or when read; a handle that names none of these is an error."""
     def setFloatParam(self, *args: Any) -> Any:
         """`floatparam_simulation_time_step` can change only while stopped."""
     def setFloatParameter(self, *args: Any) -> Any: ...
@@ -658,7 +676,8 @@ class Sim:
     def setInt32Signal(self, *args: Any) -> Any: ...
     def setIntegerSignal(self, *args: Any) -> Any: ...
     def setJointForce(self, *args: Any) -> Any: ...
-    def setJointInterval(self, *args: Any) -> Any: ...
+    def setJointInterval(self, *args: Any) -> Any:
+        """a prismatic joint is never cyclic; a negative range or a fixed joint is an error; a simulated joint's subtree restarts its dynamics to take the new limits."""
     def setJointMaxForce(self, *args: Any) -> Any: ...
     def setJointMode(self, *args: Any) -> Any:
         """`jointmode_dependent` exists only for URDF `<mimic>` followers; a kinematic joint made dynamic holds its position."""
