@@ -559,3 +559,83 @@ fn object_uids_are_unique_across_scenes_and_read_as_a_string_param() {
     );
     assert_contains(err(&mut s, "getObjectUid", &[h(999)]), &["999"]);
 }
+
+/// A pendulum: a free (motorless) hinge on a static post, its link sideways so that
+/// gravity swings it.
+const PENDULUM: &str = r#"
+[simulation]
+dt = 0.05
+substeps = 10
+
+[[object]]
+name = "post"
+kind = "shape"
+shape = "box"
+size = [0.05, 0.05, 0.05]
+position = [0, 0, 1]
+
+[[object]]
+name = "hinge"
+kind = "joint"
+joint = "revolute"
+parent = "post"
+orientation_deg = [90, 0, 0]
+mode = "free"
+
+[[object]]
+name = "bob"
+kind = "shape"
+shape = "box"
+size = [0.3, 0.05, 0.05]
+parent = "hinge"
+position = [0.2, 0, 0]
+dynamic = true
+mass = 1.0
+"#;
+
+#[test]
+fn configuration_tree_restores_a_simulated_joint_that_swung() {
+    let mut s = util::text_scene("tests/pendulum.toml", PENDULUM);
+    let (hinge, bob) = (find(&s, "/post/hinge"), find(&s, "/post/hinge/bob"));
+    let bob_before = position(&mut s, bob);
+    let tree = ok(&mut s, "getConfigurationTree", &[h(-12)]);
+    step(&mut s, 10);
+    let swung = num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]);
+    assert!(swung.abs() > 0.2, "the pendulum swung: {swung}");
+    ok(&mut s, "setConfigurationTree", &tree);
+    assert_eq!(num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]), 0.0);
+    gantry_test_support::assert_close(&position(&mut s, bob), &bob_before, 1e-9);
+    // It starts again from rest there: its next step is a fresh pendulum's first.
+    step(&mut s, 1);
+    let q = num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]);
+    let mut fresh = util::text_scene("tests/pendulum.toml", PENDULUM);
+    step(&mut fresh, 1);
+    let q_fresh = num(&ok(&mut fresh, "getJointPosition", &[h(hinge)])[0]);
+    assert!(q_fresh.abs() > 0.01, "the pendulum starts falling: {q_fresh}");
+    assert!(
+        (q - q_fresh).abs() < 1e-3,
+        "restarted from rest: {q} vs a fresh pendulum's {q_fresh}"
+    );
+}
+
+#[test]
+fn joint_interval_limits_a_simulated_joint_at_once() {
+    let mut s = util::text_scene("tests/pendulum.toml", PENDULUM);
+    let hinge = find(&s, "/post/hinge");
+    step(&mut s, 2);
+    let falling = num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]);
+    // Limits on the side it falls to, ending just past where it is.
+    let (lo, hi) = if falling < 0.0 {
+        (falling - 0.05, -falling)
+    } else {
+        (-falling, falling + 0.05)
+    };
+    ok(
+        &mut s,
+        "setJointInterval",
+        &[h(hinge), Value::Bool(false), Value::floats(&[lo, hi - lo])],
+    );
+    step(&mut s, 20);
+    let q = num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]);
+    assert!(q >= lo - 0.02 && q <= hi + 0.02, "held in [{lo}, {hi}]: {q}");
+}
