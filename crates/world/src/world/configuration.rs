@@ -20,7 +20,7 @@ use crate::error::SimError;
 use crate::math::{Pose, Quat, Vec3};
 
 /// The first bytes of every configuration tree, the last one the layout's version.
-pub const MAGIC: &[u8; 8] = b"gntyCFG\x01";
+const MAGIC: &[u8; 8] = b"gntyCFG\x01";
 
 /// Bytes of an entry before the joint position.
 const ENTRY: usize = 8 + 1 + 7 * 8;
@@ -72,7 +72,8 @@ impl Reader<'_> {
 
 impl World {
     /// The configuration tree of `root` and every object below it, or of the whole scene
-    /// for `None` (`sim.handle_scene`): see the [module docs](self) for the layout.
+    /// for `None` (`sim.handle_scene`): a magic number, then per object (parents first)
+    /// its handle, type, local pose and, for a joint, its position, then a check sum.
     ///
     /// # Errors
     /// `root` names no object.
