@@ -131,6 +131,10 @@ refused! {
     graph_export_out_of_the_scene_folder_is_refused:
         "return sim.exportGraphStreams('../../gantry-sandbox-export')"
         => ["exportGraphStreams", "outside the scene's folder"];
+    scene_save_to_an_absolute_path_is_refused: "return sim.saveScene('/tmp/gantry-sandbox-save.toml')"
+        => ["saveScene", "outside the scene's folder"];
+    scene_save_out_of_the_scene_folder_is_refused: "return sim.saveScene('../../gantry-sandbox-save.toml')"
+        => ["saveScene", "outside the scene's folder"];
 }
 
 #[test]

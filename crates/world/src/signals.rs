@@ -10,6 +10,9 @@ pub struct Signals {
     pub int32: BTreeMap<String, i32>,
     /// Float signals.
     pub float: BTreeMap<String, f64>,
+    /// Double signals (`sim.setDoubleSignal`, CoppeliaSim 4.1's API): a namespace of
+    /// their own, apart from the float signals, as in 4.1.
+    pub double: BTreeMap<String, f64>,
     /// String (byte) signals.
     pub string: BTreeMap<String, Vec<u8>>,
 }

@@ -9,7 +9,7 @@ use crate::Value;
 use crate::error::SimError;
 use crate::ik::{self, Constraints, IkMethod};
 use crate::sim::Sim;
-use crate::world::Handle;
+use crate::world::{Handle, ObjectKind};
 
 /// The functions this file implements, in alphabetical order.
 pub(super) const FUNCTIONS: &[ApiFunction] = &[
@@ -114,11 +114,17 @@ fn handle_ik_group(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<R
 
 /// `sim.setExplicitHandling(handle, flags)`: for an IK group, bit 0 set means only
 /// `sim.handleIkGroup` on it solves it; clear, the main script does every step. For a
-/// scene object (a sensor, joint, graph, ...) it is accepted and does nothing: gantry
-/// handles those every step or when read.
+/// vision sensor, bit 0 set means it renders only when `sim.handleVisionSensor` handles
+/// it (readers get its last image); clear, it renders when read. For another scene
+/// object (a proximity sensor, joint, graph, ...) it is accepted and does nothing:
+/// gantry handles those every step or when read.
 fn set_explicit_handling(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let flags = a.int(1)?;
+    if let Ok(ObjectKind::VisionSensor(_)) = sim.world.object(h).map(|o| &o.kind) {
+        crate::vision::set_explicit(&sim.world, &mut sim.vision, h, flags & 1 != 0)?;
+        return Ok(Vec::new());
+    }
     if sim.ik_groups.set_explicit(h, flags & 1 != 0) || sim.world.object(h).is_ok() {
         return Ok(Vec::new());
     }
@@ -127,10 +133,13 @@ fn set_explicit_handling(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Re
     )))
 }
 
-/// `sim.getExplicitHandling(handle)` → flags: bit 0 set for an IK group handled
-/// explicitly; 0 for a scene object.
+/// `sim.getExplicitHandling(handle)` → flags: bit 0 set for an IK group or a vision
+/// sensor handled explicitly; 0 for another scene object.
 fn get_explicit_handling(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
+    if let Ok(ObjectKind::VisionSensor(_)) = sim.world.object(h).map(|o| &o.kind) {
+        return Ok(vec![Value::Int(i64::from(crate::vision::is_explicit(&sim.vision, h)))]);
+    }
     if let Some(g) = sim.ik_groups.get(h) {
         return Ok(vec![Value::Int(i64::from(g.explicit))]);
     }

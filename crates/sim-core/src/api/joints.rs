@@ -89,3 +89,15 @@ pub(super) fn get_joint_type(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -
     };
     Ok(vec![Value::Int(code)])
 }
+
+/// `sim.setJointInterval(h, cyclic, {min, range})`: a revolute joint made cyclic loses
+/// its limits and wraps its position; otherwise its limits become `min ..= min + range`
+/// (rad or m; a prismatic joint is never cyclic). The position is clamped into the new
+/// interval at once.
+pub(super) fn set_joint_interval(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    let cyclic = a.bool(1)?;
+    let [min, range] = a.floats::<2>(2)?;
+    w.set_joint_interval(h, cyclic, min, range)?;
+    Ok(Vec::new())
+}

@@ -21,6 +21,7 @@ pub const ALIASES: &[(&str, &str)] = &[
     ("clearIntegerSignal", "clearInt32Signal"),
     ("getArrayParameter", "getArrayParam"),
     ("getBoolParameter", "getBoolParam"),
+    ("getEngineFloatParameter", "getEngineFloatParam"),
     ("getFloatParameter", "getFloatParam"),
     ("getInt32Parameter", "getInt32Param"),
     ("getIntegerSignal", "getInt32Signal"),
@@ -28,6 +29,7 @@ pub const ALIASES: &[(&str, &str)] = &[
     // V-REP 3's name (`simGetInvertedMatrix`).
     ("getInvertedMatrix", "getMatrixInverse"),
     ("getObjectName", "getObjectAlias"),
+    ("getObjectStringParameter", "getObjectStringParam"),
     // 4.0-4.2 customization scripts address the same user parameters by object.
     ("getUserParameter", "getScriptSimulationParameter"),
     ("getVelocity", "getObjectVelocity"),
@@ -37,6 +39,7 @@ pub const ALIASES: &[(&str, &str)] = &[
     ("readCustomStringData", "readCustomDataBlock"),
     ("setArrayParameter", "setArrayParam"),
     ("setBoolParameter", "setBoolParam"),
+    ("setEngineFloatParameter", "setEngineFloatParam"),
     ("setFloatParameter", "setFloatParam"),
     ("setInt32Parameter", "setInt32Param"),
     ("setIntegerSignal", "setInt32Signal"),

@@ -8,9 +8,12 @@
 
 mod application;
 mod args;
+mod configuration;
 mod contacts;
+mod create_sensors;
 mod custom_data;
 mod drawing;
+mod engine_params;
 mod error;
 mod extension;
 mod function;
@@ -42,6 +45,7 @@ mod resolve;
 pub(crate) mod ruckig;
 mod scan;
 mod scene;
+mod scene_file;
 mod sensing;
 mod shape_group;
 mod shape_info;
@@ -90,6 +94,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         cost: Cost::Long,
     },
     ApiFunction {
+        name: "clearDoubleSignal",
+        call: ApiFn::Sim(signals::clear_double_signal),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
         name: "clearFloatSignal",
         call: ApiFn::Sim(signals::clear_float_signal),
         cost: Cost::Quick,
@@ -127,6 +136,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getCollectionObjects",
         call: ApiFn::World(sensing::get_collection_objects),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
+        name: "getDoubleSignal",
+        call: ApiFn::Sim(signals::get_double_signal),
         cost: Cost::Quick,
     },
     ApiFunction {
@@ -275,6 +289,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         cost: Cost::Quick,
     },
     ApiFunction {
+        name: "setDoubleSignal",
+        call: ApiFn::Sim(signals::set_double_signal),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
         name: "setFloatSignal",
         call: ApiFn::Sim(signals::set_float_signal),
         cost: Cost::Quick,
@@ -282,6 +301,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "setInt32Signal",
         call: ApiFn::Sim(signals::set_int32_signal),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
+        name: "setJointInterval",
+        call: ApiFn::World(joints::set_joint_interval),
         cost: Cost::Quick,
     },
     ApiFunction {
@@ -435,6 +459,10 @@ pub const MODULES: &[Module] = &[
             graph_curves::FUNCTIONS,
             contacts::FUNCTIONS,
             extension::FUNCTIONS,
+            configuration::FUNCTIONS,
+            create_sensors::FUNCTIONS,
+            engine_params::FUNCTIONS,
+            scene_file::FUNCTIONS,
         ],
         constants: Constants(&[
             CONSTANTS,
@@ -448,6 +476,7 @@ pub const MODULES: &[Module] = &[
             paths::CONSTANTS,
             particles::CONSTANTS,
             ik_groups::CONSTANTS,
+            engine_params::CONSTANTS,
         ]),
         aliases: legacy::ALIASES,
     },

@@ -24,6 +24,9 @@ const OBJ_ABS_X_VELOCITY: i64 = 11;
 const OBJ_ABS_ROT_VELOCITY: i64 = 14;
 const OBJ_BBOX_MIN_X: i64 = 15;
 const OBJ_BBOX_MAX_Z: i64 = 20;
+const OBJ_MODEL_BBOX_MIN_X: i64 = 21;
+const OBJ_MODEL_BBOX_MAX_Z: i64 = 26;
+const OBJ_STRING_UNIQUE_ID: i64 = 35;
 const VISION_NEAR: i64 = 1000;
 const VISION_FAR: i64 = 1001;
 const VISION_RES_X: i64 = 1002;
@@ -142,6 +145,13 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("objfloatparam_objbbox_max_x", OBJ_BBOX_MIN_X + 3),
     ("objfloatparam_objbbox_max_y", OBJ_BBOX_MIN_X + 4),
     ("objfloatparam_objbbox_max_z", OBJ_BBOX_MAX_Z),
+    ("objstringparam_unique_id", OBJ_STRING_UNIQUE_ID),
+    ("objfloatparam_modelbbox_min_x", OBJ_MODEL_BBOX_MIN_X),
+    ("objfloatparam_modelbbox_min_y", OBJ_MODEL_BBOX_MIN_X + 1),
+    ("objfloatparam_modelbbox_min_z", OBJ_MODEL_BBOX_MIN_X + 2),
+    ("objfloatparam_modelbbox_max_x", OBJ_MODEL_BBOX_MIN_X + 3),
+    ("objfloatparam_modelbbox_max_y", OBJ_MODEL_BBOX_MIN_X + 4),
+    ("objfloatparam_modelbbox_max_z", OBJ_MODEL_BBOX_MAX_Z),
     ("visionfloatparam_near_clipping", VISION_NEAR),
     ("visionfloatparam_far_clipping", VISION_FAR),
     ("visionintparam_resolution_x", VISION_RES_X),
@@ -225,6 +235,16 @@ pub const FUNCTIONS: &[ApiFunction] = &[
         cost: Cost::Quick,
     },
     ApiFunction {
+        name: "getObjectStringParam",
+        call: ApiFn::World(get_object_string_param),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
+        name: "getObjectUid",
+        call: ApiFn::World(get_object_uid),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
         name: "getStringParam",
         call: ApiFn::World(get_string_param),
         cost: Cost::Quick,
@@ -267,6 +287,28 @@ const MAX_WINDOW_SIDE: i64 = 16384;
 /// A parameter value, or nothing when the parameter does not apply.
 fn found(v: Option<Value>) -> Ret {
     v.into_iter().collect()
+}
+
+/// `sim.getObjectUid(objectHandle)` → the object's unique id: no other object of this
+/// process gets it, even in a scene loaded later (handles start again with each scene).
+fn get_object_uid(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    Ok(vec![Value::Int(w.object_uid(a.handle(0)?)?)])
+}
+
+/// `sim.getObjectStringParam(objectHandle, parameterID)` → text. gantry's objects have
+/// one string parameter, `sim.objstringparam_unique_id` (the unique id of
+/// `sim.getObjectUid` as decimal text); any other is an error naming it.
+fn get_object_string_param(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    match a.int(1)? {
+        OBJ_STRING_UNIQUE_ID => Ok(vec![Value::Str(w.object_uid(h)?.to_string())]),
+        other => {
+            w.object(h)?;
+            Err(SimError::refused(format!(
+                "object string parameter {other} is not one gantry has: it has sim.objstringparam_unique_id ({OBJ_STRING_UNIQUE_ID}) only"
+            )))
+        }
+    }
 }
 
 /// `sim.getObjectInt32Param(objectHandle, parameterID)` → value, or nothing (`nil`) when
@@ -459,6 +501,13 @@ pub(super) fn get_object_float_param(w: &mut World, _: &CallContext<'_>, a: &Arg
         (OBJ_BBOX_MIN_X..=OBJ_BBOX_MAX_Z, _) => {
             let (lo, hi) = w.bounding_box(h)?;
             let i = (id - OBJ_BBOX_MIN_X) as usize;
+            Some(if i < 3 { lo[i] } else { hi[i - 3] })
+        }
+        // The whole model's box (the object and everything below it), in the object's
+        // frame: min x, y, z, then max x, y, z, as the object box above.
+        (OBJ_MODEL_BBOX_MIN_X..=OBJ_MODEL_BBOX_MAX_Z, _) => {
+            let (lo, hi) = w.model_bounding_box(h)?;
+            let i = (id - OBJ_MODEL_BBOX_MIN_X) as usize;
             Some(if i < 3 { lo[i] } else { hi[i - 3] })
         }
         (SHAPE_MASS, ObjectKind::Shape(_)) => Some(w.shape_mass(h)?),

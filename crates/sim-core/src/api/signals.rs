@@ -1,4 +1,4 @@
-//! Signals: named integer, float and string values that scripts and clients share,
+//! Signals: named integer, float, double and string values that scripts and clients share,
 //! set, read and cleared by name.
 
 use super::{Args, CallContext, Ret};
@@ -59,6 +59,35 @@ pub(super) fn clear_float_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_
         Value::Nil => sim.signals.float.clear(),
         _ => {
             sim.signals.float.remove(a.str(0)?);
+        }
+    }
+    Ok(Vec::new())
+}
+
+/// `sim.setDoubleSignal(name, value)` (CoppeliaSim 4.1): double signals have their own
+/// names, apart from the float signals.
+pub(super) fn set_double_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let name = a.str(0)?.to_owned();
+    sim.signals.double.insert(name, a.f64(1)?);
+    Ok(Vec::new())
+}
+
+/// `sim.getDoubleSignal(name)` → value, or nil when not set.
+pub(super) fn get_double_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    Ok(vec![
+        sim.signals
+            .double
+            .get(a.str(0)?)
+            .map_or(Value::Nil, |v| Value::Float(*v)),
+    ])
+}
+
+/// `sim.clearDoubleSignal(name)`; with no name, clears them all.
+pub(super) fn clear_double_signal(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    match a.get(0) {
+        Value::Nil => sim.signals.double.clear(),
+        _ => {
+            sim.signals.double.remove(a.str(0)?);
         }
     }
     Ok(Vec::new())

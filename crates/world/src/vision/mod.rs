@@ -586,6 +586,24 @@ pub fn handle_vision_sensor(world: &World, states: &mut VisionStates, h: Handle)
     Ok(())
 }
 
+/// Makes sensor `h` explicitly handled, or not, without rendering it (CoppeliaSim's
+/// explicit-handling flag: `sim.setExplicitHandling`, `sim.createVisionSensor`'s option
+/// bit 0). An explicitly handled sensor renders only when handled, and its readers get
+/// its last image (black before the first); one that is not renders when read.
+///
+/// # Errors
+/// No such object or not a vision sensor.
+pub fn set_explicit(world: &World, states: &mut VisionStates, h: Handle, explicit: bool) -> Result<(), SimError> {
+    state(world, states, h)?.explicit = explicit;
+    Ok(())
+}
+
+/// Whether sensor `h` is explicitly handled (see [`set_explicit`]); false for a sensor
+/// that never rendered nor was flagged.
+pub fn is_explicit(states: &VisionStates, h: Handle) -> bool {
+    states.sensors.get(&h).is_some_and(|s| s.explicit)
+}
+
 /// Renders every vision sensor (`sim.handle_all`), or only those not explicitly handled
 /// (`sim.handle_all_except_explicit`); returns how many rendered. Does not make them
 /// explicitly handled. Several sensors are drawn on as many threads as there are cores,

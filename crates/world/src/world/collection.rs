@@ -2,7 +2,7 @@
 //! evaluated against the current tree when queried.
 
 use super::object::Handle;
-use crate::scene::{CollectionModel, CollectionScope};
+use crate::scene::{CollectionItemModel, CollectionModel, CollectionScope};
 
 /// The first collection handle; collections and objects never share handles.
 pub const FIRST_COLLECTION_HANDLE: Handle = 2_000_000;
@@ -64,5 +64,36 @@ impl Collection {
                 })
                 .collect(),
         }
+    }
+
+    /// The collection as a scene's, its handles mapped to object indices by `index`;
+    /// `None` when it is unnamed (scene files hold named collections) or an item's
+    /// object has no index.
+    pub fn to_model(&self, index: impl Fn(Handle) -> Option<usize>) -> Option<CollectionModel> {
+        if self.name.is_empty() {
+            return None;
+        }
+        let items = self
+            .items
+            .iter()
+            .map(|i| {
+                let (scope, object) = match i.kind {
+                    ItemKind::Single => (CollectionScope::Object, Some(index(i.object)?)),
+                    ItemKind::Tree => (CollectionScope::Tree, Some(index(i.object)?)),
+                    ItemKind::Chain => (CollectionScope::Chain, Some(index(i.object)?)),
+                    ItemKind::All => (CollectionScope::All, None),
+                };
+                Some(CollectionItemModel {
+                    scope,
+                    object,
+                    remove: i.remove,
+                    exclude_base: i.exclude_base,
+                })
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(CollectionModel {
+            name: self.name.clone(),
+            items,
+        })
     }
 }

@@ -374,6 +374,11 @@ impl World {
                 .iter()
                 .map(|r| super::UrdfRobot::from_model(r, |i| map[i])),
         );
+        self.scripts
+            .extend(model.scripts.iter().map(|s| crate::scene::ScriptModel {
+                object: map[s.object] as usize,
+                ..s.clone()
+            }));
         self.edit.counters.created += map.len() as u64;
         self.bump();
         (map, warnings)
@@ -507,7 +512,7 @@ impl World {
     }
 
     /// Every live object of the subtrees rooted at `tops`, parents first, each once.
-    fn subtrees(&self, tops: &[Handle]) -> Vec<Handle> {
+    pub(super) fn subtrees(&self, tops: &[Handle]) -> Vec<Handle> {
         let mut seen = HashSet::new();
         let mut out = Vec::new();
         for &t in tops {
@@ -1010,15 +1015,9 @@ impl World {
         Ok(())
     }
 
-    /// Replaces a vision sensor's resolution, projection, view angle, ortho size and
-    /// clipping planes.
-    ///
-    /// # Errors
-    /// No such object, not a vision sensor, or a setting out of range (resolution
-    /// 1..=[`crate::scene::MAX_VISION_RESOLUTION`] per side, 0 < view angle < π, ortho
-    /// size > 0, 0 < near < far), or a resolution that would bring the images of all
-    /// vision sensors over [`crate::scene::MAX_VISION_IMAGE_BYTES`].
-    pub fn set_vision_model(&mut self, h: Handle, model: VisionModel) -> Result<(), SimError> {
+    /// Checks a vision sensor model for sensor `h` (a new sensor for `None`): the rules
+    /// of [`World::set_vision_model`].
+    fn check_vision_model(&self, h: Option<Handle>, model: &VisionModel) -> Result<(), SimError> {
         use crate::scene::{MAX_VISION_IMAGE_BYTES, MAX_VISION_RESOLUTION, vision_image_bytes};
         let max = MAX_VISION_RESOLUTION;
         let ok = model.resolution.iter().all(|r| (1..=max).contains(r))
@@ -1035,15 +1034,47 @@ impl World {
             )));
         }
         // Every other sensor's images plus this one's at its new resolution.
-        let total = self.vision_image_bytes(Some(h)) + vision_image_bytes(model.resolution);
+        let total = self.vision_image_bytes(h) + vision_image_bytes(model.resolution);
         if total > MAX_VISION_IMAGE_BYTES {
             let [w, hgt] = model.resolution;
             return Err(invalid(format!(
-                "vision sensor {h}: {w}x{hgt} would bring the vision images of the scene (RGB and depth) to {} MiB, over the {} MiB cap",
+                "vision sensor{}: {w}x{hgt} would bring the vision images of the scene (RGB and depth) to {} MiB, over the {} MiB cap",
+                h.map(|h| format!(" {h}")).unwrap_or_default(),
                 total.div_ceil(1 << 20),
                 MAX_VISION_IMAGE_BYTES >> 20
             )));
         }
+        Ok(())
+    }
+
+    /// Adds a vision sensor of `model` below `parent` (a root for `None`) at pose `local`
+    /// in the parent's frame (`sim.createVisionSensor`); it renders like one loaded with
+    /// the scene.
+    ///
+    /// # Errors
+    /// The parent does not exist, or the model breaks the rules of
+    /// [`World::set_vision_model`].
+    pub fn add_vision_sensor(
+        &mut self,
+        alias: &str,
+        model: VisionModel,
+        parent: Option<Handle>,
+        local: Pose,
+    ) -> Result<Handle, SimError> {
+        self.check_vision_model(None, &model)?;
+        self.add_object(alias, ObjectKind::VisionSensor(model), parent, local)
+    }
+
+    /// Replaces a vision sensor's resolution, projection, view angle, ortho size and
+    /// clipping planes.
+    ///
+    /// # Errors
+    /// No such object, not a vision sensor, or a setting out of range (resolution
+    /// 1..=[`crate::scene::MAX_VISION_RESOLUTION`] per side, 0 < view angle < π, ortho
+    /// size > 0, 0 < near < far), or a resolution that would bring the images of all
+    /// vision sensors over [`crate::scene::MAX_VISION_IMAGE_BYTES`].
+    pub fn set_vision_model(&mut self, h: Handle, model: VisionModel) -> Result<(), SimError> {
+        self.check_vision_model(Some(h), &model)?;
         match &mut self.object_mut(h)?.kind {
             ObjectKind::VisionSensor(v) => *v = model,
             other => {

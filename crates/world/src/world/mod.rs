@@ -6,11 +6,13 @@
 //! signals) lives on the floors above, and [`crate::sim::Sim`] owns both.
 
 mod collection;
+mod configuration;
 mod contacts;
 mod containment;
 mod custom_data;
 mod edit;
 mod edit_state;
+mod export;
 mod group;
 mod log;
 mod mass;
@@ -24,6 +26,7 @@ mod property_flags;
 mod query;
 mod scale;
 mod selection;
+mod tuning;
 mod urdf_robot;
 #[expect(
     clippy::module_inception,
@@ -36,6 +39,7 @@ pub use contacts::Contact;
 pub use custom_data::CustomData;
 pub use edit::MIN_SHAPE_MASS;
 pub use edit_state::{ColorComponent, EditCounters};
+pub use export::ExportedScene;
 pub use log::{LOG_CAPACITY, Log, LogLine};
 pub use mass::MassProperties;
 pub use object::{Detection, ForceReading, Handle, Joint, KinematicMotion, Object, ObjectKind, ProximitySensor};

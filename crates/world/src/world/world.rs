@@ -52,7 +52,17 @@ pub struct World {
     pub(super) urdf_robots: Vec<super::UrdfRobot>,
     /// Where the scene was read from.
     source: SceneSource,
+    /// The scripts the scene and the models imported into it came with, each attached
+    /// to an object by handle (`object` holds the handle): what `sim.saveScene` writes
+    /// back. The script host runs them; this is only their text.
+    pub(super) scripts: Vec<crate::scene::ScriptModel>,
+    /// This world's number among the worlds of the process, from 1: the high half of
+    /// its objects' unique ids (see [`World::object_uid`]).
+    serial: i64,
 }
+
+/// The last world number given out (see `World::serial`).
+static WORLDS: std::sync::atomic::AtomicI64 = std::sync::atomic::AtomicI64::new(0);
 
 /// Where a world's scene was read from (`sim.stringparam_scene_*`).
 #[derive(Debug, Clone, Default)]
@@ -102,6 +112,17 @@ impl World {
     /// The dummy linked to `h` (`sim.getLinkDummy`), if any.
     pub fn linked_dummy(&self, h: Handle) -> Option<Handle> {
         self.physics.linked_dummy(h)
+    }
+
+    /// An object's unique id (`sim.getObjectUid`): never given to another object in this
+    /// process, unlike a handle, which a scene loaded later gives out again. The world's
+    /// number times 2^32 plus the handle (handles are never reused within a world).
+    ///
+    /// # Errors
+    /// No such object.
+    pub fn object_uid(&self, h: Handle) -> Result<i64, SimError> {
+        self.object(h)?;
+        Ok((self.serial << 32) | h)
     }
 
     /// Where the scene was read from.
@@ -237,6 +258,9 @@ impl World {
                 dir: model.base_dir.clone(),
                 path: model.path.clone(),
             },
+            // Handles are model indices at load.
+            scripts: model.scripts.clone(),
+            serial: WORLDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
         };
         world.refresh_caches();
         world.link_loop_closures(

@@ -1,0 +1,168 @@
+//! `sim.createVisionSensor`, `sim.createForceSensor`: sensors made at run time, with
+//! CoppeliaSim 4.1's argument lists (PyRep's `VisionSensor.create`, `ForceSensor.create`).
+//! Each is created at the world origin, as a root, and works as one loaded with the
+//! scene: a vision sensor renders when read or handled, a force sensor measures what
+//! hangs from it once an object is parented to it.
+//!
+//! Options gantry cannot honour are refused with the reason instead of being dropped
+//! silently; those that only change how CoppeliaSim draws the sensor are accepted.
+
+use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
+use crate::Value;
+use crate::error::SimError;
+use crate::math::Pose;
+use crate::scene::{Projection, VisionModel};
+use crate::sim::Sim;
+use crate::world::{ForceReading, ObjectKind, World};
+
+/// The sensor creation functions, sorted by name.
+pub const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "createForceSensor",
+        call: ApiFn::World(create_force_sensor),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
+        name: "createVisionSensor",
+        call: ApiFn::Sim(create_vision_sensor),
+        cost: Cost::Quick,
+    },
+];
+
+/// `sim.createVisionSensor` option bits.
+const VISION_EXPLICIT: i64 = 1;
+const VISION_PERSPECTIVE: i64 = 2;
+const VISION_PASSIVE: i64 = 16;
+const VISION_NULL_PIXEL_COLOR: i64 = 128;
+
+/// The list argument `i` of finite numbers, with at least `n` of them (CoppeliaSim's
+/// reserved trailing entries may be left out).
+fn leading(a: &Args<'_>, i: usize, n: usize, what: &str) -> Result<Vec<f64>, SimError> {
+    let v = a.numbers(i)?;
+    if v.len() < n {
+        return Err(SimError::bad_argument(format!(
+            "argument {}: expected at least {n} numbers ({what}), got {}",
+            i + 1,
+            v.len()
+        )));
+    }
+    Ok(v)
+}
+
+/// `sim.createVisionSensor(options, intParams, floatParams, color=nil)` → handle.
+///
+/// `intParams`: resolution x, y (pixels), then 2 reserved. `floatParams`: near and far
+/// clipping distances (m), the view angle (rad, perspective) or ortho size (m), the
+/// sensor's drawn size x, y, z, the null-pixel colour r, g, b, then 2 reserved.
+/// Options: bit 0 explicit handling (the sensor renders only when handled), bit 1
+/// perspective (else orthographic); bits 2, 3 (volume display), 5 (local lights) and 6
+/// (fog) only change CoppeliaSim's drawing and are accepted. Refused: bit 4 (a passive
+/// sensor fed external images) and bit 7 with a null-pixel colour other than black
+/// (gantry's pixels that see nothing are black).
+fn create_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let options = a.int(0)?;
+    let ints = leading(a, 1, 2, "resolution x and y")?;
+    let floats = leading(a, 2, 3, "near, far, view angle or ortho size")?;
+    if !matches!(a.get(3), Value::Nil | Value::Array(_)) {
+        return Err(SimError::bad_argument("argument 4: expected a list of colours or nil"));
+    }
+    if options & VISION_PASSIVE != 0 {
+        return Err(SimError::refused(
+            "option bit 4 (a passive vision sensor fed external images) is not supported: create an ordinary sensor and write its image with sim.setVisionSensorImg",
+        ));
+    }
+    let null_color = floats.get(6..9).unwrap_or(&[]);
+    if options & VISION_NULL_PIXEL_COLOR != 0 && null_color.iter().any(|&c| c != 0.0) {
+        return Err(SimError::refused(format!(
+            "option bit 7 with null-pixel colour {null_color:?} is not supported: gantry's vision sensors show black where they see nothing"
+        )));
+    }
+    let dim = |k: usize| -> Result<u32, SimError> {
+        let v = ints[k];
+        if v.fract() != 0.0 || !(1.0..=f64::from(crate::scene::MAX_VISION_RESOLUTION)).contains(&v) {
+            return Err(SimError::bad_argument(format!(
+                "argument 2: resolution {v} must be a whole number of pixels in 1..={}",
+                crate::scene::MAX_VISION_RESOLUTION
+            )));
+        }
+        Ok(v as u32)
+    };
+    let perspective = options & VISION_PERSPECTIVE != 0;
+    let defaults = VisionModel {
+        resolution: [dim(0)?, dim(1)?],
+        projection: if perspective {
+            Projection::Perspective
+        } else {
+            Projection::Orthographic
+        },
+        // The scene loader's defaults for the setting the sensor does not use now, so
+        // that switching its projection later gives a usable view.
+        fov: 60f64.to_radians(),
+        ortho_size: 1.0,
+        near: floats[0],
+        far: floats[1],
+        render_mode: Default::default(),
+        ignore_rgb: false,
+        ignore_depth: false,
+        ros2_rate: None,
+    };
+    let model = if perspective {
+        VisionModel {
+            fov: floats[2],
+            ..defaults
+        }
+    } else {
+        VisionModel {
+            ortho_size: floats[2],
+            ..defaults
+        }
+    };
+    let h = sim
+        .world
+        .add_vision_sensor("Vision_sensor", model, None, Pose::identity())?;
+    if options & VISION_EXPLICIT != 0 {
+        crate::vision::set_explicit(&sim.world, &mut sim.vision, h, true)?;
+    }
+    Ok(vec![Value::Int(h)])
+}
+
+/// `sim.createForceSensor(options, intParams, floatParams, color=nil)` → handle.
+///
+/// `intParams`: the filter (0 average, 1 median), its sample count, the consecutive
+/// threshold violations before breaking, then 2 reserved. `floatParams`: the drawn size
+/// (m), the force (N) and torque (N·m) thresholds, then 2 reserved. Options bit 0 and 1
+/// enable the force and torque thresholds. gantry's force sensors report each step's
+/// reading unfiltered and never break, so a sample count above 1 or an enabled
+/// threshold is refused; everything else is accepted.
+fn create_force_sensor(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let options = a.int(0)?;
+    let ints = leading(a, 1, 3, "filter type, sample count, violation count")?;
+    leading(a, 2, 1, "size")?;
+    if !matches!(a.get(3), Value::Nil | Value::Array(_)) {
+        return Err(SimError::bad_argument("argument 4: expected a list of colours or nil"));
+    }
+    if options & 3 != 0 {
+        return Err(SimError::refused(
+            "force sensor thresholds (options bits 0 and 1) are not supported: gantry's force sensors never break",
+        ));
+    }
+    if !(0.0..=1.0).contains(&ints[0]) {
+        return Err(SimError::bad_argument(format!(
+            "argument 2: filter type {} must be 0 (average) or 1 (median)",
+            ints[0]
+        )));
+    }
+    if ints[1] > 1.0 {
+        return Err(SimError::refused(format!(
+            "a force sensor filter over {} samples is not supported: gantry's force sensors report each step's reading (use 0 or 1)",
+            ints[1]
+        )));
+    }
+    let h = w.add_object(
+        "Force_sensor",
+        ObjectKind::ForceSensor(ForceReading::default()),
+        None,
+        Pose::identity(),
+    )?;
+    Ok(vec![Value::Int(h)])
+}
