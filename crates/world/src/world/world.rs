@@ -52,6 +52,8 @@ pub struct World {
     pub(super) urdf_robots: Vec<super::UrdfRobot>,
     /// Where the scene was read from.
     source: SceneSource,
+    /// Texture objects and the textures shapes wear.
+    pub(super) textures: super::texture::Textures,
 }
 
 /// Where a world's scene was read from (`sim.stringparam_scene_*`).
@@ -232,6 +234,7 @@ impl World {
                 dir: model.base_dir.clone(),
                 path: model.path.clone(),
             },
+            textures: Default::default(),
         };
         world.refresh_caches();
         world.link_loop_closures(
