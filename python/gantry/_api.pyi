@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 305 functions, 278 constants."""
+    """`sim`: 319 functions, 282 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -261,6 +261,10 @@ class Sim:
     stringparam_scene_path_and_name: int
     stringparam_scenedefaultdir: int
     stringparam_tempdir: int
+    texturemap_cube: int
+    texturemap_cylinder: int
+    texturemap_plane: int
+    texturemap_sphere: int
     verbosity_debug: int
     verbosity_errors: int
     verbosity_infos: int
@@ -312,6 +316,8 @@ class Sim:
     def alphaBetaGammaToYawPitchRoll(self, *args: Any) -> Any: ...
     def announceSceneContentChange(self, *args: Any) -> Any:
         """does nothing (gantry has no scene editor and no undo) and returns 1."""
+    def applyTexture(self, *args: Any) -> Any:
+        """returns the new texture's id; coordinates are u, v per triangle corner of `sim.getShapeMesh`; kept and read back but not drawn yet."""
     def auxiliaryConsoleClose(self, *args: Any) -> Any: ...
     def auxiliaryConsoleOpen(self, *args: Any) -> Any:
         """the console is a source in the log named "console: TITLE"; position, size and colours are ignored."""
@@ -340,6 +346,10 @@ class Sim:
     def clearStringSignal(self, *args: Any) -> Any: ...
     def closeScene(self, *args: Any) -> Any:
         """replaces the scene with an empty one (no floor, no objects). Remote clients only."""
+    def computeMassAndInertia(self, *args: Any) -> Any:
+        """a mesh counts as its convex hull (CoppeliaSim refuses non-convex shapes with 0), so it always returns 1; restarts the shape's dynamics."""
+    def convexDecompose(self, *args: Any) -> Any:
+        """V-HACD with parry's default parameters; HACD and CoppeliaSim's V-HACD parameters are read and not used. The new shape is static and non-respondable; with the morph bit the shape's collision parts are replaced and its visuals kept."""
     def copyMatrix(self, *args: Any) -> Any: ...
     def copyPasteObjects(self, *args: Any) -> Any:
         """a copy goes to the root unless its parent was copied too; scripts are not copied."""
@@ -356,6 +366,8 @@ class Sim:
         """the shape is static, non-respondable, white, 1000 kg/m^3, at the origin; option bits 0-2 are accepted and ignored; non-round spheroids, elliptic cylinders and cones are tessellated meshes (their density-based mass uses the bounding box)."""
     def createPureShape(self, *args: Any) -> Any:
         """V-REP 3's primitive (0 cuboid, 1 sphere, 2 cylinder, 3 cone) with a mass in kg; options bit 3 respondable, bit 4 static (else dynamic); the drawing bits (culling, edges, smoothing, open ends) and `precision` are accepted and ignored (round shapes are exact primitives)."""
+    def createTexture(self, *args: Any) -> Any:
+        """PNG and JPEG; the plane is 1 m along the image's longer side unless `planeSizes` is given; a fixed resolution resamples to the nearest pixel. Textures are kept and read back but not drawn yet: vision sensors and the viewer show the shape's colour."""
     def cutPathCtrlPoints(self, *args: Any) -> Any: ...
     def destroyCollection(self, *args: Any) -> Any: ...
     def displayDialog(self, *args: Any) -> Any:
@@ -382,6 +394,8 @@ class Sim:
         """the search of `simIK.getConfigForTipPose` (10,000 configurations from a fixed seed instead of for `maxTimeInMs`); collision pairs, joint options and custom limits are ignored."""
     def getContactInfo(self, *args: Any) -> Any:
         """the touching contact points of the last step from the physics engine, pair by pair; the object asked for comes first, the force is the one the contact applied to it over the step (N) and the normal points from it to the other object; `dynamicPass` must be `sim.handle_all` or 0 (one pass per step)."""
+    def getDecimatedMesh(self, *args: Any) -> Any:
+        """vertex clustering on the finest grid that keeps at most the given share of triangles (not quadric decimation)."""
     def getDialogResult(self, *args: Any) -> Any: ...
     def getDrawingObjectItems(self, *args: Any) -> Any: ...
     def getEulerAnglesFromMatrix(self, *args: Any) -> Any: ...
@@ -493,6 +507,11 @@ class Sim:
     def getShapeMass(self, *args: Any) -> Any: ...
     def getShapeMassAndInertia(self, *args: Any) -> Any:
         """as `sim.getShapeInertia`, with V-REP 3's inertia divided by the mass; `transformation` is an absolute matrix, nil meaning the shape's frame."""
+    def getShapeMesh(self, *args: Any) -> Any:
+        """primitives come tessellated (a box is 8 vertices and 12 triangles); normals are per triangle (each corner carries its triangle's normal)."""
+    def getShapeTextureId(self, *args: Any) -> Any: ...
+    def getShapeViz(self, *args: Any) -> Any:
+        """items are the shape's visual parts; normals per triangle; `shadingAngle` is always 20 degrees; texture coordinates of a projected texture are computed by gantry's own plane, cylinder, sphere and cube projections."""
     def getSimulationState(self, *args: Any) -> Any:
         """reports CoppeliaSim's advancing passes: 16 during the first step after a start (and in `sysCall_init`), 17 after, 20 during the first step after a pause, 19 for the rest of a step in which a script asked to pause, 21 after a script asked to stop and during cleanup; `advancing_lastbeforestop` (22) is not reported."""
     def getSimulationStopping(self, *args: Any) -> Any:
@@ -509,6 +528,8 @@ class Sim:
     def getSystemTime(self, *args: Any) -> Any: ...
     def getSystemTimeInMs(self, *args: Any) -> Any:
         """milliseconds since the first call in the process."""
+    def getTextureId(self, *args: Any) -> Any:
+        """a texture from `sim.createTexture` is named after its file's stem; -1 and nil when none has the name."""
     def getUserParameter(self, *args: Any) -> Any: ...
     def getVelocity(self, *args: Any) -> Any: ...
     def getVisionSensorCharImage(self, *args: Any) -> Any:
@@ -531,6 +552,10 @@ class Sim:
         """solves with `simIK`'s solver from the scene's joint values and writes the solution into the scene whatever the result (values within the joints' limits); returns `sim.ikresult_*` for one group, and with `sim.handle_all` or `sim.handle_all_except_explicit` the number of groups performed (both handle only the groups not flagged explicit)."""
     def handleProximitySensor(self, *args: Any) -> Any: ...
     def handleVisionSensor(self, *args: Any) -> Any: ...
+    def importMesh(self, *args: Any) -> Any:
+        """OBJ, STL and COLLADA, told by the file's extension (`fileformat` 0-5 is accepted and not used); a file's sub-meshes come as one mesh; Y-up files are not turned Z-up; files are read where the API may read (the scene's folder for scripts and remote clients)."""
+    def importShape(self, *args: Any) -> Any:
+        """as `sim.importMesh`; the shape is static and non-respondable, named after the file; colours and textures in the file are not read, and option bit 5 (reorient the bounding box) is not applied."""
     def insertPathCtrlPoints(self, *args: Any) -> Any:
         """keeps each point's position and Euler angles (11 values, 16 with options bit 1) and ignores its velocity, on-spot distance, Bezier settings and auxiliary data: a V-REP 3 path is the polyline through its control points. Options bit 0 closes the path."""
     def insertPointsIntoPointCloud(self, *args: Any) -> Any:
@@ -544,7 +569,7 @@ class Sim:
     def isHandleValid(self, *args: Any) -> Any:
         """V-REP 3's: 1 when the handle names a scene object and the type is -1 or 109 (`sim_appobj_object_type`), else 0; gantry's handles name scene objects only."""
     def loadImage(self, *args: Any) -> Any:
-        """PNG files inside the scene's folder, as RGB (RGBA with option bit 0)."""
+        """PNG and JPEG files inside the scene's folder, as RGB (RGBA with option bit 0)."""
     def loadModel(self, *args: Any) -> Any:
         """reads a robot (`.urdf`, base fixed unless `--free-base`) or a gantry model (a `.toml` scene file with `[[object]]`, `[[robot]]` and `[[script]]` only); CoppeliaSim's `.ttm` is refused. The model joins the scene for good (a stop restores it as loaded); its scripts initialise at once during a run. Scripts load model files only from inside the scene's folder; remote clients from any path gantry can read. The returned handle is the model base's; the handles of a model loaded after objects were created at run time change at the next stop, when the scene is rebuilt from the files."""
     def loadScene(self, *args: Any) -> Any:
@@ -594,6 +619,8 @@ class Sim:
         """removes points strictly closer than `tolerance`; with `points` nil every point goes (the tolerance is then ignored). Unlike CoppeliaSim, removal also works on a cloud without calculation structure (option bit 3)."""
     def removeScript(self, *args: Any) -> Any:
         """the script's `sysCall_cleanup` runs once the calling hook has returned (a script that removes itself finishes its function); it then receives nothing and `sim.getScript` no longer finds it. A stop restores the scene as loaded, the script included."""
+    def reorientShapeBoundingBox(self, *args: Any) -> Any:
+        """the frame turns about its origin (the geometry and children stay in place); `sim.handle_self` takes the mesh's principal axes as the smallest box; returns 1."""
     def resamplePath(self, *args: Any) -> Any:
         """`finalConfigCnt` configurations at equal lengths, interpolated as `sim.getPathInterpolatedConfig`."""
     def resetDynamicObject(self, *args: Any) -> Any: ...
@@ -682,6 +709,10 @@ class Sim:
     def setShapeColor(self, *args: Any) -> Any:
         """shapes have no named colour parts: a name other than nil, "" or "@compound" matches nothing; only ambient-diffuse is drawn, the other components are stored and read back."""
     def setShapeMass(self, *args: Any) -> Any: ...
+    def setShapeMassAndInertia(self, *args: Any) -> Any:
+        """V-REP 3's inverse of `sim.getShapeMassAndInertia` (inertia divided by the mass, relative to `transformation` or the shape frame); restarts the shape's dynamics."""
+    def setShapeTexture(self, *args: Any) -> Any:
+        """kept and read back (`sim.getShapeTextureId`, `sim.getShapeViz`) but not drawn yet."""
     def setStepping(self, *args: Any) -> Any:
         """a per-script level for threads (returns the previous level); for a remote client it is the client's stepping level (the simulation waits for its `sim.step`)."""
     def setStringSignal(self, *args: Any) -> Any: ...

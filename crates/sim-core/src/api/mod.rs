@@ -45,10 +45,12 @@ mod scene;
 mod sensing;
 mod shape_group;
 mod shape_info;
+mod shape_mesh;
 mod signals;
 mod simulation;
 mod simulator_messages;
 mod target;
+mod textures;
 mod tubes;
 mod ui;
 mod views;
@@ -431,6 +433,8 @@ pub const MODULES: &[Module] = &[
             ik_groups::FUNCTIONS,
             shape_group::FUNCTIONS,
             shape_info::FUNCTIONS,
+            shape_mesh::FUNCTIONS,
+            textures::FUNCTIONS,
             lights::FUNCTIONS,
             graph_curves::FUNCTIONS,
             contacts::FUNCTIONS,
@@ -439,6 +443,7 @@ pub const MODULES: &[Module] = &[
         constants: Constants(&[
             CONSTANTS,
             scene::CONSTANTS,
+            textures::CONSTANTS,
             params::CONSTANTS,
             ruckig::CONSTANTS,
             legacy::CONSTANTS,

@@ -17,7 +17,7 @@ use super::object::Handle;
 use super::world::World;
 use crate::error::SimError;
 use crate::math::{self, Pose, Vec3};
-use crate::scene::{Geometry, MassModel, MeshData};
+use crate::scene::{GeomModel, Geometry, MassModel, MeshData};
 
 /// Segments around the axis of tessellated spheres, cylinders and capsules.
 const AROUND: u32 = 32;
@@ -313,6 +313,98 @@ impl World {
         Ok(())
     }
 
+    /// Replaces a shape's collision parts (the shape frame's), keeping its visuals,
+    /// as `sim.convexDecompose` morphs a shape. Restarts the shape's dynamics.
+    ///
+    /// # Errors
+    /// No such object, not a shape, or no parts.
+    pub fn set_shape_collision_parts(&mut self, h: Handle, geoms: Vec<GeomModel>) -> Result<(), SimError> {
+        if geoms.is_empty() {
+            return Err(invalid(format!("shape {h} needs at least one collision part")));
+        }
+        self.shape_mut(h)?.geoms = geoms;
+        self.rebuild_physics(&[h]);
+        self.bump();
+        Ok(())
+    }
+
+    /// Turns a shape's frame to `rotation` (world frame) about its origin while its
+    /// geometry, its children and a texture's placement stay where they are in the world
+    /// (`sim.reorientShapeBoundingBox`: the bounding box follows the frame's axes).
+    /// Restarts the shape's dynamics.
+    ///
+    /// # Errors
+    /// No such object, or not a shape.
+    pub fn reorient_shape_frame(&mut self, h: Handle, rotation: math::Quat) -> Result<(), SimError> {
+        self.shape(h)?;
+        let old = self.objects[h as usize].world;
+        let new = Pose::from_parts(old.translation, rotation);
+        // From the old shape frame to the new one.
+        let delta = new.inverse() * old;
+        let s = self.shape_mut(h)?;
+        for g in &mut s.geoms {
+            g.local = delta * g.local;
+        }
+        for v in &mut s.visuals {
+            v.local = delta * v.local;
+        }
+        if let MassModel::Inertial { com, frame, .. } = &mut s.mass {
+            *com = (delta * nalgebra::Point3::from(Vec3::from(*com))).coords.into();
+            let f = math::quat_from_array(*frame).unwrap_or_else(math::Quat::identity);
+            *frame = math::quat_to_array(&(delta.rotation * f));
+        }
+        if let Some(t) = self.textures.on_shapes.get_mut(&h) {
+            let placed = delta * math::pose_from_euler(t.position, t.orientation);
+            t.position = placed.translation.vector.into();
+            t.orientation = math::euler_from_quat(&placed.rotation);
+        }
+        let children: Vec<(Handle, Pose)> = self.objects[h as usize]
+            .children
+            .iter()
+            .map(|&c| (c, self.objects[c as usize].world))
+            .collect();
+        self.set_world_pose(h, new)?;
+        for (c, world) in children {
+            self.objects[c as usize].local = new.inverse() * world;
+        }
+        self.refresh_subtree(h);
+        self.rebuild_physics(&[h]);
+        self.bump();
+        Ok(())
+    }
+
+    /// The world orientation of the axes of a shape's smallest bounding box, as far as
+    /// its mesh's principal axes give it (the eigenvectors of its vertices' covariance).
+    ///
+    /// # Errors
+    /// No such object, not a shape, or a shape without vertices.
+    pub fn shape_principal_axes(&self, h: Handle) -> Result<math::Quat, SimError> {
+        let mesh = self.shape_mesh(h)?;
+        if mesh.vertices.is_empty() {
+            return Err(invalid(format!("shape {h} has no vertices")));
+        }
+        let n = mesh.vertices.len() as f64;
+        let mean = mesh.vertices.iter().map(|v| Vec3::from(*v)).sum::<Vec3>() / n;
+        let cov = mesh
+            .vertices
+            .iter()
+            .map(|v| {
+                let d = Vec3::from(*v) - mean;
+                d * d.transpose()
+            })
+            .sum::<Matrix3<f64>>()
+            / n;
+        let eigen = cov.symmetric_eigen();
+        // Largest spread first, along x; a right-handed frame.
+        let mut order = [0, 1, 2];
+        order.sort_by(|&a, &b| eigen.eigenvalues[b].total_cmp(&eigen.eigenvalues[a]));
+        let x = eigen.eigenvectors.column(order[0]).into_owned();
+        let y = eigen.eigenvectors.column(order[1]).into_owned();
+        let z = x.cross(&y);
+        let r = nalgebra::Rotation3::from_matrix(&Matrix3::from_columns(&[x, y, z]));
+        Ok(self.objects[h as usize].world.rotation * math::Quat::from_rotation_matrix(&r))
+    }
+
     /// The convex decomposition of a shape's whole mesh (V-HACD through parry), as
     /// meshes in the shape frame, one per convex part.
     ///
@@ -501,6 +593,50 @@ mod tests {
         let h = add(&mut w, Geometry::Mesh(mesh_data(&l, "L")));
         let parts = w.convex_decomposition(h).expect("decomposes");
         assert!(parts.len() >= 2, "{} parts", parts.len());
+    }
+
+    #[test]
+    fn reorienting_keeps_geometry_and_children_in_place() {
+        let mut w = world();
+        let h = add(
+            &mut w,
+            Geometry::Box {
+                half_extents: [0.3, 0.1, 0.05],
+            },
+        );
+        let turned = math::Quat::from_euler_angles(0.0, 0.0, 0.7);
+        w.set_world_pose(h, Pose::from_parts(nalgebra::Translation3::new(1.0, 2.0, 3.0), turned))
+            .expect("moves");
+        let child = w
+            .add_object("c", ObjectKind::Dummy, Some(h), Pose::translation(0.5, 0.0, 0.0))
+            .expect("adds");
+        let corner = |w: &World| {
+            let m = w.shape_mesh(h).expect("mesh");
+            let at = w.object(h).expect("shape").world;
+            let mut pts: Vec<[i64; 3]> = m
+                .vertices
+                .iter()
+                .map(|v| {
+                    let p = at * nalgebra::Point3::new(v[0], v[1], v[2]);
+                    [p.x, p.y, p.z].map(|c| (c * 1e5).round() as i64)
+                })
+                .collect();
+            pts.sort_unstable();
+            pts
+        };
+        let (before, child_before) = (corner(&w), w.object(child).expect("child").world);
+        w.reorient_shape_frame(h, math::Quat::identity()).expect("reorients");
+        assert_eq!(w.object(h).expect("shape").world.rotation, math::Quat::identity());
+        assert_eq!(corner(&w), before, "the geometry stays");
+        let child_after = w.object(child).expect("child").world;
+        assert!((child_after.translation.vector - child_before.translation.vector).norm() < 1e-12);
+        // The principal axes of the box: its own, turned by 0.7 rad.
+        let axes = w.shape_principal_axes(h).expect("axes");
+        let x = axes * Vec3::x();
+        assert!(
+            (x.x.abs() - 0.7f64.cos()).abs() < 1e-6 && (x.y.abs() - 0.7f64.sin()).abs() < 1e-6,
+            "{x}"
+        );
     }
 
     #[test]

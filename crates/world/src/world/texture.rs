@@ -112,7 +112,7 @@ pub struct Textures {
     bytes: usize,
     /// By shape handle. Handles are never reused, so an entry of a removed shape is
     /// unreachable and harmless.
-    on_shapes: BTreeMap<Handle, ShapeTexture>,
+    pub(super) on_shapes: BTreeMap<Handle, ShapeTexture>,
 }
 
 impl Textures {
