@@ -1,4 +1,4 @@
-//! `sim.saveImage` and `sim.loadImage`: images as PNG files or buffers, confined like
+//! `sim.saveImage` and `sim.loadImage`: images as PNG (and, read, JPEG) files or buffers, confined like
 //! every file the API writes to the scene's folder ([`crate::graph::ExportScope`]).
 //!
 //! Rows go in buffer order: the first row of the buffer is the top of the file. A
@@ -32,7 +32,7 @@ const RGBA: i64 = 1;
 const GREY: i64 = 2;
 /// The largest image either function handles, pixels a side (a 16 k x 16 k RGBA image
 /// is 1 GiB: beyond what a script should hold in one string).
-const MAX_SIDE: u32 = 16_384;
+pub(super) const MAX_SIDE: u32 = 16_384;
 
 /// `sim.saveImage(image, resolution, options, filename, quality)`: writes the image
 /// (3 bytes a pixel, 4 with option bit 0, 1 with bit 1) as a PNG file, or, when
@@ -88,49 +88,18 @@ fn save_image(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, S
     Ok(vec![Value::Nil])
 }
 
-/// `sim.loadImage(options, filename)` → `image, resolution`: a PNG file's pixels, 3
-/// bytes each (RGB), or 4 (RGBA) with option bit 0; grey and palette images are
-/// expanded, 16-bit channels reduced to 8.
+/// `sim.loadImage(options, filename)` → `image, resolution`: a PNG or JPEG file's
+/// pixels, 3 bytes each (RGB), or 4 (RGBA) with option bit 0; grey and palette images
+/// are expanded, 16-bit channels reduced to 8.
 fn load_image(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let options = a.int(0)?;
     let filename = a.str(1)?;
     let path = confined(sim, filename, "read")?;
-    let file =
-        std::fs::File::open(&path).map_err(|e| SimError::refused(format!("cannot read '{}': {e}", path.display())))?;
-    let bad = |e: &dyn std::fmt::Display| {
-        SimError::bad_argument(format!("'{}' is not a PNG image gantry can read: {e}", path.display()))
-    };
-    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
-    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
-    let mut reader = decoder.read_info().map_err(|e| bad(&e))?;
-    let (w, h) = (reader.info().width, reader.info().height);
-    if w > MAX_SIDE || h > MAX_SIDE {
-        return Err(bad(&format!("{w} x {h} pixels, over gantry's {MAX_SIDE} a side")));
-    }
-    let mut buf = vec![0; reader.output_buffer_size()];
-    let frame = reader.next_frame(&mut buf).map_err(|e| bad(&e))?;
-    buf.truncate(frame.buffer_size());
-    let want_alpha = options & RGBA != 0;
-    let pixels: Vec<u8> = match frame.color_type {
-        png::ColorType::Rgb if !want_alpha => buf,
-        png::ColorType::Rgba if want_alpha => buf,
-        png::ColorType::Rgb => buf.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect(),
-        png::ColorType::Rgba => buf.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect(),
-        png::ColorType::Grayscale => buf
-            .iter()
-            .flat_map(|&g| if want_alpha { vec![g, g, g, 255] } else { vec![g, g, g] })
-            .collect(),
-        png::ColorType::GrayscaleAlpha => buf
-            .chunks_exact(2)
-            .flat_map(|p| {
-                if want_alpha {
-                    vec![p[0], p[0], p[0], p[1]]
-                } else {
-                    vec![p[0], p[0], p[0]]
-                }
-            })
-            .collect(),
-        png::ColorType::Indexed => return Err(bad(&"an indexed image that did not expand")),
+    let ([w, h], rgba) = read_image(&path, MAX_SIDE)?;
+    let pixels = if options & RGBA != 0 {
+        rgba
+    } else {
+        rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
     };
     Ok(vec![
         Value::Bytes(pixels),
@@ -138,8 +107,73 @@ fn load_image(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, S
     ])
 }
 
+/// A PNG or JPEG file (told apart by their first bytes) as RGBA pixels, rows from the
+/// top, and its resolution; images over `max_side` pixels a side are refused before
+/// their pixels are decoded.
+///
+/// # Errors
+/// A file that cannot be read, is neither PNG nor JPEG, is broken, or is too large.
+pub(super) fn read_image(path: &Path, max_side: u32) -> Result<([u32; 2], Vec<u8>), SimError> {
+    let bytes = std::fs::read(path).map_err(|e| SimError::refused(format!("cannot read '{}': {e}", path.display())))?;
+    let bad = |e: &dyn std::fmt::Display| {
+        SimError::bad_argument(format!(
+            "'{}' is not a PNG or JPEG image gantry can read: {e}",
+            path.display()
+        ))
+    };
+    let too_big = |w: u32, h: u32| {
+        if w > max_side || h > max_side || w == 0 || h == 0 {
+            Err(bad(&format!("{w} x {h} pixels; gantry takes 1 to {max_side} a side")))
+        } else {
+            Ok(())
+        }
+    };
+    if bytes.starts_with(&[0xFF, 0xD8]) {
+        let mut decoder = jpeg_decoder::Decoder::new(bytes.as_slice());
+        decoder.read_info().map_err(|e| bad(&e))?;
+        let info = decoder.info().ok_or_else(|| bad(&"no image header"))?;
+        let (w, h) = (u32::from(info.width), u32::from(info.height));
+        too_big(w, h)?;
+        let pixels = decoder.decode().map_err(|e| bad(&e))?;
+        let rgba: Vec<u8> = match info.pixel_format {
+            jpeg_decoder::PixelFormat::RGB24 => pixels.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect(),
+            jpeg_decoder::PixelFormat::L8 => pixels.iter().flat_map(|&g| [g, g, g, 255]).collect(),
+            // Big-endian 16-bit grey: its high byte.
+            jpeg_decoder::PixelFormat::L16 => pixels.chunks_exact(2).flat_map(|p| [p[0], p[0], p[0], 255]).collect(),
+            jpeg_decoder::PixelFormat::CMYK32 => pixels
+                .chunks_exact(4)
+                .flat_map(|p| {
+                    let k = u16::from(255 - p[3]);
+                    let c = |x: u8| ((u16::from(255 - x) * k) / 255) as u8;
+                    [c(p[0]), c(p[1]), c(p[2]), 255]
+                })
+                .collect(),
+        };
+        if rgba.len() != w as usize * h as usize * 4 {
+            return Err(bad(&"the decoded pixels do not fill the image"));
+        }
+        return Ok(([w, h], rgba));
+    }
+    let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = decoder.read_info().map_err(|e| bad(&e))?;
+    let (w, h) = (reader.info().width, reader.info().height);
+    too_big(w, h)?;
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let frame = reader.next_frame(&mut buf).map_err(|e| bad(&e))?;
+    buf.truncate(frame.buffer_size());
+    let rgba: Vec<u8> = match frame.color_type {
+        png::ColorType::Rgba => buf,
+        png::ColorType::Rgb => buf.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect(),
+        png::ColorType::Grayscale => buf.iter().flat_map(|&g| [g, g, g, 255]).collect(),
+        png::ColorType::GrayscaleAlpha => buf.chunks_exact(2).flat_map(|p| [p[0], p[0], p[0], p[1]]).collect(),
+        png::ColorType::Indexed => return Err(bad(&"an indexed image that did not expand")),
+    };
+    Ok(([w, h], rgba))
+}
+
 /// `filename` resolved in the scene's folder, where the API may read and write files.
-fn confined(sim: &Sim, filename: &str, verb: &str) -> Result<std::path::PathBuf, SimError> {
+pub(super) fn confined(sim: &Sim, filename: &str, verb: &str) -> Result<std::path::PathBuf, SimError> {
     let path = Path::new(filename);
     let dir = path.parent().unwrap_or(Path::new(""));
     let name = path

@@ -49,10 +49,12 @@ mod scene_file;
 mod sensing;
 mod shape_group;
 mod shape_info;
+mod shape_mesh;
 mod signals;
 mod simulation;
 mod simulator_messages;
 mod target;
+mod textures;
 mod tubes;
 mod ui;
 mod views;
@@ -455,6 +457,8 @@ pub const MODULES: &[Module] = &[
             ik_groups::FUNCTIONS,
             shape_group::FUNCTIONS,
             shape_info::FUNCTIONS,
+            shape_mesh::FUNCTIONS,
+            textures::FUNCTIONS,
             lights::FUNCTIONS,
             graph_curves::FUNCTIONS,
             contacts::FUNCTIONS,
@@ -467,6 +471,7 @@ pub const MODULES: &[Module] = &[
         constants: Constants(&[
             CONSTANTS,
             scene::CONSTANTS,
+            textures::CONSTANTS,
             params::CONSTANTS,
             ruckig::CONSTANTS,
             legacy::CONSTANTS,

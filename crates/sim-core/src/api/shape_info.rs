@@ -1,17 +1,23 @@
 //! What a shape is made of and how its mass is spread: `sim.getShapeGeomInfo`,
-//! `sim.getShapeInertia` and V-REP 3's `sim.getShapeMassAndInertia`.
+//! `sim.getShapeInertia`, `sim.computeMassAndInertia` and V-REP 3's
+//! `sim.getShapeMassAndInertia` / `sim.setShapeMassAndInertia`.
 
 use nalgebra::Matrix3;
 
 use super::{ApiFn, ApiFunction, Args, CallContext, Cost, Ret};
 use crate::Value;
 use crate::error::SimError;
-use crate::math::{self, Pose};
+use crate::math::{self, Pose, Vec3};
 use crate::scene::Geometry;
 use crate::world::World;
 
 /// The shape information functions.
 pub const FUNCTIONS: &[ApiFunction] = &[
+    ApiFunction {
+        name: "computeMassAndInertia",
+        call: ApiFn::World(compute_mass_and_inertia),
+        cost: Cost::Quick,
+    },
     ApiFunction {
         name: "getShapeGeomInfo",
         call: ApiFn::World(get_shape_geom_info),
@@ -25,6 +31,11 @@ pub const FUNCTIONS: &[ApiFunction] = &[
     ApiFunction {
         name: "getShapeMassAndInertia",
         call: ApiFn::World(get_shape_mass_and_inertia),
+        cost: Cost::Quick,
+    },
+    ApiFunction {
+        name: "setShapeMassAndInertia",
+        call: ApiFn::World(set_shape_mass_and_inertia),
         cost: Cost::Quick,
     },
 ];
@@ -121,4 +132,47 @@ fn get_shape_mass_and_inertia(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) 
         rows(&(r * p.inertia * r.transpose() * per_kg)),
         Value::floats(com.coords.as_slice()),
     ])
+}
+
+/// `sim.computeMassAndInertia(shapeHandle, density)` → 1: gives the shape the mass
+/// (volume × density, kg/m³) and inertia of its collision parts filled uniformly.
+/// CoppeliaSim computes convex shapes only (0 for others); gantry takes a mesh's convex
+/// hull, so it always computes.
+fn compute_mass_and_inertia(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    let density = a.f64(1)?;
+    w.compute_mass_and_inertia(h, density)?;
+    Ok(vec![Value::Int(1)])
+}
+
+/// `sim.setShapeMassAndInertia(shapeHandle, mass, inertiaMatrix, centerOfMass,
+/// transformation=nil)` (V-REP 3): sets the mass (kg), the inertia tensor divided by the
+/// mass (9 values, m²) and the centre of mass (3 values), both relative to
+/// `transformation` (an absolute 12-value matrix), or to the shape frame when it is nil:
+/// the inverse of `sim.getShapeMassAndInertia`.
+fn set_shape_mass_and_inertia(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
+    let h = a.handle(0)?;
+    let mass = a.finite(1)?;
+    let per_kg = a.floats::<9>(2)?;
+    let com = a.floats::<3>(3)?;
+    let from = match a.get(4) {
+        Value::Nil => Pose::identity(),
+        _ => {
+            let m = a.floats::<12>(4)?;
+            let frame = math::pose_from_matrix12(&m).ok_or_else(|| {
+                SimError::bad_argument("argument 5: the transformation's rotation part is not a rotation")
+            })?;
+            w.object(h)?.world.inverse() * frame
+        }
+    };
+    if mass <= 0.0 {
+        return Err(SimError::bad_argument(format!(
+            "argument 2: the mass must be positive, got {mass}"
+        )));
+    }
+    let r = from.rotation.to_rotation_matrix().into_inner();
+    let inertia = r * Matrix3::from_row_slice(&per_kg) * r.transpose() * mass;
+    let com = (from * nalgebra::Point3::from(Vec3::from(com))).coords;
+    w.set_shape_inertial(h, mass, com, &inertia)?;
+    Ok(Vec::new())
 }

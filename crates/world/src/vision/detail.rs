@@ -101,7 +101,7 @@ pub(crate) fn pick(levels: &[Level], footprint: f32) -> Option<&Level> {
 /// once each, in the file's order; and the largest distance a finite vertex moved.
 /// Non-finite vertices are left as they are (their triangles are then skipped by the
 /// tessellation, as in the full mesh).
-fn cluster(data: &MeshData, cell: f32) -> (MeshData, f32) {
+pub(crate) fn cluster(data: &MeshData, cell: f32) -> (MeshData, f32) {
     let mut cells: HashMap<[i64; 3], u32> = HashMap::new();
     // Per cluster: the sum of its vertices (f64, so the mean does not depend on how
     // many there are beyond rounding) and their count.

@@ -87,6 +87,16 @@ impl World {
                 ObjectKind::ForceSensor(_) => ObjectModelKind::ForceSensor,
                 ObjectKind::Graph => ObjectModelKind::Graph,
                 ObjectKind::Camera(c) => ObjectModelKind::Camera(*c),
+                ObjectKind::Light(l) => ObjectModelKind::Light(*l),
+                ObjectKind::Path => {
+                    // The curve of a 4.1 path object lives with the simulation's paths
+                    // (`Sim::paths`), which the world does not hold.
+                    notes.push(format!(
+                        "{}: a CoppeliaSim 4.1 path object, saved as a dummy without its control points",
+                        o.alias
+                    ));
+                    ObjectModelKind::Dummy
+                }
                 ObjectKind::PointCloud(_) => {
                     notes.push(format!(
                         "{}: a point cloud, saved as a dummy (scene files hold no points)",

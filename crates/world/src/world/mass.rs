@@ -84,7 +84,7 @@ impl World {
 
 /// Volume, centre (in the part's frame) and inertia about that centre of one part at
 /// unit density. A mesh counts as its bounding box.
-fn unit_density_part(g: &Geometry) -> (f64, Vec3, Matrix3<f64>) {
+pub(super) fn unit_density_part(g: &Geometry) -> (f64, Vec3, Matrix3<f64>) {
     use std::f64::consts::PI;
     let v = geometry_volume(g);
     let diag = |x: f64, y: f64, z: f64| Matrix3::from_diagonal(&Vec3::new(x, y, z));

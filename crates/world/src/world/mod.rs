@@ -26,6 +26,8 @@ mod property_flags;
 mod query;
 mod scale;
 mod selection;
+mod shape_mesh;
+mod texture;
 mod tuning;
 mod urdf_robot;
 #[expect(
@@ -59,6 +61,8 @@ pub use point_cloud::{
 pub use property_flags::{model_property, object_special_property};
 pub use query::DistanceResult;
 pub use selection::{MAX_SELECTION, Selection};
+pub use shape_mesh::{MAX_MESH_TRIANGLES, ShapeMesh, decimate, geometry_mesh, mesh_data, mesh_from_lists};
+pub use texture::{MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE, ShapeTexture, Texture, TextureMapping, Textures};
 pub use urdf_robot::UrdfRobot;
 pub use world::SceneSource;
 pub use world::World;

@@ -59,6 +59,8 @@ pub struct World {
     /// This world's number among the worlds of the process, from 1: the high half of
     /// its objects' unique ids (see [`World::object_uid`]).
     serial: i64,
+    /// Texture objects and the textures shapes wear.
+    pub(super) textures: super::texture::Textures,
 }
 
 /// The last world number given out (see `World::serial`).
@@ -261,6 +263,7 @@ impl World {
             // Handles are model indices at load.
             scripts: model.scripts.clone(),
             serial: WORLDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+            textures: Default::default(),
         };
         world.refresh_caches();
         world.link_loop_closures(

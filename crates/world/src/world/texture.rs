@@ -1,0 +1,257 @@
+//! Texture objects and the textures shapes wear (`sim.createTexture`,
+//! `sim.setShapeTexture`, `sim.applyTexture`, `sim.getShapeTextureId`,
+//! `sim.getTextureId`).
+//!
+//! A texture is an RGBA image kept with the world under an id that is never reused, as
+//! CoppeliaSim's texture objects are; a shape refers to one by id together with how it
+//! is laid on the shape (a projection, or explicit coordinates per triangle corner).
+//! The store is bounded ([`MAX_TEXTURE_SIDE`], [`MAX_TEXTURE_BYTES`]) because its images
+//! come from files and scripts.
+//!
+//! Not done: the renderer does not draw textures yet (shapes keep their colour in
+//! vision sensors and the viewer); the store only keeps what the API reads back.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use super::edit::invalid;
+use super::object::Handle;
+use super::world::World;
+use crate::error::SimError;
+
+/// The largest texture side, pixels (CoppeliaSim's own limit for textures is 4096).
+pub const MAX_TEXTURE_SIDE: u32 = 4096;
+/// The most image bytes the store holds over all its textures (64 textures of 1024 x 1024
+/// RGBA): a script creating textures in a loop is refused rather than exhausting memory.
+pub const MAX_TEXTURE_BYTES: usize = 256 << 20;
+
+/// One texture object: an RGBA image, rows from the top.
+#[derive(Debug, Clone)]
+pub struct Texture {
+    /// The name `sim.getTextureId` finds it by (the image file's stem, or "texture").
+    pub name: String,
+    /// Width and height, pixels.
+    pub resolution: [u32; 2],
+    /// 4 bytes a pixel, `resolution[0] * resolution[1] * 4` of them.
+    pub rgba: Arc<Vec<u8>>,
+}
+
+/// How a texture is laid on a shape (`sim.texturemap_*`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureMapping {
+    /// Projected along the texture frame's z axis.
+    Plane,
+    /// Wrapped around the texture frame's z axis.
+    Cylinder,
+    /// Wrapped around the texture frame's origin.
+    Sphere,
+    /// Each triangle projected along the axis its normal is closest to.
+    Cube,
+    /// Explicit coordinates per triangle corner (`sim.applyTexture`).
+    Coordinates,
+}
+
+impl TextureMapping {
+    /// The mapping of a `sim.texturemap_*` value (0 to 3).
+    ///
+    /// # Errors
+    /// Any other value.
+    pub fn from_code(code: i64) -> Result<Self, SimError> {
+        Ok(match code {
+            0 => TextureMapping::Plane,
+            1 => TextureMapping::Cylinder,
+            2 => TextureMapping::Sphere,
+            3 => TextureMapping::Cube,
+            _ => {
+                return Err(invalid(format!(
+                    "texture mapping mode {code} is not one of sim.texturemap_plane (0), _cylinder (1), _sphere (2), _cube (3)"
+                )));
+            }
+        })
+    }
+
+    /// The `sim.texturemap_*` value; explicit coordinates count as a plane mapping, as
+    /// CoppeliaSim reports them.
+    pub fn code(self) -> i64 {
+        match self {
+            TextureMapping::Plane | TextureMapping::Coordinates => 0,
+            TextureMapping::Cylinder => 1,
+            TextureMapping::Sphere => 2,
+            TextureMapping::Cube => 3,
+        }
+    }
+}
+
+/// The texture a shape wears.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeTexture {
+    /// The texture object's id.
+    pub id: i64,
+    /// How it is laid on the shape.
+    pub mapping: TextureMapping,
+    /// `sim.setShapeTexture`'s options bits as given (1: no interpolation, 2: decal,
+    /// 4: repeat along u, 8: repeat along v).
+    pub options: i64,
+    /// Scaling along u and v (texture size on the shape, m, for projections).
+    pub uv_scaling: [f64; 2],
+    /// The texture frame relative to the shape frame: position, m, and Euler angles, rad.
+    pub position: [f64; 3],
+    /// See `position`.
+    pub orientation: [f64; 3],
+    /// For [`TextureMapping::Coordinates`]: u, v per triangle corner of the shape's mesh
+    /// (`sim.getShapeMesh` order), 6 numbers a triangle.
+    pub coordinates: Option<Arc<Vec<f32>>>,
+}
+
+/// The texture objects of a world and the textures its shapes wear.
+#[derive(Debug, Clone, Default)]
+pub struct Textures {
+    /// By id: ids are indices, never reused (textures are not deleted).
+    items: Vec<Texture>,
+    /// Bytes held by `items`.
+    bytes: usize,
+    /// By shape handle. Handles are never reused, so an entry of a removed shape is
+    /// unreachable and harmless.
+    pub(super) on_shapes: BTreeMap<Handle, ShapeTexture>,
+}
+
+impl Textures {
+    /// Adds a texture and returns its id.
+    ///
+    /// # Errors
+    /// A side of 0 or over [`MAX_TEXTURE_SIDE`], a buffer that is not 4 bytes a pixel, or
+    /// a store that would exceed [`MAX_TEXTURE_BYTES`].
+    pub fn add(&mut self, name: &str, resolution: [u32; 2], rgba: Vec<u8>) -> Result<i64, SimError> {
+        let [w, h] = resolution;
+        if w == 0 || h == 0 || w > MAX_TEXTURE_SIDE || h > MAX_TEXTURE_SIDE {
+            return Err(invalid(format!(
+                "a texture of {w} x {h} pixels: each side must be 1 to {MAX_TEXTURE_SIDE}"
+            )));
+        }
+        let expected = w as usize * h as usize * 4;
+        if rgba.len() != expected {
+            return Err(invalid(format!(
+                "a {w} x {h} RGBA texture has {expected} bytes, got {}",
+                rgba.len()
+            )));
+        }
+        if self.bytes + expected > MAX_TEXTURE_BYTES {
+            return Err(SimError::refused(format!(
+                "the textures would hold over {} MiB of images; gantry keeps at most that",
+                MAX_TEXTURE_BYTES >> 20
+            )));
+        }
+        self.bytes += expected;
+        self.items.push(Texture {
+            name: name.to_owned(),
+            resolution,
+            rgba: Arc::new(rgba),
+        });
+        Ok(self.items.len() as i64 - 1)
+    }
+
+    /// The texture `id`.
+    ///
+    /// # Errors
+    /// No texture has that id.
+    pub fn get(&self, id: i64) -> Result<&Texture, SimError> {
+        usize::try_from(id)
+            .ok()
+            .and_then(|i| self.items.get(i))
+            .ok_or_else(|| SimError::NoSuchItem(format!("texture {id} does not exist")))
+    }
+
+    /// The id of the first texture named `name`.
+    pub fn find(&self, name: &str) -> Option<i64> {
+        self.items.iter().position(|t| t.name == name).map(|i| i as i64)
+    }
+}
+
+impl World {
+    /// The world's texture objects.
+    pub fn textures(&self) -> &Textures {
+        &self.textures
+    }
+
+    /// Adds a texture object (see [`Textures::add`]) and returns its id.
+    ///
+    /// # Errors
+    /// As [`Textures::add`].
+    pub fn add_texture(&mut self, name: &str, resolution: [u32; 2], rgba: Vec<u8>) -> Result<i64, SimError> {
+        self.textures.add(name, resolution, rgba)
+    }
+
+    /// The texture shape `h` wears, if any.
+    ///
+    /// # Errors
+    /// No such object, or not a shape.
+    pub fn shape_texture(&self, h: Handle) -> Result<Option<&ShapeTexture>, SimError> {
+        self.shape(h)?;
+        Ok(self.textures.on_shapes.get(&h))
+    }
+
+    /// Puts a texture on shape `h`, or takes it off with `None`. Explicit coordinates must
+    /// be 6 finite numbers per triangle of the shape's mesh.
+    ///
+    /// # Errors
+    /// No such object, not a shape, no such texture, non-finite placement values, or
+    /// coordinates that do not fit the mesh.
+    pub fn set_shape_texture(&mut self, h: Handle, texture: Option<ShapeTexture>) -> Result<(), SimError> {
+        self.shape(h)?;
+        let Some(t) = texture else {
+            self.textures.on_shapes.remove(&h);
+            return Ok(());
+        };
+        self.textures.get(t.id)?;
+        let placement = t.uv_scaling.iter().chain(&t.position).chain(&t.orientation);
+        if placement.into_iter().any(|v| !v.is_finite()) {
+            return Err(invalid(
+                "the texture's scaling, position and orientation must be finite",
+            ));
+        }
+        if let Some(c) = &t.coordinates {
+            let triangles = self.shape_mesh(h)?.indices.len();
+            if c.len() != triangles * 6 || c.iter().any(|v| !v.is_finite()) {
+                return Err(invalid(format!(
+                    "the shape has {triangles} triangles: the texture needs {} finite coordinates (u, v per corner), got {}",
+                    triangles * 6,
+                    c.len()
+                )));
+            }
+        }
+        self.textures.on_shapes.insert(h, t);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_are_stable_and_the_store_is_bounded() {
+        let mut t = Textures::default();
+        assert_eq!(t.add("a", [2, 1], vec![0; 8]), Ok(0));
+        assert_eq!(t.add("b", [1, 1], vec![7; 4]), Ok(1));
+        assert_eq!(t.get(1).map(|x| x.rgba[0]), Ok(7));
+        assert_eq!(t.find("a"), Some(0));
+        assert_eq!(t.find("c"), None);
+        assert!(t.get(2).is_err() && t.get(-1).is_err());
+        // Wrong byte count, absurd sides.
+        assert!(t.add("c", [2, 2], vec![0; 12]).is_err());
+        assert!(t.add("c", [MAX_TEXTURE_SIDE + 1, 1], Vec::new()).is_err());
+        assert!(t.add("c", [0, 5], Vec::new()).is_err());
+        // The total is bounded.
+        t.bytes = MAX_TEXTURE_BYTES - 4;
+        assert!(matches!(t.add("d", [1, 2], vec![0; 8]), Err(SimError::Refused(_))));
+        assert_eq!(t.add("d", [1, 1], vec![0; 4]), Ok(2));
+    }
+
+    #[test]
+    fn mapping_codes_round_trip() {
+        for code in 0..4 {
+            assert_eq!(TextureMapping::from_code(code).map(TextureMapping::code), Ok(code));
+        }
+        assert!(TextureMapping::from_code(4).is_err());
+    }
+}
