@@ -1,5 +1,6 @@
 """`Light`: on/off, diffuse and specular colours, and intensity properties."""
 
+import warnings
 from typing import Optional
 
 import numpy as np
@@ -56,19 +57,23 @@ class Light(Object):
 
     def set_intensity_properties(self, cast_shadows: Optional[bool] = None, spot_exponent=None, spot_cutoff=None,
                                  const_atten_factor=None, linear_atten_factor=None, quad_atten_factor=None) -> None:
-        """Sets the given properties. The spot exponent is a whole number; the cutoff
-        at most pi/2. Attenuation factors cannot be set (as in CoppeliaSim 4.1)."""
+        """Sets the given properties. The spot exponent is a whole number (others are
+        rounded, with a warning); the cutoff at most pi/2 (larger values are held
+        there, with a warning). Attenuation factors cannot be set (as in CoppeliaSim
+        4.1)."""
         h = self._handle
         if cast_shadows is not None:
             sim.simSetObjectInt32Parameter(h, sim.sim_lightintparam_pov_casts_shadows, int(cast_shadows))
         if spot_exponent is not None:
             if spot_exponent % 1 != 0:
-                raise ValueError(f"the spot exponent is a whole number, not {spot_exponent}")
+                warnings.warn(f"the spot exponent is a whole number: {spot_exponent} is rounded to {round(spot_exponent)}")
             sim.simSetObjectFloatParameter(h, sim.sim_lightfloatparam_spot_exponent, float(round(spot_exponent)))
         if spot_cutoff is not None:
             cutoff = float(spot_cutoff)
-            if cutoff > np.pi / 2:
-                raise ValueError(f"the spot cutoff is at most pi/2, not {cutoff}")
+            # The simulator holds the cutoff at pi/2 at most (in single precision, as
+            # CoppeliaSim stores it, so a value read back from a light sets again).
+            if cutoff > float(np.float32(np.pi / 2)):
+                warnings.warn(f"the spot cutoff is at most pi/2: {cutoff} is set to pi/2")
             sim.simSetObjectFloatParameter(h, sim.sim_lightfloatparam_spot_cutoff, cutoff)
         if any(f is not None for f in (const_atten_factor, linear_atten_factor, quad_atten_factor)):
             raise Exception("CoppeliaSim currently does not support setting attenuation factors")
