@@ -282,10 +282,41 @@ fn step(
             }
         }
         if !changed {
-            return dq.iter().all(|v| v.is_finite()).then_some(dq);
+            if !dq.iter().all(|v| v.is_finite()) {
+                return None;
+            }
+            return Some(limit_step(model, dq));
         }
     }
     None
+}
+
+/// Largest change of a revolute joint in one iteration, rad (10°: CoppeliaSim's default
+/// maximum IK step of a revolute joint).
+pub const MAX_REVOLUTE_STEP: f64 = 10.0 * std::f64::consts::PI / 180.0;
+/// Largest change of a prismatic joint in one iteration, m.
+pub const MAX_PRISMATIC_STEP: f64 = 0.1;
+
+/// `dq` scaled down, direction kept, so that no joint moves more than its maximum step.
+/// At or near a singularity (a UR arm stretched straight up at all zeros, as PyRep's
+/// models are saved) the (pseudo-)inverse asks for thousands of radians: clamped to the
+/// limits that step lands anywhere and every solve from there gives up; a short step
+/// along the same direction leaves the singularity and the next iterations converge.
+fn limit_step(model: &KinematicModel, dq: DVector<f64>) -> DVector<f64> {
+    let ratio = model
+        .slots
+        .iter()
+        .zip(dq.iter())
+        .map(|(slot, d)| {
+            let max = if slot.joint_type == gantry_scene::scene::JointType::Revolute {
+                MAX_REVOLUTE_STEP
+            } else {
+                MAX_PRISMATIC_STEP
+            };
+            d.abs() / max
+        })
+        .fold(1.0f64, f64::max);
+    dq / ratio
 }
 
 /// `J^T (J J^T + λ² I)^-1 e`, or `None` when it cannot be computed.
