@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 305 functions, 278 constants."""
+    """`sim`: 307 functions, 278 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -332,6 +332,8 @@ class Sim:
         """gantry's, not CoppeliaSim's: `distances, handles = sim.castRays(frameHandle, directions, maxDistance [, ignoredTree = -1 [, options = 0]])` casts one ray per direction from the origin of `frameHandle` against the scene's collision geometry (rapier's colliders: true cylinders and spheres, not their tessellation). `directions` are x, y, z per ray in the frame object's coordinates, as a flat table or packed floats (`sim.packFloatTable`); each may have any length but zero (they are normalised). Each ray gives its distance in metres to the first hit within `maxDistance` and the shape hit, or `-1` and `-1` for no hit. A ray starting inside a shape hits it at 0: pass the scanner's model base as `ignoredTree` and the rays pass through that object and everything below it. Options bit 0: only shapes marked detectable (the floor is not); bit 1: results packed (`sim.unpackFloatTable`, `sim.unpackInt32Table`), which with packed directions makes a 3-D scan of 28,800 rays 40 % cheaper. Deterministic; no rendering, so a 360-ray 2-D scan costs about 0.04 ms (docs/performance.md, "Laser scanners")."""
     def checkCollision(self, *args: Any) -> Any: ...
     def checkDistance(self, *args: Any) -> Any: ...
+    def checkIkGroup(self, *args: Any) -> Any:
+        """solves as `sim.handleIkGroup` does and leaves the scene unchanged; a joint of `jointHandles` outside the group's chains gets its current value; joint options are accepted and not used."""
     def checkProximitySensor(self, *args: Any) -> Any:
         """returns all five values even when nothing is detected (0, 0, zeros, -1, zeros); the sensor's stored reading is not changed; other objects do not hide the entity; a named shape is detected even if not marked detectable; the sensor's own body is never detected."""
     def clearFloatSignal(self, *args: Any) -> Any: ...
@@ -365,6 +367,8 @@ class Sim:
     def floatingViewAdd(self, *args: Any) -> Any:
         """the view is an overlay on the viewer's 3D view; position (its centre) and size are relative to it, 0..1 from the bottom left; `options` are kept and not used."""
     def floatingViewRemove(self, *args: Any) -> Any: ...
+    def generateIkPath(self, *args: Any) -> Any:
+        """the tips' straight line (orientations by slerp) is solved point by point from the previous point, each up to 5 solves; collision pairs are checked by putting each configuration into the scene and the joints back after (which ends a joint's kinematic motion, as `sim.setJointPosition` does); joint options are accepted and not used."""
     def getApiFunc(self, *args: Any) -> Any:
         """every module's functions and their older names, qualified and sorted; `scriptHandle` is accepted (every script sees the same API)."""
     def getArrayParam(self, *args: Any) -> Any: ...
@@ -395,7 +399,7 @@ class Sim:
     def getFloatSignal(self, *args: Any) -> Any: ...
     def getGraphStreamValues(self, *args: Any) -> Any: ...
     def getIkGroupHandle(self, *args: Any) -> Any:
-        """finds the groups a scene file defines with `[[ik_group]]` (see docs/scene-format.md); handles start at 2030000, CoppeliaSim's range for IK groups. `.ttt` files' IK groups are not read yet."""
+        """finds the groups a scene file defines with `[[ik_group]]` (see docs/scene-format.md); handles start at 2030000, CoppeliaSim's range for IK groups. The IK groups of CoppeliaSim 4.0-4.2 `.ttt`/`.ttm` files (`IKO`) are imported too (PyRep's `<Name>_ik`; see docs/coppeliasim-files.md)."""
     def getIkGroupMatrix(self, *args: Any) -> Any:
         """the Jacobian is computed at the scene's current joint values, not kept from the last calculation; it is returned row by row, one row per constrained component of each element (x, y, z in the base's frame, then the angular ones) and one column per joint, base to tip; options 1 gives the manipulability measure `sqrt(det(J Jᵀ))` as a 1×1 matrix."""
     def getInt32Param(self, *args: Any) -> Any: ...
@@ -627,7 +631,7 @@ class Sim:
     def setIkElementProperties(self, *args: Any) -> Any:
         """the element is found by its tip dummy; `sim.ik_avoidance_constraint` is refused; the weights scale the error rows as `simIK.setElementWeights` does."""
     def setIkGroupProperties(self, *args: Any) -> Any:
-        """methods 0-2 (`sim.ik_pseudo_inverse_method`, `ik_damped_least_squares_method`, `ik_jacobian_transpose_method`); 1-100000 iterations."""
+        """methods 0-2 (`sim.ik_pseudo_inverse_method`, `ik_damped_least_squares_method`, `ik_jacobian_transpose_method`); 1-100000 iterations, solved with at least 20 (gantry's solver steps at most 10° per joint and iteration, CoppeliaSim's take full Newton steps; iterations stop once the tips are on their targets)."""
     def setInt32Param(self, *args: Any) -> Any: ...
     def setInt32Parameter(self, *args: Any) -> Any: ...
     def setInt32Signal(self, *args: Any) -> Any: ...

@@ -59,7 +59,9 @@ fn group_handle(sim: &mut Sim, name: &str) -> i64 {
 }
 
 fn floats(v: &Value) -> Vec<f64> {
-    let Value::Array(items) = v else { panic!("not an array: {v:?}") };
+    let Value::Array(items) = v else {
+        panic!("not an array: {v:?}")
+    };
     items.iter().map(|x| x.as_f64().expect("a number")).collect()
 }
 
@@ -104,7 +106,10 @@ fn handle_until_reached(sim: &mut Sim, group: i64, tip: i64, target: i64, orient
             return;
         }
     }
-    panic!("{what}: the tip stays {:.4} m, {:.4} rad from its target", error.0, error.1);
+    panic!(
+        "{what}: the tip stays {:.4} m, {:.4} rad from its target",
+        error.0, error.1
+    );
 }
 
 /// The Panda of PyRep's test scene: its group is imported as the file has it, and
@@ -217,20 +222,33 @@ fn check_ik_group_solves_without_applying() {
     let handles = Value::Array(joints.iter().map(|&j| Value::Int(j)).collect());
     align(&mut sim, target, tip);
     shift(&mut sim, target, [0.0, 0.0, -0.005]);
-    let before: Vec<f64> = joints.iter().map(|&j| sim.world.joint(j).expect("joint").position).collect();
+    let before: Vec<f64> = joints
+        .iter()
+        .map(|&j| sim.world.joint(j).expect("joint").position)
+        .collect();
     let tip_before = position(&sim, tip);
     let got = call(&mut sim, "sim.checkIkGroup", &[Value::Int(h), handles.clone()]).expect("checked");
     assert_eq!(got[0], Value::Int(1), "sim.ikresult_success");
     let values = floats(&got[1]);
     assert_eq!(values.len(), 7);
-    let now: Vec<f64> = joints.iter().map(|&j| sim.world.joint(j).expect("joint").position).collect();
+    let now: Vec<f64> = joints
+        .iter()
+        .map(|&j| sim.world.joint(j).expect("joint").position)
+        .collect();
     assert_eq!(now, before, "the scene's joints did not move");
     assert_eq!(position(&sim, tip), tip_before);
-    assert!(values.iter().zip(&before).any(|(a, b)| (a - b).abs() > 1e-4), "a solution that moves");
+    assert!(
+        values.iter().zip(&before).any(|(a, b)| (a - b).abs() > 1e-4),
+        "a solution that moves"
+    );
     for (&j, &q) in joints.iter().zip(&values) {
         sim.world.set_joint_position(j, q).expect("set");
     }
-    assert!(tip_error(&sim, tip, target).0 < 1e-3, "{:?}", tip_error(&sim, tip, target));
+    assert!(
+        tip_error(&sim, tip, target).0 < 1e-3,
+        "{:?}",
+        tip_error(&sim, tip, target)
+    );
 
     // A joint outside the chain keeps its value; a non-joint is refused.
     let finger = sim.world.find("/Panda_gripper_joint1", None, 0).expect("finger joint");
@@ -265,7 +283,10 @@ fn the_panda_jacobian_has_six_rows_and_seven_columns() {
     assert_eq!(got[1], Value::Array(vec![Value::Int(7), Value::Int(6)]));
     let j = floats(&got[0]);
     assert_eq!(j.len(), 42);
-    assert!(j.iter().all(|v| v.is_finite()) && j.iter().any(|v| v.abs() > 0.1), "{j:?}");
+    assert!(
+        j.iter().all(|v| v.is_finite()) && j.iter().any(|v| v.abs() > 0.1),
+        "{j:?}"
+    );
 }
 
 /// `sim.generateIkPath`: configurations moving the Panda's tip in a straight line to its
@@ -286,7 +307,10 @@ fn generate_ik_path_moves_the_tip_in_a_straight_line() {
     align(&mut sim, target, tip);
     shift(&mut sim, target, [0.05, 0.05, -0.05]);
     let goal = position(&sim, target);
-    let before: Vec<f64> = joints.iter().map(|&j| sim.world.joint(j).expect("joint").position).collect();
+    let before: Vec<f64> = joints
+        .iter()
+        .map(|&j| sim.world.joint(j).expect("joint").position)
+        .collect();
     let got = call(
         &mut sim,
         "sim.generateIkPath",
@@ -295,9 +319,16 @@ fn generate_ik_path_moves_the_tip_in_a_straight_line() {
     .expect("path");
     let values = floats(&got[0]);
     assert_eq!(values.len(), 20 * 7);
-    let now: Vec<f64> = joints.iter().map(|&j| sim.world.joint(j).expect("joint").position).collect();
+    let now: Vec<f64> = joints
+        .iter()
+        .map(|&j| sim.world.joint(j).expect("joint").position)
+        .collect();
     assert_eq!(now, before, "the scene's joints did not move");
-    assert_eq!(&values[..7], before.as_slice(), "the first point is the current configuration");
+    assert_eq!(
+        &values[..7],
+        before.as_slice(),
+        "the first point is the current configuration"
+    );
     // Each configuration puts the tip on the line from its start to the target.
     let line = goal - start_tip;
     for (k, config) in values.chunks(7).enumerate() {
@@ -326,7 +357,9 @@ fn generate_ik_path_moves_the_tip_in_a_straight_line() {
         &[Value::Int(CUBOID), Value::floats(&[0.1, 0.1, 0.1])],
     )
     .expect("box");
-    let Value::Int(obstacle) = got[0] else { panic!("{got:?}") };
+    let Value::Int(obstacle) = got[0] else {
+        panic!("{got:?}")
+    };
     let mut away = sim.world.object(obstacle).expect("box").world;
     away.translation.vector = nalgebra::Vector3::new(5.0, 5.0, 0.5);
     sim.world.set_world_pose(obstacle, away).expect("moved");
@@ -339,14 +372,22 @@ fn generate_ik_path_moves_the_tip_in_a_straight_line() {
     sim.world.set_world_pose(obstacle, across).expect("moved");
     let got = call(&mut sim, "sim.generateIkPath", &args).expect("call");
     assert_eq!(got, [Value::Nil]);
-    let now: Vec<f64> = joints.iter().map(|&j| sim.world.joint(j).expect("joint").position).collect();
+    let now: Vec<f64> = joints
+        .iter()
+        .map(|&j| sim.world.joint(j).expect("joint").position)
+        .collect();
     assert_eq!(now, before, "the joints are put back after the collision checks");
 
     // Out of reach: nil.
     let mut far = sim.world.object(target).expect("target").world;
     far.translation.vector = nalgebra::Vector3::new(99.0, 99.0, 99.0);
     sim.world.set_world_pose(target, far).expect("moved");
-    let got = call(&mut sim, "sim.generateIkPath", &[Value::Int(h), handles.clone(), Value::Int(50)]).expect("call");
+    let got = call(
+        &mut sim,
+        "sim.generateIkPath",
+        &[Value::Int(h), handles.clone(), Value::Int(50)],
+    )
+    .expect("call");
     assert_eq!(got, [Value::Nil]);
 
     for (args, want) in [
@@ -369,4 +410,3 @@ fn generate_ik_path_moves_the_tip_in_a_straight_line() {
         assert!(err.contains(want), "{err}");
     }
 }
-

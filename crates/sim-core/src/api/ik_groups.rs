@@ -141,7 +141,12 @@ fn joint_options(a: &Args<'_>, i: usize) -> Result<(), SimError> {
 /// The value of each of `joints`: the one `solved` gives, else the joint's current
 /// position (a joint outside the group's chains does not move). `arg` names the
 /// argument in errors.
-fn joint_values(sim: &Sim, joints: &[Handle], solved: &BTreeMap<Handle, f64>, arg: usize) -> Result<Vec<f64>, SimError> {
+fn joint_values(
+    sim: &Sim,
+    joints: &[Handle],
+    solved: &BTreeMap<Handle, f64>,
+    arg: usize,
+) -> Result<Vec<f64>, SimError> {
     joints
         .iter()
         .map(|&j| match solved.get(&j) {

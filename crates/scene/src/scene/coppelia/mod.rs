@@ -1193,7 +1193,11 @@ mod tests {
             ik_group("fingers", 0x19, vec![element(2, -1, 31, true)]),
             ik_group("lost_tip", 0x59, vec![element(99, 1, 31, true)]),
             ik_group("unlinked", 0x59, vec![element(4, 1, 31, true)]),
-            ik_group("sleeping", 0x58, vec![element(2, 1, 31, true), element(2, 1, 31, false)]),
+            ik_group(
+                "sleeping",
+                0x58,
+                vec![element(2, 1, 31, true), element(2, 1, 31, false)],
+            ),
             ik_group("arm_ik", 0x59, vec![element(2, 1, 31, true)]),
         ];
         let index: HashMap<i32, usize> = [(1, 0), (2, 1), (3, 2), (4, 3)].into();
