@@ -392,6 +392,31 @@ mod tests {
         }
     }
 
+    /// The pseudo-inverse a hair off the straight (singular) pose, towards a point 4 cm
+    /// closer to the base (PyRep's UR10 is saved straight): the first step asks for about
+    /// a radian per joint and is scaled down to 10° on the largest; the solve converges.
+    #[test]
+    fn pseudo_inverse_steps_out_of_the_straight_pose() {
+        let mut model = planar((1.16, 0.0), None);
+        // A hair off straight: the Jacobian's row along the arm is tiny, not zero.
+        model.start = vec![0.0, 1e-4, 0.0];
+        let params = SolveParams {
+            method: IkMethod::PseudoInverse,
+            damping: 0.0,
+            max_iterations: 20,
+        };
+        let sol = solve(&model, &params);
+        assert_eq!(sol.result, IkResult::Success, "{sol:?}");
+        let q = model.start.clone();
+        let (j, e, _) = stack(&model, &q);
+        let dq = step(&model, &params, &q, &j, &e).expect("a step");
+        assert!(dq.iter().all(|d| d.abs() <= MAX_REVOLUTE_STEP + 1e-12), "{dq:?}");
+        assert!(
+            dq.iter().any(|d| d.abs() > MAX_REVOLUTE_STEP / 2.0),
+            "a full step: {dq:?}"
+        );
+    }
+
     #[test]
     fn limits_hold_and_are_reported() {
         // Reaching (0, 0.9) needs the elbow bent; the limit allows at most 0.2 rad.

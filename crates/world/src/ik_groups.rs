@@ -30,7 +30,8 @@ pub const FIRST_GROUP: Handle = 2_030_000;
 /// caps each step (the error it aims at, and 10° per joint: see the solver), so from a
 /// singular pose (PyRep's UR10 saved stretched straight up at all zeros) 6 iterations
 /// leave the tip where it was while 20 reach a target a few centimetres away. Iterations
-/// stop as soon as the tips are on their targets, so the floor costs nothing then.
+/// stop as soon as the tips are on their targets, so the floor costs nothing then. A
+/// script's `sim.setIkGroupProperties` sets the number exactly.
 pub const MIN_ITERATIONS: u32 = 20;
 
 /// Most solves [`SceneIkGroups::linear_path`] runs for one point of the path.

@@ -341,8 +341,9 @@ fn set_ik_group_properties(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> 
     }
     let g = sim.ik_groups.settings_mut(h).ok_or_else(|| no_group(h))?;
     g.method = method;
-    // Floored as when the scene is loaded (see `MIN_ITERATIONS`).
-    g.max_iterations = max_iterations.max(crate::ik_groups::MIN_ITERATIONS);
+    // Exactly what the script asks for: unlike the groups of the scene file (see
+    // `MIN_ITERATIONS`), no floor, so a script can solve step by step.
+    g.max_iterations = max_iterations;
     g.damping = damping;
     Ok(Vec::new())
 }
