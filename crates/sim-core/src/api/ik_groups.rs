@@ -106,7 +106,13 @@ fn get_ik_group_handle(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Resu
     sim.ik_groups
         .by_name(name)
         .map(|g| vec![Value::Int(g.handle)])
-        .ok_or_else(|| SimError::no_such_item(format!("IK group '{name}' does not exist in the scene")))
+        .ok_or_else(|| {
+            // A CoppeliaSim file's group whose elements could not be imported is dropped
+            // at load with a warning naming it: point there.
+            SimError::no_such_item(format!(
+                "IK group '{name}' does not exist in the scene (a file's group that could not be imported                  is named in the loading warnings)"
+            ))
+        })
 }
 
 /// `sim.handleIkGroup(ikGroupHandle)`: solves the group from the scene's joint values
