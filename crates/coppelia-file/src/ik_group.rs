@@ -1,5 +1,6 @@
 //! IK groups (`IKO`, top level): CoppeliaSim 4.0-4.2's built-in kinematics, which
-//! PyRep's arms look up as `<Name>_ik`. Read here; not imported into gantry's IK groups yet.
+//! PyRep's arms look up as `<Name>_ik`. Read here; `gantry-scene`'s coppelia loader maps
+//! them onto the scene's IK groups.
 //!
 //! An `IKO` stream holds `Oid` (i32 handle), `Nme` (name), `Mit` (i32 maximum
 //! iterations), `Cmt` (i32 method: 0 pseudo-inverse, 1 damped least squares), `Dpg` (f32

@@ -282,10 +282,41 @@ fn step(
             }
         }
         if !changed {
-            return dq.iter().all(|v| v.is_finite()).then_some(dq);
+            if !dq.iter().all(|v| v.is_finite()) {
+                return None;
+            }
+            return Some(limit_step(model, dq));
         }
     }
     None
+}
+
+/// Largest change of a revolute joint in one iteration, rad (10°: CoppeliaSim's default
+/// maximum IK step of a revolute joint).
+pub const MAX_REVOLUTE_STEP: f64 = 10.0 * std::f64::consts::PI / 180.0;
+/// Largest change of a prismatic joint in one iteration, m.
+pub const MAX_PRISMATIC_STEP: f64 = 0.1;
+
+/// `dq` scaled down, direction kept, so that no joint moves more than its maximum step.
+/// At or near a singularity (a UR arm stretched straight up at all zeros, as PyRep's
+/// models are saved) the (pseudo-)inverse asks for thousands of radians: clamped to the
+/// limits that step lands anywhere and every solve from there gives up; a short step
+/// along the same direction leaves the singularity and the next iterations converge.
+fn limit_step(model: &KinematicModel, dq: DVector<f64>) -> DVector<f64> {
+    let ratio = model
+        .slots
+        .iter()
+        .zip(dq.iter())
+        .map(|(slot, d)| {
+            let max = if slot.joint_type == gantry_scene::scene::JointType::Revolute {
+                MAX_REVOLUTE_STEP
+            } else {
+                MAX_PRISMATIC_STEP
+            };
+            d.abs() / max
+        })
+        .fold(1.0f64, f64::max);
+    dq / ratio
 }
 
 /// `J^T (J J^T + λ² I)^-1 e`, or `None` when it cannot be computed.
@@ -359,6 +390,31 @@ mod tests {
             let sol = solve(&model, &SolveParams { method, ..DLS });
             assert!(sol.q.iter().all(|q| q.is_finite()), "{method:?}");
         }
+    }
+
+    /// The pseudo-inverse a hair off the straight (singular) pose, towards a point 4 cm
+    /// closer to the base (PyRep's UR10 is saved straight): the first step asks for about
+    /// a radian per joint and is scaled down to 10° on the largest; the solve converges.
+    #[test]
+    fn pseudo_inverse_steps_out_of_the_straight_pose() {
+        let mut model = planar((1.16, 0.0), None);
+        // A hair off straight: the Jacobian's row along the arm is tiny, not zero.
+        model.start = vec![0.0, 1e-4, 0.0];
+        let params = SolveParams {
+            method: IkMethod::PseudoInverse,
+            damping: 0.0,
+            max_iterations: 20,
+        };
+        let sol = solve(&model, &params);
+        assert_eq!(sol.result, IkResult::Success, "{sol:?}");
+        let q = model.start.clone();
+        let (j, e, _) = stack(&model, &q);
+        let dq = step(&model, &params, &q, &j, &e).expect("a step");
+        assert!(dq.iter().all(|d| d.abs() <= MAX_REVOLUTE_STEP + 1e-12), "{dq:?}");
+        assert!(
+            dq.iter().any(|d| d.abs() > MAX_REVOLUTE_STEP / 2.0),
+            "a full step: {dq:?}"
+        );
     }
 
     #[test]

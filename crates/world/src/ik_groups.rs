@@ -16,13 +16,47 @@ use nalgebra::DMatrix;
 use crate::handle::Handle;
 use crate::ik::{
     Apply, ConfigSearch, Constraints, ElementTarget, IkElement, IkEnvironments, IkError, IkGroup, IkMethod, IkResult,
-    KinematicModel, Trees, build_model, find_config, handle_groups,
+    KinematicModel, SolveParams, Trees, build_model, find_config, handle_groups, solve,
 };
+use crate::math::Pose;
 use crate::scene::{IkGroupModel, IkMethodModel};
 use crate::world::World;
 
 /// The handle of a scene's first IK group; the others follow in file order.
 pub const FIRST_GROUP: Handle = 2_030_000;
+
+/// The fewest solver iterations a scene group gets per handling, whatever it asks for.
+/// CoppeliaSim's arms ask for 3 to 6, enough for its full Newton steps; gantry's solver
+/// caps each step (the error it aims at, and 10° per joint: see the solver), so from a
+/// singular pose (PyRep's UR10 saved stretched straight up at all zeros) 6 iterations
+/// leave the tip where it was while 20 reach a target a few centimetres away. Iterations
+/// stop as soon as the tips are on their targets, so the floor costs nothing then. A
+/// script's `sim.setIkGroupProperties` sets the number exactly.
+pub const MIN_ITERATIONS: u32 = 20;
+
+/// Most solves [`SceneIkGroups::linear_path`] runs for one point of the path.
+pub const PATH_SOLVES_PER_POINT: usize = 5;
+
+/// A path of configurations ([`SceneIkGroups::linear_path`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct IkPath {
+    /// The joints of the group's chains, base to tip.
+    pub joints: Vec<Handle>,
+    /// One configuration per point: a value per joint of `joints`.
+    pub configs: Vec<Vec<f64>>,
+}
+
+/// The pose a fraction `s` of the way from `a` to `b`: positions on the straight line,
+/// orientations by slerp (half-turn apart, where slerp has no single path, `a`'s until
+/// halfway then `b`'s).
+fn interpolate(a: &Pose, b: &Pose, s: f64) -> Pose {
+    let t = a.translation.vector.lerp(&b.translation.vector, s);
+    let r = a
+        .rotation
+        .try_slerp(&b.rotation, s, 1e-9)
+        .unwrap_or(if s < 0.5 { a.rotation } else { b.rotation });
+    Pose::from_parts(t.into(), r)
+}
 
 /// One IK group of the scene.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,7 +96,7 @@ impl SceneIkGroups {
                     IkMethodModel::DampedLeastSquares => IkMethod::DampedLeastSquares,
                 };
                 g.damping = m.damping;
-                g.max_iterations = m.max_iterations;
+                g.max_iterations = m.max_iterations.max(MIN_ITERATIONS);
             }
             for e in &m.elements {
                 let base = e.base.map_or(-1, |b| b as Handle);
@@ -140,6 +174,72 @@ impl SceneIkGroups {
         let group = self.get(handle).ok_or(IkError::NoSuchGroup(handle))?.group;
         let outcome = handle_groups(world, &mut self.envs, self.env, &[group], Apply::Always)?;
         Ok(outcome.result)
+    }
+
+    /// Solves the group from the scene's joint values as [`Self::handle`] does, without
+    /// writing anything into the scene (`sim.checkIkGroup`): the result and the solved
+    /// values of the chains' joints, by handle.
+    ///
+    /// # Errors
+    /// No such group, or a chain that does not exist any more.
+    pub fn check(&mut self, world: &mut World, handle: Handle) -> Result<(IkResult, BTreeMap<Handle, f64>), IkError> {
+        let group = self.get(handle).ok_or(IkError::NoSuchGroup(handle))?.group;
+        // One group: `handle_groups` writes no scene joint when told not to apply.
+        let outcome = handle_groups(world, &mut self.envs, self.env, &[group], Apply::Never)?;
+        // The solution is not waiting for a sync: this environment has none.
+        self.envs.get_mut(self.env)?.pending.clear();
+        Ok((outcome.result, outcome.joints))
+    }
+
+    /// Configurations that move every tip of the group along a straight line (and a
+    /// slerp of its orientation) from where it is to its target, in `points` evenly spaced
+    /// poses, the first being the current configuration (`sim.generateIkPath`). Each point
+    /// is solved from the previous one with the group's settings, up to
+    /// [`PATH_SOLVES_PER_POINT`] times (gantry's solver steps are shorter than
+    /// CoppeliaSim's, see the solver's `MAX_ERROR`). Returns `None` when a point cannot be
+    /// reached within the elements' precision. The scene is not touched: the values are
+    /// by model slot, with the slots' joint handles.
+    ///
+    /// # Errors
+    /// No such group, or a chain that cannot be built.
+    pub fn linear_path(&self, world: &World, handle: Handle, points: usize) -> Result<Option<IkPath>, IkError> {
+        let mut model = self.model(world, handle)?;
+        let g = self.settings(handle).ok_or(IkError::NoSuchGroup(handle))?;
+        let params = SolveParams {
+            method: g.method,
+            damping: g.damping,
+            max_iterations: g.max_iterations,
+        };
+        let starts: Vec<Pose> = model
+            .elements
+            .iter()
+            .map(|e| e.chain.forward(&model.start, &model.slots).tip)
+            .collect();
+        let goals: Vec<Pose> = model.elements.iter().map(|e| e.target).collect();
+        let mut configs = vec![model.start.clone()];
+        for i in 1..points {
+            let s = i as f64 / (points - 1) as f64;
+            for ((e, a), b) in model.elements.iter_mut().zip(&starts).zip(&goals) {
+                e.target = interpolate(a, b, s);
+            }
+            let mut reached = false;
+            for _ in 0..PATH_SOLVES_PER_POINT {
+                let sol = solve(&model, &params);
+                model.start = sol.q;
+                if sol.result == IkResult::Success {
+                    reached = true;
+                    break;
+                }
+            }
+            if !reached {
+                return Ok(None);
+            }
+            configs.push(model.start.clone());
+        }
+        Ok(Some(IkPath {
+            joints: model.slots.iter().map(|s| s.handle).collect(),
+            configs,
+        }))
     }
 
     /// Handles every group not flagged explicit, in handle order, as the main script's

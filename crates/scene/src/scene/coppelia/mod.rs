@@ -23,6 +23,7 @@
 //! | main scripts | dropped (gantry runs its own loop; a custom one is warned) |
 //! | Python, disabled scripts | dropped (warned) |
 //! | collections (`GRP`) | [`CollectionModel`] (`sim.getCollectionHandle`) |
+//! | IK groups (`IKO`, 4.0-4.2 built-in kinematics) | [`IkGroupModel`] (`sim.getIkGroupHandle`); see `convert_ik_groups` |
 //! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
 //!
 //! Joint motors keep CoppeliaSim's targets, limits and maximum forces. Position
@@ -159,6 +160,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
     let (dummy_links, ball_links) = loop_closures(&file, &index);
     let referenced_handles = referenced_handles(&file, &index, &mut warnings);
     let collections = convert_collections(&file, &index, &mut warnings);
+    let ik_groups = convert_ik_groups(&file, &index, &mut warnings);
     let scripts = convert_scripts(&file, path, &index, &mut report, &mut warnings);
     let settings = convert_settings(&file.settings, &mut warnings);
     report.warnings = warnings.clone();
@@ -173,7 +175,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         dummy_links,
         ball_links,
         referenced_handles,
-        ik_groups: Vec::new(),
+        ik_groups,
         collections,
         urdf_robots: Vec::new(),
         warnings,
@@ -863,6 +865,162 @@ fn convert_collections(
     out
 }
 
+/// `Var` bit of an IK group: the group is active (CoppeliaSim skips inactive groups).
+const IK_GROUP_ACTIVE: u8 = 0x01;
+/// `Var` bit of an IK group taken as "explicit handling". Not documented: inferred from
+/// PyRep's files, where it is set on every arm's `<Name>_ik` (0x59; PyRep solves those
+/// itself with `sim.handleIkGroup`, and an automatic one would drag each arm onto its
+/// target every step) and clear on the groups that must run every step (the Robotiq's
+/// finger loops, the youBot's groups: 0x19, 0x1b). Bits 3 and 4 (set everywhere) are
+/// probably "restore if position / orientation not reached", bit 1 "correct joint
+/// limits"; gantry's solver has no such options and ignores them.
+const IK_GROUP_EXPLICIT: u8 = 0x40;
+/// The most iterations gantry's IK groups accept (as `[[ik_group]]` does).
+const MAX_IK_ITERATIONS: u32 = 100_000;
+
+/// IK groups (`IKO`) as gantry's scene IK groups, which `sim.getIkGroupHandle`,
+/// `sim.handleIkGroup` and the other 4.1 functions reach. Each element's target is its
+/// tip dummy's linked dummy (`Lli`), as CoppeliaSim's built-in IK takes it. What cannot
+/// be imported is warned and dropped, so that the scene still loads: an element whose
+/// tip, target or base is not in the file, or that is inactive (CoppeliaSim leaves it out
+/// of the solve), and a group left without elements (`sim.getIkGroupHandle` then fails,
+/// naming the group). An inactive group is imported as explicitly handled: the main
+/// script never handles it, as in CoppeliaSim, but a script's `sim.handleIkGroup` on it
+/// solves it (CoppeliaSim's would not; warned). The element's alternative constraint
+/// base (`Abc`) is not read: constraints are in the base's frame.
+fn convert_ik_groups(
+    file: &cf::CoppeliaFile,
+    index: &HashMap<i32, usize>,
+    warnings: &mut Vec<String>,
+) -> Vec<IkGroupModel> {
+    let mut out: Vec<IkGroupModel> = Vec::new();
+    for g in &file.ik_groups {
+        let name = &g.name;
+        if name.is_empty() || out.iter().any(|o| &o.name == name) {
+            warnings.push(format!("IK group '{name}': no name or a name used twice; dropped"));
+            continue;
+        }
+        let method = match g.method {
+            0 => IkMethodModel::PseudoInverse,
+            1 => IkMethodModel::DampedLeastSquares,
+            other => {
+                warnings.push(format!(
+                    "IK group '{name}': calculation method {other} is not known; pseudo-inverse used"
+                ));
+                IkMethodModel::PseudoInverse
+            }
+        };
+        let damping = if g.damping.is_finite() && g.damping >= 0.0 {
+            shortest_decimal(g.damping)
+        } else {
+            warnings.push(format!(
+                "IK group '{name}': damping {} is not a number >= 0; 0.1 used",
+                g.damping
+            ));
+            0.1
+        };
+        let max_iterations = u32::try_from(g.max_iterations).unwrap_or(0).clamp(1, MAX_IK_ITERATIONS);
+        if i64::from(max_iterations) != i64::from(g.max_iterations) {
+            warnings.push(format!(
+                "IK group '{name}': {} iterations; {max_iterations} used",
+                g.max_iterations
+            ));
+        }
+        let active = g.flags & IK_GROUP_ACTIVE != 0;
+        if !active {
+            warnings.push(format!(
+                "IK group '{name}': inactive; imported as explicitly handled (sim.handleIkGroup on it still solves it)"
+            ));
+        }
+        let mut elements = Vec::with_capacity(g.elements.len());
+        for e in &g.elements {
+            match convert_ik_element(file, index, name, e, warnings) {
+                Ok(m) => elements.push(m),
+                Err(why) => warnings.push(format!("IK group '{name}': {why}; element dropped")),
+            }
+        }
+        if elements.is_empty() {
+            warnings.push(format!("IK group '{name}': no element left; group dropped"));
+            continue;
+        }
+        out.push(IkGroupModel {
+            name: name.clone(),
+            elements,
+            method,
+            damping,
+            max_iterations,
+            explicit: !active || g.flags & IK_GROUP_EXPLICIT != 0,
+        });
+    }
+    out
+}
+
+/// A value stored as f32 as the shortest decimal that reads back as the same f32 (0.1,
+/// not 0.10000000149011612), so a converted scene shows the value CoppeliaSim's dialog
+/// showed.
+fn shortest_decimal(x: f64) -> f64 {
+    let single = x as f32;
+    single.to_string().parse().unwrap_or(x)
+}
+
+/// One IK element, or why it cannot be imported.
+fn convert_ik_element(
+    file: &cf::CoppeliaFile,
+    index: &HashMap<i32, usize>,
+    group: &str,
+    e: &cf::IkElement,
+    warnings: &mut Vec<String>,
+) -> Result<IkElementModel, String> {
+    if !e.active {
+        return Err(format!("the element tipped at object {} is inactive", e.tip));
+    }
+    let Some(&tip) = index.get(&e.tip) else {
+        return Err(format!("tip object {} is not in the file", e.tip));
+    };
+    let tip_object = file.objects.iter().find(|o| o.handle == e.tip);
+    let Some(cf::ObjectKind::Dummy(d)) = tip_object.map(|o| &o.kind) else {
+        return Err(format!("tip object {} is not a dummy", e.tip));
+    };
+    let tip_name = tip_object.map_or("", |o| o.alias.as_deref().unwrap_or(&o.name));
+    // A tip linked to nothing (PyRep's Dobot) keeps its element with the tip as its own
+    // target: the group still exists for `sim.getIkGroupHandle`, and handling it leaves
+    // the chain where it is, as CoppeliaSim, which skips such an element, does.
+    let target = match d.linked {
+        None => {
+            warnings.push(format!(
+                "IK group '{group}': tip '{tip_name}' is linked to no target dummy; its element keeps the chain where it is"
+            ));
+            tip
+        }
+        Some(linked) => *index
+            .get(&linked)
+            .ok_or_else(|| format!("the target {linked} of tip '{tip_name}' is not in the file"))?,
+    };
+    let base = match e.base {
+        -1 => None,
+        b => Some(
+            *index
+                .get(&b)
+                .ok_or_else(|| format!("base object {b} of tip '{tip_name}' is not in the file"))?,
+        ),
+    };
+    let constraints = u8::try_from(e.constraints)
+        .ok()
+        .filter(|c| (1..=31).contains(c))
+        .ok_or_else(|| {
+            format!(
+                "tip '{tip_name}': constraints {} are not a combination of x, y, z, alpha-beta and gamma",
+                e.constraints
+            )
+        })?;
+    Ok(IkElementModel {
+        tip,
+        target,
+        base,
+        constraints,
+    })
+}
+
 /// Lua child and customization scripts, on their objects.
 fn convert_scripts(
     file: &cf::CoppeliaFile,
@@ -1127,6 +1285,89 @@ mod tests {
         );
         let twice = file_of(vec![dummy(1, None), dummy(1, None)]);
         assert!(hierarchy_order(&twice, p, &mut w).is_err());
+    }
+
+    fn ik_group(name: &str, flags: u8, elements: Vec<cf::IkElement>) -> cf::IkGroup {
+        cf::IkGroup {
+            handle: 2_030_000,
+            name: name.into(),
+            max_iterations: 6,
+            method: 1,
+            damping: f64::from(0.1f32),
+            flags,
+            elements,
+        }
+    }
+
+    fn element(tip: i32, base: i32, constraints: i32, active: bool) -> cf::IkElement {
+        cf::IkElement {
+            tip,
+            base,
+            constraints,
+            active,
+        }
+    }
+
+    #[test]
+    fn ik_groups_take_the_tip_link_as_target_and_drop_what_is_missing() {
+        // 1 base, 2 tip linked to 3 target, 4 an unlinked dummy.
+        let mut tip = dummy(2, Some(1));
+        tip.kind = cf::ObjectKind::Dummy(cf::Dummy {
+            linked: Some(3),
+            link: cf::DummyLink::IkTipTarget,
+        });
+        let mut f = file_of(vec![dummy(1, None), tip, dummy(3, None), dummy(4, Some(1))]);
+        f.ik_groups = vec![
+            ik_group("arm_ik", 0x59, vec![element(2, 1, 7, true)]),
+            ik_group("fingers", 0x19, vec![element(2, -1, 31, true)]),
+            ik_group("lost_tip", 0x59, vec![element(99, 1, 31, true)]),
+            ik_group("unlinked", 0x59, vec![element(4, 1, 31, true)]),
+            ik_group(
+                "sleeping",
+                0x58,
+                vec![element(2, 1, 31, true), element(2, 1, 31, false)],
+            ),
+            ik_group("arm_ik", 0x59, vec![element(2, 1, 31, true)]),
+        ];
+        let index: HashMap<i32, usize> = [(1, 0), (2, 1), (3, 2), (4, 3)].into();
+        let mut w = Vec::new();
+        let out = convert_ik_groups(&f, &index, &mut w);
+        let names: Vec<&str> = out.iter().map(|g| g.name.as_str()).collect();
+        assert_eq!(names, ["arm_ik", "fingers", "unlinked", "sleeping"]);
+        assert_eq!(
+            out[0],
+            IkGroupModel {
+                name: "arm_ik".into(),
+                elements: vec![IkElementModel {
+                    tip: 1,
+                    target: 2,
+                    base: Some(0),
+                    constraints: 7
+                }],
+                method: IkMethodModel::DampedLeastSquares,
+                damping: 0.1,
+                max_iterations: 6,
+                explicit: true,
+            }
+        );
+        // Bit 6 clear: handled by the main script; base -1: the world.
+        assert!(!out[1].explicit);
+        assert_eq!(out[1].elements[0].base, None);
+        // A tip linked to nothing is its own target.
+        assert_eq!((out[2].elements[0].tip, out[2].elements[0].target), (3, 3));
+        // Inactive: explicit, and its inactive element left out.
+        assert!(out[3].explicit);
+        assert_eq!(out[3].elements.len(), 1);
+        for part in [
+            "IK group 'lost_tip': tip object 99 is not in the file; element dropped",
+            "IK group 'lost_tip': no element left; group dropped",
+            "IK group 'unlinked': tip 'd4' is linked to no target dummy",
+            "IK group 'sleeping': inactive",
+            "IK group 'sleeping': the element tipped at object 2 is inactive; element dropped",
+            "IK group 'arm_ik': no name or a name used twice; dropped",
+        ] {
+            assert!(w.iter().any(|m| m.contains(part)), "{part}: {w:?}");
+        }
     }
 
     #[test]
