@@ -157,3 +157,30 @@ fn a_v_rep_3_5_model_without_a_file_type_loads_as_a_model() {
     let kind = sim.call("getObjectType", &[ret[0].clone()]).expect("getObjectType");
     assert_eq!(kind[0], Value::Int(0), "the model's base is a shape");
 }
+
+#[test]
+fn an_imported_arm_brings_its_ik_group_and_a_second_copy_is_suffixed() {
+    let mut sim = test_scene();
+    let panda = gantry_test_support::coppelia_files().join("PyRep__Panda.ttm");
+    assert!(panda.is_file(), "{} is missing", panda.display());
+    let path = Value::Str(panda.to_str().expect("UTF-8 path").into());
+    // test_scene.ttt has a Panda of its own: the imported one's group is the first copy.
+    sim.call("loadModel", &[path.clone()]).unwrap_or_else(|e| panic!("{e}"));
+    sim.call("loadModel", &[path]).unwrap_or_else(|e| panic!("{e}"));
+    let mut groups = Vec::new();
+    for name in ["Panda_ik", "Panda_ik#0", "Panda_ik#1"] {
+        let h = sim
+            .call("getIkGroupHandle", &[Value::Str(name.into())])
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        groups.push(h[0].clone());
+    }
+    groups.dedup();
+    assert_eq!(groups.len(), 3, "three distinct groups: {groups:?}");
+    // The copy's group solves the copy's arm: handling it changes none of the scene's own
+    // joints.
+    let own = handle(&mut sim, "Panda_joint1");
+    let before = sim.call("getJointPosition", &[own.clone()]).expect("position");
+    let h = groups[2].clone();
+    sim.call("handleIkGroup", &[h]).expect("handleIkGroup");
+    assert_eq!(sim.call("getJointPosition", &[own]).expect("position"), before);
+}

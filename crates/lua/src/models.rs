@@ -51,11 +51,13 @@ impl Models {
         };
         let options = self.options.borrow().clone();
         let model = load_model(&DiskFiles, &path, &options)?;
-        let (handles, warnings) = core
-            .try_borrow_mut()
-            .map_err(|_| ModelLoadError::WorldBusy)?
-            .world
-            .import_model(&model);
+        let (handles, warnings) = {
+            let mut sim = core.try_borrow_mut().map_err(|_| ModelLoadError::WorldBusy)?;
+            let (handles, warnings) = sim.world.import_model(&model);
+            // The model's IK groups (a PyRep arm's `<Name>_ik`), on its new objects.
+            sim.ik_groups.add(&model.ik_groups, |i| handles.get(i).copied());
+            (handles, warnings)
+        };
         // The model's own warnings (unknown keys, URDF features) and the building's.
         for w in warnings {
             tracing::warn!("{w}");

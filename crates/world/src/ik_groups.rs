@@ -86,10 +86,28 @@ impl SceneIkGroups {
     pub fn build(models: &[IkGroupModel]) -> Self {
         let mut envs = IkEnvironments::default();
         let env = envs.create();
-        let mut groups = Vec::with_capacity(models.len());
-        for (i, m) in models.iter().enumerate() {
-            let Ok(environment) = envs.get_mut(env) else { break };
-            let group = environment.create_group(&m.name);
+        let mut groups = Self {
+            envs,
+            env,
+            groups: Vec::new(),
+        };
+        // At load, an object's handle is its index in the model.
+        groups.add(models, |i| Some(i as Handle));
+        groups
+    }
+
+    /// Adds the groups of a model imported into the scene (`sim.loadModel`), its objects
+    /// at the handles `handle_of` gives for their model indices. A name the scene has
+    /// already gets CoppeliaSim's copy suffix (`Panda_ik#0`, `#1`, ...), as the copied
+    /// objects' names do. An element whose object did not make it into the scene is
+    /// left out.
+    pub fn add(&mut self, models: &[IkGroupModel], handle_of: impl Fn(usize) -> Option<Handle>) {
+        for m in models {
+            let name = self.free_name(&m.name);
+            let Ok(environment) = self.envs.get_mut(self.env) else {
+                break;
+            };
+            let group = environment.create_group(&name);
             if let Ok(g) = environment.group_mut(group) {
                 g.method = match m.method {
                     IkMethodModel::PseudoInverse => IkMethod::PseudoInverse,
@@ -99,25 +117,39 @@ impl SceneIkGroups {
                 g.max_iterations = m.max_iterations.max(MIN_ITERATIONS);
             }
             for e in &m.elements {
-                let base = e.base.map_or(-1, |b| b as Handle);
+                let (Some(tip), Some(target)) = (handle_of(e.tip), handle_of(e.target)) else {
+                    continue;
+                };
+                let base = match e.base {
+                    Some(b) => match handle_of(b) {
+                        Some(h) => h,
+                        None => continue,
+                    },
+                    None => -1,
+                };
                 let constraints = Constraints::from_code(i64::from(e.constraints)).unwrap_or(Constraints::POSE);
                 // The group was just created.
-                let _ = environment.add_element(
-                    group,
-                    base,
-                    e.tip as Handle,
-                    ElementTarget::Object(e.target as Handle),
-                    constraints,
-                );
+                let _ = environment.add_element(group, base, tip, ElementTarget::Object(target), constraints);
             }
-            groups.push(SceneIkGroup {
-                handle: FIRST_GROUP + i as Handle,
-                name: m.name.clone(),
+            let handle = FIRST_GROUP + self.groups.len() as Handle;
+            self.groups.push(SceneIkGroup {
+                handle,
+                name,
                 explicit: m.explicit,
                 group,
             });
         }
-        Self { envs, env, groups }
+    }
+
+    /// `name`, or the first of `name#0`, `name#1`, ... no group has.
+    fn free_name(&self, name: &str) -> String {
+        if self.by_name(name).is_none() {
+            return name.to_owned();
+        }
+        (0..)
+            .map(|k| format!("{name}#{k}"))
+            .find(|n| self.by_name(n).is_none())
+            .unwrap_or_else(|| name.to_owned())
     }
 
     /// Every group, in handle order.

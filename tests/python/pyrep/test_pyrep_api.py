@@ -79,7 +79,9 @@ def test_headless_false_opens_the_browser_viewer():
         pr.shutdown()
 
 
-def test_bad_input_gets_pyreps_exceptions(pr_scene, tmp_path):
+def test_bad_input_gets_pyreps_exceptions(tmp_path):
+    import shutil
+
     from pyrep import PyRep
     from pyrep.errors import PyRepError, WrongObjectTypeError
     from pyrep.objects.joint import Joint
@@ -87,18 +89,31 @@ def test_bad_input_gets_pyreps_exceptions(pr_scene, tmp_path):
 
     with pytest.raises(PyRepError, match="does not exist"):
         PyRep().launch(str(tmp_path / "nowhere.ttt"), headless=True)
-    with pytest.raises(PyRepError, match="does not exist"):
-        pr_scene.import_model(str(tmp_path / "nowhere.ttm"))
-    with pytest.raises(WrongObjectTypeError):
-        Joint("dynamic_cube")
-    broken = tmp_path / "broken.obj"
-    broken.write_text("v 0 0 0\nv 1 0 0\nf 1 2 7\n")
-    with pytest.raises(PyRepError) as e:
-        Shape.import_mesh(str(broken))
-    assert "7" in str(e.value) or "face" in str(e.value).lower(), e.value
-    # The simulation is still up.
-    pr_scene.step()
-    assert Shape("dynamic_cube").still_exists()
+    # The scene's folder is where the simulation may read: a copy of the test scene
+    # beside the broken mesh.
+    scene = tmp_path / "test_scene.ttt"
+    shutil.copy(TEST_SCENE, scene)
+    pr = PyRep()
+    pr.launch(str(scene), headless=True)
+    try:
+        pr.start()
+        with pytest.raises(PyRepError, match="does not exist"):
+            pr.import_model(str(tmp_path / "nowhere.ttm"))
+        with pytest.raises(WrongObjectTypeError):
+            Joint("dynamic_cube")
+        broken = tmp_path / "broken.obj"
+        broken.write_text("v 0 0 0\nv 1 0 0\nf 1 2 7\n")
+        with pytest.raises(PyRepError) as e:
+            Shape.import_mesh(str(broken))
+        assert "7" in str(e.value) or "face" in str(e.value).lower(), e.value
+        with pytest.raises(PyRepError):
+            pr.create_texture(str(broken))
+        # The simulation is still up.
+        pr.step()
+        assert Shape("dynamic_cube").still_exists()
+    finally:
+        pr.stop()
+        pr.shutdown()
 
 
 def test_the_panda_model_imports_with_its_collection():
