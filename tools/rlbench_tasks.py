@@ -57,7 +57,7 @@ def check_commands(ext: str) -> list[str]:
     return [part for part in re.split(r"[;,]", ext) if part.strip(" )") and not COMMAND.search(part)]
 
 
-def run_model(path: Path, plan: bool) -> dict:
+def run_model(path: Path, plan: bool, check_collisions: bool = False) -> dict:
     from pyrep import PyRep
     from pyrep.objects.dummy import Dummy
     from pyrep.robots.arms.panda import Panda
@@ -79,11 +79,14 @@ def run_model(path: Path, plan: bool) -> dict:
             tip = Dummy("Panda_tip")
             reached = []
             for w, info in zip(wps, out["waypoints"]):
+                # RLBench's demos ignore collisions where the waypoint says so
+                # (`--rlbench-collisions`); by default they are ignored throughout.
+                ignore = "ignore_collision" in info["ext"] or not check_collisions
                 try:
                     if "linear" in info["ext"]:
-                        p = arm.get_linear_path(w.get_position(), euler=w.get_orientation(), ignore_collisions=True)
+                        p = arm.get_linear_path(w.get_position(), euler=w.get_orientation(), ignore_collisions=ignore)
                     else:
-                        p = arm.get_path(w.get_position(), euler=w.get_orientation(), ignore_collisions=True,
+                        p = arm.get_path(w.get_position(), euler=w.get_orientation(), ignore_collisions=ignore,
                                          trials=100, max_configs=10)
                     done, steps = False, 0
                     while not done and steps < 2000:
@@ -106,6 +109,8 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("folder", type=Path, help="RLBench's rlbench/task_ttms folder")
     p.add_argument("--plan", type=int, default=12, help="plan to the waypoints of this many models")
+    p.add_argument("--rlbench-collisions", action="store_true",
+                   help="check collisions while planning except where a waypoint says ignore_collisions, as RLBench")
     p.add_argument("--json", type=Path)
     a = p.parse_args()
     models = sorted(a.folder.glob("*.ttm"))
@@ -114,7 +119,7 @@ def main() -> int:
         return 1
     results, planned = [], 0
     for m in models:
-        r = run_model(m, planned < a.plan)
+        r = run_model(m, planned < a.plan, a.rlbench_collisions)
         if "tip_error_m" in r:
             planned += 1
         results.append(r)
