@@ -1050,6 +1050,7 @@ mod tests {
             engine: Some(cf::Engine::Ode),
             gravity: Some([0.0, 0.0, -9.81]),
             engine_step: Some(0.005),
+            ..Default::default()
         };
         let out = convert_settings(&s, &mut w);
         assert_eq!((out.dt, out.substeps, out.gravity), (0.05, 10, [0.0, 0.0, -9.81]));
