@@ -193,6 +193,9 @@ fn created_vision_sensor_has_its_settings_and_renders() {
     look_down(&mut s, cam, [0.3, 0.2, 2.0]);
     let (sum, pixels) = rgb_sum(&mut s, cam);
     assert_eq!(pixels, 64 * 48);
+    assert_eq!(sum, 0, "blank until handled or stepped, as CoppeliaSim's new sensor");
+    s.step();
+    let (sum, _) = rgb_sum(&mut s, cam);
     assert!(sum > 0, "the sensor sees the floor and the cube");
     // Orthographic: the third float is the ortho size.
     let ortho = int(&ok(&mut s, "createVisionSensor", &vision_args(0, [16, 16], 0.01, 3.0, 0.7))[0]);
@@ -672,4 +675,24 @@ fn joint_interval_limits_a_simulated_joint_at_once() {
     step(&mut s, 20);
     let q = num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]);
     assert!(q >= lo - 0.02 && q <= hi + 0.02, "held in [{lo}, {hi}]: {q}");
+}
+
+/// PyRep's `test_vision_sensors.py::test_handle_explicitly` on its `test_scene.ttt`
+/// (after the ten steps of its `setUp`): a new 640 x 480 sensor at the origin reads
+/// blank, then, explicitly handled, sees something (the Panda's base it sits in).
+#[test]
+fn pyrep_handle_explicitly_reads_blank_then_an_image() {
+    let path = gantry_test_support::pyrep_assets().join("test_scene.ttt");
+    let model = gantry_sim_core::scene::load_coppelia_file(&gantry_sim_core::scene::DiskFiles, &path)
+        .expect("test_scene.ttt imports");
+    assert_eq!(model.settings.background, Some([0.0; 3]), "the scene's fog colour");
+    let mut s = Sim::new(&model);
+    for _ in 0..10 {
+        s.step();
+    }
+    let cam = int(&ok(&mut s, "createVisionSensor", &vision_args(2, [640, 480], 0.01, 10.0, 60f64.to_radians()))[0]);
+    assert_eq!(rgb_sum(&mut s, cam).0, 0, "blank image");
+    ok(&mut s, "setExplicitHandling", &[h(cam), h(1)]);
+    ok(&mut s, "handleVisionSensor", &[h(cam)]);
+    assert_ne!(rgb_sum(&mut s, cam).0, 0, "non-blank image");
 }

@@ -1,7 +1,8 @@
 //! `sim.createVisionSensor`, `sim.createForceSensor`: sensors made at run time, with
 //! CoppeliaSim 4.1's argument lists (PyRep's `VisionSensor.create`, `ForceSensor.create`).
 //! Each is created at the world origin, as a root, and works as one loaded with the
-//! scene: a vision sensor renders when read or handled, a force sensor measures what
+//! scene: a vision sensor renders when read or handled (its image is blank until it is
+//! handled or the simulation steps, as CoppeliaSim's), a force sensor measures what
 //! hangs from it once an object is parented to it.
 //!
 //! Options gantry cannot honour are refused with the reason instead of being dropped
@@ -136,6 +137,10 @@ fn create_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Res
     if options & VISION_EXPLICIT != 0 {
         crate::vision::set_explicit(&sim.world, &mut sim.vision, h, true)?;
     }
+    // Until it is first handled (by the next step, or explicitly), CoppeliaSim's new
+    // sensor holds its cleared image: its blank image counts as this step's, so that
+    // readers get it rather than a render (PyRep's tests read a blank image first).
+    crate::vision::write(&sim.world, &mut sim.vision, h)?;
     Ok(vec![Value::Int(h)])
 }
 
