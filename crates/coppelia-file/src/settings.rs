@@ -215,7 +215,10 @@ mod tests {
         assert_eq!(env.background_down, env.background_up);
         assert_eq!(env.fog_color, Some([0.125, 0.5, 0.75]));
         assert_eq!(env.ambient_light, Some([0.4f32, 0.4, 0.4].map(f64::from)));
-        assert_eq!((env.fog_enabled, env.fog, env.fog_end), (Some(true), Some((2, 0.5, 0.25)), Some(7.0)));
+        assert_eq!(
+            (env.fog_enabled, env.fog, env.fog_end),
+            (Some(true), Some((2, 0.5, 0.25)), Some(7.0))
+        );
 
         let mut d2 = 1i32.to_le_bytes().to_vec();
         d2.extend([0.5f64, 2.0].iter().flat_map(|x| x.to_le_bytes()));
@@ -228,7 +231,10 @@ mod tests {
                 .chunk("Var", &[0x08]),
         )
         .unwrap();
-        assert_eq!((env.fog, env.fog_end, env.fog_enabled), (Some((1, 0.5, 2.0)), Some(9.0), Some(false)));
+        assert_eq!(
+            (env.fog, env.fog_end, env.fog_enabled),
+            (Some((1, 0.5, 2.0)), Some(9.0), Some(false))
+        );
         assert_eq!(env.background_down, Some([0.0, 0.0, 0.5]));
         assert_eq!(env.fog_color, None);
 

@@ -90,5 +90,8 @@ fn test_scene_environment_reads() {
     assert_eq!(env.background_up, Some([0.804f32, 0.867, 0.916].map(f64::from)));
     assert_eq!(env.background_down, Some([0.05f32, 0.05, 0.1].map(f64::from)));
     assert_eq!(env.fog_color, Some([0.0; 3]));
-    assert_eq!((env.fog_enabled, env.fog, env.fog_end), (Some(false), Some((0, 0.0, 0.5)), Some(5.0)));
+    assert_eq!(
+        (env.fog_enabled, env.fog, env.fog_end),
+        (Some(false), Some((0, 0.0, 0.5)), Some(5.0))
+    );
 }

@@ -247,9 +247,15 @@ fn create_vision_sensor_refuses_what_it_cannot_do() {
     }
     let mut coloured = vision_args(2 | 128, [16, 16], 0.01, 1.0, 1.0);
     coloured[2] = Value::floats(&[0.01, 1.0, 1.0, 0.01, 0.01, 0.01, 0.5, 1.5, 0.5, 0.0, 0.0]);
-    assert_contains(err(&mut s, "createVisionSensor", &coloured), &["null-pixel colour", "0 to 1"]);
+    assert_contains(
+        err(&mut s, "createVisionSensor", &coloured),
+        &["null-pixel colour", "0 to 1"],
+    );
     coloured[2] = Value::floats(&[0.01, 1.0, 1.0, 0.01, 0.01, 0.01, 0.5]);
-    assert_contains(err(&mut s, "createVisionSensor", &coloured), &["option bit 7", "null-pixel colour"]);
+    assert_contains(
+        err(&mut s, "createVisionSensor", &coloured),
+        &["option bit 7", "null-pixel colour"],
+    );
     assert_eq!(s.world.handles().len(), n, "nothing created");
 }
 
@@ -257,9 +263,25 @@ fn create_vision_sensor_refuses_what_it_cannot_do() {
 /// nothing (the scenes have nothing above 1 m).
 fn sky_pixels(s: &mut Sim, options: i64, null_colour: [f64; 3]) -> Vec<[u8; 3]> {
     let mut args = vision_args(options, [8, 6], 0.01, 5.0, 1.0);
-    args[2] = Value::floats(&[0.01, 5.0, 1.0, 0.01, 0.01, 0.03, null_colour[0], null_colour[1], null_colour[2], 0.0, 0.0]);
+    args[2] = Value::floats(&[
+        0.01,
+        5.0,
+        1.0,
+        0.01,
+        0.01,
+        0.03,
+        null_colour[0],
+        null_colour[1],
+        null_colour[2],
+        0.0,
+        0.0,
+    ]);
     let cam = int(&ok(s, "createVisionSensor", &args)[0]);
-    ok(s, "setObjectPosition", &[h(cam), h(-1), Value::floats(&[0.0, 0.0, 3.0])]);
+    ok(
+        s,
+        "setObjectPosition",
+        &[h(cam), h(-1), Value::floats(&[0.0, 0.0, 3.0])],
+    );
     ok(s, "handleVisionSensor", &[h(cam)]);
     let (img, _) = util::image_reply(&ok(s, "getVisionSensorImg", &[h(cam)]));
     let mut distinct: Vec<[u8; 3]> = img.chunks(3).map(|p| [p[0], p[1], p[2]]).collect();
@@ -272,7 +294,11 @@ fn sky_pixels(s: &mut Sim, options: i64, null_colour: [f64; 3]) -> Vec<[u8; 3]> 
 fn created_vision_sensors_show_the_background_where_they_see_nothing() {
     // A scene without a background: black, unless the sensor asks for a colour (bit 7).
     let mut s = sim();
-    assert_eq!(sky_pixels(&mut s, 2, [0.2, 0.4, 0.6]), [[0, 0, 0]], "bit 7 unset: colour ignored");
+    assert_eq!(
+        sky_pixels(&mut s, 2, [0.2, 0.4, 0.6]),
+        [[0, 0, 0]],
+        "bit 7 unset: colour ignored"
+    );
     assert_eq!(sky_pixels(&mut s, 2 | 128, [0.2, 0.4, 0.6]), [[51, 102, 153]]);
     // A scene with one: its colour, unless the sensor asks for its own (black included).
     let mut s = util::text_scene(
@@ -690,7 +716,11 @@ fn pyrep_handle_explicitly_reads_blank_then_an_image() {
     for _ in 0..10 {
         s.step();
     }
-    let cam = int(&ok(&mut s, "createVisionSensor", &vision_args(2, [640, 480], 0.01, 10.0, 60f64.to_radians()))[0]);
+    let cam = int(&ok(
+        &mut s,
+        "createVisionSensor",
+        &vision_args(2, [640, 480], 0.01, 10.0, 60f64.to_radians()),
+    )[0]);
     assert_eq!(rgb_sum(&mut s, cam).0, 0, "blank image");
     ok(&mut s, "setExplicitHandling", &[h(cam), h(1)]);
     ok(&mut s, "handleVisionSensor", &[h(cam)]);
