@@ -14,8 +14,8 @@
 //! force sensors, scripts (main, child, customization; Lua or Python; the text decoded),
 //! the extension strings, collections, IK groups (not yet imported), lights (type, on/off,
 //! spot exponent and cutoff, attenuation, diffuse and specular colours: [`light`]), old
-//! path objects' control points and attributes ([`path`]), and the time step, engine,
-//! gravity and engine step.
+//! path objects' control points and attributes ([`path`]), the time step, engine,
+//! gravity and engine step, and the environment's colours and fog ([`Environment`]).
 //! What is not: textures, thumbnails, old collision/distance objects, custom data, graphs' streams,
 //! cameras' display settings, engine-specific joint and material arrays beyond Bullet
 //! friction and restitution. Unknown chunks are skipped whole; values that do not apply
@@ -71,7 +71,7 @@ pub use path::{OldPath, PathPoint};
 pub use pose::Pose;
 pub use script::{Script, ScriptLanguage, ScriptOrigin, ScriptType};
 pub use sensor::{ForceSensor, ProximitySensor, ProximityVolume, VisionSensor};
-pub use settings::{Engine, Settings};
+pub use settings::{Engine, Environment, Settings};
 pub use shape::{PrimitiveKind, Shape, ShapeLeaf};
 
 use chunk::{At, Chunk, Chunks, Item};
@@ -275,6 +275,7 @@ fn read_body(header: Header, body: &[u8]) -> Result<CoppeliaFile, ReadError> {
             b"LST" => list_scripts.push(script::read(&c, &top, ScriptOrigin::List)?),
             b"SIM" => settings::read_simulation(&c, &top, &mut file.settings)?,
             b"DYN" => settings::read_dynamics(&c, &top, &mut file.settings)?,
+            b"ENV" => settings::read_environment(&c, &top, &mut file.settings)?,
             b"GRP" => {
                 if file.collections.len() == MAX_COLLECTIONS {
                     return Err(ReadError::TooMany {

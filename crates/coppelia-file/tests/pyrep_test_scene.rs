@@ -80,3 +80,18 @@ fn test_scene_lights_and_old_path_read() {
     }
     assert!(close(o.local_pose.position[2], 0.55));
 }
+
+#[test]
+fn test_scene_environment_reads() {
+    let Some(bytes) = scene() else { return };
+    let env = read(&bytes).unwrap().settings.environment;
+    // CoppeliaSim 4.1's defaults, saved as f32: the grey-blue background gradient, and
+    // the black fog colour its vision sensors show where they see nothing.
+    assert_eq!(env.background_up, Some([0.804f32, 0.867, 0.916].map(f64::from)));
+    assert_eq!(env.background_down, Some([0.05f32, 0.05, 0.1].map(f64::from)));
+    assert_eq!(env.fog_color, Some([0.0; 3]));
+    assert_eq!(
+        (env.fog_enabled, env.fog, env.fog_end),
+        (Some(false), Some((0, 0.0, 0.5)), Some(5.0))
+    );
+}

@@ -246,6 +246,21 @@ fn every_shared_file_reads_and_makes_sense() {
                 "{name}: gravity {:?}",
                 st.gravity
             );
+            // Every public scene, 3.6 to 4.10, keeps CoppeliaSim's default environment:
+            // the light grey-blue background gradient, a black fog colour (what vision
+            // sensors show where they see nothing), fog off, a 0.4 grey ambient light.
+            // Models carry no environment.
+            let env = st.environment;
+            let f = |v: [f32; 3]| Some(v.map(f64::from));
+            assert_eq!(env.background_up, f([0.804, 0.867, 0.916]), "{name}");
+            assert_eq!(env.background_down, f([0.05, 0.05, 0.1]), "{name}");
+            assert_eq!(env.fog_color, Some([0.0; 3]), "{name}");
+            assert_eq!(env.ambient_light, f([0.4, 0.4, 0.4]), "{name}");
+            assert_eq!(env.fog_enabled, Some(false), "{name}");
+            assert_eq!(env.fog, Some((0, 0.0, 0.5)), "{name}");
+            assert_eq!(env.fog_end, Some(5.0), "{name}");
+        } else {
+            assert_eq!(file.settings.environment, Default::default(), "{name}");
         }
 
         println!(

@@ -500,6 +500,7 @@ fn everything() -> SceneModel {
                 ignore_rgb: false,
                 ignore_depth: true,
                 ros2_rate: Some(15.0),
+                background: Some([1.0, 0.5, 0.0]),
             }),
         ),
         object("fs", Some(0), Pose::identity(), ObjectModelKind::ForceSensor),
@@ -577,6 +578,7 @@ fn everything() -> SceneModel {
             solver_iterations: 3,
             gravity: [0.1, 0.0, -1.62],
             seed: -7,
+            background: Some([0.25, 0.5, 0.75]),
         },
         server: ServerSettings {
             bind: Some("127.0.0.1".into()),

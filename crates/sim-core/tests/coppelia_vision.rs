@@ -195,3 +195,17 @@ fn cameras_become_viewpoints_and_lights_lights() {
     let k = model.objects.iter().position(|o| o.alias == "DefaultCamera").unwrap();
     assert_eq!(sim.world.object(k as _).unwrap().kind.type_code(), 3);
 }
+
+#[test]
+fn imported_scenes_take_the_environment_colour_their_sensors_show() {
+    // CoppeliaSim's sensors clear to the environment's fog colour, black in every
+    // public scene (not the grey-blue gradient its views draw); models carry none.
+    let Some((scene, _)) = import("modulabs_c__vision_sensor.ttt") else {
+        return;
+    };
+    assert_eq!(scene.settings.background, Some([0.0; 3]));
+    let Some((model, _)) = import("PyRep__LineTracer.ttm") else {
+        return;
+    };
+    assert_eq!(model.settings.background, None);
+}

@@ -193,6 +193,9 @@ fn created_vision_sensor_has_its_settings_and_renders() {
     look_down(&mut s, cam, [0.3, 0.2, 2.0]);
     let (sum, pixels) = rgb_sum(&mut s, cam);
     assert_eq!(pixels, 64 * 48);
+    assert_eq!(sum, 0, "blank until handled or stepped, as CoppeliaSim's new sensor");
+    s.step();
+    let (sum, _) = rgb_sum(&mut s, cam);
     assert!(sum > 0, "the sensor sees the floor and the cube");
     // Orthographic: the third float is the ortho size.
     let ortho = int(&ok(&mut s, "createVisionSensor", &vision_args(0, [16, 16], 0.01, 3.0, 0.7))[0]);
@@ -243,9 +246,69 @@ fn create_vision_sensor_refuses_what_it_cannot_do() {
         assert_contains(&e, &["sim.createVisionSensor"]);
     }
     let mut coloured = vision_args(2 | 128, [16, 16], 0.01, 1.0, 1.0);
-    coloured[2] = Value::floats(&[0.01, 1.0, 1.0, 0.01, 0.01, 0.01, 0.5, 0.5, 0.5, 0.0, 0.0]);
-    assert_contains(err(&mut s, "createVisionSensor", &coloured), &["null-pixel colour"]);
+    coloured[2] = Value::floats(&[0.01, 1.0, 1.0, 0.01, 0.01, 0.01, 0.5, 1.5, 0.5, 0.0, 0.0]);
+    assert_contains(
+        err(&mut s, "createVisionSensor", &coloured),
+        &["null-pixel colour", "0 to 1"],
+    );
+    coloured[2] = Value::floats(&[0.01, 1.0, 1.0, 0.01, 0.01, 0.01, 0.5]);
+    assert_contains(
+        err(&mut s, "createVisionSensor", &coloured),
+        &["option bit 7", "null-pixel colour"],
+    );
     assert_eq!(s.world.handles().len(), n, "nothing created");
+}
+
+/// The distinct RGB pixels of a created sensor at `at` looking straight up, into
+/// nothing (the scenes have nothing above 1 m).
+fn sky_pixels(s: &mut Sim, options: i64, null_colour: [f64; 3]) -> Vec<[u8; 3]> {
+    let mut args = vision_args(options, [8, 6], 0.01, 5.0, 1.0);
+    args[2] = Value::floats(&[
+        0.01,
+        5.0,
+        1.0,
+        0.01,
+        0.01,
+        0.03,
+        null_colour[0],
+        null_colour[1],
+        null_colour[2],
+        0.0,
+        0.0,
+    ]);
+    let cam = int(&ok(s, "createVisionSensor", &args)[0]);
+    ok(
+        s,
+        "setObjectPosition",
+        &[h(cam), h(-1), Value::floats(&[0.0, 0.0, 3.0])],
+    );
+    ok(s, "handleVisionSensor", &[h(cam)]);
+    let (img, _) = util::image_reply(&ok(s, "getVisionSensorImg", &[h(cam)]));
+    let mut distinct: Vec<[u8; 3]> = img.chunks(3).map(|p| [p[0], p[1], p[2]]).collect();
+    distinct.sort_unstable();
+    distinct.dedup();
+    distinct
+}
+
+#[test]
+fn created_vision_sensors_show_the_background_where_they_see_nothing() {
+    // A scene without a background: black, unless the sensor asks for a colour (bit 7).
+    let mut s = sim();
+    assert_eq!(
+        sky_pixels(&mut s, 2, [0.2, 0.4, 0.6]),
+        [[0, 0, 0]],
+        "bit 7 unset: colour ignored"
+    );
+    assert_eq!(sky_pixels(&mut s, 2 | 128, [0.2, 0.4, 0.6]), [[51, 102, 153]]);
+    // A scene with one: its colour, unless the sensor asks for its own (black included).
+    let mut s = util::text_scene(
+        "tests/pyrep_objects.toml",
+        &SCENE.replace("substeps = 10\n", "substeps = 10\nbackground = [1, 0.8, 0.2]\n"),
+    );
+    assert_eq!(s.world.settings().background, Some([1.0, 0.8, 0.2]));
+    assert_eq!(sky_pixels(&mut s, 2, [0.0; 3]), [[255, 204, 51]]);
+    assert_eq!(sky_pixels(&mut s, 2 | 128, [0.0; 3]), [[0, 0, 0]]);
+    assert_eq!(sky_pixels(&mut s, 2 | 128, [0.2, 0.4, 0.6]), [[51, 102, 153]]);
 }
 
 #[test]
@@ -638,4 +701,28 @@ fn joint_interval_limits_a_simulated_joint_at_once() {
     step(&mut s, 20);
     let q = num(&ok(&mut s, "getJointPosition", &[h(hinge)])[0]);
     assert!(q >= lo - 0.02 && q <= hi + 0.02, "held in [{lo}, {hi}]: {q}");
+}
+
+/// PyRep's `test_vision_sensors.py::test_handle_explicitly` on its `test_scene.ttt`
+/// (after the ten steps of its `setUp`): a new 640 x 480 sensor at the origin reads
+/// blank, then, explicitly handled, sees something (the Panda's base it sits in).
+#[test]
+fn pyrep_handle_explicitly_reads_blank_then_an_image() {
+    let path = gantry_test_support::pyrep_assets().join("test_scene.ttt");
+    let model = gantry_sim_core::scene::load_coppelia_file(&gantry_sim_core::scene::DiskFiles, &path)
+        .expect("test_scene.ttt imports");
+    assert_eq!(model.settings.background, Some([0.0; 3]), "the scene's fog colour");
+    let mut s = Sim::new(&model);
+    for _ in 0..10 {
+        s.step();
+    }
+    let cam = int(&ok(
+        &mut s,
+        "createVisionSensor",
+        &vision_args(2, [640, 480], 0.01, 10.0, 60f64.to_radians()),
+    )[0]);
+    assert_eq!(rgb_sum(&mut s, cam).0, 0, "blank image");
+    ok(&mut s, "setExplicitHandling", &[h(cam), h(1)]);
+    ok(&mut s, "handleVisionSensor", &[h(cam)]);
+    assert_ne!(rgb_sum(&mut s, cam).0, 0, "non-blank image");
 }

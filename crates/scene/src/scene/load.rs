@@ -343,6 +343,15 @@ impl Resolver<'_> {
                 }
                 s.gravity = g;
             }
+            if let Some(c) = sim.background {
+                if !c.iter().all(|v| (0.0..=1.0).contains(v)) {
+                    return self.err_at(
+                        self.find_key("background"),
+                        format!("background = {c:?}: colour components must be from 0 to 1"),
+                    );
+                }
+                s.background = Some(c);
+            }
         }
         Ok(s)
     }
@@ -1115,6 +1124,15 @@ impl Resolver<'_> {
                 ),
             );
         }
+        if o.background.is_some_and(|c| !c.iter().all(|v| (0.0..=1.0).contains(v))) {
+            return self.err_at(
+                o.name.span(),
+                format!(
+                    "vision sensor '{}': background colour components must be from 0 to 1",
+                    o.name.get_ref()
+                ),
+            );
+        }
         let fov = o.fov_deg.unwrap_or(60.0);
         let ortho_size = o.ortho_size.unwrap_or(1.0);
         let near = o.near.unwrap_or(0.01);
@@ -1146,6 +1164,7 @@ impl Resolver<'_> {
             ignore_rgb: o.ignore_rgb.unwrap_or(false),
             ignore_depth: o.ignore_depth.unwrap_or(false),
             ros2_rate: o.ros2_rate,
+            background: o.background,
         })
     }
 

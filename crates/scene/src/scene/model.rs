@@ -233,6 +233,11 @@ pub struct SimSettings {
     /// script and `sim.getFloatParam(sim.floatparam_rand)`. One seed gives one
     /// sequence, so that runs repeat (Lua would otherwise seed from the clock).
     pub seed: i64,
+    /// RGB colour (0..1) a vision sensor's image shows where the sensor sees nothing
+    /// (CoppeliaSim's environment colour its vision sensors clear to, the "fog
+    /// background"; a sensor may ask for its own, [`VisionModel::background`]). `None`
+    /// shows black, as a scene that sets none always did.
+    pub background: Option<[f64; 3]>,
 }
 
 impl Default for SimSettings {
@@ -245,6 +250,7 @@ impl Default for SimSettings {
             solver_iterations: 1,
             gravity: [0.0, 0.0, -9.81],
             seed: 0,
+            background: None,
         }
     }
 }
@@ -690,6 +696,10 @@ pub struct VisionModel {
     /// Images per simulated second on the ROS 2 graph (`gantry run --ros2`): `None`
     /// takes the run's default (`--ros2-camera-rate`), 0 publishes none.
     pub ros2_rate: Option<f64>,
+    /// RGB colour (0..1) the image shows where the sensor sees nothing: CoppeliaSim's
+    /// null-pixel colour (`sim.createVisionSensor` option bit 7). `None` takes the
+    /// scene's, [`SimSettings::background`]. The colour-coded render mode keeps white.
+    pub background: Option<[f64; 3]>,
 }
 
 /// A CoppeliaSim camera: a viewpoint the viewer can look through. It looks along its

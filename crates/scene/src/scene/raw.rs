@@ -55,6 +55,8 @@ pub struct RawSimulation {
     pub gravity: Option<[f64; 3]>,
     /// The seed of the scripts' and the simulator's pseudo-random numbers (default 0).
     pub seed: Option<i64>,
+    /// RGB colour (0..1) vision sensors show where they see nothing (default black).
+    pub background: Option<[f64; 3]>,
 }
 
 /// `[floor]`.
@@ -220,6 +222,8 @@ pub struct RawObject {
     pub ignore_depth: Option<bool>,
     /// Vision sensor: images per simulated second on the ROS 2 graph (default: the run's).
     pub ros2_rate: Option<f64>,
+    /// Vision sensor: RGB colour (0..1) where it sees nothing (default: the scene's).
+    pub background: Option<[f64; 3]>,
 
     /// Light: `omnidirectional`, `spot` or `directional`. It shines along its local +Z
     /// axis (spot, directional).
@@ -424,6 +428,7 @@ const SIMULATION_KEYS: &[&str] = &[
     "solver_iterations",
     "gravity",
     "seed",
+    "background",
 ];
 const FLOOR_KEYS: &[&str] = &["size", "friction", "color"];
 const SERVER_KEYS: &[&str] = &["bind", "text_port", "zmq_port", "http_port"];
@@ -492,6 +497,7 @@ const OBJECT_KEYS: &[&str] = &[
     "ignore_rgb",
     "ignore_depth",
     "ros2_rate",
+    "background",
     "light",
     "on",
     "diffuse",

@@ -210,6 +210,9 @@ impl Writer {
         if s.seed != 0 {
             let _ = writeln!(self.out, "seed = {}", s.seed);
         }
+        if let Some(c) = s.background {
+            self.key3("background", c)?;
+        }
         let srv = &model.server;
         if srv.bind.is_some() || srv.text_port.is_some() || srv.zmq_port.is_some() || srv.http_port.is_some() {
             self.out.push_str("\n[server]\n");
@@ -414,6 +417,9 @@ impl Writer {
         }
         if let Some(r) = v.ros2_rate {
             self.key("ros2_rate", r)?;
+        }
+        if let Some(c) = v.background {
+            self.key3("background", c)?;
         }
         Ok(())
     }
@@ -774,6 +780,47 @@ mod tests {
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
         }
+    }
+
+    #[test]
+    fn the_vision_background_round_trips_and_stays_unset_when_unset() {
+        let read = |text: &str| {
+            crate::scene::load_scene_text(
+                &crate::scene::MapFiles::default(),
+                text,
+                std::path::Path::new("s.toml"),
+                &crate::scene::LoadOptions::default(),
+            )
+            .expect("loads")
+        };
+        let text = |model: &SceneModel| {
+            let files = write_scene(model, "s", "s.toml").expect("writes");
+            String::from_utf8(files.files[0].1.clone()).expect("utf-8")
+        };
+        // Unset: no key written, none read back (black, as before).
+        let plain = scene(Vec::new());
+        assert!(!text(&plain).contains("background"), "{}", text(&plain));
+        assert_eq!(read(&text(&plain)).settings.background, None);
+        // Set: written under [simulation] and read back exactly.
+        let mut grey = scene(Vec::new());
+        grey.settings.background = Some([0.804f32, 0.867, 0.916].map(f64::from));
+        let written = text(&grey);
+        assert!(written.contains("\nbackground = ["), "{written}");
+        assert_eq!(read(&written).settings.background, grey.settings.background);
+        // Out of range is an error naming the key.
+        let bad = read_err("[simulation]\nbackground = [0.5, 1.5, 0]\n");
+        assert!(bad.contains("background"), "{bad}");
+    }
+
+    fn read_err(text: &str) -> String {
+        crate::scene::load_scene_text(
+            &crate::scene::MapFiles::default(),
+            text,
+            std::path::Path::new("s.toml"),
+            &crate::scene::LoadOptions::default(),
+        )
+        .expect_err("refused")
+        .to_string()
     }
 
     #[test]

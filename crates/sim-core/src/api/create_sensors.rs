@@ -1,7 +1,8 @@
 //! `sim.createVisionSensor`, `sim.createForceSensor`: sensors made at run time, with
 //! CoppeliaSim 4.1's argument lists (PyRep's `VisionSensor.create`, `ForceSensor.create`).
 //! Each is created at the world origin, as a root, and works as one loaded with the
-//! scene: a vision sensor renders when read or handled, a force sensor measures what
+//! scene: a vision sensor renders when read or handled (its image is blank until it is
+//! handled or the simulation steps, as CoppeliaSim's), a force sensor measures what
 //! hangs from it once an object is parented to it.
 //!
 //! Options gantry cannot honour are refused with the reason instead of being dropped
@@ -55,10 +56,11 @@ fn leading(a: &Args<'_>, i: usize, n: usize, what: &str) -> Result<Vec<f64>, Sim
 /// clipping distances (m), the view angle (rad, perspective) or ortho size (m), the
 /// sensor's drawn size x, y, z, the null-pixel colour r, g, b, then 2 reserved.
 /// Options: bit 0 explicit handling (the sensor renders only when handled), bit 1
-/// perspective (else orthographic); bits 2, 3 (volume display), 5 (local lights) and 6
-/// (fog) only change CoppeliaSim's drawing and are accepted. Refused: bit 4 (a passive
-/// sensor fed external images) and bit 7 with a null-pixel colour other than black
-/// (gantry's pixels that see nothing are black).
+/// perspective (else orthographic), bit 7 the null-pixel colour: what the image shows
+/// where the sensor sees nothing (without it, the scene's background,
+/// `[simulation] background`, as CoppeliaSim's sensors show its environment colour);
+/// bits 2, 3 (volume display), 5 (local lights) and 6 (fog) only change CoppeliaSim's
+/// drawing and are accepted. Refused: bit 4 (a passive sensor fed external images).
 fn create_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let options = a.int(0)?;
     let ints = leading(a, 1, 2, "resolution x and y")?;
@@ -71,12 +73,23 @@ fn create_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Res
             "option bit 4 (a passive vision sensor fed external images) is not supported: create an ordinary sensor and write its image with sim.setVisionSensorImg",
         ));
     }
-    let null_color = floats.get(6..9).unwrap_or(&[]);
-    if options & VISION_NULL_PIXEL_COLOR != 0 && null_color.iter().any(|&c| c != 0.0) {
-        return Err(SimError::refused(format!(
-            "option bit 7 with null-pixel colour {null_color:?} is not supported: gantry's vision sensors show black where they see nothing"
-        )));
-    }
+    let background = if options & VISION_NULL_PIXEL_COLOR != 0 {
+        match floats.get(6..9) {
+            Some(&[r, g, b]) if [r, g, b].iter().all(|c| (0.0..=1.0).contains(c)) => Some([r, g, b]),
+            Some(c) => {
+                return Err(SimError::bad_argument(format!(
+                    "argument 3: null-pixel colour {c:?} (option bit 7) must have components from 0 to 1"
+                )));
+            }
+            None => {
+                return Err(SimError::bad_argument(
+                    "argument 3: option bit 7 needs the null-pixel colour r, g, b at positions 7 to 9",
+                ));
+            }
+        }
+    } else {
+        None
+    };
     let dim = |k: usize| -> Result<u32, SimError> {
         let v = ints[k];
         if v.fract() != 0.0 || !(1.0..=f64::from(crate::scene::MAX_VISION_RESOLUTION)).contains(&v) {
@@ -105,6 +118,7 @@ fn create_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Res
         ignore_rgb: false,
         ignore_depth: false,
         ros2_rate: None,
+        background,
     };
     let model = if perspective {
         VisionModel {
@@ -123,6 +137,10 @@ fn create_vision_sensor(sim: &mut Sim, _: &CallContext<'_>, a: &Args<'_>) -> Res
     if options & VISION_EXPLICIT != 0 {
         crate::vision::set_explicit(&sim.world, &mut sim.vision, h, true)?;
     }
+    // Until it is first handled (by the next step, or explicitly), CoppeliaSim's new
+    // sensor holds its cleared image: its blank image counts as this step's, so that
+    // readers get it rather than a render (PyRep's tests read a blank image first).
+    crate::vision::write(&sim.world, &mut sim.vision, h)?;
     Ok(vec![Value::Int(h)])
 }
 

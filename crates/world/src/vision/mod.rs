@@ -12,7 +12,12 @@
 //! Shading: a pixel shows `colour * min(1, 0.3 + 0.45 |n·z_sensor| + 0.35 max(0, n·z_world))`,
 //! that is, ambient light, a headlight along the viewing axis, and a light from
 //! straight above, with normals interpolated over curved surfaces (Gouraud). Pixels
-//! that see nothing between the clipping planes are **black** (RGB 0, 0, 0).
+//! that see nothing between the clipping planes show the **background**: the sensor's
+//! own colour ([`VisionModel::background`], CoppeliaSim's null-pixel colour), else the
+//! scene's ([`SimSettings::background`](crate::scene::SimSettings::background),
+//! CoppeliaSim's environment colour its sensors clear to), else black. Their depth is
+//! 1 (the far plane), and a colour-coded image shows white there. A sensor's image is
+//! black before its first render.
 //!
 //! # Image layout
 //! Images are stored and exchanged as CoppeliaSim does: row-major, **bottom row first**
@@ -314,7 +319,10 @@ impl VisionStates {
         let mut jobs = Vec::new();
         let mut outcomes: Vec<Result<(), SimError>> = Vec::with_capacity(handles.len());
         for &h in handles {
-            let prepared = sensor_model(world, h).and_then(|(model, pose)| Ok((camera(h, model)?, model, pose)));
+            let prepared = sensor_model(world, h).and_then(|(model, pose)| {
+                let cam = camera(h, model)?.with_scene_background(model, world.settings().background);
+                Ok((cam, model, pose))
+            });
             match prepared {
                 Ok((cam, model, pose)) => {
                     let mut s = sensors.remove(&h).unwrap_or_else(|| SensorImage::new(model.resolution));

@@ -50,7 +50,8 @@ pub(crate) const HEADLIGHT: f32 = 0.45;
 /// Weight of a directional light straight down the world's -Z axis, so that floors,
 /// which the headlight grazes, are still lit.
 pub(crate) const TOPLIGHT: f32 = 0.35;
-/// Colour of pixels that see nothing between the clipping planes (RGB, 0..1).
+/// Colour of pixels that see nothing between the clipping planes (RGB, 0..1) when
+/// neither the sensor nor the scene sets one ([`Camera::background`]).
 pub(crate) const BACKGROUND: [f32; 3] = [0.0, 0.0, 0.0];
 /// Colour of pixels that see nothing in a colour-coded image: white, as CoppeliaSim
 /// clears it, which no handle below 2^24 - 1 can be mistaken for.
@@ -86,6 +87,10 @@ pub(crate) struct Camera {
     pub colour: ColourWork,
     /// Whether the normalised depth image is written.
     pub depth: bool,
+    /// What a shaded image shows where nothing is seen, packed as [`pack`] does: the
+    /// sensor's colour, else the scene's ([`Camera::with_scene_background`]), else
+    /// [`BACKGROUND`].
+    pub background: u32,
 }
 
 /// What a render does with colour (from the model's render mode and `ignore_rgb`).
@@ -149,7 +154,20 @@ impl Camera {
             far: m.far as f32,
             colour,
             depth: !m.ignore_depth,
+            background: pack_colour(m.background.map_or(BACKGROUND, |c| c.map(|v| v as f32))),
         })
+    }
+
+    /// The camera with the scene's background where its sensor sets none (`None`:
+    /// black).
+    pub fn with_scene_background(self, m: &VisionModel, scene: Option<[f64; 3]>) -> Camera {
+        match (m.background, scene) {
+            (None, Some(c)) => Camera {
+                background: pack_colour(c.map(|v| v as f32)),
+                ..self
+            },
+            _ => self,
+        }
     }
 
     /// Signed distance-like value of `p` to frustum plane `k` (>= 0 inside):
@@ -335,7 +353,7 @@ impl FrameBuffers {
         self.zbuf.resize(n + CHUNK - 1, f32::INFINITY);
         self.color.clear();
         if cam.colour == ColourWork::Shaded {
-            self.color.resize(n + CHUNK - 1, pack(BACKGROUND.map(to_byte)));
+            self.color.resize(n + CHUNK - 1, cam.background);
         }
         self.ids.clear();
         if with_ids(cam, mask) {
@@ -520,6 +538,11 @@ pub(crate) fn finish(cam: &Camera, buffers: &mut FrameBuffers, frame: Frame<'_>)
         frame.rgb,
         cam.depth.then_some(frame.depth),
     )
+}
+
+/// An RGB colour (0..1, clamped) as one `0x00BBGGRR` word.
+fn pack_colour(c: [f32; 3]) -> u32 {
+    pack(c.map(|v| to_byte(v.clamp(0.0, 1.0))))
 }
 
 /// `[r, g, b]` bytes as one `0x00BBGGRR` word.
@@ -1076,6 +1099,7 @@ mod tests {
             ignore_rgb: false,
             ignore_depth: false,
             ros2_rate: None,
+            background: None,
         }
     }
 

@@ -1,7 +1,8 @@
 //! The renderer's contracts that span its files: culling (per visual and per mesh
-//! chunk, against the sampled frustum) never changes a bit of an image, and sensors
+//! chunk, against the sampled frustum) never changes a bit of an image, sensors
 //! drawn on several threads, whole or in bands of rows, give the bits they give one
-//! after the other.
+//! after the other, and pixels that see nothing show the sensor's or the scene's
+//! background.
 
 use std::path::PathBuf;
 
@@ -444,4 +445,63 @@ fn culling_the_back_faces_of_closed_meshes_changes_only_silhouette_pixels() {
     assert!(compared > 100_000, "{compared} pixels compared");
     // Ties at silhouettes are rare.
     assert!(differing * 1000 <= compared, "{differing} of {compared} pixels differ");
+}
+
+/// A sensor at the origin looking up (+Z) at a small box 1 m above, so most of its
+/// pixels see nothing; `simulation` and `sensor_keys` are extra lines for the scene's
+/// `[simulation]` table and the sensor's object. The sensor's RGB bytes, depth bits and
+/// colour-coded image (of a twin sensor), after one handling each.
+fn looking_up(simulation: &str, sensor_keys: &str) -> (Vec<u8>, Vec<u32>, Vec<u8>) {
+    let text = format!(
+        "[simulation]\ndt = 0.05\n{simulation}\n\n\
+         [[object]]\nname = \"box\"\nkind = \"shape\"\nshape = \"box\"\nsize = [0.2, 0.2, 0.2]\n\
+         position = [0, 0, 1]\ncolor = [0.9, 0.1, 0.1]\n\n\
+         [[object]]\nname = \"eye\"\nkind = \"vision_sensor\"\nresolution = [32, 24]\nfov_deg = 60\n\
+         near = 0.01\nfar = 5\n{sensor_keys}\n\n\
+         [[object]]\nname = \"coded\"\nkind = \"vision_sensor\"\nresolution = [32, 24]\nfov_deg = 60\n\
+         near = 0.01\nfar = 5\nrender_mode = \"color_coded\"\n{sensor_keys}\n"
+    );
+    let path = PathBuf::from("/background-test/scene.toml");
+    let files = MapFiles::new([(path.clone(), text.into_bytes())]);
+    let model = load_scene(&files, &path, &LoadOptions::default()).expect("test scene loads");
+    let w = Sim::new(&model);
+    let mut states = VisionStates::default();
+    let (eye, coded) = (sensor(&w, "eye"), sensor(&w, "coded"));
+    handle_vision_sensor(&w.world, &mut states, eye).expect("renders");
+    handle_vision_sensor(&w.world, &mut states, coded).expect("renders");
+    let (rgb, depth) = image(&states, eye);
+    (rgb, depth, image(&states, coded).0)
+}
+
+#[test]
+fn pixels_that_see_nothing_show_the_background() {
+    let pixels = |rgb: &[u8]| rgb.chunks(3).map(|p| [p[0], p[1], p[2]]).collect::<Vec<_>>();
+    // No background anywhere: black where nothing is seen, as before.
+    let (black_rgb, black_depth, black_coded) = looking_up("", "");
+    let nothing: Vec<bool> = black_depth.iter().map(|&d| f32::from_bits(d) == 1.0).collect();
+    let seen = nothing.iter().filter(|n| !**n).count();
+    assert!(seen > 0 && seen < nothing.len() / 2, "the box covers {seen} pixels");
+    for (p, n) in pixels(&black_rgb).iter().zip(&nothing) {
+        assert_eq!(*p == [0, 0, 0], *n, "{p:?}");
+    }
+
+    // The scene's background fills exactly the pixels that see nothing; the box's
+    // pixels, the depth image and the colour-coded image do not change.
+    let (rgb, depth, coded) = looking_up("background = [0.2, 0.4, 0.6]", "");
+    assert_eq!(depth, black_depth);
+    assert_eq!(coded, black_coded);
+    for ((p, b), n) in pixels(&rgb).iter().zip(pixels(&black_rgb)).zip(&nothing) {
+        assert_eq!(*p, if *n { [51, 102, 153] } else { b });
+    }
+    // Colour-coded images stay white where nothing is seen.
+    for (p, n) in pixels(&coded).iter().zip(&nothing) {
+        assert_eq!(*p == [255, 255, 255], *n, "{p:?}");
+    }
+
+    // A sensor's own colour wins over the scene's.
+    let (rgb, depth, _) = looking_up("background = [0.2, 0.4, 0.6]", "background = [1, 1, 0]");
+    assert_eq!(depth, black_depth);
+    for ((p, b), n) in pixels(&rgb).iter().zip(pixels(&black_rgb)).zip(&nothing) {
+        assert_eq!(*p, if *n { [255, 255, 0] } else { b });
+    }
 }

@@ -25,6 +25,7 @@
 //! | collections (`GRP`) | [`CollectionModel`] (`sim.getCollectionHandle`) |
 //! | IK groups (`IKO`, 4.0-4.2 built-in kinematics) | [`IkGroupModel`] (`sim.getIkGroupHandle`); see `convert_ik_groups` |
 //! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
+//! | environment fog colour (`ENV`), what vision sensors show where they see nothing | [`SimSettings::background`] |
 //!
 //! Joint motors keep CoppeliaSim's targets, limits and maximum forces. Position
 //! control is made as stiff as CoppeliaSim's (gains scaled by the maximum force, see
@@ -434,6 +435,8 @@ fn convert_vision(v: &cf::VisionSensor) -> Result<VisionModel, String> {
         ignore_rgb: false,
         ignore_depth: false,
         ros2_rate: None,
+        // CoppeliaSim's null-pixel colour is not read from files: the scene's applies.
+        background: None,
     })
 }
 
@@ -1093,7 +1096,8 @@ fn convert_scripts(
     out
 }
 
-/// `dt`, gravity and substeps; CoppeliaSim's defaults where the file says nothing.
+/// `dt`, gravity, substeps and the vision sensors' background; CoppeliaSim's defaults
+/// where the file says nothing.
 fn convert_settings(s: &cf::Settings, warnings: &mut Vec<String>) -> SimSettings {
     let mut out = SimSettings {
         solver_iterations: COPPELIA_SOLVER_ITERATIONS,
@@ -1108,6 +1112,13 @@ fn convert_settings(s: &cf::Settings, warnings: &mut Vec<String>) -> SimSettings
     if let Some(step) = s.engine_step.filter(|st| st.is_finite() && *st > 0.0) {
         out.substeps = (out.dt / step).round().clamp(1.0, 1000.0) as u32;
     }
+    // What CoppeliaSim's vision sensors show where they see nothing: the environment's
+    // fog colour (not the background gradient its views draw).
+    out.background = s
+        .environment
+        .fog_color
+        .filter(|c| c.iter().all(|v| v.is_finite()))
+        .map(|c| c.map(|v| v.clamp(0.0, 1.0)));
     if let Some(engine) = s.engine.filter(|e| *e != cf::Engine::Bullet) {
         warnings.push(format!(
             "the scene was set up for {engine:?}; gantry simulates with rapier"
@@ -1208,9 +1219,16 @@ mod tests {
             engine: Some(cf::Engine::Ode),
             gravity: Some([0.0, 0.0, -9.81]),
             engine_step: Some(0.005),
+            environment: cf::Environment {
+                fog_color: Some([0.25, 0.5, 1.5]),
+                background_up: Some([0.8, 0.8, 0.9]),
+                ..Default::default()
+            },
         };
         let out = convert_settings(&s, &mut w);
         assert_eq!((out.dt, out.substeps, out.gravity), (0.05, 10, [0.0, 0.0, -9.81]));
+        // The sensors' background is the fog colour (clamped), not the views' gradient.
+        assert_eq!(out.background, Some([0.25, 0.5, 1.0]));
         assert_eq!(w.len(), 1);
         assert_eq!(
             convert_settings(&cf::Settings::default(), &mut w),
