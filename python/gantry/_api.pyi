@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 305 functions, 285 constants."""
+    """`sim`: 338 functions, 315 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -14,6 +14,9 @@ class Sim:
     boolparam_proximity_sensor_handling_enabled: int
     boolparam_realtime_simulation: int
     boolparam_vision_sensor_handling_enabled: int
+    bullet_body_friction: int
+    bullet_body_oldfriction: int
+    bullet_body_restitution: int
     colorcomponent_ambient: int
     colorcomponent_ambient_diffuse: int
     colorcomponent_auxiliary: int
@@ -134,6 +137,15 @@ class Sim:
     jointmode_ik: int
     jointmode_kinematic: int
     jointmode_passive: int
+    light_directional_subtype: int
+    light_omnidirectional_subtype: int
+    light_spot_subtype: int
+    lightfloatparam_const_attenuation: int
+    lightfloatparam_lin_attenuation: int
+    lightfloatparam_quad_attenuation: int
+    lightfloatparam_spot_cutoff: int
+    lightfloatparam_spot_exponent: int
+    lightintparam_pov_casts_shadows: int
     message_keypress: int
     modelproperty_not_collidable: int
     modelproperty_not_cuttable: int
@@ -160,11 +172,16 @@ class Sim:
     msgbox_type_info: int
     msgbox_type_question: int
     msgbox_type_warning: int
+    newton_body_kineticfriction: int
+    newton_body_restitution: int
+    newton_body_staticfriction: int
     object_camera_type: int
     object_dummy_type: int
     object_forcesensor_type: int
     object_graph_type: int
     object_joint_type: int
+    object_light_type: int
+    object_path_type: int
     object_pointcloud_type: int
     object_proximitysensor_type: int
     object_shape_type: int
@@ -195,6 +212,12 @@ class Sim:
     objfloatparam_abs_x_velocity: int
     objfloatparam_abs_y_velocity: int
     objfloatparam_abs_z_velocity: int
+    objfloatparam_modelbbox_max_x: int
+    objfloatparam_modelbbox_max_y: int
+    objfloatparam_modelbbox_max_z: int
+    objfloatparam_modelbbox_min_x: int
+    objfloatparam_modelbbox_min_y: int
+    objfloatparam_modelbbox_min_z: int
     objfloatparam_objbbox_max_x: int
     objfloatparam_objbbox_max_y: int
     objfloatparam_objbbox_max_z: int
@@ -202,6 +225,8 @@ class Sim:
     objfloatparam_objbbox_min_y: int
     objfloatparam_objbbox_min_z: int
     objintparam_visibility_layer: int
+    objstringparam_unique_id: int
+    ode_body_friction: int
     particle_cyclic: int
     particle_emissioncolor: int
     particle_ignoresgravity: int
@@ -265,6 +290,10 @@ class Sim:
     stringparam_scene_path_and_name: int
     stringparam_scenedefaultdir: int
     stringparam_tempdir: int
+    texturemap_cube: int
+    texturemap_cylinder: int
+    texturemap_plane: int
+    texturemap_sphere: int
     verbosity_debug: int
     verbosity_errors: int
     verbosity_infos: int
@@ -293,6 +322,7 @@ class Sim:
     volume_disc: int
     volume_pyramid: int
     volume_ray: int
+    vortex_body_restitution: int
     def getScriptFunctions(self, scriptHandle: int) -> Any: ...
     def copyTable(self, table: Any) -> Any: ...
     def acquireLock(self, *args: Any) -> Any:
@@ -319,6 +349,8 @@ class Sim:
     def alphaBetaGammaToYawPitchRoll(self, *args: Any) -> Any: ...
     def announceSceneContentChange(self, *args: Any) -> Any:
         """does nothing (gantry has no scene editor and no undo) and returns 1."""
+    def applyTexture(self, *args: Any) -> Any:
+        """returns the new texture's id; coordinates are u, v per triangle corner of `sim.getShapeMesh`; kept and read back but not drawn yet."""
     def auxiliaryConsoleClose(self, *args: Any) -> Any: ...
     def auxiliaryConsoleOpen(self, *args: Any) -> Any:
         """the console is a source in the log named "console: TITLE"; position, size and colours are ignored."""
@@ -339,30 +371,43 @@ class Sim:
         """gantry's, not CoppeliaSim's: `distances, handles = sim.castRays(frameHandle, directions, maxDistance [, ignoredTree = -1 [, options = 0]])` casts one ray per direction from the origin of `frameHandle` against the scene's collision geometry (rapier's colliders: true cylinders and spheres, not their tessellation). `directions` are x, y, z per ray in the frame object's coordinates, as a flat table or packed floats (`sim.packFloatTable`); each may have any length but zero (they are normalised). Each ray gives its distance in metres to the first hit within `maxDistance` and the shape hit, or `-1` and `-1` for no hit. A ray starting inside a shape hits it at 0: pass the scanner's model base as `ignoredTree` and the rays pass through that object and everything below it. Options bit 0: only shapes marked detectable (the floor is not); bit 1: results packed (`sim.unpackFloatTable`, `sim.unpackInt32Table`), which with packed directions makes a 3-D scan of 28,800 rays 40 % cheaper. Deterministic; no rendering, so a 360-ray 2-D scan costs about 0.04 ms (docs/performance.md, "Laser scanners")."""
     def checkCollision(self, *args: Any) -> Any: ...
     def checkDistance(self, *args: Any) -> Any: ...
+    def checkIkGroup(self, *args: Any) -> Any:
+        """solves as `sim.handleIkGroup` does and leaves the scene unchanged; a joint of `jointHandles` outside the group's chains gets its current value; joint options are accepted and not used."""
     def checkProximitySensor(self, *args: Any) -> Any:
         """returns all five values even when nothing is detected (0, 0, zeros, -1, zeros); the sensor's stored reading is not changed; other objects do not hide the entity; a named shape is detected even if not marked detectable; the sensor's own body is never detected."""
+    def clearDoubleSignal(self, *args: Any) -> Any: ...
     def clearFloatSignal(self, *args: Any) -> Any: ...
     def clearInt32Signal(self, *args: Any) -> Any: ...
     def clearIntegerSignal(self, *args: Any) -> Any: ...
     def clearStringSignal(self, *args: Any) -> Any: ...
     def closeScene(self, *args: Any) -> Any:
         """replaces the scene with an empty one (no floor, no objects). Remote clients only."""
+    def computeMassAndInertia(self, *args: Any) -> Any:
+        """a mesh counts as its convex hull (CoppeliaSim refuses non-convex shapes with 0), so it always returns 1; restarts the shape's dynamics."""
+    def convexDecompose(self, *args: Any) -> Any:
+        """V-HACD with parry's default parameters; HACD and CoppeliaSim's V-HACD parameters are read and not used. The new shape is static and non-respondable; with the morph bit the shape's collision parts are replaced and its visuals kept."""
     def copyMatrix(self, *args: Any) -> Any: ...
     def copyPasteObjects(self, *args: Any) -> Any:
         """a copy goes to the root unless its parent was copied too; scripts are not copied."""
     def createCollection(self, *args: Any) -> Any:
         """V-REP 3's `sim.createCollection(name, options)` is accepted beside the 4.x `sim.createCollection(options)`; names are unique among live collections. `options` is accepted and ignored."""
     def createDummy(self, *args: Any) -> Any: ...
+    def createForceSensor(self, *args: Any) -> Any:
+        """CoppeliaSim 4.1's arguments; the sensor is a root at the origin named `Force_sensor` and measures once a body hangs from it; thresholds (options bits 0, 1) and filters over more than one sample are refused (gantry's force sensors never break and report each step's reading)."""
     def createMeshShape(self, *args: Any) -> Any:
         """the mesh is one shape, static and not respondable like CoppeliaSim's; culling, edges and the shading angle only change CoppeliaSim's drawing and are ignored; at most 1,000,000 vertices."""
     def createPath(self, *args: Any) -> Any:
-        """the 4.3+ form makes a dummy whose points (7 values each, in its frame) are also its custom data blocks `PATHCTRLPTS` and `PATH`; without smoothness the points are the control points, with one the `subdiv` points are resampled along the corners rounded as `quadraticBezier` of that strength; options bit 2 closes the path, the display and shape bits are ignored; orientation modes 1-6 put x, x, y, y, z, z along the path with y, z, x, z, x, y up. The V-REP 3 form (a number first) makes an empty path for `sim.insertPathCtrlPoints`. Copies of a path object are plain dummies."""
+        """the 4.3+ form makes a dummy whose points (7 values each, in its frame) are also its custom data blocks `PATHCTRLPTS` and `PATH`; without smoothness the points are the control points, with one the `subdiv` points are resampled along the corners rounded as `quadraticBezier` of that strength; options bit 2 closes the path, the display and shape bits are ignored; orientation modes 1-6 put x, x, y, y, z, z along the path with y, z, x, z, x, y up. The V-REP 3 form (a number first) makes an empty old path object (`sim.object_path_type`) for `sim.insertPathCtrlPoints`, as do a 4.1 scene's `PAT` paths and `kind = "path"` in a TOML scene. Copies of a path object have no curve."""
     def createPointCloud(self, *args: Any) -> Any:
         """the cloud is a scene object (`sim.object_pointcloud_type`, 16) at the world origin, alias `PointCloud`, with white points. As in CoppeliaSim, sizes are clamped (voxel 0.001-1 m, 1-100 points per voxel, 1-8 pixels; the point size is rounded); negative or non-finite ones are an error. `maxVoxelSize` and `maxPtCntPerVoxel` only shape the calculation structure: a full voxel splits (as the manual says), no point is ever dropped for them. Option bits 1 (show OC tree) and 4 (emissive) are kept and reported, not drawn; bit 0 makes the viewer show random colours; bit 3 (no calculation structure) turns the insertion duplicate check off, as in CoppeliaSim. Point clouds are not collidable, measurable or detectable, and vision sensors do not render them; the viewer draws them as points of their colour and size."""
     def createPrimitiveShape(self, *args: Any) -> Any:
         """the shape is static, non-respondable, white, 1000 kg/m^3, at the origin; option bits 0-2 are accepted and ignored; non-round spheroids, elliptic cylinders and cones are tessellated meshes (their density-based mass uses the bounding box)."""
     def createPureShape(self, *args: Any) -> Any:
         """V-REP 3's primitive (0 cuboid, 1 sphere, 2 cylinder, 3 cone) with a mass in kg; options bit 3 respondable, bit 4 static (else dynamic); the drawing bits (culling, edges, smoothing, open ends) and `precision` are accepted and ignored (round shapes are exact primitives)."""
+    def createTexture(self, *args: Any) -> Any:
+        """PNG and JPEG; the plane is 1 m along the image's longer side unless `planeSizes` is given; a fixed resolution resamples to the nearest pixel. Textures are kept and read back but not drawn yet: vision sensors and the viewer show the shape's colour."""
+    def createVisionSensor(self, *args: Any) -> Any:
+        """CoppeliaSim 4.1's arguments; the sensor is a root at the origin named `Vision_sensor`; the drawn size and the display, light and fog options are accepted and ignored; option bit 4 (passive) is refused; with bit 7 the null-pixel colour (floats 7 to 9, each 0 to 1) is what the image shows where the sensor sees nothing, and without it the scene's background (`[simulation] background`, black when unset), as CoppeliaSim's sensors show its environment colour."""
     def cutPathCtrlPoints(self, *args: Any) -> Any: ...
     def destroyCollection(self, *args: Any) -> Any: ...
     def displayDialog(self, *args: Any) -> Any:
@@ -372,6 +417,8 @@ class Sim:
     def floatingViewAdd(self, *args: Any) -> Any:
         """the view is an overlay on the viewer's 3D view; position (its centre) and size are relative to it, 0..1 from the bottom left; `options` are kept and not used."""
     def floatingViewRemove(self, *args: Any) -> Any: ...
+    def generateIkPath(self, *args: Any) -> Any:
+        """the tips' straight line (orientations by slerp) is solved point by point from the previous point, each up to 5 solves; collision pairs are checked by putting each configuration into the scene and the joints back after (which ends a joint's kinematic motion, as `sim.setJointPosition` does); joint options are accepted and not used."""
     def getApiFunc(self, *args: Any) -> Any:
         """every module's functions and their older names, qualified and sorted; `scriptHandle` is accepted (every script sees the same API)."""
     def getArrayParam(self, *args: Any) -> Any: ...
@@ -387,13 +434,21 @@ class Sim:
     def getCollectionObjects(self, *args: Any) -> Any: ...
     def getConfigForTipPose(self, *args: Any) -> Any:
         """the search of `simIK.getConfigForTipPose` (10,000 configurations from a fixed seed instead of for `maxTimeInMs`); collision pairs, joint options and custom limits are ignored."""
+    def getConfigurationTree(self, *args: Any) -> Any:
+        """the blob is gantry's own (local poses and joint positions, with a check sum); only a round trip through the same running scene is promised."""
     def getContactInfo(self, *args: Any) -> Any:
         """the touching contact points of the last step from the physics engine, pair by pair; the object asked for comes first, the force is the one the contact applied to it over the step (N) and the normal points from it to the other object; `dynamicPass` must be `sim.handle_all` or 0 (one pass per step)."""
+    def getDecimatedMesh(self, *args: Any) -> Any:
+        """vertex clustering on the finest grid that keeps at most the given share of triangles (not quadric decimation)."""
     def getDialogResult(self, *args: Any) -> Any: ...
+    def getDoubleSignal(self, *args: Any) -> Any: ...
     def getDrawingObjectItems(self, *args: Any) -> Any: ...
+    def getEngineFloatParam(self, *args: Any) -> Any:
+        """gantry's engine has one friction coefficient and one restitution per shape: every engine's name for them (`sim.bullet_body_friction`, `sim.ode_body_friction`, `sim.newton_body_*`, `sim.bullet_body_restitution`, ...) reads the same value; any other parameter is an error naming it."""
+    def getEngineFloatParameter(self, *args: Any) -> Any: ...
     def getEulerAnglesFromMatrix(self, *args: Any) -> Any: ...
     def getExplicitHandling(self, *args: Any) -> Any:
-        """0 for a scene object (see `sim.setExplicitHandling`)."""
+        """0 for a scene object other than a vision sensor (see `sim.setExplicitHandling`)."""
     def getExtensionString(self, *args: Any) -> Any:
         """one string per object, loaded from CoppeliaSim files (`Rst`) and the scene's `extension_string` key, carried by copies and model imports; `index` (a compound's component) is ignored, the environment's string (handle -1) is empty, and a key names nested `name {value}` entries innermost first (`shadow@povray`), an absent one giving an empty string."""
     def getFloatParam(self, *args: Any) -> Any:
@@ -402,7 +457,7 @@ class Sim:
     def getFloatSignal(self, *args: Any) -> Any: ...
     def getGraphStreamValues(self, *args: Any) -> Any: ...
     def getIkGroupHandle(self, *args: Any) -> Any:
-        """finds the groups a scene file defines with `[[ik_group]]` (see docs/scene-format.md); handles start at 2030000, CoppeliaSim's range for IK groups. `.ttt` files' IK groups are not read yet."""
+        """finds the groups a scene file defines with `[[ik_group]]` (see docs/scene-format.md); handles start at 2030000, CoppeliaSim's range for IK groups. The IK groups of CoppeliaSim 4.0-4.2 `.ttt`/`.ttm` files (`IKO`) are imported too (PyRep's `<Name>_ik`; see docs/coppeliasim-files.md)."""
     def getIkGroupMatrix(self, *args: Any) -> Any:
         """the Jacobian is computed at the scene's current joint values, not kept from the last calculation; it is returned row by row, one row per constrained component of each element (x, y, z in the base's frame, then the angular ones) and one column per joint, base to tip; options 1 gives the manipulability measure `sqrt(det(J Jᵀ))` as a 1×1 matrix."""
     def getInt32Param(self, *args: Any) -> Any: ...
@@ -422,7 +477,7 @@ class Sim:
     def getJointType(self, *args: Any) -> Any: ...
     def getJointVelocity(self, *args: Any) -> Any: ...
     def getLightParameters(self, *args: Any) -> Any:
-        """always an error, for the same reason as `sim.setLightParameters`."""
+        """state (1 on, 0 off), `{0, 0, 0}` (the reserved ambient part), diffuse, specular, as 4.1+."""
     def getLinkDummy(self, *args: Any) -> Any: ...
     def getMatrixInverse(self, *args: Any) -> Any:
         """a 3x3 block that is not a rotation gives some rotation, not an error (read by the closed-form method)."""
@@ -439,7 +494,8 @@ class Sim:
         """a script's handle is its object's handle, so this returns its argument (or the calling script's object for `sim.handle_self`)."""
     def getObjectChild(self, *args: Any) -> Any: ...
     def getObjectColor(self, *args: Any) -> Any: ...
-    def getObjectFloatParam(self, *args: Any) -> Any: ...
+    def getObjectFloatParam(self, *args: Any) -> Any:
+        """`sim.objfloatparam_modelbbox_*` is the box of the object and all objects below it (shapes' geometry, other objects' origins), in the object's frame."""
     def getObjectFloatParameter(self, *args: Any) -> Any: ...
     def getObjectHandle(self, *args: Any) -> Any:
         """`name#` is the original, `name#k` the (k+1)-th object of that name (CoppeliaSim's copy suffixes); `name@silentError` returns -1 when there is none; a path is resolved as `sim.getObject` does."""
@@ -461,7 +517,12 @@ class Sim:
     def getObjectSizeFactor(self, *args: Any) -> Any:
         """always 1: scaling a shape (`sim.setShapeBB`, `sim.scaleObject`) changes its geometry rather than a factor."""
     def getObjectSpecialProperty(self, *args: Any) -> Any: ...
+    def getObjectStringParam(self, *args: Any) -> Any:
+        """only `sim.objstringparam_unique_id` (the uid of `sim.getObjectUid` as text); other parameters are an error naming them."""
+    def getObjectStringParameter(self, *args: Any) -> Any: ...
     def getObjectType(self, *args: Any) -> Any: ...
+    def getObjectUid(self, *args: Any) -> Any:
+        """the id is unique among all the objects of every scene loaded in the process (the world's number times 2^32 plus the handle)."""
     def getObjectVelocity(self, *args: Any) -> Any: ...
     def getObjects(self, *args: Any) -> Any: ...
     def getObjectsInTree(self, *args: Any) -> Any: ...
@@ -500,6 +561,11 @@ class Sim:
     def getShapeMass(self, *args: Any) -> Any: ...
     def getShapeMassAndInertia(self, *args: Any) -> Any:
         """as `sim.getShapeInertia`, with V-REP 3's inertia divided by the mass; `transformation` is an absolute matrix, nil meaning the shape's frame."""
+    def getShapeMesh(self, *args: Any) -> Any:
+        """primitives come tessellated (a box is 8 vertices and 12 triangles); normals are per triangle (each corner carries its triangle's normal)."""
+    def getShapeTextureId(self, *args: Any) -> Any: ...
+    def getShapeViz(self, *args: Any) -> Any:
+        """items are the shape's visual parts; normals per triangle; `shadingAngle` is always 20 degrees; texture coordinates of a projected texture are computed by gantry's own plane, cylinder, sphere and cube projections."""
     def getSimulationState(self, *args: Any) -> Any:
         """reports CoppeliaSim's advancing passes: 16 during the first step after a start (and in `sysCall_init`), 17 after, 20 during the first step after a pause, 19 for the rest of a step in which a script asked to pause, 21 after a script asked to stop and during cleanup; `advancing_lastbeforestop` (22) is not reported."""
     def getSimulationStopping(self, *args: Any) -> Any:
@@ -516,6 +582,8 @@ class Sim:
     def getSystemTime(self, *args: Any) -> Any: ...
     def getSystemTimeInMs(self, *args: Any) -> Any:
         """milliseconds since the first call in the process."""
+    def getTextureId(self, *args: Any) -> Any:
+        """a texture from `sim.createTexture` is named after its file's stem; -1 and nil when none has the name."""
     def getUserParameter(self, *args: Any) -> Any: ...
     def getVelocity(self, *args: Any) -> Any: ...
     def getVisionSensorCharImage(self, *args: Any) -> Any:
@@ -538,6 +606,10 @@ class Sim:
         """solves with `simIK`'s solver from the scene's joint values and writes the solution into the scene whatever the result (values within the joints' limits); returns `sim.ikresult_*` for one group, and with `sim.handle_all` or `sim.handle_all_except_explicit` the number of groups performed (both handle only the groups not flagged explicit)."""
     def handleProximitySensor(self, *args: Any) -> Any: ...
     def handleVisionSensor(self, *args: Any) -> Any: ...
+    def importMesh(self, *args: Any) -> Any:
+        """OBJ, STL and COLLADA, told by the file's extension (`fileformat` 0-5 is accepted and not used); a file's sub-meshes come as one mesh; Y-up files are not turned Z-up; files are read where the API may read (the scene's folder for scripts and remote clients)."""
+    def importShape(self, *args: Any) -> Any:
+        """as `sim.importMesh`; the shape is static and non-respondable, named after the file; colours and textures in the file are not read, and option bit 5 (reorient the bounding box) is not applied."""
     def insertPathCtrlPoints(self, *args: Any) -> Any:
         """keeps each point's position and Euler angles (11 values, 16 with options bit 1) and ignores its velocity, on-spot distance, Bezier settings and auxiliary data: a V-REP 3 path is the polyline through its control points. Options bit 0 closes the path."""
     def insertPointsIntoPointCloud(self, *args: Any) -> Any:
@@ -551,7 +623,7 @@ class Sim:
     def isHandleValid(self, *args: Any) -> Any:
         """V-REP 3's: 1 when the handle names a scene object and the type is -1 or 109 (`sim_appobj_object_type`), else 0; gantry's handles name scene objects only."""
     def loadImage(self, *args: Any) -> Any:
-        """PNG files inside the scene's folder, as RGB (RGBA with option bit 0)."""
+        """PNG and JPEG files inside the scene's folder, as RGB (RGBA with option bit 0)."""
     def loadModel(self, *args: Any) -> Any:
         """reads a robot (`.urdf`, base fixed unless `--free-base`) or a gantry model (a `.toml` scene file with `[[object]]`, `[[robot]]` and `[[script]]` only); CoppeliaSim's `.ttm` is refused. The model joins the scene for good (a stop restores it as loaded); its scripts initialise at once during a run. Scripts load model files only from inside the scene's folder; remote clients from any path gantry can read. The returned handle is the model base's; the handles of a model loaded after objects were created at run time change at the next stop, when the scene is rebuilt from the files."""
     def loadScene(self, *args: Any) -> Any:
@@ -601,6 +673,8 @@ class Sim:
         """removes points strictly closer than `tolerance`; with `points` nil every point goes (the tolerance is then ignored). Unlike CoppeliaSim, removal also works on a cloud without calculation structure (option bit 3)."""
     def removeScript(self, *args: Any) -> Any:
         """the script's `sysCall_cleanup` runs once the calling hook has returned (a script that removes itself finishes its function); it then receives nothing and `sim.getScript` no longer finds it. A stop restores the scene as loaded, the script included."""
+    def reorientShapeBoundingBox(self, *args: Any) -> Any:
+        """the frame turns about its origin (the geometry and children stay in place); `sim.handle_self` takes the mesh's principal axes as the smallest box; returns 1."""
     def resamplePath(self, *args: Any) -> Any:
         """`finalConfigCnt` configurations at equal lengths, interpolated as `sim.getPathInterpolatedConfig`."""
     def resetDynamicObject(self, *args: Any) -> Any: ...
@@ -615,6 +689,10 @@ class Sim:
     def ruckigVel(self, *args: Any) -> Any: ...
     def saveImage(self, *args: Any) -> Any:
         """PNG only (lossless; `quality` ignored), written inside the scene's folder like every file the API writes; a bare extension (`'.png'`) returns the encoded file. Rows go in buffer order, so a vision sensor's image (bottom row first) is upside down in the file, as in CoppeliaSim."""
+    def saveModel(self, *args: Any) -> Any:
+        """as `sim.saveScene`, for the object (which must be flagged as model base) and everything below it; the base keeps its pose in the world."""
+    def saveScene(self, *args: Any) -> Any:
+        """writes gantry's TOML scene (meshes as OBJ, scripts as Lua beside it) with `gantry convert`'s writer, never CoppeliaSim's formats: a `.ttt`/`.ttm` path is refused; the scene is saved as it is now (poses, joint positions as initial positions, object settings, the scripts the scene and its models came with); point clouds' points, dynamic loop closures, IK groups, URDF descriptions and model property overrides are not saved (the file's header lists what was left out); paths are confined like other API writes; each file is written to a temporary name and renamed."""
     def scaleObject(self, *args: Any) -> Any:
         """shapes only (as `sim.setShapeBB`, by factors); other objects are refused; `options` is ignored."""
     def setArrayParam(self, *args: Any) -> Any: ...
@@ -624,8 +702,15 @@ class Sim:
     def setBoolParameter(self, *args: Any) -> Any: ...
     def setBufferProperty(self, *args: Any) -> Any:
         """CoppeliaSim 4.7's property API for the custom data blocks only (`customData.<tag>`, the blocks of `sim.writeCustomDataBlock`)."""
+    def setConfigurationTree(self, *args: Any) -> Any:
+        """bytes that are not a configuration tree, are damaged, or name an object removed or of another kind since, are an error and change nothing; the restored part's dynamics restart at rest and joint velocities are zeroed; joint targets are kept."""
+    def setDoubleSignal(self, *args: Any) -> Any:
+        """CoppeliaSim 4.1's double signals, in their own namespace apart from the float signals."""
+    def setEngineFloatParam(self, *args: Any) -> Any:
+        """as `sim.getEngineFloatParam`; friction must be >= 0 and restitution in 0..1."""
+    def setEngineFloatParameter(self, *args: Any) -> Any: ...
     def setExplicitHandling(self, *args: Any) -> Any:
-        """serves IK groups (bit 0: explicit); for any scene object (sensors, joints, graphs...) it is accepted and does nothing, because gantry handles those every step or when read; a handle that names neither is an error."""
+        """serves IK groups and vision sensors (bit 0: explicit; an explicit vision sensor renders only when handled, its readers get its last image, black before the first); for any other scene object (proximity sensors, joints, graphs...) it is accepted and does nothing, because gantry handles those every step or when read; a handle that names none of these is an error."""
     def setFloatParam(self, *args: Any) -> Any:
         """`floatparam_simulation_time_step` can change only while stopped."""
     def setFloatParameter(self, *args: Any) -> Any: ...
@@ -634,12 +719,14 @@ class Sim:
     def setIkElementProperties(self, *args: Any) -> Any:
         """the element is found by its tip dummy; `sim.ik_avoidance_constraint` is refused; the weights scale the error rows as `simIK.setElementWeights` does."""
     def setIkGroupProperties(self, *args: Any) -> Any:
-        """methods 0-2 (`sim.ik_pseudo_inverse_method`, `ik_damped_least_squares_method`, `ik_jacobian_transpose_method`); 1-100000 iterations."""
+        """methods 0-2 (`sim.ik_pseudo_inverse_method`, `ik_damped_least_squares_method`, `ik_jacobian_transpose_method`); 1-100000 iterations, used as given (a group loaded from the scene is solved with at least 20: gantry's solver steps at most 10° per joint and iteration, CoppeliaSim's take full Newton steps; iterations stop once the tips are on their targets)."""
     def setInt32Param(self, *args: Any) -> Any: ...
     def setInt32Parameter(self, *args: Any) -> Any: ...
     def setInt32Signal(self, *args: Any) -> Any: ...
     def setIntegerSignal(self, *args: Any) -> Any: ...
     def setJointForce(self, *args: Any) -> Any: ...
+    def setJointInterval(self, *args: Any) -> Any:
+        """a prismatic joint is never cyclic; a negative range or a fixed joint is an error; a simulated joint's subtree restarts its dynamics to take the new limits."""
     def setJointMaxForce(self, *args: Any) -> Any: ...
     def setJointMode(self, *args: Any) -> Any:
         """`jointmode_dependent` exists only for URDF `<mimic>` followers; a kinematic joint made dynamic holds its position."""
@@ -651,7 +738,7 @@ class Sim:
     def setJointTargetVelocity(self, *args: Any) -> Any:
         """a kinematic joint turns at that speed from the next step until a limit stops it (0 stops it)."""
     def setLightParameters(self, *args: Any) -> Any:
-        """always an error naming the object: gantry scenes have no light objects (its renderers use fixed lighting, and a CoppeliaSim scene's lights are imported as dummies)."""
+        """`(h, state, reserved, diffuse, specular)`: state bit 0 (or a boolean) on, the reserved ambient part ignored, a nil colour unchanged, colours 0..1; the values are kept for the API only, gantry's renderers keep their own lighting."""
     def setLinkDummy(self, *args: Any) -> Any:
         """every link is a dynamic loop closure (CoppeliaSim's default link type): a fixed joint between the bodies the two dummies ride on pulls their frames together (two dummies on the same body, or on none, are linked without effect). A link does not survive a physics rebuild of either body (re-parenting, a static/dynamic switch): link again after one."""
     def setModelProperty(self, *args: Any) -> Any:
@@ -689,6 +776,10 @@ class Sim:
     def setShapeColor(self, *args: Any) -> Any:
         """shapes have no named colour parts: a name other than nil, "" or "@compound" matches nothing; only ambient-diffuse is drawn, the other components are stored and read back."""
     def setShapeMass(self, *args: Any) -> Any: ...
+    def setShapeMassAndInertia(self, *args: Any) -> Any:
+        """V-REP 3's inverse of `sim.getShapeMassAndInertia` (inertia divided by the mass, relative to `transformation` or the shape frame); restarts the shape's dynamics."""
+    def setShapeTexture(self, *args: Any) -> Any:
+        """kept and read back (`sim.getShapeTextureId`, `sim.getShapeViz`) but not drawn yet."""
     def setStepping(self, *args: Any) -> Any:
         """a per-script level for threads (returns the previous level); for a remote client it is the client's stepping level (the simulation waits for its `sim.step`)."""
     def setStringSignal(self, *args: Any) -> Any: ...
