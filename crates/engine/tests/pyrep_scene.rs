@@ -62,7 +62,9 @@ fn joint_modes_and_motor_switches_of_4_1_read_back() {
     // CoppeliaSim 4.1's IK mode is kinematic, and reads back as 2.
     sim.call("setJointMode", &[j.clone(), Value::Int(2), Value::Int(0)])
         .expect("IK mode");
-    let mode = sim.call("getJointMode", &[j.clone()]).expect("getJointMode");
+    let mode = sim
+        .call("getJointMode", std::slice::from_ref(&j))
+        .expect("getJointMode");
     assert_eq!(mode[0], Value::Int(2));
     sim.call("setJointMode", &[j.clone(), Value::Int(0), Value::Int(0)])
         .expect("kinematic mode");
@@ -165,7 +167,8 @@ fn an_imported_arm_brings_its_ik_group_and_a_second_copy_is_suffixed() {
     assert!(panda.is_file(), "{} is missing", panda.display());
     let path = Value::Str(panda.to_str().expect("UTF-8 path").into());
     // test_scene.ttt has a Panda of its own: the imported one's group is the first copy.
-    sim.call("loadModel", &[path.clone()]).unwrap_or_else(|e| panic!("{e}"));
+    sim.call("loadModel", std::slice::from_ref(&path))
+        .unwrap_or_else(|e| panic!("{e}"));
     sim.call("loadModel", &[path]).unwrap_or_else(|e| panic!("{e}"));
     let mut groups = Vec::new();
     for name in ["Panda_ik", "Panda_ik#0", "Panda_ik#1"] {
@@ -179,7 +182,9 @@ fn an_imported_arm_brings_its_ik_group_and_a_second_copy_is_suffixed() {
     // The copy's group solves the copy's arm: handling it changes none of the scene's own
     // joints.
     let own = handle(&mut sim, "Panda_joint1");
-    let before = sim.call("getJointPosition", &[own.clone()]).expect("position");
+    let before = sim
+        .call("getJointPosition", std::slice::from_ref(&own))
+        .expect("position");
     let h = groups[2].clone();
     sim.call("handleIkGroup", &[h]).expect("handleIkGroup");
     assert_eq!(sim.call("getJointPosition", &[own]).expect("position"), before);
