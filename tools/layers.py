@@ -70,7 +70,7 @@ FLOORS = {
         ({"scene"}, False),
     ],
     "crates/world/src": [
-        ({"math", "signals", "tubes"}, False),
+        ({"math", "mesh_cluster", "signals", "tubes"}, False),
         ({"paths"}, False),
         ({"world"}, False),
         ({"sensor", "vision", "ik", "drawing", "graph", "motion", "planning"}, False),

@@ -30,6 +30,7 @@ pub use gantry_ui as ui;
 
 // Leaves of this crate.
 pub mod math;
+pub mod mesh_cluster;
 pub mod paths;
 pub mod signals;
 pub mod tubes;

@@ -60,6 +60,7 @@ mod ui;
 mod views;
 mod vision;
 mod vision_buffers;
+mod vision_spherical;
 
 pub use args::Args;
 pub use error::CallError;

@@ -111,6 +111,11 @@ pub(super) const SIM_VISION_FUNCTIONS: &[ApiFunction] = &[
         cost: Cost::Long,
     },
     ApiFunction {
+        name: "handleSpherical",
+        call: ApiFn::Sim(super::vision_spherical::handle_spherical),
+        cost: Cost::Long,
+    },
+    ApiFunction {
         name: "horizontalFlipWorkImg",
         call: ApiFn::Sim(horizontal_flip_work_img),
         cost: Cost::Long,

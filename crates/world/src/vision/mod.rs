@@ -71,8 +71,6 @@ use crate::world::{Handle, ObjectKind, World};
 
 /// Largest image side rendered, in pixels (the scene loader enforces the same limit).
 pub use crate::scene::MAX_VISION_RESOLUTION as MAX_RESOLUTION;
-/// Vertex clustering, which also serves `sim.getDecimatedMesh`.
-pub(crate) use detail::cluster as cluster_mesh;
 
 /// Rendered images and work images of every vision sensor, by handle, plus the
 /// renderer's caches (tessellated shapes, reusable buffers).

@@ -27,6 +27,7 @@ mod query;
 mod scale;
 mod selection;
 mod shape_mesh;
+mod shape_texture;
 mod texture;
 mod tuning;
 mod urdf_robot;

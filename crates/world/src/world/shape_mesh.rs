@@ -12,7 +12,6 @@ use nalgebra::Matrix3;
 use parry3d::math::Vector as PVec;
 use parry3d::shape::{Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, Shape as _, SharedShape};
 
-use super::edit::invalid;
 use super::object::Handle;
 use super::world::World;
 use crate::error::SimError;
@@ -107,13 +106,13 @@ pub fn geometry_mesh(g: &Geometry) -> ShapeMesh {
 /// Lists of the wrong length, non-finite coordinates, or indices out of range.
 pub fn mesh_from_lists(vertices: &[f64], indices: &[f64]) -> Result<ShapeMesh, SimError> {
     if vertices.is_empty() || !vertices.len().is_multiple_of(3) || vertices.iter().any(|v| !v.is_finite()) {
-        return Err(invalid(format!(
+        return Err(SimError::bad_argument(format!(
             "vertices come as finite x, y, z triples, got {} numbers",
             vertices.len()
         )));
     }
     if indices.is_empty() || !indices.len().is_multiple_of(3) || indices.len() / 3 > MAX_MESH_TRIANGLES {
-        return Err(invalid(format!(
+        return Err(SimError::bad_argument(format!(
             "triangles come as index triples (at most {MAX_MESH_TRIANGLES} triangles), got {} indices",
             indices.len()
         )));
@@ -123,7 +122,10 @@ pub fn mesh_from_lists(vertices: &[f64], indices: &[f64]) -> Result<ShapeMesh, S
         if x.fract() == 0.0 && x >= 0.0 && (x as usize) < n {
             Ok(x as u32)
         } else {
-            Err(invalid(format!("index {x} is not a vertex (0 to {})", n - 1)))
+            Err(SimError::bad_argument(format!(
+                "index {x} is not a vertex (0 to {})",
+                n - 1
+            )))
         }
     };
     Ok(ShapeMesh {
@@ -144,7 +146,7 @@ pub fn mesh_from_lists(vertices: &[f64], indices: &[f64]) -> Result<ShapeMesh, S
 /// `keep` not within 0 to 1 (exclusive of 0).
 pub fn decimate(mesh: &ShapeMesh, keep: f64) -> Result<ShapeMesh, SimError> {
     if !(keep > 0.0 && keep <= 1.0) {
-        return Err(invalid(format!(
+        return Err(SimError::bad_argument(format!(
             "the share of triangles to keep must be above 0 and at most 1, got {keep}"
         )));
     }
@@ -172,10 +174,10 @@ pub fn decimate(mesh: &ShapeMesh, keep: f64) -> Result<ShapeMesh, SimError> {
     // Bisection on the cell side: the triangle count falls (nearly monotonically) as the
     // cells grow. A cell as large as the whole mesh leaves no triangle at all.
     let (mut fine, mut coarse) = (0.0, diagonal.max(f64::MIN_POSITIVE));
-    let mut best = crate::vision::cluster_mesh(&data, coarse as f32).0;
+    let mut best = crate::mesh_cluster::cluster(&data, coarse as f32).0;
     for _ in 0..24 {
         let mid = 0.5 * (fine + coarse);
-        let (m, _) = crate::vision::cluster_mesh(&data, mid as f32);
+        let (m, _) = crate::mesh_cluster::cluster(&data, mid as f32);
         if m.indices.len() <= target {
             coarse = mid;
             best = m;
@@ -251,7 +253,7 @@ impl World {
     /// a shape with no volume.
     pub fn compute_mass_and_inertia(&mut self, h: Handle, density: f64) -> Result<(), SimError> {
         if !(density.is_finite() && density > 0.0) {
-            return Err(invalid(format!(
+            return Err(SimError::bad_argument(format!(
                 "density must be a positive number (kg/m³), got {density}"
             )));
         }
@@ -269,7 +271,7 @@ impl World {
         }
         let volume: f64 = parts.iter().map(|p| p.0).sum();
         if !(volume.is_finite() && volume > 0.0) {
-            return Err(invalid(format!("shape {h} has no volume to fill")));
+            return Err(SimError::bad_argument(format!("shape {h} has no volume to fill")));
         }
         let com = parts.iter().map(|(v, c, _)| c * *v).sum::<Vec3>() / volume;
         let mut inertia = Matrix3::zeros();
@@ -296,7 +298,7 @@ impl World {
         inertia: &Matrix3<f64>,
     ) -> Result<(), SimError> {
         if !(mass.is_finite() && mass > 0.0) || com.iter().chain(inertia.iter()).any(|v| !v.is_finite()) {
-            return Err(invalid(
+            return Err(SimError::bad_argument(
                 "mass, centre of mass and inertia must be finite, the mass positive",
             ));
         }
@@ -320,7 +322,9 @@ impl World {
     /// No such object, not a shape, or no parts.
     pub fn set_shape_collision_parts(&mut self, h: Handle, geoms: Vec<GeomModel>) -> Result<(), SimError> {
         if geoms.is_empty() {
-            return Err(invalid(format!("shape {h} needs at least one collision part")));
+            return Err(SimError::bad_argument(format!(
+                "shape {h} needs at least one collision part"
+            )));
         }
         self.shape_mut(h)?.geoms = geoms;
         self.rebuild_physics(&[h]);
@@ -381,7 +385,7 @@ impl World {
     pub fn shape_principal_axes(&self, h: Handle) -> Result<math::Quat, SimError> {
         let mesh = self.shape_mesh(h)?;
         if mesh.vertices.is_empty() {
-            return Err(invalid(format!("shape {h} has no vertices")));
+            return Err(SimError::bad_argument(format!("shape {h} has no vertices")));
         }
         let n = mesh.vertices.len() as f64;
         let mean = mesh.vertices.iter().map(|v| Vec3::from(*v)).sum::<Vec3>() / n;
@@ -413,7 +417,7 @@ impl World {
     pub fn convex_decomposition(&self, h: Handle) -> Result<Vec<ShapeMesh>, SimError> {
         let mesh = self.shape_mesh(h)?;
         if mesh.indices.is_empty() || mesh.indices.len() > MAX_MESH_TRIANGLES {
-            return Err(invalid(format!(
+            return Err(SimError::bad_argument(format!(
                 "shape {h} has {} triangles: convex decomposition needs 1 to {MAX_MESH_TRIANGLES}",
                 mesh.indices.len()
             )));
@@ -426,7 +430,7 @@ impl World {
         let decomposed = SharedShape::convex_decomposition(&vertices, &mesh.indices);
         let compound = decomposed
             .as_compound()
-            .ok_or_else(|| invalid(format!("shape {h}: the decomposition gave no parts")))?;
+            .ok_or_else(|| SimError::bad_argument(format!("shape {h}: the decomposition gave no parts")))?;
         let mut out = Vec::new();
         for (pose, part) in compound.shapes() {
             let Some(poly) = part.as_convex_polyhedron() else {
@@ -446,7 +450,9 @@ impl World {
             out.push(m);
         }
         if out.is_empty() {
-            return Err(invalid(format!("shape {h}: the decomposition gave no parts")));
+            return Err(SimError::bad_argument(format!(
+                "shape {h}: the decomposition gave no parts"
+            )));
         }
         Ok(out)
     }

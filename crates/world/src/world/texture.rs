@@ -14,9 +14,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use super::edit::invalid;
 use super::object::Handle;
-use super::world::World;
 use crate::error::SimError;
 
 /// The largest texture side, pixels (CoppeliaSim's own limit for textures is 4096).
@@ -63,7 +61,7 @@ impl TextureMapping {
             2 => TextureMapping::Sphere,
             3 => TextureMapping::Cube,
             _ => {
-                return Err(invalid(format!(
+                return Err(SimError::bad_argument(format!(
                     "texture mapping mode {code} is not one of sim.texturemap_plane (0), _cylinder (1), _sphere (2), _cube (3)"
                 )));
             }
@@ -124,13 +122,13 @@ impl Textures {
     pub fn add(&mut self, name: &str, resolution: [u32; 2], rgba: Vec<u8>) -> Result<i64, SimError> {
         let [w, h] = resolution;
         if w == 0 || h == 0 || w > MAX_TEXTURE_SIDE || h > MAX_TEXTURE_SIDE {
-            return Err(invalid(format!(
+            return Err(SimError::bad_argument(format!(
                 "a texture of {w} x {h} pixels: each side must be 1 to {MAX_TEXTURE_SIDE}"
             )));
         }
         let expected = w as usize * h as usize * 4;
         if rgba.len() != expected {
-            return Err(invalid(format!(
+            return Err(SimError::bad_argument(format!(
                 "a {w} x {h} RGBA texture has {expected} bytes, got {}",
                 rgba.len()
             )));
@@ -164,63 +162,6 @@ impl Textures {
     /// The id of the first texture named `name`.
     pub fn find(&self, name: &str) -> Option<i64> {
         self.items.iter().position(|t| t.name == name).map(|i| i as i64)
-    }
-}
-
-impl World {
-    /// The world's texture objects.
-    pub fn textures(&self) -> &Textures {
-        &self.textures
-    }
-
-    /// Adds a texture object (see [`Textures::add`]) and returns its id.
-    ///
-    /// # Errors
-    /// As [`Textures::add`].
-    pub fn add_texture(&mut self, name: &str, resolution: [u32; 2], rgba: Vec<u8>) -> Result<i64, SimError> {
-        self.textures.add(name, resolution, rgba)
-    }
-
-    /// The texture shape `h` wears, if any.
-    ///
-    /// # Errors
-    /// No such object, or not a shape.
-    pub fn shape_texture(&self, h: Handle) -> Result<Option<&ShapeTexture>, SimError> {
-        self.shape(h)?;
-        Ok(self.textures.on_shapes.get(&h))
-    }
-
-    /// Puts a texture on shape `h`, or takes it off with `None`. Explicit coordinates must
-    /// be 6 finite numbers per triangle of the shape's mesh.
-    ///
-    /// # Errors
-    /// No such object, not a shape, no such texture, non-finite placement values, or
-    /// coordinates that do not fit the mesh.
-    pub fn set_shape_texture(&mut self, h: Handle, texture: Option<ShapeTexture>) -> Result<(), SimError> {
-        self.shape(h)?;
-        let Some(t) = texture else {
-            self.textures.on_shapes.remove(&h);
-            return Ok(());
-        };
-        self.textures.get(t.id)?;
-        let placement = t.uv_scaling.iter().chain(&t.position).chain(&t.orientation);
-        if placement.into_iter().any(|v| !v.is_finite()) {
-            return Err(invalid(
-                "the texture's scaling, position and orientation must be finite",
-            ));
-        }
-        if let Some(c) = &t.coordinates {
-            let triangles = self.shape_mesh(h)?.indices.len();
-            if c.len() != triangles * 6 || c.iter().any(|v| !v.is_finite()) {
-                return Err(invalid(format!(
-                    "the shape has {triangles} triangles: the texture needs {} finite coordinates (u, v per corner), got {}",
-                    triangles * 6,
-                    c.len()
-                )));
-            }
-        }
-        self.textures.on_shapes.insert(h, t);
-        Ok(())
     }
 }
 
