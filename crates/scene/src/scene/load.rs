@@ -110,6 +110,7 @@ pub(super) fn load_urdf_model(files: &dyn Files, path: &Path, opts: &LoadOptions
         collections: Vec::new(),
         urdf_robots: vec![robot],
         warnings,
+        textures: Vec::new(),
     })
 }
 
@@ -217,6 +218,7 @@ pub fn load_scene_text(
         collections,
         urdf_robots: r.urdf_robots,
         warnings: dedup(r.warnings),
+        textures: Vec::new(),
     })
 }
 
@@ -656,7 +658,12 @@ impl Resolver<'_> {
                         geometry: geometry.clone(),
                         local,
                     }],
-                    vec![VisualModel { geometry, local, color }],
+                    vec![VisualModel {
+                        geometry,
+                        local,
+                        color,
+                        texture: None,
+                    }],
                 )
             }
             (None, None) => {
@@ -784,6 +791,7 @@ impl Resolver<'_> {
                     geometry,
                     local,
                     color: p.color.unwrap_or(DEFAULT_COLOR),
+                    texture: None,
                 });
             }
         }

@@ -773,6 +773,7 @@ mod tests {
             collections: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
+            textures: Vec::new(),
         }
     }
 
@@ -824,6 +825,7 @@ mod tests {
             collections: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
+            textures: Vec::new(),
         };
         let files = write_scene(&model, "s", "s.ttt").expect("writes");
         assert_eq!(files.files.len(), 1);

@@ -8,6 +8,9 @@
 //! The store is bounded ([`MAX_TEXTURE_SIDE`], [`MAX_TEXTURE_BYTES`]) because its images
 //! come from files and scripts.
 //!
+//! A scene's textures (CoppeliaSim files' texture objects, TOML scenes' PNG files) are
+//! added at load ([`World::load_textures`]).
+//!
 //! Not done: the renderer does not draw textures yet (shapes keep their colour in
 //! vision sensors and the viewer); the store only keeps what the API reads back.
 
@@ -18,6 +21,7 @@ use super::edit::invalid;
 use super::object::Handle;
 use super::world::World;
 use crate::error::SimError;
+use crate::scene::{ObjectModelKind, SceneModel, VisualTexture};
 
 /// The largest texture side, pixels (CoppeliaSim's own limit for textures is 4096).
 pub const MAX_TEXTURE_SIDE: u32 = 4096;
@@ -168,6 +172,90 @@ impl Textures {
 }
 
 impl World {
+    /// Adds the textures of `model` to the store and puts them on its shapes; `map` gives
+    /// a model object's handle here. A shape keeps one texture (the world's store holds
+    /// one per shape): that of its first textured part, with the fixed coordinates of
+    /// all its parts when every part wears the same texture with fixed coordinates, and
+    /// else projected by that part's mapping. What cannot be kept is returned as warnings.
+    pub(super) fn load_textures(&mut self, model: &SceneModel, map: impl Fn(usize) -> Handle) -> Vec<String> {
+        let mut warnings = Vec::new();
+        let mut ids = Vec::with_capacity(model.textures.len());
+        for t in &model.textures {
+            match self.textures.add(&t.name, t.resolution, t.rgba.to_vec()) {
+                Ok(id) => ids.push(Some(id)),
+                Err(e) => {
+                    warnings.push(format!("texture '{}' not loaded: {e}", t.name));
+                    ids.push(None);
+                }
+            }
+        }
+        for (i, o) in model.objects.iter().enumerate() {
+            let ObjectModelKind::Shape(shape) = &o.kind else {
+                continue;
+            };
+            let textured: Vec<&VisualTexture> = shape.visuals.iter().filter_map(|v| v.texture.as_ref()).collect();
+            let Some(first) = textured.first() else { continue };
+            let Some(id) = ids.get(first.texture).copied().flatten() else {
+                continue;
+            };
+            let whole = textured.len() == shape.visuals.len()
+                && textured
+                    .iter()
+                    .all(|t| t.texture == first.texture && t.coordinates.is_some());
+            if !whole && shape.visuals.len() > 1 {
+                warnings.push(format!(
+                    "{}: its parts' textures are kept as one, projected ({} of {} parts textured)",
+                    o.alias,
+                    textured.len(),
+                    shape.visuals.len()
+                ));
+            }
+            let coordinates = whole.then(|| {
+                Arc::new(
+                    textured
+                        .iter()
+                        .flat_map(|t| t.coordinates.iter().flat_map(|c| c.iter().copied()))
+                        .collect::<Vec<f32>>(),
+                )
+            });
+            let frame = first.frame;
+            let texture = ShapeTexture {
+                id,
+                mapping: match first.mapping {
+                    1 => TextureMapping::Cylinder,
+                    2 => TextureMapping::Sphere,
+                    3 => TextureMapping::Cube,
+                    _ if coordinates.is_some() => TextureMapping::Coordinates,
+                    _ => TextureMapping::Plane,
+                },
+                options: first.options,
+                uv_scaling: first.scaling,
+                position: frame.translation.vector.into(),
+                orientation: crate::math::euler_from_quat(&frame.rotation),
+                coordinates,
+            };
+            let h = map(i);
+            if let Err(e) = self.set_shape_texture(h, Some(texture.clone())) {
+                // Fixed coordinates made for the file's triangles do not fit a primitive
+                // gantry meshes its own way: project instead.
+                let projected = ShapeTexture {
+                    mapping: if texture.mapping == TextureMapping::Coordinates {
+                        TextureMapping::Plane
+                    } else {
+                        texture.mapping
+                    },
+                    coordinates: None,
+                    ..texture
+                };
+                warnings.push(format!("{}: texture coordinates not kept ({e}); projected", o.alias));
+                if let Err(e) = self.set_shape_texture(h, Some(projected)) {
+                    warnings.push(format!("{}: texture not kept: {e}", o.alias));
+                }
+            }
+        }
+        warnings
+    }
+
     /// The world's texture objects.
     pub fn textures(&self) -> &Textures {
         &self.textures

@@ -23,6 +23,7 @@
 //! | main scripts | dropped (gantry runs its own loop; a custom one is warned) |
 //! | Python, disabled scripts | dropped (warned) |
 //! | collections (`GRP`) | [`CollectionModel`] (`sim.getCollectionHandle`) |
+//! | texture objects (`TEX`), a mesh's texture (`Toj`) | [`SceneModel::textures`], [`VisualModel::texture`] (kept for the API, not drawn); a vision sensor's image as texture is warned |
 //! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
 //!
 //! Joint motors keep CoppeliaSim's targets, limits and maximum forces. Position
@@ -152,6 +153,12 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
             kind,
         });
     }
+    let (textures, texture_index) = shape::convert_textures(&file);
+    for (object, &i) in objects.iter_mut().zip(&order) {
+        if let (ObjectModelKind::Shape(shape), cf::ObjectKind::Shape(s)) = (&mut object.kind, &file.objects[i].kind) {
+            shape::attach_textures(shape, &s.leaves, &texture_index, &object.alias, &mut warnings);
+        }
+    }
     cap_vision_memory(&mut objects, &mut report, &mut warnings);
     report.objects = objects.len();
     report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
@@ -177,6 +184,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         collections,
         urdf_robots: Vec::new(),
         warnings,
+        textures,
     };
     Ok((model, report))
 }
@@ -1100,6 +1108,7 @@ mod tests {
             ik_groups: Vec::new(),
             scripts: Vec::new(),
             settings: cf::Settings::default(),
+            textures: Vec::new(),
         }
     }
 
