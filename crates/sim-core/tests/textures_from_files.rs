@@ -9,7 +9,9 @@ mod util;
 
 use std::path::PathBuf;
 
-use gantry_sim_core::scene::{DiskFiles, load_coppelia_file};
+use gantry_sim_core::scene::{
+    DiskFiles, LoadOptions, ObjectModelKind, SceneModel, load_coppelia_file, load_scene, write_scene,
+};
 use gantry_sim_core::{Sim, Value};
 use gantry_test_support::{floats, num};
 use util::{find, ok};
@@ -91,4 +93,63 @@ fn test_scene_cracker_box_texture_reads_back() {
         ],
     );
     assert_eq!(num(&ok(&mut w, "sim.getShapeTextureId", &[h])[0]), num(&applied[0]));
+}
+
+/// `gantry convert`'s writer on `test_scene.ttt`: the textures become PNG files and the
+/// cracker box's coordinates a `.uv` file beside the TOML, and loading the TOML gives
+/// back the same images, the same links and the same coordinates, to the bit.
+#[test]
+fn test_scene_textures_survive_a_toml_round_trip() {
+    let Some(path) = pyrep_test_scene() else { return };
+    let model = load_coppelia_file(&DiskFiles, &path).expect("test_scene.ttt imports");
+    assert_eq!(model.textures.len(), 2);
+    let written = write_scene(&model, "test_scene", "test_scene.ttt").expect("writes");
+    let pngs: Vec<_> = written
+        .files
+        .iter()
+        .filter(|(p, _)| p.extension().is_some_and(|e| e == "png"))
+        .collect();
+    assert_eq!(pngs.len(), 2, "one PNG per texture");
+    let dir = std::env::temp_dir().join(format!("gantry-textures-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    for (rel, bytes) in &written.files {
+        let p = dir.join(rel);
+        std::fs::create_dir_all(p.parent().expect("in the folder")).expect("mkdir");
+        std::fs::write(&p, bytes).expect("write");
+    }
+    let back = load_scene(&DiskFiles, &dir.join("test_scene.toml"), &LoadOptions::default()).expect("loads back");
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(
+        back.textures, model.textures,
+        "the PNG files read back as the same images"
+    );
+    let visual_textures = |m: &SceneModel, name: &str| {
+        let o = m.objects.iter().find(|o| o.alias == name).expect(name);
+        let ObjectModelKind::Shape(s) = &o.kind else {
+            panic!("{name}")
+        };
+        s.visuals.iter().map(|v| v.texture.clone()).collect::<Vec<_>>()
+    };
+    let before = visual_textures(&model, "cracker_box_visual");
+    assert!(before[0].as_ref().is_some_and(|t| t.coordinates.is_some()));
+    for o in &model.objects {
+        if matches!(o.kind, ObjectModelKind::Shape(_)) {
+            assert_eq!(
+                visual_textures(&back, &o.alias),
+                visual_textures(&model, &o.alias),
+                "{}",
+                o.alias
+            );
+        }
+    }
+    // And through the API, as from the binary file.
+    let mut w = Sim::new(&back);
+    let h = Value::Int(find(&w, "/cracker_box_visual"));
+    let viz = ok(&mut w, "sim.getShapeViz", &[h, Value::Int(0)]).remove(0);
+    let t = get(&viz, "texture");
+    assert_eq!(floats(get(t, "resolution")), vec![512.0, 512.0]);
+    assert_eq!(
+        floats(get(t, "coordinates")).len(),
+        2 * floats(get(&viz, "indices")).len()
+    );
 }
