@@ -35,7 +35,8 @@ const EULER_TOLERANCE: f64 = 1e-12;
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SceneFiles {
     /// Paths relative to the output folder, and contents: the TOML scene first, then
-    /// meshes (`meshes/*.obj`) and scripts (`scripts/*.lua`).
+    /// meshes (`meshes/*.obj`), scripts (`scripts/*.lua`) and textures (`textures/*.png`
+    /// and their coordinates, `textures/*.uv`).
     pub files: Vec<(PathBuf, Vec<u8>)>,
     /// What the scene file could not hold (also at the top of the TOML).
     pub notes: Vec<String>,
