@@ -216,15 +216,14 @@ pub fn read_property(c: &Chunk, parent: &At, corners: usize) -> Result<Option<Te
                     rotation: [v[0], v[1], v[2], v[3]],
                 };
             }
-            b"Ftc" => {
-                if !c.payload.is_empty() && c.payload.len() == corners * 8 {
-                    let coords: Vec<f32> = c
-                        .payload
-                        .chunks_exact(4)
-                        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                        .collect();
-                    out.coordinates = Some(coords.into());
-                }
+            // Coordinates that do not fit the mesh (or none) leave the projection.
+            b"Ftc" if !c.payload.is_empty() && c.payload.len() == corners * 8 => {
+                let coords: Vec<f32> = c
+                    .payload
+                    .chunks_exact(4)
+                    .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                    .collect();
+                out.coordinates = Some(coords.into());
             }
             b"Apm" => {
                 out.apply_mode = f.i32()?;

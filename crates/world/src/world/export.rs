@@ -165,7 +165,6 @@ impl World {
         }
         // Visual textures name the loaded scene's texture table, which is not kept with
         // the world: they are left out rather than left dangling.
-        let mut objects = objects;
         let mut textured = false;
         for o in &mut objects {
             if let ObjectModelKind::Shape(shape) = &mut o.kind {
