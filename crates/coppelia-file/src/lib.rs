@@ -16,7 +16,9 @@
 //! spot exponent and cutoff, attenuation, diffuse and specular colours: [`light`]), old
 //! path objects' control points and attributes ([`path`]), the time step, engine,
 //! gravity and engine step, and the environment's colours and fog ([`Environment`]).
-//! What is not: textures, thumbnails, old collision/distance objects, custom data, graphs' streams,
+//! Textures: the texture objects' images and each mesh leaf's texture (which texture,
+//! mapping, fixed coordinates, flags: [`texture`]).
+//! What is not: thumbnails, old collision/distance objects, custom data, graphs' streams,
 //! cameras' display settings, engine-specific joint and material arrays beyond Bullet
 //! friction and restitution. Unknown chunks are skipped whole; values that do not apply
 //! are ignored.
@@ -27,7 +29,8 @@
 //! buffer elements, collections and their items, path points have caps too ([`MAX_OBJECTS`], [`MAX_SCRIPTS`],
 //! [`path::MAX_POINTS`],
 //! [`MAX_COLLECTIONS`], [`collection::MAX_ITEMS`],
-//! [`shape::MAX_LEAVES`], [`mesh::MAX_BUFFER_ELEMENTS`]). Shared mesh buffers are
+//! [`shape::MAX_LEAVES`], [`mesh::MAX_BUFFER_ELEMENTS`], [`texture::MAX_TEXTURES`],
+//! [`texture::MAX_TEXTURE_SIDE`]). Shared mesh buffers are
 //! reference-counted, never copied per mesh. The reader never panics; it is fuzzed
 //! (`fuzz/fuzz_targets/coppelia_file.rs`).
 //!
@@ -56,6 +59,7 @@ pub mod shape;
 mod tests;
 #[cfg(test)]
 mod testutil;
+pub mod texture;
 
 pub use camera::Camera;
 pub use collection::{Collection, CollectionItem, CollectionItemKind};
@@ -73,6 +77,7 @@ pub use script::{Script, ScriptLanguage, ScriptOrigin, ScriptType};
 pub use sensor::{ForceSensor, ProximitySensor, ProximityVolume, VisionSensor};
 pub use settings::{Engine, Environment, Settings};
 pub use shape::{PrimitiveKind, Shape, ShapeLeaf};
+pub use texture::{Texture, TextureMapping, TextureProperty};
 
 use chunk::{At, Chunk, Chunks, Item};
 
@@ -104,6 +109,8 @@ pub struct CoppeliaFile {
     pub collections: Vec<Collection>,
     /// IK groups (`IKO`), in file order (read, not yet imported by gantry's loader).
     pub ik_groups: Vec<IkGroup>,
+    /// Texture objects (`TEX`), in file order.
+    pub textures: Vec<Texture>,
 }
 
 impl CoppeliaFile {
@@ -257,6 +264,7 @@ fn read_body(header: Header, body: &[u8]) -> Result<CoppeliaFile, ReadError> {
         settings: Settings::default(),
         collections: Vec::new(),
         ik_groups: Vec::new(),
+        textures: Vec::new(),
     };
     let mut buffers = MeshBuffers::default();
     let mut stream = Chunks::new(body, &top);
@@ -284,6 +292,15 @@ fn read_body(header: Header, body: &[u8]) -> Result<CoppeliaFile, ReadError> {
                     });
                 }
                 file.collections.push(collection::read(&c, &top)?);
+            }
+            b"TEX" => {
+                if file.textures.len() == texture::MAX_TEXTURES {
+                    return Err(ReadError::TooMany {
+                        what: "textures",
+                        max: texture::MAX_TEXTURES,
+                    });
+                }
+                file.textures.push(texture::read_texture(&c, &top)?);
             }
             b"IKO" => {
                 if file.ik_groups.len() == MAX_IK_GROUPS {

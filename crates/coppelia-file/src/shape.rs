@@ -5,7 +5,8 @@
 //! holds one geometry node: `Gst` for a single mesh or `Gsg` for a compound whose `Geo`
 //! (mesh) and `Wrp` (sub-compound) children may nest. A mesh node has two parts, each
 //! ending in `EOO`: the wrapper part shared with compounds (name, mass, inertia), then
-//! the mesh part (buffer numbers, primitive type and size, vertex frame, colour).
+//! the mesh part (buffer numbers, primitive type and size, vertex frame, colour,
+//! texture).
 //!
 //! Frames: vertices are stored in the leaf's vertex frame; `Ppf`/`_pf` places that frame
 //! in the shape frame. Every version writes `Ppf`/`_pf` that way (4.5.2+ files compute it
@@ -21,6 +22,7 @@ use crate::error::ReadError;
 use crate::field::{Fields, is_double};
 use crate::mesh::MeshBuffers;
 use crate::pose::Pose;
+use crate::texture::{self, TextureProperty};
 
 /// Most mesh leaves in one file.
 pub const MAX_LEAVES: usize = 1 << 20;
@@ -115,6 +117,8 @@ pub struct ShapeLeaf {
     pub indices: Arc<[u32]>,
     /// One normal per index, when the file's buffer exists.
     pub normals: Option<Arc<[[f32; 3]]>>,
+    /// The texture it wears (`Toj`), if any.
+    pub texture: Option<TextureProperty>,
 }
 
 /// Mass properties of a geometry node.
@@ -269,6 +273,7 @@ fn read_mesh(chunks: &[Chunk], at: &At, buffers: &MeshBuffers, mass: &NodeMass) 
     let mut primitive = PrimitiveKind::None;
     let mut size = [0.0; 3];
     let mut colour = None;
+    let mut toj = None;
     for c in chunks {
         let mut f = Fields::new(c, at);
         match &c.tag {
@@ -281,6 +286,7 @@ fn read_mesh(chunks: &[Chunk], at: &At, buffers: &MeshBuffers, mass: &NodeMass) 
             }
             b"Ppf" | b"_pf" => leaf_frame = Pose::from_position_first(f.reals::<7>(is_double(c.tag))?),
             b"Cl0" => colour = read_colour(c, at)?,
+            b"Toj" => toj = Some(c),
             _ => {}
         }
     }
@@ -311,6 +317,11 @@ fn read_mesh(chunks: &[Chunk], at: &At, buffers: &MeshBuffers, mass: &NodeMass) 
         .and_then(|n| buffers.normals.get(n))
         .filter(|n| n.len() == ind.len())
         .cloned();
+    // Read once the index count is known: fixed coordinates must fit it.
+    let texture = match toj {
+        Some(c) => texture::read_property(c, at, ind.len())?,
+        None => None,
+    };
     Ok(ShapeLeaf {
         name: mass.name.clone(),
         mass: mass.mass,
@@ -321,6 +332,7 @@ fn read_mesh(chunks: &[Chunk], at: &At, buffers: &MeshBuffers, mass: &NodeMass) 
         vertices: Arc::clone(vert),
         indices: Arc::clone(ind),
         normals,
+        texture,
     })
 }
 

@@ -95,3 +95,49 @@ fn test_scene_environment_reads() {
         (Some(false), Some((0, 0.0, 0.5)), Some(5.0))
     );
 }
+
+#[test]
+fn test_scene_cracker_box_texture_reads() {
+    let Some(bytes) = scene() else { return };
+    let f = read(&bytes).unwrap();
+    // Two texture objects: a 256 x 256 concrete and the cracker box's 512 x 512 image.
+    assert_eq!(f.textures.len(), 2);
+    let concrete = &f.textures[0];
+    assert_eq!(
+        (concrete.id, concrete.name.as_str(), concrete.resolution),
+        (2_180_009, "garageConcrete3", [256, 256])
+    );
+    let image = &f.textures[1];
+    assert_eq!(
+        (image.id, image.name.as_str(), image.resolution),
+        (2_180_010, "importedTexture", [512, 512])
+    );
+    assert_eq!(image.rgba.len(), 512 * 512 * 4);
+    // The first pixels are opaque black; the concrete's first is a light grey-beige.
+    assert_eq!(&image.rgba[..8], &[0, 0, 0, 255, 0, 0, 0, 255]);
+    assert_eq!(&concrete.rgba[..8], &[0xf7, 0xf1, 0xe5, 0xff, 0xf7, 0xf1, 0xe4, 0xff]);
+
+    let o = f.objects.iter().find(|o| o.name == "cracker_box_visual").unwrap();
+    let ObjectKind::Shape(s) = &o.kind else {
+        panic!("not a shape")
+    };
+    assert_eq!(s.leaves.len(), 1);
+    let leaf = &s.leaves[0];
+    let t = leaf.texture.as_ref().expect("the cracker box wears a texture");
+    assert_eq!(t.texture, image.id);
+    assert_eq!(t.mapping, gantry_coppelia_file::TextureMapping::Plane);
+    assert_eq!(
+        (t.apply_mode, t.interpolate, t.repeat_u, t.repeat_v),
+        (0, true, true, true)
+    );
+    let coords = t.coordinates.as_ref().expect("fixed coordinates");
+    // u, v for each corner of each triangle.
+    assert_eq!(coords.len(), 2 * leaf.indices.len());
+    assert_eq!(leaf.indices.len(), 3 * 15_728);
+    assert!(
+        (coords[0] - 0.515_722).abs() < 1e-5 && (coords[1] - 0.089_155).abs() < 1e-5,
+        "{:?}",
+        &coords[..2]
+    );
+    assert!(coords.iter().all(|c| c.is_finite()));
+}

@@ -389,6 +389,7 @@ fn everything() -> SceneModel {
                 geometry: Geometry::Mesh(m),
                 local: tilted,
                 color: [0.1, 0.2, 1.0 / 3.0],
+                texture: None,
             },
             VisualModel {
                 geometry: Geometry::Capsule {
@@ -397,6 +398,7 @@ fn everything() -> SceneModel {
                 },
                 local: Pose::identity(),
                 color: [1.0, 0.5, 0.0],
+                texture: None,
             },
         ],
         dynamic: true,
@@ -427,6 +429,7 @@ fn everything() -> SceneModel {
             geometry: Geometry::Mesh(mesh(1.0, true)),
             local: gimbal,
             color: [0.3, 0.3, 0.3],
+            texture: None,
         }],
         mass: MassModel::Mass(0.0),
         ..ShapeModel::single(Geometry::Sphere { radius: 0.1 }, [0.0; 3])
@@ -660,6 +663,7 @@ fn everything() -> SceneModel {
         ],
         urdf_robots: Vec::new(),
         warnings: vec!["line one\nline two".into()],
+        textures: Vec::new(),
     }
 }
 

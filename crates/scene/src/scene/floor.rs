@@ -25,7 +25,12 @@ pub(super) fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> Ob
                 geometry: geometry.clone(),
                 local,
             }],
-            visuals: vec![VisualModel { geometry, local, color }],
+            visuals: vec![VisualModel {
+                geometry,
+                local,
+                color,
+                texture: None,
+            }],
             dynamic: false,
             mass: MassModel::Density(1000.0),
             friction,

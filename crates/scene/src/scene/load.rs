@@ -6,6 +6,7 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use toml::Spanned;
 
@@ -17,10 +18,10 @@ use super::model::{
     CameraModel, CollectionItemModel, CollectionModel, CollectionScope, GeomModel, Geometry, IkElementModel,
     IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, LightModel, LightType, MAX_VISION_IMAGE_BYTES,
     MAX_VISION_RESOLUTION, MassModel, MimicModel, ObjectModel, ObjectModelKind, PathModel, Projection, ProximityModel,
-    ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, UrdfRobotModel,
-    VISION_BYTES_PER_PIXEL, VisionModel, VisualModel, vision_image_bytes,
+    ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, TextureModel,
+    UrdfRobotModel, VISION_BYTES_PER_PIXEL, VisionModel, VisualModel, VisualTexture, vision_image_bytes,
 };
-use super::raw::{RawObject, RawPart, RawRobot, RawScene, unknown_keys};
+use super::raw::{RawObject, RawPart, RawRobot, RawScene, RawTexture, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
 use crate::math::{Pose, pose_from_euler, quat_from_array};
 
@@ -110,6 +111,7 @@ pub(super) fn load_urdf_model(files: &dyn Files, path: &Path, opts: &LoadOptions
         collections: Vec::new(),
         urdf_robots: vec![robot],
         warnings,
+        textures: Vec::new(),
     })
 }
 
@@ -165,6 +167,8 @@ pub fn load_scene_text(
         urdf_robots: Vec::new(),
         names: Names::new(),
         mimics: Vec::new(),
+        textures: Vec::new(),
+        texture_files: HashMap::new(),
     };
     let settings = r.settings(&raw)?;
     let server = raw
@@ -217,6 +221,7 @@ pub fn load_scene_text(
         collections,
         urdf_robots: r.urdf_robots,
         warnings: dedup(r.warnings),
+        textures: r.textures,
     })
 }
 
@@ -276,6 +281,9 @@ struct Resolver<'a> {
     /// Joints that follow another, resolved once every object exists: the follower's
     /// index, the leader's name, and the multiplier and offset in model units.
     mimics: Vec<(usize, Spanned<String>, f64, f64)>,
+    /// Texture images read so far, and the index of each by its resolved file.
+    textures: Vec<TextureModel>,
+    texture_files: HashMap<PathBuf, usize>,
 }
 
 /// The geometry keys of an `[[object]]` or an `[[object.part]]`.
@@ -665,7 +673,15 @@ impl Resolver<'_> {
                         geometry: geometry.clone(),
                         local,
                     }],
-                    vec![VisualModel { geometry, local, color }],
+                    vec![VisualModel {
+                        geometry,
+                        local,
+                        color,
+                        texture: match &o.texture {
+                            Some(t) => Some(self.texture(&format!("shape '{name}'"), t)?),
+                            None => None,
+                        },
+                    }],
                 )
             }
             (None, None) => {
@@ -788,11 +804,17 @@ impl Resolver<'_> {
                     local,
                 });
             }
+            let texture = match &p.texture {
+                Some(t) if draw => Some(self.texture(&label, t)?),
+                Some(t) => return self.err_at(t.image.span(), format!("{label}: a collision part wears no texture")),
+                None => None,
+            };
             if draw {
                 visuals.push(VisualModel {
                     geometry,
                     local,
                     color: p.color.unwrap_or(DEFAULT_COLOR),
+                    texture,
                 });
             }
         }
@@ -800,6 +822,106 @@ impl Resolver<'_> {
     }
 
     /// One primitive or mesh from its keys; `kind` is the `shape` value.
+    /// A part's `texture`: its image read once per file, its coordinates file read and
+    /// checked for whole triangles (the world checks them against the mesh).
+    fn texture(&mut self, label: &str, t: &RawTexture) -> Result<VisualTexture, LoadError> {
+        let path = self.relative(t.image.get_ref());
+        let texture = match self.texture_files.get(&path) {
+            Some(&i) => i,
+            None => {
+                let bytes = match self.files.read(&path) {
+                    Ok(b) => b,
+                    Err(e) => {
+                        return self.err_at(
+                            t.image.span(),
+                            format!("{label}: cannot read '{}': {e}", path.display()),
+                        );
+                    }
+                };
+                let (resolution, rgba) = match super::texture_file::decode_png(&bytes) {
+                    Ok(image) => image,
+                    Err(e) => return self.err_at(t.image.span(), format!("{label}: '{}': {e}", path.display())),
+                };
+                let name = t.name.clone().unwrap_or_else(|| stem(&path));
+                self.textures.push(TextureModel {
+                    name,
+                    resolution,
+                    rgba: Arc::new(rgba),
+                });
+                self.texture_files.insert(path, self.textures.len() - 1);
+                self.textures.len() - 1
+            }
+        };
+        let mapping = match t.mapping.as_ref().map(|m| (m, m.get_ref().as_str())) {
+            None | Some((_, "plane")) => 0,
+            Some((_, "cylinder")) => 1,
+            Some((_, "sphere")) => 2,
+            Some((_, "cube")) => 3,
+            Some((m, other)) => {
+                return self.err_at(
+                    m.span(),
+                    format!("{label}: unknown texture mapping '{other}'; use plane, cylinder, sphere or cube"),
+                );
+            }
+        };
+        let scaling = t.scaling.unwrap_or([1.0, 1.0]);
+        let position = t.position.unwrap_or([0.0; 3]);
+        if !scaling.iter().chain(&position).all(|v| v.is_finite()) {
+            return self.err_at(
+                t.image.span(),
+                format!("{label}: the texture's scaling and position must be finite"),
+            );
+        }
+        let rotation = match t.quaternion {
+            None => nalgebra::UnitQuaternion::identity(),
+            Some(q) => match quat_from_array(q) {
+                Some(q) => q,
+                None => {
+                    return self.err_at(
+                        t.image.span(),
+                        format!("{label}: the texture's quaternion is not a rotation"),
+                    );
+                }
+            },
+        };
+        let coordinates = match &t.coordinates {
+            None => None,
+            Some(file) => {
+                let path = self.relative(file.get_ref());
+                let text = match self.files.read(&path) {
+                    Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+                    Err(e) => {
+                        return self.err_at(file.span(), format!("{label}: cannot read '{}': {e}", path.display()));
+                    }
+                };
+                match super::texture_file::read_coordinates(&text) {
+                    Ok(c) if c.len() % 6 == 0 => Some(Arc::new(c)),
+                    Ok(c) => {
+                        return self.err_at(
+                            file.span(),
+                            format!(
+                                "{label}: {} coordinates are not whole triangles (6 a triangle)",
+                                c.len()
+                            ),
+                        );
+                    }
+                    Err(e) => return self.err_at(file.span(), format!("{label}: '{}': {e}", path.display())),
+                }
+            }
+        };
+        Ok(VisualTexture {
+            texture,
+            mapping,
+            options: t.options.unwrap_or(0),
+            scaling,
+            frame: Pose::from_parts(
+                nalgebra::Translation3::new(position[0], position[1], position[2]),
+                rotation,
+            ),
+            coordinates,
+        })
+    }
+
     fn geometry(&self, name: &str, kind: &Spanned<String>, o: &GeometryKeys<'_>) -> Result<Geometry, LoadError> {
         let need = |v: Option<f64>, key: &str| -> Result<f64, LoadError> {
             match v {

@@ -22,6 +22,7 @@ mod model_file;
 mod obj_parts;
 mod obj_write;
 pub mod raw;
+pub mod texture_file;
 mod urdf;
 mod urdf_fixups;
 mod write;

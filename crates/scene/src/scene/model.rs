@@ -48,6 +48,8 @@ pub struct SceneModel {
     /// The robots loaded from URDF files, in load order: which objects each file's links
     /// and joints became, and the file's text (ROS 2's `/robot_description`).
     pub urdf_robots: Vec<UrdfRobotModel>,
+    /// Texture images, which visuals name by index ([`VisualTexture::texture`]).
+    pub textures: Vec<TextureModel>,
     /// Soft problems found while loading (unknown keys, unsupported URDF elements).
     pub warnings: Vec<String>,
 }
@@ -364,6 +366,7 @@ impl ShapeModel {
                 geometry,
                 local: Pose::identity(),
                 color,
+                texture: None,
             }],
             dynamic: false,
             mass: MassModel::Density(1000.0),
@@ -398,6 +401,39 @@ pub struct VisualModel {
     pub local: Pose,
     /// RGB, each 0..1.
     pub color: [f32; 3],
+    /// The texture the part wears, if any (kept for the API; the renderer does not draw
+    /// textures yet).
+    pub texture: Option<VisualTexture>,
+}
+
+/// A texture image (a CoppeliaSim texture object).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextureModel {
+    /// Its name (`sim.getTextureId` finds it by that).
+    pub name: String,
+    /// Width and height, pixels.
+    pub resolution: [u32; 2],
+    /// 4 bytes a pixel, rows from the top of the picture.
+    pub rgba: Arc<Vec<u8>>,
+}
+
+/// How a visual part wears a texture.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VisualTexture {
+    /// Index into [`SceneModel::textures`].
+    pub texture: usize,
+    /// `sim.texturemap_*`: 0 plane, 1 cylinder, 2 sphere, 3 cube; it projects the
+    /// coordinates when [`VisualTexture::coordinates`] is `None`.
+    pub mapping: i64,
+    /// `sim.setShapeTexture`'s option bits: 1 no interpolation, 2 decal, 4 repeat along
+    /// u, 8 repeat along v.
+    pub options: i64,
+    /// The texture's size on the part along u and v, m (projections).
+    pub scaling: [f64; 2],
+    /// The texture frame in the shape frame (as CoppeliaSim keeps it).
+    pub frame: Pose,
+    /// Fixed coordinates: u, v per triangle corner of the part's mesh, 6 a triangle.
+    pub coordinates: Option<Arc<Vec<f32>>>,
 }
 
 /// Geometry, in metres. Cylinders and capsules lie along their local Z axis.

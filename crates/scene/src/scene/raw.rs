@@ -134,6 +134,8 @@ pub struct RawObject {
     pub restitution: Option<f64>,
     /// Shape: RGB colour, each 0..1.
     pub color: Option<[f32; 3]>,
+    /// Shape: the texture its one part wears.
+    pub texture: Option<RawTexture>,
     /// Shape: collision group bits (default all).
     pub collision_group: Option<u32>,
     /// Shape: collision mask bits, which groups this shape collides with (default all).
@@ -279,6 +281,29 @@ pub struct RawPart {
     pub quaternion: Option<[f64; 4]>,
     /// RGB colour, each 0..1 (visual parts).
     pub color: Option<[f32; 3]>,
+    /// The texture the part wears (visual parts).
+    pub texture: Option<RawTexture>,
+}
+
+/// A part's `texture = { image = "textures/x.png", ... }`.
+#[derive(Debug, Deserialize)]
+pub struct RawTexture {
+    /// PNG file relative to the scene file; parts naming the same file share one texture.
+    pub image: Spanned<String>,
+    /// The texture's name (`sim.getTextureId`); default the file's stem.
+    pub name: Option<String>,
+    /// `plane` (default), `cylinder`, `sphere` or `cube`.
+    pub mapping: Option<Spanned<String>>,
+    /// `sim.setShapeTexture` option bits (default 0).
+    pub options: Option<i64>,
+    /// The texture's size on the part along u and v, m (default 1, 1).
+    pub scaling: Option<[f64; 2]>,
+    /// The texture frame's position in the shape frame, m.
+    pub position: Option<[f64; 3]>,
+    /// The texture frame's orientation in the shape frame, `[x, y, z, w]`.
+    pub quaternion: Option<[f64; 4]>,
+    /// Fixed coordinates: a text file of `u v` lines, one per triangle corner.
+    pub coordinates: Option<Spanned<String>>,
 }
 
 /// A joint's `mimic = { leader = "...", multiplier = 1, offset = 0 }`.
@@ -455,6 +480,7 @@ const OBJECT_KEYS: &[&str] = &[
     "friction",
     "restitution",
     "color",
+    "texture",
     "collision_group",
     "collision_mask",
     "respondable",
@@ -540,6 +566,17 @@ const PART_KEYS: &[&str] = &[
     "orientation_deg",
     "quaternion",
     "color",
+    "texture",
+];
+const TEXTURE_KEYS: &[&str] = &[
+    "image",
+    "name",
+    "mapping",
+    "options",
+    "scaling",
+    "position",
+    "quaternion",
+    "coordinates",
 ];
 const MIMIC_KEYS: &[&str] = &["leader", "multiplier", "offset"];
 const DUMMY_LINK_KEYS: &[&str] = &["dummies", "free_rotation"];
@@ -599,10 +636,16 @@ pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
                             }
                         }
                     }
+                    if let Some(toml::Value::Table(x)) = t.get("texture") {
+                        check_table(x, &format!("{label}.texture"), TEXTURE_KEYS, &mut out);
+                    }
                     if let Some(toml::Value::Array(parts)) = t.get("part") {
                         for (j, p) in parts.iter().enumerate() {
                             if let toml::Value::Table(p) = p {
                                 check_table(p, &format!("{label}.part[{j}]"), PART_KEYS, &mut out);
+                                if let Some(toml::Value::Table(x)) = p.get("texture") {
+                                    check_table(x, &format!("{label}.part[{j}].texture"), TEXTURE_KEYS, &mut out);
+                                }
                             }
                         }
                     }

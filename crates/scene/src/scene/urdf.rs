@@ -702,6 +702,7 @@ impl Ctx<'_> {
                 geometry: self.geometry(&v.geometry, &link.name)?,
                 local: urdf_pose(&v.origin),
                 color,
+                texture: None,
             });
         }
         let i = &link.inertial;

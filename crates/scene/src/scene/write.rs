@@ -21,7 +21,7 @@ use std::sync::Arc;
 use super::model::{
     CollectionModel, CollectionScope, Geometry, IkGroupModel, IkMethodModel, JointMode, JointType, LightModel,
     LightType, MassModel, MeshData, ObjectModel, ObjectModelKind, PathModel, Projection, ProximityModel, RenderMode,
-    SceneModel, ShapeModel, VisionModel,
+    SceneModel, ShapeModel, TextureModel, VisionModel, VisualTexture,
 };
 use super::obj_write::write_obj;
 use crate::math::{Pose, Quat, euler_from_quat, quat_from_euler, quat_to_array};
@@ -35,7 +35,8 @@ const EULER_TOLERANCE: f64 = 1e-12;
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SceneFiles {
     /// Paths relative to the output folder, and contents: the TOML scene first, then
-    /// meshes (`meshes/*.obj`) and scripts (`scripts/*.lua`).
+    /// meshes (`meshes/*.obj`), scripts (`scripts/*.lua`) and textures (`textures/*.png`
+    /// and their coordinates, `textures/*.uv`).
     pub files: Vec<(PathBuf, Vec<u8>)>,
     /// What the scene file could not hold (also at the top of the TOML).
     pub notes: Vec<String>,
@@ -67,6 +68,8 @@ pub fn write_scene(model: &SceneModel, stem: &str, source: &str) -> Result<Scene
         meshes: HashMap::new(),
         used_files: std::collections::HashSet::new(),
         object: String::new(),
+        textures: model.textures.clone(),
+        texture_files: HashMap::new(),
     };
     let names = unique_names(&model.objects);
     w.settings(model)?;
@@ -141,6 +144,9 @@ struct Writer {
     used_files: std::collections::HashSet<String>,
     /// Name of the object being written, for errors.
     object: String,
+    /// The scene's texture images, and the PNG file of each written so far.
+    textures: Vec<TextureModel>,
+    texture_files: HashMap<usize, String>,
 }
 
 impl Writer {
@@ -481,6 +487,7 @@ impl Writer {
         if paired && geoms.len() == 1 && geoms[0].local == Pose::identity() {
             self.geometry(&geoms[0].geometry)?;
             self.color(visuals[0].color)?;
+            self.texture(visuals[0].texture.as_ref())?;
             return Ok(());
         }
         if geoms.is_empty() && visuals.is_empty() {
@@ -493,6 +500,7 @@ impl Writer {
                 self.geometry(&g.geometry)?;
                 self.pose(&g.local)?;
                 self.color(v.color)?;
+                self.texture(v.texture.as_ref())?;
             }
         } else {
             for g in &geoms {
@@ -505,6 +513,7 @@ impl Writer {
                 self.geometry(&v.geometry)?;
                 self.pose(&v.local)?;
                 self.color(v.color)?;
+                self.texture(v.texture.as_ref())?;
             }
         }
         Ok(())
@@ -609,6 +618,80 @@ impl Writer {
         } else {
             self.key_n("quaternion", &quat_to_array(&q))
         }
+    }
+
+    /// A part's `texture = { ... }`: its image as a PNG file (once per texture), its
+    /// fixed coordinates as a text file beside it.
+    fn texture(&mut self, t: Option<&VisualTexture>) -> Result<(), WriteError> {
+        let Some(t) = t else { return Ok(()) };
+        let Some(image) = self.textures.get(t.texture).cloned() else {
+            self.notes.push(format!(
+                "{}: its texture {} does not exist; left out",
+                self.object, t.texture
+            ));
+            return Ok(());
+        };
+        let file = match self.texture_files.get(&t.texture) {
+            Some(f) => f.clone(),
+            None => {
+                let png = match super::texture_file::encode_png(image.resolution, &image.rgba) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        self.notes
+                            .push(format!("{}: texture '{}' not written: {e}", self.object, image.name));
+                        return Ok(());
+                    }
+                };
+                let file = self.file_name("textures", &image.name, "png");
+                self.files.push((file.clone().into(), png));
+                self.texture_files.insert(t.texture, file.clone());
+                file
+            }
+        };
+        let mapping = match t.mapping {
+            1 => "cylinder",
+            2 => "sphere",
+            3 => "cube",
+            _ => "plane",
+        };
+        let p = t.frame.translation.vector;
+        let position = [p.x, p.y, p.z]
+            .iter()
+            .map(|v| self.num("texture position", *v))
+            .collect::<Result<Vec<_>, _>>()?;
+        let quaternion = quat_to_array(&t.frame.rotation)
+            .iter()
+            .map(|v| self.num("texture quaternion", *v))
+            .collect::<Result<Vec<_>, _>>()?;
+        let scaling = t
+            .scaling
+            .iter()
+            .map(|v| self.num("texture scaling", *v))
+            .collect::<Result<Vec<_>, _>>()?;
+        let _ = write!(
+            self.out,
+            "texture = {{ image = {}, name = {}, mapping = \"{mapping}\", options = {}, scaling = [{}], position = [{}], quaternion = [{}]",
+            quote(&file),
+            quote(&image.name),
+            t.options,
+            scaling.join(", "),
+            position.join(", "),
+            quaternion.join(", ")
+        );
+        if let Some(c) = &t.coordinates {
+            if c.iter().any(|v| !v.is_finite()) {
+                return Err(self.not_finite("a texture coordinate"));
+            }
+            let name = self.object.clone();
+            let uv = self.file_name("textures", &name, "uv");
+            self.files.push((
+                uv.clone().into(),
+                super::texture_file::write_coordinates(c).into_bytes(),
+            ));
+            let _ = write!(self.out, ", coordinates = {}", quote(&uv));
+        }
+        self.out.push_str(" }\n");
+        Ok(())
     }
 
     fn color(&mut self, c: [f32; 3]) -> Result<(), WriteError> {
@@ -779,6 +862,7 @@ mod tests {
             collections: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
+            textures: Vec::new(),
         }
     }
 
@@ -871,6 +955,7 @@ mod tests {
             collections: Vec::new(),
             urdf_robots: Vec::new(),
             warnings: Vec::new(),
+            textures: Vec::new(),
         };
         let files = write_scene(&model, "s", "s.ttt").expect("writes");
         assert_eq!(files.files.len(), 1);

@@ -327,6 +327,7 @@ fn convex_decompose(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<
                 geometry: g.geometry.clone(),
                 local: g.local,
                 color,
+                texture: None,
             })
             .collect(),
         geoms,

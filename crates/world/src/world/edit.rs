@@ -368,6 +368,8 @@ impl World {
             self.collections
                 .push(Some(super::Collection::from_model(c, |i| map[i])));
         }
+        // The model's textures join the store, under new ids.
+        warnings.extend(self.load_textures(model, |i| map[i]));
         self.urdf_robots.extend(
             model
                 .urdf_robots

@@ -163,6 +163,19 @@ impl World {
         if linked {
             notes.push("dynamic loop closures (linked dummies) are not saved".to_owned());
         }
+        // Visual textures name the loaded scene's texture table, which is not kept with
+        // the world: they are left out rather than left dangling.
+        let mut textured = false;
+        for o in &mut objects {
+            if let ObjectModelKind::Shape(shape) = &mut o.kind {
+                for v in &mut shape.visuals {
+                    textured |= v.texture.take().is_some();
+                }
+            }
+        }
+        if textured {
+            notes.push("textures are not saved".to_owned());
+        }
         let source = self.source();
         Ok(ExportedScene {
             model: SceneModel {
@@ -180,6 +193,7 @@ impl World {
                 collections,
                 urdf_robots: Vec::new(),
                 warnings: Vec::new(),
+                textures: Vec::new(),
             },
             notes,
         })

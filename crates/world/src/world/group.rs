@@ -116,6 +116,7 @@ impl World {
                     geometry: g.geometry.clone(),
                     local: Pose::identity(),
                     color,
+                    texture: None,
                 }
             };
             let share = if total > 0.0 {

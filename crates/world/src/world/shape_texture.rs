@@ -1,12 +1,100 @@
-//! The world's texture operations: the texture objects it keeps and the textures its
-//! shapes wear (the store itself is `texture.rs`, which the world holds).
+//! The world's texture operations: the texture objects it keeps, the textures its
+//! shapes wear, and loading a scene's textures (the store itself is `texture.rs`,
+//! which the world holds).
+
+use std::sync::Arc;
 
 use super::object::Handle;
-use super::texture::{ShapeTexture, Textures};
+use super::texture::{ShapeTexture, TextureMapping, Textures};
 use super::world::World;
 use crate::error::SimError;
+use crate::scene::{ObjectModelKind, SceneModel, VisualTexture};
 
 impl World {
+    /// Adds the textures of `model` to the store and puts them on its shapes; `map` gives
+    /// a model object's handle here. A shape keeps one texture (the world's store holds
+    /// one per shape): that of its first textured part, with the fixed coordinates of
+    /// all its parts when every part wears the same texture with fixed coordinates, and
+    /// else projected by that part's mapping. What cannot be kept is returned as warnings.
+    pub(super) fn load_textures(&mut self, model: &SceneModel, map: impl Fn(usize) -> Handle) -> Vec<String> {
+        let mut warnings = Vec::new();
+        let mut ids = Vec::with_capacity(model.textures.len());
+        for t in &model.textures {
+            match self.textures.add(&t.name, t.resolution, t.rgba.to_vec()) {
+                Ok(id) => ids.push(Some(id)),
+                Err(e) => {
+                    warnings.push(format!("texture '{}' not loaded: {e}", t.name));
+                    ids.push(None);
+                }
+            }
+        }
+        for (i, o) in model.objects.iter().enumerate() {
+            let ObjectModelKind::Shape(shape) = &o.kind else {
+                continue;
+            };
+            let textured: Vec<&VisualTexture> = shape.visuals.iter().filter_map(|v| v.texture.as_ref()).collect();
+            let Some(first) = textured.first() else { continue };
+            let Some(id) = ids.get(first.texture).copied().flatten() else {
+                continue;
+            };
+            let whole = textured.len() == shape.visuals.len()
+                && textured
+                    .iter()
+                    .all(|t| t.texture == first.texture && t.coordinates.is_some());
+            if !whole && shape.visuals.len() > 1 {
+                warnings.push(format!(
+                    "{}: its parts' textures are kept as one, projected ({} of {} parts textured)",
+                    o.alias,
+                    textured.len(),
+                    shape.visuals.len()
+                ));
+            }
+            let coordinates = whole.then(|| {
+                Arc::new(
+                    textured
+                        .iter()
+                        .flat_map(|t| t.coordinates.iter().flat_map(|c| c.iter().copied()))
+                        .collect::<Vec<f32>>(),
+                )
+            });
+            let frame = first.frame;
+            let texture = ShapeTexture {
+                id,
+                mapping: match first.mapping {
+                    1 => TextureMapping::Cylinder,
+                    2 => TextureMapping::Sphere,
+                    3 => TextureMapping::Cube,
+                    _ if coordinates.is_some() => TextureMapping::Coordinates,
+                    _ => TextureMapping::Plane,
+                },
+                options: first.options,
+                uv_scaling: first.scaling,
+                position: frame.translation.vector.into(),
+                orientation: crate::math::euler_from_quat(&frame.rotation),
+                coordinates,
+            };
+            let h = map(i);
+            if let Err(e) = self.set_shape_texture(h, Some(texture.clone())) {
+                // Fixed coordinates made for the file's triangles do not fit a primitive
+                // gantry meshes its own way: project instead.
+                let projected = ShapeTexture {
+                    mapping: if texture.mapping == TextureMapping::Coordinates {
+                        TextureMapping::Plane
+                    } else {
+                        texture.mapping
+                    },
+                    coordinates: None,
+                    ..texture
+                };
+                warnings.push(format!("{}: texture coordinates not kept ({e}); projected", o.alias));
+                if let Err(e) = self.set_shape_texture(h, Some(projected)) {
+                    warnings.push(format!("{}: texture not kept: {e}", o.alias));
+                }
+            }
+        }
+        warnings
+    }
+
     /// The world's texture objects.
     pub fn textures(&self) -> &Textures {
         &self.textures

@@ -8,6 +8,9 @@
 //! The store is bounded ([`MAX_TEXTURE_SIDE`], [`MAX_TEXTURE_BYTES`]) because its images
 //! come from files and scripts.
 //!
+//! A scene's textures (CoppeliaSim files' texture objects, TOML scenes' PNG files) are
+//! added at load ([`World::load_textures`]).
+//!
 //! Not done: the renderer does not draw textures yet (shapes keep their colour in
 //! vision sensors and the viewer); the store only keeps what the API reads back.
 
@@ -167,7 +170,9 @@ impl Textures {
 
 #[cfg(test)]
 mod tests {
+    use super::super::world::World;
     use super::*;
+    use crate::scene::{ObjectModelKind, VisualTexture};
 
     #[test]
     fn ids_are_stable_and_the_store_is_bounded() {
@@ -186,6 +191,105 @@ mod tests {
         t.bytes = MAX_TEXTURE_BYTES - 4;
         assert!(matches!(t.add("d", [1, 2], vec![0; 8]), Err(SimError::Refused(_))));
         assert_eq!(t.add("d", [1, 1], vec![0; 4]), Ok(2));
+    }
+
+    /// A scene with `shapes` (each a list of box parts, each with an optional texture)
+    /// and one 1 x 2 texture.
+    fn textured_world(shapes: Vec<Vec<Option<VisualTexture>>>) -> World {
+        use crate::math::Pose;
+        use crate::scene::{
+            EmbeddedFiles, Geometry, LoadOptions, ObjectModel, ShapeModel, TextureModel, VisualModel, load_scene_text,
+        };
+        let mut model = load_scene_text(
+            &EmbeddedFiles::default(),
+            "",
+            std::path::Path::new("/empty.toml"),
+            &LoadOptions::default(),
+        )
+        .expect("an empty scene loads");
+        model.textures.push(TextureModel {
+            name: "wood".into(),
+            resolution: [1, 2],
+            rgba: Arc::new(vec![1, 2, 3, 4, 5, 6, 7, 8]),
+        });
+        let cube = Geometry::Box { half_extents: [0.1; 3] };
+        for (k, parts) in shapes.into_iter().enumerate() {
+            let mut shape = ShapeModel::single(cube.clone(), [0.5; 3]);
+            shape.visuals = parts
+                .into_iter()
+                .map(|texture| VisualModel {
+                    geometry: cube.clone(),
+                    local: Pose::identity(),
+                    color: [0.5; 3],
+                    texture,
+                })
+                .collect();
+            model.objects.push(ObjectModel {
+                alias: format!("s{k}"),
+                parent: None,
+                local: Pose::identity(),
+                model_base: false,
+                extension: String::new(),
+                kind: ObjectModelKind::Shape(shape),
+            });
+        }
+        World::new(&model)
+    }
+
+    fn textured(coordinates: Option<Vec<f32>>) -> Option<VisualTexture> {
+        Some(VisualTexture {
+            texture: 0,
+            mapping: 0,
+            options: 12,
+            scaling: [0.5, 0.25],
+            frame: crate::math::Pose::identity(),
+            coordinates: coordinates.map(Arc::new),
+        })
+    }
+
+    #[test]
+    fn a_scenes_textures_reach_the_store_and_its_shapes() {
+        // A cube is 12 triangles: 72 coordinates.
+        let coords = |v: f32| Some(vec![v; 72]);
+        let w = textured_world(vec![
+            // Two parts with coordinates: one texture with both parts' coordinates.
+            vec![textured(coords(0.25)), textured(coords(0.75))],
+            // Coordinates that do not fit the mesh: projected instead, warned.
+            vec![textured(Some(vec![0.5; 6]))],
+            // One part of two textured, by projection: kept, warned.
+            vec![textured(None), None],
+            // No texture.
+            vec![None],
+        ]);
+        let id = w.textures().find("wood").expect("the texture is in the store");
+        assert_eq!(w.textures().get(id).map(|t| t.resolution), Ok([1, 2]));
+        let handle = |name: &str| {
+            (0..w.len() as Handle)
+                .find(|&h| w.object(h).is_ok_and(|o| o.alias == name))
+                .expect(name)
+        };
+        let both = w.shape_texture(handle("s0")).unwrap().expect("textured");
+        assert_eq!(
+            (both.id, both.mapping, both.options),
+            (id, TextureMapping::Coordinates, 12)
+        );
+        let c = both.coordinates.as_ref().expect("fixed coordinates");
+        assert_eq!((c.len(), c[0], c[143]), (144, 0.25, 0.75));
+        let bad = w.shape_texture(handle("s1")).unwrap().expect("still textured");
+        assert_eq!(
+            (bad.mapping, bad.coordinates.is_none(), bad.uv_scaling),
+            (TextureMapping::Plane, true, [0.5, 0.25])
+        );
+        assert!(
+            w.warnings()
+                .iter()
+                .any(|m| m.contains("s1: texture coordinates not kept")),
+            "{:?}",
+            w.warnings()
+        );
+        assert!(w.shape_texture(handle("s2")).unwrap().is_some());
+        assert!(w.warnings().iter().any(|m| m.contains("s2: its parts' textures")));
+        assert!(w.shape_texture(handle("s3")).unwrap().is_none());
     }
 
     #[test]

@@ -275,6 +275,8 @@ impl World {
             let targets = r.targets.iter().map(|&t| t as Handle).collect();
             world.custom.set_referenced(r.object as Handle, &r.tag, targets);
         }
+        let warnings = world.load_textures(model, |i| i as Handle);
+        world.warnings.extend(warnings);
         world
     }
 

@@ -24,6 +24,7 @@
 //! | Python, disabled scripts | dropped (warned) |
 //! | collections (`GRP`) | [`CollectionModel`] (`sim.getCollectionHandle`) |
 //! | IK groups (`IKO`, 4.0-4.2 built-in kinematics) | [`IkGroupModel`] (`sim.getIkGroupHandle`); see `convert_ik_groups` |
+//! | texture objects (`TEX`), a mesh's texture (`Toj`) | [`SceneModel::textures`], [`VisualModel::texture`] (kept for the API, not drawn); a vision sensor's image as texture is warned |
 //! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
 //! | environment fog colour (`ENV`), what vision sensors show where they see nothing | [`SimSettings::background`] |
 //!
@@ -154,6 +155,12 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
             kind,
         });
     }
+    let (textures, texture_index) = shape::convert_textures(&file);
+    for (object, &i) in objects.iter_mut().zip(&order) {
+        if let (ObjectModelKind::Shape(shape), cf::ObjectKind::Shape(s)) = (&mut object.kind, &file.objects[i].kind) {
+            shape::attach_textures(shape, &s.leaves, &texture_index, &object.alias, &mut warnings);
+        }
+    }
     cap_vision_memory(&mut objects, &mut report, &mut warnings);
     report.objects = objects.len();
     report.file_handles = order.iter().map(|&i| file.objects[i].handle).collect();
@@ -180,6 +187,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         collections,
         urdf_robots: Vec::new(),
         warnings,
+        textures,
     };
     Ok((model, report))
 }
@@ -1276,6 +1284,7 @@ mod tests {
             ik_groups: Vec::new(),
             scripts: Vec::new(),
             settings: cf::Settings::default(),
+            textures: Vec::new(),
         }
     }
 

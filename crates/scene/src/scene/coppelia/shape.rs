@@ -11,12 +11,15 @@
 //! add a static shape hanging on a dynamic one to that body's mass (the `linkN_visible`
 //! children of every library robot store kilograms), so it gets zero.
 
+use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
 use gantry_coppelia_file as cf;
 
-use crate::scene::model::{GeomModel, Geometry, MassModel, MeshData, ShapeModel, VisualModel};
+use crate::scene::model::{
+    GeomModel, Geometry, MassModel, MeshData, ShapeModel, TextureModel, VisualModel, VisualTexture,
+};
 
 use super::pose::to_pose;
 
@@ -44,6 +47,7 @@ pub fn convert(
             geometry: geometry.clone(),
             local,
             color: leaf.colour.unwrap_or(DEFAULT_COLOUR),
+            texture: None,
         });
         geoms.push(GeomModel { geometry, local });
     }
@@ -96,6 +100,71 @@ pub fn convert(
     }
 }
 
+/// The file's texture objects as the scene's (rows turned top first), and each file id's
+/// index among them.
+pub fn convert_textures(file: &cf::CoppeliaFile) -> (Vec<TextureModel>, HashMap<i32, usize>) {
+    let mut textures = Vec::with_capacity(file.textures.len());
+    let mut index = HashMap::new();
+    for t in &file.textures {
+        let row = t.resolution[0] as usize * 4;
+        // The reader checked the length against the resolution; rows are whole.
+        let rgba: Vec<u8> = t.rgba.chunks_exact(row).rev().flatten().copied().collect();
+        index.insert(t.id, textures.len());
+        textures.push(TextureModel {
+            name: t.name.clone(),
+            resolution: t.resolution,
+            rgba: Arc::new(rgba),
+        });
+    }
+    (textures, index)
+}
+
+/// Puts on each visual of `shape` (one per leaf, in leaf order, as [`convert`] makes
+/// them) the texture its leaf wears. A vision sensor's image as texture, or a texture
+/// id the file lacks, is warned and left off.
+pub fn attach_textures(
+    shape: &mut ShapeModel,
+    leaves: &[cf::ShapeLeaf],
+    textures: &HashMap<i32, usize>,
+    name: &str,
+    warnings: &mut Vec<String>,
+) {
+    for (visual, leaf) in shape.visuals.iter_mut().zip(leaves) {
+        let Some(t) = &leaf.texture else { continue };
+        let Some(&texture) = textures.get(&t.texture) else {
+            let why = if t.from_vision_sensor() {
+                format!("wears the image of vision sensor {}", t.texture)
+            } else {
+                format!("names texture {}, which the file lacks", t.texture)
+            };
+            warnings.push(format!("{name}: {why}; left untextured"));
+            continue;
+        };
+        let mapping = match t.mapping {
+            cf::TextureMapping::Plane => 0,
+            cf::TextureMapping::Cylinder => 1,
+            cf::TextureMapping::Sphere => 2,
+            cf::TextureMapping::Cube => 3,
+            cf::TextureMapping::Other(code) => {
+                warnings.push(format!("{name}: texture mapping {code} unknown; projected as a plane"));
+                0
+            }
+        };
+        let options = i64::from(!t.interpolate)
+            | if t.apply_mode == 1 { 2 } else { 0 }
+            | if t.repeat_u { 4 } else { 0 }
+            | if t.repeat_v { 8 } else { 0 };
+        visual.texture = Some(VisualTexture {
+            texture,
+            mapping,
+            options,
+            scaling: t.scaling,
+            frame: to_pose(&t.frame),
+            coordinates: t.coordinates.as_ref().map(|c| Arc::new(c.to_vec())),
+        });
+    }
+}
+
 /// The geometry of one leaf, in its vertex frame.
 fn geometry(leaf: &cf::ShapeLeaf, source: &Path, label: &str) -> Geometry {
     let [x, y, z] = leaf.size;
@@ -145,6 +214,7 @@ mod tests {
             vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].into(),
             indices: vec![0, 1, 2].into(),
             normals: None,
+            texture: None,
         }
     }
 
