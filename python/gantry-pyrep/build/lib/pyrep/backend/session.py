@@ -48,10 +48,19 @@ def active() -> Optional[Session]:
 
 
 def call(name: str, *args: Any) -> Any:
-    """`sim.<name>(*args)` in the calling thread's simulation. A failure raises
+    """`sim.<name>(*args)` (or a qualified `module.name`) in the calling thread's
+    simulation. A failure raises
     `CallError`: a RuntimeError, as the C API's -1 makes PyRep raise, and a
     PyRepError, with gantry's reason."""
-    f = getattr(current().sim, name, None)
+    if "." in name:
+        # A function of another module (`simVision.handleSpherical`), by its full name.
+        client = current().client
+
+        def f(*a: Any) -> Any:
+            return client.call(name, list(a))
+
+    else:
+        f = getattr(current().sim, name, None)
     if f is None:
         raise CallError(f"sim.{name} is not available in gantry")
     try:

@@ -585,10 +585,19 @@ def simGetShapeViz(shapeHandle: int, index: int):
     `texture`, `textureRes`, `textureCoords`, `textureId`, `shadingAngle`, ...)."""
     from types import SimpleNamespace
 
-    info = _call("getShapeViz", shapeHandle, index)
-    fields = {"texture": b"", "textureRes": [0, 0], "textureCoords": [], "textureId": -1,
-              "textureApplyMode": 0, "textureOptions": 0}
-    fields.update(dict(info))
+    info = dict(_call("getShapeViz", shapeHandle, index))
+    # gantry gives a shape's texture as one map (`texture`), CoppeliaSim 4.1's C struct
+    # as flat fields: flattened here.
+    texture = info.pop("texture", None) or {}
+    fields = dict(info)
+    fields.update({
+        "texture": bytes(texture.get("texture", b"")),
+        "textureRes": list(texture.get("resolution", [0, 0])),
+        "textureCoords": list(texture.get("coordinates", [])),
+        "textureId": int(texture.get("id", -1)),
+        "textureApplyMode": int(texture.get("applyMode", 0)),
+        "textureOptions": int(texture.get("options", 0)),
+    })
     return SimpleNamespace(**fields)
 
 
