@@ -445,12 +445,10 @@ pub fn run_sim_thread_debugged(
                     last_served = Instant::now();
                 }
                 let step_took = began.elapsed();
-                // Serve what arrived during the step before the next one.
-                while let Ok(req) = rx.try_recv() {
-                    last_served = Instant::now();
-                    lp.serve(req);
-                }
-                if last_served.elapsed() < SPIN_AFTER_ACTIVITY && serve_share(&mut lp, &rx, step_took) {
+                // What arrived during the step is served before the next one, and a
+                // client that is calling gets its share of the thread.
+                let calling = last_served.elapsed() < SPIN_AFTER_ACTIVITY;
+                if serve_share(&mut lp, &rx, step_took, calling) {
                     last_served = Instant::now();
                 }
                 continue;
@@ -511,31 +509,38 @@ pub fn run_sim_thread_debugged(
     })
 }
 
-/// A free-running simulation shares its thread fairly with a client that is calling:
-/// after a step that took `step_took`, requests are served as they come for up to as
-/// long again (at most [`MAX_CALL_SHARE`]), and the next step starts as soon as the
-/// client has been quiet for [`SPIN_FOR`]. Without this, a client calling in a loop
-/// (`sim.getObjectPosition` from a GUI or a controller) would find a step under way at
-/// almost every call and wait for a phase of it; with it, most of its calls are
-/// answered at once, and the simulation keeps at least half of the thread however fast
-/// the client calls. Whether anything was served is returned.
-fn serve_share(lp: &mut SimLoop, rx: &Receiver<Request>, step_took: Duration) -> bool {
+/// A free-running simulation shares its thread fairly with its clients. After a step
+/// that took `step_took`, requests are served as they come for up to as long again (at
+/// most [`MAX_CALL_SHARE`]), at least one if any is waiting; then the next step starts.
+/// With `calling` (a client was served lately), the thread also waits for the client's
+/// next request until it has been quiet for [`SPIN_FOR`]: a client calling in a loop
+/// (`sim.getObjectPosition` from a GUI or a controller) would otherwise find a step under
+/// way at almost every call and wait for a phase of it. Either way the simulation keeps
+/// at least half of the thread however fast clients call (an unbounded drain of the
+/// queue would let a client that calls without pause stop it). Whether anything was
+/// served is returned.
+fn serve_share(lp: &mut SimLoop, rx: &Receiver<Request>, step_took: Duration, calling: bool) -> bool {
     let began = Instant::now();
     let share_ends = began + step_took.min(MAX_CALL_SHARE);
     let mut quiet_since = began;
     let mut served = false;
     loop {
-        let now = Instant::now();
-        if now >= share_ends || now.duration_since(quiet_since) >= SPIN_FOR {
-            return served;
-        }
         match rx.try_recv() {
             Ok(req) => {
                 served = true;
                 lp.serve(req);
                 quiet_since = Instant::now();
+                if quiet_since >= share_ends {
+                    return served;
+                }
             }
-            Err(_) => std::thread::yield_now(),
+            Err(_) => {
+                let now = Instant::now();
+                if !calling || now >= share_ends || now.duration_since(quiet_since) >= SPIN_FOR {
+                    return served;
+                }
+                std::thread::yield_now();
+            }
         }
     }
 }
