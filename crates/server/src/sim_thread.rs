@@ -38,6 +38,9 @@ const SPIN_AFTER_ACTIVITY: Duration = Duration::from_millis(20);
 /// The longest the simulation thread keeps serving a calling client between two steps
 /// of a free-running (`--fast`) simulation; see [`serve_share`].
 const MAX_CALL_SHARE: Duration = Duration::from_millis(5);
+/// The longest the simulation thread serves requests at one boundary between the
+/// phases of a step (see [`SimLoop::step_serving`]).
+const MAX_BOUNDARY_SHARE: Duration = Duration::from_millis(1);
 
 /// A request to the simulation thread.
 pub enum Request {
@@ -623,7 +626,11 @@ impl SimLoop {
         let mut arrived = false;
         self.engine.step_with(&mut |mid: &mut MidStep<'_>| {
             let at = mid.boundary();
-            while let Ok(req) = rx.try_recv() {
+            // Bounded, so that a client calling without pause cannot hold the step at
+            // a boundary: what is left waits for the next boundary or the step's end.
+            let until = Instant::now() + MAX_BOUNDARY_SHARE;
+            while Instant::now() < until {
+                let Ok(req) = rx.try_recv() else { break };
                 arrived = true;
                 let waiting = !deferred.borrow().is_empty();
                 match req {
