@@ -65,6 +65,10 @@ GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/replay.py --step
 echo "== ROS 2: --ros2's cost, a VGA camera on the graph, /cmd_vel latency; Cyclone DDS as the peer (issue 29)"
 GANTRY_BIN=target/release/gantry "$venv/bin/python" tools/bench/ros2.py --json target/bench/ros2.json
 echo "== start-up and memory"
+# PyRep on gantry (issue 50): pr.step() on PyRep's Panda scene, and with RLBench's
+# default observation; the pyrep package beside the wheel.
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps --force-reinstall ./python/gantry-pyrep
+"$venv/bin/python" tools/bench/pyrep_bench.py --repeat 3 --json target/bench/pyrep.json
 "$venv/bin/python" tools/bench/startup.py > target/bench/startup.json
 echo
 "$venv/bin/python" tools/bench/report.py
