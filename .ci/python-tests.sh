@@ -42,7 +42,7 @@ status=0
 # The `pyrep` package's own tests in a process of their own: run in the same process,
 # before tests/python/test_two_clients.py, they left its Ctrl-C'd ZMQ client unable to
 # exit (not understood yet; each passes alone).
-"$venv/bin/python" -m pytest tests/python/pyrep -q "$@" || status=$?
+"$venv/bin/python" -m pytest tests/python/pyrep -q || status=$?
 # PyRep's own unit tests, unchanged, from ../shared/pyrep/tests: the acceptance suite
 # of the `pyrep` package, with the issue's bar (tests/pyrep/run_suite.py).
 "$venv/bin/python" tests/pyrep/run_suite.py || status=$?
