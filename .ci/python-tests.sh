@@ -39,9 +39,9 @@ source "$root/tools/python-wheel.sh"
 
 status=0
 "$venv/bin/python" -m pytest tests/python -q --ignore=tests/python/pyrep "$@" || status=$?
-# The `pyrep` package's own tests in a process of their own: run in the same process,
-# before tests/python/test_two_clients.py, they left its Ctrl-C'd ZMQ client unable to
-# exit (not understood yet; each passes alone).
+# The `pyrep` package's own tests, in a process of their own: it is a distribution of
+# its own, and its simulations (one per thread) should not share a process with the
+# suite above's subprocess tests.
 "$venv/bin/python" -m pytest tests/python/pyrep -q || status=$?
 # PyRep's own unit tests, unchanged, from ../shared/pyrep/tests: the acceptance suite
 # of the `pyrep` package, with the issue's bar (tests/pyrep/run_suite.py).
