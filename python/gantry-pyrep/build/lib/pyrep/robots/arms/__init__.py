@@ -1,1 +1,0 @@
-"""PyRep's arms, one module each."""

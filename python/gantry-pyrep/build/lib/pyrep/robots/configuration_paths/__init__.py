@@ -1,1 +1,0 @@
-"""Paths in a robot's configuration space, and how robots follow them."""

@@ -1,1 +1,0 @@
-"""PyRep's end effectors: grippers and suction cups."""

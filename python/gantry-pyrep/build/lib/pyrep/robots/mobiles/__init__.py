@@ -1,1 +1,0 @@
-"""PyRep's mobile bases."""

@@ -1,1 +1,0 @@
-"""PyRep's composite sensors: accelerometer, gyroscope, spherical vision sensor."""
