@@ -69,3 +69,11 @@ def call(name: str, *args: Any) -> Any:
         raise
     except Exception as e:  # gantry's errors are plain Exceptions with the reason
         raise CallError(str(e)) from e
+
+
+def floats(values: Any) -> list:
+    """Any array-like of numbers (a list, a numpy array of any shape) as a flat list of
+    Python floats, the form gantry's functions take."""
+    import numpy as np
+
+    return [float(v) for v in np.asarray(values, dtype=np.float64).ravel()]

@@ -26,6 +26,7 @@ import numpy as np
 from gantry._gantry import Engine as _Engine
 from pyrep.backend import session as _session
 from pyrep.backend.session import call as _call
+from pyrep.backend.session import floats as _flat
 from pyrep.errors import CallError
 
 # --- constants -------------------------------------------------------------------
@@ -104,10 +105,6 @@ def __getattr__(name: str) -> Callable[..., Any]:
         call.__doc__ = f"CoppeliaSim's {name}: gantry's sim.{lua}."
         return call
     raise AttributeError(f"module 'pyrep.backend.sim' has no attribute '{name}'")
-
-
-def _flat(values: Any) -> list:
-    return [float(v) for v in np.asarray(values, dtype=np.float64).ravel()]
 
 
 # --- launch and stepping (PyRep's own entry points, simExt*) -----------------------

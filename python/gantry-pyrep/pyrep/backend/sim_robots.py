@@ -27,6 +27,7 @@ import numpy as np
 
 from pyrep.backend import session as _session
 from pyrep.backend.session import call as _call
+from pyrep.backend.session import floats as _floats
 from pyrep.errors import CallError
 
 __all__ = [
@@ -44,10 +45,6 @@ def _sim() -> Any:
 
 def _has(name: str) -> bool:
     return getattr(_sim(), name, None) is not None
-
-
-def _floats(values: Any) -> List[float]:
-    return [float(v) for v in np.asarray(values, dtype=np.float64).ravel()]
 
 
 # --- IK groups ---------------------------------------------------------------------
