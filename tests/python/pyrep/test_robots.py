@@ -266,6 +266,35 @@ def test_arm_models_load(pr_empty, model, module, cls):
     assert isinstance(arm.get_tip(), Dummy)
 
 
+# Dobot's fourth joint drives the tip through a parallel linkage whose motors
+# (`Dobot_auxMotor1/2`) follow it by script; its IK chain holds those motors, not
+# `Dobot_joint3`, so a pose made by moving the arm's joints is not one its group solves
+# for with them (as in CoppeliaSim).
+IK_ARMS = [m for m in ARM_MODELS if m[0] != "Dobot"]
+
+
+@pytest.mark.parametrize("model,module,cls", IK_ARMS, ids=[m[2] for m in IK_ARMS])
+def test_arm_models_find_their_ik_group_and_collection_and_solve_ik(pr_empty, model, module, cls):
+    """Issue 50: every arm of PyRep's models finds `<name>_ik` and `<name>_arm` in the
+    file and solves IK to a pose it can reach within 1 mm."""
+    import importlib
+
+    pr_empty.import_model(model_path(model))
+    arm = getattr(importlib.import_module(module), cls)()
+    assert arm._ik_group >= 0 and arm._collision_collection >= 0
+    assert arm.check_arm_collision() in (True, False)
+    cyclic, intervals = arm.get_joint_intervals()
+    # From a bent configuration (the middle of each joint's range: a model's zero
+    # configuration is often a stretched, singular arm), 0.1 rad (or m) along each joint.
+    start = np.array([0.0 if c else lo + span / 2 for c, (lo, span) in zip(cyclic, intervals)])
+    arm.set_joint_positions(start, disable_dynamics=True)
+    goal = start + 0.1
+    position, orientation = _reachable_pose(arm, goal - start)
+    config = arm.solve_ik_via_jacobian(position, orientation)
+    arm.set_joint_positions(config)
+    assert np.linalg.norm(arm.get_tip().get_position() - position) < 0.001
+
+
 def _reachable_pose(arm, offset):
     """A pose the tip reaches at the current configuration plus `offset`."""
     saved = arm.get_joint_positions()
