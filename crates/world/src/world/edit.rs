@@ -607,6 +607,7 @@ impl World {
         for c in self.colliders_of(h).to_vec() {
             if let Some(col) = self.physics.world.colliders.get_mut(c) {
                 col.set_sensor(!respondable);
+                col.set_collision_groups(super::physics::pair_groups(col.solver_groups(), respondable));
             }
         }
         self.queries_stale = true;

@@ -680,7 +680,7 @@ impl Physics {
                 .density(density as f32)
                 .friction(shape.friction as f32)
                 .restitution(shape.restitution as f32)
-                .collision_groups(groups)
+                .collision_groups(pair_groups(groups, shape.respondable))
                 .solver_groups(groups)
                 .sensor(!shape.respondable)
                 .build();
@@ -1098,5 +1098,83 @@ pub(crate) fn geometry_volume(g: &Geometry) -> f64 {
             }
             (0..3).map(|i| (hi[i] - lo[i]).max(0.0)).product()
         }
+    }
+}
+
+/// The groups rapier pairs a collider by. A non-respondable shape is a rapier sensor,
+/// and nothing reads rapier's intersection events (proximity sensors, `sim.checkCollision`
+/// and the distance queries test the shapes themselves), so it is kept out of every
+/// pair: rapier would otherwise test it, every step, against each collider its box
+/// overlaps (a Panda's visual meshes against its own links: a sixth of its step).
+/// `solver_groups` keep the shape's own groups, to restore them when it becomes
+/// respondable.
+pub(super) fn pair_groups(groups: InteractionGroups, respondable: bool) -> InteractionGroups {
+    if respondable { groups } else { InteractionGroups::none() }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::scene::{EmbeddedFiles, LoadOptions, load_scene_text};
+    use crate::world::World;
+
+    /// Two balls overlapping in the air, `a` respondable or not as given, `b` not.
+    fn world(a_respondable: bool) -> World {
+        let text = format!(
+            r#"
+[[object]]
+name = "a"
+kind = "shape"
+shape = "sphere"
+radius = 0.1
+position = [0, 0, 1]
+dynamic = true
+respondable = {a_respondable}
+
+[[object]]
+name = "b"
+kind = "shape"
+shape = "sphere"
+radius = 0.1
+position = [0.05, 0, 1]
+dynamic = true
+respondable = false
+"#
+        );
+        let model = load_scene_text(
+            &EmbeddedFiles::default(),
+            &text,
+            Path::new("/t.toml"),
+            &LoadOptions::default(),
+        )
+        .expect("the scene loads");
+        World::new(&model)
+    }
+
+    #[test]
+    fn non_respondable_shapes_are_not_paired_by_rapier_but_still_collide_in_queries() {
+        let mut w = world(false);
+        w.step_physics();
+        let pairs = w.physics().world.narrow_phase.intersection_pairs().count();
+        assert_eq!(pairs, 0, "nothing reads rapier's sensor pairs: none are computed");
+        let (a, b) = (w.find("/a", None, 0).unwrap(), w.find("/b", None, 0).unwrap());
+        assert_eq!(
+            w.collision(&[a], &[b]),
+            Some([a, b]),
+            "sim.checkCollision still sees them"
+        );
+
+        // Respondable again: back in rapier's pairs with its own groups.
+        w.set_shape_respondable(a, true).unwrap();
+        w.set_shape_respondable(b, true).unwrap();
+        w.step_physics();
+        assert!(
+            w.physics()
+                .world
+                .narrow_phase
+                .contact_pairs()
+                .any(|p| p.has_any_active_contact())
+        );
     }
 }
