@@ -70,7 +70,7 @@ pub use ik_group::{IkElement, IkGroup};
 pub use joint::{DynamicControl, Joint, JointDependency, JointMode, JointType};
 pub use light::{Light, LightType};
 pub use mesh::MeshBuffers;
-pub use object::{ObjectKind, SceneObject};
+pub use object::{ObjectKind, SceneObject, UserParameter};
 pub use path::{OldPath, PathPoint};
 pub use pose::Pose;
 pub use script::{Script, ScriptLanguage, ScriptOrigin, ScriptType};

@@ -32,6 +32,50 @@ const DETECTABLE: i32 = 0x1f0;
 /// Most referenced handles under one tag (a model's IK helper references three).
 const MAX_REFERENCED: usize = 1 << 16;
 
+/// Most user parameters one object may hold (the public files hold at most a dozen).
+const MAX_USER_PARAMETERS: usize = 4096;
+
+/// One user parameter (`Lsp` → `Par`): a name, the unit its dialog showed and the value,
+/// all text as CoppeliaSim keeps them (a number is its decimal text).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UserParameter {
+    /// The name scripts ask for.
+    pub name: String,
+    /// The unit the model's dialog showed (free text).
+    pub unit: String,
+    /// The value, as text.
+    pub value: String,
+    /// CoppeliaSim's property bits, kept as read (bit 0 is set on every parameter of the
+    /// public files).
+    pub properties: i32,
+}
+
+/// `Lsp`: a nested stream whose `Par` chunk holds a count, then per parameter its name,
+/// unit and value (length-prefixed strings) and its property bits (i32).
+fn read_user_parameters(c: &Chunk, at: &At) -> Result<Vec<UserParameter>, ReadError> {
+    let here = at.child(c.tag, c.offset);
+    let (chunks, _) = Chunks::new(c.payload, &here).part(false)?;
+    let mut out = Vec::new();
+    for c in chunks.iter().filter(|c| &c.tag == b"Par") {
+        let mut f = Fields::new(c, &here);
+        let n = f.i32()?;
+        let Some(n) = usize::try_from(n).ok().filter(|&n| n <= MAX_USER_PARAMETERS) else {
+            return Err(here.value_error(format!("{n} user parameters")));
+        };
+        // Read one by one (each string is bounds-checked), so a huge count in a short
+        // chunk fails on the data rather than on an allocation.
+        for _ in 0..n {
+            out.push(UserParameter {
+                name: f.string()?,
+                unit: f.string()?,
+                value: f.string()?,
+                properties: f.i32()?,
+            });
+        }
+    }
+    Ok(out)
+}
+
 /// One scene object, in file order (parents come before their children).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneObject {
@@ -56,6 +100,10 @@ pub struct SceneObject {
     /// Referenced handles (4.7+, `Cr2`) by tag, in file order: the objects a model's
     /// scripts find with `sim.getReferencedHandle(s)`.
     pub referenced: Vec<(String, Vec<i32>)>,
+    /// User parameters (`Lsp`, CoppeliaSim up to 4.2's "script simulation parameters"),
+    /// in file order: what a model's script reads with `sim.getScriptSimulationParameter`
+    /// (resolutions, angles, options the model's dialog offered).
+    pub user_parameters: Vec<UserParameter>,
     /// Extension string (`Rst`), empty when none: free text plugins and task models read
     /// with `sim.getExtensionString` (RLBench's waypoints: `open_gripper()`, ...).
     pub extension: String,
@@ -145,6 +193,7 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
         detectable: false,
         model_base: false,
         referenced: Vec::new(),
+        user_parameters: Vec::new(),
         extension: String::new(),
         kind: ObjectKind::Other(c.tag),
         offset: c.offset,
@@ -183,6 +232,7 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
                 }
                 o.referenced.push((tag, handles));
             }
+            b"Lsp" => o.user_parameters = read_user_parameters(c, &at)?,
             _ => {}
         }
     }

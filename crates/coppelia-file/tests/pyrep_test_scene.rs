@@ -1,23 +1,24 @@
 //! Lights and the old path of PyRep's `test_scene.ttt` (CoppeliaSim 4.1), the scene
 //! PyRep's own tests open (`../shared/pyrep/tests/assets/` from the repository root, or
-//! `$GANTRY_PYREP_TEST_SCENE`). Where the file is absent the test prints a note and
-//! passes, since it is not part of the repository.
+//! `$GANTRY_PYREP_TEST_SCENE`). The file is not part of the repository; the test
+//! command reads it from the shared folder, and a missing file fails the test.
 
 use std::path::PathBuf;
 
 use gantry_coppelia_file::{LightType, ObjectKind, read};
 
 fn scene() -> Option<Vec<u8>> {
+    // `Option` for the callers' `let Some(..) else`; a missing file panics below.
     let path = match std::env::var_os("GANTRY_PYREP_TEST_SCENE") {
         Some(p) => PathBuf::from(p),
         None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/pyrep/tests/assets/test_scene.ttt"),
     };
     match std::fs::read(&path) {
         Ok(b) => Some(b),
-        Err(_) => {
-            println!("{} not found; skipped (set GANTRY_PYREP_TEST_SCENE)", path.display());
-            None
-        }
+        Err(e) => panic!(
+            "PyRep's test scene {}: {e} (it comes from ../shared; set GANTRY_PYREP_TEST_SCENE)",
+            path.display()
+        ),
     }
 }
 
@@ -140,4 +141,35 @@ fn test_scene_cracker_box_texture_reads() {
         &coords[..2]
     );
     assert!(coords.iter().all(|c| c.is_finite()));
+}
+
+#[test]
+fn spherical_sensor_user_parameters_read() {
+    let Some(bytes) = scene() else { return };
+    let f = read(&bytes).unwrap();
+    // The model's script reads these with `sim.getScriptSimulationParameter`.
+    let o = f
+        .objects
+        .iter()
+        .find(|o| o.name == "sphericalVisionRGBAndDepth")
+        .expect("the spherical sensor's base");
+    let got: Vec<(&str, &str, &str)> = o
+        .user_parameters
+        .iter()
+        .map(|p| (p.name.as_str(), p.unit.as_str(), p.value.as_str()))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            ("sensorResolutionX", "pixels", "512"),
+            ("sensorResolutionY", "pixels", "256"),
+            ("boxSensorResolutionXY", "pixels", "128"),
+            ("horizontalAngle", "degrees (5-360)", "360"),
+            ("verticalAngle", "degrees (5-180)", "180"),
+            ("updateEveryXSimulationPass", "-", "1"),
+        ]
+    );
+    assert!(o.user_parameters.iter().all(|p| p.properties == 1));
+    let others = f.objects.iter().filter(|o| !o.user_parameters.is_empty()).count();
+    assert_eq!(others, 1, "only the spherical sensor holds user parameters");
 }

@@ -189,3 +189,38 @@ fn an_imported_arm_brings_its_ik_group_and_a_second_copy_is_suffixed() {
     sim.call("handleIkGroup", &[h]).expect("handleIkGroup");
     assert_eq!(sim.call("getJointPosition", &[own]).expect("position"), before);
 }
+
+#[test]
+fn the_spherical_sensor_script_reads_its_user_parameters_and_composes_the_panorama() {
+    let mut sim = test_scene();
+    let base = handle(&mut sim, "sphericalVisionRGBAndDepth");
+    let param = |sim: &mut Engine, name: &str, force: bool| {
+        sim.call(
+            "getScriptSimulationParameter",
+            &[base.clone(), Value::Str(name.into()), Value::Bool(force)],
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"))[0]
+            .clone()
+    };
+    // The file's values (its `Lsp` chunk), as numbers unless text is asked for.
+    assert_eq!(param(&mut sim, "sensorResolutionX", false), Value::Int(512));
+    assert_eq!(param(&mut sim, "horizontalAngle", true), Value::Str("360".into()));
+    assert_eq!(param(&mut sim, "noSuchParameter", false), Value::Nil);
+
+    for _ in 0..3 {
+        sim.step();
+    }
+    // The model's own script read them in `sysCall_init` and composes the panorama
+    // every step (PyRep's `test_capture_rgb` reads it without handling the sensor).
+    let scripts = sim.scripts();
+    let spherical: Vec<_> = scripts.iter().filter(|(_, h, _)| Value::Int(*h) == base).collect();
+    assert_eq!(spherical.len(), 1, "the model's script: {scripts:?}");
+    assert_eq!(spherical[0].2, gantry_lua::ScriptState::Running, "{:?}", spherical[0]);
+    let rgb = handle(&mut sim, "sphericalVisionRGBAndDepth_sensorRGB");
+    let img = sim.call("getVisionSensorImg", &[rgb]).expect("getVisionSensorImg");
+    let Some(Value::Bytes(bytes)) = img.first() else {
+        panic!("an image: {img:?}");
+    };
+    assert_eq!(bytes.len(), 512 * 256 * 3);
+    assert!(bytes.iter().any(|&b| b != 0), "the panorama is not blank");
+}

@@ -14,8 +14,8 @@ use gantry_sim_core::scene::{
     CameraModel, CollectionItemModel, CollectionModel, CollectionScope, DiskFiles, GeomModel, Geometry, IkElementModel,
     IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, LightModel, LightType, LoadOptions, MassModel,
     MeshData, MimicModel, ObjectModel, ObjectModelKind, PathModel, Projection, ProximityModel, ReferencedHandles,
-    RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, VisionModel, VisualModel,
-    load_coppelia, load_scene, write_scene,
+    RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, UserParameter, VisionModel,
+    VisualModel, load_coppelia, load_scene, write_scene,
 };
 use gantry_test_support::repo;
 
@@ -626,6 +626,12 @@ fn everything() -> SceneModel {
             object: 0,
             tag: "ik.tip".into(),
             targets: vec![7, 6],
+        }],
+        user_parameters: vec![UserParameter {
+            object: 0,
+            name: "verticalAngle".into(),
+            unit: "degrees (5-180)".into(),
+            value: "180".into(),
         }],
         collections: vec![
             CollectionModel {

@@ -19,7 +19,7 @@ use super::model::{
     IkGroupModel, IkMethodModel, JointMode, JointModel, JointType, LightModel, LightType, MAX_VISION_IMAGE_BYTES,
     MAX_VISION_RESOLUTION, MassModel, MimicModel, ObjectModel, ObjectModelKind, PathModel, Projection, ProximityModel,
     ReferencedHandles, RenderMode, SceneModel, ScriptModel, ServerSettings, ShapeModel, SimSettings, TextureModel,
-    UrdfRobotModel, VISION_BYTES_PER_PIXEL, VisionModel, VisualModel, VisualTexture, vision_image_bytes,
+    UrdfRobotModel, UserParameter, VISION_BYTES_PER_PIXEL, VisionModel, VisualModel, VisualTexture, vision_image_bytes,
 };
 use super::raw::{RawObject, RawPart, RawRobot, RawScene, RawTexture, unknown_keys};
 use super::urdf::{DEFAULT_KD, DEFAULT_KP, UrdfInclude, UrdfIndex, import_urdf};
@@ -107,6 +107,7 @@ pub(super) fn load_urdf_model(files: &dyn Files, path: &Path, opts: &LoadOptions
         dummy_links: Vec::new(),
         ball_links: Vec::new(),
         referenced_handles: Vec::new(),
+        user_parameters: Vec::new(),
         ik_groups: Vec::new(),
         collections: Vec::new(),
         urdf_robots: vec![robot],
@@ -204,6 +205,7 @@ pub fn load_scene_text(
     r.resolve_mimics()?;
     let (dummy_links, ball_links) = r.dummy_links(&raw)?;
     let referenced_handles = r.references(&raw)?;
+    let user_parameters = r.user_parameters(&raw)?;
     let ik_groups = r.ik_groups(&raw)?;
     let collections = r.collections(&raw)?;
     Ok(SceneModel {
@@ -217,6 +219,7 @@ pub fn load_scene_text(
         dummy_links,
         ball_links,
         referenced_handles,
+        user_parameters,
         ik_groups,
         collections,
         urdf_robots: r.urdf_robots,
@@ -1321,6 +1324,29 @@ impl Resolver<'_> {
                 object,
                 tag: r.tag.clone().unwrap_or_default(),
                 targets,
+            });
+        }
+        Ok(out)
+    }
+
+    /// The `[[user_parameter]]` tables: a named object, a non-empty name not given
+    /// twice for the same object.
+    fn user_parameters(&self, raw: &RawScene) -> Result<Vec<UserParameter>, LoadError> {
+        let mut out: Vec<UserParameter> = Vec::with_capacity(raw.user_parameter.len());
+        for p in &raw.user_parameter {
+            let object = self.reference(&p.object)?;
+            let name = p.name.get_ref();
+            if name.is_empty() || out.iter().any(|o| o.object == object && &o.name == name) {
+                return self.err_at(
+                    p.name.span(),
+                    format!("user_parameter: name '{name}' is empty or given twice for this object"),
+                );
+            }
+            out.push(UserParameter {
+                object,
+                name: name.clone(),
+                unit: p.unit.clone().unwrap_or_default(),
+                value: p.value.clone(),
             });
         }
         Ok(out)

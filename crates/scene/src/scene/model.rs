@@ -40,6 +40,9 @@ pub struct SceneModel {
     /// a tag and the objects it names, all as object indices. A model's scripts find their
     /// parts this way (`sim.getReferencedHandle(self, 'ik.tip')`).
     pub referenced_handles: Vec<ReferencedHandles>,
+    /// Objects' user parameters (CoppeliaSim up to 4.2's "script simulation
+    /// parameters", `sim.getScriptSimulationParameter`), in file order.
+    pub user_parameters: Vec<UserParameter>,
     /// The scene's IK groups (V-REP 3 / CoppeliaSim 4.0-4.2 built-in kinematics, reached
     /// with `sim.getIkGroupHandle`), in file order.
     pub ik_groups: Vec<IkGroupModel>,
@@ -72,6 +75,9 @@ impl SceneModel {
         }
         for i in self.dummy_links.iter_mut().chain(&mut self.ball_links).flatten() {
             *i += by;
+        }
+        for p in &mut self.user_parameters {
+            p.object += by;
         }
         for r in &mut self.referenced_handles {
             r.object += by;
@@ -201,6 +207,21 @@ pub enum CollectionScope {
     Chain,
     /// Every object.
     All,
+}
+
+/// One user parameter of an object: what a model's script reads with
+/// `sim.getScriptSimulationParameter(sim.handle_self, name)`. The value is text, as
+/// CoppeliaSim keeps it; the function returns a number when the text is one.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UserParameter {
+    /// Index of the object that holds it.
+    pub object: usize,
+    /// The name scripts ask for.
+    pub name: String,
+    /// The unit the model's dialog showed (free text, e.g. `degrees (5-360)`).
+    pub unit: String,
+    /// The value, as text.
+    pub value: String,
 }
 
 /// One tag of an object's referenced handles.

@@ -32,6 +32,9 @@ pub struct RawScene {
     /// `[[reference]]`: referenced handles (`sim.getReferencedHandles`) an object holds.
     #[serde(default)]
     pub reference: Vec<RawReference>,
+    /// `[[user_parameter]]`: an object's user parameters (`sim.getScriptSimulationParameter`).
+    #[serde(default)]
+    pub user_parameter: Vec<RawUserParameter>,
     /// `[[ik_group]]`: IK groups (V-REP 3's built-in kinematics).
     #[serde(default)]
     pub ik_group: Vec<RawIkGroup>,
@@ -338,6 +341,19 @@ pub struct RawReference {
     pub objects: Vec<Spanned<String>>,
 }
 
+/// One `[[user_parameter]]`.
+#[derive(Debug, Deserialize)]
+pub struct RawUserParameter {
+    /// The object holding it, by name.
+    pub object: Spanned<String>,
+    /// The name scripts ask for.
+    pub name: Spanned<String>,
+    /// Free text (default empty).
+    pub unit: Option<String>,
+    /// The value, as text.
+    pub value: String,
+}
+
 /// One `[[ik_group]]`.
 #[derive(Debug, Deserialize)]
 pub struct RawIkGroup {
@@ -443,6 +459,7 @@ const SCENE_KEYS: &[&str] = &[
     "script",
     "dummy_link",
     "reference",
+    "user_parameter",
     "ik_group",
     "collection",
 ];
@@ -581,6 +598,7 @@ const TEXTURE_KEYS: &[&str] = &[
 const MIMIC_KEYS: &[&str] = &["leader", "multiplier", "offset"];
 const DUMMY_LINK_KEYS: &[&str] = &["dummies", "free_rotation"];
 const REFERENCE_KEYS: &[&str] = &["object", "tag", "objects"];
+const USER_PARAMETER_KEYS: &[&str] = &["object", "name", "unit", "value"];
 const IK_GROUP_KEYS: &[&str] = &["name", "method", "damping", "max_iterations", "explicit", "element"];
 const IK_ELEMENT_KEYS: &[&str] = &["tip", "target", "base", "constraints"];
 const COLLECTION_KEYS: &[&str] = &["name", "item"];
@@ -601,12 +619,13 @@ pub fn unknown_keys(doc: &toml::Table) -> Vec<String> {
             check_table(t, name, keys, &mut out);
         }
     }
-    let arrays: [(&str, &[&str]); 7] = [
+    let arrays: [(&str, &[&str]); 8] = [
         ("object", OBJECT_KEYS),
         ("robot", ROBOT_KEYS),
         ("script", SCRIPT_KEYS),
         ("dummy_link", DUMMY_LINK_KEYS),
         ("reference", REFERENCE_KEYS),
+        ("user_parameter", USER_PARAMETER_KEYS),
         ("ik_group", IK_GROUP_KEYS),
         ("collection", COLLECTION_KEYS),
     ];

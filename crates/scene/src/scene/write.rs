@@ -93,6 +93,13 @@ pub fn write_scene(model: &SceneModel, stem: &str, source: &str) -> Result<Scene
         let targets: Vec<String> = r.targets.iter().map(|&t| quote(&names[t])).collect();
         let _ = writeln!(w.out, "objects = [{}]", targets.join(", "));
     }
+    for p in &model.user_parameters {
+        w.out.push_str("\n[[user_parameter]]\n");
+        let _ = writeln!(w.out, "object = {}", quote(&names[p.object]));
+        let _ = writeln!(w.out, "name = {}", quote(&p.name));
+        let _ = writeln!(w.out, "unit = {}", quote(&p.unit));
+        let _ = writeln!(w.out, "value = {}", quote(&p.value));
+    }
     for g in &model.ik_groups {
         w.ik_group(g, &names)?;
     }
@@ -818,7 +825,7 @@ fn f32_text(v: f32) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::model::ShapeModel;
+    use crate::scene::model::{ShapeModel, UserParameter};
 
     fn dummy(alias: &str) -> ObjectModel {
         ObjectModel {
@@ -858,6 +865,7 @@ mod tests {
             dummy_links: Vec::new(),
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
+            user_parameters: Vec::new(),
             ik_groups: Vec::new(),
             collections: Vec::new(),
             urdf_robots: Vec::new(),
@@ -894,6 +902,66 @@ mod tests {
         // Out of range is an error naming the key.
         let bad = read_err("[simulation]\nbackground = [0.5, 1.5, 0]\n");
         assert!(bad.contains("background"), "{bad}");
+    }
+
+    #[test]
+    fn user_parameters_round_trip_and_bad_ones_are_refused() {
+        let read = |text: &str| {
+            crate::scene::load_scene_text(
+                &crate::scene::MapFiles::default(),
+                text,
+                std::path::Path::new("s.toml"),
+                &crate::scene::LoadOptions::default(),
+            )
+            .expect("loads")
+        };
+        let mut model = scene(vec![dummy("sensor"), dummy("other")]);
+        model.user_parameters = vec![
+            UserParameter {
+                object: 0,
+                name: "horizontalAngle".into(),
+                unit: "degrees (5-360)".into(),
+                value: "360".into(),
+            },
+            UserParameter {
+                object: 1,
+                name: "label".into(),
+                unit: String::new(),
+                value: "a \"quoted\" text".into(),
+            },
+        ];
+        let files = write_scene(&model, "s", "s.toml").expect("writes");
+        let text = String::from_utf8(files.files[0].1.clone()).expect("utf-8");
+        let back = read(&text);
+        let named = |m: &SceneModel| -> Vec<(String, String, String, String)> {
+            m.user_parameters
+                .iter()
+                .map(|p| {
+                    (
+                        m.objects[p.object].alias.clone(),
+                        p.name.clone(),
+                        p.unit.clone(),
+                        p.value.clone(),
+                    )
+                })
+                .collect()
+        };
+        assert_eq!(named(&back), named(&model), "{text}");
+
+        let head = "[[object]]\nname = \"a\"\nkind = \"dummy\"\n";
+        let unknown = read_err(&format!(
+            "{head}[[user_parameter]]\nobject = \"b\"\nname = \"x\"\nvalue = \"1\"\n"
+        ));
+        assert!(unknown.contains('b'), "{unknown}");
+        let twice = read_err(&format!(
+            "{head}[[user_parameter]]\nobject = \"a\"\nname = \"x\"\nvalue = \"1\"\n\
+             [[user_parameter]]\nobject = \"a\"\nname = \"x\"\nvalue = \"2\"\n"
+        ));
+        assert!(twice.contains("given twice"), "{twice}");
+        let typo = read_err(&format!(
+            "{head}[[user_parameter]]\nobject = \"a\"\nname = \"x\"\nvalu = \"1\"\n"
+        ));
+        assert!(typo.contains("valu"), "{typo}");
     }
 
     fn read_err(text: &str) -> String {
@@ -951,6 +1019,7 @@ mod tests {
             dummy_links: Vec::new(),
             ball_links: Vec::new(),
             referenced_handles: Vec::new(),
+            user_parameters: Vec::new(),
             ik_groups: Vec::new(),
             collections: Vec::new(),
             urdf_robots: Vec::new(),

@@ -671,13 +671,39 @@ fn script_object(w: &World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Handl
     Ok(object)
 }
 
-/// `sim.getScriptSimulationParameter(scriptHandle, name)` → the value of a model's user
-/// parameter, or nil when unset. gantry scenes define none; scripts set them with
+/// `sim.getScriptSimulationParameter(scriptHandle, name, forceStringReturn=false)` → the
+/// value of an object's user parameter, or nil when unset. Scene files keep the values as
+/// text (`[[user_parameter]]`, CoppeliaSim files' `Lsp`); as in CoppeliaSim, text that
+/// reads as a number comes back as a number, and `true`/`false` as a boolean, unless
+/// `forceStringReturn` asks for the text. Scripts set values with
 /// `sim.setScriptSimulationParameter`.
 fn get_script_simulation_parameter(w: &mut World, ctx: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let object = script_object(w, ctx, a)?;
     let name = a.str(1)?;
-    Ok(vec![w.custom.get(object, name).cloned().unwrap_or(Value::Nil)])
+    let force_string = a.opt_bool(2, false)?;
+    let value = w.custom.get(object, name).cloned().unwrap_or(Value::Nil);
+    Ok(vec![match value {
+        Value::Str(text) if !force_string => user_parameter_value(text),
+        Value::Int(i) if force_string => Value::Str(i.to_string()),
+        Value::Float(f) if force_string => Value::Str(f.to_string()),
+        Value::Bool(b) if force_string => Value::Str(b.to_string()),
+        other => other,
+    }])
+}
+
+/// A user parameter's text as CoppeliaSim returns it: an integer, a number, a boolean,
+/// or the text itself.
+fn user_parameter_value(text: String) -> Value {
+    let t = text.trim();
+    if let Ok(i) = t.parse::<i64>() {
+        Value::Int(i)
+    } else if let Some(f) = t.parse::<f64>().ok().filter(|f| f.is_finite()) {
+        Value::Float(f)
+    } else if t == "true" || t == "false" {
+        Value::Bool(t == "true")
+    } else {
+        Value::Str(text)
+    }
 }
 
 /// `sim.setScriptSimulationParameter(scriptHandle, name, value)` → 1.

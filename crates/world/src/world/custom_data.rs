@@ -35,6 +35,14 @@ impl CustomData {
         }
     }
 
+    /// The values of object `h`, by name.
+    pub fn values_of(&self, h: Handle) -> impl Iterator<Item = (&str, &Value)> {
+        self.values
+            .range((h, String::new())..)
+            .take_while(move |((o, _), _)| *o == h)
+            .map(|((_, name), v)| (name.as_str(), v))
+    }
+
     /// The data block `tag` of `owner` (an object, or `sim.handle_scene`), if written.
     pub fn block(&self, owner: Handle, tag: &str) -> Option<&Value> {
         self.blocks.get(&(owner, tag.to_owned()))

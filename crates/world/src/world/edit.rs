@@ -355,6 +355,10 @@ impl World {
             let targets = r.targets.iter().map(|&t| map[t]).collect();
             self.custom.set_referenced(map[r.object], &r.tag, targets);
         }
+        for p in &model.user_parameters {
+            self.custom
+                .set(map[p.object], &p.name, crate::Value::Str(p.value.clone()));
+        }
         // Collection names stay unique among live collections: a model's collection whose
         // name is taken (a second copy of the same robot) is left out, with a warning.
         for c in &model.collections {

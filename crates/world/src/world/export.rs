@@ -15,10 +15,11 @@ use std::collections::HashMap;
 
 use super::object::{Handle, ObjectKind};
 use super::world::World;
+use crate::Value;
 use crate::error::SimError;
 use crate::scene::{
     CollectionModel, JointModel, MimicModel, ObjectModel, ObjectModelKind, ReferencedHandles, SceneModel, ScriptModel,
-    ServerSettings,
+    ServerSettings, UserParameter,
 };
 
 /// A scene model of the world and what it could not hold.
@@ -159,6 +160,29 @@ impl World {
                 })
             })
             .collect();
+        // User parameters as text, as scene files keep them (their units are not kept
+        // with the world); a value a script set to a table or a buffer is left out.
+        let mut user_parameters = Vec::new();
+        for &h in &list {
+            for (name, value) in self.custom.values_of(h) {
+                let value = match value {
+                    Value::Str(s) => s.clone(),
+                    Value::Int(i) => i.to_string(),
+                    Value::Float(f) => f.to_string(),
+                    Value::Bool(b) => b.to_string(),
+                    _ => {
+                        notes.push(format!("user parameter '{name}' holds no text or number; left out"));
+                        continue;
+                    }
+                };
+                user_parameters.push(UserParameter {
+                    object: index[&h],
+                    name: name.to_owned(),
+                    unit: String::new(),
+                    value,
+                });
+            }
+        }
         let linked = list.iter().any(|&h| self.linked_dummy(h).is_some());
         if linked {
             notes.push("dynamic loop closures (linked dummies) are not saved".to_owned());
@@ -189,6 +213,7 @@ impl World {
                 dummy_links: Vec::new(),
                 ball_links: Vec::new(),
                 referenced_handles,
+                user_parameters,
                 ik_groups: Vec::new(),
                 collections,
                 urdf_robots: Vec::new(),

@@ -275,6 +275,11 @@ impl World {
             let targets = r.targets.iter().map(|&t| t as Handle).collect();
             world.custom.set_referenced(r.object as Handle, &r.tag, targets);
         }
+        for p in &model.user_parameters {
+            world
+                .custom
+                .set(p.object as Handle, &p.name, crate::Value::Str(p.value.clone()));
+        }
         let warnings = world.load_textures(model, |i| i as Handle);
         world.warnings.extend(warnings);
         world

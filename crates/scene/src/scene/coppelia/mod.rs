@@ -167,6 +167,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
 
     let (dummy_links, ball_links) = loop_closures(&file, &index);
     let referenced_handles = referenced_handles(&file, &index, &mut warnings);
+    let user_parameters = user_parameters(&file, &index);
     let collections = convert_collections(&file, &index, &mut warnings);
     let ik_groups = convert_ik_groups(&file, &index, &mut warnings);
     let scripts = convert_scripts(&file, path, &index, &mut report, &mut warnings);
@@ -183,6 +184,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
         dummy_links,
         ball_links,
         referenced_handles,
+        user_parameters,
         ik_groups,
         collections,
         urdf_robots: Vec::new(),
@@ -790,6 +792,29 @@ fn below_free_spherical_joint(file: &cf::CoppeliaFile, dummy: i32) -> bool {
     false
 }
 
+/// The objects' user parameters (up to 4.2), by object index, in file order. A name an
+/// object gives twice keeps its first value, as CoppeliaSim's lookup by name finds it.
+fn user_parameters(file: &cf::CoppeliaFile, index: &HashMap<i32, usize>) -> Vec<UserParameter> {
+    let mut out: Vec<UserParameter> = Vec::new();
+    for o in &file.objects {
+        let Some(&object) = index.get(&o.handle) else {
+            continue;
+        };
+        for p in &o.user_parameters {
+            if p.name.is_empty() || out.iter().any(|q| q.object == object && q.name == p.name) {
+                continue;
+            }
+            out.push(UserParameter {
+                object,
+                name: p.name.clone(),
+                unit: p.unit.clone(),
+                value: p.value.clone(),
+            });
+        }
+    }
+    out
+}
+
 /// The objects' referenced handles (4.7+), as object indices. A handle the file does not
 /// hold an object for (CoppeliaSim keeps -1 for a removed one) is dropped, with a warning.
 fn referenced_handles(
@@ -1250,6 +1275,7 @@ mod tests {
     fn dummy(handle: i32, parent: Option<i32>) -> cf::SceneObject {
         cf::SceneObject {
             referenced: Vec::new(),
+            user_parameters: Vec::new(),
             extension: String::new(),
             handle,
             parent,
