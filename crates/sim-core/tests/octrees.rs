@@ -393,3 +393,68 @@ fn bad_input_is_an_error() {
         Some(SimError::NoSuchObject(_))
     ));
 }
+
+#[test]
+fn octrees_collide_with_shapes_and_octrees_voxel_by_voxel() {
+    let mut s = sim();
+    let bx = find(&s, "/box");
+    let o = create(&mut s, VOXEL);
+    // One voxel, 0.55..0.575 in x, across the box's +x face (the box spans
+    // 0.4625..0.5625 in x).
+    insert(&mut s, o, 0, &[0.56, 0.01, 0.01], &[]);
+    let hit = |s: &mut Sim, x: Handle, y: Handle| {
+        let r = ok(s, "checkCollision", &[h(x), h(y)]);
+        (int(&r[0]), r[1].clone())
+    };
+    assert_eq!(hit(&mut s, o, bx), (1, ints(&[o, bx])));
+    assert_eq!(hit(&mut s, bx, o), (1, ints(&[bx, o])));
+    // Moved 10 cm along x, the voxel (then 0.65..0.675) misses the box.
+    ok(&mut s, "setObjectPosition", &[h(o), i(-1), list(&[0.1, 0.0, 0.0])]);
+    assert_eq!(hit(&mut s, o, bx).0, 0);
+    // Two octrees overlap where their voxels do, whatever their voxel sizes.
+    let o2 = create(&mut s, 0.1);
+    insert(&mut s, o2, 0, &[0.67, 0.05, 0.05], &[]);
+    assert_eq!(hit(&mut s, o, o2), (1, ints(&[o, o2])));
+    ok(&mut s, "setObjectPosition", &[h(o2), i(-1), list(&[0.0, 0.3, 0.0])]);
+    assert_eq!(hit(&mut s, o, o2).0, 0);
+    // An empty octree collides with nothing.
+    ok(&mut s, "removeVoxelsFromOctree", &[h(o), i(0), Value::Nil]);
+    ok(&mut s, "setObjectPosition", &[h(o), i(-1), list(&[0.0, 0.0, 0.0])]);
+    assert_eq!(hit(&mut s, o, bx).0, 0);
+}
+
+#[test]
+fn distances_from_an_octree_to_shapes_and_dummies() {
+    let mut s = sim();
+    let o = create(&mut s, 0.1);
+    // One voxel, the cube 0..0.1 on every axis.
+    insert(&mut s, o, 0, &[0.05, 0.05, 0.05], &[]);
+    let dist = |s: &mut Sim, x: Handle, y: Handle| {
+        let r = ok(s, "checkDistance", &[h(x), h(y)]);
+        assert_eq!(int(&r[0]), 1);
+        (floats(&r[1]), r[2].clone())
+    };
+    // The dummy at (1, 2, 0.5): nearest the voxel's corner (0.1, 0.1, 0.1).
+    let base = find(&s, "/base");
+    let (d, pair) = dist(&mut s, o, base);
+    assert_close(
+        &d,
+        &[0.1, 0.1, 0.1, 1.0, 2.0, 0.5, (0.81f64 + 3.61 + 0.16).sqrt()],
+        1e-5,
+    );
+    assert_eq!(pair, ints(&[o, base]));
+    let (d, pair) = dist(&mut s, base, o);
+    assert_close(
+        &d,
+        &[1.0, 2.0, 0.5, 0.1, 0.1, 0.1, (0.81f64 + 3.61 + 0.16).sqrt()],
+        1e-5,
+    );
+    assert_eq!(pair, ints(&[base, o]));
+    // The box `far` spans 4.95..5.05 on every axis: corner to corner.
+    let far = find(&s, "/far");
+    let (d, _) = dist(&mut s, o, far);
+    assert_close(&d, &[0.1, 0.1, 0.1, 4.95, 4.95, 4.95, 4.85 * 3f64.sqrt()], 1e-4);
+    // Below the threshold only.
+    let r = ok(&mut s, "checkDistance", &[h(o), h(far), f(1.0)]);
+    assert_eq!(int(&r[0]), 0);
+}

@@ -22,9 +22,10 @@
 //! on insertion order. An octree holds at most [`MAX_OCTREE_VOXELS`]; an operation that
 //! would go past it fails as a whole.
 //!
-//! Non-goals: octrees are not collidable, measurable or detectable here (no collision,
-//! distance or proximity-sensor queries), and vision sensors and the viewer do not draw
-//! them.
+//! Octrees count in collision checks against shapes and other octrees, and in distance
+//! queries against shapes and dummies (`World::collision`, `World::distance`), voxel by
+//! voxel. Non-goals: proximity sensors do not detect them, octree-to-octree distances
+//! are not measured, and vision sensors and the viewer do not draw them.
 
 use std::collections::BTreeMap;
 
@@ -129,6 +130,31 @@ impl Octree {
     /// The occupied voxels by grid index, in grid order.
     pub fn voxels(&self) -> impl Iterator<Item = (&[i64; 3], &Voxel)> {
         self.voxels.iter()
+    }
+
+    /// The occupied voxels whose indices lie in the box `lo..=hi`, in grid order. The
+    /// cost follows the voxels in the box's x range, not the box's volume.
+    pub fn voxels_in(&self, lo: [i64; 3], hi: [i64; 3]) -> impl Iterator<Item = [i64; 3]> + '_ {
+        let empty = (0..3).any(|a| lo[a] > hi[a]);
+        let range = if empty {
+            self.voxels.range([0, 0, 0]..[0, 0, 0])
+        } else {
+            self.voxels
+                .range([lo[0], i64::MIN, i64::MIN]..=[hi[0], i64::MAX, i64::MAX])
+        };
+        range
+            .map(|(k, _)| *k)
+            .filter(move |k| (1..3).all(|a| (lo[a]..=hi[a]).contains(&k[a])))
+    }
+
+    /// The indices of the voxels that may overlap the box `min..max` (octree frame, m),
+    /// clamped to [`MAX_VOXEL_INDEX`].
+    pub fn index_box(&self, min: &Vec3, max: &Vec3) -> ([i64; 3], [i64; 3]) {
+        let idx = |v: f64| (v / self.voxel_size).floor().clamp(-MAX_VOXEL_INDEX, MAX_VOXEL_INDEX) as i64;
+        (
+            [idx(min.x), idx(min.y), idx(min.z)],
+            [idx(max.x), idx(max.y), idx(max.z)],
+        )
     }
 
     /// The centre of voxel `index`, in the octree's frame, m.
