@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 338 functions, 315 constants."""
+    """`sim`: 345 functions, 316 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -181,6 +181,7 @@ class Sim:
     object_graph_type: int
     object_joint_type: int
     object_light_type: int
+    object_octree_type: int
     object_path_type: int
     object_pointcloud_type: int
     object_proximitysensor_type: int
@@ -373,6 +374,8 @@ class Sim:
     def checkDistance(self, *args: Any) -> Any: ...
     def checkIkGroup(self, *args: Any) -> Any:
         """solves as `sim.handleIkGroup` does and leaves the scene unchanged; a joint of `jointHandles` outside the group's chains gets its current value; joint options are accepted and not used."""
+    def checkOctreePointOccupancy(self, *args: Any) -> Any:
+        """returns `result, tag`: 1 when at least one point lies in an occupied voxel; the tag of that voxel when a single point is tested, else 0. The voxel's location in CoppeliaSim's tree (its third and fourth results) is not given; at least one point is required."""
     def checkProximitySensor(self, *args: Any) -> Any:
         """returns all five values even when nothing is detected (0, 0, zeros, -1, zeros); the sensor's stored reading is not changed; other objects do not hide the entity; a named shape is detected even if not marked detectable; the sensor's own body is never detected."""
     def clearDoubleSignal(self, *args: Any) -> Any: ...
@@ -396,6 +399,8 @@ class Sim:
         """CoppeliaSim 4.1's arguments; the sensor is a root at the origin named `Force_sensor` and measures once a body hangs from it; thresholds (options bits 0, 1) and filters over more than one sample are refused (gantry's force sensors never break and report each step's reading)."""
     def createMeshShape(self, *args: Any) -> Any:
         """the mesh is one shape, static and not respondable like CoppeliaSim's; culling, edges and the shading angle only change CoppeliaSim's drawing and are ignored; at most 1,000,000 vertices."""
+    def createOctree(self, *args: Any) -> Any:
+        """the octree is a scene object (`sim.object_octree_type`, 15) at the world origin, alias `Octree`; the voxel size must be a finite number > 0 (m); `options` and `pointSize` are kept, not drawn. Voxels lie on a grid aligned with the octree's frame (voxel `n` spans `n·s` to `(n+1)·s` per axis), as CoppeliaSim's tree lays them out. At most 2,000,000 voxels per octree: an operation past it is refused as a whole. Octrees named explicitly count in `sim.checkCollision` (against shapes and octrees) and `sim.checkDistance` (against shapes and dummies; not octree to octree), voxel by voxel; `sim.handle_all` and collections do not include them. Proximity sensors do not detect them, and neither vision sensors nor the viewer draw them."""
     def createPath(self, *args: Any) -> Any:
         """the 4.3+ form makes a dummy whose points (7 values each, in its frame) are also its custom data blocks `PATHCTRLPTS` and `PATH`; without smoothness the points are the control points, with one the `subdiv` points are resampled along the corners rounded as `quadraticBezier` of that strength; options bit 2 closes the path, the display and shape bits are ignored; orientation modes 1-6 put x, x, y, y, z, z along the path with y, z, x, z, x, y up. The V-REP 3 form (a number first) makes an empty old path object (`sim.object_path_type`) for `sim.insertPathCtrlPoints`, as do a 4.1 scene's `PAT` paths and `kind = "path"` in a TOML scene. Copies of a path object have no curve."""
     def createPointCloud(self, *args: Any) -> Any:
@@ -526,6 +531,8 @@ class Sim:
     def getObjectVelocity(self, *args: Any) -> Any: ...
     def getObjects(self, *args: Any) -> Any: ...
     def getObjectsInTree(self, *args: Any) -> Any: ...
+    def getOctreeVoxels(self, *args: Any) -> Any:
+        """the voxels' centres in the octree's frame, in grid order (x, then y, then z)."""
     def getOrientationOnPath(self, *args: Any) -> Any: ...
     def getPathInterpolatedConfig(self, *args: Any) -> Any:
         """`quadraticBezier` rounds each corner with the quadratic Bezier curve on the points `strength` x half a segment before and after it (de Casteljau with the per-type blends, so quaternions stay unit); a path whose ends coincide is closed unless `forceOpen`. The length along a rounded corner is the curve's parameter, not its arc length."""
@@ -610,10 +617,14 @@ class Sim:
         """OBJ, STL and COLLADA, told by the file's extension (`fileformat` 0-5 is accepted and not used); a file's sub-meshes come as one mesh; Y-up files are not turned Z-up; files are read where the API may read (the scene's folder for scripts and remote clients)."""
     def importShape(self, *args: Any) -> Any:
         """as `sim.importMesh`; the shape is static and non-respondable, named after the file; colours and textures in the file are not read, and option bit 5 (reorient the bounding box) is not applied."""
+    def insertObjectIntoOctree(self, *args: Any) -> Any:
+        """shapes (their visual mesh, their collision parts when they have no visual) fill the voxels their surface touches, the inside of a closed mesh is not filled; point clouds fill the voxels holding their points. Other octrees and other kinds of object are refused."""
     def insertPathCtrlPoints(self, *args: Any) -> Any:
         """keeps each point's position and Euler angles (11 values, 16 with options bit 1) and ignores its velocity, on-spot distance, Bezier settings and auxiliary data: a V-REP 3 path is the polyline through its control points. Options bit 0 closes the path."""
     def insertPointsIntoPointCloud(self, *args: Any) -> Any:
         """at most 1,000,000 points per cloud: an insertion past it is refused as a whole. A point is a duplicate when strictly closer than `duplicateTolerance` (clamped to 1 m) to a point of the cloud or one inserted before it in the same call. Colours are numbers 0-255 (fractions are truncated) or a byte string; an empty points table inserts nothing (CoppeliaSim wants at least one point)."""
+    def insertVoxelsIntoOctree(self, *args: Any) -> Any:
+        """a voxel holds a point when the point is inside it grown by 0.01% of its size per side (CoppeliaSim's tolerance), so a point on a face, edge or corner fills 2, 4 or 8 voxels; removal and `sim.checkOctreePointOccupancy` use the same rule. Colours are numbers 0-255 and default to grey; tags are integers 0 to 2^32-1 and default to 0. Points farther than 2^40 voxels from the octree are refused."""
     def interpolateMatrices(self, *args: Any) -> Any: ...
     def interpolatePoses(self, *args: Any) -> Any: ...
     def intersectPointsWithPointCloud(self, *args: Any) -> Any:
@@ -673,6 +684,7 @@ class Sim:
         """removes points strictly closer than `tolerance`; with `points` nil every point goes (the tolerance is then ignored). Unlike CoppeliaSim, removal also works on a cloud without calculation structure (option bit 3)."""
     def removeScript(self, *args: Any) -> Any:
         """the script's `sysCall_cleanup` runs once the calling hook has returned (a script that removes itself finishes its function); it then receives nothing and `sim.getScript` no longer finds it. A stop restores the scene as loaded, the script included."""
+    def removeVoxelsFromOctree(self, *args: Any) -> Any: ...
     def reorientShapeBoundingBox(self, *args: Any) -> Any:
         """the frame turns about its origin (the geometry and children stay in place); `sim.handle_self` takes the mesh's principal axes as the smallest box; returns 1."""
     def resamplePath(self, *args: Any) -> Any:
@@ -794,6 +806,8 @@ class Sim:
         """yields the calling thread until the next step; threads are resumed once per step at the start of actuation. A call from a non-threaded hook is an error naming `sysCall_thread`, not a frozen simulator."""
     def stopSimulation(self, *args: Any) -> Any:
         """from a script, takes effect at the end of the current step (cleanup hooks run, the scene is restored); a stop asked for during cleanup is ignored."""
+    def subtractObjectFromOctree(self, *args: Any) -> Any:
+        """empties the voxels `sim.insertObjectIntoOctree` would fill with the same object (shapes and point clouds only)."""
     def transformImage(self, *args: Any) -> Any:
         """returns the flipped image (bit 4: rows, bit 8: each row's pixels; the shift option 2 is refused). CoppeliaSim rewrites the Lua string in place and returns nothing, which a Lua host cannot do safely: write `data = sim.transformImage(data, {w, h}, 4)`. A buffer of `w * h * k` bytes flips as `k`-byte pixels (depth buffers too)."""
     def tubeClose(self, *args: Any) -> Any: ...

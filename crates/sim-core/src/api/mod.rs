@@ -32,6 +32,7 @@ mod links;
 mod log;
 mod matrix;
 mod objects;
+mod octree;
 mod ompl;
 mod packing;
 mod params;
@@ -447,6 +448,7 @@ pub const MODULES: &[Module] = &[
             referenced::FUNCTIONS,
             views::FUNCTIONS,
             point_cloud::FUNCTIONS,
+            octree::FUNCTIONS,
             scan::FUNCTIONS,
             image::FUNCTIONS,
             image_file::FUNCTIONS,
@@ -578,6 +580,7 @@ pub const CONSTANTS: &[(&str, i64)] = &[
     ("light_omnidirectional_subtype", 1),
     ("light_spot_subtype", 2),
     ("light_directional_subtype", 3),
+    ("object_octree_type", 15),
     ("object_pointcloud_type", 16),
     ("joint_revolute_subtype", 10),
     ("joint_prismatic_subtype", 11),

@@ -109,7 +109,7 @@ fn get_point_cloud_points(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> R
 
 /// Argument `i`: a flat list of coordinates, 3 per point; `None` for nil. An empty
 /// table is no point.
-fn points_arg(a: &Args<'_>, i: usize) -> Result<Option<Vec<Vec3>>, SimError> {
+pub(super) fn points_arg(a: &Args<'_>, i: usize) -> Result<Option<Vec<Vec3>>, SimError> {
     let items = match a.get(i) {
         Value::Nil => return Ok(None),
         Value::Array(items) => items.as_slice(),
@@ -150,7 +150,7 @@ fn points_arg(a: &Args<'_>, i: usize) -> Result<Option<Vec<Vec3>>, SimError> {
 
 /// Points as the cloud stores them: in its frame. `relative` points already are;
 /// others are world-frame and go through the inverse of the cloud's pose.
-fn to_cloud_frame(w: &World, h: Handle, points: Vec<Vec3>, relative: bool) -> Result<Vec<Vec3>, SimError> {
+pub(super) fn to_cloud_frame(w: &World, h: Handle, points: Vec<Vec3>, relative: bool) -> Result<Vec<Vec3>, SimError> {
     if relative {
         return Ok(points);
     }
@@ -163,7 +163,7 @@ fn to_cloud_frame(w: &World, h: Handle, points: Vec<Vec3>, relative: bool) -> Re
 
 /// Argument `i`: colour bytes (0-255), as a table of numbers or a byte string; at least
 /// `needed` of them (extra ones are ignored, as in CoppeliaSim).
-fn color_bytes(a: &Args<'_>, i: usize, needed: usize) -> Result<Vec<u8>, SimError> {
+pub(super) fn color_bytes(a: &Args<'_>, i: usize, needed: usize) -> Result<Vec<u8>, SimError> {
     let bytes: Vec<u8> = match a.get(i) {
         Value::Array(items) => items
             .iter()
@@ -196,9 +196,9 @@ fn color_bytes(a: &Args<'_>, i: usize, needed: usize) -> Result<Vec<u8>, SimErro
     };
     if bytes.len() < needed {
         return Err(SimError::bad_argument(format!(
-            "argument {}: expected at least {needed} colour values (3 per {}), got {}",
+            "argument {}: expected at least {needed} colour values (3 {}), got {}",
             i + 1,
-            if needed == 3 { "cloud" } else { "point" },
+            if needed == 3 { "for all points" } else { "per point" },
             bytes.len()
         )));
     }

@@ -105,6 +105,13 @@ impl World {
                     ));
                     ObjectModelKind::Dummy
                 }
+                ObjectKind::Octree(_) => {
+                    notes.push(format!(
+                        "{}: an octree, saved as a dummy (scene files hold no voxels)",
+                        o.alias
+                    ));
+                    ObjectModelKind::Dummy
+                }
             };
             objects.push(ObjectModel {
                 alias: o.alias.clone(),

@@ -18,6 +18,7 @@ mod log;
 mod mass;
 mod object;
 pub mod object_path;
+mod octree;
 mod particles;
 mod physics;
 mod point_cloud;
@@ -46,6 +47,7 @@ pub use export::ExportedScene;
 pub use log::{LOG_CAPACITY, Log, LogLine};
 pub use mass::MassProperties;
 pub use object::{Detection, ForceReading, Handle, Joint, KinematicMotion, Object, ObjectKind, ProximitySensor};
+pub use octree::{DEFAULT_VOXEL_COLOR, MAX_OCTREE_VOXELS, MAX_VOXEL_INDEX, Octree, Triangle, VOXEL_TOLERANCE, Voxel};
 pub use particles::{
     FIRST_PARTICLE_HANDLE, MAX_LIVE_PARTICLES, MAX_PARTICLE_ITEMS, MAX_PARTICLE_OBJECTS, MAX_PARTICLE_SIZE,
     PARTICLE_CYCLIC, PARTICLE_EMISSIONCOLOR, PARTICLE_IGNORESGRAVITY, PARTICLE_INVISIBLE, PARTICLE_ITEMCOLORS,

@@ -1,5 +1,6 @@
 //! Objects of the scene tree and their per-kind state.
 
+use super::octree::Octree;
 use super::point_cloud::PointCloud;
 use crate::math::{Pose, Vec3};
 use crate::scene::{CameraModel, JointMode, JointType, LightModel, ProximityModel, ShapeModel, VisionModel};
@@ -47,6 +48,8 @@ pub enum ObjectKind {
     Graph,
     /// A point cloud and its points (boxed: a cloud is much larger than the other kinds).
     PointCloud(Box<PointCloud>),
+    /// An OC tree and its voxels (boxed, like point clouds).
+    Octree(Box<Octree>),
     /// A camera: a viewpoint for the viewer.
     Camera(CameraModel),
     /// A light: a frame with lighting parameters and no physics (gantry's renderers
@@ -71,6 +74,7 @@ impl ObjectKind {
             ObjectKind::Light(_) => 13,
             ObjectKind::VisionSensor(_) => 9,
             ObjectKind::ForceSensor(_) => 12,
+            ObjectKind::Octree(_) => 15,
             ObjectKind::PointCloud(_) => 16,
         }
     }
@@ -87,6 +91,7 @@ impl ObjectKind {
             ObjectKind::VisionSensor(_) => "vision sensor",
             ObjectKind::ForceSensor(_) => "force sensor",
             ObjectKind::PointCloud(_) => "point cloud",
+            ObjectKind::Octree(_) => "octree",
             ObjectKind::Light(_) => "light",
             ObjectKind::Path => "path",
         }

@@ -1,5 +1,9 @@
 //! Geometric queries between entities: minimum distance and collision between objects
 //! and collections (`sim.checkDistance`, `sim.checkCollision`).
+//!
+//! Octrees take part voxel by voxel, each voxel a cube: in collisions against shapes and
+//! other octrees, and in distances against shapes and dummies, when named explicitly
+//! (`sim.handle_all` and collections resolve to shapes only).
 
 use rapier3d::parry::query;
 use rapier3d::prelude::*;
@@ -166,10 +170,167 @@ impl World {
         let shapes = self.shape_distance(a, b, threshold);
         // A dummy is a point to distance queries, as in CoppeliaSim.
         let limit = shapes.map_or(if threshold > 0.0 { threshold } else { f64::INFINITY }, |r| r.distance);
-        match self.point_distance(a, b, limit) {
+        let best = match self.point_distance(a, b, limit) {
             Some(p) => Some(p),
             None => shapes,
+        };
+        let limit = best.map_or(limit, |r| r.distance);
+        match self.octree_distance(a, b, limit) {
+            Some(o) => Some(o),
+            None => best,
         }
+    }
+
+    /// Whether `h` is an octree.
+    fn is_octree(&self, h: Handle) -> bool {
+        matches!(self.object(h).map(|o| &o.kind), Ok(ObjectKind::Octree(_)))
+    }
+
+    /// The world poses of the voxels of octree `h` that may overlap the world box
+    /// `region`, and the voxels' half size.
+    fn voxel_cubes(&self, h: Handle, region: &Aabb) -> (Vec<rapier3d::math::Pose>, f32) {
+        let (Ok(o), Ok(octree)) = (self.object(h), self.octree(h)) else {
+            return (Vec::new(), 0.0);
+        };
+        let (mn, mx) = (math::vec_from_physics(region.mins), math::vec_from_physics(region.maxs));
+        let mut lo = Vec3::repeat(f64::INFINITY);
+        let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+        for k in 0..8 {
+            let corner = Vec3::new(
+                if k & 1 == 0 { mn.x } else { mx.x },
+                if k & 2 == 0 { mn.y } else { mx.y },
+                if k & 4 == 0 { mn.z } else { mx.z },
+            );
+            let p = o.world.inverse_transform_point(&corner.into()).coords;
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+        }
+        let (ilo, ihi) = octree.index_box(&lo, &hi);
+        let poses = octree
+            .voxels_in(ilo, ihi)
+            .map(|k| {
+                let c = octree.voxel_center(&k);
+                math::to_physics(&(o.world * nalgebra::Translation3::from(c)))
+            })
+            .collect();
+        (poses, (octree.voxel_size() / 2.0) as f32)
+    }
+
+    /// Whether an octree and another object (a shape or an octree) collide.
+    fn octree_collides(&self, octree: Handle, other: Handle) -> bool {
+        let colliders = &self.physics().world.colliders;
+        let everywhere = Aabb::new(Vector::splat(f32::MIN), Vector::splat(f32::MAX));
+        if self.is_octree(other) {
+            // Each voxel of the smaller octree against the voxels of the other around it.
+            let count = |h: Handle| self.octree(h).map_or(0, |o| o.len());
+            let (small, large) = if count(octree) <= count(other) {
+                (octree, other)
+            } else {
+                (other, octree)
+            };
+            let (cubes, half) = self.voxel_cubes(small, &everywhere);
+            let cube = Cuboid::new(Vector::splat(half));
+            return cubes.iter().any(|pose| {
+                let (near, half2) = self.voxel_cubes(large, &cube.compute_aabb(pose));
+                let cube2 = Cuboid::new(Vector::splat(half2));
+                near.iter()
+                    .any(|p2| query::intersection_test(pose, &cube, p2, &cube2).is_ok_and(|i| i.intersecting))
+            });
+        }
+        self.colliders_of(other)
+            .iter()
+            .filter_map(|&c| colliders.get(c))
+            .any(|c| {
+                let (cubes, half) = self.voxel_cubes(octree, &c.compute_aabb());
+                let cube = Cuboid::new(Vector::splat(half));
+                cubes.iter().any(|pose| {
+                    query::intersection_test(pose, &cube, c.position(), c.shape()).is_ok_and(|i| i.intersecting)
+                })
+            })
+    }
+
+    /// The closest pair in which one side is an octree and the other a shape or a dummy,
+    /// if any is closer than `limit`. Voxels are visited nearest bounding box first, and
+    /// the exact query runs only while a voxel's gap (a lower bound) can still win.
+    fn octree_distance(&self, a: &[Handle], b: &[Handle], limit: f64) -> Option<DistanceResult> {
+        if !a.iter().chain(b).any(|&h| self.is_octree(h)) {
+            return None;
+        }
+        let colliders = &self.physics().world.colliders;
+        let everywhere = Aabb::new(Vector::splat(f32::MIN), Vector::splat(f32::MAX));
+        let mut best: Option<DistanceResult> = None;
+        for &ha in a {
+            for &hb in b {
+                let (octree, other, swapped) = match (self.is_octree(ha), self.is_octree(hb)) {
+                    (true, false) => (ha, hb, false),
+                    (false, true) => (hb, ha, true),
+                    _ => continue,
+                };
+                let (cubes, half) = self.voxel_cubes(octree, &everywhere);
+                let cube = Cuboid::new(Vector::splat(half));
+                let lim = |best: &Option<DistanceResult>| best.map_or(limit, |r| r.distance.min(limit));
+                // (point on the octree, point on the other object)
+                let mut found: Option<(Vec3, Vec3, f64)> = None;
+                if let Ok(o) = self.object(other)
+                    && matches!(o.kind, ObjectKind::Dummy)
+                {
+                    let p = o.world.translation.vector;
+                    for pose in &cubes {
+                        let proj = cube.project_point(pose, math::vec_to_physics(&p), true);
+                        let q = if proj.is_inside {
+                            p
+                        } else {
+                            math::vec_from_physics(proj.point)
+                        };
+                        let d = (q - p).norm();
+                        if d < found.map_or(lim(&best), |f| f.2) {
+                            found = Some((q, p, d));
+                        }
+                    }
+                } else {
+                    let mut candidates: Vec<(f64, &rapier3d::math::Pose, &Collider)> = Vec::new();
+                    for c in self.colliders_of(other).iter().filter_map(|&c| colliders.get(c)) {
+                        let cb = c.compute_aabb();
+                        candidates.extend(cubes.iter().map(|p| (aabb_gap(&cube.compute_aabb(p), &cb), p, c)));
+                    }
+                    candidates.sort_by(|x, y| x.0.total_cmp(&y.0));
+                    for (gap, pose, c) in candidates {
+                        let l = found.map_or(lim(&best), |f| f.2);
+                        if gap >= l {
+                            break;
+                        }
+                        let max = if l.is_finite() { l as f32 } else { f32::MAX };
+                        let Ok(cp) = query::closest_points(pose, &cube, c.position(), c.shape(), max) else {
+                            continue;
+                        };
+                        let (p1, p2) = match cp {
+                            query::ClosestPoints::Intersecting => {
+                                let p = math::vec_from_physics(pose.translation);
+                                (p, p)
+                            }
+                            query::ClosestPoints::WithinMargin(p1, p2) => {
+                                (math::vec_from_physics(p1), math::vec_from_physics(p2))
+                            }
+                            query::ClosestPoints::Disjoint => continue,
+                        };
+                        let d = (p2 - p1).norm();
+                        if d < l {
+                            found = Some((p1, p2, d));
+                        }
+                    }
+                }
+                if let Some((po, pother, d)) = found {
+                    let (p1, p2) = if swapped { (pother, po) } else { (po, pother) };
+                    best = Some(DistanceResult {
+                        p1,
+                        p2,
+                        distance: d,
+                        objects: [ha, hb],
+                    });
+                }
+            }
+        }
+        best
     }
 
     /// The closest pair in which one side or both are dummies (points), if any is
@@ -295,6 +456,24 @@ impl World {
                             return Some([ha, hb]);
                         }
                     }
+                }
+            }
+        }
+        // Pairs with an octree, after the shapes so that shape pairs are reported as
+        // before octrees existed.
+        if !a.iter().chain(b).any(|&h| self.is_octree(h)) {
+            return None;
+        }
+        for &ha in a {
+            for &hb in b {
+                let hit = ha != hb
+                    && match (self.is_octree(ha), self.is_octree(hb)) {
+                        (true, _) => self.octree_collides(ha, hb),
+                        (false, true) => self.octree_collides(hb, ha),
+                        _ => false,
+                    };
+                if hit {
+                    return Some([ha, hb]);
                 }
             }
         }

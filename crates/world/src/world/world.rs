@@ -8,6 +8,7 @@ use super::object::{
     Detection, ForceReading, Handle, Joint, KinematicMotion, Mimic, Object, ObjectKind, ProximitySensor,
 };
 use super::object_path::{ObjectTree, PathError, PathQuery, resolve};
+use super::octree::Octree;
 use super::physics::{BodyRole, Physics, TreeView, configure_motor};
 use super::point_cloud::PointCloud;
 use crate::error::SimError;
@@ -415,6 +416,37 @@ impl World {
             other => Err(SimError::WrongKind {
                 handle: h,
                 expected: "point cloud",
+                actual: other.name(),
+            }),
+        }
+    }
+
+    /// The octree behind a handle.
+    ///
+    /// # Errors
+    /// No such object, or not an octree.
+    pub fn octree(&self, h: Handle) -> Result<&Octree, SimError> {
+        match &self.object(h)?.kind {
+            ObjectKind::Octree(o) => Ok(o),
+            other => Err(SimError::WrongKind {
+                handle: h,
+                expected: "octree",
+                actual: other.name(),
+            }),
+        }
+    }
+
+    /// The octree behind a handle, to insert or remove voxels. Voxels are not part of
+    /// the scene description, so this does not change [`World::scene_revision`].
+    ///
+    /// # Errors
+    /// No such object, or not an octree.
+    pub fn octree_mut(&mut self, h: Handle) -> Result<&mut Octree, SimError> {
+        match &mut self.object_mut(h)?.kind {
+            ObjectKind::Octree(o) => Ok(o),
+            other => Err(SimError::WrongKind {
+                handle: h,
+                expected: "octree",
                 actual: other.name(),
             }),
         }
