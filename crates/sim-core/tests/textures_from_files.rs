@@ -3,7 +3,8 @@
 //! `shared/pyrep/tests/assets/test_scene.ttt` beside an ancestor of this crate; where it
 //! is absent the test prints a note and passes) has a cracker box wearing a 512 x 512
 //! image with fixed coordinates, which `sim.getShapeViz` must give back as PyRep's
-//! `Shape.get_shape_viz` and `apply_texture` tests read it.
+//! `Shape.get_shape_viz` and `apply_texture` tests read it, and which vision sensors
+//! must draw.
 
 mod util;
 
@@ -14,7 +15,7 @@ use gantry_sim_core::scene::{
 };
 use gantry_sim_core::{Sim, Value};
 use gantry_test_support::{floats, num};
-use util::{find, ok};
+use util::{find, image_reply, ok};
 
 /// PyRep's test scene, or `None` (with a note).
 fn pyrep_test_scene() -> Option<PathBuf> {
@@ -151,5 +152,84 @@ fn test_scene_textures_survive_a_toml_round_trip() {
     assert_eq!(
         floats(get(t, "coordinates")).len(),
         2 * floats(get(&viz, "indices")).len()
+    );
+}
+
+/// A vision sensor 0.5 m above the cracker box, looking down at it, sees its printed
+/// box: where the box is, the image differs from the same view with the texture taken
+/// off, and shows many colours where the plain box shows its few shades (288 against
+/// 43 when written).
+#[test]
+fn test_scene_cracker_box_texture_is_seen_by_vision_sensors() {
+    let Some(path) = pyrep_test_scene() else { return };
+    let model = load_coppelia_file(&DiskFiles, &path).expect("test_scene.ttt imports");
+    let mut w = Sim::new(&model);
+    let cracker = Value::Int(find(&w, "/cracker_box_visual"));
+    let at = floats(&ok(&mut w, "sim.getObjectPosition", &[cracker.clone(), Value::Int(-1)])[0]);
+    // Explicit handling, perspective; 64 x 64 px, near 1 cm, far 2 m, 40 degrees.
+    let sensor = ok(
+        &mut w,
+        "sim.createVisionSensor",
+        &[
+            Value::Int(1 | 2),
+            Value::floats(&[64.0, 64.0, 0.0, 0.0]),
+            Value::floats(&[0.01, 2.0, 40f64.to_radians(), 0.1, 0.1, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0]),
+        ],
+    )
+    .remove(0);
+    ok(
+        &mut w,
+        "sim.setObjectPosition",
+        &[
+            sensor.clone(),
+            Value::Int(-1),
+            Value::floats(&[at[0], at[1], at[2] + 0.5]),
+        ],
+    );
+    // Turned over about x: the sensor's +z (its viewing axis) points down.
+    ok(
+        &mut w,
+        "sim.setObjectOrientation",
+        &[
+            sensor.clone(),
+            Value::Int(-1),
+            Value::floats(&[std::f64::consts::PI, 0.0, 0.0]),
+        ],
+    );
+    let view = |w: &mut Sim| {
+        ok(w, "sim.handleVisionSensor", std::slice::from_ref(&sensor));
+        let (rgb, res) = image_reply(&ok(w, "sim.getVisionSensorImg", std::slice::from_ref(&sensor)));
+        assert_eq!(res, [64, 64]);
+        rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect::<Vec<_>>()
+    };
+    let textured = view(&mut w);
+    ok(
+        &mut w,
+        "sim.setShapeTexture",
+        &[
+            cracker,
+            Value::Int(-1),
+            Value::Int(0),
+            Value::Int(0),
+            Value::floats(&[1.0, 1.0]),
+        ],
+    );
+    let plain = view(&mut w);
+    let differing: Vec<usize> = (0..textured.len()).filter(|&i| textured[i] != plain[i]).collect();
+    assert!(
+        differing.len() > 200,
+        "only {} of 4096 pixels change with the texture",
+        differing.len()
+    );
+    let distinct = |img: &[[u8; 3]]| {
+        let mut c: Vec<[u8; 3]> = differing.iter().map(|&i| img[i]).collect();
+        c.sort_unstable();
+        c.dedup();
+        c.len()
+    };
+    let (printed, bare) = (distinct(&textured), distinct(&plain));
+    assert!(
+        printed > 100 && printed > 3 * bare,
+        "{printed} colours where the box is textured, {bare} where it is not"
     );
 }

@@ -422,8 +422,7 @@ pub struct VisualModel {
     pub local: Pose,
     /// RGB, each 0..1.
     pub color: [f32; 3],
-    /// The texture the part wears, if any (kept for the API; the renderer does not draw
-    /// textures yet).
+    /// The texture the part wears, if any (for the API and vision sensors).
     pub texture: Option<VisualTexture>,
 }
 

@@ -23,7 +23,7 @@ pub(crate) fn repair(text: &str) -> (Cow<'_, str>, Vec<String>) {
     let (stripped, textures, strays) = drop_strays(&out);
     if textures > 0 {
         warnings.push(format!(
-            "{textures} <texture> element(s) without a filename: ignored (textures are not drawn)"
+            "{textures} <texture> element(s) without a filename: ignored (nothing to draw)"
         ));
     }
     if strays > 0 {

@@ -3,8 +3,9 @@
 //!
 //! Texture objects live in the world ([`crate::world::Textures`]): RGBA images, ids
 //! never reused, the store bounded. What is set reads back exactly (ids, mapping,
-//! options, coordinates, pixels). Not done yet: the renderer does not draw textures, so
-//! a textured shape still shows its colour in vision sensors and the viewer.
+//! options, coordinates, pixels). Vision sensors draw them (`crate::vision`'s
+//! rasteriser: mapping, scaling, texture frame, repeat, interpolation and decal as set
+//! here); the browser viewer does not yet, and shows the shape's colour.
 
 use std::f64::consts::PI;
 use std::path::Path;
@@ -201,7 +202,7 @@ fn get_texture_id(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Re
 /// off), laid by `mappingMode` (`sim.texturemap_*`) with `uvScaling` (the texture's size
 /// on the shape, m) from the texture frame at `position` (m) and `orientation` (Euler
 /// angles, rad) in the shape frame. `options`: 1 no interpolation, 2 decal, 4 repeat
-/// along u, 8 along v; kept for reading back.
+/// along u, 8 along v (clamped to the edges without).
 fn set_shape_texture(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let id = a.int(1)?;
@@ -237,7 +238,7 @@ fn set_shape_texture(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result
 /// option bit 4; rows from the top) on the shape with explicit coordinates, u and v for
 /// each corner of each triangle of `sim.getShapeMesh` (6 numbers a triangle). Option
 /// bits 5 and 6 mirror the image left to right and top to bottom; bits 0 and 1 (no
-/// interpolation, decal) are kept for reading back.
+/// interpolation, decal) are kept, as `sim.setShapeTexture`'s.
 fn apply_texture(w: &mut World, _: &CallContext<'_>, a: &Args<'_>) -> Result<Ret, SimError> {
     let h = a.handle(0)?;
     let coordinates = a.numbers(1)?;

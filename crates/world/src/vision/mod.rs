@@ -55,11 +55,14 @@ mod raster;
 #[cfg(test)]
 mod render_tests;
 mod resolve;
+#[cfg(test)]
+mod texture_tests;
 // Public as a module (not re-exported) because it reads this module's work images: a
 // re-export would make the two files import each other.
 pub mod scan;
 mod simd;
 mod tessellate;
+mod texturing;
 mod work_image;
 
 use std::collections::BTreeMap;

@@ -86,6 +86,11 @@ pub(crate) struct TriMesh {
     pub center: [f32; 3],
     /// Radius of the bounding sphere (0 for an empty mesh).
     pub radius: f32,
+    /// For an imported mesh, parallel to `triangles`: the index of each triangle in the
+    /// mesh data (triangles with bad vertices are left out), so that texture
+    /// coordinates given per triangle of the data find their triangle. Empty for
+    /// primitives.
+    pub source: Vec<u32>,
 }
 
 /// A mesh as the builders below make it: per-vertex normals, global indices.
@@ -94,6 +99,8 @@ struct Soup {
     positions: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
     triangles: Vec<[u32; 3]>,
+    /// See [`TriMesh::source`].
+    source: Vec<u32>,
 }
 
 impl TriMesh {
@@ -176,7 +183,10 @@ impl Soup {
     /// `closed` tells, per triangle, whether it lies on a closed, outward-wound
     /// surface; a chunk is closed when all its triangles are.
     fn into_chunks(self, flat: bool, closed: &[bool]) -> TriMesh {
-        let mut out = TriMesh::default();
+        let mut out = TriMesh {
+            source: self.source,
+            ..TriMesh::default()
+        };
         let mut vertex_normals = Vec::new();
         let mut face_normals = Vec::new();
         let mut local: HashMap<[u32; 3], u32> = HashMap::new();
@@ -338,7 +348,7 @@ impl Soup {
     }
 
     fn add_mesh(&mut self, data: &MeshData) {
-        for tri in &data.indices {
+        for (index, tri) in data.indices.iter().enumerate() {
             let mut p = [[0.0f32; 3]; 3];
             let mut ok = true;
             for (k, &i) in tri.iter().enumerate() {
@@ -355,6 +365,8 @@ impl Soup {
             let b = self.vertex(p[1], n);
             let c = self.vertex(p[2], n);
             self.triangles.push([a, b, c]);
+            // Fewer than 2^32 triangles: see `vertex`.
+            self.source.push(index as u32);
         }
     }
 }
@@ -526,6 +538,7 @@ mod tests {
         };
         let m = TriMesh::from_geometry(&Geometry::Mesh(Arc::new(data)));
         assert_eq!(m.triangles.len(), 1);
+        assert_eq!(m.source, [0]);
         assert!(!m.closed);
         let Normals::Face(normals) = &m.normals else {
             panic!("meshes are shaded flat");

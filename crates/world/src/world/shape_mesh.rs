@@ -361,6 +361,7 @@ impl World {
             let placed = delta * math::pose_from_euler(t.position, t.orientation);
             t.position = placed.translation.vector.into();
             t.orientation = math::euler_from_quat(&placed.rotation);
+            self.textures.revision += 1;
         }
         let children: Vec<(Handle, Pose)> = self.objects[h as usize]
             .children

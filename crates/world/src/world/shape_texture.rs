@@ -126,7 +126,9 @@ impl World {
     pub fn set_shape_texture(&mut self, h: Handle, texture: Option<ShapeTexture>) -> Result<(), SimError> {
         self.shape(h)?;
         let Some(t) = texture else {
-            self.textures.on_shapes.remove(&h);
+            if self.textures.on_shapes.remove(&h).is_some() {
+                self.textures.revision += 1;
+            }
             return Ok(());
         };
         self.textures.get(t.id)?;
@@ -147,6 +149,7 @@ impl World {
             }
         }
         self.textures.on_shapes.insert(h, t);
+        self.textures.revision += 1;
         Ok(())
     }
 }

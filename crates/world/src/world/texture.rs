@@ -11,8 +11,8 @@
 //! A scene's textures (CoppeliaSim files' texture objects, TOML scenes' PNG files) are
 //! added at load ([`World::load_textures`]).
 //!
-//! Not done: the renderer does not draw textures yet (shapes keep their colour in
-//! vision sensors and the viewer); the store only keeps what the API reads back.
+//! Vision sensors draw the textures shapes wear (`crate::vision`'s rasteriser, which
+//! notices a change of texture by [`Textures::revision`]).
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -114,6 +114,9 @@ pub struct Textures {
     /// By shape handle. Handles are never reused, so an entry of a removed shape is
     /// unreachable and harmless.
     pub(super) on_shapes: BTreeMap<Handle, ShapeTexture>,
+    /// Counts the changes to `on_shapes`, so a renderer caching what shapes wear knows
+    /// when to look again (texture objects themselves never change).
+    pub(super) revision: u64,
 }
 
 impl Textures {
@@ -160,6 +163,11 @@ impl Textures {
             .ok()
             .and_then(|i| self.items.get(i))
             .ok_or_else(|| SimError::NoSuchItem(format!("texture {id} does not exist")))
+    }
+
+    /// A number that changes whenever a shape's texture is put on, taken off or moved.
+    pub fn revision(&self) -> u64 {
+        self.revision
     }
 
     /// The id of the first texture named `name`.
