@@ -75,7 +75,9 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--suite", type=Path, default=REPO.parent / "shared" / "pyrep" / "tests",
                         help="PyRep's tests folder (default ../shared/pyrep/tests)")
-    parser.add_argument("--min-passed", type=int, default=135)
+    # The bar is 135; the default holds what passes today (146 of the 147 that
+    # can run: only `test_export_scene` fails, by design), so a regression fails the run.
+    parser.add_argument("--min-passed", type=int, default=146)
     parser.add_argument("--json", type=Path, help="write every outcome here")
     parser.add_argument("pytest_args", nargs="*", help="extra pytest arguments (e.g. -k name)")
     args = parser.parse_args()
