@@ -79,6 +79,20 @@ def test_headless_false_opens_the_browser_viewer():
         pr.shutdown()
 
 
+def _write_png(path, width, height):
+    """A grey RGB PNG, written by hand (no imaging library in the test venv)."""
+    import struct
+    import zlib
+
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+
+    rows = b"".join(b"\x00" + b"\x80" * (3 * width) for _ in range(height))
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows))
+                     + chunk(b"IEND", b""))
+
+
 def test_bad_input_gets_pyreps_exceptions(tmp_path):
     import shutil
 
@@ -108,6 +122,28 @@ def test_bad_input_gets_pyreps_exceptions(tmp_path):
         assert "7" in str(e.value) or "face" in str(e.value).lower(), e.value
         with pytest.raises(PyRepError):
             pr.create_texture(str(broken))
+        # A texture of absurd size: refused with the limit.
+        wide = tmp_path / "wide.png"
+        _write_png(wide, 5000, 2)
+        with pytest.raises(PyRepError, match="4096"):
+            pr.create_texture(str(wide))
+        # A path of one control point is that point everywhere.
+        from pyrep.objects.cartesian_path import CartesianPath
+
+        path = CartesianPath.create()
+        path.insert_control_points([[0.1, 0.2, 0.3, 0.0, 0.0, 0.0]])
+        position, _ = path.get_pose_on_path(0.5)
+        assert np.allclose(position, [0.1, 0.2, 0.3])
+        # An arm whose IK group lost its tip: IK says so; a new `Panda()` cannot find it.
+        from pyrep.objects.dummy import Dummy
+        from pyrep.robots.arms.panda import Panda
+
+        arm = Panda()
+        Dummy("Panda_tip").remove()
+        with pytest.raises(PyRepError, match="tip"):
+            arm.solve_ik_via_jacobian([0.3, 0.0, 0.5], [0.0, 0.0, 0.0])
+        with pytest.raises(PyRepError, match="Panda_tip"):
+            Panda()
         # The simulation is still up.
         pr.step()
         assert Shape("dynamic_cube").still_exists()
