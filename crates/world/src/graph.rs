@@ -167,7 +167,7 @@ pub enum ExportDenied {
     /// The directory lies outside the scene's folder: an absolute path elsewhere, `..`
     /// climbing out of it, or a symbolic link pointing out of it.
     #[error(
-        "{dir} is outside the scene's folder {root}; scripts and remote clients may only write inside it (give a path relative to the scene, or run gantry with --export-graphs DIR)"
+        "{dir} is outside the scene's folder {root}; scripts and remote clients may only read and write files inside it (give a path relative to the scene; graph exports go elsewhere with --export-graphs DIR)"
     )]
     Outside {
         /// The directory asked for, as given.
