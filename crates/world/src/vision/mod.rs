@@ -63,6 +63,7 @@ pub mod scan;
 mod simd;
 mod tessellate;
 mod texturing;
+mod twin;
 mod work_image;
 
 use std::collections::BTreeMap;
@@ -104,6 +105,8 @@ pub struct VisionStates {
     /// faces of their closed parts changes no pixel away from silhouettes (false
     /// otherwise).
     two_sided_meshes: bool,
+    /// The last sensor rendered alone, for a colour-coded twin of it (`twin.rs`).
+    last_view: twin::LastView,
 }
 
 /// The image state of one vision sensor.
@@ -309,6 +312,7 @@ impl VisionStates {
             full_detail,
             band_every_size,
             two_sided_meshes,
+            last_view,
         } = self;
         let shortcuts = raster::Shortcuts {
             cull: !*no_cull,
@@ -344,97 +348,144 @@ impl VisionStates {
             }
         }
         let items = raster::draw_list(world, shapes);
-        // What each thread takes from the queue: a whole sensor, or a band of one. The
-        // costliest sensors of the last frame first, and the cheapest cut into bands
-        // (see `bands_per_sensor`), so that the threads finish together: the longest
-        // processing time first, then the small pieces. Only the schedule depends on
-        // these timings, never a pixel.
-        jobs.sort_by_key(|job| std::cmp::Reverse(job.image.draw_nanos));
-        let sizes = if *band_every_size {
-            BandSizes::ANY
-        } else {
-            BandSizes::DEFAULT
+        // A sensor rendered alone (PyRep's `handle_explicitly`): a colour-coded twin of
+        // the view rendered just before takes its buffers (`twin.rs`).
+        let single = match jobs.as_mut_slice() {
+            [job] => {
+                if last_view.has_twin(job.handle) {
+                    job.image.mask_wanted = true;
+                }
+                Some(twin::ViewKey::new(world, &job.cam, &job.pose, &items))
+            }
+            _ => None,
         };
-        let bands = bands_per_sensor(&jobs, threads, sizes);
-        frames.resize_with(
-            bands.iter().filter(|&&count| count > 1).count(),
-            raster::FrameBuffers::default,
-        );
-        let mut units = Vec::new();
-        let mut banded_frames = frames.iter_mut();
-        for (job, &count) in jobs.iter_mut().zip(&bands) {
-            job.prepare();
-            if count == 1 {
-                units.push(Unit::Whole(job));
-            } else if let Some(buffers) = banded_frames.next() {
-                let job = &*job;
-                let mask = job.image.mask_wanted_now(&job.cam);
-                units.extend(
-                    buffers
-                        .bands(&job.cam, mask, count)
-                        .into_iter()
-                        .map(|band| Unit::Band(job, band)),
-                );
+        let mut reused = false;
+        if let (Some(key), [job]) = (&single, jobs.as_mut_slice())
+            && job.cam.colour == raster::ColourWork::Coded
+        {
+            match last_view.check(key) {
+                twin::TwinOutcome::Reuse => {
+                    job.prepare();
+                    last_view.load(&job.cam, frame);
+                    job.finish(frame);
+                    reused = true;
+                }
+                twin::TwinOutcome::DrawAndTeach(source) => {
+                    if let Some(s) = sensors.get_mut(&source) {
+                        s.mask_wanted = true;
+                    }
+                }
+                twin::TwinOutcome::Draw => {}
             }
         }
-        let threads = threads.clamp(1, units.len().max(1));
-        let draw = |unit: Unit<'_>, scratch: &mut raster::Scratch, frame: &mut raster::FrameBuffers| {
-            let start = std::time::Instant::now();
-            let draw_band = |job: &Job, band, scratch: &mut raster::Scratch| {
-                raster::draw_band(&items, &job.cam, &job.pose, scratch, band, shortcuts);
+        if !reused {
+            // What each thread takes from the queue: a whole sensor, or a band of one. The
+            // costliest sensors of the last frame first, and the cheapest cut into bands
+            // (see `bands_per_sensor`), so that the threads finish together: the longest
+            // processing time first, then the small pieces. Only the schedule depends on
+            // these timings, never a pixel.
+            jobs.sort_by_key(|job| std::cmp::Reverse(job.image.draw_nanos));
+            let sizes = if *band_every_size {
+                BandSizes::ANY
+            } else {
+                BandSizes::DEFAULT
             };
-            let nanos = |start: std::time::Instant| u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
-            match unit {
-                Unit::Whole(job) => {
-                    // In this thread's own buffers, and finished here too.
+            let bands = bands_per_sensor(&jobs, threads, sizes);
+            frames.resize_with(
+                bands.iter().filter(|&&count| count > 1).count(),
+                raster::FrameBuffers::default,
+            );
+            let mut units = Vec::new();
+            let mut banded_frames = frames.iter_mut();
+            for (job, &count) in jobs.iter_mut().zip(&bands) {
+                job.prepare();
+                if count == 1 {
+                    units.push(Unit::Whole(job));
+                } else if let Some(buffers) = banded_frames.next() {
+                    let job = &*job;
                     let mask = job.image.mask_wanted_now(&job.cam);
-                    for band in frame.bands(&job.cam, mask, 1) {
-                        draw_band(job, band, scratch);
+                    units.extend(
+                        buffers
+                            .bands(&job.cam, mask, count)
+                            .into_iter()
+                            .map(|band| Unit::Band(job, band)),
+                    );
+                }
+            }
+            let threads = threads.clamp(1, units.len().max(1));
+            let draw = |unit: Unit<'_>, scratch: &mut raster::Scratch, frame: &mut raster::FrameBuffers| {
+                let start = std::time::Instant::now();
+                let draw_band = |job: &Job, band, scratch: &mut raster::Scratch| {
+                    raster::draw_band(&items, &job.cam, &job.pose, scratch, band, shortcuts);
+                };
+                let nanos = |start: std::time::Instant| u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
+                match unit {
+                    Unit::Whole(job) => {
+                        // In this thread's own buffers, and finished here too.
+                        let mask = job.image.mask_wanted_now(&job.cam);
+                        for band in frame.bands(&job.cam, mask, 1) {
+                            draw_band(job, band, scratch);
+                        }
+                        job.image.draw_nanos = nanos(start);
+                        job.finish(frame);
                     }
-                    job.image.draw_nanos = nanos(start);
-                    job.finish(frame);
+                    Unit::Band(job, band) => {
+                        draw_band(job, band, scratch);
+                        job.nanos.fetch_add(nanos(start), Ordering::Relaxed);
+                    }
                 }
-                Unit::Band(job, band) => {
-                    draw_band(job, band, scratch);
-                    job.nanos.fetch_add(nanos(start), Ordering::Relaxed);
-                }
-            }
-        };
-        if threads == 1 {
-            for unit in units {
-                draw(unit, scratch, frame);
-            }
-        } else {
-            // Each thread takes the next unit not yet drawn, this one included: views
-            // of one scene can differ several-fold in cost (a camera close to a mesh
-            // arm against one far away), and dealing them out in fixed runs left one
-            // core idle while the other drew three. The bands come last, so that they
-            // even out the end. A thread costs 20-50 us to start on the 2-core VM,
-            // less than one 128 x 128 frame of a scene with a mesh arm in view (a
-            // lone small sensor is not cut, and so starts none: `BandSizes`).
-            extra_scratch.resize_with(threads - 1, Default::default);
-            let queue = std::sync::Mutex::new(units.into_iter());
-            let next = || queue.lock().ok().and_then(|mut q| q.next());
-            let draw_queue = |scratch: &mut raster::Scratch, frame: &mut raster::FrameBuffers| {
-                while let Some(unit) = next() {
+            };
+            if threads == 1 {
+                for unit in units {
                     draw(unit, scratch, frame);
                 }
-            };
-            std::thread::scope(|scope| {
-                for (scratch, frame) in extra_scratch.iter_mut() {
-                    scope.spawn(|| draw_queue(scratch, frame));
+            } else {
+                // Each thread takes the next unit not yet drawn, this one included: views
+                // of one scene can differ several-fold in cost (a camera close to a mesh
+                // arm against one far away), and dealing them out in fixed runs left one
+                // core idle while the other drew three. The bands come last, so that they
+                // even out the end. A thread costs 20-50 us to start on the 2-core VM,
+                // less than one 128 x 128 frame of a scene with a mesh arm in view (a
+                // lone small sensor is not cut, and so starts none: `BandSizes`).
+                extra_scratch.resize_with(threads - 1, Default::default);
+                let queue = std::sync::Mutex::new(units.into_iter());
+                let next = || queue.lock().ok().and_then(|mut q| q.next());
+                let draw_queue = |scratch: &mut raster::Scratch, frame: &mut raster::FrameBuffers| {
+                    while let Some(unit) = next() {
+                        draw(unit, scratch, frame);
+                    }
+                };
+                std::thread::scope(|scope| {
+                    for (scratch, frame) in extra_scratch.iter_mut() {
+                        scope.spawn(|| draw_queue(scratch, frame));
+                    }
+                    draw_queue(scratch, frame);
+                });
+            }
+            // The sensors drawn in bands: their last pass, now that every band is drawn.
+            let mut banded_frames = frames.iter_mut();
+            for (job, &count) in jobs.iter_mut().zip(&bands) {
+                if count > 1
+                    && let Some(buffers) = banded_frames.next()
+                {
+                    job.finish(buffers);
+                    job.image.draw_nanos = *job.nanos.get_mut();
                 }
-                draw_queue(scratch, frame);
-            });
-        }
-        // The sensors drawn in bands: their last pass, now that every band is drawn.
-        let mut banded_frames = frames.iter_mut();
-        for (job, &count) in jobs.iter_mut().zip(&bands) {
-            if count > 1
-                && let Some(buffers) = banded_frames.next()
-            {
-                job.finish(buffers);
-                job.image.draw_nanos = *job.nanos.get_mut();
+            }
+            match (single, jobs.as_slice()) {
+                (Some(key), [job]) => {
+                    // Drawn whole in this thread's buffers, or in bands in the first banded ones.
+                    let drawn = if bands.first().is_some_and(|&count| count > 1) {
+                        frames.first()
+                    } else {
+                        Some(&*frame)
+                    };
+                    match drawn {
+                        Some(buffers) => last_view.remember(key, job.handle, buffers, job.cam.width * job.cam.height),
+                        None => last_view.forget(),
+                    }
+                }
+                _ => last_view.forget(),
             }
         }
         for job in jobs {

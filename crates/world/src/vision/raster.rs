@@ -425,6 +425,28 @@ pub(crate) struct Band<'a> {
 }
 
 impl FrameBuffers {
+    /// Copies of the depth buffer and, when it was drawn, the id buffer of the frame
+    /// just drawn (`pixels` of each, without padding).
+    pub fn copy_depth_ids(&self, pixels: usize, zbuf: &mut Vec<f32>, ids: &mut Vec<u32>) {
+        zbuf.extend_from_slice(&self.zbuf[..pixels.min(self.zbuf.len())]);
+        if self.ids.len() >= pixels {
+            ids.extend_from_slice(&self.ids[..pixels]);
+        }
+    }
+
+    /// The buffers a colour-coded frame of `cam` leaves, from another frame's depth and
+    /// ids ([`FrameBuffers::copy_depth_ids`]) of the same size.
+    pub fn load_depth_ids(&mut self, cam: &Camera, zbuf: &[f32], ids: &[u32]) {
+        let n = cam.width * cam.height;
+        self.zbuf.clear();
+        self.zbuf.extend_from_slice(&zbuf[..n.min(zbuf.len())]);
+        self.zbuf.resize(n + CHUNK - 1, f32::INFINITY);
+        self.color.clear();
+        self.ids.clear();
+        self.ids.extend_from_slice(&ids[..n.min(ids.len())]);
+        self.ids.resize(n + CHUNK - 1, NO_SHAPE);
+    }
+
     /// Clears the buffers for a frame of `cam` (with the id buffer when `mask` is
     /// drawn) and cuts them into `bands` bands of whole rows (at least one, at most
     /// one per row; rows shared out evenly, bottom first).
