@@ -170,8 +170,8 @@ cargo test --workspace --profile ci
 cargo build --profile ci --bin gantry
 export GANTRY_BIN="$root/target/ci/gantry"
 
-stage "fuzz smoke: every cargo-fuzz target for 10 s from its seeds (installs nightly and cargo-fuzz if missing)"
-bash tools/fuzz-smoke.sh --seconds 10 --no-sanitizer
+stage "fuzz smoke: every cargo-fuzz target for 6 s from its seeds (installs nightly and cargo-fuzz if missing)"
+bash tools/fuzz-smoke.sh --seconds 6 --no-sanitizer
 
 stage "Python suite: CoppeliaSim's ZMQ client against a real gantry; public robots against Pinocchio"
 bash .ci/python-tests.sh
