@@ -351,7 +351,7 @@ class Sim:
     def announceSceneContentChange(self, *args: Any) -> Any:
         """does nothing (gantry has no scene editor and no undo) and returns 1."""
     def applyTexture(self, *args: Any) -> Any:
-        """returns the new texture's id; coordinates are u, v per triangle corner of `sim.getShapeMesh`; kept and read back but not drawn yet."""
+        """returns the new texture's id; coordinates are u, v per triangle corner of `sim.getShapeMesh`; drawn by vision sensors and the browser viewer."""
     def auxiliaryConsoleClose(self, *args: Any) -> Any: ...
     def auxiliaryConsoleOpen(self, *args: Any) -> Any:
         """the console is a source in the log named "console: TITLE"; position, size and colours are ignored."""
@@ -410,7 +410,7 @@ class Sim:
     def createPureShape(self, *args: Any) -> Any:
         """V-REP 3's primitive (0 cuboid, 1 sphere, 2 cylinder, 3 cone) with a mass in kg; options bit 3 respondable, bit 4 static (else dynamic); the drawing bits (culling, edges, smoothing, open ends) and `precision` are accepted and ignored (round shapes are exact primitives)."""
     def createTexture(self, *args: Any) -> Any:
-        """PNG and JPEG; the plane is 1 m along the image's longer side unless `planeSizes` is given; a fixed resolution resamples to the nearest pixel. Textures are kept and read back but not drawn yet: vision sensors and the viewer show the shape's colour."""
+        """PNG and JPEG; the plane is 1 m along the image's longer side unless `planeSizes` is given; a fixed resolution resamples to the nearest pixel. Vision sensors and the browser viewer draw textures."""
     def createVisionSensor(self, *args: Any) -> Any:
         """CoppeliaSim 4.1's arguments; the sensor is a root at the origin named `Vision_sensor`; the drawn size and the display, light and fog options are accepted and ignored; option bit 4 (passive) is refused; with bit 7 the null-pixel colour (floats 7 to 9, each 0 to 1) is what the image shows where the sensor sees nothing, and without it the scene's background (`[simulation] background`, black when unset), as CoppeliaSim's sensors show its environment colour."""
     def cutPathCtrlPoints(self, *args: Any) -> Any: ...
@@ -791,7 +791,7 @@ class Sim:
     def setShapeMassAndInertia(self, *args: Any) -> Any:
         """V-REP 3's inverse of `sim.getShapeMassAndInertia` (inertia divided by the mass, relative to `transformation` or the shape frame); restarts the shape's dynamics."""
     def setShapeTexture(self, *args: Any) -> Any:
-        """kept and read back (`sim.getShapeTextureId`, `sim.getShapeViz`) but not drawn yet."""
+        """read back by `sim.getShapeTextureId` and `sim.getShapeViz`; drawn by vision sensors (plane, cylinder, sphere and cube mappings from the texture frame, u and v scaling = the texture's size in metres; option bits 1 nearest texel, 2 decal, 4/8 repeat along u/v, else clamped) and by the browser viewer."""
     def setStepping(self, *args: Any) -> Any:
         """a per-script level for threads (returns the previous level); for a remote client it is the client's stepping level (the simulation waits for its `sim.step`)."""
     def setStringSignal(self, *args: Any) -> Any: ...

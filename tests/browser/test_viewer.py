@@ -426,6 +426,49 @@ def png_pixels(path, rows_wanted: int | None = None) -> tuple[int, int, list[byt
     return w, h, rows
 
 
+def test_textures_are_drawn(page, gantry):
+    """A texture put on the floor through the API (``sim.applyTexture``, as PyRep's
+    ``Shape.apply_texture`` does) reaches the page, image and textured part, and is drawn:
+    the floor shows its magenta squares; taken off again, the floor's colour is back."""
+    client = gantry.zmq_client()
+    sim = client.require("sim")
+    floor = sim.getObject("/Floor")
+    vertices, indices, _ = sim.getShapeMesh(floor)
+    # u, v = x, y: the 2 x 2 checker once per metre, repeated.
+    coordinates = [c for i in indices for c in (vertices[3 * i], vertices[3 * i + 1])]
+    magenta, cyan = [255, 0, 255], [0, 255, 255]
+    image = bytes(magenta + cyan + cyan + magenta)
+
+    def magenta_pixels():
+        return page.evaluate("""async () => {
+            const img = new Image();
+            await new Promise((ok, bad) => { img.onload = ok; img.onerror = bad; img.src = gantry.capture(); });
+            const c = document.createElement('canvas');
+            c.width = img.width; c.height = img.height;
+            const ctx = c.getContext('2d');
+            ctx.drawImage(img, 0, 0);
+            const d = ctx.getImageData(0, 0, c.width, c.height).data;
+            let n = 0;
+            for (let i = 0; i < d.length; i += 4) if (d[i] > 150 && d[i + 1] < 80 && d[i + 2] > 150) n++;
+            return n;
+        }""")
+
+    textured = """() => {
+        const f = gantry.objects.find(o => o.alias === 'Floor');
+        return !!f && f.visuals.some(v => v.texture && v.texDrawable && gantry.textures[v.texture.image]);
+    }"""
+    before = magenta_pixels()
+    # Nearest texel, decal, repeating along u and v.
+    sim.applyTexture(floor, coordinates, image, [2, 2], 1 | 2 | 4 | 8)
+    try:
+        wait_for(lambda: page.evaluate(textured), what="the floor's texture on the page")
+        after = wait_for(lambda: (n := magenta_pixels()) > before + 2000 and n, what="magenta squares on the floor")
+    finally:
+        sim.setShapeTexture(floor, -1, 0, 0, [1, 1])
+    wait_for(lambda: not page.evaluate(textured), what="the floor untextured again")
+    assert magenta_pixels() < after // 4
+
+
 def test_screenshot(page, gantry):
     """The README's picture, checked: link2 picked in the 3D view, its panel showing what
     the API says about it, and the orange arm drawn where the page says link2 is."""

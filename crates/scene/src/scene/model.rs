@@ -422,7 +422,7 @@ pub struct VisualModel {
     pub local: Pose,
     /// RGB, each 0..1.
     pub color: [f32; 3],
-    /// The texture the part wears, if any (for the API and vision sensors).
+    /// The texture the part wears, if any (for the API, vision sensors and the viewer).
     pub texture: Option<VisualTexture>,
 }
 

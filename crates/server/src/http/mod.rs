@@ -2,7 +2,7 @@
 //!
 //! The page (`crates/server/web/`, embedded in the binary: no CDN, no build step) opens
 //! `/ws` and gets, in order: the scene description once ([`describe`]), the triangle
-//! meshes as binary messages, then a stream of deltas ([`FrameDelta`]) and, a few times
+//! meshes (and textured shapes' images and parts) as binary messages, then a stream of deltas ([`FrameDelta`]) and, a few times
 //! a second, the slower panels ([`PanelCursor`]: scripts, log, custom UIs, graphs,
 //! vision images). It sends commands back as JSON ([`ClientMessage`]): simulation controls, text
 //! packets (the FK/IK panels send exactly what a TCP client would, through the same

@@ -1,6 +1,6 @@
-// The WebGL2 context, its three shader programs (lit shapes, flat lines and points,
-// coloured point clouds) and drawables: vertex arrays uploaded once and freed with
-// their scene. `gl` is null when the browser has no WebGL2 (then `glError` says so).
+// The WebGL2 context, its three shader programs (lit shapes, textured or not, flat
+// lines and points, coloured point clouds), drawables (vertex arrays uploaded once and
+// freed with their scene) and textures. `gl` is null when the browser has no WebGL2 (then `glError` says so).
 
 import { $ } from './dom.js';
 
@@ -22,18 +22,22 @@ export const gl = canvas.getContext('webgl2', { antialias: !SOFTWARE_GL });
 const LIT_VS = `#version 300 es
 layout(location=0) in vec3 aPos;
 layout(location=1) in vec3 aNrm;
+layout(location=2) in vec2 aUv;
 uniform mat4 uViewProj, uModel;
-out vec3 vNrm; out vec3 vWorld;
+out vec3 vNrm; out vec3 vWorld; out vec2 vUv;
 void main() {
   vec4 w = uModel * vec4(aPos, 1.0);
   vWorld = w.xyz;
+  vUv = aUv;
   vNrm = mat3(uModel) * aNrm;   // rigid transforms only: no inverse-transpose needed
   gl_Position = uViewProj * w;
 }`;
 const LIT_FS = `#version 300 es
 precision highp float;
-in vec3 vNrm; in vec3 vWorld;
+in vec3 vNrm; in vec3 vWorld; in vec2 vUv;
 uniform vec3 uColor, uEye; uniform float uAlpha, uHighlight; uniform int uFlat;
+// A texture replaces the colour (decal) or multiplies it, as in vision sensors.
+uniform sampler2D uTex; uniform int uTextured, uDecal;
 out vec4 outColor;
 void main() {
   // Meshes from URDFs may share vertices across sharp edges: shade them per face.
@@ -44,7 +48,9 @@ void main() {
   vec3 key = normalize(vec3(0.4, 0.3, 1.0));
   float diffuse = 0.55 * max(dot(n, key), 0.0) + 0.3 * max(dot(n, v), 0.0);
   float sky = 0.25 + 0.1 * n.z;   // hemisphere ambient: a little brighter from above
-  vec3 c = uColor * (sky + diffuse);
+  vec3 base = uColor;
+  if (uTextured == 1) base = texture(uTex, vUv).rgb * (uDecal == 1 ? vec3(1.0) : uColor);
+  vec3 c = base * (sky + diffuse);
   c = mix(c, vec3(1.0, 0.75, 0.2), uHighlight * 0.45);
   outColor = vec4(c, uAlpha);
 }`;
@@ -90,20 +96,22 @@ function compile(vs, fs) {
   return { prog, u: uniforms };
 }
 
-// A drawable: a vertex array with positions (and normals), optionally indexed.
-export function makeDrawable(pos, nrm, idx, mode) {
+// A drawable: a vertex array with positions (and normals, and texture coordinates),
+// optionally indexed.
+export function makeDrawable(pos, nrm, idx, mode, uv) {
   const vao = gl.createVertexArray();
   gl.bindVertexArray(vao);
-  const buf = (data, loc) => {
+  const buf = (data, loc, size = 3) => {
     const b = gl.createBuffer();
     gl.bindBuffer(gl.ARRAY_BUFFER, b);
     gl.bufferData(gl.ARRAY_BUFFER, data instanceof Float32Array ? data : new Float32Array(data), gl.STATIC_DRAW);
     gl.enableVertexAttribArray(loc);
-    gl.vertexAttribPointer(loc, 3, gl.FLOAT, false, 0, 0);
+    gl.vertexAttribPointer(loc, size, gl.FLOAT, false, 0, 0);
     return b;
   };
   const buffers = [buf(pos, 0)];
   if (nrm) buffers.push(buf(nrm, 1));
+  if (uv) buffers.push(buf(uv, 2, 2));
   let count = pos.length / 3;
   if (idx) {
     const ib = gl.createBuffer();
@@ -132,6 +140,30 @@ export function makeCloudDrawable(pos, rgb) {
   gl.vertexAttribPointer(1, 3, gl.UNSIGNED_BYTE, true, 0, 0);
   gl.bindVertexArray(null);
   return { vao, buffers: [pb, cb], count: pos.length / 3, indexed: false, mode: gl.POINTS };
+}
+
+// A texture from RGBA bytes, rows from the bottom (v = 0), with mipmaps; how it is
+// sampled is set per draw (`bindTexture`), since shapes may wear one image differently.
+export function makeTexture(w, h, rgba) {
+  const t = gl.createTexture();
+  gl.bindTexture(gl.TEXTURE_2D, t);
+  gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, w, h, 0, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
+  gl.generateMipmap(gl.TEXTURE_2D);
+  gl.bindTexture(gl.TEXTURE_2D, null);
+  return t;
+}
+
+// Binds texture `t` to unit 0, sampled as a visual's `texture` says (repeat or clamp
+// along u and v, bilinear or nearest).
+export function bindTexture(t, how) {
+  gl.activeTexture(gl.TEXTURE0);
+  gl.bindTexture(gl.TEXTURE_2D, t);
+  const wrap = (r) => (r ? gl.REPEAT : gl.CLAMP_TO_EDGE);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, wrap(how.repeat[0]));
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, wrap(how.repeat[1]));
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, how.interpolate ? gl.LINEAR_MIPMAP_LINEAR : gl.NEAREST);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, how.interpolate ? gl.LINEAR : gl.NEAREST);
 }
 
 export function freeDrawable(d) {

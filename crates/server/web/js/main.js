@@ -9,7 +9,7 @@
 //                          {"t":"replay"}  gantry replay only: the timeline's time, end, playing, speed
 //                          {"t":"reply"}   answer to a command (matched by id)
 //                   binary u32 type 1: pose, drawing and point-cloud deltas, 2: vision image, 3: mesh,
-//                   4: vision depth, 5: vision mask
+//                   4: vision depth, 5: vision mask, 6: textured part, 7: texture image
 //   page -> server  text   {"id","op":"control"|"packet"|"ui"|"reload"|"debug"|"key"|"select"|"replay",...}
 // World frame: Z up, metres, radians; poses are [x, y, z, qx, qy, qz, qw].
 

@@ -2,7 +2,7 @@
 // volumes.
 
 import { S, changed } from './state.js';
-import { canvas, gl, lit, flat, cloud, AXES, GRID } from './gl.js';
+import { canvas, gl, lit, flat, cloud, bindTexture, AXES, GRID } from './gl.js';
 import { cam, eye, viewProj } from './camera.js';
 import { M4 } from './math.js';
 
@@ -38,12 +38,21 @@ export function render() {
     if (!o.visuals) continue;
     gl.uniform1f(lit.u.uHighlight, o.index === S.selected ? 1 : 0);
     for (const v of o.visuals) {
-      if (!v.drawable) continue;
+      // Textured once both its part and its image have arrived; plain until then.
+      const image = v.texture && v.texDrawable ? S.textures[v.texture.image] : null;
+      const d = image ? v.texDrawable : v.drawable;
+      if (!d) continue;
       gl.uniform3fv(lit.u.uColor, v.color);
-      gl.uniform1i(lit.u.uFlat, v.drawable.flat ? 1 : 0);
-      drawWith(lit, v.drawable, M4.multiply(o.world, v.localM));
+      gl.uniform1i(lit.u.uFlat, d.flat ? 1 : 0);
+      gl.uniform1i(lit.u.uTextured, image ? 1 : 0);
+      if (image) {
+        bindTexture(image, v.texture);
+        gl.uniform1i(lit.u.uDecal, v.texture.decal ? 1 : 0);
+      }
+      drawWith(lit, d, M4.multiply(o.world, v.localM));
     }
   }
+  gl.uniform1i(lit.u.uTextured, 0);
 
   // Lines and points: grid, drawing objects, selected frame.
   gl.useProgram(flat.prog);

@@ -1,10 +1,11 @@
 // The scene as the server describes it: the scene message (objects, visuals, joints,
 // sensors) and the binary messages that follow it (the first little-endian u32 says
-// which: 1 pose, drawing and point-cloud deltas, 2 a vision image, 3 a mesh).
+// which: 1 pose, drawing and point-cloud deltas, 2 a vision image, 3 a mesh, 6 a
+// textured part, 7 a texture image).
 
 import { S, changed } from './state.js';
 import { M4 } from './math.js';
-import { gl, makeDrawable, makeCloudDrawable, freeDrawable } from './gl.js';
+import { gl, makeDrawable, makeCloudDrawable, makeTexture, freeDrawable } from './gl.js';
 import { boxGeometry, sphereGeometry, cylinderGeometry, capsuleGeometry, coneVolume, volumeEdges, meshNormals } from './geometry.js';
 import { buildViewpoints, fitCamera } from './camera.js';
 import { buildTree } from './panels/selection.js';
@@ -12,7 +13,9 @@ import { buildJointPanels } from './panels/joints.js';
 import { buildVisionPanels, onDepth, onImage, onMask } from './panels/vision.js';
 
 export function onScene(msg) {
-  for (const o of S.objects) for (const v of o.visuals || []) freeDrawable(v.drawable);
+  for (const o of S.objects) for (const v of o.visuals || []) { freeDrawable(v.drawable); freeDrawable(v.texDrawable); }
+  for (const t of S.textures) if (t && gl) gl.deleteTexture(t);
+  S.textures = new Array(msg.textures || 0).fill(null);
   for (const d of S.drawings.values()) freeDrawable(d.drawable);
   S.drawings.clear();
   // The server sends every point cloud again after a scene description.
@@ -29,7 +32,7 @@ export function onScene(msg) {
     if (o.kind === 'joint') S.jointIndex.push(i);
     if (o.kind === 'proximity sensor') S.proxIndex.push(i);
     if (o.visuals) {
-      obj.visuals = o.visuals.map((v) => ({ ...v, localM: M4.fromPose(v.local), drawable: null }));
+      obj.visuals = o.visuals.map((v) => ({ ...v, localM: M4.fromPose(v.local), drawable: null, texDrawable: null }));
       for (const v of obj.visuals) if (v.geom !== 'mesh' && gl) v.drawable = primitiveDrawable(v);
     }
     if (o.proximity && gl) {
@@ -79,6 +82,28 @@ export function onBinary(buf) {
   else if (type === 3) onMesh(dv, buf);
   else if (type === 4) onDepth(dv, buf);
   else if (type === 5) onMask(dv, buf);
+  else if (type === 6) onTexturedPart(dv, buf);
+  else if (type === 7) onTexture(dv, buf);
+}
+
+// A textured visual's triangles with u, v per corner (the server's, as vision sensors
+// draw them), shaded per face.
+function onTexturedPart(dv, buf) {
+  const id = dv.getUint32(4, true), n = dv.getUint32(8, true);
+  const pos = new Float32Array(buf.slice(12, 12 + n * 12));
+  const uv = new Float32Array(buf.slice(12 + n * 12, 12 + n * 20));
+  const d = gl && makeDrawable(pos, null, null, gl.TRIANGLES, uv);
+  if (d) d.flat = true;
+  for (const o of S.objects) for (const v of o.visuals || []) if (v.texture && v.texture.part === id) v.texDrawable = d;
+  changed.view = true;
+}
+
+// A texture image: RGBA, rows from the bottom.
+function onTexture(dv, buf) {
+  const i = dv.getUint32(4, true), w = dv.getUint32(8, true), h = dv.getUint32(12, true);
+  if (!gl || i >= S.textures.length) return;
+  S.textures[i] = makeTexture(w, h, new Uint8Array(buf, 16, w * h * 4));
+  changed.view = true;
 }
 
 function onMesh(dv, buf) {

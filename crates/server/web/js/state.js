@@ -6,6 +6,7 @@ export const S = {
   objects: [],          // per object: {handle, alias, path, parent, kind, pose, world, visuals, ...}
   byHandle: new Map(),
   meshes: [],           // mesh id -> {pos, idx} until a visual uploads it
+  textures: [],         // texture image index -> WebGL texture, once it has arrived
   jointIndex: [],       // joint k -> object index
   proxIndex: [],        // proximity sensor k -> object index
   joints: [],           // live joint positions (rad or m)

@@ -5,7 +5,7 @@
 //! never reused, the store bounded. What is set reads back exactly (ids, mapping,
 //! options, coordinates, pixels). Vision sensors draw them (`crate::vision`'s
 //! rasteriser: mapping, scaling, texture frame, repeat, interpolation and decal as set
-//! here); the browser viewer does not yet, and shows the shape's colour.
+//! here), and so does the browser viewer, with the same coordinates.
 
 use std::f64::consts::PI;
 use std::path::Path;

@@ -75,6 +75,7 @@ use crate::world::{Handle, ObjectKind, World};
 
 /// Largest image side rendered, in pixels (the scene loader enforces the same limit).
 pub use crate::scene::MAX_VISION_RESOLUTION as MAX_RESOLUTION;
+pub use texturing::{TexturedPart, textured_parts};
 
 /// Rendered images and work images of every vision sensor, by handle, plus the
 /// renderer's caches (tessellated shapes, reusable buffers).

@@ -316,7 +316,11 @@ fn clamp_colour(c: [f32; 3]) -> [f32; 3] {
 /// primitives as [`geometry_mesh`] tessellates them), so a primitive wearing them is
 /// drawn as that mesh; coordinates that do not cover a visual's triangles leave the
 /// rest at 0.
-fn textured_visuals(s: &crate::scene::ShapeModel, worn: &ShapeTexture, texture: &Texture) -> Vec<CachedVisual> {
+pub(crate) fn textured_visuals(
+    s: &crate::scene::ShapeModel,
+    worn: &ShapeTexture,
+    texture: &Texture,
+) -> Vec<CachedVisual> {
     let mut first = 0usize;
     s.visuals
         .iter()
@@ -345,6 +349,13 @@ fn textured_visuals(s: &crate::scene::ShapeModel, worn: &ShapeTexture, texture: 
             }
         })
         .collect()
+}
+
+impl CachedVisual {
+    /// The tessellation and, when the visual wears one, its texture.
+    pub(crate) fn parts(&self) -> (&TriMesh, Option<&VisualTexture>) {
+        (&self.mesh, self.texture.as_ref())
+    }
 }
 
 /// A vertex in the camera frame with its light intensity.

@@ -128,6 +128,8 @@ impl World {
         let Some(t) = texture else {
             if self.textures.on_shapes.remove(&h).is_some() {
                 self.textures.revision += 1;
+                // The viewer's scene description shows textures.
+                self.bump();
             }
             return Ok(());
         };
@@ -150,6 +152,7 @@ impl World {
         }
         self.textures.on_shapes.insert(h, t);
         self.textures.revision += 1;
+        self.bump();
         Ok(())
     }
 }

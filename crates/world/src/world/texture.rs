@@ -12,7 +12,9 @@
 //! added at load ([`World::load_textures`]).
 //!
 //! Vision sensors draw the textures shapes wear (`crate::vision`'s rasteriser, which
-//! notices a change of texture by [`Textures::revision`]).
+//! notices a change of texture by [`Textures::revision`]), and so does the browser
+//! viewer, from the coordinates `crate::vision::textured_parts` gives (a change of
+//! texture changes the scene revision, so the page reloads the scene).
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

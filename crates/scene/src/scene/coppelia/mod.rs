@@ -24,7 +24,7 @@
 //! | Python, disabled scripts | dropped (warned) |
 //! | collections (`GRP`) | [`CollectionModel`] (`sim.getCollectionHandle`) |
 //! | IK groups (`IKO`, 4.0-4.2 built-in kinematics) | [`IkGroupModel`] (`sim.getIkGroupHandle`); see `convert_ik_groups` |
-//! | texture objects (`TEX`), a mesh's texture (`Toj`) | [`SceneModel::textures`], [`VisualModel::texture`] (for the API and vision sensors); a vision sensor's image as texture is warned |
+//! | texture objects (`TEX`), a mesh's texture (`Toj`) | [`SceneModel::textures`], [`VisualModel::texture`] (for the API, vision sensors and the viewer); a vision sensor's image as texture is warned |
 //! | time step, gravity, engine step | [`SimSettings`] (`substeps = round(dt / engine step)`) |
 //! | environment fog colour (`ENV`), what vision sensors show where they see nothing | [`SimSettings::background`] |
 //!
