@@ -100,6 +100,10 @@ pub struct SceneObject {
     /// Referenced handles (4.7+, `Cr2`) by tag, in file order: the objects a model's
     /// scripts find with `sim.getReferencedHandle(s)`.
     pub referenced: Vec<(String, Vec<i32>)>,
+    /// Visibility layer bits (`Lar`; bit k is layer k + 1). CoppeliaSim shows the objects
+    /// on its active layers, 1 to 8 unless a scene changed them: models keep their
+    /// respondable shapes, joints and helpers on layers 9 to 16, hidden.
+    pub layer: u16,
     /// User parameters (`Lsp`, CoppeliaSim up to 4.2's "script simulation parameters"),
     /// in file order: what a model's script reads with `sim.getScriptSimulationParameter`
     /// (resolutions, angles, options the model's dialog offered).
@@ -194,6 +198,7 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
         model_base: false,
         referenced: Vec::new(),
         user_parameters: Vec::new(),
+        layer: 1,
         extension: String::new(),
         kind: ObjectKind::Other(c.tag),
         offset: c.offset,
@@ -233,6 +238,7 @@ pub fn read(c: &Chunk, top: &At, buffers: &MeshBuffers, scripts: &mut Vec<Script
                 o.referenced.push((tag, handles));
             }
             b"Lsp" => o.user_parameters = read_user_parameters(c, &at)?,
+            b"Lar" => o.layer = f.u16()?,
             _ => {}
         }
     }

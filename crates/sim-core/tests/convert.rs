@@ -232,14 +232,15 @@ fn assert_kind(a: &ObjectModelKind, b: &ObjectModelKind, what: &str) {
 
 /// The two models hold the same scene, object by object.
 fn assert_same_model(a: &SceneModel, b: &SceneModel, tag: &str) {
+    assert_eq!(a.user_parameters, b.user_parameters, "{tag}: user parameters");
     assert_eq!(a.settings, b.settings, "{tag}: settings");
     assert_eq!(a.server, b.server, "{tag}: server");
     assert_eq!(a.objects.len(), b.objects.len(), "{tag}: object count");
     for (k, (x, y)) in a.objects.iter().zip(&b.objects).enumerate() {
         let what = format!("{tag}: object {k} '{}'", x.alias);
         assert_eq!(
-            (&x.alias, x.parent, x.model_base, &x.extension),
-            (&y.alias, y.parent, y.model_base, &y.extension),
+            (&x.alias, x.parent, x.model_base, &x.extension, x.layer),
+            (&y.alias, y.parent, y.model_base, &y.extension, y.layer),
             "{what}"
         );
         assert_pose(&x.local, &y.local, &what);
@@ -341,6 +342,7 @@ fn object(alias: &str, parent: Option<usize>, local: Pose, kind: ObjectModelKind
         local,
         model_base: false,
         extension: String::new(),
+        layer: 1,
         kind,
     }
 }
@@ -570,6 +572,9 @@ fn everything() -> SceneModel {
             }),
         ),
     ];
+    // One object on a hidden layer (CoppeliaSim's respondable shapes are on layer 9).
+    let mut objects = objects;
+    objects[1].layer = 0x0100;
     SceneModel {
         name: "everything".into(),
         base_dir: PathBuf::new(),

@@ -209,3 +209,83 @@ fn imported_scenes_take_the_environment_colour_their_sensors_show() {
     };
     assert_eq!(model.settings.background, None);
 }
+
+/// CoppeliaSim keeps a model's respondable shapes on hidden layers (9-16), under the
+/// visual meshes: a colour-coded view of PyRep's Panda sees the visual meshes, never
+/// a `_respondable` one (RLBench's masks are handles of what the camera shows).
+#[test]
+fn shapes_on_hidden_layers_are_not_drawn() {
+    let path = coppelia_files().join("PyRep__scene_panda_reach_target.ttt");
+    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let respondable = model
+        .objects
+        .iter()
+        .filter(|o| o.alias.ends_with("_respondable"))
+        .map(|o| o.layer)
+        .collect::<Vec<_>>();
+    assert!(
+        !respondable.is_empty() && respondable.iter().all(|&l| l == 0x0100),
+        "{respondable:?}"
+    );
+    let mut sim = Sim::new(&model);
+    let call = |sim: &mut Sim, f: &str, args: &[Value]| {
+        let ctx = CallContext::default();
+        api::call(sim, &ctx, f, args).unwrap_or_else(|e| panic!("{f}: {e}"))
+    };
+    // 128 x 128, 60 degrees, looking down at the Panda from 1.2 m above its base.
+    let cam = call(
+        &mut sim,
+        "createVisionSensor",
+        &[
+            Value::Int(0),
+            Value::Array(vec![Value::Int(128), Value::Int(128), Value::Int(0), Value::Int(0)]),
+            Value::floats(&[0.01, 4.0, 60f64.to_radians(), 0.1, 0.1, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0]),
+        ],
+    )[0]
+    .clone();
+    // sim.visionintparam_render_mode = sim.rendermode_colorcoded.
+    call(
+        &mut sim,
+        "setObjectInt32Param",
+        &[cam.clone(), Value::Int(1017), Value::Int(2)],
+    );
+    call(
+        &mut sim,
+        "setObjectPosition",
+        &[cam.clone(), Value::Int(-1), Value::floats(&[0.7, 0.0, 2.3])],
+    );
+    call(
+        &mut sim,
+        "setObjectOrientation",
+        &[
+            cam.clone(),
+            Value::Int(-1),
+            Value::floats(&[std::f64::consts::PI, 0.0, 0.0]),
+        ],
+    );
+    call(&mut sim, "handleVisionSensor", std::slice::from_ref(&cam));
+    let img = call(&mut sim, "getVisionSensorImg", std::slice::from_ref(&cam));
+    let Some(Value::Bytes(rgb)) = img.first() else {
+        panic!("{img:?}")
+    };
+    let mut seen = std::collections::BTreeSet::new();
+    for p in rgb.chunks_exact(3) {
+        let h = i64::from(p[0]) + 256 * i64::from(p[1]) + 65536 * i64::from(p[2]);
+        if h != 0xff_ffff {
+            seen.insert(h);
+        }
+    }
+    let names: Vec<String> = seen
+        .iter()
+        .map(|&h| match call(&mut sim, "getObjectAlias", &[Value::Int(h)]).first() {
+            Some(Value::Str(s)) => s.clone(),
+            other => format!("{other:?}"),
+        })
+        .collect();
+    assert!(names.iter().any(|n| n.contains("visual")), "{names:?}");
+    assert!(!names.iter().any(|n| n.contains("respondable")), "{names:?}");
+    assert!(
+        !names.iter().any(|n| n == "diningTable" || n.ends_with("_element")),
+        "{names:?}"
+    );
+}

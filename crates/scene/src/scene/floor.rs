@@ -20,6 +20,7 @@ pub(super) fn floor_object(size: [f64; 2], friction: f64, color: [f32; 3]) -> Ob
         local: Pose::identity(),
         model_base: true,
         extension: String::new(),
+        layer: 1,
         kind: ObjectModelKind::Shape(ShapeModel {
             geoms: vec![GeomModel {
                 geometry: geometry.clone(),

@@ -629,6 +629,22 @@ impl Resolver<'_> {
                 );
             }
         };
+        let layer = match &o.layer {
+            None => 1,
+            Some(l) => match u16::try_from(*l.get_ref()) {
+                Ok(bits) => bits,
+                Err(_) => {
+                    return self.err_at(
+                        l.span(),
+                        format!(
+                            "object '{}': layer is the bits of layers 1 to 16, 0..=65535; got {}",
+                            o.name.get_ref(),
+                            l.get_ref()
+                        ),
+                    );
+                }
+            },
+        };
         let index = self.objects.len();
         self.objects.push(ObjectModel {
             alias: o.alias.clone().unwrap_or_else(|| o.name.get_ref().clone()),
@@ -642,6 +658,7 @@ impl Resolver<'_> {
             )?,
             model_base: o.model_base.unwrap_or(false),
             extension: o.extension_string.clone().unwrap_or_default(),
+            layer,
             kind,
         });
         if let Some(s) = &o.script {

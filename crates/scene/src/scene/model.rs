@@ -306,9 +306,18 @@ pub struct ObjectModel {
     /// plugins and task code read, such as RLBench's waypoint commands
     /// (`open_gripper()`, `ignore_collisions;linear`).
     pub extension: String,
+    /// Visibility layer bits (`sim.objintparam_visibility_layer`; bit k is layer k + 1).
+    /// Vision sensors and the viewer show objects on the active layers,
+    /// [`VISIBLE_LAYERS`]; CoppeliaSim files keep respondable shapes and joints on
+    /// hidden ones.
+    pub layer: u16,
     /// What the object is.
     pub kind: ObjectModelKind,
 }
+
+/// CoppeliaSim's active layers, 1 to 8 (bits 0-7): what vision sensors and the viewer
+/// show. An object on none of them is hidden.
+pub const VISIBLE_LAYERS: u16 = 0x00ff;
 
 /// The kinds of object, as in CoppeliaSim.
 #[derive(Debug, Clone)]

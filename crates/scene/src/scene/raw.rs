@@ -109,6 +109,8 @@ pub struct RawObject {
     pub model_base: Option<bool>,
     /// Extension string (`sim.getExtensionString`); none by default.
     pub extension_string: Option<String>,
+    /// Visibility layer bits (default 1: layer 1, shown).
+    pub layer: Option<Spanned<i64>>,
     /// Lua script file attached to this object, relative to the scene file.
     pub script: Option<Spanned<String>>,
 
@@ -484,6 +486,7 @@ const OBJECT_KEYS: &[&str] = &[
     "quaternion",
     "model_base",
     "extension_string",
+    "layer",
     "script",
     "shape",
     "size",

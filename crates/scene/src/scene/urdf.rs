@@ -342,6 +342,7 @@ pub fn import_urdf(
         local: include.pose,
         model_base: true,
         extension: String::new(),
+        layer: 1,
         kind: ObjectModelKind::Dummy,
     });
     let mut index = UrdfIndex {
@@ -370,6 +371,7 @@ pub fn import_urdf(
             local,
             model_base: false,
             extension: String::new(),
+            layer: 1,
             kind: ObjectModelKind::Shape(shape),
         });
         index.links.insert(link.name.clone(), link_obj);
@@ -449,6 +451,7 @@ pub fn import_urdf(
                 local: origin * UnitQuaternion::from(align),
                 model_base: false,
                 extension: String::new(),
+                layer: 1,
                 kind: ObjectModelKind::Joint(JointModel {
                     joint_type,
                     mode,

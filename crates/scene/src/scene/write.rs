@@ -255,6 +255,9 @@ impl Writer {
         if let Some(p) = o.parent {
             let _ = writeln!(self.out, "parent = {}", quote(&names[p]));
         }
+        if o.layer != 1 {
+            let _ = writeln!(self.out, "layer = {}", o.layer);
+        }
         if o.model_base {
             self.out.push_str("model_base = true\n");
         }
@@ -834,6 +837,7 @@ mod tests {
             local: Pose::identity(),
             model_base: false,
             extension: String::new(),
+            layer: 1,
             kind: ObjectModelKind::Dummy,
         }
     }

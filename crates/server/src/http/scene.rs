@@ -79,7 +79,7 @@ pub fn describe(world: &World) -> SceneDescription {
         });
         match &o.kind {
             ObjectKind::Shape(s) => {
-                let hidden = world.layer(h).is_ok_and(|l| l == 0);
+                let hidden = !world.is_shown(h);
                 let worn = world.shape_texture(h).ok().flatten().filter(|_| !hidden);
                 let textured = worn.map_or(Ok(None), |_| textured_parts(world, h)).ok().flatten();
                 let visuals: Vec<Json> = s

@@ -555,6 +555,11 @@ pub(crate) fn draw_list<'a>(world: &World, shapes: &'a ShapeCache) -> Vec<DrawIt
         let (Some(visuals), Ok(object)) = (shapes.shapes.get(&h), world.object(h)) else {
             continue;
         };
+        // Objects on hidden layers (a model's respondable shapes under its visual
+        // meshes) are not drawn, as in CoppeliaSim.
+        if !world.is_shown(h) {
+            continue;
+        }
         for v in visuals {
             if !v.mesh.triangles.is_empty() {
                 items.push(DrawItem {

@@ -359,6 +359,11 @@ impl World {
             self.custom
                 .set(map[p.object], &p.name, crate::Value::Str(p.value.clone()));
         }
+        for (i, o) in model.objects.iter().enumerate() {
+            if o.layer != 1 {
+                self.edit.layers.insert(map[i], i64::from(o.layer));
+            }
+        }
         // Collection names stay unique among live collections: a model's collection whose
         // name is taken (a second copy of the same robot) is left out, with a warning.
         for c in &model.collections {
@@ -1007,8 +1012,16 @@ impl World {
         Ok(self.edit.layers.get(&h).copied().unwrap_or(1))
     }
 
-    /// Sets an object's visibility layer bits (16 bits); the viewer hides objects on
-    /// layer 0.
+    /// Whether an object is on one of the active layers ([`crate::scene::VISIBLE_LAYERS`]):
+    /// what vision sensors draw and the viewer shows. CoppeliaSim files keep a model's
+    /// respondable shapes on hidden layers, under the visual meshes seen instead.
+    pub fn is_shown(&self, h: Handle) -> bool {
+        self.layer(h)
+            .is_ok_and(|l| l & i64::from(crate::scene::VISIBLE_LAYERS) != 0)
+    }
+
+    /// Sets an object's visibility layer bits (16 bits); vision sensors and the viewer
+    /// show the objects on the active layers ([`World::is_shown`]).
     ///
     /// # Errors
     /// No such object, or bits outside 0..=0xffff.

@@ -120,6 +120,7 @@ impl World {
                 local: if parent.is_none() { o.world } else { o.local },
                 model_base: o.model_base,
                 extension: o.extension.clone(),
+                layer: self.layer(h).ok().and_then(|l| u16::try_from(l).ok()).unwrap_or(1),
                 kind,
             });
         }

@@ -240,6 +240,7 @@ mod tests {
                 local: Pose::identity(),
                 model_base: false,
                 extension: String::new(),
+                layer: 1,
                 kind: ObjectModelKind::Shape(shape),
             });
         }

@@ -281,6 +281,11 @@ impl World {
                 .custom
                 .set(p.object as Handle, &p.name, crate::Value::Str(p.value.clone()));
         }
+        for (i, o) in model.objects.iter().enumerate() {
+            if o.layer != 1 {
+                world.edit.layers.insert(i as Handle, i64::from(o.layer));
+            }
+        }
         let warnings = world.load_textures(model, |i| i as Handle);
         world.warnings.extend(warnings);
         world

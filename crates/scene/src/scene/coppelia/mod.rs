@@ -152,6 +152,7 @@ pub fn load_coppelia(bytes: &[u8], path: &Path) -> Result<(SceneModel, ImportRep
             local: to_pose(&o.local_pose),
             model_base: o.model_base,
             extension: o.extension.clone(),
+            layer: o.layer,
             kind,
         });
     }
@@ -596,6 +597,7 @@ mod vision_tests {
             local: crate::math::Pose::identity(),
             model_base: false,
             extension: String::new(),
+            layer: 1,
             kind: ObjectModelKind::VisionSensor(convert_vision(&sensor(true, [2048, 2048], 0.1)).expect("kept")),
         };
         // 36 fit in 1 GiB (28 MiB each); the 37th does not.
@@ -1276,6 +1278,7 @@ mod tests {
         cf::SceneObject {
             referenced: Vec::new(),
             user_parameters: Vec::new(),
+            layer: 1,
             extension: String::new(),
             handle,
             parent,
