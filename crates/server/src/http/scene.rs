@@ -47,8 +47,8 @@ pub const MAX_SENT_TEXTURE_SIDE: u32 = 1024;
 pub struct SceneDescription {
     /// `{"t":"scene",...}`.
     pub json: Json,
-    /// [`MSG_MESH`] messages, one per distinct mesh, then the [`MSG_TEXTURE`] and
-    /// [`MSG_TEXTURED_PART`] messages.
+    /// [`MSG_MESH`] messages, one per distinct mesh, then the `MSG_TEXTURE` and
+    /// `MSG_TEXTURED_PART` messages.
     pub meshes: Vec<Vec<u8>>,
 }
 
