@@ -64,6 +64,7 @@ mod simd;
 mod tessellate;
 mod texturing;
 mod twin;
+mod viewer_parts;
 mod work_image;
 
 use std::collections::BTreeMap;
@@ -75,7 +76,7 @@ use crate::world::{Handle, ObjectKind, World};
 
 /// Largest image side rendered, in pixels (the scene loader enforces the same limit).
 pub use crate::scene::MAX_VISION_RESOLUTION as MAX_RESOLUTION;
-pub use texturing::{TexturedPart, textured_parts};
+pub use viewer_parts::{TexturedPart, textured_parts};
 
 /// Rendered images and work images of every vision sensor, by handle, plus the
 /// renderer's caches (tessellated shapes, reusable buffers).

@@ -24,9 +24,8 @@
 use std::sync::Arc;
 
 use super::tessellate::TriMesh;
-use crate::error::SimError;
 use crate::math::{Pose, pose_from_euler};
-use crate::world::{Handle, ObjectKind, ShapeTexture, Texture, TextureMapping, World};
+use crate::world::{ShapeTexture, Texture, TextureMapping};
 
 /// `sim.setShapeTexture` option bits the renderer reads.
 const NO_INTERPOLATION: i64 = 1;
@@ -108,54 +107,6 @@ impl VisualTexture {
             None => [0.0; 3],
         }
     }
-}
-
-/// One visual part of a textured shape, as vision sensors draw it: its triangles (three
-/// corners each, in the part's frame, m) and each corner's u, v.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct TexturedPart {
-    /// Three corners per triangle.
-    pub positions: Vec<[f32; 3]>,
-    /// u, v per corner, parallel to `positions`.
-    pub uvs: Vec<[f32; 2]>,
-}
-
-/// The parts of shape `h` (one per visual, in order) with the coordinates of the texture
-/// it wears, for a viewer to draw them as vision sensors do; `None` for a shape without
-/// a texture.
-///
-/// # Errors
-/// No such object, or not a shape.
-pub fn textured_parts(world: &World, h: Handle) -> Result<Option<Vec<TexturedPart>>, SimError> {
-    let Some(worn) = world.shape_texture(h)? else {
-        return Ok(None);
-    };
-    let (Ok(texture), Ok(ObjectKind::Shape(shape))) = (world.textures().get(worn.id), world.object(h).map(|o| &o.kind))
-    else {
-        return Ok(None);
-    };
-    let parts = super::raster::textured_visuals(shape, worn, texture)
-        .iter()
-        .map(|v| {
-            let (mesh, texture) = v.parts();
-            let mut part = TexturedPart::default();
-            let mut k = 0;
-            for chunk in &mesh.chunks {
-                let positions = mesh.chunk_positions(chunk);
-                for tri in mesh.chunk_triangles(chunk) {
-                    let uv = texture.and_then(|t| t.uvs.get(k)).copied().unwrap_or_default();
-                    for (c, &i) in tri.iter().enumerate() {
-                        part.positions
-                            .push(positions.get(i as usize).copied().unwrap_or_default());
-                        part.uvs.push(uv[c]);
-                    }
-                    k += 1;
-                }
-            }
-            part
-        })
-        .collect();
-    Ok(Some(parts))
 }
 
 /// `t` within 0..1: its fraction when repeating, else clamped to the edges. A
