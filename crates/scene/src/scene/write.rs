@@ -880,29 +880,16 @@ mod tests {
 
     #[test]
     fn the_vision_background_round_trips_and_stays_unset_when_unset() {
-        let read = |text: &str| {
-            crate::scene::load_scene_text(
-                &crate::scene::MapFiles::default(),
-                text,
-                std::path::Path::new("s.toml"),
-                &crate::scene::LoadOptions::default(),
-            )
-            .expect("loads")
-        };
-        let text = |model: &SceneModel| {
-            let files = write_scene(model, "s", "s.toml").expect("writes");
-            String::from_utf8(files.files[0].1.clone()).expect("utf-8")
-        };
         // Unset: no key written, none read back (black, as before).
         let plain = scene(Vec::new());
-        assert!(!text(&plain).contains("background"), "{}", text(&plain));
-        assert_eq!(read(&text(&plain)).settings.background, None);
+        assert!(!written(&plain).contains("background"), "{}", written(&plain));
+        assert_eq!(read(&written(&plain)).settings.background, None);
         // Set: written under [simulation] and read back exactly.
         let mut grey = scene(Vec::new());
         grey.settings.background = Some([0.804f32, 0.867, 0.916].map(f64::from));
-        let written = text(&grey);
-        assert!(written.contains("\nbackground = ["), "{written}");
-        assert_eq!(read(&written).settings.background, grey.settings.background);
+        let text = written(&grey);
+        assert!(text.contains("\nbackground = ["), "{text}");
+        assert_eq!(read(&text).settings.background, grey.settings.background);
         // Out of range is an error naming the key.
         let bad = read_err("[simulation]\nbackground = [0.5, 1.5, 0]\n");
         assert!(bad.contains("background"), "{bad}");
@@ -910,15 +897,6 @@ mod tests {
 
     #[test]
     fn user_parameters_round_trip_and_bad_ones_are_refused() {
-        let read = |text: &str| {
-            crate::scene::load_scene_text(
-                &crate::scene::MapFiles::default(),
-                text,
-                std::path::Path::new("s.toml"),
-                &crate::scene::LoadOptions::default(),
-            )
-            .expect("loads")
-        };
         let mut model = scene(vec![dummy("sensor"), dummy("other")]);
         model.user_parameters = vec![
             UserParameter {
@@ -934,8 +912,7 @@ mod tests {
                 value: "a \"quoted\" text".into(),
             },
         ];
-        let files = write_scene(&model, "s", "s.toml").expect("writes");
-        let text = String::from_utf8(files.files[0].1.clone()).expect("utf-8");
+        let text = written(&model);
         let back = read(&text);
         let named = |m: &SceneModel| -> Vec<(String, String, String, String)> {
             m.user_parameters
@@ -966,6 +943,23 @@ mod tests {
             "{head}[[user_parameter]]\nobject = \"a\"\nname = \"x\"\nvalu = \"1\"\n"
         ));
         assert!(typo.contains("valu"), "{typo}");
+    }
+
+    /// The scene file `write_scene` makes of `model`.
+    fn written(model: &SceneModel) -> String {
+        let files = write_scene(model, "s", "s.toml").expect("writes");
+        String::from_utf8(files.files[0].1.clone()).expect("utf-8")
+    }
+
+    /// A scene text loaded.
+    fn read(text: &str) -> SceneModel {
+        crate::scene::load_scene_text(
+            &crate::scene::MapFiles::default(),
+            text,
+            std::path::Path::new("s.toml"),
+            &crate::scene::LoadOptions::default(),
+        )
+        .expect("loads")
     }
 
     fn read_err(text: &str) -> String {
