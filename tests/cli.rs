@@ -2,7 +2,7 @@
 //! machine-readable, `check` reports errors with file, line and column, and the
 //! embedded default scene works from any directory.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 

@@ -3,7 +3,7 @@
 //! `GANTRY_TOKEN` shown only in the viewer URL, ZMQ kept on loopback with a token, and
 //! `gantry send --token`.
 
-mod common;
+use crate::common;
 
 use std::process::{Command, Output};
 

@@ -1,6 +1,6 @@
 //! End-to-end tests of the paper's text command channel against a real gantry process.
 
-mod common;
+use crate::common;
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{SocketAddr, TcpStream};

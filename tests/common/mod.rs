@@ -1,8 +1,6 @@
 //! Shared helpers for end-to-end tests: start a real `gantry` process on free ports
 //! and stop it when the test ends, whatever happens.
 
-#![allow(dead_code, reason = "each test file uses a different subset of these helpers")]
-
 use std::io::{BufRead, BufReader};
 use std::net::SocketAddr;
 use std::process::{Child, Command, Stdio};
@@ -15,8 +13,9 @@ use gantry_test_support::repo;
 pub struct Gantry {
     pub child: Child,
     pub text: SocketAddr,
-    /// Lines gantry wrote to stderr after the listening lines (drained in the background).
-    pub stderr: mpsc::Receiver<String>,
+    /// Lines gantry writes to stderr after the listening lines. Held, unread, so that the
+    /// background thread keeps draining the pipe and gantry never blocks on a full one.
+    _stderr: mpsc::Receiver<String>,
 }
 
 impl Drop for Gantry {
@@ -57,7 +56,7 @@ pub fn start(scene: &str, extra: &[&str]) -> Gantry {
     Gantry {
         child,
         text: text.expect("set above"),
-        stderr: rx,
+        _stderr: rx,
     }
 }
 

@@ -278,7 +278,7 @@ fn every_shared_file_reads_and_makes_sense() {
     }
     // The largest file, best of five: the figure issue 28 asks to stay under 0.5 s.
     // Reported, not asserted (a timing depends on what else the machine runs);
-    // measure it with `cargo test --release -p gantry-coppelia-file --test shared_files
+    // measure it with `cargo test --release -p gantry-coppelia-file --test integration shared_files::
     // -- --nocapture`.
     let largest = names
         .iter()

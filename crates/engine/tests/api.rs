@@ -1,7 +1,7 @@
 //! Lua snippets against each `sim.*` function of issue 3, with exact expectations and
 //! the error cases, plus parity between Lua and remote calls through `Engine::call`.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};

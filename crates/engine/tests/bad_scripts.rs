@@ -6,7 +6,7 @@
 //! Each scene puts `rogue.lua` first, so that its hooks run before `good.lua`'s and a
 //! failure cannot hide behind a script that already ran.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::time::{Duration, Instant};

@@ -9,7 +9,7 @@
 //! passes. The script's port 6000 is mapped to a free port (`NetworkParams::port_map`,
 //! `--script-port` on the command line), so the test runs beside a gantry on 6000.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::f64::consts::{PI, TAU};

@@ -5,7 +5,7 @@
 //! script's first error; the assertion is a floor under the figure, so that it only
 //! rises. Where the folder is absent the test says so and passes.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::collections::BTreeMap;

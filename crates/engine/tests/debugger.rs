@@ -2,7 +2,7 @@
 //! requests through the link while the test thread steps the simulation, which stops
 //! (blocks) inside a script wherever the client asked.
 
-mod util;
+use crate::util;
 
 use std::path::PathBuf;
 use std::sync::Arc;

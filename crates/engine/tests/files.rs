@@ -3,7 +3,7 @@
 //! link out of a folder included, is refused with a message naming `--allow-files`, and
 //! a scene embedded in gantry reaches no file without it.
 
-mod util;
+use crate::util;
 
 use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;

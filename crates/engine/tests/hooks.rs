@@ -1,7 +1,7 @@
 //! The script lifecycle: hook order, per-script globals, `'.'`, runtime errors, the time
 //! and memory budgets, the sandbox, hot reload, `check_syntax` and `print`.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::time::{Duration, Instant, SystemTime};

@@ -3,7 +3,7 @@
 //! `sim.handleIkGroup`, or every step by the main script once `sim.setExplicitHandling`
 //! clears its explicit flag. The bundled six-axis arm's tool tip follows the target.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_sim_core::Value;

@@ -5,7 +5,7 @@
 //! it misses, falling back to a damped one) or searched with `getConfigForTipPose`, and
 //! the IK joints copied onto the scene's. The scene's tip must follow the goal dummy.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_lua::{ScriptLimits, ScriptState};

@@ -3,7 +3,7 @@
 //! consoles, user parameters, `sysCall_threadmain`) and the new module form
 //! (`sim = require 'sim'`, `sysCall_thread`).
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_lua::ScriptState;

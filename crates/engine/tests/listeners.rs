@@ -4,7 +4,7 @@
 //! ends when the simulation stops; without a front end the functions say why they
 //! cannot work; `require 'simRemoteApi'` returns the module; bad ports are refused.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::sync::{Arc, Mutex};

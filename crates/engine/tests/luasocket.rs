@@ -2,7 +2,7 @@
 //! time budget without the script being interrupted, and a reloaded script finds its
 //! port free again. (The socket calls themselves are tested in `src/luasocket/tests.rs`.)
 
-mod util;
+use crate::util;
 
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};

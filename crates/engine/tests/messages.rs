@@ -6,7 +6,7 @@
 //! own; a threaded script may broadcast, and a receiver cannot block.
 //! `simUI.getKeyboardModifiers` reports no key held in a headless run.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_lua::{ScriptLimits, ScriptState};

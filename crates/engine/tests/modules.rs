@@ -3,7 +3,7 @@
 //! once; a module that requires itself, a name with `..` and a module whose file is a
 //! symbolic link out of the folders are refused with clear errors.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_lua::ScriptLimits;

@@ -6,7 +6,7 @@
 //! the last step (`sim.getContactInfo`) and the light functions' refusals of objects
 //! that are not lights.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::Value;
 use gantry_test_support::{assert_close, assert_contains, floats, int, ints, num, text};

@@ -2,7 +2,7 @@
 //! bundled six-axis arm's joints, collision pairs with an obstacle, RRT-Connect, and a
 //! path that stays collision-free when replayed state by state.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_sim_core::Value;

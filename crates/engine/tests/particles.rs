@@ -3,7 +3,7 @@
 //! respondable particles are bodies that push what they hit, the others fly through;
 //! item limits, lifetimes, removal and bad arguments behave as in CoppeliaSim.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_lua::ScriptLimits;

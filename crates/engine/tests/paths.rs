@@ -3,7 +3,7 @@
 //! blocking calls refused outside threads, and a CoppeliaSim 4.3+ script reading a
 //! created path's points from its custom data to interpolate along it.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_sim_core::Value;

@@ -4,7 +4,7 @@
 //! moving cloud during the steps, errors raised in Lua, and the same points for a
 //! remote client.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::Value;
 use gantry_test_support::{assert_close, assert_contains, floats, int, num, text};

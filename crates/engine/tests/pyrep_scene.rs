@@ -4,7 +4,7 @@
 //! parameters that only read back, and a V-REP 3.5 model whose header names no file
 //! type. Each was a failure of PyRep's suite on gantry (issue 50).
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_engine::Engine;

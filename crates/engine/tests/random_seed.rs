@@ -2,7 +2,7 @@
 //! simulations of one scene draw the same numbers (Lua alone would seed from the clock,
 //! and a recorded run could not be re-run identically), another seed draws others.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_lua::ScriptLimits;

@@ -6,7 +6,7 @@
 //! and get clear Lua errors for unknown types, wrong fields and bad handles. Endpoints
 //! close when the simulation stops.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::sync::Arc;

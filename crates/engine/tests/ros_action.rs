@@ -6,7 +6,7 @@
 //! clear Lua error. (The real DDS transport is tested against Cyclone DDS, which plays
 //! the other side of each, in tests/python/test_ros2.py.)
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::sync::Arc;

@@ -1,7 +1,7 @@
 //! Issue 3's acceptance test: BubbleRob's controller (`scripts/bubble_rob.lua`) drives the
 //! rover of `bubble_rob.toml` for 2 simulated minutes without getting stuck.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_engine::Engine;

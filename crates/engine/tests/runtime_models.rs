@@ -4,7 +4,7 @@
 //! the model's scripts run as the scene's do, and the model stays part of the scene
 //! across a stop. `sim.removeScript` takes a script out until a stop restores it.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_engine::Engine;

@@ -3,7 +3,7 @@
 //! with an error that names what was refused, and that the simulation carries on: the
 //! script keeps receiving hooks and the world keeps stepping.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::path::Path;

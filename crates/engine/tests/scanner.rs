@@ -5,7 +5,7 @@
 //! published ranges must agree with `sim.castRays` along the same beams (itself checked
 //! against analytic distances in crates/sim-core/tests/scanner.rs).
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_engine::Engine;

@@ -3,7 +3,7 @@
 //! the tutorial shows: a distance segment, a trace, a clearance graph, a speed slider,
 //! and an edge image.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use gantry_engine::Engine;

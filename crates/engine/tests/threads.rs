@@ -7,7 +7,7 @@
 //! waits in simulation time with the step's resolution and returns the overshoot;
 //! non-stepping threads are pre-empted instead of freezing the simulator.
 
-mod util;
+use crate::util;
 use util::Drive;
 
 use std::time::Duration;

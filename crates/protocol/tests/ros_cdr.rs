@@ -964,7 +964,7 @@ fn the_encapsulation_header_constant_is_cdr_le() {
 
 /// Writes the `ros_cdr` fuzz target's seeds: for a few types, the type's index in
 /// [`known_message_types`] then a filled message's CDR. Run by hand when the catalog
-/// changes: `cargo test -p gantry-protocol --test ros_cdr -- --ignored write_fuzz_seeds`.
+/// changes: `cargo test -p gantry-protocol --test integration -- --ignored ros_cdr::write_fuzz_seeds`.
 #[test]
 #[ignore = "writes fuzz/seeds/ros_cdr; run by hand"]
 fn write_fuzz_seeds() {

@@ -12,7 +12,7 @@
 //! - a model loaded while running moves the descriptions to per-robot topics;
 //! - a scene object that already holds a link's name keeps it, and the link its path.
 
-mod util;
+use crate::util;
 
 use std::collections::HashMap;
 use std::sync::Arc;

@@ -18,7 +18,7 @@ use gantry_sim_core::world::object_path::object_alias;
 use serde_json::Value as Json;
 use util::InProcess;
 
-mod util;
+use crate::util;
 
 /// A gantry run on the showroom serving the viewer on a free port; stopped when dropped.
 struct Server {

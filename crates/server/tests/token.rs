@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use gantry_server::{AccessToken, ServeConfig, TextConfig};
 use util::InProcess;
 
-mod util;
+use crate::util;
 
 const TOKEN: &str = "lab-token-0123456789";
 

@@ -16,7 +16,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use util::InProcess;
 
-mod util;
+use crate::util;
 
 /// A gantry run serving ZMQ on a free port; stopped when dropped.
 struct Server {

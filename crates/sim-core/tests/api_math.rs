@@ -3,7 +3,7 @@
 //! independently with nalgebra (axis-angle), round trips, CoppeliaSim's documented
 //! conventions, and the packing functions on good and malformed data.
 
-mod util;
+use crate::util;
 
 use std::f64::consts::{FRAC_PI_2, PI};
 

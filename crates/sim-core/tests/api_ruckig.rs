@@ -2,7 +2,7 @@
 //! registry: moves reach their targets within the limits, result codes, CoppeliaSim's
 //! table layouts and flags, and bad handles and arguments.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::{Sim, Value};
 use gantry_test_support::floats;

@@ -1,7 +1,7 @@
 //! A body that blows up (non-finite state, a runaway speed, an absurd place) is stopped
 //! and reported, and the rest of the world keeps stepping normally.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::api::{CallContext, call};
 use gantry_sim_core::{Handle, Sim, Value};

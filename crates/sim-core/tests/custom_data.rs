@@ -1,7 +1,7 @@
 //! Custom data blocks (`sim.writeCustomDataBlock`, `sim.readCustomDataBlock`,
 //! `sim.readCustomDataBlockTags`) through the API.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::{Handle, Sim, Value};
 use util::call;

@@ -1,7 +1,7 @@
 //! Determinism: two runs of a scene with the same inputs give bit-identical poses of every
 //! object at every step (BubbleRob alone, and the showroom with the arm moving too).
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::{Handle, Sim};
 use util::find;

@@ -1,7 +1,7 @@
 //! Drawing objects and graph streams through the API, on the BubbleRob scene: the seed
 //! controller's exact calls, frames, limits, CSV export and bad arguments.
 
-mod util;
+use crate::util;
 
 use std::path::PathBuf;
 

@@ -3,7 +3,7 @@
 //! cleanly, the scene is resynchronised on every solve, and bad arguments raise errors that
 //! name the function.
 
-mod util;
+use crate::util;
 
 use std::f64::consts::PI;
 

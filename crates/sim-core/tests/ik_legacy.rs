@@ -3,7 +3,7 @@
 //! argument order of simIK.setObjectMatrix) reaches the target as the 4.3 calls do, with
 //! the same joint values, and the adapters refuse what gantry cannot honour.
 
-mod util;
+use crate::util;
 
 use std::f64::consts::PI;
 

@@ -5,7 +5,7 @@
 //! joint intervals, joint modes and group flags are honoured; bad input fails with a
 //! message naming the function and what is wrong.
 
-mod util;
+use crate::util;
 
 use std::f64::consts::PI;
 

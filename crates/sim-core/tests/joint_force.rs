@@ -8,7 +8,7 @@
 //! no friction) with the scene format's joint damping `c` (0.1 N·m·s/rad) obeys
 //! `I w' = tau - c w`, so from rest it turns at `w(t) = tau/c (1 - exp(-c t / I))`.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::{Handle, Sim, Value};

@@ -4,7 +4,7 @@
 //! gantry's profile is speed-limited: the joint's `sim.jointfloatparam_maxvel` (URDF
 //! `velocity`), else 180 deg/s for revolute joints.
 
-mod util;
+use crate::util;
 
 use std::f64::consts::PI;
 

@@ -1,7 +1,7 @@
 //! Forward kinematics of the arm6 robot against an independent hand-written model, joint
 //! clamping and wrapping, and that the scene-format documentation's example loads.
 
-mod util;
+use crate::util;
 
 use std::f64::consts::{FRAC_PI_2, PI};
 

@@ -1,7 +1,7 @@
 //! CoppeliaSim 4.0-4.5 names in the registry: each behaves as the version that
 //! documented it, and renames run the current implementation.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::{Handle, Sim, Value};

@@ -6,7 +6,7 @@
 //! PyRep's `Light` reads and writes, and the old-path functions PyRep's `CartesianPath`
 //! calls.
 
-mod util;
+use crate::util;
 
 use std::path::PathBuf;
 

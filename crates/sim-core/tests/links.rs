@@ -1,7 +1,7 @@
 //! Dummy links (`sim.setLinkDummy`): a suction pad's dummy linked to a dummy on a box
 //! holds the box against gravity; unlinking drops it.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::{Handle, Sim, Value};
 use util::{call, find};

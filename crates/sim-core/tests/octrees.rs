@@ -3,7 +3,7 @@
 //! octree), colours and tags, occupancy, removal, voxelising and subtracting a shape and
 //! a point cloud, the voxel limit, and bad input.
 
-mod util;
+use crate::util;
 
 use std::f64::consts::FRAC_PI_2;
 

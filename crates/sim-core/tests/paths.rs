@@ -2,7 +2,7 @@
 //! `sim.getPathInterpolatedConfig`, `sim.resamplePath`) against values computed by hand,
 //! and path objects (`sim.createPath` in both forms) with V-REP 3's functions on them.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::Value;
 use gantry_sim_core::math::Pose;

@@ -3,7 +3,7 @@
 //! (world-frame points stored relative to a moved, rotated, re-parented cloud), removal,
 //! intersection, options, the object's life in the tree, and bad input.
 
-mod util;
+use crate::util;
 
 use std::f64::consts::FRAC_PI_2;
 

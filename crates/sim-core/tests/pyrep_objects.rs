@@ -3,7 +3,7 @@
 //! signals, engine parameters and a few object queries, through the `sim.*` registry with
 //! CoppeliaSim 4.1's argument forms.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Sim, Value};

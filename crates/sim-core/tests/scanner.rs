@@ -4,7 +4,7 @@
 //! the distance from the scanner to the scene's boxes, cylinder and floor along the
 //! same ray. Bad input to the three functions gives clear errors.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::math::{Pose, Vec3};
 use gantry_sim_core::{Handle, Sim, Value};

@@ -1,7 +1,7 @@
 //! The scene as data: objects created, copied, removed, re-parented and restyled at run
 //! time through the `sim.*` registry, with CoppeliaSim 4.6's argument forms and results.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene_text};

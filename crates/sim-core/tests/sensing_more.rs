@@ -2,7 +2,7 @@
 //! image getters (`sim.getVisionSensorCharImage`, `sim.getVisionSensorImage`) against
 //! `sim.getVisionSensorImg`.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::{Handle, Sim, Value};
 use gantry_test_support::int;

@@ -4,7 +4,7 @@
 //! and the texture functions (`sim.createTexture`, `sim.setShapeTexture`,
 //! `sim.applyTexture`, `sim.getShapeTextureId`, `sim.getTextureId`).
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::{Handle, Sim, Value};
 use gantry_test_support::{TempDir, assert_contains, floats, int, ints, num};

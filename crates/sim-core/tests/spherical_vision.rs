@@ -2,7 +2,7 @@
 //! `test_scene.ttt`: the panorama is assembled from the six faces, looks where they
 //! look, and its depth image is the distance along each ray.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::scene::{DiskFiles, LoadOptions, load_scene};
 use gantry_sim_core::{Sim, Value};

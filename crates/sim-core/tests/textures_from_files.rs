@@ -6,7 +6,7 @@
 //! `Shape.get_shape_viz` and `apply_texture` tests read it, and which vision sensors
 //! must draw.
 
-mod util;
+use crate::util;
 
 use std::path::PathBuf;
 

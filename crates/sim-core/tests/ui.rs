@@ -1,7 +1,7 @@
 //! `simUI` through the API: the BubbleRob seed's UI, values, events, warnings, errors
 //! and limits.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::ui::{Layout, MAX_UIS, MAX_WIDGETS, MAX_XML_LEN, Placement, UiEvent, WidgetKind};

@@ -7,7 +7,7 @@
 //! public robots (pybullet_data, example-robot-data) are checked against Pinocchio in
 //! tests/python/test_public_robots.py.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::{Sim, Value};
 use gantry_test_support::{TempDir, load};

@@ -3,7 +3,7 @@
 //! which objects its links and joints became, through a bare URDF (placed after a
 //! floor), a scene's `[[robot]]`s and a model imported into a running world.
 
-mod util;
+use crate::util;
 
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! `sim.getVisionSensorDepth`, `sim.handleVisionSensor`, ...) and the `simVision`
 //! work-image flow of the BubbleRob tutorial's edge-detection script.
 
-mod util;
+use crate::util;
 
 use std::path::Path;
 use std::time::Instant;

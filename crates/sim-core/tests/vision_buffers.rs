@@ -3,7 +3,7 @@
 //! `removedPartToBuffer1`, and the scanner functions' `returnRgb`, which reads point
 //! colours from buffer 1, as CoppeliaSim's point-cloud scripts do.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::{Handle, Sim, Value};
 use util::{err, find, image_reply, ok};

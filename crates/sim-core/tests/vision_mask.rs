@@ -6,7 +6,7 @@
 //! The scene is seen straight down by an orthographic sensor, so which shape each
 //! pixel sees follows from the geometry exactly.
 
-mod util;
+use crate::util;
 
 use std::path::Path;
 

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::api::{self, CallContext};
 use gantry_sim_core::math::{Pose, pose_from_euler};

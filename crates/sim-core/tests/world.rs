@@ -1,6 +1,6 @@
 //! World-level contracts: scenes load and step, kinematics, dynamics, determinism.
 
-mod util;
+use crate::util;
 
 use gantry_sim_core::scene::{DiskFiles, JointMode, JointType, LoadOptions, ObjectModelKind, load_scene};
 use gantry_sim_core::world::ObjectKind;

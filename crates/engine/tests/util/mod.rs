@@ -3,15 +3,13 @@
 //! replacement script, the engine driven as a front end drives it ([`Drive`]), and
 //! what scripts logged and signalled. Helpers other crates' tests need too (temp dirs,
 //! repository paths, value accessors, assertions) are `gantry_test_support`'s.
-#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
 
 pub mod loopback;
 
 use std::cell::Ref;
-use std::path::PathBuf;
 
 use gantry_engine::{Engine, EngineConfig, Input, LoopControl};
-use gantry_lua::{DebugLink, HookError, ScriptError, ScriptLimits, ScriptState};
+use gantry_lua::{DebugLink, ScriptError, ScriptLimits, ScriptState};
 use gantry_sim_core::api::{CallError, Target};
 use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::Control;
@@ -84,11 +82,6 @@ impl Drive for Engine {
     }
 }
 
-/// Calls the global function `f` of the first running script that defines it.
-pub fn call_hook(sim: &mut Engine, f: &str, args: &[Value]) -> Result<Option<Vec<Value>>, HookError> {
-    sim.call_script_function(f, args)
-}
-
 /// The head of a scene with the paper's six-axis arm (`assets/robots/arm6/arm6.urdf`,
 /// kinematic, in its start pose with the tool down) as `arm6`, `script` attached to it;
 /// the caller appends its own objects.
@@ -120,8 +113,6 @@ pub fn bubble_rob_toml(script: Option<&str>) -> String {
 pub struct Scene {
     /// The simulation (dropped before the folder).
     pub sim: Engine,
-    /// The scene file.
-    pub path: PathBuf,
     /// The folder holding the scene and its scripts.
     pub dir: TempDir,
 }
@@ -136,7 +127,7 @@ impl Scene {
         }
         let path = dir.write("scene.toml", toml);
         let sim = engine(load(&path), limits).expect("the simulation builds");
-        Self { sim, path, dir }
+        Self { sim, dir }
     }
 
     /// BubbleRob's scene with `source` as the rover's script (`probe.lua`), started

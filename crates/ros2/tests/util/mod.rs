@@ -1,7 +1,6 @@
 //! Helpers for the graph's tests: an in-memory ROS network that keeps every endpoint
 //! ever opened and every sample written, and decoding of what was written. Temp dirs and
 //! repository paths are `gantry_test_support`'s.
-#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
 
 use std::collections::HashMap;
 use std::sync::Mutex;

@@ -2,7 +2,6 @@
 //! scenes or of inline scene text, `sim.*` calls as a remote client makes them, and the
 //! `fk_arm` scene's arm. The value accessors and assertions other crates' tests use too
 //! are `gantry_test_support`'s.
-#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
 
 use std::path::{Path, PathBuf};
 
