@@ -24,7 +24,7 @@ fn bubble_rob() -> (Sim, Handle) {
 }
 
 /// `cargo bench --bench vision [-- SECTION...]`: every section, or only those named
-/// (`bubble_rob`, `scenes`, `panda`), e.g. to profile one.
+/// (`bubble_rob`, `scenes`, `panda`, `pyrep_obs`), e.g. to profile one.
 fn main() {
     let named: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     let wanted = |section: &str| named.is_empty() || named.iter().any(|n| n == section);
@@ -36,6 +36,9 @@ fn main() {
     }
     if wanted("panda") {
         rlbench_views();
+    }
+    if wanted("pyrep_obs") {
+        pyrep_observation();
     }
 }
 
@@ -398,4 +401,102 @@ fn rlbench_views() {
     }
     println!("| Panda, RLBench's 5 views 128 x 128 + masks (sim.handle_all, all cores) | {all} | {hash:016x} | |");
     println!("| Panda, RLBench's 5 views 128 x 128 + masks (one core) | {one_core} | | |");
+}
+
+/// The renders of `tools/bench/pyrep_bench.py`'s RLBench observation, without Python:
+/// PyRep's Panda scene (from `../shared/coppelia-files`) with five explicitly handled
+/// 128 x 128 cameras and their five colour-coded mask twins, made by the same `sim.*`
+/// calls the `pyrep` package makes. One figure per step: the ten renders, then each
+/// RGB camera's image and depth read out, as the Python loop does.
+#[allow(clippy::approx_constant, reason = "the angles pyrep_bench.py gives, digit for digit")]
+fn pyrep_observation() {
+    println!();
+    println!("| vision, PyRep's Panda scene | ms per step, median (min) | image hash |");
+    println!("|---|---|---|");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let files =
+        std::env::var_os("GANTRY_COPPELIA_FILES").map_or_else(|| root.join("../shared/coppelia-files"), PathBuf::from);
+    let path = files.join("PyRep__scene_panda_reach_target.ttt");
+    if !path.is_file() {
+        println!("| skipped: {} is absent | | |", path.display());
+        return;
+    }
+    let model = load_scene(&DiskFiles, &path, &LoadOptions::default()).expect("PyRep's scene loads");
+    let mut w = Sim::new(&model);
+    let ctx = CallContext::default();
+    let call = |w: &mut Sim, name: &str, args: Vec<Value>| -> Vec<Value> {
+        api::call(w, &ctx, name, &args).unwrap_or_else(|e| panic!("{name}: {e}"))
+    };
+    let list = |v: &[f64]| Value::Array(v.iter().map(|&x| Value::Float(x)).collect());
+    let tip = w.world.find("/Panda_tip", None, 0).expect("Panda_tip");
+    // (position m, orientation rad) as the Python bench places them; None: on the tip.
+    let cameras: [Option<([f64; 3], [f64; 3])>; 5] = [
+        Some(([0.3, 0.6, 1.5], [2.4, 0.0, -2.6])),
+        Some(([0.3, -0.6, 1.5], [-2.4, 0.0, -0.5])),
+        Some(([0.9, 0.0, 2.0], [3.14, 0.0, 1.57])),
+        Some(([1.8, 0.0, 1.4], [2.2, 1.57, 0.0])),
+        None,
+    ];
+    let mut pairs = Vec::new();
+    for pose in cameras {
+        let mut pair = Vec::new();
+        // Render modes: OpenGL 3 for RGB and depth, colour-coded handles for the mask.
+        for mode in [6i64, 2] {
+            let floats = list(&[0.01, 4.5, 60f64.to_radians(), 0.01, 0.01, 0.03, 0.0, 0.0, 0.0, 0.0, 0.0]);
+            let ints = Value::Array(vec![Value::Int(128), Value::Int(128), Value::Int(0), Value::Int(0)]);
+            let h = call(&mut w, "sim.createVisionSensor", vec![Value::Int(1 | 2), ints, floats]);
+            let h = h[0].clone();
+            call(
+                &mut w,
+                "sim.setObjectInt32Param",
+                vec![h.clone(), Value::Int(1017), Value::Int(mode)],
+            );
+            match pose {
+                Some((p, o)) => {
+                    call(
+                        &mut w,
+                        "sim.setObjectPosition",
+                        vec![h.clone(), Value::Int(-1), list(&p)],
+                    );
+                    call(
+                        &mut w,
+                        "sim.setObjectOrientation",
+                        vec![h.clone(), Value::Int(-1), list(&o)],
+                    );
+                }
+                None => {
+                    call(
+                        &mut w,
+                        "sim.setObjectParent",
+                        vec![h.clone(), Value::Int(tip), Value::Bool(false)],
+                    );
+                    call(
+                        &mut w,
+                        "sim.setObjectPosition",
+                        vec![h.clone(), Value::Int(tip), list(&[0.0, 0.0, -0.05])],
+                    );
+                }
+            }
+            pair.push(h);
+        }
+        pairs.push(pair);
+    }
+    let ms = median_ms(200, 3, || {
+        for pair in &pairs {
+            for h in pair {
+                call(&mut w, "sim.handleVisionSensor", vec![h.clone()]);
+            }
+            call(&mut w, "sim.getVisionSensorImg", vec![pair[0].clone()]);
+            call(&mut w, "sim.getVisionSensorDepth", vec![pair[0].clone()]);
+            call(&mut w, "sim.getVisionSensorImg", vec![pair[1].clone()]);
+        }
+    });
+    let mut hash = 0u64;
+    for pair in &pairs {
+        for h in pair {
+            let Value::Int(h) = *h else { panic!("a handle") };
+            hash = hash.rotate_left(7) ^ image_hash(w.vision.image(h).expect("image"));
+        }
+    }
+    println!("| 5 cameras + 5 masks, 128 x 128, rendered and read | {ms} | {hash:016x} |");
 }

@@ -33,6 +33,8 @@
 use std::collections::BTreeMap;
 use std::ops::Range;
 
+use nalgebra::Point3;
+
 use super::bytes::round_byte;
 use super::detail;
 use super::resolve::{self, Packet1};
@@ -47,17 +49,23 @@ use crate::world::{Handle, ObjectKind, ShapeTexture, Texture, World, geometry_me
 /// ([`super::fill`]), with u and v interpolated perspective-correctly (u/z and v/z are
 /// affine on screen, as 1/z is) and the texture sampled per pixel. Only images with
 /// colours take this path (a depth-only, colour-coded or mask render draws textured
-/// shapes as plain ones), so it is scalar and kept apart from the vector code of
-/// untextured spans: textured shapes are a few tables and walls in a scene.
+/// shapes as plain ones).
+///
+/// Rows are drawn in chunks of [`CHUNK`] pixels as the plain path draws them: depth,
+/// light and texture coordinates for the whole chunk in array code (vector code in the
+/// AVX2 copy), then the depth test, and the texture read and the writes only for the
+/// pixels that pass. A textured table can fill most of a camera's view (RLBench's
+/// shoulder cameras), so this loop's speed is a large share of a frame's.
 ///
 /// Kept in this file rather than its own: it draws with this file's clipping,
 /// projection and span helpers, and a file of its own would import from this one while
 /// this one calls it (a circle `tools/layers.py` refuses).
 mod textured {
     use crate::vision::raster::{
-        CamVertex, Camera, ChunkVertex, ClipVertex, MAX_POLY, ScreenVertex, Target, VisualTexture, clip, covered_spans,
-        edge, project, round_byte,
+        CHUNK, CamVertex, Camera, ChunkVertex, ClipVertex, MAX_POLY, ScreenVertex, Target, VisualTexture, clip,
+        covered_spans, edge, project, round_byte,
     };
+    use crate::vision::simd::multiversion;
 
     /// A camera-frame corner with its texture coordinates.
     #[derive(Debug, Clone, Copy, Default)]
@@ -125,69 +133,100 @@ mod textured {
         }
     }
 
-    /// Fills one textured triangle inside the frustum, as [`super::fill`] fills a plain one.
-    fn fill(
-        cam: &Camera,
-        target: &mut Target<'_>,
-        tri: [TexScreen; 3],
-        texture: &VisualTexture,
-        base: [f32; 3],
-        id: u32,
-    ) {
-        let [mut a, mut b, c] = tri;
-        let mut area = edge(a.s, b.s, c.s.x, c.s.y);
-        if !area.is_finite() || area.abs() < 1e-12 {
-            return;
-        }
-        if area < 0.0 {
-            std::mem::swap(&mut a, &mut b);
-            area = -area;
-        }
-        let inv_area = 1.0 / area;
-        let w = target.width;
-        let steps = [(b, c), (c, a), (a, b)].map(|(p, q)| -(q.s.y - p.s.y));
-        // Each value as a plane over the screen: at column 0 of a row from the edge
-        // functions there, plus a step per column.
-        let plane = |k: [f32; 3]| {
-            let step = (steps[0] * k[0] + steps[1] * k[1] + steps[2] * k[2]) * inv_area;
-            move |e: [f32; 3]| ((e[0] * k[0] + e[1] * k[1] + e[2] * k[2]) * inv_area, step)
-        };
-        let iz = plane([a, b, c].map(|v| v.s.inv_z));
-        let lz = plane([a, b, c].map(|v| v.s.light_z));
-        let uz = plane([a, b, c].map(|v| v.uv_z[0]));
-        let vz = plane([a, b, c].map(|v| v.uv_z[1]));
-        let (height, rows) = (target.height, target.rows.clone());
-        let (with_ids, ortho) = (target.with_ids, cam.ortho);
-        covered_spans(w, height, rows, [a.s, b.s, c.s], |row, first, end, e| {
-            let start = (row - target.rows.start) * w;
-            let ((iz0, diz), (lz0, dlz)) = (iz(e), lz(e));
-            let ((uz0, duz), (vz0, dvz)) = (uz(e), vz(e));
-            for col in first..end {
-                let x = col as f32;
-                // The depth exactly as the plain path computes it, so the z-buffer orders
-                // textured and plain triangles alike.
-                let (z, light, u, v) = if ortho {
-                    (iz0 + diz * x, lz0 + dlz * x, uz0 + duz * x, vz0 + dvz * x)
-                } else {
-                    let z = 1.0 / (iz0 + diz * x);
-                    (z, (lz0 + dlz * x) * z, (uz0 + duz * x) * z, (vz0 + dvz * x) * z)
-                };
-                let i = start + col;
-                // Closer than what is drawn (a NaN depth never is), as the plain path tests.
-                let Some(zp) = target.zbuf.get_mut(i).filter(|zp| z < **zp) else {
-                    continue;
-                };
-                *zp = z;
-                let texel = texture.sample(u, v);
-                let byte = |k: usize| u32::from(round_byte(base[k] * texel[k] * light));
-                if let Some(cp) = target.color.get_mut(i) {
-                    *cp = byte(0) | byte(1) << 8 | byte(2) << 16;
-                }
-                if with_ids && let Some(ip) = target.ids.get_mut(i) {
-                    *ip = id;
+    multiversion! {
+        /// Fills one textured triangle inside the frustum, as [`super::fill`] fills a
+        /// plain one.
+        fn fill(
+            cam: &Camera,
+            target: &mut Target<'_>,
+            tri: [TexScreen; 3],
+            texture: &VisualTexture,
+            base: [f32; 3],
+            id: u32,
+        ) {
+            let [mut a, mut b, c] = tri;
+            let mut area = edge(a.s, b.s, c.s.x, c.s.y);
+            if !area.is_finite() || area.abs() < 1e-12 {
+                return;
+            }
+            if area < 0.0 {
+                std::mem::swap(&mut a, &mut b);
+                area = -area;
+            }
+            let inv_area = 1.0 / area;
+            let w = target.width;
+            let steps = [(b, c), (c, a), (a, b)].map(|(p, q)| -(q.s.y - p.s.y));
+            // Each value as a plane over the screen: at column 0 of a row from the edge
+            // functions there, plus a step per column.
+            let plane = |k: [f32; 3]| {
+                let step = (steps[0] * k[0] + steps[1] * k[1] + steps[2] * k[2]) * inv_area;
+                move |e: [f32; 3]| ((e[0] * k[0] + e[1] * k[1] + e[2] * k[2]) * inv_area, step)
+            };
+            let iz = plane([a, b, c].map(|v| v.s.inv_z));
+            let lz = plane([a, b, c].map(|v| v.s.light_z));
+            let uz = plane([a, b, c].map(|v| v.uv_z[0]));
+            let vz = plane([a, b, c].map(|v| v.uv_z[1]));
+            let (height, rows) = (target.height, target.rows.clone());
+            let (with_ids, ortho) = (target.with_ids, cam.ortho);
+            for (row, first, end, e) in covered_spans(w, height, rows, [a.s, b.s, c.s]) {
+                let start = (row - target.rows.start) * w;
+                let ((iz0, diz), (lz0, dlz)) = (iz(e), lz(e));
+                let ((uz0, duz), (vz0, dvz)) = (uz(e), vz(e));
+                let mut col0 = first - first % CHUNK;
+                while col0 < end {
+                    // Depth, light and texture coordinates of the chunk's pixels: the
+                    // depth exactly as the plain path computes it, so the z-buffer
+                    // orders textured and plain triangles alike.
+                    let mut x = [0.0; CHUNK];
+                    for (k, x) in x.iter_mut().enumerate() {
+                        *x = (col0 + k) as f32;
+                    }
+                    let (mut z, mut light, mut u, mut v) = ([0.0; CHUNK], [0.0; CHUNK], [0.0; CHUNK], [0.0; CHUNK]);
+                    if ortho {
+                        for k in 0..CHUNK {
+                            (z[k], light[k]) = (iz0 + diz * x[k], lz0 + dlz * x[k]);
+                            (u[k], v[k]) = (uz0 + duz * x[k], vz0 + dvz * x[k]);
+                        }
+                    } else {
+                        for k in 0..CHUNK {
+                            z[k] = 1.0 / (iz0 + diz * x[k]);
+                            light[k] = (lz0 + dlz * x[k]) * z[k];
+                            (u[k], v[k]) = ((uz0 + duz * x[k]) * z[k], (vz0 + dvz * x[k]) * z[k]);
+                        }
+                    }
+                    // Covered and closer than what is drawn (a NaN depth never is), as
+                    // the plain path tests; the chunk never reaches past the span.
+                    let mut live = [false; CHUNK];
+                    let mut any = false;
+                    for k in 0..CHUNK {
+                        let col = col0 + k;
+                        let closer = target.zbuf.get(start + col).is_some_and(|&zp| z[k] < zp);
+                        live[k] = first <= col && col < end && closer;
+                        any |= live[k];
+                    }
+                    if any {
+                        let texels = texture.sample_lanes(u, v, live);
+                        for k in 0..CHUNK {
+                            let i = start + col0 + k;
+                            if !live[k] {
+                                continue;
+                            }
+                            if let Some(zp) = target.zbuf.get_mut(i) {
+                                *zp = z[k];
+                            }
+                            let byte = |j: usize| u32::from(round_byte(base[j] * texels[k][j] * light[k]));
+                            if let Some(cp) = target.color.get_mut(i) {
+                                *cp = byte(0) | byte(1) << 8 | byte(2) << 16;
+                            }
+                            if with_ids && let Some(ip) = target.ids.get_mut(i) {
+                                *ip = id;
+                            }
+                        }
+                    }
+                    col0 += CHUNK;
                 }
             }
-        });
+        }
     }
 }
 
@@ -756,7 +795,23 @@ pub(crate) fn draw_band(
         ids: band.ids,
     };
     scratch.stats = RenderStats::default();
-    for item in items {
+    // Front to back: each visual ordered by the depth of the far side of its bounding
+    // sphere, so that what is near (and small) is drawn first and the pixels of what
+    // lies behind it fail the depth test before any shading or texture read; large
+    // backgrounds (floors, walls, tables) come last. The z-buffer makes the image the
+    // same in any order, except where two surfaces have exactly the same depth, and a
+    // stable sort on the same poses gives the same order every time.
+    let mut order: Vec<(f32, usize)> = items
+        .iter()
+        .enumerate()
+        .map(|(k, item)| {
+            let c = item.visual.mesh.center;
+            let at = (cam_from_world * item.pose).transform_point(&Point3::new(c[0].into(), c[1].into(), c[2].into()));
+            (at.z as f32 + item.visual.mesh.radius, k)
+        })
+        .collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for item in order.iter().map(|&(_, k)| &items[k]) {
         draw_visual(
             cam,
             sampled.as_ref(),
@@ -1229,23 +1284,19 @@ multiversion! {
     }
 }
 
-/// Calls `f(row, first, end, e)` for each row of `rows` (within an image `width` x
-/// `height`) where triangle `a, b, c` (counter-clockwise on screen, not degenerate)
-/// covers the centres of the pixels `first..end` (at least one), `e` being the three
-/// edge functions (opposite a, b, c) at the centre of the row's column 0.
+/// The rows of `rows` (within an image `width` x `height`) where triangle `a, b, c`
+/// (counter-clockwise on screen, not degenerate) covers the centres of some pixels:
+/// for each, `(row, first, end, e)`, the pixels `first..end` (at least one) and `e`
+/// the three edge functions (opposite a, b, c) at the centre of the row's column 0.
 ///
 /// The same rows and pixels, from the same arithmetic, as [`fill`] finds for its
-/// triangles, so textured and plain triangles cover alike. `fill` keeps its own copy of
-/// this loop: routed through this closure, its code came out slower (untextured frames
-/// took 20 % longer in `cargo bench --bench vision`).
+/// triangles, so textured and plain triangles cover alike. An iterator whose `next` is
+/// inlined, rather than a function taking the row's work as a closure (or an adapter
+/// such as `filter_map` taking this one's): a closure is compiled as a function of its
+/// own, outside the AVX2 copy of its caller (see [`super::simd`]). `fill` keeps its own
+/// copy of this loop, which measured faster still.
 #[inline(always)]
-fn covered_spans(
-    width: usize,
-    height: usize,
-    rows: Range<usize>,
-    [a, b, c]: [ScreenVertex; 3],
-    mut f: impl FnMut(usize, usize, usize, [f32; 3]),
-) {
+fn covered_spans(width: usize, height: usize, rows: Range<usize>, [a, b, c]: [ScreenVertex; 3]) -> CoveredRows {
     // Pixels whose centre may lie inside; clipping keeps corners within the image
     // (up to rounding), and the clamps make out-of-range indices impossible.
     let span = |lo: f32, hi: f32, n: usize| {
@@ -1255,44 +1306,65 @@ fn covered_spans(
     };
     let (x0, x1) = span(a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x), width);
     let (y0, y1) = span(a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y), height);
-    // Only the band's rows.
+    // Only the band's rows, and none when the box is empty.
     let (y0, y1) = (y0.max(rows.start), y1.min(rows.end));
-    if x0 >= x1 || y0 >= y1 {
-        return;
-    }
-    // Edge functions (opposite a, b, c) and their steps per pixel along a row.
     let edges = [(b, c), (c, a), (a, b)];
-    let steps = edges.map(|(p, q)| -(q.y - p.y));
-    for row in y0..y1 {
-        let py = row as f32 + 0.5;
-        // Edge values at the centre of column 0, and the columns where each is >= 0.
-        let e = edges.map(|(p, q)| edge(p, q, 0.5, py));
-        // Continuous column bounds, lo <= col <= hi, within the bounding box.
-        let (mut lo, mut hi) = (x0 as f32, (x1 - 1) as f32);
-        for k in 0..3 {
-            // A tolerance of 1e-4 px keeps pixel centres exactly on an edge shared by
-            // two triangles from being dropped by both through rounding.
-            let at = -e[k] / steps[k];
-            if steps[k] > 0.0 {
-                lo = lo.max(at - 1e-4);
-            } else if steps[k] < 0.0 {
-                hi = hi.min(at + 1e-4);
-            } else if e[k] < 0.0 {
-                hi = -1.0;
+    CoveredRows {
+        rows: y0..if x0 >= x1 { y0 } else { y1 },
+        columns: (x0 as f32, x1.saturating_sub(1) as f32),
+        edges,
+        steps: edges.map(|(p, q)| -(q.y - p.y)),
+    }
+}
+
+/// The iterator [`covered_spans`] returns.
+struct CoveredRows {
+    /// The rows still to look at.
+    rows: Range<usize>,
+    /// The bounding box's first and last column.
+    columns: (f32, f32),
+    /// Edges (opposite a, b, c) and their steps per pixel along a row.
+    edges: [(ScreenVertex, ScreenVertex); 3],
+    steps: [f32; 3],
+}
+
+impl Iterator for CoveredRows {
+    type Item = (usize, usize, usize, [f32; 3]);
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<Self::Item> {
+        let steps = self.steps;
+        for row in self.rows.by_ref() {
+            let py = row as f32 + 0.5;
+            // Edge values at the centre of column 0, and the columns where each is >= 0.
+            let e = self.edges.map(|(p, q)| edge(p, q, 0.5, py));
+            // Continuous column bounds, lo <= col <= hi, within the bounding box.
+            let (mut lo, mut hi) = self.columns;
+            for k in 0..3 {
+                // A tolerance of 1e-4 px keeps pixel centres exactly on an edge shared
+                // by two triangles from being dropped by both through rounding.
+                let at = -e[k] / steps[k];
+                if steps[k] > 0.0 {
+                    lo = lo.max(at - 1e-4);
+                } else if steps[k] < 0.0 {
+                    hi = hi.min(at + 1e-4);
+                } else if e[k] < 0.0 {
+                    hi = -1.0;
+                }
+            }
+            // Rounded with casts (lo >= x0 >= 0 here) rather than `ceil`/`floor`, which
+            // are library calls on baseline x86-64.
+            // (`max` and `min` skip a NaN bound, so neither is NaN.)
+            if lo > hi || hi < 0.0 {
+                continue;
+            }
+            let first = lo as usize + usize::from((lo as usize as f32) < lo);
+            let end = hi as usize + 1;
+            if first < end {
+                return Some((row, first, end, e));
             }
         }
-        // Rounded with casts (lo >= x0 >= 0 here) rather than `ceil`/`floor`, which
-        // are library calls on baseline x86-64.
-        // (`max` and `min` skip a NaN bound, so neither is NaN.)
-        if lo > hi || hi < 0.0 {
-            continue;
-        }
-        let first = lo as usize + usize::from((lo as usize as f32) < lo);
-        let end = hi as usize + 1;
-        if first >= end {
-            continue;
-        }
-        f(row, first, end, e);
+        None
     }
 }
 

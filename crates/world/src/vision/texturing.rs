@@ -76,42 +76,76 @@ impl VisualTexture {
         }
     }
 
-    /// The texture's colour at `u`, `v`, each channel 0..1.
-    #[inline]
-    pub fn sample(&self, u: f32, v: f32) -> [f32; 3] {
+    /// The texture's colours at `N` points (`u[k]`, `v[k]`) at once, each channel 0..1,
+    /// for the lanes `live` selects (the others are 0).
+    ///
+    /// The coordinates' wrapping and the texel indices and weights are worked out for
+    /// all lanes in array code, which the rasteriser's AVX2 copy turns into vector
+    /// instructions (and `floor` into one instruction rather than a library call); only
+    /// the texel reads are per lane, and each lane's result does not depend on the
+    /// others or on `N`.
+    #[inline(always)]
+    pub fn sample_lanes<const N: usize>(&self, u: [f32; N], v: [f32; N], live: [bool; N]) -> [[f32; 3]; N] {
         let (w, h) = (self.width, self.height);
+        let mut out = [[0.0; 3]; N];
         if self.interpolate {
             // Texel centres at half-integers: the four around the point, weighted.
             let (x0, x1, fx) = bilinear(u, w, self.repeat[0]);
             let (y0, y1, fy) = bilinear(v, h, self.repeat[1]);
-            let [a, b, c, d] = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| self.texel(x, y));
-            let mut out = [0.0; 3];
-            for k in 0..3 {
-                let lo = a[k] + (b[k] - a[k]) * fx;
-                let hi = c[k] + (d[k] - c[k]) * fx;
-                out[k] = lo + (hi - lo) * fy;
+            for k in 0..N {
+                if !live[k] {
+                    continue;
+                }
+                let [a, b, c, d] = [(x0[k], y0[k]), (x1[k], y0[k]), (x0[k], y1[k]), (x1[k], y1[k])]
+                    .map(|(x, y)| self.texel(x as usize, y as usize));
+                for j in 0..3 {
+                    let lo = a[j] + (b[j] - a[j]) * fx[k];
+                    let hi = c[j] + (d[j] - c[j]) * fx[k];
+                    out[k][j] = lo + (hi - lo) * fy[k];
+                }
             }
-            out
         } else {
-            self.texel(nearest(u, w, self.repeat[0]), nearest(v, h, self.repeat[1]))
+            let (x, y) = (nearest(u, w, self.repeat[0]), nearest(v, h, self.repeat[1]));
+            for k in 0..N {
+                if live[k] {
+                    out[k] = self.texel(x[k] as usize, y[k] as usize);
+                }
+            }
         }
+        out
     }
 
     /// Texel `x` (from the left), `y` (from the bottom), 0..1 per channel.
-    #[inline]
+    #[inline(always)]
     fn texel(&self, x: usize, y: usize) -> [f32; 3] {
         let row = self.height - 1 - y.min(self.height - 1);
         let at = (row * self.width + x.min(self.width - 1)) * 4;
         match self.rgba.get(at..at + 3) {
-            Some(p) => [p[0], p[1], p[2]].map(|b| f32::from(b) / 255.0),
+            Some(p) => [
+                UNIT[usize::from(p[0])],
+                UNIT[usize::from(p[1])],
+                UNIT[usize::from(p[2])],
+            ],
             None => [0.0; 3],
         }
     }
 }
 
+/// `b / 255` for each byte `b`: a texel channel as 0..1, looked up rather than divided
+/// (a bilinear sample reads twelve channels), with the division's exact result.
+static UNIT: [f32; 256] = {
+    let mut table = [0.0; 256];
+    let mut b = 0;
+    while b < 256 {
+        table[b] = b as f32 / 255.0;
+        b += 1;
+    }
+    table
+};
+
 /// `t` within 0..1: its fraction when repeating, else clamped to the edges. A
 /// non-finite coordinate (a degenerate triangle's) reads as 0.
-#[inline]
+#[inline(always)]
 fn wrap(t: f32, repeat: bool) -> f32 {
     if !t.is_finite() {
         0.0
@@ -122,32 +156,41 @@ fn wrap(t: f32, repeat: bool) -> f32 {
     }
 }
 
-/// The texel of `n` along one axis that coordinate `t` falls in.
-#[inline]
-fn nearest(t: f32, n: usize, repeat: bool) -> usize {
+/// The texel of `n` along one axis that each coordinate `t[k]` falls in.
+#[inline(always)]
+fn nearest<const N: usize>(t: [f32; N], n: usize, repeat: bool) -> [u32; N] {
+    // A side is at most MAX_TEXTURE_SIDE texels: n and the indices fit in u32.
+    let (nf, last) = (n as f32, n.saturating_sub(1) as u32);
     // 0 <= t <= 1, so the product is 0..=n; t = 1 (clamped) is the last texel.
-    ((wrap(t, repeat) * n as f32) as usize).min(n - 1)
+    t.map(|t| ((wrap(t, repeat) * nf) as u32).min(last))
 }
 
-/// The two texels of `n` along one axis whose centres are on either side of `t`, and
-/// the weight of the second: neighbours across the edge when repeating, else the edge
-/// texel twice.
-#[inline]
-fn bilinear(t: f32, n: usize, repeat: bool) -> (usize, usize, f32) {
-    let x = wrap(t, repeat) * n as f32 - 0.5;
-    let x0 = x.floor();
-    let f = x - x0;
-    // -1 <= x0 <= n: within i64 for any image.
-    let i = x0 as i64;
-    let n = n as i64;
-    let pick = |k: i64| {
+/// For each coordinate `t[k]`, the two texels of `n` along one axis whose centres are
+/// on either side of it, and the weight of the second: neighbours across the edge when
+/// repeating, else the edge texel twice.
+#[inline(always)]
+fn bilinear<const N: usize>(t: [f32; N], n: usize, repeat: bool) -> ([u32; N], [u32; N], [f32; N]) {
+    let (nf, ni) = (n as f32, n as i32);
+    let (mut first, mut second, mut weight) = ([0; N], [0; N], [0.0; N]);
+    // Within 0..n: one wrap either way when repeating (k is -1..=n), else the edge.
+    let pick = |k: i32| {
         if repeat {
-            k.rem_euclid(n) as usize
+            let k = if k < 0 { k + ni } else { k };
+            (if k >= ni { k - ni } else { k }) as u32
         } else {
-            k.clamp(0, n - 1) as usize
+            k.clamp(0, ni - 1) as u32
         }
     };
-    (pick(i), pick(i + 1), f)
+    for k in 0..N {
+        let x = wrap(t[k], repeat) * nf - 0.5;
+        let x0 = x.floor();
+        weight[k] = x - x0;
+        // -1 <= x0 <= n - 1.
+        let i = x0 as i32;
+        first[k] = pick(i);
+        second[k] = pick(i + 1);
+    }
+    (first, second, weight)
 }
 
 /// Corner coordinates from explicit ones: triangle `k` of the mesh data has
@@ -250,6 +293,57 @@ mod tests {
             coordinates: None,
         };
         VisualTexture::new(&texture, &worn, &mesh, &Pose::identity(), None)
+    }
+
+    impl VisualTexture {
+        /// One point's colour: a one-lane [`VisualTexture::sample_lanes`].
+        fn sample(&self, u: f32, v: f32) -> [f32; 3] {
+            self.sample_lanes([u], [v], [true])[0]
+        }
+    }
+
+    #[test]
+    fn eight_lanes_sample_as_one_lane_does() {
+        // Coordinates inside, on and beyond the edges, and not finite.
+        let ts = [
+            -2.3,
+            -1.0,
+            -0.26,
+            0.0,
+            0.01,
+            0.25,
+            0.49,
+            0.5,
+            0.75,
+            0.99,
+            1.0,
+            1.7,
+            f32::NAN,
+            f32::INFINITY,
+        ];
+        for options in [
+            0,
+            NO_INTERPOLATION,
+            REPEAT_U | REPEAT_V,
+            NO_INTERPOLATION | REPEAT_U | REPEAT_V,
+        ] {
+            let t = checker(options);
+            for (k, &v) in ts.iter().enumerate() {
+                let u: [f32; 8] = std::array::from_fn(|j| ts[(k + j) % ts.len()]);
+                // Every other lane dead: it reads as 0 and leaves the others alone.
+                let live: [bool; 8] = std::array::from_fn(|j| j % 2 == 0);
+                let lanes = t.sample_lanes(u, [v; 8], live);
+                for j in 0..8 {
+                    let one = if live[j] { t.sample(u[j], v) } else { [0.0; 3] };
+                    assert_eq!(
+                        lanes[j].map(f32::to_bits),
+                        one.map(f32::to_bits),
+                        "options {options}, u {}, v {v}",
+                        u[j]
+                    );
+                }
+            }
+        }
     }
 
     #[test]
