@@ -6,7 +6,7 @@
 from typing import Any
 
 class Sim:
-    """`sim`: 345 functions, 316 constants."""
+    """`sim`: 347 functions, 316 constants."""
 
     arrayparam_gravity: int
     boolparam_dynamics_handling_enabled: int
@@ -397,6 +397,7 @@ class Sim:
     def createDummy(self, *args: Any) -> Any: ...
     def createForceSensor(self, *args: Any) -> Any:
         """CoppeliaSim 4.1's arguments; the sensor is a root at the origin named `Force_sensor` and measures once a body hangs from it; thresholds (options bits 0, 1) and filters over more than one sample are refused (gantry's force sensors never break and report each step's reading)."""
+    def createJoint(self, *args: Any) -> Any: ...
     def createMeshShape(self, *args: Any) -> Any:
         """the mesh is one shape, static and not respondable like CoppeliaSim's; culling, edges and the shading angle only change CoppeliaSim's drawing and are ignored; at most 1,000,000 vertices."""
     def createOctree(self, *args: Any) -> Any:
@@ -407,6 +408,7 @@ class Sim:
         """the cloud is a scene object (`sim.object_pointcloud_type`, 16) at the world origin, alias `PointCloud`, with white points. As in CoppeliaSim, sizes are clamped (voxel 0.001-1 m, 1-100 points per voxel, 1-8 pixels; the point size is rounded); negative or non-finite ones are an error. `maxVoxelSize` and `maxPtCntPerVoxel` only shape the calculation structure: a full voxel splits (as the manual says), no point is ever dropped for them. Option bits 1 (show OC tree) and 4 (emissive) are kept and reported, not drawn; bit 0 makes the viewer show random colours; bit 3 (no calculation structure) turns the insertion duplicate check off, as in CoppeliaSim. Point clouds are not collidable, measurable or detectable, and vision sensors do not render them; the viewer draws them as points of their colour and size."""
     def createPrimitiveShape(self, *args: Any) -> Any:
         """the shape is static, non-respondable, white, 1000 kg/m^3, at the origin; option bits 0-2 are accepted and ignored; non-round spheroids, elliptic cylinders and cones are tessellated meshes (their density-based mass uses the bounding box)."""
+    def createProximitySensor(self, *args: Any) -> Any: ...
     def createPureShape(self, *args: Any) -> Any:
         """V-REP 3's primitive (0 cuboid, 1 sphere, 2 cylinder, 3 cone) with a mass in kg; options bit 3 respondable, bit 4 static (else dynamic); the drawing bits (culling, edges, smoothing, open ends) and `precision` are accepted and ignored (round shapes are exact primitives)."""
     def createTexture(self, *args: Any) -> Any:

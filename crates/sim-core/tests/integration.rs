@@ -33,6 +33,7 @@ mod point_cloud;
 mod pyrep_ik_groups;
 mod pyrep_objects;
 mod scanner;
+mod scene_building;
 mod scene_edit;
 mod selection;
 mod sensing_more;

@@ -34,7 +34,7 @@ pub use coppelia::{COPPELIA_SOLVER_ITERATIONS, ImportReport, load_coppelia, load
 pub use error::LoadError;
 pub use files::{DiskFiles, EmbeddedFiles, Files, LoggedFiles, MapFiles, normalize as normalize_path};
 pub use load::dedup as dedup_warnings;
-pub use load::{LoadOptions, load_scene, load_scene_text};
+pub use load::{DEFAULT_VELOCITY_KD, LoadOptions, load_scene, load_scene_text};
 pub use mesh::{load_mesh, resolve_mesh_path};
 pub use model::*;
 pub use model_file::load_model;

@@ -10,6 +10,7 @@ mod application;
 mod args;
 mod configuration;
 mod contacts;
+mod create_joint;
 mod create_sensors;
 mod custom_data;
 mod drawing;
@@ -467,6 +468,7 @@ pub const MODULES: &[Module] = &[
             contacts::FUNCTIONS,
             extension::FUNCTIONS,
             configuration::FUNCTIONS,
+            create_joint::FUNCTIONS,
             create_sensors::FUNCTIONS,
             engine_params::FUNCTIONS,
             scene_file::FUNCTIONS,

@@ -32,7 +32,7 @@ use super::physics::{BodyRole, TreeView, configure_integration, geometry_volume,
 use super::world::World;
 use crate::error::SimError;
 use crate::math::{self, Pose, Vec3};
-use crate::scene::{Geometry, JointMode, LightModel, MassModel, SceneModel, ShapeModel, VisionModel};
+use crate::scene::{Geometry, JointMode, JointModel, LightModel, MassModel, SceneModel, ShapeModel, VisionModel};
 
 /// Smallest shape mass, kg (CoppeliaSim clamps `sim.setShapeMass` to the same).
 pub const MIN_SHAPE_MASS: f64 = 1e-7;
@@ -130,6 +130,27 @@ impl World {
         self.edit.removed.push(false);
         self.order.push(h);
         h
+    }
+
+    /// Adds a joint made as the scene loader makes `model`'s (at its initial position,
+    /// with its physics) below `parent` at pose `local`, and returns its handle. A mimic
+    /// leader in `model` is not kept: a created joint follows no other.
+    ///
+    /// # Errors
+    /// The parent does not exist.
+    pub fn add_joint(
+        &mut self,
+        alias: &str,
+        model: &JointModel,
+        parent: Option<Handle>,
+        local: Pose,
+    ) -> Result<Handle, SimError> {
+        let model = JointModel {
+            mimic: None,
+            ..model.clone()
+        };
+        let joint = Joint::from_model(&model, |leader| leader as Handle);
+        self.add_object(alias, ObjectKind::Joint(joint), parent, local)
     }
 
     /// Removes objects (`sim.removeObjects`). As in CoppeliaSim, the children of a

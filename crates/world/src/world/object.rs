@@ -3,7 +3,9 @@
 use super::octree::Octree;
 use super::point_cloud::PointCloud;
 use crate::math::{Pose, Vec3};
-use crate::scene::{CameraModel, JointMode, JointType, LightModel, ProximityModel, ShapeModel, VisionModel};
+use crate::scene::{
+    CameraModel, JointMode, JointModel, JointType, LightModel, ProximityModel, ShapeModel, VisionModel,
+};
 
 pub use crate::handle::Handle;
 
@@ -153,6 +155,50 @@ pub struct Joint {
     /// A velocity-controlled joint whose target velocity is zero holds its position with
     /// an unbounded force (`sim.jointintparam_velocity_lock`, Bullet's locked motor).
     pub velocity_lock: bool,
+}
+
+impl Joint {
+    /// The joint a scene model describes, at its initial position; `leader` gives the
+    /// handle of a mimic leader's object index.
+    pub(crate) fn from_model(j: &JointModel, leader: impl Fn(usize) -> Handle) -> Joint {
+        let mut joint = Joint {
+            joint_type: j.joint_type,
+            mode: j.mode,
+            limits: j.limits,
+            cyclic: j.cyclic,
+            position: 0.0,
+            velocity: 0.0,
+            target_position: j.target_position,
+            target_velocity: j.target_velocity,
+            max_force: j.max_force,
+            target_force: j.max_force,
+            kp: j.kp,
+            kd: j.kd,
+            force: 0.0,
+            damping: j.damping,
+            friction: j.friction,
+            max_velocity: j.max_velocity,
+            mimic: j.mimic.map(|m| Mimic {
+                leader: leader(m.leader),
+                multiplier: m.multiplier,
+                offset: m.offset,
+            }),
+            reference: 0.0,
+            reference_velocity: 0.0,
+            motion: KinematicMotion::Still,
+            ik_mode: false,
+            velocity_lock: false,
+        };
+        joint.position = joint.constrain(j.initial);
+        // A speed-limited controller starts where the joint is and moves towards the
+        // target from there; an unlimited one servos to it.
+        joint.reference = if joint.max_velocity.is_some() {
+            joint.position
+        } else {
+            joint.target_position
+        };
+        joint
+    }
 }
 
 /// How a kinematic joint moves from step to step.

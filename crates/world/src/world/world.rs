@@ -4,9 +4,7 @@ use rapier3d::prelude::*;
 
 use super::collection::Collection;
 use super::log::Log;
-use super::object::{
-    Detection, ForceReading, Handle, Joint, KinematicMotion, Mimic, Object, ObjectKind, ProximitySensor,
-};
+use super::object::{Detection, ForceReading, Handle, Joint, KinematicMotion, Object, ObjectKind, ProximitySensor};
 use super::object_path::{ObjectTree, PathError, PathQuery, resolve};
 use super::octree::Octree;
 use super::physics::{BodyRole, Physics, TreeView, configure_motor};
@@ -148,45 +146,7 @@ impl World {
                 extension: o.extension.clone(),
                 kind: match &o.kind {
                     ObjectModelKind::Shape(s) => ObjectKind::Shape(Box::new(s.clone())),
-                    ObjectModelKind::Joint(j) => {
-                        let mut joint = Joint {
-                            joint_type: j.joint_type,
-                            mode: j.mode,
-                            limits: j.limits,
-                            cyclic: j.cyclic,
-                            position: 0.0,
-                            velocity: 0.0,
-                            target_position: j.target_position,
-                            target_velocity: j.target_velocity,
-                            max_force: j.max_force,
-                            target_force: j.max_force,
-                            kp: j.kp,
-                            kd: j.kd,
-                            force: 0.0,
-                            damping: j.damping,
-                            friction: j.friction,
-                            max_velocity: j.max_velocity,
-                            mimic: j.mimic.map(|m| Mimic {
-                                leader: m.leader as Handle,
-                                multiplier: m.multiplier,
-                                offset: m.offset,
-                            }),
-                            reference: 0.0,
-                            reference_velocity: 0.0,
-                            motion: KinematicMotion::Still,
-                            ik_mode: false,
-                            velocity_lock: false,
-                        };
-                        joint.position = joint.constrain(j.initial);
-                        // A speed-limited controller starts where the joint is and moves
-                        // towards the target from there; an unlimited one servos to it.
-                        joint.reference = if joint.max_velocity.is_some() {
-                            joint.position
-                        } else {
-                            joint.target_position
-                        };
-                        ObjectKind::Joint(joint)
-                    }
+                    ObjectModelKind::Joint(j) => ObjectKind::Joint(Joint::from_model(j, |leader| leader as Handle)),
                     ObjectModelKind::Dummy => ObjectKind::Dummy,
                     ObjectModelKind::ProximitySensor(v) => {
                         ObjectKind::ProximitySensor(ProximitySensor { volume: *v, last: None })
