@@ -31,6 +31,7 @@ use crate::host_call::{LoopControl, RemoteOp};
 use crate::input::{Input, Output};
 use crate::observer::{InputAt, Observer, RecorderFactory};
 use crate::pacing::Pacing;
+use crate::restore_point::RestorePoint;
 use crate::scene::build_sim;
 use crate::stepping::{ClientId, Stepping, SteppingError};
 
@@ -92,8 +93,12 @@ pub enum Due {
 pub struct Engine {
     /// The simulation, lent to the Lua host's `sim.*` functions through the cell.
     pub(crate) sim: SimCell,
-    /// The scene as loaded, plus models loaded since: what a stop rebuilds.
+    /// The scene as loaded, plus models loaded since: what a stop rebuilds when the
+    /// run loaded models (see [`RestorePoint`]).
     pub(crate) model: SceneModel,
+    /// The scene as the running simulation started: what a stop restores. `None` while
+    /// stopped.
+    pub(crate) restore: Option<RestorePoint>,
     /// The scene's scripts; none until a script or a client needs Lua.
     pub(crate) host: Option<LuaHost>,
     /// Steps taken since the engine was made; never reset (a stop does not rewind it),
@@ -137,6 +142,7 @@ impl Engine {
         Ok(Self {
             sim,
             model,
+            restore: None,
             host,
             steps: 0,
             stepping: Stepping::default(),
@@ -607,6 +613,7 @@ impl Engine {
         self.host = host;
         self.sim = sim;
         self.model = model;
+        self.restore = None;
         Ok(())
     }
 

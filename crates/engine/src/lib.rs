@@ -27,6 +27,7 @@ mod input;
 mod lifecycle;
 pub mod observer;
 pub mod pacing;
+mod restore_point;
 mod scene;
 mod step;
 pub mod stepping;

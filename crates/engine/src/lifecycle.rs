@@ -2,9 +2,10 @@
 //! and stop, with their scripts' hooks, what follows for the stepping clients, and
 //! what scripts asked for carried out once none runs.
 //!
-//! A stop runs every script's `sysCall_cleanup`, then rebuilds the world from the
-//! scene model (the scene as loaded plus the models loaded since), as CoppeliaSim
-//! restores the scene when its simulation stops; the log survives.
+//! A stop runs every script's `sysCall_cleanup`, then puts back the scene as it was at
+//! the start (`restore_point`), as CoppeliaSim restores the scene when its simulation
+//! stops: edits made while stopped stay, what the run moved goes back; the log
+//! survives.
 
 use std::time::Instant;
 
@@ -14,6 +15,7 @@ use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::{Advancing, Control, SimulationState};
 
 use crate::engine::Engine;
+use crate::restore_point::RestorePoint;
 use crate::scene::build_sim;
 
 /// Appends a loaded model's objects and scripts to `scene` (indices moved past the
@@ -59,6 +61,8 @@ impl Engine {
         }
         match self.state() {
             SimulationState::Stopped => {
+                // The scene as it starts, edits made while stopped included.
+                self.restore = Some(RestorePoint::capture(&self.sim.borrow(), &self.model));
                 if let Some(host) = &mut self.host {
                     host.before_simulation();
                 }
@@ -95,8 +99,9 @@ impl Engine {
         self.stepping.release_waiters();
     }
 
-    /// Stops: every script's `sysCall_cleanup` runs, then the world and the scripts
-    /// are rebuilt from the scene model.
+    /// Stops: every script's `sysCall_cleanup` runs, then the scene of the start comes
+    /// back (or the scene model is rebuilt, see `restore_point`) and the scripts are
+    /// reloaded.
     fn stop(&mut self) {
         // The stop asked for is being served (even when already stopped).
         if let Some(host) = &self.host {
@@ -111,7 +116,10 @@ impl Engine {
                 merge_into(&mut self.model, model);
             }
             let log = std::mem::take(&mut self.sim.borrow_mut().world.log);
-            let mut sim = build_sim(&self.model);
+            let mut sim = match self.restore.take() {
+                Some(point) => point.restore(&self.model),
+                None => build_sim(&self.model),
+            };
             sim.world.log = log;
             *self.sim.borrow_mut() = sim;
             if let Some(host) = &mut self.host {

@@ -11,11 +11,15 @@ use gantry_sim_core::scene::{EmbeddedFiles, SceneModel};
 /// world, so they are confined too.
 pub(crate) fn build_sim(model: &SceneModel) -> Sim {
     let mut sim = Sim::new(model);
-    let scope = if model.base_dir.starts_with(EmbeddedFiles::ROOT) {
+    sim.graphs.set_export_scope(export_scope(model));
+    sim
+}
+
+/// Where the API may write files for `model`'s simulation (see [`build_sim`]).
+pub(crate) fn export_scope(model: &SceneModel) -> ExportScope {
+    if model.base_dir.starts_with(EmbeddedFiles::ROOT) {
         ExportScope::Nowhere
     } else {
         ExportScope::Within(model.base_dir.clone())
-    };
-    sim.graphs.set_export_scope(scope);
-    sim
+    }
 }

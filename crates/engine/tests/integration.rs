@@ -32,5 +32,6 @@ mod rover;
 mod runtime_models;
 mod sandbox;
 mod scanner;
+mod scene_editing;
 mod seed;
 mod threads;

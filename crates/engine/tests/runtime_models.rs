@@ -65,14 +65,16 @@ fn a_remote_client_loads_a_urdf_robot_that_stays_across_a_stop() {
         scene.remote("getJointPosition", &[Value::Int(joint)]),
         [Value::Float(0.5)]
     );
-    // Part of the scene from now on: it runs, and a stop restores it as loaded.
+    // Part of the scene from now on: it runs, and a stop restores it as it started,
+    // the joint where the client put it while stopped (CoppeliaSim's rule).
     scene.sim.start();
+    scene.remote("setJointPosition", &[Value::Int(joint), Value::Float(0.9)]);
     step(&mut scene.sim, 3);
     scene.sim.stop();
     assert_eq!(scene.find("/arm6"), base);
     assert_eq!(
         scene.remote("getJointPosition", &[Value::Int(joint)]),
-        [Value::Float(0.0)]
+        [Value::Float(0.5)]
     );
 }
 

@@ -106,6 +106,44 @@ pub(crate) struct Physics {
     pub anchor: Option<usize>,
 }
 
+/// A copy of the whole physical state: bodies, colliders, joints, islands, the broad and
+/// narrow phases (contacts and their warm-start impulses) and the side tables. rapier's
+/// pipelines are workspaces that hold no state between steps, so the copy gets fresh
+/// ones (`PhysicsWorld` itself is not `Clone` for that reason). The engine copies the
+/// world at a start to restore it at the stop.
+impl Clone for Physics {
+    fn clone(&self) -> Self {
+        let w = &self.world;
+        Physics {
+            world: PhysicsWorld {
+                gravity: w.gravity,
+                integration_parameters: w.integration_parameters,
+                physics_pipeline: PhysicsPipeline::new(),
+                collision_pipeline: CollisionPipeline::new(),
+                islands: w.islands.clone(),
+                broad_phase: w.broad_phase.clone(),
+                narrow_phase: w.narrow_phase.clone(),
+                bodies: w.bodies.clone(),
+                colliders: w.colliders.clone(),
+                impulse_joints: w.impulse_joints.clone(),
+                multibody_joints: w.multibody_joints.clone(),
+                soft_bodies: w.soft_bodies.clone(),
+                ccd_solver: w.ccd_solver.clone(),
+            },
+            bodies: self.bodies.clone(),
+            body_of: self.body_of.clone(),
+            joints: self.joints.clone(),
+            force_joints: self.force_joints.clone(),
+            dummy_links: self.dummy_links.clone(),
+            collider_object: self.collider_object.clone(),
+            object_colliders: self.object_colliders.clone(),
+            fused: self.fused.clone(),
+            rapier_steps: self.rapier_steps,
+            anchor: self.anchor,
+        }
+    }
+}
+
 /// `BodyEntry::object` of a slot whose body was removed (the anchor is -1).
 pub(crate) const REMOVED_BODY: Handle = Handle::MIN;
 

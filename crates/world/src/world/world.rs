@@ -15,6 +15,7 @@ use crate::scene::{JointMode, ObjectModelKind, SceneModel, SimSettings};
 
 /// The simulated scene. It is not `Sync` and lives on the simulation thread; every other
 /// part of gantry reaches it through requests to that thread.
+#[derive(Clone)]
 pub struct World {
     /// Objects by handle; removed objects stay as tombstones (see `edit`), so handles are
     /// never reused.
