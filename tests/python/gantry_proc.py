@@ -64,7 +64,8 @@ class ManagedProcess:
 
 
 class GantryProcess(ManagedProcess):
-    """A running gantry serving the ZMQ remote API on a free port."""
+    """A running gantry serving the ZMQ remote API, its text channel and its viewer on
+    free ports."""
 
     def __init__(self, scene: str | Path, *, fast: bool = True, extra: list[str] | None = None,
                  ready_timeout: float = 60.0):
@@ -74,7 +75,12 @@ class GantryProcess(ManagedProcess):
         cmd = [str(gantry_bin()), "run", str(scene), "--zmq-port", "0", "--text-port", "0"]
         if fast:
             cmd.append("--fast")
-        cmd += extra or []
+        extra = extra or []
+        # The viewer on a free port too, unless the test chose one: never the default
+        # 8080, which a developer's own gantry or a second process of the test may hold.
+        if "--http-port" not in extra:
+            cmd += ["--http-port", "0"]
+        cmd += extra
         self.cmd = cmd
         self.log: deque[str] = deque(maxlen=2000)
         self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
