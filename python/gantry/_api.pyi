@@ -397,7 +397,8 @@ class Sim:
     def createDummy(self, *args: Any) -> Any: ...
     def createForceSensor(self, *args: Any) -> Any:
         """CoppeliaSim 4.1's arguments; the sensor is a root at the origin named `Force_sensor` and measures once a body hangs from it; thresholds (options bits 0, 1) and filters over more than one sample are refused (gantry's force sensors never break and report each step's reading)."""
-    def createJoint(self, *args: Any) -> Any: ...
+    def createJoint(self, *args: Any) -> Any:
+        """CoppeliaSim's arguments (type, mode, options, sizes); a root at the origin named `Revolute_joint` or `Prismatic_joint`, with CoppeliaSim's defaults for a new joint: revolute cyclic with options bit 0, else limited to -180..+180 degrees; prismatic -0.05..+0.05 m; 2.5 N·m (50 N) of motor; `sim.jointmode_dynamic` gives a velocity-controlled joint with a target of 0. Spherical joints (12) and dependent mode (4) are refused with the reason."""
     def createMeshShape(self, *args: Any) -> Any:
         """the mesh is one shape, static and not respondable like CoppeliaSim's; culling, edges and the shading angle only change CoppeliaSim's drawing and are ignored; at most 1,000,000 vertices."""
     def createOctree(self, *args: Any) -> Any:
@@ -408,7 +409,8 @@ class Sim:
         """the cloud is a scene object (`sim.object_pointcloud_type`, 16) at the world origin, alias `PointCloud`, with white points. As in CoppeliaSim, sizes are clamped (voxel 0.001-1 m, 1-100 points per voxel, 1-8 pixels; the point size is rounded); negative or non-finite ones are an error. `maxVoxelSize` and `maxPtCntPerVoxel` only shape the calculation structure: a full voxel splits (as the manual says), no point is ever dropped for them. Option bits 1 (show OC tree) and 4 (emissive) are kept and reported, not drawn; bit 0 makes the viewer show random colours; bit 3 (no calculation structure) turns the insertion duplicate check off, as in CoppeliaSim. Point clouds are not collidable, measurable or detectable, and vision sensors do not render them; the viewer draws them as points of their colour and size."""
     def createPrimitiveShape(self, *args: Any) -> Any:
         """the shape is static, non-respondable, white, 1000 kg/m^3, at the origin; option bits 0-2 are accepted and ignored; non-round spheroids, elliptic cylinders and cones are tessellated meshes (their density-based mass uses the bounding box)."""
-    def createProximitySensor(self, *args: Any) -> Any: ...
+    def createProximitySensor(self, *args: Any) -> Any:
+        """CoppeliaSim's arguments; a root at the origin named `Proximity_sensor`. Ray, pyramid, cylinder, cone (full opening angle below pi) and disc (angle up to 2 pi, y size as thickness) volumes from the float parameters; the sensor reports the closest point, so the occlusion check (bit 7) holds. Options it cannot honour (front or back faces only, an angle limit, a smallest distance, randomized rays: bits 3, 4, 6, 8, 9) are refused with the reason."""
     def createPureShape(self, *args: Any) -> Any:
         """V-REP 3's primitive (0 cuboid, 1 sphere, 2 cylinder, 3 cone) with a mass in kg; options bit 3 respondable, bit 4 static (else dynamic); the drawing bits (culling, edges, smoothing, open ends) and `precision` are accepted and ignored (round shapes are exact primitives)."""
     def createTexture(self, *args: Any) -> Any:
@@ -807,7 +809,7 @@ class Sim:
     def step(self, *args: Any) -> Any:
         """yields the calling thread until the next step; threads are resumed once per step at the start of actuation. A call from a non-threaded hook is an error naming `sysCall_thread`, not a frozen simulator."""
     def stopSimulation(self, *args: Any) -> Any:
-        """from a script, takes effect at the end of the current step (cleanup hooks run, the scene is restored); a stop asked for during cleanup is ignored."""
+        """from a script, takes effect at the end of the current step (cleanup hooks run, the scene is restored); a stop asked for during cleanup is ignored. The scene comes back as it was when the simulation started, with the same handles: objects created, moved, renamed or removed while stopped stay, what the run moved or made goes back (a run that loaded models rebuilds the scene from the files instead, where objects created while stopped are lost)."""
     def subtractObjectFromOctree(self, *args: Any) -> Any:
         """empties the voxels `sim.insertObjectIntoOctree` would fill with the same object (shapes and point clouds only)."""
     def transformImage(self, *args: Any) -> Any:
