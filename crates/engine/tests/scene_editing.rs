@@ -6,7 +6,7 @@ use gantry_lua::ScriptLimits;
 use gantry_sim_core::Value;
 use gantry_test_support::{floats, int};
 
-use crate::util::{Drive, Scene};
+use crate::util::{Drive, Scene, int32_signal, log_lines};
 
 const SCENE: &str = r#"
 [simulation]
@@ -83,4 +83,43 @@ fn edits_made_while_stopped_survive_a_run_and_what_the_run_did_goes_back() {
         assert!(!exists(&mut scene, during), "an object made during the run stayed");
         assert_eq!(position(&mut scene, boxed), [0.5, 0.0, 0.5]);
     }
+}
+
+#[test]
+fn a_script_goes_with_its_object_when_the_object_is_removed_while_stopped() {
+    let scene_text = format!(
+        "{SCENE}\n[[object]]\nname = \"carrier\"\nkind = \"dummy\"\nscript = \"carrier.lua\"\n\n\
+         [[object]]\nname = \"keeper\"\nkind = \"dummy\"\nscript = \"keeper.lua\"\n"
+    );
+    let count = |name: &str| {
+        format!("function sysCall_init() sim.setInt32Signal('{name}', (sim.getInt32Signal('{name}') or 0) + 1) end\n")
+    };
+    let mut scene = Scene::new(
+        "edit-script-object",
+        &scene_text,
+        &[("carrier.lua", &count("carrier")), ("keeper.lua", &count("keeper"))],
+        ScriptLimits::default(),
+    );
+    let carrier = scene.find("/carrier");
+    scene.remote("removeObjects", &[Value::Array(vec![Value::Int(carrier)])]);
+    for _ in 0..2 {
+        scene.sim.start();
+        scene.sim.step();
+        // (Signals go with the run: read them before the stop.)
+        assert_eq!(int32_signal(&mut scene.sim, "keeper"), Some(1));
+        assert_eq!(
+            int32_signal(&mut scene.sim, "carrier"),
+            None,
+            "the removed object's script ran"
+        );
+        scene.sim.stop();
+    }
+    let lines = log_lines(&scene.sim);
+    assert!(
+        lines
+            .iter()
+            .any(|(source, _, m)| source == "carrier.lua" && m.contains("removed with its object")),
+        "{lines:?}"
+    );
+    assert!(lines.iter().all(|(_, v, _)| *v > 200), "an error was logged: {lines:?}");
 }

@@ -261,9 +261,17 @@ impl LuaHost {
     pub fn initialise(&mut self) {
         for k in 0..self.scripts.order.len() {
             let i = self.scripts.order[k];
-            if !self.scripts.list[i].initialised {
-                self.scripts.initialise(i);
+            if self.scripts.list[i].initialised {
+                continue;
             }
+            // A script whose object was removed while the simulation was stopped goes
+            // with it, as in CoppeliaSim, rather than run without its object.
+            if self.scripts.object_gone(i) {
+                self.scripts
+                    .remove_because(i, "script removed with its object (removed while stopped)");
+                continue;
+            }
+            self.scripts.initialise(i);
         }
     }
 

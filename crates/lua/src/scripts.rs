@@ -350,6 +350,19 @@ impl ScriptSet {
     /// `sim.removeScript`: script `i`'s cleanup runs (if it was initialised), then it
     /// receives nothing more and no longer answers `sim.getScript`.
     pub(crate) fn remove(&mut self, i: usize) {
+        self.remove_because(i, "script removed (sim.removeScript)");
+    }
+
+    /// Whether script `i`'s object is gone from the scene (removed while the simulation
+    /// was stopped: CoppeliaSim removes an object's scripts with it).
+    pub(crate) fn object_gone(&self, i: usize) -> bool {
+        self.list
+            .get(i)
+            .is_some_and(|s| self.core.borrow().world.object(s.object).is_err())
+    }
+
+    /// Removes script `i` as [`ScriptSet::remove`] does, logging `why`.
+    pub(crate) fn remove_because(&mut self, i: usize, why: &str) {
         if i >= self.list.len() || self.list[i].state == ScriptState::Removed {
             return;
         }
@@ -367,7 +380,7 @@ impl ScriptSet {
         state::<Directory>(&self.lua).mark_removed(i);
         state::<Sockets>(&self.lua).close_owned_by(i);
         let name = self.list[i].name.clone();
-        self.core.log(400, &name, "script removed (sim.removeScript)");
+        self.core.log(400, &name, why);
     }
 
     /// What scripts asked for while running, now that none runs: receivers whose
