@@ -27,12 +27,13 @@ use gantry_sim_core::{Handle, Sim, SimError, Value, World};
 use tokio::sync::oneshot;
 
 use crate::blocking::{BlockingCall, BlockingReply, ended_error, stopped_error};
+use crate::history::{Entry, History};
 use crate::host_call::{LoopControl, RemoteOp};
 use crate::input::{Input, Output};
 use crate::observer::{InputAt, Observer, RecorderFactory};
 use crate::pacing::Pacing;
-use crate::restore_point::RestorePoint;
 use crate::scene::build_sim;
+use crate::scene_copy::{RestorePoint, SceneCopy};
 use crate::stepping::{ClientId, Stepping, SteppingError};
 
 /// How often scripts' `sysCall_nonSimulation` runs while the simulation is stopped:
@@ -99,6 +100,8 @@ pub struct Engine {
     /// The scene as the running simulation started: what a stop restores. `None` while
     /// stopped.
     pub(crate) restore: Option<RestorePoint>,
+    /// The editor's undo and redo lists.
+    history: History,
     /// The scene's scripts; none until a script or a client needs Lua.
     pub(crate) host: Option<LuaHost>,
     /// Steps taken since the engine was made; never reset (a stop does not rewind it),
@@ -143,6 +146,7 @@ impl Engine {
             sim,
             model,
             restore: None,
+            history: History::default(),
             host,
             steps: 0,
             stepping: Stepping::default(),
@@ -412,7 +416,82 @@ impl Engine {
                 Output::Done
             }
             Input::LoadScene(path) => Output::Values(self.load_scene(path).map(|()| Vec::new())),
+            Input::Edit { label, calls } => Output::Values(self.edit(label, calls)),
+            Input::Undo(undo) => Output::Values(self.undo(undo)),
         }
+    }
+
+    /// See [`Input::Edit`].
+    fn edit(&mut self, label: &str, calls: &[(String, Vec<Value>)]) -> Result<Vec<Value>, CallError> {
+        let refuse = |why: String| CallError::failed(format!("edit '{label}'"), SimError::refused(why));
+        if self.state() != SimulationState::Stopped {
+            return Err(refuse(
+                "the scene is edited while the simulation is stopped (CoppeliaSim's rule): stop it first".into(),
+            ));
+        }
+        let before = SceneCopy::capture(&self.sim.borrow());
+        let mut results = Vec::with_capacity(calls.len());
+        for (k, (name, args)) in calls.iter().enumerate() {
+            let outcome = match Target::resolve_or_error(name) {
+                Ok(target @ Target::Core { function, .. }) => call_core(&self.sim, &target, function, args),
+                Ok(other) => Err(refuse(format!(
+                    "{} is not a scene edit (only the core sim.* functions are)",
+                    other.qualified()
+                ))),
+                Err(e) => Err(e),
+            };
+            match outcome {
+                Ok(values) => results.push(Value::Array(values)),
+                Err(e) => {
+                    // Nothing of a failed edit stays.
+                    before.put_back(&mut self.sim.borrow_mut());
+                    return Err(refuse(format!(
+                        "call {} of {} failed, nothing changed: {e}",
+                        k + 1,
+                        calls.len()
+                    )));
+                }
+            }
+        }
+        self.history.record(label, before);
+        Ok(results)
+    }
+
+    /// See [`Input::Undo`].
+    fn undo(&mut self, undo: bool) -> Result<Vec<Value>, CallError> {
+        let what = if undo { "undo" } else { "redo" };
+        if self.state() != SimulationState::Stopped {
+            return Err(CallError::failed(
+                what,
+                SimError::refused("the scene is edited while the simulation is stopped: stop it first"),
+            ));
+        }
+        let entry = if undo {
+            self.history.take_undo()
+        } else {
+            self.history.take_redo()
+        };
+        let Some(entry) = entry else {
+            return Ok(Vec::new());
+        };
+        let now = SceneCopy::capture(&self.sim.borrow());
+        entry.scene.put_back(&mut self.sim.borrow_mut());
+        let label = entry.label;
+        let other = Entry {
+            label: label.clone(),
+            scene: now,
+        };
+        if undo {
+            self.history.push_redo(other);
+        } else {
+            self.history.push_undo(other);
+        }
+        Ok(vec![Value::Str(label)])
+    }
+
+    /// How many edits can be undone and redone (see [`Input::Edit`]).
+    pub fn history_depth(&self) -> (usize, usize) {
+        self.history.depth()
     }
 
     /// Calls a resolved function for a remote client: a core function straight on the
@@ -614,6 +693,7 @@ impl Engine {
         self.sim = sim;
         self.model = model;
         self.restore = None;
+        self.history.clear();
         Ok(())
     }
 

@@ -69,6 +69,20 @@ pub enum Input<'a> {
     },
     /// A client left or timed out: it can no longer hold the simulation.
     DropClient(ClientId),
+    /// The editor's edit: `calls`, each a core registry function by name (`sim.*`)
+    /// with its arguments, carried out in order as one step of the undo history. Only
+    /// while the simulation is stopped (CoppeliaSim's rule); when a call fails, the
+    /// scene is put back as it was before the first and the error names the call.
+    /// Answered by [`Output::Values`]: each call's results, as one list per call.
+    Edit {
+        /// What the edit does, for the history ("Add cuboid", "Move leftWheel").
+        label: &'a str,
+        /// The calls.
+        calls: &'a [(String, Vec<Value>)],
+    },
+    /// Undoes the last edit (`true`) or redoes the last undone one (`false`). Answered
+    /// by [`Output::Values`]: the edit's label, or nothing when there is none.
+    Undo(bool),
     /// `sim.loadScene(path)` (`Some`) or `sim.closeScene()` (`None`): the running
     /// simulation stops and the new scene waits, stopped, for a start. Answered by
     /// [`Output::Values`] (empty on success).

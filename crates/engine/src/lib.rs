@@ -22,19 +22,21 @@
 
 mod blocking;
 mod engine;
+mod history;
 mod host_call;
 mod input;
 mod lifecycle;
 pub mod observer;
 pub mod pacing;
-mod restore_point;
 mod scene;
+mod scene_copy;
 mod step;
 pub mod stepping;
 
 pub use blocking::BlockingReply;
 pub use engine::{Due, Engine, EngineConfig, NON_SIMULATION_PERIOD, RELOAD_PERIOD, WhileWaiting};
 pub use gantry_lua::StepBoundary;
+pub use history::HISTORY_STEPS;
 pub use host_call::{HostCall, LoopControl, RemoteOp};
 pub use input::{Input, Output};
 pub use observer::{InputAt, Observer, RecorderFactory, RecordingRefused};

@@ -3,7 +3,7 @@
 //! what scripts asked for carried out once none runs.
 //!
 //! A stop runs every script's `sysCall_cleanup`, then puts back the scene as it was at
-//! the start (`restore_point`), as CoppeliaSim restores the scene when its simulation
+//! the start (`scene_copy`), as CoppeliaSim restores the scene when its simulation
 //! stops: edits made while stopped stay, what the run moved goes back; the log
 //! survives.
 
@@ -15,8 +15,8 @@ use gantry_sim_core::scene::SceneModel;
 use gantry_sim_core::sim::{Advancing, Control, SimulationState};
 
 use crate::engine::Engine;
-use crate::restore_point::RestorePoint;
 use crate::scene::build_sim;
+use crate::scene_copy::RestorePoint;
 
 /// Appends a loaded model's objects and scripts to `scene` (indices moved past the
 /// scene's), so that a stop rebuilds them.
@@ -100,7 +100,7 @@ impl Engine {
     }
 
     /// Stops: every script's `sysCall_cleanup` runs, then the scene of the start comes
-    /// back (or the scene model is rebuilt, see `restore_point`) and the scripts are
+    /// back (or the scene model is rebuilt, see `scene_copy`) and the scripts are
     /// reloaded.
     fn stop(&mut self) {
         // The stop asked for is being served (even when already stopped).
@@ -116,8 +116,9 @@ impl Engine {
                 merge_into(&mut self.model, model);
             }
             let log = std::mem::take(&mut self.sim.borrow_mut().world.log);
-            let mut sim = match self.restore.take() {
-                Some(point) => point.restore(&self.model),
+            let restore = self.restore.take();
+            let mut sim = match restore {
+                Some(point) => point.restore(&self.model, &self.sim.borrow()),
                 None => build_sim(&self.model),
             };
             sim.world.log = log;

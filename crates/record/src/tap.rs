@@ -160,6 +160,17 @@ fn to_input(at: InputAt, input: &EngineInput<'_>) -> Option<Input> {
         EngineInput::LoadScene(Some(p)) => ("load_scene", p.display().to_string(), Vec::<Value>::new()),
         EngineInput::LoadScene(None) => ("close_scene", String::new(), Vec::new()),
         EngineInput::Remote { .. } | EngineInput::Step { .. } | EngineInput::DropClient(_) => return None,
+        // An edit's calls as a list of {name, args} pairs, so that a re-run makes them
+        // again as one edit.
+        EngineInput::Edit { label, calls } => (
+            "edit",
+            label.to_owned(),
+            calls
+                .iter()
+                .map(|(name, args)| Value::Array(vec![Value::Str(name.clone()), Value::Array(args.clone())]))
+                .collect(),
+        ),
+        EngineInput::Undo(undo) => (if undo { "undo" } else { "redo" }, String::new(), Vec::new()),
     };
     Some(Input {
         step: at.step,

@@ -427,6 +427,26 @@ fn apply(engine: &mut Engine, i: &Input) -> Result<(), VerifyError> {
             };
             engine.serve(EngineInput::Control(action));
         }
+        ("edit", label) => {
+            let mut calls = Vec::with_capacity(i.args.len());
+            for c in &i.args {
+                let pair = match c {
+                    Value::Array(p) => p.as_slice(),
+                    _ => &[],
+                };
+                let [Value::Str(name), Value::Array(args)] = pair else {
+                    return Err(VerifyError::Incomplete(format!(
+                        "an edit at step {} whose calls are not {{name, args}} pairs",
+                        i.step
+                    )));
+                };
+                calls.push((name.clone(), args.clone()));
+            }
+            engine.serve(EngineInput::Edit { label, calls: &calls });
+        }
+        ("undo" | "redo", _) => {
+            engine.serve(EngineInput::Undo(i.kind == "undo"));
+        }
         ("load_scene" | "close_scene", _) => return Err(VerifyError::LoadsScene(i.step)),
         (kind, name) => {
             return Err(VerifyError::Incomplete(format!(

@@ -82,6 +82,17 @@ impl World {
         self.edit.counters
     }
 
+    /// Moves this world's revisions past `earlier`'s: for a world that takes the place
+    /// of `earlier` (a copy restored by a stop or an undo), so that whoever compares
+    /// revisions (the viewer, the vision sensors' caches) sees a change, never the same
+    /// number for another scene.
+    pub fn continue_revisions(&mut self, earlier: &World) {
+        self.edit.revision = self.edit.revision.max(earlier.edit.revision) + 1;
+        self.edit.geometry_revision = self.edit.geometry_revision.max(earlier.edit.geometry_revision) + 1;
+        let (now, before) = (self.structure_revision(), earlier.structure_revision());
+        self.edit.counters.hierarchy += before.saturating_sub(now) + 1;
+    }
+
     pub(super) fn bump(&mut self) {
         self.edit.revision += 1;
     }
