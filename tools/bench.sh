@@ -35,6 +35,8 @@ cargo bench --quiet --bench sim
 echo "== vision sensors and laser scanners (cargo bench -p gantry-sim-core --bench vision / --bench scan; issue 30)"
 cargo bench --quiet -p gantry-sim-core --bench vision
 cargo bench --quiet -p gantry-sim-core --bench scan
+echo "== the editor's edits: paste, undo, redo and a move with 5,000 objects (cargo bench -p gantry-engine --bench editing; issue 48)"
+cargo bench --quiet -p gantry-engine --bench editing
 echo "== PyBullet"
 "$venv/bin/python" tools/bench/pybullet_bench.py --seconds "${GANTRY_BENCH_SECONDS:-3}" > target/bench/pybullet.json
 echo "== public robots: mesh-collision arms in gantry and PyBullet"
