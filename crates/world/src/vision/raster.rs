@@ -1187,8 +1187,8 @@ multiversion! {
     /// `id` the handle written to the id buffer (when it is drawn).
     ///
     /// Per row, the pixels whose centres lie inside all three edges form one interval,
-    /// found from the edge functions directly; 1/z and light/z are affine in screen
-    /// space, and [`write_span`] draws the interval in vector code (eight lanes with
+    /// found from the edge functions directly ([`covered_spans`]); 1/z and light/z are
+    /// affine in screen space, and [`write_span`] draws the interval in vector code (eight lanes with
     /// AVX2, see [`super::simd`]).
     fn fill(cam: &Camera, target: &mut Target<'_>, tri: [ScreenVertex; 3], color: [f32; 3], id: u32) {
         let [mut a, mut b, c] = tri;
@@ -1202,59 +1202,16 @@ multiversion! {
             area = -area;
         }
         let inv_area = 1.0 / area;
-        let (w, h) = (target.width, target.height);
-        // Pixels whose centre may lie inside; clipping keeps corners within the image
-        // (up to rounding), and the clamps make out-of-range indices impossible.
-        let span = |lo: f32, hi: f32, n: usize| {
-            let first = (lo - 0.5).ceil().max(0.0) as usize;
-            let end = ((hi - 0.5).floor() + 1.0).clamp(0.0, n as f32) as usize;
-            (first, end)
-        };
-        let (x0, x1) = span(a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x), w);
-        let (y0, y1) = span(a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y), h);
-        // Only the band's rows.
-        let (y0, y1) = (y0.max(target.rows.start), y1.min(target.rows.end));
-        if x0 >= x1 || y0 >= y1 {
-            return;
-        }
-        // Edge functions (opposite a, b, c) and their steps per pixel along a row.
-        let edges = [(b, c), (c, a), (a, b)];
-        let steps = edges.map(|(p, q)| -(q.y - p.y));
+        let w = target.width;
+        // Edge steps per pixel along a row, as `covered_spans` finds them.
+        let steps = [(b, c), (c, a), (a, b)].map(|(p, q)| -(q.y - p.y));
         // 1/z and light/z as planes over the screen: value at pixel centre (0.5, y) of a
         // row plus a step per pixel.
         let weights = |f: fn(&ScreenVertex) -> f32| [f(&a), f(&b), f(&c)];
         let (iz, lz) = (weights(|v| v.inv_z), weights(|v| v.light_z));
         let grad = |k: [f32; 3]| (steps[0] * k[0] + steps[1] * k[1] + steps[2] * k[2]) * inv_area;
         let (diz, dlz) = (grad(iz), grad(lz));
-        for row in y0..y1 {
-            let py = row as f32 + 0.5;
-            // Edge values at the centre of column 0, and the columns where each is >= 0.
-            let e = edges.map(|(p, q)| edge(p, q, 0.5, py));
-            // Continuous column bounds, lo <= col <= hi, within the bounding box.
-            let (mut lo, mut hi) = (x0 as f32, (x1 - 1) as f32);
-            for k in 0..3 {
-                // A tolerance of 1e-4 px keeps pixel centres exactly on an edge shared by
-                // two triangles from being dropped by both through rounding.
-                let at = -e[k] / steps[k];
-                if steps[k] > 0.0 {
-                    lo = lo.max(at - 1e-4);
-                } else if steps[k] < 0.0 {
-                    hi = hi.min(at + 1e-4);
-                } else if e[k] < 0.0 {
-                    hi = -1.0;
-                }
-            }
-            // Rounded with casts (lo >= x0 >= 0 here) rather than `ceil`/`floor`, which
-            // are library calls on baseline x86-64.
-            // (`max` and `min` skip a NaN bound, so neither is NaN.)
-            if lo > hi || hi < 0.0 {
-                continue;
-            }
-            let first = lo as usize + usize::from((lo as usize as f32) < lo);
-            let end = hi as usize + 1;
-            if first >= end {
-                continue;
-            }
+        for (row, first, end, e) in covered_spans(w, target.height, target.rows.clone(), [a, b, c]) {
             let span = Span {
                 start: (row - target.rows.start) * w,
                 first,
@@ -1289,12 +1246,11 @@ multiversion! {
 /// for each, `(row, first, end, e)`, the pixels `first..end` (at least one) and `e`
 /// the three edge functions (opposite a, b, c) at the centre of the row's column 0.
 ///
-/// The same rows and pixels, from the same arithmetic, as [`fill`] finds for its
-/// triangles, so textured and plain triangles cover alike. An iterator whose `next` is
-/// inlined, rather than a function taking the row's work as a closure (or an adapter
-/// such as `filter_map` taking this one's): a closure is compiled as a function of its
-/// own, outside the AVX2 copy of its caller (see [`super::simd`]). `fill` keeps its own
-/// copy of this loop, which measured faster still.
+/// Plain ([`fill`]) and textured triangles both find their pixels here, so they cover
+/// alike. An iterator whose `next` is inlined, rather than a function taking the row's
+/// work as a closure (or an adapter such as `filter_map` taking this one's): a closure
+/// is compiled as a function of its own, outside the AVX2 copy of its caller (see
+/// [`super::simd`]), which made frames 20 % slower.
 #[inline(always)]
 fn covered_spans(width: usize, height: usize, rows: Range<usize>, [a, b, c]: [ScreenVertex; 3]) -> CoveredRows {
     // Pixels whose centre may lie inside; clipping keeps corners within the image
